@@ -1,0 +1,109 @@
+#include "Parallel.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <exception>
+#include <thread>
+#include <vector>
+
+namespace beltrami
+{
+
+int DefaultThreadCount()
+{
+  if (const char* env = std::getenv("BELTRAMI_NUM_THREADS"))
+  {
+    const int n = std::atoi(env);
+    if (n > 0)
+    {
+      return n;
+    }
+  }
+  const unsigned hc = std::thread::hardware_concurrency();
+  return hc > 0 ? static_cast<int>(hc) : 1;
+}
+
+int ResolveThreadCount(int requested)
+{
+  return requested > 0 ? requested : DefaultThreadCount();
+}
+
+bool ParallelFor(std::int64_t n, int numThreads,
+  const std::function<void(std::int64_t, std::int64_t)>& body, const ProgressCallback& progress,
+  int numBatches)
+{
+  if (n <= 0)
+  {
+    return progress ? progress(1.0) : true;
+  }
+  numThreads = ResolveThreadCount(numThreads);
+  if (numBatches <= 0)
+  {
+    numBatches = progress ? 20 : 1;
+  }
+  const std::int64_t batchSize = std::max<std::int64_t>(1, (n + numBatches - 1) / numBatches);
+
+  for (std::int64_t batchBegin = 0; batchBegin < n; batchBegin += batchSize)
+  {
+    const std::int64_t batchEnd = std::min(n, batchBegin + batchSize);
+    const std::int64_t count = batchEnd - batchBegin;
+    const int threads =
+      static_cast<int>(std::min<std::int64_t>(numThreads, std::max<std::int64_t>(1, count / 1024)));
+    if (threads <= 1)
+    {
+      body(batchBegin, batchEnd);
+    }
+    else
+    {
+      // Blocks small enough to balance the load, large enough to amortise the atomic.
+      const std::int64_t block = std::max<std::int64_t>(256, count / (threads * 16));
+      std::atomic<std::int64_t> cursor{ batchBegin };
+      std::exception_ptr failure;
+      std::atomic<bool> failed{ false };
+      auto worker = [&]() {
+        try
+        {
+          for (;;)
+          {
+            const std::int64_t b = cursor.fetch_add(block);
+            if (b >= batchEnd || failed.load(std::memory_order_relaxed))
+            {
+              break;
+            }
+            body(b, std::min(batchEnd, b + block));
+          }
+        }
+        catch (...)
+        {
+          if (!failed.exchange(true))
+          {
+            failure = std::current_exception();
+          }
+        }
+      };
+      std::vector<std::thread> pool;
+      pool.reserve(threads - 1);
+      for (int t = 1; t < threads; ++t)
+      {
+        pool.emplace_back(worker);
+      }
+      worker();
+      for (auto& th : pool)
+      {
+        th.join();
+      }
+      if (failure)
+      {
+        std::rethrow_exception(failure);
+      }
+    }
+    if (progress && !progress(static_cast<double>(batchEnd) / static_cast<double>(n)))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+} // namespace beltrami

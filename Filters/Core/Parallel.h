@@ -1,0 +1,37 @@
+// Beltrami core: a small, VTK-free parallel loop.
+//
+// The work [0, n) is cut into batches; each batch is shared by the worker
+// threads in blocks taken from an atomic counter.  Between batches the calling
+// thread reports progress and may cancel the loop, so VTK adapters can call
+// UpdateProgress()/CheckAbort() from the thread that owns the algorithm.
+// Every index is processed exactly once whatever the thread count, so results
+// that are written per index are bit-identical for 1 or N threads.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+namespace beltrami
+{
+
+using Index = std::int32_t;
+
+/// Returns false to cancel the work; fraction is in [0, 1].
+using ProgressCallback = std::function<bool(double fraction)>;
+
+/// Number of threads used when a caller asks for 0 ("all"): the value of the
+/// environment variable BELTRAMI_NUM_THREADS if set, else the hardware
+/// concurrency.
+int DefaultThreadCount();
+
+/// Resolves a requested count (<= 0 means DefaultThreadCount()).
+int ResolveThreadCount(int requested);
+
+/// Runs body(begin, end) over disjoint ranges covering [0, n).
+/// Returns false when the progress callback cancelled the loop (the remaining
+/// batches are then not processed).
+bool ParallelFor(std::int64_t n, int numThreads,
+  const std::function<void(std::int64_t begin, std::int64_t end)>& body,
+  const ProgressCallback& progress = {}, int numBatches = 0);
+
+} // namespace beltrami

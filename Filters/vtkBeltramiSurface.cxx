@@ -1,0 +1,205 @@
+#include "vtkBeltramiSurface.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellArrayIterator.h>
+#include <vtkDoubleArray.h>
+#include <vtkFloatArray.h>
+#include <vtkIdList.h>
+#include <vtkMath.h>
+#include <vtkNew.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolygon.h>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <vector>
+
+namespace
+{
+
+using beltrami::Index;
+
+// Splits a polygon into triangles: quads along the shorter diagonal, larger
+// polygons by VTK's ear cutting (which handles non-convex polygons).
+void TriangulatePolygon(vtkPoints* points, vtkIdType n, const vtkIdType* ids,
+  std::vector<Index>& triangles, vtkPolygon* polygon, vtkIdList* scratch)
+{
+  auto emit = [&](vtkIdType a, vtkIdType b, vtkIdType c) {
+    triangles.push_back(static_cast<Index>(a));
+    triangles.push_back(static_cast<Index>(b));
+    triangles.push_back(static_cast<Index>(c));
+  };
+  if (n == 3)
+  {
+    emit(ids[0], ids[1], ids[2]);
+    return;
+  }
+  if (n == 4)
+  {
+    double p[4][3];
+    for (int k = 0; k < 4; ++k)
+    {
+      points->GetPoint(ids[k], p[k]);
+    }
+    const double d02 = vtkMath::Distance2BetweenPoints(p[0], p[2]);
+    const double d13 = vtkMath::Distance2BetweenPoints(p[1], p[3]);
+    if (d02 <= d13)
+    {
+      emit(ids[0], ids[1], ids[2]);
+      emit(ids[0], ids[2], ids[3]);
+    }
+    else
+    {
+      emit(ids[0], ids[1], ids[3]);
+      emit(ids[1], ids[2], ids[3]);
+    }
+    return;
+  }
+  polygon->Initialize(static_cast<int>(n), const_cast<vtkIdType*>(ids), points);
+  scratch->Reset();
+  if (polygon->Triangulate(scratch) && scratch->GetNumberOfIds() == 3 * (n - 2))
+  {
+    for (vtkIdType k = 0; k < scratch->GetNumberOfIds(); k += 3)
+    {
+      emit(ids[scratch->GetId(k)], ids[scratch->GetId(k + 1)], ids[scratch->GetId(k + 2)]);
+    }
+    return;
+  }
+  for (vtkIdType k = 1; k + 1 < n; ++k) // degenerate polygon: fan (zero-area parts are flagged later)
+  {
+    emit(ids[0], ids[k], ids[k + 1]);
+  }
+}
+
+bool ValidCell(vtkIdType n, const vtkIdType* ids, vtkIdType numPoints)
+{
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    if (ids[k] < 0 || ids[k] >= numPoints)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+} // namespace
+
+bool vtkBeltramiSurface::Build(vtkPolyData* input, int numberOfThreads)
+{
+  Mesh.reset();
+  Floats = nullptr;
+  Doubles = nullptr;
+  ErrorText.clear();
+  IgnoredCells = 0;
+  InvalidCells = 0;
+  InputCells = input ? input->GetNumberOfCells() : 0;
+  const vtkIdType numPoints = input ? input->GetNumberOfPoints() : 0;
+  if (numPoints > std::numeric_limits<Index>::max())
+  {
+    ErrorText = "more than 2^31 points are not supported";
+    return false;
+  }
+
+  std::vector<Index> triangles;
+  if (numPoints > 0)
+  {
+    vtkPoints* points = input->GetPoints();
+    vtkDataArray* data = points->GetData();
+    if (auto* f = vtkFloatArray::SafeDownCast(data))
+    {
+      Floats = f->GetPointer(0);
+      PointData = f;
+    }
+    else if (auto* d = vtkDoubleArray::SafeDownCast(data))
+    {
+      Doubles = d->GetPointer(0);
+      PointData = d;
+    }
+    else // rare point types: one conversion to double
+    {
+      vtkNew<vtkDoubleArray> converted;
+      converted->DeepCopy(data);
+      Doubles = converted->GetPointer(0);
+      PointData = converted;
+    }
+
+    triangles.reserve(3 * static_cast<std::size_t>(input->GetNumberOfPolys()));
+    vtkNew<vtkPolygon> polygon;
+    vtkNew<vtkIdList> scratch;
+    auto polys = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
+    for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell())
+    {
+      vtkIdType n;
+      const vtkIdType* ids;
+      polys->GetCurrentCell(n, ids);
+      if (!ValidCell(n, ids, numPoints))
+      {
+        ++InvalidCells;
+      }
+      else if (n >= 3)
+      {
+        TriangulatePolygon(points, n, ids, triangles, polygon, scratch);
+      }
+    }
+    auto strips = vtk::TakeSmartPointer(input->GetStrips()->NewIterator());
+    for (strips->GoToFirstCell(); !strips->IsDoneWithTraversal(); strips->GoToNextCell())
+    {
+      vtkIdType n;
+      const vtkIdType* ids;
+      strips->GetCurrentCell(n, ids);
+      if (!ValidCell(n, ids, numPoints))
+      {
+        ++InvalidCells;
+        continue;
+      }
+      for (vtkIdType k = 0; k + 2 < n; ++k) // alternate orientation along the strip
+      {
+        const bool even = k % 2 == 0;
+        triangles.push_back(static_cast<Index>(ids[even ? k : k + 1]));
+        triangles.push_back(static_cast<Index>(ids[even ? k + 1 : k]));
+        triangles.push_back(static_cast<Index>(ids[k + 2]));
+      }
+    }
+    IgnoredCells = input->GetNumberOfVerts() + input->GetNumberOfLines();
+  }
+  try
+  {
+    Mesh = std::make_unique<beltrami::MeshTopology>(
+      static_cast<Index>(numPoints), std::move(triangles), numberOfThreads);
+  }
+  catch (const std::exception& e)
+  {
+    ErrorText = e.what();
+    return false;
+  }
+  return true;
+}
+
+std::string vtkBeltramiSurface::TopologyWarning() const
+{
+  if (!Mesh)
+  {
+    return {};
+  }
+  const beltrami::TopologySummary& s = Mesh->Summary();
+  if (s.IsManifold() && s.IsOriented() && Mesh->NumberOfDroppedTriangles() == 0 &&
+    s.NumberOfIsolatedVertices == 0 && InvalidCells == 0)
+  {
+    return {};
+  }
+  std::ostringstream os;
+  os << "Input surface has defects: " << Mesh->Describe();
+  if (s.NumberOfIsolatedVertices)
+  {
+    os << ", " << s.NumberOfIsolatedVertices << " points used by no triangle";
+  }
+  if (InvalidCells)
+  {
+    os << ", " << InvalidCells << " cells with point ids out of range (ignored)";
+  }
+  return os.str();
+}
+// VTK-HeaderTest-Exclude: vtkBeltramiSurface.cxx

@@ -1,0 +1,62 @@
+// The one bridge from vtkPolyData to the Beltrami core, shared by every
+// surface filter: triangulates polygons and strips, builds the core's
+// MeshTopology once, and exposes the points without copying them when they
+// are float or double.  Not wrapped: an implementation helper of the module.
+#ifndef vtkBeltramiSurface_h
+#define vtkBeltramiSurface_h
+
+#include "BeltramiFiltersModule.h" // export macro
+
+#include "Core/MeshTopology.h"
+
+#include <vtkSmartPointer.h>
+
+#include <memory>
+#include <string>
+
+class vtkAlgorithm;
+class vtkDataArray;
+class vtkPolyData;
+
+class BELTRAMIFILTERS_EXPORT vtkBeltramiSurface
+{
+public:
+  /// Builds the surface of `input`.  Returns false (with Error() set) when the
+  /// input cannot be processed at all; an input with no polygons is valid and
+  /// yields a topology without triangles.
+  bool Build(vtkPolyData* input, int numberOfThreads);
+
+  const beltrami::MeshTopology& Topology() const { return *Mesh; }
+
+  /// Coordinates as 3 interleaved values per point: exactly one is non-null.
+  const float* FloatPoints() const { return Floats; }
+  const double* DoublePoints() const { return Doubles; }
+
+  /// Calls f(const T* points) with the points' native precision.
+  template <typename F>
+  auto Dispatch(F&& f) const
+  {
+    return Floats ? f(Floats) : f(Doubles);
+  }
+
+  vtkIdType NumberOfInputCells() const { return InputCells; }
+  vtkIdType NumberOfIgnoredCells() const { return IgnoredCells; } ///< verts and lines
+  vtkIdType NumberOfInvalidCells() const { return InvalidCells; } ///< bad point ids
+  const std::string& Error() const { return ErrorText; }
+
+  /// Warnings about defects that the topology found (empty if none).
+  std::string TopologyWarning() const;
+
+private:
+  std::unique_ptr<beltrami::MeshTopology> Mesh;
+  vtkSmartPointer<vtkDataArray> PointData; // keeps converted points alive
+  const float* Floats = nullptr;
+  const double* Doubles = nullptr;
+  vtkIdType InputCells = 0;
+  vtkIdType IgnoredCells = 0;
+  vtkIdType InvalidCells = 0;
+  std::string ErrorText;
+};
+
+#endif
+// VTK-HeaderTest-Exclude: vtkBeltramiSurface.h

@@ -1,0 +1,194 @@
+#include "vtkDiscreteCurvatures.h"
+
+#include "vtkBeltramiSurface.h"
+
+#include "Core/Curvatures.h"
+
+#include <vtkDoubleArray.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <limits>
+#include <vector>
+
+vtkStandardNewMacro(vtkDiscreteCurvatures);
+
+vtkDiscreteCurvatures::vtkDiscreteCurvatures() = default;
+
+int vtkDiscreteCurvatures::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  // Curvature at a point needs its whole 1-ring: ask for one more ghost level.
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  const int piece = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
+  const int pieces = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES());
+  const int ghosts = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS());
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), piece);
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), pieces);
+  inInfo->Set(
+    vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), ghosts + (pieces > 1));
+  return 1;
+}
+
+namespace
+{
+
+vtkSmartPointer<vtkDoubleArray> AddArray(
+  vtkPointData* pd, bool wanted, const char* name, int components, vtkIdType tuples)
+{
+  if (!wanted)
+  {
+    return nullptr;
+  }
+  auto array = vtkSmartPointer<vtkDoubleArray>::New();
+  array->SetName(name);
+  array->SetNumberOfComponents(components);
+  array->SetNumberOfTuples(tuples);
+  pd->AddArray(array);
+  return array;
+}
+
+double* Pointer(vtkDoubleArray* a)
+{
+  return a ? a->GetPointer(0) : nullptr;
+}
+
+} // namespace
+
+int vtkDiscreteCurvatures::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  if (!input || !output)
+  {
+    vtkErrorMacro("Missing input or output poly data.");
+    return 0;
+  }
+  output->ShallowCopy(input);
+  const vtkIdType numPoints = input->GetNumberOfPoints();
+  if (numPoints == 0)
+  {
+    const int pieces = outputVector->GetInformationObject(0)->Get(
+      vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES());
+    if (pieces <= 1) // an empty piece of distributed data is normal
+    {
+      vtkWarningMacro("Input has no points: nothing to compute.");
+    }
+    return 1;
+  }
+
+  vtkBeltramiSurface surface;
+  if (!surface.Build(input, this->NumberOfThreads))
+  {
+    vtkErrorMacro("Cannot process the input surface: " << surface.Error());
+    return 0;
+  }
+  const beltrami::MeshTopology& topo = surface.Topology();
+  if (topo.NumberOfTriangles() == 0)
+  {
+    vtkWarningMacro("Input has no polygons or triangle strips"
+      << (surface.NumberOfIgnoredCells() ? " (vertices and lines are ignored)" : "")
+      << ": curvatures are undefined (NaN) at every point.");
+  }
+  else if (!surface.TopologyWarning().empty())
+  {
+    vtkWarningMacro(<< surface.TopologyWarning()
+                    << ". Curvatures are undefined (NaN, see VertexStatus) at boundary and "
+                       "non-manifold points.");
+  }
+
+  vtkPointData* pd = output->GetPointData();
+  auto meanCurvatureNormal =
+    AddArray(pd, this->ComputeMeanCurvatureNormal, "MeanCurvatureNormal", 3, numPoints);
+  auto mixedArea = AddArray(pd, this->ComputeMixedArea, "MixedArea", 1, numPoints);
+  auto meanCurvature = AddArray(pd, this->ComputeMeanCurvature, "MeanCurvature", 1, numPoints);
+  auto gaussian = AddArray(pd, this->ComputeGaussianCurvature, "GaussianCurvature", 1, numPoints);
+  auto maximum = AddArray(pd, this->ComputePrincipalCurvatures, "MaximumCurvature", 1, numPoints);
+  auto minimum = AddArray(pd, this->ComputePrincipalCurvatures, "MinimumCurvature", 1, numPoints);
+  auto e1 = AddArray(pd, this->ComputePrincipalDirections, "PrincipalDirection1", 3, numPoints);
+  auto e2 = AddArray(pd, this->ComputePrincipalDirections, "PrincipalDirection2", 3, numPoints);
+  auto normals = AddArray(pd, this->ComputeNormals, "Normals", 3, numPoints);
+  vtkSmartPointer<vtkUnsignedCharArray> status;
+  if (this->ComputeVertexStatus)
+  {
+    status = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    status->SetName("VertexStatus");
+    status->SetNumberOfTuples(numPoints);
+    pd->AddArray(status);
+  }
+  if (normals)
+  {
+    pd->SetNormals(normals);
+  }
+  if (meanCurvature)
+  {
+    pd->SetActiveScalars("MeanCurvature");
+  }
+
+  beltrami::CurvatureOptions options;
+  options.Method = static_cast<beltrami::CurvatureMethod>(this->Method);
+  options.Weighting = static_cast<beltrami::NormalWeighting>(this->NormalWeighting);
+  options.Boundary = static_cast<beltrami::BoundaryPolicy>(this->BoundaryHandling);
+  options.NumberOfThreads = this->NumberOfThreads;
+  beltrami::CurvatureOutputs out;
+  out.MeanCurvatureNormal = Pointer(meanCurvatureNormal);
+  out.MixedArea = Pointer(mixedArea);
+  out.MeanCurvature = Pointer(meanCurvature);
+  out.GaussianCurvature = Pointer(gaussian);
+  out.MaximumCurvature = Pointer(maximum);
+  out.MinimumCurvature = Pointer(minimum);
+  out.PrincipalDirection1 = Pointer(e1);
+  out.PrincipalDirection2 = Pointer(e2);
+  out.Normals = Pointer(normals);
+  out.Status = status ? status->GetPointer(0) : nullptr;
+
+  this->UpdateProgress(0.0);
+  const auto progress = [this](double fraction) {
+    this->UpdateProgress(fraction);
+    return !this->GetAbortExecute();
+  };
+  const beltrami::CurvatureReport report = surface.Dispatch(
+    [&](const auto* points) { return beltrami::ComputeCurvatures(topo, points, options, out, progress); });
+  if (!report.Completed)
+  {
+    // Aborted: leave a defined output (the input and no partial arrays).
+    output->ShallowCopy(input);
+    return 1;
+  }
+  if (report.NonFiniteVertices)
+  {
+    vtkWarningMacro(<< report.NonFiniteVertices
+                    << " points have NaN or infinite coordinates in their 1-ring: their outputs are NaN.");
+  }
+  if (report.DegenerateTriangleVertices)
+  {
+    vtkWarningMacro(<< report.DegenerateTriangleVertices
+                    << " points touch zero-area triangles, which were left out of their 1-ring "
+                       "(VertexStatus bit 32).");
+  }
+  return 1;
+}
+
+void vtkDiscreteCurvatures::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Method: " << this->Method << "\n";
+  os << indent << "NormalWeighting: " << this->NormalWeighting << "\n";
+  os << indent << "BoundaryHandling: " << this->BoundaryHandling << "\n";
+  os << indent << "ComputeMeanCurvatureNormal: " << this->ComputeMeanCurvatureNormal << "\n";
+  os << indent << "ComputeMixedArea: " << this->ComputeMixedArea << "\n";
+  os << indent << "ComputeMeanCurvature: " << this->ComputeMeanCurvature << "\n";
+  os << indent << "ComputeGaussianCurvature: " << this->ComputeGaussianCurvature << "\n";
+  os << indent << "ComputePrincipalCurvatures: " << this->ComputePrincipalCurvatures << "\n";
+  os << indent << "ComputePrincipalDirections: " << this->ComputePrincipalDirections << "\n";
+  os << indent << "ComputeNormals: " << this->ComputeNormals << "\n";
+  os << indent << "ComputeVertexStatus: " << this->ComputeVertexStatus << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}

@@ -1,0 +1,151 @@
+/**
+ * @class   vtkDiscreteCurvatures
+ * @brief   Discrete differential-geometry operators of a triangle mesh
+ *          (Meyer, Desbrun, Schroeder & Barr; thesis chapter 2).
+ *
+ * For every point of a surface mesh it adds point arrays:
+ *  - MeanCurvatureNormal (3): K(x_i) of eq. 2.8, cotangent formula over A_Mixed.
+ *  - MixedArea: A_Mixed of figure 2.3 (sums to the surface area).
+ *  - MeanCurvature: signed kappa_H, positive on a sphere oriented outward.
+ *  - GaussianCurvature: kappa_G of eq. 2.9 (angles from atan2).
+ *  - MaximumCurvature, MinimumCurvature: kappa_1 >= kappa_2 (eq. 2.10-2.11,
+ *    Delta clamped at 0).
+ *  - PrincipalDirection1, PrincipalDirection2: unit e1 (along kappa_1) and
+ *    e2 = n x e1 from the least-squares curvature tensor (section 2.6.2).
+ *  - Normals: unit normals, K/|K| oriented like the triangles, with the
+ *    face-normal fallback where K vanishes (section 2.4.5); or another
+ *    weighting (NormalWeighting).  Set as the active normals.
+ *  - VertexStatus (unsigned char bit field): 0 regular interior vertex;
+ *    1 boundary; 2 non-manifold (edge in 3+ triangles, or a pinched fan);
+ *    4 inconsistent triangle orientation; 8 in a duplicate triangle;
+ *    16 used by no triangle; 32 invalid geometry (a zero-area triangle was
+ *    left out, or NaN/inf coordinates in the 1-ring).
+ *
+ * Boundary and non-manifold points: the thesis' operators need a closed
+ * 1-ring, so curvatures there are undefined.  By default they are NaN
+ * (ParaView shows the NaN colour and range computations skip them); with
+ * BoundaryHandling = INTERIOR_AVERAGE they get the mean of the adjacent
+ * regular points (principal directions stay NaN).  Normals and MixedArea
+ * are always defined there.
+ *
+ * Polygons and triangle strips are triangulated internally; the output keeps
+ * the input's cells and arrays.  Float and double points are read in place;
+ * all computation is in double.  The work runs on NumberOfThreads threads
+ * (0: all cores, or BELTRAMI_NUM_THREADS), reports progress and honours
+ * AbortExecute.  In a distributed pipeline one ghost level is requested so
+ * that every owned point has its full 1-ring.
+ */
+#ifndef vtkDiscreteCurvatures_h
+#define vtkDiscreteCurvatures_h
+
+#include "BeltramiFiltersModule.h" // export macro
+#include "vtkPolyDataAlgorithm.h"
+
+class BELTRAMIFILTERS_EXPORT vtkDiscreteCurvatures : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkDiscreteCurvatures* New();
+  vtkTypeMacro(vtkDiscreteCurvatures, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum MethodType
+  {
+    MEYER_2003 = 0, ///< the thesis' operators (default)
+    TAUBIN_1995 = 1 ///< Taubin's curvature tensor, for comparison
+  };
+  enum NormalWeightingType
+  {
+    MEAN_CURVATURE_NORMAL = 0, ///< K/|K| (default)
+    UNIFORM = 1,
+    ANGLE = 2,
+    MAX_1999 = 3,
+    AREA = 4
+  };
+  enum BoundaryHandlingType
+  {
+    BOUNDARY_NAN = 0,
+    INTERIOR_AVERAGE = 1
+  };
+
+  ///@{
+  /// Curvature estimator. Default MEYER_2003.
+  vtkSetClampMacro(Method, int, MEYER_2003, TAUBIN_1995);
+  vtkGetMacro(Method, int);
+  void SetMethodToMeyer2003() { this->SetMethod(MEYER_2003); }
+  void SetMethodToTaubin1995() { this->SetMethod(TAUBIN_1995); }
+  ///@}
+
+  ///@{
+  /// Vertex-normal weighting (section 2.2.1). Default MEAN_CURVATURE_NORMAL.
+  vtkSetClampMacro(NormalWeighting, int, MEAN_CURVATURE_NORMAL, AREA);
+  vtkGetMacro(NormalWeighting, int);
+  ///@}
+
+  ///@{
+  /// What boundary and non-manifold points get. Default BOUNDARY_NAN.
+  vtkSetClampMacro(BoundaryHandling, int, BOUNDARY_NAN, INTERIOR_AVERAGE);
+  vtkGetMacro(BoundaryHandling, int);
+  ///@}
+
+  ///@{
+  /// Output switches (all on by default).
+  vtkSetMacro(ComputeMeanCurvatureNormal, bool);
+  vtkGetMacro(ComputeMeanCurvatureNormal, bool);
+  vtkBooleanMacro(ComputeMeanCurvatureNormal, bool);
+  vtkSetMacro(ComputeMixedArea, bool);
+  vtkGetMacro(ComputeMixedArea, bool);
+  vtkBooleanMacro(ComputeMixedArea, bool);
+  vtkSetMacro(ComputeMeanCurvature, bool);
+  vtkGetMacro(ComputeMeanCurvature, bool);
+  vtkBooleanMacro(ComputeMeanCurvature, bool);
+  vtkSetMacro(ComputeGaussianCurvature, bool);
+  vtkGetMacro(ComputeGaussianCurvature, bool);
+  vtkBooleanMacro(ComputeGaussianCurvature, bool);
+  /// MaximumCurvature and MinimumCurvature.
+  vtkSetMacro(ComputePrincipalCurvatures, bool);
+  vtkGetMacro(ComputePrincipalCurvatures, bool);
+  vtkBooleanMacro(ComputePrincipalCurvatures, bool);
+  /// PrincipalDirection1 and PrincipalDirection2.
+  vtkSetMacro(ComputePrincipalDirections, bool);
+  vtkGetMacro(ComputePrincipalDirections, bool);
+  vtkBooleanMacro(ComputePrincipalDirections, bool);
+  vtkSetMacro(ComputeNormals, bool);
+  vtkGetMacro(ComputeNormals, bool);
+  vtkBooleanMacro(ComputeNormals, bool);
+  vtkSetMacro(ComputeVertexStatus, bool);
+  vtkGetMacro(ComputeVertexStatus, bool);
+  vtkBooleanMacro(ComputeVertexStatus, bool);
+  ///@}
+
+  ///@{
+  /// Threads used (0: all cores). Default 0.
+  vtkSetClampMacro(NumberOfThreads, int, 0, 4096);
+  vtkGetMacro(NumberOfThreads, int);
+  ///@}
+
+protected:
+  vtkDiscreteCurvatures();
+  ~vtkDiscreteCurvatures() override = default;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int Method = MEYER_2003;
+  int NormalWeighting = MEAN_CURVATURE_NORMAL;
+  int BoundaryHandling = BOUNDARY_NAN;
+  bool ComputeMeanCurvatureNormal = true;
+  bool ComputeMixedArea = true;
+  bool ComputeMeanCurvature = true;
+  bool ComputeGaussianCurvature = true;
+  bool ComputePrincipalCurvatures = true;
+  bool ComputePrincipalDirections = true;
+  bool ComputeNormals = true;
+  bool ComputeVertexStatus = true;
+  int NumberOfThreads = 0;
+
+private:
+  vtkDiscreteCurvatures(const vtkDiscreteCurvatures&) = delete;
+  void operator=(const vtkDiscreteCurvatures&) = delete;
+};
+
+#endif
