@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <atomic>
 #include <limits>
 #include <vector>
@@ -105,10 +106,16 @@ double FitMeyerDirection(const std::vector<EdgeSample>& samples, double kappaH, 
     r1 += w * residual * c;
     r2 += w * residual * sn;
   }
+  // A tiny Tikhonov term picks the least-norm solution when the samples do
+  // not determine both unknowns (e.g. right-triangle grids, whose diagonals
+  // have zero cotangent weight).
+  const double lambda = 1e-10 * (s11 + s22);
+  s11 += lambda;
+  s22 += lambda;
   const double det = s11 * s22 - s12 * s12;
-  if (!(det > 1e-14 * (s11 + s22) * (s11 + s22)))
+  if (!(det > 0.0))
   {
-    return 0.0; // fewer than two independent directions: any frame is as good
+    return 0.0; // no usable sample: any tangent direction is as good
   }
   const double d = (s22 * r1 - s12 * r2) / det;
   const double b = (s11 * r2 - s12 * r1) / det;
@@ -318,7 +325,10 @@ struct CurvatureKernel
 };
 
 /// BoundaryPolicy::InteriorAverage: undefined vertices take the mean of the
-/// values of their regular 1-ring neighbours (principal directions stay NaN).
+/// values of their defined 1-ring neighbours, ring by ring inwards-out, so
+/// that vertices with no regular neighbour (grid corners) are reached in a
+/// later sweep.  Each sweep reads only values defined before it, so the
+/// result does not depend on the thread count.  Principal directions stay NaN.
 void AverageFromInterior(const MeshTopology& topo, const std::vector<std::uint8_t>& status,
   const CurvatureOutputs& out, int numThreads)
 {
@@ -329,43 +339,69 @@ void AverageFromInterior(const MeshTopology& topo, const std::vector<std::uint8_
   };
   const Field fields[] = { { out.MeanCurvatureNormal, 3 }, { out.MeanCurvature, 1 },
     { out.GaussianCurvature, 1 }, { out.MaximumCurvature, 1 }, { out.MinimumCurvature, 1 } };
-  ParallelFor(topo.NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
-    std::vector<Index> ring;
-    for (Index i = static_cast<Index>(begin); i < end; ++i)
-    {
-      if (!(status[i] & UndefinedMask) || (status[i] & VertexIsolated))
+  const Index n = topo.NumberOfVertices();
+  std::vector<std::uint8_t> defined(n), next(n);
+  Index pending = 0;
+  for (Index i = 0; i < n; ++i)
+  {
+    defined[i] = status[i] == VertexRegular;
+    pending += !defined[i] && !(status[i] & (VertexIsolated | VertexInvalidGeometry));
+  }
+  while (pending > 0)
+  {
+    next = defined;
+    std::atomic<Index> filled{ 0 };
+    ParallelFor(n, numThreads, [&](std::int64_t begin, std::int64_t end) {
+      std::vector<Index> ring;
+      Index count = 0;
+      for (Index i = static_cast<Index>(begin); i < end; ++i)
       {
-        continue;
-      }
-      ring.clear();
-      for (const Index* c = topo.CornersBegin(i); c != topo.CornersEnd(i); ++c)
-      {
-        ring.push_back(topo.CornerVertex(MeshTopology::Next(*c)));
-        ring.push_back(topo.CornerVertex(MeshTopology::Prev(*c)));
-      }
-      std::sort(ring.begin(), ring.end());
-      ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-      ring.erase(std::remove_if(ring.begin(), ring.end(), [&](Index j) { return status[j] != 0; }),
-        ring.end());
-      for (const Field& f : fields)
-      {
-        if (!f.Data)
+        if (defined[i] || (status[i] & (VertexIsolated | VertexInvalidGeometry)))
         {
           continue;
         }
-        for (int c = 0; c < f.Components; ++c)
+        ring.clear();
+        for (const Index* c = topo.CornersBegin(i); c != topo.CornersEnd(i); ++c)
         {
-          double sum = 0.0;
-          for (Index j : ring)
+          for (Index j : { topo.CornerVertex(MeshTopology::Next(*c)),
+                 topo.CornerVertex(MeshTopology::Prev(*c)) })
           {
-            sum += f.Data[static_cast<std::int64_t>(f.Components) * j + c];
+            if (defined[j])
+            {
+              ring.push_back(j);
+            }
           }
-          f.Data[static_cast<std::int64_t>(f.Components) * i + c] =
-            ring.empty() ? NaN : sum / static_cast<double>(ring.size());
         }
+        std::sort(ring.begin(), ring.end());
+        ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+        if (ring.empty())
+        {
+          continue;
+        }
+        for (const Field& f : fields)
+        {
+          for (int k = 0; f.Data && k < f.Components; ++k)
+          {
+            double sum = 0.0;
+            for (Index j : ring)
+            {
+              sum += f.Data[static_cast<std::int64_t>(f.Components) * j + k];
+            }
+            f.Data[static_cast<std::int64_t>(f.Components) * i + k] = sum / ring.size();
+          }
+        }
+        next[i] = 1;
+        ++count;
       }
+      filled += count;
+    });
+    if (filled == 0)
+    {
+      break; // components without any regular vertex stay NaN
     }
-  });
+    pending -= filled;
+    defined.swap(next);
+  }
 }
 
 } // namespace

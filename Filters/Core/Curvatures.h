@@ -28,7 +28,8 @@ enum class NormalWeighting : int
 enum class BoundaryPolicy : int
 {
   NaN = 0,            ///< undefined: NaN (shown as the NaN colour, skipped by ranges)
-  InteriorAverage = 1 ///< average of the adjacent regular vertices (NaN if there are none)
+  InteriorAverage = 1 ///< average of the adjacent regular vertices, propagated ring by ring
+                      ///< (NaN only on components without a regular vertex)
 };
 
 struct CurvatureOptions
