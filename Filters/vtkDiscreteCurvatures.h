@@ -13,8 +13,10 @@
  *  - PrincipalDirection1, PrincipalDirection2: unit e1 (along kappa_1) and
  *    e2 = n x e1 from the least-squares curvature tensor (section 2.6.2).
  *  - Normals: unit normals, K/|K| oriented like the triangles, with the
- *    face-normal fallback where K vanishes (section 2.4.5); or another
- *    weighting (NormalWeighting).  Set as the active normals.
+ *    area-weighted face-normal fallback where K vanishes (section 2.4.5) or
+ *    is more than 60 degrees away from the face normals (a few vertices of
+ *    noisy scans); or another weighting (NormalWeighting).  Set as the
+ *    active normals.
  *  - VertexStatus (unsigned char bit field): 0 regular interior vertex;
  *    1 boundary; 2 non-manifold (edge in 3+ triangles, or a pinched fan);
  *    4 inconsistent triangle orientation; 8 in a duplicate triangle;
@@ -25,7 +27,8 @@
  * 1-ring, so curvatures there are undefined.  By default they are NaN
  * (ParaView shows the NaN colour and range computations skip them); with
  * BoundaryHandling = INTERIOR_AVERAGE they get the mean of the adjacent
- * regular points (principal directions stay NaN).  Normals and MixedArea
+ * points that have a value, filled ring by ring from the interior
+ * (principal directions stay NaN).  Normals and MixedArea
  * are always defined there.
  *
  * Polygons and triangle strips are triangulated internally; the output keeps

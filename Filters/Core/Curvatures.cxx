@@ -17,6 +17,8 @@ namespace
 
 using Vec3 = VecN<3>;
 constexpr double NaN = std::numeric_limits<double>::quiet_NaN();
+/// cos(60 deg): K/|K| is used as the normal only this close to the face normals.
+constexpr double MinimumNormalCosine = 0.5;
 constexpr std::uint8_t UndefinedMask = VertexBoundary | VertexNonManifold | VertexDuplicateFace |
   VertexIsolated;
 
@@ -255,8 +257,13 @@ struct CurvatureKernel
 
       Vec3 n;
       const bool undefined = (status & UndefinedMask) != 0;
+      // K gives the normal where it is a normal: not vanishing (section 2.4.5)
+      // and within 60 degrees of the face normals.  On irregular, noisy scans
+      // K can be mostly tangential at a few vertices; those take the fallback.
+      const bool normalK = ksumNorm > 1e-9 * std::sqrt(area) &&
+        std::abs(sums.CotangentSum.dot(faceSum)) >= MinimumNormalCosine * ksumNorm * faceNorm;
       if (Options.Weighting == NormalWeighting::MeanCurvatureNormal && !undefined &&
-        area > 0.0 && ksumNorm > 1e-9 * std::sqrt(area))
+        area > 0.0 && normalK)
       {
         n = orientation * sums.CotangentSum / ksumNorm;
       }

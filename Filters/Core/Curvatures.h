@@ -16,7 +16,8 @@ enum class CurvatureMethod : int
 
 enum class NormalWeighting : int
 {
-  MeanCurvatureNormal = 0, ///< K/|K| with the face-normal fallback (section 2.4.5)
+  MeanCurvatureNormal = 0, ///< K/|K| with the face-normal fallback (section 2.4.5) where K
+                           ///< vanishes or is more than 60 degrees from the face normals
   Uniform = 1,             ///< Gouraud: unit face normals, weight 1
   Angle = 2,               ///< Thuermer & Wuethrich: weight = incident angle
   Max1999 = 3,             ///< Max: sin(theta) / (|e1| |e2|), section 2.2.1

@@ -1,0 +1,50 @@
+"""The ParaView plugin from pvpython / pvbatch: OpenDataFile on .off, the
+DiscreteCurvatures proxy, its defaults, and the OFF writer."""
+import math
+import os
+import sys
+import tempfile
+
+from paraview.simple import *  # noqa: F401,F403
+from paraview import servermanager
+from vtkmodules.util.numpy_support import vtk_to_numpy
+import numpy as np
+
+DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
+
+
+def check(condition, message):
+    if not condition:
+        print("FAILED: " + message)
+        sys.exit(1)
+
+
+LoadPlugin(os.environ["BELTRAMI_PLUGIN"], ns=globals())
+reader = OpenDataFile(os.path.join(DATA, "bunny00.off"))
+check(reader is not None and reader.GetXMLName() == "OFFReader",
+      "OpenDataFile picks the plugin's OFF reader")
+curvatures = DiscreteCurvatures(Input=reader)
+check(curvatures.Method == "Meyer 2003 (thesis operators)", "default method")
+check(curvatures.NormalWeighting == "Mean curvature normal", "default normal weighting")
+check(curvatures.BoundaryHandling == "NaN (undefined)", "default boundary handling")
+curvatures.UpdatePipeline()
+data = servermanager.Fetch(curvatures)
+check(data.GetNumberOfPoints() == 37706, "all bunny points")
+pd = data.GetPointData()
+for name in ("MeanCurvatureNormal", "MixedArea", "MeanCurvature", "GaussianCurvature",
+             "MaximumCurvature", "MinimumCurvature", "PrincipalDirection1",
+             "PrincipalDirection2", "Normals", "VertexStatus"):
+    check(pd.GetArray(name) is not None, "array " + name)
+g = vtk_to_numpy(pd.GetArray("GaussianCurvature"))
+a = vtk_to_numpy(pd.GetArray("MixedArea"))
+check(abs(float(np.sum(g * a)) - 4 * math.pi) < 1e-9, "Gauss-Bonnet on the bunny (genus 0)")
+info = curvatures.PointData["MeanCurvature"].GetRange()
+check(info[0] < 0 < info[1], "mean curvature range spans both signs")
+
+with tempfile.TemporaryDirectory() as tmp:
+    path = os.path.join(tmp, "bunny.off")
+    SaveData(path, proxy=reader)
+    again = OpenDataFile(path)
+    again.UpdatePipeline()
+    check(again.GetDataInformation().GetNumberOfPoints() == 37706, "OFF writer round trip")
+print("pvpython plugin test passed")

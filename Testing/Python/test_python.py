@@ -1,0 +1,104 @@
+"""The beltrami package from /usr/bin/python3: filter and OFF I/O on real meshes."""
+import math
+import os
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkFiltersSources import vtkSphereSource
+
+from beltrami import vtkDiscreteCurvatures, vtkOFFReader, vtkOFFWriter
+
+DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
+
+
+def arrays(polydata, *names):
+    pd = polydata.GetPointData()
+    return [vtk_to_numpy(pd.GetArray(n)) for n in names]
+
+
+class CurvaturesFromPython(unittest.TestCase):
+    def run_filter(self, path, **settings):
+        reader = vtkOFFReader()
+        reader.SetFileName(path)
+        f = vtkDiscreteCurvatures()
+        for key, value in settings.items():
+            getattr(f, "Set" + key)(value)
+        f.SetInputConnection(reader.GetOutputPort())
+        f.Update()
+        return f.GetOutput()
+
+    def test_knot_is_a_torus(self):
+        out = self.run_filter(os.path.join(DATA, "knot1.off"))
+        g, a, k1, k2, e1, e2, n, status = arrays(
+            out, "GaussianCurvature", "MixedArea", "MaximumCurvature", "MinimumCurvature",
+            "PrincipalDirection1", "PrincipalDirection2", "Normals", "VertexStatus")
+        self.assertTrue((status == 0).all())
+        self.assertAlmostEqual(float(np.sum(g * a)), 0.0, delta=1e-9)  # genus 1
+        self.assertTrue((k1 >= k2).all())
+        self.assertLess(np.abs((e1 * e2).sum(1)).max(), 1e-12)
+        self.assertLess(np.abs((e1 * n).sum(1)).max(), 1e-12)
+        self.assertLess(np.abs(np.linalg.norm(e1, axis=1) - 1).max(), 1e-12)
+
+    def test_sphere_values(self):
+        sphere = vtkSphereSource()
+        sphere.SetRadius(2.0)
+        sphere.SetThetaResolution(80)
+        sphere.SetPhiResolution(80)
+        f = vtkDiscreteCurvatures()
+        f.SetInputConnection(sphere.GetOutputPort())
+        f.SetNumberOfThreads(2)
+        f.Update()
+        h, g = arrays(f.GetOutput(), "MeanCurvature", "GaussianCurvature")
+        self.assertAlmostEqual(float(np.mean(h)), 0.5, delta=1e-3)
+        self.assertAlmostEqual(float(np.mean(g)), 0.25, delta=1e-3)
+
+    def test_methods_and_boundary(self):
+        path = os.path.join(DATA, "mushroom.off")
+        default = self.run_filter(path)
+        averaged = self.run_filter(path, BoundaryHandling=vtkDiscreteCurvatures.INTERIOR_AVERAGE)
+        taubin = self.run_filter(path, Method=vtkDiscreteCurvatures.TAUBIN_1995)
+        (h0, status), (h1,), (h2,) = (arrays(default, "MeanCurvature", "VertexStatus"),
+                                      arrays(averaged, "MeanCurvature"),
+                                      arrays(taubin, "MeanCurvature"))
+        boundary = (status & 1) == 1
+        self.assertGreater(boundary.sum(), 10)
+        self.assertTrue(np.isnan(h0[boundary]).all())
+        self.assertTrue(np.isfinite(h1).all())
+        self.assertTrue(np.isfinite(h2[~boundary]).all())
+        # Both estimators see the same shape.
+        self.assertGreater(np.corrcoef(h0[~boundary], h2[~boundary])[0, 1], 0.8)
+
+    def test_off_round_trip(self):
+        reader = vtkOFFReader()
+        reader.SetFileName(os.path.join(DATA, "eight.off"))
+        reader.Update()
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "eight.off")
+            writer = vtkOFFWriter()
+            writer.SetFileName(path)
+            writer.SetInputConnection(reader.GetOutputPort())
+            self.assertEqual(writer.Write(), 1)
+            again = vtkOFFReader()
+            again.SetFileName(path)
+            again.Update()
+            a = vtk_to_numpy(reader.GetOutput().GetPoints().GetData())
+            b = vtk_to_numpy(again.GetOutput().GetPoints().GetData())
+            self.assertTrue(np.array_equal(a, b))
+
+    def test_bad_file_is_an_error_not_a_crash(self):
+        with tempfile.NamedTemporaryFile("w", suffix=".off", delete=False) as bad:
+            bad.write("OFF\n100000000 1 0\n0 0 0\n")
+        reader = vtkOFFReader()
+        reader.SetFileName(bad.name)
+        reader.GlobalWarningDisplayOff()
+        reader.Update()
+        os.unlink(bad.name)
+        self.assertEqual(reader.GetOutput().GetNumberOfPoints(), 0)
+        self.assertIn("truncated", reader.GetLastErrorMessage())
+
+
+if __name__ == "__main__":
+    unittest.main()

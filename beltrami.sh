@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Beltrami set-up and entry point (Debian 12).
+#   ./beltrami.sh demo   install what is missing, build, run the demo pipeline
+#   ./beltrami.sh test   install what is missing, build, run the whole test suite
+#   ./beltrami.sh build  install what is missing and build only
+# Idempotent: a second run only rebuilds what changed.
+set -euo pipefail
+cd "$(dirname "$0")"
+ROOT=$PWD
+BUILD=${BELTRAMI_BUILD_DIR:-$ROOT/build}
+action=${1:-demo}
+
+PACKAGES=(
+  # compiler and build tools
+  g++ cmake ninja-build ccache
+  # ParaView 5.11 SDK (VTK 9.2) and what its CMake config needs besides
+  paraview-dev python3-paraview qtbase5-dev qttools5-dev qtxmlpatterns5-dev-tools
+  libopenmpi-dev openmpi-bin libdouble-conversion-dev liblz4-dev
+  # numerics and tests
+  libeigen3-dev libgtest-dev python3-numpy xvfb xauth
+)
+
+install_missing() {
+  local missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "== installing: ${missing[*]}"
+  local sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
+}
+
+build() {
+  if [ ! -f "$BUILD/build.ninja" ]; then
+    local launcher=()
+    command -v ccache >/dev/null && launcher=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+    cmake -S "$ROOT" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}"
+  fi
+  cmake --build "$BUILD" -- -j"$(nproc)"
+}
+
+case "$action" in
+  build)
+    install_missing
+    build
+    ;;
+  demo)
+    install_missing
+    build
+    # shellcheck disable=SC1091
+    source "$BUILD/beltrami-env.sh"
+    xvfb-run -a /usr/bin/python3 Examples/curvature_demo.py Testing/Data/bunny00.off "$ROOT/demo-output"
+    ;;
+  test)
+    install_missing
+    build
+    cd "$BUILD"
+    ctest --output-on-failure -j"$(nproc)"
+    ;;
+  *)
+    echo "usage: $0 [demo|test|build]" >&2
+    exit 2
+    ;;
+esac
