@@ -73,10 +73,10 @@ int vtkDiscreteCurvatures::RequestData(
   }
   output->ShallowCopy(input);
   const vtkIdType numPoints = input->GetNumberOfPoints();
+  const int pieces = outputVector->GetInformationObject(0)->Get(
+    vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES());
   if (numPoints == 0)
   {
-    const int pieces = outputVector->GetInformationObject(0)->Get(
-      vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES());
     if (pieces <= 1) // an empty piece of distributed data is normal
     {
       vtkWarningMacro("Input has no points: nothing to compute.");
@@ -97,8 +97,10 @@ int vtkDiscreteCurvatures::RequestData(
       << (surface.NumberOfIgnoredCells() ? " (vertices and lines are ignored)" : "")
       << ": curvatures are undefined (NaN) at every point.");
   }
-  else if (!surface.TopologyWarning().empty())
+  else if (pieces <= 1 && !surface.TopologyWarning().empty())
   {
+    // (A piece of distributed data has pinched fans and unused points at the
+    // edge of its ghost layer: not a defect of the user's surface.)
     vtkWarningMacro(<< surface.TopologyWarning()
                     << ". Curvatures are undefined (NaN, see VertexStatus) at boundary and "
                        "non-manifold points.");
