@@ -217,9 +217,8 @@ struct CurvatureKernel
             case NormalWeighting::Max1999:
               weighted += cross / (g.AA * g.BB);
               break;
-            case NormalWeighting::Area:
-            case NormalWeighting::MeanCurvatureNormal:
-              weighted += cross;
+            case NormalWeighting::Area:                // faceSum is the area-weighted sum
+            case NormalWeighting::MeanCurvatureNormal: // its fallback is faceSum too
               break;
           }
         }
@@ -270,6 +269,11 @@ struct CurvatureKernel
       else
       {
         // Section 2.4.5's fallback where K vanishes, and the other weightings.
+        if (Options.Weighting == NormalWeighting::Area ||
+          Options.Weighting == NormalWeighting::MeanCurvatureNormal)
+        {
+          weighted = faceSum;
+        }
         const double norm = weighted.norm();
         n = norm > 0.0 ? Vec3(weighted / norm)
                        : (faceNorm > 0.0 ? Vec3(faceSum / faceNorm) : Vec3::Constant(NaN));
@@ -347,12 +351,17 @@ void AverageFromInterior(const MeshTopology& topo, const std::vector<std::uint8_
   const Field fields[] = { { out.MeanCurvatureNormal, 3 }, { out.MeanCurvature, 1 },
     { out.GaussianCurvature, 1 }, { out.MaximumCurvature, 1 }, { out.MinimumCurvature, 1 } };
   const Index n = topo.NumberOfVertices();
+  // Sources: vertices whose values were computed (an inconsistently oriented
+  // but closed 1-ring counts).  Targets: boundary / non-manifold vertices.
+  const auto needsValue = [&](Index i) {
+    return (status[i] & UndefinedMask) && !(status[i] & (VertexIsolated | VertexInvalidGeometry));
+  };
   std::vector<std::uint8_t> defined(n), next(n);
   Index pending = 0;
   for (Index i = 0; i < n; ++i)
   {
-    defined[i] = status[i] == VertexRegular;
-    pending += !defined[i] && !(status[i] & (VertexIsolated | VertexInvalidGeometry));
+    defined[i] = !(status[i] & (UndefinedMask | VertexInvalidGeometry));
+    pending += needsValue(i);
   }
   while (pending > 0)
   {
@@ -363,7 +372,7 @@ void AverageFromInterior(const MeshTopology& topo, const std::vector<std::uint8_
       Index count = 0;
       for (Index i = static_cast<Index>(begin); i < end; ++i)
       {
-        if (defined[i] || (status[i] & (VertexIsolated | VertexInvalidGeometry)))
+        if (defined[i] || !needsValue(i))
         {
           continue;
         }

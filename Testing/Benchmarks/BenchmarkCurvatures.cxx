@@ -41,24 +41,27 @@ double MedianSeconds(F&& run, int repeats = 3)
   return t[t.size() / 2];
 }
 
-double TimeVTK(vtkPolyData* mesh, int type)
+/// Median time of a fresh filter of type Filter on mesh, set up by configure.
+template <typename Filter, typename Configure>
+double TimeFilter(vtkPolyData* mesh, Configure&& configure)
 {
   return MedianSeconds([&]() {
-    vtkNew<vtkCurvatures> c;
-    c->SetInputData(mesh);
-    c->SetCurvatureType(type);
-    c->Update();
+    vtkNew<Filter> f;
+    f->SetInputData(mesh);
+    configure(f.Get());
+    f->Update();
   });
+}
+
+double TimeVTK(vtkPolyData* mesh, int type)
+{
+  return TimeFilter<vtkCurvatures>(mesh, [type](vtkCurvatures* c) { c->SetCurvatureType(type); });
 }
 
 double TimeOurs(vtkPolyData* mesh, int threads)
 {
-  return MedianSeconds([&]() {
-    vtkNew<vtkDiscreteCurvatures> c;
-    c->SetInputData(mesh);
-    c->SetNumberOfThreads(threads);
-    c->Update();
-  });
+  return TimeFilter<vtkDiscreteCurvatures>(
+    mesh, [threads](vtkDiscreteCurvatures* c) { c->SetNumberOfThreads(threads); });
 }
 
 vtkSmartPointer<vtkPolyData> ToPolyData(const beltrami::test::Mesh& m)

@@ -503,6 +503,30 @@ TEST(Curvatures, BoundaryPolicies)
   EXPECT_EQ(boundary, 80);
 }
 
+// Interior-average filling must not overwrite vertices whose values exist,
+// such as an interior vertex next to an inconsistently oriented triangle.
+TEST(Curvatures, InteriorAverageKeepsComputedValues)
+{
+  Mesh m = test::HeightField(
+    [](double x, double y) { return 0.5 * (x * x + y * y); }, 0.5, 15, 0, false, 1);
+  std::swap(m.Triangles[3 * 100], m.Triangles[3 * 100 + 1]); // flip one interior triangle
+  CurvatureOptions average;
+  average.Boundary = BoundaryPolicy::InteriorAverage;
+  const Result nan = Compute(m), avg = Compute(m, average);
+  int inconsistent = 0;
+  for (Index i = 0; i < m.NumberOfVertices(); ++i)
+  {
+    if (nan.Status[i] == VertexInconsistent)
+    {
+      ++inconsistent;
+      EXPECT_TRUE(std::isfinite(nan.G[i]));
+      EXPECT_EQ(avg.G[i], nan.G[i]);
+      EXPECT_EQ(avg.K1[i], nan.K1[i]);
+    }
+  }
+  EXPECT_EQ(inconsistent, 3);
+}
+
 // Section 2.8.1: the same operator for a surface embedded in R^5.
 TEST(SurfaceOperators, BeltramiInHigherDimensions)
 {
