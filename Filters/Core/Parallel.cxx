@@ -106,4 +106,49 @@ bool ParallelFor(std::int64_t n, int numThreads,
   return true;
 }
 
+std::vector<double> ParallelSum(std::int64_t n, int numberOfSums, int numThreads,
+  const std::function<void(std::int64_t, std::int64_t, double*)>& body)
+{
+  constexpr std::int64_t Chunk = 4096;
+  const std::int64_t numChunks = (std::max<std::int64_t>(n, 0) + Chunk - 1) / Chunk;
+  std::vector<double> partials(static_cast<std::size_t>(numChunks * numberOfSums), 0.0);
+  // Chunks are the items of the loop: ParallelFor over rows with chunk-aligned
+  // ranges would split chunks between threads.
+  const int threads = static_cast<int>(
+    std::min<std::int64_t>(ResolveThreadCount(numThreads), std::max<std::int64_t>(1, numChunks / 2)));
+  std::atomic<std::int64_t> cursor{ 0 };
+  auto worker = [&]() {
+    for (std::int64_t c = cursor.fetch_add(1); c < numChunks; c = cursor.fetch_add(1))
+    {
+      body(c * Chunk, std::min(n, (c + 1) * Chunk), partials.data() + c * numberOfSums);
+    }
+  };
+  if (threads <= 1)
+  {
+    worker();
+  }
+  else
+  {
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t)
+    {
+      pool.emplace_back(worker);
+    }
+    worker();
+    for (auto& th : pool)
+    {
+      th.join();
+    }
+  }
+  std::vector<double> sums(static_cast<std::size_t>(numberOfSums), 0.0);
+  for (std::int64_t c = 0; c < numChunks; ++c)
+  {
+    for (int k = 0; k < numberOfSums; ++k)
+    {
+      sums[k] += partials[c * numberOfSums + k];
+    }
+  }
+  return sums;
+}
+
 } // namespace beltrami

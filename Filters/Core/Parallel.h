@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 namespace beltrami
 {
@@ -33,5 +34,12 @@ int ResolveThreadCount(int requested);
 bool ParallelFor(std::int64_t n, int numThreads,
   const std::function<void(std::int64_t begin, std::int64_t end)>& body,
   const ProgressCallback& progress = {}, int numBatches = 0);
+
+/// Deterministic parallel sums: [0, n) is cut into chunks of a fixed size
+/// (independent of the thread count), body(begin, end, partial) adds its
+/// chunk's contribution to `partial` (numberOfSums values, zeroed), and the
+/// chunks are summed in order.  Results are bit-identical for any thread count.
+std::vector<double> ParallelSum(std::int64_t n, int numberOfSums, int numThreads,
+  const std::function<void(std::int64_t begin, std::int64_t end, double* partial)>& body);
 
 } // namespace beltrami

@@ -4,7 +4,9 @@
 #include "Core/MeshTopology.h"
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -236,6 +238,133 @@ inline Mesh FlatIrregular(int n, unsigned seed)
     else
     {
       m.AddTriangle(a, b, c);
+    }
+  }
+  return m;
+}
+
+
+/// Sphere of radius R made of latitude rings: `upper` rings of `upperCount`
+/// points above the equator, `lower` rings of `lowerCount` below (figure
+/// 3.10's two sampling rates), zipped together; outward orientation.
+inline Mesh TwoRateSphere(double R, int upper, int upperCount, int lower, int lowerCount)
+{
+  Mesh m;
+  const Index north = m.AddPoint({ 0, 0, R });
+  std::vector<std::vector<Index>> rings;
+  const auto ring = [&](double theta, int count, double offset) {
+    std::vector<Index> r;
+    for (int i = 0; i < count; ++i)
+    {
+      const double phi = 2 * M_PI * (i + offset) / count;
+      r.push_back(m.AddPoint(
+        { R * std::sin(theta) * std::cos(phi), R * std::sin(theta) * std::sin(phi), R * std::cos(theta) }));
+    }
+    rings.push_back(r);
+  };
+  for (int k = 1; k <= upper; ++k)
+  {
+    ring(0.5 * M_PI * k / upper, upperCount, 0.5 * (k % 2));
+  }
+  for (int k = 1; k < lower; ++k)
+  {
+    ring(0.5 * M_PI + 0.5 * M_PI * k / lower, lowerCount, 0.5 * (k % 2));
+  }
+  const Index south = m.AddPoint({ 0, 0, -R });
+  const auto angle = [&](Index v) {
+    const double a = std::atan2(m.Points[3 * v + 1], m.Points[3 * v]);
+    return a < 0 ? a + 2 * M_PI : a;
+  };
+  const auto sorted = [&](std::vector<Index> r) {
+    std::sort(r.begin(), r.end(), [&](Index a, Index b) { return angle(a) < angle(b); });
+    return r;
+  };
+  // Zip two rings (a above b) by advancing on the one whose next point comes first.
+  const auto zip = [&](const std::vector<Index>& a0, const std::vector<Index>& b0) {
+    const std::vector<Index> a = sorted(a0), b = sorted(b0);
+    const std::size_t na = a.size(), nb = b.size();
+    std::size_t i = 0, j = 0;
+    while (i < na || j < nb)
+    {
+      const double ta = i < na ? angle(a[(i + 1) % na]) + (i + 1 == na ? 2 * M_PI : 0) : 1e9;
+      const double tb = j < nb ? angle(b[(j + 1) % nb]) + (j + 1 == nb ? 2 * M_PI : 0) : 1e9;
+      if (ta <= tb)
+      {
+        m.AddTriangle(a[i % na], b[j % nb], a[(i + 1) % na]);
+        ++i;
+      }
+      else
+      {
+        m.AddTriangle(a[i % na], b[j % nb], b[(j + 1) % nb]);
+        ++j;
+      }
+    }
+  };
+  const std::vector<Index> first = sorted(rings.front()), last = sorted(rings.back());
+  for (std::size_t i = 0; i < first.size(); ++i)
+  {
+    m.AddTriangle(north, first[i], first[(i + 1) % first.size()]);
+  }
+  for (std::size_t k = 0; k + 1 < rings.size(); ++k)
+  {
+    zip(rings[k], rings[k + 1]);
+  }
+  for (std::size_t i = 0; i < last.size(); ++i)
+  {
+    m.AddTriangle(south, last[(i + 1) % last.size()], last[i]);
+  }
+  return m;
+}
+
+/// Surface of the cube [-1, 1]^3 with n x n quads (split in two) per face,
+/// outward orientation; vertices on edges and corners are shared.
+inline Mesh CubeSurface(int n)
+{
+  Mesh m;
+  std::map<std::array<long, 3>, Index> ids;
+  const auto vertex = [&](const Eigen::Vector3d& p) {
+    const std::array<long, 3> key = { std::lround(p[0] * n * 2), std::lround(p[1] * n * 2),
+      std::lround(p[2] * n * 2) };
+    auto it = ids.find(key);
+    if (it != ids.end())
+    {
+      return it->second;
+    }
+    const Index id = m.AddPoint(p);
+    ids.emplace(key, id);
+    return id;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    for (int side : { -1, 1 })
+    {
+      Eigen::Vector3d normal = Eigen::Vector3d::Zero(), u = Eigen::Vector3d::Zero(),
+                      v = Eigen::Vector3d::Zero();
+      normal[axis] = side;
+      u[(axis + 1) % 3] = 1;
+      v[(axis + 2) % 3] = 1;
+      if (side < 0)
+      {
+        std::swap(u, v); // keep u x v = outward normal
+      }
+      std::vector<Index> grid;
+      for (int i = 0; i <= n; ++i)
+      {
+        for (int j = 0; j <= n; ++j)
+        {
+          grid.push_back(vertex(normal + (2.0 * i / n - 1) * u + (2.0 * j / n - 1) * v));
+        }
+      }
+      for (int i = 0; i < n; ++i)
+      {
+        for (int j = 0; j < n; ++j)
+        {
+          const Index a = grid[i * (n + 1) + j], b = grid[(i + 1) * (n + 1) + j],
+                      c = grid[(i + 1) * (n + 1) + j + 1], d = grid[i * (n + 1) + j + 1];
+          m.AddTriangle(a, b, c);
+          m.AddTriangle(a, c, d);
+        }
+      }
     }
   }
   return m;

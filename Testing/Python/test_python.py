@@ -9,7 +9,8 @@ import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersSources import vtkSphereSource
 
-from beltrami import vtkDiscreteCurvatures, vtkOFFReader, vtkOFFWriter
+from beltrami import vtkDiscreteCurvatures, vtkImplicitFairing, vtkOFFReader, vtkOFFWriter
+from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -135,6 +136,71 @@ class CurvaturesFromPython(unittest.TestCase):
         os.unlink(bad.name)
         self.assertEqual(reader.GetOutput().GetNumberOfPoints(), 0)
         self.assertIn("truncated", reader.GetLastErrorMessage())
+
+
+def folds(polydata):
+    """Interior edges whose two triangles face opposite ways (dot of unit normals < -0.5)."""
+    pts = vtk_to_numpy(polydata.GetPoints().GetData()).astype(float)
+    conn = vtk_to_numpy(polydata.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+    n = np.cross(pts[conn[:, 1]] - pts[conn[:, 0]], pts[conn[:, 2]] - pts[conn[:, 0]])
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    edges = {}
+    count = 0
+    for t, tri in enumerate(conn):
+        for k in range(3):
+            key = (min(tri[k], tri[(k + 1) % 3]), max(tri[k], tri[(k + 1) % 3]))
+            if key in edges:
+                count += float(np.dot(n[edges[key]], n[t])) < -0.5
+            else:
+                edges[key] = t
+    return count
+
+
+class FairingFromPython(unittest.TestCase):
+    def bunny(self):
+        reader = vtkOFFReader()
+        reader.SetFileName(os.path.join(DATA, "bunny00.off"))
+        reader.Update()
+        return reader.GetOutput()
+
+    def test_large_implicit_step_is_stable_and_keeps_the_volume(self):
+        bunny = self.bunny()
+        f = vtkImplicitFairing()
+        f.SetInputData(bunny)
+        f.SetTimeStep(100.0)  # 100 h^2 in one step
+        f.SetNumberOfSteps(1)
+        f.Update()
+        out = f.GetOutput()
+        x = vtk_to_numpy(out.GetPoints().GetData())
+        self.assertTrue(np.isfinite(x).all())
+        self.assertEqual(folds(bunny), 0)
+        self.assertEqual(folds(out), 0)
+        v0, v1 = vtk_to_numpy(out.GetFieldData().GetArray("FairingInvariant"))
+        self.assertAlmostEqual(v1 / v0, 1.0, delta=1e-10)
+        self.assertEqual(f.GetNumberOfSolves(), 1)
+        self.assertGreater(f.GetIterations(0), 0)
+        moved = np.linalg.norm(x - vtk_to_numpy(bunny.GetPoints().GetData()), axis=1)
+        self.assertGreater(moved.max(), 1e-3)
+
+    def test_fixed_points_array(self):
+        bunny = self.bunny()
+        mask = vtkUnsignedCharArray()
+        mask.SetName("Fixed")
+        n = bunny.GetNumberOfPoints()
+        mask.SetNumberOfTuples(n)
+        for i in range(n):
+            mask.SetValue(i, 1 if i % 5 == 0 else 0)
+        bunny.GetPointData().AddArray(mask)
+        f = vtkImplicitFairing()
+        f.SetInputData(bunny)
+        f.SetInputArrayToProcess(0, 0, 0, 0, "Fixed")
+        f.Update()
+        before = vtk_to_numpy(bunny.GetPoints().GetData())
+        after = vtk_to_numpy(f.GetOutput().GetPoints().GetData())
+        self.assertTrue((after[::5] == before[::5]).all())
+        self.assertGreater(np.abs(after - before).max(), 1e-4)
+        self.assertIsNotNone(f.GetOutput().GetPointData().GetArray("Fixed"))  # point data carried
+        self.assertIsNone(f.GetOutput().GetFieldData().GetArray("FairingInvariant"))
 
 
 if __name__ == "__main__":

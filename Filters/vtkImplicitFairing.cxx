@@ -1,0 +1,253 @@
+#include "vtkImplicitFairing.h"
+
+#include "vtkBeltramiSurface.h"
+
+#include "Core/Fairing.h"
+
+#include <vtkDataArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkFloatArray.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+
+#include <cmath>
+#include <vector>
+
+vtkStandardNewMacro(vtkImplicitFairing);
+
+vtkImplicitFairing::vtkImplicitFairing()
+{
+  // Input arrays 0 (fixed points) and 1 (weights) are optional: none by default.
+}
+
+namespace
+{
+
+/// The optional point array selected as input array `idx`, checked.
+vtkDataArray* OptionalPointArray(vtkImplicitFairing* self, int idx, vtkInformationVector** in,
+  vtkIdType numPoints, const char* what, std::string& error)
+{
+  vtkInformation* info = self->GetInputArrayInformation(idx);
+  if (!info || !info->Has(vtkDataObject::FIELD_NAME()) || !info->Get(vtkDataObject::FIELD_NAME()) ||
+    !*info->Get(vtkDataObject::FIELD_NAME()))
+  {
+    return nullptr;
+  }
+  const char* name = info->Get(vtkDataObject::FIELD_NAME());
+  vtkPolyData* input = vtkPolyData::GetData(in[0]);
+  vtkDataArray* a = input->GetPointData()->GetArray(name);
+  if (!a)
+  {
+    error = std::string("The ") + what + " point array '" + name + "' does not exist in the input.";
+    return nullptr;
+  }
+  if (a->GetNumberOfComponents() != 1 || a->GetNumberOfTuples() != numPoints)
+  {
+    error = std::string("The ") + what + " point array '" + name + "' must have one component per point.";
+    return nullptr;
+  }
+  return a;
+}
+
+} // namespace
+
+int vtkImplicitFairing::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  if (!input || !output)
+  {
+    vtkErrorMacro("Missing input or output poly data.");
+    return 0;
+  }
+  output->ShallowCopy(input);
+  this->Iterations.clear();
+  const vtkIdType numPoints = input->GetNumberOfPoints();
+  if (numPoints == 0)
+  {
+    vtkWarningMacro("Input has no points: nothing to smooth.");
+    return 1;
+  }
+  vtkBeltramiSurface surface;
+  if (!surface.Build(input, this->NumberOfThreads))
+  {
+    vtkErrorMacro("Cannot process the input surface: " << surface.Error());
+    return 0;
+  }
+  const beltrami::MeshTopology& topo = surface.Topology();
+  if (topo.NumberOfTriangles() == 0)
+  {
+    vtkWarningMacro("Input has no polygons or triangle strips: the points are left as they are.");
+    return 1;
+  }
+  if (!surface.TopologyWarning().empty())
+  {
+    vtkWarningMacro(<< surface.TopologyWarning() << ". Non-manifold points are kept fixed.");
+  }
+
+  std::string error;
+  vtkDataArray* fixedArray = OptionalPointArray(this, 0, inputVector, numPoints, "fixed-points", error);
+  vtkDataArray* weightArray = error.empty()
+    ? OptionalPointArray(this, 1, inputVector, numPoints, "smoothing-weight", error) : nullptr;
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 0;
+  }
+  std::vector<std::uint8_t> fixed;
+  std::vector<double> weights;
+  beltrami::FairingConstraints constraints;
+  if (fixedArray)
+  {
+    fixed.resize(numPoints);
+    for (vtkIdType i = 0; i < numPoints; ++i)
+    {
+      fixed[i] = fixedArray->GetComponent(i, 0) != 0.0;
+    }
+    constraints.Fixed = fixed.data();
+  }
+  if (weightArray)
+  {
+    weights.resize(numPoints);
+    for (vtkIdType i = 0; i < numPoints; ++i)
+    {
+      weights[i] = weightArray->GetComponent(i, 0);
+    }
+    constraints.Weights = weights.data();
+  }
+
+  // The core works in double, in place.
+  std::vector<double> x(3 * static_cast<std::size_t>(numPoints));
+  surface.Dispatch([&](const auto* p) {
+    std::copy(p, p + x.size(), x.begin());
+    return 0;
+  });
+
+  beltrami::FairingOptions options;
+  options.Operator = static_cast<beltrami::FairingOperator>(this->Operator);
+  options.Order = this->Order;
+  options.Integration = static_cast<beltrami::FairingIntegration>(this->Integration);
+  options.NumberOfSteps = this->NumberOfSteps;
+  options.Tolerance = this->Tolerance;
+  options.MaximumIterations = this->MaximumNumberOfIterations;
+  options.Invariant = static_cast<beltrami::FairingInvariant>(this->Invariant);
+  std::copy(this->ReferencePlaneNormal, this->ReferencePlaneNormal + 3, options.ReferencePlaneNormal);
+  options.Boundary = static_cast<beltrami::FairingBoundary>(this->BoundaryHandling);
+  options.Anisotropic = this->Anisotropic;
+  options.MinimumAnisotropicWeight = this->MinimumAnisotropicWeight;
+  options.Mollification = this->Mollification;
+  options.SmoothFeatureCurves = this->SmoothFeatureCurves;
+  options.TaubinLambda = this->TaubinLambda;
+  options.TaubinMu = this->TaubinMu;
+  options.NumberOfThreads = this->NumberOfThreads;
+  options.TimeStep = this->TimeStep;
+  options.FeatureThreshold = this->FeatureThreshold;
+  if (this->TimeStepUnits == MEAN_EDGE_LENGTH)
+  {
+    const double h = beltrami::MeanEdgeLength(topo, x.data());
+    if (!(h > 0.0) || !std::isfinite(h))
+    {
+      vtkErrorMacro("The mean edge length of the input is " << h
+                                                            << ": cannot scale the time step.");
+      return 0;
+    }
+    if (this->Operator != UMBRELLA)
+    {
+      options.TimeStep *= h * h;
+    }
+    options.FeatureThreshold /= h;
+  }
+
+  this->UpdateProgress(0.0);
+  const beltrami::FairingReport report = beltrami::FairSurface(topo, x.data(), options, constraints,
+    [this](double fraction) {
+      this->UpdateProgress(fraction);
+      return !this->GetAbortExecute();
+    });
+  if (!report.Completed)
+  {
+    output->ShallowCopy(input); // aborted: a defined output, the input
+    return 1;
+  }
+  this->Iterations = report.Iterations;
+
+  // New points in the input's precision.
+  vtkNew<vtkPoints> points;
+  points->SetDataType(input->GetPoints()->GetDataType() == VTK_FLOAT ? VTK_FLOAT : VTK_DOUBLE);
+  points->SetNumberOfPoints(numPoints);
+  for (vtkIdType i = 0; i < numPoints; ++i)
+  {
+    points->SetPoint(i, x.data() + 3 * i);
+  }
+  output->SetPoints(points);
+  // Normals of the input no longer match the smoothed surface.
+  if (output->GetPointData()->GetNormals())
+  {
+    vtkNew<vtkPointData> pd;
+    pd->ShallowCopy(output->GetPointData());
+    pd->SetNormals(nullptr);
+    output->GetPointData()->ShallowCopy(pd);
+  }
+
+  vtkNew<vtkIntArray> iterations;
+  iterations->SetName("FairingIterations");
+  for (int it : report.Iterations)
+  {
+    iterations->InsertNextValue(it);
+  }
+  vtkNew<vtkFieldData> fd;
+  fd->ShallowCopy(input->GetFieldData());
+  fd->AddArray(iterations);
+  if (report.InvariantUsed != beltrami::FairingInvariant::None)
+  {
+    vtkNew<vtkDoubleArray> inv;
+    inv->SetName("FairingInvariant");
+    inv->InsertNextValue(report.InitialInvariant);
+    inv->InsertNextValue(report.FinalInvariant);
+    fd->AddArray(inv);
+  }
+  output->SetFieldData(fd);
+
+  if (!report.Warning.empty())
+  {
+    vtkWarningMacro(<< report.Warning);
+  }
+  if (report.UnusableVertices)
+  {
+    vtkWarningMacro(<< report.UnusableVertices
+                    << " points are non-manifold or have invalid coordinates: they were kept fixed.");
+  }
+  if (report.DegenerateTriangles)
+  {
+    vtkWarningMacro(<< report.DegenerateTriangles << " zero-area triangles were skipped (section 3.5.3).");
+  }
+  return 1;
+}
+
+void vtkImplicitFairing::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Operator: " << this->Operator << "\n";
+  os << indent << "Order: " << this->Order << "\n";
+  os << indent << "Integration: " << this->Integration << "\n";
+  os << indent << "TimeStep: " << this->TimeStep << "\n";
+  os << indent << "TimeStepUnits: " << this->TimeStepUnits << "\n";
+  os << indent << "NumberOfSteps: " << this->NumberOfSteps << "\n";
+  os << indent << "Tolerance: " << this->Tolerance << "\n";
+  os << indent << "MaximumNumberOfIterations: " << this->MaximumNumberOfIterations << "\n";
+  os << indent << "Invariant: " << this->Invariant << "\n";
+  os << indent << "BoundaryHandling: " << this->BoundaryHandling << "\n";
+  os << indent << "Anisotropic: " << this->Anisotropic << "\n";
+  os << indent << "FeatureThreshold: " << this->FeatureThreshold << "\n";
+  os << indent << "Mollification: " << this->Mollification << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}

@@ -1,0 +1,178 @@
+/**
+ * @class   vtkImplicitFairing
+ * @brief   Surface smoothing of thesis chapter 3: implicit fairing, curvature
+ *          flow, exact volume preservation, constraints and anisotropic
+ *          (feature-preserving) smoothing.
+ *
+ * Moves the points of a triangle mesh (polygons and strips are triangulated
+ * internally; the output keeps the input's cells and point data) by
+ * NumberOfSteps steps of the flow dX/dt = lambda W L(X):
+ *  - Operator: UMBRELLA (eq. 3.7), SCALE_DEPENDENT_UMBRELLA (eq. 3.11),
+ *    CURVATURE_FLOW (default; section 3.5, dX/dt = -kappa_H n, so flat regions
+ *    do not move whatever their triangulation), or CURVATURE_FLOW_AND_SAMPLING
+ *    (section 3.6: the curvature flow plus the tangential part of the
+ *    umbrella, which evens out the triangles without changing the shape).
+ *  - Order 1 (L) or 2 (L^2, section 3.2.6).
+ *  - Integration: IMPLICIT (default; backward Euler, stable for any step,
+ *    a Jacobi-preconditioned conjugate gradient per step, iteration counts in
+ *    the field array FairingIterations), EXPLICIT (forward Euler: a warning
+ *    when the step is above the stability limit) or TAUBIN_LAMBDA_MU
+ *    (Taubin's lambda|mu passes, for comparison).
+ *  - TimeStep lambda*dt.  With TimeStepUnits = MEAN_EDGE_LENGTH (default) it
+ *    is given in units of h^2, h the input's mean edge length, so the same
+ *    value smooths coarse and fine scans of one object alike; with PHYSICAL
+ *    it is in length^2 (the umbrella's step is always dimensionless).
+ *  - Invariant (section 3.3): AUTOMATIC (default) keeps the enclosed volume
+ *    exactly for closed, oriented surfaces without fixed points, and nothing
+ *    otherwise; VOLUME, AREA, HEIGHT_FIELD_VOLUME (volume between the surface
+ *    and the plane through the boundary's mean point with normal
+ *    ReferencePlaneNormal) or NONE.  Restored by scaling after every step.
+ *  - Constraints (section 3.2.7): input array 0 (optional) is a point array
+ *    whose non-zero values mark fixed points (they stay bit-exact unless an
+ *    invariant rescales the whole surface); input array 1 (optional) is a
+ *    point array of smoothing weights in [0, 1] (0 = fixed).
+ *  - BoundaryHandling (section 3.5.2): FIXED (default), SMOOTH_CURVE (the
+ *    boundary loops are smoothed as curves), VIRTUAL_VERTEX (each loop is
+ *    closed by a fan to a hidden vertex and smoothed with the surface).
+ *  - Anisotropic (section 3.7.1): per-point weights from the principal
+ *    curvatures: 1 where both are below FeatureThreshold T, 0 at corners,
+ *    kappa_min / kappa_H along edges, clamped at MinimumAnisotropicWeight
+ *    (-0.1); computed on a pre-mollified copy (Mollification, in time steps).
+ *    T is in units of 1/h with MEAN_EDGE_LENGTH units.  SmoothFeatureCurves
+ *    adds a curve-smoothing pass along the detected edges.
+ * Non-manifold points, points without area and points with NaN coordinates
+ * do not move (a warning says how many); zero-area triangles are skipped
+ * (section 3.5.3).  Reports progress per step and honours AbortExecute (the
+ * output is then the input).  Field data: FairingIterations (solver
+ * iterations per linear solve), FairingInvariant (initial and final value of
+ * the preserved quantity, if any).
+ */
+#ifndef vtkImplicitFairing_h
+#define vtkImplicitFairing_h
+
+#include "BeltramiFiltersModule.h" // export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <vector> // for Iterations
+
+class BELTRAMIFILTERS_EXPORT vtkImplicitFairing : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkImplicitFairing* New();
+  vtkTypeMacro(vtkImplicitFairing, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum OperatorType
+  {
+    UMBRELLA = 0,
+    SCALE_DEPENDENT_UMBRELLA = 1,
+    CURVATURE_FLOW = 2,
+    CURVATURE_FLOW_AND_SAMPLING = 3
+  };
+  enum IntegrationType
+  {
+    IMPLICIT = 0,
+    EXPLICIT = 1,
+    TAUBIN_LAMBDA_MU = 2
+  };
+  enum InvariantType
+  {
+    AUTOMATIC = 0,
+    NONE = 1,
+    VOLUME = 2,
+    AREA = 3,
+    HEIGHT_FIELD_VOLUME = 4
+  };
+  enum BoundaryType
+  {
+    FIXED = 0,
+    SMOOTH_CURVE = 1,
+    VIRTUAL_VERTEX = 2
+  };
+  enum TimeStepUnitsType
+  {
+    MEAN_EDGE_LENGTH = 0,
+    PHYSICAL = 1
+  };
+
+  vtkSetClampMacro(Operator, int, UMBRELLA, CURVATURE_FLOW_AND_SAMPLING);
+  vtkGetMacro(Operator, int);
+  vtkSetClampMacro(Order, int, 1, 2);
+  vtkGetMacro(Order, int);
+  vtkSetClampMacro(Integration, int, IMPLICIT, TAUBIN_LAMBDA_MU);
+  vtkGetMacro(Integration, int);
+  vtkSetClampMacro(TimeStep, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(TimeStep, double);
+  vtkSetClampMacro(TimeStepUnits, int, MEAN_EDGE_LENGTH, PHYSICAL);
+  vtkGetMacro(TimeStepUnits, int);
+  vtkSetClampMacro(NumberOfSteps, int, 0, VTK_INT_MAX);
+  vtkGetMacro(NumberOfSteps, int);
+  vtkSetClampMacro(Tolerance, double, 1e-15, 1.0);
+  vtkGetMacro(Tolerance, double);
+  vtkSetClampMacro(MaximumNumberOfIterations, int, 1, VTK_INT_MAX);
+  vtkGetMacro(MaximumNumberOfIterations, int);
+  vtkSetClampMacro(Invariant, int, AUTOMATIC, HEIGHT_FIELD_VOLUME);
+  vtkGetMacro(Invariant, int);
+  vtkSetVector3Macro(ReferencePlaneNormal, double);
+  vtkGetVector3Macro(ReferencePlaneNormal, double);
+  vtkSetClampMacro(BoundaryHandling, int, FIXED, VIRTUAL_VERTEX);
+  vtkGetMacro(BoundaryHandling, int);
+  vtkSetMacro(Anisotropic, bool);
+  vtkGetMacro(Anisotropic, bool);
+  vtkBooleanMacro(Anisotropic, bool);
+  vtkSetClampMacro(FeatureThreshold, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(FeatureThreshold, double);
+  vtkSetClampMacro(MinimumAnisotropicWeight, double, -1.0, 1.0);
+  vtkGetMacro(MinimumAnisotropicWeight, double);
+  vtkSetClampMacro(Mollification, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(Mollification, double);
+  vtkSetMacro(SmoothFeatureCurves, bool);
+  vtkGetMacro(SmoothFeatureCurves, bool);
+  vtkBooleanMacro(SmoothFeatureCurves, bool);
+  vtkSetMacro(TaubinLambda, double);
+  vtkGetMacro(TaubinLambda, double);
+  vtkSetMacro(TaubinMu, double);
+  vtkGetMacro(TaubinMu, double);
+  vtkSetClampMacro(NumberOfThreads, int, 0, 4096);
+  vtkGetMacro(NumberOfThreads, int);
+
+  /// Solver iterations of the last run, one per linear solve.
+  int GetNumberOfSolves() const { return static_cast<int>(this->Iterations.size()); }
+  int GetIterations(int solve) const
+  {
+    return solve >= 0 && solve < this->GetNumberOfSolves() ? this->Iterations[solve] : 0;
+  }
+
+protected:
+  vtkImplicitFairing();
+  ~vtkImplicitFairing() override = default;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int Operator = CURVATURE_FLOW;
+  int Order = 1;
+  int Integration = IMPLICIT;
+  double TimeStep = 1.0;
+  int TimeStepUnits = MEAN_EDGE_LENGTH;
+  int NumberOfSteps = 5;
+  double Tolerance = 1e-4;
+  int MaximumNumberOfIterations = 1000;
+  int Invariant = AUTOMATIC;
+  double ReferencePlaneNormal[3] = { 0.0, 0.0, 1.0 };
+  int BoundaryHandling = FIXED;
+  bool Anisotropic = false;
+  double FeatureThreshold = 0.5;
+  double MinimumAnisotropicWeight = -0.1;
+  double Mollification = 1.0;
+  bool SmoothFeatureCurves = false;
+  double TaubinLambda = 0.6307;
+  double TaubinMu = -0.6732;
+  int NumberOfThreads = 0;
+  std::vector<int> Iterations;
+
+private:
+  vtkImplicitFairing(const vtkImplicitFairing&) = delete;
+  void operator=(const vtkImplicitFairing&) = delete;
+};
+
+#endif
