@@ -1,16 +1,21 @@
 #include "vtkBeltramiSurface.h"
 
+#include <vtkAlgorithm.h>
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
 #include <vtkDoubleArray.h>
 #include <vtkFloatArray.h>
 #include <vtkIdList.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
 #include <vtkMath.h>
 #include <vtkNew.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolygon.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -176,6 +181,37 @@ bool vtkBeltramiSurface::Build(vtkPolyData* input, int numberOfThreads)
     return false;
   }
   return true;
+}
+
+vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owner,
+  vtkInformationVector** inputVector, vtkInformationVector* outputVector, int numberOfThreads)
+{
+  InputData = vtkPolyData::GetData(inputVector[0]);
+  OutputData = vtkPolyData::GetData(outputVector);
+  if (!InputData || !OutputData)
+  {
+    vtkErrorWithObjectMacro(owner, "Missing input or output poly data.");
+    return Failed;
+  }
+  OutputData->ShallowCopy(InputData);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  Pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    ? std::max(1, outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()))
+    : 1;
+  if (InputData->GetNumberOfPoints() == 0)
+  {
+    if (Pieces <= 1) // an empty piece of distributed data is normal
+    {
+      vtkWarningWithObjectMacro(owner, "Input has no points: nothing to do.");
+    }
+    return NothingToDo;
+  }
+  if (!Build(InputData, numberOfThreads))
+  {
+    vtkErrorWithObjectMacro(owner, "Cannot process the input surface: " << Error());
+    return Failed;
+  }
+  return Ready;
 }
 
 std::string vtkBeltramiSurface::TopologyWarning() const

@@ -16,6 +16,7 @@
 
 class vtkAlgorithm;
 class vtkDataArray;
+class vtkInformationVector;
 class vtkPolyData;
 
 class BELTRAMIFILTERS_EXPORT vtkBeltramiSurface
@@ -25,6 +26,23 @@ public:
   /// input cannot be processed at all; an input with no polygons is valid and
   /// yields a topology without triangles.
   bool Build(vtkPolyData* input, int numberOfThreads);
+
+  enum PrepareResult
+  {
+    Failed = 0,  ///< an error was reported on the owner: RequestData returns 0
+    NothingToDo, ///< the input has no points: the output is the input
+    Ready        ///< built: Input(), Output() (a shallow copy of the input), Topology()
+  };
+  /// The common start of every surface filter's RequestData: fetches the
+  /// poly data input and output, passes the input through, and builds the
+  /// surface; errors and warnings are reported on `owner` (no warning for an
+  /// empty piece of distributed data).
+  PrepareResult Prepare(vtkAlgorithm* owner, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector, int numberOfThreads);
+  vtkPolyData* Input() const { return InputData; }
+  vtkPolyData* Output() const { return OutputData; }
+  /// UPDATE_NUMBER_OF_PIECES of the request (1 when not distributed).
+  int NumberOfPieces() const { return Pieces; }
 
   const beltrami::MeshTopology& Topology() const { return *Mesh; }
 
@@ -49,6 +67,9 @@ public:
 
 private:
   std::unique_ptr<beltrami::MeshTopology> Mesh;
+  vtkPolyData* InputData = nullptr;
+  vtkPolyData* OutputData = nullptr;
+  int Pieces = 1;
   vtkSmartPointer<vtkDataArray> PointData; // keeps converted points alive
   const float* Floats = nullptr;
   const double* Doubles = nullptr;

@@ -64,32 +64,16 @@ double* Pointer(vtkDoubleArray* a)
 int vtkDiscreteCurvatures::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
-  vtkPolyData* output = vtkPolyData::GetData(outputVector);
-  if (!input || !output)
-  {
-    vtkErrorMacro("Missing input or output poly data.");
-    return 0;
-  }
-  output->ShallowCopy(input);
-  const vtkIdType numPoints = input->GetNumberOfPoints();
-  const int pieces = outputVector->GetInformationObject(0)->Get(
-    vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES());
-  if (numPoints == 0)
-  {
-    if (pieces <= 1) // an empty piece of distributed data is normal
-    {
-      vtkWarningMacro("Input has no points: nothing to compute.");
-    }
-    return 1;
-  }
-
   vtkBeltramiSurface surface;
-  if (!surface.Build(input, this->NumberOfThreads))
+  const auto prepared = surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads);
+  if (prepared != vtkBeltramiSurface::Ready)
   {
-    vtkErrorMacro("Cannot process the input surface: " << surface.Error());
-    return 0;
+    return prepared == vtkBeltramiSurface::NothingToDo;
   }
+  vtkPolyData* input = surface.Input();
+  vtkPolyData* output = surface.Output();
+  const vtkIdType numPoints = input->GetNumberOfPoints();
+  const int pieces = surface.NumberOfPieces();
   const beltrami::MeshTopology& topo = surface.Topology();
   if (topo.NumberOfTriangles() == 0)
   {

@@ -32,7 +32,7 @@ namespace
 {
 
 /// The optional point array selected as input array `idx`, checked.
-vtkDataArray* OptionalPointArray(vtkImplicitFairing* self, int idx, vtkInformationVector** in,
+vtkDataArray* OptionalPointArray(vtkImplicitFairing* self, int idx, vtkPolyData* input,
   vtkIdType numPoints, const char* what, std::string& error)
 {
   vtkInformation* info = self->GetInputArrayInformation(idx);
@@ -42,7 +42,6 @@ vtkDataArray* OptionalPointArray(vtkImplicitFairing* self, int idx, vtkInformati
     return nullptr;
   }
   const char* name = info->Get(vtkDataObject::FIELD_NAME());
-  vtkPolyData* input = vtkPolyData::GetData(in[0]);
   vtkDataArray* a = input->GetPointData()->GetArray(name);
   if (!a)
   {
@@ -62,42 +61,31 @@ vtkDataArray* OptionalPointArray(vtkImplicitFairing* self, int idx, vtkInformati
 int vtkImplicitFairing::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
-  vtkPolyData* output = vtkPolyData::GetData(outputVector);
-  if (!input || !output)
-  {
-    vtkErrorMacro("Missing input or output poly data.");
-    return 0;
-  }
-  output->ShallowCopy(input);
   this->Iterations.clear();
-  const vtkIdType numPoints = input->GetNumberOfPoints();
-  if (numPoints == 0)
-  {
-    vtkWarningMacro("Input has no points: nothing to smooth.");
-    return 1;
-  }
   vtkBeltramiSurface surface;
-  if (!surface.Build(input, this->NumberOfThreads))
+  const auto prepared = surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads);
+  if (prepared != vtkBeltramiSurface::Ready)
   {
-    vtkErrorMacro("Cannot process the input surface: " << surface.Error());
-    return 0;
+    return prepared == vtkBeltramiSurface::NothingToDo;
   }
+  vtkPolyData* input = surface.Input();
+  vtkPolyData* output = surface.Output();
+  const vtkIdType numPoints = input->GetNumberOfPoints();
   const beltrami::MeshTopology& topo = surface.Topology();
   if (topo.NumberOfTriangles() == 0)
   {
     vtkWarningMacro("Input has no polygons or triangle strips: the points are left as they are.");
     return 1;
   }
-  if (!surface.TopologyWarning().empty())
+  if (surface.NumberOfPieces() <= 1 && !surface.TopologyWarning().empty())
   {
     vtkWarningMacro(<< surface.TopologyWarning() << ". Non-manifold points are kept fixed.");
   }
 
   std::string error;
-  vtkDataArray* fixedArray = OptionalPointArray(this, 0, inputVector, numPoints, "fixed-points", error);
+  vtkDataArray* fixedArray = OptionalPointArray(this, 0, input, numPoints, "fixed-points", error);
   vtkDataArray* weightArray = error.empty()
-    ? OptionalPointArray(this, 1, inputVector, numPoints, "smoothing-weight", error) : nullptr;
+    ? OptionalPointArray(this, 1, input, numPoints, "smoothing-weight", error) : nullptr;
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
