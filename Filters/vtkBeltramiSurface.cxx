@@ -95,6 +95,7 @@ bool ValidCell(vtkIdType n, const vtkIdType* ids, vtkIdType numPoints)
 bool vtkBeltramiSurface::Build(vtkPolyData* input, int numberOfThreads)
 {
   Mesh.reset();
+  CellOfTriangle.clear();
   Floats = nullptr;
   Doubles = nullptr;
   ErrorText.clear();
@@ -132,6 +133,12 @@ bool vtkBeltramiSurface::Build(vtkPolyData* input, int numberOfThreads)
     }
 
     triangles.reserve(3 * static_cast<std::size_t>(input->GetNumberOfPolys()));
+    CellOfTriangle.reserve(input->GetNumberOfPolys());
+    vtkIdType cellId = input->GetNumberOfVerts() + input->GetNumberOfLines();
+    const auto recordCell = [&]() {
+      CellOfTriangle.resize(triangles.size() / 3, cellId);
+      ++cellId;
+    };
     vtkNew<vtkPolygon> polygon;
     vtkNew<vtkIdList> scratch;
     auto polys = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
@@ -148,6 +155,7 @@ bool vtkBeltramiSurface::Build(vtkPolyData* input, int numberOfThreads)
       {
         TriangulatePolygon(points, n, ids, triangles, polygon, scratch);
       }
+      recordCell();
     }
     auto strips = vtk::TakeSmartPointer(input->GetStrips()->NewIterator());
     for (strips->GoToFirstCell(); !strips->IsDoneWithTraversal(); strips->GoToNextCell())
@@ -158,6 +166,7 @@ bool vtkBeltramiSurface::Build(vtkPolyData* input, int numberOfThreads)
       if (!ValidCell(n, ids, numPoints))
       {
         ++InvalidCells;
+        recordCell();
         continue;
       }
       for (vtkIdType k = 0; k + 2 < n; ++k) // alternate orientation along the strip
@@ -167,6 +176,7 @@ bool vtkBeltramiSurface::Build(vtkPolyData* input, int numberOfThreads)
         triangles.push_back(static_cast<Index>(ids[even ? k + 1 : k]));
         triangles.push_back(static_cast<Index>(ids[k + 2]));
       }
+      recordCell();
     }
     IgnoredCells = input->GetNumberOfVerts() + input->GetNumberOfLines();
   }

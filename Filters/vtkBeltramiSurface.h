@@ -13,6 +13,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 class vtkAlgorithm;
 class vtkDataArray;
@@ -57,6 +58,11 @@ public:
     return Floats ? f(Floats) : f(Doubles);
   }
 
+  /// The input cell (vtkPolyData cell id: verts, lines, polys, strips) that
+  /// each triangle of the triangle list given to the topology came from;
+  /// index it with Topology().OriginalTriangleIds()[t] for kept triangle t.
+  const std::vector<vtkIdType>& TriangleCells() const { return CellOfTriangle; }
+
   vtkIdType NumberOfInputCells() const { return InputCells; }
   vtkIdType NumberOfIgnoredCells() const { return IgnoredCells; } ///< verts and lines
   vtkIdType NumberOfInvalidCells() const { return InvalidCells; } ///< bad point ids
@@ -73,6 +79,7 @@ private:
   vtkSmartPointer<vtkDataArray> PointData; // keeps converted points alive
   const float* Floats = nullptr;
   const double* Doubles = nullptr;
+  std::vector<vtkIdType> CellOfTriangle;
   vtkIdType InputCells = 0;
   vtkIdType IgnoredCells = 0;
   vtkIdType InvalidCells = 0;

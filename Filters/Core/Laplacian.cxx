@@ -90,7 +90,7 @@ void AssembleSurfaceLaplacian(const MeshTopology& topo, const double* points,
     Index nDegenerate = 0;
     for (Index i = static_cast<Index>(begin); i < end; ++i)
     {
-      if (weights != LaplacianWeights::Cotangent)
+      if (weights == LaplacianWeights::Umbrella || weights == LaplacianWeights::InverseEdgeLength)
       {
         EdgeLengthWeights(l, points, weights, i);
         continue;
@@ -105,6 +105,13 @@ void AssembleSurfaceLaplacian(const MeshTopology& topo, const double* points,
         if (g.Degenerate)
         {
           nDegenerate += g.Corner % 3 == 0; // each triangle counted once
+          return;
+        }
+        if (weights == LaplacianWeights::Authalic)
+        {
+          // Eq. 5.6: the angle at x_j weighs edge (i, j), the angle at x_k edge (i, k).
+          l.Weights[entry(g.J)] += g.CotJ / g.AA;
+          l.Weights[entry(g.K)] += g.CotK / g.BB;
           return;
         }
         // Edge (i, j) is opposite x_k, edge (i, k) opposite x_j (eq. 3.13: c = cot / 4 each).

@@ -13,6 +13,11 @@
 //     same physical meaning, length^2, for both)
 //   - curvature flow (eq. 3.13):         c_ij = (cot a + cot b)/4, a_i = A_Mixed
 //     so that L(x_i) = -K(x_i)/2 = -kappa_H n  (eq. 3.12).
+// The parameterization of chapter 5 also uses the rows of
+//   - the discrete authalic weights (eq. 5.6): c_ij = (cot g_ij + cot d_ij)/|x_i - x_j|^2
+//     with g_ij, d_ij the angles at x_j of the two triangles on edge (i, j)
+//     (appendix A.6).  These are NOT symmetric (c_ij != c_ji): each CSR row
+//     holds the weights of its own vertex, and the mass is left at 0.
 // The graph is the vertex-neighbour CSR of MeshTopology::Edges() (or of a set
 // of curves), with the weights stored per CSR entry for fast products.
 #pragma once
@@ -28,7 +33,8 @@ enum class LaplacianWeights : int
 {
   Umbrella = 0,
   InverseEdgeLength = 1,
-  Cotangent = 2
+  Cotangent = 2,
+  Authalic = 3 ///< eq. 5.6, non-symmetric (see above); for the parameterization
 };
 
 struct GraphLaplacian
@@ -47,9 +53,9 @@ struct GraphLaplacian
 };
 
 /// Assembles the surface Laplacian of `weights` kind at positions `points`
-/// (3 doubles per vertex).  Cotangent weights skip zero-area triangles
-/// (section 3.5.3); the mass of a vertex without area is 0 (callers keep it
-/// fixed).
+/// (3 doubles per vertex).  Cotangent and authalic weights skip zero-area
+/// triangles (section 3.5.3); the mass of a vertex without area is 0 (callers
+/// keep it fixed).
 void AssembleSurfaceLaplacian(const MeshTopology& topology, const double* points,
   LaplacianWeights weights, GraphLaplacian& laplacian, int numThreads = 0);
 

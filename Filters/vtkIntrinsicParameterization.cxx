@@ -1,0 +1,375 @@
+#include "vtkIntrinsicParameterization.h"
+
+#include "vtkBeltramiSurface.h"
+
+#include "Core/Parameterization.h"
+
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkIdList.h>
+#include <vtkIdTypeArray.h>
+#include <vtkInformation.h>
+#include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+
+#include <cmath>
+#include <limits>
+
+vtkStandardNewMacro(vtkIntrinsicParameterization);
+
+struct vtkIntrinsicParameterization::Internals
+{
+  std::vector<beltrami::PointConstraint> Constraints;
+  std::unique_ptr<beltrami::BoundaryBasis> Basis;
+};
+
+vtkIntrinsicParameterization::vtkIntrinsicParameterization()
+  : Internal(new Internals)
+{
+  // Input arrays 0 (given boundary UV) and 1 (constraint targets) are optional.
+}
+
+vtkIntrinsicParameterization::~vtkIntrinsicParameterization() = default;
+
+void vtkIntrinsicParameterization::AddPointConstraint(vtkIdType pointId, double u, double v)
+{
+  this->AddSurfacePointConstraint(pointId, -1, -1, 1.0, 0.0, 0.0, u, v);
+}
+
+void vtkIntrinsicParameterization::AddSurfacePointConstraint(vtkIdType a, vtkIdType b,
+  vtkIdType c, double wa, double wb, double wc, double u, double v)
+{
+  beltrami::PointConstraint pc;
+  const vtkIdType ids[3] = { a, b, c };
+  for (int k = 0; k < 3; ++k)
+  {
+    // Ids beyond the core's range are kept invalid (the core reports them).
+    pc.Vertices[k] = ids[k] < 0 ? -1
+      : static_cast<beltrami::Index>(std::min<vtkIdType>(ids[k], std::numeric_limits<beltrami::Index>::max()));
+  }
+  pc.Weights = { wa, wb, wc };
+  pc.Target[0] = u;
+  pc.Target[1] = v;
+  this->Internal->Constraints.push_back(pc);
+  this->Modified();
+}
+
+void vtkIntrinsicParameterization::RemoveAllConstraints()
+{
+  if (!this->Internal->Constraints.empty())
+  {
+    this->Internal->Constraints.clear();
+    this->Modified();
+  }
+}
+
+int vtkIntrinsicParameterization::GetNumberOfConstraints() const
+{
+  return static_cast<int>(this->Internal->Constraints.size());
+}
+
+void vtkIntrinsicParameterization::GetBoundaryPointIds(vtkIdList* ids) const
+{
+  ids->Reset();
+  if (this->Internal->Basis)
+  {
+    for (beltrami::Index v : this->Internal->Basis->BoundaryVertices())
+    {
+      ids->InsertNextId(v);
+    }
+  }
+}
+
+bool vtkIntrinsicParameterization::ComputeUV(vtkDataArray* boundaryUV, vtkDoubleArray* uv) const
+{
+  const beltrami::BoundaryBasis* basis = this->Internal->Basis.get();
+  if (!basis || !boundaryUV || !uv || boundaryUV->GetNumberOfComponents() != 2 ||
+    boundaryUV->GetNumberOfTuples() != static_cast<vtkIdType>(basis->BoundaryVertices().size()))
+  {
+    return false;
+  }
+  std::vector<double> p(2 * basis->BoundaryVertices().size());
+  for (vtkIdType k = 0; k < boundaryUV->GetNumberOfTuples(); ++k)
+  {
+    p[2 * k] = boundaryUV->GetComponent(k, 0);
+    p[2 * k + 1] = boundaryUV->GetComponent(k, 1);
+  }
+  uv->SetNumberOfComponents(2);
+  uv->SetNumberOfTuples(basis->NumberOfVertices());
+  basis->Apply(p.data(), uv->GetPointer(0));
+  return true;
+}
+
+namespace
+{
+
+/// The optional 2-component point array selected as input array `idx`.
+vtkDataArray* OptionalUVArray(vtkAlgorithm* self, int idx, vtkPolyData* input, const char* what,
+  std::string& error)
+{
+  vtkInformation* info = self->GetInputArrayInformation(idx);
+  const char* name = info && info->Has(vtkDataObject::FIELD_NAME()) ? info->Get(vtkDataObject::FIELD_NAME()) : nullptr;
+  if (!name || !*name)
+  {
+    return nullptr;
+  }
+  vtkDataArray* a = input->GetPointData()->GetArray(name);
+  if (!a)
+  {
+    error = std::string("The ") + what + " point array '" + name + "' does not exist in the input.";
+  }
+  else if (a->GetNumberOfComponents() < 2)
+  {
+    error = std::string("The ") + what + " point array '" + name + "' needs 2 components (u, v).";
+    a = nullptr;
+  }
+  return a;
+}
+
+vtkNew<vtkDoubleArray> NamedValue(const char* name, double value)
+{
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->InsertNextValue(value);
+  return a;
+}
+
+} // namespace
+
+int vtkIntrinsicParameterization::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  this->Internal->Basis.reset();
+  this->OptimalMix = -1.0;
+  this->MeanAngleDistortion = this->MeanAreaDistortion = this->MeanEdgeDistortion = 0.0;
+  this->NumberOfFlippedTriangles = 0;
+  vtkBeltramiSurface surface;
+  const auto prepared = surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads);
+  if (prepared != vtkBeltramiSurface::Ready)
+  {
+    return prepared == vtkBeltramiSurface::NothingToDo;
+  }
+  if (surface.NumberOfPieces() > 1)
+  {
+    vtkWarningMacro("A parameterization needs the whole surface: this piece of distributed data is "
+                    "passed through. Run it in serial (or after Merge Blocks / D3 to one process).");
+    return 1;
+  }
+  vtkPolyData* input = surface.Input();
+  vtkPolyData* output = surface.Output();
+  const vtkIdType numPoints = input->GetNumberOfPoints();
+  const beltrami::MeshTopology& topo = surface.Topology();
+
+  std::string error;
+  vtkDataArray* givenArray = OptionalUVArray(this, 0, input, "given boundary UV", error);
+  vtkDataArray* targetArray = error.empty() ? OptionalUVArray(this, 1, input, "constraint target", error) : nullptr;
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 0;
+  }
+  beltrami::ParameterizationOptions options;
+  options.ConformalWeight = this->ConformalWeight;
+  options.AuthalicWeight = this->AuthalicWeight;
+  options.Boundary = static_cast<beltrami::ParameterizationBoundary>(this->Boundary);
+  options.Spacing = static_cast<beltrami::BoundarySpacing>(this->BoundarySpacing);
+  std::vector<double> given;
+  if (this->Boundary == GIVEN)
+  {
+    if (!givenArray)
+    {
+      vtkErrorMacro("Boundary GIVEN needs a 2-component point array of boundary positions (input array 0).");
+      return 0;
+    }
+    given.resize(2 * static_cast<std::size_t>(numPoints));
+    for (vtkIdType i = 0; i < numPoints; ++i)
+    {
+      given[2 * i] = givenArray->GetComponent(i, 0);
+      given[2 * i + 1] = givenArray->GetComponent(i, 1);
+    }
+    options.GivenUV = given.data();
+  }
+  options.Constraints = this->Internal->Constraints;
+  if (targetArray)
+  {
+    for (vtkIdType i = 0; i < numPoints; ++i)
+    {
+      const double u = targetArray->GetComponent(i, 0), v = targetArray->GetComponent(i, 1);
+      if (std::isfinite(u) && std::isfinite(v))
+      {
+        beltrami::PointConstraint pc;
+        pc.Vertices[0] = static_cast<beltrami::Index>(i);
+        pc.Target[0] = u;
+        pc.Target[1] = v;
+        options.Constraints.push_back(pc);
+      }
+    }
+  }
+  options.OptimizeMix = this->OptimizeMix;
+  options.OptimalEnergy = static_cast<beltrami::DistortionEnergy>(this->OptimalEnergy);
+  options.OptimalRange[0] = this->OptimalMixRange[0];
+  options.OptimalRange[1] = this->OptimalMixRange[1];
+  options.BoundaryOptimizationSteps = this->BoundaryOptimizationSteps;
+  options.BoundaryEnergy = static_cast<beltrami::DistortionEnergy>(this->BoundaryEnergy);
+  options.KeepBoundaryBasis = this->KeepBoundaryBasis;
+  options.NumberOfThreads = this->NumberOfThreads;
+
+  this->UpdateProgress(0.0);
+  beltrami::ParameterizationResult result;
+  surface.Dispatch([&](const auto* p) {
+    using T = std::decay_t<decltype(*p)>;
+    if constexpr (std::is_same_v<T, double>)
+    {
+      result = beltrami::Parameterize(topo, p, options);
+    }
+    else
+    {
+      const std::vector<double> points(p, p + 3 * numPoints);
+      result = beltrami::Parameterize(topo, points.data(), options);
+    }
+    return 0;
+  });
+  if (!result.Success)
+  {
+    vtkErrorMacro(<< result.Error);
+    return 0;
+  }
+  if (!result.Warning.empty())
+  {
+    vtkWarningMacro(<< result.Warning << ".");
+  }
+  this->UpdateProgress(0.9);
+  beltrami::DistortionReport distortion;
+  surface.Dispatch([&](const auto* p) {
+    using T = std::decay_t<decltype(*p)>;
+    if constexpr (std::is_same_v<T, double>)
+    {
+      distortion = beltrami::MeasureDistortion(topo, p, result.UV.data(), this->NumberOfThreads);
+    }
+    else
+    {
+      const std::vector<double> points(p, p + 3 * numPoints);
+      distortion = beltrami::MeasureDistortion(topo, points.data(), result.UV.data(), this->NumberOfThreads);
+    }
+    return 0;
+  });
+
+  vtkNew<vtkDoubleArray> uv;
+  uv->SetName("UV");
+  uv->SetNumberOfComponents(2);
+  uv->SetNumberOfTuples(numPoints);
+  std::copy(result.UV.begin(), result.UV.end(), uv->GetPointer(0));
+  output->GetPointData()->AddArray(uv);
+  output->GetPointData()->SetTCoords(uv);
+  if (this->OutputFlattenedMesh)
+  {
+    vtkNew<vtkPoints> flat;
+    flat->SetDataTypeToDouble();
+    flat->SetNumberOfPoints(numPoints);
+    for (vtkIdType i = 0; i < numPoints; ++i)
+    {
+      flat->SetPoint(i, result.UV[2 * i], result.UV[2 * i + 1], 0.0);
+    }
+    output->SetPoints(flat);
+    if (output->GetPointData()->GetNormals()) // 3D normals do not belong to the flat mesh
+    {
+      vtkNew<vtkPointData> pd;
+      pd->ShallowCopy(output->GetPointData());
+      pd->SetNormals(nullptr);
+      output->GetPointData()->ShallowCopy(pd);
+    }
+  }
+
+  // Per-cell distortion: the mean over each input cell's triangles; NaN for
+  // cells without triangles (vertices, lines).
+  const vtkIdType numCells = input->GetNumberOfCells();
+  const std::vector<beltrami::Index>& kept = topo.OriginalTriangleIds();
+  const char* names[3] = { "AngleDistortion", "AreaDistortion", "EdgeDistortion" };
+  const std::vector<double>* values[3] = { &distortion.AngleDistortion, &distortion.AreaDistortion,
+    &distortion.EdgeDistortion };
+  std::vector<int> count(numCells, 0);
+  for (std::size_t t = 0; t < kept.size(); ++t)
+  {
+    ++count[surface.TriangleCells()[kept[t]]];
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    vtkNew<vtkDoubleArray> array;
+    array->SetName(names[a]);
+    array->SetNumberOfTuples(numCells);
+    array->Fill(0.0);
+    for (std::size_t t = 0; t < kept.size(); ++t)
+    {
+      const vtkIdType cell = surface.TriangleCells()[kept[t]];
+      array->SetValue(cell, array->GetValue(cell) + (*values[a])[t] / count[cell]);
+    }
+    for (vtkIdType c = 0; c < numCells; ++c)
+    {
+      if (count[c] == 0)
+      {
+        array->SetValue(c, std::nan(""));
+      }
+    }
+    output->GetCellData()->AddArray(array);
+  }
+
+  vtkNew<vtkFieldData> fd;
+  fd->ShallowCopy(input->GetFieldData());
+  fd->AddArray(NamedValue("MeanAngleDistortion", distortion.MeanAngle));
+  fd->AddArray(NamedValue("MaxAngleDistortion", distortion.MaxAngle));
+  fd->AddArray(NamedValue("MeanAreaDistortion", distortion.MeanArea));
+  fd->AddArray(NamedValue("MaxAreaDistortion", distortion.MaxArea));
+  fd->AddArray(NamedValue("MeanEdgeDistortion", distortion.MeanEdge));
+  fd->AddArray(NamedValue("MaxEdgeDistortion", distortion.MaxEdge));
+  fd->AddArray(NamedValue("FlippedTriangles", distortion.FlippedTriangles));
+  if (result.OptimalMix >= 0.0 || this->OptimizeMix)
+  {
+    fd->AddArray(NamedValue("OptimalMix", result.OptimalMix));
+  }
+  if (!result.BoundaryEnergies.empty())
+  {
+    vtkNew<vtkDoubleArray> energies;
+    energies->SetName("BoundaryEnergy");
+    for (double e : result.BoundaryEnergies)
+    {
+      energies->InsertNextValue(e);
+    }
+    fd->AddArray(energies);
+  }
+  output->SetFieldData(fd);
+  if (distortion.FlippedTriangles)
+  {
+    vtkWarningMacro(<< distortion.FlippedTriangles
+                    << " triangles are flipped in the parameterization (obtuse triangles give negative "
+                       "weights; try the authalic weight, a natural boundary or a convex boundary).");
+  }
+  this->OptimalMix = result.OptimalMix;
+  this->MeanAngleDistortion = distortion.MeanAngle;
+  this->MeanAreaDistortion = distortion.MeanArea;
+  this->MeanEdgeDistortion = distortion.MeanEdge;
+  this->NumberOfFlippedTriangles = distortion.FlippedTriangles;
+  this->Internal->Basis = std::move(result.Basis);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkIntrinsicParameterization::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "ConformalWeight: " << this->ConformalWeight << "\n";
+  os << indent << "AuthalicWeight: " << this->AuthalicWeight << "\n";
+  os << indent << "Boundary: " << this->Boundary << "\n";
+  os << indent << "BoundarySpacing: " << this->BoundarySpacing << "\n";
+  os << indent << "Constraints: " << this->Internal->Constraints.size() << "\n";
+  os << indent << "OptimizeMix: " << this->OptimizeMix << "\n";
+  os << indent << "OptimalEnergy: " << this->OptimalEnergy << "\n";
+  os << indent << "BoundaryOptimizationSteps: " << this->BoundaryOptimizationSteps << "\n";
+  os << indent << "KeepBoundaryBasis: " << this->KeepBoundaryBasis << "\n";
+  os << indent << "OutputFlattenedMesh: " << this->OutputFlattenedMesh << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}

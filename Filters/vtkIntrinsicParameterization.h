@@ -1,0 +1,190 @@
+/**
+ * @class   vtkIntrinsicParameterization
+ * @brief   Intrinsic parameterizations of thesis chapter 5: discrete
+ *          conformal (DCP), discrete authalic (DAP) and their mixes, natural
+ *          conformal maps, point constraints, near-optimal maps and boundary
+ *          optimisation.
+ *
+ * Flattens a disk-like triangle mesh (one connected, manifold, oriented
+ * surface of genus 0 with one or more boundary loops; polygons and strips are
+ * triangulated internally) and writes the texture coordinates as the point
+ * array "UV" (also set as the TCoords).  Closed, non-manifold or
+ * higher-genus input is an error that says what the input is.
+ *  - Energy ConformalWeight * E_A + AuthalicWeight * E_chi (section 5.3.4;
+ *    default 1, 0: DCP).  E_chi is scaled by the mean squared edge length so
+ *    the mix does not depend on the mesh's units.
+ *  - Boundary: CIRCLE (default; centre (0.5, 0.5), radius 0.5), SQUARE
+ *    ([0,1]^2) with BoundarySpacing ARC_LENGTH (default) or UNIFORM; GIVEN
+ *    (every boundary point where input array 0, a 2-component point array,
+ *    puts it); NATURAL (section 5.4.2: the natural conformal map, the two
+ *    boundary points farthest apart pinned, then fitted into [0,1]^2; the
+ *    conformal energy only).  With a fixed outer boundary, the other boundary
+ *    loops (holes) are free.
+ *  - Point constraints (section 5.4.1, Lagrange multipliers): by
+ *    AddPointConstraint / AddSurfacePointConstraint, and/or input array 1, a
+ *    2-component point array whose finite values are the targets of their
+ *    points (NaN = free).  With natural boundaries and two or more
+ *    constraints, the constraints replace the pins.
+ *  - OptimizeMix (section 5.5.1): the map l U_A + (1-l) U_chi with the l in
+ *    OptimalMixRange minimising OptimalEnergy (EDGE_LENGTH or AREA
+ *    distortion, the map scaled to the surface's area); l is in GetOptimalMix().
+ *  - BoundaryOptimizationSteps (section 5.5.2): gradient-descent steps on the
+ *    boundary points for BoundaryEnergy through the impulse-response basis
+ *    (steps that would flip a triangle are refused).  KeepBoundaryBasis keeps
+ *    that basis after the update: ComputeUV() then gives the map for any new
+ *    boundary positions without a new solve.
+ *  - OutputFlattenedMesh: the output points are (u, v, 0) instead of the input's.
+ * Cell arrays AngleDistortion (mean |2D - 3D| corner angle, degrees),
+ * AreaDistortion (log of the normalised 2D/3D area ratio) and EdgeDistortion
+ * (mean |log| of the normalised edge-length ratios); field arrays with their
+ * means and maxima, FlippedTriangles, and OptimalMix / BoundaryEnergy when
+ * used.  A parameterization needs the whole surface: on a piece of
+ * distributed data the filter warns and passes the input through.
+ */
+#ifndef vtkIntrinsicParameterization_h
+#define vtkIntrinsicParameterization_h
+
+#include "BeltramiFiltersModule.h" // export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <memory> // for the basis
+#include <vector> // for the constraints
+
+class vtkDataArray;
+class vtkDoubleArray;
+class vtkIdList;
+
+class BELTRAMIFILTERS_EXPORT vtkIntrinsicParameterization : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkIntrinsicParameterization* New();
+  vtkTypeMacro(vtkIntrinsicParameterization, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum BoundaryType
+  {
+    CIRCLE = 0,
+    SQUARE = 1,
+    GIVEN = 2,
+    NATURAL = 3
+  };
+  enum SpacingType
+  {
+    ARC_LENGTH = 0,
+    UNIFORM = 1
+  };
+  enum EnergyType
+  {
+    EDGE_LENGTH = 0,
+    AREA = 1
+  };
+
+  ///@{
+  /// lambda and mu of E = lambda E_A + mu E_chi (default 1 and 0: DCP).
+  vtkSetMacro(ConformalWeight, double);
+  vtkGetMacro(ConformalWeight, double);
+  vtkSetMacro(AuthalicWeight, double);
+  vtkGetMacro(AuthalicWeight, double);
+  ///@}
+
+  ///@{
+  vtkSetClampMacro(Boundary, int, CIRCLE, NATURAL);
+  vtkGetMacro(Boundary, int);
+  vtkSetClampMacro(BoundarySpacing, int, ARC_LENGTH, UNIFORM);
+  vtkGetMacro(BoundarySpacing, int);
+  ///@}
+
+  ///@{
+  /// Point constraints: a point, or a point of a triangle (barycentric
+  /// weights summing to 1), mapped exactly onto (u, v).
+  void AddPointConstraint(vtkIdType pointId, double u, double v);
+  void AddSurfacePointConstraint(vtkIdType a, vtkIdType b, vtkIdType c, double wa, double wb,
+    double wc, double u, double v);
+  void RemoveAllConstraints();
+  int GetNumberOfConstraints() const;
+  ///@}
+
+  ///@{
+  vtkSetMacro(OptimizeMix, bool);
+  vtkGetMacro(OptimizeMix, bool);
+  vtkBooleanMacro(OptimizeMix, bool);
+  vtkSetClampMacro(OptimalEnergy, int, EDGE_LENGTH, AREA);
+  vtkGetMacro(OptimalEnergy, int);
+  vtkSetVector2Macro(OptimalMixRange, double);
+  vtkGetVector2Macro(OptimalMixRange, double);
+  /// The l found by the last update with OptimizeMix (-1 otherwise).
+  vtkGetMacro(OptimalMix, double);
+  ///@}
+
+  ///@{
+  vtkSetClampMacro(BoundaryOptimizationSteps, int, 0, VTK_INT_MAX);
+  vtkGetMacro(BoundaryOptimizationSteps, int);
+  vtkSetClampMacro(BoundaryEnergy, int, EDGE_LENGTH, AREA);
+  vtkGetMacro(BoundaryEnergy, int);
+  vtkSetMacro(KeepBoundaryBasis, bool);
+  vtkGetMacro(KeepBoundaryBasis, bool);
+  vtkBooleanMacro(KeepBoundaryBasis, bool);
+  ///@}
+
+  ///@{
+  vtkSetMacro(OutputFlattenedMesh, bool);
+  vtkGetMacro(OutputFlattenedMesh, bool);
+  vtkBooleanMacro(OutputFlattenedMesh, bool);
+  ///@}
+
+  ///@{
+  /// Threads of the assembly (0 = all; BELTRAMI_NUM_THREADS).
+  vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
+  vtkGetMacro(NumberOfThreads, int);
+  ///@}
+
+  ///@{
+  /// Results of the last update.
+  vtkGetMacro(MeanAngleDistortion, double);
+  vtkGetMacro(MeanAreaDistortion, double);
+  vtkGetMacro(MeanEdgeDistortion, double);
+  vtkGetMacro(NumberOfFlippedTriangles, vtkIdType);
+  ///@}
+
+  ///@{
+  /// With KeepBoundaryBasis: the fixed boundary points of the last update,
+  /// and the UV of every point (2 components) for new positions of those
+  /// points (2 components per id, in that order), without a new solve.
+  /// ComputeUV returns false when no basis is kept or the sizes disagree.
+  void GetBoundaryPointIds(vtkIdList* ids) const;
+  bool ComputeUV(vtkDataArray* boundaryUV, vtkDoubleArray* uv) const;
+  ///@}
+
+protected:
+  vtkIntrinsicParameterization();
+  ~vtkIntrinsicParameterization() override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  double ConformalWeight = 1.0;
+  double AuthalicWeight = 0.0;
+  int Boundary = CIRCLE;
+  int BoundarySpacing = ARC_LENGTH;
+  bool OptimizeMix = false;
+  int OptimalEnergy = EDGE_LENGTH;
+  double OptimalMixRange[2] = { 0.0, 1.0 };
+  int BoundaryOptimizationSteps = 0;
+  int BoundaryEnergy = EDGE_LENGTH;
+  bool KeepBoundaryBasis = false;
+  bool OutputFlattenedMesh = false;
+  int NumberOfThreads = 0;
+
+  double OptimalMix = -1.0;
+  double MeanAngleDistortion = 0.0;
+  double MeanAreaDistortion = 0.0;
+  double MeanEdgeDistortion = 0.0;
+  vtkIdType NumberOfFlippedTriangles = 0;
+
+private:
+  vtkIntrinsicParameterization(const vtkIntrinsicParameterization&) = delete;
+  void operator=(const vtkIntrinsicParameterization&) = delete;
+
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
+};
+
+#endif
