@@ -56,15 +56,20 @@ def render_mean_curvature(polydata, png_path, size=(800, 800)):
     actor = vtkActor()
     actor.SetMapper(mapper)
 
+    return snapshot(actor, png_path, size, view_up=(0, 1, 0), zoom=1.3)
+
+
+def snapshot(actor, png_path, size, view_up=(0, 1, 0), direction=(0, 0, 1), zoom=1.0):
+    """Renders one actor off screen on white, writes the PNG, returns the image."""
     renderer = vtkRenderer()
     renderer.AddActor(actor)
     renderer.SetBackground(1.0, 1.0, 1.0)
     camera = renderer.GetActiveCamera()
-    camera.SetPosition(0, 0, 1)
+    camera.SetPosition(*direction)
     camera.SetFocalPoint(0, 0, 0)
-    camera.SetViewUp(0, 1, 0)
+    camera.SetViewUp(*view_up)
     renderer.ResetCamera()
-    camera.Zoom(1.3)
+    camera.Zoom(zoom)
 
     window = vtkRenderWindow()
     window.SetOffScreenRendering(1)

@@ -119,6 +119,10 @@ vtkDataArray* OptionalUVArray(vtkAlgorithm* self, int idx, vtkPolyData* input, c
     return nullptr;
   }
   vtkDataArray* a = input->GetPointData()->GetArray(name);
+  if (!a && std::string(name) == "None") // ParaView's none_string of the array selection
+  {
+    return nullptr;
+  }
   if (!a)
   {
     error = std::string("The ") + what + " point array '" + name + "' does not exist in the input.";

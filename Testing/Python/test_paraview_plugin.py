@@ -1,5 +1,5 @@
 """The ParaView plugin from pvpython / pvbatch: OpenDataFile on .off, the
-DiscreteCurvatures and ImplicitFairing proxies, their defaults, and the OFF writer."""
+DiscreteCurvatures, ImplicitFairing and IntrinsicParameterization proxies, their defaults, and the OFF writer."""
 import math
 import os
 import sys
@@ -63,6 +63,23 @@ if servermanager.ActiveConnection.GetNumberOfDataPartitions() == 1:
     # (Distributed: each piece is smoothed with its piece boundary fixed; see README.)
     original = servermanager.Fetch(reader)
     check(abs(volume(smoothed) / volume(original) - 1) < 1e-9, "volume preserved through the plugin")
+
+mushroom = OpenDataFile(os.path.join(DATA, "mushroom.off"))
+param = IntrinsicParameterization(Input=mushroom)
+check(param.ConformalWeight == 1 and param.AuthalicWeight == 0, "default energy: DCP")
+check(param.Boundary == "Circle" and param.BoundarySpacing == "Arc Length", "default boundary")
+if servermanager.ActiveConnection.GetNumberOfDataPartitions() == 1:
+    # (Distributed: a parameterization needs the whole surface; pieces pass through with a warning.)
+    param.UpdatePipeline()
+    flat = servermanager.Fetch(param)
+    uv = vtk_to_numpy(flat.GetPointData().GetTCoords())
+    check(uv.shape == (2337, 2) and np.isfinite(uv).all(), "UV texture coordinates on every point")
+    mean_angle = flat.GetFieldData().GetArray("MeanAngleDistortion").GetValue(0)
+    check(abs(mean_angle - 3.48) < 0.01, "DCP mean angle distortion as CGAL's (%.3f)" % mean_angle)
+    param.Boundary = "Natural"
+    param.UpdatePipeline()
+    natural = servermanager.Fetch(param).GetFieldData().GetArray("MeanAngleDistortion").GetValue(0)
+    check(natural < 1.73, "natural conformal map below LSCM's 1.73 degrees (%.3f)" % natural)
 
 with tempfile.TemporaryDirectory() as tmp:
     path = os.path.join(tmp, "bunny.off")

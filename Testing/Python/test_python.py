@@ -9,8 +9,10 @@ import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersSources import vtkSphereSource
 
-from beltrami import vtkDiscreteCurvatures, vtkImplicitFairing, vtkOFFReader, vtkOFFWriter
-from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
+from beltrami import (vtkDiscreteCurvatures, vtkImplicitFairing, vtkIntrinsicParameterization,
+                      vtkOFFReader, vtkOFFWriter)
+from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIdList, vtkUnsignedCharArray
+from vtkmodules.util.numpy_support import numpy_to_vtk
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -201,6 +203,80 @@ class FairingFromPython(unittest.TestCase):
         self.assertGreater(np.abs(after - before).max(), 1e-4)
         self.assertIsNotNone(f.GetOutput().GetPointData().GetArray("Fixed"))  # point data carried
         self.assertIsNone(f.GetOutput().GetFieldData().GetArray("FairingInvariant"))
+
+
+class ParameterizationFromPython(unittest.TestCase):
+    def mushroom(self):
+        reader = vtkOFFReader()
+        reader.SetFileName(os.path.join(DATA, "mushroom.off"))
+        reader.Update()
+        return reader.GetOutput()
+
+    def test_flattened_output_and_cell_arrays(self):
+        mesh = self.mushroom()
+        f = vtkIntrinsicParameterization()
+        f.SetInputData(mesh)
+        f.SetOutputFlattenedMesh(True)
+        f.Update()
+        out = f.GetOutput()
+        uv = vtk_to_numpy(out.GetPointData().GetTCoords())
+        xyz = vtk_to_numpy(out.GetPoints().GetData())
+        self.assertEqual(out.GetPointData().GetTCoords().GetName(), "UV")
+        np.testing.assert_array_equal(xyz[:, :2], uv)
+        np.testing.assert_array_equal(xyz[:, 2], 0)
+        # Circle boundary: every point within the disk of radius 0.5 around (0.5, 0.5).
+        self.assertLessEqual(np.linalg.norm(uv - 0.5, axis=1).max(), 0.5 + 1e-12)
+        angle = vtk_to_numpy(out.GetCellData().GetArray("AngleDistortion"))
+        self.assertEqual(angle.shape, (mesh.GetNumberOfCells(),))
+        self.assertAlmostEqual(angle.mean(), f.GetMeanAngleDistortion(), delta=1e-9)
+        self.assertEqual(f.GetNumberOfFlippedTriangles(), 0)
+
+    def test_constraints_from_an_array_and_the_api(self):
+        mesh = self.mushroom()
+        targets = vtkDoubleArray()
+        targets.SetName("Targets")
+        targets.SetNumberOfComponents(2)
+        targets.SetNumberOfTuples(mesh.GetNumberOfPoints())
+        targets.Fill(float("nan"))
+        targets.SetTuple2(1000, 0.4, 0.45)
+        mesh.GetPointData().AddArray(targets)
+        f = vtkIntrinsicParameterization()
+        f.SetInputData(mesh)
+        f.SetInputArrayToProcess(1, 0, 0, 0, "Targets")
+        f.AddPointConstraint(2000, 0.6, 0.55)
+        f.SetBoundary(vtkIntrinsicParameterization.NATURAL)
+        f.Update()
+        uv = vtk_to_numpy(f.GetOutput().GetPointData().GetArray("UV"))
+        np.testing.assert_allclose(uv[1000], [0.4, 0.45], atol=1e-9)
+        np.testing.assert_allclose(uv[2000], [0.6, 0.55], atol=1e-9)
+
+    def test_boundary_basis_moves_the_boundary_without_a_solve(self):
+        mesh = self.mushroom()
+        f = vtkIntrinsicParameterization()
+        f.SetInputData(mesh)
+        f.SetKeepBoundaryBasis(True)
+        f.Update()
+        ids = vtkIdList()
+        f.GetBoundaryPointIds(ids)
+        uv = vtk_to_numpy(f.GetOutput().GetPointData().GetArray("UV"))
+        boundary = np.array([uv[ids.GetId(k)] for k in range(ids.GetNumberOfIds())])
+        # An affine change of the boundary moves every point by the same affine map.
+        matrix = np.array([[2.0, 0.3], [-0.1, 0.5]])
+        moved = numpy_to_vtk(np.ascontiguousarray(boundary @ matrix.T + [1.0, -2.0]), deep=1)
+        result = vtkDoubleArray()
+        self.assertTrue(f.ComputeUV(moved, result))
+        np.testing.assert_allclose(vtk_to_numpy(result), uv @ matrix.T + [1.0, -2.0], atol=1e-10)
+
+    def test_closed_input_is_an_error_not_a_crash(self):
+        reader = vtkOFFReader()
+        reader.SetFileName(os.path.join(DATA, "bunny00.off"))
+        f = vtkIntrinsicParameterization()
+        f.SetInputConnection(reader.GetOutputPort())
+        f.GlobalWarningDisplayOff()  # the expected error message is not noise in the log
+        failed = f.GetExecutive().Update() == 0
+        f.GlobalWarningDisplayOn()
+        self.assertTrue(failed)  # the request failed
+        self.assertIsNone(f.GetOutput().GetPointData().GetArray("UV"))
 
 
 if __name__ == "__main__":
