@@ -693,6 +693,35 @@ std::vector<double> Multiply(const std::vector<double>& a, const std::vector<dou
   return c;
 }
 
+/// Calls visit(i, j, |x_i - x_j|^2) for every edge of non-zero length.
+template <typename Visit>
+void ForEachEdge(const MeshTopology& topo, const double* points, Visit&& visit)
+{
+  const MeshTopology::EdgeTable& edges = topo.Edges();
+  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
+  {
+    const Index i = edges.Vertices[2 * e], j = edges.Vertices[2 * e + 1];
+    const double xx = (Point(points, i) - Point(points, j)).squaredNorm();
+    if (xx > 0.0)
+    {
+      visit(i, j, xx);
+    }
+  }
+}
+
+/// Calls visit(t, 3D area) for every triangle with a 3D area.
+template <typename Visit>
+void ForEachTriangle(const MeshTopology& topo, const double* points, Visit&& visit)
+{
+  for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
+  {
+    if (!Degenerate3D(topo, points, t))
+    {
+      visit(t, Area3D(topo, points, t));
+    }
+  }
+}
+
 double TotalArea3D(const MeshTopology& topo, const double* points, int threads)
 {
   return ParallelSum(topo.NumberOfTriangles(), 1, threads, [&](std::int64_t b, std::int64_t e, double* s) {
@@ -721,15 +750,7 @@ std::vector<double> MixEnergyPolynomial(const MeshTopology& topo, const double* 
   const double s2 = s * s;
   if (energy == DistortionEnergy::EdgeLength)
   {
-    const MeshTopology::EdgeTable& edges = topo.Edges();
-    for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
-    {
-      const Index i = edges.Vertices[2 * e], j = edges.Vertices[2 * e + 1];
-      const double xx = (Point(points, i) - Point(points, j)).squaredNorm();
-      if (!(xx > 0.0))
-      {
-        continue;
-      }
+    ForEachEdge(topo, points, [&](Index i, Index j, double xx) {
       const Vec2 dX = UV(uvX, i) - UV(uvX, j);
       const Vec2 delta = UV(uvA, i) - UV(uvA, j) - dX;
       const std::vector<double> q = { s2 * dX.squaredNorm() / xx - 1.0, 2.0 * s2 * dX.dot(delta) / xx,
@@ -739,19 +760,13 @@ std::vector<double> MixEnergyPolynomial(const MeshTopology& topo, const double* 
       {
         total[k] += q2[k];
       }
-    }
+    });
     return total;
   }
-  for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
-  {
-    if (Degenerate3D(topo, points, t))
-    {
-      continue;
-    }
-    const double a3 = Area3D(topo, points, t);
+  ForEachTriangle(topo, points, [&](Index t, double a3) {
     // The signed area is quadratic in l: evaluate at 0, 1/2, 1 and interpolate.
     double area[3];
-    std::vector<double> mixed(6 * 2);
+    double mixed[6];
     for (int k = 0; k < 3; ++k)
     {
       const double l = 0.5 * k;
@@ -777,7 +792,7 @@ std::vector<double> MixEnergyPolynomial(const MeshTopology& topo, const double* 
     {
       total[k] += e[k];
     }
-  }
+  });
   return total;
 }
 
@@ -804,15 +819,7 @@ double DistortionEnergyValue(const MeshTopology& topo, const double* points, con
   double total = 0.0;
   if (energy == DistortionEnergy::EdgeLength)
   {
-    const MeshTopology::EdgeTable& edges = topo.Edges();
-    for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
-    {
-      const Index i = edges.Vertices[2 * e], j = edges.Vertices[2 * e + 1];
-      const double xx = (Point(points, i) - Point(points, j)).squaredNorm();
-      if (!(xx > 0.0))
-      {
-        continue;
-      }
+    ForEachEdge(topo, points, [&](Index i, Index j, double xx) {
       const Vec2 d = UV(uv, i) - UV(uv, j);
       const double q = s2 * d.squaredNorm() / xx - 1.0;
       total += q * q;
@@ -824,16 +831,10 @@ double DistortionEnergyValue(const MeshTopology& topo, const double* points, con
         gradient[2 * j] -= g.x();
         gradient[2 * j + 1] -= g.y();
       }
-    }
+    });
     return total;
   }
-  for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
-  {
-    if (Degenerate3D(topo, points, t))
-    {
-      continue;
-    }
-    const double a3 = Area3D(topo, points, t);
+  ForEachTriangle(topo, points, [&](Index t, double a3) {
     const double r = s2 * SignedArea2D(topo, uv, t) / a3;
     total += (r * r - 1.0) * (r * r - 1.0);
     if (gradient)
@@ -849,7 +850,7 @@ double DistortionEnergyValue(const MeshTopology& topo, const double* points, con
         gradient[2 * a + 1] += f * 0.5 * (c.x() - b.x());
       }
     }
-  }
+  });
   return total;
 }
 
