@@ -88,6 +88,13 @@ def snapshot(actor, png_path, size, view_up=(0, 1, 0), direction=(0, 0, 1), zoom
     return grab.GetOutput()
 
 
+def write_vtp(polydata, path):
+    writer = vtkXMLPolyDataWriter()
+    writer.SetFileName(path)
+    writer.SetInputData(polydata)
+    writer.Write()
+
+
 def compute_curvatures(mesh_path):
     reader = vtkOFFReader()
     reader.SetFileName(mesh_path)
@@ -111,10 +118,7 @@ def main(argv):
     name = os.path.splitext(os.path.basename(mesh_path))[0]
     vtp = os.path.join(out_dir, name + "_curvatures.vtp")
     png = os.path.join(out_dir, name + "_mean_curvature.png")
-    writer = vtkXMLPolyDataWriter()
-    writer.SetFileName(vtp)
-    writer.SetInputData(output)
-    writer.Write()
+    write_vtp(output, vtp)
     render_mean_curvature(output, png)
 
     pd = output.GetPointData()

@@ -15,12 +15,11 @@ import sys
 import time
 
 from vtkmodules.vtkImagingSources import vtkImageCanvasSource2D
-from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
 from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkTexture
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (rendering backend)
 
 from beltrami import vtkIntrinsicParameterization, vtkOFFReader
-from curvature_demo import snapshot
+from curvature_demo import snapshot, write_vtp
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_MESH = os.path.join(HERE, "..", "Testing", "Data", "mushroom.off")
@@ -97,10 +96,7 @@ def main(argv):
     # The last one (natural conformal): data and picture.
     vtp = os.path.join(out_dir, name + "_natural_conformal.vtp")
     png = os.path.join(out_dir, name + "_checkerboard.png")
-    writer = vtkXMLPolyDataWriter()
-    writer.SetFileName(vtp)
-    writer.SetInputData(out)
-    writer.Write()
+    write_vtp(out, vtp)
     render_checkerboard(out, png)
     print("wrote %s\nwrote %s" % (vtp, png))
     return 0

@@ -10,6 +10,7 @@
 #include <vtkInformationVector.h>
 #include <vtkMath.h>
 #include <vtkNew.h>
+#include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolygon.h>
@@ -222,6 +223,46 @@ vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owne
     return Failed;
   }
   return Ready;
+}
+
+vtkDataArray* vtkBeltramiSurface::SelectedPointArray(
+  vtkAlgorithm* owner, int idx, int components, const char* what, std::string& error) const
+{
+  vtkInformation* info = owner->GetInputArrayInformation(idx);
+  const char* name =
+    info && info->Has(vtkDataObject::FIELD_NAME()) ? info->Get(vtkDataObject::FIELD_NAME()) : nullptr;
+  if (!name || !*name || !InputData)
+  {
+    return nullptr;
+  }
+  vtkDataArray* a = InputData->GetPointData()->GetArray(name);
+  if (!a && std::string(name) == "None") // ParaView's none_string of an array selection
+  {
+    return nullptr;
+  }
+  if (!a)
+  {
+    error = std::string("The ") + what + " point array '" + name + "' does not exist in the input.";
+    return nullptr;
+  }
+  if (a->GetNumberOfComponents() != components)
+  {
+    error = std::string("The ") + what + " point array '" + name + "' needs " + std::to_string(components) +
+      (components == 1 ? " component." : " components.");
+    return nullptr;
+  }
+  return a;
+}
+
+const double* vtkBeltramiSurface::PointsAsDouble(std::vector<double>& storage) const
+{
+  if (Doubles)
+  {
+    return Doubles;
+  }
+  const vtkIdType n = InputData ? InputData->GetNumberOfPoints() : 0;
+  storage.assign(Floats, Floats + 3 * n);
+  return storage.data();
 }
 
 std::string vtkBeltramiSurface::TopologyWarning() const

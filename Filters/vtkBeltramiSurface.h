@@ -51,6 +51,17 @@ public:
   const float* FloatPoints() const { return Floats; }
   const double* DoublePoints() const { return Doubles; }
 
+  /// The point array selected as input array `idx` of `owner`
+  /// (SetInputArrayToProcess), or null when none is selected (no name, or
+  /// ParaView's "None").  Sets `error` (naming it as `what`) when the
+  /// selected array is missing or has not exactly `components` components.
+  vtkDataArray* SelectedPointArray(
+    vtkAlgorithm* owner, int idx, int components, const char* what, std::string& error) const;
+
+  /// The points as 3 doubles each: the input's own array when it is double,
+  /// else a converted copy kept in `storage`.
+  const double* PointsAsDouble(std::vector<double>& storage) const;
+
   /// Calls f(const T* points) with the points' native precision.
   template <typename F>
   auto Dispatch(F&& f) const

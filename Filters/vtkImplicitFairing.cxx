@@ -28,35 +28,6 @@ vtkImplicitFairing::vtkImplicitFairing()
   // Input arrays 0 (fixed points) and 1 (weights) are optional: none by default.
 }
 
-namespace
-{
-
-/// The optional point array selected as input array `idx`, checked.
-vtkDataArray* OptionalPointArray(vtkImplicitFairing* self, int idx, vtkPolyData* input,
-  vtkIdType numPoints, const char* what, std::string& error)
-{
-  vtkInformation* info = self->GetInputArrayInformation(idx);
-  if (!info || !info->Has(vtkDataObject::FIELD_NAME()) || !info->Get(vtkDataObject::FIELD_NAME()) ||
-    !*info->Get(vtkDataObject::FIELD_NAME()))
-  {
-    return nullptr;
-  }
-  const char* name = info->Get(vtkDataObject::FIELD_NAME());
-  vtkDataArray* a = input->GetPointData()->GetArray(name);
-  if (!a)
-  {
-    error = std::string("The ") + what + " point array '" + name + "' does not exist in the input.";
-    return nullptr;
-  }
-  if (a->GetNumberOfComponents() != 1 || a->GetNumberOfTuples() != numPoints)
-  {
-    error = std::string("The ") + what + " point array '" + name + "' must have one component per point.";
-    return nullptr;
-  }
-  return a;
-}
-
-} // namespace
 
 int vtkImplicitFairing::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
@@ -83,9 +54,9 @@ int vtkImplicitFairing::RequestData(
   }
 
   std::string error;
-  vtkDataArray* fixedArray = OptionalPointArray(this, 0, input, numPoints, "fixed-points", error);
-  vtkDataArray* weightArray = error.empty()
-    ? OptionalPointArray(this, 1, input, numPoints, "smoothing-weight", error) : nullptr;
+  vtkDataArray* fixedArray = surface.SelectedPointArray(this, 0, 1, "fixed-points", error);
+  vtkDataArray* weightArray =
+    error.empty() ? surface.SelectedPointArray(this, 1, 1, "smoothing-weight", error) : nullptr;
   if (!error.empty())
   {
     vtkErrorMacro(<< error);

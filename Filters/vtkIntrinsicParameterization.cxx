@@ -108,33 +108,6 @@ bool vtkIntrinsicParameterization::ComputeUV(vtkDataArray* boundaryUV, vtkDouble
 namespace
 {
 
-/// The optional 2-component point array selected as input array `idx`.
-vtkDataArray* OptionalUVArray(vtkAlgorithm* self, int idx, vtkPolyData* input, const char* what,
-  std::string& error)
-{
-  vtkInformation* info = self->GetInputArrayInformation(idx);
-  const char* name = info && info->Has(vtkDataObject::FIELD_NAME()) ? info->Get(vtkDataObject::FIELD_NAME()) : nullptr;
-  if (!name || !*name)
-  {
-    return nullptr;
-  }
-  vtkDataArray* a = input->GetPointData()->GetArray(name);
-  if (!a && std::string(name) == "None") // ParaView's none_string of the array selection
-  {
-    return nullptr;
-  }
-  if (!a)
-  {
-    error = std::string("The ") + what + " point array '" + name + "' does not exist in the input.";
-  }
-  else if (a->GetNumberOfComponents() < 2)
-  {
-    error = std::string("The ") + what + " point array '" + name + "' needs 2 components (u, v).";
-    a = nullptr;
-  }
-  return a;
-}
-
 vtkNew<vtkDoubleArray> NamedValue(const char* name, double value)
 {
   vtkNew<vtkDoubleArray> a;
@@ -170,8 +143,9 @@ int vtkIntrinsicParameterization::RequestData(
   const beltrami::MeshTopology& topo = surface.Topology();
 
   std::string error;
-  vtkDataArray* givenArray = OptionalUVArray(this, 0, input, "given boundary UV", error);
-  vtkDataArray* targetArray = error.empty() ? OptionalUVArray(this, 1, input, "constraint target", error) : nullptr;
+  vtkDataArray* givenArray = surface.SelectedPointArray(this, 0, 2, "given boundary UV", error);
+  vtkDataArray* targetArray =
+    error.empty() ? surface.SelectedPointArray(this, 1, 2, "constraint target", error) : nullptr;
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
@@ -224,20 +198,9 @@ int vtkIntrinsicParameterization::RequestData(
   options.NumberOfThreads = this->NumberOfThreads;
 
   this->UpdateProgress(0.0);
-  beltrami::ParameterizationResult result;
-  surface.Dispatch([&](const auto* p) {
-    using T = std::decay_t<decltype(*p)>;
-    if constexpr (std::is_same_v<T, double>)
-    {
-      result = beltrami::Parameterize(topo, p, options);
-    }
-    else
-    {
-      const std::vector<double> points(p, p + 3 * numPoints);
-      result = beltrami::Parameterize(topo, points.data(), options);
-    }
-    return 0;
-  });
+  std::vector<double> converted; // float points: one copy in double
+  const double* points = surface.PointsAsDouble(converted);
+  beltrami::ParameterizationResult result = beltrami::Parameterize(topo, points, options);
   if (!result.Success)
   {
     vtkErrorMacro(<< result.Error);
@@ -248,20 +211,8 @@ int vtkIntrinsicParameterization::RequestData(
     vtkWarningMacro(<< result.Warning << ".");
   }
   this->UpdateProgress(0.9);
-  beltrami::DistortionReport distortion;
-  surface.Dispatch([&](const auto* p) {
-    using T = std::decay_t<decltype(*p)>;
-    if constexpr (std::is_same_v<T, double>)
-    {
-      distortion = beltrami::MeasureDistortion(topo, p, result.UV.data(), this->NumberOfThreads);
-    }
-    else
-    {
-      const std::vector<double> points(p, p + 3 * numPoints);
-      distortion = beltrami::MeasureDistortion(topo, points.data(), result.UV.data(), this->NumberOfThreads);
-    }
-    return 0;
-  });
+  const beltrami::DistortionReport distortion =
+    beltrami::MeasureDistortion(topo, points, result.UV.data(), this->NumberOfThreads);
 
   vtkNew<vtkDoubleArray> uv;
   uv->SetName("UV");
