@@ -3,6 +3,7 @@
 #include <vtkAlgorithm.h>
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
+#include <vtkCellData.h>
 #include <vtkDoubleArray.h>
 #include <vtkFloatArray.h>
 #include <vtkIdList.h>
@@ -228,24 +229,31 @@ vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owne
 vtkDataArray* vtkBeltramiSurface::SelectedPointArray(
   vtkAlgorithm* owner, int idx, int components, const char* what, std::string& error) const
 {
+  return SelectedPointArray(owner, InputData, idx, components, what, error);
+}
+
+vtkDataArray* vtkBeltramiSurface::SelectedPointArray(vtkAlgorithm* owner, vtkDataSet* input, int idx,
+  int components, const char* what, std::string& error)
+{
   vtkInformation* info = owner->GetInputArrayInformation(idx);
   const char* name =
     info && info->Has(vtkDataObject::FIELD_NAME()) ? info->Get(vtkDataObject::FIELD_NAME()) : nullptr;
-  if (!name || !*name || !InputData)
+  if (!name || !*name || !input)
   {
     return nullptr;
   }
-  vtkDataArray* a = InputData->GetPointData()->GetArray(name);
+  vtkDataArray* a = input->GetPointData()->GetArray(name);
   if (!a && std::string(name) == "None") // ParaView's none_string of an array selection
   {
     return nullptr;
   }
   if (!a)
   {
-    error = std::string("The ") + what + " point array '" + name + "' does not exist in the input.";
+    error = std::string("The ") + what + " point array '" + name + "' does not exist in the input" +
+      (input->GetCellData()->GetAbstractArray(name) ? " (it is a cell array; point data are needed)." : ".");
     return nullptr;
   }
-  if (a->GetNumberOfComponents() != components)
+  if (components > 0 && a->GetNumberOfComponents() != components)
   {
     error = std::string("The ") + what + " point array '" + name + "' needs " + std::to_string(components) +
       (components == 1 ? " component." : " components.");

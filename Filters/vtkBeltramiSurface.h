@@ -17,6 +17,7 @@
 
 class vtkAlgorithm;
 class vtkDataArray;
+class vtkDataSet;
 class vtkInformationVector;
 class vtkPolyData;
 
@@ -57,6 +58,10 @@ public:
   /// selected array is missing or has not exactly `components` components.
   vtkDataArray* SelectedPointArray(
     vtkAlgorithm* owner, int idx, int components, const char* what, std::string& error) const;
+  /// The same for any data set input (components <= 0: any number); the one
+  /// array lookup of every Beltrami filter, image filters included.
+  static vtkDataArray* SelectedPointArray(vtkAlgorithm* owner, vtkDataSet* input, int idx,
+    int components, const char* what, std::string& error);
 
   /// The points as 3 doubles each: the input's own array when it is double,
   /// else a converted copy kept in `storage`.

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <stdexcept>
 
 namespace beltrami
 {
@@ -39,8 +40,6 @@ void GraphLaplacian::ApplyStiffness(const double* x, double* y, int columns, int
 namespace
 {
 
-using Vec3 = VecN<3>;
-
 void Resize(GraphLaplacian& l, Index n, const std::int64_t* offsets, const Index* neighbors)
 {
   l.NumberOfVertices = n;
@@ -53,9 +52,10 @@ void Resize(GraphLaplacian& l, Index n, const std::int64_t* offsets, const Index
 }
 
 /// Umbrella / inverse-length weights for a vertex and its neighbours.
+template <int N>
 void EdgeLengthWeights(GraphLaplacian& l, const double* points, LaplacianWeights weights, Index i)
 {
-  const Vec3 xi = LoadPoint<3>(points, 3, i);
+  const VecN<N> xi = LoadPoint<N>(points, N, i);
   double diag = 0.0, mass = 0.0;
   for (std::int64_t k = l.Offsets[i]; k < l.Offsets[i + 1]; ++k)
   {
@@ -66,7 +66,7 @@ void EdgeLengthWeights(GraphLaplacian& l, const double* points, LaplacianWeights
     }
     else
     {
-      const double length = (LoadPoint<3>(points, 3, l.Neighbors[k]) - xi).norm();
+      const double length = (LoadPoint<N>(points, N, l.Neighbors[k]) - xi).norm();
       c = length > 0.0 ? 1.0 / length : 0.0; // coincident points: no coupling
       mass += 0.5 * length;
     }
@@ -77,9 +77,8 @@ void EdgeLengthWeights(GraphLaplacian& l, const double* points, LaplacianWeights
   l.Mass[i] = weights == LaplacianWeights::Umbrella ? mass : (std::isfinite(mass) ? mass : 0.0);
 }
 
-} // namespace
-
-void AssembleSurfaceLaplacian(const MeshTopology& topo, const double* points,
+template <int N>
+void AssembleSurface(const MeshTopology& topo, const double* points,
   LaplacianWeights weights, GraphLaplacian& l, int numThreads)
 {
   const MeshTopology::EdgeTable& edges = topo.Edges();
@@ -92,16 +91,16 @@ void AssembleSurfaceLaplacian(const MeshTopology& topo, const double* points,
     {
       if (weights == LaplacianWeights::Umbrella || weights == LaplacianWeights::InverseEdgeLength)
       {
-        EdgeLengthWeights(l, points, weights, i);
+        EdgeLengthWeights<N>(l, points, weights, i);
         continue;
       }
       const std::int64_t first = l.Offsets[i], last = l.Offsets[i + 1];
       const auto entry = [&](Index j) {
         return std::lower_bound(l.Neighbors + first, l.Neighbors + last, j) - l.Neighbors;
       };
-      const Vec3 xi = LoadPoint<3>(points, 3, i);
+      const VecN<N> xi = LoadPoint<N>(points, N, i);
       double mass = 0.0;
-      ForEachRingCorner<3>(topo, points, 3, i, xi, [&](const CornerGeometry<3>& g) {
+      ForEachRingCorner<N>(topo, points, N, i, xi, [&](const CornerGeometry<N>& g) {
         if (g.Degenerate)
         {
           nDegenerate += g.Corner % 3 == 0; // each triangle counted once
@@ -130,6 +129,29 @@ void AssembleSurfaceLaplacian(const MeshTopology& topo, const double* points,
     degenerate += nDegenerate;
   });
   l.DegenerateTriangles = degenerate;
+}
+
+} // namespace
+
+void AssembleSurfaceLaplacian(const MeshTopology& topo, const double* points,
+  LaplacianWeights weights, GraphLaplacian& l, int numThreads)
+{
+  AssembleSurface<3>(topo, points, weights, l, numThreads);
+}
+
+void AssembleSurfaceLaplacian(const MeshTopology& topo, const double* points, int dimension,
+  LaplacianWeights weights, GraphLaplacian& l, int numThreads)
+{
+  switch (dimension)
+  {
+    case 3: AssembleSurface<3>(topo, points, weights, l, numThreads); break;
+    case 4: AssembleSurface<4>(topo, points, weights, l, numThreads); break;
+    case 5: AssembleSurface<5>(topo, points, weights, l, numThreads); break;
+    case 6: AssembleSurface<6>(topo, points, weights, l, numThreads); break;
+    case 7: AssembleSurface<7>(topo, points, weights, l, numThreads); break;
+    case 8: AssembleSurface<8>(topo, points, weights, l, numThreads); break;
+    default: throw std::invalid_argument("AssembleSurfaceLaplacian: dimension must be 3 to 8");
+  }
 }
 
 void CurveGraph::Build(Index n, const std::vector<std::vector<Index>>& loops,
@@ -176,7 +198,7 @@ void AssembleCurveLaplacian(
   Resize(l, n, graph.Offsets.data(), graph.Neighbors.data());
   for (Index i = 0; i < n; ++i)
   {
-    EdgeLengthWeights(l, points, weights == LaplacianWeights::Umbrella
+    EdgeLengthWeights<3>(l, points, weights == LaplacianWeights::Umbrella
         ? LaplacianWeights::Umbrella : LaplacianWeights::InverseEdgeLength, i);
   }
 }

@@ -58,6 +58,11 @@ struct GraphLaplacian
 /// keep it fixed).
 void AssembleSurfaceLaplacian(const MeshTopology& topology, const double* points,
   LaplacianWeights weights, GraphLaplacian& laplacian, int numThreads = 0);
+/// The same for a surface embedded in R^dimension (3 to 8 doubles per vertex,
+/// section 2.8.1: the cotangents come from dot products, so they hold in any
+/// dimension); used by the graph flows of section 3.8 on data over surfaces.
+void AssembleSurfaceLaplacian(const MeshTopology& topology, const double* points, int dimension,
+  LaplacianWeights weights, GraphLaplacian& laplacian, int numThreads = 0);
 
 /// A 1D Laplacian along polylines through mesh vertices (boundary loops,
 /// feature curves): the graph holds, for every vertex, its curve neighbours

@@ -1,0 +1,107 @@
+// Beltrami core: feature-preserving graph flows for bivariate data (thesis
+// section 3.8): images, colour images, vector fields and height fields on a
+// pixel grid, and point data on triangle meshes.
+//
+// The data f (n components) over a 2-manifold is the graph surface
+// S = (base point, alpha f) in R^(2+n) (images) or R^(3+n) (surfaces).  With
+// B = Delta_g S its Laplace-Beltrami operator (the cotangent formula of
+// section 2.8.1, cotangents from dot products in R^N) and B_bar its data
+// components, the flow moves the data only (a graph flow, section 3.6):
+//
+//     d(alpha f)/dt = E^(gamma - 1) B_bar,
+//
+// with E the edge indicator in [0, 1]: |B_bar| / |B| on images (eq. 3.22),
+// the ratio A_base / A_graph of the mixed areas on surfaces (1/W, eq. 3.17).
+// gamma is the edge-contrast parameter of eq. 3.19: gamma = 1 is the Beltrami
+// flow (Delta_g f), gamma = 0 El-Fallah-Ford, gamma = -1 the graph flow that
+// is geometrically a mean curvature flow (eq. 3.21).  For greyscale images
+// E = 1/W, so the flow is I_t = -kappa_H / W^gamma, eq. 3.19 exactly; eq.
+// 3.22 writes the colour flow with the exponent gamma - 1.
+//
+// Integration (section 3.8.5): explicit Euler, or semi-implicit Euler with
+// the weights, areas and indicators of the current state (a sparse SPD system
+// per step, solved by conjugate gradients, all channels at once).  Time step
+// fixed, or adapted from the change of the total area.  Optional stop by the
+// discrepancy principle: when the RMS change of the data reaches the noise
+// level.
+#pragma once
+
+#include "MeshTopology.h"
+#include "Parallel.h"
+
+#include <cstdint>
+#include <string>
+
+namespace beltrami
+{
+
+enum class GraphFlowIntegration : int
+{
+  Explicit = 0,
+  SemiImplicit = 1
+};
+
+/// What the image flow assumes beyond the image border.
+enum class GridBoundary : int
+{
+  Reflect = 0, ///< mirror (Neumann): f(-1) = f(1)
+  Linear = 1   ///< linear extrapolation: f(-1) = 2 f(0) - f(1); ramps are fixed points
+};
+
+struct GraphFlowOptions
+{
+  double ContrastScale = 1.0; ///< alpha: data units -> embedding units (section 3.8.4)
+  double EdgeContrast = 1.0;  ///< gamma of eq. 3.19 (1: Beltrami flow)
+  GraphFlowIntegration Integration = GraphFlowIntegration::Explicit;
+  double TimeStep = 0.2;      ///< in (length unit)^2 of the base (pixel spacing, mesh units)
+  bool AdaptiveTimeStep = false;
+  int NumberOfIterations = 10;
+  /// > 0: stop once the RMS change of the data (per component, data units)
+  /// reaches this noise level (discrepancy principle).
+  double NoiseLevel = 0.0;
+  GridBoundary Boundary = GridBoundary::Linear; ///< images only
+  double SolverTolerance = 1e-4;                ///< semi-implicit: CG residual reduction
+  int MaximumSolverIterations = 500;
+  int NumberOfThreads = 0;
+};
+
+struct GraphFlowResult
+{
+  int Iterations = 0;         ///< steps taken
+  double Time = 0.0;          ///< total flow time
+  double InitialArea = 0.0;   ///< area of the graph surface before / after
+  double FinalArea = 0.0;
+  double RMSChange = 0.0;     ///< RMS of f_out - f_in per component (data units)
+  double LastTimeStep = 0.0;
+  double SmallestStableStep = 0.0; ///< explicit stability limit (positivity), smallest seen
+  int UnstableSteps = 0;      ///< explicit steps larger than that limit
+  int SolverIterations = 0;   ///< semi-implicit: CG iterations, all steps
+  bool Cancelled = false;
+  std::string Error;          ///< non-empty: nothing was changed
+};
+
+/// A pixel grid: Width x Height samples, row-major (x fastest), spacing in
+/// physical units.
+struct PixelGrid
+{
+  Index Width = 0;
+  Index Height = 0;
+  double SpacingX = 1.0;
+  double SpacingY = 1.0;
+};
+
+/// Runs the flow on `components` (1 to 6) interleaved values per pixel,
+/// in place.  fixed (optional): non-zero = pixel kept as it is.
+GraphFlowResult RunImageGraphFlow(const PixelGrid& grid, int components, double* values,
+  const std::uint8_t* fixed, const GraphFlowOptions& options,
+  const ProgressCallback& progress = {});
+
+/// Runs the flow on point data over a triangle mesh: points are 3 doubles per
+/// vertex, `components` (1 to 5) interleaved values per vertex, in place.
+/// Vertices that are fixed, non-manifold, isolated or without area keep
+/// their values.
+GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* points,
+  int components, double* values, const std::uint8_t* fixed, const GraphFlowOptions& options,
+  const ProgressCallback& progress = {});
+
+} // namespace beltrami

@@ -1,0 +1,345 @@
+#include "vtkImageBeltramiDenoising.h"
+
+#include "vtkBeltramiGraphFlow.h"
+#include "vtkBeltramiSurface.h"
+
+#include "Core/ColorSpace.h"
+#include "Core/GraphFlow.h"
+
+#include <vtkDataArray.h>
+#include <vtkDataSetAttributes.h>
+#include <vtkFieldData.h>
+#include <vtkImageData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkSmartPointer.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+#include <vector>
+
+vtkStandardNewMacro(vtkImageBeltramiDenoising);
+
+namespace
+{
+
+/// The pixels of a 2D image, as seen by the core: two axes of the VTK extent.
+struct GridMapping
+{
+  int Axis0 = 0, Axis1 = 1; // VTK axes of the grid's x and y
+  int Extent[6] = { 0, -1, 0, -1, 0, -1 };
+  vtkIdType Count() const
+  {
+    vtkIdType n = 1;
+    for (int a = 0; a < 3; ++a)
+    {
+      n *= std::max(0, Extent[2 * a + 1] - Extent[2 * a] + 1);
+    }
+    return n;
+  }
+  /// Index in an image of extent `e` of the point with structured index ijk.
+  static vtkIdType Index(const int* e, const int* ijk)
+  {
+    const vtkIdType nx = e[1] - e[0] + 1, ny = e[3] - e[2] + 1;
+    return (ijk[0] - e[0]) + nx * ((ijk[1] - e[2]) + ny * static_cast<vtkIdType>(ijk[2] - e[4]));
+  }
+};
+
+/// Copies `count` tuples of the first `used` of `nc` components into doubles, scaled.
+template <typename T>
+void Extract(const T* src, vtkIdType count, int nc, int used, double scale, double* dst)
+{
+  for (vtkIdType i = 0; i < count; ++i)
+  {
+    for (int k = 0; k < used; ++k)
+    {
+      dst[i * used + k] = scale * static_cast<double>(src[i * nc + k]);
+    }
+  }
+}
+
+template <typename T>
+T ToValue(double v)
+{
+  if (std::is_integral<T>::value)
+  {
+    v = std::round(v);
+    v = std::min<double>(std::max<double>(v, std::numeric_limits<T>::lowest()), std::numeric_limits<T>::max());
+  }
+  return static_cast<T>(v);
+}
+
+/// Writes the output extent of the result (components >= used: copied from
+/// the input, e.g. an RGBA alpha), un-normalised, rounded for integers.
+template <typename T>
+void Store(T* dst, const int* outExt, const int* inExt, int nc, int used, double range,
+  const double* values, vtkDataArray* input)
+{
+  vtkIdType o = 0;
+  int ijk[3];
+  for (ijk[2] = outExt[4]; ijk[2] <= outExt[5]; ++ijk[2])
+  {
+    for (ijk[1] = outExt[2]; ijk[1] <= outExt[3]; ++ijk[1])
+    {
+      for (ijk[0] = outExt[0]; ijk[0] <= outExt[1]; ++ijk[0], ++o)
+      {
+        const vtkIdType i = GridMapping::Index(inExt, ijk);
+        for (int k = 0; k < nc; ++k)
+        {
+          dst[o * nc + k] =
+            k < used ? ToValue<T>(range * values[i * used + k]) : ToValue<T>(input->GetComponent(i, k));
+        }
+      }
+    }
+  }
+}
+
+} // namespace
+
+vtkImageBeltramiDenoising::vtkImageBeltramiDenoising()
+{
+  this->SetInputArrayToProcess(
+    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+}
+
+bool vtkImageBeltramiDenoising::IsLocal() const
+{
+  return this->Integration == EXPLICIT && !this->AdaptiveTimeStep && this->NoiseLevel <= 0.0;
+}
+
+int vtkImageBeltramiDenoising::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  int whole[6], ext[6];
+  inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+  outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext);
+  for (int a = 0; a < 3; ++a)
+  {
+    if (!this->IsLocal())
+    {
+      ext[2 * a] = whole[2 * a];
+      ext[2 * a + 1] = whole[2 * a + 1];
+    }
+    else if (ext[2 * a] <= ext[2 * a + 1])
+    {
+      // One ring of neighbours per explicit step.
+      const int g = this->NumberOfIterations;
+      ext[2 * a] = std::max(whole[2 * a], ext[2 * a] - g);
+      ext[2 * a + 1] = std::min(whole[2 * a + 1], ext[2 * a + 1] + g);
+    }
+  }
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext, 6);
+  return 1;
+}
+
+int vtkImageBeltramiDenoising::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkImageData* input = vtkImageData::GetData(inputVector[0]);
+  vtkImageData* output = vtkImageData::GetData(outputVector);
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  if (!input || !output)
+  {
+    vtkErrorMacro("Input and output must be vtkImageData.");
+    return 0;
+  }
+  int outExt[6], whole[6];
+  outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), outExt);
+  inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+
+  // A defined output first: the input, cropped to the requested extent.
+  output->ShallowCopy(input);
+  int inExt[6];
+  input->GetExtent(inExt);
+  if (!std::equal(inExt, inExt + 6, outExt) && input->GetNumberOfPoints() > 0)
+  {
+    output->Crop(outExt);
+  }
+  if (input->GetNumberOfPoints() == 0)
+  {
+    return 1; // empty image: nothing to smooth
+  }
+
+  GridMapping grid;
+  std::copy(inExt, inExt + 6, grid.Extent);
+  int axes[3], nAxes = 0;
+  for (int a = 0; a < 3; ++a)
+  {
+    if (whole[2 * a + 1] > whole[2 * a])
+    {
+      axes[nAxes++] = a;
+    }
+  }
+  if (nAxes == 3)
+  {
+    vtkErrorMacro("The input is a 3D image: this filter smooths 2D images (XY, XZ or YZ slices). "
+                  "The output is the input.");
+    return 0;
+  }
+  for (int a = 0; a < 3 && nAxes < 2; ++a)
+  {
+    if (nAxes == 0 || axes[0] != a)
+    {
+      axes[nAxes++] = a;
+    }
+  }
+  grid.Axis0 = std::min(axes[0], axes[1]);
+  grid.Axis1 = std::max(axes[0], axes[1]);
+
+  int association = -1;
+  vtkDataArray* array = this->GetInputArrayToProcess(0, inputVector, association);
+  if (!array || association != vtkDataObject::FIELD_ASSOCIATION_POINTS)
+  {
+    vtkErrorMacro("No point array to smooth: select a point data array (input array 0). "
+                  "The output is the input.");
+    return 0;
+  }
+  std::string error;
+  vtkDataArray* maskArray =
+    vtkBeltramiSurface::SelectedPointArray(this, input, 1, 1, "fixed-pixel mask", error);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error << " The output is the input.");
+    return 0;
+  }
+  const int nc = array->GetNumberOfComponents();
+  const vtkIdType count = input->GetNumberOfPoints();
+  if (array->GetNumberOfTuples() != count)
+  {
+    vtkErrorMacro("The array '" << (array->GetName() ? array->GetName() : "") << "' has "
+                                << array->GetNumberOfTuples() << " tuples for " << count << " points.");
+    return 0;
+  }
+  const bool integral = array->GetDataType() != VTK_FLOAT && array->GetDataType() != VTK_DOUBLE;
+  const bool color = this->ColorSpace == RGB || this->ColorSpace == LUV ||
+    (this->ColorSpace == AUTOMATIC && array->GetDataType() == VTK_UNSIGNED_CHAR && (nc == 3 || nc == 4));
+  const bool luv = color && this->ColorSpace != RGB;
+  if (color && nc != 3 && nc != 4)
+  {
+    vtkErrorMacro("Colour spaces need 3 (RGB) or 4 (RGBA) components; '"
+      << (array->GetName() ? array->GetName() : "") << "' has " << nc << ". The output is the input.");
+    return 0;
+  }
+  const int used = color ? 3 : nc;
+  if (used > 6)
+  {
+    vtkErrorMacro("At most 6 components can be smoothed together; '"
+      << (array->GetName() ? array->GetName() : "") << "' has " << nc << ". The output is the input.");
+    return 0;
+  }
+  // Colours are normalised to [0, 1] by the range of their integer type.
+  const double range = color && integral ? array->GetDataTypeMax() : 1.0;
+
+  std::vector<double> values(static_cast<std::size_t>(count) * used);
+  if (array->HasStandardMemoryLayout())
+  {
+    switch (array->GetDataType())
+    {
+      vtkTemplateMacro(Extract(static_cast<const VTK_TT*>(array->GetVoidPointer(0)), count, nc, used,
+        1.0 / range, values.data()));
+      default:
+        vtkErrorMacro("Unsupported array type " << array->GetDataTypeAsString() << ".");
+        return 0;
+    }
+  }
+  else
+  {
+    for (vtkIdType i = 0; i < count; ++i)
+    {
+      for (int k = 0; k < used; ++k)
+      {
+        values[i * used + k] = array->GetComponent(i, k) / range;
+      }
+    }
+  }
+  if (luv)
+  {
+    beltrami::RGBToLuv(values.data(), count, 3, this->NumberOfThreads);
+  }
+  std::vector<std::uint8_t> fixed;
+  if (maskArray)
+  {
+    fixed.resize(count);
+    for (vtkIdType i = 0; i < count; ++i)
+    {
+      fixed[i] = maskArray->GetComponent(i, 0) != 0.0;
+    }
+  }
+
+  beltrami::PixelGrid pixels;
+  pixels.Width = inExt[2 * grid.Axis0 + 1] - inExt[2 * grid.Axis0] + 1;
+  pixels.Height = inExt[2 * grid.Axis1 + 1] - inExt[2 * grid.Axis1] + 1;
+  pixels.SpacingX = std::abs(input->GetSpacing()[grid.Axis0]);
+  pixels.SpacingY = std::abs(input->GetSpacing()[grid.Axis1]);
+  beltrami::GraphFlowOptions options = vtkBeltramiGraphFlow::Options(this);
+  options.Boundary = static_cast<beltrami::GridBoundary>(this->Boundary);
+
+  this->UpdateProgress(0.0);
+  const beltrami::GraphFlowResult result = beltrami::RunImageGraphFlow(pixels, used, values.data(),
+    fixed.empty() ? nullptr : fixed.data(), options, [this](double fraction) {
+      this->UpdateProgress(fraction);
+      return !this->GetAbortExecute();
+    });
+  if (!result.Error.empty())
+  {
+    vtkErrorMacro(<< result.Error << ". The output is the input.");
+    return 0;
+  }
+  if (result.Cancelled)
+  {
+    return 1; // aborted: the output is the input
+  }
+  const std::string warning = vtkBeltramiGraphFlow::StabilityWarning(options, result);
+  if (!warning.empty())
+  {
+    vtkWarningMacro(<< warning);
+  }
+  if (luv)
+  {
+    beltrami::LuvToRGB(values.data(), count, 3, this->NumberOfThreads);
+  }
+
+  // The output array over the output extent: the input's name and type.
+  vtkSmartPointer<vtkDataArray> smoothed = vtk::TakeSmartPointer(vtkDataArray::CreateDataArray(array->GetDataType()));
+  smoothed->SetName(array->GetName());
+  smoothed->SetNumberOfComponents(nc);
+  const vtkIdType outCount = output->GetNumberOfPoints();
+  smoothed->SetNumberOfTuples(outCount);
+  switch (smoothed->GetDataType())
+  {
+    vtkTemplateMacro(Store(static_cast<VTK_TT*>(smoothed->GetVoidPointer(0)), outExt, inExt, nc, used,
+      range, values.data(), array));
+  }
+  vtkPointData* outPD = output->GetPointData();
+  const bool wasScalars = input->GetPointData()->GetScalars() == array;
+  outPD->AddArray(smoothed);
+  if (wasScalars)
+  {
+    outPD->SetScalars(smoothed);
+  }
+  vtkBeltramiGraphFlow::AddReport(output->GetFieldData(), result);
+  return 1;
+}
+
+void vtkImageBeltramiDenoising::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "ContrastScale: " << this->ContrastScale << "\n";
+  os << indent << "EdgeContrast: " << this->EdgeContrast << "\n";
+  os << indent << "Integration: " << this->Integration << "\n";
+  os << indent << "TimeStep: " << this->TimeStep << "\n";
+  os << indent << "AdaptiveTimeStep: " << this->AdaptiveTimeStep << "\n";
+  os << indent << "NumberOfIterations: " << this->NumberOfIterations << "\n";
+  os << indent << "NoiseLevel: " << this->NoiseLevel << "\n";
+  os << indent << "ColorSpace: " << this->ColorSpace << "\n";
+  os << indent << "Boundary: " << this->Boundary << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}

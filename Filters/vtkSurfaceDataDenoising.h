@@ -1,0 +1,95 @@
+/**
+ * @class   vtkSurfaceDataDenoising
+ * @brief   Edge-preserving smoothing of point data on a triangle mesh: the
+ *          graph flows of thesis section 3.8 over a surface.
+ *
+ * A scalar or vector point array f (1 to 5 components) on a triangle mesh is
+ * the 2-manifold (x, y, z, alpha f) in R^(3+n); the flow changes the data
+ * only, d(alpha f)/dt = E^(gamma - 1) Delta_g(alpha f), with Delta_g the
+ * Laplace-Beltrami operator of that manifold (cotangent formula in R^(3+n),
+ * section 2.8.1) and E = A_mesh / A_graph the edge indicator (1/W of eq.
+ * 3.17, from the mixed areas).  gamma = 1 (default) is the Beltrami flow;
+ * jumps in the data are steep cliffs of the graph surface, across which the
+ * flow hardly diffuses, so discontinuities are kept while noise is removed.
+ * The mesh itself does not move.
+ *
+ * Settings as vtkImageBeltramiDenoising (ContrastScale alpha, EdgeContrast
+ * gamma, Integration, TimeStep, AdaptiveTimeStep, NumberOfIterations,
+ * NoiseLevel, NumberOfThreads).  Units: with MEAN_EDGE_LENGTH (default) the
+ * mesh is measured in units of its mean edge length h, so TimeStep is in h^2
+ * and alpha maps data units to h (as pixels do for images: alpha = 1.5/sigma
+ * for noise sigma); with PHYSICAL both are in the mesh's own units.
+ *
+ * Input array 0: the point array to smooth (default: the active scalars; any
+ * numeric type, written back as double under the same name).  Input array 1
+ * (optional): non-zero = point kept.  Non-manifold and isolated points, and
+ * points without area, keep their values.  Polygons and strips are
+ * triangulated internally; the output is the input with the new array.
+ * Field data as vtkImageBeltramiDenoising.
+ */
+#ifndef vtkSurfaceDataDenoising_h
+#define vtkSurfaceDataDenoising_h
+
+#include "BeltramiFiltersModule.h" // export macro
+#include "vtkPolyDataAlgorithm.h"
+
+class BELTRAMIFILTERS_EXPORT vtkSurfaceDataDenoising : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkSurfaceDataDenoising* New();
+  vtkTypeMacro(vtkSurfaceDataDenoising, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum IntegrationType
+  {
+    EXPLICIT = 0,
+    SEMI_IMPLICIT = 1
+  };
+  enum UnitsType
+  {
+    MEAN_EDGE_LENGTH = 0,
+    PHYSICAL = 1
+  };
+
+  vtkSetClampMacro(ContrastScale, double, 1e-12, VTK_DOUBLE_MAX);
+  vtkGetMacro(ContrastScale, double);
+  vtkSetClampMacro(EdgeContrast, double, -1.0, 10.0);
+  vtkGetMacro(EdgeContrast, double);
+  vtkSetClampMacro(Integration, int, EXPLICIT, SEMI_IMPLICIT);
+  vtkGetMacro(Integration, int);
+  vtkSetClampMacro(TimeStep, double, 1e-12, VTK_DOUBLE_MAX);
+  vtkGetMacro(TimeStep, double);
+  vtkSetMacro(AdaptiveTimeStep, bool);
+  vtkGetMacro(AdaptiveTimeStep, bool);
+  vtkBooleanMacro(AdaptiveTimeStep, bool);
+  vtkSetClampMacro(NumberOfIterations, int, 0, VTK_INT_MAX);
+  vtkGetMacro(NumberOfIterations, int);
+  vtkSetClampMacro(NoiseLevel, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(NoiseLevel, double);
+  vtkSetClampMacro(Units, int, MEAN_EDGE_LENGTH, PHYSICAL);
+  vtkGetMacro(Units, int);
+  vtkSetMacro(NumberOfThreads, int);
+  vtkGetMacro(NumberOfThreads, int);
+
+protected:
+  vtkSurfaceDataDenoising();
+  ~vtkSurfaceDataDenoising() override = default;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  double ContrastScale = 1.0;
+  double EdgeContrast = 1.0;
+  int Integration = EXPLICIT;
+  double TimeStep = 0.1;
+  bool AdaptiveTimeStep = false;
+  int NumberOfIterations = 10;
+  double NoiseLevel = 0.0;
+  int Units = MEAN_EDGE_LENGTH;
+  int NumberOfThreads = 0;
+
+private:
+  vtkSurfaceDataDenoising(const vtkSurfaceDataDenoising&) = delete;
+  void operator=(const vtkSurfaceDataDenoising&) = delete;
+};
+
+#endif
