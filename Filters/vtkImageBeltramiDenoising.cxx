@@ -163,9 +163,18 @@ int vtkImageBeltramiDenoising::RequestData(
   {
     output->Crop(outExt);
   }
-  if (input->GetNumberOfPoints() == 0)
+  if (input->GetNumberOfPoints() == 0 || output->GetNumberOfPoints() == 0)
   {
-    return 1; // empty image: nothing to smooth
+    return 1; // empty image or piece: nothing to smooth
+  }
+  output->GetExtent(outExt);
+  for (int a = 0; a < 3; ++a)
+  {
+    if (outExt[2 * a] < inExt[2 * a] || outExt[2 * a + 1] > inExt[2 * a + 1])
+    {
+      vtkErrorMacro("The input extent does not cover the requested extent: the output is the input.");
+      return 0;
+    }
   }
 
   GridMapping grid;
@@ -209,6 +218,12 @@ int vtkImageBeltramiDenoising::RequestData(
   {
     vtkErrorMacro(<< error << " The output is the input.");
     return 0;
+  }
+  if (maskArray == array)
+  {
+    // ParaView's panel preselects the first array for every selection: a
+    // mask equal to the smoothed data would keep everything; ignore it.
+    maskArray = nullptr;
   }
   const int nc = array->GetNumberOfComponents();
   const vtkIdType count = input->GetNumberOfPoints();

@@ -45,7 +45,8 @@
  * Input array 0: the point array to smooth (default: the active scalars;
  * 1 to 6 components, any numeric type: the output array has the input's
  * name and type, integers rounded and clamped).  Input array 1 (optional):
- * a point array whose non-zero values mark pixels kept as they are.
+ * a point array whose non-zero values mark pixels kept as they are (ignored
+ * when it is the array being smoothed, as ParaView preselects it).
  * 2D images only (one of the three dimensions may be > 1 only if another
  * is 1: XY, XZ and YZ slices all work).
  *

@@ -57,6 +57,12 @@ int vtkSurfaceDataDenoising::RequestData(
     vtkErrorMacro(<< error << " The output is the input.");
     return 0;
   }
+  if (maskArray == array)
+  {
+    // ParaView's panel preselects the first array for every selection: a
+    // mask equal to the smoothed data would keep everything; ignore it.
+    maskArray = nullptr;
+  }
   const int nc = array->GetNumberOfComponents();
   if (nc < 1 || nc > 5)
   {
