@@ -1,11 +1,45 @@
 #include "vtkBeltramiGraphFlow.h"
 
+#include "vtkBeltramiSurface.h"
+
+#include <vtkDataArray.h>
+#include <vtkDataSet.h>
+#include <vtkPointData.h>
+
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
 
 #include <sstream>
+
+std::vector<std::uint8_t> vtkBeltramiGraphFlow::FixedMask(vtkAlgorithm* owner, vtkDataSet* input,
+  vtkDataArray* smoothed, const char* what, std::string& error)
+{
+  std::vector<std::uint8_t> fixed;
+  vtkDataArray* mask = vtkBeltramiSurface::SelectedPointArray(owner, input, 1, 1, what, error);
+  if (mask && mask != smoothed)
+  {
+    const vtkIdType n = mask->GetNumberOfTuples();
+    fixed.resize(n);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      fixed[i] = mask->GetComponent(i, 0) != 0.0;
+    }
+  }
+  return fixed;
+}
+
+void vtkBeltramiGraphFlow::ReplaceArray(
+  vtkDataSet* input, vtkDataSet* output, vtkDataArray* original, vtkDataArray* smoothed)
+{
+  vtkPointData* pd = output->GetPointData();
+  pd->AddArray(smoothed);
+  if (input->GetPointData()->GetScalars() == original)
+  {
+    pd->SetScalars(smoothed);
+  }
+}
 
 void vtkBeltramiGraphFlow::AddReport(vtkFieldData* fd, const beltrami::GraphFlowResult& r)
 {

@@ -9,8 +9,16 @@
 
 #include "Core/GraphFlow.h"
 
+#include <cstdint>
+#include <ostream>
 #include <string>
+#include <vector>
 
+#include <vtkIndent.h>
+
+class vtkAlgorithm;
+class vtkDataArray;
+class vtkDataSet;
 class vtkFieldData;
 
 class BELTRAMIFILTERS_EXPORT vtkBeltramiGraphFlow
@@ -31,6 +39,32 @@ public:
     o.NumberOfThreads = f->GetNumberOfThreads();
     return o;
   }
+
+  /// The settings every graph-flow filter has, for PrintSelf.
+  template <typename Filter>
+  static void PrintSettings(Filter* f, std::ostream& os, vtkIndent indent)
+  {
+    os << indent << "ContrastScale: " << f->GetContrastScale() << "\n";
+    os << indent << "EdgeContrast: " << f->GetEdgeContrast() << "\n";
+    os << indent << "Integration: " << f->GetIntegration() << "\n";
+    os << indent << "TimeStep: " << f->GetTimeStep() << "\n";
+    os << indent << "AdaptiveTimeStep: " << f->GetAdaptiveTimeStep() << "\n";
+    os << indent << "NumberOfIterations: " << f->GetNumberOfIterations() << "\n";
+    os << indent << "NoiseLevel: " << f->GetNoiseLevel() << "\n";
+    os << indent << "NumberOfThreads: " << f->GetNumberOfThreads() << "\n";
+  }
+
+  /// The fixed mask from input array 1 of `owner` (optional; empty = none).
+  /// A selection equal to the smoothed array is ignored: ParaView's panel
+  /// preselects the first array for every selection, and such a mask would
+  /// keep everything.  Sets `error` when the selected array is unusable.
+  static std::vector<std::uint8_t> FixedMask(vtkAlgorithm* owner, vtkDataSet* input,
+    vtkDataArray* smoothed, const char* what, std::string& error);
+
+  /// Puts `smoothed` into the output's point data in place of `original`
+  /// (same name), keeping it the active scalars if it was.
+  static void ReplaceArray(
+    vtkDataSet* input, vtkDataSet* output, vtkDataArray* original, vtkDataArray* smoothed);
 
   /// Field arrays FlowIterations, FlowTime, FlowRMSChange, FlowArea (initial,
   /// final area of the graph surface), FlowSolverIterations.

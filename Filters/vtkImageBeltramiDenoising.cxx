@@ -212,18 +212,12 @@ int vtkImageBeltramiDenoising::RequestData(
     return 0;
   }
   std::string error;
-  vtkDataArray* maskArray =
-    vtkBeltramiSurface::SelectedPointArray(this, input, 1, 1, "fixed-pixel mask", error);
+  const std::vector<std::uint8_t> fixed =
+    vtkBeltramiGraphFlow::FixedMask(this, input, array, "fixed-pixel mask", error);
   if (!error.empty())
   {
     vtkErrorMacro(<< error << " The output is the input.");
     return 0;
-  }
-  if (maskArray == array)
-  {
-    // ParaView's panel preselects the first array for every selection: a
-    // mask equal to the smoothed data would keep everything; ignore it.
-    maskArray = nullptr;
   }
   const int nc = array->GetNumberOfComponents();
   const vtkIdType count = input->GetNumberOfPoints();
@@ -279,15 +273,6 @@ int vtkImageBeltramiDenoising::RequestData(
   {
     beltrami::RGBToLuv(values.data(), count, 3, this->NumberOfThreads);
   }
-  std::vector<std::uint8_t> fixed;
-  if (maskArray)
-  {
-    fixed.resize(count);
-    for (vtkIdType i = 0; i < count; ++i)
-    {
-      fixed[i] = maskArray->GetComponent(i, 0) != 0.0;
-    }
-  }
 
   beltrami::PixelGrid pixels;
   pixels.Width = inExt[2 * grid.Axis0 + 1] - inExt[2 * grid.Axis0] + 1;
@@ -333,13 +318,7 @@ int vtkImageBeltramiDenoising::RequestData(
     vtkTemplateMacro(Store(static_cast<VTK_TT*>(smoothed->GetVoidPointer(0)), outExt, inExt, nc, used,
       range, values.data(), array));
   }
-  vtkPointData* outPD = output->GetPointData();
-  const bool wasScalars = input->GetPointData()->GetScalars() == array;
-  outPD->AddArray(smoothed);
-  if (wasScalars)
-  {
-    outPD->SetScalars(smoothed);
-  }
+  vtkBeltramiGraphFlow::ReplaceArray(input, output, array, smoothed);
   vtkBeltramiGraphFlow::AddReport(output->GetFieldData(), result);
   return 1;
 }
@@ -347,14 +326,7 @@ int vtkImageBeltramiDenoising::RequestData(
 void vtkImageBeltramiDenoising::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "ContrastScale: " << this->ContrastScale << "\n";
-  os << indent << "EdgeContrast: " << this->EdgeContrast << "\n";
-  os << indent << "Integration: " << this->Integration << "\n";
-  os << indent << "TimeStep: " << this->TimeStep << "\n";
-  os << indent << "AdaptiveTimeStep: " << this->AdaptiveTimeStep << "\n";
-  os << indent << "NumberOfIterations: " << this->NumberOfIterations << "\n";
-  os << indent << "NoiseLevel: " << this->NoiseLevel << "\n";
+  vtkBeltramiGraphFlow::PrintSettings(this, os, indent);
   os << indent << "ColorSpace: " << this->ColorSpace << "\n";
   os << indent << "Boundary: " << this->Boundary << "\n";
-  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

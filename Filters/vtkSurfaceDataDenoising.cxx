@@ -51,17 +51,12 @@ int vtkSurfaceDataDenoising::RequestData(
     return 0;
   }
   std::string error;
-  vtkDataArray* maskArray = surface.SelectedPointArray(this, 1, 1, "fixed-points", error);
+  const std::vector<std::uint8_t> fixed =
+    vtkBeltramiGraphFlow::FixedMask(this, input, array, "fixed-points", error);
   if (!error.empty())
   {
     vtkErrorMacro(<< error << " The output is the input.");
     return 0;
-  }
-  if (maskArray == array)
-  {
-    // ParaView's panel preselects the first array for every selection: a
-    // mask equal to the smoothed data would keep everything; ignore it.
-    maskArray = nullptr;
   }
   const int nc = array->GetNumberOfComponents();
   if (nc < 1 || nc > 5)
@@ -117,15 +112,6 @@ int vtkSurfaceDataDenoising::RequestData(
       values[i * nc + k] = array->GetComponent(i, k);
     }
   }
-  std::vector<std::uint8_t> fixed;
-  if (maskArray)
-  {
-    fixed.resize(numPoints);
-    for (vtkIdType i = 0; i < numPoints; ++i)
-    {
-      fixed[i] = maskArray->GetComponent(i, 0) != 0.0;
-    }
-  }
 
   const beltrami::GraphFlowOptions options = vtkBeltramiGraphFlow::Options(this);
   this->UpdateProgress(0.0);
@@ -153,13 +139,7 @@ int vtkSurfaceDataDenoising::RequestData(
   smoothed->SetNumberOfComponents(nc);
   smoothed->SetNumberOfTuples(numPoints);
   std::copy(values.begin(), values.end(), smoothed->GetPointer(0));
-  vtkPointData* outPD = output->GetPointData();
-  const bool wasScalars = input->GetPointData()->GetScalars() == array;
-  outPD->AddArray(smoothed);
-  if (wasScalars)
-  {
-    outPD->SetScalars(smoothed);
-  }
+  vtkBeltramiGraphFlow::ReplaceArray(input, output, array, smoothed);
   // Areas in the units the flow used: report them in the mesh's units.
   result.InitialArea *= h * h;
   result.FinalArea *= h * h;
@@ -171,13 +151,6 @@ int vtkSurfaceDataDenoising::RequestData(
 void vtkSurfaceDataDenoising::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "ContrastScale: " << this->ContrastScale << "\n";
-  os << indent << "EdgeContrast: " << this->EdgeContrast << "\n";
-  os << indent << "Integration: " << this->Integration << "\n";
-  os << indent << "TimeStep: " << this->TimeStep << "\n";
-  os << indent << "AdaptiveTimeStep: " << this->AdaptiveTimeStep << "\n";
-  os << indent << "NumberOfIterations: " << this->NumberOfIterations << "\n";
-  os << indent << "NoiseLevel: " << this->NoiseLevel << "\n";
+  vtkBeltramiGraphFlow::PrintSettings(this, os, indent);
   os << indent << "Units: " << this->Units << "\n";
-  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

@@ -444,7 +444,7 @@ public:
       }
     });
     AssembleSurfaceLaplacian(Topology, Embedded.data(), dim, LaplacianWeights::Cotangent, Laplacian, Threads);
-    std::vector<double> positive(Size, 0.0);
+    Positive.resize(Size);
     ParallelFor(Size, Threads, [&](std::int64_t b, std::int64_t e) {
       for (std::int64_t i = b; i < e; ++i)
       {
@@ -456,7 +456,7 @@ public:
         {
           p += std::max(Laplacian.Weights[k], 0.0);
         }
-        positive[i] = p;
+        Positive[i] = p;
         Speed[i] = Laplacian.Mass[i] > 0.0 ? SpeedOf(BaseArea[i] / Laplacian.Mass[i]) : 1.0;
         if (!(Mass[i] > 0.0))
         {
@@ -471,7 +471,7 @@ public:
         acc[0] += Laplacian.Mass[i];
       }
     })[0];
-    ComputeMaxRate(positive);
+    ComputeMaxRate(Positive);
   }
 
   void Apply(const double* x, double* y, bool) override
@@ -482,7 +482,7 @@ public:
 private:
   const MeshTopology& Topology;
   const double* Points;
-  std::vector<double> BaseArea, Embedded;
+  std::vector<double> BaseArea, Embedded, Positive;
   GraphLaplacian Laplacian;
 };
 
