@@ -1,11 +1,13 @@
 #include "GraphFlow.h"
 
 #include "ConjugateGradient.h"
+#include "LargeBuffer.h"
 #include "Laplacian.h"
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 namespace beltrami
@@ -29,8 +31,12 @@ public:
   Index Size = 0;
   int Components = 1;
   std::vector<std::uint8_t> Fixed; ///< non-zero: value kept
+  /// Set before the first Update: the semi-implicit solver needs the operator
+  /// (Mass, Speed, Diagonal, KU and Apply); the explicit one only Velocity.
+  bool StoreOperator = true;
   // Filled by Update(u):
-  std::vector<double> Mass, Speed, Diagonal, KU; ///< a_i, s_i, sum_j c_ij, K u (with ghosts)
+  LargeVector<double> Velocity; ///< s_i (K u)_i / a_i, zero where fixed: du/dt = -Velocity
+  LargeVector<double> Mass, Speed, Diagonal, KU; ///< a_i, s_i, sum_j c_ij, K u (with ghosts)
   double Area = 0.0;    ///< area of the graph surface
   double MaxRate = 0.0; ///< max over free vertices of s_i sum_j max(c_ij, 0) / a_i
 
@@ -51,40 +57,19 @@ protected:
       return 1.0;
     }
     const double e = std::min(1.0, std::max(MinimumIndicator, indicator));
-    return std::pow(e, Gamma - 1.0);
+    return Gamma == 0.0 ? 1.0 / e : std::pow(e, Gamma - 1.0);
   }
 
   void Allocate()
   {
-    Mass.assign(Size, 0.0);
-    Speed.assign(Size, 1.0);
-    Diagonal.assign(Size, 0.0);
-    KU.assign(static_cast<std::size_t>(Size) * Components, 0.0);
-  }
-
-  /// Largest s_i sum_j c_ij^+ / a_i over free vertices, from per-vertex
-  /// positive weight sums (deterministic: a maximum does not depend on order).
-  void ComputeMaxRate(const std::vector<double>& positiveSum)
-  {
-    const Index n = Size;
-    const std::int64_t chunk = 4096;
-    const std::int64_t chunks = (n + chunk - 1) / chunk;
-    std::vector<double> partial(static_cast<std::size_t>(chunks), 0.0);
-    ParallelFor(chunks, Threads, [&](std::int64_t b, std::int64_t e) {
-      for (std::int64_t k = b; k < e; ++k)
-      {
-        double m = 0.0;
-        for (std::int64_t i = k * chunk; i < std::min<std::int64_t>(n, (k + 1) * chunk); ++i)
-        {
-          if (!Fixed[i] && Mass[i] > 0.0)
-          {
-            m = std::max(m, Speed[i] * positiveSum[i] / Mass[i]);
-          }
-        }
-        partial[k] = m;
-      }
-    });
-    MaxRate = partial.empty() ? 0.0 : *std::max_element(partial.begin(), partial.end());
+    Velocity.assign(static_cast<std::size_t>(Size) * Components, 0.0);
+    if (StoreOperator)
+    {
+      Mass.assign(Size, 0.0);
+      Speed.assign(Size, 1.0);
+      Diagonal.assign(Size, 0.0);
+      KU.assign(static_cast<std::size_t>(Size) * Components, 0.0);
+    }
   }
 };
 
@@ -94,6 +79,12 @@ protected:
 // symmetry of the grid.  Pixel (x, y) sits at (x sx, y sy, u(x, y)) in
 // R^(2+n).  Cotangents and mixed areas (section 2.4.3) of the four triangles
 // of every cell come from dot products of the edge vectors (section 2.8.1).
+//
+// One Update is one pass over the image in bands of rows: per band, a row of
+// cells (their four triangles) is computed into a small buffer, then the row
+// of pixels between it and the previous cell row; no per-cell or per-pixel
+// weights are stored unless the semi-implicit solver needs them.  The loops
+// over a row have no branches, so the compiler vectorizes them.
 
 /// The 8 neighbours of a pixel: offsets and slots of the per-pixel weights.
 enum Neighbor
@@ -118,7 +109,7 @@ struct TriangleTerms
 };
 
 /// Triangle P, Q, R from |Q-P|^2, |R-P|^2 and (Q-P).(R-P) (never degenerate
-/// here: the base part alone has area sx sy / 2).
+/// here: the base part alone has area sx sy / 2).  Branch-free (selects).
 inline TriangleTerms Triangle(double uu, double vv, double uv)
 {
   TriangleTerms t;
@@ -128,20 +119,15 @@ inline TriangleTerms Triangle(double uu, double vv, double uv)
   t.CotP = uv * inv;
   t.CotQ = dotQ * inv;
   t.CotR = dotR * inv;
-  if (uv >= 0.0 && dotQ >= 0.0 && dotR >= 0.0)
-  {
-    const double ww = uu + vv - 2.0 * uv;
-    t.MassP = (uu * t.CotR + vv * t.CotQ) / 8.0;
-    t.MassQ = (uu * t.CotR + ww * t.CotP) / 8.0;
-    t.MassR = (vv * t.CotQ + ww * t.CotP) / 8.0;
-  }
-  else
-  {
-    const double area = 0.5 * twiceArea;
-    t.MassP = uv < 0.0 ? area / 2.0 : area / 4.0;
-    t.MassQ = dotQ < 0.0 ? area / 2.0 : area / 4.0;
-    t.MassR = dotR < 0.0 ? area / 2.0 : area / 4.0;
-  }
+  const bool acute = (uv >= 0.0) & (dotQ >= 0.0) & (dotR >= 0.0); // no short circuit: no branch
+  const double ww = uu + vv - 2.0 * uv;
+  const double half = 0.25 * twiceArea, quarter = 0.125 * twiceArea;
+  const double vP = (uu * t.CotR + vv * t.CotQ) * 0.125;
+  const double vQ = (uu * t.CotR + ww * t.CotP) * 0.125;
+  const double vR = (vv * t.CotQ + ww * t.CotP) * 0.125;
+  t.MassP = acute ? vP : (uv < 0.0 ? half : quarter);
+  t.MassQ = acute ? vQ : (dotQ < 0.0 ? half : quarter);
+  t.MassR = acute ? vR : (dotR < 0.0 ? half : quarter);
   return t;
 }
 
@@ -156,23 +142,127 @@ inline double Dot(const double* a, const double* b)
   return s;
 }
 
+/// The row kernels are compiled twice, for AVX2/FMA processors and for any
+/// x86-64, and the processor picks at run time: the build stays portable.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define CLONES
+#endif
+
+/// Dot products of the edge vectors of a cell (corners a, b, c, d).
+enum CellDot
+{
+  AB_AB = 0, AC_AC, AD_AD, BC_BC, BD_BD, AB_AC, AC_AD, AB_AD, BC_BD, CellDots
+};
+
+/// The four triangles (abc, acd, abd, bcd) of n cells from their dot
+/// products (CellDots arrays of n values) into CellSlots arrays of n values.
+/// The same for any number of components, so compiled once.
+CLONES void TriangleRow(std::int64_t n, const double* __restrict dots, double* __restrict out)
+{
+#pragma GCC ivdep // the slot arrays never overlap
+  for (std::int64_t j = 0; j < n; ++j)
+  {
+    const double abab = dots[AB_AB * n + j], acac = dots[AC_AC * n + j];
+    const double adad = dots[AD_AD * n + j], bcbc = dots[BC_BC * n + j];
+    const double bdbd = dots[BD_BD * n + j], abac = dots[AB_AC * n + j];
+    const double acad = dots[AC_AD * n + j], abad = dots[AB_AD * n + j];
+    const double bcbd = dots[BC_BD * n + j];
+    const TriangleTerms abc = Triangle(abab, acac, abac); // P=a, Q=b, R=c
+    const TriangleTerms acd = Triangle(acac, adad, acad); // P=a, Q=c, R=d
+    const TriangleTerms abd = Triangle(abab, adad, abad); // P=a, Q=b, R=d
+    const TriangleTerms bcd = Triangle(bcbc, bdbd, bcbd); // P=b, Q=c, R=d
+    out[Top * n + j] = 0.5 * (abc.CotR + abd.CotR);
+    out[Bottom * n + j] = 0.5 * (acd.CotP + bcd.CotP);
+    out[Left * n + j] = 0.5 * (acd.CotQ + abd.CotQ);
+    out[Right * n + j] = 0.5 * (abc.CotP + bcd.CotR);
+    out[DiagAC * n + j] = 0.5 * (abc.CotQ + acd.CotR);
+    out[DiagBD * n + j] = 0.5 * (abd.CotP + bcd.CotQ);
+    out[MassA * n + j] = abc.MassP + acd.MassP + abd.MassP;
+    out[MassB * n + j] = abc.MassQ + abd.MassQ + bcd.MassP;
+    out[MassC * n + j] = abc.MassR + acd.MassQ + bcd.MassQ;
+    out[MassD * n + j] = acd.MassR + abd.MassR + bcd.MassR;
+  }
+}
+
+/// Buffers lent to the threads of a parallel loop and kept for the next loop
+/// (no allocation, zeroing or page faults per step).
+class ScratchPool
+{
+public:
+  std::vector<double> Take(std::size_t size)
+  {
+    std::vector<double> buffer;
+    {
+      std::lock_guard<std::mutex> lock(Mutex);
+      if (!Free.empty())
+      {
+        buffer.swap(Free.back());
+        Free.pop_back();
+      }
+    }
+    if (buffer.size() < size)
+    {
+      buffer.resize(size);
+    }
+    return buffer;
+  }
+  void Give(std::vector<double>&& buffer)
+  {
+    std::lock_guard<std::mutex> lock(Mutex);
+    Free.push_back(std::move(buffer));
+  }
+
+private:
+  std::mutex Mutex;
+  std::vector<std::vector<double>> Free;
+};
+
+/// A buffer of the pool for one scope.
+class ScratchLease
+{
+public:
+  ScratchLease(ScratchPool& pool, std::size_t size)
+    : Pool(pool)
+    , Buffer(pool.Take(size))
+  {
+  }
+  ~ScratchLease() { Pool.Give(std::move(Buffer)); }
+  ScratchLease(const ScratchLease&) = delete;
+  ScratchLease& operator=(const ScratchLease&) = delete;
+  double* data() { return Buffer.data(); }
+
+private:
+  ScratchPool& Pool;
+  std::vector<double> Buffer;
+};
+
+/// Rows per band of the image pass (one extra cell row computed per band).
+constexpr std::int64_t BandRows = 16;
+
 template <int NC>
 class GridDiscretization final : public FlowDiscretization
 {
 public:
-  GridDiscretization(const PixelGrid& grid, GridBoundary boundary, double gamma, int threads)
+  GridDiscretization(const PixelGrid& grid, GridBoundary boundary, double gamma, int threads,
+    bool storeOperator)
     : Grid(grid)
     , Boundary(boundary)
   {
     Gamma = gamma;
     Threads = threads;
+    StoreOperator = storeOperator;
     Size = grid.Width * grid.Height;
     Components = NC;
     PW = grid.Width + 2;
     PH = grid.Height + 2;
-    Padded.resize(static_cast<std::size_t>(PW) * PH * NC);
-    Cells.resize(static_cast<std::size_t>(grid.Width + 1) * (grid.Height + 1) * CellSlots);
-    Weights.resize(static_cast<std::size_t>(Size) * 8);
+    PlaneSize = static_cast<std::size_t>(PW) * PH;
+    Padded.resize(PlaneSize * NC);
+    if (StoreOperator)
+    {
+      Weights.resize(static_cast<std::size_t>(Size) * 8);
+    }
     Allocate();
     Fixed.assign(Size, 0);
     // Area scale for the indicator's guard (B has units 1/length).
@@ -182,8 +272,48 @@ public:
   void Update(const double* u) override
   {
     Pad(u, true);
-    ComputeCells();
-    ComputePixels();
+    const Index w = Grid.Width, h = Grid.Height;
+    RowArea.resize(h);
+    RowRate.resize(h);
+    const std::int64_t bands = (h + BandRows - 1) / BandRows;
+    const std::size_t row = static_cast<std::size_t>(w + 1);
+    ParallelFor(bands, Threads, [&](std::int64_t b0, std::int64_t b1) {
+      ScratchLease buffer(Scratch, (2 * CellSlots + CellDots + 2) * row);
+      double* upper = buffer.data();
+      double* lower = upper + CellSlots * row;
+      double* dots = lower + CellSlots * row;
+      double* sums = dots + CellDots * row; // per pixel of a row: mass, rate
+      for (std::int64_t band = b0; band < b1; ++band)
+      {
+        const std::int64_t r0 = band * BandRows, r1 = std::min<std::int64_t>(h, r0 + BandRows);
+        CellRow(r0, upper, dots);
+        for (std::int64_t r = r0; r < r1; ++r)
+        {
+          CellRow(r + 1, lower, dots);
+          if (StoreOperator)
+          {
+            PixelRow<true, false>(r, upper, lower, sums);
+          }
+          else if (Gamma == 1.0)
+          {
+            PixelRow<false, true>(r, upper, lower, sums);
+          }
+          else
+          {
+            PixelRow<false, false>(r, upper, lower, sums);
+          }
+          std::swap(upper, lower);
+        }
+      }
+    }, {}, 0, 1);
+    double area = 0.0, rate = 0.0;
+    for (Index r = 0; r < h; ++r) // in order: the same sum for any thread count
+    {
+      area += RowArea[r];
+      rate = std::max(rate, RowRate[r]);
+    }
+    Area = 0.5 * area;
+    MaxRate = rate;
   }
 
   void Apply(const double* x, double* y, bool ghosts) override
@@ -205,10 +335,9 @@ public:
           }
           for (int nb = 0; nb < 8; ++nb)
           {
-            const double* xj = PaddedAt(r + NeighborDy[nb], c + NeighborDx[nb]);
             for (int k = 0; k < NC; ++k)
             {
-              acc[k] -= wi[nb] * xj[k];
+              acc[k] -= wi[nb] * PaddedAt(k, r + NeighborDy[nb], c + NeighborDx[nb]);
             }
           }
           for (int k = 0; k < NC; ++k)
@@ -217,53 +346,63 @@ public:
           }
         }
       }
-    });
+    }, {}, 0, BandRows);
   }
 
 private:
   PixelGrid Grid;
   GridBoundary Boundary;
   Index PW = 0, PH = 0;
-  std::vector<double> Padded;  // (H+2) x (W+2) x NC
-  std::vector<double> Cells;   // (H+1) x (W+1) x CellSlots
-  std::vector<double> Weights; // H x W x 8 (slots of Neighbor)
-  std::vector<double> PositiveSum;
+  std::size_t PlaneSize = 0;
+  LargeVector<double> Padded;  // NC planes of (H+2) x (W+2)
+  LargeVector<double> Weights; // H x W x 8 (slots of Neighbor), semi-implicit only
+  std::vector<double> RowArea, RowRate;
+  ScratchPool Scratch; // per-thread row buffers of Update, kept between steps
   double Epsilon2 = 0.0;
 
-  /// Pixel (r, c), -1 <= r <= H, -1 <= c <= W, of the padded copy.
-  const double* PaddedAt(std::int64_t r, std::int64_t c) const
+  /// Component k of pixel (r, c), -1 <= r <= H, -1 <= c <= W, of the padded copy.
+  double PaddedAt(int k, std::int64_t r, std::int64_t c) const
   {
-    return &Padded[((r + 1) * PW + (c + 1)) * NC];
+    return Padded[k * PlaneSize + (r + 1) * PW + (c + 1)];
   }
 
-  /// Copies x into the padded buffer; the border ring gets the boundary rule
-  /// (ghosts) or zeros.
+  /// Row r (-1 <= r <= H) of plane k of the padded copy, at column -1.
+  const double* PaddedRow(int k, std::int64_t r) const
+  {
+    return &Padded[k * PlaneSize + (r + 1) * PW];
+  }
+
+  /// Copies x (interleaved) into the padded planes; the border ring gets the
+  /// boundary rule (ghosts) or zeros.
   void Pad(const double* x, bool ghosts)
   {
     const Index w = Grid.Width, h = Grid.Height;
     ParallelFor(h, Threads, [&](std::int64_t r0, std::int64_t r1) {
       for (std::int64_t r = r0; r < r1; ++r)
       {
-        std::copy(x + r * w * NC, x + (r + 1) * w * NC, &Padded[((r + 1) * PW + 1) * NC]);
+        const double* src = x + r * w * NC;
+        for (int k = 0; k < NC; ++k)
+        {
+          double* dst = &Padded[k * PlaneSize + (r + 1) * PW + 1];
+          for (Index c = 0; c < w; ++c)
+          {
+            dst[c] = src[c * NC + k];
+          }
+        }
       }
-    });
+    }, {}, 0, 64);
     const auto clampIndex = [](std::int64_t v, std::int64_t n) {
       return std::min<std::int64_t>(std::max<std::int64_t>(v, 0), n - 1);
     };
     const auto ghost = [&](std::int64_t r, std::int64_t c) {
-      double* dst = &Padded[((r + 1) * PW + (c + 1)) * NC];
-      if (!ghosts)
-      {
-        std::fill(dst, dst + NC, 0.0);
-        return;
-      }
       const std::int64_t br = clampIndex(r, h), bc = clampIndex(c, w);
       const std::int64_t rr = clampIndex(2 * br - r, h), rc = clampIndex(2 * bc - c, w);
       const double* base = x + (br * w + bc) * NC;
       const double* mirror = x + (rr * w + rc) * NC;
       for (int k = 0; k < NC; ++k)
       {
-        dst[k] = Boundary == GridBoundary::Reflect ? mirror[k] : 2.0 * base[k] - mirror[k];
+        Padded[k * PlaneSize + (r + 1) * PW + (c + 1)] =
+          !ghosts ? 0.0 : Boundary == GridBoundary::Reflect ? mirror[k] : 2.0 * base[k] - mirror[k];
       }
     };
     for (std::int64_t c = -1; c <= w; ++c)
@@ -278,128 +417,149 @@ private:
     }
   }
 
-  /// Pass 1: the four triangles of every cell, -1 <= row < H, -1 <= col < W.
-  void ComputeCells()
+  /// The four triangles of the cells of row q (between pixel rows q - 1 and
+  /// q), columns -1 .. W-1, into out (CellSlots arrays of W + 1 values;
+  /// `dots` is scratch of CellDots arrays): the dot products of the edge
+  /// vectors, then the triangles.
+  CLONES void CellRow(std::int64_t q, double* __restrict out, double* __restrict dots) const
   {
-    const Index w = Grid.Width, h = Grid.Height;
+    const std::int64_t n = Grid.Width + 1;
     const double sx2 = Grid.SpacingX * Grid.SpacingX, sy2 = Grid.SpacingY * Grid.SpacingY;
-    ParallelFor(h + 1, Threads, [&](std::int64_t q0, std::int64_t q1) {
-      for (std::int64_t q = q0; q < q1; ++q)
+    const double* top[NC];
+    const double* bottom[NC];
+    for (int k = 0; k < NC; ++k)
+    {
+      top[k] = PaddedRow(k, q - 1);
+      bottom[k] = PaddedRow(k, q);
+    }
+#pragma GCC ivdep // the slot arrays never overlap
+    for (std::int64_t j = 0; j < n; ++j)
+    {
+      // Full R^(2+n) dot products: base part + data part.
+      double abab = sx2, acac = sx2 + sy2, adad = sy2, bcbc = sy2, bdbd = sx2 + sy2;
+      double abac = sx2, acad = sy2, abad = 0.0, bcbd = sy2;
+      for (int k = 0; k < NC; ++k)
       {
-        const std::int64_t r = q - 1;
-        for (std::int64_t c = -1; c < w; ++c)
-        {
-          const double* a = PaddedAt(r, c);
-          const double* b = PaddedAt(r, c + 1);
-          const double* cc = PaddedAt(r + 1, c + 1);
-          const double* d = PaddedAt(r + 1, c);
-          double ab[NC], ac[NC], ad[NC], bc[NC], bd[NC];
-          for (int k = 0; k < NC; ++k)
-          {
-            ab[k] = b[k] - a[k];
-            ac[k] = cc[k] - a[k];
-            ad[k] = d[k] - a[k];
-            bc[k] = cc[k] - b[k];
-            bd[k] = d[k] - b[k];
-          }
-          // Full R^(2+n) dot products: base part + data part.
-          const double abab = sx2 + Dot<NC>(ab, ab), acac = sx2 + sy2 + Dot<NC>(ac, ac);
-          const double adad = sy2 + Dot<NC>(ad, ad), bcbc = sy2 + Dot<NC>(bc, bc);
-          const double bdbd = sx2 + sy2 + Dot<NC>(bd, bd);
-          const double abac = sx2 + Dot<NC>(ab, ac), acad = sy2 + Dot<NC>(ac, ad);
-          const double abad = Dot<NC>(ab, ad), bcbd = sy2 + Dot<NC>(bc, bd);
-          const TriangleTerms abc = Triangle(abab, acac, abac); // P=a, Q=b, R=c
-          const TriangleTerms acd = Triangle(acac, adad, acad); // P=a, Q=c, R=d
-          const TriangleTerms abd = Triangle(abab, adad, abad); // P=a, Q=b, R=d
-          const TriangleTerms bcd = Triangle(bcbc, bdbd, bcbd); // P=b, Q=c, R=d
-          double* cell = &Cells[(q * (w + 1) + (c + 1)) * CellSlots];
-          cell[Top] = 0.5 * (abc.CotR + abd.CotR);
-          cell[Bottom] = 0.5 * (acd.CotP + bcd.CotP);
-          cell[Left] = 0.5 * (acd.CotQ + abd.CotQ);
-          cell[Right] = 0.5 * (abc.CotP + bcd.CotR);
-          cell[DiagAC] = 0.5 * (abc.CotQ + acd.CotR);
-          cell[DiagBD] = 0.5 * (abd.CotP + bcd.CotQ);
-          cell[MassA] = abc.MassP + acd.MassP + abd.MassP;
-          cell[MassB] = abc.MassQ + abd.MassQ + bcd.MassP;
-          cell[MassC] = abc.MassR + acd.MassQ + bcd.MassQ;
-          cell[MassD] = acd.MassR + abd.MassR + bcd.MassR;
-        }
+        const double a = top[k][j], b = top[k][j + 1], d = bottom[k][j], c = bottom[k][j + 1];
+        const double ab = b - a, ac = c - a, ad = d - a, bc = c - b, bd = d - b;
+        abab += ab * ab;
+        acac += ac * ac;
+        adad += ad * ad;
+        bcbc += bc * bc;
+        bdbd += bd * bd;
+        abac += ab * ac;
+        acad += ac * ad;
+        abad += ab * ad;
+        bcbd += bc * bd;
       }
-    });
+      dots[AB_AB * n + j] = abab;
+      dots[AC_AC * n + j] = acac;
+      dots[AD_AD * n + j] = adad;
+      dots[BC_BC * n + j] = bcbc;
+      dots[BD_BD * n + j] = bdbd;
+      dots[AB_AC * n + j] = abac;
+      dots[AC_AD * n + j] = acad;
+      dots[AB_AD * n + j] = abad;
+      dots[BC_BD * n + j] = bcbd;
+    }
+    TriangleRow(n, dots, out);
   }
 
-  /// Pass 2: per pixel, the weights of its 8 edges, its mass, K u, the
-  /// indicator |B_bar| / |B| and the positive weight sum.
-  void ComputePixels()
+  /// Pixel row r from the cell rows above (upper, row r) and below (lower,
+  /// row r + 1): the weights of the 8 edges, the mass, K u, the indicator
+  /// |B_bar| / |B|, the velocity and the row's area and stability rate.
+  template <bool Store, bool UnitSpeed>
+  CLONES void PixelRow(std::int64_t r, const double* __restrict upper, const double* __restrict lower,
+    double* __restrict sums)
   {
-    const Index w = Grid.Width, h = Grid.Height;
+    const Index w = Grid.Width;
+    const std::int64_t n = w + 1;
     const double sx = Grid.SpacingX, sy = Grid.SpacingY;
-    PositiveSum.resize(Size);
-    const std::int64_t cw = w + 1;
-    ParallelFor(h, Threads, [&](std::int64_t r0, std::int64_t r1) {
-      for (std::int64_t r = r0; r < r1; ++r)
+    const double* p0[NC]; // pixel rows r - 1, r, r + 1 at column -1
+    const double* p1[NC];
+    const double* p2[NC];
+    for (int k = 0; k < NC; ++k)
+    {
+      p0[k] = PaddedRow(k, r - 1);
+      p1[k] = PaddedRow(k, r);
+      p2[k] = PaddedRow(k, r + 1);
+    }
+    const std::uint8_t* fixed = &Fixed[r * w];
+    double* __restrict velocity = &Velocity[r * w * NC];
+    double* __restrict masses = sums;
+    double* __restrict rates = sums + w;
+#pragma GCC ivdep // the slot arrays never overlap
+    for (Index c = 0; c < w; ++c)
+    {
+      // Cells with this pixel as corner a (lower, c + 1), b (lower, c),
+      // c (upper, c) and d (upper, c + 1).
+      double wn[8];
+      wn[E] = lower[Top * n + c + 1] + upper[Bottom * n + c + 1];
+      wn[W] = lower[Top * n + c] + upper[Bottom * n + c];
+      wn[S] = lower[Left * n + c + 1] + lower[Right * n + c];
+      wn[N] = upper[Left * n + c + 1] + upper[Right * n + c];
+      wn[SE] = lower[DiagAC * n + c + 1];
+      wn[NW] = upper[DiagAC * n + c];
+      wn[SW] = lower[DiagBD * n + c];
+      wn[NE] = upper[DiagBD * n + c + 1];
+      const double mass =
+        lower[MassA * n + c + 1] + lower[MassB * n + c] + upper[MassC * n + c] + upper[MassD * n + c + 1];
+      double ku[NC];
+      double data2 = 0.0;
+      for (int k = 0; k < NC; ++k)
       {
-        for (Index c = 0; c < w; ++c)
+        const double ui = p1[k][c + 1];
+        ku[k] = wn[E] * (ui - p1[k][c + 2]) + wn[W] * (ui - p1[k][c]) + wn[S] * (ui - p2[k][c + 1]) +
+          wn[N] * (ui - p0[k][c + 1]) + wn[SE] * (ui - p2[k][c + 2]) + wn[NW] * (ui - p0[k][c]) +
+          wn[SW] * (ui - p2[k][c]) + wn[NE] * (ui - p0[k][c + 2]);
+        data2 += ku[k] * ku[k];
+      }
+      double speed = 1.0;
+      if (!UnitSpeed)
+      {
+        const double bx = sx * (wn[E] - wn[W] + wn[SE] - wn[NW] - wn[SW] + wn[NE]);
+        const double by = sy * (wn[S] - wn[N] + wn[SE] - wn[NW] + wn[SW] - wn[NE]);
+        const double guard = Epsilon2 * mass * mass;
+        speed = SpeedOf(std::sqrt((data2 + guard) / (data2 + bx * bx + by * by + guard)));
+      }
+      const double f = (fixed[c] == 0) & (mass > 0.0) ? speed / mass : 0.0;
+      for (int k = 0; k < NC; ++k)
+      {
+        velocity[c * NC + k] = f * ku[k];
+      }
+      double positive = 0.0;
+      for (int nb = 0; nb < 8; ++nb)
+      {
+        positive += std::max(wn[nb], 0.0);
+      }
+      masses[c] = mass;
+      rates[c] = f * positive;
+      if (Store)
+      {
+        const std::int64_t i = r * w + c;
+        double diag = 0.0;
+        for (int nb = 0; nb < 8; ++nb)
         {
-          const std::int64_t i = r * w + c;
-          // Cells with this pixel as corner a, b, c, d.
-          const double* ca = &Cells[((r + 1) * cw + (c + 1)) * CellSlots];
-          const double* cb = &Cells[((r + 1) * cw + c) * CellSlots];
-          const double* cc = &Cells[(r * cw + c) * CellSlots];
-          const double* cd = &Cells[(r * cw + (c + 1)) * CellSlots];
-          double* wi = &Weights[i * 8];
-          wi[E] = ca[Top] + cd[Bottom];
-          wi[W] = cb[Top] + cc[Bottom];
-          wi[S] = ca[Left] + cb[Right];
-          wi[N] = cd[Left] + cc[Right];
-          wi[SE] = ca[DiagAC];
-          wi[NW] = cc[DiagAC];
-          wi[SW] = cb[DiagBD];
-          wi[NE] = cd[DiagBD];
-          const double mass = ca[MassA] + cb[MassB] + cc[MassC] + cd[MassD];
-          const double* ui = PaddedAt(r, c);
-          double ku[NC];
-          double diag = 0.0, positive = 0.0, bx = 0.0, by = 0.0;
-          for (int k = 0; k < NC; ++k)
-          {
-            ku[k] = 0.0;
-          }
-          for (int nb = 0; nb < 8; ++nb)
-          {
-            const double wn = wi[nb];
-            diag += wn;
-            positive += std::max(wn, 0.0);
-            bx += wn * NeighborDx[nb];
-            by += wn * NeighborDy[nb];
-            const double* uj = PaddedAt(r + NeighborDy[nb], c + NeighborDx[nb]);
-            for (int k = 0; k < NC; ++k)
-            {
-              ku[k] += wn * (ui[k] - uj[k]);
-            }
-          }
-          bx *= sx;
-          by *= sy;
-          const double data2 = Dot<NC>(ku, ku);
-          const double indicator =
-            std::sqrt((data2 + Epsilon2 * mass * mass) / (data2 + bx * bx + by * by + Epsilon2 * mass * mass));
-          Mass[i] = mass;
-          Diagonal[i] = diag;
-          PositiveSum[i] = positive;
-          Speed[i] = SpeedOf(indicator);
-          for (int k = 0; k < NC; ++k)
-          {
-            KU[i * NC + k] = ku[k];
-          }
+          Weights[i * 8 + nb] = wn[nb];
+          diag += wn[nb];
+        }
+        Mass[i] = mass;
+        Diagonal[i] = diag;
+        Speed[i] = speed;
+        for (int k = 0; k < NC; ++k)
+        {
+          KU[i * NC + k] = ku[k];
         }
       }
-    });
-    Area = 0.5 * ParallelSum(Size, 1, Threads, [&](std::int64_t b, std::int64_t e, double* acc) {
-      for (std::int64_t i = b; i < e; ++i)
-      {
-        acc[0] += Mass[i];
-      }
-    })[0];
-    ComputeMaxRate(PositiveSum);
+    }
+    double area = 0.0, rate = 0.0; // in order (not vectorized): sums are reproducible
+    for (Index c = 0; c < w; ++c)
+    {
+      area += masses[c];
+      rate = std::max(rate, rates[c]);
+    }
+    RowArea[r] = area;
+    RowRate[r] = rate;
   }
 };
 
@@ -465,13 +625,24 @@ public:
       }
     });
     Laplacian.ApplyStiffness(u, KU.data(), Components, Threads);
+    std::vector<double> rates = ParallelSum(Size, 1, Threads, [&](std::int64_t b, std::int64_t e, double* acc) {
+      for (std::int64_t i = b; i < e; ++i)
+      {
+        const double f = !Fixed[i] && Mass[i] > 0.0 ? Speed[i] / Mass[i] : 0.0;
+        for (int k = 0; k < Components; ++k)
+        {
+          Velocity[i * Components + k] = f * KU[i * Components + k];
+        }
+        acc[0] = std::max(acc[0], f * Positive[i]); // a maximum: any order gives the same
+      }
+    });
+    MaxRate = *std::max_element(rates.begin(), rates.end());
     Area = ParallelSum(Size, 1, Threads, [&](std::int64_t b, std::int64_t e, double* acc) {
       for (std::int64_t i = b; i < e; ++i)
       {
         acc[0] += Laplacian.Mass[i];
       }
     })[0];
-    ComputeMaxRate(Positive);
   }
 
   void Apply(const double* x, double* y, bool) override
@@ -531,7 +702,12 @@ GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphF
       return result;
     }
   }
-  std::vector<double> u(size), u0(size), next(size), rhs(size), diag(n);
+  LargeVector<double> u(size), u0(size), next(size), rhs, diag;
+  if (o.Integration == GraphFlowIntegration::SemiImplicit)
+  {
+    rhs.resize(size);
+    diag.resize(n);
+  }
   for (std::size_t k = 0; k < size; ++k)
   {
     u0[k] = u[k] = alpha * values[k];
@@ -578,10 +754,9 @@ GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphF
       ParallelFor(n, threads, [&](std::int64_t b, std::int64_t e) {
         for (std::int64_t i = b; i < e; ++i)
         {
-          const double f = disc.Fixed[i] || !(disc.Mass[i] > 0.0) ? 0.0 : dt * disc.Speed[i] / disc.Mass[i];
           for (int k = 0; k < nc; ++k)
           {
-            next[i * nc + k] = u[i * nc + k] - f * disc.KU[i * nc + k];
+            next[i * nc + k] = u[i * nc + k] - dt * disc.Velocity[i * nc + k];
           }
         }
       });
@@ -713,7 +888,8 @@ template <int NC>
 GraphFlowResult RunGrid(const PixelGrid& grid, double* values, const std::uint8_t* fixed,
   const GraphFlowOptions& o, const ProgressCallback& progress)
 {
-  GridDiscretization<NC> disc(grid, o.Boundary, o.EdgeContrast, o.NumberOfThreads);
+  GridDiscretization<NC> disc(
+    grid, o.Boundary, o.EdgeContrast, o.NumberOfThreads, o.Integration == GraphFlowIntegration::SemiImplicit);
   if (fixed)
   {
     std::copy(fixed, fixed + disc.Size, disc.Fixed.begin());

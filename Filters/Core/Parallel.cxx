@@ -31,7 +31,7 @@ int ResolveThreadCount(int requested)
 
 bool ParallelFor(std::int64_t n, int numThreads,
   const std::function<void(std::int64_t, std::int64_t)>& body, const ProgressCallback& progress,
-  int numBatches)
+  int numBatches, std::int64_t grain)
 {
   if (n <= 0)
   {
@@ -49,7 +49,7 @@ bool ParallelFor(std::int64_t n, int numThreads,
     const std::int64_t batchEnd = std::min(n, batchBegin + batchSize);
     const std::int64_t count = batchEnd - batchBegin;
     const int threads =
-      static_cast<int>(std::min<std::int64_t>(numThreads, std::max<std::int64_t>(1, count / 1024)));
+      static_cast<int>(std::min<std::int64_t>(numThreads, std::max<std::int64_t>(1, count / std::max<std::int64_t>(grain, 1))));
     if (threads <= 1)
     {
       body(batchBegin, batchEnd);
@@ -57,7 +57,8 @@ bool ParallelFor(std::int64_t n, int numThreads,
     else
     {
       // Blocks small enough to balance the load, large enough to amortise the atomic.
-      const std::int64_t block = std::max<std::int64_t>(256, count / (threads * 16));
+      const std::int64_t block =
+        std::max<std::int64_t>(std::min<std::int64_t>(256, grain), count / (threads * 16));
       std::atomic<std::int64_t> cursor{ batchBegin };
       std::exception_ptr failure;
       std::atomic<bool> failed{ false };

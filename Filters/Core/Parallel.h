@@ -30,10 +30,12 @@ int ResolveThreadCount(int requested);
 
 /// Runs body(begin, end) over disjoint ranges covering [0, n).
 /// Returns false when the progress callback cancelled the loop (the remaining
-/// batches are then not processed).
+/// batches are then not processed).  grain: the fewest items worth a thread
+/// of their own (1024 cheap items such as vertices; 1 for heavy items such as
+/// image row bands).
 bool ParallelFor(std::int64_t n, int numThreads,
   const std::function<void(std::int64_t begin, std::int64_t end)>& body,
-  const ProgressCallback& progress = {}, int numBatches = 0);
+  const ProgressCallback& progress = {}, int numBatches = 0, std::int64_t grain = 1024);
 
 /// Deterministic parallel sums: [0, n) is cut into chunks of a fixed size
 /// (independent of the thread count), body(begin, end, partial) adds its
