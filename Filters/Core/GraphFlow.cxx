@@ -145,7 +145,7 @@ inline double Dot(const double* a, const double* b)
 /// The row kernels are compiled twice, for AVX2/FMA processors and for any
 /// x86-64, and the processor picks at run time: the build stays portable.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
-#define CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
 #define CLONES
 #endif

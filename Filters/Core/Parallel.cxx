@@ -2,13 +2,152 @@
 
 #include <algorithm>
 #include <atomic>
+#include <condition_variable>
+#include <cstdint>
 #include <cstdlib>
 #include <exception>
+#include <mutex>
 #include <thread>
 #include <vector>
 
+#include <unistd.h>
+
 namespace beltrami
 {
+
+namespace
+{
+
+/// Threads kept between parallel loops: starting threads costs ~50 us per
+/// loop here, and a flow or a solver runs thousands of short loops.  One loop
+/// at a time uses the pool; a loop started meanwhile (another thread of the
+/// application, or a loop inside a loop) starts its own threads as before.
+class WorkerPool
+{
+public:
+  static WorkerPool& Instance()
+  {
+    static WorkerPool pool;
+    return pool;
+  }
+
+  /// Runs job on `helpers` pool threads and on the caller; false (nothing
+  /// run) when the pool is in use or belongs to the parent of a fork.
+  bool Run(int helpers, const std::function<void()>& job)
+  {
+    if (getpid() != Owner)
+    {
+      return false;
+    }
+    std::unique_lock<std::mutex> busy(Busy, std::try_to_lock);
+    if (!busy.owns_lock())
+    {
+      return false;
+    }
+    {
+      std::lock_guard<std::mutex> lock(Mutex);
+      while (static_cast<int>(Threads.size()) < helpers)
+      {
+        const int index = static_cast<int>(Threads.size());
+        Threads.emplace_back([this, index]() { Loop(index); });
+      }
+      Job = &job;
+      Wanted = helpers;
+      Pending = helpers;
+      ++Generation;
+    }
+    Wake.notify_all();
+    job();
+    std::unique_lock<std::mutex> lock(Mutex);
+    Done.wait(lock, [this]() { return Pending == 0; });
+    Job = nullptr;
+    return true;
+  }
+
+  ~WorkerPool()
+  {
+    {
+      std::lock_guard<std::mutex> lock(Mutex);
+      Stop = true;
+    }
+    Wake.notify_all();
+    for (auto& t : Threads)
+    {
+      if (getpid() == Owner && t.joinable())
+      {
+        t.join();
+      }
+      else if (t.joinable())
+      {
+        t.detach();
+      }
+    }
+  }
+
+private:
+  WorkerPool() = default;
+
+  void Loop(int index)
+  {
+    std::uint64_t seen = 0;
+    std::unique_lock<std::mutex> lock(Mutex);
+    for (;;)
+    {
+      Wake.wait(lock, [&]() { return Stop || (Generation != seen && index < Wanted); });
+      if (Stop)
+      {
+        return;
+      }
+      seen = Generation;
+      const std::function<void()>* job = Job;
+      lock.unlock();
+      (*job)(); // never throws: the loops catch and pass exceptions on
+      lock.lock();
+      if (--Pending == 0)
+      {
+        Done.notify_all();
+      }
+    }
+  }
+
+  const pid_t Owner = getpid();
+  std::mutex Busy;
+  std::mutex Mutex;
+  std::condition_variable Wake, Done;
+  std::vector<std::thread> Threads;
+  const std::function<void()>* Job = nullptr;
+  std::uint64_t Generation = 0;
+  int Wanted = 0;
+  int Pending = 0;
+  bool Stop = false;
+};
+
+/// Runs worker on `threads` threads (the caller being one of them).
+void RunOnThreads(int threads, const std::function<void()>& worker)
+{
+  if (threads <= 1)
+  {
+    worker();
+    return;
+  }
+  if (WorkerPool::Instance().Run(threads - 1, worker))
+  {
+    return;
+  }
+  std::vector<std::thread> pool;
+  pool.reserve(threads - 1);
+  for (int t = 1; t < threads; ++t)
+  {
+    pool.emplace_back(worker);
+  }
+  worker();
+  for (auto& th : pool)
+  {
+    th.join();
+  }
+}
+
+} // namespace
 
 int DefaultThreadCount()
 {
@@ -83,17 +222,7 @@ bool ParallelFor(std::int64_t n, int numThreads,
           }
         }
       };
-      std::vector<std::thread> pool;
-      pool.reserve(threads - 1);
-      for (int t = 1; t < threads; ++t)
-      {
-        pool.emplace_back(worker);
-      }
-      worker();
-      for (auto& th : pool)
-      {
-        th.join();
-      }
+      RunOnThreads(threads, worker);
       if (failure)
       {
         std::rethrow_exception(failure);
@@ -118,28 +247,29 @@ std::vector<double> ParallelSum(std::int64_t n, int numberOfSums, int numThreads
   const int threads = static_cast<int>(
     std::min<std::int64_t>(ResolveThreadCount(numThreads), std::max<std::int64_t>(1, numChunks / 2)));
   std::atomic<std::int64_t> cursor{ 0 };
+  std::exception_ptr failure;
+  std::atomic<bool> failed{ false };
   auto worker = [&]() {
-    for (std::int64_t c = cursor.fetch_add(1); c < numChunks; c = cursor.fetch_add(1))
+    try
     {
-      body(c * Chunk, std::min(n, (c + 1) * Chunk), partials.data() + c * numberOfSums);
+      for (std::int64_t c = cursor.fetch_add(1); c < numChunks && !failed.load(std::memory_order_relaxed);
+           c = cursor.fetch_add(1))
+      {
+        body(c * Chunk, std::min(n, (c + 1) * Chunk), partials.data() + c * numberOfSums);
+      }
+    }
+    catch (...)
+    {
+      if (!failed.exchange(true))
+      {
+        failure = std::current_exception();
+      }
     }
   };
-  if (threads <= 1)
+  RunOnThreads(threads, worker);
+  if (failure)
   {
-    worker();
-  }
-  else
-  {
-    std::vector<std::thread> pool;
-    for (int t = 1; t < threads; ++t)
-    {
-      pool.emplace_back(worker);
-    }
-    worker();
-    for (auto& th : pool)
-    {
-      th.join();
-    }
+    std::rethrow_exception(failure);
   }
   std::vector<double> sums(static_cast<std::size_t>(numberOfSums), 0.0);
   for (std::int64_t c = 0; c < numChunks; ++c)
