@@ -5,6 +5,7 @@
 
 #include "Core/ColorSpace.h"
 #include "Core/GraphFlow.h"
+#include "Core/LargeBuffer.h"
 
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>
@@ -247,7 +248,7 @@ int vtkImageBeltramiDenoising::RequestData(
   // Colours are normalised to [0, 1] by the range of their integer type.
   const double range = color && integral ? array->GetDataTypeMax() : 1.0;
 
-  std::vector<double> values(static_cast<std::size_t>(count) * used);
+  beltrami::LargeVector<double> values(static_cast<std::size_t>(count) * used);
   if (array->HasStandardMemoryLayout())
   {
     switch (array->GetDataType())
