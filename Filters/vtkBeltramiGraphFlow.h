@@ -55,9 +55,8 @@ public:
   }
 
   /// The fixed mask from input array 1 of `owner` (optional; empty = none).
-  /// A selection equal to the smoothed array is ignored: ParaView's panel
-  /// preselects the first array for every selection, and such a mask would
-  /// keep everything.  Sets `error` when the selected array is unusable.
+  /// A selection equal to the smoothed array is ignored (such a mask would
+  /// keep everything).  Sets `error` when the selected array is unusable.
   static std::vector<std::uint8_t> FixedMask(vtkAlgorithm* owner, vtkDataSet* input,
     vtkDataArray* smoothed, const char* what, std::string& error);
 

@@ -249,8 +249,15 @@ vtkDataArray* vtkBeltramiSurface::SelectedPointArray(vtkAlgorithm* owner, vtkDat
   }
   if (!a)
   {
-    error = std::string("The ") + what + " point array '" + name + "' does not exist in the input" +
-      (input->GetCellData()->GetAbstractArray(name) ? " (it is a cell array; point data are needed)." : ".");
+    // A warning, not an error: these arrays are optional, and pvpython's
+    // Filter(Input=x) chooses defaults from the active source before x is set,
+    // so a stale name can reach the filter.
+    vtkWarningWithObjectMacro(owner, << "The " << what << " point array '" << name
+                                     << "' does not exist in the input"
+                                     << (input->GetCellData()->GetAbstractArray(name)
+                                            ? " (it is a cell array; point data are needed)"
+                                            : "")
+                                     << "; it is ignored.");
     return nullptr;
   }
   if (components > 0 && a->GetNumberOfComponents() != components)

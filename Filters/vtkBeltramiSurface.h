@@ -54,8 +54,9 @@ public:
 
   /// The point array selected as input array `idx` of `owner`
   /// (SetInputArrayToProcess), or null when none is selected (no name, or
-  /// ParaView's "None").  Sets `error` (naming it as `what`) when the
-  /// selected array is missing or has not exactly `components` components.
+  /// ParaView's "None").  A selected array missing from the input gives a
+  /// warning (naming it as `what`) and null; `error` is set when it has not
+  /// exactly `components` components.
   vtkDataArray* SelectedPointArray(
     vtkAlgorithm* owner, int idx, int components, const char* what, std::string& error) const;
   /// The same for any data set input (components <= 0: any number); the one

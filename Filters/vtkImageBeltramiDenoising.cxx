@@ -214,7 +214,8 @@ int vtkImageBeltramiDenoising::RequestData(
   }
   std::string error;
   const std::vector<std::uint8_t> fixed =
-    vtkBeltramiGraphFlow::FixedMask(this, input, array, "fixed-pixel mask", error);
+    this->UseFixedPixelsArray ? vtkBeltramiGraphFlow::FixedMask(this, input, array, "fixed-pixel mask", error)
+                              : std::vector<std::uint8_t>();
   if (!error.empty())
   {
     vtkErrorMacro(<< error << " The output is the input.");

@@ -46,7 +46,7 @@
  * 1 to 6 components, any numeric type: the output array has the input's
  * name and type, integers rounded and clamped).  Input array 1 (optional):
  * a point array whose non-zero values mark pixels kept as they are (ignored
- * when it is the array being smoothed, as ParaView preselects it).
+ * when it is the array being smoothed; see UseFixedPixelsArray).
  * 2D images only (one of the three dimensions may be > 1 only if another
  * is 1: XY, XZ and YZ slices all work).
  *
@@ -112,6 +112,12 @@ public:
   vtkGetMacro(Boundary, int);
   vtkSetMacro(NumberOfThreads, int);
   vtkGetMacro(NumberOfThreads, int);
+  /// Whether the mask selected as input array 1 is used (default on; nothing
+  /// selected = no mask).  ParaView's panel starts with it off, because it
+  /// preselects an array of the input for every array selection.
+  vtkSetMacro(UseFixedPixelsArray, bool);
+  vtkGetMacro(UseFixedPixelsArray, bool);
+  vtkBooleanMacro(UseFixedPixelsArray, bool);
 
 protected:
   vtkImageBeltramiDenoising();
@@ -134,6 +140,7 @@ protected:
   int ColorSpace = AUTOMATIC;
   int Boundary = LINEAR;
   int NumberOfThreads = 0;
+  bool UseFixedPixelsArray = true;
 
 private:
   vtkImageBeltramiDenoising(const vtkImageBeltramiDenoising&) = delete;

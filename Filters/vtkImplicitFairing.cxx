@@ -54,9 +54,11 @@ int vtkImplicitFairing::RequestData(
   }
 
   std::string error;
-  vtkDataArray* fixedArray = surface.SelectedPointArray(this, 0, 1, "fixed-points", error);
-  vtkDataArray* weightArray =
-    error.empty() ? surface.SelectedPointArray(this, 1, 1, "smoothing-weight", error) : nullptr;
+  vtkDataArray* fixedArray =
+    this->UseFixedPointsArray ? surface.SelectedPointArray(this, 0, 1, "fixed-points", error) : nullptr;
+  vtkDataArray* weightArray = error.empty() && this->UseSmoothingWeightsArray
+    ? surface.SelectedPointArray(this, 1, 1, "smoothing-weight", error)
+    : nullptr;
   if (!error.empty())
   {
     vtkErrorMacro(<< error);

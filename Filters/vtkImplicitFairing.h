@@ -136,6 +136,17 @@ public:
   vtkSetClampMacro(NumberOfThreads, int, 0, 4096);
   vtkGetMacro(NumberOfThreads, int);
 
+  /// Whether the arrays selected as input arrays 0 (fixed points) and 1
+  /// (smoothing weights) are used (default on; nothing selected = none).
+  /// ParaView's panel starts with them off, because it preselects an array
+  /// of the input for every array selection.
+  vtkSetMacro(UseFixedPointsArray, bool);
+  vtkGetMacro(UseFixedPointsArray, bool);
+  vtkBooleanMacro(UseFixedPointsArray, bool);
+  vtkSetMacro(UseSmoothingWeightsArray, bool);
+  vtkGetMacro(UseSmoothingWeightsArray, bool);
+  vtkBooleanMacro(UseSmoothingWeightsArray, bool);
+
   /// Solver iterations of the last run, one per linear solve.
   int GetNumberOfSolves() const { return static_cast<int>(this->Iterations.size()); }
   int GetIterations(int solve) const
@@ -168,6 +179,8 @@ protected:
   double TaubinLambda = 0.6307;
   double TaubinMu = -0.6732;
   int NumberOfThreads = 0;
+  bool UseFixedPointsArray = true;
+  bool UseSmoothingWeightsArray = true;
   std::vector<int> Iterations;
 
 private:

@@ -52,7 +52,8 @@ int vtkSurfaceDataDenoising::RequestData(
   }
   std::string error;
   const std::vector<std::uint8_t> fixed =
-    vtkBeltramiGraphFlow::FixedMask(this, input, array, "fixed-points", error);
+    this->UseFixedPointsArray ? vtkBeltramiGraphFlow::FixedMask(this, input, array, "fixed-points", error)
+                              : std::vector<std::uint8_t>();
   if (!error.empty())
   {
     vtkErrorMacro(<< error << " The output is the input.");

@@ -15,7 +15,9 @@
  *
  * Settings as vtkImageBeltramiDenoising (ContrastScale alpha, EdgeContrast
  * gamma, Integration, TimeStep, AdaptiveTimeStep, NumberOfIterations,
- * NoiseLevel, NumberOfThreads).  Units: with MEAN_EDGE_LENGTH (default) the
+ * NoiseLevel, NumberOfThreads), except that the integration is
+ * SEMI_IMPLICIT by default: on irregular meshes a few small triangles make
+ * the explicit stability limit tiny.  Units: with MEAN_EDGE_LENGTH (default) the
  * mesh is measured in units of its mean edge length h, so TimeStep is in h^2
  * and alpha maps data units to h (as pixels do for images: alpha = 1.5/sigma
  * for noise sigma); with PHYSICAL both are in the mesh's own units.
@@ -71,6 +73,12 @@ public:
   vtkGetMacro(Units, int);
   vtkSetMacro(NumberOfThreads, int);
   vtkGetMacro(NumberOfThreads, int);
+  /// Whether the mask selected as input array 1 is used (default on; nothing
+  /// selected = no mask).  ParaView's panel starts with it off, because it
+  /// preselects an array of the input for every array selection.
+  vtkSetMacro(UseFixedPointsArray, bool);
+  vtkGetMacro(UseFixedPointsArray, bool);
+  vtkBooleanMacro(UseFixedPointsArray, bool);
 
 protected:
   vtkSurfaceDataDenoising();
@@ -80,13 +88,14 @@ protected:
 
   double ContrastScale = 1.0;
   double EdgeContrast = 1.0;
-  int Integration = EXPLICIT;
+  int Integration = SEMI_IMPLICIT;
   double TimeStep = 0.1;
   bool AdaptiveTimeStep = false;
   int NumberOfIterations = 10;
   double NoiseLevel = 0.0;
   int Units = MEAN_EDGE_LENGTH;
   int NumberOfThreads = 0;
+  bool UseFixedPointsArray = true;
 
 private:
   vtkSurfaceDataDenoising(const vtkSurfaceDataDenoising&) = delete;

@@ -42,6 +42,16 @@ check(abs(float(np.sum(g * a)) - 4 * math.pi) < 1e-9, "Gauss-Bonnet on the bunny
 info = curvatures.PointData["MeanCurvature"].GetRange()
 check(info[0] < 0 < info[1], "mean curvature range spans both signs")
 
+# ParaView preselects an array of the input for every array selection (here a
+# curvature array, non-zero nearly everywhere); the masks are off until asked for.
+fairing_on_curvatures = ImplicitFairing(Input=curvatures)
+check(fairing_on_curvatures.UseFixedPointsArray == 0 and fairing_on_curvatures.UseSmoothingWeightsArray == 0,
+      "fixed points and weights off by default")
+fairing_on_curvatures.UpdatePipeline()
+moved = vtk_to_numpy(servermanager.Fetch(fairing_on_curvatures).GetPoints().GetData()).astype(float)
+still = vtk_to_numpy(data.GetPoints().GetData()).astype(float)
+check(np.abs(moved - still).max() > 1e-4, "fairing the curvature output moves the points")
+Delete(fairing_on_curvatures)
 fairing = ImplicitFairing(Input=reader)
 check(fairing.Operator == "Curvature Flow", "default smoothing operator")
 check(fairing.Integration == "Implicit", "default integration")
@@ -89,6 +99,7 @@ denoise = ImageBeltramiDenoising(Input=image)
 check(denoise.ContrastScale == 1 and denoise.EdgeContrast == 1, "default alpha, gamma (Beltrami flow)")
 check(denoise.Integration == "Explicit" and denoise.ColorSpace == "Automatic", "default integration, colours")
 check(denoise.Boundary == "Linear" and denoise.NumberOfIterations == 10, "default boundary, iterations")
+check(denoise.UseFixedPixelsArray == 0, "no mask by default")
 denoise.ContrastScale = 0.06  # 1.5 / sigma for sigma = 25 grey levels
 denoise.NumberOfIterations = 8
 denoise.UpdatePipeline()
@@ -123,6 +134,8 @@ elevation = Elevation(Input=sphere)
 elevation.UpdatePipeline()
 surface = SurfaceDataDenoising(Input=elevation)
 check(surface.Units == "Mean Edge Length" and surface.TimeStep == 0.1, "surface denoising defaults")
+check(surface.Integration == "Semi-Implicit" and surface.UseFixedPointsArray == 0,
+      "surface denoising: semi-implicit, no mask by default")
 surface.ArrayToSmooth = ["POINTS", "Elevation"]
 surface.UpdatePipeline()
 check(surface.PointData["Elevation"] is not None, "surface denoising writes the array")
