@@ -9,10 +9,13 @@
 
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>
+#include <vtkExtentTranslator.h>
 #include <vtkFieldData.h>
 #include <vtkImageData.h>
 #include <vtkInformation.h>
+#include <vtkInformationIntegerRequestKey.h>
 #include <vtkInformationVector.h>
+#include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkPointData.h>
 #include <vtkSmartPointer.h>
@@ -113,6 +116,15 @@ bool vtkImageBeltramiDenoising::IsLocal() const
   return this->Integration == EXPLICIT && !this->AdaptiveTimeStep && this->NoiseLevel <= 0.0;
 }
 
+int vtkImageBeltramiDenoising::RequestInformation(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  // Any sub-extent can be produced: a request for piece k of n (ParaView's
+  // MPI ranks) is split into an extent by the executive, as for readers.
+  outputVector->GetInformationObject(0)->Set(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT(), 1);
+  return this->Superclass::RequestInformation(request, inputVector, outputVector);
+}
+
 int vtkImageBeltramiDenoising::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -121,6 +133,31 @@ int vtkImageBeltramiDenoising::RequestUpdateExtent(
   int whole[6], ext[6];
   inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
   outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext);
+  const int pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+  if (pieces > 1)
+  {
+    // The executive will split our update extent into this piece just before
+    // RequestData (CAN_PRODUCE_SUB_EXTENT): make the same split here, and ask
+    // the input for the extent this piece needs as one piece of its own, or
+    // the input's executive would split it again (without our ghost rings).
+    const int piece = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
+    const int ghosts = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS());
+    vtkInformationIntegerKey* splitKey = vtkExtentTranslator::UPDATE_SPLIT_MODE();
+    const int mode = outInfo->Has(splitKey) ? outInfo->Get(splitKey) : vtkExtentTranslator::BLOCK_MODE;
+    vtkNew<vtkExtentTranslator> translator;
+    int pieceExt[6];
+    if (!translator->PieceToExtentThreadSafe(piece, pieces, ghosts, ext, pieceExt, mode, 0))
+    {
+      pieceExt[0] = pieceExt[2] = pieceExt[4] = 0; // an empty piece
+      pieceExt[1] = pieceExt[3] = pieceExt[5] = -1;
+    }
+    std::copy(pieceExt, pieceExt + 6, ext);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  }
   for (int a = 0; a < 3; ++a)
   {
     if (!this->IsLocal())
