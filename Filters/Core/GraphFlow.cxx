@@ -751,13 +751,14 @@ GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphF
       {
         ++result.UnstableSteps;
       }
-      ParallelFor(n, threads, [&](std::int64_t b, std::int64_t e) {
-        for (std::int64_t i = b; i < e; ++i)
+      // Velocity is zero at fixed vertices: one flat loop over all values.
+      ParallelFor(static_cast<std::int64_t>(size), threads, [&](std::int64_t b, std::int64_t e) {
+        const double* __restrict v = disc.Velocity.data();
+        const double* __restrict x = u.data();
+        double* __restrict y = next.data();
+        for (std::int64_t j = b; j < e; ++j)
         {
-          for (int k = 0; k < nc; ++k)
-          {
-            next[i * nc + k] = u[i * nc + k] - dt * disc.Velocity[i * nc + k];
-          }
+          y[j] = x[j] - dt * v[j];
         }
       });
     }
