@@ -1,5 +1,8 @@
 #include "vtkBeltramiSurface.h"
 
+#include "Core/LargeBuffer.h"
+
+#include <vtkAOSDataArrayTemplate.h>
 #include <vtkAlgorithm.h>
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
@@ -267,6 +270,44 @@ vtkDataArray* vtkBeltramiSurface::SelectedPointArray(vtkAlgorithm* owner, vtkDat
     return nullptr;
   }
   return a;
+}
+
+namespace
+{
+template <typename T>
+void AllocateLarge(vtkDataArray* array, vtkIdType values)
+{
+  auto* aos = vtkAOSDataArrayTemplate<T>::SafeDownCast(array);
+  T* memory = aos ? beltrami::LargeBufferAllocator<T>().allocate(static_cast<std::size_t>(values)) : nullptr;
+  if (!memory)
+  {
+    array->SetNumberOfValues(values);
+    return;
+  }
+  aos->SetArray(memory, values, /*save=*/0, vtkAbstractArray::VTK_DATA_ARRAY_USER_DEFINED);
+  aos->SetArrayFreeFunction(&std::free); // LargeBufferAllocator's large blocks come from aligned_alloc
+}
+} // namespace
+
+vtkSmartPointer<vtkDataArray> vtkBeltramiSurface::NewArray(
+  int dataType, const char* name, int components, vtkIdType tuples)
+{
+  auto array = vtk::TakeSmartPointer(vtkDataArray::CreateDataArray(dataType));
+  array->SetName(name);
+  array->SetNumberOfComponents(components);
+  const vtkIdType values = static_cast<vtkIdType>(components) * std::max<vtkIdType>(tuples, 0);
+  if (values * array->GetDataTypeSize() < static_cast<vtkIdType>(beltrami::LargeBufferAllocator<char>::HugePage))
+  {
+    array->SetNumberOfTuples(tuples);
+    return array;
+  }
+  switch (dataType)
+  {
+    vtkTemplateMacro(AllocateLarge<VTK_TT>(array, values));
+    default:
+      array->SetNumberOfTuples(tuples);
+  }
+  return array;
 }
 
 const double* vtkBeltramiSurface::PointsAsDouble(std::vector<double>& storage) const

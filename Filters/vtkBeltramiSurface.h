@@ -10,6 +10,7 @@
 #include "Core/MeshTopology.h"
 
 #include <vtkSmartPointer.h>
+#include <vtkType.h>
 
 #include <memory>
 #include <string>
@@ -63,6 +64,13 @@ public:
   /// array lookup of every Beltrami filter, image filters included.
   static vtkDataArray* SelectedPointArray(vtkAlgorithm* owner, vtkDataSet* input, int idx,
     int components, const char* what, std::string& error);
+
+  /// A new array of VTK type `dataType` (name, components, tuples), its values
+  /// uninitialized.  Arrays of 2 MiB or more are placed on memory the kernel
+  /// may back with huge pages (see Core/LargeBuffer.h): filling the outputs of
+  /// a 1M-vertex mesh otherwise costs tens of thousands of page faults.
+  static vtkSmartPointer<vtkDataArray> NewArray(
+    int dataType, const char* name, int components, vtkIdType tuples);
 
   /// The points as 3 doubles each: the input's own array when it is double,
   /// else a converted copy kept in `storage`.

@@ -46,10 +46,8 @@ vtkSmartPointer<vtkDoubleArray> AddArray(
   {
     return nullptr;
   }
-  auto array = vtkSmartPointer<vtkDoubleArray>::New();
-  array->SetName(name);
-  array->SetNumberOfComponents(components);
-  array->SetNumberOfTuples(tuples);
+  vtkSmartPointer<vtkDoubleArray> array =
+    vtkDoubleArray::SafeDownCast(vtkBeltramiSurface::NewArray(VTK_DOUBLE, name, components, tuples));
   pd->AddArray(array);
   return array;
 }

@@ -13,14 +13,14 @@ namespace
 constexpr double RoundOff = 1e-13;
 }
 
-ConjugateGradientResult SolveConjugateGradient(
-  const ConjugateGradientProblem& pb, const double* b, double* x)
+namespace
 {
-  const int nc = pb.Columns;
-  if (nc < 1 || nc > 8 || static_cast<int>(pb.Scale.size()) != nc || !pb.Apply || !pb.Diagonal)
-  {
-    throw std::invalid_argument("SolveConjugateGradient: inconsistent problem");
-  }
+/// The solver for NC columns (a compile-time count: the per-row loops unroll
+/// and vectorize).
+template <int NC>
+ConjugateGradientResult Solve(const ConjugateGradientProblem& pb, const double* b, double* x)
+{
+  constexpr int nc = NC;
   const std::int64_t n = pb.Rows;
   const std::size_t size = static_cast<std::size_t>(n) * nc;
   const int threads = pb.NumberOfThreads;
@@ -52,7 +52,7 @@ ConjugateGradientResult SolveConjugateGradient(
 
   ConjugateGradientResult result;
   std::vector<double> rzOld(rz.begin(), rz.begin() + nc);
-  std::vector<bool> active(nc);
+  bool active[NC];
   std::vector<double> initial(nc), threshold(nc);
   for (int c = 0; c < nc; ++c)
   {
@@ -146,6 +146,29 @@ ConjugateGradientResult SolveConjugateGradient(
     });
   }
   return result;
+}
+
+} // namespace
+
+ConjugateGradientResult SolveConjugateGradient(
+  const ConjugateGradientProblem& pb, const double* b, double* x)
+{
+  const int nc = pb.Columns;
+  if (nc < 1 || nc > 8 || static_cast<int>(pb.Scale.size()) != nc || !pb.Apply || !pb.Diagonal)
+  {
+    throw std::invalid_argument("SolveConjugateGradient: inconsistent problem");
+  }
+  switch (nc)
+  {
+    case 1: return Solve<1>(pb, b, x);
+    case 2: return Solve<2>(pb, b, x);
+    case 3: return Solve<3>(pb, b, x);
+    case 4: return Solve<4>(pb, b, x);
+    case 5: return Solve<5>(pb, b, x);
+    case 6: return Solve<6>(pb, b, x);
+    case 7: return Solve<7>(pb, b, x);
+    default: return Solve<8>(pb, b, x);
+  }
 }
 
 } // namespace beltrami

@@ -10,31 +10,53 @@
 namespace beltrami
 {
 
-void GraphLaplacian::ApplyStiffness(const double* x, double* y, int columns, int numThreads) const
+namespace
 {
-  ParallelFor(NumberOfVertices, numThreads, [&](std::int64_t begin, std::int64_t end) {
+/// y = K x for C columns (a compile-time count: the per-vertex loops unroll,
+/// with no memcpy calls for the accumulators).
+template <int C>
+void ApplyStiffnessColumns(const GraphLaplacian& l, const double* x, double* y, int numThreads)
+{
+  ParallelFor(l.NumberOfVertices, numThreads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t i = begin; i < end; ++i)
     {
-      double acc[8];
-      for (int c = 0; c < columns; ++c)
+      double acc[C];
+      for (int c = 0; c < C; ++c)
       {
-        acc[c] = Diagonal[i] * x[i * columns + c];
+        acc[c] = l.Diagonal[i] * x[i * C + c];
       }
-      for (std::int64_t k = Offsets[i]; k < Offsets[i + 1]; ++k)
+      for (std::int64_t k = l.Offsets[i]; k < l.Offsets[i + 1]; ++k)
       {
-        const double w = Weights[k];
-        const double* xj = x + static_cast<std::int64_t>(Neighbors[k]) * columns;
-        for (int c = 0; c < columns; ++c)
+        const double w = l.Weights[k];
+        const double* xj = x + static_cast<std::int64_t>(l.Neighbors[k]) * C;
+        for (int c = 0; c < C; ++c)
         {
           acc[c] -= w * xj[c];
         }
       }
-      for (int c = 0; c < columns; ++c)
+      for (int c = 0; c < C; ++c)
       {
-        y[i * columns + c] = acc[c];
+        y[i * C + c] = acc[c];
       }
     }
   });
+}
+} // namespace
+
+void GraphLaplacian::ApplyStiffness(const double* x, double* y, int columns, int numThreads) const
+{
+  switch (columns)
+  {
+    case 1: return ApplyStiffnessColumns<1>(*this, x, y, numThreads);
+    case 2: return ApplyStiffnessColumns<2>(*this, x, y, numThreads);
+    case 3: return ApplyStiffnessColumns<3>(*this, x, y, numThreads);
+    case 4: return ApplyStiffnessColumns<4>(*this, x, y, numThreads);
+    case 5: return ApplyStiffnessColumns<5>(*this, x, y, numThreads);
+    case 6: return ApplyStiffnessColumns<6>(*this, x, y, numThreads);
+    case 7: return ApplyStiffnessColumns<7>(*this, x, y, numThreads);
+    case 8: return ApplyStiffnessColumns<8>(*this, x, y, numThreads);
+    default: throw std::invalid_argument("ApplyStiffness: 1 to 8 columns");
+  }
 }
 
 namespace
