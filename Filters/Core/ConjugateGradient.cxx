@@ -1,5 +1,7 @@
 #include "ConjugateGradient.h"
 
+#include "LargeBuffer.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -30,7 +32,7 @@ ConjugateGradientResult Solve(const ConjugateGradientProblem& pb, const double* 
     return d > 0.0 ? 1.0 / d : 1.0;
   };
 
-  std::vector<double> r(size), z(size), p(size), q(size);
+  LargeVector<double> r(size), z(size), p(size), q(size);
   // r = b - A x (fixed rows: 0)
   pb.Apply(x, q.data());
   std::vector<double> rz = ParallelSum(n, 2 * nc, threads, [&](std::int64_t s, std::int64_t e, double* acc) {

@@ -583,7 +583,7 @@ public:
     Allocate();
     GraphLaplacian base;
     AssembleSurfaceLaplacian(topo, points, LaplacianWeights::Cotangent, base, threads);
-    BaseArea = base.Mass;
+    BaseArea.assign(base.Mass.begin(), base.Mass.end());
     Fixed.assign(Size, 0);
     for (Index i = 0; i < Size; ++i)
     {

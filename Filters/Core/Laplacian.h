@@ -22,6 +22,7 @@
 // of curves), with the weights stored per CSR entry for fast products.
 #pragma once
 
+#include "LargeBuffer.h"
 #include "MeshTopology.h"
 
 #include <vector>
@@ -42,9 +43,9 @@ struct GraphLaplacian
   Index NumberOfVertices = 0;
   const std::int64_t* Offsets = nullptr; ///< CSR rows (size V+1), not owned
   const Index* Neighbors = nullptr;      ///< CSR columns, not owned
-  std::vector<double> Weights;           ///< c_ij per CSR entry
-  std::vector<double> Diagonal;          ///< S_ii = sum_j c_ij
-  std::vector<double> Mass;              ///< a_i
+  LargeVector<double> Weights;           ///< c_ij per CSR entry
+  LargeVector<double> Diagonal;          ///< S_ii = sum_j c_ij
+  LargeVector<double> Mass;              ///< a_i
   /// Zero-area triangles skipped by the cotangent weights.
   Index DegenerateTriangles = 0;
 
