@@ -3,8 +3,10 @@
 #include "ConjugateGradient.h"
 #include "LargeBuffer.h"
 #include "Laplacian.h"
+#include "Tetrahedra.h"
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <memory>
 #include <mutex>
@@ -564,31 +566,40 @@ private:
 };
 
 // ---------------------------------------------------------------------------
-// Surfaces: the mesh with the data as extra coordinates, (x, y, z, alpha f)
-// in R^(3+n); the cotangent Laplacian of that embedding from the shared
-// assembler.  The indicator is the area ratio A_base / A_graph (1/W).
+// Meshes: the data as extra coordinates of the mesh, (x, y, z, alpha f) in
+// R^(3+n), and the Laplacian of that embedding from the shared assemblers:
+// triangle surfaces (the cotangent formula) and tetrahedral volumes (the
+// volume gradient, appendix A.4).  The indicator is the ratio of the base
+// and graph measures (mixed areas or vertex volumes: 1/W).
 
-class SurfaceDiscretization final : public FlowDiscretization
+class MeshDiscretization final : public FlowDiscretization
 {
 public:
-  SurfaceDiscretization(const MeshTopology& topo, const double* points, int components,
-    const std::uint8_t* fixed, double gamma, int threads)
-    : Topology(topo)
-    , Points(points)
+  /// Assembles the Laplacian of points with `dimension` coordinates each.
+  using Assembler = std::function<void(const double* points, int dimension, GraphLaplacian& laplacian)>;
+
+  /// massScale: the lumped mass is massScale * laplacian.Mass, so that
+  /// -K u / mass is the Laplace-Beltrami operator (1/2 for the surface
+  /// weights cot/4 over mixed areas; 1 for volume gradients over vertex
+  /// volumes).  unusable (optional): non-zero = vertex kept (non-manifold).
+  MeshDiscretization(Index size, const double* points, int components, const std::uint8_t* fixed,
+    const std::uint8_t* unusable, Assembler assemble, double massScale, double gamma, int threads)
+    : Points(points)
+    , Assemble(std::move(assemble))
+    , MassScale(massScale)
   {
     Gamma = gamma;
     Threads = threads;
-    Size = topo.NumberOfVertices();
+    Size = size;
     Components = components;
     Allocate();
     GraphLaplacian base;
-    AssembleSurfaceLaplacian(topo, points, LaplacianWeights::Cotangent, base, threads);
-    BaseArea.assign(base.Mass.begin(), base.Mass.end());
+    Assemble(points, 3, base);
+    BaseMeasure.assign(base.Mass.begin(), base.Mass.end());
     Fixed.assign(Size, 0);
     for (Index i = 0; i < Size; ++i)
     {
-      const std::uint8_t flags = topo.VertexFlags(i);
-      Fixed[i] = (fixed && fixed[i]) || (flags & ~VertexBoundary) != 0 || !(BaseArea[i] > 0.0);
+      Fixed[i] = (fixed && fixed[i]) || (unusable && unusable[i]) || !(BaseMeasure[i] > 0.0);
     }
     Embedded.resize(static_cast<std::size_t>(Size) * (3 + components));
   }
@@ -603,13 +614,12 @@ public:
         std::copy(u + i * Components, u + (i + 1) * Components, &Embedded[i * dim + 3]);
       }
     });
-    AssembleSurfaceLaplacian(Topology, Embedded.data(), dim, LaplacianWeights::Cotangent, Laplacian, Threads);
+    Assemble(Embedded.data(), dim, Laplacian);
     Positive.resize(Size);
     ParallelFor(Size, Threads, [&](std::int64_t b, std::int64_t e) {
       for (std::int64_t i = b; i < e; ++i)
       {
-        // c = cot/4 and a = A_Mixed / 2 give -K u / a = Delta_g u.
-        Mass[i] = 0.5 * Laplacian.Mass[i];
+        Mass[i] = MassScale * Laplacian.Mass[i];
         Diagonal[i] = Laplacian.Diagonal[i];
         double p = 0.0;
         for (std::int64_t k = Laplacian.Offsets[i]; k < Laplacian.Offsets[i + 1]; ++k)
@@ -617,10 +627,10 @@ public:
           p += std::max(Laplacian.Weights[k], 0.0);
         }
         Positive[i] = p;
-        Speed[i] = Laplacian.Mass[i] > 0.0 ? SpeedOf(BaseArea[i] / Laplacian.Mass[i]) : 1.0;
+        Speed[i] = Laplacian.Mass[i] > 0.0 ? SpeedOf(BaseMeasure[i] / Laplacian.Mass[i]) : 1.0;
         if (!(Mass[i] > 0.0))
         {
-          Fixed[i] = 1; // lost its area (degenerate graph triangles)
+          Fixed[i] = 1; // lost its measure (degenerate graph elements)
         }
       }
     });
@@ -651,9 +661,10 @@ public:
   }
 
 private:
-  const MeshTopology& Topology;
   const double* Points;
-  std::vector<double> BaseArea, Embedded, Positive;
+  Assembler Assemble;
+  double MassScale;
+  std::vector<double> BaseMeasure, Embedded, Positive;
   GraphLaplacian Laplacian;
 };
 
@@ -944,7 +955,40 @@ GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* 
   {
     return result;
   }
-  SurfaceDiscretization disc(topology, points, components, fixed, options.EdgeContrast, options.NumberOfThreads);
+  const int threads = options.NumberOfThreads;
+  std::vector<std::uint8_t> unusable(topology.NumberOfVertices());
+  for (Index i = 0; i < topology.NumberOfVertices(); ++i)
+  {
+    unusable[i] = (topology.VertexFlags(i) & ~VertexBoundary) != 0;
+  }
+  MeshDiscretization disc(topology.NumberOfVertices(), points, components, fixed, unusable.data(),
+    [&](const double* x, int dimension, GraphLaplacian& l) {
+      AssembleSurfaceLaplacian(topology, x, dimension, LaplacianWeights::Cotangent, l, threads);
+    },
+    0.5, options.EdgeContrast, threads);
+  return Integrate(disc, values, options, progress);
+}
+
+GraphFlowResult RunTetrahedralGraphFlow(const TetrahedralMesh& mesh, const double* points,
+  int components, double* values, const std::uint8_t* fixed, const GraphFlowOptions& options,
+  const ProgressCallback& progress)
+{
+  GraphFlowResult result;
+  result.Error = CheckOptions(options);
+  if (result.Error.empty() && (components < 1 || components > 6))
+  {
+    result.Error = "point data with 1 to 6 components are supported";
+  }
+  if (!result.Error.empty() || mesh.NumberOfVertices() == 0)
+  {
+    return result;
+  }
+  const int threads = options.NumberOfThreads;
+  MeshDiscretization disc(mesh.NumberOfVertices(), points, components, fixed, nullptr,
+    [&](const double* x, int dimension, GraphLaplacian& l) {
+      AssembleTetrahedralLaplacian(mesh, x, dimension, l, threads);
+    },
+    1.0, options.EdgeContrast, threads);
   return Integrate(disc, values, options, progress);
 }
 

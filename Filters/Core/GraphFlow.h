@@ -12,6 +12,7 @@
 //
 // with E the edge indicator in [0, 1]: |B_bar| / |B| on images (eq. 3.22),
 // the ratio A_base / A_graph of the mixed areas on surfaces (1/W, eq. 3.17).
+// Tetrahedral volumes (section 2.8.2) use the same flow one dimension up.
 // gamma is the edge-contrast parameter of eq. 3.19: gamma = 1 is the Beltrami
 // flow (Delta_g f), gamma = 0 El-Fallah-Ford, gamma = -1 the graph flow that
 // is geometrically a mean curvature flow (eq. 3.21).  For greyscale images
@@ -101,6 +102,17 @@ GraphFlowResult RunImageGraphFlow(const PixelGrid& grid, int components, double*
 /// Vertices that are fixed, non-manifold, isolated or without area keep
 /// their values.
 GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* points,
+  int components, double* values, const std::uint8_t* fixed, const GraphFlowOptions& options,
+  const ProgressCallback& progress = {});
+
+class TetrahedralMesh;
+
+/// Runs the flow on point data over a tetrahedral mesh (section 2.8.2: the
+/// 3-manifold (x, y, z, alpha f) in R^(3+n), the volume gradient of appendix
+/// A.4, the indicator V_base / V_graph): points are 3 doubles per vertex,
+/// `components` (1 to 6) interleaved values per vertex, in place.  Vertices
+/// that are fixed or in no tetrahedron with volume keep their values.
+GraphFlowResult RunTetrahedralGraphFlow(const TetrahedralMesh& mesh, const double* points,
   int components, double* values, const std::uint8_t* fixed, const GraphFlowOptions& options,
   const ProgressCallback& progress = {});
 

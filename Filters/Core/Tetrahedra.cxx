@@ -1,0 +1,227 @@
+#include "Tetrahedra.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <numeric>
+
+namespace beltrami
+{
+
+namespace
+{
+/// det G <= DegenerateVolume * (longest edge)^6: no volume.
+constexpr double DegenerateVolume = 1e-24;
+
+double Dot(const double* a, const double* b, int n)
+{
+  double s = 0.0;
+  for (int k = 0; k < n; ++k)
+  {
+    s += a[k] * b[k];
+  }
+  return s;
+}
+} // namespace
+
+TetrahedronTerms Tetrahedron(const double* p0, const double* p1, const double* p2,
+  const double* p3, int dimension)
+{
+  TetrahedronTerms t;
+  double e[3][9];
+  const double* q[3] = { p1, p2, p3 };
+  for (int s = 0; s < 3; ++s)
+  {
+    for (int k = 0; k < dimension; ++k)
+    {
+      e[s][k] = q[s][k] - p0[k];
+    }
+  }
+  const double g11 = Dot(e[0], e[0], dimension), g22 = Dot(e[1], e[1], dimension);
+  const double g33 = Dot(e[2], e[2], dimension), g12 = Dot(e[0], e[1], dimension);
+  const double g13 = Dot(e[0], e[2], dimension), g23 = Dot(e[1], e[2], dimension);
+  // Cofactors of the symmetric Gram matrix.
+  const double c11 = g22 * g33 - g23 * g23, c22 = g11 * g33 - g13 * g13, c33 = g11 * g22 - g12 * g12;
+  const double c12 = g13 * g23 - g12 * g33, c13 = g12 * g23 - g13 * g22, c23 = g12 * g13 - g11 * g23;
+  const double det = g11 * c11 + g12 * c12 + g13 * c13;
+  // The longest edge, for a scale-free degeneracy test.
+  const double l2 = std::max({ g11, g22, g33, g11 + g22 - 2 * g12, g11 + g33 - 2 * g13, g22 + g33 - 2 * g23 });
+  if (!(det > DegenerateVolume * l2 * l2 * l2))
+  {
+    return t; // also NaN
+  }
+  const double root = std::sqrt(det);
+  t.Volume = root / 6.0;
+  t.Degenerate = false;
+  const double inv = 1.0 / (6.0 * root); // 1 / (36 V)
+  t.Weights[0] = (c11 + c12 + c13) * inv; // P-A
+  t.Weights[1] = (c12 + c22 + c23) * inv; // P-B
+  t.Weights[2] = (c13 + c23 + c33) * inv; // P-C
+  t.Weights[3] = -c12 * inv;              // A-B
+  t.Weights[4] = -c13 * inv;              // A-C
+  t.Weights[5] = -c23 * inv;              // B-C
+  return t;
+}
+
+TetrahedralMesh::TetrahedralMesh(Index numberOfVertices, std::vector<Index> tetrahedra, int numThreads)
+  : NumVertices(std::max<Index>(numberOfVertices, 0))
+{
+  // Keep the valid tetrahedra.
+  std::size_t out = 0;
+  for (std::size_t t = 0; t + 3 < tetrahedra.size(); t += 4)
+  {
+    const Index* v = &tetrahedra[t];
+    bool ok = true;
+    for (int a = 0; a < 4 && ok; ++a)
+    {
+      ok = v[a] >= 0 && v[a] < NumVertices;
+      for (int b = 0; b < a && ok; ++b)
+      {
+        ok = v[a] != v[b];
+      }
+    }
+    if (!ok)
+    {
+      ++Dropped;
+      continue;
+    }
+    std::copy(v, v + 4, &tetrahedra[out]);
+    out += 4;
+  }
+  tetrahedra.resize(out);
+  Tets = std::move(tetrahedra);
+  const std::size_t nt = Tets.size() / 4;
+
+  // Tetrahedra of every vertex (CSR, ascending tetrahedron ids).
+  IncidentOffsets.assign(static_cast<std::size_t>(NumVertices) + 1, 0);
+  for (Index v : Tets)
+  {
+    ++IncidentOffsets[v + 1];
+  }
+  std::partial_sum(IncidentOffsets.begin(), IncidentOffsets.end(), IncidentOffsets.begin());
+  Incident.resize(Tets.size());
+  {
+    std::vector<std::int64_t> cursor(IncidentOffsets.begin(), IncidentOffsets.end() - 1);
+    for (std::size_t t = 0; t < nt; ++t)
+    {
+      for (int a = 0; a < 4; ++a)
+      {
+        Incident[cursor[Tets[4 * t + a]]++] = static_cast<Index>(t);
+      }
+    }
+  }
+
+  // Neighbours: the other vertices of the incident tetrahedra, sorted, unique.
+  Offsets.assign(static_cast<std::size_t>(NumVertices) + 1, 0);
+  std::vector<std::vector<Index>> rows(static_cast<std::size_t>(NumVertices));
+  ParallelFor(NumVertices, numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t v = begin; v < end; ++v)
+    {
+      std::vector<Index>& row = rows[v];
+      for (const Index* t = IncidentBegin(static_cast<Index>(v)); t != IncidentEnd(static_cast<Index>(v)); ++t)
+      {
+        for (int a = 0; a < 4; ++a)
+        {
+          const Index w = Tets[4 * static_cast<std::size_t>(*t) + a];
+          if (w != v)
+          {
+            row.push_back(w);
+          }
+        }
+      }
+      std::sort(row.begin(), row.end());
+      row.erase(std::unique(row.begin(), row.end()), row.end());
+      Offsets[v + 1] = static_cast<std::int64_t>(row.size());
+    }
+  });
+  std::partial_sum(Offsets.begin(), Offsets.end(), Offsets.begin());
+  NeighborList.resize(static_cast<std::size_t>(Offsets.back()));
+  ParallelFor(NumVertices, numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t v = begin; v < end; ++v)
+    {
+      std::copy(rows[v].begin(), rows[v].end(), NeighborList.begin() + Offsets[v]);
+    }
+  });
+}
+
+double TetrahedralMesh::MeanEdgeLength(const double* points) const
+{
+  double sum = 0.0;
+  std::int64_t count = 0;
+  for (Index v = 0; v < NumVertices; ++v)
+  {
+    for (std::int64_t k = Offsets[v]; k < Offsets[v + 1]; ++k)
+    {
+      const Index w = NeighborList[k];
+      if (w > v)
+      {
+        const double* a = points + 3 * static_cast<std::int64_t>(v);
+        const double* b = points + 3 * static_cast<std::int64_t>(w);
+        sum += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+          (a[2] - b[2]) * (a[2] - b[2]));
+        ++count;
+      }
+    }
+  }
+  return count ? sum / static_cast<double>(count) : 0.0;
+}
+
+void AssembleTetrahedralLaplacian(const TetrahedralMesh& mesh, const double* points, int dimension,
+  GraphLaplacian& l, int numThreads)
+{
+  const Index n = mesh.NumberOfVertices();
+  l.NumberOfVertices = n;
+  l.Offsets = mesh.NeighborOffsets().data();
+  l.Neighbors = mesh.Neighbors().data();
+  l.Weights.assign(static_cast<std::size_t>(mesh.NeighborOffsets()[n]), 0.0);
+  l.Diagonal.assign(n, 0.0);
+  l.Mass.assign(n, 0.0);
+  const std::vector<Index>& tets = mesh.TetrahedronList();
+  std::atomic<Index> degenerate{ 0 };
+  // Row by row (each tetrahedron is evaluated by its four vertices): no two
+  // threads write the same entry, and the sums do not depend on the threads.
+  ParallelFor(n, numThreads, [&](std::int64_t begin, std::int64_t end) {
+    Index nDegenerate = 0;
+    for (Index i = static_cast<Index>(begin); i < end; ++i)
+    {
+      const std::int64_t first = l.Offsets[i], last = l.Offsets[i + 1];
+      double mass = 0.0;
+      for (const Index* t = mesh.IncidentBegin(i); t != mesh.IncidentEnd(i); ++t)
+      {
+        const Index* v = &tets[4 * static_cast<std::size_t>(*t)];
+        const TetrahedronTerms terms = Tetrahedron(points + static_cast<std::int64_t>(v[0]) * dimension,
+          points + static_cast<std::int64_t>(v[1]) * dimension, points + static_cast<std::int64_t>(v[2]) * dimension,
+          points + static_cast<std::int64_t>(v[3]) * dimension, dimension);
+        if (terms.Degenerate)
+        {
+          nDegenerate += v[0] == i; // each tetrahedron counted once
+          continue;
+        }
+        mass += 0.25 * terms.Volume;
+        for (int e = 0; e < 6; ++e)
+        {
+          const Index a = v[TetrahedronEdges[e][0]], b = v[TetrahedronEdges[e][1]];
+          if (a != i && b != i)
+          {
+            continue;
+          }
+          const Index other = a == i ? b : a;
+          const std::int64_t k =
+            std::lower_bound(l.Neighbors + first, l.Neighbors + last, other) - l.Neighbors;
+          l.Weights[k] += terms.Weights[e];
+        }
+      }
+      double diag = 0.0;
+      for (std::int64_t k = first; k < last; ++k)
+      {
+        diag += l.Weights[k];
+      }
+      l.Diagonal[i] = diag;
+      l.Mass[i] = mass;
+    }
+    degenerate += nDegenerate;
+  });
+  l.DegenerateTriangles = degenerate;
+}
+
+} // namespace beltrami

@@ -1,0 +1,85 @@
+// Beltrami core: tetrahedralized 3-manifolds embedded in R^n (thesis section
+// 2.8.2, appendix A.4) - the volume counterpart of MeshTopology and the
+// surface Laplacian, shared by every volume filter.
+//
+// The operator is the gradient of the 1-ring volume.  For one tetrahedron
+// (P, A, B, C) with edge vectors a = A - P, b = B - P, c = C - P in R^n, the
+// volume is V = sqrt(det G) / 6 with G the 3x3 Gram matrix of (a, b, c), and
+// (Jacobi's formula on det G, appendix A.4)
+//
+//     dV/dP = sum over the edges (P, X) of w_PX (P - X),
+//     w_PA = (C_11 + C_12 + C_13) / (36 V),  w_AB = -C_12 / (36 V), ...
+//
+// with C the cofactor matrix of G.  These weights are l cot(theta) / 6 of the
+// edge opposite (P, X) - the cotangent formula with dihedral angles - and are
+// computed from dot products only, so they hold in any dimension.  Summed
+// over the tetrahedra sharing an edge they give the symmetric stiffness of a
+// GraphLaplacian: (K x)_i = sum_j c_ij (x_i - x_j) = d(volume)/d(x_i).  The
+// lumped mass of a vertex is a quarter of the volume of its tetrahedra.
+#pragma once
+
+#include "Laplacian.h"
+#include "Parallel.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace beltrami
+{
+
+/// The volume of a tetrahedron and the weights of its six edges (pairs of
+/// local vertices 01, 02, 03, 12, 13, 23) from four points in R^dimension.
+struct TetrahedronTerms
+{
+  double Volume = 0.0;
+  double Weights[6] = { 0, 0, 0, 0, 0, 0 };
+  bool Degenerate = true; ///< no volume: weights left at 0
+};
+TetrahedronTerms Tetrahedron(const double* p0, const double* p1, const double* p2,
+  const double* p3, int dimension);
+
+/// The local vertex pairs of the six edges of a tetrahedron.
+constexpr int TetrahedronEdges[6][2] = { { 0, 1 }, { 0, 2 }, { 0, 3 }, { 1, 2 }, { 1, 3 }, { 2, 3 } };
+
+/// A tetrahedral mesh: the tetrahedra (4 vertex ids each), the tetrahedra
+/// of every vertex and the vertex-neighbour graph (CSR, sorted).
+class TetrahedralMesh
+{
+public:
+  /// Tetrahedra with an out-of-range or repeated vertex id are dropped.
+  TetrahedralMesh(Index numberOfVertices, std::vector<Index> tetrahedra, int numThreads = 0);
+
+  Index NumberOfVertices() const { return NumVertices; }
+  Index NumberOfTetrahedra() const { return static_cast<Index>(Tets.size() / 4); }
+  Index NumberOfDroppedTetrahedra() const { return Dropped; }
+  const std::vector<Index>& TetrahedronList() const { return Tets; }
+
+  /// Tetrahedra of vertex v (ids into the list): [IncidentBegin(v), IncidentEnd(v)).
+  const Index* IncidentBegin(Index v) const { return Incident.data() + IncidentOffsets[v]; }
+  const Index* IncidentEnd(Index v) const { return Incident.data() + IncidentOffsets[v + 1]; }
+
+  /// The vertex-neighbour CSR (the sparsity of the Laplacian).
+  const std::vector<std::int64_t>& NeighborOffsets() const { return Offsets; }
+  const std::vector<Index>& Neighbors() const { return NeighborList; }
+
+  /// Mean edge length at `points` (3 doubles per vertex).
+  double MeanEdgeLength(const double* points) const;
+
+private:
+  Index NumVertices = 0;
+  Index Dropped = 0;
+  std::vector<Index> Tets;
+  std::vector<std::int64_t> IncidentOffsets;
+  std::vector<Index> Incident;
+  std::vector<std::int64_t> Offsets;
+  std::vector<Index> NeighborList;
+};
+
+/// Assembles the volume Laplacian of the mesh embedded in R^dimension
+/// (`points`: dimension doubles per vertex, 3 to 9): c_ij summed over the
+/// tetrahedra of edge (i, j), mass = volume / 4 per tetrahedron.  Degenerate
+/// tetrahedra are skipped and counted in DegenerateTriangles.
+void AssembleTetrahedralLaplacian(const TetrahedralMesh& mesh, const double* points, int dimension,
+  GraphLaplacian& laplacian, int numThreads = 0);
+
+} // namespace beltrami
