@@ -11,6 +11,10 @@
 #include <vtkIntArray.h>
 #include <vtkNew.h>
 
+#include <vtkAlgorithm.h>
+#include <vtkSmartPointer.h>
+
+#include <cmath>
 #include <sstream>
 
 std::vector<std::uint8_t> vtkBeltramiGraphFlow::FixedMask(vtkAlgorithm* owner, vtkDataSet* input,
@@ -78,4 +82,81 @@ std::string vtkBeltramiGraphFlow::StabilityWarning(
     << " at the steepest point); the result may oscillate. Use AdaptiveTimeStep, the semi-implicit "
        "integration or a smaller TimeStep.";
   return s.str();
+}
+
+int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkDataSet* output,
+  vtkDataArray* array, const double* points, bool useMask, const beltrami::GraphFlowOptions& options,
+  int maxComponents, double unit, int measureDimension, const MeshFlow& flow)
+{
+  std::string error;
+  const std::vector<std::uint8_t> fixed =
+    useMask ? FixedMask(owner, input, array, "fixed-points", error) : std::vector<std::uint8_t>();
+  if (!error.empty())
+  {
+    vtkErrorWithObjectMacro(owner, << error << " The output is the input.");
+    return 0;
+  }
+  const int nc = array->GetNumberOfComponents();
+  if (nc < 1 || nc > maxComponents)
+  {
+    vtkErrorWithObjectMacro(owner, "The array '" << (array->GetName() ? array->GetName() : "") << "' has "
+                                                 << nc << " components; 1 to " << maxComponents
+                                                 << " can be smoothed. The output is the input.");
+    return 0;
+  }
+  if (!(unit > 0.0) || !std::isfinite(unit))
+  {
+    vtkErrorWithObjectMacro(owner, "The mean edge length of the input is "
+        << unit << ": cannot scale the mesh. The output is the input.");
+    return 0;
+  }
+  const vtkIdType numPoints = input->GetNumberOfPoints();
+  std::vector<double> scaled(points, points + 3 * numPoints);
+  for (double& x : scaled)
+  {
+    x /= unit;
+    if (!std::isfinite(x))
+    {
+      vtkErrorWithObjectMacro(owner, "The input has NaN or infinite point coordinates. The output is the input.");
+      return 0;
+    }
+  }
+  std::vector<double> values(static_cast<std::size_t>(numPoints) * nc);
+  for (vtkIdType i = 0; i < numPoints; ++i)
+  {
+    for (int k = 0; k < nc; ++k)
+    {
+      values[i * nc + k] = array->GetComponent(i, k);
+    }
+  }
+  owner->UpdateProgress(0.0);
+  beltrami::GraphFlowResult result = flow(scaled.data(), nc, values.data(),
+    fixed.empty() ? nullptr : fixed.data(), options, [owner](double fraction) {
+      owner->UpdateProgress(fraction);
+      return !owner->GetAbortExecute();
+    });
+  if (!result.Error.empty())
+  {
+    vtkErrorWithObjectMacro(owner, << result.Error << ". The output is the input.");
+    return 0;
+  }
+  if (result.Cancelled)
+  {
+    return 1;
+  }
+  const std::string warning = StabilityWarning(options, result);
+  if (!warning.empty())
+  {
+    vtkWarningWithObjectMacro(owner, << warning);
+  }
+  vtkSmartPointer<vtkDataArray> smoothed = vtkBeltramiSurface::NewArray(VTK_DOUBLE, array->GetName(), nc, numPoints);
+  std::copy(values.begin(), values.end(), vtkDoubleArray::SafeDownCast(smoothed)->GetPointer(0));
+  ReplaceArray(input, output, array, smoothed);
+  // Measures and time in the units the flow used: back in the mesh's units.
+  const double measure = std::pow(unit, measureDimension);
+  result.InitialArea *= measure;
+  result.FinalArea *= measure;
+  result.Time *= unit * unit;
+  AddReport(output->GetFieldData(), result);
+  return 1;
 }

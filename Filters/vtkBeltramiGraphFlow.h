@@ -1,7 +1,8 @@
 // The part of the graph-flow filters (vtkImageBeltramiDenoising,
-// vtkSurfaceDataDenoising) that does not depend on the data type: their
-// common settings mapped to the core's options, the report written into the
-// output's field data, and the warnings.  Not wrapped.
+// vtkSurfaceDataDenoising, vtkTetrahedralBeltramiDenoising) that does not
+// depend on the data type: their common settings mapped to the core's
+// options, the report written into the output's field data, the warnings,
+// and the body the mesh filters share.  Not wrapped.
 #ifndef vtkBeltramiGraphFlow_h
 #define vtkBeltramiGraphFlow_h
 
@@ -10,6 +11,7 @@
 #include "Core/GraphFlow.h"
 
 #include <cstdint>
+#include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -72,6 +74,24 @@ public:
   /// A warning for explicit steps beyond the stability limit (empty if none).
   static std::string StabilityWarning(
     const beltrami::GraphFlowOptions& options, const beltrami::GraphFlowResult& result);
+
+  /// Runs the flow on (points, components, values in place, fixed mask).
+  using MeshFlow = std::function<beltrami::GraphFlowResult(const double* points, int components,
+    double* values, const std::uint8_t* fixed, const beltrami::GraphFlowOptions& options,
+    const beltrami::ProgressCallback& progress)>;
+
+  /// The body the mesh filters share (vtkSurfaceDataDenoising,
+  /// vtkTetrahedralBeltramiDenoising): checks `array` (the owner's input
+  /// array 0: point data, 1 to maxComponents components) and the optional
+  /// mask (input array 1, when useMask), measures the mesh in units of
+  /// `unit` (its mean edge length, or 1 for physical units), runs `flow`,
+  /// and writes the smoothed array (double, same name) and the report
+  /// (measures of dimension measureDimension and the time back in the mesh's
+  /// units).  Returns the value for RequestData; errors and warnings go to
+  /// the owner, and on error the output stays the input.
+  static int RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkDataSet* output, vtkDataArray* array,
+    const double* points, bool useMask, const beltrami::GraphFlowOptions& options, int maxComponents,
+    double unit, int measureDimension, const MeshFlow& flow);
 };
 
 #endif

@@ -1,6 +1,6 @@
 """The ParaView plugin from pvpython / pvbatch: OpenDataFile on .off, the
-DiscreteCurvatures, ImplicitFairing, IntrinsicParameterization, ImageBeltramiDenoising and
-SurfaceDataDenoising proxies, their defaults, and the OFF writer."""
+DiscreteCurvatures, ImplicitFairing, IntrinsicParameterization, ImageBeltramiDenoising,
+SurfaceDataDenoising and TetrahedralBeltramiDenoising proxies, their defaults, and the OFF writer."""
 import math
 import os
 import sys
@@ -146,6 +146,20 @@ check(surface.Integration == "Semi-Implicit" and surface.UseFixedPointsArray == 
 surface.ArrayToSmooth = ["POINTS", "Elevation"]
 surface.UpdatePipeline()
 check(surface.PointData["Elevation"] is not None, "surface denoising writes the array")
+
+wavelet = Wavelet(WholeExtent=[0, 9, 0, 9, 0, 9])
+tets = Tetrahedralize(Input=wavelet)
+tets.UpdatePipeline()
+volume_denoise = TetrahedralBeltramiDenoising(Input=tets)
+check(volume_denoise.Integration == "Semi-Implicit" and volume_denoise.UseFixedPointsArray == 0,
+      "tetrahedral denoising defaults")
+volume_denoise.ContrastScale = 0.1
+volume_denoise.UpdatePipeline()
+smoothed_volume = servermanager.Fetch(volume_denoise)
+if partitions == 1:
+    before = vtk_to_numpy(servermanager.Fetch(tets).GetPointData().GetArray("RTData"))
+    after = vtk_to_numpy(smoothed_volume.GetPointData().GetArray("RTData"))
+    check(after.shape == before.shape and np.std(after) < np.std(before), "tetrahedral denoising smooths")
 
 with tempfile.TemporaryDirectory() as tmp:
     path = os.path.join(tmp, "bunny.off")

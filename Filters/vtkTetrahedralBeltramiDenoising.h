@@ -1,0 +1,104 @@
+/**
+ * @class   vtkTetrahedralBeltramiDenoising
+ * @brief   Edge-preserving smoothing of point data on a tetrahedral mesh: the
+ *          graph flows of thesis section 3.8 on 3-manifolds (section 2.8.2).
+ *
+ * A scalar, vector or tensor point array f (1 to 6 components) on the
+ * tetrahedra of an unstructured grid is the 3-manifold (x, y, z, alpha f) in
+ * R^(3+n); the flow changes the data only, d(alpha f)/dt =
+ * E^(gamma - 1) Delta_g(alpha f), with Delta_g the Beltrami operator of that
+ * manifold - the gradient of the 1-ring volume over the vertex volume, with
+ * cotangents of dihedral angles computed from dot products in R^(3+n)
+ * (appendix A.4) - and E = V_mesh / V_graph the edge indicator (1/W).  The
+ * mesh does not move.  The lumped vertex volume is a quarter of the volume of
+ * its tetrahedra (a choice: the thesis gives no mixed volume).
+ *
+ * Settings as vtkSurfaceDataDenoising (ContrastScale alpha, EdgeContrast
+ * gamma, Integration (SEMI_IMPLICIT by default), TimeStep, AdaptiveTimeStep,
+ * NumberOfIterations, NoiseLevel, Units, NumberOfThreads).  With
+ * MEAN_EDGE_LENGTH units (default) the mesh is measured in its mean edge
+ * length h: TimeStep in h^2, alpha = 1.5 / sigma for noise sigma.  The
+ * boundary is free (natural boundary condition): constants are fixed points;
+ * linear fields are fixed points where the boundary values are held (mask).
+ *
+ * Input array 0: the point array to smooth (default: the active scalars;
+ * written back as double under the same name).  Input array 1 (optional,
+ * with UseFixedPointsArray): non-zero = point kept.  Only VTK_TETRA cells are
+ * used (other cells are reported and ignored: tetrahedralize first, e.g.
+ * with vtkDataSetTriangleFilter); points in no tetrahedron with volume keep
+ * their values.  Field data: FlowIterations, FlowTime, FlowRMSChange,
+ * FlowArea (the volume of the graph manifold, initial and final),
+ * FlowSolverIterations.
+ */
+#ifndef vtkTetrahedralBeltramiDenoising_h
+#define vtkTetrahedralBeltramiDenoising_h
+
+#include "BeltramiFiltersModule.h" // export macro
+#include "vtkUnstructuredGridAlgorithm.h"
+
+class BELTRAMIFILTERS_EXPORT vtkTetrahedralBeltramiDenoising : public vtkUnstructuredGridAlgorithm
+{
+public:
+  static vtkTetrahedralBeltramiDenoising* New();
+  vtkTypeMacro(vtkTetrahedralBeltramiDenoising, vtkUnstructuredGridAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum IntegrationType
+  {
+    EXPLICIT = 0,
+    SEMI_IMPLICIT = 1
+  };
+  enum UnitsType
+  {
+    MEAN_EDGE_LENGTH = 0,
+    PHYSICAL = 1
+  };
+
+  vtkSetClampMacro(ContrastScale, double, 1e-12, VTK_DOUBLE_MAX);
+  vtkGetMacro(ContrastScale, double);
+  vtkSetClampMacro(EdgeContrast, double, -1.0, 10.0);
+  vtkGetMacro(EdgeContrast, double);
+  vtkSetClampMacro(Integration, int, EXPLICIT, SEMI_IMPLICIT);
+  vtkGetMacro(Integration, int);
+  vtkSetClampMacro(TimeStep, double, 1e-12, VTK_DOUBLE_MAX);
+  vtkGetMacro(TimeStep, double);
+  vtkSetMacro(AdaptiveTimeStep, bool);
+  vtkGetMacro(AdaptiveTimeStep, bool);
+  vtkBooleanMacro(AdaptiveTimeStep, bool);
+  vtkSetClampMacro(NumberOfIterations, int, 0, VTK_INT_MAX);
+  vtkGetMacro(NumberOfIterations, int);
+  vtkSetClampMacro(NoiseLevel, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(NoiseLevel, double);
+  vtkSetClampMacro(Units, int, MEAN_EDGE_LENGTH, PHYSICAL);
+  vtkGetMacro(Units, int);
+  vtkSetMacro(NumberOfThreads, int);
+  vtkGetMacro(NumberOfThreads, int);
+  /// Whether the mask selected as input array 1 is used (default on; nothing
+  /// selected = no mask; ParaView's panel starts with it off).
+  vtkSetMacro(UseFixedPointsArray, bool);
+  vtkGetMacro(UseFixedPointsArray, bool);
+  vtkBooleanMacro(UseFixedPointsArray, bool);
+
+protected:
+  vtkTetrahedralBeltramiDenoising();
+  ~vtkTetrahedralBeltramiDenoising() override = default;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  double ContrastScale = 1.0;
+  double EdgeContrast = 1.0;
+  int Integration = SEMI_IMPLICIT;
+  double TimeStep = 0.1;
+  bool AdaptiveTimeStep = false;
+  int NumberOfIterations = 10;
+  double NoiseLevel = 0.0;
+  int Units = MEAN_EDGE_LENGTH;
+  int NumberOfThreads = 0;
+  bool UseFixedPointsArray = true;
+
+private:
+  vtkTetrahedralBeltramiDenoising(const vtkTetrahedralBeltramiDenoising&) = delete;
+  void operator=(const vtkTetrahedralBeltramiDenoising&) = delete;
+};
+
+#endif

@@ -1,0 +1,163 @@
+"""Beltrami flow on tetrahedral meshes (thesis section 2.8.2, appendix A.4) from
+/usr/bin/python3: a noisy piecewise-constant volume (blobs, sigma = 0.1, fixed
+seed) tetrahedralized by vtkDataSetTriangleFilter and smoothed with
+vtkTetrahedralBeltramiDenoising at the documented settings (alpha = 1.5 / sigma,
+noise-level stop), against VTK's vtkImageGaussianSmooth and
+vtkImageAnisotropicDiffusion3D swept over their parameters; invariants and bad
+input."""
+import unittest
+
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkFiltersGeneral import vtkDataSetTriangleFilter
+from vtkmodules.vtkImagingGeneral import vtkImageAnisotropicDiffusion3D, vtkImageGaussianSmooth
+
+from beltrami import vtkTetrahedralBeltramiDenoising
+
+N = 32
+SIGMA = 0.1
+
+
+def blobs(n=N):
+    z, y, x = np.mgrid[0:n, 0:n, 0:n] / (n - 1.0)
+    clean = np.zeros((n, n, n))
+    for c, r, v in (((0.3, 0.3, 0.35), 0.2, 1.0), ((0.7, 0.65, 0.6), 0.22, 0.6), ((0.35, 0.7, 0.7), 0.15, 0.8)):
+        clean[(x - c[0]) ** 2 + (y - c[1]) ** 2 + (z - c[2]) ** 2 < r * r] = v
+    clean[(np.abs(x - 0.7) < 0.12) & (np.abs(y - 0.25) < 0.12) & (np.abs(z - 0.3) < 0.2)] = 0.4
+    return clean
+
+
+def image(a, name="v"):
+    img = vtkImageData()
+    img.SetDimensions(*a.shape[::-1])
+    arr = numpy_to_vtk(np.ascontiguousarray(a).ravel(), deep=1)
+    arr.SetName(name)
+    img.GetPointData().SetScalars(arr)
+    return img
+
+
+def tetrahedralize(a):
+    tri = vtkDataSetTriangleFilter()
+    tri.SetInputData(image(a))
+    tri.Update()
+    return tri.GetOutput()
+
+
+def denoise(grid, **settings):
+    f = vtkTetrahedralBeltramiDenoising()
+    f.SetInputData(grid)
+    for key, value in settings.items():
+        getattr(f, "Set" + key)(value)
+    f.Update()
+    return f, f.GetOutput()
+
+
+def psnr(a, b):
+    return 10 * np.log10(1.0 / np.mean((a - b) ** 2))
+
+
+class VolumeQuality(unittest.TestCase):
+    def test_blobs_beat_gaussian_smoothing_and_keep_their_boundaries(self):
+        clean = blobs()
+        noisy = clean + np.random.default_rng(3).normal(0, SIGMA, clean.shape)
+        grid = tetrahedralize(noisy)
+        _, out = denoise(grid, ContrastScale=1.5 / SIGMA, NoiseLevel=SIGMA, NumberOfIterations=200)
+        ours = vtk_to_numpy(out.GetPointData().GetArray("v")).reshape(clean.shape)
+        self.assertEqual(out.GetNumberOfCells(), grid.GetNumberOfCells())
+
+        gaussian = None
+        for s in (0.5, 0.75, 1.0, 1.25, 1.5):
+            g = vtkImageGaussianSmooth()
+            g.SetInputData(image(noisy))
+            g.SetDimensionality(3)
+            g.SetStandardDeviations(s, s, s)
+            g.SetRadiusFactors(3, 3, 3)
+            g.Update()
+            v = vtk_to_numpy(g.GetOutput().GetPointData().GetScalars()).reshape(clean.shape)
+            if gaussian is None or psnr(v, clean) > psnr(gaussian[1], clean):
+                gaussian = (s, v)
+        anisotropic = None
+        for k in (0.05, 0.1, 0.2, 0.3):
+            for iterations in (3, 5, 10, 20):
+                a = vtkImageAnisotropicDiffusion3D()
+                a.SetInputData(image(noisy))
+                a.SetDiffusionThreshold(k)
+                a.SetDiffusionFactor(1.0)
+                a.SetNumberOfIterations(iterations)
+                a.FacesOn()
+                a.EdgesOn()
+                a.CornersOn()
+                a.Update()
+                v = vtk_to_numpy(a.GetOutput().GetPointData().GetScalars()).reshape(clean.shape)
+                if anisotropic is None or psnr(v, clean) > psnr(anisotropic[2], clean):
+                    anisotropic = (k, iterations, v)
+        # The boundaries: voxels next to a jump of the clean volume.
+        gz, gy, gx = np.gradient(clean)
+        band = np.sqrt(gx ** 2 + gy ** 2 + gz ** 2) > 0
+        band_error = lambda v: np.sqrt(np.mean((v - clean)[band] ** 2))  # noqa: E731
+        print("blobs %d^3, sigma %.1f: noisy %.2f dB; Beltrami flow %.2f dB; best Gaussian (s=%g) %.2f dB; "
+              "best anisotropic diffusion (k=%g, %d it) %.2f dB; RMS error at the boundaries: noisy %.3f, "
+              "ours %.3f, Gaussian %.3f, anisotropic %.3f"
+              % (N, SIGMA, psnr(noisy, clean), psnr(ours, clean), gaussian[0], psnr(gaussian[1], clean),
+                 anisotropic[0], anisotropic[1], psnr(anisotropic[2], clean), band_error(noisy),
+                 band_error(ours), band_error(gaussian[1]), band_error(anisotropic[2])))
+        self.assertGreater(psnr(ours, clean), psnr(noisy, clean) + 9.0)
+        self.assertGreater(psnr(ours, clean), psnr(gaussian[1], clean) + 5.0)
+        self.assertLess(band_error(ours), 0.75 * band_error(gaussian[1]))
+
+
+class VolumeInvariants(unittest.TestCase):
+    def setUp(self):
+        self.log = vtkStringOutputWindow()
+        vtkOutputWindow.SetInstance(self.log)
+
+    def test_constant_field_and_fixed_points(self):
+        grid = tetrahedralize(np.full((6, 5, 4), 0.3))
+        _, out = denoise(grid, ContrastScale=10.0, NumberOfIterations=5)
+        self.assertTrue(np.all(vtk_to_numpy(out.GetPointData().GetArray("v")) == 0.3))
+
+        noisy = np.random.default_rng(1).normal(0, 1, (6, 5, 4))
+        grid = tetrahedralize(noisy)
+        mask = numpy_to_vtk((np.arange(noisy.size) % 3 == 0).astype(np.uint8), deep=1)
+        mask.SetName("keep")
+        grid.GetPointData().AddArray(mask)
+        f = vtkTetrahedralBeltramiDenoising()
+        f.SetInputData(grid)
+        f.SetContrastScale(1.0)
+        f.SetNumberOfIterations(5)
+        f.SetInputArrayToProcess(1, 0, 0, 0, "keep")
+        f.Update()
+        out = vtk_to_numpy(f.GetOutput().GetPointData().GetArray("v"))
+        keep = np.arange(noisy.size) % 3 == 0
+        self.assertTrue(np.array_equal(out[keep], noisy.ravel()[keep]))
+        self.assertGreater(np.abs(out[~keep] - noisy.ravel()[~keep]).max(), 1e-3)
+        fd = f.GetOutput().GetFieldData()
+        volume = fd.GetArray("FlowArea")
+        self.assertLess(volume.GetValue(1), volume.GetValue(0))
+
+    def test_bad_input(self):
+        # Not tetrahedra: the voxels of an unstructured grid are reported and ignored.
+        from vtkmodules.vtkFiltersCore import vtkAppendFilter
+        append = vtkAppendFilter()
+        append.AddInputData(image(np.zeros((3, 3, 3))))
+        append.Update()
+        f, out = denoise(append.GetOutput())
+        self.assertIn("not tetrahedra", self.log.GetOutput())
+        self.assertEqual(out.GetNumberOfPoints(), 27)
+        # No array to smooth.
+        grid = tetrahedralize(np.zeros((3, 3, 3)))
+        grid.GetPointData().RemoveArray("v")
+        denoise(grid)
+        self.assertIn("No point array to smooth", self.log.GetOutput())
+        # NaN data: an error, the output is the input.
+        a = np.zeros((3, 3, 3))
+        a[1, 1, 1] = np.nan
+        _, out = denoise(tetrahedralize(a))
+        self.assertIn("NaN", self.log.GetOutput())
+        self.assertTrue(np.isnan(vtk_to_numpy(out.GetPointData().GetArray("v"))[13]))
+
+
+if __name__ == "__main__":
+    unittest.main()
