@@ -99,6 +99,7 @@ bool ValidCell(vtkIdType n, const vtkIdType* ids, vtkIdType numPoints)
 
 bool vtkBeltramiSurface::Build(vtkPolyData* input, int numberOfThreads)
 {
+  InputData = input; // PointsAsDouble() and the lookups read it
   Mesh.reset();
   CellOfTriangle.clear();
   Floats = nullptr;

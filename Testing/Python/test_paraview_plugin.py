@@ -147,6 +147,12 @@ surface.ArrayToSmooth = ["POINTS", "Elevation"]
 surface.UpdatePipeline()
 check(surface.PointData["Elevation"] is not None, "surface denoising writes the array")
 
+if partitions == 1:
+    filled = TetGenTetrahedralize(Input=OpenDataFile(os.path.join(DATA, "elephant.off")))
+    check(filled.RadiusEdgeRatio == 2.0 and filled.PreserveSurface == 1, "TetGen defaults")
+    filled.UpdatePipeline()
+    check(filled.GetDataInformation().GetNumberOfCells() > 8000, "TetGen tetrahedra through the plugin")
+
 wavelet = Wavelet(WholeExtent=[0, 9, 0, 9, 0, 9])
 tets = Tetrahedralize(Input=wavelet)
 tets.UpdatePipeline()

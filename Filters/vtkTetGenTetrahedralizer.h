@@ -1,0 +1,78 @@
+/**
+ * @class   vtkTetGenTetrahedralizer
+ * @brief   Quality tetrahedral meshes of the volume inside a closed triangle
+ *          surface, by TetGen (Debian's libtet 1.5).
+ *
+ * Input: a closed, manifold, consistently oriented surface (polygons are
+ * triangulated; strips too).  Output: a vtkUnstructuredGrid of tetrahedra
+ * (VTK_TETRA) filling the enclosed volume, for the volume filters of
+ * section 2.8.2 (vtkTetrahedralBeltramiDenoising).  Options (TetGen switches):
+ *  - RadiusEdgeRatio (q, default 2; 0: no quality refinement): the largest
+ *    ratio of circumradius to shortest edge of a tetrahedron;
+ *  - MinimumDihedralAngle (degrees, default 0 = TetGen's own);
+ *  - MaximumVolume (a, default 0 = no limit);
+ *  - PreserveSurface (Y, default on): no Steiner points on the surface, so
+ *    the boundary of the output is the input's triangles.
+ * Point data: the input points are the first output points with their data;
+ * numeric point arrays are extended harmonically to the new (Steiner) points:
+ * the volume Laplacian of the output (Tetrahedra.h) is zero there, with the
+ * input points' values held - exact for linear fields.  An open, non-manifold or empty surface is an error
+ * naming the defect; a self-intersecting surface is found by TetGen's check
+ * (-d) before the tetrahedralization and reported with the number of
+ * intersecting triangles; TetGen's other failures (tiny features, close
+ * facets) are reported with TetGen's reason.  Each piece of distributed
+ * data is meshed on its own (a closed surface is normally one piece).  Field data: TetGenSwitches.
+ */
+#ifndef vtkTetGenTetrahedralizer_h
+#define vtkTetGenTetrahedralizer_h
+
+#include "BeltramiFiltersModule.h" // export macro
+#include "vtkUnstructuredGridAlgorithm.h"
+
+#include <string>
+
+class vtkIdTypeArray;
+class vtkPointData;
+class vtkUnstructuredGrid;
+
+class BELTRAMIFILTERS_EXPORT vtkTetGenTetrahedralizer : public vtkUnstructuredGridAlgorithm
+{
+public:
+  static vtkTetGenTetrahedralizer* New();
+  vtkTypeMacro(vtkTetGenTetrahedralizer, vtkUnstructuredGridAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  vtkSetClampMacro(RadiusEdgeRatio, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(RadiusEdgeRatio, double);
+  vtkSetClampMacro(MinimumDihedralAngle, double, 0.0, 70.0);
+  vtkGetMacro(MinimumDihedralAngle, double);
+  vtkSetClampMacro(MaximumVolume, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MaximumVolume, double);
+  vtkSetMacro(PreserveSurface, bool);
+  vtkGetMacro(PreserveSurface, bool);
+  vtkBooleanMacro(PreserveSurface, bool);
+
+  /// The TetGen switches of the settings (e.g. "pQzq2Y").
+  std::string GetSwitches() const;
+
+protected:
+  vtkTetGenTetrahedralizer() = default;
+  ~vtkTetGenTetrahedralizer() override = default;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// The input's point arrays (numInput tuples) on the output points.
+  void InterpolatePointData(
+    vtkPointData* inPD, vtkIdType numInput, vtkUnstructuredGrid* output, vtkIdTypeArray* connectivity);
+
+  double RadiusEdgeRatio = 2.0;
+  double MinimumDihedralAngle = 0.0;
+  double MaximumVolume = 0.0;
+  bool PreserveSurface = true;
+
+private:
+  vtkTetGenTetrahedralizer(const vtkTetGenTetrahedralizer&) = delete;
+  void operator=(const vtkTetGenTetrahedralizer&) = delete;
+};
+
+#endif
