@@ -6,6 +6,7 @@
 #include "Core/ColorSpace.h"
 #include "Core/GraphFlow.h"
 #include "Core/LargeBuffer.h"
+#include "Core/Tetrahedra.h"
 
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>
@@ -101,6 +102,33 @@ void Store(T* dst, const int* outExt, const int* inExt, int nc, int used, double
       }
     }
   }
+}
+
+/// A 3D image: its voxels split into tetrahedra (6 per cell, GridTetrahedra)
+/// at their physical positions, smoothed by the 3-manifold flow.
+beltrami::GraphFlowResult RunVolume(vtkImageData* input, const int* ext, int components, double* values,
+  const std::uint8_t* fixed, const beltrami::GraphFlowOptions& options,
+  const beltrami::ProgressCallback& progress)
+{
+  const beltrami::Index n[3] = { ext[1] - ext[0] + 1, ext[3] - ext[2] + 1, ext[5] - ext[4] + 1 };
+  const double* spacing = input->GetSpacing();
+  std::vector<double> points;
+  points.reserve(3 * static_cast<std::size_t>(n[0]) * n[1] * n[2]);
+  for (beltrami::Index k = 0; k < n[2]; ++k)
+  {
+    for (beltrami::Index j = 0; j < n[1]; ++j)
+    {
+      for (beltrami::Index i = 0; i < n[0]; ++i)
+      {
+        points.push_back(i * std::abs(spacing[0]));
+        points.push_back(j * std::abs(spacing[1]));
+        points.push_back(k * std::abs(spacing[2]));
+      }
+    }
+  }
+  const beltrami::TetrahedralMesh mesh(
+    n[0] * n[1] * n[2], beltrami::GridTetrahedra(n[0], n[1], n[2]), options.NumberOfThreads);
+  return beltrami::RunTetrahedralGraphFlow(mesh, points.data(), components, values, fixed, options, progress);
 }
 
 } // namespace
@@ -225,10 +253,12 @@ int vtkImageBeltramiDenoising::RequestData(
       axes[nAxes++] = a;
     }
   }
-  if (nAxes == 3)
+  // 3D images: the voxels split into tetrahedra, the 3-manifold flow.
+  const bool volume = nAxes == 3;
+  if (volume && grid.Count() > std::numeric_limits<beltrami::Index>::max() / 8)
   {
-    vtkErrorMacro("The input is a 3D image: this filter smooths 2D images (XY, XZ or YZ slices). "
-                  "The output is the input.");
+    vtkErrorMacro("The 3D image has " << grid.Count() << " voxels: too many for one piece of the "
+                                      << "tetrahedral flow; stream it in pieces. The output is the input.");
     return 0;
   }
   for (int a = 0; a < 3 && nAxes < 2; ++a)
@@ -238,8 +268,11 @@ int vtkImageBeltramiDenoising::RequestData(
       axes[nAxes++] = a;
     }
   }
-  grid.Axis0 = std::min(axes[0], axes[1]);
-  grid.Axis1 = std::max(axes[0], axes[1]);
+  if (!volume)
+  {
+    grid.Axis0 = std::min(axes[0], axes[1]);
+    grid.Axis1 = std::max(axes[0], axes[1]);
+  }
 
   int association = -1;
   vtkDataArray* array = this->GetInputArrayToProcess(0, inputVector, association);
@@ -322,11 +355,14 @@ int vtkImageBeltramiDenoising::RequestData(
   options.Boundary = static_cast<beltrami::GridBoundary>(this->Boundary);
 
   this->UpdateProgress(0.0);
-  const beltrami::GraphFlowResult result = beltrami::RunImageGraphFlow(pixels, used, values.data(),
-    fixed.empty() ? nullptr : fixed.data(), options, [this](double fraction) {
-      this->UpdateProgress(fraction);
-      return !this->GetAbortExecute();
-    });
+  const beltrami::ProgressCallback progress = [this](double fraction) {
+    this->UpdateProgress(fraction);
+    return !this->GetAbortExecute();
+  };
+  const beltrami::GraphFlowResult result = volume
+    ? RunVolume(input, inExt, used, values.data(), fixed.empty() ? nullptr : fixed.data(), options, progress)
+    : beltrami::RunImageGraphFlow(pixels, used, values.data(), fixed.empty() ? nullptr : fixed.data(), options,
+        progress);
   if (!result.Error.empty())
   {
     vtkErrorMacro(<< result.Error << ". The output is the input.");

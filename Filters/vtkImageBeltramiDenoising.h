@@ -1,6 +1,6 @@
 /**
  * @class   vtkImageBeltramiDenoising
- * @brief   Edge-preserving denoising of 2D images of any number of
+ * @brief   Edge-preserving denoising of 2D and 3D images of any number of
  *          components by the graph flows of thesis section 3.8.
  *
  * The image f (n components) is the surface (x, y, alpha f) in R^(2+n) over
@@ -47,8 +47,13 @@
  * name and type, integers rounded and clamped).  Input array 1 (optional):
  * a point array whose non-zero values mark pixels kept as they are (ignored
  * when it is the array being smoothed; see UseFixedPixelsArray).
- * 2D images only (one of the three dimensions may be > 1 only if another
- * is 1: XY, XZ and YZ slices all work).
+ * 2D images (XY, XZ and YZ slices) use the pixel-grid kernel above.  3D
+ * images (section 2.8.2): the voxels are split into tetrahedra (6 per cell
+ * around the cell diagonal, vtkTetrahedralBeltramiDenoising's core) and the
+ * volume (x, y, z, alpha f) in R^(3+n) is smoothed the same way, E =
+ * V_base / V_graph; spacing honoured; the Boundary setting does not apply
+ * (natural boundary).  Memory: about 0.5 KB per voxel (the tetrahedral mesh
+ * is explicit), so volumes beyond ~10^7 voxels should be streamed in pieces.
  *
  * Streaming and threads: with explicit steps, a fixed time step and no
  * noise-level stop, every step reads one ring of neighbours, so the filter

@@ -144,6 +144,39 @@ TetrahedralMesh::TetrahedralMesh(Index numberOfVertices, std::vector<Index> tetr
   });
 }
 
+std::vector<Index> GridTetrahedra(Index nx, Index ny, Index nz)
+{
+  std::vector<Index> tets;
+  if (nx < 2 || ny < 2 || nz < 2)
+  {
+    return tets;
+  }
+  tets.reserve(static_cast<std::size_t>(nx - 1) * (ny - 1) * (nz - 1) * 24);
+  const auto id = [&](Index i, Index j, Index k) { return (k * ny + j) * nx + i; };
+  // The six monotone paths from corner (0,0,0) to (1,1,1), one tetrahedron each.
+  constexpr int paths[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 }, { 2, 1, 0 } };
+  for (Index k = 0; k + 1 < nz; ++k)
+  {
+    for (Index j = 0; j + 1 < ny; ++j)
+    {
+      for (Index i = 0; i + 1 < nx; ++i)
+      {
+        for (const auto& path : paths)
+        {
+          Index c[3] = { i, j, k };
+          tets.push_back(id(c[0], c[1], c[2]));
+          for (int step = 0; step < 3; ++step)
+          {
+            ++c[path[step]];
+            tets.push_back(id(c[0], c[1], c[2]));
+          }
+        }
+      }
+    }
+  }
+  return tets;
+}
+
 double TetrahedralMesh::MeanEdgeLength(const double* points) const
 {
   double sum = 0.0;

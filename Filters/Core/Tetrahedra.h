@@ -75,6 +75,11 @@ private:
   std::vector<Index> NeighborList;
 };
 
+/// The tetrahedra of an nx x ny x nz grid of points (x fastest): every cell
+/// split into 6 tetrahedra around its diagonal from (0,0,0) to (1,1,1)
+/// (Kuhn / Freudenthal; conforming: neighbouring cells share face diagonals).
+std::vector<Index> GridTetrahedra(Index nx, Index ny, Index nz);
+
 /// Assembles the volume Laplacian of the mesh embedded in R^dimension
 /// (`points`: dimension doubles per vertex, 3 to 9): c_ij summed over the
 /// tetrahedra of edge (i, j), mass = volume / 4 per tetrahedron.  Degenerate

@@ -15,7 +15,7 @@ namespace
 {
 
 /// An nx x ny x nz grid of points (spacing h, jittered) split into 6
-/// tetrahedra per cube around its main diagonal (Kuhn).
+/// tetrahedra per cube around its main diagonal (GridTetrahedra).
 struct Grid
 {
   int NX, NY, NZ;
@@ -36,22 +36,7 @@ struct Grid
           Points.push_back(h * j + u(rng));
           Points.push_back(h * k + u(rng));
         }
-    const auto id = [&](int i, int j, int k) { return static_cast<Index>((k * ny + j) * nx + i); };
-    // The six monotone paths from corner (0,0,0) to (1,1,1).
-    const int paths[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 }, { 2, 1, 0 } };
-    for (int k = 0; k + 1 < nz; ++k)
-      for (int j = 0; j + 1 < ny; ++j)
-        for (int i = 0; i + 1 < nx; ++i)
-          for (const auto& path : paths)
-          {
-            int c[3] = { i, j, k };
-            Tets.push_back(id(c[0], c[1], c[2]));
-            for (int s = 0; s < 3; ++s)
-            {
-              ++c[path[s]];
-              Tets.push_back(id(c[0], c[1], c[2]));
-            }
-          }
+    Tets = GridTetrahedra(nx, ny, nz);
   }
   Index Size() const { return static_cast<Index>(Points.size() / 3); }
 };
