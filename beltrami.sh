@@ -18,8 +18,8 @@ PACKAGES=(
   libopenmpi-dev openmpi-bin libdouble-conversion-dev liblz4-dev
   # numerics and tests
   libeigen3-dev libgtest-dev python3-numpy xvfb xauth
-  # volumes: TetGen
-  libtet1.5-dev
+  # volumes: TetGen, OpenVDB
+  libtet1.5-dev libopenvdb-dev
 )
 
 install_missing() {

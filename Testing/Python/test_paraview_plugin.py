@@ -154,6 +154,21 @@ if partitions == 1:
     check(filled.GetDataInformation().GetNumberOfCells() > 8000, "TetGen tetrahedra through the plugin")
 
 wavelet = Wavelet(WholeExtent=[0, 9, 0, 9, 0, 9])
+if partitions == 1:
+    with tempfile.TemporaryDirectory() as tmp:
+        vdb = os.path.join(tmp, "wavelet.vdb")
+        SaveData(vdb, proxy=wavelet)
+        opened = OpenDataFile(vdb)
+        check(opened is not None and opened.GetXMLName() == "OpenVDBReader", "OpenDataFile picks the OpenVDB reader")
+        opened.UpdatePipeline()  # the array lists need the data information
+        smoothed_vdb = ImageBeltramiDenoising(Input=opened)
+        smoothed_vdb.ContrastScale = 0.1
+        smoothed_vdb.NumberOfIterations = 3
+        smoothed_vdb.TimeStep = 0.05
+        smoothed_vdb.UpdatePipeline()
+        before_vdb = vtk_to_numpy(servermanager.Fetch(opened).GetPointData().GetScalars())
+        after_vdb = vtk_to_numpy(servermanager.Fetch(smoothed_vdb).GetPointData().GetScalars())
+        check(after_vdb.shape == (1000,) and np.std(after_vdb) < np.std(before_vdb), "a .vdb volume denoised in ParaView")
 tets = Tetrahedralize(Input=wavelet)
 tets.UpdatePipeline()
 volume_denoise = TetrahedralBeltramiDenoising(Input=tets)

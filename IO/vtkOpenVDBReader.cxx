@@ -1,0 +1,363 @@
+#include "vtkOpenVDBReader.h"
+
+#include <vtkDataArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkFloatArray.h>
+#include <vtkIdTypeArray.h>
+#include <vtkImageData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkSmartPointer.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkStringArray.h>
+#include <vtksys/SystemTools.hxx>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <dlfcn.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+extern char** environ;
+
+vtkStandardNewMacro(vtkOpenVDBReader);
+
+vtkOpenVDBReader::vtkOpenVDBReader()
+{
+  this->SetNumberOfInputPorts(0);
+}
+
+vtkOpenVDBReader::~vtkOpenVDBReader()
+{
+  this->SetFileName(nullptr);
+}
+
+int vtkOpenVDBReader::CanReadFile(const char* fileName)
+{
+  std::ifstream in(fileName ? fileName : "", std::ios::binary);
+  char magic[8] = { 0 };
+  // OpenVDB files start with the 64-bit magic number 0x56444220 ("VDB ").
+  return in.read(magic, 8) && std::memcmp(magic, "\x20\x42\x44\x56", 4) == 0 ? 1 : 0;
+}
+
+namespace
+{
+/// What beltrami-vdb-read reports (see IO/Tools/beltrami_vdb_read.cxx).
+struct GridData
+{
+  std::vector<std::string> Names;
+  std::string Name;
+  int Components = 0;
+  bool Double = false;
+  int Extent[6] = { 0, -1, 0, -1, 0, -1 };
+  double Origin[3] = { 0, 0, 0 };
+  double Spacing[3] = { 1, 1, 1 };
+  std::int64_t Active = 0;
+  std::vector<char> Values;
+};
+
+/// The helper next to this library (or BELTRAMI_VDB_READ).
+std::string HelperPath()
+{
+  if (const char* env = std::getenv("BELTRAMI_VDB_READ"))
+  {
+    return env;
+  }
+  Dl_info info;
+  if (dladdr(reinterpret_cast<void*>(&HelperPath), &info) && info.dli_fname)
+  {
+    return vtksys::SystemTools::GetFilenamePath(info.dli_fname) + "/beltrami-vdb-read";
+  }
+  return "beltrami-vdb-read";
+}
+
+/// Reads the helper's answer and never past its end.
+class Cursor
+{
+public:
+  explicit Cursor(const std::vector<char>& bytes)
+    : Bytes(bytes)
+  {
+  }
+  template <typename T>
+  T Get()
+  {
+    T v;
+    this->Take(&v, sizeof(T));
+    return v;
+  }
+  std::string String()
+  {
+    const std::uint32_t n = this->Get<std::uint32_t>();
+    if (n > this->Left())
+    {
+      throw std::runtime_error("malformed answer of the OpenVDB helper");
+    }
+    std::string s(this->Bytes.data() + this->Position, n);
+    this->Position += n;
+    return s;
+  }
+  void Take(void* out, std::size_t n)
+  {
+    if (n > this->Left())
+    {
+      throw std::runtime_error("malformed answer of the OpenVDB helper");
+    }
+    std::memcpy(out, this->Bytes.data() + this->Position, n);
+    this->Position += n;
+  }
+  std::size_t Left() const { return this->Bytes.size() - this->Position; }
+  std::size_t Offset() const { return this->Position; }
+
+private:
+  const std::vector<char>& Bytes;
+  std::size_t Position = 0;
+};
+
+/// Runs the helper process on the file: its bytes in, checked.
+std::vector<char> RunHelper(const std::vector<std::string>& arguments, double maximumBytes, double timeout)
+{
+  const std::string helper = HelperPath();
+  int fds[2];
+  if (pipe(fds) != 0)
+  {
+    throw std::runtime_error("cannot create a pipe for the OpenVDB helper");
+  }
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
+  posix_spawn_file_actions_addclose(&actions, fds[0]);
+  posix_spawn_file_actions_addclose(&actions, fds[1]);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  std::vector<char*> argv = { const_cast<char*>(helper.c_str()) };
+  for (const std::string& a : arguments)
+  {
+    argv.push_back(const_cast<char*>(a.c_str()));
+  }
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, helper.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  close(fds[1]);
+  if (spawned != 0)
+  {
+    close(fds[0]);
+    throw std::runtime_error("cannot run the OpenVDB helper '" + helper + "'");
+  }
+  std::vector<char> bytes;
+  std::vector<char> buffer(1 << 16);
+  bool overflow = false, late = false;
+  const auto start = std::chrono::steady_clock::now();
+  for (;;)
+  {
+    pollfd p{ fds[0], POLLIN, 0 };
+    if (poll(&p, 1, 200) > 0)
+    {
+      const ssize_t n = read(fds[0], buffer.data(), buffer.size());
+      if (n <= 0)
+      {
+        break;
+      }
+      if (static_cast<double>(bytes.size()) + n > maximumBytes)
+      {
+        overflow = true;
+        break;
+      }
+      bytes.insert(bytes.end(), buffer.data(), buffer.data() + n);
+    }
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout)
+    {
+      late = true;
+      break;
+    }
+  }
+  close(fds[0]);
+  if (overflow || late)
+  {
+    kill(pid, SIGKILL);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (late)
+  {
+    throw std::runtime_error("the OpenVDB parser did not finish within the timeout: the file is damaged or too large");
+  }
+  if (overflow)
+  {
+    throw std::runtime_error("the OpenVDB helper sent more data than the grid can hold");
+  }
+  if (WIFSIGNALED(status))
+  {
+    throw std::runtime_error("the file is damaged: the OpenVDB parser crashed on it (signal " +
+      std::to_string(WTERMSIG(status)) + ")");
+  }
+  return bytes;
+}
+
+/// The selected grid's layout (and values unless `info`), every size checked.
+GridData ReadGrid(const char* fileName, const std::string& gridName, vtkIdType maximumVoxels, bool info,
+  double timeout)
+{
+  std::vector<std::string> arguments = { fileName, gridName, std::to_string(maximumVoxels) };
+  if (info)
+  {
+    arguments.emplace_back("--info");
+  }
+  const double maximumBytes = 1e7 + static_cast<double>(maximumVoxels) * 3 * sizeof(double);
+  const std::vector<char> bytes = RunHelper(arguments, maximumBytes, timeout);
+  Cursor c(bytes);
+  char magic[5];
+  c.Take(magic, 5);
+  if (std::memcmp(magic, "BVDB1", 5) != 0)
+  {
+    throw std::runtime_error("malformed answer of the OpenVDB helper");
+  }
+  if (c.Get<std::int32_t>() != 0)
+  {
+    throw std::runtime_error(c.String());
+  }
+  GridData g;
+  const std::uint32_t count = c.Get<std::uint32_t>();
+  for (std::uint32_t k = 0; k < count; ++k)
+  {
+    g.Names.push_back(c.String());
+  }
+  g.Name = c.String();
+  g.Components = c.Get<std::int32_t>();
+  g.Double = c.Get<std::int32_t>() != 0;
+  for (int a = 0; a < 6; ++a)
+  {
+    g.Extent[a] = c.Get<std::int32_t>();
+  }
+  double voxels = 1.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    voxels *= std::max(0.0, static_cast<double>(g.Extent[2 * a + 1]) - g.Extent[2 * a] + 1.0);
+  }
+  c.Take(g.Origin, sizeof(g.Origin));
+  c.Take(g.Spacing, sizeof(g.Spacing));
+  g.Active = c.Get<std::int64_t>();
+  if ((g.Components != 1 && g.Components != 3) || voxels > static_cast<double>(maximumVoxels))
+  {
+    throw std::runtime_error("malformed answer of the OpenVDB helper");
+  }
+  if (!info)
+  {
+    const double expected = voxels * g.Components * (g.Double ? sizeof(double) : sizeof(float));
+    if (static_cast<double>(c.Left()) != expected)
+    {
+      throw std::runtime_error("the OpenVDB helper sent " + std::to_string(c.Left()) + " bytes of values for " +
+        std::to_string(static_cast<std::int64_t>(expected)));
+    }
+    g.Values.assign(bytes.begin() + static_cast<std::ptrdiff_t>(c.Offset()), bytes.end());
+  }
+  return g;
+}
+} // namespace
+
+int vtkOpenVDBReader::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  if (!this->FileName || !vtksys::SystemTools::FileExists(this->FileName, true))
+  {
+    vtkErrorMacro("Cannot read '" << (this->FileName ? this->FileName : "") << "': no such file.");
+    return 0;
+  }
+  try
+  {
+    const GridData g = ReadGrid(this->FileName, this->GridName, this->MaximumNumberOfVoxels, true, this->Timeout);
+    outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), g.Extent, 6);
+    outInfo->Set(vtkDataObject::ORIGIN(), g.Origin, 3);
+    outInfo->Set(vtkDataObject::SPACING(), g.Spacing, 3);
+    vtkDataObject::SetPointDataActiveScalarInfo(outInfo, g.Double ? VTK_DOUBLE : VTK_FLOAT, g.Components);
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro("Cannot read '" << this->FileName << "': " << e.what() << ".");
+    return 0;
+  }
+  return 1;
+}
+
+int vtkOpenVDBReader::RequestData(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  vtkImageData* output = vtkImageData::GetData(outputVector);
+  output->Initialize();
+  try
+  {
+    const GridData g = ReadGrid(this->FileName, this->GridName, this->MaximumNumberOfVoxels, false, this->Timeout);
+    output->SetExtent(const_cast<int*>(g.Extent));
+    output->SetOrigin(g.Origin);
+    output->SetSpacing(g.Spacing);
+    const vtkIdType n = output->GetNumberOfPoints();
+    const std::string name = g.Name.empty() ? "values" : g.Name;
+    if (n > 0)
+    {
+      vtkSmartPointer<vtkDataArray> a;
+      if (g.Double)
+      {
+        a = vtkSmartPointer<vtkDoubleArray>::New();
+      }
+      else
+      {
+        a = vtkSmartPointer<vtkFloatArray>::New();
+      }
+      a->SetName(name.c_str());
+      a->SetNumberOfComponents(g.Components);
+      a->SetNumberOfTuples(n);
+      std::memcpy(a->GetVoidPointer(0), g.Values.data(), g.Values.size());
+      output->GetPointData()->SetScalars(a);
+    }
+    else
+    {
+      vtkWarningMacro("The grid '" << name << "' has no active voxels: the image is empty.");
+    }
+    vtkNew<vtkStringArray> names;
+    names->SetName("GridNames");
+    for (const std::string& s : g.Names)
+    {
+      names->InsertNextValue(s);
+    }
+    output->GetFieldData()->AddArray(names);
+    vtkNew<vtkIdTypeArray> active;
+    active->SetName("ActiveVoxelCount");
+    active->InsertNextValue(static_cast<vtkIdType>(g.Active));
+    output->GetFieldData()->AddArray(active);
+  }
+  catch (const std::exception& e)
+  {
+    output->Initialize();
+    vtkErrorMacro("Cannot read '" << this->FileName << "': " << e.what() << ".");
+    return 0;
+  }
+  return 1;
+}
+
+void vtkOpenVDBReader::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
+  os << indent << "GridName: " << this->GridName << "\n";
+  os << indent << "MaximumNumberOfVoxels: " << this->MaximumNumberOfVoxels << "\n";
+  os << indent << "Timeout: " << this->Timeout << "\n";
+}
