@@ -122,28 +122,47 @@ private:
   bool Stop = false;
 };
 
-/// Runs worker on `threads` threads (the caller being one of them).
-void RunOnThreads(int threads, const std::function<void()>& worker)
+/// Runs loop(stop) on `threads` threads (the caller being one of them).  The
+/// first exception thrown in any of them sets `stop`, so that the others
+/// finish early, and is rethrown here once all have finished.
+void RunOnThreads(int threads, const std::function<void(const std::atomic<bool>& stop)>& loop)
 {
+  std::atomic<bool> failed{ false };
+  std::exception_ptr failure;
+  const std::function<void()> worker = [&]() {
+    try
+    {
+      loop(failed);
+    }
+    catch (...)
+    {
+      if (!failed.exchange(true))
+      {
+        failure = std::current_exception();
+      }
+    }
+  };
   if (threads <= 1)
   {
     worker();
-    return;
   }
-  if (WorkerPool::Instance().Run(threads - 1, worker))
+  else if (!WorkerPool::Instance().Run(threads - 1, worker))
   {
-    return;
+    std::vector<std::thread> pool;
+    pool.reserve(threads - 1);
+    for (int t = 1; t < threads; ++t)
+    {
+      pool.emplace_back(worker);
+    }
+    worker();
+    for (auto& th : pool)
+    {
+      th.join();
+    }
   }
-  std::vector<std::thread> pool;
-  pool.reserve(threads - 1);
-  for (int t = 1; t < threads; ++t)
+  if (failure)
   {
-    pool.emplace_back(worker);
-  }
-  worker();
-  for (auto& th : pool)
-  {
-    th.join();
+    std::rethrow_exception(failure);
   }
 }
 
@@ -199,34 +218,17 @@ bool ParallelFor(std::int64_t n, int numThreads,
       const std::int64_t block =
         std::max<std::int64_t>(std::min<std::int64_t>(256, grain), count / (threads * 16));
       std::atomic<std::int64_t> cursor{ batchBegin };
-      std::exception_ptr failure;
-      std::atomic<bool> failed{ false };
-      auto worker = [&]() {
-        try
+      RunOnThreads(threads, [&](const std::atomic<bool>& stop) {
+        for (;;)
         {
-          for (;;)
+          const std::int64_t b = cursor.fetch_add(block);
+          if (b >= batchEnd || stop.load(std::memory_order_relaxed))
           {
-            const std::int64_t b = cursor.fetch_add(block);
-            if (b >= batchEnd || failed.load(std::memory_order_relaxed))
-            {
-              break;
-            }
-            body(b, std::min(batchEnd, b + block));
+            break;
           }
+          body(b, std::min(batchEnd, b + block));
         }
-        catch (...)
-        {
-          if (!failed.exchange(true))
-          {
-            failure = std::current_exception();
-          }
-        }
-      };
-      RunOnThreads(threads, worker);
-      if (failure)
-      {
-        std::rethrow_exception(failure);
-      }
+      });
     }
     if (progress && !progress(static_cast<double>(batchEnd) / static_cast<double>(n)))
     {
@@ -247,30 +249,13 @@ std::vector<double> ParallelSum(std::int64_t n, int numberOfSums, int numThreads
   const int threads = static_cast<int>(
     std::min<std::int64_t>(ResolveThreadCount(numThreads), std::max<std::int64_t>(1, numChunks / 2)));
   std::atomic<std::int64_t> cursor{ 0 };
-  std::exception_ptr failure;
-  std::atomic<bool> failed{ false };
-  auto worker = [&]() {
-    try
+  RunOnThreads(threads, [&](const std::atomic<bool>& stop) {
+    for (std::int64_t c = cursor.fetch_add(1); c < numChunks && !stop.load(std::memory_order_relaxed);
+         c = cursor.fetch_add(1))
     {
-      for (std::int64_t c = cursor.fetch_add(1); c < numChunks && !failed.load(std::memory_order_relaxed);
-           c = cursor.fetch_add(1))
-      {
-        body(c * Chunk, std::min(n, (c + 1) * Chunk), partials.data() + c * numberOfSums);
-      }
+      body(c * Chunk, std::min(n, (c + 1) * Chunk), partials.data() + c * numberOfSums);
     }
-    catch (...)
-    {
-      if (!failed.exchange(true))
-      {
-        failure = std::current_exception();
-      }
-    }
-  };
-  RunOnThreads(threads, worker);
-  if (failure)
-  {
-    std::rethrow_exception(failure);
-  }
+  });
   std::vector<double> sums(static_cast<std::size_t>(numberOfSums), 0.0);
   for (std::int64_t c = 0; c < numChunks; ++c)
   {

@@ -8,12 +8,12 @@ Run on demand:  source build/beltrami-env.sh && /usr/bin/python3 Testing/Benchma
 (scikit-image: apt install python3-skimage; skipped when missing)."""
 import os
 import sys
-import time
 
 import numpy as np
 from vtkmodules.vtkImagingGeneral import vtkImageAnisotropicDiffusion2D
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
+from timing import timed  # noqa: E402
 from test_denoising import denoise, load_png, psnr, to_image  # noqa: E402
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
@@ -24,18 +24,6 @@ except ImportError:
     print("scikit-image not installed: TV skipped")
 
 SIGMA = 0.1
-
-
-def timed(f, repeats=3):
-    """Best wall time of `repeats` runs (the same rule for every method: the
-    first run of a process also pays for faulting in fresh memory)."""
-    best = None
-    for _ in range(repeats):
-        t = time.perf_counter()
-        out = f()
-        t = time.perf_counter() - t
-        best = t if best is None else min(best, t)
-    return out, best
 
 
 def anisotropic_diffusion(noisy, k, iterations):

@@ -25,21 +25,30 @@ DATA = os.path.join(HERE, "..", "Data")
 out_dir = os.environ.get("BELTRAMI_TEST_OUTPUT_DIR", tempfile.gettempdir())
 
 
-def compare(name, render):
-    """Renders into out_dir/name and compares with the baseline of that name."""
+def render_with_baseline(name, render):
+    """Renders into out_dir/name; returns the image and the baseline of that
+    name (None after --make-baseline, which replaces the baseline)."""
     baseline_png = os.path.join(HERE, "..", "Baseline", name)
     test_png = os.path.join(out_dir, name)
     image = render(test_png)
     if "--make-baseline" in sys.argv:
         os.replace(test_png, baseline_png)
         print("wrote " + baseline_png)
-        return True
+        return image, None
     baseline = vtkPNGReader()
     baseline.SetFileName(baseline_png)
     baseline.Update()
+    return image, baseline.GetOutput()
+
+
+def compare(name, render):
+    """Renders into out_dir/name and compares with the baseline of that name."""
+    image, baseline = render_with_baseline(name, render)
+    if baseline is None:
+        return True
     diff = vtkImageDifference()
     diff.SetInputData(image)
-    diff.SetImageData(baseline.GetOutput())
+    diff.SetImageData(baseline)
     diff.Update()
     error = diff.GetThresholdedError()
     print("%s: thresholded image error %.4f (limit %.2f)" % (name, error, THRESHOLD))
@@ -68,17 +77,10 @@ def compare_pixels(name, render):
     (round-off differs between processors: AVX-512, AVX2 and SSE2 kernels).
     vtkImageDifference's tolerance, made for renderings, would pass a result
     denoised for a 20% different noise level."""
-    baseline_png = os.path.join(HERE, "..", "Baseline", name)
-    test_png = os.path.join(out_dir, name)
-    image = render(test_png)
-    if "--make-baseline" in sys.argv:
-        os.replace(test_png, baseline_png)
-        print("wrote " + baseline_png)
+    image, baseline = render_with_baseline(name, render)
+    if baseline is None:
         return True
-    reader = vtkPNGReader()
-    reader.SetFileName(baseline_png)
-    reader.Update()
-    expected = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars()).astype(int)
+    expected = vtk_to_numpy(baseline.GetPointData().GetScalars()).astype(int)
     actual = vtk_to_numpy(image.GetPointData().GetScalars()).astype(int)
     if expected.shape != actual.shape:
         print("FAILED: %s has shape %s, the baseline %s" % (name, actual.shape, expected.shape))
@@ -88,7 +90,7 @@ def compare_pixels(name, render):
     print("%s: %.4f%% of the values differ by more than 2 levels (limit 0.1%%), largest %d"
           % (name, 100 * fraction, off.max()))
     if fraction > 0.001:
-        print("FAILED: %s differs from the baseline; see %s" % (name, test_png))
+        print("FAILED: %s differs from the baseline; see %s" % (name, os.path.join(out_dir, name)))
         return False
     return True
 
