@@ -212,7 +212,7 @@ struct CurvatureKernel
               weighted += cross / g.TwiceArea;
               break;
             case NormalWeighting::Angle:
-              weighted += g.Angle * cross / g.TwiceArea;
+              weighted += g.Angle() * cross / g.TwiceArea;
               break;
             case NormalWeighting::Max1999:
               weighted += cross / (g.AA * g.BB);

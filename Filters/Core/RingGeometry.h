@@ -49,7 +49,9 @@ struct CornerGeometry
   double AA, BB, AB;  ///< |A|^2, |B|^2, A.B
   double TwiceArea;   ///< 2 * area, eq. 2.13
   double CotJ, CotK;  ///< cotangents of the angles at x_j and x_k (0 if degenerate)
-  double Angle;       ///< angle at x_i, from atan2 (thesis table 2.1)
+  /// The angle at x_i, from atan2 (thesis table 2.1); computed on demand
+  /// (RingSums adds the angles of a ring with one atan2 in all).
+  double Angle() const { return std::atan2(TwiceArea, AB); }
   double MixedArea;   ///< the triangle's part of A_Mixed(x_i), figure 2.3
   bool Degenerate;    ///< zero area (cotangents and areas left out)
 };
@@ -69,7 +71,6 @@ inline CornerGeometry<N> MakeCornerGeometry(
   g.BB = g.B.squaredNorm();
   g.AB = g.A.dot(g.B);
   g.TwiceArea = std::sqrt(std::max(0.0, g.AA * g.BB - g.AB * g.AB));
-  g.Angle = std::atan2(g.TwiceArea, g.AB);
   const double ee = g.AA + g.BB - 2.0 * g.AB; // |x_k - x_j|^2
   const double longest = std::max(ee, std::max(g.AA, g.BB));
   // Written so that NaN also counts as degenerate.
@@ -113,7 +114,13 @@ struct RingSums
 {
   VecN<N> CotangentSum = VecN<N>::Zero(); ///< sum_j (cot a_ij + cot b_ij)(x_i - x_j)
   double MixedArea = 0.0;                 ///< A_Mixed
-  double AngleSum = 0.0;                  ///< sum of the triangle angles at x_i
+  /// The sum of the triangle angles at x_i, as the product of the unit
+  /// complex numbers e^(i theta) (re, im) and the number of turns: one atan2
+  /// per ring instead of one per triangle (the angle of a product is the sum
+  /// of the angles; each angle is in [0, pi], so a turn is completed exactly
+  /// when the product goes from the lower to the upper half plane).
+  double AngleRe = 1.0, AngleIm = 0.0;
+  int AngleTurns = 0;
   int Degenerate = 0;                     ///< zero-area triangles left out
 
   void Add(const CornerGeometry<N>& g)
@@ -121,13 +128,38 @@ struct RingSums
     // This triangle holds edge (i,j) opposite x_k and edge (i,k) opposite x_j.
     CotangentSum -= g.CotK * g.A + g.CotJ * g.B;
     MixedArea += g.MixedArea;
-    AngleSum += g.Angle;
+    AddAngle(g.AB, g.TwiceArea);
     Degenerate += g.Degenerate;
   }
   /// K(x_i), eq. 2.8; the mean curvature normal in R^3.
   VecN<N> MeanCurvatureNormal() const { return CotangentSum / (2.0 * MixedArea); }
   /// 2*pi - sum(theta_j), the numerator of eq. 2.9.
-  double AngleDefect() const { return 2.0 * M_PI - AngleSum; }
+  double AngleDefect() const { return 2.0 * M_PI - AngleSum(); }
+  /// Sum of the triangle angles at x_i (the same as adding atan2 of each).
+  double AngleSum() const
+  {
+    const double a = std::atan2(AngleIm, AngleRe); // (-pi, pi]
+    return 2.0 * M_PI * AngleTurns + (a < 0.0 ? a + 2.0 * M_PI : a);
+  }
+  /// Adds the angle of the complex number (re, im), im >= 0.
+  void AddAngle(double re, double im)
+  {
+    const double scale = std::max(std::abs(re), std::abs(im));
+    if (!(scale > 0.0))
+    {
+      return; // a zero-length edge: atan2(0, 0) = 0
+    }
+    re /= scale;
+    im /= scale;
+    const bool lowerBefore = AngleIm < 0.0 || (AngleIm == 0.0 && AngleRe < 0.0);
+    const double pr = AngleRe * re - AngleIm * im;
+    const double pi = AngleRe * im + AngleIm * re;
+    const double norm = std::max(std::abs(pr), std::abs(pi));
+    AngleRe = pr / norm; // keep the product of order 1 (its angle is unchanged)
+    AngleIm = pi / norm;
+    const bool lowerAfter = AngleIm < 0.0 || (AngleIm == 0.0 && AngleRe < 0.0);
+    AngleTurns += lowerBefore && !lowerAfter;
+  }
 };
 
 } // namespace beltrami
