@@ -341,8 +341,15 @@ int vtkImageBeltramiDenoising::RequestData(
       }
     }
   }
+  // The noise of colours is measured in (normalised) RGB: when they flow in
+  // L*u*v*, the stop compares the change back in RGB.
+  std::vector<double> rgb;
   if (luv)
   {
+    if (this->NoiseLevel > 0.0)
+    {
+      rgb.assign(values.begin(), values.end());
+    }
     beltrami::RGBToLuv(values.data(), count, 3, this->NumberOfThreads);
   }
 
@@ -353,6 +360,21 @@ int vtkImageBeltramiDenoising::RequestData(
   pixels.SpacingY = std::abs(input->GetSpacing()[grid.Axis1]);
   beltrami::GraphFlowOptions options = vtkBeltramiGraphFlow::Options(this);
   options.Boundary = static_cast<beltrami::GridBoundary>(this->Boundary);
+  std::vector<double> converted;
+  if (!rgb.empty())
+  {
+    const int threads = this->NumberOfThreads;
+    options.ChangeMeasure = [&rgb, &converted, count, threads](const double* luvValues) {
+      converted.assign(luvValues, luvValues + rgb.size());
+      beltrami::LuvToRGB(converted.data(), count, 3, threads);
+      double sum = 0.0;
+      for (std::size_t k = 0; k < rgb.size(); ++k)
+      {
+        sum += (converted[k] - rgb[k]) * (converted[k] - rgb[k]);
+      }
+      return rgb.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(rgb.size()));
+    };
+  }
 
   this->UpdateProgress(0.0);
   const beltrami::ProgressCallback progress = [this](double fraction) {

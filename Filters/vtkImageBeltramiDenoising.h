@@ -32,6 +32,8 @@
  *    are kept below the stability limit).
  *  - NoiseLevel sigma > 0 (data units): stop as soon as the RMS change of the
  *    data reaches sigma (discrepancy principle; at most NumberOfIterations).
+ *    Colours: sigma in normalised RGB units ([0, 1]); when they flow in
+ *    L*u*v*, the change is measured back in RGB.
  *  - ColorSpace: AUTOMATIC (default: unsigned char arrays of 3 or 4
  *    components are colours, smoothed in L*u*v*; anything else is smoothed as
  *    it is), NONE (always as it is), RGB or LUV.  Colour images are smoothed

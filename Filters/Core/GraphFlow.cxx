@@ -723,7 +723,21 @@ GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphF
   {
     u0[k] = u[k] = alpha * values[k];
   }
+  std::vector<double> scratch;
+  const auto measured = [&](const LargeVector<double>& x) {
+    // The user's measure, on the values in data units.
+    scratch.resize(size);
+    for (std::size_t k = 0; k < size; ++k)
+    {
+      scratch[k] = x[k] / alpha;
+    }
+    return o.ChangeMeasure(scratch.data());
+  };
   const auto rmsChange = [&]() {
+    if (o.ChangeMeasure)
+    {
+      return measured(u);
+    }
     const double s = ParallelSum(static_cast<std::int64_t>(size), 1, threads,
       [&](std::int64_t b, std::int64_t e, double* acc) {
         for (std::int64_t k = b; k < e; ++k)
@@ -862,8 +876,36 @@ GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphF
           }
         });
       const double target = static_cast<double>(size) * std::pow(o.NoiseLevel * alpha, 2);
-      const double disc2 = s[1] * s[1] - s[2] * (s[0] - target);
-      const double t = s[2] > 0.0 && disc2 >= 0.0 ? std::min(1.0, std::max(0.0, (-s[1] + std::sqrt(disc2)) / s[2])) : 1.0;
+      double t = 1.0;
+      if (o.ChangeMeasure)
+      {
+        // A measure of its own: its square taken as quadratic along the step,
+        // through t = 0, 1/2 and 1.
+        const double m0 = std::pow(measured(next), 2), m1 = std::pow(rmsChange(), 2);
+        LargeVector<double> half(size);
+        for (std::size_t k = 0; k < size; ++k)
+        {
+          half[k] = 0.5 * (next[k] + u[k]);
+        }
+        const double mh = std::pow(measured(half), 2), goal = o.NoiseLevel * o.NoiseLevel;
+        // m(t) = m0 + b t + c t^2
+        const double c = 2.0 * (m1 + m0 - 2.0 * mh), b = m1 - m0 - c;
+        if (std::abs(c) > 1e-300)
+        {
+          const double d2 = b * b - 4.0 * c * (m0 - goal);
+          t = d2 >= 0.0 ? (-b + (c > 0 ? 1 : -1) * std::sqrt(d2)) / (2.0 * c) : 1.0;
+        }
+        else if (std::abs(b) > 0.0)
+        {
+          t = (goal - m0) / b;
+        }
+        t = std::isfinite(t) ? std::min(1.0, std::max(0.0, t)) : 1.0;
+      }
+      else
+      {
+        const double disc2 = s[1] * s[1] - s[2] * (s[0] - target);
+        t = s[2] > 0.0 && disc2 >= 0.0 ? std::min(1.0, std::max(0.0, (-s[1] + std::sqrt(disc2)) / s[2])) : 1.0;
+      }
       if (t < 1.0)
       {
         for (std::size_t k = 0; k < size; ++k)

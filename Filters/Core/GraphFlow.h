@@ -31,6 +31,7 @@
 #include "Parallel.h"
 
 #include <cstdint>
+#include <functional>
 #include <string>
 
 namespace beltrami
@@ -60,6 +61,12 @@ struct GraphFlowOptions
   /// > 0: stop once the RMS change of the data (per component, data units)
   /// reaches this noise level (discrepancy principle).
   double NoiseLevel = 0.0;
+  /// Optional: the RMS change in the units NoiseLevel is given in, from the
+  /// values being smoothed (data units, Components per vertex) - for data
+  /// smoothed in another space than the one the noise was measured in
+  /// (colours flowed in L*u*v*, noise given in RGB).  Default: the RMS change
+  /// of the values themselves.
+  std::function<double(const double* values)> ChangeMeasure;
   GridBoundary Boundary = GridBoundary::Linear; ///< images only
   double SolverTolerance = 1e-4;                ///< semi-implicit: CG residual reduction
   int MaximumSolverIterations = 500;

@@ -184,6 +184,12 @@ class ColourQuality(unittest.TestCase):
             self.assertGreaterEqual(p_coupled, p_separate)
             self.assertLess(b_coupled, 0.95 * b_separate)
             self.assertGreater(p_luv, psnr(noisy, clean) + 4.5)
+            # A noise level for 8-bit colours is in RGB units, also when they
+            # flow in L*u*v*: the flow stops when the RGB change reaches it.
+            stopped, fd = denoise(noisy8, ContrastScale=5.0, NoiseLevel=sigma, NumberOfIterations=200)
+            self.assertAlmostEqual(fd.GetArray("FlowRMSChange").GetValue(0), sigma, delta=1e-3 * sigma)
+            change = np.sqrt(np.mean((stopped / 255.0 - noisy) ** 2))
+            self.assertAlmostEqual(change, sigma, delta=0.05 * sigma)  # after rounding to 8 bits
 
 
 class VectorAndHeightFields(unittest.TestCase):
