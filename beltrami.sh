@@ -20,6 +20,8 @@ PACKAGES=(
   libeigen3-dev libgtest-dev python3-numpy xvfb xauth
   # volumes: TetGen, OpenVDB
   libtet1.5-dev libopenvdb-dev
+  # sparse Cholesky for the parameterization (CHOLMOD) and a fast BLAS under it
+  libsuitesparse-dev libopenblas0-pthread
 )
 
 install_missing() {
