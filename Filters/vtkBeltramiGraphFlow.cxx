@@ -17,6 +17,17 @@
 #include <cmath>
 #include <sstream>
 
+bool vtkBeltramiGraphFlow::IsPointArray(vtkAlgorithm* owner, vtkDataArray* array, int association)
+{
+  if (!array || association != vtkDataObject::FIELD_ASSOCIATION_POINTS)
+  {
+    vtkErrorWithObjectMacro(owner, "No point array to smooth: select a point data array (input array 0). "
+                                   "The output is the input.");
+    return false;
+  }
+  return true;
+}
+
 std::vector<std::uint8_t> vtkBeltramiGraphFlow::FixedMask(vtkAlgorithm* owner, vtkDataSet* input,
   vtkDataArray* smoothed, const char* what, std::string& error)
 {

@@ -56,6 +56,10 @@ public:
     os << indent << "NumberOfThreads: " << f->GetNumberOfThreads() << "\n";
   }
 
+  /// True when `array` (the owner's input array 0) is a point array; else
+  /// reports the error on the owner (the output stays the input).
+  static bool IsPointArray(vtkAlgorithm* owner, vtkDataArray* array, int association);
+
   /// The fixed mask from input array 1 of `owner` (optional; empty = none).
   /// A selection equal to the smoothed array is ignored (such a mask would
   /// keep everything).  Sets `error` when the selected array is unusable.

@@ -43,10 +43,8 @@ int vtkSurfaceDataDenoising::RequestData(
 
   int association = -1;
   vtkDataArray* array = this->GetInputArrayToProcess(0, inputVector, association);
-  if (!array || association != vtkDataObject::FIELD_ASSOCIATION_POINTS)
+  if (!vtkBeltramiGraphFlow::IsPointArray(this, array, association))
   {
-    vtkErrorMacro("No point array to smooth: select a point data array (input array 0). "
-                  "The output is the input.");
     return 0;
   }
   if (topo.NumberOfTriangles() == 0)

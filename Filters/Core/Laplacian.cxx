@@ -140,13 +140,7 @@ void AssembleSurface(const MeshTopology& topo, const double* points,
         l.Weights[entry(g.K)] += 0.25 * g.CotJ;
         mass += g.MixedArea;
       });
-      double diag = 0.0;
-      for (std::int64_t k = first; k < last; ++k)
-      {
-        diag += l.Weights[k];
-      }
-      l.Diagonal[i] = diag;
-      l.Mass[i] = mass;
+      l.FinishRow(i, mass);
     }
     degenerate += nDegenerate;
   });

@@ -51,6 +51,17 @@ struct GraphLaplacian
 
   /// y = S x for `columns` interleaved values per vertex (parallel).
   void ApplyStiffness(const double* x, double* y, int columns, int numThreads) const;
+  /// Completes row i once its weights are in: the diagonal (their sum) and the mass.
+  void FinishRow(Index i, double mass)
+  {
+    double diag = 0.0;
+    for (std::int64_t k = Offsets[i]; k < Offsets[i + 1]; ++k)
+    {
+      diag += Weights[k];
+    }
+    Diagonal[i] = diag;
+    Mass[i] = mass;
+  }
 };
 
 /// Assembles the surface Laplacian of `weights` kind at positions `points`

@@ -244,13 +244,7 @@ void AssembleTetrahedralLaplacian(const TetrahedralMesh& mesh, const double* poi
           l.Weights[k] += terms.Weights[e];
         }
       }
-      double diag = 0.0;
-      for (std::int64_t k = first; k < last; ++k)
-      {
-        diag += l.Weights[k];
-      }
-      l.Diagonal[i] = diag;
-      l.Mass[i] = mass;
+      l.FinishRow(i, mass);
     }
     degenerate += nDegenerate;
   });

@@ -45,6 +45,31 @@ def tetrahedralize(a):
     return tri.GetOutput()
 
 
+def anisotropic_diffusion(noisy, k, iterations):
+    """VTK's vtkImageAnisotropicDiffusion3D (faces, edges and corners) on a volume."""
+    a = vtkImageAnisotropicDiffusion3D()
+    a.SetInputData(image(noisy))
+    a.SetDiffusionThreshold(k)
+    a.SetDiffusionFactor(1.0)
+    a.SetNumberOfIterations(iterations)
+    a.FacesOn()
+    a.EdgesOn()
+    a.CornersOn()
+    a.Update()
+    return vtk_to_numpy(a.GetOutput().GetPointData().GetScalars()).reshape(noisy.shape)
+
+
+def gaussian_smooth(noisy, s):
+    """VTK's vtkImageGaussianSmooth in 3D with standard deviation s (voxels)."""
+    g = vtkImageGaussianSmooth()
+    g.SetInputData(image(noisy))
+    g.SetDimensionality(3)
+    g.SetStandardDeviations(s, s, s)
+    g.SetRadiusFactors(3, 3, 3)
+    g.Update()
+    return vtk_to_numpy(g.GetOutput().GetPointData().GetScalars()).reshape(noisy.shape)
+
+
 def denoise(grid, **settings):
     f = vtkTetrahedralBeltramiDenoising()
     f.SetInputData(grid)
@@ -69,28 +94,13 @@ class VolumeQuality(unittest.TestCase):
 
         gaussian = None
         for s in (0.5, 0.75, 1.0, 1.25, 1.5):
-            g = vtkImageGaussianSmooth()
-            g.SetInputData(image(noisy))
-            g.SetDimensionality(3)
-            g.SetStandardDeviations(s, s, s)
-            g.SetRadiusFactors(3, 3, 3)
-            g.Update()
-            v = vtk_to_numpy(g.GetOutput().GetPointData().GetScalars()).reshape(clean.shape)
+            v = gaussian_smooth(noisy, s)
             if gaussian is None or psnr(v, clean) > psnr(gaussian[1], clean):
                 gaussian = (s, v)
         anisotropic = None
         for k in (0.05, 0.1, 0.2, 0.3):
             for iterations in (3, 5, 10, 20):
-                a = vtkImageAnisotropicDiffusion3D()
-                a.SetInputData(image(noisy))
-                a.SetDiffusionThreshold(k)
-                a.SetDiffusionFactor(1.0)
-                a.SetNumberOfIterations(iterations)
-                a.FacesOn()
-                a.EdgesOn()
-                a.CornersOn()
-                a.Update()
-                v = vtk_to_numpy(a.GetOutput().GetPointData().GetScalars()).reshape(clean.shape)
+                v = anisotropic_diffusion(noisy, k, iterations)
                 if anisotropic is None or psnr(v, clean) > psnr(anisotropic[2], clean):
                     anisotropic = (k, iterations, v)
         # The boundaries: voxels next to a jump of the clean volume.
