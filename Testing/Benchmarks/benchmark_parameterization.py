@@ -5,21 +5,44 @@ Loop-subdivided disk meshes of about 10k and 150k-180k vertices.
     source build/beltrami-env.sh
     /usr/bin/python3 Testing/Benchmarks/benchmark_parameterization.py [threads...]
 
-CGAL is not a Debian dependency of this project; the CGAL 5.5 times printed
-for reference are the issue's measurements on a 207k-vertex disk (DCP 11.1 s,
-DAP 32.4 s, LSCM 14.2 s), not measured in this run.
+In the same run, on the same meshes: CGAL 5.5's DCP, DAP (circle border,
+arc length) and LSCM (its natural conformal map) through
+build/bin/beltrami-benchmark-cgal-parameterization, which is built when
+Debian's libcgal-dev is installed (apt install libcgal-dev; a peer to compare
+with, not a dependency), with the same angle-distortion measure.
 """
 import os
+import subprocess
 import sys
+import tempfile
 import time
 
 from vtkmodules.vtkFiltersModeling import vtkLoopSubdivisionFilter
 
-from beltrami import vtkIntrinsicParameterization, vtkOFFReader
+from beltrami import vtkIntrinsicParameterization, vtkOFFReader, vtkOFFWriter
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "Data")
-CGAL_207K = {"DCP": 11.1, "DAP": 32.4, "natural": 14.2}
+CGAL = os.path.join(HERE, "..", "..", "build", "bin", "beltrami-benchmark-cgal-parameterization")
+
+
+def cgal(data):
+    """{method: (seconds, mean angle distortion)} from CGAL on the same mesh, or {}."""
+    if not os.path.exists(CGAL):
+        return {}
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "mesh.off")
+        w = vtkOFFWriter()
+        w.SetInputData(data)
+        w.SetFileName(path)
+        w.Write()
+        out = subprocess.run([CGAL, path], capture_output=True, text=True, timeout=600).stdout
+    results = {}
+    for line in out.splitlines():
+        parts = line.split()
+        if len(parts) == 3:
+            results[{"LSCM": "natural"}.get(parts[0], parts[0])] = (float(parts[1]), float(parts[2]))
+    return results
 
 
 def mesh(name, levels):
@@ -53,17 +76,20 @@ def main(argv):
         data = mesh(name, levels)
         n = data.GetNumberOfPoints()
         print("%s, %d Loop levels: %d vertices, %d triangles" % (name, levels, n, data.GetNumberOfCells()))
+        reference = cgal(data)
+        if not reference:
+            print("  (CGAL comparison skipped: build/bin/beltrami-benchmark-cgal-parameterization not built; "
+                  "apt install libcgal-dev and rebuild)")
         for label, conformal, authalic, boundary in cases:
             for threads in thread_counts:
                 elapsed, f = run(data, conformal, authalic, boundary, threads)
                 line = ("  %-8s %d thread%s %7.3f s   mean angle distortion %6.3f deg, flipped %d"
                         % (label, threads, " " if threads == 1 else "s", elapsed,
                            f.GetMeanAngleDistortion(), f.GetNumberOfFlippedTriangles()))
-                if n > 100000:
-                    # Scaled to 207k vertices with the n^1.5 cost of a sparse factorization.
-                    scaled = elapsed * (207000.0 / n) ** 1.5
-                    line += "   ~%.2f s at 207k: CGAL 5.5 (issue) %.1f s = %.1fx" % (
-                        scaled, CGAL_207K[label], CGAL_207K[label] / scaled)
+                if label in reference:
+                    t, d = reference[label]
+                    line += "   CGAL %s %.3f s, %.3f deg: ours %.1fx faster" % (
+                        "LSCM" if label == "natural" else label, t, d, t / elapsed)
                 print(line)
     return 0
 
