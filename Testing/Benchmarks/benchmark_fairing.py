@@ -3,9 +3,14 @@ against vtkWindowedSincPolyDataFilter (20 iterations) on bunny00 Loop-subdivided
 to ~300k and ~1.2M triangles, and accuracy on the noisy bunny (Gaussian noise of
 0.3% of the bounding-box diagonal along the normals; RMS vertex distance to the
 clean mesh) against the windowed-sinc filter at its best pass band.
-Run:  source build/beltrami-env.sh && /usr/bin/python3 Testing/Benchmarks/benchmark_fairing.py
-(CGAL's smooth_shape is not compared here: libcgal-dev is not part of the stack yet.)"""
+In the same run, on the same meshes: CGAL 5.5's smooth_shape (implicit mean
+curvature flow, one step of the same time) through
+build/bin/beltrami-benchmark-cgal-smooth-shape, built when Debian's
+libcgal-dev is installed (a peer to compare with, not a dependency).
+Run:  source build/beltrami-env.sh && /usr/bin/python3 Testing/Benchmarks/benchmark_fairing.py"""
 import os
+import subprocess
+import tempfile
 import time
 
 import numpy as np
@@ -15,9 +20,35 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData
 from vtkmodules.vtkFiltersCore import vtkPolyDataNormals, vtkWindowedSincPolyDataFilter
 from vtkmodules.vtkFiltersModeling import vtkLoopSubdivisionFilter
 
-from beltrami import vtkImplicitFairing, vtkOFFReader
+from beltrami import vtkImplicitFairing, vtkOFFReader, vtkOFFWriter
 
-DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
+HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = os.path.join(HERE, "..", "Data")
+CGAL = os.path.join(HERE, "..", "..", "build", "bin", "beltrami-benchmark-cgal-smooth-shape")
+
+
+def mean_edge_length(mesh):
+    p = vtk_to_numpy(mesh.GetPoints().GetData()).astype(float)
+    t = vtk_to_numpy(mesh.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+    return float(np.mean([np.linalg.norm(p[t[:, a]] - p[t[:, (a + 1) % 3]], axis=1).mean() for a in range(3)]))
+
+
+def cgal_smooth(mesh, time_step, iterations=1):
+    """(seconds, smoothed points) of CGAL's smooth_shape, or None when not built."""
+    if not os.path.exists(CGAL):
+        return None
+    with tempfile.TemporaryDirectory() as tmp:
+        src, dst = os.path.join(tmp, "in.off"), os.path.join(tmp, "out.off")
+        w = vtkOFFWriter()
+        w.SetInputData(mesh)
+        w.SetFileName(src)
+        w.Write()
+        out = subprocess.run([CGAL, src, repr(time_step), str(iterations), dst], capture_output=True,
+                             text=True, timeout=900).stdout
+        r = vtkOFFReader()
+        r.SetFileName(dst)
+        r.Update()
+        return float(out.split()[0]), vtk_to_numpy(r.GetOutput().GetPoints().GetData()).astype(float)
 
 
 def timed(f):
@@ -62,6 +93,13 @@ for level in (1, 2):
         t = timed(f)
         print(f"  {mesh.GetNumberOfPolys():9d} triangles, {threads} thread(s): ours {t:.3f} s "
               f"({f.GetIterations(0)} CG iterations), windowed sinc {t_sinc:.3f} s, ratio {t_sinc / t:.2f}")
+    h = mean_edge_length(mesh)
+    reference = cgal_smooth(mesh, 10.0 * h * h)
+    if reference:
+        print(f"  {mesh.GetNumberOfPolys():9d} triangles: CGAL smooth_shape, one step of 10 h^2: {reference[0]:.3f} s")
+    else:
+        print("  (CGAL comparison skipped: build/bin/beltrami-benchmark-cgal-smooth-shape not built; "
+              "apt install libcgal-dev and rebuild)")
 
 print("\nAccuracy: noisy bunny (sigma = 0.3% of the diagonal), RMS distance / diagonal")
 clean = vtk_to_numpy(bunny.GetPoints().GetData()).astype(float)
@@ -90,3 +128,9 @@ best = min((rms(sinc(noisy, pb)), pb) for pb in (0.001, 0.005, 0.01, 0.02, 0.05,
 print(f"  windowed sinc, best pass band {best[1]:<5} {best[0]:.5f}")
 for step, steps in ((0.25, 3), (0.5, 2), (2.0, 1)):
     print(f"  curvature flow {steps} x {step} h^2        {rms(fairing(noisy, 0, step, steps)):.5f}")
+h = mean_edge_length(bunny)
+for step, steps in ((0.25, 3), (0.5, 2), (2.0, 1)):
+    reference = cgal_smooth(noisy, step * h * h, steps)
+    if reference:
+        error = float(np.sqrt(np.mean(np.sum((reference[1] - clean) ** 2, 1)))) / diag
+        print(f"  CGAL smooth_shape {steps} x {step} h^2     {error:.5f}")
