@@ -8,6 +8,7 @@
 #include <Eigen/SparseCore>
 #include <Eigen/SparseLU>
 #include <Eigen/CholmodSupport>
+#include <Eigen/UmfPackSupport>
 
 #include <algorithm>
 #include <cmath>
@@ -183,8 +184,7 @@ public:
       }
       Symmetric = false; // not positive definite after all: fall back to LU
     }
-    LU.analyzePattern(a);
-    LU.factorize(a);
+    LU.compute(a);
     return LU.info() == Eigen::Success;
   }
   Eigen::MatrixXd Solve(const Eigen::MatrixXd& b) const
@@ -197,7 +197,8 @@ private:
   // CHOLMOD's supernodal Cholesky (SuiteSparse): 2-3x faster than Eigen's
   // simplicial one on the systems of meshes with 10^5 vertices.
   Eigen::CholmodSupernodalLLT<SparseMatrix> Cholesky;
-  mutable Eigen::SparseLU<SparseMatrix> LU;
+  // UMFPACK (SuiteSparse) for the non-symmetric systems (DAP, mixes).
+  mutable Eigen::UmfPackLU<SparseMatrix> LU;
 };
 
 struct ParameterizationSolver
