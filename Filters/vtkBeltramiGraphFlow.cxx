@@ -28,23 +28,6 @@ bool vtkBeltramiGraphFlow::IsPointArray(vtkAlgorithm* owner, vtkDataArray* array
   return true;
 }
 
-std::vector<std::uint8_t> vtkBeltramiGraphFlow::FixedMask(vtkAlgorithm* owner, vtkDataSet* input,
-  vtkDataArray* smoothed, const char* what, std::string& error)
-{
-  std::vector<std::uint8_t> fixed;
-  vtkDataArray* mask = vtkBeltramiSurface::SelectedPointArray(owner, input, 1, 1, what, error);
-  if (mask && mask != smoothed)
-  {
-    const vtkIdType n = mask->GetNumberOfTuples();
-    fixed.resize(n);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      fixed[i] = mask->GetComponent(i, 0) != 0.0;
-    }
-  }
-  return fixed;
-}
-
 void vtkBeltramiGraphFlow::ReplaceArray(
   vtkDataSet* input, vtkDataSet* output, vtkDataArray* original, vtkDataArray* smoothed)
 {
@@ -101,7 +84,8 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
 {
   std::string error;
   const std::vector<std::uint8_t> fixed =
-    useMask ? FixedMask(owner, input, array, "fixed-points", error) : std::vector<std::uint8_t>();
+    useMask ? vtkBeltramiSurface::SelectedPointMask(owner, input, 1, "fixed-points", error)
+            : std::vector<std::uint8_t>();
   if (!error.empty())
   {
     vtkErrorWithObjectMacro(owner, << error << " The output is the input.");

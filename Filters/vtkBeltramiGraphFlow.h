@@ -60,12 +60,6 @@ public:
   /// reports the error on the owner (the output stays the input).
   static bool IsPointArray(vtkAlgorithm* owner, vtkDataArray* array, int association);
 
-  /// The fixed mask from input array 1 of `owner` (optional; empty = none).
-  /// A selection equal to the smoothed array is ignored (such a mask would
-  /// keep everything).  Sets `error` when the selected array is unusable.
-  static std::vector<std::uint8_t> FixedMask(vtkAlgorithm* owner, vtkDataSet* input,
-    vtkDataArray* smoothed, const char* what, std::string& error);
-
   /// Puts `smoothed` into the output's point data in place of `original`
   /// (same name), keeping it the active scalars if it was.
   static void ReplaceArray(

@@ -273,6 +273,21 @@ vtkDataArray* vtkBeltramiSurface::SelectedPointArray(vtkAlgorithm* owner, vtkDat
   return a;
 }
 
+std::vector<std::uint8_t> vtkBeltramiSurface::SelectedPointMask(
+  vtkAlgorithm* owner, vtkDataSet* input, int idx, const char* what, std::string& error)
+{
+  std::vector<std::uint8_t> mask;
+  if (vtkDataArray* a = SelectedPointArray(owner, input, idx, 1, what, error))
+  {
+    mask.resize(static_cast<std::size_t>(a->GetNumberOfTuples()));
+    for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i)
+    {
+      mask[i] = a->GetComponent(i, 0) != 0.0;
+    }
+  }
+  return mask;
+}
+
 namespace
 {
 template <typename T>

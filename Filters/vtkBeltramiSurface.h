@@ -72,6 +72,12 @@ public:
   static vtkSmartPointer<vtkDataArray> NewArray(
     int dataType, const char* name, int components, vtkIdType tuples);
 
+  /// The selected point array `idx` of `owner` as a mask (non-zero = 1),
+  /// one value per point; empty when none is selected.  Errors as
+  /// SelectedPointArray (one component needed).
+  static std::vector<std::uint8_t> SelectedPointMask(
+    vtkAlgorithm* owner, vtkDataSet* input, int idx, const char* what, std::string& error);
+
   /// The points as 3 doubles each: the input's own array when it is double,
   /// else a converted copy kept in `storage`.
   const double* PointsAsDouble(std::vector<double>& storage) const;

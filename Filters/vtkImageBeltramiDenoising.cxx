@@ -282,7 +282,7 @@ int vtkImageBeltramiDenoising::RequestData(
   }
   std::string error;
   const std::vector<std::uint8_t> fixed =
-    this->UseFixedPixelsArray ? vtkBeltramiGraphFlow::FixedMask(this, input, array, "fixed-pixel mask", error)
+    this->UseFixedPixelsArray ? vtkBeltramiSurface::SelectedPointMask(this, input, 1, "fixed-pixel mask", error)
                               : std::vector<std::uint8_t>();
   if (!error.empty())
   {

@@ -47,8 +47,8 @@
  * Input array 0: the point array to smooth (default: the active scalars;
  * 1 to 6 components, any numeric type: the output array has the input's
  * name and type, integers rounded and clamped).  Input array 1 (optional):
- * a point array whose non-zero values mark pixels kept as they are (ignored
- * when it is the array being smoothed; see UseFixedPixelsArray).
+ * a point array whose non-zero values mark pixels kept as they are (with
+ * UseFixedPixelsArray).
  * 2D images (XY, XZ and YZ slices) use the pixel-grid kernel above.  3D
  * images (section 2.8.2): the voxels are split into tetrahedra (6 per cell
  * around the cell diagonal, vtkTetrahedralBeltramiDenoising's core) and the

@@ -54,8 +54,9 @@ int vtkImplicitFairing::RequestData(
   }
 
   std::string error;
-  vtkDataArray* fixedArray =
-    this->UseFixedPointsArray ? surface.SelectedPointArray(this, 0, 1, "fixed-points", error) : nullptr;
+  const std::vector<std::uint8_t> fixed = this->UseFixedPointsArray
+    ? vtkBeltramiSurface::SelectedPointMask(this, input, 0, "fixed-points", error)
+    : std::vector<std::uint8_t>();
   vtkDataArray* weightArray = error.empty() && this->UseSmoothingWeightsArray
     ? surface.SelectedPointArray(this, 1, 1, "smoothing-weight", error)
     : nullptr;
@@ -64,16 +65,10 @@ int vtkImplicitFairing::RequestData(
     vtkErrorMacro(<< error);
     return 0;
   }
-  std::vector<std::uint8_t> fixed;
   std::vector<double> weights;
   beltrami::FairingConstraints constraints;
-  if (fixedArray)
+  if (!fixed.empty())
   {
-    fixed.resize(numPoints);
-    for (vtkIdType i = 0; i < numPoints; ++i)
-    {
-      fixed[i] = fixedArray->GetComponent(i, 0) != 0.0;
-    }
     constraints.Fixed = fixed.data();
   }
   if (weightArray)

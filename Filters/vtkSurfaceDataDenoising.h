@@ -24,8 +24,7 @@
  *
  * Input array 0: the point array to smooth (default: the active scalars; any
  * numeric type, written back as double under the same name).  Input array 1
- * (optional): non-zero = point kept (ignored when it is the array being
- * smoothed).  Non-manifold and isolated points, and
+ * (optional, with UseFixedPointsArray): non-zero = point kept.  Non-manifold and isolated points, and
  * points without area, keep their values.  Polygons and strips are
  * triangulated internally; the output is the input with the new array.
  * Field data as vtkImageBeltramiDenoising.

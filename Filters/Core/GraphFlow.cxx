@@ -584,8 +584,7 @@ public:
   /// volumes).  unusable (optional): non-zero = vertex kept (non-manifold).
   MeshDiscretization(Index size, const double* points, int components, const std::uint8_t* fixed,
     const std::uint8_t* unusable, Assembler assemble, double massScale, double gamma, int threads)
-    : Points(points)
-    , Assemble(std::move(assemble))
+    : Assemble(std::move(assemble))
     , MassScale(massScale)
   {
     Gamma = gamma;
@@ -601,7 +600,14 @@ public:
     {
       Fixed[i] = (fixed && fixed[i]) || (unusable && unusable[i]) || !(BaseMeasure[i] > 0.0);
     }
-    Embedded.resize(static_cast<std::size_t>(Size) * (3 + components));
+    // The base coordinates of the embedding, once; Update writes the data.
+    const int dim = 3 + components;
+    Embedded.resize(static_cast<std::size_t>(Size) * dim);
+    for (Index i = 0; i < Size; ++i)
+    {
+      std::copy(points + 3 * static_cast<std::size_t>(i), points + 3 * static_cast<std::size_t>(i) + 3,
+        &Embedded[static_cast<std::size_t>(i) * dim]);
+    }
   }
 
   void Update(const double* u) override
@@ -610,7 +616,6 @@ public:
     ParallelFor(Size, Threads, [&](std::int64_t b, std::int64_t e) {
       for (std::int64_t i = b; i < e; ++i)
       {
-        std::copy(Points + 3 * i, Points + 3 * i + 3, &Embedded[i * dim]);
         std::copy(u + i * Components, u + (i + 1) * Components, &Embedded[i * dim + 3]);
       }
     });
@@ -661,7 +666,6 @@ public:
   }
 
 private:
-  const double* Points;
   Assembler Assemble;
   double MassScale;
   std::vector<double> BaseMeasure, Embedded, Positive;
