@@ -39,16 +39,6 @@ extern char** environ;
 
 vtkStandardNewMacro(vtkOpenVDBReader);
 
-vtkOpenVDBReader::vtkOpenVDBReader()
-{
-  this->SetNumberOfInputPorts(0);
-}
-
-vtkOpenVDBReader::~vtkOpenVDBReader()
-{
-  this->SetFileName(nullptr);
-}
-
 int vtkOpenVDBReader::CanReadFile(const char* fileName)
 {
   std::ifstream in(fileName ? fileName : "", std::ios::binary);
@@ -212,15 +202,10 @@ std::vector<char> RunHelper(const std::vector<std::string>& arguments, double ma
   return bytes;
 }
 
-/// The selected grid's layout (and values unless `info`), every size checked.
-GridData ReadGrid(const char* fileName, const std::string& gridName, vtkIdType maximumVoxels, bool info,
-  double timeout)
+/// The selected grid's layout and values, every size checked.
+GridData ReadGrid(const char* fileName, const std::string& gridName, vtkIdType maximumVoxels, double timeout)
 {
-  std::vector<std::string> arguments = { fileName, gridName, std::to_string(maximumVoxels) };
-  if (info)
-  {
-    arguments.emplace_back("--info");
-  }
+  const std::vector<std::string> arguments = { fileName, gridName, std::to_string(maximumVoxels) };
   const double maximumBytes = 1e7 + static_cast<double>(maximumVoxels) * 3 * sizeof(double);
   const std::vector<char> bytes = RunHelper(arguments, maximumBytes, timeout);
   Cursor c(bytes);
@@ -259,19 +244,35 @@ GridData ReadGrid(const char* fileName, const std::string& gridName, vtkIdType m
   {
     throw std::runtime_error("malformed answer of the OpenVDB helper");
   }
-  if (!info)
+  const double expected = voxels * g.Components * (g.Double ? sizeof(double) : sizeof(float));
+  if (static_cast<double>(c.Left()) != expected)
   {
-    const double expected = voxels * g.Components * (g.Double ? sizeof(double) : sizeof(float));
-    if (static_cast<double>(c.Left()) != expected)
-    {
-      throw std::runtime_error("the OpenVDB helper sent " + std::to_string(c.Left()) + " bytes of values for " +
-        std::to_string(static_cast<std::int64_t>(expected)));
-    }
-    g.Values.assign(bytes.begin() + static_cast<std::ptrdiff_t>(c.Offset()), bytes.end());
+    throw std::runtime_error("the OpenVDB helper sent " + std::to_string(c.Left()) + " bytes of values for " +
+      std::to_string(static_cast<std::int64_t>(expected)));
   }
+  g.Values.assign(bytes.begin() + static_cast<std::ptrdiff_t>(c.Offset()), bytes.end());
   return g;
 }
 } // namespace
+
+class vtkOpenVDBReader::vtkInternals
+{
+public:
+  bool Valid = false;
+  GridData Grid;
+};
+
+vtkOpenVDBReader::vtkOpenVDBReader()
+  : Internals(new vtkInternals)
+{
+  this->SetNumberOfInputPorts(0);
+}
+
+vtkOpenVDBReader::~vtkOpenVDBReader()
+{
+  this->SetFileName(nullptr);
+  delete this->Internals;
+}
 
 int vtkOpenVDBReader::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
@@ -282,9 +283,13 @@ int vtkOpenVDBReader::RequestInformation(
     vtkErrorMacro("Cannot read '" << (this->FileName ? this->FileName : "") << "': no such file.");
     return 0;
   }
+  this->Internals->Valid = false;
   try
   {
-    const GridData g = ReadGrid(this->FileName, this->GridName, this->MaximumNumberOfVoxels, true, this->Timeout);
+    this->Internals->Grid =
+      ReadGrid(this->FileName, this->GridName, this->MaximumNumberOfVoxels, this->Timeout);
+    this->Internals->Valid = true;
+    const GridData& g = this->Internals->Grid;
     outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), g.Extent, 6);
     outInfo->Set(vtkDataObject::ORIGIN(), g.Origin, 3);
     outInfo->Set(vtkDataObject::SPACING(), g.Spacing, 3);
@@ -305,7 +310,17 @@ int vtkOpenVDBReader::RequestData(
   output->Initialize();
   try
   {
-    const GridData g = ReadGrid(this->FileName, this->GridName, this->MaximumNumberOfVoxels, false, this->Timeout);
+    // The grid RequestInformation read (or a new read if none is kept).
+    GridData g;
+    if (this->Internals->Valid)
+    {
+      g = std::move(this->Internals->Grid);
+      this->Internals->Valid = false;
+    }
+    else
+    {
+      g = ReadGrid(this->FileName, this->GridName, this->MaximumNumberOfVoxels, this->Timeout);
+    }
     output->SetExtent(const_cast<int*>(g.Extent));
     output->SetOrigin(g.Origin);
     output->SetSpacing(g.Spacing);

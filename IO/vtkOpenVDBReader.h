@@ -60,6 +60,11 @@ protected:
   double Timeout = 300.0;
 
 private:
+  // The grid read by RequestInformation, kept for the RequestData that
+  // follows (the file is parsed once per update).
+  class vtkInternals;
+  vtkInternals* Internals;
+
   vtkOpenVDBReader(const vtkOpenVDBReader&) = delete;
   void operator=(const vtkOpenVDBReader&) = delete;
 };

@@ -1,4 +1,4 @@
-// beltrami-vdb-read FILE GRID MAXVOXELS [--info]
+// beltrami-vdb-read FILE GRID MAXVOXELS
 //
 // Parses an OpenVDB file in a process of its own for vtkOpenVDBReader:
 // OpenVDB's parser can corrupt the heap on damaged files, so it never runs
@@ -7,7 +7,7 @@
 //   on success: uint32 number of grids, each as uint32 length + name; the
 //   selected grid's name likewise; int32 components (1, 3), int32 double (0,
 //   1), int32 extent[6], double origin[3], double spacing[3], int64 active
-//   voxel count; then (without --info) the values over the extent, x fastest.
+//   voxel count; then the values over the extent, x fastest.
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 
@@ -84,11 +84,10 @@ int main(int argc, char** argv)
   Put("BVDB1", 5);
   if (argc < 4)
   {
-    return Fail("usage: beltrami-vdb-read FILE GRID MAXVOXELS [--info]");
+    return Fail("usage: beltrami-vdb-read FILE GRID MAXVOXELS");
   }
   const std::string gridName = argv[2];
   const double maximumVoxels = std::atof(argv[3]);
-  const bool info = argc > 4 && std::string(argv[4]) == "--info";
   try
   {
     openvdb::initialize();
@@ -185,7 +184,7 @@ int main(int argc, char** argv)
     Put(origin, sizeof(origin));
     Put(spacing, sizeof(spacing));
     Put(static_cast<std::int64_t>(grid->activeVoxelCount()));
-    if (!info && !box.empty())
+    if (!box.empty())
     {
       if (type == "float")
         PutValues<openvdb::FloatGrid, float>(*grid, ext, 1);
