@@ -21,6 +21,7 @@
 #include <vtkStreamingDemandDrivenPipeline.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -34,7 +35,7 @@ using beltrami::Index;
 // Splits a polygon into triangles: quads along the shorter diagonal, larger
 // polygons by VTK's ear cutting (which handles non-convex polygons).
 void TriangulatePolygon(vtkPoints* points, vtkIdType n, const vtkIdType* ids,
-  std::vector<Index>& triangles, vtkPolygon* polygon, vtkIdList* scratch)
+  beltrami::IndexArray& triangles, vtkPolygon* polygon, vtkIdList* scratch)
 {
   auto emit = [&](vtkIdType a, vtkIdType b, vtkIdType c) {
     triangles.push_back(static_cast<Index>(a));
@@ -83,6 +84,45 @@ void TriangulatePolygon(vtkPoints* points, vtkIdType n, const vtkIdType* ids,
   }
 }
 
+/// The common case read in parallel without a cell iterator: every polygon
+/// a triangle with valid point ids.  Returns false (and leaves the work to
+/// the general path) otherwise.
+template <typename OffsetArray, typename ConnectivityArray>
+bool CopyTriangles(OffsetArray* offsets, ConnectivityArray* connectivity, vtkIdType numPoints,
+  int numThreads, beltrami::IndexArray& triangles)
+{
+  const vtkIdType cells = offsets->GetNumberOfValues() - 1;
+  if (cells <= 0 || connectivity->GetNumberOfValues() != 3 * cells)
+  {
+    return false;
+  }
+  const auto* o = offsets->GetPointer(0);
+  const auto* c = connectivity->GetPointer(0);
+  triangles.resize(3 * static_cast<std::size_t>(cells));
+  std::atomic<bool> ok{ true };
+  beltrami::ParallelFor(cells, numThreads, [&](std::int64_t begin, std::int64_t end) {
+    bool good = true;
+    for (std::int64_t k = begin; k < end; ++k)
+    {
+      good = good && o[k + 1] - o[k] == 3;
+    }
+    for (std::int64_t k = 3 * begin; k < 3 * end; ++k)
+    {
+      good = good && c[k] >= 0 && c[k] < numPoints;
+      triangles[k] = static_cast<Index>(c[k]);
+    }
+    if (!good)
+    {
+      ok = false;
+    }
+  });
+  if (!ok)
+  {
+    triangles.clear();
+  }
+  return ok;
+}
+
 bool ValidCell(vtkIdType n, const vtkIdType* ids, vtkIdType numPoints)
 {
   for (vtkIdType k = 0; k < n; ++k)
@@ -115,7 +155,8 @@ bool vtkBeltramiSurface::Build(vtkPolyData* input, int numberOfThreads)
     return false;
   }
 
-  std::vector<Index> triangles;
+  beltrami::IndexArray triangles;
+  FirstPolygonCell = input ? input->GetNumberOfVerts() + input->GetNumberOfLines() : 0;
   if (numPoints > 0)
   {
     vtkPoints* points = input->GetPoints();
@@ -138,53 +179,18 @@ bool vtkBeltramiSurface::Build(vtkPolyData* input, int numberOfThreads)
       PointData = converted;
     }
 
-    triangles.reserve(3 * static_cast<std::size_t>(input->GetNumberOfPolys()));
-    CellOfTriangle.reserve(input->GetNumberOfPolys());
-    vtkIdType cellId = input->GetNumberOfVerts() + input->GetNumberOfLines();
-    const auto recordCell = [&]() {
-      CellOfTriangle.resize(triangles.size() / 3, cellId);
-      ++cellId;
-    };
-    vtkNew<vtkPolygon> polygon;
-    vtkNew<vtkIdList> scratch;
-    auto polys = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
-    for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell())
-    {
-      vtkIdType n;
-      const vtkIdType* ids;
-      polys->GetCurrentCell(n, ids);
-      if (!ValidCell(n, ids, numPoints))
-      {
-        ++InvalidCells;
-      }
-      else if (n >= 3)
-      {
-        TriangulatePolygon(points, n, ids, triangles, polygon, scratch);
-      }
-      recordCell();
-    }
-    auto strips = vtk::TakeSmartPointer(input->GetStrips()->NewIterator());
-    for (strips->GoToFirstCell(); !strips->IsDoneWithTraversal(); strips->GoToNextCell())
-    {
-      vtkIdType n;
-      const vtkIdType* ids;
-      strips->GetCurrentCell(n, ids);
-      if (!ValidCell(n, ids, numPoints))
-      {
-        ++InvalidCells;
-        recordCell();
-        continue;
-      }
-      for (vtkIdType k = 0; k + 2 < n; ++k) // alternate orientation along the strip
-      {
-        const bool even = k % 2 == 0;
-        triangles.push_back(static_cast<Index>(ids[even ? k : k + 1]));
-        triangles.push_back(static_cast<Index>(ids[even ? k + 1 : k]));
-        triangles.push_back(static_cast<Index>(ids[k + 2]));
-      }
-      recordCell();
-    }
     IgnoredCells = input->GetNumberOfVerts() + input->GetNumberOfLines();
+    vtkCellArray* polys = input->GetPolys();
+    const bool triangleList = input->GetNumberOfStrips() == 0 &&
+      (polys->IsStorage64Bit()
+          ? CopyTriangles(polys->GetOffsetsArray64(), polys->GetConnectivityArray64(), numPoints,
+              numberOfThreads, triangles)
+          : CopyTriangles(polys->GetOffsetsArray32(), polys->GetConnectivityArray32(), numPoints,
+              numberOfThreads, triangles));
+    if (!triangleList)
+    {
+      BuildTriangles(input, triangles);
+    }
   }
   try
   {
@@ -197,6 +203,58 @@ bool vtkBeltramiSurface::Build(vtkPolyData* input, int numberOfThreads)
     return false;
   }
   return true;
+}
+
+void vtkBeltramiSurface::BuildTriangles(vtkPolyData* input, beltrami::IndexArray& triangles)
+{
+  const vtkIdType numPoints = input->GetNumberOfPoints();
+  vtkPoints* points = input->GetPoints();
+  triangles.reserve(3 * static_cast<std::size_t>(input->GetNumberOfPolys()));
+  CellOfTriangle.reserve(input->GetNumberOfPolys());
+  vtkIdType cellId = input->GetNumberOfVerts() + input->GetNumberOfLines();
+  const auto recordCell = [&]() {
+    CellOfTriangle.resize(triangles.size() / 3, cellId);
+    ++cellId;
+  };
+  vtkNew<vtkPolygon> polygon;
+  vtkNew<vtkIdList> scratch;
+  auto polys = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
+  for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    polys->GetCurrentCell(n, ids);
+    if (!ValidCell(n, ids, numPoints))
+    {
+      ++InvalidCells;
+    }
+    else if (n >= 3)
+    {
+      TriangulatePolygon(points, n, ids, triangles, polygon, scratch);
+    }
+    recordCell();
+  }
+  auto strips = vtk::TakeSmartPointer(input->GetStrips()->NewIterator());
+  for (strips->GoToFirstCell(); !strips->IsDoneWithTraversal(); strips->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    strips->GetCurrentCell(n, ids);
+    if (!ValidCell(n, ids, numPoints))
+    {
+      ++InvalidCells;
+      recordCell();
+      continue;
+    }
+    for (vtkIdType k = 0; k + 2 < n; ++k) // alternate orientation along the strip
+    {
+      const bool even = k % 2 == 0;
+      triangles.push_back(static_cast<Index>(ids[even ? k : k + 1]));
+      triangles.push_back(static_cast<Index>(ids[even ? k + 1 : k]));
+      triangles.push_back(static_cast<Index>(ids[k + 2]));
+    }
+    recordCell();
+  }
 }
 
 vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owner,
@@ -301,7 +359,7 @@ void AllocateLarge(vtkDataArray* array, vtkIdType values)
     return;
   }
   aos->SetArray(memory, values, /*save=*/0, vtkAbstractArray::VTK_DATA_ARRAY_USER_DEFINED);
-  aos->SetArrayFreeFunction(&std::free); // LargeBufferAllocator's large blocks come from aligned_alloc
+  aos->SetArrayFreeFunction(&beltrami::FreeLargeBlock); // back to the block cache
 }
 } // namespace
 

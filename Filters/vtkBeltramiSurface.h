@@ -90,9 +90,12 @@ public:
   }
 
   /// The input cell (vtkPolyData cell id: verts, lines, polys, strips) that
-  /// each triangle of the triangle list given to the topology came from;
-  /// index it with Topology().OriginalTriangleIds()[t] for kept triangle t.
-  const std::vector<vtkIdType>& TriangleCells() const { return CellOfTriangle; }
+  /// triangle t of the triangle list given to the topology came from; call
+  /// it with Topology().OriginalTriangleIds()[k] for kept triangle k.
+  vtkIdType TriangleCell(beltrami::Index t) const
+  {
+    return CellOfTriangle.empty() ? FirstPolygonCell + t : CellOfTriangle[t];
+  }
 
   vtkIdType NumberOfInputCells() const { return InputCells; }
   vtkIdType NumberOfIgnoredCells() const { return IgnoredCells; } ///< verts and lines
@@ -103,6 +106,9 @@ public:
   std::string TopologyWarning() const;
 
 private:
+  /// The general path of Build: any polygons (triangulated) and strips.
+  void BuildTriangles(vtkPolyData* input, beltrami::IndexArray& triangles);
+
   std::unique_ptr<beltrami::MeshTopology> Mesh;
   vtkPolyData* InputData = nullptr;
   vtkPolyData* OutputData = nullptr;
@@ -110,7 +116,8 @@ private:
   vtkSmartPointer<vtkDataArray> PointData; // keeps converted points alive
   const float* Floats = nullptr;
   const double* Doubles = nullptr;
-  std::vector<vtkIdType> CellOfTriangle;
+  std::vector<vtkIdType> CellOfTriangle; // empty: the polygons are all triangles
+  vtkIdType FirstPolygonCell = 0;
   vtkIdType InputCells = 0;
   vtkIdType IgnoredCells = 0;
   vtkIdType InvalidCells = 0;

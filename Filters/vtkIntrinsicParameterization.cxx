@@ -243,14 +243,14 @@ int vtkIntrinsicParameterization::RequestData(
   // Per-cell distortion: the mean over each input cell's triangles; NaN for
   // cells without triangles (vertices, lines).
   const vtkIdType numCells = input->GetNumberOfCells();
-  const std::vector<beltrami::Index>& kept = topo.OriginalTriangleIds();
+  const beltrami::IndexArray& kept = topo.OriginalTriangleIds();
   const char* names[3] = { "AngleDistortion", "AreaDistortion", "EdgeDistortion" };
   const std::vector<double>* values[3] = { &distortion.AngleDistortion, &distortion.AreaDistortion,
     &distortion.EdgeDistortion };
   std::vector<int> count(numCells, 0);
   for (std::size_t t = 0; t < kept.size(); ++t)
   {
-    ++count[surface.TriangleCells()[kept[t]]];
+    ++count[surface.TriangleCell(kept[t])];
   }
   for (int a = 0; a < 3; ++a)
   {
@@ -260,7 +260,7 @@ int vtkIntrinsicParameterization::RequestData(
     array->Fill(0.0);
     for (std::size_t t = 0; t < kept.size(); ++t)
     {
-      const vtkIdType cell = surface.TriangleCells()[kept[t]];
+      const vtkIdType cell = surface.TriangleCell(kept[t]);
       array->SetValue(cell, array->GetValue(cell) + (*values[a])[t] / count[cell]);
     }
     for (vtkIdType c = 0; c < numCells; ++c)

@@ -137,7 +137,7 @@ int vtkTetGenTetrahedralizer::RequestData(
   in.numberofpoints = static_cast<int>(numPoints);
   in.pointlist = new REAL[3 * numPoints];
   std::copy(points, points + 3 * numPoints, in.pointlist);
-  const std::vector<beltrami::Index>& triangles = topo.TriangleList();
+  const beltrami::IndexArray& triangles = topo.TriangleList();
   const int numFacets = static_cast<int>(triangles.size() / 3);
   in.numberoffacets = numFacets;
   in.facetlist = new tetgenio::facet[numFacets];

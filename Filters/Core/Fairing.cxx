@@ -29,7 +29,7 @@ Vec3 Point(const double* points, Index i)
 template <typename F>
 std::vector<double> SumOverTriangles(const MeshTopology& topo, int numThreads, F&& f)
 {
-  const std::vector<Index>& tri = topo.TriangleList();
+  const IndexArray& tri = topo.TriangleList();
   return ParallelSum(topo.NumberOfTriangles(), 4, numThreads,
     [&](std::int64_t begin, std::int64_t end, double* acc) {
       for (std::int64_t t = begin; t < end; ++t)
@@ -733,7 +733,7 @@ FairingReport FairSurface(const MeshTopology& topo, double* points, const Fairin
   // a virtual vertex at its barycentre, smooth the closed surface, drop them.
   const Index n = topo.NumberOfVertices();
   const std::vector<std::vector<Index>> loops = topo.BoundaryLoops();
-  std::vector<Index> triangles = topo.TriangleList();
+  IndexArray triangles = topo.TriangleList();
   std::vector<double> x(points, points + 3 * static_cast<std::size_t>(n));
   Index next = n;
   for (const auto& loop : loops)

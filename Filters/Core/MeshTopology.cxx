@@ -29,10 +29,11 @@ void GatherRing(const MeshTopology& topo, Index v, std::vector<RingEntry>& ring)
 {
   ring.clear();
   Index local = 0;
-  for (const Index* c = topo.CornersBegin(v); c != topo.CornersEnd(v); ++c, ++local)
+  const Index* pair = topo.RingPairsBegin(v);
+  for (const Index* c = topo.CornersBegin(v); c != topo.CornersEnd(v); ++c, ++local, pair += 2)
   {
-    ring.push_back({ topo.CornerVertex(MeshTopology::Next(*c)), *c, local, +1 });
-    ring.push_back({ topo.CornerVertex(MeshTopology::Prev(*c)), *c, local, -1 });
+    ring.push_back({ pair[0], *c, local, +1 });
+    ring.push_back({ pair[1], *c, local, -1 });
   }
   std::sort(ring.begin(), ring.end(), [](const RingEntry& a, const RingEntry& b) {
     return a.Neighbor != b.Neighbor ? a.Neighbor < b.Neighbor : a.Corner < b.Corner;
@@ -43,6 +44,56 @@ void GatherRing(const MeshTopology& topo, Index v, std::vector<RingEntry>& ring)
 Index OppositeCorner(const RingEntry& e)
 {
   return e.Direction > 0 ? MeshTopology::Prev(e.Corner) : MeshTopology::Next(e.Corner);
+}
+
+// The common case, checked without sorting: v is an interior manifold
+// vertex whose triangles form one consistently oriented fan, i.e. the
+// (next, previous) pairs of its corners chain into a single cycle through
+// all of them.  Then every neighbour appears once as a next and once as a
+// previous vertex (each edge has two triangles of opposite directions) and
+// no two triangles repeat.  Returns the number of neighbours with a larger
+// id (the edges v owns), or -1 when the general classification is needed.
+int RegularFanOwnedEdges(const Index* pairs, Index valence, Index v)
+{
+  constexpr Index MaximumValence = 32;
+  if (valence < 3 || valence > MaximumValence)
+  {
+    return -1;
+  }
+  // successor[a]: the corner whose next vertex is the previous vertex of a.
+  std::int8_t successor[MaximumValence];
+  int owned = 0;
+  for (Index a = 0; a < valence; ++a)
+  {
+    int found = -1;
+    for (Index b = 0; b < valence; ++b)
+    {
+      if (b != a && pairs[2 * b] == pairs[2 * a] )
+      {
+        return -1; // a neighbour twice as a next vertex
+      }
+      if (pairs[2 * b] == pairs[2 * a + 1])
+      {
+        found = b;
+      }
+    }
+    if (found < 0 || found == a)
+    {
+      return -1;
+    }
+    successor[a] = static_cast<std::int8_t>(found);
+    owned += pairs[2 * a] > v;
+  }
+  // One cycle through all corners (next vertices are distinct, so the
+  // successor map is a permutation).
+  Index length = 0;
+  Index c = 0;
+  do
+  {
+    c = successor[c];
+    ++length;
+  } while (c != 0 && length <= valence);
+  return length == valence ? owned : -1;
 }
 
 Index FindRoot(std::vector<Index>& parent, Index a)
@@ -57,7 +108,7 @@ Index FindRoot(std::vector<Index>& parent, Index a)
 
 } // namespace
 
-MeshTopology::MeshTopology(Index numberOfVertices, std::vector<Index> triangles, int numThreads)
+MeshTopology::MeshTopology(Index numberOfVertices, IndexArray triangles, int numThreads)
   : NumVertices(std::max<Index>(0, numberOfVertices))
   , NumThreads(ResolveThreadCount(numThreads))
 {
@@ -91,21 +142,41 @@ MeshTopology::MeshTopology(Index numberOfVertices, std::vector<Index> triangles,
   triangles.resize(out);
   Triangles = std::move(triangles);
 
-  // Vertex -> incident corners (CSR, corners ascending within each vertex).
+  // Vertex -> incident corners (CSR, corners ascending within each vertex)
+  // and their ring pairs.  Each thread owns a range of vertices and scans
+  // all corners: no atomics, and the order does not depend on the threads.
+  const Index numCorners = static_cast<Index>(Triangles.size());
   CornerOffsets.assign(static_cast<std::size_t>(NumVertices) + 1, 0);
-  for (Index v : Triangles)
-  {
-    ++CornerOffsets[v + 1];
-  }
+  const int owners = numCorners < (1 << 18) ? 1 : NumThreads;
+  const auto forOwnedCorners = [&](auto&& f) {
+    ParallelFor(owners, owners, [&](std::int64_t first, std::int64_t last) {
+      for (std::int64_t owner = first; owner < last; ++owner)
+      {
+        const Index begin = static_cast<Index>(NumVertices * owner / owners);
+        const Index end = static_cast<Index>(NumVertices * (owner + 1) / owners);
+        for (Index c = 0; c < numCorners; ++c)
+        {
+          const Index v = Triangles[c];
+          if (v >= begin && v < end)
+          {
+            f(v, c);
+          }
+        }
+      }
+    }, {}, 1, 1);
+  };
+  forOwnedCorners([&](Index v, Index) { ++CornerOffsets[v + 1]; });
   std::partial_sum(CornerOffsets.begin(), CornerOffsets.end(), CornerOffsets.begin());
   VertexCorners.resize(Triangles.size());
+  RingPairs.resize(2 * Triangles.size());
   {
-    std::vector<std::int64_t> cursor(CornerOffsets.begin(), CornerOffsets.end() - 1);
-    const Index numCorners = static_cast<Index>(Triangles.size());
-    for (Index c = 0; c < numCorners; ++c)
-    {
-      VertexCorners[cursor[Triangles[c]]++] = c;
-    }
+    LargeVector<std::int64_t> cursor(CornerOffsets.begin(), CornerOffsets.end() - 1);
+    forOwnedCorners([&](Index v, Index c) {
+      const std::int64_t slot = cursor[v]++;
+      VertexCorners[slot] = c;
+      RingPairs[2 * slot] = Triangles[Next(c)];
+      RingPairs[2 * slot + 1] = Triangles[Prev(c)];
+    });
   }
   Classify();
 }
@@ -129,6 +200,13 @@ void MeshTopology::Classify()
       if (valence == 0)
       {
         Flags[v] = VertexIsolated;
+        continue;
+      }
+      const int regularOwned = RegularFanOwnedEdges(RingPairsBegin(v), valence, v);
+      if (regularOwned >= 0)
+      {
+        Flags[v] = VertexRegular;
+        nEdges += regularOwned;
         continue;
       }
       GatherRing(*this, v, ring);
@@ -186,10 +264,9 @@ void MeshTopology::Classify()
       }
       // Duplicate triangles: two corners of v seeing the same unordered {j, k}.
       faces.clear();
-      for (const Index* c = CornersBegin(v); c != CornersEnd(v); ++c)
+      for (const Index* pair = RingPairsBegin(v); pair != RingPairsBegin(v + 1); pair += 2)
       {
-        const Index j = CornerVertex(Next(*c)), k = CornerVertex(Prev(*c));
-        faces.emplace_back(std::min(j, k), std::max(j, k));
+        faces.emplace_back(std::min(pair[0], pair[1]), std::max(pair[0], pair[1]));
       }
       std::sort(faces.begin(), faces.end());
       if (std::adjacent_find(faces.begin(), faces.end()) != faces.end())
@@ -321,7 +398,7 @@ const MeshTopology::EdgeTable& MeshTopology::Edges() const
   std::call_once(EdgesOnce, [this]() {
     auto table = std::make_unique<EdgeTable>();
     const std::size_t nv = static_cast<std::size_t>(NumVertices);
-    std::vector<std::int64_t> ownedOffsets(nv + 1, 0);
+    LargeVector<std::int64_t> ownedOffsets(nv + 1, 0);
     table->NeighborOffsets.assign(nv + 1, 0);
     // Pass 1: count neighbours and owned edges (neighbour id > v) per vertex.
     ParallelFor(NumVertices, NumThreads, [&](std::int64_t begin, std::int64_t end) {

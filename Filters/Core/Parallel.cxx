@@ -198,7 +198,12 @@ bool ParallelFor(std::int64_t n, int numThreads,
   numThreads = ResolveThreadCount(numThreads);
   if (numBatches <= 0)
   {
-    numBatches = progress ? 20 : 1;
+    // Progress is reported between batches; a batch must still be large
+    // enough to give every thread a few grains (20 batches of a 40k-vertex
+    // mesh each ran on one thread).
+    numBatches = progress
+      ? static_cast<int>(std::clamp<std::int64_t>(n / (4 * std::max<std::int64_t>(grain, 1) * numThreads), 1, 20))
+      : 1;
   }
   const std::int64_t batchSize = std::max<std::int64_t>(1, (n + numBatches - 1) / numBatches);
 

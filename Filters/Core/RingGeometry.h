@@ -56,15 +56,15 @@ struct CornerGeometry
   bool Degenerate;    ///< zero area (cotangents and areas left out)
 };
 
-/// Computes the geometry of corner c (a corner of vertex i).
+/// Computes the geometry of corner c of vertex i in triangle (x_i, x_j, x_k).
 template <int N, typename T>
 inline CornerGeometry<N> MakeCornerGeometry(
-  const MeshTopology& topo, const T* points, int stride, const VecN<N>& xi, Index c)
+  const T* points, int stride, const VecN<N>& xi, Index c, Index j, Index k)
 {
   CornerGeometry<N> g;
   g.Corner = c;
-  g.J = topo.CornerVertex(MeshTopology::Next(c));
-  g.K = topo.CornerVertex(MeshTopology::Prev(c));
+  g.J = j;
+  g.K = k;
   g.A = LoadPoint<N>(points, stride, g.J) - xi;
   g.B = LoadPoint<N>(points, stride, g.K) - xi;
   g.AA = g.A.squaredNorm();
@@ -83,8 +83,9 @@ inline CornerGeometry<N> MakeCornerGeometry(
   // Angle at x_j is between (x_i - x_j) and (x_k - x_j): dot = AA - AB; at x_k: BB - AB.
   const double dotJ = g.AA - g.AB;
   const double dotK = g.BB - g.AB;
-  g.CotJ = dotJ / g.TwiceArea;
-  g.CotK = dotK / g.TwiceArea;
+  const double inverseTwiceArea = 1.0 / g.TwiceArea;
+  g.CotJ = dotJ * inverseTwiceArea;
+  g.CotK = dotK * inverseTwiceArea;
   if (g.AB >= 0.0 && dotJ >= 0.0 && dotK >= 0.0)
   {
     // Non-obtuse: Voronoi region, (|PR|^2 cot Q + |PQ|^2 cot R) / 8 (section 2.4.3).
@@ -98,13 +99,31 @@ inline CornerGeometry<N> MakeCornerGeometry(
   return g;
 }
 
+/// Software prefetch for loops over vertices that read their 1-rings: on
+/// large meshes those loops wait on the random reads of the neighbours'
+/// points.  Called at vertex i, it asks for the neighbour points of i + 8.
+template <typename T>
+inline void PrefetchRing(const MeshTopology& topo, const T* points, int stride, Index i)
+{
+  constexpr Index Distance = 8;
+  if (i + Distance < topo.NumberOfVertices())
+  {
+    const Index v = i + Distance;
+    for (const Index* p = topo.RingPairsBegin(v); p != topo.RingPairsBegin(v + 1); ++p)
+    {
+      __builtin_prefetch(points + static_cast<std::int64_t>(stride) * *p);
+    }
+  }
+}
+
 template <int N, typename T, typename Visitor>
 inline void ForEachRingCorner(
   const MeshTopology& topo, const T* points, int stride, Index i, const VecN<N>& xi, Visitor&& visit)
 {
-  for (const Index* c = topo.CornersBegin(i); c != topo.CornersEnd(i); ++c)
+  const Index* pair = topo.RingPairsBegin(i);
+  for (const Index* c = topo.CornersBegin(i); c != topo.CornersEnd(i); ++c, pair += 2)
   {
-    visit(MakeCornerGeometry<N>(topo, points, stride, xi, *c));
+    visit(MakeCornerGeometry<N>(points, stride, xi, *c, pair[0], pair[1]));
   }
 }
 
@@ -141,22 +160,22 @@ struct RingSums
     const double a = std::atan2(AngleIm, AngleRe); // (-pi, pi]
     return 2.0 * M_PI * AngleTurns + (a < 0.0 ? a + 2.0 * M_PI : a);
   }
-  /// Adds the angle of the complex number (re, im), im >= 0.
+  /// Adds the angle of the complex number (re, im), im >= 0 (|re|, |im| of
+  /// the order of a squared edge length: the product stays far from under-
+  /// and overflow, as the dot products of the corner geometry do).
   void AddAngle(double re, double im)
   {
-    const double scale = std::max(std::abs(re), std::abs(im));
-    if (!(scale > 0.0))
-    {
-      return; // a zero-length edge: atan2(0, 0) = 0
-    }
-    re /= scale;
-    im /= scale;
     const bool lowerBefore = AngleIm < 0.0 || (AngleIm == 0.0 && AngleRe < 0.0);
     const double pr = AngleRe * re - AngleIm * im;
     const double pi = AngleRe * im + AngleIm * re;
     const double norm = std::max(std::abs(pr), std::abs(pi));
-    AngleRe = pr / norm; // keep the product of order 1 (its angle is unchanged)
-    AngleIm = pi / norm;
+    if (!(norm > 0.0))
+    {
+      return; // a zero-length edge: atan2(0, 0) = 0
+    }
+    const double scale = 1.0 / norm; // keep the product of order 1 (its angle is unchanged)
+    AngleRe = pr * scale;
+    AngleIm = pi * scale;
     const bool lowerAfter = AngleIm < 0.0 || (AngleIm == 0.0 && AngleRe < 0.0);
     AngleTurns += lowerBefore && !lowerAfter;
   }

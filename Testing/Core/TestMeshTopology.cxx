@@ -120,7 +120,7 @@ TEST(MeshTopology, DetectsDefects)
     EXPECT_EQ(t.VertexFlags(4), VertexIsolated);
     EXPECT_EQ(t.VertexFlags(5), VertexIsolated);
     EXPECT_EQ(t.Summary().NumberOfIsolatedVertices, 2);
-    EXPECT_EQ(t.OriginalTriangleIds(), (std::vector<Index>{ 0, 1, 4 }));
+    EXPECT_EQ(t.OriginalTriangleIds(), (IndexArray{ 0, 1, 4 }));
   }
   // Empty input.
   {
@@ -140,4 +140,62 @@ TEST(MeshTopology, ThreadCountDoesNotChangeTheTopology)
   EXPECT_EQ(a.Edges().Vertices, b.Edges().Vertices);
   EXPECT_EQ(a.Edges().OppositeCorners, b.Edges().OppositeCorners);
   EXPECT_EQ(a.Edges().NeighborEdges, b.Edges().NeighborEdges);
+}
+
+TEST(MeshTopology, RingPairsAndThreadsOnALargeMesh)
+{
+  // Above 2^18 corners the corner lists are built by several threads, each
+  // owning a range of vertices; the result must be the same as on one.
+  const test::Mesh m = test::Torus(1, 0.3, 400, 120, 0.2, 5);
+  const MeshTopology a = m.Topology(1), b = m.Topology(3);
+  ASSERT_GT(a.TriangleList().size(), std::size_t(1) << 18);
+  EXPECT_EQ(a.VertexFlagArray(), b.VertexFlagArray());
+  EXPECT_EQ(a.Summary().NumberOfEdges, b.Summary().NumberOfEdges);
+  EXPECT_EQ(a.Summary().EulerCharacteristic, 0);
+  for (Index v = 0; v < a.NumberOfVertices(); ++v)
+  {
+    ASSERT_EQ(a.Valence(v), b.Valence(v));
+    const Index* pa = a.RingPairsBegin(v);
+    const Index* pb = b.RingPairsBegin(v);
+    const Index* cb = b.CornersBegin(v);
+    for (const Index* c = a.CornersBegin(v); c != a.CornersEnd(v); ++c, ++cb, pa += 2, pb += 2)
+    {
+      ASSERT_EQ(*c, *cb);
+      ASSERT_EQ(a.CornerVertex(*c), v);
+      ASSERT_EQ(pa[0], a.CornerVertex(MeshTopology::Next(*c)));
+      ASSERT_EQ(pa[1], a.CornerVertex(MeshTopology::Prev(*c)));
+      ASSERT_EQ(pa[0], pb[0]);
+      ASSERT_EQ(pa[1], pb[1]);
+    }
+  }
+}
+
+TEST(MeshTopology, FansOfEveryValence)
+{
+  // A closed fan (a double pyramid over an n-gon) for n = 3 .. 40: the apex
+  // is regular (the sort-free check for valence <= 32, the general one
+  // above); one flipped triangle makes it inconsistent, one removed
+  // triangle a boundary vertex.
+  for (Index n = 3; n <= 40; ++n)
+  {
+    std::vector<Index> closed;
+    for (Index k = 0; k < n; ++k)
+    {
+      closed.insert(closed.end(), { n, k, (k + 1) % n });     // upper apex n
+      closed.insert(closed.end(), { n + 1, (k + 1) % n, k }); // lower apex n + 1
+    }
+    const MeshTopology topo(n + 2, IndexArray(closed.begin(), closed.end()));
+    EXPECT_TRUE(topo.IsInterior(n)) << n;
+    EXPECT_EQ(topo.Summary().EulerCharacteristic, 2) << n;
+    EXPECT_EQ(topo.Summary().NumberOfEdges, 3 * n) << n;
+
+    std::vector<Index> flipped = closed;
+    std::swap(flipped[1], flipped[2]);
+    const MeshTopology f(n + 2, IndexArray(flipped.begin(), flipped.end()));
+    EXPECT_TRUE(f.VertexFlags(n) & VertexInconsistent) << n;
+
+    std::vector<Index> open(closed.begin() + 6, closed.end());
+    const MeshTopology o(n + 2, IndexArray(open.begin(), open.end()));
+    EXPECT_TRUE(o.VertexFlags(n) & VertexBoundary) << n;
+  }
 }

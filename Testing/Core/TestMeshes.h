@@ -44,7 +44,7 @@ struct Mesh
   void AddTriangle(Index a, Index b, Index c) { Triangles.insert(Triangles.end(), { a, b, c }); }
   MeshTopology Topology(int threads = 0) const
   {
-    return MeshTopology(NumberOfVertices(), Triangles, threads);
+    return MeshTopology(NumberOfVertices(), IndexArray(Triangles.begin(), Triangles.end()), threads);
   }
   double TotalArea() const
   {
