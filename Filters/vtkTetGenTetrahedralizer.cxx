@@ -3,6 +3,7 @@
 #include "vtkBeltramiSurface.h"
 
 #include "Core/ConjugateGradient.h"
+#include "Core/HelperProcess.h"
 #include "Core/Tetrahedra.h"
 
 #include <vtkCellArray.h>
@@ -22,10 +23,11 @@
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 
-#define TETLIBRARY // Debian's libtet is built with it: errors are thrown, not exit()
-#include <tetgen.h>
 
+#include <cstdint>
+#include <cstring>
 #include <limits>
+#include <stdexcept>
 #include <sstream>
 #include <vector>
 
@@ -132,104 +134,126 @@ int vtkTetGenTetrahedralizer::RequestData(
     return 0;
   }
 
-  tetgenio in, out;
-  in.firstnumber = 0;
-  in.numberofpoints = static_cast<int>(numPoints);
-  in.pointlist = new REAL[3 * numPoints];
-  std::copy(points, points + 3 * numPoints, in.pointlist);
-  const beltrami::IndexArray& triangles = topo.TriangleList();
-  const int numFacets = static_cast<int>(triangles.size() / 3);
-  in.numberoffacets = numFacets;
-  in.facetlist = new tetgenio::facet[numFacets];
-  for (int f = 0; f < numFacets; ++f)
-  {
-    tetgenio::facet& facet = in.facetlist[f];
-    tetgenio::init(&facet);
-    facet.numberofpolygons = 1;
-    facet.polygonlist = new tetgenio::polygon[1];
-    tetgenio::init(&facet.polygonlist[0]);
-    facet.polygonlist[0].numberofvertices = 3;
-    facet.polygonlist[0].vertexlist = new int[3];
-    for (int k = 0; k < 3; ++k)
-    {
-      facet.polygonlist[0].vertexlist[k] = triangles[3 * f + k];
-    }
-  }
-
-  // First TetGen's self-intersection check (-d): it returns the offending
-  // facets instead of throwing.  libtet 1.5 frees its memory pools twice when
-  // it throws from a self-intersecting input, so that case must never reach
-  // the tetrahedralization.
-  this->UpdateProgress(0.0);
-  {
-    tetgenio check;
-    char detect[] = "pdQz";
-    try
-    {
-      tetrahedralize(detect, &in, &check);
-    }
-    catch (int code)
-    {
-      check.initialize();
-      vtkErrorMacro("TetGen's self-intersection check failed: " << TetGenReason(code) << " (code " << code
-                                                                << "). The output is empty.");
-      return 0;
-    }
-    if (check.numberoftrifaces > 0)
-    {
-      vtkErrorMacro("The surface intersects itself: TetGen found " << check.numberoftrifaces
-                                                                  << " intersecting triangles. The output is empty.");
-      return 0;
-    }
-  }
-  this->UpdateProgress(0.2);
+  // The request for the TetGen helper (Filters/Tools/beltrami_tetgen.cxx).
   const std::string switches = this->GetSwitches();
-  std::vector<char> buffer(switches.begin(), switches.end());
-  buffer.push_back('\0');
+  const beltrami::IndexArray& triangles = topo.TriangleList();
+  std::vector<char> request;
+  const auto put = [&request](const void* data, std::size_t n) {
+    request.insert(request.end(), static_cast<const char*>(data), static_cast<const char*>(data) + n);
+  };
+  const std::uint32_t length = static_cast<std::uint32_t>(switches.size());
+  const std::int32_t pointCount = static_cast<std::int32_t>(numPoints);
+  const std::int32_t triangleCount = static_cast<std::int32_t>(triangles.size() / 3);
+  request.reserve(64 + switches.size() + 24 * static_cast<std::size_t>(numPoints) + 4 * triangles.size());
+  put("BTET1", 5);
+  put(&length, 4);
+  put(switches.data(), switches.size());
+  put(&pointCount, 4);
+  put(points, 3 * sizeof(double) * static_cast<std::size_t>(numPoints));
+  put(&triangleCount, 4);
+  put(triangles.data(), triangles.size() * sizeof(beltrami::Index));
+
+  this->UpdateProgress(0.0);
+  const std::string helper = beltrami::HelperPathNextTo(
+    reinterpret_cast<const void*>(&TetGenReason), "beltrami-tetgen", "BELTRAMI_TETGEN");
+  // The answer: at most ~64 points and ~400 tetrahedra per input point even
+  // with small volume bounds; more means a damaged answer.
+  const double maximumBytes = 1e8 + 2e4 * static_cast<double>(numPoints);
+  const auto runHelper = [&](const std::vector<std::string>& arguments) {
+    return beltrami::RunHelperProcess(helper, arguments, request, maximumBytes, /*timeout=*/0.0,
+      [this]() { return !this->GetAbortExecute(); });
+  };
+  beltrami::HelperProcessResult run;
   try
   {
-    tetrahedralize(buffer.data(), &in, &out);
+    run = runHelper({});
+    if (run.Signal && !run.Cancelled)
+    {
+      // Diagnose the crash with TetGen's self-intersection check.
+      const beltrami::HelperProcessResult check = runHelper({ "--intersections" });
+      beltrami::ByteReader answer(check.Output, "TetGen helper");
+      char magic[5];
+      if (!check.Signal && check.Output.size() == 13 && (answer.Take(magic, 5), answer.Get<std::int32_t>() == 0))
+      {
+        const std::int32_t intersecting = answer.Get<std::int32_t>();
+        if (intersecting > 0)
+        {
+          vtkErrorMacro("The surface intersects itself: TetGen found "
+            << intersecting << " intersecting triangles. The output is empty.");
+          return 0;
+        }
+      }
+    }
   }
-  catch (int code)
+  catch (const std::exception& e)
   {
-    // The output may point into TetGen's freed pools after the throw: forget
-    // it rather than free it twice (a small leak on an error path).
-    out.initialize();
-    vtkErrorMacro("TetGen failed: " << TetGenReason(code) << " (code " << code << ", switches '"
-                                    << switches << "'). The output is empty.");
+    vtkErrorMacro(<< e.what() << ". The output is empty.");
     return 0;
   }
-  catch (const std::bad_alloc&)
+  std::vector<double> outputPoints;
+  std::vector<std::int32_t> tets;
+  try
   {
-    out.initialize();
-    vtkErrorMacro("TetGen ran out of memory. The output is empty.");
+    beltrami::ByteReader answer(run.Output, "TetGen helper");
+    char magic[5];
+    answer.Take(magic, 5);
+    if (std::memcmp(magic, "BTET1", 5) != 0)
+    {
+      throw std::runtime_error("malformed answer of the TetGen helper");
+    }
+    const std::int32_t code = answer.Get<std::int32_t>();
+    if (code != 0)
+    {
+      vtkErrorMacro(<< answer.String() << ": " << TetGenReason(code) << " (code " << code << ", switches '"
+                    << switches << "'). The output is empty.");
+      return 0;
+    }
+    const std::int32_t n = answer.Get<std::int32_t>();
+    if (n < numPoints || static_cast<double>(n) * 24.0 > static_cast<double>(answer.Left()))
+    {
+      throw std::runtime_error("malformed answer of the TetGen helper");
+    }
+    outputPoints.resize(3 * static_cast<std::size_t>(n));
+    answer.Take(outputPoints.data(), outputPoints.size() * sizeof(double));
+    const std::int32_t t = answer.Get<std::int32_t>();
+    if (t <= 0 || static_cast<double>(t) * 16.0 != static_cast<double>(answer.Left()))
+    {
+      throw std::runtime_error("malformed answer of the TetGen helper");
+    }
+    tets.resize(4 * static_cast<std::size_t>(t));
+    answer.Take(tets.data(), tets.size() * sizeof(std::int32_t));
+    for (const std::int32_t id : tets)
+    {
+      if (id < 0 || id >= n)
+      {
+        throw std::runtime_error("the TetGen helper returned a tetrahedron with a point that does not exist");
+      }
+    }
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro(<< e.what() << ". The output is empty.");
     return 0;
   }
-  if (out.numberoftetrahedra <= 0 || out.numberofpoints <= 0 || out.numberofcorners < 4)
-  {
-    vtkErrorMacro("TetGen produced no tetrahedra (switches '" << switches << "'). The output is empty.");
-    return 0;
-  }
+  this->UpdateProgress(0.8);
 
+  const vtkIdType numOutputPoints = static_cast<vtkIdType>(outputPoints.size() / 3);
+  const vtkIdType numTets = static_cast<vtkIdType>(tets.size() / 4);
   vtkNew<vtkPoints> outPoints;
   outPoints->SetDataTypeToDouble();
-  outPoints->SetNumberOfPoints(out.numberofpoints);
-  std::copy(out.pointlist, out.pointlist + 3 * static_cast<std::size_t>(out.numberofpoints),
+  outPoints->SetNumberOfPoints(numOutputPoints);
+  std::copy(outputPoints.begin(), outputPoints.end(),
     vtkDoubleArray::SafeDownCast(outPoints->GetData())->GetPointer(0));
   output->SetPoints(outPoints);
 
   vtkNew<vtkIdTypeArray> offsets, connectivity;
-  offsets->SetNumberOfValues(out.numberoftetrahedra + 1);
-  connectivity->SetNumberOfValues(4 * static_cast<vtkIdType>(out.numberoftetrahedra));
-  for (int t = 0; t < out.numberoftetrahedra; ++t)
+  offsets->SetNumberOfValues(numTets + 1);
+  connectivity->SetNumberOfValues(4 * numTets);
+  for (vtkIdType t = 0; t <= numTets; ++t)
   {
-    offsets->SetValue(t, 4 * static_cast<vtkIdType>(t));
-    for (int k = 0; k < 4; ++k)
-    {
-      connectivity->SetValue(4 * static_cast<vtkIdType>(t) + k, out.tetrahedronlist[t * out.numberofcorners + k]);
-    }
+    offsets->SetValue(t, 4 * t);
   }
-  offsets->SetValue(out.numberoftetrahedra, 4 * static_cast<vtkIdType>(out.numberoftetrahedra));
+  std::copy(tets.begin(), tets.end(), connectivity->GetPointer(0));
   vtkNew<vtkCellArray> cells;
   cells->SetData(offsets, connectivity);
   output->SetCells(VTK_TETRA, cells);

@@ -1,5 +1,7 @@
 #include "vtkOpenVDBReader.h"
 
+#include "Core/HelperProcess.h"
+
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
@@ -17,7 +19,6 @@
 #include <vtksys/SystemTools.hxx>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -27,15 +28,6 @@
 #include <string>
 #include <vector>
 
-#include <dlfcn.h>
-#include <fcntl.h>
-#include <poll.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-extern char** environ;
 
 vtkStandardNewMacro(vtkOpenVDBReader);
 
@@ -63,143 +55,26 @@ struct GridData
   std::vector<char> Values;
 };
 
-/// The helper next to this library (or BELTRAMI_VDB_READ).
-std::string HelperPath()
-{
-  if (const char* env = std::getenv("BELTRAMI_VDB_READ"))
-  {
-    return env;
-  }
-  Dl_info info;
-  if (dladdr(reinterpret_cast<void*>(&HelperPath), &info) && info.dli_fname)
-  {
-    return vtksys::SystemTools::GetFilenamePath(info.dli_fname) + "/beltrami-vdb-read";
-  }
-  return "beltrami-vdb-read";
-}
-
-/// Reads the helper's answer and never past its end.
-class Cursor
-{
-public:
-  explicit Cursor(const std::vector<char>& bytes)
-    : Bytes(bytes)
-  {
-  }
-  template <typename T>
-  T Get()
-  {
-    T v;
-    this->Take(&v, sizeof(T));
-    return v;
-  }
-  std::string String()
-  {
-    const std::uint32_t n = this->Get<std::uint32_t>();
-    if (n > this->Left())
-    {
-      throw std::runtime_error("malformed answer of the OpenVDB helper");
-    }
-    std::string s(this->Bytes.data() + this->Position, n);
-    this->Position += n;
-    return s;
-  }
-  void Take(void* out, std::size_t n)
-  {
-    if (n > this->Left())
-    {
-      throw std::runtime_error("malformed answer of the OpenVDB helper");
-    }
-    std::memcpy(out, this->Bytes.data() + this->Position, n);
-    this->Position += n;
-  }
-  std::size_t Left() const { return this->Bytes.size() - this->Position; }
-  std::size_t Offset() const { return this->Position; }
-
-private:
-  const std::vector<char>& Bytes;
-  std::size_t Position = 0;
-};
-
 /// Runs the helper process on the file: its bytes in, checked.
 std::vector<char> RunHelper(const std::vector<std::string>& arguments, double maximumBytes, double timeout)
 {
-  const std::string helper = HelperPath();
-  int fds[2];
-  if (pipe(fds) != 0)
-  {
-    throw std::runtime_error("cannot create a pipe for the OpenVDB helper");
-  }
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
-  posix_spawn_file_actions_addclose(&actions, fds[0]);
-  posix_spawn_file_actions_addclose(&actions, fds[1]);
-  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-  std::vector<char*> argv = { const_cast<char*>(helper.c_str()) };
-  for (const std::string& a : arguments)
-  {
-    argv.push_back(const_cast<char*>(a.c_str()));
-  }
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, helper.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  close(fds[1]);
-  if (spawned != 0)
-  {
-    close(fds[0]);
-    throw std::runtime_error("cannot run the OpenVDB helper '" + helper + "'");
-  }
-  std::vector<char> bytes;
-  std::vector<char> buffer(1 << 16);
-  bool overflow = false, late = false;
-  const auto start = std::chrono::steady_clock::now();
-  for (;;)
-  {
-    pollfd p{ fds[0], POLLIN, 0 };
-    if (poll(&p, 1, 200) > 0)
-    {
-      const ssize_t n = read(fds[0], buffer.data(), buffer.size());
-      if (n <= 0)
-      {
-        break;
-      }
-      if (static_cast<double>(bytes.size()) + n > maximumBytes)
-      {
-        overflow = true;
-        break;
-      }
-      bytes.insert(bytes.end(), buffer.data(), buffer.data() + n);
-    }
-    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout)
-    {
-      late = true;
-      break;
-    }
-  }
-  close(fds[0]);
-  if (overflow || late)
-  {
-    kill(pid, SIGKILL);
-  }
-  int status = 0;
-  waitpid(pid, &status, 0);
-  if (late)
+  const std::string helper = beltrami::HelperPathNextTo(
+    reinterpret_cast<const void*>(&RunHelper), "beltrami-vdb-read", "BELTRAMI_VDB_READ");
+  beltrami::HelperProcessResult run = beltrami::RunHelperProcess(helper, arguments, {}, maximumBytes, timeout);
+  if (run.TimedOut)
   {
     throw std::runtime_error("the OpenVDB parser did not finish within the timeout: the file is damaged or too large");
   }
-  if (overflow)
+  if (run.Overflow)
   {
     throw std::runtime_error("the OpenVDB helper sent more data than the grid can hold");
   }
-  if (WIFSIGNALED(status))
+  if (run.Signal)
   {
     throw std::runtime_error("the file is damaged: the OpenVDB parser crashed on it (signal " +
-      std::to_string(WTERMSIG(status)) + ")");
+      std::to_string(run.Signal) + ")");
   }
-  return bytes;
+  return std::move(run.Output);
 }
 
 /// The selected grid's layout and values, every size checked.
@@ -208,7 +83,7 @@ GridData ReadGrid(const char* fileName, const std::string& gridName, vtkIdType m
   const std::vector<std::string> arguments = { fileName, gridName, std::to_string(maximumVoxels) };
   const double maximumBytes = 1e7 + static_cast<double>(maximumVoxels) * 3 * sizeof(double);
   const std::vector<char> bytes = RunHelper(arguments, maximumBytes, timeout);
-  Cursor c(bytes);
+  beltrami::ByteReader c(bytes, "OpenVDB helper");
   char magic[5];
   c.Take(magic, 5);
   if (std::memcmp(magic, "BVDB1", 5) != 0)
