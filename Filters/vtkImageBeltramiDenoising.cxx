@@ -6,7 +6,6 @@
 #include "Core/ColorSpace.h"
 #include "Core/GraphFlow.h"
 #include "Core/LargeBuffer.h"
-#include "Core/Tetrahedra.h"
 
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>
@@ -104,31 +103,22 @@ void Store(T* dst, const int* outExt, const int* inExt, int nc, int used, double
   }
 }
 
-/// A 3D image: its voxels split into tetrahedra (6 per cell, GridTetrahedra)
-/// at their physical positions, smoothed by the 3-manifold flow.
+/// A 3D image: its voxels split into tetrahedra (6 per cell, the Kuhn split
+/// of GridTetrahedra) at their physical positions, smoothed by the
+/// 3-manifold flow (RunVolumeGraphFlow: no explicit mesh).
 beltrami::GraphFlowResult RunVolume(vtkImageData* input, const int* ext, int components, double* values,
   const std::uint8_t* fixed, const beltrami::GraphFlowOptions& options,
   const beltrami::ProgressCallback& progress)
 {
-  const beltrami::Index n[3] = { ext[1] - ext[0] + 1, ext[3] - ext[2] + 1, ext[5] - ext[4] + 1 };
   const double* spacing = input->GetSpacing();
-  std::vector<double> points;
-  points.reserve(3 * static_cast<std::size_t>(n[0]) * n[1] * n[2]);
-  for (beltrami::Index k = 0; k < n[2]; ++k)
-  {
-    for (beltrami::Index j = 0; j < n[1]; ++j)
-    {
-      for (beltrami::Index i = 0; i < n[0]; ++i)
-      {
-        points.push_back(i * std::abs(spacing[0]));
-        points.push_back(j * std::abs(spacing[1]));
-        points.push_back(k * std::abs(spacing[2]));
-      }
-    }
-  }
-  const beltrami::TetrahedralMesh mesh(
-    n[0] * n[1] * n[2], beltrami::GridTetrahedra(n[0], n[1], n[2]), options.NumberOfThreads);
-  return beltrami::RunTetrahedralGraphFlow(mesh, points.data(), components, values, fixed, options, progress);
+  beltrami::VoxelGrid grid;
+  grid.Width = ext[1] - ext[0] + 1;
+  grid.Height = ext[3] - ext[2] + 1;
+  grid.Depth = ext[5] - ext[4] + 1;
+  grid.SpacingX = std::abs(spacing[0]);
+  grid.SpacingY = std::abs(spacing[1]);
+  grid.SpacingZ = std::abs(spacing[2]);
+  return beltrami::RunVolumeGraphFlow(grid, components, values, fixed, options, progress);
 }
 
 } // namespace

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <numeric>
 #include <vector>
 
 namespace beltrami
@@ -673,6 +674,244 @@ private:
 };
 
 // ---------------------------------------------------------------------------
+// 3D images: the voxel grid split into Kuhn tetrahedra (six per cell: the
+// split of GridTetrahedra, section 2.8.2) without an explicit mesh.  Each
+// step evaluates every tetrahedron once, from the Gram matrix of its edge
+// vectors in R^(3+n) (base part from the spacing, fixed per tetrahedron
+// shape; data part from the values), and sums its edge weights into seven
+// weights per voxel - every Kuhn edge goes up in each coordinate, so the
+// edges of a voxel are those to its neighbours at +x, +y, +x+y, +z, +x+z,
+// +y+z, +x+y+z and back - and its volume into the lumped masses (1/4 to each
+// corner).  Cell planes of one parity are summed in parallel, then those of
+// the other: no two threads write the same voxel and the sums do not depend
+// on the thread count.
+
+template <int NC>
+class VoxelDiscretization final : public FlowDiscretization
+{
+public:
+  VoxelDiscretization(const VoxelGrid& grid, const std::uint8_t* fixed, double gamma, int threads)
+    : Grid(grid)
+  {
+    Gamma = gamma;
+    Threads = threads;
+    Size = static_cast<Index>(grid.Width * grid.Height * grid.Depth);
+    Components = NC;
+    Allocate();
+    for (int d = 0; d < 8; ++d)
+    {
+      Offset[d] = (d & 1) + grid.Width * (((d >> 1) & 1) + grid.Height * ((d >> 2) & 1));
+    }
+    const double spacing[3] = { grid.SpacingX, grid.SpacingY, grid.SpacingZ };
+    for (int p = 0; p < 6; ++p)
+    {
+      // Corners of path p: 0, Corner[p][1], Corner[p][2], 7 (bit a = axis a).
+      Corner[p][0] = 0;
+      Corner[p][1] = 1 << KuhnPaths[p][0];
+      Corner[p][2] = Corner[p][1] | (1 << KuhnPaths[p][1]);
+      Corner[p][3] = 7;
+      double e[3][3];
+      for (int s = 0; s < 3; ++s)
+      {
+        for (int a = 0; a < 3; ++a)
+        {
+          e[s][a] = (Corner[p][s + 1] >> a & 1) * spacing[a];
+        }
+      }
+      const auto dot = [](const double* x, const double* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
+      BaseGram[p][0] = dot(e[0], e[0]);
+      BaseGram[p][1] = dot(e[1], e[1]);
+      BaseGram[p][2] = dot(e[2], e[2]);
+      BaseGram[p][3] = dot(e[0], e[1]);
+      BaseGram[p][4] = dot(e[0], e[2]);
+      BaseGram[p][5] = dot(e[1], e[2]);
+    }
+    Weights.assign(7 * static_cast<std::size_t>(Size), 0.0);
+    GraphMass.assign(Size, 0.0);
+    const LargeVector<double> flat(static_cast<std::size_t>(Size) * NC, 0.0);
+    Accumulate(flat.data());
+    BaseMass = GraphMass;
+    Fixed.assign(Size, 0);
+    for (Index i = 0; i < Size; ++i)
+    {
+      Fixed[i] = (fixed && fixed[i]) || !(BaseMass[i] > 0.0);
+    }
+  }
+
+  void Update(const double* u) override
+  {
+    Accumulate(u);
+    const std::int64_t rows = Grid.Height * Grid.Depth;
+    // Per row: the largest rate and the row's volume, summed in row order.
+    std::vector<double> rowRate(rows), rowArea(rows);
+    ParallelFor(rows, Threads, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t r = b; r < e; ++r)
+      {
+        double rate = 0.0, area = 0.0;
+        ForRow(r, [&](std::int64_t i, std::int64_t ix, std::int64_t iy, std::int64_t iz) {
+          double ku[NC], diagonal = 0.0, positive = 0.0;
+          Stiffness(u, i, ix, iy, iz, ku, diagonal, positive);
+          Mass[i] = GraphMass[i];
+          Diagonal[i] = diagonal;
+          Speed[i] = GraphMass[i] > 0.0 ? SpeedOf(BaseMass[i] / GraphMass[i]) : 1.0;
+          if (!(Mass[i] > 0.0))
+          {
+            Fixed[i] = 1; // lost its measure (degenerate graph elements)
+          }
+          const double f = !Fixed[i] ? Speed[i] / Mass[i] : 0.0;
+          for (int k = 0; k < NC; ++k)
+          {
+            KU[i * NC + k] = ku[k];
+            Velocity[i * NC + k] = f * ku[k];
+          }
+          rate = std::max(rate, f * positive);
+          area += GraphMass[i];
+        });
+        rowRate[r] = rate;
+        rowArea[r] = area;
+      }
+    }, {}, 0, 4);
+    MaxRate = *std::max_element(rowRate.begin(), rowRate.end());
+    Area = std::accumulate(rowArea.begin(), rowArea.end(), 0.0); // in row order: thread-independent
+  }
+
+  void Apply(const double* x, double* y, bool) override
+  {
+    ParallelFor(Grid.Height * Grid.Depth, Threads, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t r = b; r < e; ++r)
+      {
+        ForRow(r, [&](std::int64_t i, std::int64_t ix, std::int64_t iy, std::int64_t iz) {
+          double diagonal, positive;
+          Stiffness(x, i, ix, iy, iz, y + i * NC, diagonal, positive);
+        });
+      }
+    }, {}, 0, 4);
+  }
+
+private:
+  /// Calls f(i, ix, iy, iz) for the voxels of row r (= iz * Height + iy).
+  template <typename F>
+  void ForRow(std::int64_t r, F&& f) const
+  {
+    const std::int64_t iy = r % Grid.Height, iz = r / Grid.Height;
+    const std::int64_t first = r * Grid.Width;
+    for (std::int64_t ix = 0; ix < Grid.Width; ++ix)
+    {
+      f(first + ix, ix, iy, iz);
+    }
+  }
+
+  /// (K x)_i, sum_j c_ij and sum_j max(c_ij, 0) over the 14 neighbours of
+  /// voxel i = (ix, iy, iz).
+  void Stiffness(const double* x, std::int64_t i, std::int64_t ix, std::int64_t iy, std::int64_t iz,
+    double* kx, double& diagonal, double& positive) const
+  {
+    for (int k = 0; k < NC; ++k)
+    {
+      kx[k] = 0.0;
+    }
+    diagonal = positive = 0.0;
+    const auto add = [&](double c, std::int64_t j) {
+      for (int k = 0; k < NC; ++k)
+      {
+        kx[k] += c * (x[i * NC + k] - x[j * NC + k]);
+      }
+      diagonal += c;
+      positive += std::max(c, 0.0);
+    };
+    const bool up[3] = { ix + 1 < Grid.Width, iy + 1 < Grid.Height, iz + 1 < Grid.Depth };
+    const bool down[3] = { ix > 0, iy > 0, iz > 0 };
+    if (up[0] && up[1] && up[2] && down[0] && down[1] && down[2])
+    {
+      for (int d = 1; d < 8; ++d) // inside: all 14 neighbours, no tests
+      {
+        add(Weights[7 * i + d - 1], i + Offset[d]);
+        add(Weights[7 * (i - Offset[d]) + d - 1], i - Offset[d]);
+      }
+      return;
+    }
+    for (int d = 1; d < 8; ++d)
+    {
+      const bool dx = d & 1, dy = d & 2, dz = d & 4;
+      if ((!dx || up[0]) && (!dy || up[1]) && (!dz || up[2]))
+      {
+        add(Weights[7 * i + d - 1], i + Offset[d]);
+      }
+      if ((!dx || down[0]) && (!dy || down[1]) && (!dz || down[2]))
+      {
+        const std::int64_t j = i - Offset[d];
+        add(Weights[7 * j + d - 1], j);
+      }
+    }
+  }
+
+  /// The edge weights and lumped masses of the graph at u.
+  void Accumulate(const double* u)
+  {
+    std::fill(Weights.begin(), Weights.end(), 0.0);
+    std::fill(GraphMass.begin(), GraphMass.end(), 0.0);
+    const std::int64_t planes = Grid.Depth - 1;
+    for (int parity = 0; parity < 2; ++parity)
+    {
+      ParallelFor((planes - parity + 1) / 2, Threads, [&](std::int64_t b, std::int64_t e) {
+        for (std::int64_t m = b; m < e; ++m)
+        {
+          AccumulatePlane(u, 2 * m + parity);
+        }
+      }, {}, 0, 1);
+    }
+  }
+
+  void AccumulatePlane(const double* u, std::int64_t k)
+  {
+    for (std::int64_t j = 0; j + 1 < Grid.Height; ++j)
+    {
+      for (std::int64_t i = 0; i + 1 < Grid.Width; ++i)
+      {
+        const std::int64_t base = (k * Grid.Height + j) * Grid.Width + i;
+        double delta[8][NC]; // u(corner) - u(corner 0)
+        for (int c = 0; c < 8; ++c)
+        {
+          for (int m = 0; m < NC; ++m)
+          {
+            delta[c][m] = u[(base + Offset[c]) * NC + m] - u[base * NC + m];
+          }
+        }
+        for (int p = 0; p < 6; ++p)
+        {
+          const int* corner = Corner[p];
+          const double* a = delta[corner[1]];
+          const double* bb = delta[corner[2]];
+          const double* c = delta[7];
+          const TetrahedronTerms t = TetrahedronFromGram(BaseGram[p][0] + Dot<NC>(a, a),
+            BaseGram[p][1] + Dot<NC>(bb, bb), BaseGram[p][2] + Dot<NC>(c, c), BaseGram[p][3] + Dot<NC>(a, bb),
+            BaseGram[p][4] + Dot<NC>(a, c), BaseGram[p][5] + Dot<NC>(bb, c));
+          if (t.Degenerate)
+          {
+            continue;
+          }
+          for (int v = 0; v < 4; ++v)
+          {
+            GraphMass[base + Offset[corner[v]]] += 0.25 * t.Volume;
+          }
+          for (int edge = 0; edge < 6; ++edge)
+          {
+            const int lower = corner[TetrahedronEdges[edge][0]], upper = corner[TetrahedronEdges[edge][1]];
+            Weights[7 * (base + Offset[lower]) + (upper & ~lower) - 1] += t.Weights[edge];
+          }
+        }
+      }
+    }
+  }
+
+  VoxelGrid Grid;
+  std::int64_t Offset[8];
+  int Corner[6][4];
+  double BaseGram[6][6];
+  LargeVector<double> Weights, GraphMass, BaseMass;
+};
+
+// ---------------------------------------------------------------------------
 
 std::string CheckOptions(const GraphFlowOptions& o)
 {
@@ -1013,6 +1252,53 @@ GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* 
     },
     0.5, options.EdgeContrast, threads);
   return Integrate(disc, values, options, progress);
+}
+
+namespace
+{
+template <int NC>
+GraphFlowResult RunVoxels(const VoxelGrid& grid, double* values, const std::uint8_t* fixed,
+  const GraphFlowOptions& o, const ProgressCallback& progress)
+{
+  VoxelDiscretization<NC> disc(grid, fixed, o.EdgeContrast, o.NumberOfThreads);
+  return Integrate(disc, values, o, progress);
+}
+} // namespace
+
+GraphFlowResult RunVolumeGraphFlow(const VoxelGrid& grid, int components, double* values,
+  const std::uint8_t* fixed, const GraphFlowOptions& options, const ProgressCallback& progress)
+{
+  GraphFlowResult result;
+  result.Error = CheckOptions(options);
+  if (result.Error.empty() && (components < 1 || components > 6))
+  {
+    result.Error = "volumes with 1 to 6 components are supported";
+  }
+  const double spacing[3] = { grid.SpacingX, grid.SpacingY, grid.SpacingZ };
+  for (double s : spacing)
+  {
+    if (result.Error.empty() && (!(s > 0.0) || !std::isfinite(s)))
+    {
+      result.Error = "the voxel spacing must be positive and finite";
+    }
+  }
+  if (result.Error.empty() && static_cast<double>(grid.Width) * grid.Height * grid.Depth > 2147483647.0)
+  {
+    result.Error = "volumes of more than 2^31 voxels are not supported";
+  }
+  if (!result.Error.empty() || grid.Width < 2 || grid.Height < 2 || grid.Depth < 2)
+  {
+    return result;
+  }
+  switch (components)
+  {
+    case 1: return RunVoxels<1>(grid, values, fixed, options, progress);
+    case 2: return RunVoxels<2>(grid, values, fixed, options, progress);
+    case 3: return RunVoxels<3>(grid, values, fixed, options, progress);
+    case 4: return RunVoxels<4>(grid, values, fixed, options, progress);
+    case 5: return RunVoxels<5>(grid, values, fixed, options, progress);
+    default: return RunVoxels<6>(grid, values, fixed, options, progress);
+  }
 }
 
 GraphFlowResult RunTetrahedralGraphFlow(const TetrahedralMesh& mesh, const double* points,

@@ -27,7 +27,6 @@ double Dot(const double* a, const double* b, int n)
 TetrahedronTerms Tetrahedron(const double* p0, const double* p1, const double* p2,
   const double* p3, int dimension)
 {
-  TetrahedronTerms t;
   double e[3][9];
   const double* q[3] = { p1, p2, p3 };
   for (int s = 0; s < 3; ++s)
@@ -37,9 +36,15 @@ TetrahedronTerms Tetrahedron(const double* p0, const double* p1, const double* p
       e[s][k] = q[s][k] - p0[k];
     }
   }
-  const double g11 = Dot(e[0], e[0], dimension), g22 = Dot(e[1], e[1], dimension);
-  const double g33 = Dot(e[2], e[2], dimension), g12 = Dot(e[0], e[1], dimension);
-  const double g13 = Dot(e[0], e[2], dimension), g23 = Dot(e[1], e[2], dimension);
+  return TetrahedronFromGram(Dot(e[0], e[0], dimension), Dot(e[1], e[1], dimension),
+    Dot(e[2], e[2], dimension), Dot(e[0], e[1], dimension), Dot(e[0], e[2], dimension),
+    Dot(e[1], e[2], dimension));
+}
+
+TetrahedronTerms TetrahedronFromGram(
+  double g11, double g22, double g33, double g12, double g13, double g23)
+{
+  TetrahedronTerms t;
   // Cofactors of the symmetric Gram matrix.
   const double c11 = g22 * g33 - g23 * g23, c22 = g11 * g33 - g13 * g13, c33 = g11 * g22 - g12 * g12;
   const double c12 = g13 * g23 - g12 * g33, c13 = g12 * g23 - g13 * g22, c23 = g12 * g13 - g11 * g23;
@@ -153,15 +158,13 @@ std::vector<Index> GridTetrahedra(Index nx, Index ny, Index nz)
   }
   tets.reserve(static_cast<std::size_t>(nx - 1) * (ny - 1) * (nz - 1) * 24);
   const auto id = [&](Index i, Index j, Index k) { return (k * ny + j) * nx + i; };
-  // The six monotone paths from corner (0,0,0) to (1,1,1), one tetrahedron each.
-  constexpr int paths[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 }, { 2, 1, 0 } };
   for (Index k = 0; k + 1 < nz; ++k)
   {
     for (Index j = 0; j + 1 < ny; ++j)
     {
       for (Index i = 0; i + 1 < nx; ++i)
       {
-        for (const auto& path : paths)
+        for (const auto& path : KuhnPaths)
         {
           Index c[3] = { i, j, k };
           tets.push_back(id(c[0], c[1], c[2]));

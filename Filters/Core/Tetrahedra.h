@@ -38,6 +38,11 @@ struct TetrahedronTerms
 TetrahedronTerms Tetrahedron(const double* p0, const double* p1, const double* p2,
   const double* p3, int dimension);
 
+/// The same from the Gram matrix of the edge vectors a = A - P, b = B - P,
+/// c = C - P (g11 = a.a, g12 = a.b, ...): what Tetrahedron() computes.
+TetrahedronTerms TetrahedronFromGram(
+  double g11, double g22, double g33, double g12, double g13, double g23);
+
 /// The local vertex pairs of the six edges of a tetrahedron.
 constexpr int TetrahedronEdges[6][2] = { { 0, 1 }, { 0, 2 }, { 0, 3 }, { 1, 2 }, { 1, 3 }, { 2, 3 } };
 
@@ -74,6 +79,10 @@ private:
   std::vector<std::int64_t> Offsets;
   std::vector<Index> NeighborList;
 };
+
+/// The six monotone paths from cell corner (0,0,0) to (1,1,1): the axes
+/// stepped along, in order; each path is one tetrahedron of the Kuhn split.
+constexpr int KuhnPaths[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 }, { 2, 1, 0 } };
 
 /// The tetrahedra of an nx x ny x nz grid of points (x fastest): every cell
 /// split into 6 tetrahedra around its diagonal from (0,0,0) to (1,1,1)
