@@ -11,6 +11,7 @@
 #include <memory>
 #include <mutex>
 #include <numeric>
+#include <type_traits>
 #include <vector>
 
 namespace beltrami
@@ -913,8 +914,13 @@ private:
 
 // ---------------------------------------------------------------------------
 
-std::string CheckOptions(const GraphFlowOptions& o)
+/// The options and the number of components (1 to `maximum`) of `what`.
+std::string CheckOptions(const GraphFlowOptions& o, int components, int maximum, const std::string& what)
 {
+  if (components < 1 || components > maximum)
+  {
+    return what + " with 1 to " + std::to_string(maximum) + " components are supported";
+  }
   if (!(o.ContrastScale > 0.0) || !std::isfinite(o.ContrastScale))
   {
     return "the contrast scale (alpha) must be positive and finite";
@@ -1181,6 +1187,22 @@ GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphF
   return result;
 }
 
+/// Calls run(std::integral_constant<int, NC>()) with NC = components (1 to 6):
+/// the kernels are compiled per component count.
+template <typename Run>
+GraphFlowResult WithComponents(int components, Run&& run)
+{
+  switch (components)
+  {
+    case 1: return run(std::integral_constant<int, 1>());
+    case 2: return run(std::integral_constant<int, 2>());
+    case 3: return run(std::integral_constant<int, 3>());
+    case 4: return run(std::integral_constant<int, 4>());
+    case 5: return run(std::integral_constant<int, 5>());
+    default: return run(std::integral_constant<int, 6>());
+  }
+}
+
 template <int NC>
 GraphFlowResult RunGrid(const PixelGrid& grid, double* values, const std::uint8_t* fixed,
   const GraphFlowOptions& o, const ProgressCallback& progress)
@@ -1200,11 +1222,7 @@ GraphFlowResult RunImageGraphFlow(const PixelGrid& grid, int components, double*
   const std::uint8_t* fixed, const GraphFlowOptions& options, const ProgressCallback& progress)
 {
   GraphFlowResult result;
-  result.Error = CheckOptions(options);
-  if (result.Error.empty() && (components < 1 || components > 6))
-  {
-    result.Error = "images with 1 to 6 components are supported";
-  }
+  result.Error = CheckOptions(options, components, 6, "images");
   if (result.Error.empty() &&
     (!(grid.SpacingX > 0.0) || !(grid.SpacingY > 0.0) || !std::isfinite(grid.SpacingX) ||
       !std::isfinite(grid.SpacingY)))
@@ -1215,15 +1233,9 @@ GraphFlowResult RunImageGraphFlow(const PixelGrid& grid, int components, double*
   {
     return result;
   }
-  switch (components)
-  {
-    case 1: return RunGrid<1>(grid, values, fixed, options, progress);
-    case 2: return RunGrid<2>(grid, values, fixed, options, progress);
-    case 3: return RunGrid<3>(grid, values, fixed, options, progress);
-    case 4: return RunGrid<4>(grid, values, fixed, options, progress);
-    case 5: return RunGrid<5>(grid, values, fixed, options, progress);
-    default: return RunGrid<6>(grid, values, fixed, options, progress);
-  }
+  return WithComponents(components, [&](auto nc) {
+    return RunGrid<decltype(nc)::value>(grid, values, fixed, options, progress);
+  });
 }
 
 GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* points,
@@ -1231,11 +1243,7 @@ GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* 
   const ProgressCallback& progress)
 {
   GraphFlowResult result;
-  result.Error = CheckOptions(options);
-  if (result.Error.empty() && (components < 1 || components > 5))
-  {
-    result.Error = "point data with 1 to 5 components are supported";
-  }
+  result.Error = CheckOptions(options, components, 5, "point data");
   if (!result.Error.empty() || topology.NumberOfVertices() == 0)
   {
     return result;
@@ -1254,26 +1262,11 @@ GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* 
   return Integrate(disc, values, options, progress);
 }
 
-namespace
-{
-template <int NC>
-GraphFlowResult RunVoxels(const VoxelGrid& grid, double* values, const std::uint8_t* fixed,
-  const GraphFlowOptions& o, const ProgressCallback& progress)
-{
-  VoxelDiscretization<NC> disc(grid, fixed, o.EdgeContrast, o.NumberOfThreads);
-  return Integrate(disc, values, o, progress);
-}
-} // namespace
-
 GraphFlowResult RunVolumeGraphFlow(const VoxelGrid& grid, int components, double* values,
   const std::uint8_t* fixed, const GraphFlowOptions& options, const ProgressCallback& progress)
 {
   GraphFlowResult result;
-  result.Error = CheckOptions(options);
-  if (result.Error.empty() && (components < 1 || components > 6))
-  {
-    result.Error = "volumes with 1 to 6 components are supported";
-  }
+  result.Error = CheckOptions(options, components, 6, "volumes");
   const double spacing[3] = { grid.SpacingX, grid.SpacingY, grid.SpacingZ };
   for (double s : spacing)
   {
@@ -1290,15 +1283,10 @@ GraphFlowResult RunVolumeGraphFlow(const VoxelGrid& grid, int components, double
   {
     return result;
   }
-  switch (components)
-  {
-    case 1: return RunVoxels<1>(grid, values, fixed, options, progress);
-    case 2: return RunVoxels<2>(grid, values, fixed, options, progress);
-    case 3: return RunVoxels<3>(grid, values, fixed, options, progress);
-    case 4: return RunVoxels<4>(grid, values, fixed, options, progress);
-    case 5: return RunVoxels<5>(grid, values, fixed, options, progress);
-    default: return RunVoxels<6>(grid, values, fixed, options, progress);
-  }
+  return WithComponents(components, [&](auto nc) {
+    VoxelDiscretization<decltype(nc)::value> disc(grid, fixed, options.EdgeContrast, options.NumberOfThreads);
+    return Integrate(disc, values, options, progress);
+  });
 }
 
 GraphFlowResult RunTetrahedralGraphFlow(const TetrahedralMesh& mesh, const double* points,
@@ -1306,11 +1294,7 @@ GraphFlowResult RunTetrahedralGraphFlow(const TetrahedralMesh& mesh, const doubl
   const ProgressCallback& progress)
 {
   GraphFlowResult result;
-  result.Error = CheckOptions(options);
-  if (result.Error.empty() && (components < 1 || components > 6))
-  {
-    result.Error = "point data with 1 to 6 components are supported";
-  }
+  result.Error = CheckOptions(options, components, 6, "point data");
   if (!result.Error.empty() || mesh.NumberOfVertices() == 0)
   {
     return result;
