@@ -56,7 +56,10 @@ int vtkTetrahedralBeltramiDenoising::RequestData(
     return 0;
   }
 
-  // The tetrahedra; other cells are ignored.
+  // The tetrahedra, and voxels (VTK_VOXEL, e.g. the active voxels of a
+  // sparse OpenVDB grid) split into their six Kuhn tetrahedra (as the 3D
+  // image path: conforming, since all voxels share the axes); other cells
+  // are ignored.
   std::vector<beltrami::Index> tets;
   vtkIdType others = 0;
   vtkCellArray* cells = input->GetCells();
@@ -70,25 +73,40 @@ int vtkTetrahedralBeltramiDenoising::RequestData(
       vtkIdType n = 0;
       const vtkIdType* ids = nullptr;
       it->GetCurrentCell(n, ids);
-      if (types->GetValue(cellId) != VTK_TETRA || n != 4)
+      const int type = types->GetValue(cellId);
+      if (type == VTK_TETRA && n == 4)
+      {
+        for (int a = 0; a < 4; ++a)
+        {
+          tets.push_back(static_cast<beltrami::Index>(ids[a]));
+        }
+      }
+      else if (type == VTK_VOXEL && n == 8)
+      {
+        // VTK_VOXEL numbers its corners x + 2y + 4z, the corner bits of KuhnPaths.
+        for (const auto& path : beltrami::KuhnPaths)
+        {
+          const int first = 1 << path[0], second = first | (1 << path[1]);
+          for (const int corner : { 0, first, second, 7 })
+          {
+            tets.push_back(static_cast<beltrami::Index>(ids[corner]));
+          }
+        }
+      }
+      else
       {
         ++others;
-        continue;
-      }
-      for (int a = 0; a < 4; ++a)
-      {
-        tets.push_back(static_cast<beltrami::Index>(ids[a]));
       }
     }
   }
   if (others > 0)
   {
-    vtkWarningMacro(<< others << " cells that are not tetrahedra are ignored "
+    vtkWarningMacro(<< others << " cells that are neither tetrahedra nor voxels are ignored "
                     << "(tetrahedralize them first, e.g. with vtkDataSetTriangleFilter).");
   }
   if (tets.empty())
   {
-    vtkWarningMacro("The input has no tetrahedra: the data are left as they are.");
+    vtkWarningMacro("The input has no tetrahedra or voxels: the data are left as they are.");
     return 1;
   }
   const beltrami::TetrahedralMesh mesh(static_cast<beltrami::Index>(numPoints), std::move(tets),

@@ -23,10 +23,12 @@
  *
  * Input array 0: the point array to smooth (default: the active scalars;
  * written back as double under the same name).  Input array 1 (optional,
- * with UseFixedPointsArray): non-zero = point kept.  Only VTK_TETRA cells are
- * used (other cells are reported and ignored: tetrahedralize first, e.g.
- * with vtkDataSetTriangleFilter); points in no tetrahedron with volume keep
- * their values.  Field data: FlowIterations, FlowTime, FlowRMSChange,
+ * with UseFixedPointsArray): non-zero = point kept.  VTK_TETRA cells are
+ * used, and VTK_VOXEL cells split into their six Kuhn tetrahedra (the split
+ * of the 3D image path; e.g. the active voxels of a sparse OpenVDB grid from
+ * vtkOpenVDBActiveVoxelReader); other cells are reported and ignored
+ * (tetrahedralize first, e.g. with vtkDataSetTriangleFilter).  Points in no
+ * tetrahedron with volume keep their values.  Field data: FlowIterations, FlowTime, FlowRMSChange,
  * FlowArea (the volume of the graph manifold, initial and final),
  * FlowSolverIterations.
  */

@@ -1,6 +1,6 @@
 #include "vtkOpenVDBReader.h"
 
-#include "Core/HelperProcess.h"
+#include "OpenVDBGrid.h"
 
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
@@ -39,102 +39,11 @@ int vtkOpenVDBReader::CanReadFile(const char* fileName)
   return in.read(magic, 8) && std::memcmp(magic, "\x20\x42\x44\x56", 4) == 0 ? 1 : 0;
 }
 
-namespace
-{
-/// What beltrami-vdb-read reports (see IO/Tools/beltrami_vdb_read.cxx).
-struct GridData
-{
-  std::vector<std::string> Names;
-  std::string Name;
-  int Components = 0;
-  bool Double = false;
-  int Extent[6] = { 0, -1, 0, -1, 0, -1 };
-  double Origin[3] = { 0, 0, 0 };
-  double Spacing[3] = { 1, 1, 1 };
-  std::int64_t Active = 0;
-  std::vector<char> Values;
-};
-
-/// Runs the helper process on the file: its bytes in, checked.
-std::vector<char> RunHelper(const std::vector<std::string>& arguments, double maximumBytes, double timeout)
-{
-  const std::string helper = beltrami::HelperPathNextTo(
-    reinterpret_cast<const void*>(&RunHelper), "beltrami-vdb-read", "BELTRAMI_VDB_READ");
-  beltrami::HelperProcessResult run = beltrami::RunHelperProcess(helper, arguments, {}, maximumBytes, timeout);
-  if (run.TimedOut)
-  {
-    throw std::runtime_error("the OpenVDB parser did not finish within the timeout: the file is damaged or too large");
-  }
-  if (run.Overflow)
-  {
-    throw std::runtime_error("the OpenVDB helper sent more data than the grid can hold");
-  }
-  if (run.Signal)
-  {
-    throw std::runtime_error("the file is damaged: the OpenVDB parser crashed on it (signal " +
-      std::to_string(run.Signal) + ")");
-  }
-  return std::move(run.Output);
-}
-
-/// The selected grid's layout and values, every size checked.
-GridData ReadGrid(const char* fileName, const std::string& gridName, vtkIdType maximumVoxels, double timeout)
-{
-  const std::vector<std::string> arguments = { fileName, gridName, std::to_string(maximumVoxels) };
-  const double maximumBytes = 1e7 + static_cast<double>(maximumVoxels) * 3 * sizeof(double);
-  const std::vector<char> bytes = RunHelper(arguments, maximumBytes, timeout);
-  beltrami::ByteReader c(bytes, "OpenVDB helper");
-  char magic[5];
-  c.Take(magic, 5);
-  if (std::memcmp(magic, "BVDB1", 5) != 0)
-  {
-    throw std::runtime_error("malformed answer of the OpenVDB helper");
-  }
-  if (c.Get<std::int32_t>() != 0)
-  {
-    throw std::runtime_error(c.String());
-  }
-  GridData g;
-  const std::uint32_t count = c.Get<std::uint32_t>();
-  for (std::uint32_t k = 0; k < count; ++k)
-  {
-    g.Names.push_back(c.String());
-  }
-  g.Name = c.String();
-  g.Components = c.Get<std::int32_t>();
-  g.Double = c.Get<std::int32_t>() != 0;
-  for (int a = 0; a < 6; ++a)
-  {
-    g.Extent[a] = c.Get<std::int32_t>();
-  }
-  double voxels = 1.0;
-  for (int a = 0; a < 3; ++a)
-  {
-    voxels *= std::max(0.0, static_cast<double>(g.Extent[2 * a + 1]) - g.Extent[2 * a] + 1.0);
-  }
-  c.Take(g.Origin, sizeof(g.Origin));
-  c.Take(g.Spacing, sizeof(g.Spacing));
-  g.Active = c.Get<std::int64_t>();
-  if ((g.Components != 1 && g.Components != 3) || voxels > static_cast<double>(maximumVoxels))
-  {
-    throw std::runtime_error("malformed answer of the OpenVDB helper");
-  }
-  const double expected = voxels * g.Components * (g.Double ? sizeof(double) : sizeof(float));
-  if (static_cast<double>(c.Left()) != expected)
-  {
-    throw std::runtime_error("the OpenVDB helper sent " + std::to_string(c.Left()) + " bytes of values for " +
-      std::to_string(static_cast<std::int64_t>(expected)));
-  }
-  g.Values.assign(bytes.begin() + static_cast<std::ptrdiff_t>(c.Offset()), bytes.end());
-  return g;
-}
-} // namespace
-
 class vtkOpenVDBReader::vtkInternals
 {
 public:
   bool Valid = false;
-  GridData Grid;
+  beltrami::VDBGrid Grid;
 };
 
 vtkOpenVDBReader::vtkOpenVDBReader()
@@ -162,9 +71,9 @@ int vtkOpenVDBReader::RequestInformation(
   try
   {
     this->Internals->Grid =
-      ReadGrid(this->FileName, this->GridName, this->MaximumNumberOfVoxels, this->Timeout);
+      beltrami::ReadVDBGrid(this->FileName, this->GridName, this->MaximumNumberOfVoxels, this->Timeout, false);
     this->Internals->Valid = true;
-    const GridData& g = this->Internals->Grid;
+    const beltrami::VDBGrid& g = this->Internals->Grid;
     outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), g.Extent, 6);
     outInfo->Set(vtkDataObject::ORIGIN(), g.Origin, 3);
     outInfo->Set(vtkDataObject::SPACING(), g.Spacing, 3);
@@ -186,7 +95,7 @@ int vtkOpenVDBReader::RequestData(
   try
   {
     // The grid RequestInformation read (or a new read if none is kept).
-    GridData g;
+    beltrami::VDBGrid g;
     if (this->Internals->Valid)
     {
       g = std::move(this->Internals->Grid);
@@ -194,45 +103,21 @@ int vtkOpenVDBReader::RequestData(
     }
     else
     {
-      g = ReadGrid(this->FileName, this->GridName, this->MaximumNumberOfVoxels, this->Timeout);
+      g = beltrami::ReadVDBGrid(this->FileName, this->GridName, this->MaximumNumberOfVoxels, this->Timeout, false);
     }
     output->SetExtent(const_cast<int*>(g.Extent));
     output->SetOrigin(g.Origin);
     output->SetSpacing(g.Spacing);
-    const vtkIdType n = output->GetNumberOfPoints();
     const std::string name = g.Name.empty() ? "values" : g.Name;
-    if (n > 0)
+    if (output->GetNumberOfPoints() > 0)
     {
-      vtkSmartPointer<vtkDataArray> a;
-      if (g.Double)
-      {
-        a = vtkSmartPointer<vtkDoubleArray>::New();
-      }
-      else
-      {
-        a = vtkSmartPointer<vtkFloatArray>::New();
-      }
-      a->SetName(name.c_str());
-      a->SetNumberOfComponents(g.Components);
-      a->SetNumberOfTuples(n);
-      std::memcpy(a->GetVoidPointer(0), g.Values.data(), g.Values.size());
-      output->GetPointData()->SetScalars(a);
+      output->GetPointData()->SetScalars(beltrami::NewVDBValueArray(g));
     }
     else
     {
       vtkWarningMacro("The grid '" << name << "' has no active voxels: the image is empty.");
     }
-    vtkNew<vtkStringArray> names;
-    names->SetName("GridNames");
-    for (const std::string& s : g.Names)
-    {
-      names->InsertNextValue(s);
-    }
-    output->GetFieldData()->AddArray(names);
-    vtkNew<vtkIdTypeArray> active;
-    active->SetName("ActiveVoxelCount");
-    active->InsertNextValue(static_cast<vtkIdType>(g.Active));
-    output->GetFieldData()->AddArray(active);
+    beltrami::AddVDBFieldData(g, output->GetFieldData());
   }
   catch (const std::exception& e)
   {

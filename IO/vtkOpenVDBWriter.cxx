@@ -38,10 +38,20 @@ int vtkOpenVDBWriter::FillInputPortInformation(int, vtkInformation* info)
 namespace
 {
 template <typename GridT, int NC>
-typename GridT::Ptr MakeGrid(vtkImageData* image, vtkDataArray* array)
+typename GridT::Ptr MakeGrid(vtkImageData* image, vtkDataArray* array, bool sparse, double background)
 {
   using V = typename GridT::ValueType;
-  typename GridT::Ptr grid = GridT::create(openvdb::zeroVal<V>());
+  V backgroundValue;
+  if constexpr (NC == 1)
+  {
+    backgroundValue = static_cast<V>(background);
+  }
+  else
+  {
+    using S = typename V::value_type;
+    backgroundValue = V(static_cast<S>(background));
+  }
+  typename GridT::Ptr grid = GridT::create(backgroundValue);
   auto accessor = grid->getAccessor();
   int ext[6];
   image->GetExtent(ext);
@@ -63,7 +73,10 @@ typename GridT::Ptr MakeGrid(vtkImageData* image, vtkDataArray* array)
           value = V(static_cast<S>(array->GetComponent(id, 0)), static_cast<S>(array->GetComponent(id, 1)),
             static_cast<S>(array->GetComponent(id, 2)));
         }
-        accessor.setValueOn(openvdb::Coord(i, j, k), value);
+        if (!sparse || value != backgroundValue)
+        {
+          accessor.setValueOn(openvdb::Coord(i, j, k), value);
+        }
       }
     }
   }
@@ -99,13 +112,13 @@ void vtkOpenVDBWriter::WriteData()
     openvdb::GridBase::Ptr grid;
     if (nc == 1)
     {
-      grid = dbl ? openvdb::GridBase::Ptr(MakeGrid<openvdb::DoubleGrid, 1>(input, array))
-                 : openvdb::GridBase::Ptr(MakeGrid<openvdb::FloatGrid, 1>(input, array));
+      grid = dbl ? openvdb::GridBase::Ptr(MakeGrid<openvdb::DoubleGrid, 1>(input, array, this->SparseOutput, this->BackgroundValue))
+                 : openvdb::GridBase::Ptr(MakeGrid<openvdb::FloatGrid, 1>(input, array, this->SparseOutput, this->BackgroundValue));
     }
     else
     {
-      grid = dbl ? openvdb::GridBase::Ptr(MakeGrid<openvdb::Vec3DGrid, 3>(input, array))
-                 : openvdb::GridBase::Ptr(MakeGrid<openvdb::Vec3SGrid, 3>(input, array));
+      grid = dbl ? openvdb::GridBase::Ptr(MakeGrid<openvdb::Vec3DGrid, 3>(input, array, this->SparseOutput, this->BackgroundValue))
+                 : openvdb::GridBase::Ptr(MakeGrid<openvdb::Vec3SGrid, 3>(input, array, this->SparseOutput, this->BackgroundValue));
     }
     const double* spacing = input->GetSpacing();
     const double* origin = input->GetOrigin();
@@ -129,4 +142,6 @@ void vtkOpenVDBWriter::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
   os << indent << "GridName: " << this->GridName << "\n";
+  os << indent << "SparseOutput: " << this->SparseOutput << "\n";
+  os << indent << "BackgroundValue: " << this->BackgroundValue << "\n";
 }

@@ -5,9 +5,14 @@
  * The array selected as input array 0 (default: the active scalars; 1 or 3
  * components; float and double kept, other numeric types written as float)
  * becomes a FloatGrid, DoubleGrid, Vec3SGrid or Vec3DGrid named as the array
- * (or GridName), every voxel of the extent active, with a scale-and-translate
- * transform from the image's spacing and origin: vtkOpenVDBReader gives back
- * the same extent, spacing, origin and values, bit for bit.
+ * (or GridName), with a scale-and-translate transform from the image's
+ * spacing and origin.  By default every voxel of the extent is active:
+ * vtkOpenVDBReader gives back the same extent, spacing, origin and values,
+ * bit for bit.  With SparseOutput on, voxels whose components all equal
+ * BackgroundValue (the grid's background) stay inactive: a sparse grid, as
+ * OpenVDB users expect of fog volumes (read back densely with
+ * vtkOpenVDBReader, or its active voxels alone with
+ * vtkOpenVDBActiveVoxelReader).
  */
 #ifndef vtkOpenVDBWriter_h
 #define vtkOpenVDBWriter_h
@@ -32,6 +37,14 @@ public:
   vtkSetStdStringFromCharMacro(GridName);
   vtkGetCharFromStdStringMacro(GridName);
 
+  /// Off (default): every voxel active.  On: voxels equal to BackgroundValue inactive.
+  vtkSetMacro(SparseOutput, bool);
+  vtkGetMacro(SparseOutput, bool);
+  vtkBooleanMacro(SparseOutput, bool);
+  /// The grid's background value (every component; default 0).
+  vtkSetMacro(BackgroundValue, double);
+  vtkGetMacro(BackgroundValue, double);
+
   vtkImageData* GetInput();
 
 protected:
@@ -43,6 +56,8 @@ protected:
 
   char* FileName = nullptr;
   std::string GridName;
+  bool SparseOutput = false;
+  double BackgroundValue = 0.0;
 
 private:
   vtkOpenVDBWriter(const vtkOpenVDBWriter&) = delete;

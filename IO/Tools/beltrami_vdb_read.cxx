@@ -1,4 +1,4 @@
-// beltrami-vdb-read FILE GRID MAXVOXELS
+// beltrami-vdb-read FILE GRID MAXVOXELS [active]
 //
 // Parses an OpenVDB file in a process of its own for vtkOpenVDBReader:
 // OpenVDB's parser can corrupt the heap on damaged files, so it never runs
@@ -7,7 +7,10 @@
 //   on success: uint32 number of grids, each as uint32 length + name; the
 //   selected grid's name likewise; int32 components (1, 3), int32 double (0,
 //   1), int32 extent[6], double origin[3], double spacing[3], int64 active
-//   voxel count; then the values over the extent, x fastest.
+//   voxel count; then the values over the extent, x fastest.  With "active":
+//   instead of the values over the extent, the active voxels only (the grid
+//   is never densified): int64 count, count x int32 (i, j, k), then their
+//   values in the same order.
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 
@@ -71,6 +74,39 @@ void PutValues(const openvdb::GridBase& base, const int* ext, int nc)
   }
 }
 
+template <typename GridT, typename S>
+void PutActive(const openvdb::GridBase& base, int nc)
+{
+  const GridT& grid = static_cast<const GridT&>(base);
+  std::vector<std::int32_t> ijk;
+  std::vector<S> values;
+  for (auto it = grid.cbeginValueOn(); it; ++it)
+  {
+    // Tile values (whole active blocks stored as one value) are expanded.
+    const openvdb::CoordBBox box = it.getBoundingBox();
+    for (auto c = box.begin(); c; ++c)
+    {
+      const openvdb::Coord xyz = *c;
+      ijk.insert(ijk.end(), { xyz[0], xyz[1], xyz[2] });
+      const auto v = *it;
+      if constexpr (std::is_arithmetic_v<std::decay_t<decltype(v)>>)
+      {
+        values.push_back(static_cast<S>(v));
+      }
+      else
+      {
+        for (int k = 0; k < nc; ++k)
+        {
+          values.push_back(static_cast<S>(v[k]));
+        }
+      }
+    }
+  }
+  Put(static_cast<std::int64_t>(ijk.size() / 3));
+  Put(ijk.data(), ijk.size() * sizeof(std::int32_t));
+  Put(values.data(), values.size() * sizeof(S));
+}
+
 int Fail(const std::string& message)
 {
   Put(static_cast<std::int32_t>(1));
@@ -88,6 +124,7 @@ int main(int argc, char** argv)
   }
   const std::string gridName = argv[2];
   const double maximumVoxels = std::atof(argv[3]);
+  const bool activeOnly = argc > 4 && std::string(argv[4]) == "active";
   try
   {
     openvdb::initialize();
@@ -160,13 +197,20 @@ int main(int argc, char** argv)
         ext[2 * a + 1] = box.max()[a];
         voxels *= static_cast<double>(box.max()[a]) - box.min()[a] + 1.0;
       }
-      if (voxels > maximumVoxels)
+      if (voxels > maximumVoxels && !activeOnly)
       {
         std::ostringstream s;
         s << "the active bounding box has " << voxels << " voxels, more than MaximumNumberOfVoxels ("
           << maximumVoxels << ")";
         return Fail(s.str());
       }
+    }
+    if (activeOnly && static_cast<double>(grid->activeVoxelCount()) > maximumVoxels)
+    {
+      std::ostringstream s;
+      s << "the grid has " << grid->activeVoxelCount() << " active voxels, more than MaximumNumberOfVoxels ("
+        << maximumVoxels << ")";
+      return Fail(s.str());
     }
     Put(static_cast<std::int32_t>(0));
     Put(static_cast<std::uint32_t>(grids->size()));
@@ -184,7 +228,18 @@ int main(int argc, char** argv)
     Put(origin, sizeof(origin));
     Put(spacing, sizeof(spacing));
     Put(static_cast<std::int64_t>(grid->activeVoxelCount()));
-    if (!box.empty())
+    if (activeOnly)
+    {
+      if (type == "float")
+        PutActive<openvdb::FloatGrid, float>(*grid, 1);
+      else if (type == "double")
+        PutActive<openvdb::DoubleGrid, double>(*grid, 1);
+      else if (type == "vec3s")
+        PutActive<openvdb::Vec3SGrid, float>(*grid, 3);
+      else
+        PutActive<openvdb::Vec3DGrid, double>(*grid, 3);
+    }
+    else if (!box.empty())
     {
       if (type == "float")
         PutValues<openvdb::FloatGrid, float>(*grid, ext, 1);

@@ -1,6 +1,7 @@
 """OpenVDB I/O from /usr/bin/python3: exact write/read round trips (float,
 double, vec3; extent, origin, spacing), grid selection by name, a denoising
-path from a .vdb file, and 200 truncated or corrupted files that must give an
+path from a .vdb file, sparse grids (written with SparseOutput, read back
+densely and as active voxels only, denoised on their voxels), and 200 truncated or corrupted files that must give an
 error (or a valid image), never a crash or a hang."""
 import os
 import random
@@ -13,7 +14,8 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
-from beltrami import vtkImageBeltramiDenoising, vtkOpenVDBReader, vtkOpenVDBWriter
+from beltrami import (vtkImageBeltramiDenoising, vtkOpenVDBActiveVoxelReader, vtkOpenVDBReader, vtkOpenVDBWriter,
+                      vtkTetrahedralBeltramiDenoising)
 
 TMP = tempfile.mkdtemp()
 
@@ -101,6 +103,62 @@ class RoundTrip(unittest.TestCase):
         rms = lambda v: np.sqrt(np.mean((v - clean) ** 2))  # noqa: E731
         print("vdb volume: RMS error noisy %.3f -> denoised %.3f" % (rms(noisy), rms(out)))
         self.assertLess(rms(out), 0.5 * rms(noisy))
+
+
+class Sparse(unittest.TestCase):
+    def test_active_voxels_without_densifying(self):
+        # A noisy spherical shell (values around 1) in a 40^3 box of exact
+        # zeros: written sparse, only the shell is active.
+        n = 40
+        z, y, x = np.mgrid[0:n, 0:n, 0:n]
+        r = np.sqrt((x - 20.0) ** 2 + (y - 19.0) ** 2 + (z - 21.0) ** 2)
+        shell = np.abs(r - 13.0) < 3.0
+        noisy = np.where(shell, 1.0 + np.random.default_rng(7).normal(0, 0.1, shell.shape), 0.0).astype(np.float32)
+        path = os.path.join(TMP, "sparse.vdb")
+        w = vtkOpenVDBWriter()
+        w.SetInputData(image(noisy.ravel(), extent=(0, n - 1, 0, n - 1, 0, n - 1), spacing=(0.5, 0.5, 0.5),
+                             origin=(1.0, 2.0, 3.0)))
+        w.SetFileName(path)
+        w.SparseOutputOn()
+        w.Write()
+        active = int(shell.sum())
+        dense = read(path)
+        self.assertEqual(dense.GetFieldData().GetAbstractArray("ActiveVoxelCount").GetValue(0), active)
+
+        reader = vtkOpenVDBActiveVoxelReader()
+        reader.SetFileName(path)
+        reader.Update()
+        voxels = reader.GetOutput()
+        # One point per active voxel (never the 64,000 of the box), at the
+        # dense image's positions with the same values.
+        self.assertEqual(voxels.GetNumberOfPoints(), active)
+        pts = vtk_to_numpy(voxels.GetPoints().GetData())
+        vals = vtk_to_numpy(voxels.GetPointData().GetArray("density"))
+        ijk = np.rint((pts - np.array([1.0, 2.0, 3.0])) / 0.5).astype(int)
+        self.assertTrue(np.array_equal(vals, noisy[ijk[:, 2], ijk[:, 1], ijk[:, 0]]))
+        self.assertTrue(shell[ijk[:, 2], ijk[:, 1], ijk[:, 0]].all())
+        # A voxel cell wherever all eight corners are active.
+        complete = np.ones((n - 1,) * 3, bool)
+        for c in range(8):
+            complete &= shell[(c >> 2) & 1:n - 1 + ((c >> 2) & 1), (c >> 1) & 1:n - 1 + ((c >> 1) & 1),
+                              c & 1:n - 1 + (c & 1)]
+        self.assertEqual(voxels.GetNumberOfCells(), int(complete.sum()))
+        self.assertEqual(voxels.GetCellType(0), 11)  # VTK_VOXEL
+
+        # Denoised on its voxels (six Kuhn tetrahedra each).
+        f = vtkTetrahedralBeltramiDenoising()
+        f.SetInputConnection(reader.GetOutputPort())
+        f.SetContrastScale(15.0)
+        f.SetNoiseLevel(0.1)
+        f.SetIntegration(1)
+        f.SetTimeStep(0.1)
+        f.SetNumberOfIterations(100)
+        f.Update()
+        out = vtk_to_numpy(f.GetOutput().GetPointData().GetArray("density"))
+        rms = lambda v: np.sqrt(np.mean((v - 1.0) ** 2))  # noqa: E731
+        print("sparse vdb: %d active voxels of %d, %d voxel cells; RMS error noisy %.3f -> denoised %.3f"
+              % (active, n ** 3, voxels.GetNumberOfCells(), rms(vals), rms(out)))
+        self.assertLess(rms(out), 0.5 * rms(vals))
 
 
 class Corrupt(unittest.TestCase):

@@ -169,6 +169,10 @@ if partitions == 1:
         before_vdb = vtk_to_numpy(servermanager.Fetch(opened).GetPointData().GetScalars())
         after_vdb = vtk_to_numpy(servermanager.Fetch(smoothed_vdb).GetPointData().GetScalars())
         check(after_vdb.shape == (1000,) and np.std(after_vdb) < np.std(before_vdb), "a .vdb volume denoised in ParaView")
+        sparse = OpenVDBSparseReader(FileName=vdb)
+        sparse.UpdatePipeline()
+        check(sparse.GetDataInformation().GetNumberOfPoints() == 1000
+              and sparse.GetDataInformation().GetNumberOfCells() == 729, "the active-voxel reader through the plugin")
 tets = Tetrahedralize(Input=wavelet)
 tets.UpdatePipeline()
 volume_denoise = TetrahedralBeltramiDenoising(Input=tets)

@@ -192,15 +192,43 @@ class VolumeInvariants(unittest.TestCase):
         volume = fd.GetArray("FlowArea")
         self.assertLess(volume.GetValue(1), volume.GetValue(0))
 
-    def test_bad_input(self):
-        # Not tetrahedra: the voxels of an unstructured grid are reported and ignored.
+    def test_voxel_cells_equal_the_image_path(self):
+        # Voxel cells (e.g. OpenVDB active voxels) are split like the 3D image
+        # path: the same flow, to round-off.
         from vtkmodules.vtkFiltersCore import vtkAppendFilter
+        noisy = blobs(12) + np.random.default_rng(8).normal(0, SIGMA, (12, 12, 12))
         append = vtkAppendFilter()
-        append.AddInputData(image(np.zeros((3, 3, 3))))
+        append.AddInputData(image(noisy))
         append.Update()
-        f, out = denoise(append.GetOutput())
-        self.assertIn("not tetrahedra", self.log.GetOutput())
-        self.assertEqual(out.GetNumberOfPoints(), 27)
+        settings = dict(ContrastScale=1.5 / SIGMA, Integration=1, TimeStep=0.1, NumberOfIterations=5)
+        f, out = denoise(append.GetOutput(), Units=1, **settings)  # physical units: spacing 1, as the image
+        voxels = vtk_to_numpy(out.GetPointData().GetArray("v"))
+        g = vtkImageBeltramiDenoising()
+        g.SetInputData(image(noisy))
+        for key, value in settings.items():
+            getattr(g, "Set" + key)(value)
+        g.Update()
+        pixels = vtk_to_numpy(g.GetOutput().GetPointData().GetArray("v"))
+        self.assertGreater(np.abs(voxels - noisy.ravel()).max(), 0.01)
+        self.assertLess(np.abs(voxels - pixels).max(), 1e-9)
+        self.assertNotIn("ignored", self.log.GetOutput())
+
+    def test_bad_input(self):
+        # Neither tetrahedra nor voxels: a pyramid is reported and ignored.
+        from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid
+        from vtkmodules.vtkCommonCore import vtkPoints
+        pyramid = vtkUnstructuredGrid()
+        points = vtkPoints()
+        for p in ((0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0.5, 0.5, 1)):
+            points.InsertNextPoint(*p)
+        pyramid.SetPoints(points)
+        pyramid.InsertNextCell(14, 5, [0, 1, 2, 3, 4])  # VTK_PYRAMID
+        values = numpy_to_vtk(np.arange(5.0), deep=1)
+        values.SetName("v")
+        pyramid.GetPointData().SetScalars(values)
+        f, out = denoise(pyramid)
+        self.assertIn("neither tetrahedra nor voxels", self.log.GetOutput())
+        self.assertEqual(out.GetNumberOfPoints(), 5)
         # No array to smooth.
         grid = tetrahedralize(np.zeros((3, 3, 3)))
         grid.GetPointData().RemoveArray("v")
