@@ -1,5 +1,7 @@
 #include "Tetrahedra.h"
 
+#include "LargeBuffer.h"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -214,8 +216,20 @@ void AssembleTetrahedralLaplacian(const TetrahedralMesh& mesh, const double* poi
   l.Mass.assign(n, 0.0);
   const std::vector<Index>& tets = mesh.TetrahedronList();
   std::atomic<Index> degenerate{ 0 };
-  // Row by row (each tetrahedron is evaluated by its four vertices): no two
-  // threads write the same entry, and the sums do not depend on the threads.
+  // Every tetrahedron evaluated once, then summed row by row (each row reads
+  // the terms of its tetrahedra): no two threads write the same entry, and
+  // the sums do not depend on the threads.
+  const std::int64_t numTets = mesh.NumberOfTetrahedra();
+  LargeVector<TetrahedronTerms> terms(static_cast<std::size_t>(numTets));
+  ParallelFor(numTets, numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t t = begin; t < end; ++t)
+    {
+      const Index* v = &tets[4 * static_cast<std::size_t>(t)];
+      terms[t] = Tetrahedron(points + static_cast<std::int64_t>(v[0]) * dimension,
+        points + static_cast<std::int64_t>(v[1]) * dimension, points + static_cast<std::int64_t>(v[2]) * dimension,
+        points + static_cast<std::int64_t>(v[3]) * dimension, dimension);
+    }
+  });
   ParallelFor(n, numThreads, [&](std::int64_t begin, std::int64_t end) {
     Index nDegenerate = 0;
     for (Index i = static_cast<Index>(begin); i < end; ++i)
@@ -225,15 +239,13 @@ void AssembleTetrahedralLaplacian(const TetrahedralMesh& mesh, const double* poi
       for (const Index* t = mesh.IncidentBegin(i); t != mesh.IncidentEnd(i); ++t)
       {
         const Index* v = &tets[4 * static_cast<std::size_t>(*t)];
-        const TetrahedronTerms terms = Tetrahedron(points + static_cast<std::int64_t>(v[0]) * dimension,
-          points + static_cast<std::int64_t>(v[1]) * dimension, points + static_cast<std::int64_t>(v[2]) * dimension,
-          points + static_cast<std::int64_t>(v[3]) * dimension, dimension);
-        if (terms.Degenerate)
+        const TetrahedronTerms& term = terms[*t];
+        if (term.Degenerate)
         {
           nDegenerate += v[0] == i; // each tetrahedron counted once
           continue;
         }
-        mass += 0.25 * terms.Volume;
+        mass += 0.25 * term.Volume;
         for (int e = 0; e < 6; ++e)
         {
           const Index a = v[TetrahedronEdges[e][0]], b = v[TetrahedronEdges[e][1]];
@@ -244,7 +256,7 @@ void AssembleTetrahedralLaplacian(const TetrahedralMesh& mesh, const double* poi
           const Index other = a == i ? b : a;
           const std::int64_t k =
             std::lower_bound(l.Neighbors + first, l.Neighbors + last, other) - l.Neighbors;
-          l.Weights[k] += terms.Weights[e];
+          l.Weights[k] += term.Weights[e];
         }
       }
       l.FinishRow(i, mass);
