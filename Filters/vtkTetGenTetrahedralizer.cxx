@@ -23,7 +23,6 @@
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 
-
 #include <cstdint>
 #include <cstring>
 #include <limits>

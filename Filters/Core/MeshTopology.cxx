@@ -68,7 +68,7 @@ int RegularFanOwnedEdges(const Index* pairs, Index valence, Index v)
     int found = -1;
     for (Index b = 0; b < valence; ++b)
     {
-      if (b != a && pairs[2 * b] == pairs[2 * a] )
+      if (b != a && pairs[2 * b] == pairs[2 * a])
       {
         return -1; // a neighbour twice as a next vertex
       }
