@@ -48,6 +48,22 @@ const char* TetGenReason(int code)
     default: return "an unknown error";
   }
 }
+/// The TetGen helper next to this library (or BELTRAMI_TETGEN).
+const std::string& TetGenHelperPath()
+{
+  static const std::string path = beltrami::HelperPathNextTo(
+    reinterpret_cast<const void*>(&TetGenReason), "beltrami-tetgen", "BELTRAMI_TETGEN");
+  return path;
+}
+
+/// One TetGen helper per process, kept running between runs of the filter
+/// (its memory stays faulted in; never destroyed: it exits when this
+/// process ends and its input closes).
+beltrami::PersistentHelperProcess& TetGenHelper()
+{
+  static auto* helper = new beltrami::PersistentHelperProcess(TetGenHelperPath(), { "--serve" });
+  return *helper;
+}
 } // namespace
 
 std::string vtkTetGenTetrahedralizer::GetSwitches() const
@@ -153,23 +169,19 @@ int vtkTetGenTetrahedralizer::RequestData(
   put(triangles.data(), triangles.size() * sizeof(beltrami::Index));
 
   this->UpdateProgress(0.0);
-  const std::string helper = beltrami::HelperPathNextTo(
-    reinterpret_cast<const void*>(&TetGenReason), "beltrami-tetgen", "BELTRAMI_TETGEN");
   // The answer: at most ~64 points and ~400 tetrahedra per input point even
   // with small volume bounds; more means a damaged answer.
   const double maximumBytes = 1e8 + 2e4 * static_cast<double>(numPoints);
-  const auto runHelper = [&](const std::vector<std::string>& arguments) {
-    return beltrami::RunHelperProcess(helper, arguments, request, maximumBytes, /*timeout=*/0.0,
-      [this]() { return !this->GetAbortExecute(); });
-  };
+  const auto keepGoing = [this]() { return !this->GetAbortExecute(); };
   beltrami::HelperProcessResult run;
   try
   {
-    run = runHelper({});
+    run = TetGenHelper().Request(request, maximumBytes, /*timeout=*/0.0, keepGoing);
     if (run.Signal && !run.Cancelled)
     {
       // Diagnose the crash with TetGen's self-intersection check.
-      const beltrami::HelperProcessResult check = runHelper({ "--intersections" });
+      const beltrami::HelperProcessResult check = beltrami::RunHelperProcess(
+        TetGenHelperPath(), { "--intersections" }, request, maximumBytes, /*timeout=*/0.0, keepGoing);
       beltrami::ByteReader answer(check.Output, "TetGen helper");
       char magic[5];
       if (!check.Signal && check.Output.size() == 13 && (answer.Take(magic, 5), answer.Get<std::int32_t>() == 0))

@@ -18,11 +18,12 @@
  * the volume Laplacian of the output (Tetrahedra.h) is zero there, with the
  * input points' values held - exact for linear fields.  An open, non-manifold or empty surface is an error
  * naming the defect.  TetGen runs in a helper process (build/lib/beltrami-tetgen,
- * Core/HelperProcess.h) because libtet 1.5 crashes (frees its pools twice)
- * when it meets a self-intersecting or nearly touching surface: a crash there
- * is diagnosed with TetGen's self-intersection check (-d) and reported with
- * the number of intersecting triangles; TetGen's other failures are
- * reported with TetGen's reason.  Abort kills the helper.  Each piece of distributed
+ * Core/HelperProcess.h), kept running between runs of the filter, because
+ * libtet 1.5 crashes (frees its pools twice) when it meets a
+ * self-intersecting or nearly touching surface: a crash there is diagnosed
+ * with TetGen's self-intersection check (-d) and reported with the number
+ * of intersecting triangles, and the next run starts a new helper; TetGen's
+ * other failures are reported with TetGen's reason.  Abort kills the helper.  Each piece of distributed
  * data is meshed on its own (a closed surface is normally one piece).  Field data: TetGenSwitches.
  */
 #ifndef vtkTetGenTetrahedralizer_h

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <functional>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,37 @@ struct HelperProcessResult
 HelperProcessResult RunHelperProcess(const std::string& program, const std::vector<std::string>& arguments,
   const std::vector<char>& input, double maximumBytes, double timeout,
   const std::function<bool()>& keepGoing = {});
+
+/// A helper process kept running between requests, so that the memory it
+/// faulted in stays warm (on virtual machines a fresh process pays ~1 ms per
+/// MiB it touches).  Its standard input and output are one end of a socket
+/// pair; a request and its answer are frames: a uint64 length and the bytes.
+/// The helper is started by the first request and again after it died: a
+/// crash answers the request it was working on with Signal set, a cancel
+/// or timeout kills it.  Requests are serialized.  The helper exits when
+/// its input closes (this object destroyed, or this process gone).
+class PersistentHelperProcess
+{
+public:
+  PersistentHelperProcess(std::string program, std::vector<std::string> arguments);
+  ~PersistentHelperProcess();
+  PersistentHelperProcess(const PersistentHelperProcess&) = delete;
+  PersistentHelperProcess& operator=(const PersistentHelperProcess&) = delete;
+
+  /// Sends `request`, returns the answer in Output (ExitCode 0: the helper
+  /// is still running).  Throws std::runtime_error when it cannot start.
+  HelperProcessResult Request(const std::vector<char>& request, double maximumBytes, double timeout,
+    const std::function<bool()>& keepGoing = {});
+
+private:
+  void Stop(HelperProcessResult& result, bool kill);
+
+  std::string Program;
+  std::vector<std::string> Arguments;
+  std::mutex Mutex;
+  int Pid = -1;
+  int Socket = -1;
+};
 
 /// The helper `name` in the directory of the shared library that holds
 /// `symbol` (where the build puts it), or the value of the environment

@@ -51,6 +51,18 @@ def read(path, grid_name=None):
     return r.GetOutput()
 
 
+def denoiser(f, source):
+    """f on source's output, the settings for noise sigma = 0.1 on values of order 1, updated."""
+    f.SetInputConnection(source.GetOutputPort())
+    f.SetContrastScale(15.0)
+    f.SetNoiseLevel(0.1)
+    f.SetIntegration(1)
+    f.SetTimeStep(0.1)
+    f.SetNumberOfIterations(100)
+    f.Update()
+    return f
+
+
 class RoundTrip(unittest.TestCase):
     def test_types_extent_origin_spacing(self):
         n = 16 * 19 * 8
@@ -91,14 +103,7 @@ class RoundTrip(unittest.TestCase):
         write(image(noisy.ravel(), extent=(0, 23, 0, 23, 0, 23), spacing=(1, 1, 1), origin=(0, 0, 0)), path)
         r = vtkOpenVDBReader()
         r.SetFileName(path)
-        f = vtkImageBeltramiDenoising()
-        f.SetInputConnection(r.GetOutputPort())
-        f.SetContrastScale(15.0)
-        f.SetNoiseLevel(0.1)
-        f.SetIntegration(1)
-        f.SetTimeStep(0.1)
-        f.SetNumberOfIterations(100)
-        f.Update()
+        f = denoiser(vtkImageBeltramiDenoising(), r)
         out = vtk_to_numpy(f.GetOutput().GetPointData().GetArray("density")).reshape(clean.shape)
         rms = lambda v: np.sqrt(np.mean((v - clean) ** 2))  # noqa: E731
         print("vdb volume: RMS error noisy %.3f -> denoised %.3f" % (rms(noisy), rms(out)))
@@ -146,14 +151,7 @@ class Sparse(unittest.TestCase):
         self.assertEqual(voxels.GetCellType(0), 11)  # VTK_VOXEL
 
         # Denoised on its voxels (six Kuhn tetrahedra each).
-        f = vtkTetrahedralBeltramiDenoising()
-        f.SetInputConnection(reader.GetOutputPort())
-        f.SetContrastScale(15.0)
-        f.SetNoiseLevel(0.1)
-        f.SetIntegration(1)
-        f.SetTimeStep(0.1)
-        f.SetNumberOfIterations(100)
-        f.Update()
+        f = denoiser(vtkTetrahedralBeltramiDenoising(), reader)
         out = vtk_to_numpy(f.GetOutput().GetPointData().GetArray("density"))
         rms = lambda v: np.sqrt(np.mean((v - 1.0) ** 2))  # noqa: E731
         print("sparse vdb: %d active voxels of %d, %d voxel cells; RMS error noisy %.3f -> denoised %.3f"
