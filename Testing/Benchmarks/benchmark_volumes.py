@@ -61,10 +61,10 @@ rows.append(best)
 for name, p, t in rows:
     print("  %-52s %6.2f dB %7.3f s %8.2f Mvoxel/s" % (name, p, t, voxels / t / 1e6))
 
-# A sparse grid: a noisy spherical shell, 3 voxels thick, in a (2n)^3 box of
+# A sparse grid: a noisy spherical shell, 3 voxels thick, in a 128^3 box of
 # background; written sparse, read as active voxels only, denoised on them.
 import tempfile  # noqa: E402
-m = 2 * n
+m = 128
 z, y, x = np.mgrid[0:m, 0:m, 0:m]
 shell = np.abs(np.sqrt((x - m / 2) ** 2 + (y - m / 2) ** 2 + (z - m / 2) ** 2) - 0.35 * m) < 1.5
 values = np.where(shell, 1.0 + np.random.default_rng(4).normal(0, SIGMA, shell.shape), 0.0).astype(np.float32)
