@@ -14,6 +14,7 @@ from vtkmodules.vtkImagingGeneral import vtkImageGaussianSmooth
 from vtkmodules.vtkIOImage import vtkPNGReader
 
 from beltrami import vtkImageBeltramiDenoising, vtkSurfaceDataDenoising
+from configure import configured
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -40,11 +41,7 @@ def to_image(a, spacing=(1.0, 1.0), name="values"):
 
 
 def denoise(a, spacing=(1.0, 1.0), **settings):
-    f = vtkImageBeltramiDenoising()
-    f.SetInputData(to_image(a, spacing))
-    for key, value in settings.items():
-        getattr(f, "Set" + key)(value)
-    f.Update()
+    f = configured(vtkImageBeltramiDenoising(), to_image(a, spacing), **settings)
     out = f.GetOutput()
     h, w = a.shape[:2]
     result = vtk_to_numpy(out.GetPointData().GetArray("values")).reshape(h, w, -1)

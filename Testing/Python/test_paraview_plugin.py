@@ -101,6 +101,7 @@ check(denoise.Integration == "Explicit" and denoise.ColorSpace == "Automatic", "
 check(denoise.Boundary == "Linear" and denoise.NumberOfIterations == 10, "default boundary, iterations")
 check(denoise.UseFixedPixelsArray == 0, "no mask by default")
 from beltrami import vtkImageBeltramiDenoising  # noqa: E402
+from configure import configured  # noqa: E402
 from vtkmodules.vtkIOImage import vtkPNGReader  # noqa: E402
 from vtkmodules.vtkIOXML import vtkXMLPImageDataReader  # noqa: E402
 png = vtkPNGReader()
@@ -116,12 +117,7 @@ for settings in (dict(ContrastScale=0.06, NumberOfIterations=8),
     for key, value in settings.items():
         setattr(denoise, key, value)
     denoise.UpdatePipeline()
-    serial = vtkImageBeltramiDenoising()
-    serial.SetInputConnection(png.GetOutputPort())
-    for key, value in settings.items():
-        getattr(serial, "Set" + key)(value)
-    serial.SetNumberOfThreads(1)
-    serial.Update()
+    serial = configured(vtkImageBeltramiDenoising(), png, NumberOfThreads=1, **settings)
     reference = vtk_to_numpy(serial.GetOutput().GetPointData().GetScalars())
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "denoised.pvti")

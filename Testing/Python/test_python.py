@@ -13,6 +13,7 @@ from beltrami import (vtkDiscreteCurvatures, vtkImplicitFairing, vtkIntrinsicPar
                       vtkOFFReader, vtkOFFWriter)
 from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIdList, vtkUnsignedCharArray
 from vtkmodules.util.numpy_support import numpy_to_vtk
+from configure import configured
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -26,12 +27,7 @@ class CurvaturesFromPython(unittest.TestCase):
     def run_filter(self, path, **settings):
         reader = vtkOFFReader()
         reader.SetFileName(path)
-        f = vtkDiscreteCurvatures()
-        for key, value in settings.items():
-            getattr(f, "Set" + key)(value)
-        f.SetInputConnection(reader.GetOutputPort())
-        f.Update()
-        return f.GetOutput()
+        return configured(vtkDiscreteCurvatures(), reader, **settings).GetOutput()
 
     def test_knot_is_a_torus(self):
         out = self.run_filter(os.path.join(DATA, "knot1.off"))

@@ -14,6 +14,7 @@ from vtkmodules.vtkFiltersCore import vtkAppendPolyData
 from vtkmodules.vtkFiltersSources import vtkSphereSource
 
 from beltrami import vtkOFFReader, vtkTetGenTetrahedralizer, vtkTetrahedralBeltramiDenoising
+from configure import configured
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -52,12 +53,7 @@ def tetrahedra(grid):
 
 
 def tetgen(pd, **settings):
-    f = vtkTetGenTetrahedralizer()
-    f.SetInputData(pd)
-    for key, value in settings.items():
-        getattr(f, "Set" + key)(value)
-    f.Update()
-    return f.GetOutput()
+    return configured(vtkTetGenTetrahedralizer(), pd, **settings).GetOutput()
 
 
 class Quality(unittest.TestCase):

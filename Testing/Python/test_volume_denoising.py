@@ -15,6 +15,7 @@ from vtkmodules.vtkFiltersGeneral import vtkDataSetTriangleFilter
 from vtkmodules.vtkImagingGeneral import vtkImageAnisotropicDiffusion3D, vtkImageGaussianSmooth
 
 from beltrami import vtkImageBeltramiDenoising, vtkTetrahedralBeltramiDenoising
+from configure import configured
 
 N = 32
 SIGMA = 0.1
@@ -71,11 +72,7 @@ def gaussian_smooth(noisy, s):
 
 
 def denoise(grid, **settings):
-    f = vtkTetrahedralBeltramiDenoising()
-    f.SetInputData(grid)
-    for key, value in settings.items():
-        getattr(f, "Set" + key)(value)
-    f.Update()
+    f = configured(vtkTetrahedralBeltramiDenoising(), grid, **settings)
     return f, f.GetOutput()
 
 
@@ -120,11 +117,7 @@ class VolumeQuality(unittest.TestCase):
 
 class ImageVolumes(unittest.TestCase):
     def image_flow(self, noisy, **settings):
-        f = vtkImageBeltramiDenoising()
-        f.SetInputData(image(noisy))
-        for key, value in settings.items():
-            getattr(f, "Set" + key)(value)
-        f.Update()
+        f = configured(vtkImageBeltramiDenoising(), image(noisy), **settings)
         return f, vtk_to_numpy(f.GetOutput().GetPointData().GetArray("v")).reshape(noisy.shape)
 
     def test_image_path_agrees_with_the_tetrahedral_path(self):
@@ -149,10 +142,8 @@ class ImageVolumes(unittest.TestCase):
         _, whole = self.image_flow(noisy, NumberOfThreads=1, **settings)
         _, two = self.image_flow(noisy, NumberOfThreads=2, **settings)
         self.assertTrue(np.array_equal(whole, two))
-        f = vtkImageBeltramiDenoising()  # a fresh filter: pieces only, never the whole volume
-        f.SetInputData(image(noisy))
-        for key, value in settings.items():
-            getattr(f, "Set" + key)(value)
+        # a fresh filter: pieces only, never the whole volume
+        f = configured(vtkImageBeltramiDenoising(), image(noisy), update=False, **settings)
         for ext in ((0, 9, 0, 19, 0, 19), (10, 19, 5, 14, 3, 17)):
             f.UpdateExtent(ext)
             out = f.GetOutput()
@@ -203,11 +194,7 @@ class VolumeInvariants(unittest.TestCase):
         settings = dict(ContrastScale=1.5 / SIGMA, Integration=1, TimeStep=0.1, NumberOfIterations=5)
         f, out = denoise(append.GetOutput(), Units=1, **settings)  # physical units: spacing 1, as the image
         voxels = vtk_to_numpy(out.GetPointData().GetArray("v"))
-        g = vtkImageBeltramiDenoising()
-        g.SetInputData(image(noisy))
-        for key, value in settings.items():
-            getattr(g, "Set" + key)(value)
-        g.Update()
+        g = configured(vtkImageBeltramiDenoising(), image(noisy), **settings)
         pixels = vtk_to_numpy(g.GetOutput().GetPointData().GetArray("v"))
         self.assertGreater(np.abs(voxels - noisy.ravel()).max(), 0.01)
         self.assertLess(np.abs(voxels - pixels).max(), 1e-9)
