@@ -173,4 +173,341 @@ ConjugateGradientResult SolveConjugateGradient(
   }
 }
 
+std::vector<Index> LocalityOrder(Index rows, const std::int64_t* offsets, const Index* neighbors)
+{
+  std::vector<Index> order;
+  order.reserve(static_cast<std::size_t>(std::max<Index>(rows, 0)));
+  std::vector<std::uint8_t> seen(static_cast<std::size_t>(std::max<Index>(rows, 0)), 0);
+  for (Index start = 0; start < rows; ++start)
+  {
+    if (seen[start])
+    {
+      continue;
+    }
+    seen[start] = 1;
+    order.push_back(start);
+    for (std::size_t head = order.size() - 1; head < order.size(); ++head)
+    {
+      const Index v = order[head];
+      for (std::int64_t k = offsets[v]; k < offsets[v + 1]; ++k)
+      {
+        const Index u = neighbors[k];
+        if (u >= 0 && u < rows && !seen[u])
+        {
+          seen[u] = 1;
+          order.push_back(u);
+        }
+      }
+    }
+  }
+  return order;
+}
+
+namespace
+{
+
+/// The renumbered single-precision copy of D + t K: W values per row (the
+/// columns padded to 1, 2, 4 or 8, so that a row is one vector register);
+/// fixed rows have no off-diagonal entries, a unit diagonal and stay zero.
+struct SinglePrecisionSystem
+{
+  std::int64_t Rows = 0;
+  LargeVector<std::int64_t> Offsets;
+  LargeVector<Index> Neighbors;
+  LargeVector<float> Weights, Diagonal, InverseDiagonal;
+  LargeVector<std::uint8_t> Free;
+};
+
+/// The correction: A dx = r (r in the renumbered order, W per row; inactive
+/// columns are left at 0) until the residual of every active column is below
+/// target[c].  Returns the iterations.
+template <int W>
+int SolveCorrection(const SinglePrecisionSystem& A, LargeVector<float>& r, LargeVector<float>& dx,
+  const double* target, bool* active, int maxIterations, int threads)
+{
+  const std::int64_t n = A.Rows;
+  const std::size_t size = static_cast<std::size_t>(n) * W;
+  LargeVector<float> p(size), q(size);
+  dx.assign(size, 0.0f);
+  std::vector<double> s = ParallelSum(n, 2 * W, threads, [&](std::int64_t b, std::int64_t e, double* acc) {
+    for (std::int64_t i = b; i < e; ++i)
+    {
+      const float id = A.InverseDiagonal[i];
+      for (int c = 0; c < W; ++c)
+      {
+        r[i * W + c] = active[c] ? r[i * W + c] : 0.0f;
+        const float z = id * r[i * W + c];
+        p[i * W + c] = z;
+        acc[c] += static_cast<double>(r[i * W + c]) * z;
+        acc[W + c] += static_cast<double>(r[i * W + c]) * r[i * W + c];
+      }
+    }
+  });
+  double rz[W];
+  for (int c = 0; c < W; ++c)
+  {
+    rz[c] = s[c];
+    active[c] = active[c] && std::sqrt(s[W + c]) > target[c] && rz[c] > 0.0;
+  }
+  int it = 0;
+  while (std::any_of(active, active + W, [](bool a) { return a; }) && it < maxIterations)
+  {
+    ++it;
+    // q = A p and p.q in one pass.
+    const std::vector<double> pq = ParallelSum(n, W, threads, [&](std::int64_t b, std::int64_t e, double* acc) {
+      double sum[W] = {};
+      for (std::int64_t i = b; i < e; ++i)
+      {
+        float y[W];
+        const float d = A.Diagonal[i];
+        for (int c = 0; c < W; ++c)
+        {
+          y[c] = d * p[i * W + c];
+        }
+        for (std::int64_t k = A.Offsets[i]; k < A.Offsets[i + 1]; ++k)
+        {
+          const float w = A.Weights[k];
+          const float* pj = p.data() + static_cast<std::int64_t>(A.Neighbors[k]) * W;
+          for (int c = 0; c < W; ++c)
+          {
+            y[c] -= w * pj[c];
+          }
+        }
+        for (int c = 0; c < W; ++c)
+        {
+          q[i * W + c] = y[c];
+          sum[c] += static_cast<double>(p[i * W + c]) * y[c];
+        }
+      }
+      std::copy(sum, sum + W, acc);
+    });
+    float alpha[W];
+    for (int c = 0; c < W; ++c)
+    {
+      alpha[c] = active[c] && pq[c] > 0.0 ? static_cast<float>(rz[c] / pq[c]) : 0.0f;
+    }
+    const std::vector<double> sums = ParallelSum(n, 2 * W, threads, [&](std::int64_t b, std::int64_t e, double* acc) {
+      double sum[2 * W] = {};
+      for (std::int64_t i = b; i < e; ++i)
+      {
+        const float id = A.InverseDiagonal[i];
+        for (int c = 0; c < W; ++c)
+        {
+          const float rc = r[i * W + c] - alpha[c] * q[i * W + c];
+          r[i * W + c] = rc;
+          sum[c] += static_cast<double>(rc) * (id * rc);
+          sum[W + c] += static_cast<double>(rc) * rc;
+        }
+      }
+      std::copy(sum, sum + 2 * W, acc);
+    });
+    float beta[W];
+    for (int c = 0; c < W; ++c)
+    {
+      beta[c] = active[c] && rz[c] > 0.0 ? static_cast<float>(sums[c] / rz[c]) : 0.0f;
+      if (active[c])
+      {
+        rz[c] = sums[c];
+        active[c] = std::sqrt(sums[W + c]) > target[c] && rz[c] > 0.0;
+      }
+    }
+    float keep[W];
+    for (int c = 0; c < W; ++c)
+    {
+      keep[c] = active[c] ? 1.0f : 0.0f;
+    }
+    // x += alpha p (the old p), then the new direction.
+    ParallelForStatic(n, threads, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t i = b; i < e; ++i)
+      {
+        const float id = A.InverseDiagonal[i];
+        for (int c = 0; c < W; ++c)
+        {
+          dx[i * W + c] += alpha[c] * p[i * W + c];
+          p[i * W + c] = keep[c] * (id * r[i * W + c] + beta[c] * p[i * W + c]);
+        }
+      }
+    });
+  }
+  return it;
+}
+
+template <int W>
+ConjugateGradientResult SolveShifted(const ShiftedLaplacianProblem& pb, const double* b, double* x)
+{
+  const std::int64_t n = pb.Rows;
+  const int nc = pb.Columns;
+  const int threads = pb.NumberOfThreads;
+  std::vector<Index> computed;
+  const Index* order = pb.Order;
+  if (!order)
+  {
+    computed = LocalityOrder(pb.Rows, pb.Offsets, pb.Neighbors);
+    order = computed.data();
+  }
+  const auto diagonalOf = [&](std::int64_t i) {
+    return (pb.Shift ? pb.Shift[i] : 0.0) + pb.Factor * pb.Diagonal[i];
+  };
+  const auto isFree = [&](std::int64_t i) {
+    const double d = diagonalOf(i);
+    return (!pb.Fixed || !pb.Fixed[i]) && d > 0.0 && std::isfinite(d);
+  };
+
+  // The renumbered single-precision system.
+  SinglePrecisionSystem A;
+  A.Rows = n;
+  A.Offsets.resize(static_cast<std::size_t>(n) + 1);
+  A.Offsets[0] = 0;
+  for (std::int64_t i = 0; i < n; ++i)
+  {
+    const Index v = order[i];
+    A.Offsets[i + 1] = A.Offsets[i] + (isFree(v) ? pb.Offsets[v + 1] - pb.Offsets[v] : 0);
+  }
+  std::vector<Index> position(static_cast<std::size_t>(n));
+  for (std::int64_t i = 0; i < n; ++i)
+  {
+    position[order[i]] = static_cast<Index>(i);
+  }
+  A.Neighbors.resize(static_cast<std::size_t>(A.Offsets[n]));
+  A.Weights.resize(static_cast<std::size_t>(A.Offsets[n]));
+  A.Diagonal.resize(n);
+  A.InverseDiagonal.resize(n);
+  A.Free.resize(n);
+  ParallelForStatic(n, threads, [&](std::int64_t s, std::int64_t e) {
+    for (std::int64_t i = s; i < e; ++i)
+    {
+      const Index v = order[i];
+      const bool free = isFree(v);
+      A.Free[i] = free;
+      const double d = free ? diagonalOf(v) : 1.0;
+      A.Diagonal[i] = static_cast<float>(d);
+      A.InverseDiagonal[i] = static_cast<float>(1.0 / d);
+      std::int64_t o = A.Offsets[i];
+      for (std::int64_t k = pb.Offsets[v]; free && k < pb.Offsets[v + 1]; ++k, ++o)
+      {
+        A.Neighbors[o] = position[pb.Neighbors[k]];
+        A.Weights[o] = static_cast<float>(pb.Factor * pb.Weights[k]);
+      }
+    }
+  });
+
+  // r = b - A x, in double (rows in the caller's order: sequential reads),
+  // stored renumbered in single precision, and its norms.
+  LargeVector<float> r(static_cast<std::size_t>(n) * W), dx;
+  const auto residual = [&]() {
+    return ParallelSum(n, nc, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+      for (std::int64_t v = s; v < e; ++v)
+      {
+        const std::int64_t i = position[v];
+        if (!A.Free[i])
+        {
+          continue; // r stays 0
+        }
+        const double d = diagonalOf(v);
+        double y[W] = {};
+        for (int c = 0; c < nc; ++c)
+        {
+          y[c] = d * x[v * nc + c];
+        }
+        for (std::int64_t k = pb.Offsets[v]; k < pb.Offsets[v + 1]; ++k)
+        {
+          const double w = pb.Factor * pb.Weights[k];
+          const double* xj = x + static_cast<std::int64_t>(pb.Neighbors[k]) * nc;
+          for (int c = 0; c < nc; ++c)
+          {
+            y[c] -= w * xj[c];
+          }
+        }
+        for (int c = 0; c < nc; ++c)
+        {
+          const double rc = b[v * nc + c] - y[c];
+          r[i * W + c] = static_cast<float>(rc);
+          acc[c] += rc * rc;
+        }
+      }
+    });
+  };
+
+  ConjugateGradientResult result;
+  std::vector<double> norms = residual(), initial(nc), threshold(W, 0.0);
+  for (int c = 0; c < nc; ++c)
+  {
+    initial[c] = std::sqrt(norms[c]);
+    threshold[c] = std::max(pb.Tolerance * initial[c], RoundOff * pb.Scale[c]);
+  }
+  for (int round = 0;; ++round)
+  {
+    bool active[W] = {};
+    result.RelativeResidual = 0.0;
+    bool any = false;
+    for (int c = 0; c < nc; ++c)
+    {
+      const double norm = std::sqrt(norms[c]);
+      if (initial[c] > 0.0)
+      {
+        result.RelativeResidual = std::max(result.RelativeResidual, norm / initial[c]);
+      }
+      active[c] = norm > threshold[c];
+      any = any || active[c];
+    }
+    // Single precision resolves a residual reduction of about 1e-5 per
+    // round; the rounds stop when the iterations are spent.
+    if (!any || round == 8 || result.Iterations >= pb.MaximumIterations)
+    {
+      result.Converged = !any;
+      return result;
+    }
+    // Aim a little below the threshold: float round-off separates the
+    // recursive residual from the true one, and another round costs more.
+    double target[W] = {};
+    for (int c = 0; c < nc; ++c)
+    {
+      target[c] = 0.7 * threshold[c];
+    }
+    result.Iterations +=
+      SolveCorrection<W>(A, r, dx, target, active, pb.MaximumIterations - result.Iterations, threads);
+    ParallelForStatic(n, threads, [&](std::int64_t s, std::int64_t e) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        if (A.Free[i])
+        {
+          const std::int64_t v = order[i];
+          for (int c = 0; c < nc; ++c)
+          {
+            x[v * nc + c] += dx[i * W + c];
+          }
+        }
+      }
+    });
+    norms = residual();
+  }
+}
+
+} // namespace
+
+ConjugateGradientResult SolveShiftedLaplacian(
+  const ShiftedLaplacianProblem& pb, const double* b, double* x)
+{
+  const int nc = pb.Columns;
+  if (nc < 1 || nc > 8 || static_cast<int>(pb.Scale.size()) != nc || !pb.Offsets || !pb.Neighbors ||
+    !pb.Weights || !pb.Diagonal)
+  {
+    throw std::invalid_argument("SolveShiftedLaplacian: inconsistent problem");
+  }
+  if (pb.Rows <= 0)
+  {
+    ConjugateGradientResult none;
+    none.Converged = true;
+    return none;
+  }
+  switch (nc)
+  {
+    case 1: return SolveShifted<1>(pb, b, x);
+    case 2: return SolveShifted<2>(pb, b, x);
+    case 3: return SolveShifted<3>(pb, b, x);
+    case 4: return SolveShifted<4>(pb, b, x);
+    default: return SolveShifted<8>(pb, b, x);
+  }
+}
+
 } // namespace beltrami

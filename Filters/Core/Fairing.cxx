@@ -111,6 +111,7 @@ struct Stage
   const GraphLaplacian& L;
   std::vector<std::uint8_t> Fixed; ///< rows that must not move
   std::vector<double> Omega;       ///< per-row weight (may be < 0 for anisotropy)
+  const Index* Order = nullptr;    ///< LocalityOrder of L's graph, if known
 };
 
 /// y = L x = -M^-1 S x (rows without mass: 0).
@@ -189,6 +190,10 @@ double StabilityLimit(const Stage& st, int order)
   return order == 1 ? 1.0 / m : 0.5 / (m * m);
 }
 
+ConjugateGradientResult SolveOrderTwo(const Stage& st, const FairingOptions& opt, const std::vector<double>& m,
+  const std::vector<double>& invMass, const std::vector<std::uint8_t>& fixed, const std::vector<double>& scale,
+  const std::vector<double>& b, double* x);
+
 /// One backward Euler step in the symmetric form of Fairing.h.  Rows with a
 /// negative weight (inverse diffusion of the anisotropic flow) are advanced
 /// explicitly and then held, so the system stays positive definite.
@@ -238,7 +243,7 @@ void ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, Fairing
     return;
   }
   const std::size_t size = 3 * static_cast<std::size_t>(n);
-  std::vector<double> b(size), diag(n), tmp(size);
+  std::vector<double> b(size);
   Vec3 center = Vec3::Zero();
   for (Index i = 0; i < n; ++i)
   {
@@ -257,23 +262,60 @@ void ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, Fairing
         scale[c] += d * d;
       }
     }
-    if (order == 1)
-    {
-      diag[i] = m[i] + dt * L.Diagonal[i];
-    }
-    else
-    {
-      double s2 = L.Diagonal[i] * L.Diagonal[i] * invMass[i];
-      for (std::int64_t k = L.Offsets[i]; k < L.Offsets[i + 1]; ++k)
-      {
-        s2 += L.Weights[k] * L.Weights[k] * invMass[L.Neighbors[k]];
-      }
-      diag[i] = m[i] + dt * s2;
-    }
   }
   for (double& s : scale)
   {
     s = std::sqrt(s);
+  }
+  ConjugateGradientResult r;
+  if (order == 1)
+  {
+    // A graph Laplacian plus a diagonal: the fast solver (renumbered rows,
+    // single-precision corrections of a double-precision residual).
+    ShiftedLaplacianProblem sl;
+    sl.Rows = n;
+    sl.Columns = 3;
+    sl.Offsets = L.Offsets;
+    sl.Neighbors = L.Neighbors;
+    sl.Weights = L.Weights.data();
+    sl.Diagonal = L.Diagonal.data();
+    sl.Shift = m.data();
+    sl.Factor = dt;
+    sl.Fixed = fixed.data();
+    sl.Order = st.Order;
+    sl.Scale = scale;
+    sl.Tolerance = opt.Tolerance;
+    sl.MaximumIterations = opt.MaximumIterations;
+    sl.NumberOfThreads = threads;
+    r = SolveShiftedLaplacian(sl, b.data(), x);
+  }
+  else
+  {
+    r = SolveOrderTwo(st, opt, m, invMass, fixed, scale, b, x);
+  }
+  report.Iterations.push_back(r.Iterations);
+  report.LargestResidual = std::max(report.LargestResidual, r.RelativeResidual);
+  report.Converged = report.Converged && r.Converged;
+}
+
+/// The order-2 system (M W^-1 + dt S M^-1 S) X' = b, through its action.
+ConjugateGradientResult SolveOrderTwo(const Stage& st, const FairingOptions& opt, const std::vector<double>& m,
+  const std::vector<double>& invMass, const std::vector<std::uint8_t>& fixed, const std::vector<double>& scale,
+  const std::vector<double>& b, double* x)
+{
+  const GraphLaplacian& L = st.L;
+  const Index n = L.NumberOfVertices;
+  const int threads = opt.NumberOfThreads;
+  const double dt = opt.TimeStep;
+  std::vector<double> tmp(3 * static_cast<std::size_t>(n)), diag(n);
+  for (Index i = 0; i < n; ++i)
+  {
+    double s2 = L.Diagonal[i] * L.Diagonal[i] * invMass[i];
+    for (std::int64_t k = L.Offsets[i]; k < L.Offsets[i + 1]; ++k)
+    {
+      s2 += L.Weights[k] * L.Weights[k] * invMass[L.Neighbors[k]];
+    }
+    diag[i] = m[i] + dt * s2;
   }
   ConjugateGradientProblem pb;
   pb.Rows = n;
@@ -286,17 +328,14 @@ void ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, Fairing
   pb.NumberOfThreads = threads;
   pb.Apply = [&](const double* in, double* out) {
     L.ApplyStiffness(in, out, 3, threads);
-    if (order == 2)
+    for (Index i = 0; i < n; ++i)
     {
-      for (Index i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c)
       {
-        for (int c = 0; c < 3; ++c)
-        {
-          tmp[3 * i + c] = out[3 * i + c] * invMass[i];
-        }
+        tmp[3 * i + c] = out[3 * i + c] * invMass[i];
       }
-      L.ApplyStiffness(tmp.data(), out, 3, threads);
     }
+    L.ApplyStiffness(tmp.data(), out, 3, threads);
     ParallelFor(n, threads, [&](std::int64_t s, std::int64_t e) {
       for (std::int64_t k = 3 * s; k < 3 * e; ++k)
       {
@@ -304,10 +343,7 @@ void ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, Fairing
       }
     });
   };
-  const ConjugateGradientResult r = SolveConjugateGradient(pb, b.data(), x);
-  report.Iterations.push_back(r.Iterations);
-  report.LargestResidual = std::max(report.LargestResidual, r.RelativeResidual);
-  report.Converged = report.Converged && r.Converged;
+  return SolveConjugateGradient(pb, b.data(), x);
 }
 
 void Integrate(const Stage& st, const FairingOptions& opt, double* x, FairingReport& report)
@@ -587,6 +623,15 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
 
   const bool sampling = opt.Operator == FairingOperator::CurvatureFlowAndSampling;
   GraphLaplacian L, curveL;
+  // The solver's renumbering of the surface graph, the same for every step.
+  std::vector<Index> order;
+  const auto localOrder = [&]() {
+    if (order.empty())
+    {
+      order = LocalityOrder(n, L.Offsets, L.Neighbors);
+    }
+    return order.data();
+  };
   for (int step = 0; step < opt.NumberOfSteps; ++step)
   {
     std::vector<double> omega = weight;
@@ -600,7 +645,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
       if (opt.Mollification > 0.0)
       {
         AssembleSurfaceLaplacian(topo, mollified.data(), LaplacianWeights::Cotangent, L, threads);
-        Stage iso{ L, fixed, weight };
+        Stage iso{ L, fixed, weight, localOrder() };
         for (Index i = 0; i < n; ++i)
         {
           iso.Fixed[i] = fixed[i] || boundary[i];
@@ -633,7 +678,8 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     }
     AssembleSurfaceLaplacian(topo, x, WeightsOf(opt.Operator), L, threads);
     report.DegenerateTriangles = std::max(report.DegenerateTriangles, L.DegenerateTriangles);
-    Stage surface{ L, fixed, omega };
+    const bool solves = opt.Integration == FairingIntegration::Implicit && opt.Order == 1;
+    Stage surface{ L, fixed, omega, solves ? localOrder() : nullptr };
     for (Index i = 0; i < n; ++i)
     {
       surface.Fixed[i] = fixed[i] || boundary[i];

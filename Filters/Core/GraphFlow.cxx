@@ -49,6 +49,9 @@ public:
   /// y = K x; ghosts: include the values the boundary rule derives from x
   /// outside the domain (images; false: those neighbours count as zero).
   virtual void Apply(const double* x, double* y, bool ghosts) = 0;
+  /// K as an explicit graph Laplacian, where it is one (meshes): the
+  /// semi-implicit step then uses the faster graph solver.
+  virtual const GraphLaplacian* Graph() const { return nullptr; }
 
 protected:
   double Gamma = 1.0;
@@ -642,7 +645,9 @@ public:
       }
     });
     Laplacian.ApplyStiffness(u, KU.data(), Components, Threads);
-    std::vector<double> rates = ParallelSum(Size, 1, Threads, [&](std::int64_t b, std::int64_t e, double* acc) {
+    // Chunk maxima (ParallelSum would add them: the step was up to Size/4096
+    // times smaller than stable on large meshes).
+    std::vector<double> rates = ParallelPartials(Size, 1, Threads, [&](std::int64_t b, std::int64_t e, double* acc) {
       for (std::int64_t i = b; i < e; ++i)
       {
         const double f = !Fixed[i] && Mass[i] > 0.0 ? Speed[i] / Mass[i] : 0.0;
@@ -653,7 +658,7 @@ public:
         acc[0] = std::max(acc[0], f * Positive[i]); // a maximum: any order gives the same
       }
     });
-    MaxRate = *std::max_element(rates.begin(), rates.end());
+    MaxRate = rates.empty() ? 0.0 : *std::max_element(rates.begin(), rates.end());
     Area = ParallelSum(Size, 1, Threads, [&](std::int64_t b, std::int64_t e, double* acc) {
       for (std::int64_t i = b; i < e; ++i)
       {
@@ -666,6 +671,7 @@ public:
   {
     Laplacian.ApplyStiffness(x, y, Components, Threads);
   }
+  const GraphLaplacian* Graph() const override { return &Laplacian; }
 
 private:
   Assembler Assemble;
@@ -963,6 +969,7 @@ GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphF
     }
   }
   LargeVector<double> u(size), u0(size), next(size), rhs, diag;
+  std::vector<Index> order; // the graph solver's renumbering (meshes)
   if (o.Integration == GraphFlowIntegration::SemiImplicit)
   {
     rhs.resize(size);
@@ -1066,30 +1073,61 @@ GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphF
       {
         s = std::sqrt(s) + 1e-300;
       }
-      ConjugateGradientProblem cg;
-      cg.Rows = n;
-      cg.Columns = nc;
-      cg.Diagonal = diag.data();
-      cg.Fixed = disc.Fixed.data();
-      cg.Scale = scale;
-      cg.Tolerance = o.SolverTolerance;
-      cg.MaximumIterations = o.MaximumSolverIterations;
-      cg.NumberOfThreads = threads;
-      cg.Apply = [&](const double* x, double* y) {
-        disc.Apply(x, y, false);
+      next = u; // initial guess and fixed values
+      if (const GraphLaplacian* graph = disc.Graph())
+      {
+        ShiftedLaplacianProblem sl;
+        sl.Rows = n;
+        sl.Columns = nc;
+        sl.Offsets = graph->Offsets;
+        sl.Neighbors = graph->Neighbors;
+        sl.Weights = graph->Weights.data();
+        sl.Diagonal = graph->Diagonal.data();
         ParallelFor(n, threads, [&](std::int64_t b, std::int64_t e) {
           for (std::int64_t i = b; i < e; ++i)
           {
-            const double d = diag[i] - disc.Diagonal[i];
-            for (int k = 0; k < nc; ++k)
-            {
-              y[i * nc + k] += d * x[i * nc + k];
-            }
+            diag[i] -= disc.Diagonal[i]; // D alone
           }
         });
-      };
-      next = u; // initial guess and fixed values
-      result.SolverIterations += SolveConjugateGradient(cg, rhs.data(), next.data()).Iterations;
+        sl.Shift = diag.data();
+        sl.Fixed = disc.Fixed.data();
+        if (order.empty())
+        {
+          order = LocalityOrder(n, graph->Offsets, graph->Neighbors); // the graph stays
+        }
+        sl.Order = order.data();
+        sl.Scale = scale;
+        sl.Tolerance = o.SolverTolerance;
+        sl.MaximumIterations = o.MaximumSolverIterations;
+        sl.NumberOfThreads = threads;
+        result.SolverIterations += SolveShiftedLaplacian(sl, rhs.data(), next.data()).Iterations;
+      }
+      else
+      {
+        ConjugateGradientProblem cg;
+        cg.Rows = n;
+        cg.Columns = nc;
+        cg.Diagonal = diag.data();
+        cg.Fixed = disc.Fixed.data();
+        cg.Scale = scale;
+        cg.Tolerance = o.SolverTolerance;
+        cg.MaximumIterations = o.MaximumSolverIterations;
+        cg.NumberOfThreads = threads;
+        cg.Apply = [&](const double* x, double* y) {
+          disc.Apply(x, y, false);
+          ParallelFor(n, threads, [&](std::int64_t b, std::int64_t e) {
+            for (std::int64_t i = b; i < e; ++i)
+            {
+              const double d = diag[i] - disc.Diagonal[i];
+              for (int k = 0; k < nc; ++k)
+              {
+                y[i * nc + k] += d * x[i * nc + k];
+              }
+            }
+          });
+        };
+        result.SolverIterations += SolveConjugateGradient(cg, rhs.data(), next.data()).Iterations;
+      }
     }
     u.swap(next);
     const double previousArea = disc.Area;

@@ -44,4 +44,20 @@ bool ParallelFor(std::int64_t n, int numThreads,
 std::vector<double> ParallelSum(std::int64_t n, int numberOfSums, int numThreads,
   const std::function<void(std::int64_t begin, std::int64_t end, double* partial)>& body);
 
+/// The per-chunk partials of ParallelSum (numberOfValues per chunk, chunk c
+/// covering [c * ParallelChunkSize, (c + 1) * ParallelChunkSize)), for other
+/// reductions (a maximum: the body keeps its chunk's maximum in partial).
+constexpr std::int64_t ParallelChunkSize = 4096;
+std::vector<double> ParallelPartials(std::int64_t n, int numberOfValues, int numThreads,
+  const std::function<void(std::int64_t begin, std::int64_t end, double* partial)>& body);
+
+/// body(begin, end) over the chunks of ParallelSum, and on the same threads:
+/// thread t always takes the t-th contiguous share of the chunks.  Loops of an
+/// iterative solver that touch the same rows (its vectors) then find them in
+/// the cache of the core that wrote them; with dynamic blocks two threads were
+/// slower than one (the rows moved between the cores' caches on every loop).
+/// For uniform work only (no load balancing).
+void ParallelForStatic(std::int64_t n, int numThreads,
+  const std::function<void(std::int64_t begin, std::int64_t end)>& body);
+
 } // namespace beltrami

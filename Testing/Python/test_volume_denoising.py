@@ -185,7 +185,10 @@ class VolumeInvariants(unittest.TestCase):
 
     def test_voxel_cells_equal_the_image_path(self):
         # Voxel cells (e.g. OpenVDB active voxels) are split like the 3D image
-        # path: the same flow, to round-off.
+        # path: the same flow.  The mesh path solves its semi-implicit steps
+        # with the graph solver, the image path with the matrix-free one: the
+        # same systems to the same tolerance (1e-4 of each step's update),
+        # not the same iterates (observed difference 5e-9).
         from vtkmodules.vtkFiltersCore import vtkAppendFilter
         noisy = blobs(12) + np.random.default_rng(8).normal(0, SIGMA, (12, 12, 12))
         append = vtkAppendFilter()
@@ -197,7 +200,7 @@ class VolumeInvariants(unittest.TestCase):
         g = configured(vtkImageBeltramiDenoising(), image(noisy), **settings)
         pixels = vtk_to_numpy(g.GetOutput().GetPointData().GetArray("v"))
         self.assertGreater(np.abs(voxels - noisy.ravel()).max(), 0.01)
-        self.assertLess(np.abs(voxels - pixels).max(), 1e-9)
+        self.assertLess(np.abs(voxels - pixels).max(), 1e-6)
         self.assertNotIn("ignored", self.log.GetOutput())
 
     def test_bad_input(self):

@@ -1,0 +1,314 @@
+// The parallel loops and linear solvers of the core (Filters/Core/Parallel,
+// Filters/Core/ConjugateGradient).
+#include "TestMeshes.h"
+
+#include "Core/ConjugateGradient.h"
+#include "Core/Laplacian.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <random>
+
+using namespace beltrami;
+
+namespace
+{
+
+/// The implicit curvature-flow system of a torus: (M + dt S) X' = M X, with
+/// some fixed rows (a band of vertices).
+struct FlowSystem
+{
+  test::Mesh Mesh;
+  GraphLaplacian L;
+  std::vector<double> Shift, B;
+  std::vector<std::uint8_t> Fixed;
+  double TimeStep = 0.0;
+
+  explicit FlowSystem(int nu = 120, int nv = 80)
+    : Mesh(test::Torus(2.0, 0.7, nu, nv, 0.2, 5))
+  {
+    const MeshTopology topo = Mesh.Topology();
+    AssembleSurfaceLaplacian(topo, Mesh.Points.data(), LaplacianWeights::Cotangent, L, 2);
+    // Offsets/Neighbors point into the topology's edge table: keep a copy.
+    const Index n = L.NumberOfVertices;
+    Offsets.assign(L.Offsets, L.Offsets + n + 1);
+    Neighbors.assign(L.Neighbors, L.Neighbors + Offsets[n]);
+    L.Offsets = Offsets.data();
+    L.Neighbors = Neighbors.data();
+    TimeStep = 10.0 * 0.1 * 0.1;
+    Shift.assign(L.Mass.begin(), L.Mass.end());
+    Fixed.assign(n, 0);
+    for (Index i = 0; i < n; i += 37)
+    {
+      Fixed[i] = 1;
+    }
+    B.resize(3 * static_cast<std::size_t>(n));
+    for (Index i = 0; i < n; ++i)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        B[3 * i + c] = Shift[i] * Mesh.Points[3 * i + c];
+      }
+    }
+  }
+
+  ShiftedLaplacianProblem Problem(int columns, double tolerance, int threads) const
+  {
+    ShiftedLaplacianProblem pb;
+    pb.Rows = L.NumberOfVertices;
+    pb.Columns = columns;
+    pb.Offsets = L.Offsets;
+    pb.Neighbors = L.Neighbors;
+    pb.Weights = L.Weights.data();
+    pb.Diagonal = L.Diagonal.data();
+    pb.Shift = Shift.data();
+    pb.Factor = TimeStep;
+    pb.Fixed = Fixed.data();
+    pb.Scale.assign(columns, 1.0);
+    pb.Tolerance = tolerance;
+    pb.MaximumIterations = 5000;
+    pb.NumberOfThreads = threads;
+    return pb;
+  }
+
+  /// ||b - A x|| over the free rows, per column, and the reference solve of
+  /// the general solver.
+  std::vector<double> Residual(const double* b, const double* x, int nc) const
+  {
+    std::vector<double> norms(nc, 0.0);
+    for (Index i = 0; i < L.NumberOfVertices; ++i)
+    {
+      if (Fixed[i])
+      {
+        continue;
+      }
+      for (int c = 0; c < nc; ++c)
+      {
+        double y = (Shift[i] + TimeStep * L.Diagonal[i]) * x[i * nc + c];
+        for (std::int64_t k = L.Offsets[i]; k < L.Offsets[i + 1]; ++k)
+        {
+          y -= TimeStep * L.Weights[k] * x[L.Neighbors[k] * static_cast<std::int64_t>(nc) + c];
+        }
+        norms[c] += (b[i * nc + c] - y) * (b[i * nc + c] - y);
+      }
+    }
+    for (double& v : norms)
+    {
+      v = std::sqrt(v);
+    }
+    return norms;
+  }
+
+  std::vector<std::int64_t> Offsets;
+  std::vector<Index> Neighbors;
+};
+
+/// Right-hand sides with nc columns (the positions, then random data).
+std::vector<double> Columns(const FlowSystem& s, int nc, std::vector<double>* x0)
+{
+  const Index n = s.L.NumberOfVertices;
+  std::vector<double> b(static_cast<std::size_t>(n) * nc);
+  x0->resize(b.size());
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (Index i = 0; i < n; ++i)
+  {
+    for (int c = 0; c < nc; ++c)
+    {
+      const double value = c < 3 ? s.Mesh.Points[3 * i + c] : u(rng);
+      (*x0)[i * nc + c] = value;
+      b[i * nc + c] = s.Shift[i] * value;
+    }
+  }
+  return b;
+}
+
+} // namespace
+
+TEST(Parallel, StaticLoopsAndPartialsCoverEveryIndexOnce)
+{
+  for (std::int64_t n : { 0, 1, 4095, 4096, 4097, 50000 })
+  {
+    for (int threads : { 1, 2, 3 })
+    {
+      std::vector<std::atomic<int>> seen(static_cast<std::size_t>(n));
+      ParallelForStatic(n, threads, [&](std::int64_t b, std::int64_t e) {
+        for (std::int64_t i = b; i < e; ++i)
+        {
+          seen[i]++;
+        }
+      });
+      for (std::int64_t i = 0; i < n; ++i)
+      {
+        ASSERT_EQ(seen[i].load(), 1) << "n " << n << " threads " << threads << " index " << i;
+      }
+      // A maximum from the per-chunk partials (a sum of chunk maxima was the
+      // bug of the surface flows' stable step).
+      const std::vector<double> partials = ParallelPartials(n, 1, threads, [&](std::int64_t b, std::int64_t e, double* m) {
+        for (std::int64_t i = b; i < e; ++i)
+        {
+          m[0] = std::max(m[0], static_cast<double>((i * 7919) % 1000));
+        }
+      });
+      ASSERT_EQ(static_cast<std::int64_t>(partials.size()), (n + ParallelChunkSize - 1) / ParallelChunkSize);
+      const double expected = n > 1000 ? 999.0 : 0.0;
+      if (n > 1000)
+      {
+        EXPECT_EQ(*std::max_element(partials.begin(), partials.end()), expected);
+      }
+    }
+  }
+}
+
+TEST(Solvers, LocalityOrderIsAPermutationOverComponents)
+{
+  // Two separate triangles, an isolated vertex, and a path.
+  const std::vector<std::int64_t> offsets = { 0, 2, 4, 6, 6, 8, 10, 12, 13, 14 };
+  const std::vector<Index> neighbors = { 1, 2, 0, 2, 0, 1, 5, 6, 4, 6, 4, 5, 8, 7 };
+  // rows: 0-1-2 triangle, 3 isolated, 4-5-6 triangle, 7-8 edge
+  const std::vector<Index> order = LocalityOrder(9, offsets.data(), neighbors.data());
+  ASSERT_EQ(order.size(), 9u);
+  std::vector<Index> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (Index i = 0; i < 9; ++i)
+  {
+    EXPECT_EQ(sorted[i], i);
+  }
+  // Breadth first: each component is contiguous.
+  EXPECT_EQ(order[3], 3);
+  EXPECT_EQ(std::max({ order[0], order[1], order[2] }), 2);
+}
+
+TEST(Solvers, ShiftedLaplacianMatchesTheGeneralSolver)
+{
+  const FlowSystem s;
+  const Index n = s.L.NumberOfVertices;
+  for (int nc : { 1, 3, 5 })
+  {
+    std::vector<double> x0;
+    const std::vector<double> b = Columns(s, nc, &x0);
+    // Reference: the double-precision matrix-free solver, to round-off.
+    ConjugateGradientProblem ref;
+    ref.Rows = n;
+    ref.Columns = nc;
+    std::vector<double> diag(n);
+    for (Index i = 0; i < n; ++i)
+    {
+      diag[i] = s.Shift[i] + s.TimeStep * s.L.Diagonal[i];
+    }
+    ref.Diagonal = diag.data();
+    ref.Fixed = s.Fixed.data();
+    ref.Scale.assign(nc, 1.0);
+    ref.Tolerance = 1e-13;
+    ref.MaximumIterations = 10000;
+    ref.Apply = [&](const double* in, double* out) {
+      s.L.ApplyStiffness(in, out, nc, 2);
+      for (std::int64_t k = 0; k < static_cast<std::int64_t>(n) * nc; ++k)
+      {
+        out[k] = s.Shift[k / nc] * in[k] + s.TimeStep * out[k];
+      }
+    };
+    std::vector<double> exact = x0;
+    ASSERT_TRUE(SolveConjugateGradient(ref, b.data(), exact.data()).Converged);
+
+    const std::vector<double> r0 = s.Residual(b.data(), x0.data(), nc);
+    for (double tolerance : { 1e-4, 1e-10 })
+    {
+      std::vector<double> x = x0;
+      const ConjugateGradientResult r = SolveShiftedLaplacian(s.Problem(nc, tolerance, 2), b.data(), x.data());
+      EXPECT_TRUE(r.Converged) << nc << " columns, tolerance " << tolerance;
+      EXPECT_LE(r.RelativeResidual, tolerance);
+      // The true (double) residual meets the tolerance, also far below
+      // single precision (iterative refinement).
+      const std::vector<double> res = s.Residual(b.data(), x.data(), nc);
+      double change = 0.0, error = 0.0;
+      for (int c = 0; c < nc; ++c)
+      {
+        EXPECT_LE(res[c], tolerance * r0[c] * 1.0000001) << "column " << c;
+      }
+      for (std::size_t k = 0; k < x.size(); ++k)
+      {
+        change = std::max(change, std::abs(exact[k] - x0[k]));
+        error = std::max(error, std::abs(x[k] - exact[k]));
+        if (s.Fixed[k / nc])
+        {
+          ASSERT_EQ(x[k], x0[k]) << "fixed rows keep their values bit for bit";
+        }
+      }
+      EXPECT_LT(error, 100 * tolerance * change) << nc << " columns, tolerance " << tolerance;
+      // Thread counts do not change a bit.
+      for (int threads : { 1, 3 })
+      {
+        std::vector<double> y = x0;
+        SolveShiftedLaplacian(s.Problem(nc, tolerance, threads), b.data(), y.data());
+        ASSERT_EQ(y, x) << threads << " threads";
+      }
+    }
+  }
+}
+
+TEST(Solvers, ShiftedLaplacianHarmonicExtension)
+{
+  // D = 0: the discrete harmonic function with fixed values on some rows;
+  // the linear function x is harmonic only where the cotangent Laplacian is
+  // exact, so compare with the general solver instead.
+  const FlowSystem s(30, 20);
+  const Index n = s.L.NumberOfVertices;
+  std::vector<double> x(n, 0.0), b(n, 0.0), ref;
+  for (Index i = 0; i < n; ++i)
+  {
+    x[i] = s.Fixed[i] ? s.Mesh.Points[3 * i + 2] : 0.0;
+  }
+  ref = x;
+  ConjugateGradientProblem g;
+  g.Rows = n;
+  g.Diagonal = s.L.Diagonal.data();
+  g.Fixed = s.Fixed.data();
+  g.Scale = { 1.0 };
+  g.Tolerance = 1e-12;
+  g.MaximumIterations = 10000;
+  g.Apply = [&](const double* in, double* out) { s.L.ApplyStiffness(in, out, 1, 1); };
+  ASSERT_TRUE(SolveConjugateGradient(g, b.data(), ref.data()).Converged);
+  ShiftedLaplacianProblem pb = s.Problem(1, 1e-12, 2);
+  pb.Shift = nullptr;
+  pb.Factor = 1.0;
+  ASSERT_TRUE(SolveShiftedLaplacian(pb, b.data(), x.data()).Converged);
+  double worst = 0.0;
+  for (Index i = 0; i < n; ++i)
+  {
+    worst = std::max(worst, std::abs(x[i] - ref[i]));
+  }
+  EXPECT_LT(worst, 1e-8);
+}
+
+TEST(Solvers, ShiftedLaplacianEdgeCases)
+{
+  const FlowSystem s(12, 8);
+  const Index n = s.L.NumberOfVertices;
+  // Already solved: nothing moves, no iteration.
+  std::vector<double> x(3 * static_cast<std::size_t>(n)), b(x.size());
+  ShiftedLaplacianProblem pb = s.Problem(3, 1e-6, 2);
+  ConjugateGradientResult r = SolveShiftedLaplacian(pb, b.data(), x.data());
+  EXPECT_TRUE(r.Converged);
+  EXPECT_EQ(r.Iterations, 0);
+  // Every row fixed.
+  std::vector<std::uint8_t> all(n, 1);
+  pb.Fixed = all.data();
+  std::vector<double> y = s.Mesh.Points;
+  r = SolveShiftedLaplacian(pb, s.B.data(), y.data());
+  EXPECT_TRUE(r.Converged);
+  EXPECT_EQ(y, s.Mesh.Points);
+  // An iteration limit is reported, not exceeded.
+  pb = s.Problem(3, 1e-12, 2);
+  pb.MaximumIterations = 3;
+  y = s.Mesh.Points;
+  r = SolveShiftedLaplacian(pb, s.B.data(), y.data());
+  EXPECT_FALSE(r.Converged);
+  EXPECT_LE(r.Iterations, 3);
+  // Inconsistent problems are refused.
+  pb.Scale.clear();
+  EXPECT_THROW(SolveShiftedLaplacian(pb, s.B.data(), y.data()), std::invalid_argument);
+}
