@@ -118,7 +118,8 @@ int vtkImplicitFairing::RequestData(
     }
     if (this->Operator != UMBRELLA)
     {
-      options.TimeStep *= h * h;
+      // L has units 1/length^2, L^2 1/length^4.
+      options.TimeStep *= this->Order == 2 ? h * h * h * h : h * h;
     }
     options.FeatureThreshold /= h;
   }

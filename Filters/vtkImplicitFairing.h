@@ -19,9 +19,10 @@
  *    when the step is above the stability limit) or TAUBIN_LAMBDA_MU
  *    (Taubin's lambda|mu passes, for comparison).
  *  - TimeStep lambda*dt.  With TimeStepUnits = MEAN_EDGE_LENGTH (default) it
- *    is given in units of h^2, h the input's mean edge length, so the same
- *    value smooths coarse and fine scans of one object alike; with PHYSICAL
- *    it is in length^2 (the umbrella's step is always dimensionless).
+ *    is given in units of h^2 (h^4 for order 2), h the input's mean edge
+ *    length, so the same value smooths coarse and fine scans of one object
+ *    alike; with PHYSICAL it is in length^2 (length^4 for order 2; the
+ *    umbrella's step is always dimensionless).
  *  - Invariant (section 3.3): AUTOMATIC (default) keeps the enclosed volume
  *    exactly for closed, oriented surfaces without fixed points, and nothing
  *    otherwise; VOLUME, AREA, HEIGHT_FIELD_VOLUME (volume between the surface

@@ -149,8 +149,13 @@ def rms(f):
 print(f"  noisy input                     {float(np.sqrt(np.mean(np.sum((noisy_points - clean) ** 2, 1)))) / diag:.5f}")
 best = min((rms(sinc(noisy, pb)), pb) for pb in (0.001, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2))
 print(f"  windowed sinc, best pass band {best[1]:<5} {best[0]:.5f}")
-for step, steps in ((0.25, 3), (0.5, 2), (2.0, 1)):
+for step, steps in ((0.25, 4), (0.25, 3), (0.5, 2), (2.0, 1)):
     print(f"  curvature flow {steps} x {step} h^2        {rms(fairing(noisy, 0, step, steps)):.5f}")
+for step in (10.0, 20.0, 40.0):
+    f = fairing(noisy, 0, step, 1)
+    f.SetOperator(vtkImplicitFairing.UMBRELLA)
+    f.SetOrder(2)
+    print(f"  umbrella L^2 (3.2.6), 1 x {step:<4g}   {rms(f):.5f}")
 h = mean_edge_length(bunny)
 for step, steps in ((0.25, 3), (0.5, 2), (2.0, 1)):
     reference = cgal_smooth(noisy, step * h * h, steps)
