@@ -10,17 +10,19 @@ libcgal-dev is installed (a peer to compare with, not a dependency).
 Run:  source build/beltrami-env.sh && /usr/bin/python3 Testing/Benchmarks/benchmark_fairing.py"""
 import os
 import subprocess
+import sys
 import tempfile
 import time
 
 import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkPoints
-from vtkmodules.vtkCommonDataModel import vtkPolyData
-from vtkmodules.vtkFiltersCore import vtkPolyDataNormals, vtkWindowedSincPolyDataFilter
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkFiltersCore import vtkWindowedSincPolyDataFilter
 from vtkmodules.vtkFiltersModeling import vtkLoopSubdivisionFilter
 
 from beltrami import vtkImplicitFairing, vtkOFFReader, vtkOFFWriter
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
+from test_python import noisy_along_normals  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "Data")
@@ -126,19 +128,9 @@ for step in (10.0, 100.0):
 
 print("\nAccuracy: noisy bunny (sigma = 0.3% of the diagonal), RMS distance / diagonal")
 clean = vtk_to_numpy(bunny.GetPoints().GetData()).astype(float)
-normals = vtkPolyDataNormals()
-normals.SetInputData(bunny)
-normals.SplittingOff()
-normals.Update()
-n = vtk_to_numpy(normals.GetOutput().GetPointData().GetNormals()).astype(float)
 diag = np.linalg.norm(clean.max(0) - clean.min(0))
-noisy_points = clean + (0.003 * diag * np.random.default_rng(1).standard_normal(len(clean)))[:, None] * n
-noisy = vtkPolyData()
-noisy.DeepCopy(bunny)
-pts = vtkPoints()
-pts.SetData(numpy_to_vtk(noisy_points, deep=1))
-noisy.SetPoints(pts)
-
+noisy = noisy_along_normals(bunny, 0.003 * diag, seed=1)
+noisy_points = vtk_to_numpy(noisy.GetPoints().GetData())
 
 def rms(f):
     f.Update()

@@ -136,6 +136,26 @@ class CurvaturesFromPython(unittest.TestCase):
         self.assertIn("truncated", reader.GetLastErrorMessage())
 
 
+def noisy_along_normals(polydata, sigma, seed):
+    """A copy of polydata with Gaussian noise of standard deviation sigma
+    along the (unsplit) point normals (issue 3's noisy scan)."""
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkPolyData
+    from vtkmodules.vtkFiltersCore import vtkPolyDataNormals
+    normals = vtkPolyDataNormals()
+    normals.SplittingOff()
+    configured(normals, polydata)
+    n = vtk_to_numpy(normals.GetOutput().GetPointData().GetNormals()).astype(float)
+    x = vtk_to_numpy(polydata.GetPoints().GetData()).astype(float)
+    x = x + (sigma * np.random.default_rng(seed).standard_normal(len(x)))[:, None] * n
+    noisy = vtkPolyData()
+    noisy.DeepCopy(polydata)
+    points = vtkPoints()
+    points.SetData(numpy_to_vtk(x, deep=1))
+    noisy.SetPoints(points)
+    return noisy
+
+
 def folds(polydata):
     """Interior edges whose two triangles face opposite ways (dot of unit normals < -0.5)."""
     pts = vtk_to_numpy(polydata.GetPoints().GetData()).astype(float)
@@ -187,22 +207,12 @@ class FairingFromPython(unittest.TestCase):
         # (swept) against the thesis' recommended filter (section 3.2.6:
         # implicit L^2, umbrella) and the default curvature flow (order 1,
         # best of a small sweep; it does NOT beat the sinc filter here).
-        from vtkmodules.vtkCommonCore import vtkPoints
-        from vtkmodules.vtkCommonDataModel import vtkPolyData
-        from vtkmodules.vtkFiltersCore import vtkPolyDataNormals, vtkWindowedSincPolyDataFilter
+        from vtkmodules.vtkFiltersCore import vtkWindowedSincPolyDataFilter
         bunny = self.bunny()
         clean = vtk_to_numpy(bunny.GetPoints().GetData()).astype(float)
-        normals = vtkPolyDataNormals()
-        normals.SplittingOff()
-        configured(normals, bunny)
-        n = vtk_to_numpy(normals.GetOutput().GetPointData().GetNormals()).astype(float)
         diag = np.linalg.norm(clean.max(0) - clean.min(0))
-        noisy_points = clean + (0.003 * diag * np.random.default_rng(1).standard_normal(len(clean)))[:, None] * n
-        noisy = vtkPolyData()
-        noisy.DeepCopy(bunny)
-        pts = vtkPoints()
-        pts.SetData(numpy_to_vtk(noisy_points, deep=1))
-        noisy.SetPoints(pts)
+        noisy = noisy_along_normals(bunny, 0.003 * diag, seed=1)
+        noisy_points = vtk_to_numpy(noisy.GetPoints().GetData())
 
         def error(f):
             x = vtk_to_numpy(f.GetOutput().GetPoints().GetData())
