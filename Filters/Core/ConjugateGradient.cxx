@@ -206,9 +206,9 @@ std::vector<Index> LocalityOrder(Index rows, const std::int64_t* offsets, const 
 namespace
 {
 
-/// The renumbered single-precision copy of D + t K: W values per row (the
-/// columns padded to 1, 2, 4 or 8, so that a row is one vector register);
-/// fixed rows have no off-diagonal entries, a unit diagonal and stay zero.
+/// The renumbered single-precision copy of D + t K, for W values per row (the
+/// column count; 5 to 7 columns are padded to 8); fixed rows have no
+/// off-diagonal entries, a unit diagonal and stay zero.
 struct SinglePrecisionSystem
 {
   std::int64_t Rows = 0;
@@ -450,19 +450,20 @@ ConjugateGradientResult SolveShifted(const ShiftedLaplacianProblem& pb, const do
       active[c] = norm > threshold[c];
       any = any || active[c];
     }
-    // Single precision resolves a residual reduction of about 1e-5 per
-    // round; the rounds stop when the iterations are spent.
+    // A round reduces the residual by up to 1e-5 (what single precision
+    // resolves); at most 8 rounds, fewer when the iterations are spent.
     if (!any || round == 8 || result.Iterations >= pb.MaximumIterations)
     {
       result.Converged = !any;
       return result;
     }
-    // Aim a little below the threshold: float round-off separates the
-    // recursive residual from the true one, and another round costs more.
+    // Aim a little below the threshold (float round-off separates the
+    // recursive residual from the true one, and another round costs more),
+    // but ask one round for no more than single precision can resolve.
     double target[W] = {};
     for (int c = 0; c < nc; ++c)
     {
-      target[c] = 0.7 * threshold[c];
+      target[c] = std::max(0.7 * threshold[c], 1e-5 * std::sqrt(norms[c]));
     }
     result.Iterations +=
       SolveCorrection<W>(A, r, dx, target, active, pb.MaximumIterations - result.Iterations, threads);
