@@ -968,12 +968,12 @@ GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphF
       return result;
     }
   }
-  LargeVector<double> u(size), u0(size), next(size), rhs, diag;
+  LargeVector<double> u(size), u0(size), next(size), rhs, shift, diag;
   std::vector<Index> order; // the graph solver's renumbering (meshes)
   if (o.Integration == GraphFlowIntegration::SemiImplicit)
   {
     rhs.resize(size);
-    diag.resize(n);
+    shift.resize(n);
   }
   for (std::size_t k = 0; k < size; ++k)
   {
@@ -1052,7 +1052,7 @@ GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphF
         for (std::int64_t i = b; i < e; ++i)
         {
           const double d = disc.Mass[i] / (dt * disc.Speed[i]);
-          diag[i] = d + disc.Diagonal[i];
+          shift[i] = d;
           for (int k = 0; k < nc; ++k)
           {
             const std::int64_t j = i * nc + k;
@@ -1083,13 +1083,7 @@ GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphF
         sl.Neighbors = graph->Neighbors;
         sl.Weights = graph->Weights.data();
         sl.Diagonal = graph->Diagonal.data();
-        ParallelFor(n, threads, [&](std::int64_t b, std::int64_t e) {
-          for (std::int64_t i = b; i < e; ++i)
-          {
-            diag[i] -= disc.Diagonal[i]; // D alone
-          }
-        });
-        sl.Shift = diag.data();
+        sl.Shift = shift.data();
         sl.Fixed = disc.Fixed.data();
         if (order.empty())
         {
@@ -1104,6 +1098,13 @@ GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphF
       }
       else
       {
+        diag.resize(n);
+        ParallelFor(n, threads, [&](std::int64_t b, std::int64_t e) {
+          for (std::int64_t i = b; i < e; ++i)
+          {
+            diag[i] = shift[i] + disc.Diagonal[i]; // Jacobi
+          }
+        });
         ConjugateGradientProblem cg;
         cg.Rows = n;
         cg.Columns = nc;
@@ -1118,10 +1119,9 @@ GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphF
           ParallelFor(n, threads, [&](std::int64_t b, std::int64_t e) {
             for (std::int64_t i = b; i < e; ++i)
             {
-              const double d = diag[i] - disc.Diagonal[i];
               for (int k = 0; k < nc; ++k)
               {
-                y[i * nc + k] += d * x[i * nc + k];
+                y[i * nc + k] += shift[i] * x[i * nc + k];
               }
             }
           });
