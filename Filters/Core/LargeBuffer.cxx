@@ -86,6 +86,14 @@ void* AllocateLargeBlock(std::size_t bytes)
   return block;
 }
 
+std::size_t LargeBlockSize(const void* block)
+{
+  BlockCache& cache = Cache();
+  std::lock_guard<std::mutex> lock(cache.Mutex);
+  const auto known = cache.Sizes.find(const_cast<void*>(block));
+  return known == cache.Sizes.end() ? 0 : known->second;
+}
+
 void FreeLargeBlock(void* block)
 {
   if (!block)
@@ -99,7 +107,7 @@ void FreeLargeBlock(void* block)
     const auto known = cache.Sizes.find(block);
     if (known == cache.Sizes.end())
     {
-      release.push_back(block); // not ours to cache (cannot happen through the allocator)
+      release.push_back(block); // not ours (SuiteSparse's hooks pass small malloc blocks here)
     }
     else if (known->second > cache.Limit)
     {

@@ -31,8 +31,11 @@ namespace beltrami
 /// Throws std::bad_alloc.
 void* AllocateLargeBlock(std::size_t bytes);
 /// Returns a block of AllocateLargeBlock to the cache (or to the system).
-/// Usable as a C free function (VTK arrays that own such a block).
+/// Usable as a C free function (VTK arrays that own such a block); a block
+/// that AllocateLargeBlock did not hand out is passed to std::free.
 void FreeLargeBlock(void* block);
+/// The usable size of a block of AllocateLargeBlock, 0 for any other pointer.
+std::size_t LargeBlockSize(const void* block);
 
 template <class T>
 struct LargeBufferAllocator

@@ -2,13 +2,10 @@
 
 #include "Laplacian.h"
 #include "RingGeometry.h"
+#include "SparseFactorization.h"
 
 #include <Eigen/Dense>
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
-#include <Eigen/SparseLU>
-#include <Eigen/CholmodSupport>
-#include <Eigen/UmfPackSupport>
 
 #include <algorithm>
 #include <cmath>
@@ -24,7 +21,7 @@ namespace
 
 using Vec3 = VecN<3>;
 using Vec2 = Eigen::Vector2d;
-using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+using SparseMatrix = SparseFactorization::Matrix;
 
 Vec3 Point(const double* points, Index i)
 {
@@ -169,45 +166,13 @@ enum UnknownKind : std::uint8_t
   KindUnused = 3
 };
 
-class Factorization
-{
-public:
-  bool Compute(const SparseMatrix& a, bool symmetric)
-  {
-    Symmetric = symmetric;
-    if (symmetric)
-    {
-      Cholesky.compute(a);
-      if (Cholesky.info() == Eigen::Success)
-      {
-        return true;
-      }
-      Symmetric = false; // not positive definite after all: fall back to LU
-    }
-    LU.compute(a);
-    return LU.info() == Eigen::Success;
-  }
-  Eigen::MatrixXd Solve(const Eigen::MatrixXd& b) const
-  {
-    return Symmetric ? Eigen::MatrixXd(Cholesky.solve(b)) : Eigen::MatrixXd(LU.solve(b));
-  }
-
-private:
-  bool Symmetric = true;
-  // CHOLMOD's supernodal Cholesky (SuiteSparse): 2-3x faster than Eigen's
-  // simplicial one on the systems of meshes with 10^5 vertices.
-  Eigen::CholmodSupernodalLLT<SparseMatrix> Cholesky;
-  // UMFPACK (SuiteSparse) for the non-symmetric systems (DAP, mixes).
-  mutable Eigen::UmfPackLU<SparseMatrix> LU;
-};
-
 struct ParameterizationSolver
 {
   // Unknown partition.
   std::vector<std::uint8_t> Kind;
   std::vector<int> Slot; // index within its kind
   int NumberFactor = 0, NumberExtra = 0;
-  Factorization Factor;
+  SparseFactorization Factor;
   SparseMatrix AFF;
   Eigen::MatrixXd AFD_d; // -A_FD d per column (the right-hand side b_F)
   Eigen::MatrixXd AFG, AGF, AGG, BG;
@@ -233,21 +198,33 @@ struct ParameterizationSolver
       }
     }
     const int columns = static_cast<int>(fixedValues.cols());
-    // A_FF in column-major form: its column c holds the entries of row c of
-    // A^T; for a symmetric system the rows serve as columns directly.
-    std::vector<Eigen::Triplet<double, int>> triplets;
-    triplets.reserve(rows.Values.size());
     AFD_d = Eigen::MatrixXd::Zero(NumberFactor, columns);
     AFG = Eigen::MatrixXd::Zero(NumberFactor, NumberExtra);
     AGF = Eigen::MatrixXd::Zero(NumberExtra, NumberFactor);
     AGG = Eigen::MatrixXd::Zero(NumberExtra, NumberExtra);
     BG = Eigen::MatrixXd::Zero(NumberExtra, columns);
+    // A_FF in compressed rows, each sorted by column.
+    std::vector<int> outer(static_cast<std::size_t>(NumberFactor) + 1, 0);
+    for (int r = 0; r < n; ++r)
+    {
+      if (kind[r] == KindFactor)
+      {
+        for (std::int64_t k = rows.Offsets[r]; k < rows.Offsets[r + 1]; ++k)
+        {
+          outer[Slot[r] + 1] += kind[rows.Columns[k]] == KindFactor;
+        }
+      }
+    }
+    std::partial_sum(outer.begin(), outer.end(), outer.begin());
+    std::vector<int> inner(static_cast<std::size_t>(outer.back()));
+    std::vector<double> values(inner.size());
     for (int r = 0; r < n; ++r)
     {
       if (kind[r] != KindFactor && kind[r] != KindExtra)
       {
         continue;
       }
+      int out = kind[r] == KindFactor ? outer[Slot[r]] : 0;
       for (std::int64_t k = rows.Offsets[r]; k < rows.Offsets[r + 1]; ++k)
       {
         const int c = rows.Columns[k];
@@ -261,7 +238,8 @@ struct ParameterizationSolver
         }
         else if (kind[r] == KindFactor && kind[c] == KindFactor)
         {
-          triplets.emplace_back(Slot[r], Slot[c], v);
+          inner[out] = Slot[c];
+          values[out++] = v;
         }
         else if (kind[r] == KindFactor && kind[c] == KindExtra)
         {
@@ -276,9 +254,32 @@ struct ParameterizationSolver
           AGG(Slot[r], Slot[c]) += v;
         }
       }
+      if (kind[r] == KindFactor) // sort the row by column (a few entries)
+      {
+        const int b = outer[Slot[r]], e = outer[Slot[r] + 1];
+        for (int i = b + 1; i < e; ++i)
+        {
+          for (int j = i; j > b && inner[j - 1] > inner[j]; --j)
+          {
+            std::swap(inner[j - 1], inner[j]);
+            std::swap(values[j - 1], values[j]);
+          }
+        }
+      }
     }
-    AFF.resize(NumberFactor, NumberFactor);
-    AFF.setFromTriplets(triplets.begin(), triplets.end());
+    // Rows of A_FF -> the column-major AFF: the same arrays when A is
+    // symmetric, a transposing copy otherwise.
+    const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor, int>> rowsFF(
+      NumberFactor, NumberFactor, outer.back(), outer.data(), inner.data(), values.data());
+    if (symmetric)
+    {
+      AFF = Eigen::Map<const SparseMatrix>(
+        NumberFactor, NumberFactor, outer.back(), outer.data(), inner.data(), values.data());
+    }
+    else
+    {
+      AFF = rowsFF;
+    }
     if (NumberFactor > 0 && !Factor.Compute(AFF, symmetric))
     {
       error = "the linear system is singular (degenerate triangles or a disconnected part?)";
