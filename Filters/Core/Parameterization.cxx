@@ -1,6 +1,7 @@
 #include "Parameterization.h"
 
 #include "Laplacian.h"
+#include "NestedDissection.h"
 #include "RingGeometry.h"
 #include "SparseFactorization.h"
 
@@ -158,6 +159,14 @@ struct ConstraintRow
   std::vector<double> Target;                  ///< per right-hand-side column
 };
 
+/// The fill-reducing elimination order of the mesh vertices.
+std::vector<Index> VertexOrder(const MeshTopology& topo, const double* points, int threads)
+{
+  const MeshTopology::EdgeTable& edges = topo.Edges();
+  return NestedDissectionOrder(
+    topo.NumberOfVertices(), edges.NeighborOffsets.data(), edges.Neighbors.data(), points, threads);
+}
+
 enum UnknownKind : std::uint8_t
 {
   KindFactor = 0,
@@ -179,8 +188,11 @@ struct ParameterizationSolver
 
   /// Splits the rows of `rows` by the kinds, factorizes A_FF and forms the
   /// right-hand sides from `fixedValues` (columns values per unknown).
+  /// `vertexOrder`: the elimination order of the mesh vertices, whose
+  /// unknowns are numbered vertex-major (one or two per vertex).
   bool Setup(const RowMatrix& rows, const std::vector<std::uint8_t>& kind,
-    const Eigen::MatrixXd& fixedValues, bool symmetric, std::string& error)
+    const Eigen::MatrixXd& fixedValues, bool symmetric, const std::vector<Index>& vertexOrder,
+    std::string& error)
   {
     Kind = kind;
     const int n = static_cast<int>(kind.size());
@@ -280,7 +292,21 @@ struct ParameterizationSolver
     {
       AFF = rowsFF;
     }
-    if (NumberFactor > 0 && !Factor.Compute(AFF, symmetric))
+    std::vector<int> order;
+    order.reserve(static_cast<std::size_t>(NumberFactor));
+    const std::size_t perVertex = kind.size() / std::max<std::size_t>(vertexOrder.size(), 1);
+    for (Index v : vertexOrder)
+    {
+      for (std::size_t d = 0; d < perVertex; ++d)
+      {
+        const std::size_t u = perVertex * static_cast<std::size_t>(v) + d;
+        if (kind[u] == KindFactor)
+        {
+          order.push_back(Slot[u]);
+        }
+      }
+    }
+    if (NumberFactor > 0 && !Factor.Compute(AFF, symmetric, order))
     {
       error = "the linear system is singular (degenerate triangles or a disconnected part?)";
       return false;
@@ -1183,7 +1209,7 @@ ParameterizationResult Parameterize(
     }
     fixed(2 * pb, 0) = std::sqrt(far);
     ParameterizationSolver solver;
-    if (!solver.Setup(rows, kind, fixed, true, error))
+    if (!solver.Setup(rows, kind, fixed, true, VertexOrder(topo, points, threads), error))
     {
       return Fail("Cannot parameterize: " + error + ".");
     }
@@ -1315,6 +1341,7 @@ ParameterizationResult Parameterize(
          << options.MaximumBasisBytes / (1 << 20) << " MiB.";
       return Fail(os.str());
     }
+    std::vector<Index> vertexOrder; // for the Cholesky (the LU orders itself)
     // One solve of the fixed-boundary system; with `responses`, also its
     // impulse responses (section 5.4.2).
     const auto solve = [&](double lambda, double mu, std::vector<double>& out,
@@ -1324,7 +1351,11 @@ ParameterizationResult Parameterize(
       result.DegenerateTriangles = degenerate;
       ParameterizationSolver solver;
       Eigen::MatrixXd solution = fixed;
-      if (!solver.Setup(rows, kind, fixed, mu == 0.0, error) || !solver.Solve(constraints, solution, error))
+      if (mu == 0.0 && vertexOrder.empty())
+      {
+        vertexOrder = VertexOrder(topo, points, threads);
+      }
+      if (!solver.Setup(rows, kind, fixed, mu == 0.0, vertexOrder, error) || !solver.Solve(constraints, solution, error))
       {
         return false;
       }

@@ -3,13 +3,16 @@
 // CHOLMOD's supernodal Cholesky for symmetric positive definite systems,
 // UMFPACK's LU for the others (and when the Cholesky finds the matrix not
 // positive definite). Both are set up for this project's machines:
-// - ordering: AMD only. CHOLMOD's default tries METIS after AMD when the fill
-//   is high; on the parameterization systems (10^5 vertices) METIS saves
-//   flops but costs more time than it saves (179k vertices: ordering 0.9 s
-//   vs 0.17 s, factorization as fast).
+// - ordering: the caller's (a nested dissection of the mesh) or AMD for the
+//   Cholesky, AMD for the LU.
+//   CHOLMOD's default tries METIS after AMD when the fill is high; on the
+//   parameterization systems (10^5 vertices) METIS saves flops but costs more
+//   time than it saves (179k vertices: ordering 0.9 s vs 0.17 s).
 // - memory: SuiteSparse's allocations of 1 MiB and more go through
 //   LargeBuffer (2 MiB pages, cached): the factor of a 179k-vertex system is
 //   ~100 MB, and faulting it in 4 KiB pages cost as much as computing it.
+// - supernodes: relaxed amalgamation coarser than CHOLMOD's default (fewer,
+//   larger supernodes: per-supernode overhead dominated the flops).
 // - threads: CHOLMOD opens OpenMP regions of 4 threads (a compile-time
 //   constant) around every large supernode; on 2 cores the wake-ups cost
 //   more than they gain, so the calling thread runs them serially (OpenMP's
@@ -21,6 +24,7 @@
 #include <Eigen/SparseCore>
 
 #include <memory>
+#include <vector>
 
 namespace beltrami
 {
@@ -38,8 +42,13 @@ public:
   /// Factorizes `a` (square, column-major, sorted row indices per column).
   /// With `symmetric`, a Cholesky factorization of the lower triangle is
   /// tried first (falling back to LU when `a` is not positive definite).
-  /// Returns false when `a` is singular.
-  bool Compute(const Matrix& a, bool symmetric);
+  /// Returns false when `a` is singular, numerically too (pivots at rounding
+  /// level), or the factorization ran out of memory. `a` must stay alive and unchanged
+  /// while the factorization is used (the LU refers to it).
+  /// `order`, if not empty, is the Cholesky's elimination order (order[k] =
+  /// the unknown eliminated k-th, e.g. NestedDissectionOrder's); AMD's
+  /// otherwise. The LU always orders by AMD.
+  bool Compute(const Matrix& a, bool symmetric, const std::vector<int>& order = {});
   /// Solves A X = B for every column of B.
   Eigen::MatrixXd Solve(const Eigen::MatrixXd& b) const;
 

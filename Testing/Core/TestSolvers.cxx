@@ -4,12 +4,15 @@
 
 #include "Core/ConjugateGradient.h"
 #include "Core/Laplacian.h"
+#include "Core/NestedDissection.h"
+#include "Core/SparseFactorization.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <numeric>
 #include <random>
 
 using namespace beltrami;
@@ -180,6 +183,153 @@ TEST(Solvers, LocalityOrderIsAPermutationOverComponents)
   // Breadth first: each component is contiguous.
   EXPECT_EQ(order[3], 3);
   EXPECT_EQ(std::max({ order[0], order[1], order[2] }), 2);
+}
+
+/// Nonzeros of the Cholesky factor of a matrix with the pattern of the graph
+/// (diagonal included) eliminated in `order`: each column's pattern is its
+/// later neighbours and its elimination-tree children's patterns.
+std::int64_t CholeskyFill(const std::vector<std::int64_t>& offsets, const std::vector<Index>& neighbors,
+  const std::vector<Index>& order)
+{
+  const std::size_t n = order.size();
+  std::vector<Index> position(n);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    position[order[k]] = static_cast<Index>(k);
+  }
+  std::vector<std::vector<Index>> children(n), pattern(n);
+  std::int64_t fill = 0;
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    std::vector<Index> column;
+    const Index v = order[k];
+    for (std::int64_t e = offsets[v]; e < offsets[v + 1]; ++e)
+    {
+      if (position[neighbors[e]] > static_cast<Index>(k))
+      {
+        column.push_back(position[neighbors[e]]);
+      }
+    }
+    for (Index c : children[k])
+    {
+      for (Index r : pattern[c])
+      {
+        if (r != static_cast<Index>(k))
+        {
+          column.push_back(r);
+        }
+      }
+      pattern[c].clear();
+      pattern[c].shrink_to_fit();
+    }
+    std::sort(column.begin(), column.end());
+    column.erase(std::unique(column.begin(), column.end()), column.end());
+    fill += 1 + static_cast<std::int64_t>(column.size());
+    if (!column.empty())
+    {
+      children[column.front()].push_back(static_cast<Index>(k));
+    }
+    pattern[k] = std::move(column);
+  }
+  return fill;
+}
+
+TEST(Solvers, NestedDissectionOrderCutsTheFill)
+{
+  // A 64 x 64 jittered grid: eliminated row by row, the factor fills the band
+  // (~n^1.5 = 262k nonzeros); nested dissection needs O(n log n).
+  const int side = 64;
+  const test::Mesh m = test::HeightField([](double x, double y) { return 0.3 * x * y; }, 1.0, side, 0.2, true, 3);
+  const MeshTopology topo = m.Topology();
+  const MeshTopology::EdgeTable& edges = topo.Edges();
+  const Index n = topo.NumberOfVertices();
+  const std::vector<std::int64_t> offsets(edges.NeighborOffsets.begin(), edges.NeighborOffsets.end());
+  const std::vector<Index> neighbors(edges.Neighbors.begin(), edges.Neighbors.end());
+  std::vector<Index> rowByRow(n);
+  std::iota(rowByRow.begin(), rowByRow.end(), 0);
+  const std::int64_t banded = CholeskyFill(offsets, neighbors, rowByRow);
+  for (int threads : { 1, 2 })
+  {
+    const std::vector<Index> order =
+      NestedDissectionOrder(n, offsets.data(), neighbors.data(), m.Points.data(), threads);
+    std::vector<Index> sorted = order;
+    std::sort(sorted.begin(), sorted.end());
+    ASSERT_EQ(sorted, rowByRow); // a permutation
+    const std::int64_t fill = CholeskyFill(offsets, neighbors, order);
+    EXPECT_LT(fill, banded / 2) << "banded " << banded;
+    EXPECT_EQ(order, NestedDissectionOrder(n, offsets.data(), neighbors.data(), m.Points.data(), 1));
+  }
+  // Coincident or NaN positions still give a permutation.
+  std::vector<double> flat(m.Points.size(), 1.0);
+  for (std::size_t i = 0; i < flat.size(); i += 7)
+  {
+    flat[i] = std::nan("");
+  }
+  std::vector<Index> order = NestedDissectionOrder(n, offsets.data(), neighbors.data(), flat.data(), 2);
+  std::sort(order.begin(), order.end());
+  EXPECT_EQ(order, rowByRow);
+}
+
+TEST(Solvers, SparseFactorizationSolvesEveryKindOfSystem)
+{
+  // The Dirichlet Laplacian of a grid (+ a shift): symmetric positive
+  // definite; then made indefinite, then non-symmetric, then singular.
+  const int side = 30, n = side * side;
+  const auto build = [&](double shift, double skew) {
+    std::vector<Eigen::Triplet<double, int>> t;
+    for (int i = 0; i < side; ++i)
+    {
+      for (int j = 0; j < side; ++j)
+      {
+        const int r = i * side + j;
+        t.emplace_back(r, r, 4.0 + shift);
+        const int next[4][2] = { { i - 1, j }, { i + 1, j }, { i, j - 1 }, { i, j + 1 } };
+        for (const auto& q : next)
+        {
+          if (q[0] >= 0 && q[0] < side && q[1] >= 0 && q[1] < side)
+          {
+            const int c = q[0] * side + q[1];
+            t.emplace_back(r, c, -1.0 + (c > r ? skew : -skew));
+          }
+        }
+      }
+    }
+    SparseFactorization::Matrix a(n, n);
+    a.setFromTriplets(t.begin(), t.end());
+    return a;
+  };
+  std::vector<int> order(n);
+  std::iota(order.rbegin(), order.rend(), 0); // any permutation
+  const Eigen::MatrixXd b = Eigen::MatrixXd::Random(n, 2);
+  struct Case
+  {
+    double Shift, Skew;
+    bool Symmetric;
+  };
+  for (const Case c : { Case{ 0.0, 0.0, true }, Case{ -3.0, 0.0, true }, Case{ 0.1, 0.3, false } })
+  {
+    const SparseFactorization::Matrix a = build(c.Shift, c.Skew);
+    for (bool ordered : { false, true })
+    {
+      SparseFactorization f;
+      ASSERT_TRUE(f.Compute(a, c.Symmetric, ordered ? order : std::vector<int>{}));
+      const Eigen::MatrixXd x = f.Solve(b);
+      EXPECT_LT((a * x - b).norm(), 1e-9 * b.norm()) << c.Shift << " " << c.Skew;
+    }
+  }
+  // Singular: the Neumann Laplacian (rows summing to zero).
+  SparseFactorization::Matrix singular = build(0.0, 0.0);
+  for (int k = 0; k < singular.outerSize(); ++k)
+  {
+    double sum = 0.0;
+    for (SparseFactorization::Matrix::InnerIterator it(singular, k); it; ++it)
+    {
+      sum += it.row() != k ? it.value() : 0.0;
+    }
+    singular.coeffRef(k, k) = -sum;
+  }
+  SparseFactorization f;
+  EXPECT_FALSE(f.Compute(singular, true));
 }
 
 TEST(Solvers, ShiftedLaplacianMatchesTheGeneralSolver)
