@@ -9,6 +9,7 @@
 #include <Eigen/SparseCore>
 
 #include <algorithm>
+#include <tuple>
 #include <cmath>
 #include <functional>
 #include <numeric>
@@ -189,10 +190,11 @@ struct ParameterizationSolver
   /// Splits the rows of `rows` by the kinds, factorizes A_FF and forms the
   /// right-hand sides from `fixedValues` (columns values per unknown).
   /// `vertexOrder`: the elimination order of the mesh vertices, whose
-  /// unknowns are numbered vertex-major (one or two per vertex).
+  /// unknowns are numbered vertex-major (one or two per vertex);
+  /// `twinPairs`: see SparseFactorization::Compute.
   bool Setup(const RowMatrix& rows, const std::vector<std::uint8_t>& kind,
     const Eigen::MatrixXd& fixedValues, bool symmetric, const std::vector<Index>& vertexOrder,
-    std::string& error)
+    bool twinPairs, std::string& error)
   {
     Kind = kind;
     const int n = static_cast<int>(kind.size());
@@ -215,21 +217,28 @@ struct ParameterizationSolver
     AGF = Eigen::MatrixXd::Zero(NumberExtra, NumberFactor);
     AGG = Eigen::MatrixXd::Zero(NumberExtra, NumberExtra);
     BG = Eigen::MatrixXd::Zero(NumberExtra, columns);
-    // A_FF in compressed rows, each sorted by column.
-    std::vector<int> outer(static_cast<std::size_t>(NumberFactor) + 1, 0);
+    // A_FF in compressed rows, each sorted by column: built in AFF's own
+    // arrays when A is symmetric (rows are columns), else in byRows.
+    std::vector<int> counts(static_cast<std::size_t>(NumberFactor) + 1, 0);
     for (int r = 0; r < n; ++r)
     {
       if (kind[r] == KindFactor)
       {
         for (std::int64_t k = rows.Offsets[r]; k < rows.Offsets[r + 1]; ++k)
         {
-          outer[Slot[r] + 1] += kind[rows.Columns[k]] == KindFactor;
+          counts[Slot[r] + 1] += kind[rows.Columns[k]] == KindFactor;
         }
       }
     }
-    std::partial_sum(outer.begin(), outer.end(), outer.begin());
-    std::vector<int> inner(static_cast<std::size_t>(outer.back()));
-    std::vector<double> values(inner.size());
+    std::partial_sum(counts.begin(), counts.end(), counts.begin());
+    Eigen::SparseMatrix<double, Eigen::RowMajor, int> byRows;
+    const auto allocate = [&](auto& m) {
+      m.resize(NumberFactor, NumberFactor);
+      m.resizeNonZeros(counts.back());
+      std::copy(counts.begin(), counts.end(), m.outerIndexPtr());
+      return std::make_tuple(m.outerIndexPtr(), m.innerIndexPtr(), m.valuePtr());
+    };
+    const auto [outer, inner, values] = symmetric ? allocate(AFF) : allocate(byRows);
     for (int r = 0; r < n; ++r)
     {
       if (kind[r] != KindFactor && kind[r] != KindExtra)
@@ -279,18 +288,9 @@ struct ParameterizationSolver
         }
       }
     }
-    // Rows of A_FF -> the column-major AFF: the same arrays when A is
-    // symmetric, a transposing copy otherwise.
-    const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor, int>> rowsFF(
-      NumberFactor, NumberFactor, outer.back(), outer.data(), inner.data(), values.data());
-    if (symmetric)
+    if (!symmetric)
     {
-      AFF = Eigen::Map<const SparseMatrix>(
-        NumberFactor, NumberFactor, outer.back(), outer.data(), inner.data(), values.data());
-    }
-    else
-    {
-      AFF = rowsFF;
+      AFF = byRows; // a transposing copy to column-major
     }
     std::vector<int> order;
     order.reserve(static_cast<std::size_t>(NumberFactor));
@@ -306,7 +306,7 @@ struct ParameterizationSolver
         }
       }
     }
-    if (NumberFactor > 0 && !Factor.Compute(AFF, symmetric, order))
+    if (NumberFactor > 0 && !Factor.Compute(AFF, symmetric, order, twinPairs))
     {
       error = "the linear system is singular (degenerate triangles or a disconnected part?)";
       return false;
@@ -1209,7 +1209,8 @@ ParameterizationResult Parameterize(
     }
     fixed(2 * pb, 0) = std::sqrt(far);
     ParameterizationSolver solver;
-    if (!solver.Setup(rows, kind, fixed, true, VertexOrder(topo, points, threads), error))
+    // u and v share the cotangent matrix and are coupled on the boundary only.
+    if (!solver.Setup(rows, kind, fixed, true, VertexOrder(topo, points, threads), true, error))
     {
       return Fail("Cannot parameterize: " + error + ".");
     }
@@ -1355,7 +1356,7 @@ ParameterizationResult Parameterize(
       {
         vertexOrder = VertexOrder(topo, points, threads);
       }
-      if (!solver.Setup(rows, kind, fixed, mu == 0.0, vertexOrder, error) || !solver.Solve(constraints, solution, error))
+      if (!solver.Setup(rows, kind, fixed, mu == 0.0, vertexOrder, false, error) || !solver.Solve(constraints, solution, error))
       {
         return false;
       }

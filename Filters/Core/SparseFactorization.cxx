@@ -9,10 +9,25 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
+#include <new>
+#include <numeric>
+#include <vector>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
+
+// BLAS and LAPACK (OpenBLAS's where installed), Fortran calling
+// convention with the hidden lengths of the character arguments.
+extern "C"
+{
+  void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info, std::size_t uploLength);
+  void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha, const double* a,
+    const int* lda, const double* beta, double* c, const int* ldc, std::size_t uploLength, std::size_t transLength);
+  void dpotrs_(const char* uplo, const int* n, const int* nrhs, const double* a, const int* lda, double* b,
+    const int* ldb, int* info, std::size_t uploLength);
+}
 
 namespace beltrami
 {
@@ -111,6 +126,34 @@ private:
   int Saved;
 };
 
+/// A dense matrix as a CHOLMOD view (no copy).
+cholmod_dense DenseView(const Eigen::MatrixXd& m)
+{
+  cholmod_dense view{};
+  view.nrow = static_cast<std::size_t>(m.rows());
+  view.ncol = static_cast<std::size_t>(m.cols());
+  view.d = view.nrow;
+  view.nzmax = view.nrow * view.ncol;
+  view.x = const_cast<double*>(m.data());
+  view.xtype = CHOLMOD_REAL;
+  view.dtype = CHOLMOD_DOUBLE;
+  return view;
+}
+
+/// cholmod_solve(system, factor, b) as an Eigen matrix.
+Eigen::MatrixXd CholmodSolve(int system, cholmod_factor* factor, const Eigen::MatrixXd& b, cholmod_common& common)
+{
+  cholmod_dense view = DenseView(b);
+  cholmod_dense* x = cholmod_solve(system, factor, &view, &common);
+  if (!x)
+  {
+    throw std::bad_alloc(); // CHOLMOD's only failure here: out of memory
+  }
+  Eigen::MatrixXd result = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(x->x), b.rows(), b.cols());
+  cholmod_free_dense(&x, &common);
+  return result;
+}
+
 } // namespace
 
 struct SparseFactorization::Internals
@@ -118,7 +161,6 @@ struct SparseFactorization::Internals
   bool Symmetric = true;
   int Size = 0;
   const Matrix* A = nullptr; // the factorized matrix (the caller keeps it)
-  std::vector<int> Order;    // the elimination order given to Compute, if any
   // CHOLMOD (supernodal Cholesky).
   mutable cholmod_common Common;
   cholmod_factor* Cholesky = nullptr;
@@ -126,6 +168,16 @@ struct SparseFactorization::Internals
   double Control[UMFPACK_CONTROL];
   mutable double Info[UMFPACK_INFO];
   void* LU = nullptr;
+  // Twin pairs (see Compute): A = I_2 (x) L + a coupling of the last m
+  // pairs in Cholesky's order. Cholesky then factors L only.
+  bool Twin = false;
+  int Coupled = 0;         // m
+  // The trailing m x m block of L's factor (lower), and the Cholesky factor
+  // (lower) of the 2m x 2m coupled system; on LargeBuffer's pages (100 MB
+  // for m = 1150).
+  LargeVector<double> CornerData, ReducedData;
+  Eigen::Map<Eigen::MatrixXd> Corner{ nullptr, 0, 0 };
+  Eigen::Map<Eigen::MatrixXd> Reduced{ nullptr, 0, 0 };
 
   Internals()
   {
@@ -168,34 +220,228 @@ struct SparseFactorization::Internals
     {
       umfpack_di_free_numeric(&LU);
     }
+    Twin = false;
+    Coupled = 0;
+    Matrices(0);
+  }
+  void Matrices(int m)
+  {
+    CornerData.assign(static_cast<std::size_t>(m) * m, 0.0);
+    ReducedData.assign(4 * static_cast<std::size_t>(m) * m, 0.0);
+    new (&Corner) Eigen::Map<Eigen::MatrixXd>(CornerData.data(), m, m);
+    new (&Reduced) Eigen::Map<Eigen::MatrixXd>(ReducedData.data(), 2 * m, 2 * m);
   }
 
-  bool FactorizeCholesky()
+  /// Supernodal Cholesky of the lower triangle of m, in `order` (kept as
+  /// given when `exact`; CHOLMOD may otherwise postorder it) or AMD's.
+  bool FactorizeCholesky(const Eigen::Map<const Matrix>& m, std::vector<int> order, bool exact)
   {
     cholmod_sparse view{};
-    view.nrow = view.ncol = static_cast<std::size_t>(Size);
-    view.nzmax = static_cast<std::size_t>(A->nonZeros());
-    view.p = const_cast<int*>(A->outerIndexPtr());
-    view.i = const_cast<int*>(A->innerIndexPtr());
-    view.x = const_cast<double*>(A->valuePtr());
+    view.nrow = view.ncol = static_cast<std::size_t>(m.rows());
+    view.nzmax = static_cast<std::size_t>(m.nonZeros());
+    view.p = const_cast<int*>(m.outerIndexPtr());
+    view.i = const_cast<int*>(m.innerIndexPtr());
+    view.x = const_cast<double*>(m.valuePtr());
     view.stype = -1; // the lower triangle
     view.itype = CHOLMOD_INT;
     view.xtype = CHOLMOD_REAL;
     view.dtype = CHOLMOD_DOUBLE;
     view.sorted = 1;
     view.packed = 1;
-    Common.method[0].ordering = Order.empty() ? CHOLMOD_AMD : CHOLMOD_GIVEN;
-    Cholesky = cholmod_analyze_p(&view, Order.empty() ? nullptr : Order.data(), nullptr, 0, &Common);
+    Common.method[0].ordering = order.empty() ? CHOLMOD_AMD : CHOLMOD_GIVEN;
+    Common.postorder = !exact;
+    Cholesky = cholmod_analyze_p(&view, order.empty() ? nullptr : order.data(), nullptr, 0, &Common);
+    Common.postorder = 1;
     return Cholesky && cholmod_factorize(&view, Cholesky, &Common) &&
       Common.status == CHOLMOD_OK && Cholesky->minor == Cholesky->n;
+  }
+
+  /// The twin-pair factorization (see Compute); false when A does not have
+  /// that form (or too many coupled pairs), leaving nothing factorized.
+  bool FactorizeTwin(const std::vector<int>& order)
+  {
+    constexpr int MaximumCoupled = 2048; // a dense 2m x 2m system: 134 MB, ~2e10 flops
+    const Matrix& a = *A;
+    if (Size < 2 || Size % 2 != 0)
+    {
+      return false;
+    }
+    const int pairs = Size / 2;
+    // L from the even rows and columns, checked against the odd ones; the
+    // pairs with an entry between an even and an odd unknown are coupled.
+    std::vector<std::uint8_t> coupled(static_cast<std::size_t>(pairs), 0);
+    std::vector<int> outer(static_cast<std::size_t>(pairs) + 1, 0), inner;
+    std::vector<double> values;
+    inner.reserve(static_cast<std::size_t>(a.nonZeros() / 2));
+    values.reserve(inner.capacity());
+    const int* p = a.outerIndexPtr();
+    const int* rows = a.innerIndexPtr();
+    const double* x = a.valuePtr();
+    for (int k = 0; k < pairs; ++k)
+    {
+      for (int e = p[2 * k]; e < p[2 * k + 1]; ++e)
+      {
+        if (rows[e] % 2 == 0)
+        {
+          inner.push_back(rows[e] / 2);
+          values.push_back(x[e]);
+        }
+        else
+        {
+          coupled[k] = coupled[rows[e] / 2] = 1;
+        }
+      }
+      std::size_t twin = static_cast<std::size_t>(outer[k]);
+      for (int e = p[2 * k + 1]; e < p[2 * k + 2]; ++e)
+      {
+        if (rows[e] % 2 == 0)
+        {
+          coupled[k] = coupled[rows[e] / 2] = 1;
+        }
+        else if (twin == inner.size() || inner[twin] != rows[e] / 2 || values[twin++] != x[e])
+        {
+          return false;
+        }
+      }
+      if (twin != inner.size())
+      {
+        return false;
+      }
+      outer[k + 1] = static_cast<int>(inner.size());
+    }
+    Coupled = static_cast<int>(std::count(coupled.begin(), coupled.end(), 1));
+    if (Coupled > MaximumCoupled)
+    {
+      return false;
+    }
+    const Eigen::Map<const Matrix> scalar(pairs, pairs, outer.back(), outer.data(), inner.data(), values.data());
+    // The pairs' order (the even unknowns' in `order`), coupled pairs last.
+    std::vector<int> pairOrder;
+    pairOrder.reserve(static_cast<std::size_t>(pairs));
+    for (int u : order)
+    {
+      if (u % 2 == 0)
+      {
+        pairOrder.push_back(u / 2);
+      }
+    }
+    if (static_cast<int>(pairOrder.size()) != pairs)
+    {
+      pairOrder.resize(static_cast<std::size_t>(pairs));
+      std::iota(pairOrder.begin(), pairOrder.end(), 0);
+    }
+    std::stable_partition(pairOrder.begin(), pairOrder.end(), [&](int k) { return !coupled[k]; });
+    if (!FactorizeCholesky(scalar, pairOrder, true) || !Cholesky->is_super ||
+      !std::equal(pairOrder.begin(), pairOrder.end(), static_cast<const int*>(Cholesky->Perm)))
+    {
+      return false;
+    }
+    // The factor's trailing block: F = [F11 0; F21 F22] with F22 F22^T the
+    // Schur complement S of the uncoupled unknowns.
+    const int m = Coupled, first = pairs - m;
+    Matrices(m);
+    const int* super = static_cast<const int*>(Cholesky->super);
+    const int* pi = static_cast<const int*>(Cholesky->pi);
+    const int* px = static_cast<const int*>(Cholesky->px);
+    const int* ls = static_cast<const int*>(Cholesky->s);
+    const double* lx = static_cast<const double*>(Cholesky->x);
+    for (std::size_t sn = 0; sn < Cholesky->nsuper; ++sn)
+    {
+      const int k1 = super[sn], k2 = super[sn + 1], height = pi[sn + 1] - pi[sn];
+      for (int j = std::max(k1, first); j < k2; ++j)
+      {
+        for (int i = j - k1; i < height; ++i) // rows from the diagonal down
+        {
+          Corner(ls[pi[sn] + i] - first, j - first) = lx[px[sn] + static_cast<std::int64_t>(j - k1) * height + i];
+        }
+      }
+    }
+    // The coupled unknowns' system [S + C_uu, C_uv; C_vu, S + C_vv], C the
+    // even-odd entries of A (its lower triangle, for LAPACK's 'L').
+    std::vector<int> slot(static_cast<std::size_t>(pairs), -1);
+    for (int k = first; k < pairs; ++k)
+    {
+      slot[pairOrder[k]] = k - first;
+    }
+    if (m > 0)
+    {
+      int n2 = 2 * m;
+      const double one = 1.0, zero = 0.0;
+      dsyrk_("L", "N", &m, &m, &one, Corner.data(), &m, &zero, Reduced.data(), &n2, 1, 1); // F22 F22^T
+      Reduced.bottomRightCorner(m, m).triangularView<Eigen::Lower>() =
+        Reduced.topLeftCorner(m, m).triangularView<Eigen::Lower>();
+      for (int c = 0; c < Size; ++c)
+      {
+        for (int e = p[c]; e < p[c + 1]; ++e)
+        {
+          if (rows[e] % 2 != c % 2)
+          {
+            Reduced((rows[e] % 2) * m + slot[rows[e] / 2], (c % 2) * m + slot[c / 2]) = x[e];
+          }
+        }
+      }
+      int info = 0;
+      dpotrf_("L", &n2, Reduced.data(), &n2, &info, 1);
+      if (info != 0)
+      {
+        return false;
+      }
+    }
+    Twin = true;
+    return true;
+  }
+
+  Eigen::MatrixXd SolveTwin(const Eigen::MatrixXd& b) const
+  {
+    const int pairs = Size / 2, m = Coupled;
+    const Eigen::Index columns = b.cols();
+    Eigen::MatrixXd y(pairs, 2 * columns); // the u and v parts of each column
+    for (Eigen::Index c = 0; c < columns; ++c)
+    {
+      for (int k = 0; k < pairs; ++k)
+      {
+        y(k, 2 * c) = b(2 * k, c);
+        y(k, 2 * c + 1) = b(2 * k + 1, c);
+      }
+    }
+    // Forward with F; the coupled unknowns from the reduced system; back.
+    y = CholmodSolve(CHOLMOD_L, Cholesky, CholmodSolve(CHOLMOD_P, Cholesky, y, Common), Common);
+    if (m > 0)
+    {
+      Eigen::MatrixXd g(2 * m, columns);
+      for (Eigen::Index c = 0; c < columns; ++c)
+      {
+        g.col(c).head(m) = Corner.triangularView<Eigen::Lower>() * y.col(2 * c).tail(m);
+        g.col(c).tail(m) = Corner.triangularView<Eigen::Lower>() * y.col(2 * c + 1).tail(m);
+      }
+      int info = 0, n2 = 2 * m, nrhs = static_cast<int>(columns);
+      dpotrs_("L", &n2, &nrhs, Reduced.data(), &n2, g.data(), &n2, &info, 1);
+      for (Eigen::Index c = 0; c < columns; ++c)
+      {
+        y.col(2 * c).tail(m) = Corner.transpose().triangularView<Eigen::Upper>() * g.col(c).head(m);
+        y.col(2 * c + 1).tail(m) = Corner.transpose().triangularView<Eigen::Upper>() * g.col(c).tail(m);
+      }
+    }
+    y = CholmodSolve(CHOLMOD_Pt, Cholesky, CholmodSolve(CHOLMOD_Lt, Cholesky, y, Common), Common);
+    Eigen::MatrixXd result(Size, columns);
+    for (Eigen::Index c = 0; c < columns; ++c)
+    {
+      for (int k = 0; k < pairs; ++k)
+      {
+        result(2 * k, c) = y(k, 2 * c);
+        result(2 * k + 1, c) = y(k, 2 * c + 1);
+      }
+    }
+    return result;
   }
 
   bool FactorizeLU()
   {
     void* symbolic = nullptr;
-    // AMD ordering whatever Order says: UMFPACK's LU took as long with a
-    // nested dissection order (179k-vertex DAP: half the flops, 0.69 s vs
-    // 0.62 s), and far longer when it then chose its unsymmetric strategy.
+    // AMD ordering whatever the caller's order: UMFPACK's LU took as long
+    // with a nested dissection order (179k-vertex DAP: half the flops,
+    // 0.69 s vs 0.62 s), and far longer when it then chose its unsymmetric
+    // strategy.
     int status = umfpack_di_symbolic(
       Size, Size, A->outerIndexPtr(), A->innerIndexPtr(), A->valuePtr(), &symbolic, Control, Info);
     if (status == UMFPACK_OK)
@@ -231,15 +477,28 @@ SparseFactorization::~SparseFactorization()
   Internal.reset();
 }
 
-bool SparseFactorization::Compute(const Matrix& a, bool symmetric, const std::vector<int>& order)
+bool SparseFactorization::Compute(const Matrix& a, bool symmetric, const std::vector<int>& order, bool twinPairs)
 {
   SerialOpenMPRegions serial;
   Internals& in = *Internal;
   in.Clear();
   in.Size = static_cast<int>(a.rows());
   in.A = &a;
-  in.Order = order;
-  in.Symmetric = symmetric && in.FactorizeCholesky();
+  in.Symmetric = false;
+  if (symmetric && twinPairs)
+  {
+    in.Symmetric = in.FactorizeTwin(order);
+    if (!in.Symmetric)
+    {
+      in.Clear();
+    }
+  }
+  if (symmetric && !in.Symmetric)
+  {
+    in.Symmetric = in.FactorizeCholesky(
+      Eigen::Map<const Matrix>(in.Size, in.Size, a.nonZeros(), a.outerIndexPtr(), a.innerIndexPtr(), a.valuePtr()),
+      order, false);
+  }
   if (!in.Symmetric)
   {
     in.Clear(); // not symmetric, or not positive definite after all: LU
@@ -252,29 +511,31 @@ bool SparseFactorization::Compute(const Matrix& a, bool symmetric, const std::ve
   // fixed unknown) is singular: its solution would be rounding noise.  The
   // estimates are the pivots' ratio (squared for the Cholesky): about 1e-15
   // for a singular Laplacian, 1e-5 and more on the meshes of the tests.
-  const double rcond = in.Symmetric ? cholmod_rcond(in.Cholesky, &in.Common) : in.Info[UMFPACK_RCOND];
+  double rcond = in.Symmetric ? cholmod_rcond(in.Cholesky, &in.Common) : in.Info[UMFPACK_RCOND];
+  if (in.Twin && in.Coupled > 0)
+  {
+    const auto d = in.Reduced.diagonal().cwiseAbs();
+    rcond = std::min(rcond, std::pow(d.minCoeff() / d.maxCoeff(), 2));
+  }
   return rcond > 1e-13;
+}
+
+int SparseFactorization::CoupledPairs() const
+{
+  return Internal->Twin ? Internal->Coupled : -1;
 }
 
 Eigen::MatrixXd SparseFactorization::Solve(const Eigen::MatrixXd& b) const
 {
   SerialOpenMPRegions serial;
   const Internals& in = *Internal;
+  if (in.Twin)
+  {
+    return in.SolveTwin(b);
+  }
   if (in.Symmetric)
   {
-    cholmod_dense view{};
-    view.nrow = static_cast<std::size_t>(b.rows());
-    view.ncol = static_cast<std::size_t>(b.cols());
-    view.nzmax = view.d = view.nrow;
-    view.nzmax *= view.ncol;
-    view.x = const_cast<double*>(b.data());
-    view.xtype = CHOLMOD_REAL;
-    view.dtype = CHOLMOD_DOUBLE;
-    cholmod_dense* solution = cholmod_solve(CHOLMOD_A, in.Cholesky, &view, &in.Common);
-    Eigen::MatrixXd x = Eigen::Map<const Eigen::MatrixXd>(
-      static_cast<const double*>(solution->x), b.rows(), b.cols());
-    cholmod_free_dense(&solution, &in.Common);
-    return x;
+    return CholmodSolve(CHOLMOD_A, in.Cholesky, b, in.Common);
   }
   Eigen::MatrixXd x = in.SolveLU(b);
   // Iterative refinement only where the LU left a residual above 1e-10

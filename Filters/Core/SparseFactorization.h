@@ -39,7 +39,7 @@ public:
   SparseFactorization(const SparseFactorization&) = delete;
   SparseFactorization& operator=(const SparseFactorization&) = delete;
 
-  /// Factorizes `a` (square, column-major, sorted row indices per column).
+  /// Factorizes `a` (square, compressed, sorted row indices per column).
   /// With `symmetric`, a Cholesky factorization of the lower triangle is
   /// tried first (falling back to LU when `a` is not positive definite).
   /// Returns false when `a` is singular, numerically too (pivots at rounding
@@ -48,7 +48,18 @@ public:
   /// `order`, if not empty, is the Cholesky's elimination order (order[k] =
   /// the unknown eliminated k-th, e.g. NestedDissectionOrder's); AMD's
   /// otherwise. The LU always orders by AMD.
-  bool Compute(const Matrix& a, bool symmetric, const std::vector<int>& order = {});
+  ///
+  /// `twinPairs`: the unknowns come in pairs (2k, 2k+1) and A = I_2 (x) L
+  /// except for entries between the pairs' even and odd unknowns on a few
+  /// pairs (the natural conformal map: u and v share the cotangent matrix
+  /// and are coupled on the boundary only).  Then only L is factorized, with
+  /// the coupled pairs last, and the coupled unknowns are solved from the
+  /// dense system of its trailing block (at most 2048 coupled pairs; other
+  /// matrices take the general path).
+  bool Compute(const Matrix& a, bool symmetric, const std::vector<int>& order = {}, bool twinPairs = false);
+  /// With the twin-pair path of Compute: the number of coupled pairs; -1
+  /// when Compute took another path.
+  int CoupledPairs() const;
   /// Solves A X = B for every column of B.
   Eigen::MatrixXd Solve(const Eigen::MatrixXd& b) const;
 

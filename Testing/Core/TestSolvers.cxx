@@ -14,6 +14,7 @@
 #include <cmath>
 #include <numeric>
 #include <random>
+#include <tuple>
 
 using namespace beltrami;
 
@@ -330,6 +331,76 @@ TEST(Solvers, SparseFactorizationSolvesEveryKindOfSystem)
   }
   SparseFactorization f;
   EXPECT_FALSE(f.Compute(singular, true));
+}
+
+TEST(Solvers, SparseFactorizationTwinPairs)
+{
+  // A = I_2 (x) L + C, L a shifted grid Laplacian, C coupling the u of each
+  // border node with the v of the next one around the border (the shape of
+  // the natural conformal map's system).
+  const int side = 20, pairs = side * side;
+  std::vector<int> border;
+  for (int j = 0; j < side - 1; ++j) border.push_back(j);                          // bottom
+  for (int i = 0; i < side - 1; ++i) border.push_back(i * side + side - 1);        // right
+  for (int j = side - 1; j > 0; --j) border.push_back((side - 1) * side + j);      // top
+  for (int i = side - 1; i > 0; --i) border.push_back(i * side);                   // left
+  const auto build = [&](double coupling, double oddShift) {
+    std::vector<Eigen::Triplet<double, int>> t;
+    for (int i = 0; i < side; ++i)
+    {
+      for (int j = 0; j < side; ++j)
+      {
+        const int r = i * side + j;
+        for (int d = 0; d < 2; ++d)
+        {
+          t.emplace_back(2 * r + d, 2 * r + d, 5.0 + (d == 1 && r == 7 ? oddShift : 0.0));
+          const int next[4][2] = { { i - 1, j }, { i + 1, j }, { i, j - 1 }, { i, j + 1 } };
+          for (const auto& q : next)
+          {
+            if (q[0] >= 0 && q[0] < side && q[1] >= 0 && q[1] < side)
+            {
+              t.emplace_back(2 * r + d, 2 * (q[0] * side + q[1]) + d, -1.0);
+            }
+          }
+        }
+      }
+    }
+    for (std::size_t k = 0; coupling != 0.0 && k < border.size(); ++k)
+    {
+      const int a = border[k], b = border[(k + 1) % border.size()];
+      for (const auto& [row, column, value] : { std::make_tuple(2 * a, 2 * b + 1, -coupling),
+             std::make_tuple(2 * a + 1, 2 * b, coupling) })
+      {
+        t.emplace_back(row, column, value);
+        t.emplace_back(column, row, value);
+      }
+    }
+    SparseFactorization::Matrix a(2 * pairs, 2 * pairs);
+    a.setFromTriplets(t.begin(), t.end());
+    return a;
+  };
+  std::vector<int> order(2 * pairs);
+  std::iota(order.begin(), order.end(), 0);
+  std::reverse(order.begin(), order.end());
+  const Eigen::MatrixXd b = Eigen::MatrixXd::Random(2 * pairs, 3);
+  struct Case
+  {
+    double Coupling, OddShift;
+    int Coupled; // expected CoupledPairs()
+  };
+  for (const Case c : { Case{ 0.25, 0.0, static_cast<int>(border.size()) }, Case{ 0.0, 0.0, 0 },
+         Case{ 0.25, 0.5, -1 } }) // the last is not twin (u and v blocks differ): general path
+  {
+    const SparseFactorization::Matrix a = build(c.Coupling, c.OddShift);
+    for (bool ordered : { false, true })
+    {
+      SparseFactorization f;
+      ASSERT_TRUE(f.Compute(a, true, ordered ? order : std::vector<int>{}, true));
+      EXPECT_EQ(f.CoupledPairs(), c.Coupled);
+      const Eigen::MatrixXd x = f.Solve(b);
+      EXPECT_LT((a * x - b).norm(), 1e-10 * b.norm()) << c.Coupling << " " << c.OddShift;
+    }
+  }
 }
 
 TEST(Solvers, ShiftedLaplacianMatchesTheGeneralSolver)
