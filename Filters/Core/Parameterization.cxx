@@ -1356,7 +1356,8 @@ ParameterizationResult Parameterize(
       {
         vertexOrder = VertexOrder(topo, points, threads);
       }
-      if (!solver.Setup(rows, kind, fixed, mu == 0.0, vertexOrder, false, error) || !solver.Solve(constraints, solution, error))
+      if (!solver.Setup(rows, kind, fixed, mu == 0.0, vertexOrder, false, error) ||
+        !solver.Solve(constraints, solution, error))
       {
         return false;
       }
