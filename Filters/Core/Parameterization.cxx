@@ -9,6 +9,7 @@
 #include <Eigen/SparseCore>
 
 #include <algorithm>
+#include <new>
 #include <tuple>
 #include <cmath>
 #include <functional>
@@ -1036,9 +1037,29 @@ void OptimizeBoundary(const MeshTopology& topo, const double* points, const Boun
   }
 }
 
+ParameterizationResult ParameterizeUnguarded(
+  const MeshTopology& topo, const double* points, const ParameterizationOptions& options);
+
 } // namespace
 
 ParameterizationResult Parameterize(
+  const MeshTopology& topo, const double* points, const ParameterizationOptions& options)
+{
+  try
+  {
+    return ParameterizeUnguarded(topo, points, options);
+  }
+  catch (const std::bad_alloc&)
+  {
+    return Fail("Cannot parameterize: out of memory (the sparse factorization of a mesh of n vertices "
+                "needs about 2-3 kB per vertex).");
+  }
+}
+
+namespace
+{
+
+ParameterizationResult ParameterizeUnguarded(
   const MeshTopology& topo, const double* points, const ParameterizationOptions& options)
 {
   std::string error;
@@ -1440,5 +1461,7 @@ ParameterizationResult Parameterize(
   result.Success = true;
   return result;
 }
+
+} // namespace
 
 } // namespace beltrami

@@ -10,13 +10,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <new>
-#include <numeric>
-#include <vector>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
+#include <new>
+#include <numeric>
+#include <vector>
 
 // BLAS and LAPACK (OpenBLAS's where installed), Fortran calling
 // convention with the hidden lengths of the character arguments.
@@ -173,7 +173,7 @@ struct SparseFactorization::Internals
   bool Twin = false;
   int Coupled = 0;         // m
   // The trailing m x m block of L's factor (lower), and the Cholesky factor
-  // (lower) of the 2m x 2m coupled system; on LargeBuffer's pages (100 MB
+  // (lower) of the 2m x 2m coupled system; on LargeBuffer's pages (53 MB
   // for m = 1150).
   LargeVector<double> CornerData, ReducedData;
   Eigen::Map<Eigen::MatrixXd> Corner{ nullptr, 0, 0 };

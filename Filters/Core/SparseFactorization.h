@@ -13,6 +13,8 @@
 //   ~100 MB, and faulting it in 4 KiB pages cost as much as computing it.
 // - supernodes: relaxed amalgamation coarser than CHOLMOD's default (fewer,
 //   larger supernodes: per-supernode overhead dominated the flops).
+// - dense algebra: BLAS/LAPACK (dsyrk, dpotrf, dpotrs) for the coupled
+//   block of twin pairs (below).
 // - threads: CHOLMOD opens OpenMP regions of 4 threads (a compile-time
 //   constant) around every large supernode; on 2 cores the wake-ups cost
 //   more than they gain, so the calling thread runs them serially (OpenMP's
@@ -39,15 +41,16 @@ public:
   SparseFactorization(const SparseFactorization&) = delete;
   SparseFactorization& operator=(const SparseFactorization&) = delete;
 
-  /// Factorizes `a` (square, compressed, sorted row indices per column).
-  /// With `symmetric`, a Cholesky factorization of the lower triangle is
-  /// tried first (falling back to LU when `a` is not positive definite).
-  /// Returns false when `a` is singular, numerically too (pivots at rounding
-  /// level), or the factorization ran out of memory. `a` must stay alive and unchanged
-  /// while the factorization is used (the LU refers to it).
+  /// Factorizes `a` (square, compressed, sorted row indices per column),
+  /// which must stay alive and unchanged while the factorization is used
+  /// (the LU refers to it).  With `symmetric`, a Cholesky factorization of
+  /// the lower triangle is tried first (falling back to LU when `a` is not
+  /// positive definite).  Returns false when `a` is singular, numerically too
+  /// (pivots at rounding level), or memory ran out.
+  ///
   /// `order`, if not empty, is the Cholesky's elimination order (order[k] =
   /// the unknown eliminated k-th, e.g. NestedDissectionOrder's); AMD's
-  /// otherwise. The LU always orders by AMD.
+  /// otherwise.  The LU always orders by AMD.
   ///
   /// `twinPairs`: the unknowns come in pairs (2k, 2k+1) and A = I_2 (x) L
   /// except for entries between the pairs' even and odd unknowns on a few
