@@ -57,8 +57,9 @@ public:
   /// pairs (the natural conformal map: u and v share the cotangent matrix
   /// and are coupled on the boundary only).  Then only L is factorized, with
   /// the coupled pairs last, and the coupled unknowns are solved from the
-  /// dense system of its trailing block (at most 2048 coupled pairs; other
-  /// matrices take the general path).
+  /// dense system of its trailing block (when the coupled pairs are at most
+  /// about 4 sqrt(pairs), as on a disk's boundary; other matrices take the
+  /// general path).
   bool Compute(const Matrix& a, bool symmetric, const std::vector<int>& order = {}, bool twinPairs = false);
   /// With the twin-pair path of Compute: the number of coupled pairs; -1
   /// when Compute took another path.
