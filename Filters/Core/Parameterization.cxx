@@ -1363,7 +1363,7 @@ ParameterizationResult ParameterizeUnguarded(
          << options.MaximumBasisBytes / (1 << 20) << " MiB.";
       return Fail(os.str());
     }
-    std::vector<Index> vertexOrder; // for the Cholesky (the LU orders itself)
+    std::vector<Index> vertexOrder;
     // One solve of the fixed-boundary system; with `responses`, also its
     // impulse responses (section 5.4.2).
     const auto solve = [&](double lambda, double mu, std::vector<double>& out,
@@ -1373,7 +1373,7 @@ ParameterizationResult ParameterizeUnguarded(
       result.DegenerateTriangles = degenerate;
       ParameterizationSolver solver;
       Eigen::MatrixXd solution = fixed;
-      if (mu == 0.0 && vertexOrder.empty())
+      if (vertexOrder.empty() && SparseFactorization::UsesOrder(mu == 0.0, n))
       {
         vertexOrder = VertexOrder(topo, points, threads);
       }
