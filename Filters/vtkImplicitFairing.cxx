@@ -91,6 +91,7 @@ int vtkImplicitFairing::RequestData(
   beltrami::FairingOptions options;
   options.Operator = static_cast<beltrami::FairingOperator>(this->Operator);
   options.Order = this->Order;
+  options.OperatorMollification = this->OperatorMollification;
   options.Integration = static_cast<beltrami::FairingIntegration>(this->Integration);
   options.NumberOfSteps = this->NumberOfSteps;
   options.Tolerance = this->Tolerance;
@@ -195,6 +196,7 @@ void vtkImplicitFairing::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Operator: " << this->Operator << "\n";
   os << indent << "Order: " << this->Order << "\n";
+  os << indent << "OperatorMollification: " << this->OperatorMollification << "\n";
   os << indent << "Integration: " << this->Integration << "\n";
   os << indent << "TimeStep: " << this->TimeStep << "\n";
   os << indent << "TimeStepUnits: " << this->TimeStepUnits << "\n";

@@ -676,15 +676,32 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
       }
       Integrate(curve, opt, x, report);
     }
-    AssembleSurfaceLaplacian(topo, x, WeightsOf(opt.Operator), L, threads);
-    report.DegenerateTriangles = std::max(report.DegenerateTriangles, L.DegenerateTriangles);
-    const bool solves = opt.Integration == FairingIntegration::Implicit && opt.Order == 1;
-    Stage surface{ L, fixed, omega, solves ? localOrder() : nullptr };
+    std::vector<std::uint8_t> held(n);
     for (Index i = 0; i < n; ++i)
     {
-      surface.Fixed[i] = fixed[i] || boundary[i];
+      held[i] = fixed[i] || boundary[i];
     }
-      Integrate(surface, opt, x, report);
+    // The operator's geometry: the current positions (the thesis'
+    // linearisation, sections 3.4.3/3.5.3), or a copy whose sampling one
+    // implicit umbrella step has evened out (OperatorMollification): on a
+    // noisy scan the cotangents of the noisy triangles are noise too.
+    std::vector<double> regular;
+    if (opt.OperatorMollification > 0.0 && opt.Operator != FairingOperator::Umbrella)
+    {
+      regular.assign(x, x + 3 * static_cast<std::size_t>(n));
+      GraphLaplacian U;
+      AssembleSurfaceLaplacian(topo, regular.data(), LaplacianWeights::Umbrella, U, threads);
+      FairingOptions ro = opt;
+      ro.Order = 1;
+      ro.TimeStep = opt.OperatorMollification;
+      FairingReport ignored;
+      ImplicitStep(Stage{ U, held, weight, nullptr }, ro, regular.data(), ignored);
+    }
+    AssembleSurfaceLaplacian(topo, regular.empty() ? x : regular.data(), WeightsOf(opt.Operator), L, threads);
+    report.DegenerateTriangles = std::max(report.DegenerateTriangles, L.DegenerateTriangles);
+    const bool solves = opt.Integration == FairingIntegration::Implicit && opt.Order == 1;
+    const Stage surface{ L, held, omega, solves ? localOrder() : nullptr };
+    Integrate(surface, opt, x, report);
     if (sampling)
     {
       // Section 3.6, by operator splitting: the tangential part (at the new
