@@ -189,14 +189,17 @@ struct SparseFactorization::Internals
     Common.nmethods = 1;
     // Coarser supernodes than CHOLMOD's defaults (4/16/48 columns, 0.8/0.1/
     // 0.05 zeros): every supernode costs a few OpenMP regions and BLAS calls
-    // whatever its size, which dominated the flops on these systems (179k
-    // vertices: DCP 0.46 -> 0.30 s, natural 1.05 -> 0.77 s).
-    Common.nrelax[0] = 16;
-    Common.nrelax[1] = 64;
-    Common.nrelax[2] = 128;
+    // whatever its size, which dominated the flops on these systems.  179k
+    // vertices, nested dissection, factorization in a fresh / warm process:
+    // defaults 0.82 / 0.50 s (12M entries); 8/32/64 columns 0.36-0.59 /
+    // 0.34 s (16M); 16/64/128 with 0.3/0.1 zeros 0.73-0.77 / 0.33 s (23M:
+    // the fresh pages cost more than the fewer supernodes save).
+    Common.nrelax[0] = 8;
+    Common.nrelax[1] = 32;
+    Common.nrelax[2] = 64;
     Common.zrelax[0] = 0.8;
-    Common.zrelax[1] = 0.3;
-    Common.zrelax[2] = 0.1;
+    Common.zrelax[1] = 0.2;
+    Common.zrelax[2] = 0.05;
     umfpack_di_defaults(Control);
     Control[UMFPACK_ORDERING] = UMFPACK_ORDERING_AMD;
     // UMFPACK's iterative refinement (2 steps by default, i.e. three solves
