@@ -544,6 +544,26 @@ LaplacianWeights WeightsOf(FairingOperator op)
   }
 }
 
+/// A copy of x after one implicit order-1 step of `time` with the `kind`
+/// Laplacian (assembled into `lap` at x; `order` gives its LocalityOrder or
+/// null): the pre-mollified geometries of the anisotropic weights and of
+/// OperatorMollification.
+template <typename OrderOf>
+std::vector<double> SmoothedCopy(const MeshTopology& topo, const double* x, LaplacianWeights kind, double time,
+  const std::vector<std::uint8_t>& held, const std::vector<double>& weight, const FairingOptions& opt,
+  GraphLaplacian& lap, OrderOf&& order)
+{
+  std::vector<double> copy(x, x + 3 * static_cast<std::size_t>(topo.NumberOfVertices()));
+  AssembleSurfaceLaplacian(topo, copy.data(), kind, lap, opt.NumberOfThreads);
+  FairingOptions so = opt;
+  so.Integration = FairingIntegration::Implicit;
+  so.Order = 1;
+  so.TimeStep = time;
+  FairingReport ignored;
+  ImplicitStep(Stage{ lap, held, weight, order() }, so, copy.data(), ignored);
+  return copy;
+}
+
 FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const FairingOptions& opt,
   const FairingConstraints& cons, const ProgressCallback& progress)
 {
@@ -632,6 +652,12 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     }
     return order.data();
   };
+  // Rows that do not move in the surface stages.
+  std::vector<std::uint8_t> held(n);
+  for (Index i = 0; i < n; ++i)
+  {
+    held[i] = fixed[i] || boundary[i];
+  }
   for (int step = 0; step < opt.NumberOfSteps; ++step)
   {
     std::vector<double> omega = weight;
@@ -641,22 +667,10 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
       // Curvatures of a pre-mollified copy (section 3.7.1 cites [PR99]): one
       // isotropic implicit curvature-flow step of the same size, so that the
       // weights see the shape rather than the noise.
-      std::vector<double> mollified(x, x + 3 * static_cast<std::size_t>(n));
-      if (opt.Mollification > 0.0)
-      {
-        AssembleSurfaceLaplacian(topo, mollified.data(), LaplacianWeights::Cotangent, L, threads);
-        Stage iso{ L, fixed, weight, localOrder() };
-        for (Index i = 0; i < n; ++i)
-        {
-          iso.Fixed[i] = fixed[i] || boundary[i];
-        }
-        FairingOptions mo = opt;
-        mo.Integration = FairingIntegration::Implicit;
-        mo.Order = 1;
-        mo.TimeStep = opt.TimeStep * opt.Mollification;
-        FairingReport ignored;
-        ImplicitStep(iso, mo, mollified.data(), ignored);
-      }
+      const std::vector<double> mollified = opt.Mollification > 0.0
+        ? SmoothedCopy(topo, x, LaplacianWeights::Cotangent, opt.TimeStep * opt.Mollification, held, weight, opt, L,
+            [&] { return localOrder(); })
+        : std::vector<double>(x, x + 3 * static_cast<std::size_t>(n));
       const std::vector<double> a = AnisotropicWeights(topo, mollified.data(), opt,
         opt.SmoothFeatureCurves ? &along : nullptr, report.FeatureVertices);
       for (Index i = 0; i < n; ++i)
@@ -676,11 +690,6 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
       }
       Integrate(curve, opt, x, report);
     }
-    std::vector<std::uint8_t> held(n);
-    for (Index i = 0; i < n; ++i)
-    {
-      held[i] = fixed[i] || boundary[i];
-    }
     // The operator's geometry: the current positions (the thesis'
     // linearisation, sections 3.4.3/3.5.3), or a copy whose sampling one
     // implicit umbrella step has evened out (OperatorMollification): on a
@@ -688,14 +697,9 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     std::vector<double> regular;
     if (opt.OperatorMollification > 0.0 && opt.Operator != FairingOperator::Umbrella)
     {
-      regular.assign(x, x + 3 * static_cast<std::size_t>(n));
       GraphLaplacian U;
-      AssembleSurfaceLaplacian(topo, regular.data(), LaplacianWeights::Umbrella, U, threads);
-      FairingOptions ro = opt;
-      ro.Order = 1;
-      ro.TimeStep = opt.OperatorMollification;
-      FairingReport ignored;
-      ImplicitStep(Stage{ U, held, weight, nullptr }, ro, regular.data(), ignored);
+      regular = SmoothedCopy(topo, x, LaplacianWeights::Umbrella, opt.OperatorMollification, held, weight, opt, U,
+        [] { return static_cast<const Index*>(nullptr); });
     }
     AssembleSurfaceLaplacian(topo, regular.empty() ? x : regular.data(), WeightsOf(opt.Operator), L, threads);
     report.DegenerateTriangles = std::max(report.DegenerateTriangles, L.DegenerateTriangles);

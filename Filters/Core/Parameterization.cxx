@@ -9,12 +9,12 @@
 #include <Eigen/SparseCore>
 
 #include <algorithm>
-#include <new>
-#include <tuple>
 #include <cmath>
 #include <functional>
+#include <new>
 #include <numeric>
 #include <sstream>
+#include <tuple>
 
 namespace beltrami
 {
