@@ -22,8 +22,9 @@
  *    an RMS error of 0.00109 of the diagonal, 0.00127 without,
  *    vtkWindowedSincPolyDataFilter at its best pass band 0.00125.
  *  - Integration: IMPLICIT (default; backward Euler, stable for any step,
- *    a Jacobi-preconditioned conjugate gradient per step, iteration counts in
- *    the field array FairingIterations), EXPLICIT (forward Euler: a warning
+ *    a Jacobi-preconditioned conjugate gradient per step - for order 2 on the
+ *    complex system whose real part is the step, see SolveSquaredLaplacian -
+ *    iteration counts in the field array FairingIterations), EXPLICIT (forward Euler: a warning
  *    when the step is above the stability limit) or TAUBIN_LAMBDA_MU
  *    (Taubin's lambda|mu passes, for comparison).
  *  - TimeStep lambda*dt.  With TimeStepUnits = MEAN_EDGE_LENGTH (default) it

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <stdexcept>
 
 namespace beltrami
@@ -485,6 +486,274 @@ ConjugateGradientResult SolveShifted(const ShiftedLaplacianProblem& pb, const do
 }
 
 } // namespace
+
+namespace
+{
+
+/// y = K x for W values per row (K_ii x_i - sum_k w_k x_j), all rows.
+template <int W>
+void StiffnessProduct(const ShiftedLaplacianProblem& pb, const double* __restrict x, double* __restrict y)
+{
+  ParallelForStatic(pb.Rows, pb.NumberOfThreads, [&](std::int64_t b, std::int64_t e) {
+    for (std::int64_t i = b; i < e; ++i)
+    {
+      double acc[W];
+      for (int c = 0; c < W; ++c)
+      {
+        acc[c] = pb.Diagonal[i] * x[i * W + c];
+      }
+      for (std::int64_t k = pb.Offsets[i]; k < pb.Offsets[i + 1]; ++k)
+      {
+        const double w = pb.Weights[k];
+        const double* xj = x + static_cast<std::int64_t>(pb.Neighbors[k]) * W;
+        for (int c = 0; c < W; ++c)
+        {
+          acc[c] -= w * xj[c];
+        }
+      }
+      for (int c = 0; c < W; ++c)
+      {
+        y[i * W + c] = acc[c];
+      }
+    }
+  });
+}
+
+template <int NC>
+ConjugateGradientResult SolveSquared(const ShiftedLaplacianProblem& pb, const double* b, double* x)
+{
+  using Complex = std::complex<double>;
+  constexpr int W = 2 * NC; // complex vectors: per row NC real parts, then NC imaginary parts
+  const std::int64_t n = pb.Rows;
+  const int threads = pb.NumberOfThreads;
+  const double t = pb.Factor, a = std::sqrt(t);
+  const auto isFree = [&](std::int64_t i) { return !pb.Fixed || !pb.Fixed[i]; };
+  const std::size_t size = static_cast<std::size_t>(n) * NC;
+  LargeVector<double> kx(size), nkx(size), res(size);
+  LargeVector<double> X(2 * size), R(2 * size), Z(2 * size), P(2 * size), KP(2 * size);
+  LargeVector<Complex> inverse(static_cast<std::size_t>(n)); // Jacobi: 1 / (D_i + i a K_ii)
+  ParallelForStatic(n, threads, [&](std::int64_t s, std::int64_t e) {
+    for (std::int64_t i = s; i < e; ++i)
+    {
+      inverse[i] = isFree(i) ? 1.0 / Complex(pb.Shift[i], a * pb.Diagonal[i]) : Complex(0.0);
+    }
+  });
+
+  // res = b - A x on the free rows; returns the column norms.
+  const auto realResidual = [&]() {
+    StiffnessProduct<NC>(pb, x, kx.data());
+    ParallelForStatic(n, threads, [&](std::int64_t s, std::int64_t e) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        const double f = isFree(i) ? 1.0 / pb.Shift[i] : 0.0;
+        for (int c = 0; c < NC; ++c)
+        {
+          nkx[i * NC + c] = f * kx[i * NC + c];
+        }
+      }
+    });
+    StiffnessProduct<NC>(pb, nkx.data(), kx.data());
+    return ParallelSum(n, NC, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        const bool f = isFree(i);
+        for (int c = 0; c < NC; ++c)
+        {
+          const std::int64_t k = i * NC + c;
+          res[k] = f ? b[k] - pb.Shift[i] * x[k] - t * kx[k] : 0.0;
+          acc[c] += res[k] * res[k];
+        }
+      }
+    });
+  };
+
+  ConjugateGradientResult result;
+  std::vector<double> norms = realResidual(), initial(NC), threshold(NC);
+  // Columns still above their threshold; the fraction of the current real
+  // residual they need (the smallest over those columns).
+  const auto check = [&]() {
+    bool done = true;
+    double relative = 0.0, needed = 1.0;
+    for (int c = 0; c < NC; ++c)
+    {
+      const double norm = std::sqrt(std::max(0.0, norms[c]));
+      if (initial[c] > 0.0)
+      {
+        relative = std::max(relative, norm / initial[c]);
+      }
+      if (norm > threshold[c])
+      {
+        done = false;
+        needed = std::min(needed, threshold[c] / norm);
+      }
+    }
+    result.RelativeResidual = relative;
+    result.Converged = done;
+    return needed;
+  };
+  for (int c = 0; c < NC; ++c)
+  {
+    initial[c] = std::sqrt(std::max(0.0, norms[c]));
+    threshold[c] = std::max(pb.Tolerance * initial[c], RoundOff * pb.Scale[c]);
+  }
+  double needed = check();
+  if (result.Converged)
+  {
+    return result;
+  }
+  // One COCG run on (D + i a K_ff) dz = res (res: the initial real residual);
+  // x = x0 + Re dz.  The real residual of Re dz is the complex one amplified
+  // (by up to ~ a ||K|| / D), so the complex residual is first asked for two
+  // orders of magnitude more than the real one needs; where that was not
+  // enough, the same run goes on with a tighter target (no restart).
+  LargeVector<double> x0(x, x + size);
+  std::vector<double> sums = ParallelSum(n, 3 * NC, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+    for (std::int64_t i = s; i < e; ++i)
+    {
+      for (int c = 0; c < NC; ++c)
+      {
+        const double r = res[i * NC + c];
+        const Complex z = inverse[i] * r;
+        X[i * W + c] = X[i * W + NC + c] = 0.0;
+        R[i * W + c] = r;
+        R[i * W + NC + c] = 0.0;
+        P[i * W + c] = z.real();
+        P[i * W + NC + c] = z.imag();
+        acc[2 * c] += r * z.real(); // rho = r^T z, unconjugated
+        acc[2 * c + 1] += r * z.imag();
+        acc[2 * NC + c] += r * r;
+      }
+    }
+  });
+  Complex rho[NC];
+  double start[NC], current[NC];
+  for (int c = 0; c < NC; ++c)
+  {
+    rho[c] = Complex(sums[2 * c], sums[2 * c + 1]);
+    start[c] = current[c] = std::sqrt(sums[2 * NC + c]);
+  }
+  double target = 0.01 * needed, lastRelative = result.RelativeResidual;
+  while (result.Iterations < pb.MaximumIterations)
+  {
+    StiffnessProduct<W>(pb, P.data(), KP.data());
+    // q = D p + i a K p (into KP) and p^T q.
+    const std::vector<double> pq = ParallelSum(n, 2 * NC, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        const bool f = isFree(i);
+        for (int c = 0; c < NC; ++c)
+        {
+          const std::int64_t re = i * W + c, im = re + NC;
+          const Complex p(P[re], P[im]);
+          const Complex q = f ? pb.Shift[i] * p + Complex(-a * KP[im], a * KP[re]) : Complex(0.0);
+          KP[re] = q.real();
+          KP[im] = q.imag();
+          const Complex pq = p * q;
+          acc[2 * c] += pq.real();
+          acc[2 * c + 1] += pq.imag();
+        }
+      }
+    });
+    Complex alpha[NC];
+    for (int c = 0; c < NC; ++c)
+    {
+      const Complex d(pq[2 * c], pq[2 * c + 1]);
+      alpha[c] = std::abs(d) > 0.0 ? rho[c] / d : Complex(0.0);
+    }
+    sums = ParallelSum(n, 3 * NC, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        for (int c = 0; c < NC; ++c)
+        {
+          const std::int64_t re = i * W + c, im = re + NC;
+          const Complex xx = Complex(X[re], X[im]) + alpha[c] * Complex(P[re], P[im]);
+          const Complex r = Complex(R[re], R[im]) - alpha[c] * Complex(KP[re], KP[im]);
+          const Complex z = inverse[i] * r;
+          X[re] = xx.real();
+          X[im] = xx.imag();
+          R[re] = r.real();
+          R[im] = r.imag();
+          Z[re] = z.real();
+          Z[im] = z.imag();
+          const Complex rz = r * z;
+          acc[2 * c] += rz.real();
+          acc[2 * c + 1] += rz.imag();
+          acc[2 * NC + c] += std::norm(r);
+        }
+      }
+    });
+    ++result.Iterations;
+    Complex beta[NC];
+    bool reached = true, stalled = false;
+    for (int c = 0; c < NC; ++c)
+    {
+      const Complex rhoNew(sums[2 * c], sums[2 * c + 1]);
+      current[c] = std::sqrt(sums[2 * NC + c]);
+      reached = reached && current[c] <= target * start[c];
+      stalled = stalled || (current[c] > 0.0 && !(std::abs(rho[c]) > 0.0));
+      beta[c] = std::abs(rho[c]) > 0.0 ? rhoNew / rho[c] : Complex(0.0);
+      rho[c] = rhoNew;
+    }
+    if (reached || stalled || result.Iterations >= pb.MaximumIterations)
+    {
+      ParallelForStatic(n, threads, [&](std::int64_t s, std::int64_t e) {
+        for (std::int64_t i = s; i < e; ++i)
+        {
+          for (int c = 0; c < NC; ++c)
+          {
+            x[i * NC + c] = isFree(i) ? x0[i * NC + c] + X[i * W + c] : x0[i * NC + c];
+          }
+        }
+      });
+      norms = realResidual();
+      needed = check();
+      if (result.Converged || stalled || !(result.RelativeResidual < 0.5 * lastRelative))
+      {
+        return result; // not converged: no progress left in this run, the caller decides
+      }
+      lastRelative = result.RelativeResidual;
+      target *= std::max(1e-4, 0.1 * needed);
+    }
+    ParallelForStatic(n, threads, [&](std::int64_t s, std::int64_t e) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        for (int c = 0; c < NC; ++c)
+        {
+          const std::int64_t re = i * W + c, im = re + NC;
+          const Complex p = Complex(Z[re], Z[im]) + beta[c] * Complex(P[re], P[im]);
+          P[re] = p.real();
+          P[im] = p.imag();
+        }
+      }
+    });
+  }
+  return result;
+}
+
+} // namespace
+
+ConjugateGradientResult SolveSquaredLaplacian(const ShiftedLaplacianProblem& pb, const double* b, double* x)
+{
+  const int nc = pb.Columns;
+  if (nc < 1 || nc > 4 || static_cast<int>(pb.Scale.size()) != nc || !pb.Offsets || !pb.Neighbors ||
+    !pb.Weights || !pb.Diagonal || !pb.Shift || !(pb.Factor >= 0.0))
+  {
+    throw std::invalid_argument("SolveSquaredLaplacian: inconsistent problem");
+  }
+  if (pb.Rows <= 0)
+  {
+    ConjugateGradientResult none;
+    none.Converged = true;
+    return none;
+  }
+  switch (nc)
+  {
+    case 1: return SolveSquared<1>(pb, b, x);
+    case 2: return SolveSquared<2>(pb, b, x);
+    case 3: return SolveSquared<3>(pb, b, x);
+    default: return SolveSquared<4>(pb, b, x);
+  }
+}
 
 ConjugateGradientResult SolveShiftedLaplacian(
   const ShiftedLaplacianProblem& pb, const double* b, double* x)

@@ -88,4 +88,23 @@ std::vector<Index> LocalityOrder(Index rows, const std::int64_t* offsets, const 
 ConjugateGradientResult SolveShiftedLaplacian(
   const ShiftedLaplacianProblem& problem, const double* b, double* x);
 
+/// A = D + t K N K, N = D^-1 on the free rows and 0 on the fixed ones, with
+/// D > 0 and K as in ShiftedLaplacianProblem (Shift, Factor = t, no Order):
+/// the implicit steps of order-2 (L^2) smoothing, (M + dt S M^-1 S) X' = M X.
+/// Same contract and stopping criterion as SolveConjugateGradient (Columns at
+/// most 4).  On the free rows A = D + t K_ff D^-1 K_ff, and for real
+/// symmetric K and positive diagonal D
+///     A^-1 = Re (D + i sqrt(t) K_ff)^-1
+/// (both sides are D^-1/2 (I + t G^2)^-1 D^-1/2 with G = D^-1/2 K_ff D^-1/2),
+/// so each correction is the real part of one complex symmetric system with
+/// the sparsity of K, solved by COCG (the conjugate gradient with the
+/// unconjugated inner product, Jacobi preconditioned), whose conditioning is
+/// that of an order-1 step of sqrt(t): a few times fewer iterations than CG on
+/// A, each with one product by K instead of two.  The real residual is
+/// checked after every correction (iterative refinement); Converged is false
+/// when a correction stops reducing it (the caller may go on with another
+/// solver from x).
+ConjugateGradientResult SolveSquaredLaplacian(
+  const ShiftedLaplacianProblem& problem, const double* b, double* x);
+
 } // namespace beltrami

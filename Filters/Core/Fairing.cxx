@@ -267,31 +267,47 @@ void ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, Fairing
   {
     s = std::sqrt(s);
   }
+  ShiftedLaplacianProblem sl;
+  sl.Rows = n;
+  sl.Columns = 3;
+  sl.Offsets = L.Offsets;
+  sl.Neighbors = L.Neighbors;
+  sl.Weights = L.Weights.data();
+  sl.Diagonal = L.Diagonal.data();
+  sl.Shift = m.data();
+  sl.Factor = dt;
+  sl.Fixed = fixed.data();
+  sl.Scale = scale;
+  sl.Tolerance = opt.Tolerance;
+  sl.MaximumIterations = opt.MaximumIterations;
+  sl.NumberOfThreads = threads;
   ConjugateGradientResult r;
   if (order == 1)
   {
     // A graph Laplacian plus a diagonal: the fast solver (renumbered rows,
     // single-precision corrections of a double-precision residual).
-    ShiftedLaplacianProblem sl;
-    sl.Rows = n;
-    sl.Columns = 3;
-    sl.Offsets = L.Offsets;
-    sl.Neighbors = L.Neighbors;
-    sl.Weights = L.Weights.data();
-    sl.Diagonal = L.Diagonal.data();
-    sl.Shift = m.data();
-    sl.Factor = dt;
-    sl.Fixed = fixed.data();
     sl.Order = st.Order;
-    sl.Scale = scale;
-    sl.Tolerance = opt.Tolerance;
-    sl.MaximumIterations = opt.MaximumIterations;
-    sl.NumberOfThreads = threads;
     r = SolveShiftedLaplacian(sl, b.data(), x);
   }
   else
   {
-    r = SolveOrderTwo(st, opt, m, invMass, fixed, scale, b, x);
+    // M + dt S M^-1 S: with unit row weights and the inner M^-1 zero exactly
+    // at the rows kept fixed, the complex-shift solver applies.
+    bool squared = true;
+    for (Index i = 0; squared && i < n; ++i)
+    {
+      squared = fixed[i] ? invMass[i] == 0.0 : std::abs(m[i] * invMass[i] - 1.0) <= 1e-12;
+    }
+    if (squared)
+    {
+      r = SolveSquaredLaplacian(sl, b.data(), x);
+    }
+    if (!r.Converged)
+    {
+      const int before = r.Iterations;
+      r = SolveOrderTwo(st, opt, m, invMass, fixed, scale, b, x);
+      r.Iterations += before;
+    }
   }
   report.Iterations.push_back(r.Iterations);
   report.LargestResidual = std::max(report.LargestResidual, r.RelativeResidual);

@@ -10,7 +10,10 @@
 //     order 2:  (M W^-1 + dt S M^-1 S) X' = M W^-1 X
 // which are symmetric positive definite for every operator (the cotangent
 // stiffness is positive semi-definite), with a Jacobi-preconditioned
-// conjugate gradient (appendix A.5).  Vertices with w_i = 0 are hard
+// conjugate gradient (appendix A.5): order 1 by the graph solver
+// (SolveShiftedLaplacian); order 2 with unit weights W as the real part of
+// the complex system (M + i sqrt(dt) S) Z = b (SolveSquaredLaplacian: same
+// solution, a few times fewer iterations), otherwise matrix-free.  Vertices with w_i = 0 are hard
 // constraints and keep their position exactly.
 #pragma once
 
