@@ -1,6 +1,7 @@
 #include "ConjugateGradient.h"
 
 #include "LargeBuffer.h"
+#include "Laplacian.h"
 
 #include <algorithm>
 #include <cmath>
@@ -490,33 +491,18 @@ ConjugateGradientResult SolveShifted(const ShiftedLaplacianProblem& pb, const do
 namespace
 {
 
-/// y = K x for W values per row (K_ii x_i - sum_k w_k x_j), all rows.
+/// y = K x for W values per row, all rows.
 template <int W>
-void StiffnessProduct(const ShiftedLaplacianProblem& pb, const double* __restrict x, double* __restrict y)
+void StiffnessProduct(const ShiftedLaplacianProblem& pb, const double* x, double* y)
 {
-  ParallelForStatic(pb.Rows, pb.NumberOfThreads, [&](std::int64_t b, std::int64_t e) {
-    for (std::int64_t i = b; i < e; ++i)
-    {
-      double acc[W];
-      for (int c = 0; c < W; ++c)
-      {
-        acc[c] = pb.Diagonal[i] * x[i * W + c];
-      }
-      for (std::int64_t k = pb.Offsets[i]; k < pb.Offsets[i + 1]; ++k)
-      {
-        const double w = pb.Weights[k];
-        const double* xj = x + static_cast<std::int64_t>(pb.Neighbors[k]) * W;
-        for (int c = 0; c < W; ++c)
-        {
-          acc[c] -= w * xj[c];
-        }
-      }
-      for (int c = 0; c < W; ++c)
-      {
-        y[i * W + c] = acc[c];
-      }
-    }
-  });
+  ApplyGraphStiffness(pb.Rows, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, x, y, W, pb.NumberOfThreads);
+}
+
+/// a b without the checks of std::complex's operator* for infinities
+/// (a library call per product unless -fcx-limited-range).
+inline std::complex<double> Times(std::complex<double> a, std::complex<double> b)
+{
+  return { a.real() * b.real() - a.imag() * b.imag(), a.real() * b.imag() + a.imag() * b.real() };
 }
 
 template <int NC>
@@ -613,7 +599,7 @@ ConjugateGradientResult SolveSquared(const ShiftedLaplacianProblem& pb, const do
       for (int c = 0; c < NC; ++c)
       {
         const double r = res[i * NC + c];
-        const Complex z = inverse[i] * r;
+        const Complex z = Times(inverse[i], r);
         X[i * W + c] = X[i * W + NC + c] = 0.0;
         R[i * W + c] = r;
         R[i * W + NC + c] = 0.0;
@@ -648,7 +634,7 @@ ConjugateGradientResult SolveSquared(const ShiftedLaplacianProblem& pb, const do
           const Complex q = f ? pb.Shift[i] * p + Complex(-a * KP[im], a * KP[re]) : Complex(0.0);
           KP[re] = q.real();
           KP[im] = q.imag();
-          const Complex pq = p * q;
+          const Complex pq = Times(p, q);
           acc[2 * c] += pq.real();
           acc[2 * c + 1] += pq.imag();
         }
@@ -666,16 +652,16 @@ ConjugateGradientResult SolveSquared(const ShiftedLaplacianProblem& pb, const do
         for (int c = 0; c < NC; ++c)
         {
           const std::int64_t re = i * W + c, im = re + NC;
-          const Complex xx = Complex(X[re], X[im]) + alpha[c] * Complex(P[re], P[im]);
-          const Complex r = Complex(R[re], R[im]) - alpha[c] * Complex(KP[re], KP[im]);
-          const Complex z = inverse[i] * r;
+          const Complex xx = Complex(X[re], X[im]) + Times(alpha[c], Complex(P[re], P[im]));
+          const Complex r = Complex(R[re], R[im]) - Times(alpha[c], Complex(KP[re], KP[im]));
+          const Complex z = Times(inverse[i], r);
           X[re] = xx.real();
           X[im] = xx.imag();
           R[re] = r.real();
           R[im] = r.imag();
           Z[re] = z.real();
           Z[im] = z.imag();
-          const Complex rz = r * z;
+          const Complex rz = Times(r, z);
           acc[2 * c] += rz.real();
           acc[2 * c + 1] += rz.imag();
           acc[2 * NC + c] += std::norm(r);
@@ -720,7 +706,7 @@ ConjugateGradientResult SolveSquared(const ShiftedLaplacianProblem& pb, const do
         for (int c = 0; c < NC; ++c)
         {
           const std::int64_t re = i * W + c, im = re + NC;
-          const Complex p = Complex(Z[re], Z[im]) + beta[c] * Complex(P[re], P[im]);
+          const Complex p = Complex(Z[re], Z[im]) + Times(beta[c], Complex(P[re], P[im]));
           P[re] = p.real();
           P[im] = p.imag();
         }

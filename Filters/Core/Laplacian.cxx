@@ -13,22 +13,25 @@ namespace beltrami
 namespace
 {
 /// y = K x for C columns (a compile-time count: the per-vertex loops unroll,
-/// with no memcpy calls for the accumulators).
+/// with no memcpy calls for the accumulators).  Rows split statically: the
+/// iterative solvers that call it in a loop find their rows in the same
+/// core's cache each time.
 template <int C>
-void ApplyStiffnessColumns(const GraphLaplacian& l, const double* x, double* y, int numThreads)
+void ApplyStiffnessColumns(Index rows, const std::int64_t* offsets, const Index* neighbors,
+  const double* weights, const double* diagonal, const double* x, double* y, int numThreads)
 {
-  ParallelFor(l.NumberOfVertices, numThreads, [&](std::int64_t begin, std::int64_t end) {
+  ParallelForStatic(rows, numThreads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t i = begin; i < end; ++i)
     {
       double acc[C];
       for (int c = 0; c < C; ++c)
       {
-        acc[c] = l.Diagonal[i] * x[i * C + c];
+        acc[c] = diagonal[i] * x[i * C + c];
       }
-      for (std::int64_t k = l.Offsets[i]; k < l.Offsets[i + 1]; ++k)
+      for (std::int64_t k = offsets[i]; k < offsets[i + 1]; ++k)
       {
-        const double w = l.Weights[k];
-        const double* xj = x + static_cast<std::int64_t>(l.Neighbors[k]) * C;
+        const double w = weights[k];
+        const double* xj = x + static_cast<std::int64_t>(neighbors[k]) * C;
         for (int c = 0; c < C; ++c)
         {
           acc[c] -= w * xj[c];
@@ -43,20 +46,28 @@ void ApplyStiffnessColumns(const GraphLaplacian& l, const double* x, double* y, 
 }
 } // namespace
 
-void GraphLaplacian::ApplyStiffness(const double* x, double* y, int columns, int numThreads) const
+void ApplyGraphStiffness(Index rows, const std::int64_t* offsets, const Index* neighbors,
+  const double* weights, const double* diagonal, const double* x, double* y, int columns, int numThreads)
 {
+  const auto run = [&](auto product) { product(rows, offsets, neighbors, weights, diagonal, x, y, numThreads); };
   switch (columns)
   {
-    case 1: return ApplyStiffnessColumns<1>(*this, x, y, numThreads);
-    case 2: return ApplyStiffnessColumns<2>(*this, x, y, numThreads);
-    case 3: return ApplyStiffnessColumns<3>(*this, x, y, numThreads);
-    case 4: return ApplyStiffnessColumns<4>(*this, x, y, numThreads);
-    case 5: return ApplyStiffnessColumns<5>(*this, x, y, numThreads);
-    case 6: return ApplyStiffnessColumns<6>(*this, x, y, numThreads);
-    case 7: return ApplyStiffnessColumns<7>(*this, x, y, numThreads);
-    case 8: return ApplyStiffnessColumns<8>(*this, x, y, numThreads);
+    case 1: return run(ApplyStiffnessColumns<1>);
+    case 2: return run(ApplyStiffnessColumns<2>);
+    case 3: return run(ApplyStiffnessColumns<3>);
+    case 4: return run(ApplyStiffnessColumns<4>);
+    case 5: return run(ApplyStiffnessColumns<5>);
+    case 6: return run(ApplyStiffnessColumns<6>);
+    case 7: return run(ApplyStiffnessColumns<7>);
+    case 8: return run(ApplyStiffnessColumns<8>);
     default: throw std::invalid_argument("ApplyStiffness: 1 to 8 columns");
   }
+}
+
+void GraphLaplacian::ApplyStiffness(const double* x, double* y, int columns, int numThreads) const
+{
+  ApplyGraphStiffness(
+    NumberOfVertices, Offsets, Neighbors, Weights.data(), Diagonal.data(), x, y, columns, numThreads);
 }
 
 namespace

@@ -64,6 +64,13 @@ struct GraphLaplacian
   }
 };
 
+/// y = K x for a graph Laplacian stiffness in CSR form (K_ii = diagonal[i],
+/// K_ij = -weights[k] for the entry k of row i, j = neighbors[k]) and
+/// `columns` (1 to 8) interleaved values per row; each thread takes the same
+/// rows every call (ParallelForStatic).
+void ApplyGraphStiffness(Index rows, const std::int64_t* offsets, const Index* neighbors,
+  const double* weights, const double* diagonal, const double* x, double* y, int columns, int numThreads);
+
 /// Assembles the surface Laplacian of `weights` kind at positions `points`
 /// (3 doubles per vertex).  Cotangent and authalic weights skip zero-area
 /// triangles (section 3.5.3); the mass of a vertex without area is 0 (callers

@@ -130,6 +130,29 @@ std::vector<double> Columns(const FlowSystem& s, int nc, std::vector<double>* x0
   return b;
 }
 
+/// A solve from x0 meets the tolerance (residuals res against r0 per
+/// column), is near the exact solution, and kept the fixed rows bit for bit.
+void ExpectSolved(const FlowSystem& s, int nc, double tolerance, const std::vector<double>& x0,
+  const std::vector<double>& exact, const std::vector<double>& x, const std::vector<double>& r0,
+  const std::vector<double>& res)
+{
+  for (int c = 0; c < nc; ++c)
+  {
+    EXPECT_LE(res[c], tolerance * r0[c] * 1.0000001) << "column " << c;
+  }
+  double change = 0.0, error = 0.0;
+  for (std::size_t k = 0; k < x.size(); ++k)
+  {
+    change = std::max(change, std::abs(exact[k] - x0[k]));
+    error = std::max(error, std::abs(x[k] - exact[k]));
+    if (s.Fixed[k / nc])
+    {
+      ASSERT_EQ(x[k], x0[k]) << "fixed rows keep their values bit for bit";
+    }
+  }
+  EXPECT_LT(error, 100 * tolerance * change) << nc << " columns, tolerance " << tolerance;
+}
+
 } // namespace
 
 TEST(Parallel, StaticLoopsAndPartialsCoverEveryIndexOnce)
@@ -445,21 +468,7 @@ TEST(Solvers, ShiftedLaplacianMatchesTheGeneralSolver)
       // The true (double) residual meets the tolerance, also far below
       // single precision (iterative refinement).
       const std::vector<double> res = s.Residual(b.data(), x.data(), nc);
-      double change = 0.0, error = 0.0;
-      for (int c = 0; c < nc; ++c)
-      {
-        EXPECT_LE(res[c], tolerance * r0[c] * 1.0000001) << "column " << c;
-      }
-      for (std::size_t k = 0; k < x.size(); ++k)
-      {
-        change = std::max(change, std::abs(exact[k] - x0[k]));
-        error = std::max(error, std::abs(x[k] - exact[k]));
-        if (s.Fixed[k / nc])
-        {
-          ASSERT_EQ(x[k], x0[k]) << "fixed rows keep their values bit for bit";
-        }
-      }
-      EXPECT_LT(error, 100 * tolerance * change) << nc << " columns, tolerance " << tolerance;
+      ExpectSolved(s, nc, tolerance, x0, exact, x, r0, res);
       // Thread counts do not change a bit.
       for (int threads : { 1, 3 })
       {
@@ -546,21 +555,7 @@ TEST(Solvers, SquaredLaplacianMatchesTheGeneralSolver)
       EXPECT_TRUE(r.Converged) << nc << " columns, tolerance " << tolerance;
       EXPECT_LE(r.RelativeResidual, tolerance);
       const std::vector<double> res = residual(x);
-      for (int c = 0; c < nc; ++c)
-      {
-        EXPECT_LE(res[c], tolerance * r0[c] * 1.0000001) << "column " << c;
-      }
-      double change = 0.0, error = 0.0;
-      for (std::size_t k = 0; k < x.size(); ++k)
-      {
-        change = std::max(change, std::abs(exact[k] - x0[k]));
-        error = std::max(error, std::abs(x[k] - exact[k]));
-        if (s.Fixed[k / nc])
-        {
-          ASSERT_EQ(x[k], x0[k]) << "fixed rows keep their values bit for bit";
-        }
-      }
-      EXPECT_LT(error, 100 * tolerance * change) << nc << " columns, tolerance " << tolerance;
+      ExpectSolved(s, nc, tolerance, x0, exact, x, r0, res);
       for (int threads : { 1, 3 })
       {
         std::vector<double> y = x0;
