@@ -100,10 +100,12 @@ ConjugateGradientResult SolveShiftedLaplacian(
 /// the sparsity of K, solved by COCG (the conjugate gradient with the
 /// unconjugated inner product, Jacobi preconditioned), whose conditioning is
 /// that of an order-1 step of sqrt(t): a few times fewer iterations than CG on
-/// A, each with one product by K instead of two.  The real residual is
-/// checked after every correction (iterative refinement); Converged is false
-/// when a correction stops reducing it (the caller may go on with another
-/// solver from x).
+/// A, each with one product by K instead of two.  One COCG run on the
+/// initial residual: whenever the complex residual reaches its target, the
+/// real residual of x0 + Re z is checked; if it misses the tolerance, the
+/// same run goes on with a tighter target.  Converged is false when a check
+/// shows no progress or the iterations run out (the caller may go on with
+/// another solver from x).
 ConjugateGradientResult SolveSquaredLaplacian(
   const ShiftedLaplacianProblem& problem, const double* b, double* x);
 
