@@ -1,6 +1,7 @@
 #include "Parameterization.h"
 
 #include "Laplacian.h"
+#include "LargeBuffer.h"
 #include "NestedDissection.h"
 #include "RingGeometry.h"
 #include "SparseFactorization.h"
@@ -24,7 +25,6 @@ namespace
 
 using Vec3 = VecN<3>;
 using Vec2 = Eigen::Vector2d;
-using SparseMatrix = SparseFactorization::Matrix;
 
 Vec3 Point(const double* points, Index i)
 {
@@ -148,11 +148,53 @@ void PlaceOuterBoundary(const std::vector<Index>& loop, const double* points,
 // Several right-hand-side columns share the matrix (u and v for the
 // per-vertex systems).
 
+// The systems' arrays are LargeVectors (2 MiB pages, reused by the next
+// run): at 179k vertices they hold some 100 MB, and faulting them in 4 KiB
+// pages on this project's virtual machines cost 0.2-0.4 s of a first run.
 struct RowMatrix // CSR rows over all unknowns
 {
-  std::vector<std::int64_t> Offsets;
-  std::vector<int> Columns;
-  std::vector<double> Values;
+  LargeVector<std::int64_t> Offsets;
+  LargeVector<int> Columns;
+  LargeVector<double> Values;
+};
+
+/// A square compressed matrix (by rows or by columns) in LargeVectors.
+struct CompressedMatrix
+{
+  int Size = 0;
+  LargeVector<int> Outer, Inner;
+  LargeVector<double> Values;
+
+  SparseFactorization::MatrixView View() const
+  {
+    return { Size, Size, static_cast<Eigen::Index>(Values.size()), Outer.data(), Inner.data(), Values.data() };
+  }
+
+  /// The transpose (rows <-> columns), sorted within each row or column.
+  CompressedMatrix Transposed() const
+  {
+    CompressedMatrix t;
+    t.Size = Size;
+    t.Outer.assign(static_cast<std::size_t>(Size) + 1, 0);
+    t.Inner.resize(Inner.size());
+    t.Values.resize(Values.size());
+    for (int i : Inner)
+    {
+      ++t.Outer[i + 1];
+    }
+    std::partial_sum(t.Outer.begin(), t.Outer.end(), t.Outer.begin());
+    std::vector<int> next(t.Outer.begin(), t.Outer.end() - 1);
+    for (int r = 0; r < Size; ++r)
+    {
+      for (int k = Outer[r]; k < Outer[r + 1]; ++k)
+      {
+        const int at = next[Inner[k]]++;
+        t.Inner[at] = r;
+        t.Values[at] = Values[k];
+      }
+    }
+    return t;
+  }
 };
 
 struct ConstraintRow
@@ -184,7 +226,7 @@ struct ParameterizationSolver
   std::vector<int> Slot; // index within its kind
   int NumberFactor = 0, NumberExtra = 0;
   SparseFactorization Factor;
-  SparseMatrix AFF;
+  CompressedMatrix AFF; // compressed columns (the factorization refers to it)
   Eigen::MatrixXd AFD_d; // -A_FD d per column (the right-hand side b_F)
   Eigen::MatrixXd AFG, AGF, AGG, BG;
 
@@ -218,28 +260,27 @@ struct ParameterizationSolver
     AGF = Eigen::MatrixXd::Zero(NumberExtra, NumberFactor);
     AGG = Eigen::MatrixXd::Zero(NumberExtra, NumberExtra);
     BG = Eigen::MatrixXd::Zero(NumberExtra, columns);
-    // A_FF in compressed rows, each sorted by column: built in AFF's own
-    // arrays when A is symmetric (rows are columns), else in byRows.
-    std::vector<int> counts(static_cast<std::size_t>(NumberFactor) + 1, 0);
+    // A_FF in compressed rows, each sorted by column: AFF itself when A is
+    // symmetric (rows are columns), else transposed afterwards.
+    CompressedMatrix byRows;
+    byRows.Size = NumberFactor;
+    byRows.Outer.assign(static_cast<std::size_t>(NumberFactor) + 1, 0);
     for (int r = 0; r < n; ++r)
     {
       if (kind[r] == KindFactor)
       {
         for (std::int64_t k = rows.Offsets[r]; k < rows.Offsets[r + 1]; ++k)
         {
-          counts[Slot[r] + 1] += kind[rows.Columns[k]] == KindFactor;
+          byRows.Outer[Slot[r] + 1] += kind[rows.Columns[k]] == KindFactor;
         }
       }
     }
-    std::partial_sum(counts.begin(), counts.end(), counts.begin());
-    Eigen::SparseMatrix<double, Eigen::RowMajor, int> byRows;
-    const auto allocate = [&](auto& m) {
-      m.resize(NumberFactor, NumberFactor);
-      m.resizeNonZeros(counts.back());
-      std::copy(counts.begin(), counts.end(), m.outerIndexPtr());
-      return std::make_tuple(m.outerIndexPtr(), m.innerIndexPtr(), m.valuePtr());
-    };
-    const auto [outer, inner, values] = symmetric ? allocate(AFF) : allocate(byRows);
+    std::partial_sum(byRows.Outer.begin(), byRows.Outer.end(), byRows.Outer.begin());
+    byRows.Inner.resize(static_cast<std::size_t>(byRows.Outer.back()));
+    byRows.Values.resize(byRows.Inner.size());
+    int* const outer = byRows.Outer.data();
+    int* const inner = byRows.Inner.data();
+    double* const values = byRows.Values.data();
     for (int r = 0; r < n; ++r)
     {
       if (kind[r] != KindFactor && kind[r] != KindExtra)
@@ -289,10 +330,7 @@ struct ParameterizationSolver
         }
       }
     }
-    if (!symmetric)
-    {
-      AFF = byRows; // a transposing copy to column-major
-    }
+    AFF = symmetric ? std::move(byRows) : byRows.Transposed();
     std::vector<int> order;
     order.reserve(static_cast<std::size_t>(NumberFactor));
     const std::size_t perVertex = kind.size() / std::max<std::size_t>(vertexOrder.size(), 1);
@@ -307,7 +345,7 @@ struct ParameterizationSolver
         }
       }
     }
-    if (NumberFactor > 0 && !Factor.Compute(AFF, symmetric, order, twinPairs))
+    if (NumberFactor > 0 && !Factor.Compute(AFF.View(), symmetric, order, twinPairs))
     {
       error = "the linear system is singular (degenerate triangles or a disconnected part?)";
       return false;
@@ -1373,7 +1411,7 @@ ParameterizationResult ParameterizeUnguarded(
       result.DegenerateTriangles = degenerate;
       ParameterizationSolver solver;
       Eigen::MatrixXd solution = fixed;
-      if (vertexOrder.empty() && SparseFactorization::UsesOrder(mu == 0.0, n))
+      if (vertexOrder.empty())
       {
         vertexOrder = VertexOrder(topo, points, threads);
       }

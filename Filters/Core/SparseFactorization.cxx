@@ -16,6 +16,7 @@
 #include <mutex>
 #include <new>
 #include <numeric>
+#include <optional>
 #include <vector>
 
 // BLAS and LAPACK (OpenBLAS's where installed), Fortran calling
@@ -160,7 +161,7 @@ struct SparseFactorization::Internals
 {
   bool Symmetric = true;
   int Size = 0;
-  const Matrix* A = nullptr; // the factorized matrix (the caller keeps it)
+  std::optional<MatrixView> A; // the factorized matrix (the caller keeps it)
   // CHOLMOD (supernodal Cholesky).
   mutable cholmod_common Common;
   cholmod_factor* Cholesky = nullptr;
@@ -238,7 +239,7 @@ struct SparseFactorization::Internals
 
   /// Supernodal Cholesky of the lower triangle of m, in `order` (kept as
   /// given when `exact`; CHOLMOD may otherwise postorder it) or AMD's.
-  bool FactorizeCholesky(const Eigen::Map<const Matrix>& m, std::vector<int> order, bool exact)
+  bool FactorizeCholesky(const MatrixView& m, std::vector<int> order, bool exact)
   {
     cholmod_sparse view{};
     view.nrow = view.ncol = static_cast<std::size_t>(m.rows());
@@ -264,7 +265,7 @@ struct SparseFactorization::Internals
   /// that form (or too many coupled pairs), leaving nothing factorized.
   bool FactorizeTwin(const std::vector<int>& order)
   {
-    const Matrix& a = *A;
+    const MatrixView& a = *A;
     if (Size < 2 || Size % 2 != 0)
     {
       return false;
@@ -273,8 +274,9 @@ struct SparseFactorization::Internals
     // L from the even rows and columns, checked against the odd ones; the
     // pairs with an entry between an even and an odd unknown are coupled.
     std::vector<std::uint8_t> coupled(static_cast<std::size_t>(pairs), 0);
-    std::vector<int> outer(static_cast<std::size_t>(pairs) + 1, 0), inner;
-    std::vector<double> values;
+    std::vector<int> outer(static_cast<std::size_t>(pairs) + 1, 0);
+    LargeVector<int> inner;
+    LargeVector<double> values;
     inner.reserve(static_cast<std::size_t>(a.nonZeros() / 2));
     values.reserve(inner.capacity());
     const int* p = a.outerIndexPtr();
@@ -325,7 +327,7 @@ struct SparseFactorization::Internals
     {
       return false;
     }
-    const Eigen::Map<const Matrix> scalar(pairs, pairs, outer.back(), outer.data(), inner.data(), values.data());
+    const MatrixView scalar(pairs, pairs, outer.back(), outer.data(), inner.data(), values.data());
     // The pairs' order (the even unknowns' in `order`), coupled pairs last.
     std::vector<int> pairOrder;
     pairOrder.reserve(static_cast<std::size_t>(pairs));
@@ -449,12 +451,14 @@ struct SparseFactorization::Internals
   bool FactorizeLU()
   {
     void* symbolic = nullptr;
-    // The caller's order on large systems only: with it UMFPACK's LU did half
-    // the flops but took 10% longer at 179k unknowns (DAP: 1.05 s vs
-    // 0.95 s), and 1.6-2x less time at 717k (5.3 s vs 8.3-11 s).  With an
-    // order given UMFPACK must be told to keep it symmetric (its automatic
-    // choice of the unsymmetric strategy took 12 s at 179k).
-    const bool ordered = !Order.empty() && UsesOrder(false, Size);
+    // The caller's order when there is one: UMFPACK's LU then does half the
+    // flops of AMD's order and touches less memory (179k-vertex DAP: 4.1e9
+    // vs 8.2e9 flops, peak 164 vs 214 MB; first run in a process 1.0-1.4 s
+    // vs 1.45-1.9 s, later runs 0.94-1.0 s vs 1.02-1.1 s; 717k: 5.3 s vs
+    // 8.3-11 s), the same time at 9k and 36k.  With an order given UMFPACK
+    // must be told to keep it symmetric (its automatic choice of the
+    // unsymmetric strategy took 12 s at 179k).
+    const bool ordered = !Order.empty();
     Control[UMFPACK_STRATEGY] = ordered ? UMFPACK_STRATEGY_SYMMETRIC : UMFPACK_STRATEGY_AUTO;
     int status = umfpack_di_qsymbolic(Size, Size, A->outerIndexPtr(), A->innerIndexPtr(), A->valuePtr(),
       ordered ? Order.data() : nullptr, &symbolic, Control, Info);
@@ -493,11 +497,17 @@ SparseFactorization::~SparseFactorization()
 
 bool SparseFactorization::Compute(const Matrix& a, bool symmetric, const std::vector<int>& order, bool twinPairs)
 {
+  return Compute(MatrixView(a.rows(), a.cols(), a.nonZeros(), a.outerIndexPtr(), a.innerIndexPtr(), a.valuePtr()),
+    symmetric, order, twinPairs);
+}
+
+bool SparseFactorization::Compute(const MatrixView& a, bool symmetric, const std::vector<int>& order, bool twinPairs)
+{
   SerialOpenMPRegions serial;
   Internals& in = *Internal;
   in.Clear();
   in.Size = static_cast<int>(a.rows());
-  in.A = &a;
+  in.A.emplace(a);
   in.Order = order;
   in.Symmetric = false;
   if (symmetric && twinPairs)
@@ -510,9 +520,7 @@ bool SparseFactorization::Compute(const Matrix& a, bool symmetric, const std::ve
   }
   if (symmetric && !in.Symmetric)
   {
-    in.Symmetric = in.FactorizeCholesky(
-      Eigen::Map<const Matrix>(in.Size, in.Size, a.nonZeros(), a.outerIndexPtr(), a.innerIndexPtr(), a.valuePtr()),
-      order, false);
+    in.Symmetric = in.FactorizeCholesky(a, order, false);
   }
   if (!in.Symmetric)
   {
@@ -533,12 +541,6 @@ bool SparseFactorization::Compute(const Matrix& a, bool symmetric, const std::ve
     rcond = std::min(rcond, std::pow(d.minCoeff() / d.maxCoeff(), 2));
   }
   return rcond > 1e-13;
-}
-
-bool SparseFactorization::UsesOrder(bool symmetric, int size)
-{
-  constexpr int OrderedLUSize = 250000; // see FactorizeLU
-  return symmetric || size >= OrderedLUSize;
 }
 
 int SparseFactorization::CoupledPairs() const
@@ -575,3 +577,4 @@ Eigen::MatrixXd SparseFactorization::Solve(const Eigen::MatrixXd& b) const
 }
 
 } // namespace beltrami
+

@@ -3,8 +3,7 @@
 // CHOLMOD's supernodal Cholesky for symmetric positive definite systems,
 // UMFPACK's LU for the others (and when the Cholesky finds the matrix not
 // positive definite). Both are set up for this project's machines:
-// - ordering: the caller's (a nested dissection of the mesh) or AMD; AMD
-//   for the LU of fewer than 250k unknowns.
+// - ordering: the caller's (a nested dissection of the mesh) or AMD.
 //   CHOLMOD's default tries METIS after AMD when the fill is high; on the
 //   parameterization systems (10^5 vertices) METIS saves flops but costs more
 //   time than it saves (179k vertices: ordering 0.9 s vs 0.17 s).
@@ -35,6 +34,8 @@ class SparseFactorization
 {
 public:
   using Matrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+  /// A compressed-column matrix in the caller's arrays (e.g. LargeVectors).
+  using MatrixView = Eigen::Map<const Matrix>;
 
   SparseFactorization();
   ~SparseFactorization();
@@ -49,9 +50,8 @@ public:
   /// (pivots at rounding level), or memory ran out.
   ///
   /// `order`, if not empty, is the elimination order (order[k] = the unknown
-  /// eliminated k-th, e.g. NestedDissectionOrder's) of the Cholesky, and of
-  /// the LU from 250k unknowns on (below, AMD's was faster); AMD's
-  /// otherwise.
+  /// eliminated k-th, e.g. NestedDissectionOrder's) of the Cholesky or the
+  /// LU (symmetric pivoting strategy); AMD's otherwise.
   ///
   /// `twinPairs`: the unknowns come in pairs (2k, 2k+1) and A = I_2 (x) L
   /// except for entries between the pairs' even and odd unknowns on a few
@@ -61,10 +61,9 @@ public:
   /// dense system of its trailing block (when the coupled pairs are at most
   /// about 4 sqrt(pairs), as on a disk's boundary; other matrices take the
   /// general path).
+  bool Compute(const MatrixView& a, bool symmetric, const std::vector<int>& order = {}, bool twinPairs = false);
+  /// The same for a matrix in Eigen's own storage.
   bool Compute(const Matrix& a, bool symmetric, const std::vector<int>& order = {}, bool twinPairs = false);
-  /// Whether Compute uses an `order` for such a system (callers may skip
-  /// computing one otherwise).
-  static bool UsesOrder(bool symmetric, int size);
   /// With the twin-pair path of Compute: the number of coupled pairs; -1
   /// when Compute took another path.
   int CoupledPairs() const;
