@@ -193,6 +193,87 @@ CLONES void TriangleRow(std::int64_t n, const double* __restrict dots, double* _
   }
 }
 
+/// The edges of a Kuhn-split cell: the 19 corner pairs (lower, upper) with
+/// lower's axes a subset of upper's (corner bit a = step along axis a), and
+/// per tetrahedron (path) the slot of each of its six edges.
+struct KuhnCell
+{
+  static constexpr int Edges = 19;
+  int Lower[Edges], Upper[Edges];
+  int Corner[6][4]; // corners of path p: 0, one axis, two axes, 7
+  int Slot[6][6];   // edge slot of tetrahedron edge e of path p
+
+  KuhnCell()
+  {
+    int slot[8][8];
+    int e = 0;
+    for (int upper = 1; upper < 8; ++upper)
+    {
+      for (int lower = 0; lower < 8; ++lower)
+      {
+        if (lower != upper && (lower & upper) == lower)
+        {
+          Lower[e] = lower;
+          Upper[e] = upper;
+          slot[lower][upper] = e++;
+        }
+      }
+    }
+    for (int p = 0; p < 6; ++p)
+    {
+      Corner[p][0] = 0;
+      Corner[p][1] = 1 << KuhnPaths[p][0];
+      Corner[p][2] = Corner[p][1] | (1 << KuhnPaths[p][1]);
+      Corner[p][3] = 7;
+      for (int k = 0; k < 6; ++k)
+      {
+        Slot[p][k] = slot[Corner[p][TetrahedronEdges[k][0]]][Corner[p][TetrahedronEdges[k][1]]];
+      }
+    }
+  }
+};
+
+/// The six Kuhn tetrahedra of n cells of a row from their Gram matrices
+/// (gram[(6 p + q) n + j]: entry q = 11, 22, 33, 12, 13, 23 of path p) into
+/// the cells' 19 edge weights (edges[s n + j]) and 8 corner masses
+/// (masses[c n + j], a quarter of each tetrahedron's volume).  Degenerate
+/// tetrahedra add nothing.  Compiled like TriangleRow.
+CLONES void TetrahedronRow(std::int64_t n, const KuhnCell& cell, const double* __restrict gram,
+  double* __restrict edges, double* __restrict masses)
+{
+  std::fill(edges, edges + KuhnCell::Edges * n, 0.0);
+  std::fill(masses, masses + 8 * n, 0.0);
+  for (int p = 0; p < 6; ++p)
+  {
+    const double* g = gram + 6 * p * n;
+    double* w[6];
+    for (int k = 0; k < 6; ++k)
+    {
+      w[k] = edges + cell.Slot[p][k] * n;
+    }
+    double* m[4];
+    for (int v = 0; v < 4; ++v)
+    {
+      m[v] = masses + cell.Corner[p][v] * n;
+    }
+#pragma GCC ivdep // the slots of one tetrahedron are distinct rows
+    for (std::int64_t j = 0; j < n; ++j)
+    {
+      const TetrahedronTerms t =
+        TetrahedronFromGram(g[j], g[n + j], g[2 * n + j], g[3 * n + j], g[4 * n + j], g[5 * n + j]);
+      for (int k = 0; k < 6; ++k)
+      {
+        w[k][j] += t.Weights[k];
+      }
+      const double quarter = 0.25 * t.Volume;
+      for (int v = 0; v < 4; ++v)
+      {
+        m[v][j] += quarter;
+      }
+    }
+  }
+}
+
 /// Buffers lent to the threads of a parallel loop and kept for the next loop
 /// (no allocation, zeroing or page faults per step).
 class ScratchPool
@@ -712,17 +793,13 @@ public:
     const double spacing[3] = { grid.SpacingX, grid.SpacingY, grid.SpacingZ };
     for (int p = 0; p < 6; ++p)
     {
-      // Corners of path p: 0, Corner[p][1], Corner[p][2], 7 (bit a = axis a).
-      Corner[p][0] = 0;
-      Corner[p][1] = 1 << KuhnPaths[p][0];
-      Corner[p][2] = Corner[p][1] | (1 << KuhnPaths[p][1]);
-      Corner[p][3] = 7;
+      // Corners of path p: 0, Cell.Corner[p][1], Cell.Corner[p][2], 7.
       double e[3][3];
       for (int s = 0; s < 3; ++s)
       {
         for (int a = 0; a < 3; ++a)
         {
-          e[s][a] = (Corner[p][s + 1] >> a & 1) * spacing[a];
+          e[s][a] = (Cell.Corner[p][s + 1] >> a & 1) * spacing[a];
         }
       }
       const auto dot = [](const double* x, const double* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
@@ -752,14 +829,16 @@ public:
     // Per row: the largest rate and the row's volume, summed in row order.
     std::vector<double> rowRate(rows), rowArea(rows);
     ParallelFor(rows, Threads, [&](std::int64_t b, std::int64_t e) {
+      ScratchLease buffer(Scratch, static_cast<std::size_t>(Grid.Width));
+      double* positive = buffer.data();
       for (std::int64_t r = b; r < e; ++r)
       {
+        const std::int64_t first = r * Grid.Width;
+        StiffnessRow(u, r, KU.data() + first * NC, Diagonal.data() + first, positive);
         double rate = 0.0, area = 0.0;
-        ForRow(r, [&](std::int64_t i, std::int64_t ix, std::int64_t iy, std::int64_t iz) {
-          double ku[NC], diagonal = 0.0, positive = 0.0;
-          Stiffness(u, i, ix, iy, iz, ku, diagonal, positive);
+        for (std::int64_t i = first; i < first + Grid.Width; ++i)
+        {
           Mass[i] = GraphMass[i];
-          Diagonal[i] = diagonal;
           Speed[i] = GraphMass[i] > 0.0 ? SpeedOf(BaseMass[i] / GraphMass[i]) : 1.0;
           if (!(Mass[i] > 0.0))
           {
@@ -768,12 +847,11 @@ public:
           const double f = !Fixed[i] ? Speed[i] / Mass[i] : 0.0;
           for (int k = 0; k < NC; ++k)
           {
-            KU[i * NC + k] = ku[k];
-            Velocity[i * NC + k] = f * ku[k];
+            Velocity[i * NC + k] = f * KU[i * NC + k];
           }
-          rate = std::max(rate, f * positive);
+          rate = std::max(rate, f * positive[i - first]);
           area += GraphMass[i];
-        });
+        }
         rowRate[r] = rate;
         rowArea[r] = area;
       }
@@ -785,26 +863,67 @@ public:
   void Apply(const double* x, double* y, bool) override
   {
     ParallelFor(Grid.Height * Grid.Depth, Threads, [&](std::int64_t b, std::int64_t e) {
+      ScratchLease buffer(Scratch, 2 * static_cast<std::size_t>(Grid.Width));
       for (std::int64_t r = b; r < e; ++r)
       {
-        ForRow(r, [&](std::int64_t i, std::int64_t ix, std::int64_t iy, std::int64_t iz) {
-          double diagonal, positive;
-          Stiffness(x, i, ix, iy, iz, y + i * NC, diagonal, positive);
-        });
+        StiffnessRow(x, r, y + r * Grid.Width * NC, buffer.data(), buffer.data() + Grid.Width);
       }
     }, {}, 0, 4);
   }
 
 private:
-  /// Calls f(i, ix, iy, iz) for the voxels of row r (= iz * Height + iy).
-  template <typename F>
-  void ForRow(std::int64_t r, F&& f) const
+  /// (K x)_i, sum_j c_ij and sum_j max(c_ij, 0) for the voxels of row r
+  /// (= iz * Height + iy): Width values each (kx: Width * NC).  Interior
+  /// voxels in one loop without tests over the seven weight arrays (the
+  /// compiler vectorizes it), the others through Stiffness; the sums in
+  /// the same order either way.
+  void StiffnessRow(const double* x, std::int64_t r, double* __restrict kx, double* __restrict diagonal,
+    double* __restrict positive) const
   {
-    const std::int64_t iy = r % Grid.Height, iz = r / Grid.Height;
-    const std::int64_t first = r * Grid.Width;
-    for (std::int64_t ix = 0; ix < Grid.Width; ++ix)
+    const std::int64_t iy = r % Grid.Height, iz = r / Grid.Height, first = r * Grid.Width;
+    const bool inner = iy > 0 && iy + 1 < Grid.Height && iz > 0 && iz + 1 < Grid.Depth;
+    const std::int64_t from = inner ? 1 : Grid.Width, to = inner ? Grid.Width - 1 : Grid.Width;
+    for (std::int64_t ix = 0; ix < Grid.Width; ix = ix + 1 == from ? std::max(to, ix + 1) : ix + 1)
     {
-      f(first + ix, ix, iy, iz);
+      Stiffness(x, first + ix, ix, iy, iz, kx + ix * NC, diagonal[ix], positive[ix]);
+    }
+    const double* w[8];
+    for (int d = 1; d < 8; ++d)
+    {
+      w[d] = Weights.data() + (d - 1) * Size + first;
+    }
+    const double* xr = x + first * NC;
+    for (std::int64_t ix = from; ix < to; ++ix)
+    {
+      double k[NC], dg = 0.0, ps = 0.0;
+      for (int m = 0; m < NC; ++m)
+      {
+        k[m] = 0.0;
+      }
+      const double* xi = xr + ix * NC;
+      for (int d = 1; d < 8; ++d)
+      {
+        const std::int64_t o = Offset[d];
+        const double up = w[d][ix], down = w[d][ix - o];
+        for (int m = 0; m < NC; ++m)
+        {
+          k[m] += up * (xi[m] - xi[o * NC + m]);
+        }
+        dg += up;
+        ps += std::max(up, 0.0);
+        for (int m = 0; m < NC; ++m)
+        {
+          k[m] += down * (xi[m] - xi[-o * NC + m]);
+        }
+        dg += down;
+        ps += std::max(down, 0.0);
+      }
+      for (int m = 0; m < NC; ++m)
+      {
+        kx[ix * NC + m] = k[m];
+      }
+      diagonal[ix] = dg;
+      positive[ix] = ps;
     }
   }
 
@@ -832,8 +951,8 @@ private:
     {
       for (int d = 1; d < 8; ++d) // inside: all 14 neighbours, no tests
       {
-        add(Weights[7 * i + d - 1], i + Offset[d]);
-        add(Weights[7 * (i - Offset[d]) + d - 1], i - Offset[d]);
+        add(Weights[(d - 1) * Size + i], i + Offset[d]);
+        add(Weights[(d - 1) * Size + i - Offset[d]], i - Offset[d]);
       }
       return;
     }
@@ -842,12 +961,12 @@ private:
       const bool dx = d & 1, dy = d & 2, dz = d & 4;
       if ((!dx || up[0]) && (!dy || up[1]) && (!dz || up[2]))
       {
-        add(Weights[7 * i + d - 1], i + Offset[d]);
+        add(Weights[(d - 1) * Size + i], i + Offset[d]);
       }
       if ((!dx || down[0]) && (!dy || down[1]) && (!dz || down[2]))
       {
         const std::int64_t j = i - Offset[d];
-        add(Weights[7 * j + d - 1], j);
+        add(Weights[(d - 1) * Size + j], j);
       }
     }
   }
@@ -871,41 +990,63 @@ private:
 
   void AccumulatePlane(const double* u, std::int64_t k)
   {
+    const std::int64_t n = Grid.Width - 1; // cells per row
+    ScratchLease buffer(Scratch, (36 + KuhnCell::Edges + 8) * static_cast<std::size_t>(n));
+    double* gram = buffer.data();
+    double* edges = gram + 36 * n;
+    double* masses = edges + KuhnCell::Edges * n;
     for (std::int64_t j = 0; j + 1 < Grid.Height; ++j)
     {
-      for (std::int64_t i = 0; i + 1 < Grid.Width; ++i)
+      const std::int64_t first = (k * Grid.Height + j) * Grid.Width;
+      const double* u0 = u + first * NC;
+      for (int p = 0; p < 6; ++p)
       {
-        const std::int64_t base = (k * Grid.Height + j) * Grid.Width + i;
-        double delta[8][NC]; // u(corner) - u(corner 0)
-        for (int c = 0; c < 8; ++c)
+        // Edge vectors a, b, c of path p: u(corner) - u(corner 0).
+        const double* ua = u0 + Offset[Cell.Corner[p][1]] * NC;
+        const double* ub = u0 + Offset[Cell.Corner[p][2]] * NC;
+        const double* uc = u0 + Offset[7] * NC;
+        double* __restrict g = gram + 6 * p * n;
+        const double* base = BaseGram[p];
+        for (std::int64_t i = 0; i < n; ++i)
         {
+          double aa = 0, bb = 0, cc = 0, ab = 0, ac = 0, bc = 0;
           for (int m = 0; m < NC; ++m)
           {
-            delta[c][m] = u[(base + Offset[c]) * NC + m] - u[base * NC + m];
+            const double o = u0[i * NC + m];
+            const double a = ua[i * NC + m] - o, b = ub[i * NC + m] - o, c = uc[i * NC + m] - o;
+            aa += a * a;
+            bb += b * b;
+            cc += c * c;
+            ab += a * b;
+            ac += a * c;
+            bc += b * c;
           }
+          g[i] = base[0] + aa;
+          g[n + i] = base[1] + bb;
+          g[2 * n + i] = base[2] + cc;
+          g[3 * n + i] = base[3] + ab;
+          g[4 * n + i] = base[4] + ac;
+          g[5 * n + i] = base[5] + bc;
         }
-        for (int p = 0; p < 6; ++p)
+      }
+      TetrahedronRow(n, Cell, gram, edges, masses);
+      for (int c = 0; c < 8; ++c)
+      {
+        double* __restrict to = &GraphMass[first + Offset[c]];
+        const double* from = masses + c * n;
+        for (std::int64_t i = 0; i < n; ++i)
         {
-          const int* corner = Corner[p];
-          const double* a = delta[corner[1]];
-          const double* bb = delta[corner[2]];
-          const double* c = delta[7];
-          const TetrahedronTerms t = TetrahedronFromGram(BaseGram[p][0] + Dot<NC>(a, a),
-            BaseGram[p][1] + Dot<NC>(bb, bb), BaseGram[p][2] + Dot<NC>(c, c), BaseGram[p][3] + Dot<NC>(a, bb),
-            BaseGram[p][4] + Dot<NC>(a, c), BaseGram[p][5] + Dot<NC>(bb, c));
-          if (t.Degenerate)
-          {
-            continue;
-          }
-          for (int v = 0; v < 4; ++v)
-          {
-            GraphMass[base + Offset[corner[v]]] += 0.25 * t.Volume;
-          }
-          for (int edge = 0; edge < 6; ++edge)
-          {
-            const int lower = corner[TetrahedronEdges[edge][0]], upper = corner[TetrahedronEdges[edge][1]];
-            Weights[7 * (base + Offset[lower]) + (upper & ~lower) - 1] += t.Weights[edge];
-          }
+          to[i] += from[i];
+        }
+      }
+      for (int e = 0; e < KuhnCell::Edges; ++e)
+      {
+        const int direction = Cell.Upper[e] & ~Cell.Lower[e];
+        double* __restrict to = &Weights[(direction - 1) * Size + first + Offset[Cell.Lower[e]]];
+        const double* from = edges + e * n;
+        for (std::int64_t i = 0; i < n; ++i)
+        {
+          to[i] += from[i];
         }
       }
     }
@@ -913,8 +1054,9 @@ private:
 
   VoxelGrid Grid;
   std::int64_t Offset[8];
-  int Corner[6][4];
+  KuhnCell Cell;
   double BaseGram[6][6];
+  ScratchPool Scratch; // per-thread row buffers of Accumulate, kept between steps
   LargeVector<double> Weights, GraphMass, BaseMass;
 };
 

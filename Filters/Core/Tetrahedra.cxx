@@ -12,9 +12,6 @@ namespace beltrami
 
 namespace
 {
-/// det G <= DegenerateVolume * (longest edge)^6: no volume.
-constexpr double DegenerateVolume = 1e-24;
-
 double Dot(const double* a, const double* b, int n)
 {
   double s = 0.0;
@@ -41,33 +38,6 @@ TetrahedronTerms Tetrahedron(const double* p0, const double* p1, const double* p
   return TetrahedronFromGram(Dot(e[0], e[0], dimension), Dot(e[1], e[1], dimension),
     Dot(e[2], e[2], dimension), Dot(e[0], e[1], dimension), Dot(e[0], e[2], dimension),
     Dot(e[1], e[2], dimension));
-}
-
-TetrahedronTerms TetrahedronFromGram(
-  double g11, double g22, double g33, double g12, double g13, double g23)
-{
-  TetrahedronTerms t;
-  // Cofactors of the symmetric Gram matrix.
-  const double c11 = g22 * g33 - g23 * g23, c22 = g11 * g33 - g13 * g13, c33 = g11 * g22 - g12 * g12;
-  const double c12 = g13 * g23 - g12 * g33, c13 = g12 * g23 - g13 * g22, c23 = g12 * g13 - g11 * g23;
-  const double det = g11 * c11 + g12 * c12 + g13 * c13;
-  // The longest edge, for a scale-free degeneracy test.
-  const double l2 = std::max({ g11, g22, g33, g11 + g22 - 2 * g12, g11 + g33 - 2 * g13, g22 + g33 - 2 * g23 });
-  if (!(det > DegenerateVolume * l2 * l2 * l2))
-  {
-    return t; // also NaN
-  }
-  const double root = std::sqrt(det);
-  t.Volume = root / 6.0;
-  t.Degenerate = false;
-  const double inv = 1.0 / (6.0 * root); // 1 / (36 V)
-  t.Weights[0] = (c11 + c12 + c13) * inv; // P-A
-  t.Weights[1] = (c12 + c22 + c23) * inv; // P-B
-  t.Weights[2] = (c13 + c23 + c33) * inv; // P-C
-  t.Weights[3] = -c12 * inv;              // A-B
-  t.Weights[4] = -c13 * inv;              // A-C
-  t.Weights[5] = -c23 * inv;              // B-C
-  return t;
 }
 
 TetrahedralMesh::TetrahedralMesh(Index numberOfVertices, std::vector<Index> tetrahedra, int numThreads)

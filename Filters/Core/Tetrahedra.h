@@ -21,6 +21,8 @@
 #include "Laplacian.h"
 #include "Parallel.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -40,8 +42,35 @@ TetrahedronTerms Tetrahedron(const double* p0, const double* p1, const double* p
 
 /// The same from the Gram matrix of the edge vectors a = A - P, b = B - P,
 /// c = C - P (g11 = a.a, g12 = a.b, ...): what Tetrahedron() computes.
-TetrahedronTerms TetrahedronFromGram(
-  double g11, double g22, double g33, double g12, double g13, double g23);
+/// Inline: the 3D image flow evaluates six per voxel and step.
+inline TetrahedronTerms TetrahedronFromGram(
+  double g11, double g22, double g33, double g12, double g13, double g23)
+{
+  /// det G <= DegenerateVolume * (longest edge)^6: no volume.
+  constexpr double DegenerateVolume = 1e-24;
+  TetrahedronTerms t;
+  // Cofactors of the symmetric Gram matrix.
+  const double c11 = g22 * g33 - g23 * g23, c22 = g11 * g33 - g13 * g13, c33 = g11 * g22 - g12 * g12;
+  const double c12 = g13 * g23 - g12 * g33, c13 = g12 * g23 - g13 * g22, c23 = g12 * g13 - g11 * g23;
+  const double det = g11 * c11 + g12 * c12 + g13 * c13;
+  // The longest edge, for a scale-free degeneracy test.
+  const double l2 = std::max({ g11, g22, g33, g11 + g22 - 2 * g12, g11 + g33 - 2 * g13, g22 + g33 - 2 * g23 });
+  if (!(det > DegenerateVolume * l2 * l2 * l2))
+  {
+    return t; // also NaN
+  }
+  const double root = std::sqrt(det);
+  t.Volume = root / 6.0;
+  t.Degenerate = false;
+  const double inv = 1.0 / (6.0 * root); // 1 / (36 V)
+  t.Weights[0] = (c11 + c12 + c13) * inv; // P-A
+  t.Weights[1] = (c12 + c22 + c23) * inv; // P-B
+  t.Weights[2] = (c13 + c23 + c33) * inv; // P-C
+  t.Weights[3] = -c12 * inv;              // A-B
+  t.Weights[4] = -c13 * inv;              // A-C
+  t.Weights[5] = -c23 * inv;              // B-C
+  return t;
+}
 
 /// The local vertex pairs of the six edges of a tetrahedron.
 constexpr int TetrahedronEdges[6][2] = { { 0, 1 }, { 0, 2 }, { 0, 3 }, { 1, 2 }, { 1, 3 }, { 2, 3 } };
