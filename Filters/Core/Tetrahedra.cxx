@@ -119,6 +119,32 @@ TetrahedralMesh::TetrahedralMesh(Index numberOfVertices, std::vector<Index> tetr
       std::copy(rows[v].begin(), rows[v].end(), NeighborList.begin() + Offsets[v]);
     }
   });
+  // Per incident tetrahedron of every vertex: its three edges at the vertex
+  // and their positions in the vertex's neighbour row (found once here, not
+  // per assembly).
+  IncidentEdge.resize(3 * Incident.size());
+  IncidentSlot.resize(3 * Incident.size());
+  ParallelFor(NumVertices, numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t v = begin; v < end; ++v)
+    {
+      const Index* row = NeighborList.data() + Offsets[v];
+      const Index* rowEnd = NeighborList.data() + Offsets[v + 1];
+      std::size_t entry = 3 * static_cast<std::size_t>(IncidentOffsets[v]);
+      for (const Index* t = IncidentBegin(static_cast<Index>(v)); t != IncidentEnd(static_cast<Index>(v)); ++t)
+      {
+        const Index* c = &Tets[4 * static_cast<std::size_t>(*t)];
+        for (int e = 0; e < 6; ++e)
+        {
+          const Index a = c[TetrahedronEdges[e][0]], b = c[TetrahedronEdges[e][1]];
+          if (a == v || b == v)
+          {
+            IncidentEdge[entry] = static_cast<std::uint8_t>(e);
+            IncidentSlot[entry++] = static_cast<std::uint32_t>(std::lower_bound(row, rowEnd, a == v ? b : a) - row);
+          }
+        }
+      }
+    }
+  });
 }
 
 std::vector<Index> GridTetrahedra(Index nx, Index ny, Index nz)
@@ -204,29 +230,23 @@ void AssembleTetrahedralLaplacian(const TetrahedralMesh& mesh, const double* poi
     Index nDegenerate = 0;
     for (Index i = static_cast<Index>(begin); i < end; ++i)
     {
-      const std::int64_t first = l.Offsets[i], last = l.Offsets[i + 1];
+      const std::int64_t first = l.Offsets[i];
       double mass = 0.0;
-      for (const Index* t = mesh.IncidentBegin(i); t != mesh.IncidentEnd(i); ++t)
+      const std::uint8_t* edge = mesh.IncidentEdges(i);
+      const std::uint32_t* slot = mesh.IncidentSlots(i);
+      double* weights = l.Weights.data() + first;
+      for (const Index* t = mesh.IncidentBegin(i); t != mesh.IncidentEnd(i); ++t, edge += 3, slot += 3)
       {
-        const Index* v = &tets[4 * static_cast<std::size_t>(*t)];
         const TetrahedronTerms& term = terms[*t];
         if (term.Degenerate)
         {
-          nDegenerate += v[0] == i; // each tetrahedron counted once
+          nDegenerate += tets[4 * static_cast<std::size_t>(*t)] == i; // each tetrahedron counted once
           continue;
         }
         mass += 0.25 * term.Volume;
-        for (int e = 0; e < 6; ++e)
+        for (int j = 0; j < 3; ++j)
         {
-          const Index a = v[TetrahedronEdges[e][0]], b = v[TetrahedronEdges[e][1]];
-          if (a != i && b != i)
-          {
-            continue;
-          }
-          const Index other = a == i ? b : a;
-          const std::int64_t k =
-            std::lower_bound(l.Neighbors + first, l.Neighbors + last, other) - l.Neighbors;
-          l.Weights[k] += term.Weights[e];
+          weights[slot[j]] += term.Weights[edge[j]];
         }
       }
       l.FinishRow(i, mass);

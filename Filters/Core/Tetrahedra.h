@@ -92,6 +92,12 @@ public:
   const Index* IncidentBegin(Index v) const { return Incident.data() + IncidentOffsets[v]; }
   const Index* IncidentEnd(Index v) const { return Incident.data() + IncidentOffsets[v + 1]; }
 
+  /// For the incident tetrahedra of v in the order above, three entries
+  /// each: its edges at v (index into TetrahedronEdges, in that order) and
+  /// the position of the edge's other end in v's neighbour row.
+  const std::uint8_t* IncidentEdges(Index v) const { return IncidentEdge.data() + 3 * IncidentOffsets[v]; }
+  const std::uint32_t* IncidentSlots(Index v) const { return IncidentSlot.data() + 3 * IncidentOffsets[v]; }
+
   /// The vertex-neighbour CSR (the sparsity of the Laplacian).
   const std::vector<std::int64_t>& NeighborOffsets() const { return Offsets; }
   const std::vector<Index>& Neighbors() const { return NeighborList; }
@@ -105,6 +111,8 @@ private:
   std::vector<Index> Tets;
   std::vector<std::int64_t> IncidentOffsets;
   std::vector<Index> Incident;
+  std::vector<std::uint8_t> IncidentEdge;
+  std::vector<std::uint32_t> IncidentSlot;
   std::vector<std::int64_t> Offsets;
   std::vector<Index> NeighborList;
 };
