@@ -890,7 +890,7 @@ private:
     const double* w[8];
     for (int d = 1; d < 8; ++d)
     {
-      w[d] = Weights.data() + (d - 1) * Size + first;
+      w[d] = WeightsOf(d) + first;
     }
     const double* xr = x + first * NC;
     for (std::int64_t ix = from; ix < to; ++ix)
@@ -951,8 +951,8 @@ private:
     {
       for (int d = 1; d < 8; ++d) // inside: all 14 neighbours, no tests
       {
-        add(Weights[(d - 1) * Size + i], i + Offset[d]);
-        add(Weights[(d - 1) * Size + i - Offset[d]], i - Offset[d]);
+        add(WeightsOf(d)[i], i + Offset[d]);
+        add(WeightsOf(d)[i - Offset[d]], i - Offset[d]);
       }
       return;
     }
@@ -961,12 +961,12 @@ private:
       const bool dx = d & 1, dy = d & 2, dz = d & 4;
       if ((!dx || up[0]) && (!dy || up[1]) && (!dz || up[2]))
       {
-        add(Weights[(d - 1) * Size + i], i + Offset[d]);
+        add(WeightsOf(d)[i], i + Offset[d]);
       }
       if ((!dx || down[0]) && (!dy || down[1]) && (!dz || down[2]))
       {
         const std::int64_t j = i - Offset[d];
-        add(Weights[(d - 1) * Size + j], j);
+        add(WeightsOf(d)[j], j);
       }
     }
   }
@@ -1042,7 +1042,7 @@ private:
       for (int e = 0; e < KuhnCell::Edges; ++e)
       {
         const int direction = Cell.Upper[e] & ~Cell.Lower[e];
-        double* __restrict to = &Weights[(direction - 1) * Size + first + Offset[Cell.Lower[e]]];
+        double* __restrict to = WeightsOf(direction) + first + Offset[Cell.Lower[e]];
         const double* from = edges + e * n;
         for (std::int64_t i = 0; i < n; ++i)
         {
@@ -1056,8 +1056,19 @@ private:
   std::int64_t Offset[8];
   KuhnCell Cell;
   double BaseGram[6][6];
-  ScratchPool Scratch; // per-thread row buffers of Accumulate, kept between steps
+  ScratchPool Scratch; // per-thread row buffers, kept between steps
+  /// The edge weights to the neighbour at +Offset[d], one array of Size
+  /// per direction d = 1..7.
   LargeVector<double> Weights, GraphMass, BaseMass;
+
+  double* WeightsOf(int d)
+  {
+    return Weights.data() + static_cast<std::size_t>(d - 1) * static_cast<std::size_t>(Size);
+  }
+  const double* WeightsOf(int d) const
+  {
+    return Weights.data() + static_cast<std::size_t>(d - 1) * static_cast<std::size_t>(Size);
+  }
 };
 
 // ---------------------------------------------------------------------------

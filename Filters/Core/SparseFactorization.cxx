@@ -457,7 +457,9 @@ struct SparseFactorization::Internals
     // vs 1.45-1.9 s, later runs 0.94-1.0 s vs 1.02-1.1 s; 717k: 5.3 s vs
     // 8.3-11 s), the same time at 9k and 36k.  With an order given UMFPACK
     // must be told to keep it symmetric (its automatic choice of the
-    // unsymmetric strategy took 12 s at 179k).
+    // unsymmetric strategy took 12 s at 179k).  Its memory estimate is then
+    // far too high (179k: 4.3 GB for 164 MB used); the initial block (2 GB,
+    // beyond LargeBuffer's cache) is only touched where it is used.
     const bool ordered = !Order.empty();
     Control[UMFPACK_STRATEGY] = ordered ? UMFPACK_STRATEGY_SYMMETRIC : UMFPACK_STRATEGY_AUTO;
     int status = umfpack_di_qsymbolic(Size, Size, A->outerIndexPtr(), A->innerIndexPtr(), A->valuePtr(),
