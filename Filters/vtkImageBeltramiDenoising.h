@@ -58,8 +58,9 @@
  * (natural boundary).  Explicit steps are stable up to about 0.12 there
  * (half the 2D limit): TimeStep 0.1 with the explicit integration is the
  * documented setting for volumes (faster than semi-implicit steps and no
- * worse).  Memory: about 12 + 3n doubles per voxel for n components
- * (explicit steps; the semi-implicit solver adds its vectors).
+ * worse).  Memory per voxel: seven edge weights and two masses plus a few
+ * values per component (doubles) with explicit steps; semi-implicit steps
+ * add the operator and the solver's vectors (about twice as much).
  *
  * Streaming and threads: with explicit steps, a fixed time step and no
  * noise-level stop, every step reads one ring of neighbours, so the filter

@@ -778,11 +778,15 @@ template <int NC>
 class VoxelDiscretization final : public FlowDiscretization
 {
 public:
-  VoxelDiscretization(const VoxelGrid& grid, const std::uint8_t* fixed, double gamma, int threads)
+  /// storeOperator: keep Mass, Speed, Diagonal and KU (the semi-implicit
+  /// solver's); explicit steps need the velocity only (4 doubles per voxel
+  /// less).
+  VoxelDiscretization(const VoxelGrid& grid, const std::uint8_t* fixed, double gamma, int threads, bool storeOperator)
     : Grid(grid)
   {
     Gamma = gamma;
     Threads = threads;
+    StoreOperator = storeOperator;
     Size = static_cast<Index>(grid.Width * grid.Height * grid.Depth);
     Components = NC;
     Allocate();
@@ -829,28 +833,37 @@ public:
     // Per row: the largest rate and the row's volume, summed in row order.
     std::vector<double> rowRate(rows), rowArea(rows);
     ParallelFor(rows, Threads, [&](std::int64_t b, std::int64_t e) {
-      ScratchLease buffer(Scratch, static_cast<std::size_t>(Grid.Width));
+      const std::size_t width = static_cast<std::size_t>(Grid.Width);
+      ScratchLease buffer(Scratch, (StoreOperator ? 1 : NC + 2) * width);
       double* positive = buffer.data();
       for (std::int64_t r = b; r < e; ++r)
       {
         const std::int64_t first = r * Grid.Width;
-        StiffnessRow(u, r, KU.data() + first * NC, Diagonal.data() + first, positive);
+        // K u and the diagonal into the operator's arrays, or into scratch.
+        double* ku = StoreOperator ? KU.data() + first * NC : positive + width;
+        double* diagonal = StoreOperator ? Diagonal.data() + first : ku + NC * width;
+        StiffnessRow(u, r, ku, diagonal, positive);
         double rate = 0.0, area = 0.0;
         for (std::int64_t i = first; i < first + Grid.Width; ++i)
         {
-          Mass[i] = GraphMass[i];
-          Speed[i] = GraphMass[i] > 0.0 ? SpeedOf(BaseMass[i] / GraphMass[i]) : 1.0;
-          if (!(Mass[i] > 0.0))
+          const double mass = GraphMass[i];
+          const double speed = mass > 0.0 ? SpeedOf(BaseMass[i] / mass) : 1.0;
+          if (StoreOperator)
+          {
+            Mass[i] = mass;
+            Speed[i] = speed;
+          }
+          if (!(mass > 0.0))
           {
             Fixed[i] = 1; // lost its measure (degenerate graph elements)
           }
-          const double f = !Fixed[i] ? Speed[i] / Mass[i] : 0.0;
+          const double f = !Fixed[i] ? speed / mass : 0.0;
           for (int k = 0; k < NC; ++k)
           {
-            Velocity[i * NC + k] = f * KU[i * NC + k];
+            Velocity[i * NC + k] = f * ku[(i - first) * NC + k];
           }
           rate = std::max(rate, f * positive[i - first]);
-          area += GraphMass[i];
+          area += mass;
         }
         rowRate[r] = rate;
         rowArea[r] = area;
@@ -1475,7 +1488,8 @@ GraphFlowResult RunVolumeGraphFlow(const VoxelGrid& grid, int components, double
     return result;
   }
   return WithComponents(components, [&](auto nc) {
-    VoxelDiscretization<decltype(nc)::value> disc(grid, fixed, options.EdgeContrast, options.NumberOfThreads);
+    VoxelDiscretization<decltype(nc)::value> disc(grid, fixed, options.EdgeContrast, options.NumberOfThreads,
+      options.Integration == GraphFlowIntegration::SemiImplicit);
     return Integrate(disc, values, options, progress);
   });
 }
