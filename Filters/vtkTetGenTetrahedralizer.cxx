@@ -338,16 +338,12 @@ void vtkTetGenTetrahedralizer::InterpolatePointData(
       {
         std::copy(&values[i * columns + first], &values[i * columns + first] + nc, &x[i * nc]);
       }
-      beltrami::ConjugateGradientProblem pb;
-      pb.Rows = numOutput;
-      pb.Columns = nc;
-      pb.Diagonal = laplacian.Diagonal.data();
+      beltrami::ShiftedLaplacianProblem pb = laplacian.Problem(nc); // K x = 0 off the fixed rows
       pb.Fixed = fixed.data();
       pb.Scale.assign(nc, 1.0);
       pb.Tolerance = 1e-12;
       pb.MaximumIterations = 5000;
-      pb.Apply = [&](const double* in, double* out) { laplacian.ApplyStiffness(in, out, nc, 0); };
-      beltrami::SolveConjugateGradient(pb, zero.data(), x.data());
+      beltrami::SolveShiftedLaplacian(pb, zero.data(), x.data());
       for (vtkIdType i = numInput; i < numOutput; ++i)
       {
         std::copy(&x[i * nc], &x[i * nc] + nc, &values[i * columns + first]);

@@ -267,13 +267,7 @@ void ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, Fairing
   {
     s = std::sqrt(s);
   }
-  ShiftedLaplacianProblem sl;
-  sl.Rows = n;
-  sl.Columns = 3;
-  sl.Offsets = L.Offsets;
-  sl.Neighbors = L.Neighbors;
-  sl.Weights = L.Weights.data();
-  sl.Diagonal = L.Diagonal.data();
+  ShiftedLaplacianProblem sl = L.Problem(3);
   sl.Shift = m.data();
   sl.Factor = dt;
   sl.Fixed = fixed.data();

@@ -1242,13 +1242,7 @@ GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphF
       next = u; // initial guess and fixed values
       if (const GraphLaplacian* graph = disc.Graph())
       {
-        ShiftedLaplacianProblem sl;
-        sl.Rows = n;
-        sl.Columns = nc;
-        sl.Offsets = graph->Offsets;
-        sl.Neighbors = graph->Neighbors;
-        sl.Weights = graph->Weights.data();
-        sl.Diagonal = graph->Diagonal.data();
+        ShiftedLaplacianProblem sl = graph->Problem(nc);
         sl.Shift = shift.data();
         sl.Fixed = disc.Fixed.data();
         if (order.empty())

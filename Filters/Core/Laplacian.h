@@ -22,6 +22,7 @@
 // of curves), with the weights stored per CSR entry for fast products.
 #pragma once
 
+#include "ConjugateGradient.h"
 #include "LargeBuffer.h"
 #include "MeshTopology.h"
 
@@ -51,6 +52,19 @@ struct GraphLaplacian
 
   /// y = S x for `columns` interleaved values per vertex (parallel).
   void ApplyStiffness(const double* x, double* y, int columns, int numThreads) const;
+  /// A shifted-Laplacian problem on this stiffness (K = S) for `columns`
+  /// interleaved values per vertex: the graph fields set, the rest default.
+  ShiftedLaplacianProblem Problem(int columns) const
+  {
+    ShiftedLaplacianProblem pb;
+    pb.Rows = NumberOfVertices;
+    pb.Columns = columns;
+    pb.Offsets = Offsets;
+    pb.Neighbors = Neighbors;
+    pb.Weights = Weights.data();
+    pb.Diagonal = Diagonal.data();
+    return pb;
+  }
   /// Completes row i once its weights are in: the diagonal (their sum) and the mass.
   void FinishRow(Index i, double mass)
   {

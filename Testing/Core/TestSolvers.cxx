@@ -61,13 +61,7 @@ struct FlowSystem
 
   ShiftedLaplacianProblem Problem(int columns, double tolerance, int threads) const
   {
-    ShiftedLaplacianProblem pb;
-    pb.Rows = L.NumberOfVertices;
-    pb.Columns = columns;
-    pb.Offsets = L.Offsets;
-    pb.Neighbors = L.Neighbors;
-    pb.Weights = L.Weights.data();
-    pb.Diagonal = L.Diagonal.data();
+    ShiftedLaplacianProblem pb = L.Problem(columns);
     pb.Shift = Shift.data();
     pb.Factor = TimeStep;
     pb.Fixed = Fixed.data();
