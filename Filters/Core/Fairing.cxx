@@ -554,6 +554,41 @@ LaplacianWeights WeightsOf(FairingOperator op)
   }
 }
 
+/// Which part of a displacement d at a vertex of normal n is kept.
+enum class Keep
+{
+  Normal,    ///< (d.n) n
+  Tangential ///< d - (d.n) n
+};
+
+/// Moves x[i] by the `keep` part of d[i] (both 3 per vertex); vertices
+/// without a normal (no area, NaN) do not move.  The normals are those of
+/// x, so the result depends on x only through its shape.
+void MoveAlongNormals(const MeshTopology& topo, double* x, const double* d, Keep keep, int threads)
+{
+  const Index n = topo.NumberOfVertices();
+  std::vector<double> normals(3 * static_cast<std::size_t>(n));
+  CurvatureOutputs no;
+  no.Normals = normals.data();
+  CurvatureOptions co;
+  co.NumberOfThreads = threads;
+  ComputeCurvatures(topo, static_cast<const double*>(x), co, no);
+  for (Index i = 0; i < n; ++i)
+  {
+    const Vec3 nn = Point(normals.data(), i);
+    const Vec3 di = Point(d, i);
+    if (nn.allFinite() && di.allFinite())
+    {
+      const Vec3 along = di.dot(nn) * nn;
+      const Vec3 move = keep == Keep::Normal ? along : Vec3(di - along);
+      for (int c = 0; c < 3; ++c)
+      {
+        x[3 * i + c] += move[c];
+      }
+    }
+  }
+}
+
 /// A copy of x after one implicit order-1 step of `time` with the `kind`
 /// Laplacian (assembled into `lap` at x; `order` gives its LocalityOrder or
 /// null): the pre-mollified geometries of the anisotropic weights and of
@@ -701,15 +736,24 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
       Integrate(curve, opt, x, report);
     }
     // The operator's geometry: the current positions (the thesis'
-    // linearisation, sections 3.4.3/3.5.3), or a copy whose sampling one
-    // implicit umbrella step has evened out (OperatorMollification): on a
-    // noisy scan the cotangents of the noisy triangles are noise too.
+    // linearisation, sections 3.4.3/3.5.3), or a mollified copy
+    // (OperatorMollification): on a noisy scan the cotangents of the noisy
+    // triangles are noise too.  The copy is x moved by the normal part of
+    // one implicit umbrella step: the noise across the surface is damped,
+    // the sampling is kept, so a flat region's copy is the region itself
+    // and flat regions still never move.
     std::vector<double> regular;
     if (opt.OperatorMollification > 0.0 && opt.Operator != FairingOperator::Umbrella)
     {
       GraphLaplacian U;
-      regular = SmoothedCopy(topo, x, LaplacianWeights::Umbrella, opt.OperatorMollification, held, weight, opt, U,
-        [] { return static_cast<const Index*>(nullptr); });
+      std::vector<double> step = SmoothedCopy(topo, x, LaplacianWeights::Umbrella, opt.OperatorMollification, held,
+        weight, opt, U, [] { return static_cast<const Index*>(nullptr); });
+      regular.assign(x, x + 3 * static_cast<std::size_t>(n));
+      for (std::size_t k = 0; k < step.size(); ++k)
+      {
+        step[k] -= x[k];
+      }
+      MoveAlongNormals(topo, regular.data(), step.data(), Keep::Normal, threads);
     }
     AssembleSurfaceLaplacian(topo, regular.empty() ? x : regular.data(), WeightsOf(opt.Operator), L, threads);
     report.DegenerateTriangles = std::max(report.DegenerateTriangles, L.DegenerateTriangles);
@@ -723,31 +767,17 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
       // umbrella is dimensionless: its step is lambda*dt in units of the mean
       // edge length squared (L_umbrella ~ h^2/4 Laplace, L_K ~ Laplace/2), at
       // most 1 so that it stays a local relaxation.
-      std::vector<double> normals(3 * static_cast<std::size_t>(n));
-      CurvatureOutputs no;
-      no.Normals = normals.data();
-      CurvatureOptions co;
-      co.NumberOfThreads = threads;
-      ComputeCurvatures(topo, static_cast<const double*>(x), co, no);
       GraphLaplacian U;
       AssembleSurfaceLaplacian(topo, x, LaplacianWeights::Umbrella, U, threads);
       const double h = MeanEdgeLength(topo, x);
       const double relax = std::min(1.0, 2.0 * opt.TimeStep / (h * h));
       const Stage tangential{ U, surface.Fixed, weight };
-      const std::vector<double> v = Velocity(tangential, 1, x, threads);
-      for (Index i = 0; i < n; ++i)
+      std::vector<double> v = Velocity(tangential, 1, x, threads);
+      for (double& vk : v)
       {
-        const Vec3 nn = Point(normals.data(), i);
-        Vec3 d = relax * Point(v.data(), i);
-        if (nn.allFinite())
-        {
-          d -= d.dot(nn) * nn;
-          for (int c = 0; c < 3; ++c)
-          {
-            x[3 * i + c] += d[c];
-          }
-        }
+        vk *= relax;
       }
+      MoveAlongNormals(topo, x, v.data(), Keep::Tangential, threads);
     }
     if (opt.Anisotropic && opt.SmoothFeatureCurves)
     {

@@ -77,13 +77,15 @@ struct FairingOptions
   /// curvature-flow step of Mollification * TimeStep; 0: off), as the thesis
   /// recommends for this ill-posed, edge-enhancing flow.
   double Mollification = 1.0;
-  /// The operator (weights and areas) of each step is evaluated on a copy of
-  /// the positions smoothed by one implicit umbrella step of this
-  /// (dimensionless) time, 0: on the positions themselves (the thesis'
-  /// linearisation).  On noisy scans the cotangents of the noisy triangles
-  /// are noisy too; 1 evens out the sampling they are computed on (noisy
-  /// bunny, order 2: RMS error 0.0011 instead of 0.0013).  Flat regions then
-  /// move within their plane.  Not used by the umbrella operator.
+  /// The operator (weights and areas) of each step is evaluated on a
+  /// mollified copy of the positions: each point moved by the normal part of
+  /// one implicit umbrella step of this (dimensionless) time; 0: on the
+  /// positions themselves (the thesis' linearisation).  On noisy scans the
+  /// cotangents of the noisy triangles are noisy too; the copy damps the
+  /// noise across the surface and keeps the sampling, so a flat region's
+  /// copy is the region itself (flat regions still never move).  Noisy
+  /// bunny, order 2, 4 h^4: RMS error 0.00121 of the diagonal instead of
+  /// 0.00127.  Not used by the umbrella operator.
   double OperatorMollification = 0.0;
   bool SmoothFeatureCurves = false;  ///< a curve-smoothing pass along detected edges
   double TaubinLambda = 0.6307, TaubinMu = -0.6732; ///< figure 3.5(d)
