@@ -347,6 +347,12 @@ int vtkImageBeltramiDenoising::RequestData(
   pixels.SpacingX = std::abs(input->GetSpacing()[grid.Axis0]);
   pixels.SpacingY = std::abs(input->GetSpacing()[grid.Axis1]);
   beltrami::GraphFlowOptions options = vtkBeltramiGraphFlow::Options(this);
+  if (!(options.TimeStep > 0.0))
+  {
+    // Automatic: 80% of the explicit stability limit on a unit grid (about
+    // 0.24 in 2D, 0.12 for the Kuhn tetrahedra of a volume).
+    options.TimeStep = volume ? 0.1 : 0.2;
+  }
   options.Boundary = static_cast<beltrami::GridBoundary>(this->Boundary);
   std::vector<double> converted;
   if (!rgb.empty())

@@ -119,6 +119,9 @@ class GreyscaleQuality(unittest.TestCase):
             quality, fd.GetArray("FlowIterations").GetValue(0)))
         self.assertGreaterEqual(quality, 28.0)
         self.assertAlmostEqual(fd.GetArray("FlowRMSChange").GetValue(0), 0.1, delta=1e-6)
+        # the automatic time step of 2D images: 0.2 (the last step stops at sigma)
+        steps, flow_time = fd.GetArray("FlowIterations").GetValue(0), fd.GetArray("FlowTime").GetValue(0)
+        self.assertTrue(0.2 * (steps - 1) < flow_time <= 0.2 * steps + 1e-12, (steps, flow_time))
         area = fd.GetArray("FlowArea")
         self.assertLess(area.GetValue(1), 0.5 * area.GetValue(0))  # the noise was area
         # Semi-implicit and adaptive variants: same stopping rule, good too.

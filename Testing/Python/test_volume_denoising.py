@@ -135,19 +135,28 @@ class ImageVolumes(unittest.TestCase):
         self.assertGreater(psnr(ours, clean), psnr(noisy, clean) + 9.0)
         self.assertLess(abs(psnr(ours, clean) - psnr(tets, clean)), 1.5)
         self.assertLess(difference, 0.35 * SIGMA)
-        # The documented setting for volumes: explicit steps of 0.1, below the
-        # 3D stability limit (about 0.12 here): no step above the limit, and
-        # at least as good as the semi-implicit steps (64^3: 33.5 vs 33.0 dB).
-        log = vtkStringOutputWindow()
-        vtkOutputWindow.SetInstance(log)
-        try:
-            f, explicit = self.image_flow(noisy, Integration=0, TimeStep=0.1, **settings)
-        finally:
-            vtkOutputWindow.SetInstance(None)
-        print("3D image path, explicit steps of 0.1: %.2f dB in %d steps"
-              % (psnr(explicit, clean), f.GetOutput().GetFieldData().GetArray("FlowIterations").GetValue(0)))
-        self.assertNotIn("stability limit", log.GetOutput())
+        # The documented setting for volumes, explicit steps of 0.1, is the
+        # default (automatic TimeStep; 0.2 in 2D): below the 3D stability
+        # limit (about 0.12 here), so no warning, and at least as good as the
+        # semi-implicit steps (64^3: 33.5 vs 33.0 dB).  The 2D default
+        # step would exceed the limit.
+        def warnings(**more):
+            log = vtkStringOutputWindow()
+            vtkOutputWindow.SetInstance(log)
+            try:
+                return (*self.image_flow(noisy, **dict(settings, **more)), log.GetOutput())
+            finally:
+                vtkOutputWindow.SetInstance(None)
+        f, explicit, log = warnings()
+        self.assertEqual(f.GetTimeStep(), 0.0)
+        steps = f.GetOutput().GetFieldData().GetArray("FlowIterations").GetValue(0)
+        flow_time = f.GetOutput().GetFieldData().GetArray("FlowTime").GetValue(0)
+        print("3D image path, defaults (explicit, automatic step): %.2f dB in %d steps of %g"
+              % (psnr(explicit, clean), steps, flow_time / steps))
+        self.assertTrue(0.1 * (steps - 1) < flow_time <= 0.1 * steps + 1e-12)  # the last step stops at sigma
+        self.assertNotIn("stability limit", log)
         self.assertGreater(psnr(explicit, clean), psnr(ours, clean) - 0.1)
+        self.assertIn("stability limit", warnings(TimeStep=0.2, NumberOfIterations=3)[2])
 
     def test_pieces_and_threads_equal_the_whole_volume(self):
         noisy = blobs(20) + np.random.default_rng(4).normal(0, SIGMA, (20, 20, 20))
