@@ -54,9 +54,30 @@ int vtkImplicitFairing::RequestData(
   }
 
   std::string error;
-  const std::vector<std::uint8_t> fixed = this->UseFixedPointsArray
+  std::vector<std::uint8_t> fixed = this->UseFixedPointsArray
     ? vtkBeltramiSurface::SelectedPointMask(this, input, 0, "fixed-points", error)
     : std::vector<std::uint8_t>();
+  if (!this->FixedPointIds.empty())
+  {
+    fixed.resize(numPoints, 0);
+    vtkIdType outside = 0;
+    for (vtkIdType id : this->FixedPointIds)
+    {
+      if (id >= 0 && id < numPoints)
+      {
+        fixed[id] = 1;
+      }
+      else
+      {
+        ++outside;
+      }
+    }
+    if (outside)
+    {
+      vtkWarningMacro(<< outside << " fixed point id(s) are not points of the input (" << numPoints
+                      << " points) and were ignored.");
+    }
+  }
   vtkDataArray* weightArray = error.empty() && this->UseSmoothingWeightsArray
     ? surface.SelectedPointArray(this, 1, 1, "smoothing-weight", error)
     : nullptr;
@@ -191,11 +212,27 @@ int vtkImplicitFairing::RequestData(
   return 1;
 }
 
+void vtkImplicitFairing::AddFixedPoint(vtkIdType pointId)
+{
+  this->FixedPointIds.push_back(pointId);
+  this->Modified();
+}
+
+void vtkImplicitFairing::RemoveAllFixedPoints()
+{
+  if (!this->FixedPointIds.empty())
+  {
+    this->FixedPointIds.clear();
+    this->Modified();
+  }
+}
+
 void vtkImplicitFairing::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Operator: " << this->Operator << "\n";
   os << indent << "Order: " << this->Order << "\n";
+  os << indent << "FixedPointIds: " << this->FixedPointIds.size() << "\n";
   os << indent << "OperatorMollification: " << this->OperatorMollification << "\n";
   os << indent << "Integration: " << this->Integration << "\n";
   os << indent << "TimeStep: " << this->TimeStep << "\n";

@@ -43,8 +43,9 @@
  *    and the plane through the boundary's mean point with normal
  *    ReferencePlaneNormal) or NONE.  Restored by scaling after every step.
  *  - Constraints (section 3.2.7): input array 0 (optional) is a point array
- *    whose non-zero values mark fixed points (they stay bit-exact unless an
- *    invariant rescales the whole surface); input array 1 (optional) is a
+ *    whose non-zero values mark fixed points, and AddFixedPoint adds fixed
+ *    points by id (they stay bit-exact unless an invariant rescales the
+ *    whole surface); input array 1 (optional) is a
  *    point array of smoothing weights in [0, 1] (0 = fixed).
  *  - BoundaryHandling (section 3.5.2): FIXED (default), SMOOTH_CURVE (the
  *    boundary loops are smoothed as curves), VIRTUAL_VERTEX (each loop is
@@ -164,6 +165,14 @@ public:
   vtkGetMacro(UseSmoothingWeightsArray, bool);
   vtkBooleanMacro(UseSmoothingWeightsArray, bool);
 
+  /// Fixed points given by id (ids of the input's points), in addition to
+  /// the fixed-points array: they stay where they are (bit-exact unless an
+  /// invariant rescales the surface).  Ids outside the input are reported
+  /// with a warning and ignored.
+  void AddFixedPoint(vtkIdType pointId);
+  void RemoveAllFixedPoints();
+  int GetNumberOfFixedPoints() const { return static_cast<int>(this->FixedPointIds.size()); }
+
   /// Solver iterations of the last run, one per linear solve.
   int GetNumberOfSolves() const { return static_cast<int>(this->Iterations.size()); }
   int GetIterations(int solve) const
@@ -198,6 +207,7 @@ protected:
   double TaubinMu = -0.6732;
   int NumberOfThreads = 0;
   bool UseFixedPointsArray = true;
+  std::vector<vtkIdType> FixedPointIds;
   bool UseSmoothingWeightsArray = true;
   std::vector<int> Iterations;
 

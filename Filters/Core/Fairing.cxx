@@ -561,9 +561,9 @@ enum class Keep
   Tangential ///< d - (d.n) n
 };
 
-/// Moves x[i] by the `keep` part of d[i] (both 3 per vertex); vertices
-/// without a normal (no area, NaN) do not move.  The normals are those of
-/// x, so the result depends on x only through its shape.
+/// Moves x[i] by the `keep` part of d[i] (both 3 per vertex), with the
+/// vertex normals of x before the move; vertices without a normal (no area,
+/// NaN) or with a non-finite d[i] do not move.
 void MoveAlongNormals(const MeshTopology& topo, double* x, const double* d, Keep keep, int threads)
 {
   const Index n = topo.NumberOfVertices();

@@ -240,6 +240,37 @@ class FairingFromPython(unittest.TestCase):
         self.assertIsNotNone(f.GetOutput().GetPointData().GetArray("Fixed"))  # point data carried
         self.assertIsNone(f.GetOutput().GetFieldData().GetArray("FairingInvariant"))
 
+    def test_fixed_point_ids(self):
+        # Hard constraints by id (AddFixedPoint), on top of the array; an id
+        # outside the input is a warning, not a crash.
+        from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+        bunny = self.bunny()
+        n = bunny.GetNumberOfPoints()
+        ids = list(range(0, n, 7))
+        f = vtkImplicitFairing()
+        f.SetInputData(bunny)
+        for i in ids:
+            f.AddFixedPoint(i)
+        f.AddFixedPoint(n + 5)
+        self.assertEqual(f.GetNumberOfFixedPoints(), len(ids) + 1)
+        log = vtkStringOutputWindow()
+        vtkOutputWindow.SetInstance(log)
+        try:
+            f.Update()
+        finally:
+            vtkOutputWindow.SetInstance(None)
+        self.assertIn("1 fixed point id(s) are not points of the input", log.GetOutput())
+        before = vtk_to_numpy(bunny.GetPoints().GetData())
+        after = vtk_to_numpy(f.GetOutput().GetPoints().GetData())
+        self.assertTrue((after[ids] == before[ids]).all())
+        free = np.ones(n, bool)
+        free[ids] = False
+        self.assertGreater(np.abs(after[free] - before[free]).max(), 1e-4)
+        f.RemoveAllFixedPoints()
+        f.Update()
+        after = vtk_to_numpy(f.GetOutput().GetPoints().GetData())
+        self.assertGreater(np.abs(after[ids] - before[ids]).max(), 1e-4)
+
 
 class ParameterizationFromPython(unittest.TestCase):
     def mushroom(self):
