@@ -132,8 +132,11 @@ class CurvaturesFromPython(unittest.TestCase):
             bad.write("OFF\n100000000 1 0\n0 0 0\n")
         reader = vtkOFFReader()
         reader.SetFileName(bad.name)
-        reader.GlobalWarningDisplayOff()
-        reader.Update()
+        reader.GlobalWarningDisplayOff()  # global: restored below for the tests that read warnings
+        try:
+            reader.Update()
+        finally:
+            reader.GlobalWarningDisplayOn()
         os.unlink(bad.name)
         self.assertEqual(reader.GetOutput().GetNumberOfPoints(), 0)
         self.assertIn("truncated", reader.GetLastErrorMessage())
