@@ -232,7 +232,6 @@ void vtkImplicitFairing::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Operator: " << this->Operator << "\n";
   os << indent << "Order: " << this->Order << "\n";
-  os << indent << "FixedPointIds: " << this->FixedPointIds.size() << "\n";
   os << indent << "OperatorMollification: " << this->OperatorMollification << "\n";
   os << indent << "Integration: " << this->Integration << "\n";
   os << indent << "TimeStep: " << this->TimeStep << "\n";
@@ -246,4 +245,7 @@ void vtkImplicitFairing::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FeatureThreshold: " << this->FeatureThreshold << "\n";
   os << indent << "Mollification: " << this->Mollification << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "UseFixedPointsArray: " << this->UseFixedPointsArray << "\n";
+  os << indent << "UseSmoothingWeightsArray: " << this->UseSmoothingWeightsArray << "\n";
+  os << indent << "Fixed point ids: " << this->FixedPointIds.size() << "\n";
 }
