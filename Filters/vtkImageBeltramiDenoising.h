@@ -11,7 +11,9 @@
  *
  * with B the Laplace-Beltrami operator of the surface (cotangent formula with
  * cotangents from dot products in R^(2+n), section 2.8.1) and B_bar its data
- * part.  For greyscale images E = 1/W, so this is I_t = -kappa_H / W^gamma,
+ * part; E is kept at least 1/W (pixel area over surface area), its value on
+ * the smooth surface, where the discrete B is not quite normal to the
+ * surface.  For greyscale images E = 1/W, so this is I_t = -kappa_H / W^gamma,
  * eq. 3.19; for colours and vectors the channels are coupled through the one
  * surface (eq. 3.22), never smoothed one by one.
  *

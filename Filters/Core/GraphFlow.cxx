@@ -355,6 +355,7 @@ public:
     Fixed.assign(Size, 0);
     // Area scale for the indicator's guard (B has units 1/length).
     Epsilon2 = 1e-18 / std::pow(std::min(grid.SpacingX, grid.SpacingY), 2);
+    BaseMass = 2.0 * grid.SpacingX * grid.SpacingY;
   }
 
   void Update(const double* u) override
@@ -447,6 +448,7 @@ private:
   std::vector<double> RowArea, RowRate;
   ScratchPool Scratch; // per-thread row buffers of Update, kept between steps
   double Epsilon2 = 0.0;
+  double BaseMass = 0.0; // a pixel's mass on flat data (both triangulations)
 
   /// Component k of pixel (r, c), -1 <= r <= H, -1 <= c <= W, of the padded copy.
   double PaddedAt(int k, std::int64_t r, std::int64_t c) const
@@ -555,7 +557,8 @@ private:
 
   /// Pixel row r from the cell rows above (upper, row r) and below (lower,
   /// row r + 1): the weights of the 8 edges, the mass, K u, the indicator
-  /// |B_bar| / |B|, the velocity and the row's area and stability rate.
+  /// max(|B_bar| / |B|, 1/W) (GraphFlow.h), the velocity and the row's area
+  /// and stability rate.
   template <bool Store, bool UnitSpeed>
   CLONES void PixelRow(std::int64_t r, const double* __restrict upper, const double* __restrict lower,
     double* __restrict sums)
@@ -608,7 +611,8 @@ private:
         const double bx = sx * (wn[E] - wn[W] + wn[SE] - wn[NW] - wn[SW] + wn[NE]);
         const double by = sy * (wn[S] - wn[N] + wn[SE] - wn[NW] + wn[SW] - wn[NE]);
         const double guard = Epsilon2 * mass * mass;
-        speed = SpeedOf(std::sqrt((data2 + guard) / (data2 + bx * bx + by * by + guard)));
+        speed = SpeedOf(std::max(std::sqrt((data2 + guard) / (data2 + bx * bx + by * by + guard)),
+          BaseMass / mass));
       }
       const double f = (fixed[c] == 0) & (mass > 0.0) ? speed / mass : 0.0;
       for (int k = 0; k < NC; ++k)
