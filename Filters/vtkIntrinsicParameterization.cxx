@@ -215,8 +215,8 @@ int vtkIntrinsicParameterization::RequestData(
     beltrami::MeasureDistortion(topo, points, result.UV.data(), this->NumberOfThreads);
 
   // Outputs on LargeBuffer's cached pages (vtkBeltramiSurface::NewArray):
-  // fresh pages for the UVs and the three cell arrays cost more than the
-  // distortion measure itself (179k vertices: ~40 ms a run).
+  // fresh pages for the UVs and the three cell arrays cost about as much as
+  // the distortion measure itself (179k vertices: ~40 ms every run).
   vtkSmartPointer<vtkDataArray> uv = vtkBeltramiSurface::NewArray(VTK_DOUBLE, "UV", 2, numPoints);
   std::copy(result.UV.begin(), result.UV.end(), static_cast<double*>(uv->GetVoidPointer(0)));
   output->GetPointData()->AddArray(uv);
