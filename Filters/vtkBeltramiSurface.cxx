@@ -7,12 +7,14 @@
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
 #include <vtkCellData.h>
+#include <vtkCommunicator.h>
 #include <vtkDoubleArray.h>
 #include <vtkFloatArray.h>
 #include <vtkIdList.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
 #include <vtkMath.h>
+#include <vtkMultiProcessController.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -257,18 +259,46 @@ void vtkBeltramiSurface::BuildTriangles(vtkPolyData* input, beltrami::IndexArray
   }
 }
 
+int vtkBeltramiSurface::PiecesHoldingData(vtkInformation* outInfo, vtkDataSet* input)
+{
+  const int pieces = outInfo && outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+  if (pieces <= 1)
+  {
+    return 1;
+  }
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (!controller || controller->GetNumberOfProcesses() != pieces ||
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) != controller->GetLocalProcessId())
+  {
+    return pieces; // not one piece per rank: cannot ask the others
+  }
+  int local = input && input->GetNumberOfPoints() > 0 ? 1 : 0, holding = 0;
+  controller->AllReduce(&local, &holding, 1, vtkCommunicator::SUM_OP);
+  return holding;
+}
+
+void vtkBeltramiSurface::WarnDistributed(vtkAlgorithm* owner, int pieces, const char* pieceBoundary)
+{
+  vtkWarningWithObjectMacro(owner, "Distributed data (" << pieces << " pieces hold points): each piece is "
+    "smoothed on its own with " << pieceBoundary << ", so near the piece boundaries the result is not the "
+    "serial one. Run it on the whole data set (e.g. after Merge Blocks / D3 to one process).");
+}
+
 vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owner,
   vtkInformationVector** inputVector, vtkInformationVector* outputVector, int numberOfThreads)
 {
   InputData = vtkPolyData::GetData(inputVector[0]);
   OutputData = vtkPolyData::GetData(outputVector);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  Holding = PiecesHoldingData(outInfo, InputData); // collective: before any return
   if (!InputData || !OutputData)
   {
     vtkErrorWithObjectMacro(owner, "Missing input or output poly data.");
     return Failed;
   }
   OutputData->ShallowCopy(InputData);
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
   Pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
     ? std::max(1, outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()))
     : 1;

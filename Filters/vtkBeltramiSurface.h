@@ -1,7 +1,9 @@
 // The one bridge from vtkPolyData to the Beltrami core, shared by every
 // surface filter: triangulates polygons and strips, builds the core's
 // MeshTopology once, and exposes the points without copying them when they
-// are float or double.  Not wrapped: an implementation helper of the module.
+// are float or double; also tells the mesh filters whether their data are
+// split over the ranks of a distributed run.  Not wrapped: an
+// implementation helper of the module.
 #ifndef vtkBeltramiSurface_h
 #define vtkBeltramiSurface_h
 
@@ -19,6 +21,7 @@
 class vtkAlgorithm;
 class vtkDataArray;
 class vtkDataSet;
+class vtkInformation;
 class vtkInformationVector;
 class vtkPolyData;
 
@@ -44,8 +47,21 @@ public:
     vtkInformationVector* outputVector, int numberOfThreads);
   vtkPolyData* Input() const { return InputData; }
   vtkPolyData* Output() const { return OutputData; }
-  /// UPDATE_NUMBER_OF_PIECES of the request (1 when not distributed).
-  int NumberOfPieces() const { return Pieces; }
+  /// PiecesHoldingData of the request (Prepare calls it on every rank).
+  int PiecesWithData() const { return Holding; }
+
+  /// How many pieces of the request on `outInfo` hold points of `input`.
+  /// 1 when the request is not split.  In a distributed run where every rank
+  /// of the global controller updates its own piece (pvbatch, pvserver),
+  /// the count over the ranks, so that data read whole on one rank (a reader
+  /// that cannot split, e.g. OFF files) is processed as in a serial run;
+  /// this is collective there: every rank must call it.  Otherwise
+  /// (streaming pieces one by one) the number of pieces.
+  static int PiecesHoldingData(vtkInformation* outInfo, vtkDataSet* input);
+  /// The warning of the smoothing filters on distributed data (`pieces`
+  /// hold points), each piece smoothed on its own with `pieceBoundary`
+  /// (e.g. "its piece boundary fixed").
+  static void WarnDistributed(vtkAlgorithm* owner, int pieces, const char* pieceBoundary);
 
   const beltrami::MeshTopology& Topology() const { return *Mesh; }
 
@@ -112,7 +128,8 @@ private:
   std::unique_ptr<beltrami::MeshTopology> Mesh;
   vtkPolyData* InputData = nullptr;
   vtkPolyData* OutputData = nullptr;
-  int Pieces = 1;
+  int Pieces = 1;  // UPDATE_NUMBER_OF_PIECES of the request
+  int Holding = 1; // PiecesHoldingData
   vtkSmartPointer<vtkDataArray> PointData; // keeps converted points alive
   const float* Floats = nullptr;
   const double* Doubles = nullptr;

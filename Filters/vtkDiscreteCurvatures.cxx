@@ -71,7 +71,7 @@ int vtkDiscreteCurvatures::RequestData(
   vtkPolyData* input = surface.Input();
   vtkPolyData* output = surface.Output();
   const vtkIdType numPoints = input->GetNumberOfPoints();
-  const int pieces = surface.NumberOfPieces();
+  const int pieces = surface.PiecesWithData();
   const beltrami::MeshTopology& topo = surface.Topology();
   if (topo.NumberOfTriangles() == 0)
   {

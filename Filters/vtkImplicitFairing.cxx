@@ -48,7 +48,11 @@ int vtkImplicitFairing::RequestData(
     vtkWarningMacro("Input has no polygons or triangle strips: the points are left as they are.");
     return 1;
   }
-  if (surface.NumberOfPieces() <= 1 && !surface.TopologyWarning().empty())
+  if (surface.PiecesWithData() > 1)
+  {
+    vtkBeltramiSurface::WarnDistributed(this, surface.PiecesWithData(), "its piece boundary fixed");
+  }
+  else if (!surface.TopologyWarning().empty())
   {
     vtkWarningMacro(<< surface.TopologyWarning() << ". Non-manifold points are kept fixed.");
   }

@@ -62,6 +62,11 @@
  * output is then the input).  Field data: FairingIterations (solver
  * iterations per linear solve), FairingInvariant (initial and final value of
  * the preserved quantity, if any).
+ * Distributed runs (pvbatch, pvserver): data that a reader delivers whole
+ * to one rank (e.g. OFF files) are smoothed as in a serial run; data split
+ * over several ranks are smoothed piece by piece (each piece's boundary
+ * fixed), which is not the
+ * serial result near the piece boundaries, and a warning says so.
  */
 #ifndef vtkImplicitFairing_h
 #define vtkImplicitFairing_h

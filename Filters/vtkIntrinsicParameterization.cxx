@@ -131,10 +131,11 @@ int vtkIntrinsicParameterization::RequestData(
   {
     return prepared == vtkBeltramiSurface::NothingToDo;
   }
-  if (surface.NumberOfPieces() > 1)
+  if (surface.PiecesWithData() > 1)
   {
-    vtkWarningMacro("A parameterization needs the whole surface: this piece of distributed data is "
-                    "passed through. Run it in serial (or after Merge Blocks / D3 to one process).");
+    vtkWarningMacro("A parameterization needs the whole surface: this piece of distributed data ("
+      << surface.PiecesWithData() << " pieces hold points) is passed through. Run it in serial (or after "
+      "Merge Blocks / D3 to one process).");
     return 1;
   }
   vtkPolyData* input = surface.Input();

@@ -38,8 +38,10 @@
  * AreaDistortion (log of the normalised 2D/3D area ratio) and EdgeDistortion
  * (mean |log| of the normalised edge-length ratios); field arrays with their
  * means and maxima, FlippedTriangles, and OptimalMix / BoundaryEnergy when
- * used.  A parameterization needs the whole surface: on a piece of
- * distributed data the filter warns and passes the input through.
+ * used.  A parameterization needs the whole surface.  Distributed runs
+ * (pvbatch, pvserver): a surface that a reader delivers whole to one rank
+ * (e.g. an OFF file) is parameterized there as in a serial run; a surface
+ * split over several ranks passes through with a warning.
  */
 #ifndef vtkIntrinsicParameterization_h
 #define vtkIntrinsicParameterization_h

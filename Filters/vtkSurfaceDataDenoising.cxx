@@ -52,7 +52,11 @@ int vtkSurfaceDataDenoising::RequestData(
     vtkWarningMacro("Input has no polygons or triangle strips: the data are left as they are.");
     return 1;
   }
-  if (surface.NumberOfPieces() <= 1 && !surface.TopologyWarning().empty())
+  if (surface.PiecesWithData() > 1)
+  {
+    vtkBeltramiSurface::WarnDistributed(this, surface.PiecesWithData(), "a free boundary where pieces meet");
+  }
+  else if (!surface.TopologyWarning().empty())
   {
     vtkWarningMacro(<< surface.TopologyWarning() << ". The data at non-manifold points are kept.");
   }

@@ -1,6 +1,7 @@
 #include "vtkTetrahedralBeltramiDenoising.h"
 
 #include "vtkBeltramiGraphFlow.h"
+#include "vtkBeltramiSurface.h"
 
 #include "Core/GraphFlow.h"
 #include "Core/Tetrahedra.h"
@@ -33,6 +34,8 @@ int vtkTetrahedralBeltramiDenoising::RequestData(
 {
   vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0]);
   vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
+  const int holding = // collective in distributed runs: before any return
+    vtkBeltramiSurface::PiecesHoldingData(outputVector->GetInformationObject(0), input);
   if (!input || !output)
   {
     vtkErrorMacro("Input and output must be vtkUnstructuredGrid.");
@@ -48,6 +51,10 @@ int vtkTetrahedralBeltramiDenoising::RequestData(
   {
     vtkErrorMacro("Too many points (" << numPoints << "). The output is the input.");
     return 0;
+  }
+  if (holding > 1)
+  {
+    vtkBeltramiSurface::WarnDistributed(this, holding, "a free boundary where pieces meet");
   }
   int association = -1;
   vtkDataArray* array = this->GetInputArrayToProcess(0, inputVector, association);

@@ -31,6 +31,11 @@
  * tetrahedron with volume keep their values.  Field data: FlowIterations, FlowTime, FlowRMSChange,
  * FlowArea (the volume of the graph manifold, initial and final),
  * FlowSolverIterations.
+ * Distributed runs (pvbatch, pvserver): data that a reader delivers whole
+ * to one rank (e.g. OFF files) are smoothed as in a serial run; data split
+ * over several ranks are smoothed piece by piece (a free boundary where
+ * pieces meet), which is not the
+ * serial result near the piece boundaries, and a warning says so.
  */
 #ifndef vtkTetrahedralBeltramiDenoising_h
 #define vtkTetrahedralBeltramiDenoising_h

@@ -358,6 +358,28 @@ class BadInput(unittest.TestCase):
         self.run_quiet(g, "No point array to smooth")
         self.assertEqual(g.GetOutput().GetNumberOfPoints(), s.GetOutput().GetNumberOfPoints())
 
+    def test_pieces_smoothed_on_their_own_are_reported(self):
+        # Piece 0 of 2 of a sphere (streamed in one process): smoothed on its
+        # own, not the whole-surface result, and the filter says so; the
+        # whole sphere gives no such warning.
+        from vtkmodules.vtkFiltersCore import vtkElevationFilter
+        s = vtkSphereSource()
+        s.SetThetaResolution(32)
+        s.SetPhiResolution(32)
+        e = vtkElevationFilter()
+        e.SetInputConnection(s.GetOutputPort())
+        g = vtkSurfaceDataDenoising()
+        g.SetInputConnection(e.GetOutputPort())
+        g.SetInputArrayToProcess(0, 0, 0, 0, "Elevation")
+        g.Update()
+        self.assertNotIn("Distributed data", self.log.GetOutput())
+        whole = g.GetOutput().GetNumberOfPoints()
+        g.UpdatePiece(0, 2, 0)
+        self.assertIn("Distributed data (2 pieces hold points): each piece is smoothed on its own",
+                      self.log.GetOutput())
+        self.assertTrue(0 < g.GetOutput().GetNumberOfPoints() < whole)
+        self.assertIsNotNone(g.GetOutput().GetPointData().GetArray("Elevation"))
+
 
 if __name__ == "__main__":
     unittest.main(verbosity=2)
