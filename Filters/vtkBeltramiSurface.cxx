@@ -8,8 +8,10 @@
 #include <vtkCellArrayIterator.h>
 #include <vtkCellData.h>
 #include <vtkCommunicator.h>
+#include <vtkDataSetAttributes.h>
 #include <vtkDoubleArray.h>
 #include <vtkFloatArray.h>
+#include <vtkGhostCellsGenerator.h>
 #include <vtkIdList.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
@@ -20,7 +22,9 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolygon.h>
+#include <vtkSmartPointer.h>
 #include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
 #include <atomic>
@@ -259,21 +263,40 @@ void vtkBeltramiSurface::BuildTriangles(vtkPolyData* input, beltrami::IndexArray
   }
 }
 
-int vtkBeltramiSurface::PiecesHoldingData(vtkInformation* outInfo, vtkDataSet* input)
+namespace
 {
-  const int pieces = outInfo && outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+
+int RequestedPieces(vtkInformation* outInfo)
+{
+  return outInfo && outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
     ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
     : 1;
+}
+
+/// True when the request is split into one piece per rank of the global
+/// controller and this rank's piece is its own (pvbatch, pvserver).
+bool Communicates(vtkInformation* outInfo)
+{
+  const int pieces = RequestedPieces(outInfo);
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  return pieces > 1 && controller && controller->GetNumberOfProcesses() == pieces &&
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) == controller->GetLocalProcessId();
+}
+
+} // namespace
+
+int vtkBeltramiSurface::PiecesHoldingData(vtkInformation* outInfo, vtkDataSet* input)
+{
+  const int pieces = RequestedPieces(outInfo);
   if (pieces <= 1)
   {
     return 1;
   }
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  if (!controller || controller->GetNumberOfProcesses() != pieces ||
-    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) != controller->GetLocalProcessId())
+  if (!Communicates(outInfo))
   {
     return pieces; // not one piece per rank: cannot ask the others
   }
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
   int local = input && input->GetNumberOfPoints() > 0 ? 1 : 0, holding = 0;
   controller->AllReduce(&local, &holding, 1, vtkCommunicator::SUM_OP);
   return holding;
@@ -286,22 +309,121 @@ void vtkBeltramiSurface::WarnDistributed(vtkAlgorithm* owner, int pieces, const 
     "serial one. Run it on the whole data set (e.g. after Merge Blocks / D3 to one process).");
 }
 
+vtkSmartPointer<vtkPolyData> vtkBeltramiSurface::GenerateGhosts(vtkAlgorithm* owner, int layers)
+{
+  // Called on every rank when the pieces are the ranks and several hold
+  // points (PiecesHoldingData communicated): the decision is collective.
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const bool hasPoints = InputData && InputData->GetNumberOfPoints() > 0;
+  bool hasGhosts = false; // duplicate cells (a ghost array of zeros is no ghost layer)
+  if (vtkUnsignedCharArray* ghosts = InputData ? InputData->GetCellGhostArray() : nullptr)
+  {
+    const unsigned char* flags = ghosts->GetPointer(0);
+    hasGhosts = std::any_of(flags, flags + ghosts->GetNumberOfValues(),
+      [](unsigned char f) { return (f & vtkDataSetAttributes::DUPLICATECELL) != 0; });
+  }
+  int local[2] = { hasPoints && !hasGhosts ? 1 : 0, hasGhosts ? 1 : 0 };
+  int global[2] = { 0, 0 };
+  controller->AllReduce(local, global, 2, vtkCommunicator::SUM_OP);
+  if (global[0] == 0 || global[1] > 0)
+  {
+    return nullptr; // the pieces came with ghost cells (as requested), or none holds points
+  }
+  // The piece as the generator gets it: its cells, float points and the
+  // exact coordinates as point data (VTK 9.2's generator joins the pieces
+  // only where their points are float: with double points, e.g. from the
+  // OFF reader, it added no ghost cell at all).
+  static const char* const exactName = "vtkBeltramiSurface::ExactCoordinates";
+  vtkNew<vtkPolyData> piece;
+  if (hasPoints)
+  {
+    vtkDataArray* coordinates = InputData->GetPoints()->GetData();
+    vtkSmartPointer<vtkDataArray> exact = vtk::TakeSmartPointer(coordinates->NewInstance());
+    exact->ShallowCopy(coordinates);
+    exact->SetName(exactName);
+    vtkNew<vtkPoints> floats;
+    floats->SetDataTypeToFloat();
+    floats->GetData()->DeepCopy(coordinates);
+    piece->SetPoints(floats);
+    piece->GetPointData()->AddArray(exact);
+    piece->SetVerts(InputData->GetVerts());
+    piece->SetLines(InputData->GetLines());
+    piece->SetPolys(InputData->GetPolys());
+    piece->SetStrips(InputData->GetStrips());
+  }
+  vtkNew<vtkGhostCellsGenerator> generator;
+  generator->SetController(controller);
+  generator->BuildIfRequiredOff();
+  generator->SetNumberOfGhostLayers(layers);
+  generator->SetInputData(piece);
+  generator->Update();
+  vtkSmartPointer<vtkPolyData> ghosted = vtkPolyData::SafeDownCast(generator->GetOutputDataObject(0));
+  vtkDataArray* exact = ghosted ? ghosted->GetPointData()->GetArray(exactName) : nullptr;
+  // The generator keeps the piece's points first, in order (it may give a
+  // point shared with another piece that piece's copy of the coordinates);
+  // anything else (not seen with VTK 9.2) would mix up the point ids: then
+  // go without.
+  const vtkIdType n = hasPoints ? InputData->GetNumberOfPoints() : 0;
+  bool prefix = exact && exact->GetNumberOfComponents() == 3 && exact->GetNumberOfTuples() >= n &&
+    ghosted->GetNumberOfPoints() == exact->GetNumberOfTuples();
+  for (vtkIdType i = 0; prefix && i < n; ++i)
+  {
+    double a[3], b[3];
+    InputData->GetPoint(i, a);
+    ghosted->GetPoint(i, b);
+    prefix = static_cast<float>(a[0]) == b[0] && static_cast<float>(a[1]) == b[1] &&
+      static_cast<float>(a[2]) == b[2];
+  }
+  if (!prefix)
+  {
+    vtkWarningWithObjectMacro(owner, "Could not add ghost cells to this piece of distributed data: "
+                                     "points at the piece boundary are treated as boundary points.");
+    return nullptr;
+  }
+  if (n > 0)
+  {
+    // The piece's own coordinates, then the ghost points' exact ones.
+    vtkNew<vtkPoints> points;
+    points->SetDataType(InputData->GetPoints()->GetDataType());
+    points->SetNumberOfPoints(ghosted->GetNumberOfPoints());
+    vtkDataArray* coordinates = points->GetData();
+    coordinates->InsertTuples(0, n, 0, InputData->GetPoints()->GetData());
+    coordinates->InsertTuples(n, ghosted->GetNumberOfPoints() - n, n, exact);
+    ghosted->SetPoints(points);
+  }
+  return ghosted;
+}
+
+vtkIdType vtkBeltramiSurface::NumberOfInputPoints() const
+{
+  return InputData ? InputData->GetNumberOfPoints() : 0;
+}
+
+vtkIdType vtkBeltramiSurface::NumberOfTopologyPoints() const
+{
+  return Ghosted ? Ghosted->GetNumberOfPoints() : NumberOfInputPoints();
+}
+
 vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owner,
-  vtkInformationVector** inputVector, vtkInformationVector* outputVector, int numberOfThreads)
+  vtkInformationVector** inputVector, vtkInformationVector* outputVector, int numberOfThreads,
+  int ghostLayers)
 {
   InputData = vtkPolyData::GetData(inputVector[0]);
   OutputData = vtkPolyData::GetData(outputVector);
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   Holding = PiecesHoldingData(outInfo, InputData); // collective: before any return
+  Ghosted = nullptr;
+  if (ghostLayers > 0 && Holding > 1 && Communicates(outInfo))
+  {
+    Ghosted = GenerateGhosts(owner, ghostLayers); // collective too
+  }
   if (!InputData || !OutputData)
   {
     vtkErrorWithObjectMacro(owner, "Missing input or output poly data.");
     return Failed;
   }
   OutputData->ShallowCopy(InputData);
-  Pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
-    ? std::max(1, outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()))
-    : 1;
+  Pieces = std::max(1, RequestedPieces(outInfo));
   if (InputData->GetNumberOfPoints() == 0)
   {
     if (Pieces <= 1) // an empty piece of distributed data is normal
@@ -310,7 +432,7 @@ vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owne
     }
     return NothingToDo;
   }
-  if (!Build(InputData, numberOfThreads))
+  if (!Build(Ghosted ? Ghosted.Get() : InputData, numberOfThreads))
   {
     vtkErrorWithObjectMacro(owner, "Cannot process the input surface: " << Error());
     return Failed;

@@ -42,9 +42,21 @@ public:
   /// The common start of every surface filter's RequestData: fetches the
   /// poly data input and output, passes the input through, and builds the
   /// surface; errors and warnings are reported on `owner` (no warning for an
-  /// empty piece of distributed data).
+  /// empty piece of distributed data).  Collective in distributed runs
+  /// (see PiecesHoldingData): every rank must call it.
+  ///
+  /// `ghostLayers` > 0: the filter needs that many layers of neighbouring
+  /// cells around its piece.  When the data are split over ranks and no
+  /// rank's piece has ghost cells (sources and readers that cannot make
+  /// them), vtkGhostCellsGenerator adds them: the topology then covers the
+  /// piece's points first (same ids) and the ghost points after them
+  /// (NumberOfTopologyPoints() > NumberOfInputPoints()).
   PrepareResult Prepare(vtkAlgorithm* owner, vtkInformationVector** inputVector,
-    vtkInformationVector* outputVector, int numberOfThreads);
+    vtkInformationVector* outputVector, int numberOfThreads, int ghostLayers = 0);
+  /// Points of the input piece (the output's points).
+  vtkIdType NumberOfInputPoints() const;
+  /// Points of the topology: the input's, then generated ghost points.
+  vtkIdType NumberOfTopologyPoints() const;
   vtkPolyData* Input() const { return InputData; }
   vtkPolyData* Output() const { return OutputData; }
   /// PiecesHoldingData of the request (Prepare calls it on every rank).
@@ -125,7 +137,11 @@ private:
   /// The general path of Build: any polygons (triangulated) and strips.
   void BuildTriangles(vtkPolyData* input, beltrami::IndexArray& triangles);
 
+  /// Prepare's ghost layers (null when none were generated).
+  vtkSmartPointer<vtkPolyData> GenerateGhosts(vtkAlgorithm* owner, int layers);
+
   std::unique_ptr<beltrami::MeshTopology> Mesh;
+  vtkSmartPointer<vtkPolyData> Ghosted; // the input with generated ghost cells
   vtkPolyData* InputData = nullptr;
   vtkPolyData* OutputData = nullptr;
   int Pieces = 1;  // UPDATE_NUMBER_OF_PIECES of the request

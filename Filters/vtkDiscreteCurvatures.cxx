@@ -62,15 +62,18 @@ double* Pointer(vtkDoubleArray* a)
 int vtkDiscreteCurvatures::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  // One ghost layer: the 1-rings of the points at the edge of a piece.
   vtkBeltramiSurface surface;
-  const auto prepared = surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads);
+  const auto prepared = surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads, 1);
   if (prepared != vtkBeltramiSurface::Ready)
   {
     return prepared == vtkBeltramiSurface::NothingToDo;
   }
   vtkPolyData* input = surface.Input();
   vtkPolyData* output = surface.Output();
-  const vtkIdType numPoints = input->GetNumberOfPoints();
+  // Computed on the topology's points (generated ghost points last), kept
+  // for the input's.
+  const vtkIdType numPoints = surface.NumberOfTopologyPoints();
   const int pieces = surface.PiecesWithData();
   const beltrami::MeshTopology& topo = surface.Topology();
   if (topo.NumberOfTriangles() == 0)
@@ -145,6 +148,17 @@ int vtkDiscreteCurvatures::RequestData(
     // Aborted: leave a defined output (the input and no partial arrays).
     output->ShallowCopy(input);
     return 1;
+  }
+  if (numPoints > surface.NumberOfInputPoints())
+  {
+    for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
+    {
+      vtkDataArray* array = pd->GetArray(a);
+      if (array && array->GetNumberOfTuples() == numPoints)
+      {
+        array->SetNumberOfTuples(surface.NumberOfInputPoints()); // drops the ghost points' values
+      }
+    }
   }
   if (report.NonFiniteVertices)
   {

@@ -35,8 +35,13 @@
  * the input's cells and arrays.  Float and double points are read in place;
  * all computation is in double.  The work runs on NumberOfThreads threads
  * (0: all cores, or BELTRAMI_NUM_THREADS), reports progress and honours
- * AbortExecute.  In a distributed pipeline one ghost level is requested so
- * that every owned point has its full 1-ring.
+ * AbortExecute.  In a distributed pipeline (pvbatch, pvserver) one ghost
+ * level is requested so that every point of a piece has its full 1-ring;
+ * where the pieces come without ghost cells (most sources and readers), the
+ * filter adds one layer itself (vtkGhostCellsGenerator), and the values
+ * equal those of a serial run.  Known limit: a point where three or more
+ * pieces meet may not be joined by VTK 9.2's generator and then stays
+ * undefined (NaN, VertexStatus boundary).
  */
 #ifndef vtkDiscreteCurvatures_h
 #define vtkDiscreteCurvatures_h
