@@ -28,6 +28,7 @@
 #include <limits>
 #include <stdexcept>
 #include <sstream>
+#include <string>
 #include <vector>
 
 vtkStandardNewMacro(vtkTetGenTetrahedralizer);
@@ -101,6 +102,8 @@ int vtkTetGenTetrahedralizer::RequestData(
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
+  const int holding = // collective in distributed runs: before any return
+    vtkBeltramiSurface::PiecesHoldingData(outputVector->GetInformationObject(0), input);
   if (!input || !output)
   {
     vtkErrorMacro("Input must be vtkPolyData and output vtkUnstructuredGrid.");
@@ -127,7 +130,10 @@ int vtkTetGenTetrahedralizer::RequestData(
   }
   if (!info.IsClosed() || !info.IsManifold())
   {
-    vtkErrorMacro("TetGen needs a closed manifold surface; the input has "
+    vtkErrorMacro("TetGen needs a closed manifold surface; the input "
+      << (holding > 1 ? "(one of " + std::to_string(holding) + " pieces of distributed data: run it on "
+                          "the whole surface, e.g. after Merge Blocks / D3 to one process) " : std::string())
+      << "has "
       << info.NumberOfBoundaryEdges << " boundary edges in " << info.NumberOfBoundaryLoops
       << " loops, " << info.NumberOfNonManifoldEdges << " non-manifold edges and "
       << info.NumberOfDuplicateTriangles << " duplicate triangles. The output is empty.");

@@ -24,7 +24,8 @@
  * with TetGen's self-intersection check (-d) and reported with the number
  * of intersecting triangles, and the next run starts a new helper; TetGen's
  * other failures are reported with TetGen's reason.  Abort kills the helper.  Each piece of distributed
- * data is meshed on its own (a closed surface is normally one piece).  Field data: TetGenSwitches.
+ * data is meshed on its own (a closed surface is normally one piece; one split over several ranks is
+ * open in every piece, and the error says that the data are distributed).  Field data: TetGenSwitches.
  */
 #ifndef vtkTetGenTetrahedralizer_h
 #define vtkTetGenTetrahedralizer_h
