@@ -1,5 +1,7 @@
 #include "vtkBeltramiSurface.h"
 
+#include "vtkBeltramiGather.h"
+
 #include "Core/LargeBuffer.h"
 
 #include <vtkAOSDataArrayTemplate.h>
@@ -30,6 +32,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <vector>
 
@@ -406,7 +409,7 @@ vtkIdType vtkBeltramiSurface::NumberOfTopologyPoints() const
 
 vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owner,
   vtkInformationVector** inputVector, vtkInformationVector* outputVector, int numberOfThreads,
-  int ghostLayers)
+  int ghostLayers, bool wholeSurface)
 {
   InputData = vtkPolyData::GetData(inputVector[0]);
   OutputData = vtkPolyData::GetData(outputVector);
@@ -417,27 +420,60 @@ vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owne
   {
     Ghosted = GenerateGhosts(owner, ghostLayers); // collective too
   }
+  Gather = nullptr;
+  if (wholeSurface && Holding > 1 && Communicates(outInfo))
+  {
+    Gather = std::make_shared<vtkBeltramiGather>();
+    Whole = Gather->Collect(vtkMultiProcessController::GetGlobalController(), InputData); // collective
+    PieceOutput = OutputData;
+    if (PieceOutput && InputData)
+    {
+      PieceOutput->ShallowCopy(InputData);
+    }
+    if (!Whole)
+    {
+      return Gathered;
+    }
+    WholeOutput = vtkSmartPointer<vtkPolyData>::New();
+    InputData = Whole;
+    OutputData = WholeOutput;
+    Holding = 1; // the whole surface, as in a serial run
+  }
   if (!InputData || !OutputData)
   {
     vtkErrorWithObjectMacro(owner, "Missing input or output poly data.");
+    Finish(false);
     return Failed;
   }
   OutputData->ShallowCopy(InputData);
-  Pieces = std::max(1, RequestedPieces(outInfo));
+  Pieces = Gather ? 1 : std::max(1, RequestedPieces(outInfo));
   if (InputData->GetNumberOfPoints() == 0)
   {
     if (Pieces <= 1) // an empty piece of distributed data is normal
     {
       vtkWarningWithObjectMacro(owner, "Input has no points: nothing to do.");
     }
+    Finish(true); // (a gathered run: the outputs stay the inputs)
     return NothingToDo;
   }
   if (!Build(Ghosted ? Ghosted.Get() : InputData, numberOfThreads))
   {
     vtkErrorWithObjectMacro(owner, "Cannot process the input surface: " << Error());
+    Finish(false);
     return Failed;
   }
   return Ready;
+}
+
+int vtkBeltramiSurface::Finish(bool ok)
+{
+  if (!Gather)
+  {
+    return ok ? 1 : 0;
+  }
+  const bool done = Gather->Distribute(Whole, WholeOutput, ok, PieceOutput);
+  Gather = nullptr; // once
+  return done ? 1 : 0;
 }
 
 vtkDataArray* vtkBeltramiSurface::SelectedPointArray(

@@ -19,6 +19,7 @@
 #include <vector>
 
 class vtkAlgorithm;
+class vtkBeltramiGather;
 class vtkDataArray;
 class vtkDataSet;
 class vtkInformation;
@@ -37,7 +38,8 @@ public:
   {
     Failed = 0,  ///< an error was reported on the owner: RequestData returns 0
     NothingToDo, ///< the input has no points: the output is the input
-    Ready        ///< built: Input(), Output() (a shallow copy of the input), Topology()
+    Ready,       ///< built: Input(), Output() (a shallow copy of the input), Topology()
+    Gathered     ///< a rank other than 0 of a gathered run (wholeSurface): return Finish(true)
   };
   /// The common start of every surface filter's RequestData: fetches the
   /// poly data input and output, passes the input through, and builds the
@@ -51,8 +53,22 @@ public:
   /// them), vtkGhostCellsGenerator adds them: the topology then covers the
   /// piece's points first (same ids) and the ghost points after them
   /// (NumberOfTopologyPoints() > NumberOfInputPoints()).
+  ///
+  /// `wholeSurface`: the filter needs the whole surface at once.  When the
+  /// data are split over the ranks, the pieces are gathered on rank 0 (see
+  /// vtkBeltramiGather): there Input() and Output() are the whole surface and
+  /// its output, and the filter runs as in a serial run; the other ranks get
+  /// Gathered.  Every rank ends RequestData with Finish, which sends each
+  /// rank the results for its piece.
   PrepareResult Prepare(vtkAlgorithm* owner, vtkInformationVector** inputVector,
-    vtkInformationVector* outputVector, int numberOfThreads, int ghostLayers = 0);
+    vtkInformationVector* outputVector, int numberOfThreads, int ghostLayers = 0,
+    bool wholeSurface = false);
+  /// The end of RequestData after Prepare's Ready (`ok`: the filter
+  /// succeeded) or Gathered (pass true): in a gathered run the results go
+  /// to every rank's output.  Returns RequestData's value (rank 0's outcome).
+  int Finish(bool ok);
+  /// True when Prepare gathered the pieces of distributed data.
+  bool IsGathered() const { return Gather != nullptr; }
   /// Points of the input piece (the output's points).
   vtkIdType NumberOfInputPoints() const;
   /// Points of the topology: the input's, then generated ghost points.
@@ -142,6 +158,9 @@ private:
 
   std::unique_ptr<beltrami::MeshTopology> Mesh;
   vtkSmartPointer<vtkPolyData> Ghosted; // the input with generated ghost cells
+  std::shared_ptr<vtkBeltramiGather> Gather; // gathered run (wholeSurface)
+  vtkSmartPointer<vtkPolyData> Whole, WholeOutput; // rank 0 of a gathered run
+  vtkPolyData* PieceOutput = nullptr; // this rank's output in a gathered run
   vtkPolyData* InputData = nullptr;
   vtkPolyData* OutputData = nullptr;
   int Pieces = 1;  // UPDATE_NUMBER_OF_PIECES of the request

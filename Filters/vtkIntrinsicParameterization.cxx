@@ -125,19 +125,33 @@ int vtkIntrinsicParameterization::RequestData(
   this->OptimalMix = -1.0;
   this->MeanAngleDistortion = this->MeanAreaDistortion = this->MeanEdgeDistortion = 0.0;
   this->NumberOfFlippedTriangles = 0;
+  // A parameterization is one solve over the whole surface: data split over
+  // the ranks of a distributed run are gathered on rank 0 (vtkBeltramiGather)
+  // and every rank gets the results for its own points and cells.
   vtkBeltramiSurface surface;
-  const auto prepared = surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads);
+  const auto prepared =
+    surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads, 0, true);
+  if (prepared == vtkBeltramiSurface::Gathered)
+  {
+    const int done = surface.Finish(true);
+    this->ReadReport(vtkPolyData::GetData(outputVector)->GetFieldData());
+    return done;
+  }
   if (prepared != vtkBeltramiSurface::Ready)
   {
     return prepared == vtkBeltramiSurface::NothingToDo;
   }
-  if (surface.PiecesWithData() > 1)
+  if (surface.IsGathered() && !this->Internal->Constraints.empty())
   {
-    vtkWarningMacro("A parameterization needs the whole surface: this piece of distributed data ("
-      << surface.PiecesWithData() << " pieces hold points) is passed through. Run it in serial (or after "
-      "Merge Blocks / D3 to one process).");
-    return 1;
+    vtkWarningMacro("Distributed data gathered on rank 0: the point constraints by vertex id refer to the "
+                    "points of the gathered surface (rank 0's piece first); the constraint target array "
+                    "(input array 1) is the reliable way to constrain distributed data.");
   }
+  return surface.Finish(this->Parameterize(surface) != 0);
+}
+
+int vtkIntrinsicParameterization::Parameterize(vtkBeltramiSurface& surface)
+{
   vtkPolyData* input = surface.Input();
   vtkPolyData* output = surface.Output();
   const vtkIdType numPoints = input->GetNumberOfPoints();
@@ -315,6 +329,19 @@ int vtkIntrinsicParameterization::RequestData(
   this->Internal->Basis = std::move(result.Basis);
   this->UpdateProgress(1.0);
   return 1;
+}
+
+void vtkIntrinsicParameterization::ReadReport(vtkFieldData* fd)
+{
+  const auto value = [fd](const char* name, double fallback) {
+    vtkDataArray* a = fd ? fd->GetArray(name) : nullptr;
+    return a && a->GetNumberOfTuples() > 0 ? a->GetTuple1(0) : fallback;
+  };
+  this->OptimalMix = value("OptimalMix", -1.0);
+  this->MeanAngleDistortion = value("MeanAngleDistortion", 0.0);
+  this->MeanAreaDistortion = value("MeanAreaDistortion", 0.0);
+  this->MeanEdgeDistortion = value("MeanEdgeDistortion", 0.0);
+  this->NumberOfFlippedTriangles = static_cast<vtkIdType>(value("FlippedTriangles", 0.0));
 }
 
 void vtkIntrinsicParameterization::PrintSelf(ostream& os, vtkIndent indent)

@@ -41,7 +41,11 @@
  * used.  A parameterization needs the whole surface.  Distributed runs
  * (pvbatch, pvserver): a surface that a reader delivers whole to one rank
  * (e.g. an OFF file) is parameterized there as in a serial run; a surface
- * split over several ranks passes through with a warning.
+ * split over several ranks is gathered on rank 0 (points shared by pieces
+ * merged, ghost cells left out), parameterized there, and every rank gets
+ * the UVs, points and distortion of its own points and cells: the serial
+ * numbers, with the memory and time of one process.  The boundary basis
+ * (KeepBoundaryBasis) then lives on rank 0.
  */
 #ifndef vtkIntrinsicParameterization_h
 #define vtkIntrinsicParameterization_h
@@ -52,8 +56,10 @@
 #include <memory> // for the basis
 #include <vector> // for the constraints
 
+class vtkBeltramiSurface;
 class vtkDataArray;
 class vtkDoubleArray;
+class vtkFieldData;
 class vtkIdList;
 
 class BELTRAMIFILTERS_EXPORT vtkIntrinsicParameterization : public vtkPolyDataAlgorithm
@@ -184,6 +190,12 @@ protected:
 private:
   vtkIntrinsicParameterization(const vtkIntrinsicParameterization&) = delete;
   void operator=(const vtkIntrinsicParameterization&) = delete;
+
+  /// The map of the surface Prepare built (RequestData's value).
+  int Parameterize(vtkBeltramiSurface& surface);
+  /// The distortion getters from the field data of an output (the ranks of a
+  /// gathered distributed run other than 0).
+  void ReadReport(vtkFieldData* fd);
 
   struct Internals;
   std::unique_ptr<Internals> Internal;

@@ -43,14 +43,21 @@ check(abs(float(np.sum(g * a)) - 4 * math.pi) < 1e-9, "Gauss-Bonnet on the bunny
 info = curvatures.PointData["MeanCurvature"].GetRange()
 check(info[0] < 0 < info[1], "mean curvature range spans both signs")
 
-def check_equal_to_serial(pieces, whole, label, decimals=None):
-    """The curvatures of `pieces` (fetched from all ranks) equal those of the
-    serial `whole` at the same coordinates, every point included."""
+def matching_points(pieces, whole, label, decimals=None):
+    """For every point of `pieces` (fetched from all ranks) the id of the point
+    of `whole` at the same coordinates; checks that they cover `whole`."""
     key = (lambda x: tuple(np.round(x, decimals))) if decimals else tuple
     index = {key(x): i for i, x in enumerate(vtk_to_numpy(whole.GetPoints().GetData()))}
     matched = [index.get(key(x), -1) for x in vtk_to_numpy(pieces.GetPoints().GetData())]
     check(min(matched) >= 0 and len(set(matched)) == whole.GetNumberOfPoints(),
           "%s: the pieces cover the whole surface's points" % label)
+    return matched
+
+
+def check_equal_to_serial(pieces, whole, label, decimals=None):
+    """The curvatures of `pieces` equal those of the serial `whole` at the
+    same coordinates, every point included."""
+    matched = matching_points(pieces, whole, label, decimals)
     for name in ("MeanCurvature", "GaussianCurvature", "MaximumCurvature", "MinimumCurvature"):
         ours = vtk_to_numpy(pieces.GetPointData().GetArray(name))
         reference = vtk_to_numpy(whole.GetPointData().GetArray(name))[matched]
@@ -139,8 +146,23 @@ mean_angle = flat.GetFieldData().GetArray("MeanAngleDistortion").GetValue(0)
 check(abs(mean_angle - 3.48) < 0.01, "DCP mean angle distortion as CGAL's (%.3f)" % mean_angle)
 param.Boundary = "Natural"
 param.UpdatePipeline()
-natural = servermanager.Fetch(param).GetFieldData().GetArray("MeanAngleDistortion").GetValue(0)
+natural_map = servermanager.Fetch(param)
+natural = natural_map.GetFieldData().GetArray("MeanAngleDistortion").GetValue(0)
 check(natural < 1.73, "natural conformal map below LSCM's 1.73 degrees (%.3f)" % natural)
+# The mushroom split over the ranks (RedistributeDataSet): the pieces are
+# gathered on rank 0 and every rank gets the map of its points, as in serial.
+split_param = IntrinsicParameterization(Input=ExtractSurface(Input=RedistributeDataSet(Input=mushroom)))
+split_param.Boundary = "Natural"
+split_param.UpdatePipeline()
+split_map = servermanager.Fetch(split_param)
+matched = matching_points(split_map, natural_map, "split mushroom")
+uv_difference = np.abs(vtk_to_numpy(split_map.GetPointData().GetTCoords())
+                       - vtk_to_numpy(natural_map.GetPointData().GetArray("UV"))[matched]).max()
+angles = vtk_to_numpy(split_map.GetCellData().GetArray("AngleDistortion"))
+check(uv_difference < 1e-9 and angles.shape == (natural_map.GetNumberOfCells(),) and np.isfinite(angles).all()
+      and abs(split_map.GetFieldData().GetArray("MeanAngleDistortion").GetValue(0) - natural) < 1e-9,
+      "split mushroom over %d partition(s): the natural conformal map of serial (UV difference %g)"
+      % (partitions, uv_difference))
 
 # Image denoising: the camera picture (8-bit greyscale) through the plugin.
 image = PNGSeriesReader(FileNames=[os.path.join(DATA, "camera.png")])

@@ -1,0 +1,454 @@
+#include "vtkBeltramiGather.h"
+
+#include <vtkBoundingBox.h>
+#include <vtkCellArray.h>
+#include <vtkCellArrayIterator.h>
+#include <vtkCellData.h>
+#include <vtkDataSetAttributes.h>
+#include <vtkFieldData.h>
+#include <vtkIdList.h>
+#include <vtkIdTypeArray.h>
+#include <vtkIntArray.h>
+#include <vtkMultiProcessController.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkStaticPointLocator.h>
+#include <vtkStringArray.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <cmath>
+#include <string>
+
+namespace
+{
+
+constexpr int PieceTag = 731001;
+constexpr int ResultTag = 731002;
+const char* const LocalCellIds = "vtkBeltramiGather::CellIds";
+const char* const PieceCells = "vtkBeltramiGather::NumberOfCells";
+// A part of the results travels as field data only (a data set's point and
+// cell data do not survive the transfer when it has no points or cells):
+const char* const Status = "vtkBeltramiGather::Status";
+const char* const Removed = "vtkBeltramiGather::RemovedPointArrays";
+const char* const Attributes = "vtkBeltramiGather::PointAttributes"; // "type:name"
+const char* const Coordinates = "vtkBeltramiGather::Coordinates";
+const std::string PointPrefix = "vtkBeltramiGather::Point::";
+const std::string CellPrefix = "vtkBeltramiGather::Cell::";
+
+bool StartsWith(const std::string& s, const std::string& prefix)
+{
+  return s.compare(0, prefix.size(), prefix) == 0;
+}
+
+/// `source`'s tuples at `ids` (-1: NaN) as a new array of its type and name.
+vtkSmartPointer<vtkDataArray> Pick(vtkDataArray* source, const std::vector<vtkIdType>& ids)
+{
+  auto picked = vtk::TakeSmartPointer(source->NewInstance());
+  picked->SetName(source->GetName());
+  picked->SetNumberOfComponents(source->GetNumberOfComponents());
+  picked->SetNumberOfTuples(static_cast<vtkIdType>(ids.size()));
+  for (std::size_t k = 0; k < ids.size(); ++k)
+  {
+    if (ids[k] >= 0)
+    {
+      picked->SetTuple(static_cast<vtkIdType>(k), ids[k], source);
+    }
+    else
+    {
+      for (int c = 0; c < source->GetNumberOfComponents(); ++c)
+      {
+        picked->SetComponent(static_cast<vtkIdType>(k), c, std::nan(""));
+      }
+    }
+  }
+  return picked;
+}
+
+/// Puts a part that Distribute built into `output`; false when rank 0 failed.
+bool Apply(vtkFieldData* part, vtkPolyData* output)
+{
+  vtkDataArray* status = part->GetArray(Status);
+  if (!status || status->GetTuple1(0) == 0.0)
+  {
+    return false;
+  }
+  vtkPointData* pd = output->GetPointData();
+  if (auto* removed = vtkStringArray::SafeDownCast(part->GetAbstractArray(Removed)))
+  {
+    for (vtkIdType k = 0; k < removed->GetNumberOfValues(); ++k)
+    {
+      pd->RemoveArray(removed->GetValue(k).c_str());
+    }
+  }
+  vtkNew<vtkFieldData> own;
+  for (int a = 0; a < part->GetNumberOfArrays(); ++a)
+  {
+    vtkAbstractArray* array = part->GetAbstractArray(a);
+    const std::string name = array->GetName() ? array->GetName() : "";
+    if (StartsWith(name, PointPrefix) || StartsWith(name, CellPrefix))
+    {
+      const bool point = StartsWith(name, PointPrefix);
+      auto copy = vtk::TakeSmartPointer(array->NewInstance());
+      if (auto* data = vtkDataArray::SafeDownCast(array))
+      {
+        vtkDataArray::SafeDownCast(copy)->ShallowCopy(data);
+      }
+      else
+      {
+        copy->DeepCopy(array);
+      }
+      copy->SetName(name.substr((point ? PointPrefix : CellPrefix).size()).c_str());
+      if (point)
+      {
+        pd->AddArray(copy);
+      }
+      else
+      {
+        output->GetCellData()->AddArray(copy);
+      }
+    }
+    else if (name == Coordinates)
+    {
+      vtkNew<vtkPoints> points;
+      points->SetData(vtkDataArray::SafeDownCast(array));
+      output->SetPoints(points);
+    }
+    else if (name != Status && name != Removed && name != Attributes)
+    {
+      own->AddArray(array);
+    }
+  }
+  if (auto* attributes = vtkStringArray::SafeDownCast(part->GetAbstractArray(Attributes)))
+  {
+    for (vtkIdType k = 0; k < attributes->GetNumberOfValues(); ++k)
+    {
+      const std::string entry = attributes->GetValue(k);
+      const std::size_t colon = entry.find(':');
+      pd->SetActiveAttribute(entry.substr(colon + 1).c_str(), std::stoi(entry.substr(0, colon)));
+    }
+  }
+  output->SetFieldData(own);
+  return true;
+}
+
+} // namespace
+
+vtkSmartPointer<vtkPolyData> vtkBeltramiGather::Collect(
+  vtkMultiProcessController* controller, vtkPolyData* input)
+{
+  Controller = controller;
+  const int rank = controller->GetLocalProcessId(), ranks = controller->GetNumberOfProcesses();
+
+  // This rank's piece: its points and point arrays, its cells without the
+  // ghost cells, and the kept cells' ids.
+  vtkNew<vtkPolyData> piece;
+  vtkNew<vtkIdTypeArray> cellIds;
+  cellIds->SetName(LocalCellIds);
+  if (input && input->GetNumberOfPoints() > 0)
+  {
+    piece->SetPoints(input->GetPoints());
+    piece->GetPointData()->ShallowCopy(input->GetPointData());
+    piece->GetPointData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+    vtkUnsignedCharArray* ghosts = input->GetCellGhostArray();
+    vtkIdType cellId = 0;
+    vtkCellArray* from[4] = { input->GetVerts(), input->GetLines(), input->GetPolys(), input->GetStrips() };
+    vtkNew<vtkCellArray> kept[4];
+    for (int c = 0; c < 4; ++c)
+    {
+      if (!from[c])
+      {
+        continue;
+      }
+      auto it = vtk::TakeSmartPointer(from[c]->NewIterator());
+      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
+      {
+        if (ghosts && (ghosts->GetValue(cellId) & vtkDataSetAttributes::DUPLICATECELL))
+        {
+          continue;
+        }
+        vtkIdType n = 0;
+        const vtkIdType* ids = nullptr;
+        it->GetCurrentCell(n, ids);
+        kept[c]->InsertNextCell(n, ids);
+        cellIds->InsertNextValue(cellId);
+      }
+    }
+    piece->SetVerts(kept[0]);
+    piece->SetLines(kept[1]);
+    piece->SetPolys(kept[2]);
+    piece->SetStrips(kept[3]);
+    piece->GetFieldData()->ShallowCopy(input->GetFieldData());
+  }
+  piece->GetCellData()->AddArray(cellIds);
+  vtkNew<vtkIdTypeArray> numberOfCells; // ghost cells included
+  numberOfCells->SetName(PieceCells);
+  numberOfCells->InsertNextValue(input ? input->GetNumberOfCells() : 0);
+  piece->GetFieldData()->AddArray(numberOfCells);
+  if (rank != 0)
+  {
+    controller->Send(piece, 0, PieceTag);
+    return nullptr;
+  }
+
+  std::vector<vtkSmartPointer<vtkPolyData>> pieces(static_cast<std::size_t>(ranks));
+  pieces[0] = piece;
+  for (int r = 1; r < ranks; ++r)
+  {
+    pieces[r] = vtkSmartPointer<vtkPolyData>::New();
+    controller->Receive(pieces[r], r, PieceTag);
+  }
+
+  // Points: all pieces' points, those within 1e-12 of the diagonal merged
+  // (pieces share copies of the points on their common boundary).
+  vtkIdType total = 0;
+  vtkBoundingBox box;
+  for (const auto& p : pieces)
+  {
+    total += p->GetNumberOfPoints();
+    if (p->GetNumberOfPoints() > 0)
+    {
+      box.AddBounds(p->GetBounds());
+    }
+  }
+  vtkNew<vtkPoints> all;
+  all->SetDataTypeToDouble();
+  all->SetNumberOfPoints(total);
+  std::vector<vtkIdType> first(pieces.size() + 1, 0);
+  for (std::size_t r = 0; r < pieces.size(); ++r)
+  {
+    first[r + 1] = first[r] + pieces[r]->GetNumberOfPoints();
+    for (vtkIdType k = 0; k < pieces[r]->GetNumberOfPoints(); ++k)
+    {
+      all->SetPoint(first[r] + k, pieces[r]->GetPoint(k));
+    }
+  }
+  std::vector<vtkIdType> merged(static_cast<std::size_t>(total));
+  if (total > 0)
+  {
+    vtkNew<vtkPolyData> cloud;
+    cloud->SetPoints(all);
+    vtkNew<vtkStaticPointLocator> locator;
+    locator->SetDataSet(cloud);
+    locator->BuildLocator();
+    locator->MergePoints(1e-12 * box.GetDiagonalLength(), merged.data());
+  }
+  std::vector<vtkIdType> wholeId(static_cast<std::size_t>(total), -1);
+  vtkIdType count = 0;
+  for (vtkIdType i = 0; i < total; ++i)
+  {
+    vtkIdType rep = merged[i];
+    while (merged[rep] != rep) // representatives map to themselves
+    {
+      rep = merged[rep];
+    }
+    if (wholeId[rep] < 0)
+    {
+      wholeId[rep] = count++;
+    }
+    wholeId[i] = wholeId[rep];
+  }
+  auto whole = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataType(pieces[0]->GetPoints() ? pieces[0]->GetPoints()->GetDataType() : VTK_DOUBLE);
+  points->SetNumberOfPoints(count);
+  for (vtkIdType i = 0; i < total; ++i)
+  {
+    points->SetPoint(wholeId[i], all->GetPoint(i));
+  }
+  whole->SetPoints(points);
+  PointIds.assign(pieces.size(), {});
+  for (std::size_t r = 0; r < pieces.size(); ++r)
+  {
+    PointIds[r].assign(wholeId.begin() + first[r], wholeId.begin() + first[r + 1]);
+  }
+
+  // Point arrays (those of rank 0's piece, where every piece has them): the
+  // value of a shared point from the first piece that has it.
+  vtkPointData* pd0 = pieces[0]->GetPointData();
+  for (int a = 0; a < pd0->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* array0 = pd0->GetArray(a);
+    if (!array0 || !array0->GetName())
+    {
+      continue;
+    }
+    auto array = vtk::TakeSmartPointer(array0->NewInstance());
+    array->SetName(array0->GetName());
+    array->SetNumberOfComponents(array0->GetNumberOfComponents());
+    array->SetNumberOfTuples(count);
+    std::vector<char> set(static_cast<std::size_t>(count), 0);
+    bool everywhere = true;
+    for (std::size_t r = 0; r < pieces.size() && everywhere; ++r)
+    {
+      vtkDataArray* from = pieces[r]->GetPointData()->GetArray(array0->GetName());
+      if (pieces[r]->GetNumberOfPoints() == 0)
+      {
+        continue;
+      }
+      everywhere = from && from->GetNumberOfComponents() == array0->GetNumberOfComponents();
+      for (vtkIdType k = 0; everywhere && k < pieces[r]->GetNumberOfPoints(); ++k)
+      {
+        const vtkIdType id = PointIds[r][k];
+        if (!set[id])
+        {
+          array->SetTuple(id, k, from);
+          set[id] = 1;
+        }
+      }
+    }
+    if (everywhere)
+    {
+      whole->GetPointData()->AddArray(array);
+      for (int t = 0; t < vtkDataSetAttributes::NUM_ATTRIBUTES; ++t)
+      {
+        if (pd0->GetAbstractAttribute(t) == array0)
+        {
+          whole->GetPointData()->SetActiveAttribute(array->GetName(), t);
+        }
+      }
+    }
+  }
+
+  // Cells, kind by kind in the pieces' order; each piece cell's whole id.
+  vtkNew<vtkCellArray> cells[4];
+  std::vector<std::vector<std::pair<int, vtkIdType>>> placed(pieces.size());
+  for (std::size_t r = 0; r < pieces.size(); ++r)
+  {
+    vtkPolyData* p = pieces[r];
+    vtkCellArray* from[4] = { p->GetVerts(), p->GetLines(), p->GetPolys(), p->GetStrips() };
+    std::vector<vtkIdType> ids;
+    for (int c = 0; c < 4; ++c)
+    {
+      if (!from[c])
+      {
+        continue;
+      }
+      auto it = vtk::TakeSmartPointer(from[c]->NewIterator());
+      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+      {
+        vtkIdType n = 0;
+        const vtkIdType* local = nullptr;
+        it->GetCurrentCell(n, local);
+        ids.resize(static_cast<std::size_t>(n));
+        for (vtkIdType j = 0; j < n; ++j)
+        {
+          ids[j] = PointIds[r][local[j]];
+        }
+        placed[r].emplace_back(c, cells[c]->GetNumberOfCells());
+        cells[c]->InsertNextCell(n, ids.data());
+      }
+    }
+  }
+  whole->SetVerts(cells[0]);
+  whole->SetLines(cells[1]);
+  whole->SetPolys(cells[2]);
+  whole->SetStrips(cells[3]);
+  vtkIdType offset[4] = { 0, cells[0]->GetNumberOfCells(), 0, 0 };
+  offset[2] = offset[1] + cells[1]->GetNumberOfCells();
+  offset[3] = offset[2] + cells[2]->GetNumberOfCells();
+  CellIds.assign(pieces.size(), {});
+  for (std::size_t r = 0; r < pieces.size(); ++r)
+  {
+    vtkDataArray* local = pieces[r]->GetCellData()->GetArray(LocalCellIds);
+    vtkDataArray* cellsOfPiece = pieces[r]->GetFieldData()->GetArray(PieceCells);
+    CellIds[r].assign(cellsOfPiece ? static_cast<std::size_t>(cellsOfPiece->GetTuple1(0)) : 0, -1);
+    for (std::size_t k = 0; local && k < placed[r].size(); ++k)
+    {
+      const auto cell = static_cast<std::size_t>(local->GetTuple1(static_cast<vtkIdType>(k)));
+      if (cell < CellIds[r].size())
+      {
+        CellIds[r][cell] = offset[placed[r][k].first] + placed[r][k].second;
+      }
+    }
+  }
+  whole->GetFieldData()->ShallowCopy(pieces[0]->GetFieldData());
+  whole->GetFieldData()->RemoveArray(PieceCells);
+  return whole;
+}
+
+bool vtkBeltramiGather::Distribute(
+  vtkPolyData* wholeInput, vtkPolyData* wholeOutput, bool ok, vtkPolyData* output)
+{
+  const int rank = Controller->GetLocalProcessId(), ranks = Controller->GetNumberOfProcesses();
+  if (rank != 0)
+  {
+    vtkNew<vtkPolyData> part;
+    Controller->Receive(part, 0, ResultTag);
+    return Apply(part->GetFieldData(), output);
+  }
+  bool result = ok;
+  for (int r = ranks - 1; r >= 0; --r) // rank 0's own part last
+  {
+    vtkNew<vtkPolyData> part; // its field data carries everything
+    vtkFieldData* fd = part->GetFieldData();
+    vtkNew<vtkIntArray> status;
+    status->SetName(Status);
+    status->InsertNextValue(ok ? 1 : 0);
+    fd->AddArray(status);
+    if (ok)
+    {
+      fd->ShallowCopy(wholeOutput->GetFieldData());
+      fd->AddArray(status);
+      vtkPointData* in = wholeInput->GetPointData();
+      vtkPointData* out = wholeOutput->GetPointData();
+      vtkNew<vtkStringArray> attributes;
+      attributes->SetName(Attributes);
+      for (int a = 0; a < out->GetNumberOfArrays(); ++a)
+      {
+        vtkDataArray* array = out->GetArray(a);
+        if (array && array->GetName() && in->GetArray(array->GetName()) != array)
+        {
+          auto picked = Pick(array, PointIds[r]);
+          picked->SetName((PointPrefix + array->GetName()).c_str());
+          fd->AddArray(picked);
+          for (int t = 0; t < vtkDataSetAttributes::NUM_ATTRIBUTES; ++t)
+          {
+            if (out->GetAbstractAttribute(t) == array)
+            {
+              attributes->InsertNextValue(std::to_string(t) + ":" + array->GetName());
+            }
+          }
+        }
+      }
+      fd->AddArray(attributes);
+      vtkNew<vtkStringArray> removed;
+      removed->SetName(Removed);
+      for (int a = 0; a < in->GetNumberOfArrays(); ++a)
+      {
+        const char* name = in->GetArrayName(a);
+        if (name && !out->GetAbstractArray(name))
+        {
+          removed->InsertNextValue(name);
+        }
+      }
+      fd->AddArray(removed);
+      for (int a = 0; a < wholeOutput->GetCellData()->GetNumberOfArrays(); ++a)
+      {
+        vtkDataArray* array = wholeOutput->GetCellData()->GetArray(a);
+        if (array && array->GetName() && wholeInput->GetCellData()->GetArray(array->GetName()) != array)
+        {
+          auto picked = Pick(array, CellIds[r]);
+          picked->SetName((CellPrefix + array->GetName()).c_str());
+          fd->AddArray(picked);
+        }
+      }
+      if (wholeOutput->GetPoints() != wholeInput->GetPoints())
+      {
+        auto picked = Pick(wholeOutput->GetPoints()->GetData(), PointIds[r]);
+        picked->SetName(Coordinates);
+        fd->AddArray(picked);
+      }
+    }
+    if (r > 0)
+    {
+      Controller->Send(part, r, ResultTag);
+    }
+    else
+    {
+      result = Apply(fd, output);
+    }
+  }
+  return result;
+}

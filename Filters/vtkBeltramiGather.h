@@ -1,0 +1,50 @@
+// Distributed runs of the filters that need the whole surface at once (a
+// parameterization is one global solve): the pieces of a surface split over
+// the ranks are gathered on rank 0 as one surface, the filter runs there as
+// in a serial run, and each rank gets back the results for its own points
+// and cells.  The numbers are those of a serial run; the memory and the time
+// are those of one process.  Not wrapped: used through vtkBeltramiSurface.
+#ifndef vtkBeltramiGather_h
+#define vtkBeltramiGather_h
+
+#include "BeltramiFiltersModule.h" // export macro
+
+#include <vtkSmartPointer.h>
+#include <vtkType.h>
+
+#include <vector>
+
+class vtkAlgorithm;
+class vtkMultiProcessController;
+class vtkPolyData;
+
+class BELTRAMIFILTERS_EXPORT vtkBeltramiGather
+{
+public:
+  /// Collective over `controller` (every rank calls it).  Sends this rank's
+  /// piece (its points, its cells without ghost cells, all point arrays) to
+  /// rank 0, which returns the whole surface: the pieces appended, each
+  /// point that several pieces share (coordinates equal within 1e-12 of the
+  /// bounding box diagonal) merged into one, the cells in the pieces' order.
+  /// Other ranks return null.
+  vtkSmartPointer<vtkPolyData> Collect(vtkMultiProcessController* controller, vtkPolyData* piece);
+
+  /// Collective, after Collect.  Rank 0 passes the filter's output for the
+  /// whole surface (`wholeInput` the surface it ran on) and `ok`; every rank
+  /// passes its own output (a shallow copy of its input piece).  Each output
+  /// gets, for its points and cells, the point and cell arrays of the whole
+  /// output that are not those of the whole input, loses the ones the filter
+  /// removed, gets the whole output's points when the filter replaced them,
+  /// and its field data.  Returns rank 0's `ok` (the outputs stay the inputs
+  /// when it failed).
+  bool Distribute(vtkPolyData* wholeInput, vtkPolyData* wholeOutput, bool ok, vtkPolyData* output);
+
+private:
+  vtkMultiProcessController* Controller = nullptr;
+  // Rank 0: for every rank, its points' and cells' ids in the whole surface
+  // (-1: a ghost cell, left out).
+  std::vector<std::vector<vtkIdType>> PointIds, CellIds;
+};
+
+#endif
+// VTK-HeaderTest-Exclude: vtkBeltramiGather.h
