@@ -33,12 +33,40 @@ int vtkImplicitFairing::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   this->Iterations.clear();
+  // Implicit steps and the invariants couple all points: data split over the
+  // ranks of a distributed run are smoothed whole on rank 0
+  // (vtkBeltramiGather), as in a serial run.
   vtkBeltramiSurface surface;
-  const auto prepared = surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads);
+  const auto prepared =
+    surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads, 0, true);
+  if (prepared == vtkBeltramiSurface::Gathered)
+  {
+    const int done = surface.Finish(true);
+    vtkPolyData* output = vtkPolyData::GetData(outputVector);
+    if (vtkDataArray* iterations = output->GetFieldData()->GetArray("FairingIterations"))
+    {
+      for (vtkIdType k = 0; k < iterations->GetNumberOfTuples(); ++k)
+      {
+        this->Iterations.push_back(static_cast<int>(iterations->GetTuple1(k)));
+      }
+    }
+    return done;
+  }
   if (prepared != vtkBeltramiSurface::Ready)
   {
     return prepared == vtkBeltramiSurface::NothingToDo;
   }
+  if (surface.IsGathered() && !this->FixedPointIds.empty())
+  {
+    vtkWarningMacro("Distributed data gathered on rank 0: the fixed point ids refer to the points of the "
+                    "gathered surface (rank 0's piece first); a fixed-points array (input array 0) is the "
+                    "reliable way to fix points of distributed data.");
+  }
+  return surface.Finish(this->Fair(surface) != 0);
+}
+
+int vtkImplicitFairing::Fair(vtkBeltramiSurface& surface)
+{
   vtkPolyData* input = surface.Input();
   vtkPolyData* output = surface.Output();
   const vtkIdType numPoints = input->GetNumberOfPoints();
@@ -48,7 +76,7 @@ int vtkImplicitFairing::RequestData(
     vtkWarningMacro("Input has no polygons or triangle strips: the points are left as they are.");
     return 1;
   }
-  if (surface.PiecesWithData() > 1)
+  if (surface.PiecesWithData() > 1) // pieces streamed one by one: no gathering
   {
     vtkBeltramiSurface::WarnDistributed(this, surface.PiecesWithData(), "its piece boundary fixed");
   }

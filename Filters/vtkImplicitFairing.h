@@ -62,11 +62,11 @@
  * output is then the input).  Field data: FairingIterations (solver
  * iterations per linear solve), FairingInvariant (initial and final value of
  * the preserved quantity, if any).
- * Distributed runs (pvbatch, pvserver): data that a reader delivers whole
- * to one rank (e.g. OFF files) are smoothed as in a serial run; data split
- * over several ranks are smoothed piece by piece (each piece's boundary
- * fixed), which is not the
- * serial result near the piece boundaries, and a warning says so.
+ * Distributed runs (pvbatch, pvserver): implicit steps and the invariants
+ * couple all points, so data split over several ranks are gathered on rank
+ * 0 (vtkBeltramiGather), smoothed there as one surface, and every rank gets
+ * its own points moved: the numbers of a serial run, with the memory and
+ * time of one process.
  */
 #ifndef vtkImplicitFairing_h
 #define vtkImplicitFairing_h
@@ -75,6 +75,8 @@
 #include "vtkPolyDataAlgorithm.h"
 
 #include <vector> // for Iterations
+
+class vtkBeltramiSurface;
 
 class BELTRAMIFILTERS_EXPORT vtkImplicitFairing : public vtkPolyDataAlgorithm
 {
@@ -219,6 +221,9 @@ protected:
 private:
   vtkImplicitFairing(const vtkImplicitFairing&) = delete;
   void operator=(const vtkImplicitFairing&) = delete;
+
+  /// Smooths the surface Prepare built (RequestData's value).
+  int Fair(vtkBeltramiSurface& surface);
 };
 
 #endif

@@ -141,6 +141,12 @@ int vtkIntrinsicParameterization::RequestData(
   {
     return prepared == vtkBeltramiSurface::NothingToDo;
   }
+  if (surface.PiecesWithData() > 1) // pieces streamed one by one: no gathering
+  {
+    vtkWarningMacro("A parameterization needs the whole surface: this piece of " << surface.PiecesWithData()
+      << " streamed pieces is passed through. Update the whole data set.");
+    return 1;
+  }
   if (surface.IsGathered() && !this->Internal->Constraints.empty())
   {
     vtkWarningMacro("Distributed data gathered on rank 0: the point constraints by vertex id refer to the "

@@ -45,7 +45,8 @@
  * merged, ghost cells left out), parameterized there, and every rank gets
  * the UVs, points and distortion of its own points and cells: the serial
  * numbers, with the memory and time of one process.  The boundary basis
- * (KeepBoundaryBasis) then lives on rank 0.
+ * (KeepBoundaryBasis) then lives on rank 0.  Pieces streamed one by one in
+ * one process pass through with a warning.
  */
 #ifndef vtkIntrinsicParameterization_h
 #define vtkIntrinsicParameterization_h

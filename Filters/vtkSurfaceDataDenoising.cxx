@@ -31,44 +31,54 @@ vtkSurfaceDataDenoising::vtkSurfaceDataDenoising()
 int vtkSurfaceDataDenoising::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  // The flow couples all points (semi-implicit steps, noise-level stop,
+  // mean edge length): data split over the ranks of a distributed run are
+  // smoothed whole on rank 0 (vtkBeltramiGather), as in a serial run.
   vtkBeltramiSurface surface;
-  const auto prepared = surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads);
+  const auto prepared =
+    surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads, 0, true);
+  if (prepared == vtkBeltramiSurface::Gathered)
+  {
+    return surface.Finish(true);
+  }
   if (prepared != vtkBeltramiSurface::Ready)
   {
     return prepared == vtkBeltramiSurface::NothingToDo;
   }
-  vtkPolyData* input = surface.Input();
-  vtkPolyData* output = surface.Output();
-  const beltrami::MeshTopology& topo = surface.Topology();
-
-  int association = -1;
-  vtkDataArray* array = this->GetInputArrayToProcess(0, inputVector, association);
-  if (!vtkBeltramiGraphFlow::IsPointArray(this, array, association))
-  {
-    return 0;
-  }
-  if (topo.NumberOfTriangles() == 0)
-  {
-    vtkWarningMacro("Input has no polygons or triangle strips: the data are left as they are.");
-    return 1;
-  }
-  if (surface.PiecesWithData() > 1)
-  {
-    vtkBeltramiSurface::WarnDistributed(this, surface.PiecesWithData(), "a free boundary where pieces meet");
-  }
-  else if (!surface.TopologyWarning().empty())
-  {
-    vtkWarningMacro(<< surface.TopologyWarning() << ". The data at non-manifold points are kept.");
-  }
-  std::vector<double> storage;
-  const double* points = surface.PointsAsDouble(storage);
-  const double unit = this->Units == MEAN_EDGE_LENGTH ? beltrami::MeanEdgeLength(topo, points) : 1.0;
-  return vtkBeltramiGraphFlow::RunOnMesh(this, input, output, array, points, this->UseFixedPointsArray,
-    vtkBeltramiGraphFlow::Options(this), 5, unit, 2,
-    [&topo](const double* x, int nc, double* values, const std::uint8_t* fixed,
-      const beltrami::GraphFlowOptions& options, const beltrami::ProgressCallback& progress) {
-      return beltrami::RunSurfaceGraphFlow(topo, x, nc, values, fixed, options, progress);
-    });
+  const auto smooth = [&]() -> int {
+    vtkPolyData* input = surface.Input();
+    vtkPolyData* output = surface.Output();
+    const beltrami::MeshTopology& topo = surface.Topology();
+    int association = -1;
+    vtkDataArray* array = this->GetInputArrayToProcess(0, input, association);
+    if (!vtkBeltramiGraphFlow::IsPointArray(this, array, association))
+    {
+      return 0;
+    }
+    if (topo.NumberOfTriangles() == 0)
+    {
+      vtkWarningMacro("Input has no polygons or triangle strips: the data are left as they are.");
+      return 1;
+    }
+    if (surface.PiecesWithData() > 1) // pieces streamed one by one: no gathering
+    {
+      vtkBeltramiSurface::WarnDistributed(this, surface.PiecesWithData(), "a free boundary where pieces meet");
+    }
+    else if (!surface.TopologyWarning().empty())
+    {
+      vtkWarningMacro(<< surface.TopologyWarning() << ". The data at non-manifold points are kept.");
+    }
+    std::vector<double> storage;
+    const double* points = surface.PointsAsDouble(storage);
+    const double unit = this->Units == MEAN_EDGE_LENGTH ? beltrami::MeanEdgeLength(topo, points) : 1.0;
+    return vtkBeltramiGraphFlow::RunOnMesh(this, input, output, array, points, this->UseFixedPointsArray,
+      vtkBeltramiGraphFlow::Options(this), 5, unit, 2,
+      [&topo](const double* x, int nc, double* values, const std::uint8_t* fixed,
+        const beltrami::GraphFlowOptions& options, const beltrami::ProgressCallback& progress) {
+        return beltrami::RunSurfaceGraphFlow(topo, x, nc, values, fixed, options, progress);
+      });
+  };
+  return surface.Finish(smooth() != 0);
 }
 
 void vtkSurfaceDataDenoising::PrintSelf(ostream& os, vtkIndent indent)

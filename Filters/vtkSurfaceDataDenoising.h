@@ -28,11 +28,11 @@
  * points without area, keep their values.  Polygons and strips are
  * triangulated internally; the output is the input with the new array.
  * Field data as vtkImageBeltramiDenoising.
- * Distributed runs (pvbatch, pvserver): data that a reader delivers whole
- * to one rank (e.g. OFF files) are smoothed as in a serial run; data split
- * over several ranks are smoothed piece by piece (a free boundary where
- * pieces meet), which is not the
- * serial result near the piece boundaries, and a warning says so.
+ * Distributed runs (pvbatch, pvserver): the flow couples all points, so
+ * data split over several ranks are gathered on rank 0 (vtkBeltramiGather),
+ * smoothed there as one surface, and every rank gets the values of its own
+ * points: the numbers of a serial run, with the memory and time of one
+ * process.
  */
 #ifndef vtkSurfaceDataDenoising_h
 #define vtkSurfaceDataDenoising_h
