@@ -312,6 +312,19 @@ void vtkBeltramiSurface::WarnDistributed(vtkAlgorithm* owner, int pieces, const 
     "serial one. Run it on the whole data set (e.g. after Merge Blocks / D3 to one process).");
 }
 
+void vtkBeltramiSurface::WarnAboutInput(
+  vtkAlgorithm* owner, const char* pieceBoundary, const char* consequence) const
+{
+  if (Holding > 1)
+  {
+    WarnDistributed(owner, Holding, pieceBoundary);
+  }
+  else if (!TopologyWarning().empty())
+  {
+    vtkWarningWithObjectMacro(owner, << TopologyWarning() << ". " << consequence);
+  }
+}
+
 vtkSmartPointer<vtkPolyData> vtkBeltramiSurface::GenerateGhosts(vtkAlgorithm* owner, int layers)
 {
   // Called on every rank when the pieces are the ranks and several hold

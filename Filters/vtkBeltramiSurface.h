@@ -90,6 +90,10 @@ public:
   /// hold points), each piece smoothed on its own with `pieceBoundary`
   /// (e.g. "its piece boundary fixed").
   static void WarnDistributed(vtkAlgorithm* owner, int pieces, const char* pieceBoundary);
+  /// The smoothing filters' warning after Prepare: WarnDistributed for pieces
+  /// streamed one by one (no gathering), else the topology's defects
+  /// (TopologyWarning) followed by `consequence`.
+  void WarnAboutInput(vtkAlgorithm* owner, const char* pieceBoundary, const char* consequence) const;
 
   const beltrami::MeshTopology& Topology() const { return *Mesh; }
 

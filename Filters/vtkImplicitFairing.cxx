@@ -76,14 +76,7 @@ int vtkImplicitFairing::Fair(vtkBeltramiSurface& surface)
     vtkWarningMacro("Input has no polygons or triangle strips: the points are left as they are.");
     return 1;
   }
-  if (surface.PiecesWithData() > 1) // pieces streamed one by one: no gathering
-  {
-    vtkBeltramiSurface::WarnDistributed(this, surface.PiecesWithData(), "its piece boundary fixed");
-  }
-  else if (!surface.TopologyWarning().empty())
-  {
-    vtkWarningMacro(<< surface.TopologyWarning() << ". Non-manifold points are kept fixed.");
-  }
+  surface.WarnAboutInput(this, "its piece boundary fixed", "Non-manifold points are kept fixed.");
 
   std::string error;
   std::vector<std::uint8_t> fixed = this->UseFixedPointsArray

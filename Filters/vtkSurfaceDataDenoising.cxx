@@ -60,14 +60,7 @@ int vtkSurfaceDataDenoising::RequestData(
       vtkWarningMacro("Input has no polygons or triangle strips: the data are left as they are.");
       return 1;
     }
-    if (surface.PiecesWithData() > 1) // pieces streamed one by one: no gathering
-    {
-      vtkBeltramiSurface::WarnDistributed(this, surface.PiecesWithData(), "a free boundary where pieces meet");
-    }
-    else if (!surface.TopologyWarning().empty())
-    {
-      vtkWarningMacro(<< surface.TopologyWarning() << ". The data at non-manifold points are kept.");
-    }
+    surface.WarnAboutInput(this, "a free boundary where pieces meet", "The data at non-manifold points are kept.");
     std::vector<double> storage;
     const double* points = surface.PointsAsDouble(storage);
     const double unit = this->Units == MEAN_EDGE_LENGTH ? beltrami::MeanEdgeLength(topo, points) : 1.0;
