@@ -12,11 +12,13 @@
 #include <vtkMultiProcessController.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkPointSet.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkStaticPointLocator.h>
 #include <vtkStringArray.h>
 #include <vtkUnsignedCharArray.h>
+#include <vtkUnstructuredGrid.h>
 
 #include <cmath>
 #include <string>
@@ -67,7 +69,7 @@ vtkSmartPointer<vtkDataArray> Pick(vtkDataArray* source, const std::vector<vtkId
 }
 
 /// Puts a part that Distribute built into `output`; false when rank 0 failed.
-bool Apply(vtkFieldData* part, vtkPolyData* output)
+bool Apply(vtkFieldData* part, vtkPointSet* output)
 {
   vtkDataArray* status = part->GetArray(Status);
   if (!status || status->GetTuple1(0) == 0.0)
@@ -133,58 +135,149 @@ bool Apply(vtkFieldData* part, vtkPolyData* output)
   return true;
 }
 
+/// `input`'s cells without its ghost cells into `piece` (same type), the
+/// kept cells' ids into `cellIds`.
+void CopyCells(vtkPointSet* input, vtkPointSet* piece, vtkIdTypeArray* cellIds)
+{
+  vtkUnsignedCharArray* ghosts = input->GetCellGhostArray();
+  const auto kept = [ghosts](vtkIdType cell) {
+    return !ghosts || !(ghosts->GetValue(cell) & vtkDataSetAttributes::DUPLICATECELL);
+  };
+  if (auto* grid = vtkUnstructuredGrid::SafeDownCast(input))
+  {
+    auto* out = vtkUnstructuredGrid::SafeDownCast(piece);
+    out->Allocate(grid->GetNumberOfCells());
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType cell = 0; cell < grid->GetNumberOfCells(); ++cell)
+    {
+      if (kept(cell))
+      {
+        grid->GetCellPoints(cell, ids);
+        out->InsertNextCell(grid->GetCellType(cell), ids);
+        cellIds->InsertNextValue(cell);
+      }
+    }
+    return;
+  }
+  auto* poly = vtkPolyData::SafeDownCast(input);
+  auto* out = vtkPolyData::SafeDownCast(piece);
+  vtkCellArray* from[4] = { poly->GetVerts(), poly->GetLines(), poly->GetPolys(), poly->GetStrips() };
+  vtkNew<vtkCellArray> to[4];
+  vtkIdType cell = 0; // vtkPolyData numbers verts, lines, polys, strips in turn
+  for (int c = 0; c < 4; ++c)
+  {
+    auto it = vtk::TakeSmartPointer(from[c]->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cell)
+    {
+      if (kept(cell))
+      {
+        vtkIdType n = 0;
+        const vtkIdType* ids = nullptr;
+        it->GetCurrentCell(n, ids);
+        to[c]->InsertNextCell(n, ids);
+        cellIds->InsertNextValue(cell);
+      }
+    }
+  }
+  out->SetVerts(to[0]);
+  out->SetLines(to[1]);
+  out->SetPolys(to[2]);
+  out->SetStrips(to[3]);
+}
+
+/// The pieces' cells, their point ids mapped by `pointIds`, appended into
+/// `whole` in the pieces' order; for every piece, its cells' ids in `whole`.
+std::vector<std::vector<vtkIdType>> AppendCells(const std::vector<vtkSmartPointer<vtkPointSet>>& pieces,
+  const std::vector<std::vector<vtkIdType>>& pointIds, vtkPointSet* whole)
+{
+  std::vector<std::vector<vtkIdType>> placed(pieces.size());
+  std::vector<vtkIdType> ids;
+  const auto map = [&](std::size_t r, vtkIdType n, const vtkIdType* local) {
+    ids.resize(static_cast<std::size_t>(n));
+    for (vtkIdType j = 0; j < n; ++j)
+    {
+      ids[j] = pointIds[r][local[j]];
+    }
+  };
+  if (auto* grid = vtkUnstructuredGrid::SafeDownCast(whole))
+  {
+    grid->Allocate(1024);
+    vtkNew<vtkIdList> local;
+    for (std::size_t r = 0; r < pieces.size(); ++r)
+    {
+      auto* piece = vtkUnstructuredGrid::SafeDownCast(pieces[r]);
+      for (vtkIdType cell = 0; piece && cell < piece->GetNumberOfCells(); ++cell)
+      {
+        piece->GetCellPoints(cell, local);
+        map(r, local->GetNumberOfIds(), local->GetPointer(0));
+        placed[r].push_back(grid->InsertNextCell(piece->GetCellType(cell), local->GetNumberOfIds(), ids.data()));
+      }
+    }
+    return placed;
+  }
+  vtkNew<vtkCellArray> cells[4];
+  std::vector<std::vector<std::pair<int, vtkIdType>>> kindAndIndex(pieces.size());
+  for (std::size_t r = 0; r < pieces.size(); ++r)
+  {
+    auto* p = vtkPolyData::SafeDownCast(pieces[r]);
+    vtkCellArray* from[4] = { p->GetVerts(), p->GetLines(), p->GetPolys(), p->GetStrips() };
+    for (int c = 0; c < 4; ++c)
+    {
+      auto it = vtk::TakeSmartPointer(from[c]->NewIterator());
+      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+      {
+        vtkIdType n = 0;
+        const vtkIdType* local = nullptr;
+        it->GetCurrentCell(n, local);
+        map(r, n, local);
+        kindAndIndex[r].emplace_back(c, cells[c]->GetNumberOfCells());
+        cells[c]->InsertNextCell(n, ids.data());
+      }
+    }
+  }
+  auto* poly = vtkPolyData::SafeDownCast(whole);
+  poly->SetVerts(cells[0]);
+  poly->SetLines(cells[1]);
+  poly->SetPolys(cells[2]);
+  poly->SetStrips(cells[3]);
+  vtkIdType offset[4] = { 0, cells[0]->GetNumberOfCells(), 0, 0 };
+  offset[2] = offset[1] + cells[1]->GetNumberOfCells();
+  offset[3] = offset[2] + cells[2]->GetNumberOfCells();
+  for (std::size_t r = 0; r < pieces.size(); ++r)
+  {
+    for (const auto& kind : kindAndIndex[r])
+    {
+      placed[r].push_back(offset[kind.first] + kind.second);
+    }
+  }
+  return placed;
+}
+
 } // namespace
 
-vtkSmartPointer<vtkPolyData> vtkBeltramiGather::Collect(
-  vtkMultiProcessController* controller, vtkPolyData* input)
+vtkSmartPointer<vtkPointSet> vtkBeltramiGather::Collect(
+  vtkMultiProcessController* controller, vtkPointSet* input)
 {
   Controller = controller;
   const int rank = controller->GetLocalProcessId(), ranks = controller->GetNumberOfProcesses();
 
   // This rank's piece: its points and point arrays, its cells without the
   // ghost cells, and the kept cells' ids.
-  vtkNew<vtkPolyData> piece;
+  auto piece = vtk::TakeSmartPointer(input->NewInstance());
   vtkNew<vtkIdTypeArray> cellIds;
   cellIds->SetName(LocalCellIds);
-  if (input && input->GetNumberOfPoints() > 0)
+  if (input->GetNumberOfPoints() > 0)
   {
     piece->SetPoints(input->GetPoints());
     piece->GetPointData()->ShallowCopy(input->GetPointData());
     piece->GetPointData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
-    vtkUnsignedCharArray* ghosts = input->GetCellGhostArray();
-    vtkIdType cellId = 0;
-    vtkCellArray* from[4] = { input->GetVerts(), input->GetLines(), input->GetPolys(), input->GetStrips() };
-    vtkNew<vtkCellArray> kept[4];
-    for (int c = 0; c < 4; ++c)
-    {
-      if (!from[c])
-      {
-        continue;
-      }
-      auto it = vtk::TakeSmartPointer(from[c]->NewIterator());
-      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
-      {
-        if (ghosts && (ghosts->GetValue(cellId) & vtkDataSetAttributes::DUPLICATECELL))
-        {
-          continue;
-        }
-        vtkIdType n = 0;
-        const vtkIdType* ids = nullptr;
-        it->GetCurrentCell(n, ids);
-        kept[c]->InsertNextCell(n, ids);
-        cellIds->InsertNextValue(cellId);
-      }
-    }
-    piece->SetVerts(kept[0]);
-    piece->SetLines(kept[1]);
-    piece->SetPolys(kept[2]);
-    piece->SetStrips(kept[3]);
+    CopyCells(input, piece, cellIds);
     piece->GetFieldData()->ShallowCopy(input->GetFieldData());
   }
   piece->GetCellData()->AddArray(cellIds);
   vtkNew<vtkIdTypeArray> numberOfCells; // ghost cells included
   numberOfCells->SetName(PieceCells);
-  numberOfCells->InsertNextValue(input ? input->GetNumberOfCells() : 0);
+  numberOfCells->InsertNextValue(input->GetNumberOfCells());
   piece->GetFieldData()->AddArray(numberOfCells);
   if (rank != 0)
   {
@@ -192,11 +285,11 @@ vtkSmartPointer<vtkPolyData> vtkBeltramiGather::Collect(
     return nullptr;
   }
 
-  std::vector<vtkSmartPointer<vtkPolyData>> pieces(static_cast<std::size_t>(ranks));
+  std::vector<vtkSmartPointer<vtkPointSet>> pieces(static_cast<std::size_t>(ranks));
   pieces[0] = piece;
   for (int r = 1; r < ranks; ++r)
   {
-    pieces[r] = vtkSmartPointer<vtkPolyData>::New();
+    pieces[r] = vtk::TakeSmartPointer(input->NewInstance());
     controller->Receive(pieces[r], r, PieceTag);
   }
 
@@ -249,7 +342,7 @@ vtkSmartPointer<vtkPolyData> vtkBeltramiGather::Collect(
     }
     wholeId[i] = wholeId[rep];
   }
-  auto whole = vtkSmartPointer<vtkPolyData>::New();
+  auto whole = vtk::TakeSmartPointer(input->NewInstance());
   vtkNew<vtkPoints> points;
   points->SetDataType(pieces[0]->GetPoints() ? pieces[0]->GetPoints()->GetDataType() : VTK_DOUBLE);
   points->SetNumberOfPoints(count);
@@ -311,43 +404,8 @@ vtkSmartPointer<vtkPolyData> vtkBeltramiGather::Collect(
     }
   }
 
-  // Cells, kind by kind in the pieces' order; each piece cell's whole id.
-  vtkNew<vtkCellArray> cells[4];
-  std::vector<std::vector<std::pair<int, vtkIdType>>> placed(pieces.size());
-  for (std::size_t r = 0; r < pieces.size(); ++r)
-  {
-    vtkPolyData* p = pieces[r];
-    vtkCellArray* from[4] = { p->GetVerts(), p->GetLines(), p->GetPolys(), p->GetStrips() };
-    std::vector<vtkIdType> ids;
-    for (int c = 0; c < 4; ++c)
-    {
-      if (!from[c])
-      {
-        continue;
-      }
-      auto it = vtk::TakeSmartPointer(from[c]->NewIterator());
-      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-      {
-        vtkIdType n = 0;
-        const vtkIdType* local = nullptr;
-        it->GetCurrentCell(n, local);
-        ids.resize(static_cast<std::size_t>(n));
-        for (vtkIdType j = 0; j < n; ++j)
-        {
-          ids[j] = PointIds[r][local[j]];
-        }
-        placed[r].emplace_back(c, cells[c]->GetNumberOfCells());
-        cells[c]->InsertNextCell(n, ids.data());
-      }
-    }
-  }
-  whole->SetVerts(cells[0]);
-  whole->SetLines(cells[1]);
-  whole->SetPolys(cells[2]);
-  whole->SetStrips(cells[3]);
-  vtkIdType offset[4] = { 0, cells[0]->GetNumberOfCells(), 0, 0 };
-  offset[2] = offset[1] + cells[1]->GetNumberOfCells();
-  offset[3] = offset[2] + cells[2]->GetNumberOfCells();
+  // Cells in the pieces' order; each piece cell's whole id.
+  const std::vector<std::vector<vtkIdType>> placed = AppendCells(pieces, PointIds, whole);
   CellIds.assign(pieces.size(), {});
   for (std::size_t r = 0; r < pieces.size(); ++r)
   {
@@ -359,7 +417,7 @@ vtkSmartPointer<vtkPolyData> vtkBeltramiGather::Collect(
       const auto cell = static_cast<std::size_t>(local->GetTuple1(static_cast<vtkIdType>(k)));
       if (cell < CellIds[r].size())
       {
-        CellIds[r][cell] = offset[placed[r][k].first] + placed[r][k].second;
+        CellIds[r][cell] = placed[r][k];
       }
     }
   }
@@ -369,7 +427,7 @@ vtkSmartPointer<vtkPolyData> vtkBeltramiGather::Collect(
 }
 
 bool vtkBeltramiGather::Distribute(
-  vtkPolyData* wholeInput, vtkPolyData* wholeOutput, bool ok, vtkPolyData* output)
+  vtkPointSet* wholeInput, vtkPointSet* wholeOutput, bool ok, vtkPointSet* output)
 {
   const int rank = Controller->GetLocalProcessId(), ranks = Controller->GetNumberOfProcesses();
   if (rank != 0)

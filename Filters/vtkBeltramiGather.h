@@ -1,9 +1,10 @@
-// Distributed runs of the filters that need the whole surface at once (a
-// parameterization is one global solve): the pieces of a surface split over
-// the ranks are gathered on rank 0 as one surface, the filter runs there as
-// in a serial run, and each rank gets back the results for its own points
-// and cells.  The numbers are those of a serial run; the memory and the time
-// are those of one process.  Not wrapped: used through vtkBeltramiSurface.
+// Distributed runs of the filters that need the whole mesh at once (a
+// parameterization, an implicit smoothing step: one global solve): the
+// pieces of a surface (vtkPolyData) or of a volume mesh (vtkUnstructuredGrid)
+// split over the ranks are gathered on rank 0 as one data set, the filter
+// runs there as in a serial run, and each rank gets back the results for its
+// own points and cells.  The numbers are those of a serial run; the memory
+// and the time are those of one process.  Not wrapped.
 #ifndef vtkBeltramiGather_h
 #define vtkBeltramiGather_h
 
@@ -16,7 +17,7 @@
 
 class vtkAlgorithm;
 class vtkMultiProcessController;
-class vtkPolyData;
+class vtkPointSet;
 
 class BELTRAMIFILTERS_EXPORT vtkBeltramiGather
 {
@@ -27,7 +28,7 @@ public:
   /// point that several pieces share (coordinates equal within 1e-12 of the
   /// bounding box diagonal) merged into one, the cells in the pieces' order.
   /// Other ranks return null.
-  vtkSmartPointer<vtkPolyData> Collect(vtkMultiProcessController* controller, vtkPolyData* piece);
+  vtkSmartPointer<vtkPointSet> Collect(vtkMultiProcessController* controller, vtkPointSet* piece);
 
   /// Collective, after Collect.  Rank 0 passes the filter's output for the
   /// whole surface (`wholeInput` the surface it ran on) and `ok`; every rank
@@ -37,7 +38,7 @@ public:
   /// removed, gets the whole output's points when the filter replaced them,
   /// and its field data.  Returns rank 0's `ok` (the outputs stay the inputs
   /// when it failed).
-  bool Distribute(vtkPolyData* wholeInput, vtkPolyData* wholeOutput, bool ok, vtkPolyData* output);
+  bool Distribute(vtkPointSet* wholeInput, vtkPointSet* wholeOutput, bool ok, vtkPointSet* output);
 
 private:
   vtkMultiProcessController* Controller = nullptr;

@@ -288,6 +288,11 @@ bool Communicates(vtkInformation* outInfo)
 
 } // namespace
 
+bool vtkBeltramiSurface::OnePiecePerRank(vtkInformation* outInfo)
+{
+  return Communicates(outInfo);
+}
+
 int vtkBeltramiSurface::PiecesHoldingData(vtkInformation* outInfo, vtkDataSet* input)
 {
   const int pieces = RequestedPieces(outInfo);
@@ -437,7 +442,9 @@ vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owne
   if (wholeSurface && Holding > 1 && Communicates(outInfo))
   {
     Gather = std::make_shared<vtkBeltramiGather>();
-    Whole = Gather->Collect(vtkMultiProcessController::GetGlobalController(), InputData); // collective
+    vtkNew<vtkPolyData> empty; // (a missing input: an empty piece)
+    Whole = vtkPolyData::SafeDownCast(Gather->Collect(
+      vtkMultiProcessController::GetGlobalController(), InputData ? InputData : empty.Get())); // collective
     PieceOutput = OutputData;
     if (PieceOutput && InputData)
     {

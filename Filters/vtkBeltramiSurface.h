@@ -86,6 +86,9 @@ public:
   /// this is collective there: every rank must call it.  Otherwise
   /// (streaming pieces one by one) the number of pieces.
   static int PiecesHoldingData(vtkInformation* outInfo, vtkDataSet* input);
+  /// True when the request on `outInfo` is one piece per rank of the global
+  /// controller, this rank's own (pvbatch, pvserver): the ranks can talk.
+  static bool OnePiecePerRank(vtkInformation* outInfo);
   /// The warning of the smoothing filters on distributed data (`pieces`
   /// hold points), each piece smoothed on its own with `pieceBoundary`
   /// (e.g. "its piece boundary fixed").

@@ -1,5 +1,6 @@
 #include "vtkTetrahedralBeltramiDenoising.h"
 
+#include "vtkBeltramiGather.h"
 #include "vtkBeltramiGraphFlow.h"
 #include "vtkBeltramiSurface.h"
 
@@ -13,8 +14,11 @@
 #include <vtkDataSetAttributes.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
+#include <vtkMultiProcessController.h>
+#include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkPoints.h>
+#include <vtkSmartPointer.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 
@@ -34,8 +38,32 @@ int vtkTetrahedralBeltramiDenoising::RequestData(
 {
   vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0]);
   vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
   const int holding = // collective in distributed runs: before any return
-    vtkBeltramiSurface::PiecesHoldingData(outputVector->GetInformationObject(0), input);
+    vtkBeltramiSurface::PiecesHoldingData(outInfo, input);
+  if (holding > 1 && vtkBeltramiSurface::OnePiecePerRank(outInfo) && input && output)
+  {
+    // The flow couples all points (semi-implicit steps, noise-level stop,
+    // mean edge length): data split over the ranks are smoothed whole on
+    // rank 0 (vtkBeltramiGather), as in a serial run.
+    vtkBeltramiGather gather;
+    vtkSmartPointer<vtkUnstructuredGrid> whole = vtkUnstructuredGrid::SafeDownCast(
+      gather.Collect(vtkMultiProcessController::GetGlobalController(), input));
+    output->ShallowCopy(input);
+    if (!whole)
+    {
+      return gather.Distribute(nullptr, nullptr, true, output) ? 1 : 0; // ranks other than 0
+    }
+    vtkNew<vtkUnstructuredGrid> wholeOutput;
+    const bool ok = this->Smooth(whole, wholeOutput, 1) != 0;
+    return gather.Distribute(whole, wholeOutput, ok, output) ? 1 : 0;
+  }
+  return this->Smooth(input, output, holding);
+}
+
+int vtkTetrahedralBeltramiDenoising::Smooth(
+  vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, int holding)
+{
   if (!input || !output)
   {
     vtkErrorMacro("Input and output must be vtkUnstructuredGrid.");
@@ -52,12 +80,12 @@ int vtkTetrahedralBeltramiDenoising::RequestData(
     vtkErrorMacro("Too many points (" << numPoints << "). The output is the input.");
     return 0;
   }
-  if (holding > 1)
+  if (holding > 1) // pieces streamed one by one: no gathering
   {
     vtkBeltramiSurface::WarnDistributed(this, holding, "a free boundary where pieces meet");
   }
   int association = -1;
-  vtkDataArray* array = this->GetInputArrayToProcess(0, inputVector, association);
+  vtkDataArray* array = this->GetInputArrayToProcess(0, input, association);
   if (!vtkBeltramiGraphFlow::IsPointArray(this, array, association))
   {
     return 0;

@@ -31,11 +31,11 @@
  * tetrahedron with volume keep their values.  Field data: FlowIterations, FlowTime, FlowRMSChange,
  * FlowArea (the volume of the graph manifold, initial and final),
  * FlowSolverIterations.
- * Distributed runs (pvbatch, pvserver): data that a reader delivers whole
- * to one rank (e.g. OFF files) are smoothed as in a serial run; data split
- * over several ranks are smoothed piece by piece (a free boundary where
- * pieces meet), which is not the
- * serial result near the piece boundaries, and a warning says so.
+ * Distributed runs (pvbatch, pvserver): the flow couples all points, so
+ * data split over several ranks are gathered on rank 0 (vtkBeltramiGather),
+ * smoothed there as one mesh, and every rank gets the values of its own
+ * points: the numbers of a serial run (to the solver's tolerance), with the
+ * memory and time of one process.
  */
 #ifndef vtkTetrahedralBeltramiDenoising_h
 #define vtkTetrahedralBeltramiDenoising_h
@@ -106,6 +106,11 @@ protected:
 private:
   vtkTetrahedralBeltramiDenoising(const vtkTetrahedralBeltramiDenoising&) = delete;
   void operator=(const vtkTetrahedralBeltramiDenoising&) = delete;
+
+  /// Smooths `input` into `output` (RequestData's value); `holding`: how
+  /// many pieces hold points (more than 1: a streamed piece, smoothed on its
+  /// own).
+  int Smooth(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, int holding);
 };
 
 #endif
