@@ -1,5 +1,6 @@
 #include "vtkTetGenTetrahedralizer.h"
 
+#include "vtkBeltramiGather.h"
 #include "vtkBeltramiSurface.h"
 
 #include "Core/ConjugateGradient.h"
@@ -8,17 +9,20 @@
 
 #include <vtkCellArray.h>
 #include <vtkCellType.h>
+#include <vtkCommunicator.h>
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkIdTypeArray.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
+#include <vtkMultiProcessController.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
 #include <vtkStringArray.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
@@ -102,8 +106,35 @@ int vtkTetGenTetrahedralizer::RequestData(
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
   const int holding = // collective in distributed runs: before any return
-    vtkBeltramiSurface::PiecesHoldingData(outputVector->GetInformationObject(0), input);
+    vtkBeltramiSurface::PiecesHoldingData(outInfo, input);
+  if (holding > 1 && vtkBeltramiSurface::OnePiecePerRank(outInfo) && input && output)
+  {
+    // Pieces that are closed surfaces of their own are meshed where they
+    // are; a surface split over the ranks (open pieces) is gathered on rank
+    // 0 and meshed whole there (the other ranks' outputs stay empty).
+    vtkBeltramiSurface piece;
+    int open = input->GetNumberOfPoints() > 0 &&
+        (!piece.Build(input, 1) || !piece.Topology().Summary().IsClosed())
+      ? 1
+      : 0;
+    int anyOpen = 0;
+    vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+    controller->AllReduce(&open, &anyOpen, 1, vtkCommunicator::SUM_OP);
+    if (anyOpen > 0)
+    {
+      vtkBeltramiGather gather;
+      vtkSmartPointer<vtkPolyData> whole = vtkPolyData::SafeDownCast(gather.Collect(controller, input));
+      output->Initialize();
+      return whole ? this->Mesh(whole, output, 1) : 1;
+    }
+  }
+  return this->Mesh(input, output, holding);
+}
+
+int vtkTetGenTetrahedralizer::Mesh(vtkPolyData* input, vtkUnstructuredGrid* output, int holding)
+{
   if (!input || !output)
   {
     vtkErrorMacro("Input must be vtkPolyData and output vtkUnstructuredGrid.");

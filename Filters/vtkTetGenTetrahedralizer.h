@@ -23,9 +23,11 @@
  * self-intersecting or nearly touching surface: a crash there is diagnosed
  * with TetGen's self-intersection check (-d) and reported with the number
  * of intersecting triangles, and the next run starts a new helper; TetGen's
- * other failures are reported with TetGen's reason.  Abort kills the helper.  Each piece of distributed
- * data is meshed on its own (a closed surface is normally one piece; one split over several ranks is
- * open in every piece, and the error says that the data are distributed).  Field data: TetGenSwitches.
+ * other failures are reported with TetGen's reason.  Abort kills the helper.  Distributed runs
+ * (pvbatch, pvserver): pieces that are closed surfaces of their own are meshed where they are; a
+ * surface split over the ranks (open pieces) is gathered on rank 0 (vtkBeltramiGather) and meshed
+ * whole there, the other ranks' outputs staying empty.  A streamed piece of a closed surface is
+ * open: the error says so.  Field data: TetGenSwitches.
  */
 #ifndef vtkTetGenTetrahedralizer_h
 #define vtkTetGenTetrahedralizer_h
@@ -38,6 +40,8 @@
 class vtkIdTypeArray;
 class vtkPointData;
 class vtkUnstructuredGrid;
+
+class vtkPolyData;
 
 class BELTRAMIFILTERS_EXPORT vtkTetGenTetrahedralizer : public vtkUnstructuredGridAlgorithm
 {
@@ -77,6 +81,10 @@ protected:
 private:
   vtkTetGenTetrahedralizer(const vtkTetGenTetrahedralizer&) = delete;
   void operator=(const vtkTetGenTetrahedralizer&) = delete;
+
+  /// Meshes `input` into `output` (RequestData's value); `holding`: how
+  /// many pieces of distributed data hold points (for the error message).
+  int Mesh(vtkPolyData* input, vtkUnstructuredGrid* output, int holding);
 };
 
 #endif
