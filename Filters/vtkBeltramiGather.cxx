@@ -342,9 +342,20 @@ vtkSmartPointer<vtkPointSet> vtkBeltramiGather::Collect(
     }
     wholeId[i] = wholeId[rep];
   }
+  // The first piece with points gives the arrays, types and field data
+  // (rank 0's piece may be empty).
+  vtkPointSet* reference = pieces[0];
+  for (const auto& p : pieces)
+  {
+    if (p->GetNumberOfPoints() > 0)
+    {
+      reference = p;
+      break;
+    }
+  }
   auto whole = vtk::TakeSmartPointer(input->NewInstance());
   vtkNew<vtkPoints> points;
-  points->SetDataType(pieces[0]->GetPoints() ? pieces[0]->GetPoints()->GetDataType() : VTK_DOUBLE);
+  points->SetDataType(reference->GetPoints() ? reference->GetPoints()->GetDataType() : VTK_DOUBLE);
   points->SetNumberOfPoints(count);
   for (vtkIdType i = 0; i < total; ++i)
   {
@@ -357,9 +368,10 @@ vtkSmartPointer<vtkPointSet> vtkBeltramiGather::Collect(
     PointIds[r].assign(wholeId.begin() + first[r], wholeId.begin() + first[r + 1]);
   }
 
-  // Point arrays (those of rank 0's piece, where every piece has them): the
-  // value of a shared point from the first piece that has it.
-  vtkPointData* pd0 = pieces[0]->GetPointData();
+  // Point arrays (those of the reference piece, where every piece with
+  // points has them): the value of a shared point from the first piece
+  // that has it.
+  vtkPointData* pd0 = reference->GetPointData();
   for (int a = 0; a < pd0->GetNumberOfArrays(); ++a)
   {
     vtkDataArray* array0 = pd0->GetArray(a);
@@ -421,7 +433,7 @@ vtkSmartPointer<vtkPointSet> vtkBeltramiGather::Collect(
       }
     }
   }
-  whole->GetFieldData()->ShallowCopy(pieces[0]->GetFieldData());
+  whole->GetFieldData()->ShallowCopy(reference->GetFieldData());
   whole->GetFieldData()->RemoveArray(PieceCells);
   return whole;
 }

@@ -24,10 +24,11 @@ class BELTRAMIFILTERS_EXPORT vtkBeltramiGather
 public:
   /// Collective over `controller` (every rank calls it).  Sends this rank's
   /// piece (its points, its cells without ghost cells, all point arrays) to
-  /// rank 0, which returns the whole surface: the pieces appended, each
-  /// point that several pieces share (coordinates equal within 1e-12 of the
-  /// bounding box diagonal) merged into one, the cells in the pieces' order.
-  /// Other ranks return null.
+  /// rank 0, which returns the whole data set: the pieces appended, points
+  /// closer than 1e-12 of the bounding box diagonal merged into one (the
+  /// copies that pieces share of their common points; coincident points of
+  /// one piece too), the cells in the pieces' order.  Other ranks return
+  /// null.
   vtkSmartPointer<vtkPointSet> Collect(vtkMultiProcessController* controller, vtkPointSet* piece);
 
   /// Collective, after Collect.  Rank 0 passes the filter's output for the
