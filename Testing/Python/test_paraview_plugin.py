@@ -93,6 +93,30 @@ serial_curvatures.Update()
 # (The sphere source's seam points differ in the last bits between pieces.)
 check_equal_to_serial(servermanager.Fetch(split_curvatures), serial_curvatures.GetOutput(), "ellipsoid", 9)
 
+# A multiblock file (3 blocks on 2 ranks): blocks are data sets of their own,
+# run one by one without talking between ranks (no hang), as in serial.
+from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet  # noqa: E402
+from vtkmodules.vtkIOXML import vtkXMLMultiBlockDataWriter  # noqa: E402
+with tempfile.TemporaryDirectory() as tmp:
+    blocks = vtkMultiBlockDataSet()
+    for b in range(3):
+        ball = vtkSphereSource()
+        ball.SetCenter(3.0 * b, 0.0, 0.0)
+        ball.SetThetaResolution(16 + 4 * b)
+        ball.SetPhiResolution(16)
+        ball.Update()
+        blocks.SetBlock(b, ball.GetOutput())
+    writer = vtkXMLMultiBlockDataWriter()
+    writer.SetInputData(blocks)
+    writer.SetFileName(os.path.join(tmp, "blocks.vtm"))
+    writer.Write()
+    block_curvatures = DiscreteCurvatures(Input=XMLMultiBlockDataReader(FileName=[os.path.join(tmp, "blocks.vtm")]))
+    block_curvatures.UpdatePipeline()
+    block_range = block_curvatures.PointData["MeanCurvature"].GetRange()
+    check(block_curvatures.GetDataInformation().GetNumberOfPoints() == blocks.GetNumberOfPoints()
+          and 1.95 < block_range[0] <= block_range[1] < 2.05,
+          "curvatures of a multiblock file, block by block (range %s)" % (block_range,))
+
 # The bunny (read whole on one rank, double coordinates) redistributed over the
 # ranks: the same check on a real mesh cut anywhere.
 redistributed = DiscreteCurvatures(Input=ExtractSurface(Input=RedistributeDataSet(Input=reader)))
