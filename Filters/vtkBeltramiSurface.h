@@ -1,9 +1,10 @@
 // The one bridge from vtkPolyData to the Beltrami core, shared by every
 // surface filter: triangulates polygons and strips, builds the core's
 // MeshTopology once, and exposes the points without copying them when they
-// are float or double; also tells the mesh filters whether their data are
-// split over the ranks of a distributed run.  Not wrapped: an
-// implementation helper of the module.
+// are float or double.  In distributed runs it counts the ranks that hold
+// data, adds ghost cells where a filter needs 1-rings, or gathers split data
+// on rank 0 (vtkBeltramiGather) for the filters that solve over the whole
+// surface.  Not wrapped: an implementation helper of the module.
 #ifndef vtkBeltramiSurface_h
 #define vtkBeltramiSurface_h
 
