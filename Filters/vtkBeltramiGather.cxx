@@ -30,8 +30,9 @@ constexpr int PieceTag = 731001;
 constexpr int ResultTag = 731002;
 const char* const LocalCellIds = "vtkBeltramiGather::CellIds";
 const char* const PieceCells = "vtkBeltramiGather::NumberOfCells";
-// A part of the results travels as field data only (a data set's point and
-// cell data do not survive the transfer when it has no points or cells):
+// A part of the results is one field data (a data set's point and cell data
+// do not survive the transfer when it has no points or cells), sent by
+// SendPart:
 const char* const Status = "vtkBeltramiGather::Status";
 const char* const Removed = "vtkBeltramiGather::RemovedPointArrays";
 const char* const Attributes = "vtkBeltramiGather::PointAttributes"; // "type:name"
@@ -39,9 +40,74 @@ const char* const Coordinates = "vtkBeltramiGather::Coordinates";
 const std::string PointPrefix = "vtkBeltramiGather::Point::";
 const std::string CellPrefix = "vtkBeltramiGather::Cell::";
 
+const char* const RawArrays = "vtkBeltramiGather::RawArrays"; // "type:name", sent after
+
 bool StartsWith(const std::string& s, const std::string& prefix)
 {
   return s.compare(0, prefix.size(), prefix) == 0;
+}
+
+/// Sends a part to rank `to`: its small arrays in one data object, the
+/// per-point and per-cell arrays raw after it (a data object's field data
+/// travels as text: 0.3 s for the parts of a 179k-vertex surface).
+void SendPart(vtkMultiProcessController* controller, vtkFieldData* part, int to)
+{
+  vtkNew<vtkPolyData> small;
+  vtkNew<vtkStringArray> raw;
+  raw->SetName(RawArrays);
+  std::vector<vtkDataArray*> arrays;
+  for (int a = 0; a < part->GetNumberOfArrays(); ++a)
+  {
+    vtkAbstractArray* array = part->GetAbstractArray(a);
+    const std::string name = array->GetName() ? array->GetName() : "";
+    vtkDataArray* data = vtkDataArray::SafeDownCast(array);
+    if (data && (StartsWith(name, PointPrefix) || StartsWith(name, CellPrefix) || name == Coordinates))
+    {
+      raw->InsertNextValue(std::to_string(data->GetDataType()) + ":" + name);
+      arrays.push_back(data);
+    }
+    else
+    {
+      small->GetFieldData()->AddArray(array);
+    }
+  }
+  small->GetFieldData()->AddArray(raw);
+  controller->Send(small, to, ResultTag);
+  for (vtkDataArray* data : arrays)
+  {
+    controller->Send(data, to, ResultTag + 1);
+  }
+}
+
+/// The part SendPart sent from rank `from`, as one field data.
+vtkSmartPointer<vtkFieldData> ReceivePart(vtkMultiProcessController* controller, int from)
+{
+  vtkNew<vtkPolyData> small;
+  controller->Receive(small, from, ResultTag);
+  auto part = vtkSmartPointer<vtkFieldData>::New();
+  vtkStringArray* raw = nullptr;
+  for (int a = 0; a < small->GetFieldData()->GetNumberOfArrays(); ++a)
+  {
+    vtkAbstractArray* array = small->GetFieldData()->GetAbstractArray(a);
+    if (array->GetName() && std::string(array->GetName()) == RawArrays)
+    {
+      raw = vtkStringArray::SafeDownCast(array);
+    }
+    else
+    {
+      part->AddArray(array);
+    }
+  }
+  for (vtkIdType k = 0; raw && k < raw->GetNumberOfValues(); ++k)
+  {
+    const std::string entry = raw->GetValue(k);
+    const std::size_t colon = entry.find(':');
+    auto data = vtk::TakeSmartPointer(vtkDataArray::CreateDataArray(std::stoi(entry.substr(0, colon))));
+    controller->Receive(data, from, ResultTag + 1);
+    data->SetName(entry.substr(colon + 1).c_str());
+    part->AddArray(data);
+  }
+  return part;
 }
 
 /// `source`'s tuples at `ids` (-1: NaN) as a new array of its type and name.
@@ -444,9 +510,7 @@ bool vtkBeltramiGather::Distribute(
   const int rank = Controller->GetLocalProcessId(), ranks = Controller->GetNumberOfProcesses();
   if (rank != 0)
   {
-    vtkNew<vtkPolyData> part;
-    Controller->Receive(part, 0, ResultTag);
-    return Apply(part->GetFieldData(), output);
+    return Apply(ReceivePart(Controller, 0), output);
   }
   bool result = ok;
   for (int r = ranks - 1; r >= 0; --r) // rank 0's own part last
@@ -513,7 +577,7 @@ bool vtkBeltramiGather::Distribute(
     }
     if (r > 0)
     {
-      Controller->Send(part, r, ResultTag);
+      SendPart(Controller, fd, r);
     }
     else
     {
