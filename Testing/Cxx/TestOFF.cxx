@@ -27,9 +27,13 @@ using beltrami::test::MessageCollector;
 namespace
 {
 
+/// A file of the test output directory that belongs to the running test:
+/// ctest runs the tests of this file in parallel (each its own process), and
+/// a shared name let one test read another's file.
 std::string TempFile(const std::string& name)
 {
-  return std::string(BELTRAMI_TEST_OUTPUT_DIR) + "/" + name;
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  return std::string(BELTRAMI_TEST_OUTPUT_DIR) + "/" + (test ? std::string(test->name()) + "-" : "") + name;
 }
 
 void WriteText(const std::string& path, const std::string& text)
