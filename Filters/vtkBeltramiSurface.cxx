@@ -276,21 +276,14 @@ int RequestedPieces(vtkInformation* outInfo)
     : 1;
 }
 
-/// True when the request is split into one piece per rank of the global
-/// controller and this rank's piece is its own (pvbatch, pvserver).
-bool Communicates(vtkInformation* outInfo)
+} // namespace
+
+bool vtkBeltramiSurface::OnePiecePerRank(vtkInformation* outInfo)
 {
   const int pieces = RequestedPieces(outInfo);
   vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
   return pieces > 1 && controller && controller->GetNumberOfProcesses() == pieces &&
     outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) == controller->GetLocalProcessId();
-}
-
-} // namespace
-
-bool vtkBeltramiSurface::OnePiecePerRank(vtkInformation* outInfo)
-{
-  return Communicates(outInfo);
 }
 
 int vtkBeltramiSurface::PiecesHoldingData(vtkInformation* outInfo, vtkDataSet* input)
@@ -300,7 +293,7 @@ int vtkBeltramiSurface::PiecesHoldingData(vtkInformation* outInfo, vtkDataSet* i
   {
     return 1;
   }
-  if (!Communicates(outInfo))
+  if (!OnePiecePerRank(outInfo))
   {
     return pieces; // not one piece per rank: cannot ask the others
   }
@@ -434,12 +427,12 @@ vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owne
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   Holding = PiecesHoldingData(outInfo, InputData); // collective: before any return
   Ghosted = nullptr;
-  if (ghostLayers > 0 && Holding > 1 && Communicates(outInfo))
+  if (ghostLayers > 0 && Holding > 1 && OnePiecePerRank(outInfo))
   {
     Ghosted = GenerateGhosts(owner, ghostLayers); // collective too
   }
   Gather = nullptr;
-  if (wholeSurface && Holding > 1 && Communicates(outInfo))
+  if (wholeSurface && Holding > 1 && OnePiecePerRank(outInfo))
   {
     Gather = std::make_shared<vtkBeltramiGather>();
     vtkNew<vtkPolyData> empty; // (a missing input: an empty piece)

@@ -114,7 +114,7 @@ int vtkTetGenTetrahedralizer::RequestData(
     // Pieces that are closed surfaces of their own are meshed where they
     // are; a surface split over the ranks (open pieces) is gathered on rank
     // 0 and meshed whole there (the other ranks' outputs stay empty).
-    vtkBeltramiSurface piece;
+    vtkBeltramiSurface piece; // built once: meshed from here when all pieces are closed
     int open = input->GetNumberOfPoints() > 0 &&
         (!piece.Build(input, 1) || !piece.Topology().Summary().IsClosed())
       ? 1
@@ -129,11 +129,13 @@ int vtkTetGenTetrahedralizer::RequestData(
       output->Initialize();
       return whole ? this->Mesh(whole, output, 1) : 1;
     }
+    return this->Mesh(input, output, holding, &piece);
   }
   return this->Mesh(input, output, holding);
 }
 
-int vtkTetGenTetrahedralizer::Mesh(vtkPolyData* input, vtkUnstructuredGrid* output, int holding)
+int vtkTetGenTetrahedralizer::Mesh(
+  vtkPolyData* input, vtkUnstructuredGrid* output, int holding, vtkBeltramiSurface* built)
 {
   if (!input || !output)
   {
@@ -146,8 +148,9 @@ int vtkTetGenTetrahedralizer::Mesh(vtkPolyData* input, vtkUnstructuredGrid* outp
   {
     return 1;
   }
-  vtkBeltramiSurface surface;
-  if (!surface.Build(input, 1))
+  vtkBeltramiSurface own;
+  vtkBeltramiSurface& surface = built ? *built : own;
+  if (!built && !surface.Build(input, 1))
   {
     vtkErrorMacro(<< surface.Error() << " The output is empty.");
     return 0;

@@ -41,6 +41,7 @@ class vtkIdTypeArray;
 class vtkPointData;
 class vtkUnstructuredGrid;
 
+class vtkBeltramiSurface;
 class vtkPolyData;
 
 class BELTRAMIFILTERS_EXPORT vtkTetGenTetrahedralizer : public vtkUnstructuredGridAlgorithm
@@ -83,8 +84,10 @@ private:
   void operator=(const vtkTetGenTetrahedralizer&) = delete;
 
   /// Meshes `input` into `output` (RequestData's value); `holding`: how
-  /// many pieces of distributed data hold points (for the error message).
-  int Mesh(vtkPolyData* input, vtkUnstructuredGrid* output, int holding);
+  /// many pieces of distributed data hold points (for the error message);
+  /// `built`: `input`'s surface when already built (else built here).
+  int Mesh(vtkPolyData* input, vtkUnstructuredGrid* output, int holding,
+    vtkBeltramiSurface* built = nullptr);
 };
 
 #endif
