@@ -9,7 +9,7 @@ In the same run, on the same meshes: CGAL 5.5's DCP, DAP (circle border,
 arc length) and LSCM (its natural conformal map) through
 build/bin/beltrami-benchmark-cgal-parameterization, which is built when
 Debian's libcgal-dev is installed (apt install libcgal-dev; a peer to compare
-with, not a dependency), with the same angle-distortion measure.
+with, not a dependency), with the same angle- and area-distortion measures.
 """
 import os
 import subprocess
@@ -27,7 +27,8 @@ CGAL = os.path.join(HERE, "..", "..", "build", "bin", "beltrami-benchmark-cgal-p
 
 
 def cgal(data):
-    """{method: (seconds, mean angle distortion)} from CGAL on the same mesh, or {}."""
+    """{method: (seconds, mean angle distortion, mean |log area ratio|)} from
+    CGAL on the same mesh, or {}."""
     if not os.path.exists(CGAL):
         return {}
     with tempfile.TemporaryDirectory() as tmp:
@@ -40,8 +41,8 @@ def cgal(data):
     results = {}
     for line in out.splitlines():
         parts = line.split()
-        if len(parts) == 3:
-            results[{"LSCM": "natural"}.get(parts[0], parts[0])] = (float(parts[1]), float(parts[2]))
+        if len(parts) == 4:
+            results[{"LSCM": "natural"}.get(parts[0], parts[0])] = tuple(float(p) for p in parts[1:])
     return results
 
 
@@ -89,13 +90,14 @@ def main(argv):
         for label, conformal, authalic, boundary in cases:
             for threads in thread_counts:
                 elapsed, best, f = run(data, conformal, authalic, boundary, threads)
-                line = ("  %-8s %d thread%s %7.3f s (best of 3 %.3f s)   mean angle distortion %6.3f deg, flipped %d"
+                line = ("  %-8s %d thread%s %7.3f s (best of 3 %.3f s)   mean distortion: angle %6.3f deg, "
+                        "|log area| %.3f, flipped %d"
                         % (label, threads, " " if threads == 1 else "s", elapsed, best,
-                           f.GetMeanAngleDistortion(), f.GetNumberOfFlippedTriangles()))
+                           f.GetMeanAngleDistortion(), f.GetMeanAreaDistortion(), f.GetNumberOfFlippedTriangles()))
                 if label in reference:
-                    t, d = reference[label]
-                    line += "   CGAL %s %.3f s, %.3f deg: ours %.1fx faster (first run)" % (
-                        "LSCM" if label == "natural" else label, t, d, t / elapsed)
+                    t, angle, area = reference[label]
+                    line += "   CGAL %s %.3f s, %.3f deg, %.3f: ours %.1fx faster (first run)" % (
+                        "LSCM" if label == "natural" else label, t, angle, area, t / elapsed)
                 print(line)
     return 0
 

@@ -109,13 +109,18 @@ TEST(Parameterization, PlanarMeshIsItsOwnParameterization)
 TEST(Parameterization, MushroomMatchesCGALDistortion)
 {
   // CGAL 5.5 on mushroom.off with the arc-length circle boundary: DCP mean
-  // angle distortion 3.48 deg, DAP 14.5 deg; free-boundary LSCM 1.73 deg.
+  // angle distortion 3.478 deg, DAP 14.545 deg; free-boundary LSCM 1.725
+  // deg.  Mean |log area ratio| (beltrami-benchmark-cgal-parameterization):
+  // DCP 1.418, DAP 2.420 - on this mesh the authalic map has the larger area
+  // distortion, in CGAL too.
   const Mesh m = ReadMesh("mushroom.off");
   const DistortionReport dcp = Measure(m, Solve(m, Energy(1, 0, ParameterizationBoundary::Circle)));
   const DistortionReport dap = Measure(m, Solve(m, Energy(0, 1, ParameterizationBoundary::Circle)));
   const DistortionReport natural = Measure(m, Solve(m, Energy(1, 0, ParameterizationBoundary::Natural)));
   EXPECT_NEAR(dcp.MeanAngle, 3.48, 0.01);
-  EXPECT_NEAR(dap.MeanAngle, 14.5, 0.1);
+  EXPECT_NEAR(dap.MeanAngle, 14.545, 0.01);
+  EXPECT_NEAR(dcp.MeanArea, 1.418, 0.002);
+  EXPECT_NEAR(dap.MeanArea, 2.420, 0.002);
   EXPECT_LE(natural.MeanAngle, 1.73);
   EXPECT_EQ(dcp.FlippedTriangles, 0);
   EXPECT_EQ(dap.FlippedTriangles, 0);
@@ -138,6 +143,8 @@ TEST(Parameterization, RealMeshesConformalVersusAuthalic)
     {
       EXPECT_EQ(dcp.FlippedTriangles, 0);
     }
+    // DAP has the lower area distortion on these two only; on mushroom and
+    // patch-01 CGAL's DAP has the larger one too (see above).
     if (std::string(name) == "nefertiti.off" || std::string(name) == "three_peaks.off")
     {
       EXPECT_LT(dap.MeanArea, dcp.MeanArea);
