@@ -321,6 +321,32 @@ std::vector<std::vector<vtkIdType>> AppendCells(const std::vector<vtkSmartPointe
 
 } // namespace
 
+std::vector<vtkIdType> vtkBeltramiGather::CoincidentPoints(vtkPoints* points, double tolerance)
+{
+  const vtkIdType n = points ? points->GetNumberOfPoints() : 0;
+  std::vector<vtkIdType> merged(static_cast<std::size_t>(n));
+  if (n == 0)
+  {
+    return merged;
+  }
+  vtkNew<vtkPolyData> cloud;
+  cloud->SetPoints(points);
+  vtkNew<vtkStaticPointLocator> locator;
+  locator->SetDataSet(cloud);
+  locator->BuildLocator();
+  locator->MergePoints(tolerance, merged.data());
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    vtkIdType rep = merged[i];
+    while (merged[rep] != rep) // representatives map to themselves
+    {
+      rep = merged[rep];
+    }
+    merged[i] = rep;
+  }
+  return merged;
+}
+
 vtkSmartPointer<vtkPointSet> vtkBeltramiGather::Collect(
   vtkMultiProcessController* controller, vtkPointSet* input)
 {
@@ -383,30 +409,16 @@ vtkSmartPointer<vtkPointSet> vtkBeltramiGather::Collect(
       all->SetPoint(first[r] + k, pieces[r]->GetPoint(k));
     }
   }
-  std::vector<vtkIdType> merged(static_cast<std::size_t>(total));
-  if (total > 0)
-  {
-    vtkNew<vtkPolyData> cloud;
-    cloud->SetPoints(all);
-    vtkNew<vtkStaticPointLocator> locator;
-    locator->SetDataSet(cloud);
-    locator->BuildLocator();
-    locator->MergePoints(1e-12 * box.GetDiagonalLength(), merged.data());
-  }
+  const std::vector<vtkIdType> merged = CoincidentPoints(all, 1e-12 * box.GetDiagonalLength());
   std::vector<vtkIdType> wholeId(static_cast<std::size_t>(total), -1);
   vtkIdType count = 0;
   for (vtkIdType i = 0; i < total; ++i)
   {
-    vtkIdType rep = merged[i];
-    while (merged[rep] != rep) // representatives map to themselves
+    if (wholeId[merged[i]] < 0)
     {
-      rep = merged[rep];
+      wholeId[merged[i]] = count++;
     }
-    if (wholeId[rep] < 0)
-    {
-      wholeId[rep] = count++;
-    }
-    wholeId[i] = wholeId[rep];
+    wholeId[i] = wholeId[merged[i]];
   }
   // The first piece with points gives the arrays, types and field data
   // (rank 0's piece may be empty).

@@ -17,6 +17,7 @@
 
 class vtkAlgorithm;
 class vtkMultiProcessController;
+class vtkPoints;
 class vtkPointSet;
 
 class BELTRAMIFILTERS_EXPORT vtkBeltramiGather
@@ -40,6 +41,12 @@ public:
   /// and its field data.  Returns rank 0's `ok` (the outputs stay the inputs
   /// when it failed).
   bool Distribute(vtkPointSet* wholeInput, vtkPointSet* wholeOutput, bool ok, vtkPointSet* output);
+
+  /// For every point of `points`, the id of the one point that represents
+  /// it and the points within `tolerance` of it (vtkStaticPointLocator::
+  /// MergePoints, chains resolved; a representative represents itself):
+  /// how the pieces' copies of their common points are joined.
+  static std::vector<vtkIdType> CoincidentPoints(vtkPoints* points, double tolerance);
 
 private:
   vtkMultiProcessController* Controller = nullptr;

@@ -5,6 +5,7 @@
 #include "Core/LargeBuffer.h"
 
 #include <vtkAOSDataArrayTemplate.h>
+#include <vtkBoundingBox.h>
 #include <vtkAlgorithm.h>
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
@@ -13,7 +14,6 @@
 #include <vtkDataSetAttributes.h>
 #include <vtkDoubleArray.h>
 #include <vtkFloatArray.h>
-#include <vtkGhostCellsGenerator.h>
 #include <vtkIdList.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
@@ -148,7 +148,7 @@ bool ValidCell(vtkIdType n, const vtkIdType* ids, vtkIdType numPoints)
 
 bool vtkBeltramiSurface::Build(vtkPolyData* input, int numberOfThreads)
 {
-  InputData = input; // PointsAsDouble() and the lookups read it
+  InputData = input; // the lookups read it
   Mesh.reset();
   CellOfTriangle.clear();
   Floats = nullptr;
@@ -323,7 +323,7 @@ void vtkBeltramiSurface::WarnAboutInput(
   }
 }
 
-vtkSmartPointer<vtkPolyData> vtkBeltramiSurface::GenerateGhosts(vtkAlgorithm* owner, int layers)
+bool vtkBeltramiSurface::ExchangeOneRings(int numberOfThreads)
 {
   // Called on every rank when the pieces are the ranks and several hold
   // points (PiecesHoldingData communicated): the decision is collective.
@@ -341,71 +341,153 @@ vtkSmartPointer<vtkPolyData> vtkBeltramiSurface::GenerateGhosts(vtkAlgorithm* ow
   controller->AllReduce(local, global, 2, vtkCommunicator::SUM_OP);
   if (global[0] == 0 || global[1] > 0)
   {
-    return nullptr; // the pieces came with ghost cells (as requested), or none holds points
+    return false; // the pieces came with ghost cells, or none holds points
   }
-  // The piece as the generator gets it: its cells, float points and the
-  // exact coordinates as point data (VTK 9.2's generator joins the pieces
-  // only where their points are float: with double points, e.g. from the
-  // OFF reader, it added no ghost cell at all).
-  static const char* const exactName = "vtkBeltramiSurface::ExactCoordinates";
-  vtkNew<vtkPolyData> piece;
-  if (hasPoints)
+
+  // What this piece offers: every triangle at a vertex on the edge of the
+  // piece (a boundary or non-manifold vertex of its own topology), as its
+  // corners' coordinates.  A point that pieces share is on the edge of each
+  // of them, so every piece gets the whole star of its shared points - also
+  // from a piece that touches it at that point only.
+  const int ranks = controller->GetNumberOfProcesses();
+  const int rank = controller->GetLocalProcessId();
+  std::vector<double> offer;
+  std::vector<Index> edgeVertices; // this piece's boundary and non-manifold vertices
+  const bool built = hasPoints && Build(InputData, numberOfThreads);
+  if (built)
   {
-    vtkDataArray* coordinates = InputData->GetPoints()->GetData();
-    vtkSmartPointer<vtkDataArray> exact = vtk::TakeSmartPointer(coordinates->NewInstance());
-    exact->ShallowCopy(coordinates);
-    exact->SetName(exactName);
-    vtkNew<vtkPoints> floats;
-    floats->SetDataTypeToFloat();
-    floats->GetData()->DeepCopy(coordinates);
-    piece->SetPoints(floats);
-    piece->GetPointData()->AddArray(exact);
-    piece->SetVerts(InputData->GetVerts());
-    piece->SetLines(InputData->GetLines());
-    piece->SetPolys(InputData->GetPolys());
-    piece->SetStrips(InputData->GetStrips());
+    const beltrami::MeshTopology& topo = *Mesh;
+    std::vector<std::uint8_t> offered(static_cast<std::size_t>(topo.NumberOfTriangles()), 0);
+    for (Index v = 0; v < topo.NumberOfVertices(); ++v)
+    {
+      if (topo.VertexFlags(v) & (beltrami::VertexBoundary | beltrami::VertexNonManifold))
+      {
+        edgeVertices.push_back(v);
+        for (const Index* c = topo.CornersBegin(v); c != topo.CornersEnd(v); ++c)
+        {
+          offered[*c / 3] = 1;
+        }
+      }
+    }
+    for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
+    {
+      for (int k = 0; offered[t] && k < 3; ++k)
+      {
+        double x[3];
+        InputData->GetPoint(topo.CornerVertex(3 * t + k), x);
+        offer.insert(offer.end(), x, x + 3);
+      }
+    }
   }
-  vtkNew<vtkGhostCellsGenerator> generator;
-  generator->SetController(controller);
-  generator->BuildIfRequiredOff();
-  generator->SetNumberOfGhostLayers(layers);
-  generator->SetInputData(piece);
-  generator->Update();
-  vtkSmartPointer<vtkPolyData> ghosted = vtkPolyData::SafeDownCast(generator->GetOutputDataObject(0));
-  vtkDataArray* exact = ghosted ? ghosted->GetPointData()->GetArray(exactName) : nullptr;
-  // The generator keeps the piece's points first, in order (it may give a
-  // point shared with another piece that piece's copy of the coordinates);
-  // anything else (not seen with VTK 9.2) would mix up the point ids: then
-  // go without.
-  const vtkIdType n = hasPoints ? InputData->GetNumberOfPoints() : 0;
-  bool prefix = exact && exact->GetNumberOfComponents() == 3 && exact->GetNumberOfTuples() >= n &&
-    ghosted->GetNumberOfPoints() == exact->GetNumberOfTuples();
-  for (vtkIdType i = 0; prefix && i < n; ++i)
+  std::vector<vtkIdType> lengths(static_cast<std::size_t>(ranks), 0), offsets(ranks + 1, 0);
+  const vtkIdType length = static_cast<vtkIdType>(offer.size());
+  controller->AllGather(&length, lengths.data(), 1);
+  for (int r = 0; r < ranks; ++r)
   {
-    double a[3], b[3];
-    InputData->GetPoint(i, a);
-    ghosted->GetPoint(i, b);
-    prefix = static_cast<float>(a[0]) == b[0] && static_cast<float>(a[1]) == b[1] &&
-      static_cast<float>(a[2]) == b[2];
+    offsets[r + 1] = offsets[r] + lengths[r];
   }
-  if (!prefix)
+  std::vector<double> offers(static_cast<std::size_t>(offsets[ranks]));
+  controller->AllGatherV(offer.data(), offers.data(), length, lengths.data(), offsets.data());
+  if (edgeVertices.empty() || offsets[ranks] == length)
   {
-    vtkWarningWithObjectMacro(owner, "Could not add ghost cells to this piece of distributed data: "
-                                     "points at the piece boundary are treated as boundary points.");
-    return nullptr;
+    return built; // nothing to join (this piece has no edge, or no other piece offers)
   }
-  if (n > 0)
+
+  // Join: this piece's edge vertices, then the other pieces' corners, with
+  // their copies of common points merged (as vtkBeltramiGather does).
+  const vtkIdType own = static_cast<vtkIdType>(edgeVertices.size());
+  const vtkIdType corners = (offsets[ranks] - length) / 3;
+  vtkNew<vtkPoints> joined;
+  joined->SetDataTypeToDouble();
+  joined->SetNumberOfPoints(own + corners);
+  vtkBoundingBox box;
+  for (vtkIdType i = 0; i < own; ++i)
   {
-    // The piece's own coordinates, then the ghost points' exact ones.
-    vtkNew<vtkPoints> points;
-    points->SetDataType(InputData->GetPoints()->GetDataType());
-    points->SetNumberOfPoints(ghosted->GetNumberOfPoints());
-    vtkDataArray* coordinates = points->GetData();
-    coordinates->InsertTuples(0, n, 0, InputData->GetPoints()->GetData());
-    coordinates->InsertTuples(n, ghosted->GetNumberOfPoints() - n, n, exact);
-    ghosted->SetPoints(points);
+    double x[3];
+    InputData->GetPoint(edgeVertices[i], x);
+    joined->SetPoint(i, x);
+    box.AddPoint(x);
   }
-  return ghosted;
+  for (int r = 0, i = 0; r < ranks; ++r)
+  {
+    for (vtkIdType k = offsets[r]; r != rank && k < offsets[r + 1]; k += 3, ++i)
+    {
+      joined->SetPoint(own + i, offers.data() + k);
+      box.AddPoint(offers.data() + k);
+    }
+  }
+  const std::vector<vtkIdType> merged =
+    vtkBeltramiGather::CoincidentPoints(joined, 1e-12 * box.GetDiagonalLength());
+  // Per representative: the piece's point it stands for, or a new ghost point
+  // (numbered after the piece's points).
+  std::vector<vtkIdType> pointOf(static_cast<std::size_t>(own + corners), -1);
+  for (vtkIdType i = 0; i < own; ++i)
+  {
+    pointOf[merged[i]] = edgeVertices[i];
+  }
+  const Index n = Mesh->NumberOfVertices();
+  beltrami::IndexArray triangles(Mesh->TriangleList());
+  const std::size_t kept = triangles.size() / 3;
+  std::vector<double> ghostPoints;
+  for (vtkIdType t = 0; t < corners / 3; ++t)
+  {
+    const vtkIdType* m = merged.data() + own + 3 * t;
+    if (pointOf[m[0]] < 0 && pointOf[m[1]] < 0 && pointOf[m[2]] < 0)
+    {
+      continue; // not at this piece
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      if (pointOf[m[k]] < 0)
+      {
+        pointOf[m[k]] = n + static_cast<vtkIdType>(ghostPoints.size() / 3);
+        const double* x = joined->GetPoint(m[k]);
+        ghostPoints.insert(ghostPoints.end(), x, x + 3);
+      }
+      triangles.push_back(static_cast<Index>(pointOf[m[k]]));
+    }
+  }
+  if (triangles.size() / 3 == kept)
+  {
+    return true; // the other pieces' edges do not touch this one
+  }
+  // The piece's coordinates (their own precision), then the ghost points'.
+  const Index total = n + static_cast<Index>(ghostPoints.size() / 3);
+  vtkSmartPointer<vtkDataArray> coordinates = NewArray(Floats ? VTK_FLOAT : VTK_DOUBLE, nullptr, 3, total);
+  if (Floats)
+  {
+    float* x = vtkFloatArray::FastDownCast(coordinates)->GetPointer(0);
+    std::copy(Floats, Floats + 3 * static_cast<std::size_t>(n), x);
+    std::copy(ghostPoints.begin(), ghostPoints.end(), x + 3 * static_cast<std::size_t>(n));
+    Floats = x;
+  }
+  else
+  {
+    double* x = vtkDoubleArray::FastDownCast(coordinates)->GetPointer(0);
+    std::copy(Doubles, Doubles + 3 * static_cast<std::size_t>(n), x);
+    std::copy(ghostPoints.begin(), ghostPoints.end(), x + 3 * static_cast<std::size_t>(n));
+    Doubles = x;
+  }
+  PointData = coordinates;
+  // Input cells of the kept triangles (TriangleCell); -1 for the ring's.
+  std::vector<vtkIdType> cells(triangles.size() / 3, -1);
+  const beltrami::IndexArray& original = Mesh->OriginalTriangleIds();
+  for (std::size_t t = 0; t < kept; ++t)
+  {
+    cells[t] = TriangleCell(original[t]);
+  }
+  try
+  {
+    Mesh = std::make_unique<beltrami::MeshTopology>(total, std::move(triangles), numberOfThreads);
+  }
+  catch (const std::exception& e)
+  {
+    ErrorText = e.what();
+    Mesh.reset();
+    return false;
+  }
+  CellOfTriangle = std::move(cells);
+  return true;
 }
 
 vtkIdType vtkBeltramiSurface::NumberOfInputPoints() const
@@ -415,21 +497,21 @@ vtkIdType vtkBeltramiSurface::NumberOfInputPoints() const
 
 vtkIdType vtkBeltramiSurface::NumberOfTopologyPoints() const
 {
-  return Ghosted ? Ghosted->GetNumberOfPoints() : NumberOfInputPoints();
+  return Mesh ? Mesh->NumberOfVertices() : NumberOfInputPoints();
 }
 
 vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owner,
   vtkInformationVector** inputVector, vtkInformationVector* outputVector, int numberOfThreads,
-  int ghostLayers, bool wholeSurface)
+  bool oneRings, bool wholeSurface)
 {
   InputData = vtkPolyData::GetData(inputVector[0]);
   OutputData = vtkPolyData::GetData(outputVector);
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   Holding = PiecesHoldingData(outInfo, InputData); // collective: before any return
-  Ghosted = nullptr;
-  if (ghostLayers > 0 && Holding > 1 && OnePiecePerRank(outInfo))
+  bool built = false;
+  if (oneRings && Holding > 1 && OnePiecePerRank(outInfo))
   {
-    Ghosted = GenerateGhosts(owner, ghostLayers); // collective too
+    built = ExchangeOneRings(numberOfThreads); // collective too
   }
   Gather = nullptr;
   if (wholeSurface && Holding > 1 && OnePiecePerRank(outInfo))
@@ -469,7 +551,7 @@ vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owne
     Finish(true); // (a gathered run: the outputs stay the inputs)
     return NothingToDo;
   }
-  if (!Build(Ghosted ? Ghosted.Get() : InputData, numberOfThreads))
+  if (!built && !Build(InputData, numberOfThreads))
   {
     vtkErrorWithObjectMacro(owner, "Cannot process the input surface: " << Error());
     Finish(false);
@@ -591,7 +673,7 @@ const double* vtkBeltramiSurface::PointsAsDouble(std::vector<double>& storage) c
   {
     return Doubles;
   }
-  const vtkIdType n = InputData ? InputData->GetNumberOfPoints() : 0;
+  const std::size_t n = Mesh ? static_cast<std::size_t>(Mesh->NumberOfVertices()) : 0;
   storage.assign(Floats, Floats + 3 * n);
   return storage.data();
 }

@@ -2,9 +2,10 @@
 // surface filter: triangulates polygons and strips, builds the core's
 // MeshTopology once, and exposes the points without copying them when they
 // are float or double.  In distributed runs it counts the ranks that hold
-// data, adds ghost cells where a filter needs 1-rings, or gathers split data
-// on rank 0 (vtkBeltramiGather) for the filters that solve over the whole
-// surface.  Not wrapped: an implementation helper of the module.
+// data, exchanges the triangles around the pieces' common points where a
+// filter needs 1-rings, or gathers split data on rank 0 (vtkBeltramiGather)
+// for the filters that solve over the whole surface.  Not wrapped: an
+// implementation helper of the module.
 #ifndef vtkBeltramiSurface_h
 #define vtkBeltramiSurface_h
 
@@ -48,12 +49,13 @@ public:
   /// empty piece of distributed data).  Collective in distributed runs
   /// (see PiecesHoldingData): every rank must call it.
   ///
-  /// `ghostLayers` > 0: the filter needs that many layers of neighbouring
-  /// cells around its piece.  When the data are split over ranks and no
+  /// `oneRings`: the filter needs the whole 1-ring (star of triangles) of
+  /// every point of its piece.  When the data are split over ranks and no
   /// rank's piece has ghost cells (sources and readers that cannot make
-  /// them), vtkGhostCellsGenerator adds them: the topology then covers the
-  /// piece's points first (same ids) and the ghost points after them
-  /// (NumberOfTopologyPoints() > NumberOfInputPoints()).
+  /// them), the ranks exchange the triangles at the edges of their pieces
+  /// (ExchangeOneRings): the topology then covers the piece's points first
+  /// (same ids) and the ghost points after them (NumberOfTopologyPoints() >
+  /// NumberOfInputPoints()); Input() stays the piece.
   ///
   /// `wholeSurface`: the filter needs the whole surface at once.  When the
   /// data are split over the ranks, the pieces are gathered on rank 0 (see
@@ -62,7 +64,7 @@ public:
   /// Gathered.  Every rank ends RequestData with Finish, which sends each
   /// rank the results for its piece.
   PrepareResult Prepare(vtkAlgorithm* owner, vtkInformationVector** inputVector,
-    vtkInformationVector* outputVector, int numberOfThreads, int ghostLayers = 0,
+    vtkInformationVector* outputVector, int numberOfThreads, bool oneRings = false,
     bool wholeSurface = false);
   /// The end of RequestData after Prepare's Ready (`ok`: the filter
   /// succeeded) or Gathered (pass true): in a gathered run the results go
@@ -72,7 +74,8 @@ public:
   bool IsGathered() const { return Gather != nullptr; }
   /// Points of the input piece (the output's points).
   vtkIdType NumberOfInputPoints() const;
-  /// Points of the topology: the input's, then generated ghost points.
+  /// Points of the topology: the input's, then the ghost points of the
+  /// other pieces' triangles (Prepare's oneRings).
   vtkIdType NumberOfTopologyPoints() const;
   vtkPolyData* Input() const { return InputData; }
   vtkPolyData* Output() const { return OutputData; }
@@ -143,7 +146,8 @@ public:
 
   /// The input cell (vtkPolyData cell id: verts, lines, polys, strips) that
   /// triangle t of the triangle list given to the topology came from; call
-  /// it with Topology().OriginalTriangleIds()[k] for kept triangle k.
+  /// it with Topology().OriginalTriangleIds()[k] for kept triangle k.  -1
+  /// for a triangle of another piece's (Prepare's oneRings).
   vtkIdType TriangleCell(beltrami::Index t) const
   {
     return CellOfTriangle.empty() ? FirstPolygonCell + t : CellOfTriangle[t];
@@ -161,11 +165,18 @@ private:
   /// The general path of Build: any polygons (triangulated) and strips.
   void BuildTriangles(vtkPolyData* input, beltrami::IndexArray& triangles);
 
-  /// Prepare's ghost layers (null when none were generated).
-  vtkSmartPointer<vtkPolyData> GenerateGhosts(vtkAlgorithm* owner, int layers);
+  /// Prepare's one-ring exchange (collective): builds the piece's topology,
+  /// every piece sends the triangles at its edge vertices to all ranks, and
+  /// each keeps those that touch its own points (coincident points joined
+  /// as vtkBeltramiGather joins them), so that every point of the piece gets
+  /// its whole star, also where three or more pieces meet.  The topology is
+  /// then rebuilt with those triangles (TriangleCell -1) and their other
+  /// points (after the piece's).  Returns true when the topology is built
+  /// (with or without a ring), false when Build is still to be called (the
+  /// pieces came with ghost cells, or the piece could not be built).
+  bool ExchangeOneRings(int numberOfThreads);
 
   std::unique_ptr<beltrami::MeshTopology> Mesh;
-  vtkSmartPointer<vtkPolyData> Ghosted; // the input with generated ghost cells
   std::shared_ptr<vtkBeltramiGather> Gather; // gathered run (wholeSurface)
   vtkSmartPointer<vtkPolyData> Whole, WholeOutput; // rank 0 of a gathered run
   vtkPolyData* PieceOutput = nullptr; // this rank's output in a gathered run

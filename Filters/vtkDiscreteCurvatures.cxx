@@ -23,16 +23,21 @@ vtkDiscreteCurvatures::vtkDiscreteCurvatures() = default;
 int vtkDiscreteCurvatures::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  // Curvature at a point needs its whole 1-ring: ask for one more ghost level.
+  // Curvature at a point needs its whole 1-ring.  Streamed pieces (one
+  // process) need one more ghost level from upstream.  Pieces that are the
+  // ranks of a distributed run exchange their edge triangles themselves
+  // (vtkBeltramiSurface::Prepare): asking upstream for ghost cells there
+  // would re-execute it (a RedistributeDataSet of a 4.8M-triangle surface
+  // ran again for over a minute) and most sources cannot make them.
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   const int piece = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
   const int pieces = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES());
   const int ghosts = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS());
+  const bool streamed = pieces > 1 && !vtkBeltramiSurface::OnePiecePerRank(outInfo);
   inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), piece);
   inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), pieces);
-  inInfo->Set(
-    vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), ghosts + (pieces > 1));
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), ghosts + (streamed ? 1 : 0));
   return 1;
 }
 
@@ -62,9 +67,9 @@ double* Pointer(vtkDoubleArray* a)
 int vtkDiscreteCurvatures::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  // One ghost layer: the 1-rings of the points at the edge of a piece.
+  // The whole 1-rings of the points at the edge of a piece.
   vtkBeltramiSurface surface;
-  const auto prepared = surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads, 1);
+  const auto prepared = surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads, true);
   if (prepared != vtkBeltramiSurface::Ready)
   {
     return prepared == vtkBeltramiSurface::NothingToDo;

@@ -35,13 +35,15 @@
  * the input's cells and arrays.  Float and double points are read in place;
  * all computation is in double.  The work runs on NumberOfThreads threads
  * (0: all cores, or BELTRAMI_NUM_THREADS), reports progress and honours
- * AbortExecute.  In a distributed pipeline (pvbatch, pvserver) one ghost
- * level is requested so that every point of a piece has its full 1-ring;
- * where the pieces come without ghost cells (most sources and readers), the
- * filter adds one layer itself (vtkGhostCellsGenerator), and the values
- * equal those of a serial run.  Known limit: a point where three or more
- * pieces meet may not be joined by VTK 9.2's generator and then stays
- * undefined (NaN, VertexStatus boundary).
+ * AbortExecute.  In a distributed pipeline (pvbatch, pvserver: one piece
+ * per rank) every point of a piece gets its full 1-ring: pieces that come
+ * with ghost cells use them; otherwise the ranks exchange the triangles
+ * around their common points (every piece sends those at its edge points,
+ * each keeps those touching its own), also where three or more pieces meet.
+ * No ghost level is requested upstream there (it would re-execute the
+ * upstream pipeline, and most sources and readers cannot make ghost cells);
+ * pieces streamed one by one in one process ask for one ghost level.  The
+ * values equal those of a serial run.
  */
 #ifndef vtkDiscreteCurvatures_h
 #define vtkDiscreteCurvatures_h

@@ -38,7 +38,7 @@ int vtkImplicitFairing::RequestData(
   // (vtkBeltramiGather), as in a serial run.
   vtkBeltramiSurface surface;
   const auto prepared =
-    surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads, 0, true);
+    surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads, false, true);
   if (prepared == vtkBeltramiSurface::Gathered)
   {
     const int done = surface.Finish(true);

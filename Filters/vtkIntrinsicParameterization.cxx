@@ -130,7 +130,7 @@ int vtkIntrinsicParameterization::RequestData(
   // and every rank gets the results for its own points and cells.
   vtkBeltramiSurface surface;
   const auto prepared =
-    surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads, 0, true);
+    surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads, false, true);
   if (prepared == vtkBeltramiSurface::Gathered)
   {
     const int done = surface.Finish(true);

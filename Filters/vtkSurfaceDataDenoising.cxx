@@ -36,7 +36,7 @@ int vtkSurfaceDataDenoising::RequestData(
   // smoothed whole on rank 0 (vtkBeltramiGather), as in a serial run.
   vtkBeltramiSurface surface;
   const auto prepared =
-    surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads, 0, true);
+    surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads, false, true);
   if (prepared == vtkBeltramiSurface::Gathered)
   {
     return surface.Finish(true);
