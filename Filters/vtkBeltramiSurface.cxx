@@ -408,11 +408,12 @@ bool vtkBeltramiSurface::ExchangeOneRings(int numberOfThreads)
     joined->SetPoint(i, x);
     box.AddPoint(x);
   }
-  for (int r = 0, i = 0; r < ranks; ++r)
+  vtkIdType corner = 0;
+  for (int r = 0; r < ranks; ++r)
   {
-    for (vtkIdType k = offsets[r]; r != rank && k < offsets[r + 1]; k += 3, ++i)
+    for (vtkIdType k = offsets[r]; r != rank && k < offsets[r + 1]; k += 3, ++corner)
     {
-      joined->SetPoint(own + i, offers.data() + k);
+      joined->SetPoint(own + corner, offers.data() + k);
       box.AddPoint(offers.data() + k);
     }
   }
