@@ -237,7 +237,7 @@ struct ParameterizationSolver
   /// `twinPairs`: see SparseFactorization::Compute.
   bool Setup(const RowMatrix& rows, const std::vector<std::uint8_t>& kind,
     const Eigen::MatrixXd& fixedValues, bool symmetric, const std::vector<Index>& vertexOrder,
-    bool twinPairs, std::string& error)
+    bool twinPairs, int threads, std::string& error)
   {
     Kind = kind;
     const int n = static_cast<int>(kind.size());
@@ -345,7 +345,7 @@ struct ParameterizationSolver
         }
       }
     }
-    if (NumberFactor > 0 && !Factor.Compute(AFF.View(), symmetric, order, twinPairs))
+    if (NumberFactor > 0 && !Factor.Compute(AFF.View(), symmetric, order, twinPairs, threads))
     {
       error = "the linear system is singular (degenerate triangles or a disconnected part?)";
       return false;
@@ -1269,7 +1269,7 @@ ParameterizationResult ParameterizeUnguarded(
     fixed(2 * pb, 0) = std::sqrt(far);
     ParameterizationSolver solver;
     // u and v share the cotangent matrix and are coupled on the boundary only.
-    if (!solver.Setup(rows, kind, fixed, true, VertexOrder(topo, points, threads), true, error))
+    if (!solver.Setup(rows, kind, fixed, true, VertexOrder(topo, points, threads), true, threads, error))
     {
       return Fail("Cannot parameterize: " + error + ".");
     }
@@ -1415,7 +1415,7 @@ ParameterizationResult ParameterizeUnguarded(
       {
         vertexOrder = VertexOrder(topo, points, threads);
       }
-      if (!solver.Setup(rows, kind, fixed, mu == 0.0, vertexOrder, false, error) ||
+      if (!solver.Setup(rows, kind, fixed, mu == 0.0, vertexOrder, false, threads, error) ||
         !solver.Solve(constraints, solution, error))
       {
         return false;

@@ -1,6 +1,7 @@
 #include "SparseFactorization.h"
 
 #include "LargeBuffer.h"
+#include "SupernodalLU.h"
 
 #include <cholmod.h>
 #include <umfpack.h>
@@ -169,6 +170,9 @@ struct SparseFactorization::Internals
   double Control[UMFPACK_CONTROL];
   mutable double Info[UMFPACK_INFO];
   void* LU = nullptr;
+  // SupernodalLU (when the caller gives an order; UMFPACK otherwise or when
+  // it fails).
+  std::unique_ptr<SupernodalLU> Supernodal;
   // Twin pairs (see Compute): A = I_2 (x) L + a coupling of the last m
   // pairs in Cholesky's order. Cholesky then factors L only.
   std::vector<int> Order; // the caller's elimination order (for the LU)
@@ -225,6 +229,7 @@ struct SparseFactorization::Internals
     {
       umfpack_di_free_numeric(&LU);
     }
+    Supernodal.reset();
     Twin = false;
     Coupled = 0;
     Matrices(0);
@@ -448,8 +453,20 @@ struct SparseFactorization::Internals
     return result;
   }
 
-  bool FactorizeLU()
+  bool FactorizeLU(int threads)
   {
+    // With the caller's order: the supernodal LU (179k-vertex DAP: 0.16 s
+    // and 166 MB on 2 threads, where UMFPACK took 0.67 s and 172 MB);
+    // UMFPACK when it fails (a pivot it cannot find inside a supernode).
+    if (!Order.empty())
+    {
+      Supernodal = std::make_unique<SupernodalLU>();
+      if (Supernodal->Compute(*A, Order, threads))
+      {
+        return true;
+      }
+      Supernodal.reset();
+    }
     void* symbolic = nullptr;
     // The caller's order when there is one: UMFPACK's LU then does half the
     // flops of AMD's order and touches less memory (179k-vertex DAP: 4.1e9
@@ -475,6 +492,12 @@ struct SparseFactorization::Internals
 
   Eigen::MatrixXd SolveLU(const Eigen::MatrixXd& b) const
   {
+    if (Supernodal)
+    {
+      Eigen::MatrixXd x = b;
+      Supernodal->Solve(x);
+      return x;
+    }
     Eigen::MatrixXd x(b.rows(), b.cols());
     for (Eigen::Index c = 0; c < b.cols(); ++c)
     {
@@ -497,13 +520,15 @@ SparseFactorization::~SparseFactorization()
   Internal.reset();
 }
 
-bool SparseFactorization::Compute(const Matrix& a, bool symmetric, const std::vector<int>& order, bool twinPairs)
+bool SparseFactorization::Compute(
+  const Matrix& a, bool symmetric, const std::vector<int>& order, bool twinPairs, int numThreads)
 {
   return Compute(MatrixView(a.rows(), a.cols(), a.nonZeros(), a.outerIndexPtr(), a.innerIndexPtr(), a.valuePtr()),
-    symmetric, order, twinPairs);
+    symmetric, order, twinPairs, numThreads);
 }
 
-bool SparseFactorization::Compute(const MatrixView& a, bool symmetric, const std::vector<int>& order, bool twinPairs)
+bool SparseFactorization::Compute(
+  const MatrixView& a, bool symmetric, const std::vector<int>& order, bool twinPairs, int numThreads)
 {
   SerialOpenMPRegions serial;
   Internals& in = *Internal;
@@ -527,7 +552,7 @@ bool SparseFactorization::Compute(const MatrixView& a, bool symmetric, const std
   if (!in.Symmetric)
   {
     in.Clear(); // not symmetric, or not positive definite after all: LU
-    if (!in.FactorizeLU())
+    if (!in.FactorizeLU(numThreads))
     {
       return false;
     }
@@ -536,7 +561,9 @@ bool SparseFactorization::Compute(const MatrixView& a, bool symmetric, const std
   // fixed unknown) is singular: its solution would be rounding noise.  The
   // estimates are the pivots' ratio (squared for the Cholesky): about 1e-15
   // for a singular Laplacian, 1e-5 and more on the meshes of the tests.
-  double rcond = in.Symmetric ? cholmod_rcond(in.Cholesky, &in.Common) : in.Info[UMFPACK_RCOND];
+  double rcond = in.Symmetric ? cholmod_rcond(in.Cholesky, &in.Common)
+    : in.Supernodal            ? in.Supernodal->PivotRatio()
+                               : in.Info[UMFPACK_RCOND];
   if (in.Twin && in.Coupled > 0)
   {
     const auto d = in.Reduced.diagonal().cwiseAbs();

@@ -1,8 +1,9 @@
 // Beltrami core: sparse direct factorizations (SuiteSparse).
 //
-// CHOLMOD's supernodal Cholesky for symmetric positive definite systems,
-// UMFPACK's LU for the others (and when the Cholesky finds the matrix not
-// positive definite). Both are set up for this project's machines:
+// CHOLMOD's supernodal Cholesky for symmetric positive definite systems; for
+// the others (and when the Cholesky finds the matrix not positive definite)
+// our SupernodalLU when the caller gives an order, UMFPACK's LU otherwise or
+// when that fails. They are set up for this project's machines:
 // - ordering: the caller's (a nested dissection of the mesh) or AMD.
 //   CHOLMOD's default tries METIS after AMD when the fill is high; on the
 //   parameterization systems (10^5 vertices) METIS saves flops but costs more
@@ -51,7 +52,8 @@ public:
   ///
   /// `order`, if not empty, is the elimination order (order[k] = the unknown
   /// eliminated k-th, e.g. NestedDissectionOrder's) of the Cholesky or the
-  /// LU (symmetric pivoting strategy); AMD's otherwise.
+  /// LU (SupernodalLU, or UMFPACK's symmetric pivoting strategy); AMD's
+  /// otherwise.  `numThreads` (0: DefaultThreadCount()) is SupernodalLU's.
   ///
   /// `twinPairs`: the unknowns come in pairs (2k, 2k+1) and A = I_2 (x) L
   /// except for entries between the pairs' even and odd unknowns on a few
@@ -61,9 +63,11 @@ public:
   /// dense system of its trailing block (when the coupled pairs are at most
   /// about 4 sqrt(pairs), as on a disk's boundary; other matrices take the
   /// general path).
-  bool Compute(const MatrixView& a, bool symmetric, const std::vector<int>& order = {}, bool twinPairs = false);
+  bool Compute(const MatrixView& a, bool symmetric, const std::vector<int>& order = {}, bool twinPairs = false,
+    int numThreads = 0);
   /// The same for a matrix in Eigen's own storage.
-  bool Compute(const Matrix& a, bool symmetric, const std::vector<int>& order = {}, bool twinPairs = false);
+  bool Compute(const Matrix& a, bool symmetric, const std::vector<int>& order = {}, bool twinPairs = false,
+    int numThreads = 0);
   /// With the twin-pair path of Compute: the number of coupled pairs; -1
   /// when Compute took another path.
   int CoupledPairs() const;

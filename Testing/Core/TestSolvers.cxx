@@ -6,6 +6,7 @@
 #include "Core/Laplacian.h"
 #include "Core/NestedDissection.h"
 #include "Core/SparseFactorization.h"
+#include "Core/SupernodalLU.h"
 
 #include <gtest/gtest.h>
 
@@ -348,6 +349,165 @@ TEST(Solvers, SparseFactorizationSolvesEveryKindOfSystem)
   }
   SparseFactorization f;
   EXPECT_FALSE(f.Compute(singular, true));
+}
+
+namespace
+{
+
+/// A convection-diffusion operator on a side x side grid (non-symmetric, with
+/// a symmetric pattern), `perNode` unknowns per node (unknown perNode * node
+/// + d, the copies uncoupled), and the nested-dissection order of the grid's
+/// nodes.
+struct ConvectionDiffusion
+{
+  SparseFactorization::Matrix A;
+  std::vector<int> NodeOrder;
+
+  ConvectionDiffusion(int side, int perNode, double wind)
+  {
+    const int n = side * side;
+    std::vector<Eigen::Triplet<double, int>> t;
+    std::vector<std::int64_t> offsets(1, 0);
+    std::vector<Index> neighbors;
+    std::vector<double> points;
+    for (int i = 0; i < side; ++i)
+    {
+      for (int j = 0; j < side; ++j)
+      {
+        const int r = i * side + j;
+        points.insert(points.end(), { double(j), double(i), 0.0 });
+        const int next[4][2] = { { i - 1, j }, { i + 1, j }, { i, j - 1 }, { i, j + 1 } };
+        for (int d = 0; d < perNode; ++d)
+        {
+          t.emplace_back(perNode * r + d, perNode * r + d, 4.01);
+        }
+        for (const auto& q : next)
+        {
+          if (q[0] >= 0 && q[0] < side && q[1] >= 0 && q[1] < side)
+          {
+            const int c = q[0] * side + q[1];
+            neighbors.push_back(c);
+            for (int d = 0; d < perNode; ++d)
+            {
+              t.emplace_back(perNode * r + d, perNode * c + d, -1.0 + (c > r ? wind : -wind));
+            }
+          }
+        }
+        offsets.push_back(static_cast<std::int64_t>(neighbors.size()));
+      }
+    }
+    A.resize(perNode * n, perNode * n);
+    A.setFromTriplets(t.begin(), t.end());
+    const std::vector<Index> order = NestedDissectionOrder(n, offsets.data(), neighbors.data(), points.data(), 2);
+    NodeOrder.assign(order.begin(), order.end());
+  }
+
+  SupernodalLU::MatrixView View() const
+  {
+    return { A.rows(), A.cols(), A.nonZeros(), A.outerIndexPtr(), A.innerIndexPtr(), A.valuePtr() };
+  }
+};
+
+} // namespace
+
+TEST(Solvers, SupernodalLUSolvesNonSymmetricSystems)
+{
+  const ConvectionDiffusion system(90, 1, 0.4);
+  const Eigen::MatrixXd b = Eigen::MatrixXd::Random(system.A.rows(), 3);
+  Eigen::MatrixXd serial;
+  for (int threads : { 1, 2, 3 })
+  {
+    SupernodalLU lu;
+    ASSERT_TRUE(lu.Compute(system.View(), system.NodeOrder, threads));
+    EXPECT_GT(lu.PivotRatio(), 1e-3);
+    EXPECT_LE(lu.PivotRatio(), 1.0);
+    Eigen::MatrixXd x = b;
+    lu.Solve(x);
+    EXPECT_LT((system.A * x - b).norm(), 1e-12 * b.norm()) << threads;
+    if (threads == 1)
+    {
+      serial = x;
+    }
+    EXPECT_LT((x - serial).norm(), 1e-12 * serial.norm()) << threads; // the same factors, summed in another order
+  }
+  {
+    std::vector<int> reversed(system.A.rows());
+    std::iota(reversed.rbegin(), reversed.rend(), 0);
+    SupernodalLU lu2;
+    EXPECT_TRUE(lu2.Compute(system.View(), reversed, 2));
+  }
+  // A wrong-sized order is refused.
+  SupernodalLU lu;
+  EXPECT_FALSE(lu.Compute(system.View(), std::vector<int>(5, 0)));
+}
+
+TEST(Solvers, SupernodalLUPivotsWithinSupernodesOnly)
+{
+  // Pairs (2r, 2r+1) whose first diagonal entry is zero, each coupled to a
+  // last "hub" unknown: every pair is a supernode with the hub below it, and
+  // the LU must exchange its two rows (in L, in U's columns and in the solve).
+  const int pairs = 30, n = 2 * pairs + 1, hub = n - 1;
+  std::vector<Eigen::Triplet<double, int>> t;
+  for (int r = 0; r < pairs; ++r)
+  {
+    const int u = 2 * r, v = 2 * r + 1;
+    for (const auto& [row, column, value] : { std::make_tuple(u, v, 2.0), std::make_tuple(v, u, 1.0 + 0.01 * r),
+           std::make_tuple(v, v, 3.0), std::make_tuple(u, hub, 0.5), std::make_tuple(hub, v, 0.25),
+           std::make_tuple(hub, u, -0.1), std::make_tuple(v, hub, 0.2) })
+    {
+      t.emplace_back(row, column, value);
+    }
+  }
+  t.emplace_back(hub, hub, 10.0);
+  SparseFactorization::Matrix a(n, n);
+  a.setFromTriplets(t.begin(), t.end());
+  const SupernodalLU::MatrixView view(a.rows(), a.cols(), a.nonZeros(), a.outerIndexPtr(), a.innerIndexPtr(), a.valuePtr());
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  const Eigen::MatrixXd b = Eigen::MatrixXd::Random(n, 2);
+  SupernodalLU lu;
+  ASSERT_TRUE(lu.Compute(view, order, 2));
+  Eigen::MatrixXd x = b;
+  lu.Solve(x);
+  EXPECT_LT((a * x - b).norm(), 1e-13 * b.norm());
+
+  // Two unknowns per grid node with their rows exchanged: every diagonal
+  // entry is zero.  Eliminated evens first, no exchange inside a supernode
+  // helps and the LU fails; SparseFactorization then takes UMFPACK's LU
+  // (pivoting anywhere), in either order.
+  ConvectionDiffusion system(40, 2, 0.3);
+  SparseFactorization::Matrix exchange(system.A.rows(), system.A.cols());
+  for (int k = 0; k < exchange.rows(); ++k)
+  {
+    exchange.insert(k ^ 1, k) = 1.0;
+  }
+  const SparseFactorization::Matrix swapped = exchange * system.A;
+  for (int k = 0; k < swapped.rows(); ++k)
+  {
+    ASSERT_EQ(swapped.coeff(k, k), 0.0);
+  }
+  std::vector<int> pairsTogether, evensFirst;
+  for (int node : system.NodeOrder)
+  {
+    pairsTogether.insert(pairsTogether.end(), { 2 * node, 2 * node + 1 });
+  }
+  for (int parity : { 0, 1 })
+  {
+    for (int node : system.NodeOrder)
+    {
+      evensFirst.push_back(2 * node + parity);
+    }
+  }
+  const SupernodalLU::MatrixView swappedView(swapped.rows(), swapped.cols(), swapped.nonZeros(),
+    swapped.outerIndexPtr(), swapped.innerIndexPtr(), swapped.valuePtr());
+  EXPECT_FALSE(lu.Compute(swappedView, evensFirst, 2));
+  const Eigen::MatrixXd c = Eigen::MatrixXd::Random(swapped.rows(), 2);
+  for (const std::vector<int>& o : { pairsTogether, evensFirst })
+  {
+    SparseFactorization f;
+    ASSERT_TRUE(f.Compute(swapped, false, o));
+    EXPECT_LT((swapped * f.Solve(c) - c).norm(), 1e-10 * c.norm());
+  }
 }
 
 TEST(Solvers, SparseFactorizationTwinPairs)
