@@ -1,9 +1,13 @@
-// Beltrami core: sparse direct factorizations (SuiteSparse).
+// Beltrami core: sparse direct factorizations.
 //
-// CHOLMOD's supernodal Cholesky for symmetric positive definite systems; for
-// the others (and when the Cholesky finds the matrix not positive definite)
-// our SupernodalLU when the caller gives an order, UMFPACK's LU otherwise or
-// when that fails. They are set up for this project's machines:
+// With an elimination order from the caller (the parameterization's nested
+// dissection): our SupernodalLU, its Cholesky form for symmetric positive
+// definite systems and its LU for the others; it runs independent subtrees
+// on separate threads (179k vertices, 2 threads: Cholesky 0.14 s, LU 0.16 s,
+// where CHOLMOD took 0.36 s and UMFPACK 0.67 s).  SuiteSparse otherwise, and
+// when SupernodalLU fails: CHOLMOD's supernodal Cholesky, UMFPACK's LU (any
+// pivot; also when the Cholesky finds the matrix not positive definite).
+// SuiteSparse is set up for this project's machines:
 // - ordering: the caller's (a nested dissection of the mesh) or AMD.
 //   CHOLMOD's default tries METIS after AMD when the fill is high; on the
 //   parameterization systems (10^5 vertices) METIS saves flops but costs more

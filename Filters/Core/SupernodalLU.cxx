@@ -22,6 +22,7 @@ extern "C"
     const double* a, const int* lda, const double* b, const int* ldb, const double* beta, double* c, const int* ldc,
     std::size_t transaLength, std::size_t transbLength);
   void dgetrf_(const int* m, const int* n, double* a, const int* lda, int* ipiv, int* info);
+  void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info, std::size_t uploLength);
   void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m, const int* n,
     const double* alpha, const double* a, const int* lda, double* b, const int* ldb, std::size_t sideLength,
     std::size_t uploLength, std::size_t transaLength, std::size_t diagLength);
@@ -111,9 +112,52 @@ bool FactorizeDense(int w, double* a, int lda, int* swaps)
   return true;
 }
 
-/// b (m x w) := b * T^-1 with T = the upper triangle of d (upper), or
-/// b * L^-T with L = the unit lower triangle of d (!upper).
-void SolveOnTheRight(bool upper, int m, int w, const double* d, int ldd, double* b, int ldb)
+/// Cholesky factorization (lower) of the w x w block at a.  False when the
+/// block is not positive definite.
+bool FactorizeDenseSymmetric(int w, double* a, int lda)
+{
+  if (w >= 64)
+  {
+    int info = 0;
+    dpotrf_("L", &w, a, &lda, &info, 1);
+    return info == 0;
+  }
+  for (int q = 0; q < w; ++q)
+  {
+    double* column = a + static_cast<std::ptrdiff_t>(q) * lda;
+    if (!(column[q] > 0.0))
+    {
+      return false;
+    }
+    column[q] = std::sqrt(column[q]);
+    const double inverse = 1.0 / column[q];
+    for (int r = q + 1; r < w; ++r)
+    {
+      column[r] *= inverse;
+    }
+    for (int c = q + 1; c < w; ++c)
+    {
+      double* target = a + static_cast<std::ptrdiff_t>(c) * lda;
+      const double f = column[c];
+      for (int r = c; r < w; ++r)
+      {
+        target[r] -= column[r] * f;
+      }
+    }
+  }
+  return true;
+}
+
+/// The triangular matrices of a diagonal block.
+enum class Triangle
+{
+  Upper,         // U of an LU
+  UnitLowerT,    // Lᵀ of an LU (unit diagonal)
+  LowerT         // Lᵀ of a Cholesky factorization
+};
+
+/// b (m x w) := b * T^-1 with T one of the triangles of d.
+void SolveOnTheRight(Triangle triangle, int m, int w, const double* d, int ldd, double* b, int ldb)
 {
   if (m == 0)
   {
@@ -122,18 +166,24 @@ void SolveOnTheRight(bool upper, int m, int w, const double* d, int ldd, double*
   if (double(m) * w * w >= BlasWork)
   {
     const double one = 1.0;
-    dtrsm_("R", upper ? "U" : "L", upper ? "N" : "T", upper ? "N" : "U", &m, &w, &one, d, &ldd, b, &ldb, 1, 1, 1, 1);
+    const bool upper = triangle == Triangle::Upper;
+    dtrsm_("R", upper ? "U" : "L", upper ? "N" : "T", triangle == Triangle::UnitLowerT ? "U" : "N", &m, &w, &one, d,
+      &ldd, b, &ldb, 1, 1, 1, 1);
     return;
   }
   const ConstStrided dd(d, w, w, Eigen::OuterStride<>(ldd));
   Strided bb(b, m, w, Eigen::OuterStride<>(ldb));
-  if (upper)
+  switch (triangle)
   {
-    dd.triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(bb);
-  }
-  else
-  {
-    dd.triangularView<Eigen::UnitLower>().transpose().solveInPlace<Eigen::OnTheRight>(bb);
+    case Triangle::Upper:
+      dd.triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(bb);
+      break;
+    case Triangle::UnitLowerT:
+      dd.triangularView<Eigen::UnitLower>().transpose().solveInPlace<Eigen::OnTheRight>(bb);
+      break;
+    case Triangle::LowerT:
+      dd.triangularView<Eigen::Lower>().transpose().solveInPlace<Eigen::OnTheRight>(bb);
+      break;
   }
 }
 
@@ -176,6 +226,7 @@ private:
 struct SupernodalLU::Internals
 {
   cholmod_common Common; // for the symbolic analysis
+  bool Symmetric = false; // Cholesky: U = Lᵀ, no Ux
   int Size = 0;
   int Supernodes = 0;
   // The supernodal structure (CHOLMOD's analysis): supernode t holds columns
@@ -216,7 +267,7 @@ struct SupernodalLU::Internals
   int Width(int t) const { return Super[t + 1] - Super[t]; }
   int Height(int t) const { return RowStart[t + 1] - RowStart[t]; }
 
-  bool Analyze(const MatrixView& a, const std::vector<int>& order)
+  bool Analyze(const MatrixView& a, const std::vector<int>& order, bool keepOrder)
   {
     const int n = Size;
     const int* p = a.outerIndexPtr();
@@ -270,6 +321,7 @@ struct SupernodalLU::Internals
     pattern.dtype = CHOLMOD_DOUBLE;
     pattern.sorted = 1;
     pattern.packed = 1;
+    Common.postorder = !keepOrder;
     cholmod_factor* symbolic = cholmod_analyze_p(&pattern, const_cast<int*>(order.data()), nullptr, 0, &Common);
     if (!symbolic)
     {
@@ -378,13 +430,18 @@ struct SupernodalLU::Internals
         const int j = inverse[column];
         for (int e = p[column]; e < p[column + 1]; ++e)
         {
+          if (Symmetric && rows[e] < column)
+          {
+            continue; // the lower triangle only
+          }
           const int i = inverse[rows[e]];
           const int lo = std::min(i, j), hi = std::max(i, j);
           const int t = SuperOf[lo], k1 = Super[t], h = Height(t);
           const std::int64_t base = ValueStart[t];
           if (hi < Super[t + 1])
           {
-            Lx[base + static_cast<std::int64_t>(j - k1) * h + (i - k1)] += values[e];
+            Lx[base + (Symmetric ? static_cast<std::int64_t>(lo - k1) * h + (hi - k1)
+                                 : static_cast<std::int64_t>(j - k1) * h + (i - k1))] += values[e];
             continue;
           }
           const int* first = Rows.data() + RowStart[t];
@@ -395,7 +452,7 @@ struct SupernodalLU::Internals
             return;
           }
           const int r = static_cast<int>(at - first), w = Super[t + 1] - k1;
-          if (i > j)
+          if (i > j || Symmetric)
           {
             Lx[base + static_cast<std::int64_t>(lo - k1) * h + r] += values[e];
           }
@@ -420,7 +477,7 @@ struct SupernodalLU::Internals
       map[rows[r]] = r;
     }
     double* lt = Lx.data() + ValueStart[t];
-    double* ut = Ux.data() + UpperStart[t];
+    double* ut = Symmetric ? nullptr : Ux.data() + UpperStart[t];
     const int below = h - w;
     for (int u = UpdateStart[t]; u < UpdateStart[t + 1]; ++u)
     {
@@ -428,8 +485,9 @@ struct SupernodalLU::Internals
       const int wd = Width(d), hd = Height(d), m = hd - first, wc = last - first;
       const int* rd = Rows.data() + RowStart[d];
       const double* ld = Lx.data() + ValueStart[d];
-      const double* ud = Ux.data() + UpperStart[d] - wd; // row r of Uᵀ at ud + r (r >= wd)
-      const int hu = hd - wd;
+      // Row r of Uᵀ at ud + r (r >= wd); Lᵀ's for a Cholesky factorization.
+      const double* ud = Symmetric ? ld : Ux.data() + UpperStart[d] - wd;
+      const int hu = Symmetric ? hd : hd - wd;
       for (int r = 0; r < m; ++r)
       {
         positions[r] = map[rd[first + r]];
@@ -447,7 +505,7 @@ struct SupernodalLU::Internals
       }
       // U: t's rows times the columns of U beyond t.
       const int mu = m - wc;
-      if (mu > 0)
+      if (mu > 0 && !Symmetric)
       {
         MultiplyTransposed(mu, wc, wd, ud + last, hu, ld + first, hd, work.data());
         for (int q = 0; q < wc; ++q)
@@ -460,6 +518,15 @@ struct SupernodalLU::Internals
           }
         }
       }
+    }
+    if (Symmetric)
+    {
+      if (!FactorizeDenseSymmetric(w, lt, h))
+      {
+        return -1.0;
+      }
+      SolveOnTheRight(Triangle::LowerT, below, w, lt, h, lt + w, h); // L below: A L^-T
+      return 0.0;
     }
     int* swaps = Swaps.data() + k1;
     if (!FactorizeDense(w, lt, h, swaps))
@@ -476,8 +543,8 @@ struct SupernodalLU::Internals
           ut + static_cast<std::ptrdiff_t>(swaps[q]) * below);
       }
     }
-    SolveOnTheRight(true, below, w, lt, h, lt + w, h);  // L below: A U^-1
-    SolveOnTheRight(false, below, w, lt, h, ut, below); // Uᵀ below: Aᵀ L^-T
+    SolveOnTheRight(Triangle::Upper, below, w, lt, h, lt + w, h);     // L below: A U^-1
+    SolveOnTheRight(Triangle::UnitLowerT, below, w, lt, h, ut, below); // Uᵀ below: Aᵀ L^-T
     double largest = 0.0;
     for (int q = 0; q < w; ++q)
     {
@@ -496,10 +563,8 @@ struct SupernodalLU::Internals
     // children (its root joins the serial top part) until every subtree is
     // below a quarter of a thread's share.
     std::vector<double> cost(static_cast<std::size_t>(Supernodes));
-    std::vector<int> firstDescendant(static_cast<std::size_t>(Supernodes));
     std::vector<std::vector<int>> children(static_cast<std::size_t>(Supernodes));
     std::vector<int> roots;
-    std::iota(firstDescendant.begin(), firstDescendant.end(), 0);
     double total = 0.0;
     for (int t = 0; t < Supernodes; ++t)
     {
@@ -509,7 +574,6 @@ struct SupernodalLU::Internals
       if (parent[t] >= 0)
       {
         cost[parent[t]] += cost[t];
-        firstDescendant[parent[t]] = std::min(firstDescendant[parent[t]], firstDescendant[t]);
         children[parent[t]].push_back(t);
       }
       else
@@ -539,16 +603,20 @@ struct SupernodalLU::Internals
         subtrees.push_back(queue.top()); // costliest first
       }
     }
-    // Postorder: a subtree is the contiguous range [firstDescendant, root].
-    for (int t : subtrees)
+    // Each subtree's supernodes in ascending order (children come before
+    // their parents; a postorder would make them contiguous, but an order
+    // kept as given need not be).
+    std::vector<std::vector<int>> members(subtrees.size());
+    for (std::size_t k = 0; k < subtrees.size(); ++k)
     {
-      for (int d = firstDescendant[t]; d <= t; ++d)
+      for (std::vector<int> stack(1, subtrees[k]); !stack.empty();)
       {
-        if (top[d])
-        {
-          return false;
-        }
+        const int t = stack.back();
+        stack.pop_back();
+        members[k].push_back(t);
+        stack.insert(stack.end(), children[t].begin(), children[t].end());
       }
+      std::sort(members[k].begin(), members[k].end());
     }
     Swaps.assign(static_cast<std::size_t>(Size), 0);
     std::atomic<bool> failed{ false };
@@ -559,8 +627,9 @@ struct SupernodalLU::Internals
       std::vector<double> work(Workspace);
       for (int k = nextSubtree++; k < static_cast<int>(subtrees.size()) && !failed; k = nextSubtree++)
       {
-        for (int t = firstDescendant[subtrees[k]]; t <= subtrees[k] && !failed; ++t)
+        for (std::size_t i = 0; i < members[k].size() && !failed; ++i)
         {
+          const int t = members[k][i];
           const double g = FactorizeSupernode(t, map, work, positions);
           failed = failed || g < 0.0;
           largest[id] = std::max(largest[id], g);
@@ -621,6 +690,7 @@ struct SupernodalLU::Internals
       }
     }
     Ratio = Size == 0 ? 1.0 : smallest / biggest;
+    Ratio = Symmetric ? Ratio * Ratio : Ratio; // as the pivots of A
     return std::isfinite(Ratio);
   }
 };
@@ -632,12 +702,15 @@ SupernodalLU::SupernodalLU()
 
 SupernodalLU::~SupernodalLU() = default;
 
-bool SupernodalLU::Compute(const MatrixView& a, const std::vector<int>& order, int numThreads)
+bool SupernodalLU::Compute(
+  const MatrixView& a, const std::vector<int>& order, int numThreads, bool symmetric, bool keepOrder)
 {
   Internal = std::make_unique<Internals>();
   Internals& in = *Internal;
   in.Size = static_cast<int>(a.rows());
-  if (a.rows() != a.cols() || order.size() != static_cast<std::size_t>(in.Size) || !in.Analyze(a, order))
+  in.Symmetric = symmetric;
+  if (a.rows() != a.cols() || order.size() != static_cast<std::size_t>(in.Size) ||
+    !in.Analyze(a, order, keepOrder))
   {
     return false;
   }
@@ -648,7 +721,7 @@ bool SupernodalLU::Compute(const MatrixView& a, const std::vector<int>& order, i
   }
   in.Lx.assign(static_cast<std::size_t>(in.ValueStart.back()), 0.0);
   in.UpperStart.assign(static_cast<std::size_t>(in.Supernodes) + 1, 0);
-  for (int t = 0; t < in.Supernodes; ++t)
+  for (int t = 0; t < in.Supernodes && !symmetric; ++t)
   {
     in.UpperStart[t + 1] = in.UpperStart[t] + static_cast<std::int64_t>(in.Height(t) - in.Width(t)) * in.Width(t);
   }
@@ -664,13 +737,37 @@ double SupernodalLU::PivotRatio() const
   return Internal->Ratio;
 }
 
-void SupernodalLU::Solve(Eigen::MatrixXd& b) const
+const std::vector<int>& SupernodalLU::Order() const
+{
+  return Internal->Perm;
+}
+
+Eigen::MatrixXd SupernodalLU::TrailingBlock(int m) const
 {
   const Internals& in = *Internal;
-  const int n = in.Size;
-  const Eigen::Index columns = b.cols();
-  Eigen::MatrixXd y(n, columns), gathered;
-  for (int k = 0; k < n; ++k)
+  const int first = in.Size - m;
+  Eigen::MatrixXd block = Eigen::MatrixXd::Zero(m, m);
+  for (int t = first < in.Size ? in.SuperOf[std::max(first, 0)] : in.Supernodes; t < in.Supernodes; ++t)
+  {
+    const int k1 = in.Super[t], h = in.Height(t);
+    const int* rows = in.Rows.data() + in.RowStart[t];
+    const double* lt = in.Lx.data() + in.ValueStart[t];
+    for (int j = std::max(k1, first); j < in.Super[t + 1]; ++j)
+    {
+      for (int r = j - k1; r < h; ++r) // from the diagonal down
+      {
+        block(rows[r] - first, j - first) = lt[static_cast<std::ptrdiff_t>(j - k1) * h + r];
+      }
+    }
+  }
+  return block;
+}
+
+void SupernodalLU::SolveLower(Eigen::MatrixXd& b) const
+{
+  const Internals& in = *Internal;
+  Eigen::MatrixXd y(b.rows(), b.cols()), gathered;
+  for (int k = 0; k < in.Size; ++k)
   {
     y.row(k) = b.row(in.Perm[k]);
   }
@@ -679,15 +776,22 @@ void SupernodalLU::Solve(Eigen::MatrixXd& b) const
     const int k1 = in.Super[t], w = in.Width(t), h = in.Height(t), below = h - w;
     const int* rows = in.Rows.data() + in.RowStart[t];
     const double* lt = in.Lx.data() + in.ValueStart[t];
-    for (int q = 0; q < w; ++q)
-    {
-      if (in.Swaps[k1 + q] != q)
-      {
-        y.row(k1 + q).swap(y.row(k1 + in.Swaps[k1 + q]));
-      }
-    }
     auto yt = y.middleRows(k1, w);
-    ConstStrided(lt, w, w, Eigen::OuterStride<>(h)).triangularView<Eigen::UnitLower>().solveInPlace(yt);
+    if (in.Symmetric)
+    {
+      ConstStrided(lt, w, w, Eigen::OuterStride<>(h)).triangularView<Eigen::Lower>().solveInPlace(yt);
+    }
+    else
+    {
+      for (int q = 0; q < w; ++q)
+      {
+        if (in.Swaps[k1 + q] != q)
+        {
+          y.row(k1 + q).swap(y.row(k1 + in.Swaps[k1 + q]));
+        }
+      }
+      ConstStrided(lt, w, w, Eigen::OuterStride<>(h)).triangularView<Eigen::UnitLower>().solveInPlace(yt);
+    }
     if (below > 0)
     {
       gathered.noalias() = ConstStrided(lt + w, below, w, Eigen::OuterStride<>(h)) * yt;
@@ -697,28 +801,59 @@ void SupernodalLU::Solve(Eigen::MatrixXd& b) const
       }
     }
   }
+  b.swap(y);
+}
+
+void SupernodalLU::SolveUpper(Eigen::MatrixXd& b) const
+{
+  const Internals& in = *Internal;
+  Eigen::MatrixXd& y = b;
+  Eigen::MatrixXd gathered;
   for (int t = in.Supernodes - 1; t >= 0; --t)
   {
     const int k1 = in.Super[t], w = in.Width(t), h = in.Height(t), below = h - w;
     const int* rows = in.Rows.data() + in.RowStart[t];
     const double* lt = in.Lx.data() + in.ValueStart[t];
-    const double* ut = in.Ux.data() + in.UpperStart[t];
     auto yt = y.middleRows(k1, w);
     if (below > 0)
     {
-      gathered.resize(below, columns);
+      gathered.resize(below, y.cols());
       for (int r = 0; r < below; ++r)
       {
         gathered.row(r) = y.row(rows[w + r]);
       }
-      yt.noalias() -= ConstStrided(ut, below, w, Eigen::OuterStride<>(below)).transpose() * gathered;
+      if (in.Symmetric)
+      {
+        yt.noalias() -= ConstStrided(lt + w, below, w, Eigen::OuterStride<>(h)).transpose() * gathered;
+      }
+      else
+      {
+        const double* ut = in.Ux.data() + in.UpperStart[t];
+        yt.noalias() -= ConstStrided(ut, below, w, Eigen::OuterStride<>(below)).transpose() * gathered;
+      }
     }
-    ConstStrided(lt, w, w, Eigen::OuterStride<>(h)).triangularView<Eigen::Upper>().solveInPlace(yt);
+    if (in.Symmetric)
+    {
+      const ConstStrided diagonal(lt, w, w, Eigen::OuterStride<>(h));
+      diagonal.triangularView<Eigen::Lower>().transpose().solveInPlace(yt);
+    }
+    else
+    {
+      ConstStrided(lt, w, w, Eigen::OuterStride<>(h)).triangularView<Eigen::Upper>().solveInPlace(yt);
+    }
   }
-  for (int k = 0; k < n; ++k)
+  Eigen::MatrixXd x(y.rows(), y.cols());
+  for (int k = 0; k < in.Size; ++k)
   {
-    b.row(in.Perm[k]) = y.row(k);
+    x.row(in.Perm[k]) = y.row(k);
   }
+  b.swap(x);
+}
+
+void SupernodalLU::Solve(Eigen::MatrixXd& b) const
+{
+  SolveLower(b);
+  SolveUpper(b);
 }
 
 } // namespace beltrami

@@ -41,11 +41,30 @@ public:
   /// threads (0: DefaultThreadCount()).  False when the analysis failed
   /// (memory, size), a pivot was zero, or the multipliers grew beyond 1e8
   /// (an unstable order: use a pivoting LU).
-  bool Compute(const MatrixView& a, const std::vector<int>& order, int numThreads = 0);
-  /// min |u_kk| / max |u_kk| of the last successful Compute.
+  ///
+  /// `symmetric`: A is symmetric positive definite (its lower triangle is
+  /// read): the Cholesky factorization P A Pᵀ = L Lᵀ instead, half the work
+  /// and memory; false when A is not positive definite.  `keepOrder`: P is
+  /// exactly `order` (no postordering), e.g. to keep some unknowns last.
+  bool Compute(const MatrixView& a, const std::vector<int>& order, int numThreads = 0, bool symmetric = false,
+    bool keepOrder = false);
+  /// min |u_kk| / max |u_kk| of the last successful Compute (the square of
+  /// L's diagonal's ratio for a Cholesky factorization).
   double PivotRatio() const;
+  /// The elimination order of the factors (P: Order()[k] = the unknown
+  /// eliminated k-th).
+  const std::vector<int>& Order() const;
   /// Solves A X = B in place, column by column of B.
   void Solve(Eigen::MatrixXd& b) const;
+  /// The two halves of Solve: B := L^-1 P B (rows in the factors' order;
+  /// with the row exchanges of the LU), then B := Pᵀ U^-1 B (U = Lᵀ for a
+  /// Cholesky factorization).
+  void SolveLower(Eigen::MatrixXd& b) const;
+  void SolveUpper(Eigen::MatrixXd& b) const;
+  /// The Cholesky factor's trailing m x m block (its last m rows and
+  /// columns, lower triangular; the Schur complement of the other unknowns
+  /// is its product with its transpose).
+  Eigen::MatrixXd TrailingBlock(int m) const;
 
 private:
   struct Internals;

@@ -441,6 +441,53 @@ TEST(Solvers, SupernodalLUSolvesNonSymmetricSystems)
   EXPECT_FALSE(lu.Compute(system.View(), std::vector<int>(5, 0)));
 }
 
+TEST(Solvers, SupernodalCholeskyKeepsTheOrderWhenAsked)
+{
+  // The grid's nested-dissection order (postordered by the analysis, or kept
+  // as given), the same with the border nodes last (the twin pairs' order,
+  // not a postorder), and a random order of a smaller grid.
+  const int side = 90;
+  const ConvectionDiffusion system(side, 1, 0.0), small(30, 1, 0.0);
+  std::vector<int> borderLast = system.NodeOrder;
+  std::stable_partition(borderLast.begin(), borderLast.end(), [&](int node) {
+    const int i = node / side, j = node % side;
+    return i > 0 && j > 0 && i < side - 1 && j < side - 1;
+  });
+  std::vector<int> shuffled = small.NodeOrder;
+  std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(7));
+  struct Case
+  {
+    const ConvectionDiffusion& System;
+    std::vector<int> Order;
+    bool Keep;
+  };
+  for (const Case& c : { Case{ system, system.NodeOrder, false }, Case{ system, system.NodeOrder, true },
+         Case{ system, borderLast, true }, Case{ small, shuffled, true } })
+  {
+    const Eigen::MatrixXd b = Eigen::MatrixXd::Random(c.System.A.rows(), 3);
+    for (int threads : { 1, 2 })
+    {
+      SupernodalLU f;
+      ASSERT_TRUE(f.Compute(c.System.View(), c.Order, threads, true, c.Keep));
+      Eigen::MatrixXd x = b;
+      f.Solve(x);
+      EXPECT_LT((c.System.A * x - b).norm(), 1e-12 * b.norm()) << c.Keep << " " << threads;
+      if (c.Keep)
+      {
+        EXPECT_EQ(f.Order(), c.Order);
+      }
+      EXPECT_GT(f.PivotRatio(), 1e-6);
+    }
+  }
+  // Not positive definite: refused.
+  SparseFactorization::Matrix indefinite = system.A;
+  indefinite.coeffRef(5, 5) = -1.0;
+  const SupernodalLU::MatrixView view(indefinite.rows(), indefinite.cols(), indefinite.nonZeros(),
+    indefinite.outerIndexPtr(), indefinite.innerIndexPtr(), indefinite.valuePtr());
+  SupernodalLU f;
+  EXPECT_FALSE(f.Compute(view, system.NodeOrder, 2, true));
+}
+
 TEST(Solvers, SupernodalLUPivotsWithinSupernodesOnly)
 {
   // Pairs (2r, 2r+1) whose first diagonal entry is zero, each coupled to a
