@@ -249,8 +249,8 @@ struct SparseFactorization::Internals
   bool FactorizeCholesky(const MatrixView& m, std::vector<int> order, bool exact)
   {
     // With the caller's order: SupernodalLU's Cholesky factorization, its
-    // subtrees on separate threads (179k vertices: 0.14 s where CHOLMOD's
-    // analysis and factorization took 0.36 s).  CHOLMOD's when it fails.
+    // subtrees on separate threads (179k vertices: 0.21 s where CHOLMOD's
+    // analysis and factorization took 0.34 s).  CHOLMOD's when it fails.
     if (!order.empty())
     {
       Supernodal = std::make_unique<SupernodalLU>();
@@ -489,8 +489,9 @@ struct SparseFactorization::Internals
 
   bool FactorizeLU(int threads)
   {
-    // With the caller's order: the supernodal LU (179k-vertex DAP: 0.16 s
-    // and 166 MB on 2 threads, where UMFPACK took 0.67 s and 172 MB);
+    // With the caller's order: the supernodal LU (179k-vertex DAP, analysis
+    // included: 0.27-0.31 s and 166 MB on 2 threads, where UMFPACK took
+    // 0.65-0.82 s and 172 MB);
     // UMFPACK when it fails (a pivot it cannot find inside a supernode).
     if (!Order.empty())
     {

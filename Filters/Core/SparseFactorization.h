@@ -3,8 +3,8 @@
 // With an elimination order from the caller (the parameterization's nested
 // dissection): our SupernodalLU, its Cholesky form for symmetric positive
 // definite systems and its LU for the others; it runs independent subtrees
-// on separate threads (179k vertices, 2 threads: Cholesky 0.14 s, LU 0.16 s,
-// where CHOLMOD took 0.36 s and UMFPACK 0.67 s).  SuiteSparse otherwise, and
+// on separate threads (179k vertices, 2 threads, analysis included: Cholesky
+// 0.21 s, LU 0.27-0.31 s, where CHOLMOD took 0.34 s and UMFPACK 0.65-0.82 s).  SuiteSparse otherwise, and
 // when SupernodalLU fails: CHOLMOD's supernodal Cholesky, UMFPACK's LU (any
 // pivot; also when the Cholesky finds the matrix not positive definite).
 // SuiteSparse is set up for this project's machines:

@@ -1,20 +1,24 @@
-// Beltrami core: a supernodal LU factorization for sparse matrices whose
-// pattern is (nearly) symmetric, such as the authalic (DAP) systems of the
-// parameterization.
+// Beltrami core: supernodal factorizations of the sparse systems of a
+// surface mesh in a given elimination order: LU for matrices whose pattern
+// is (nearly) symmetric, such as the authalic (DAP) systems of the
+// parameterization, and its Cholesky form (U = Lᵀ) for symmetric positive
+// definite ones (DCP, the natural conformal map).
 //
 // P A Pᵀ = L U in the caller's elimination order P (a nested dissection), on
 // the supernodal structure of the Cholesky factor of pattern(A + Aᵀ) (CHOLMOD's
 // symbolic analysis): U's rows have the pattern of L's columns, so L and Uᵀ
 // share one index structure.  Pivoting stays inside each supernode's
 // diagonal block (partial pivoting there, LAPACK-style row swaps), which keeps
-// the structure static; a factorization whose multipliers grow large fails
-// and the caller takes a general LU (UMFPACK) instead.
+// the structure static; a factorization that finds a zero pivot there or
+// whose multipliers grow large fails, and the caller takes a general LU
+// (UMFPACK) instead.
 //
-// Why not UMFPACK alone: its symbolic analysis and frontal assembly cost 0.19
-// s of the 0.67 s of a 179k-vertex DAP factorization, and it runs one tree
-// of fronts on one core.  Here the analysis is CHOLMOD's (0.08 s) and the
-// elimination tree's independent subtrees are factorized on separate threads
-// (the top separators then use the BLAS's threads).
+// Why not SuiteSparse alone: UMFPACK's symbolic analysis and frontal
+// assembly cost 0.19 s of the 0.67 s of a 179k-vertex DAP factorization, and
+// UMFPACK and CHOLMOD run one tree of fronts on one core (their BLAS calls
+// barely use a second).  Here the elimination tree's independent subtrees are
+// factorized on separate threads (the BLAS single-threaded meanwhile), then
+// the top separators with the BLAS's threads.
 #pragma once
 
 #include <Eigen/Core>
