@@ -376,21 +376,24 @@ struct SparseFactorization::Internals
     Matrices(m);
     if (Supernodal)
     {
-      Corner = Supernodal->TrailingBlock(m);
+      Supernodal->TrailingBlock(Corner);
     }
-    const int* super = Supernodal ? nullptr : static_cast<const int*>(Cholesky->super);
-    const int* pi = Supernodal ? nullptr : static_cast<const int*>(Cholesky->pi);
-    const int* px = Supernodal ? nullptr : static_cast<const int*>(Cholesky->px);
-    const int* ls = Supernodal ? nullptr : static_cast<const int*>(Cholesky->s);
-    const double* lx = Supernodal ? nullptr : static_cast<const double*>(Cholesky->x);
-    for (std::size_t sn = 0; !Supernodal && sn < Cholesky->nsuper; ++sn)
+    else
     {
-      const int k1 = super[sn], k2 = super[sn + 1], height = pi[sn + 1] - pi[sn];
-      for (int j = std::max(k1, first); j < k2; ++j)
+      const int* super = static_cast<const int*>(Cholesky->super);
+      const int* pi = static_cast<const int*>(Cholesky->pi);
+      const int* px = static_cast<const int*>(Cholesky->px);
+      const int* ls = static_cast<const int*>(Cholesky->s);
+      const double* lx = static_cast<const double*>(Cholesky->x);
+      for (std::size_t sn = 0; sn < Cholesky->nsuper; ++sn)
       {
-        for (int i = j - k1; i < height; ++i) // rows from the diagonal down
+        const int k1 = super[sn], k2 = super[sn + 1], height = pi[sn + 1] - pi[sn];
+        for (int j = std::max(k1, first); j < k2; ++j)
         {
-          Corner(ls[pi[sn] + i] - first, j - first) = lx[px[sn] + static_cast<std::int64_t>(j - k1) * height + i];
+          for (int i = j - k1; i < height; ++i) // rows from the diagonal down
+          {
+            Corner(ls[pi[sn] + i] - first, j - first) = lx[px[sn] + static_cast<std::int64_t>(j - k1) * height + i];
+          }
         }
       }
     }

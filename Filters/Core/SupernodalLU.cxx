@@ -622,58 +622,47 @@ struct SupernodalLU::Internals
     std::atomic<bool> failed{ false };
     std::atomic<int> nextSubtree{ 0 };
     std::vector<double> largest(static_cast<std::size_t>(std::max(threads, 1)), 0.0);
-    auto worker = [&](int id) {
+    // Factorizes `nodes` in order on thread `id`, with that thread's workspace.
+    auto factorize = [&](const std::vector<int>& nodes, int id) {
       std::vector<int> map(static_cast<std::size_t>(Size)), positions(static_cast<std::size_t>(Size));
       std::vector<double> work(Workspace);
-      for (int k = nextSubtree++; k < static_cast<int>(subtrees.size()) && !failed; k = nextSubtree++)
+      for (std::size_t i = 0; i < nodes.size() && !failed; ++i)
       {
-        for (std::size_t i = 0; i < members[k].size() && !failed; ++i)
-        {
-          const int t = members[k][i];
-          const double g = FactorizeSupernode(t, map, work, positions);
-          failed = failed || g < 0.0;
-          largest[id] = std::max(largest[id], g);
-        }
+        const double g = FactorizeSupernode(nodes[i], map, work, positions);
+        failed = failed || g < 0.0;
+        largest[id] = std::max(largest[id], g);
       }
     };
-    if (subtrees.empty())
+    if (!subtrees.empty())
     {
-      std::vector<int> map(static_cast<std::size_t>(Size)), positions(static_cast<std::size_t>(Size));
-      std::vector<double> work(Workspace);
-      for (int t = 0; t < Supernodes && !failed; ++t)
+      SingleThreadedBlas serialBlas;
+      auto worker = [&](int id) {
+        for (int k = nextSubtree++; k < static_cast<int>(subtrees.size()) && !failed; k = nextSubtree++)
+        {
+          factorize(members[k], id);
+        }
+      };
+      std::vector<std::thread> pool;
+      for (int id = 1; id < threads; ++id)
       {
-        const double g = FactorizeSupernode(t, map, work, positions);
-        failed = failed || g < 0.0;
-        largest[0] = std::max(largest[0], g);
+        pool.emplace_back(worker, id);
+      }
+      worker(0);
+      for (std::thread& thread : pool)
+      {
+        thread.join();
       }
     }
-    else
+    // The top part (everything on one thread), with the BLAS's threads.
+    std::vector<int> rest;
+    for (int t = 0; t < Supernodes; ++t)
     {
+      if (subtrees.empty() || top[t])
       {
-        SingleThreadedBlas serialBlas;
-        std::vector<std::thread> pool;
-        for (int id = 1; id < threads; ++id)
-        {
-          pool.emplace_back(worker, id);
-        }
-        worker(0);
-        for (std::thread& thread : pool)
-        {
-          thread.join();
-        }
-      }
-      std::vector<int> map(static_cast<std::size_t>(Size)), positions(static_cast<std::size_t>(Size));
-      std::vector<double> work(Workspace);
-      for (int t = 0; t < Supernodes && !failed; ++t)
-      {
-        if (top[t])
-        {
-          const double g = FactorizeSupernode(t, map, work, positions);
-          failed = failed || g < 0.0;
-          largest[0] = std::max(largest[0], g);
-        }
+        rest.push_back(t);
       }
     }
+    factorize(rest, 0);
     if (failed || *std::max_element(largest.begin(), largest.end()) > 1e8)
     {
       return false;
@@ -742,12 +731,11 @@ const std::vector<int>& SupernodalLU::Order() const
   return Internal->Perm;
 }
 
-Eigen::MatrixXd SupernodalLU::TrailingBlock(int m) const
+void SupernodalLU::TrailingBlock(Eigen::Ref<Eigen::MatrixXd> block) const
 {
   const Internals& in = *Internal;
-  const int first = in.Size - m;
-  Eigen::MatrixXd block = Eigen::MatrixXd::Zero(m, m);
-  for (int t = first < in.Size ? in.SuperOf[std::max(first, 0)] : in.Supernodes; t < in.Supernodes; ++t)
+  const int m = static_cast<int>(block.rows()), first = in.Size - m;
+  for (int t = m > 0 ? in.SuperOf[first] : in.Supernodes; t < in.Supernodes; ++t)
   {
     const int k1 = in.Super[t], h = in.Height(t);
     const int* rows = in.Rows.data() + in.RowStart[t];
@@ -760,7 +748,6 @@ Eigen::MatrixXd SupernodalLU::TrailingBlock(int m) const
       }
     }
   }
-  return block;
 }
 
 void SupernodalLU::SolveLower(Eigen::MatrixXd& b) const

@@ -65,10 +65,11 @@ public:
   /// Cholesky factorization).
   void SolveLower(Eigen::MatrixXd& b) const;
   void SolveUpper(Eigen::MatrixXd& b) const;
-  /// The Cholesky factor's trailing m x m block (its last m rows and
-  /// columns, lower triangular; the Schur complement of the other unknowns
-  /// is its product with its transpose).
-  Eigen::MatrixXd TrailingBlock(int m) const;
+  /// The lower triangle of the Cholesky factor's trailing m x m block (its
+  /// last m rows and columns; the Schur complement of the other unknowns is
+  /// its product with its transpose) into `block` (m x m; the entries above
+  /// the diagonal are left as they are).
+  void TrailingBlock(Eigen::Ref<Eigen::MatrixXd> block) const;
 
 private:
   struct Internals;
