@@ -8,7 +8,7 @@
 
 #include "BeltramiFiltersModule.h" // export macro
 
-#include "Core/GraphFlow.h"
+#include "Flows/GraphFlow.h"
 
 #include <cstdint>
 #include <functional>

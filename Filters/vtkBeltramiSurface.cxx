@@ -2,7 +2,7 @@
 
 #include "vtkBeltramiGather.h"
 
-#include "Core/LargeBuffer.h"
+#include "Support/LargeBuffer.h"
 
 #include <vtkAOSDataArrayTemplate.h>
 #include <vtkBoundingBox.h>

@@ -11,7 +11,7 @@
 
 #include "BeltramiFiltersModule.h" // export macro
 
-#include "Core/MeshTopology.h"
+#include "Mesh/MeshTopology.h"
 
 #include <vtkSmartPointer.h>
 #include <vtkType.h>
@@ -122,7 +122,7 @@ public:
 
   /// A new array of VTK type `dataType` (name, components, tuples), its values
   /// uninitialized.  Arrays of 2 MiB or more are placed on memory the kernel
-  /// may back with huge pages (see Core/LargeBuffer.h): filling the outputs of
+  /// may back with huge pages (see Core/Support/LargeBuffer.h): filling the outputs of
   /// a 1M-vertex mesh otherwise costs tens of thousands of page faults.
   static vtkSmartPointer<vtkDataArray> NewArray(
     int dataType, const char* name, int components, vtkIdType tuples);

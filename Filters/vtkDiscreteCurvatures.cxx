@@ -2,7 +2,7 @@
 
 #include "vtkBeltramiSurface.h"
 
-#include "Core/Curvatures.h"
+#include "Mesh/Curvatures.h"
 
 #include <vtkDoubleArray.h>
 #include <vtkInformation.h>

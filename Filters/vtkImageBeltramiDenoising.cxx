@@ -3,9 +3,9 @@
 #include "vtkBeltramiGraphFlow.h"
 #include "vtkBeltramiSurface.h"
 
-#include "Core/ColorSpace.h"
-#include "Core/GraphFlow.h"
-#include "Core/LargeBuffer.h"
+#include "Flows/ColorSpace.h"
+#include "Flows/GraphFlow.h"
+#include "Support/LargeBuffer.h"
 
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>

@@ -2,7 +2,7 @@
 
 #include "vtkBeltramiSurface.h"
 
-#include "Core/Fairing.h"
+#include "Flows/Fairing.h"
 
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>

@@ -2,7 +2,7 @@
 
 #include "vtkBeltramiSurface.h"
 
-#include "Core/Parameterization.h"
+#include "Maps/Parameterization.h"
 
 #include <vtkCellData.h>
 #include <vtkDataArray.h>

@@ -3,8 +3,8 @@
 #include "vtkBeltramiGraphFlow.h"
 #include "vtkBeltramiSurface.h"
 
-#include "Core/Fairing.h"
-#include "Core/GraphFlow.h"
+#include "Flows/Fairing.h"
+#include "Flows/GraphFlow.h"
 
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>

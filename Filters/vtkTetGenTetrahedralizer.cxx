@@ -3,9 +3,9 @@
 #include "vtkBeltramiGather.h"
 #include "vtkBeltramiSurface.h"
 
-#include "Core/ConjugateGradient.h"
-#include "Core/HelperProcess.h"
-#include "Core/Tetrahedra.h"
+#include "Solvers/GraphSolvers.h"
+#include "Support/HelperProcess.h"
+#include "Mesh/Tetrahedra.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellType.h>

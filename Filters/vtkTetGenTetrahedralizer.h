@@ -18,7 +18,7 @@
  * the volume Laplacian of the output (Tetrahedra.h) is zero there, with the
  * input points' values held - exact for linear fields.  An open, non-manifold or empty surface is an error
  * naming the defect.  TetGen runs in a helper process (build/lib/beltrami-tetgen,
- * Core/HelperProcess.h), kept running between runs of the filter, because
+ * Core/Support/HelperProcess.h), kept running between runs of the filter, because
  * libtet 1.5 crashes (frees its pools twice) when it meets a
  * self-intersecting or nearly touching surface: a crash there is diagnosed
  * with TetGen's self-intersection check (-d) and reported with the number

@@ -4,8 +4,8 @@
 #include "vtkBeltramiGraphFlow.h"
 #include "vtkBeltramiSurface.h"
 
-#include "Core/GraphFlow.h"
-#include "Core/Tetrahedra.h"
+#include "Flows/GraphFlow.h"
+#include "Mesh/Tetrahedra.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>

@@ -1,6 +1,6 @@
 #include "OpenVDBGrid.h"
 
-#include "Core/HelperProcess.h"
+#include "Support/HelperProcess.h"
 
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>

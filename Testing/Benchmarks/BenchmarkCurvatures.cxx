@@ -121,7 +121,7 @@ void Timings(const char* label, vtkPolyData* mesh)
   std::printf("  vtkCurvatures Maximum                 %8.3f s\n", vtkMax);
   // The first run of a process also pays for faulting in fresh memory (about
   // 1 ms per MiB on this project's virtual machines); later runs reuse
-  // freed blocks (Core/LargeBuffer.h).
+  // freed blocks (Core/Support/LargeBuffer.h).
   std::printf("  vtkDiscreteCurvatures, all outputs, 1 thread  %8.3f s (first run %.3f s)\n", ours1,
     times1.First);
   std::printf("  vtkDiscreteCurvatures, all outputs, 2 threads %8.3f s (first run %.3f s)\n", ours2,

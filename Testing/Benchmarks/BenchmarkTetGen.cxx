@@ -1,7 +1,7 @@
 // Benchmark: tetrahedra per second through vtkTetGenTetrahedralizer against
 // calling TetGen (libtet 1.5) directly with the same switches on the same
 // closed surfaces, and the filter's overhead (TetGen runs in a helper
-// process there: Core/HelperProcess.h).  Run on demand, not a test:
+// process there: Core/Support/HelperProcess.h).  Run on demand, not a test:
 //   build/bin/beltrami-benchmark-tetgen [surface.off ...]
 #include "vtkOFFReader.h"
 #include "vtkTetGenTetrahedralizer.h"

@@ -10,7 +10,7 @@ iteration faults them in again each time; on the virtual machines of this
 project a fresh page costs 1-3 ms per MiB, and scikit-image's TV on the
 512 x 512 camera image took 0.44-0.51 s instead of 0.08-0.10 s, depending on
 what the process had freed before.  Our filters keep their large buffers
-themselves (Filters/Core/LargeBuffer.h); this gives the peers the same."""
+themselves (Filters/Core/Support/LargeBuffer.h); this gives the peers the same."""
 import ctypes
 import time
 

@@ -1,7 +1,7 @@
 // Analytic test surfaces for the core tests and benchmarks (VTK-free).
 #pragma once
 
-#include "Core/MeshTopology.h"
+#include "Mesh/MeshTopology.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

@@ -1,0 +1,804 @@
+#include "Flows/Fairing.h"
+
+#include "Solvers/ConjugateGradient.h"
+#include "Solvers/GraphSolvers.h"
+#include "Mesh/Curvatures.h"
+#include "Mesh/Laplacian.h"
+#include "Mesh/MeshMeasures.h"
+#include "Mesh/RingGeometry.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace beltrami
+{
+
+namespace
+{
+
+/// The Laplacian of a step and what it is applied to.
+struct Stage
+{
+  const GraphLaplacian& L;
+  std::vector<std::uint8_t> Fixed; ///< rows that must not move
+  std::vector<double> Omega;       ///< per-row weight (may be < 0 for anisotropy)
+  const Index* Order = nullptr;    ///< LocalityOrder of L's graph, if known
+};
+
+/// y = L x = -M^-1 S x (rows without mass: 0).
+void ApplyLaplacian(const GraphLaplacian& L, const double* x, double* y, int threads)
+{
+  L.ApplyStiffness(x, y, 3, threads);
+  ParallelFor(L.NumberOfVertices, threads, [&](std::int64_t b, std::int64_t e) {
+    for (std::int64_t i = b; i < e; ++i)
+    {
+      const double s = L.Mass[i] > 0.0 ? -1.0 / L.Mass[i] : 0.0;
+      for (int c = 0; c < 3; ++c)
+      {
+        y[3 * i + c] *= s;
+      }
+    }
+  });
+}
+
+/// The flow velocity without the time step: W L X (order 1) or -W L L X (order 2).
+std::vector<double> Velocity(const Stage& st, int order, const double* x, int threads)
+{
+  const std::size_t size = 3 * static_cast<std::size_t>(st.L.NumberOfVertices);
+  std::vector<double> v(size), tmp(order == 2 ? size : 0);
+  ApplyLaplacian(st.L, x, v.data(), threads);
+  if (order == 2)
+  {
+    // L is undefined at held vertices (boundaries, constraints): L^2 uses L = 0 there.
+    for (Index i = 0; i < st.L.NumberOfVertices; ++i)
+    {
+      for (int c = 0; st.Fixed[i] && c < 3; ++c)
+      {
+        v[3 * i + c] = 0.0;
+      }
+    }
+    ApplyLaplacian(st.L, v.data(), tmp.data(), threads);
+    for (std::size_t k = 0; k < size; ++k)
+    {
+      v[k] = -tmp[k];
+    }
+  }
+  for (Index i = 0; i < st.L.NumberOfVertices; ++i)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      v[3 * i + c] *= st.Fixed[i] ? 0.0 : st.Omega[i];
+    }
+  }
+  return v;
+}
+
+void ExplicitStep(const Stage& st, int order, double dt, double* x, int threads)
+{
+  const std::vector<double> v = Velocity(st, order, x, threads);
+  for (std::size_t k = 0; k < v.size(); ++k)
+  {
+    x[k] += dt * v[k];
+  }
+}
+
+/// Largest stable explicit time step (Gershgorin: rho(W M^-1 S) <= 2 max w S_ii / a_i;
+/// for the umbrella this is the thesis' lambda*dt < 1).
+double StabilityLimit(const Stage& st, int order)
+{
+  double m = 0.0;
+  for (Index i = 0; i < st.L.NumberOfVertices; ++i)
+  {
+    if (!st.Fixed[i] && st.L.Mass[i] > 0.0)
+    {
+      m = std::max(m, std::abs(st.Omega[i]) * st.L.Diagonal[i] / st.L.Mass[i]);
+    }
+  }
+  if (!(m > 0.0))
+  {
+    return std::numeric_limits<double>::infinity();
+  }
+  return order == 1 ? 1.0 / m : 0.5 / (m * m);
+}
+
+ConjugateGradientResult SolveOrderTwo(const Stage& st, const FairingOptions& opt, const std::vector<double>& m,
+  const std::vector<double>& invMass, const std::vector<std::uint8_t>& fixed, const std::vector<double>& scale,
+  const std::vector<double>& b, double* x);
+
+/// One backward Euler step in the symmetric form of Fairing.h.  Rows with a
+/// negative weight (inverse diffusion of the anisotropic flow) are advanced
+/// explicitly and then held, so the system stays positive definite.
+void ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, FairingReport& report)
+{
+  const GraphLaplacian& L = st.L;
+  const Index n = L.NumberOfVertices;
+  const int threads = opt.NumberOfThreads;
+  const int order = opt.Order;
+  const double dt = opt.TimeStep;
+  std::vector<std::uint8_t> fixed = st.Fixed;
+  bool anyNegative = false;
+  for (Index i = 0; i < n; ++i)
+  {
+    anyNegative = anyNegative || (!fixed[i] && st.Omega[i] < 0.0);
+  }
+  if (anyNegative)
+  {
+    const std::vector<double> v = Velocity(st, order, x, threads);
+    for (Index i = 0; i < n; ++i)
+    {
+      if (!fixed[i] && st.Omega[i] < 0.0)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          x[3 * i + c] += dt * v[3 * i + c];
+        }
+      }
+    }
+  }
+  std::vector<double> m(n, 0.0), invMass(n, 0.0);
+  Index numFree = 0;
+  for (Index i = 0; i < n; ++i)
+  {
+    // The inner M^-1 of L^2: zero at held vertices, where L is taken as 0.
+    invMass[i] = L.Mass[i] > 0.0 && !st.Fixed[i] ? 1.0 / L.Mass[i] : 0.0;
+    if (fixed[i] || !(st.Omega[i] > 0.0) || !(L.Mass[i] > 0.0))
+    {
+      fixed[i] = 1;
+      continue;
+    }
+    m[i] = L.Mass[i] / st.Omega[i];
+    ++numFree;
+  }
+  if (numFree == 0)
+  {
+    return;
+  }
+  const std::size_t size = 3 * static_cast<std::size_t>(n);
+  std::vector<double> b(size);
+  Vec3 center = Vec3::Zero();
+  for (Index i = 0; i < n; ++i)
+  {
+    center += Point(x, i);
+  }
+  center /= n;
+  std::vector<double> scale(3, 0.0);
+  for (Index i = 0; i < n; ++i)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      b[3 * i + c] = m[i] * x[3 * i + c];
+      if (!fixed[i])
+      {
+        const double d = m[i] * (x[3 * i + c] - center[c]);
+        scale[c] += d * d;
+      }
+    }
+  }
+  for (double& s : scale)
+  {
+    s = std::sqrt(s);
+  }
+  ShiftedLaplacianProblem sl = L.Problem(3);
+  sl.Shift = m.data();
+  sl.Factor = dt;
+  sl.Fixed = fixed.data();
+  sl.Scale = scale;
+  sl.Tolerance = opt.Tolerance;
+  sl.MaximumIterations = opt.MaximumIterations;
+  sl.NumberOfThreads = threads;
+  ConjugateGradientResult r;
+  if (order == 1)
+  {
+    // A graph Laplacian plus a diagonal: the fast solver (renumbered rows,
+    // single-precision corrections of a double-precision residual).
+    sl.Order = st.Order;
+    r = SolveShiftedLaplacian(sl, b.data(), x);
+  }
+  else
+  {
+    // M + dt S M^-1 S: with unit row weights and the inner M^-1 zero exactly
+    // at the rows kept fixed, the complex-shift solver applies.
+    bool squared = true;
+    for (Index i = 0; squared && i < n; ++i)
+    {
+      squared = fixed[i] ? invMass[i] == 0.0 : std::abs(m[i] * invMass[i] - 1.0) <= 1e-12;
+    }
+    if (squared)
+    {
+      r = SolveSquaredLaplacian(sl, b.data(), x);
+    }
+    if (!r.Converged)
+    {
+      const int before = r.Iterations;
+      r = SolveOrderTwo(st, opt, m, invMass, fixed, scale, b, x);
+      r.Iterations += before;
+    }
+  }
+  report.Iterations.push_back(r.Iterations);
+  report.LargestResidual = std::max(report.LargestResidual, r.RelativeResidual);
+  report.Converged = report.Converged && r.Converged;
+}
+
+/// The order-2 system (M W^-1 + dt S M^-1 S) X' = b, through its action.
+ConjugateGradientResult SolveOrderTwo(const Stage& st, const FairingOptions& opt, const std::vector<double>& m,
+  const std::vector<double>& invMass, const std::vector<std::uint8_t>& fixed, const std::vector<double>& scale,
+  const std::vector<double>& b, double* x)
+{
+  const GraphLaplacian& L = st.L;
+  const Index n = L.NumberOfVertices;
+  const int threads = opt.NumberOfThreads;
+  const double dt = opt.TimeStep;
+  std::vector<double> tmp(3 * static_cast<std::size_t>(n)), diag(n);
+  for (Index i = 0; i < n; ++i)
+  {
+    double s2 = L.Diagonal[i] * L.Diagonal[i] * invMass[i];
+    for (std::int64_t k = L.Offsets[i]; k < L.Offsets[i + 1]; ++k)
+    {
+      s2 += L.Weights[k] * L.Weights[k] * invMass[L.Neighbors[k]];
+    }
+    diag[i] = m[i] + dt * s2;
+  }
+  ConjugateGradientProblem pb;
+  pb.Rows = n;
+  pb.Columns = 3;
+  pb.Diagonal = diag.data();
+  pb.Fixed = fixed.data();
+  pb.Scale = scale;
+  pb.Tolerance = opt.Tolerance;
+  pb.MaximumIterations = opt.MaximumIterations;
+  pb.NumberOfThreads = threads;
+  pb.Apply = [&](const double* in, double* out) {
+    L.ApplyStiffness(in, out, 3, threads);
+    for (Index i = 0; i < n; ++i)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        tmp[3 * i + c] = out[3 * i + c] * invMass[i];
+      }
+    }
+    L.ApplyStiffness(tmp.data(), out, 3, threads);
+    ParallelFor(n, threads, [&](std::int64_t s, std::int64_t e) {
+      for (std::int64_t k = 3 * s; k < 3 * e; ++k)
+      {
+        out[k] = m[k / 3] * in[k] + dt * out[k];
+      }
+    });
+  };
+  return SolveConjugateGradient(pb, b.data(), x);
+}
+
+void Integrate(const Stage& st, const FairingOptions& opt, double* x, FairingReport& report)
+{
+  switch (opt.Integration)
+  {
+    case FairingIntegration::Implicit:
+      ImplicitStep(st, opt, x, report);
+      break;
+    case FairingIntegration::Explicit:
+    {
+      const double limit = StabilityLimit(st, opt.Order);
+      report.StabilityLimit = report.StabilityLimit > 0.0 ? std::min(report.StabilityLimit, limit) : limit;
+      report.ExplicitUnstable = report.ExplicitUnstable || opt.TimeStep > limit * (1.0 + 1e-12);
+      ExplicitStep(st, opt.Order, opt.TimeStep, x, opt.NumberOfThreads);
+      break;
+    }
+    case FairingIntegration::TaubinLambdaMu:
+      ExplicitStep(st, 1, opt.TaubinLambda, x, opt.NumberOfThreads);
+      ExplicitStep(st, 1, opt.TaubinMu, x, opt.NumberOfThreads);
+      break;
+  }
+}
+
+/// Section 3.7.1: w = 1 in noisy regions, 0 at corners, kappa_min / kappa_H on
+/// edges, clamped below.  `along` receives, for edge vertices, the principal
+/// direction of the smaller curvature (along the edge); zero elsewhere.
+std::vector<double> AnisotropicWeights(const MeshTopology& topo, const double* x,
+  const FairingOptions& opt, std::vector<Vec3>* along, Index& featureVertices)
+{
+  const Index n = topo.NumberOfVertices();
+  std::vector<double> kH(n), k1(n), k2(n), e1, e2;
+  CurvatureOptions co;
+  co.NumberOfThreads = opt.NumberOfThreads;
+  CurvatureOutputs out;
+  out.MeanCurvature = kH.data();
+  out.MaximumCurvature = k1.data();
+  out.MinimumCurvature = k2.data();
+  if (along)
+  {
+    e1.resize(3 * static_cast<std::size_t>(n));
+    e2.resize(3 * static_cast<std::size_t>(n));
+    out.PrincipalDirection1 = e1.data();
+    out.PrincipalDirection2 = e2.data();
+    along->assign(n, Vec3::Zero());
+  }
+  ComputeCurvatures(topo, x, co, out);
+  const double T = opt.FeatureThreshold;
+  std::vector<double> w(n, 1.0);
+  featureVertices = 0;
+  for (Index i = 0; i < n; ++i)
+  {
+    const double a1 = std::abs(k1[i]), a2 = std::abs(k2[i]), aH = std::abs(kH[i]);
+    if (!std::isfinite(a1 + a2 + aH) || (a1 <= T && a2 <= T))
+    {
+      continue; // noise (or undefined): isotropic
+    }
+    ++featureVertices;
+    if (a1 > T && a2 > T && k1[i] * k2[i] > 0.0)
+    {
+      w[i] = 0.0; // corner
+      continue;
+    }
+    const double smallest = std::min({ a1, a2, aH });
+    if (aH == 0.0 || smallest == aH)
+    {
+      w[i] = 1.0;
+      continue;
+    }
+    const bool firstIsSmall = smallest == a1;
+    w[i] = std::max(opt.MinimumAnisotropicWeight, (firstIsSmall ? k1[i] : k2[i]) / kH[i]);
+    if (along)
+    {
+      (*along)[i] = LoadPoint<3>(firstIsSmall ? e1.data() : e2.data(), 3, i);
+    }
+  }
+  return w;
+}
+
+/// Feature curves for the curve-smoothing pass: edges between edge vertices
+/// that run along both vertices' edge directions (within 30 degrees); only
+/// vertices with exactly two such edges are smoothed.
+void FeatureChains(const MeshTopology& topo, const double* x, const std::vector<Vec3>& along,
+  std::vector<std::vector<Index>>& chains, std::vector<std::uint8_t>& onCurve)
+{
+  const MeshTopology::EdgeTable& edges = topo.Edges();
+  const Index n = topo.NumberOfVertices();
+  const double cos30 = std::cos(M_PI / 6.0);
+  const auto aligned = [&](Index i, Index j) {
+    const Vec3 d = Point(x, j) - Point(x, i);
+    const double len = d.norm();
+    return along[i].squaredNorm() > 0.0 && len > 0.0 && std::abs(d.dot(along[i])) > cos30 * len;
+  };
+  std::vector<Index> count(n, 0);
+  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
+  {
+    const Index i = edges.Vertices[2 * e], j = edges.Vertices[2 * e + 1];
+    if (aligned(i, j) && aligned(j, i))
+    {
+      ++count[i];
+      ++count[j];
+    }
+  }
+  onCurve.assign(n, 0);
+  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
+  {
+    const Index i = edges.Vertices[2 * e], j = edges.Vertices[2 * e + 1];
+    if (aligned(i, j) && aligned(j, i) && (count[i] == 2 || count[j] == 2))
+    {
+      chains.push_back({ i, j });
+      onCurve[i] |= count[i] == 2;
+      onCurve[j] |= count[j] == 2;
+    }
+  }
+}
+
+void Rescale(double* x, Index n, const Vec3& center, double s)
+{
+  for (Index i = 0; i < n; ++i)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      x[3 * i + c] = center[c] + s * (x[3 * i + c] - center[c]);
+    }
+  }
+}
+
+struct InvariantState
+{
+  FairingInvariant Kind = FairingInvariant::None;
+  Vec3 PlaneOrigin = Vec3::Zero(), PlaneNormal = Vec3::UnitZ();
+  double Initial = 0.0;
+};
+
+double MeasureInvariant(const InvariantState& s, const MeshTopology& topo, const double* x, int threads,
+  Vec3* center)
+{
+  switch (s.Kind)
+  {
+    case FairingInvariant::Volume:
+      return VolumeAndCentroid(topo, x, threads, center);
+    case FairingInvariant::Area:
+      return AreaAndCentroid(topo, x, threads, center);
+    case FairingInvariant::HeightFieldVolume:
+      return HeightVolume(topo, x, s.PlaneOrigin, s.PlaneNormal, threads);
+    default:
+      return 0.0;
+  }
+}
+
+/// Section 3.3.1: scale back to the initial value of the invariant.
+double RestoreInvariant(const InvariantState& s, const MeshTopology& topo, double* x, int threads)
+{
+  Vec3 center;
+  const double now = MeasureInvariant(s, topo, x, threads, &center);
+  const Index n = topo.NumberOfVertices();
+  if (!(now != 0.0) || !std::isfinite(now) || now * s.Initial <= 0.0)
+  {
+    return now;
+  }
+  switch (s.Kind)
+  {
+    case FairingInvariant::Volume:
+      Rescale(x, n, center, std::cbrt(s.Initial / now));
+      break;
+    case FairingInvariant::Area:
+      Rescale(x, n, center, std::sqrt(s.Initial / now));
+      break;
+    case FairingInvariant::HeightFieldVolume:
+    {
+      const double factor = s.Initial / now; // the volume is linear in the heights
+      for (Index i = 0; i < n; ++i)
+      {
+        const double h = (Point(x, i) - s.PlaneOrigin).dot(s.PlaneNormal);
+        for (int c = 0; c < 3; ++c)
+        {
+          x[3 * i + c] += (factor - 1.0) * h * s.PlaneNormal[c];
+        }
+      }
+      break;
+    }
+    default:
+      break;
+  }
+  return MeasureInvariant(s, topo, x, threads, &center);
+}
+
+LaplacianWeights WeightsOf(FairingOperator op)
+{
+  switch (op)
+  {
+    case FairingOperator::Umbrella:
+      return LaplacianWeights::Umbrella;
+    case FairingOperator::ScaleDependentUmbrella:
+      return LaplacianWeights::InverseEdgeLength;
+    default:
+      return LaplacianWeights::Cotangent;
+  }
+}
+
+/// Which part of a displacement d at a vertex of normal n is kept.
+enum class Keep
+{
+  Normal,    ///< (d.n) n
+  Tangential ///< d - (d.n) n
+};
+
+/// Moves x[i] by the `keep` part of d[i] (both 3 per vertex), with the
+/// vertex normals of x before the move; vertices without a normal (no area,
+/// NaN) or with a non-finite d[i] do not move.
+void MoveAlongNormals(const MeshTopology& topo, double* x, const double* d, Keep keep, int threads)
+{
+  const Index n = topo.NumberOfVertices();
+  std::vector<double> normals(3 * static_cast<std::size_t>(n));
+  CurvatureOutputs no;
+  no.Normals = normals.data();
+  CurvatureOptions co;
+  co.NumberOfThreads = threads;
+  ComputeCurvatures(topo, static_cast<const double*>(x), co, no);
+  for (Index i = 0; i < n; ++i)
+  {
+    const Vec3 nn = Point(normals.data(), i);
+    const Vec3 di = Point(d, i);
+    if (nn.allFinite() && di.allFinite())
+    {
+      const Vec3 along = di.dot(nn) * nn;
+      const Vec3 move = keep == Keep::Normal ? along : Vec3(di - along);
+      for (int c = 0; c < 3; ++c)
+      {
+        x[3 * i + c] += move[c];
+      }
+    }
+  }
+}
+
+/// A copy of x after one implicit order-1 step of `time` with the `kind`
+/// Laplacian (assembled into `lap` at x; `order` gives its LocalityOrder or
+/// null): the pre-mollified geometries of the anisotropic weights and of
+/// OperatorMollification.
+template <typename OrderOf>
+std::vector<double> SmoothedCopy(const MeshTopology& topo, const double* x, LaplacianWeights kind, double time,
+  const std::vector<std::uint8_t>& held, const std::vector<double>& weight, const FairingOptions& opt,
+  GraphLaplacian& lap, OrderOf&& order)
+{
+  std::vector<double> copy(x, x + 3 * static_cast<std::size_t>(topo.NumberOfVertices()));
+  AssembleSurfaceLaplacian(topo, copy.data(), kind, lap, opt.NumberOfThreads);
+  FairingOptions so = opt;
+  so.Integration = FairingIntegration::Implicit;
+  so.Order = 1;
+  so.TimeStep = time;
+  FairingReport ignored;
+  ImplicitStep(Stage{ lap, held, weight, order() }, so, copy.data(), ignored);
+  return copy;
+}
+
+FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const FairingOptions& opt,
+  const FairingConstraints& cons, const ProgressCallback& progress)
+{
+  FairingReport report;
+  const Index n = topo.NumberOfVertices();
+  const int threads = opt.NumberOfThreads;
+  const TopologySummary& info = topo.Summary();
+
+  // Hard constraints, soft weights and vertices the flows cannot move.
+  std::vector<std::uint8_t> fixed(n, 0), boundary(n, 0);
+  std::vector<double> weight(n, 1.0);
+  bool hardConstraints = false;
+  for (Index i = 0; i < n; ++i)
+  {
+    const std::uint8_t flags = topo.VertexFlags(i);
+    boundary[i] = (flags & VertexBoundary) != 0;
+    if (cons.Weights)
+    {
+      const double w = cons.Weights[i];
+      weight[i] = std::isfinite(w) ? std::clamp(w, 0.0, 1.0) : 1.0;
+    }
+    const bool user = (cons.Fixed && cons.Fixed[i]) || weight[i] == 0.0;
+    hardConstraints = hardConstraints || user;
+    const bool unusable = (flags & (VertexNonManifold | VertexDuplicateFace | VertexIsolated)) ||
+      !Point(x, i).allFinite();
+    report.UnusableVertices += unusable && !(flags & VertexIsolated);
+    fixed[i] = user || unusable || (boundary[i] && opt.Boundary == FairingBoundary::Fixed);
+  }
+
+  InvariantState inv;
+  inv.Kind = opt.Invariant;
+  const bool closed = info.IsClosed() && info.IsManifold() && info.IsOriented();
+  if (inv.Kind == FairingInvariant::Automatic)
+  {
+    inv.Kind = closed && !hardConstraints ? FairingInvariant::Volume : FairingInvariant::None;
+  }
+  std::ostringstream warn;
+  if (inv.Kind == FairingInvariant::Volume && !closed)
+  {
+    warn << "Volume preservation needs a closed, manifold, consistently oriented surface; this one is "
+         << topo.Describe() << ": no invariant is preserved. ";
+    inv.Kind = FairingInvariant::None;
+  }
+  if (inv.Kind == FairingInvariant::HeightFieldVolume)
+  {
+    inv.PlaneNormal = Vec3(opt.ReferencePlaneNormal[0], opt.ReferencePlaneNormal[1], opt.ReferencePlaneNormal[2]);
+    if (!(inv.PlaneNormal.norm() > 0.0))
+    {
+      inv.PlaneNormal = Vec3::UnitZ();
+    }
+    inv.PlaneNormal.normalize();
+    // The reference plane passes through the mean of the boundary (of all points if closed).
+    Vec3 sum = Vec3::Zero();
+    Index count = 0;
+    for (Index i = 0; i < n; ++i)
+    {
+      if (boundary[i] && Point(x, i).allFinite())
+      {
+        sum += Point(x, i);
+        ++count;
+      }
+    }
+    inv.PlaneOrigin = count ? Vec3(sum / count) : VertexCentroid(topo, x);
+  }
+  if (hardConstraints && inv.Kind != FairingInvariant::None)
+  {
+    warn << "The invariant is restored by scaling, which also moves the fixed points (section 3.3.1). ";
+  }
+  report.InvariantUsed = inv.Kind;
+  inv.Initial = MeasureInvariant(inv, topo, x, threads, nullptr);
+  report.InitialInvariant = report.FinalInvariant = inv.Initial;
+
+  const std::vector<std::vector<Index>> loops =
+    opt.Boundary == FairingBoundary::SmoothCurve ? topo.BoundaryLoops() : std::vector<std::vector<Index>>{};
+  CurveGraph boundaryCurves;
+  boundaryCurves.Build(n, loops, {});
+
+  const bool sampling = opt.Operator == FairingOperator::CurvatureFlowAndSampling;
+  GraphLaplacian L, curveL;
+  // The solver's renumbering of the surface graph, the same for every step.
+  std::vector<Index> order;
+  const auto localOrder = [&]() {
+    if (order.empty())
+    {
+      order = LocalityOrder(n, L.Offsets, L.Neighbors);
+    }
+    return order.data();
+  };
+  // Rows that do not move in the surface stages.
+  std::vector<std::uint8_t> held(n);
+  for (Index i = 0; i < n; ++i)
+  {
+    held[i] = fixed[i] || boundary[i];
+  }
+  for (int step = 0; step < opt.NumberOfSteps; ++step)
+  {
+    std::vector<double> omega = weight;
+    std::vector<Vec3> along;
+    if (opt.Anisotropic)
+    {
+      // Curvatures of a pre-mollified copy (section 3.7.1 cites [PR99]): one
+      // isotropic implicit curvature-flow step of the same size, so that the
+      // weights see the shape rather than the noise.
+      const std::vector<double> mollified = opt.Mollification > 0.0
+        ? SmoothedCopy(topo, x, LaplacianWeights::Cotangent, opt.TimeStep * opt.Mollification, held, weight, opt, L,
+            [&] { return localOrder(); })
+        : std::vector<double>(x, x + 3 * static_cast<std::size_t>(n));
+      const std::vector<double> a = AnisotropicWeights(topo, mollified.data(), opt,
+        opt.SmoothFeatureCurves ? &along : nullptr, report.FeatureVertices);
+      for (Index i = 0; i < n; ++i)
+      {
+        omega[i] *= a[i];
+      }
+    }
+    // Boundary loops first (they do not depend on the interior), then the
+    // interior with the new boundary as fixed values (section 3.5.2).
+    if (!loops.empty())
+    {
+      AssembleCurveLaplacian(boundaryCurves, x, WeightsOf(opt.Operator), curveL);
+      Stage curve{ curveL, fixed, weight };
+      for (Index i = 0; i < n; ++i)
+      {
+        curve.Fixed[i] = fixed[i] || boundaryCurves.Offsets[i + 1] - boundaryCurves.Offsets[i] < 2;
+      }
+      Integrate(curve, opt, x, report);
+    }
+    // The operator's geometry: the current positions (the thesis'
+    // linearisation, sections 3.4.3/3.5.3), or a mollified copy
+    // (OperatorMollification): on a noisy scan the cotangents of the noisy
+    // triangles are noise too.  The copy is x moved by the normal part of
+    // one implicit umbrella step: the noise across the surface is damped,
+    // the sampling is kept, so a flat region's copy is the region itself
+    // and flat regions still never move.
+    std::vector<double> regular;
+    if (opt.OperatorMollification > 0.0 && opt.Operator != FairingOperator::Umbrella)
+    {
+      GraphLaplacian U;
+      std::vector<double> step = SmoothedCopy(topo, x, LaplacianWeights::Umbrella, opt.OperatorMollification, held,
+        weight, opt, U, [] { return static_cast<const Index*>(nullptr); });
+      regular.assign(x, x + 3 * static_cast<std::size_t>(n));
+      for (std::size_t k = 0; k < step.size(); ++k)
+      {
+        step[k] -= x[k];
+      }
+      MoveAlongNormals(topo, regular.data(), step.data(), Keep::Normal, threads);
+    }
+    AssembleSurfaceLaplacian(topo, regular.empty() ? x : regular.data(), WeightsOf(opt.Operator), L, threads);
+    report.DegenerateTriangles = std::max(report.DegenerateTriangles, L.DegenerateTriangles);
+    const bool solves = opt.Integration == FairingIntegration::Implicit && opt.Order == 1;
+    const Stage surface{ L, held, omega, solves ? localOrder() : nullptr };
+    Integrate(surface, opt, x, report);
+    if (sampling)
+    {
+      // Section 3.6, by operator splitting: the tangential part (at the new
+      // surface) of an umbrella step, which evens out the sampling.  The
+      // umbrella is dimensionless: its step is lambda*dt in units of the mean
+      // edge length squared (L_umbrella ~ h^2/4 Laplace, L_K ~ Laplace/2), at
+      // most 1 so that it stays a local relaxation.
+      GraphLaplacian U;
+      AssembleSurfaceLaplacian(topo, x, LaplacianWeights::Umbrella, U, threads);
+      const double h = MeanEdgeLength(topo, x);
+      const double relax = std::min(1.0, 2.0 * opt.TimeStep / (h * h));
+      const Stage tangential{ U, surface.Fixed, weight };
+      std::vector<double> v = Velocity(tangential, 1, x, threads);
+      for (double& vk : v)
+      {
+        vk *= relax;
+      }
+      MoveAlongNormals(topo, x, v.data(), Keep::Tangential, threads);
+    }
+    if (opt.Anisotropic && opt.SmoothFeatureCurves)
+    {
+      std::vector<std::vector<Index>> chains;
+      std::vector<std::uint8_t> onCurve;
+      FeatureChains(topo, x, along, chains, onCurve);
+      CurveGraph features;
+      features.Build(n, {}, chains);
+      AssembleCurveLaplacian(features, x, LaplacianWeights::InverseEdgeLength, curveL);
+      Stage curve{ curveL, fixed, weight };
+      for (Index i = 0; i < n; ++i)
+      {
+        curve.Fixed[i] = fixed[i] || boundary[i] || !onCurve[i];
+      }
+      Integrate(curve, opt, x, report);
+    }
+    if (inv.Kind != FairingInvariant::None)
+    {
+      report.FinalInvariant = RestoreInvariant(inv, topo, x, threads);
+    }
+    if (progress && !progress(static_cast<double>(step + 1) / opt.NumberOfSteps))
+    {
+      report.Completed = false;
+      break;
+    }
+  }
+  for (Index i = 0; i < n; ++i)
+  {
+    report.FixedVertices += fixed[i] && topo.Valence(i) > 0;
+  }
+  if (report.ExplicitUnstable)
+  {
+    warn << "Explicit integration with time step " << opt.TimeStep
+         << " is above the stability limit (about " << report.StabilityLimit
+         << "): the result oscillates; use implicit integration or a smaller step. ";
+  }
+  if (!report.Converged)
+  {
+    warn << "The linear solver did not reach the tolerance " << opt.Tolerance << " (relative residual "
+         << report.LargestResidual << "). ";
+  }
+  report.Warning = warn.str();
+  return report;
+}
+
+} // namespace
+
+FairingReport FairSurface(const MeshTopology& topo, double* points, const FairingOptions& options,
+  const FairingConstraints& cons, const ProgressCallback& progress)
+{
+  FairingOptions opt = options;
+  opt.Order = std::clamp(opt.Order, 1, 2);
+  opt.NumberOfSteps = std::max(0, opt.NumberOfSteps);
+  opt.TimeStep = std::isfinite(opt.TimeStep) ? std::max(0.0, opt.TimeStep) : 0.0;
+  if (opt.Boundary != FairingBoundary::VirtualVertex || topo.Summary().NumberOfBoundaryLoops == 0)
+  {
+    return FairClosedOrFixed(topo, points, opt, cons, progress);
+  }
+  // Section 3.5.2: close each boundary loop with a fan of virtual triangles to
+  // a virtual vertex at its barycentre, smooth the closed surface, drop them.
+  const Index n = topo.NumberOfVertices();
+  const std::vector<std::vector<Index>> loops = topo.BoundaryLoops();
+  IndexArray triangles = topo.TriangleList();
+  std::vector<double> x(points, points + 3 * static_cast<std::size_t>(n));
+  Index next = n;
+  for (const auto& loop : loops)
+  {
+    if (loop.size() < 3)
+    {
+      continue;
+    }
+    Vec3 center = Vec3::Zero();
+    for (Index v : loop)
+    {
+      center += Point(points, v);
+    }
+    center /= static_cast<double>(loop.size());
+    x.insert(x.end(), center.data(), center.data() + 3);
+    for (std::size_t k = 0; k < loop.size(); ++k)
+    {
+      // The loop runs with the surface on its left: the virtual triangle
+      // uses the boundary edge in the opposite direction.
+      triangles.insert(triangles.end(), { loop[(k + 1) % loop.size()], loop[k], next });
+    }
+    ++next;
+  }
+  const MeshTopology closed(next, std::move(triangles), opt.NumberOfThreads);
+  std::vector<std::uint8_t> fixed;
+  std::vector<double> weights;
+  FairingConstraints extended;
+  if (cons.Fixed)
+  {
+    fixed.assign(cons.Fixed, cons.Fixed + n);
+    fixed.resize(next, 0);
+    extended.Fixed = fixed.data();
+  }
+  if (cons.Weights)
+  {
+    weights.assign(cons.Weights, cons.Weights + n);
+    weights.resize(next, 1.0);
+    extended.Weights = weights.data();
+  }
+  opt.Boundary = FairingBoundary::Fixed; // anything left open (e.g. non-manifold) stays fixed
+  FairingReport report = FairClosedOrFixed(closed, x.data(), opt, extended, progress);
+  std::copy(x.begin(), x.begin() + 3 * static_cast<std::size_t>(n), points);
+  return report;
+}
+
+} // namespace beltrami

@@ -1,0 +1,170 @@
+// Beltrami core, private to Flows/: what the discretizations of the graph
+// flows (PixelGridFlow, VoxelGridFlow, MeshGraphFlow) share with the time
+// integrator (GraphFlowIntegrator): the discretization interface, the
+// option checks, the per-component-count dispatch and the scratch buffers.
+#pragma once
+
+#include "Flows/GraphFlow.h"
+#include "Support/LargeBuffer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace beltrami
+{
+struct GraphLaplacian;
+}
+
+namespace beltrami::detail
+{
+
+/// Edge indicators below this are clamped (cliffs): bounds the speed-up of
+/// gamma < 1 flows at E^(gamma - 1) <= 1e6.
+constexpr double MinimumIndicator = 1e-3;
+
+/// A discretization of the graph surface: the symmetric stiffness K (with
+/// (K u)_i = sum_j c_ij (u_i - u_j)), the lumped mass a_i and the speed
+/// s_i = E_i^(gamma - 1), so that the flow is du_i/dt = -s_i (K u)_i / a_i.
+class FlowDiscretization
+{
+public:
+  virtual ~FlowDiscretization() = default;
+
+  Index Size = 0;
+  int Components = 1;
+  std::vector<std::uint8_t> Fixed; ///< non-zero: value kept
+  /// Set before the first Update: the semi-implicit solver needs the operator
+  /// (Mass, Speed, Diagonal, KU and Apply); the explicit one only Velocity.
+  bool StoreOperator = true;
+  // Filled by Update(u):
+  LargeVector<double> Velocity; ///< s_i (K u)_i / a_i, zero where fixed: du/dt = -Velocity
+  LargeVector<double> Mass, Speed, Diagonal, KU; ///< a_i, s_i, sum_j c_ij, K u (with ghosts)
+  double Area = 0.0;    ///< area of the graph surface
+  double MaxRate = 0.0; ///< max over free vertices of s_i sum_j max(c_ij, 0) / a_i
+
+  /// Weights, masses and speeds at state u (scaled data, Components per vertex).
+  virtual void Update(const double* u) = 0;
+  /// y = K x; ghosts: include the values the boundary rule derives from x
+  /// outside the domain (images; false: those neighbours count as zero).
+  virtual void Apply(const double* x, double* y, bool ghosts) = 0;
+  /// K as an explicit graph Laplacian, where it is one (meshes): the
+  /// semi-implicit step then uses the faster graph solver.
+  virtual const GraphLaplacian* Graph() const { return nullptr; }
+
+protected:
+  double Gamma = 1.0;
+  int Threads = 0;
+
+  double SpeedOf(double indicator) const
+  {
+    if (Gamma == 1.0)
+    {
+      return 1.0;
+    }
+    const double e = std::min(1.0, std::max(MinimumIndicator, indicator));
+    return Gamma == 0.0 ? 1.0 / e : std::pow(e, Gamma - 1.0);
+  }
+
+  void Allocate()
+  {
+    Velocity.assign(static_cast<std::size_t>(Size) * Components, 0.0);
+    if (StoreOperator)
+    {
+      Mass.assign(Size, 0.0);
+      Speed.assign(Size, 1.0);
+      Diagonal.assign(Size, 0.0);
+      KU.assign(static_cast<std::size_t>(Size) * Components, 0.0);
+    }
+  }
+};
+
+/// The options and the number of components (1 to `maximum`) of `what`:
+/// an error sentence, empty if they are usable.
+std::string CheckOptions(const GraphFlowOptions& o, int components, int maximum, const std::string& what);
+
+/// The time loop shared by images, volumes and meshes (section 3.8.5).
+GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphFlowOptions& o,
+  const ProgressCallback& progress);
+
+/// Calls run(std::integral_constant<int, NC>()) with NC = components (1 to 6):
+/// the kernels are compiled per component count.
+template <typename Run>
+GraphFlowResult WithComponents(int components, Run&& run)
+{
+  switch (components)
+  {
+    case 1: return run(std::integral_constant<int, 1>());
+    case 2: return run(std::integral_constant<int, 2>());
+    case 3: return run(std::integral_constant<int, 3>());
+    case 4: return run(std::integral_constant<int, 4>());
+    case 5: return run(std::integral_constant<int, 5>());
+    default: return run(std::integral_constant<int, 6>());
+  }
+}
+
+/// The row kernels are compiled twice, for AVX2/FMA processors and for any
+/// x86-64, and the processor picks at run time: the build stays portable.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+#define CLONES
+#endif
+
+/// Buffers lent to the threads of a parallel loop and kept for the next loop
+/// (no allocation, zeroing or page faults per step).
+class ScratchPool
+{
+public:
+  std::vector<double> Take(std::size_t size)
+  {
+    std::vector<double> buffer;
+    {
+      std::lock_guard<std::mutex> lock(Mutex);
+      if (!Free.empty())
+      {
+        buffer.swap(Free.back());
+        Free.pop_back();
+      }
+    }
+    if (buffer.size() < size)
+    {
+      buffer.resize(size);
+    }
+    return buffer;
+  }
+  void Give(std::vector<double>&& buffer)
+  {
+    std::lock_guard<std::mutex> lock(Mutex);
+    Free.push_back(std::move(buffer));
+  }
+
+private:
+  std::mutex Mutex;
+  std::vector<std::vector<double>> Free;
+};
+
+/// A buffer of the pool for one scope.
+class ScratchLease
+{
+public:
+  ScratchLease(ScratchPool& pool, std::size_t size)
+    : Pool(pool)
+    , Buffer(pool.Take(size))
+  {
+  }
+  ~ScratchLease() { Pool.Give(std::move(Buffer)); }
+  ScratchLease(const ScratchLease&) = delete;
+  ScratchLease& operator=(const ScratchLease&) = delete;
+  double* data() { return Buffer.data(); }
+
+private:
+  ScratchPool& Pool;
+  std::vector<double> Buffer;
+};
+
+} // namespace beltrami::detail

@@ -1,0 +1,173 @@
+#include "Flows/GraphFlowDiscretization.h"
+
+#include "Mesh/Laplacian.h"
+#include "Mesh/Tetrahedra.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+namespace beltrami
+{
+
+namespace
+{
+
+using namespace detail;
+
+// ---------------------------------------------------------------------------
+// Meshes: the data as extra coordinates of the mesh, (x, y, z, alpha f) in
+// R^(3+n), and the Laplacian of that embedding from the shared assemblers:
+// triangle surfaces (the cotangent formula) and tetrahedral volumes (the
+// volume gradient, appendix A.4).  The indicator is the ratio of the base
+// and graph measures (mixed areas or vertex volumes: 1/W).
+
+class MeshDiscretization final : public FlowDiscretization
+{
+public:
+  /// Assembles the Laplacian of points with `dimension` coordinates each.
+  using Assembler = std::function<void(const double* points, int dimension, GraphLaplacian& laplacian)>;
+
+  /// massScale: the lumped mass is massScale * laplacian.Mass, so that
+  /// -K u / mass is the Laplace-Beltrami operator (1/2 for the surface
+  /// weights cot/4 over mixed areas; 1 for volume gradients over vertex
+  /// volumes).  unusable (optional): non-zero = vertex kept (non-manifold).
+  MeshDiscretization(Index size, const double* points, int components, const std::uint8_t* fixed,
+    const std::uint8_t* unusable, Assembler assemble, double massScale, double gamma, int threads)
+    : Assemble(std::move(assemble))
+    , MassScale(massScale)
+  {
+    Gamma = gamma;
+    Threads = threads;
+    Size = size;
+    Components = components;
+    Allocate();
+    GraphLaplacian base;
+    Assemble(points, 3, base);
+    BaseMeasure.assign(base.Mass.begin(), base.Mass.end());
+    Fixed.assign(Size, 0);
+    for (Index i = 0; i < Size; ++i)
+    {
+      Fixed[i] = (fixed && fixed[i]) || (unusable && unusable[i]) || !(BaseMeasure[i] > 0.0);
+    }
+    // The base coordinates of the embedding, once; Update writes the data.
+    const int dim = 3 + components;
+    Embedded.resize(static_cast<std::size_t>(Size) * dim);
+    for (Index i = 0; i < Size; ++i)
+    {
+      std::copy(points + 3 * static_cast<std::size_t>(i), points + 3 * static_cast<std::size_t>(i) + 3,
+        &Embedded[static_cast<std::size_t>(i) * dim]);
+    }
+  }
+
+  void Update(const double* u) override
+  {
+    const int dim = 3 + Components;
+    ParallelFor(Size, Threads, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t i = b; i < e; ++i)
+      {
+        std::copy(u + i * Components, u + (i + 1) * Components, &Embedded[i * dim + 3]);
+      }
+    });
+    Assemble(Embedded.data(), dim, Laplacian);
+    Positive.resize(Size);
+    ParallelFor(Size, Threads, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t i = b; i < e; ++i)
+      {
+        Mass[i] = MassScale * Laplacian.Mass[i];
+        Diagonal[i] = Laplacian.Diagonal[i];
+        double p = 0.0;
+        for (std::int64_t k = Laplacian.Offsets[i]; k < Laplacian.Offsets[i + 1]; ++k)
+        {
+          p += std::max(Laplacian.Weights[k], 0.0);
+        }
+        Positive[i] = p;
+        Speed[i] = Laplacian.Mass[i] > 0.0 ? SpeedOf(BaseMeasure[i] / Laplacian.Mass[i]) : 1.0;
+        if (!(Mass[i] > 0.0))
+        {
+          Fixed[i] = 1; // lost its measure (degenerate graph elements)
+        }
+      }
+    });
+    Laplacian.ApplyStiffness(u, KU.data(), Components, Threads);
+    // Chunk maxima (ParallelSum would add them: the step was up to Size/4096
+    // times smaller than stable on large meshes).
+    std::vector<double> rates = ParallelPartials(Size, 1, Threads, [&](std::int64_t b, std::int64_t e, double* acc) {
+      for (std::int64_t i = b; i < e; ++i)
+      {
+        const double f = !Fixed[i] && Mass[i] > 0.0 ? Speed[i] / Mass[i] : 0.0;
+        for (int k = 0; k < Components; ++k)
+        {
+          Velocity[i * Components + k] = f * KU[i * Components + k];
+        }
+        acc[0] = std::max(acc[0], f * Positive[i]); // a maximum: any order gives the same
+      }
+    });
+    MaxRate = rates.empty() ? 0.0 : *std::max_element(rates.begin(), rates.end());
+    Area = ParallelSum(Size, 1, Threads, [&](std::int64_t b, std::int64_t e, double* acc) {
+      for (std::int64_t i = b; i < e; ++i)
+      {
+        acc[0] += Laplacian.Mass[i];
+      }
+    })[0];
+  }
+
+  void Apply(const double* x, double* y, bool) override
+  {
+    Laplacian.ApplyStiffness(x, y, Components, Threads);
+  }
+  const GraphLaplacian* Graph() const override { return &Laplacian; }
+
+private:
+  Assembler Assemble;
+  double MassScale;
+  std::vector<double> BaseMeasure, Embedded, Positive;
+  GraphLaplacian Laplacian;
+};
+
+} // namespace
+
+GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* points,
+  int components, double* values, const std::uint8_t* fixed, const GraphFlowOptions& options,
+  const ProgressCallback& progress)
+{
+  GraphFlowResult result;
+  result.Error = CheckOptions(options, components, 5, "point data");
+  if (!result.Error.empty() || topology.NumberOfVertices() == 0)
+  {
+    return result;
+  }
+  const int threads = options.NumberOfThreads;
+  std::vector<std::uint8_t> unusable(topology.NumberOfVertices());
+  for (Index i = 0; i < topology.NumberOfVertices(); ++i)
+  {
+    unusable[i] = (topology.VertexFlags(i) & ~VertexBoundary) != 0;
+  }
+  MeshDiscretization disc(topology.NumberOfVertices(), points, components, fixed, unusable.data(),
+    [&](const double* x, int dimension, GraphLaplacian& l) {
+      AssembleSurfaceLaplacian(topology, x, dimension, LaplacianWeights::Cotangent, l, threads);
+    },
+    0.5, options.EdgeContrast, threads);
+  return Integrate(disc, values, options, progress);
+}
+
+GraphFlowResult RunTetrahedralGraphFlow(const TetrahedralMesh& mesh, const double* points,
+  int components, double* values, const std::uint8_t* fixed, const GraphFlowOptions& options,
+  const ProgressCallback& progress)
+{
+  GraphFlowResult result;
+  result.Error = CheckOptions(options, components, 6, "point data");
+  if (!result.Error.empty() || mesh.NumberOfVertices() == 0)
+  {
+    return result;
+  }
+  const int threads = options.NumberOfThreads;
+  MeshDiscretization disc(mesh.NumberOfVertices(), points, components, fixed, nullptr,
+    [&](const double* x, int dimension, GraphLaplacian& l) {
+      AssembleTetrahedralLaplacian(mesh, x, dimension, l, threads);
+    },
+    1.0, options.EdgeContrast, threads);
+  return Integrate(disc, values, options, progress);
+}
+
+} // namespace beltrami

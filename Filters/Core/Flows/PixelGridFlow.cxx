@@ -1,0 +1,475 @@
+#include "Flows/GraphFlowDiscretization.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <numeric>
+
+namespace beltrami
+{
+
+namespace
+{
+
+using namespace detail;
+
+// ---------------------------------------------------------------------------
+// Images: the pixel grid triangulated both ways (each cell split along both
+// diagonals, the two triangulations summed), so that the operator has the
+// symmetry of the grid.  Pixel (x, y) sits at (x sx, y sy, u(x, y)) in
+// R^(2+n).  Cotangents and mixed areas (section 2.4.3) of the four triangles
+// of every cell come from dot products of the edge vectors (section 2.8.1).
+//
+// One Update is one pass over the image in bands of rows: per band, a row of
+// cells (their four triangles) is computed into a small buffer, then the row
+// of pixels between it and the previous cell row; no per-cell or per-pixel
+// weights are stored unless the semi-implicit solver needs them.  The loops
+// over a row have no branches, so the compiler vectorizes them.
+
+/// The 8 neighbours of a pixel: offsets and slots of the per-pixel weights.
+enum Neighbor
+{
+  E = 0, W, S, N, SE, NW, SW, NE
+};
+constexpr int NeighborDx[8] = { 1, -1, 0, 0, 1, -1, -1, 1 };
+constexpr int NeighborDy[8] = { 0, 0, 1, -1, 1, -1, 1, -1 };
+
+/// Per cell (corners a = top-left, b = top-right, c = bottom-right,
+/// d = bottom-left): the weights (cot/2 sums) its triangles give to its six
+/// edges and the mixed-area parts of its corners.
+enum CellSlot
+{
+  Top = 0, Bottom, Left, Right, DiagAC, DiagBD, MassA, MassB, MassC, MassD, CellSlots
+};
+
+struct TriangleTerms
+{
+  double CotP, CotQ, CotR; // cotangents at P, Q, R
+  double MassP, MassQ, MassR;
+};
+
+/// Triangle P, Q, R from |Q-P|^2, |R-P|^2 and (Q-P).(R-P) (never degenerate
+/// here: the base part alone has area sx sy / 2).  Branch-free (selects).
+inline TriangleTerms Triangle(double uu, double vv, double uv)
+{
+  TriangleTerms t;
+  const double twiceArea = std::sqrt(std::max(uu * vv - uv * uv, 0.0));
+  const double inv = 1.0 / twiceArea;
+  const double dotQ = uu - uv, dotR = vv - uv; // (P-Q).(R-Q), (P-R).(Q-R)
+  t.CotP = uv * inv;
+  t.CotQ = dotQ * inv;
+  t.CotR = dotR * inv;
+  const bool acute = (uv >= 0.0) & (dotQ >= 0.0) & (dotR >= 0.0); // no short circuit: no branch
+  const double ww = uu + vv - 2.0 * uv;
+  const double half = 0.25 * twiceArea, quarter = 0.125 * twiceArea;
+  const double vP = (uu * t.CotR + vv * t.CotQ) * 0.125;
+  const double vQ = (uu * t.CotR + ww * t.CotP) * 0.125;
+  const double vR = (vv * t.CotQ + ww * t.CotP) * 0.125;
+  t.MassP = acute ? vP : (uv < 0.0 ? half : quarter);
+  t.MassQ = acute ? vQ : (dotQ < 0.0 ? half : quarter);
+  t.MassR = acute ? vR : (dotR < 0.0 ? half : quarter);
+  return t;
+}
+
+/// Dot products of the edge vectors of a cell (corners a, b, c, d).
+enum CellDot
+{
+  AB_AB = 0, AC_AC, AD_AD, BC_BC, BD_BD, AB_AC, AC_AD, AB_AD, BC_BD, CellDots
+};
+
+/// The four triangles (abc, acd, abd, bcd) of n cells from their dot
+/// products (CellDots arrays of n values) into CellSlots arrays of n values.
+/// The same for any number of components, so compiled once.
+CLONES void TriangleRow(std::int64_t n, const double* __restrict dots, double* __restrict out)
+{
+#pragma GCC ivdep // the slot arrays never overlap
+  for (std::int64_t j = 0; j < n; ++j)
+  {
+    const double abab = dots[AB_AB * n + j], acac = dots[AC_AC * n + j];
+    const double adad = dots[AD_AD * n + j], bcbc = dots[BC_BC * n + j];
+    const double bdbd = dots[BD_BD * n + j], abac = dots[AB_AC * n + j];
+    const double acad = dots[AC_AD * n + j], abad = dots[AB_AD * n + j];
+    const double bcbd = dots[BC_BD * n + j];
+    const TriangleTerms abc = Triangle(abab, acac, abac); // P=a, Q=b, R=c
+    const TriangleTerms acd = Triangle(acac, adad, acad); // P=a, Q=c, R=d
+    const TriangleTerms abd = Triangle(abab, adad, abad); // P=a, Q=b, R=d
+    const TriangleTerms bcd = Triangle(bcbc, bdbd, bcbd); // P=b, Q=c, R=d
+    out[Top * n + j] = 0.5 * (abc.CotR + abd.CotR);
+    out[Bottom * n + j] = 0.5 * (acd.CotP + bcd.CotP);
+    out[Left * n + j] = 0.5 * (acd.CotQ + abd.CotQ);
+    out[Right * n + j] = 0.5 * (abc.CotP + bcd.CotR);
+    out[DiagAC * n + j] = 0.5 * (abc.CotQ + acd.CotR);
+    out[DiagBD * n + j] = 0.5 * (abd.CotP + bcd.CotQ);
+    out[MassA * n + j] = abc.MassP + acd.MassP + abd.MassP;
+    out[MassB * n + j] = abc.MassQ + abd.MassQ + bcd.MassP;
+    out[MassC * n + j] = abc.MassR + acd.MassQ + bcd.MassQ;
+    out[MassD * n + j] = acd.MassR + abd.MassR + bcd.MassR;
+  }
+}
+
+/// Rows per band of the image pass (one extra cell row computed per band).
+constexpr std::int64_t BandRows = 16;
+
+template <int NC>
+class GridDiscretization final : public FlowDiscretization
+{
+public:
+  GridDiscretization(const PixelGrid& grid, GridBoundary boundary, double gamma, int threads,
+    bool storeOperator)
+    : Grid(grid)
+    , Boundary(boundary)
+  {
+    Gamma = gamma;
+    Threads = threads;
+    StoreOperator = storeOperator;
+    Size = grid.Width * grid.Height;
+    Components = NC;
+    PW = grid.Width + 2;
+    PH = grid.Height + 2;
+    PlaneSize = static_cast<std::size_t>(PW) * PH;
+    Padded.resize(PlaneSize * NC);
+    if (StoreOperator)
+    {
+      Weights.resize(static_cast<std::size_t>(Size) * 8);
+    }
+    Allocate();
+    Fixed.assign(Size, 0);
+    // Area scale for the indicator's guard (B has units 1/length).
+    Epsilon2 = 1e-18 / std::pow(std::min(grid.SpacingX, grid.SpacingY), 2);
+    BaseMass = 2.0 * grid.SpacingX * grid.SpacingY;
+  }
+
+  void Update(const double* u) override
+  {
+    Pad(u, true);
+    const Index w = Grid.Width, h = Grid.Height;
+    RowArea.resize(h);
+    RowRate.resize(h);
+    const std::int64_t bands = (h + BandRows - 1) / BandRows;
+    const std::size_t row = static_cast<std::size_t>(w + 1);
+    ParallelFor(bands, Threads, [&](std::int64_t b0, std::int64_t b1) {
+      ScratchLease buffer(Scratch, (2 * CellSlots + CellDots + 2) * row);
+      double* upper = buffer.data();
+      double* lower = upper + CellSlots * row;
+      double* dots = lower + CellSlots * row;
+      double* sums = dots + CellDots * row; // per pixel of a row: mass, rate
+      for (std::int64_t band = b0; band < b1; ++band)
+      {
+        const std::int64_t r0 = band * BandRows, r1 = std::min<std::int64_t>(h, r0 + BandRows);
+        CellRow(r0, upper, dots);
+        for (std::int64_t r = r0; r < r1; ++r)
+        {
+          CellRow(r + 1, lower, dots);
+          if (StoreOperator)
+          {
+            PixelRow<true, false>(r, upper, lower, sums);
+          }
+          else if (Gamma == 1.0)
+          {
+            PixelRow<false, true>(r, upper, lower, sums);
+          }
+          else
+          {
+            PixelRow<false, false>(r, upper, lower, sums);
+          }
+          std::swap(upper, lower);
+        }
+      }
+    }, {}, 0, 1);
+    double area = 0.0, rate = 0.0;
+    for (Index r = 0; r < h; ++r) // in order: the same sum for any thread count
+    {
+      area += RowArea[r];
+      rate = std::max(rate, RowRate[r]);
+    }
+    Area = 0.5 * area;
+    MaxRate = rate;
+  }
+
+  void Apply(const double* x, double* y, bool ghosts) override
+  {
+    Pad(x, ghosts);
+    const Index w = Grid.Width;
+    ParallelFor(Grid.Height, Threads, [&](std::int64_t r0, std::int64_t r1) {
+      for (std::int64_t r = r0; r < r1; ++r)
+      {
+        for (Index c = 0; c < w; ++c)
+        {
+          const std::int64_t i = r * w + c;
+          const double* wi = &Weights[i * 8];
+          const double* xi = x + i * NC;
+          double acc[NC];
+          for (int k = 0; k < NC; ++k)
+          {
+            acc[k] = Diagonal[i] * xi[k];
+          }
+          for (int nb = 0; nb < 8; ++nb)
+          {
+            for (int k = 0; k < NC; ++k)
+            {
+              acc[k] -= wi[nb] * PaddedAt(k, r + NeighborDy[nb], c + NeighborDx[nb]);
+            }
+          }
+          for (int k = 0; k < NC; ++k)
+          {
+            y[i * NC + k] = acc[k];
+          }
+        }
+      }
+    }, {}, 0, BandRows);
+  }
+
+private:
+  PixelGrid Grid;
+  GridBoundary Boundary;
+  Index PW = 0, PH = 0;
+  std::size_t PlaneSize = 0;
+  LargeVector<double> Padded;  // NC planes of (H+2) x (W+2)
+  LargeVector<double> Weights; // H x W x 8 (slots of Neighbor), semi-implicit only
+  std::vector<double> RowArea, RowRate;
+  ScratchPool Scratch; // per-thread row buffers of Update, kept between steps
+  double Epsilon2 = 0.0;
+  double BaseMass = 0.0; // a pixel's mass on flat data (both triangulations)
+
+  /// Component k of pixel (r, c), -1 <= r <= H, -1 <= c <= W, of the padded copy.
+  double PaddedAt(int k, std::int64_t r, std::int64_t c) const
+  {
+    return Padded[k * PlaneSize + (r + 1) * PW + (c + 1)];
+  }
+
+  /// Row r (-1 <= r <= H) of plane k of the padded copy, at column -1.
+  const double* PaddedRow(int k, std::int64_t r) const
+  {
+    return &Padded[k * PlaneSize + (r + 1) * PW];
+  }
+
+  /// Copies x (interleaved) into the padded planes; the border ring gets the
+  /// boundary rule (ghosts) or zeros.
+  void Pad(const double* x, bool ghosts)
+  {
+    const Index w = Grid.Width, h = Grid.Height;
+    ParallelFor(h, Threads, [&](std::int64_t r0, std::int64_t r1) {
+      for (std::int64_t r = r0; r < r1; ++r)
+      {
+        const double* src = x + r * w * NC;
+        for (int k = 0; k < NC; ++k)
+        {
+          double* dst = &Padded[k * PlaneSize + (r + 1) * PW + 1];
+          for (Index c = 0; c < w; ++c)
+          {
+            dst[c] = src[c * NC + k];
+          }
+        }
+      }
+    }, {}, 0, 64);
+    const auto clampIndex = [](std::int64_t v, std::int64_t n) {
+      return std::min<std::int64_t>(std::max<std::int64_t>(v, 0), n - 1);
+    };
+    const auto ghost = [&](std::int64_t r, std::int64_t c) {
+      const std::int64_t br = clampIndex(r, h), bc = clampIndex(c, w);
+      const std::int64_t rr = clampIndex(2 * br - r, h), rc = clampIndex(2 * bc - c, w);
+      const double* base = x + (br * w + bc) * NC;
+      const double* mirror = x + (rr * w + rc) * NC;
+      for (int k = 0; k < NC; ++k)
+      {
+        Padded[k * PlaneSize + (r + 1) * PW + (c + 1)] =
+          !ghosts ? 0.0 : Boundary == GridBoundary::Reflect ? mirror[k] : 2.0 * base[k] - mirror[k];
+      }
+    };
+    for (std::int64_t c = -1; c <= w; ++c)
+    {
+      ghost(-1, c);
+      ghost(h, c);
+    }
+    for (std::int64_t r = 0; r < h; ++r)
+    {
+      ghost(r, -1);
+      ghost(r, w);
+    }
+  }
+
+  /// The four triangles of the cells of row q (between pixel rows q - 1 and
+  /// q), columns -1 .. W-1, into out (CellSlots arrays of W + 1 values;
+  /// `dots` is scratch of CellDots arrays): the dot products of the edge
+  /// vectors, then the triangles.
+  CLONES void CellRow(std::int64_t q, double* __restrict out, double* __restrict dots) const
+  {
+    const std::int64_t n = Grid.Width + 1;
+    const double sx2 = Grid.SpacingX * Grid.SpacingX, sy2 = Grid.SpacingY * Grid.SpacingY;
+    const double* top[NC];
+    const double* bottom[NC];
+    for (int k = 0; k < NC; ++k)
+    {
+      top[k] = PaddedRow(k, q - 1);
+      bottom[k] = PaddedRow(k, q);
+    }
+#pragma GCC ivdep // the slot arrays never overlap
+    for (std::int64_t j = 0; j < n; ++j)
+    {
+      // Full R^(2+n) dot products: base part + data part.
+      double abab = sx2, acac = sx2 + sy2, adad = sy2, bcbc = sy2, bdbd = sx2 + sy2;
+      double abac = sx2, acad = sy2, abad = 0.0, bcbd = sy2;
+      for (int k = 0; k < NC; ++k)
+      {
+        const double a = top[k][j], b = top[k][j + 1], d = bottom[k][j], c = bottom[k][j + 1];
+        const double ab = b - a, ac = c - a, ad = d - a, bc = c - b, bd = d - b;
+        abab += ab * ab;
+        acac += ac * ac;
+        adad += ad * ad;
+        bcbc += bc * bc;
+        bdbd += bd * bd;
+        abac += ab * ac;
+        acad += ac * ad;
+        abad += ab * ad;
+        bcbd += bc * bd;
+      }
+      dots[AB_AB * n + j] = abab;
+      dots[AC_AC * n + j] = acac;
+      dots[AD_AD * n + j] = adad;
+      dots[BC_BC * n + j] = bcbc;
+      dots[BD_BD * n + j] = bdbd;
+      dots[AB_AC * n + j] = abac;
+      dots[AC_AD * n + j] = acad;
+      dots[AB_AD * n + j] = abad;
+      dots[BC_BD * n + j] = bcbd;
+    }
+    TriangleRow(n, dots, out);
+  }
+
+  /// Pixel row r from the cell rows above (upper, row r) and below (lower,
+  /// row r + 1): the weights of the 8 edges, the mass, K u, the indicator
+  /// max(|B_bar| / |B|, 1/W) (GraphFlow.h), the velocity and the row's area
+  /// and stability rate.
+  template <bool Store, bool UnitSpeed>
+  CLONES void PixelRow(std::int64_t r, const double* __restrict upper, const double* __restrict lower,
+    double* __restrict sums)
+  {
+    const Index w = Grid.Width;
+    const std::int64_t n = w + 1;
+    const double sx = Grid.SpacingX, sy = Grid.SpacingY;
+    const double* p0[NC]; // pixel rows r - 1, r, r + 1 at column -1
+    const double* p1[NC];
+    const double* p2[NC];
+    for (int k = 0; k < NC; ++k)
+    {
+      p0[k] = PaddedRow(k, r - 1);
+      p1[k] = PaddedRow(k, r);
+      p2[k] = PaddedRow(k, r + 1);
+    }
+    const std::uint8_t* fixed = &Fixed[r * w];
+    double* __restrict velocity = &Velocity[r * w * NC];
+    double* __restrict masses = sums;
+    double* __restrict rates = sums + w;
+#pragma GCC ivdep // the slot arrays never overlap
+    for (Index c = 0; c < w; ++c)
+    {
+      // Cells with this pixel as corner a (lower, c + 1), b (lower, c),
+      // c (upper, c) and d (upper, c + 1).
+      double wn[8];
+      wn[E] = lower[Top * n + c + 1] + upper[Bottom * n + c + 1];
+      wn[W] = lower[Top * n + c] + upper[Bottom * n + c];
+      wn[S] = lower[Left * n + c + 1] + lower[Right * n + c];
+      wn[N] = upper[Left * n + c + 1] + upper[Right * n + c];
+      wn[SE] = lower[DiagAC * n + c + 1];
+      wn[NW] = upper[DiagAC * n + c];
+      wn[SW] = lower[DiagBD * n + c];
+      wn[NE] = upper[DiagBD * n + c + 1];
+      const double mass =
+        lower[MassA * n + c + 1] + lower[MassB * n + c] + upper[MassC * n + c] + upper[MassD * n + c + 1];
+      double ku[NC];
+      double data2 = 0.0;
+      for (int k = 0; k < NC; ++k)
+      {
+        const double ui = p1[k][c + 1];
+        ku[k] = wn[E] * (ui - p1[k][c + 2]) + wn[W] * (ui - p1[k][c]) + wn[S] * (ui - p2[k][c + 1]) +
+          wn[N] * (ui - p0[k][c + 1]) + wn[SE] * (ui - p2[k][c + 2]) + wn[NW] * (ui - p0[k][c]) +
+          wn[SW] * (ui - p2[k][c]) + wn[NE] * (ui - p0[k][c + 2]);
+        data2 += ku[k] * ku[k];
+      }
+      double speed = 1.0;
+      if (!UnitSpeed)
+      {
+        const double bx = sx * (wn[E] - wn[W] + wn[SE] - wn[NW] - wn[SW] + wn[NE]);
+        const double by = sy * (wn[S] - wn[N] + wn[SE] - wn[NW] + wn[SW] - wn[NE]);
+        const double guard = Epsilon2 * mass * mass;
+        speed = SpeedOf(std::max(std::sqrt((data2 + guard) / (data2 + bx * bx + by * by + guard)),
+          BaseMass / mass));
+      }
+      const double f = (fixed[c] == 0) & (mass > 0.0) ? speed / mass : 0.0;
+      for (int k = 0; k < NC; ++k)
+      {
+        velocity[c * NC + k] = f * ku[k];
+      }
+      double positive = 0.0;
+      for (int nb = 0; nb < 8; ++nb)
+      {
+        positive += std::max(wn[nb], 0.0);
+      }
+      masses[c] = mass;
+      rates[c] = f * positive;
+      if (Store)
+      {
+        const std::int64_t i = r * w + c;
+        double diag = 0.0;
+        for (int nb = 0; nb < 8; ++nb)
+        {
+          Weights[i * 8 + nb] = wn[nb];
+          diag += wn[nb];
+        }
+        Mass[i] = mass;
+        Diagonal[i] = diag;
+        Speed[i] = speed;
+        for (int k = 0; k < NC; ++k)
+        {
+          KU[i * NC + k] = ku[k];
+        }
+      }
+    }
+    double area = 0.0, rate = 0.0; // in order (not vectorized): sums are reproducible
+    for (Index c = 0; c < w; ++c)
+    {
+      area += masses[c];
+      rate = std::max(rate, rates[c]);
+    }
+    RowArea[r] = area;
+    RowRate[r] = rate;
+  }
+};
+
+template <int NC>
+GraphFlowResult RunGrid(const PixelGrid& grid, double* values, const std::uint8_t* fixed,
+  const GraphFlowOptions& o, const ProgressCallback& progress)
+{
+  GridDiscretization<NC> disc(
+    grid, o.Boundary, o.EdgeContrast, o.NumberOfThreads, o.Integration == GraphFlowIntegration::SemiImplicit);
+  if (fixed)
+  {
+    std::copy(fixed, fixed + disc.Size, disc.Fixed.begin());
+  }
+  return Integrate(disc, values, o, progress);
+}
+
+} // namespace
+
+GraphFlowResult RunImageGraphFlow(const PixelGrid& grid, int components, double* values,
+  const std::uint8_t* fixed, const GraphFlowOptions& options, const ProgressCallback& progress)
+{
+  GraphFlowResult result;
+  result.Error = CheckOptions(options, components, 6, "images");
+  if (result.Error.empty() &&
+    (!(grid.SpacingX > 0.0) || !(grid.SpacingY > 0.0) || !std::isfinite(grid.SpacingX) ||
+      !std::isfinite(grid.SpacingY)))
+  {
+    result.Error = "the pixel spacing must be positive and finite";
+  }
+  if (!result.Error.empty() || grid.Width <= 0 || grid.Height <= 0)
+  {
+    return result;
+  }
+  return WithComponents(components, [&](auto nc) {
+    return RunGrid<decltype(nc)::value>(grid, values, fixed, options, progress);
+  });
+}
+
+} // namespace beltrami

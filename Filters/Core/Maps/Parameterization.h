@@ -1,0 +1,162 @@
+// Beltrami core: intrinsic parameterizations of disk-like triangle meshes
+// (thesis chapter 5).
+//
+// The map U: vertices -> R^2 solves the linear system of section 5.4.1,
+//
+//     (lambda M^A + mu h^2 M^chi) U = 0  at free vertices,   U = C  on the fixed boundary,
+//
+// with M^A the discrete conformal (DCP, eq. 5.4: cot a_ij + cot b_ij) and M^chi
+// the discrete authalic (DAP, eq. 5.6: (cot g_ij + cot d_ij)/|x_i - x_j|^2)
+// coefficients.  h^2, the mean squared edge length, makes the mix independent
+// of the mesh's size (the thesis' M^chi carries 1/length^2).
+//
+// Boundaries: the outer loop (the longest) fixed on a circle or a square
+// (arc-length or uniform spacing) or to given positions; other loops (holes)
+// are free.  Natural boundaries (section 5.4.2, eq. 5.7) give the natural
+// conformal map: the minimum of E_D - A(U) with two pinned vertices.
+// Point constraints (section 5.4.1) are added by Lagrange multipliers.
+//
+// Section 5.5: the near-optimal map U = l U^A + (1-l) U^chi minimising the
+// edge-length or area distortion energy, and gradient descent on the boundary
+// points through the impulse-response basis (BoundaryBasis).
+#pragma once
+
+#include "Mesh/MeshTopology.h"
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace beltrami
+{
+
+enum class ParameterizationBoundary : int
+{
+  Circle = 0,  ///< outer loop on the circle of centre (0.5, 0.5), radius 0.5
+  Square = 1,  ///< outer loop on [0,1]^2, corners at the quarters of its length
+  Given = 2,   ///< every boundary vertex at the caller's position (GivenUV)
+  Natural = 3  ///< natural boundaries (eq. 5.7), conformal energy only
+};
+
+enum class BoundarySpacing : int
+{
+  ArcLength = 0, ///< spacing proportional to the 3D edge lengths along the loop
+  Uniform = 1    ///< equal spacing
+};
+
+/// Energies of section 5.5 (both are used with the map scaled so that its
+/// total area equals the surface's, which makes them independent of units).
+enum class DistortionEnergy : int
+{
+  EdgeLength = 0, ///< sum over edges (|u_i - u_j|^2 / |x_i - x_j|^2 - 1)^2
+  Area = 1        ///< sum over triangles ((A_2D / A_3D)^2 - 1)^2
+};
+
+/// A surface point (a vertex, or a point of a triangle given by barycentric
+/// weights) to be mapped onto a target (section 5.4.1).
+struct PointConstraint
+{
+  std::array<Index, 3> Vertices{ { -1, -1, -1 } }; ///< unused entries: -1
+  std::array<double, 3> Weights{ { 1.0, 0.0, 0.0 } };
+  double Target[2] = { 0.0, 0.0 };
+};
+
+struct ParameterizationOptions
+{
+  double ConformalWeight = 1.0; ///< lambda (DCP)
+  double AuthalicWeight = 0.0;  ///< mu (DAP)
+  ParameterizationBoundary Boundary = ParameterizationBoundary::Circle;
+  BoundarySpacing Spacing = BoundarySpacing::ArcLength;
+  const double* GivenUV = nullptr; ///< 2 per vertex, read at boundary vertices (Given)
+  std::vector<PointConstraint> Constraints;
+
+  /// Section 5.5.1: replace the map by l U^A + (1-l) U^chi with the l in
+  /// [OptimalRange[0], OptimalRange[1]] that minimises OptimalEnergy (fixed
+  /// boundaries only; the weights above are then not used).
+  bool OptimizeMix = false;
+  DistortionEnergy OptimalEnergy = DistortionEnergy::EdgeLength;
+  double OptimalRange[2] = { 0.0, 1.0 };
+
+  /// Section 5.5.2: gradient-descent steps on the boundary points (fixed
+  /// boundaries, no constraints); 0 = off.
+  int BoundaryOptimizationSteps = 0;
+  DistortionEnergy BoundaryEnergy = DistortionEnergy::EdgeLength;
+  /// Keep the impulse-response basis in the result (BoundaryBasis).
+  bool KeepBoundaryBasis = false;
+  /// The basis holds (free vertices) x (boundary vertices) doubles; larger
+  /// requests fail with an error rather than exhausting memory.
+  double MaximumBasisBytes = 1024.0 * 1024.0 * 1024.0;
+
+  int NumberOfThreads = 0;
+};
+
+/// The impulse responses b_i of section 5.4.2: the map for any placement of
+/// the fixed boundary vertices, without a new solve (U = sum_i u_i b_i).
+class BoundaryBasis
+{
+public:
+  /// basis: column-major, free.size() x boundary.size().
+  BoundaryBasis(Index numberOfVertices, std::vector<Index> boundary, std::vector<Index> free,
+    std::vector<double> basis);
+  const std::vector<Index>& BoundaryVertices() const { return Boundary; }
+  Index NumberOfVertices() const { return Vertices; }
+  /// uv: 2 per vertex on exit (points in no triangle get (0, 0)); boundaryUV:
+  /// 2 per boundary vertex, in the order of BoundaryVertices().
+  void Apply(const double* boundaryUV, double* uv) const;
+  /// Chain rule: the gradient with respect to the boundary positions of a
+  /// function whose gradient with respect to every vertex is `gradient`.
+  void PullBack(const double* gradient, double* boundaryGradient) const;
+
+private:
+  Index Vertices = 0;
+  std::vector<Index> Boundary; ///< fixed vertices, columns of the basis
+  std::vector<Index> Free;     ///< free vertices, rows of the basis
+  std::vector<double> Basis;
+};
+
+struct DistortionReport
+{
+  std::vector<double> AngleDistortion; ///< per triangle: mean |angle_2D - angle_3D| (degrees)
+  std::vector<double> AreaDistortion;  ///< per triangle: log((A_2D/sum A_2D) / (A_3D/sum A_3D))
+  std::vector<double> EdgeDistortion;  ///< per triangle: mean |log(|e_2D| / (s |e_3D|))|, s^2 = sum A_2D / sum A_3D
+  double MeanAngle = 0, MaxAngle = 0;  ///< over the triangles with a 3D area
+  double MeanArea = 0, MaxArea = 0;    ///< of |AreaDistortion|
+  double MeanEdge = 0, MaxEdge = 0;
+  Index FlippedTriangles = 0;          ///< 2D signed area <= 0 (3D non-degenerate)
+  Index DegenerateTriangles = 0;       ///< zero 3D area: left out of everything
+};
+
+struct ParameterizationResult
+{
+  bool Success = false;
+  std::string Error;   ///< why not (Success == false): the map is then empty
+  std::string Warning; ///< non-fatal remarks
+  std::vector<double> UV; ///< 2 per vertex; vertices in no triangle get (0, 0)
+  std::vector<Index> OuterBoundary; ///< the loop that was fixed (or pinned)
+  std::array<Index, 2> PinnedVertices{ { -1, -1 } }; ///< natural boundaries
+  double OptimalMix = -1.0;         ///< the l found by OptimizeMix, else -1
+  std::vector<double> BoundaryEnergies; ///< energy before/after each descent step
+  Index DegenerateTriangles = 0;
+  std::unique_ptr<BoundaryBasis> Basis; ///< when KeepBoundaryBasis
+};
+
+/// Says whether the mesh can be parameterized (one connected, manifold,
+/// oriented surface of genus 0 with at least one boundary loop); if not,
+/// `error` says what the input is instead.
+bool CheckDiskTopology(const MeshTopology& topology, std::string& error);
+
+/// Computes the parameterization of the mesh at `points` (3 per vertex).
+ParameterizationResult Parameterize(
+  const MeshTopology& topology, const double* points, const ParameterizationOptions& options);
+
+/// Distortion of the map `uv` (2 per vertex) against the surface.
+DistortionReport MeasureDistortion(
+  const MeshTopology& topology, const double* points, const double* uv, int numThreads = 0);
+
+/// The energies of section 5.5 for the map `uv` scaled by `scale`
+/// (u -> scale * u), and their gradients (2 per vertex) if `gradient` is not null.
+double DistortionEnergyValue(const MeshTopology& topology, const double* points, const double* uv,
+  double scale, DistortionEnergy energy, double* gradient = nullptr);
+
+} // namespace beltrami

@@ -1,0 +1,123 @@
+#include "Mesh/MeshMeasures.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <vector>
+
+namespace beltrami
+{
+
+namespace
+{
+/// Sum over triangles of f(a, b, c) (deterministic, parallel), 4 values.
+template <typename F>
+std::vector<double> SumOverTriangles(const MeshTopology& topo, int numThreads, F&& f)
+{
+  const IndexArray& tri = topo.TriangleList();
+  return ParallelSum(topo.NumberOfTriangles(), 4, numThreads,
+    [&](std::int64_t begin, std::int64_t end, double* acc) {
+      for (std::int64_t t = begin; t < end; ++t)
+      {
+        f(tri[3 * t], tri[3 * t + 1], tri[3 * t + 2], acc);
+      }
+    });
+}
+
+} // namespace
+
+Vec3 VertexCentroid(const MeshTopology& topo, const double* points)
+{
+  Vec3 c = Vec3::Zero();
+  Index used = 0;
+  for (Index i = 0; i < topo.NumberOfVertices(); ++i)
+  {
+    const Vec3 p = Point(points, i);
+    if (topo.Valence(i) > 0 && p.allFinite())
+    {
+      c += p;
+      ++used;
+    }
+  }
+  return used ? Vec3(c / used) : c;
+}
+
+double VolumeAndCentroid(const MeshTopology& topo, const double* points, int numThreads, Vec3* centroid)
+{
+  const Vec3 o = VertexCentroid(topo, points);
+  const std::vector<double> s = SumOverTriangles(topo, numThreads, [&](Index a, Index b, Index c, double* acc) {
+    const Vec3 pa = Point(points, a) - o, pb = Point(points, b) - o, pc = Point(points, c) - o;
+    const double v = pa.dot(pb.cross(pc)) / 6.0;
+    acc[0] += v;
+    const Vec3 g = v * (pa + pb + pc) / 4.0; // tetrahedron (o, a, b, c)
+    acc[1] += g[0];
+    acc[2] += g[1];
+    acc[3] += g[2];
+  });
+  if (centroid)
+  {
+    *centroid = s[0] != 0.0 ? Vec3(o + Vec3(s[1], s[2], s[3]) / s[0]) : o;
+  }
+  return s[0];
+}
+
+double AreaAndCentroid(const MeshTopology& topo, const double* points, int numThreads, Vec3* centroid)
+{
+  const std::vector<double> s = SumOverTriangles(topo, numThreads, [&](Index a, Index b, Index c, double* acc) {
+    const Vec3 pa = Point(points, a), pb = Point(points, b), pc = Point(points, c);
+    const double area = 0.5 * (pb - pa).cross(pc - pa).norm();
+    acc[0] += area;
+    const Vec3 g = area * (pa + pb + pc) / 3.0;
+    acc[1] += g[0];
+    acc[2] += g[1];
+    acc[3] += g[2];
+  });
+  if (centroid)
+  {
+    *centroid = s[0] > 0.0 ? Vec3(Vec3(s[1], s[2], s[3]) / s[0]) : VertexCentroid(topo, points);
+  }
+  return s[0];
+}
+
+double HeightVolume(const MeshTopology& topo, const double* points, const Vec3& origin,
+  const Vec3& normal, int numThreads)
+{
+  const std::vector<double> s = SumOverTriangles(topo, numThreads, [&](Index a, Index b, Index c, double* acc) {
+    const Vec3 pa = Point(points, a) - origin, pb = Point(points, b) - origin,
+               pc = Point(points, c) - origin;
+    const double projectedArea = 0.5 * (pb - pa).cross(pc - pa).dot(normal);
+    acc[0] += projectedArea * (pa + pb + pc).dot(normal) / 3.0;
+  });
+  return s[0];
+}
+
+double MeanEdgeLength(const MeshTopology& topo, const double* x)
+{
+  const MeshTopology::EdgeTable& e = topo.Edges();
+  double sum = 0.0;
+  for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
+  {
+    sum += (Point(x, e.Vertices[2 * k]) - Point(x, e.Vertices[2 * k + 1])).norm();
+  }
+  return e.NumberOfEdges() ? sum / e.NumberOfEdges() : 0.0;
+}
+
+double EnclosedVolume(const MeshTopology& topo, const double* points, int numThreads)
+{
+  return VolumeAndCentroid(topo, points, numThreads, nullptr);
+}
+
+double SurfaceArea(const MeshTopology& topo, const double* points, int numThreads)
+{
+  return AreaAndCentroid(topo, points, numThreads, nullptr);
+}
+
+double VolumeAbovePlane(const MeshTopology& topo, const double* points, const double origin[3],
+  const double normal[3], int numThreads)
+{
+  Vec3 nn(normal[0], normal[1], normal[2]);
+  nn.normalize();
+  return HeightVolume(topo, points, Vec3(origin[0], origin[1], origin[2]), nn, numThreads);
+}
+
+} // namespace beltrami

@@ -1,0 +1,35 @@
+// Beltrami core: global measures of a triangle surface (3 doubles per
+// point): enclosed volume (eq. 3.10), area, the volume above a plane (the
+// invariants of section 3.3.1), their centroids, and the mean edge length
+// (the unit of time steps and of the data scale of the graph flows).
+#pragma once
+
+#include "Mesh/Geometry.h"
+#include "Mesh/MeshTopology.h"
+
+namespace beltrami
+{
+
+/// Volume enclosed by a closed oriented triangle mesh (eq. 3.10), total area,
+/// and the volume between the surface and the plane through `origin` with unit
+/// normal `normal` (the surface projected on the plane times its height).
+double EnclosedVolume(const MeshTopology& topology, const double* points, int numThreads = 0);
+/// Mean length of the edges (the natural unit of time steps: lambda*dt ~ h^2).
+double MeanEdgeLength(const MeshTopology& topology, const double* points);
+double SurfaceArea(const MeshTopology& topology, const double* points, int numThreads = 0);
+double VolumeAbovePlane(const MeshTopology& topology, const double* points, const double origin[3],
+  const double normal[3], int numThreads = 0);
+
+
+/// The mean of the points of used vertices (valence > 0, finite).
+Vec3 VertexCentroid(const MeshTopology& topology, const double* points);
+/// The enclosed volume (relative to the vertex centroid, for accuracy) and,
+/// if `centroid` is given, the centroid of the enclosed solid.
+double VolumeAndCentroid(const MeshTopology& topology, const double* points, int numThreads, Vec3* centroid);
+/// The total area and, if `centroid` is given, the area centroid.
+double AreaAndCentroid(const MeshTopology& topology, const double* points, int numThreads, Vec3* centroid);
+/// VolumeAbovePlane with a unit normal.
+double HeightVolume(const MeshTopology& topology, const double* points, const Vec3& origin,
+  const Vec3& normal, int numThreads);
+
+} // namespace beltrami

@@ -1,0 +1,170 @@
+#include "Solvers/ConjugateGradient.h"
+
+#include "Support/LargeBuffer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace beltrami
+{
+
+namespace
+{
+/// The solver for NC columns (a compile-time count: the per-row loops unroll
+/// and vectorize).
+template <int NC>
+ConjugateGradientResult Solve(const ConjugateGradientProblem& pb, const double* b, double* x)
+{
+  constexpr int nc = NC;
+  const std::int64_t n = pb.Rows;
+  const std::size_t size = static_cast<std::size_t>(n) * nc;
+  const int threads = pb.NumberOfThreads;
+  const auto isFree = [&](std::int64_t i) { return !pb.Fixed || !pb.Fixed[i]; };
+  const auto invDiag = [&](std::int64_t i) {
+    const double d = pb.Diagonal[i];
+    return d > 0.0 ? 1.0 / d : 1.0;
+  };
+
+  LargeVector<double> r(size), z(size), p(size), q(size);
+  // r = b - A x (fixed rows: 0)
+  pb.Apply(x, q.data());
+  std::vector<double> rz = ParallelSum(n, 2 * nc, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+    for (std::int64_t i = s; i < e; ++i)
+    {
+      const bool f = isFree(i);
+      const double id = invDiag(i);
+      for (int c = 0; c < nc; ++c)
+      {
+        const std::int64_t k = i * nc + c;
+        r[k] = f ? b[k] - q[k] : 0.0;
+        z[k] = id * r[k];
+        p[k] = z[k];
+        acc[c] += r[k] * z[k];
+        acc[nc + c] += r[k] * r[k];
+      }
+    }
+  });
+
+  ConjugateGradientResult result;
+  std::vector<double> rzOld(rz.begin(), rz.begin() + nc);
+  bool active[NC];
+  std::vector<double> initial(nc), threshold(nc);
+  for (int c = 0; c < nc; ++c)
+  {
+    initial[c] = std::sqrt(std::max(0.0, rz[nc + c]));
+    threshold[c] = std::max(pb.Tolerance * initial[c], ResidualRoundOff * pb.Scale[c]);
+  }
+  const auto converged = [&](const std::vector<double>& sums) {
+    bool all = true;
+    result.RelativeResidual = 0.0;
+    for (int c = 0; c < nc; ++c)
+    {
+      const double norm = std::sqrt(std::max(0.0, sums[nc + c]));
+      if (initial[c] > 0.0)
+      {
+        result.RelativeResidual = std::max(result.RelativeResidual, norm / initial[c]);
+      }
+      active[c] = norm > threshold[c] && rzOld[c] > 0.0;
+      all = all && !active[c];
+    }
+    return all;
+  };
+  if (converged(rz))
+  {
+    result.Converged = true;
+    return result;
+  }
+  // Fixed rows of x must not leak into A p: p is zero there by construction.
+  for (int it = 1; it <= pb.MaximumIterations; ++it)
+  {
+    pb.Apply(p.data(), q.data());
+    const std::vector<double> pq = ParallelSum(n, nc, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        if (isFree(i))
+        {
+          for (int c = 0; c < nc; ++c)
+          {
+            acc[c] += p[i * nc + c] * q[i * nc + c];
+          }
+        }
+      }
+    });
+    double alpha[8];
+    for (int c = 0; c < nc; ++c)
+    {
+      alpha[c] = active[c] && pq[c] > 0.0 ? rzOld[c] / pq[c] : 0.0;
+    }
+    const std::vector<double> sums = ParallelSum(n, 2 * nc, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        if (!isFree(i))
+        {
+          continue;
+        }
+        const double id = invDiag(i);
+        for (int c = 0; c < nc; ++c)
+        {
+          const std::int64_t k = i * nc + c;
+          x[k] += alpha[c] * p[k];
+          r[k] -= alpha[c] * q[k];
+          z[k] = id * r[k];
+          acc[c] += r[k] * z[k];
+          acc[nc + c] += r[k] * r[k];
+        }
+      }
+    });
+    result.Iterations = it;
+    double beta[8];
+    for (int c = 0; c < nc; ++c)
+    {
+      beta[c] = active[c] && rzOld[c] > 0.0 ? sums[c] / rzOld[c] : 0.0;
+      if (active[c])
+      {
+        rzOld[c] = sums[c];
+      }
+    }
+    if (converged(sums))
+    {
+      result.Converged = true;
+      return result;
+    }
+    ParallelFor(n, threads, [&](std::int64_t s, std::int64_t e) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        for (int c = 0; c < nc; ++c)
+        {
+          const std::int64_t k = i * nc + c;
+          p[k] = active[c] ? z[k] + beta[c] * p[k] : 0.0;
+        }
+      }
+    });
+  }
+  return result;
+}
+
+} // namespace
+
+ConjugateGradientResult SolveConjugateGradient(
+  const ConjugateGradientProblem& pb, const double* b, double* x)
+{
+  const int nc = pb.Columns;
+  if (nc < 1 || nc > 8 || static_cast<int>(pb.Scale.size()) != nc || !pb.Apply || !pb.Diagonal)
+  {
+    throw std::invalid_argument("SolveConjugateGradient: inconsistent problem");
+  }
+  switch (nc)
+  {
+    case 1: return Solve<1>(pb, b, x);
+    case 2: return Solve<2>(pb, b, x);
+    case 3: return Solve<3>(pb, b, x);
+    case 4: return Solve<4>(pb, b, x);
+    case 5: return Solve<5>(pb, b, x);
+    case 6: return Solve<6>(pb, b, x);
+    case 7: return Solve<7>(pb, b, x);
+    default: return Solve<8>(pb, b, x);
+  }
+}
+
+} // namespace beltrami

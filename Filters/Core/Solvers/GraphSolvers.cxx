@@ -1,0 +1,575 @@
+#include "Solvers/GraphSolvers.h"
+
+#include "Solvers/SparseGraph.h"
+#include "Support/LargeBuffer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <stdexcept>
+
+namespace beltrami
+{
+
+namespace
+{
+
+/// The renumbered single-precision copy of D + t K, for W values per row (the
+/// column count; 5 to 7 columns are padded to 8); fixed rows have no
+/// off-diagonal entries, a unit diagonal and stay zero.
+struct SinglePrecisionSystem
+{
+  std::int64_t Rows = 0;
+  LargeVector<std::int64_t> Offsets;
+  LargeVector<Index> Neighbors;
+  LargeVector<float> Weights, Diagonal, InverseDiagonal;
+  LargeVector<std::uint8_t> Free;
+};
+
+/// The correction: A dx = r (r in the renumbered order, W per row; inactive
+/// columns are left at 0) until the residual of every active column is below
+/// target[c].  Returns the iterations.
+template <int W>
+int SolveCorrection(const SinglePrecisionSystem& A, LargeVector<float>& r, LargeVector<float>& dx,
+  const double* target, bool* active, int maxIterations, int threads)
+{
+  const std::int64_t n = A.Rows;
+  const std::size_t size = static_cast<std::size_t>(n) * W;
+  LargeVector<float> p(size), q(size);
+  dx.assign(size, 0.0f);
+  std::vector<double> s = ParallelSum(n, 2 * W, threads, [&](std::int64_t b, std::int64_t e, double* acc) {
+    for (std::int64_t i = b; i < e; ++i)
+    {
+      const float id = A.InverseDiagonal[i];
+      for (int c = 0; c < W; ++c)
+      {
+        r[i * W + c] = active[c] ? r[i * W + c] : 0.0f;
+        const float z = id * r[i * W + c];
+        p[i * W + c] = z;
+        acc[c] += static_cast<double>(r[i * W + c]) * z;
+        acc[W + c] += static_cast<double>(r[i * W + c]) * r[i * W + c];
+      }
+    }
+  });
+  double rz[W];
+  for (int c = 0; c < W; ++c)
+  {
+    rz[c] = s[c];
+    active[c] = active[c] && std::sqrt(s[W + c]) > target[c] && rz[c] > 0.0;
+  }
+  int it = 0;
+  while (std::any_of(active, active + W, [](bool a) { return a; }) && it < maxIterations)
+  {
+    ++it;
+    // q = A p and p.q in one pass.
+    const std::vector<double> pq = ParallelSum(n, W, threads, [&](std::int64_t b, std::int64_t e, double* acc) {
+      double sum[W] = {};
+      for (std::int64_t i = b; i < e; ++i)
+      {
+        float y[W];
+        const float d = A.Diagonal[i];
+        for (int c = 0; c < W; ++c)
+        {
+          y[c] = d * p[i * W + c];
+        }
+        for (std::int64_t k = A.Offsets[i]; k < A.Offsets[i + 1]; ++k)
+        {
+          const float w = A.Weights[k];
+          const float* pj = p.data() + static_cast<std::int64_t>(A.Neighbors[k]) * W;
+          for (int c = 0; c < W; ++c)
+          {
+            y[c] -= w * pj[c];
+          }
+        }
+        for (int c = 0; c < W; ++c)
+        {
+          q[i * W + c] = y[c];
+          sum[c] += static_cast<double>(p[i * W + c]) * y[c];
+        }
+      }
+      std::copy(sum, sum + W, acc);
+    });
+    float alpha[W];
+    for (int c = 0; c < W; ++c)
+    {
+      alpha[c] = active[c] && pq[c] > 0.0 ? static_cast<float>(rz[c] / pq[c]) : 0.0f;
+    }
+    const std::vector<double> sums = ParallelSum(n, 2 * W, threads, [&](std::int64_t b, std::int64_t e, double* acc) {
+      double sum[2 * W] = {};
+      for (std::int64_t i = b; i < e; ++i)
+      {
+        const float id = A.InverseDiagonal[i];
+        for (int c = 0; c < W; ++c)
+        {
+          const float rc = r[i * W + c] - alpha[c] * q[i * W + c];
+          r[i * W + c] = rc;
+          sum[c] += static_cast<double>(rc) * (id * rc);
+          sum[W + c] += static_cast<double>(rc) * rc;
+        }
+      }
+      std::copy(sum, sum + 2 * W, acc);
+    });
+    float beta[W];
+    for (int c = 0; c < W; ++c)
+    {
+      beta[c] = active[c] && rz[c] > 0.0 ? static_cast<float>(sums[c] / rz[c]) : 0.0f;
+      if (active[c])
+      {
+        rz[c] = sums[c];
+        active[c] = std::sqrt(sums[W + c]) > target[c] && rz[c] > 0.0;
+      }
+    }
+    float keep[W];
+    for (int c = 0; c < W; ++c)
+    {
+      keep[c] = active[c] ? 1.0f : 0.0f;
+    }
+    // x += alpha p (the old p), then the new direction.
+    ParallelForStatic(n, threads, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t i = b; i < e; ++i)
+      {
+        const float id = A.InverseDiagonal[i];
+        for (int c = 0; c < W; ++c)
+        {
+          dx[i * W + c] += alpha[c] * p[i * W + c];
+          p[i * W + c] = keep[c] * (id * r[i * W + c] + beta[c] * p[i * W + c]);
+        }
+      }
+    });
+  }
+  return it;
+}
+
+template <int W>
+ConjugateGradientResult SolveShifted(const ShiftedLaplacianProblem& pb, const double* b, double* x)
+{
+  const std::int64_t n = pb.Rows;
+  const int nc = pb.Columns;
+  const int threads = pb.NumberOfThreads;
+  std::vector<Index> computed;
+  const Index* order = pb.Order;
+  if (!order)
+  {
+    computed = LocalityOrder(pb.Rows, pb.Offsets, pb.Neighbors);
+    order = computed.data();
+  }
+  const auto diagonalOf = [&](std::int64_t i) {
+    return (pb.Shift ? pb.Shift[i] : 0.0) + pb.Factor * pb.Diagonal[i];
+  };
+  const auto isFree = [&](std::int64_t i) {
+    const double d = diagonalOf(i);
+    return (!pb.Fixed || !pb.Fixed[i]) && d > 0.0 && std::isfinite(d);
+  };
+
+  // The renumbered single-precision system.
+  SinglePrecisionSystem A;
+  A.Rows = n;
+  A.Offsets.resize(static_cast<std::size_t>(n) + 1);
+  A.Offsets[0] = 0;
+  for (std::int64_t i = 0; i < n; ++i)
+  {
+    const Index v = order[i];
+    A.Offsets[i + 1] = A.Offsets[i] + (isFree(v) ? pb.Offsets[v + 1] - pb.Offsets[v] : 0);
+  }
+  std::vector<Index> position(static_cast<std::size_t>(n));
+  for (std::int64_t i = 0; i < n; ++i)
+  {
+    position[order[i]] = static_cast<Index>(i);
+  }
+  A.Neighbors.resize(static_cast<std::size_t>(A.Offsets[n]));
+  A.Weights.resize(static_cast<std::size_t>(A.Offsets[n]));
+  A.Diagonal.resize(n);
+  A.InverseDiagonal.resize(n);
+  A.Free.resize(n);
+  ParallelForStatic(n, threads, [&](std::int64_t s, std::int64_t e) {
+    for (std::int64_t i = s; i < e; ++i)
+    {
+      const Index v = order[i];
+      const bool free = isFree(v);
+      A.Free[i] = free;
+      const double d = free ? diagonalOf(v) : 1.0;
+      A.Diagonal[i] = static_cast<float>(d);
+      A.InverseDiagonal[i] = static_cast<float>(1.0 / d);
+      std::int64_t o = A.Offsets[i];
+      for (std::int64_t k = pb.Offsets[v]; free && k < pb.Offsets[v + 1]; ++k, ++o)
+      {
+        A.Neighbors[o] = position[pb.Neighbors[k]];
+        A.Weights[o] = static_cast<float>(pb.Factor * pb.Weights[k]);
+      }
+    }
+  });
+
+  // r = b - A x, in double (rows in the caller's order: sequential reads),
+  // stored renumbered in single precision, and its norms.
+  LargeVector<float> r(static_cast<std::size_t>(n) * W), dx;
+  const auto residual = [&]() {
+    return ParallelSum(n, nc, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+      for (std::int64_t v = s; v < e; ++v)
+      {
+        const std::int64_t i = position[v];
+        if (!A.Free[i])
+        {
+          continue; // r stays 0
+        }
+        const double d = diagonalOf(v);
+        double y[W] = {};
+        for (int c = 0; c < nc; ++c)
+        {
+          y[c] = d * x[v * nc + c];
+        }
+        for (std::int64_t k = pb.Offsets[v]; k < pb.Offsets[v + 1]; ++k)
+        {
+          const double w = pb.Factor * pb.Weights[k];
+          const double* xj = x + static_cast<std::int64_t>(pb.Neighbors[k]) * nc;
+          for (int c = 0; c < nc; ++c)
+          {
+            y[c] -= w * xj[c];
+          }
+        }
+        for (int c = 0; c < nc; ++c)
+        {
+          const double rc = b[v * nc + c] - y[c];
+          r[i * W + c] = static_cast<float>(rc);
+          acc[c] += rc * rc;
+        }
+      }
+    });
+  };
+
+  ConjugateGradientResult result;
+  std::vector<double> norms = residual(), initial(nc), threshold(W, 0.0);
+  for (int c = 0; c < nc; ++c)
+  {
+    initial[c] = std::sqrt(norms[c]);
+    threshold[c] = std::max(pb.Tolerance * initial[c], ResidualRoundOff * pb.Scale[c]);
+  }
+  for (int round = 0;; ++round)
+  {
+    bool active[W] = {};
+    result.RelativeResidual = 0.0;
+    bool any = false;
+    for (int c = 0; c < nc; ++c)
+    {
+      const double norm = std::sqrt(norms[c]);
+      if (initial[c] > 0.0)
+      {
+        result.RelativeResidual = std::max(result.RelativeResidual, norm / initial[c]);
+      }
+      active[c] = norm > threshold[c];
+      any = any || active[c];
+    }
+    // A round reduces the residual by up to 1e-5 (what single precision
+    // resolves); at most 8 rounds, fewer when the iterations are spent.
+    if (!any || round == 8 || result.Iterations >= pb.MaximumIterations)
+    {
+      result.Converged = !any;
+      return result;
+    }
+    // Aim a little below the threshold (float round-off separates the
+    // recursive residual from the true one, and another round costs more),
+    // but ask one round for no more than single precision can resolve.
+    double target[W] = {};
+    for (int c = 0; c < nc; ++c)
+    {
+      target[c] = std::max(0.7 * threshold[c], 1e-5 * std::sqrt(norms[c]));
+    }
+    result.Iterations +=
+      SolveCorrection<W>(A, r, dx, target, active, pb.MaximumIterations - result.Iterations, threads);
+    ParallelForStatic(n, threads, [&](std::int64_t s, std::int64_t e) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        if (A.Free[i])
+        {
+          const std::int64_t v = order[i];
+          for (int c = 0; c < nc; ++c)
+          {
+            x[v * nc + c] += dx[i * W + c];
+          }
+        }
+      }
+    });
+    norms = residual();
+  }
+}
+
+} // namespace
+
+namespace
+{
+
+/// y = K x for W values per row, all rows.
+template <int W>
+void StiffnessProduct(const ShiftedLaplacianProblem& pb, const double* x, double* y)
+{
+  ApplyGraphStiffness(pb.Rows, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, x, y, W, pb.NumberOfThreads);
+}
+
+/// a b without the checks of std::complex's operator* for infinities
+/// (a library call per product unless -fcx-limited-range).
+inline std::complex<double> Times(std::complex<double> a, std::complex<double> b)
+{
+  return { a.real() * b.real() - a.imag() * b.imag(), a.real() * b.imag() + a.imag() * b.real() };
+}
+
+template <int NC>
+ConjugateGradientResult SolveSquared(const ShiftedLaplacianProblem& pb, const double* b, double* x)
+{
+  using Complex = std::complex<double>;
+  constexpr int W = 2 * NC; // complex vectors: per row NC real parts, then NC imaginary parts
+  const std::int64_t n = pb.Rows;
+  const int threads = pb.NumberOfThreads;
+  const double t = pb.Factor, a = std::sqrt(t);
+  const auto isFree = [&](std::int64_t i) { return !pb.Fixed || !pb.Fixed[i]; };
+  const std::size_t size = static_cast<std::size_t>(n) * NC;
+  LargeVector<double> kx(size), nkx(size), res(size);
+  LargeVector<double> X(2 * size), R(2 * size), Z(2 * size), P(2 * size), KP(2 * size);
+  LargeVector<Complex> inverse(static_cast<std::size_t>(n)); // Jacobi: 1 / (D_i + i a K_ii)
+  ParallelForStatic(n, threads, [&](std::int64_t s, std::int64_t e) {
+    for (std::int64_t i = s; i < e; ++i)
+    {
+      inverse[i] = isFree(i) ? 1.0 / Complex(pb.Shift[i], a * pb.Diagonal[i]) : Complex(0.0);
+    }
+  });
+
+  // res = b - A x on the free rows; returns the column norms.
+  const auto realResidual = [&]() {
+    StiffnessProduct<NC>(pb, x, kx.data());
+    ParallelForStatic(n, threads, [&](std::int64_t s, std::int64_t e) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        const double f = isFree(i) ? 1.0 / pb.Shift[i] : 0.0;
+        for (int c = 0; c < NC; ++c)
+        {
+          nkx[i * NC + c] = f * kx[i * NC + c];
+        }
+      }
+    });
+    StiffnessProduct<NC>(pb, nkx.data(), kx.data());
+    return ParallelSum(n, NC, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        const bool f = isFree(i);
+        for (int c = 0; c < NC; ++c)
+        {
+          const std::int64_t k = i * NC + c;
+          res[k] = f ? b[k] - pb.Shift[i] * x[k] - t * kx[k] : 0.0;
+          acc[c] += res[k] * res[k];
+        }
+      }
+    });
+  };
+
+  ConjugateGradientResult result;
+  std::vector<double> norms = realResidual(), initial(NC), threshold(NC);
+  // Columns still above their threshold; the fraction of the current real
+  // residual they need (the smallest over those columns).
+  const auto check = [&]() {
+    bool done = true;
+    double relative = 0.0, needed = 1.0;
+    for (int c = 0; c < NC; ++c)
+    {
+      const double norm = std::sqrt(std::max(0.0, norms[c]));
+      if (initial[c] > 0.0)
+      {
+        relative = std::max(relative, norm / initial[c]);
+      }
+      if (norm > threshold[c])
+      {
+        done = false;
+        needed = std::min(needed, threshold[c] / norm);
+      }
+    }
+    result.RelativeResidual = relative;
+    result.Converged = done;
+    return needed;
+  };
+  for (int c = 0; c < NC; ++c)
+  {
+    initial[c] = std::sqrt(std::max(0.0, norms[c]));
+    threshold[c] = std::max(pb.Tolerance * initial[c], ResidualRoundOff * pb.Scale[c]);
+  }
+  double needed = check();
+  if (result.Converged)
+  {
+    return result;
+  }
+  // One COCG run on (D + i a K_ff) dz = res (res: the initial real residual);
+  // x = x0 + Re dz.  The real residual of Re dz is the complex one amplified
+  // (by up to ~ a ||K|| / D), so the complex residual is first asked for two
+  // orders of magnitude more than the real one needs; where that was not
+  // enough, the same run goes on with a tighter target (no restart).
+  LargeVector<double> x0(x, x + size);
+  std::vector<double> sums = ParallelSum(n, 3 * NC, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+    for (std::int64_t i = s; i < e; ++i)
+    {
+      for (int c = 0; c < NC; ++c)
+      {
+        const double r = res[i * NC + c];
+        const Complex z = Times(inverse[i], r);
+        X[i * W + c] = X[i * W + NC + c] = 0.0;
+        R[i * W + c] = r;
+        R[i * W + NC + c] = 0.0;
+        P[i * W + c] = z.real();
+        P[i * W + NC + c] = z.imag();
+        acc[2 * c] += r * z.real(); // rho = r^T z, unconjugated
+        acc[2 * c + 1] += r * z.imag();
+        acc[2 * NC + c] += r * r;
+      }
+    }
+  });
+  Complex rho[NC];
+  double start[NC], current[NC];
+  for (int c = 0; c < NC; ++c)
+  {
+    rho[c] = Complex(sums[2 * c], sums[2 * c + 1]);
+    start[c] = current[c] = std::sqrt(sums[2 * NC + c]);
+  }
+  double target = 0.01 * needed, lastRelative = result.RelativeResidual;
+  while (result.Iterations < pb.MaximumIterations)
+  {
+    StiffnessProduct<W>(pb, P.data(), KP.data());
+    // q = D p + i a K p (into KP) and p^T q.
+    const std::vector<double> pq = ParallelSum(n, 2 * NC, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        const bool f = isFree(i);
+        for (int c = 0; c < NC; ++c)
+        {
+          const std::int64_t re = i * W + c, im = re + NC;
+          const Complex p(P[re], P[im]);
+          const Complex q = f ? pb.Shift[i] * p + Complex(-a * KP[im], a * KP[re]) : Complex(0.0);
+          KP[re] = q.real();
+          KP[im] = q.imag();
+          const Complex pq = Times(p, q);
+          acc[2 * c] += pq.real();
+          acc[2 * c + 1] += pq.imag();
+        }
+      }
+    });
+    Complex alpha[NC];
+    for (int c = 0; c < NC; ++c)
+    {
+      const Complex d(pq[2 * c], pq[2 * c + 1]);
+      alpha[c] = std::abs(d) > 0.0 ? rho[c] / d : Complex(0.0);
+    }
+    sums = ParallelSum(n, 3 * NC, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        for (int c = 0; c < NC; ++c)
+        {
+          const std::int64_t re = i * W + c, im = re + NC;
+          const Complex xx = Complex(X[re], X[im]) + Times(alpha[c], Complex(P[re], P[im]));
+          const Complex r = Complex(R[re], R[im]) - Times(alpha[c], Complex(KP[re], KP[im]));
+          const Complex z = Times(inverse[i], r);
+          X[re] = xx.real();
+          X[im] = xx.imag();
+          R[re] = r.real();
+          R[im] = r.imag();
+          Z[re] = z.real();
+          Z[im] = z.imag();
+          const Complex rz = Times(r, z);
+          acc[2 * c] += rz.real();
+          acc[2 * c + 1] += rz.imag();
+          acc[2 * NC + c] += std::norm(r);
+        }
+      }
+    });
+    ++result.Iterations;
+    Complex beta[NC];
+    bool reached = true, stalled = false;
+    for (int c = 0; c < NC; ++c)
+    {
+      const Complex rhoNew(sums[2 * c], sums[2 * c + 1]);
+      current[c] = std::sqrt(sums[2 * NC + c]);
+      reached = reached && current[c] <= target * start[c];
+      stalled = stalled || (current[c] > 0.0 && !(std::abs(rho[c]) > 0.0));
+      beta[c] = std::abs(rho[c]) > 0.0 ? rhoNew / rho[c] : Complex(0.0);
+      rho[c] = rhoNew;
+    }
+    if (reached || stalled || result.Iterations >= pb.MaximumIterations)
+    {
+      ParallelForStatic(n, threads, [&](std::int64_t s, std::int64_t e) {
+        for (std::int64_t i = s; i < e; ++i)
+        {
+          for (int c = 0; c < NC; ++c)
+          {
+            x[i * NC + c] = isFree(i) ? x0[i * NC + c] + X[i * W + c] : x0[i * NC + c];
+          }
+        }
+      });
+      norms = realResidual();
+      needed = check();
+      if (result.Converged || stalled || !(result.RelativeResidual < 0.5 * lastRelative))
+      {
+        return result; // not converged: no progress left in this run, the caller decides
+      }
+      lastRelative = result.RelativeResidual;
+      target *= std::max(1e-4, 0.1 * needed);
+    }
+    ParallelForStatic(n, threads, [&](std::int64_t s, std::int64_t e) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        for (int c = 0; c < NC; ++c)
+        {
+          const std::int64_t re = i * W + c, im = re + NC;
+          const Complex p = Complex(Z[re], Z[im]) + Times(beta[c], Complex(P[re], P[im]));
+          P[re] = p.real();
+          P[im] = p.imag();
+        }
+      }
+    });
+  }
+  return result;
+}
+
+} // namespace
+
+ConjugateGradientResult SolveSquaredLaplacian(const ShiftedLaplacianProblem& pb, const double* b, double* x)
+{
+  const int nc = pb.Columns;
+  if (nc < 1 || nc > 4 || static_cast<int>(pb.Scale.size()) != nc || !pb.Offsets || !pb.Neighbors ||
+    !pb.Weights || !pb.Diagonal || !pb.Shift || !(pb.Factor >= 0.0))
+  {
+    throw std::invalid_argument("SolveSquaredLaplacian: inconsistent problem");
+  }
+  if (pb.Rows <= 0)
+  {
+    ConjugateGradientResult none;
+    none.Converged = true;
+    return none;
+  }
+  switch (nc)
+  {
+    case 1: return SolveSquared<1>(pb, b, x);
+    case 2: return SolveSquared<2>(pb, b, x);
+    case 3: return SolveSquared<3>(pb, b, x);
+    default: return SolveSquared<4>(pb, b, x);
+  }
+}
+
+ConjugateGradientResult SolveShiftedLaplacian(
+  const ShiftedLaplacianProblem& pb, const double* b, double* x)
+{
+  const int nc = pb.Columns;
+  if (nc < 1 || nc > 8 || static_cast<int>(pb.Scale.size()) != nc || !pb.Offsets || !pb.Neighbors ||
+    !pb.Weights || !pb.Diagonal)
+  {
+    throw std::invalid_argument("SolveShiftedLaplacian: inconsistent problem");
+  }
+  if (pb.Rows <= 0)
+  {
+    ConjugateGradientResult none;
+    none.Converged = true;
+    return none;
+  }
+  switch (nc)
+  {
+    case 1: return SolveShifted<1>(pb, b, x);
+    case 2: return SolveShifted<2>(pb, b, x);
+    case 3: return SolveShifted<3>(pb, b, x);
+    case 4: return SolveShifted<4>(pb, b, x);
+    default: return SolveShifted<8>(pb, b, x);
+  }
+}
+
+} // namespace beltrami

@@ -1,0 +1,26 @@
+// Beltrami core: sparse graphs in CSR form (row i's neighbours are
+// neighbors[offsets[i] .. offsets[i+1]), with per-entry weights), the bottom
+// of the solvers: the product with a graph Laplacian stiffness and the
+// cache-friendly row order the iterative solvers use.
+#pragma once
+
+#include "Support/Parallel.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace beltrami
+{
+
+/// y = K x for a graph Laplacian stiffness in CSR form (K_ii = diagonal[i],
+/// K_ij = -weights[k] for the entry k of row i, j = neighbors[k]) and
+/// `columns` (1 to 8) interleaved values per row; each thread takes the same
+/// rows every call (ParallelForStatic).
+void ApplyGraphStiffness(Index rows, const std::int64_t* offsets, const Index* neighbors,
+  const double* weights, const double* diagonal, const double* x, double* y, int columns, int numThreads);
+
+/// Breadth-first order of the rows of a graph (one component after another):
+/// Order[new] = old.
+std::vector<Index> LocalityOrder(Index rows, const std::int64_t* offsets, const Index* neighbors);
+
+} // namespace beltrami

@@ -1,0 +1,577 @@
+// Surface smoothing of thesis chapter 3 (Filters/Core/Flows/Fairing): operators,
+// integration, invariants, constraints, boundaries, anisotropy.
+#include "TestMeshes.h"
+
+#include "Flows/Fairing.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <random>
+
+using namespace beltrami;
+using test::Mesh;
+
+namespace
+{
+
+double MeanEdgeLength(const Mesh& m)
+{
+  double sum = 0;
+  for (std::size_t t = 0; t < m.Triangles.size(); t += 3)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      sum += (m.Point(m.Triangles[t + k]) - m.Point(m.Triangles[t + (k + 1) % 3])).norm();
+    }
+  }
+  return sum / m.Triangles.size();
+}
+
+FairingReport Smooth(Mesh& m, const FairingOptions& o, const FairingConstraints& c = {})
+{
+  const MeshTopology topo = m.Topology();
+  return FairSurface(topo, m.Points.data(), o, c);
+}
+
+/// Adds noise along the vertex normals (from the face normals), uniform in
+/// [-a, a] or Gaussian with standard deviation a.
+void AddNormalNoise(Mesh& m, double a, unsigned seed, bool gaussian = false)
+{
+  std::vector<Eigen::Vector3d> normals(m.NumberOfVertices(), Eigen::Vector3d::Zero());
+  for (std::size_t t = 0; t < m.Triangles.size(); t += 3)
+  {
+    const Eigen::Vector3d n = (m.Point(m.Triangles[t + 1]) - m.Point(m.Triangles[t]))
+                                .cross(m.Point(m.Triangles[t + 2]) - m.Point(m.Triangles[t]));
+    for (int k = 0; k < 3; ++k)
+    {
+      normals[m.Triangles[t + k]] += n;
+    }
+  }
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-a, a);
+  std::normal_distribution<double> g(0.0, a);
+  for (Index i = 0; i < m.NumberOfVertices(); ++i)
+  {
+    m.SetPoint(i, m.Point(i) + (gaussian ? g(rng) : u(rng)) * normals[i].normalized());
+  }
+}
+
+double MaxRadialDeviation(const Mesh& m, double R)
+{
+  double worst = 0;
+  for (Index i = 0; i < m.NumberOfVertices(); ++i)
+  {
+    worst = std::max(worst, std::abs(m.Point(i).norm() - R));
+  }
+  return worst;
+}
+
+double MeanRadius(const Mesh& m)
+{
+  double sum = 0;
+  for (Index i = 0; i < m.NumberOfVertices(); ++i)
+  {
+    sum += m.Point(i).norm();
+  }
+  return sum / m.NumberOfVertices();
+}
+
+double Volume(const Mesh& m)
+{
+  return EnclosedVolume(m.Topology(), m.Points.data());
+}
+
+double MaxDisplacement(const Mesh& a, const Mesh& b)
+{
+  double worst = 0;
+  for (Index i = 0; i < a.NumberOfVertices(); ++i)
+  {
+    worst = std::max(worst, (a.Point(i) - b.Point(i)).norm());
+  }
+  return worst;
+}
+
+} // namespace
+
+TEST(Fairing, TwoRateSphereKeepsItsShapeUnderCurvatureFlow)
+{
+  // Figure 3.10: a sphere sampled four times more finely on one half.
+  const Mesh sphere = test::TwoRateSphere(1.0, 24, 96, 6, 24);
+  ASSERT_GT(Volume(sphere), 0.0);
+  const double h = MeanEdgeLength(sphere);
+  FairingOptions o;
+  o.TimeStep = 2 * h * h; // physical units: length^2
+  o.NumberOfSteps = 5;
+  Mesh flow = sphere;
+  const FairingReport r = Smooth(flow, o);
+  EXPECT_EQ(r.InvariantUsed, FairingInvariant::Volume);
+  EXPECT_TRUE(r.Converged);
+  const double flowDeviation = MaxRadialDeviation(flow, MeanRadius(flow));
+  // Vertices do not slide: the tangential part of every displacement is tiny.
+  double slide = 0;
+  for (Index i = 0; i < sphere.NumberOfVertices(); ++i)
+  {
+    const Eigen::Vector3d n = sphere.Point(i).normalized();
+    const Eigen::Vector3d d = flow.Point(i) - sphere.Point(i);
+    slide = std::max(slide, (d - d.dot(n) * n).norm());
+  }
+  Mesh umbrella = sphere;
+  o.Operator = FairingOperator::Umbrella;
+  o.TimeStep = 4; // the same amount: L_umbrella ~ h^2/4 Laplace, L_K ~ Laplace/2
+  Smooth(umbrella, o);
+  const double umbrellaDeviation = MaxRadialDeviation(umbrella, MeanRadius(umbrella));
+  std::printf("two-rate sphere: max radial deviation curvature flow %.2e, umbrella %.2e; "
+              "max slide %.2e (mean edge %.3f)\n", flowDeviation, umbrellaDeviation, slide, h);
+  EXPECT_LT(flowDeviation, 5e-3);
+  EXPECT_LT(slide, 0.05 * h);
+  EXPECT_GT(umbrellaDeviation, 30 * flowDeviation);
+  EXPECT_GT(umbrellaDeviation, 0.1);
+
+  // vtkImplicitFairing's defaults: one order-2 step of 4 h^4 on the
+  // mollified copy; a strong version of it (100 h^4) keeps the sphere too.
+  FairingOptions d;
+  d.Order = 2;
+  d.OperatorMollification = 1.0;
+  d.TimeStep = 100 * h * h * h * h;
+  Mesh order2 = sphere;
+  const FairingReport r2 = Smooth(order2, d);
+  EXPECT_EQ(r2.InvariantUsed, FairingInvariant::Volume);
+  double slide2 = 0;
+  for (Index i = 0; i < sphere.NumberOfVertices(); ++i)
+  {
+    const Eigen::Vector3d n = sphere.Point(i).normalized();
+    const Eigen::Vector3d dx = order2.Point(i) - sphere.Point(i);
+    slide2 = std::max(slide2, (dx - dx.dot(n) * n).norm());
+  }
+  const double order2Deviation = MaxRadialDeviation(order2, MeanRadius(order2));
+  std::printf("two-rate sphere, order 2 on the mollified copy: max radial deviation %.2e, max slide %.2e\n",
+    order2Deviation, slide2);
+  EXPECT_LT(order2Deviation, 5e-3);
+  EXPECT_LT(slide2, 0.05 * h);
+}
+
+TEST(Fairing, FlatIrregularPatchDoesNotMoveUnderCurvatureFlow)
+{
+  const Mesh patch = test::FlatIrregular(12, 5);
+  for (auto op : { FairingOperator::CurvatureFlow, FairingOperator::Umbrella,
+         FairingOperator::ScaleDependentUmbrella })
+  {
+    for (int variant = 0; variant < 4; ++variant)
+    {
+      // Orders 1 and 2, on the points and on the mollified copy (the
+      // filter's default for noisy scans).
+      const int order = 1 + variant % 2;
+      Mesh m = patch;
+      FairingOptions o;
+      o.Operator = op;
+      o.Order = order;
+      o.OperatorMollification = variant < 2 ? 0.0 : 1.0;
+      o.TimeStep = op == FairingOperator::Umbrella ? 10.0 : 0.01;
+      o.NumberOfSteps = 3;
+      const FairingReport r = Smooth(m, o);
+      EXPECT_EQ(r.InvariantUsed, FairingInvariant::None); // open surface
+      const double moved = MaxDisplacement(m, patch);
+      double z = 0;
+      for (Index i = 0; i < m.NumberOfVertices(); ++i)
+      {
+        z = std::max(z, std::abs(m.Point(i)[2]));
+      }
+      EXPECT_EQ(z, 0.0); // every operator keeps a plane a plane
+      if (op == FairingOperator::CurvatureFlow)
+      {
+        EXPECT_LT(moved, 1e-12) << "order " << order << ", mollification " << o.OperatorMollification;
+      }
+      else
+      {
+        EXPECT_GT(moved, 1e-3) << "order " << order << ", mollification " << o.OperatorMollification; // the umbrellas slide vertices
+      }
+    }
+  }
+}
+
+TEST(Fairing, VolumeIsPreservedExactly)
+{
+  Mesh torus = test::Torus(1.0, 0.4, 40, 20, 0.3, 3);
+  AddNormalNoise(torus, 0.02, 9);
+  const double v0 = Volume(torus);
+  for (auto op : { FairingOperator::Umbrella, FairingOperator::ScaleDependentUmbrella,
+         FairingOperator::CurvatureFlow, FairingOperator::CurvatureFlowAndSampling })
+  {
+    for (int order : { 1, 2 })
+    {
+      Mesh m = torus;
+      FairingOptions o;
+      o.Operator = op;
+      o.Order = order;
+      o.TimeStep = op == FairingOperator::Umbrella ? 5.0 : 0.01;
+      o.NumberOfSteps = 7;
+      const FairingReport r = Smooth(m, o);
+      EXPECT_EQ(r.InvariantUsed, FairingInvariant::Volume);
+      EXPECT_NEAR(Volume(m) / v0, 1.0, 1e-10) << static_cast<int>(op) << " order " << order;
+      EXPECT_GT(MaxDisplacement(m, torus), 1e-3);
+    }
+  }
+}
+
+TEST(Fairing, HardConstraintsAreBitExactAndSoftWeightsAttenuate)
+{
+  Mesh sphere = test::OctahedronSphere(3);
+  AddNormalNoise(sphere, 0.03, 4);
+  const Index n = sphere.NumberOfVertices();
+  std::vector<std::uint8_t> fixed(n, 0);
+  for (Index i = 0; i < n; i += 7)
+  {
+    fixed[i] = 1;
+  }
+  FairingOptions o;
+  o.TimeStep = 0.01;
+  o.NumberOfSteps = 3;
+  Mesh m = sphere;
+  FairingConstraints c;
+  c.Fixed = fixed.data();
+  const FairingReport r = Smooth(m, o, c);
+  EXPECT_EQ(r.InvariantUsed, FairingInvariant::None); // automatic: no scaling of fixed points
+  for (Index i = 0; i < n; ++i)
+  {
+    if (fixed[i])
+    {
+      for (int d = 0; d < 3; ++d)
+      {
+        EXPECT_EQ(m.Points[3 * i + d], sphere.Points[3 * i + d]);
+      }
+    }
+  }
+  EXPECT_GT(MaxDisplacement(m, sphere), 1e-3);
+
+  // A uniform weight w smooths less as w decreases (section 3.2.7).
+  double previous = 1e300;
+  o.Invariant = FairingInvariant::None;
+  for (double w : { 1.0, 0.75, 0.5, 0.25, 0.0 })
+  {
+    std::vector<double> weights(n, w);
+    Mesh s = sphere;
+    FairingConstraints soft;
+    soft.Weights = weights.data();
+    Smooth(s, o, soft);
+    double rms = 0;
+    for (Index i = 0; i < n; ++i)
+    {
+      rms += (s.Point(i) - sphere.Point(i)).squaredNorm();
+    }
+    rms = std::sqrt(rms / n);
+    EXPECT_LT(rms, previous) << "weight " << w;
+    previous = rms;
+    if (w == 0.0)
+    {
+      EXPECT_EQ(rms, 0.0);
+    }
+  }
+}
+
+TEST(Fairing, ExplicitUmbrellaAboveOneIsReportedUnstable)
+{
+  Mesh sphere = test::OctahedronSphere(3);
+  AddNormalNoise(sphere, 0.02, 2);
+  FairingOptions o;
+  o.Operator = FairingOperator::Umbrella;
+  o.Integration = FairingIntegration::Explicit;
+  o.TimeStep = 0.9;
+  Mesh a = sphere;
+  FairingReport r = Smooth(a, o);
+  EXPECT_FALSE(r.ExplicitUnstable);
+  EXPECT_NEAR(r.StabilityLimit, 1.0, 1e-12);
+  EXPECT_TRUE(r.Warning.empty());
+  o.TimeStep = 1.5;
+  Mesh b = sphere;
+  r = Smooth(b, o);
+  EXPECT_TRUE(r.ExplicitUnstable);
+  EXPECT_NE(r.Warning.find("stability"), std::string::npos);
+}
+
+TEST(Fairing, ImplicitLargeStepsAreStableAndIterationCountsAreModest)
+{
+  Mesh torus = test::Torus(1.0, 0.4, 80, 40, 0.3, 7);
+  AddNormalNoise(torus, 0.01, 3);
+  const double h = MeanEdgeLength(torus);
+  for (double step : { 10.0, 100.0 })
+  {
+    Mesh m = torus;
+    FairingOptions o;
+    o.Operator = FairingOperator::Umbrella;
+    o.TimeStep = step;
+    const FairingReport r = Smooth(m, o);
+    ASSERT_EQ(r.Iterations.size(), 1u);
+    std::printf("umbrella lambda*dt = %g: %d iterations\n", step, r.Iterations[0]);
+    EXPECT_TRUE(r.Converged);
+    EXPECT_LT(r.Iterations[0], step == 10.0 ? 20 : 50); // thesis: about 8 and 35
+    Mesh k = torus;
+    o.Operator = FairingOperator::CurvatureFlow;
+    o.TimeStep = step * h * h;
+    const FairingReport rk = Smooth(k, o);
+    std::printf("curvature flow lambda*dt = %g h^2: %d iterations\n", step, rk.Iterations[0]);
+    EXPECT_TRUE(rk.Converged);
+    for (double v : k.Points)
+    {
+      ASSERT_TRUE(std::isfinite(v));
+    }
+  }
+}
+
+TEST(Fairing, ResultsDoNotDependOnTheThreadCount)
+{
+  Mesh torus = test::Torus(1.0, 0.4, 120, 60, 0.3, 1);
+  AddNormalNoise(torus, 0.01, 5);
+  Mesh a = torus, b = torus;
+  FairingOptions o;
+  o.TimeStep = 0.001;
+  o.NumberOfSteps = 2;
+  o.NumberOfThreads = 1;
+  Smooth(a, o);
+  o.NumberOfThreads = 2;
+  Smooth(b, o);
+  EXPECT_EQ(a.Points, b.Points);
+}
+
+TEST(Fairing, BoundaryModes)
+{
+  // An open cylinder whose rims are noisy.
+  Mesh cylinder = test::Cylinder(1.0, 2.0, 48, 20);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  for (Index i = 0; i < cylinder.NumberOfVertices(); ++i)
+  {
+    Eigen::Vector3d p = cylinder.Point(i);
+    p[2] += u(rng);
+    cylinder.SetPoint(i, p);
+  }
+  const auto rimRoughness = [](const Mesh& m) {
+    double rough = 0; // z variation along the bottom rim (vertices 0..47)
+    for (int i = 0; i < 48; ++i)
+    {
+      rough += std::abs(m.Point(i)[2] - 0.5 * (m.Point((i + 47) % 48)[2] + m.Point((i + 1) % 48)[2]));
+    }
+    return rough / 48;
+  };
+  FairingOptions o;
+  o.TimeStep = 0.02;
+  o.NumberOfSteps = 3;
+  Mesh fixed = cylinder;
+  Smooth(fixed, o);
+  EXPECT_EQ(rimRoughness(fixed), rimRoughness(cylinder));
+
+  Mesh curve = cylinder;
+  o.Boundary = FairingBoundary::SmoothCurve;
+  Smooth(curve, o);
+  std::printf("rim roughness: input %.4f, smoothed as a curve %.4f\n", rimRoughness(cylinder),
+    rimRoughness(curve));
+  EXPECT_LT(rimRoughness(curve), 0.5 * rimRoughness(cylinder));
+
+  Mesh closed = cylinder;
+  o.Boundary = FairingBoundary::VirtualVertex;
+  const FairingReport r = Smooth(closed, o);
+  EXPECT_EQ(r.InvariantUsed, FairingInvariant::Volume); // closed by the virtual vertices
+  EXPECT_EQ(closed.NumberOfVertices(), cylinder.NumberOfVertices());
+  EXPECT_LT(rimRoughness(closed), rimRoughness(cylinder));
+  for (double v : closed.Points)
+  {
+    ASSERT_TRUE(std::isfinite(v));
+  }
+}
+
+TEST(Fairing, HeightFieldAndAreaInvariants)
+{
+  Mesh bump = test::HeightField([](double x, double y) { return 0.3 * std::exp(-4 * (x * x + y * y)); },
+    1.0, 21, 0.2, true, 4);
+  AddNormalNoise(bump, 0.01, 6);
+  const MeshTopology topo = bump.Topology();
+  const double origin[3] = { 0, 0, bump.Point(0)[2] };
+  const double normal[3] = { 0, 0, 1 };
+  double o0[3] = { 0, 0, 0 };
+  // The reference plane passes through the boundary mean: compute it as the filter does.
+  Index count = 0;
+  for (Index i = 0; i < bump.NumberOfVertices(); ++i)
+  {
+    if (topo.VertexFlags(i) & VertexBoundary)
+    {
+      for (int d = 0; d < 3; ++d)
+      {
+        o0[d] += bump.Point(i)[d];
+      }
+      ++count;
+    }
+  }
+  for (double& v : o0)
+  {
+    v /= count;
+  }
+  (void)origin;
+  const double v0 = VolumeAbovePlane(topo, bump.Points.data(), o0, normal);
+  Mesh m = bump;
+  FairingOptions o;
+  o.TimeStep = 0.01;
+  o.NumberOfSteps = 4;
+  o.Invariant = FairingInvariant::HeightFieldVolume;
+  Smooth(m, o);
+  EXPECT_NEAR(VolumeAbovePlane(topo, m.Points.data(), o0, normal) / v0, 1.0, 1e-10);
+  Mesh plain = bump;
+  o.Invariant = FairingInvariant::None;
+  Smooth(plain, o);
+  EXPECT_LT(VolumeAbovePlane(topo, plain.Points.data(), o0, normal) / v0, 1.0 - 1e-3);
+
+  Mesh area = bump;
+  o.Invariant = FairingInvariant::Area;
+  const double a0 = SurfaceArea(topo, bump.Points.data());
+  Smooth(area, o);
+  EXPECT_NEAR(SurfaceArea(topo, area.Points.data()) / a0, 1.0, 1e-10);
+}
+
+namespace
+{
+/// Mean angle (degrees) between each triangle's normal and the true face
+/// normal of the cube (the axis its centroid is closest to), and the mean of
+/// |dihedral - 90| degrees over the edges that cross a cube edge.
+void CubeErrors(const Mesh& m, double& normalError, double& dihedralError)
+{
+  const MeshTopology topo = m.Topology();
+  const auto& e = topo.Edges();
+  std::vector<Eigen::Vector3d> fn(topo.NumberOfTriangles()), truth(topo.NumberOfTriangles());
+  normalError = 0;
+  for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
+  {
+    const Eigen::Vector3d a = m.Point(m.Triangles[3 * t]), b = m.Point(m.Triangles[3 * t + 1]),
+                          c = m.Point(m.Triangles[3 * t + 2]);
+    fn[t] = (b - a).cross(c - a).normalized();
+    const Eigen::Vector3d g = (a + b + c) / 3;
+    int axis = 0;
+    g.cwiseAbs().maxCoeff(&axis);
+    truth[t] = Eigen::Vector3d::Zero();
+    truth[t][axis] = g[axis] > 0 ? 1 : -1;
+    normalError += std::acos(std::clamp(fn[t].dot(truth[t]), -1.0, 1.0)) * 180 / M_PI;
+  }
+  normalError /= topo.NumberOfTriangles();
+  dihedralError = 0;
+  int count = 0;
+  for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
+  {
+    const Index t0 = e.OppositeCorners[2 * k] / 3, t1 = e.OppositeCorners[2 * k + 1] / 3;
+    if (truth[t0].dot(truth[t1]) == 0.0)
+    {
+      const double angle = std::acos(std::clamp(fn[t0].dot(fn[t1]), -1.0, 1.0)) * 180 / M_PI;
+      dihedralError += std::abs(angle - 90);
+      ++count;
+    }
+  }
+  dihedralError /= count;
+}
+} // namespace
+
+TEST(Fairing, AnisotropicSmoothingRestoresTheCubeEdges)
+{
+  // Figure 3.15: +-3% uniform noise along the normals.
+  const Mesh clean = test::CubeSurface(16);
+  Mesh noisy = clean;
+  AddNormalNoise(noisy, 0.03, 11);
+  double n0, d0;
+  CubeErrors(noisy, n0, d0);
+  const double h = MeanEdgeLength(clean);
+  FairingOptions o;
+  o.TimeStep = 1.0 * h * h;
+  o.NumberOfSteps = 10;
+  o.Tolerance = 1e-6;
+  Mesh iso = noisy;
+  Smooth(iso, o);
+  double ni, di;
+  CubeErrors(iso, ni, di);
+  Mesh aniso = noisy;
+  o.Anisotropic = true;
+  o.FeatureThreshold = 0.5 / h; // curvature radius of two edge lengths (noise: ~0.3/h)
+  const FairingReport r = Smooth(aniso, o);
+  double na, da;
+  CubeErrors(aniso, na, da);
+  std::printf("noisy cube: face-normal error %.2f deg (noisy) %.2f (isotropic) %.2f (anisotropic); "
+              "edge dihedral error %.2f / %.2f / %.2f deg; %d feature vertices\n",
+    n0, ni, na, d0, di, da, r.FeatureVertices);
+  EXPECT_LT(na, 2.0);      // face normals within 2 degrees of the true ones on average
+  EXPECT_LT(na, 0.2 * n0);
+  EXPECT_LT(da, 5.0);      // edges: dihedral angles within 5 degrees of 90 on average
+  EXPECT_LT(da, 0.5 * d0); // sharper than the noisy input
+  EXPECT_GT(di, 45.0);     // isotropic smoothing rounds them
+  EXPECT_GT(ni, n0);
+}
+
+TEST(Fairing, SamplingFlowRegularisesTheTrianglesAndKeepsTheSphere)
+{
+  // A sphere whose vertices slid randomly along the surface: irregular sampling.
+  Mesh sphere = test::OctahedronSphere(4);
+  {
+    const double h = MeanEdgeLength(sphere);
+    std::mt19937 rng(12);
+    std::uniform_real_distribution<double> u(-0.35 * h, 0.35 * h);
+    for (Index i = 0; i < sphere.NumberOfVertices(); ++i)
+    {
+      sphere.SetPoint(i, (sphere.Point(i) + Eigen::Vector3d(u(rng), u(rng), u(rng))).normalized());
+    }
+  }
+  // Local irregularity: mean over the vertices of (longest / shortest incident edge).
+  const auto edgeSpread = [](const Mesh& m) {
+    std::vector<double> lo(m.NumberOfVertices(), 1e300), hi(m.NumberOfVertices(), 0);
+    for (std::size_t t = 0; t < m.Triangles.size(); t += 3)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const Index a = m.Triangles[t + k], b = m.Triangles[t + (k + 1) % 3];
+        const double l = (m.Point(a) - m.Point(b)).norm();
+        for (Index v : { a, b })
+        {
+          lo[v] = std::min(lo[v], l);
+          hi[v] = std::max(hi[v], l);
+        }
+      }
+    }
+    double sum = 0;
+    for (Index i = 0; i < m.NumberOfVertices(); ++i)
+    {
+      sum += hi[i] / lo[i];
+    }
+    return sum / m.NumberOfVertices();
+  };
+  Mesh m = sphere;
+  FairingOptions o;
+  o.Operator = FairingOperator::CurvatureFlowAndSampling;
+  const double h = MeanEdgeLength(sphere);
+  o.TimeStep = 20 * h * h;
+  o.NumberOfSteps = 10;
+  Smooth(m, o);
+  Mesh flow = sphere;
+  o.Operator = FairingOperator::CurvatureFlow;
+  Smooth(flow, o);
+  std::printf("mean longest/shortest edge at a vertex: %.3f -> %.3f (curvature flow alone: %.3f); "
+              "radial deviation %.2e\n", edgeSpread(sphere), edgeSpread(m), edgeSpread(flow),
+    MaxRadialDeviation(m, MeanRadius(m)));
+  EXPECT_GT(edgeSpread(flow) - 1, 0.9 * (edgeSpread(sphere) - 1)); // curvature flow keeps the sampling
+  EXPECT_LT(edgeSpread(m) - 1, 0.7 * (edgeSpread(sphere) - 1));
+  EXPECT_LT(MaxRadialDeviation(m, MeanRadius(m)), 0.01);
+}
+
+TEST(Fairing, TaubinLambdaMuShrinksLessThanPlainDiffusion)
+{
+  Mesh sphere = test::OctahedronSphere(4);
+  AddNormalNoise(sphere, 0.02, 8);
+  const double v0 = Volume(sphere);
+  FairingOptions o;
+  o.Operator = FairingOperator::Umbrella;
+  o.Invariant = FairingInvariant::None;
+  o.NumberOfSteps = 20;
+  o.Integration = FairingIntegration::TaubinLambdaMu;
+  Mesh taubin = sphere;
+  Smooth(taubin, o);
+  o.Integration = FairingIntegration::Explicit;
+  o.TimeStep = 0.6307;
+  Mesh diffusion = sphere;
+  Smooth(diffusion, o);
+  const double lossTaubin = 1 - Volume(taubin) / v0, lossDiffusion = 1 - Volume(diffusion) / v0;
+  std::printf("volume loss: Taubin %.4f, explicit umbrella %.4f\n", lossTaubin, lossDiffusion);
+  EXPECT_LT(std::abs(lossTaubin), 0.2 * std::abs(lossDiffusion));
+  EXPECT_LT(MaxRadialDeviation(taubin, 1.0), MaxRadialDeviation(sphere, 1.0));
+}

@@ -1,0 +1,50 @@
+// Large-array allocation: 2 MiB alignment and the cache of freed blocks.
+#include "Support/LargeBuffer.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <thread>
+#include <vector>
+
+using namespace beltrami;
+
+TEST(LargeBuffer, BlocksAreAlignedAndReused)
+{
+  constexpr std::size_t MiB = std::size_t(1) << 20;
+  void* a = AllocateLargeBlock(5 * MiB);
+  ASSERT_NE(a, nullptr);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(a) % (2 * MiB), 0u);
+  static_cast<char*>(a)[5 * MiB - 1] = 1; // the whole rounded block is usable
+  FreeLargeBlock(a);
+  // The same rounded size (6 MiB) comes back from the cache; another does not.
+  void* b = AllocateLargeBlock(5 * MiB + 1);
+  EXPECT_EQ(b, a);
+  void* c = AllocateLargeBlock(9 * MiB);
+  EXPECT_NE(c, a);
+  FreeLargeBlock(b);
+  FreeLargeBlock(c);
+  FreeLargeBlock(nullptr); // allowed, like free(nullptr)
+}
+
+TEST(LargeBuffer, VectorsFromManyThreads)
+{
+  // LargeVector through the allocator, small (ordinary allocator) and large
+  // (cached blocks), allocated and freed concurrently.
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t)
+  {
+    threads.emplace_back([t]() {
+      for (int r = 0; r < 50; ++r)
+      {
+        LargeVector<double> small(100, t), large((std::size_t(1) << 18) * (1 + r % 3), t);
+        ASSERT_EQ(small[99], t);
+        ASSERT_EQ(large.back(), t);
+      }
+    });
+  }
+  for (std::thread& t : threads)
+  {
+    t.join();
+  }
+}
