@@ -23,102 +23,6 @@ namespace beltrami
 namespace
 {
 
-/// Signed area of triangle t in the parameter plane.
-double SignedArea2D(const MeshTopology& topo, const double* uv, Index t)
-{
-  const Vec2 a = UV(uv, topo.CornerVertex(3 * t));
-  const Vec2 b = UV(uv, topo.CornerVertex(3 * t + 1)) - a;
-  const Vec2 c = UV(uv, topo.CornerVertex(3 * t + 2)) - a;
-  return 0.5 * (b.x() * c.y() - b.y() * c.x());
-}
-
-double Area3D(const MeshTopology& topo, const double* points, Index t)
-{
-  const Vec3 a = Point(points, topo.CornerVertex(3 * t));
-  return 0.5 *
-    (Point(points, topo.CornerVertex(3 * t + 1)) - a).cross(Point(points, topo.CornerVertex(3 * t + 2)) - a).norm();
-}
-
-/// Triangles that count: 3D area above the degeneracy threshold of RingGeometry.
-bool Degenerate3D(const MeshTopology& topo, const double* points, Index t)
-{
-  const Vec3 a = Point(points, topo.CornerVertex(3 * t));
-  const Vec3 b = Point(points, topo.CornerVertex(3 * t + 1));
-  const Vec3 c = Point(points, topo.CornerVertex(3 * t + 2));
-  const double longest = std::max({ (b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm() });
-  return !((b - a).cross(c - a).norm() > DegenerateTolerance * longest);
-}
-
-double LoopLength(const std::vector<Index>& loop, const double* points)
-{
-  double length = 0.0;
-  for (std::size_t k = 0; k < loop.size(); ++k)
-  {
-    length += (Point(points, loop[(k + 1) % loop.size()]) - Point(points, loop[k])).norm();
-  }
-  return length;
-}
-
-/// Positions of the outer loop's vertices on the circle or the square,
-/// counter-clockwise (the loop runs with the surface on its left).
-void PlaceOuterBoundary(const std::vector<Index>& loop, const double* points,
-  const ParameterizationOptions& options, double* uv)
-{
-  const std::size_t n = loop.size();
-  std::vector<double> t(n + 1, 0.0); // normalised parameter along the loop
-  for (std::size_t k = 0; k < n; ++k)
-  {
-    t[k + 1] = t[k] +
-      (options.Spacing == BoundarySpacing::Uniform
-          ? 1.0
-          : (Point(points, loop[(k + 1) % n]) - Point(points, loop[k])).norm());
-  }
-  const double total = t[n];
-  for (double& value : t)
-  {
-    value = total > 0.0 ? value / total : 0.0;
-  }
-  if (options.Boundary == ParameterizationBoundary::Circle)
-  {
-    for (std::size_t k = 0; k < n; ++k)
-    {
-      const double a = 2.0 * M_PI * t[k];
-      uv[2 * loop[k]] = 0.5 + 0.5 * std::cos(a);
-      uv[2 * loop[k] + 1] = 0.5 + 0.5 * std::sin(a);
-    }
-    return;
-  }
-  // Square: the corners are the vertices nearest to the quarters of the
-  // length (distinct, in order); each side is spaced like the loop.
-  std::array<std::size_t, 5> corner{};
-  corner[0] = 0;
-  corner[4] = n;
-  for (int q = 1; q < 4; ++q)
-  {
-    const std::size_t lo = corner[q - 1] + 1, hi = n - static_cast<std::size_t>(4 - q);
-    std::size_t best = lo;
-    for (std::size_t k = lo; k <= hi; ++k)
-    {
-      if (std::abs(t[k] - 0.25 * q) < std::abs(t[best] - 0.25 * q))
-      {
-        best = k;
-      }
-    }
-    corner[q] = best;
-  }
-  static const double cornerUV[5][2] = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 }, { 0, 0 } };
-  for (int side = 0; side < 4; ++side)
-  {
-    const double t0 = t[corner[side]], t1 = t[corner[side + 1]];
-    for (std::size_t k = corner[side]; k < corner[side + 1]; ++k)
-    {
-      const double s = t1 > t0 ? (t[k] - t0) / (t1 - t0) : 0.0;
-      uv[2 * loop[k]] = (1 - s) * cornerUV[side][0] + s * cornerUV[side + 1][0];
-      uv[2 * loop[k] + 1] = (1 - s) * cornerUV[side][1] + s * cornerUV[side + 1][1];
-    }
-  }
-}
-
 // ---------------------------------------------------------------------------
 // A sparse system over "unknowns" (one per vertex and coordinate pair, or one
 // per vertex coordinate for the coupled natural map), split into
@@ -750,55 +654,6 @@ std::vector<double> Multiply(const std::vector<double>& a, const std::vector<dou
   return c;
 }
 
-/// Calls visit(i, j, |x_i - x_j|^2) for every edge of non-zero length.
-template <typename Visit>
-void ForEachEdge(const MeshTopology& topo, const double* points, Visit&& visit)
-{
-  const MeshTopology::EdgeTable& edges = topo.Edges();
-  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
-  {
-    const Index i = edges.Vertices[2 * e], j = edges.Vertices[2 * e + 1];
-    const double xx = (Point(points, i) - Point(points, j)).squaredNorm();
-    if (xx > 0.0)
-    {
-      visit(i, j, xx);
-    }
-  }
-}
-
-/// Calls visit(t, 3D area) for every triangle with a 3D area.
-template <typename Visit>
-void ForEachTriangle(const MeshTopology& topo, const double* points, Visit&& visit)
-{
-  for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
-  {
-    if (!Degenerate3D(topo, points, t))
-    {
-      visit(t, Area3D(topo, points, t));
-    }
-  }
-}
-
-double TotalArea3D(const MeshTopology& topo, const double* points, int threads)
-{
-  return ParallelSum(topo.NumberOfTriangles(), 1, threads, [&](std::int64_t b, std::int64_t e, double* s) {
-    for (std::int64_t t = b; t < e; ++t)
-    {
-      *s += Area3D(topo, points, static_cast<Index>(t));
-    }
-  })[0];
-}
-
-double TotalArea2D(const MeshTopology& topo, const double* uv, int threads)
-{
-  return ParallelSum(topo.NumberOfTriangles(), 1, threads, [&](std::int64_t b, std::int64_t e, double* s) {
-    for (std::int64_t t = b; t < e; ++t)
-    {
-      *s += SignedArea2D(topo, uv, static_cast<Index>(t));
-    }
-  })[0];
-}
-
 /// Coefficients in l of the energy of U = U_chi + l (U_A - U_chi), u -> s u.
 std::vector<double> MixEnergyPolynomial(const MeshTopology& topo, const double* points,
   const double* uvA, const double* uvX, double s, DistortionEnergy energy)
@@ -853,133 +708,7 @@ std::vector<double> MixEnergyPolynomial(const MeshTopology& topo, const double* 
   return total;
 }
 
-Index CountFlipped(const MeshTopology& topo, const double* points, const double* uv)
-{
-  Index flipped = 0;
-  for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
-  {
-    flipped += !Degenerate3D(topo, points, t) && !(SignedArea2D(topo, uv, t) > 0.0);
-  }
-  return flipped;
-}
-
 } // namespace
-
-double DistortionEnergyValue(const MeshTopology& topo, const double* points, const double* uv,
-  double scale, DistortionEnergy energy, double* gradient)
-{
-  const double s2 = scale * scale;
-  if (gradient)
-  {
-    std::fill(gradient, gradient + 2 * static_cast<std::size_t>(topo.NumberOfVertices()), 0.0);
-  }
-  double total = 0.0;
-  if (energy == DistortionEnergy::EdgeLength)
-  {
-    ForEachEdge(topo, points, [&](Index i, Index j, double xx) {
-      const Vec2 d = UV(uv, i) - UV(uv, j);
-      const double q = s2 * d.squaredNorm() / xx - 1.0;
-      total += q * q;
-      if (gradient)
-      {
-        const Vec2 g = 4.0 * q * s2 / xx * d;
-        gradient[2 * i] += g.x();
-        gradient[2 * i + 1] += g.y();
-        gradient[2 * j] -= g.x();
-        gradient[2 * j + 1] -= g.y();
-      }
-    });
-    return total;
-  }
-  ForEachTriangle(topo, points, [&](Index t, double a3) {
-    const double r = s2 * SignedArea2D(topo, uv, t) / a3;
-    total += (r * r - 1.0) * (r * r - 1.0);
-    if (gradient)
-    {
-      // dE/dr = 4 r (r^2 - 1); dA/du_a = 1/2 R(u_c - u_b) for the corner a.
-      const double f = 4.0 * r * (r * r - 1.0) * s2 / a3;
-      for (int k = 0; k < 3; ++k)
-      {
-        const Index a = topo.CornerVertex(3 * t + k);
-        const Vec2 b = UV(uv, topo.CornerVertex(3 * t + (k + 1) % 3));
-        const Vec2 c = UV(uv, topo.CornerVertex(3 * t + (k + 2) % 3));
-        gradient[2 * a] += f * 0.5 * (b.y() - c.y());
-        gradient[2 * a + 1] += f * 0.5 * (c.x() - b.x());
-      }
-    }
-  });
-  return total;
-}
-
-DistortionReport MeasureDistortion(
-  const MeshTopology& topo, const double* points, const double* uv, int numThreads)
-{
-  const int threads = ResolveThreadCount(numThreads);
-  const Index nt = topo.NumberOfTriangles();
-  DistortionReport r;
-  r.AngleDistortion.assign(nt, 0.0);
-  r.AreaDistortion.assign(nt, 0.0);
-  r.EdgeDistortion.assign(nt, 0.0);
-  const double a3 = TotalArea3D(topo, points, threads);
-  const double a2 = TotalArea2D(topo, uv, threads);
-  const double s = a2 != 0.0 && a3 > 0.0 ? std::sqrt(std::abs(a2) / a3) : 1.0;
-  std::vector<std::uint8_t> degenerate(nt, 0), flipped(nt, 0);
-  ParallelFor(nt, threads, [&](std::int64_t begin, std::int64_t end) {
-    for (Index t = static_cast<Index>(begin); t < end; ++t)
-    {
-      if (Degenerate3D(topo, points, t))
-      {
-        degenerate[t] = 1;
-        r.AngleDistortion[t] = r.AreaDistortion[t] = r.EdgeDistortion[t] = std::nan("");
-        continue;
-      }
-      double angle = 0.0, edge = 0.0;
-      for (int k = 0; k < 3; ++k)
-      {
-        const Index a = topo.CornerVertex(3 * t + k);
-        const Index b = topo.CornerVertex(3 * t + (k + 1) % 3);
-        const Index c = topo.CornerVertex(3 * t + (k + 2) % 3);
-        const Vec3 e1 = Point(points, b) - Point(points, a), e2 = Point(points, c) - Point(points, a);
-        const Vec2 f1 = UV(uv, b) - UV(uv, a), f2 = UV(uv, c) - UV(uv, a);
-        const double angle3 = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
-        const double angle2 = std::atan2(std::abs(f1.x() * f2.y() - f1.y() * f2.x()), f1.dot(f2));
-        angle += std::abs(angle2 - angle3);
-        const double ratio = f1.norm() / (s * e1.norm());
-        edge += ratio > 0.0 ? std::abs(std::log(ratio)) : 50.0; // collapsed edge: large, finite
-      }
-      r.AngleDistortion[t] = angle / 3.0 * 180.0 / M_PI;
-      r.EdgeDistortion[t] = edge / 3.0;
-      const double area2 = SignedArea2D(topo, uv, t);
-      flipped[t] = !(area2 > 0.0);
-      const double ratio = std::abs(area2) / (s * s * Area3D(topo, points, t));
-      r.AreaDistortion[t] = ratio > 0.0 ? std::log(ratio) : -50.0;
-    }
-  });
-  Index used = 0;
-  for (Index t = 0; t < nt; ++t)
-  {
-    if (degenerate[t])
-    {
-      ++r.DegenerateTriangles;
-      continue;
-    }
-    ++used;
-    r.FlippedTriangles += flipped[t];
-    r.MeanAngle += r.AngleDistortion[t];
-    r.MaxAngle = std::max(r.MaxAngle, r.AngleDistortion[t]);
-    r.MeanArea += std::abs(r.AreaDistortion[t]);
-    r.MaxArea = std::max(r.MaxArea, std::abs(r.AreaDistortion[t]));
-    r.MeanEdge += r.EdgeDistortion[t];
-    r.MaxEdge = std::max(r.MaxEdge, r.EdgeDistortion[t]);
-  }
-  if (used)
-  {
-    r.MeanAngle /= used;
-    r.MeanArea /= used;
-    r.MeanEdge /= used;
-  }
-  return r;
-}
 
 namespace
 {
@@ -1084,52 +813,13 @@ ParameterizationResult Parameterize(
 namespace
 {
 
-ParameterizationResult ParameterizeUnguarded(
-  const MeshTopology& topo, const double* points, const ParameterizationOptions& options)
+/// Point constraints on used vertices, with weights that sum to 1 and finite targets.
+std::string CheckConstraints(const std::vector<PointConstraint>& constraints, const std::vector<std::uint8_t>& used)
 {
-  std::string error;
-  if (!CheckDiskTopology(topo, error))
+  const Index n = static_cast<Index>(used.size());
+  for (std::size_t k = 0; k < constraints.size(); ++k)
   {
-    return Fail("Cannot parameterize: " + error + ".");
-  }
-  const Index n = topo.NumberOfVertices();
-  const int threads = ResolveThreadCount(options.NumberOfThreads);
-  std::vector<std::uint8_t> used(n, 0);
-  for (Index v = 0; v < n; ++v)
-  {
-    used[v] = topo.Valence(v) > 0;
-    if (used[v] && !Point(points, v).allFinite())
-    {
-      return Fail("Cannot parameterize: point " + std::to_string(v) + " has non-finite coordinates.");
-    }
-  }
-  const bool natural = options.Boundary == ParameterizationBoundary::Natural;
-  const bool mixSearch = options.OptimizeMix;
-  if (!std::isfinite(options.ConformalWeight) || !std::isfinite(options.AuthalicWeight) ||
-    (!mixSearch && options.ConformalWeight == 0.0 && options.AuthalicWeight == 0.0))
-  {
-    return Fail("The conformal and authalic weights must be finite and not both 0.");
-  }
-  if (natural && (options.AuthalicWeight != 0.0 || mixSearch))
-  {
-    return Fail("Natural boundaries are defined for the conformal energy only (thesis section 5.4.2): "
-                "set the authalic weight to 0 and do not optimise the mix, or fix the boundary.");
-  }
-  if (natural && options.BoundaryOptimizationSteps > 0)
-  {
-    return Fail("Boundary optimisation needs a fixed boundary (it moves the fixed boundary points).");
-  }
-  if (mixSearch && !(options.OptimalRange[0] <= options.OptimalRange[1]))
-  {
-    return Fail("The search range of the optimal mix is empty.");
-  }
-  if ((options.BoundaryOptimizationSteps > 0 || options.KeepBoundaryBasis) && !options.Constraints.empty())
-  {
-    return Fail("Boundary optimisation and the boundary basis do not combine with point constraints.");
-  }
-  for (std::size_t k = 0; k < options.Constraints.size(); ++k)
-  {
-    const PointConstraint& c = options.Constraints[k];
+    const PointConstraint& c = constraints[k];
     double sum = 0.0;
     bool any = false;
     for (int j = 0; j < 3; ++j)
@@ -1140,207 +830,289 @@ ParameterizationResult ParameterizeUnguarded(
       }
       if (c.Vertices[j] >= n || !used[c.Vertices[j]] || !std::isfinite(c.Weights[j]))
       {
-        return Fail("Point constraint " + std::to_string(k) + " refers to a point that is not on the surface.");
+        return "Point constraint " + std::to_string(k) + " refers to a point that is not on the surface.";
       }
       sum += c.Weights[j];
       any = true;
     }
     if (!any || std::abs(sum - 1.0) > 1e-6 || !std::isfinite(c.Target[0]) || !std::isfinite(c.Target[1]))
     {
-      return Fail("Point constraint " + std::to_string(k) +
-        " needs barycentric weights that sum to 1 and a finite target.");
+      return "Point constraint " + std::to_string(k) + " needs barycentric weights that sum to 1 and a finite target.";
     }
   }
+  return {};
+}
 
-  ParameterizationResult result;
-  std::vector<std::vector<Index>> loops = topo.BoundaryLoops();
-  std::size_t outer = 0;
-  for (std::size_t k = 1; k < loops.size(); ++k)
+/// The checks of the input and the options: the message of the first
+/// problem, empty if there is none; `used` marks the vertices in a triangle.
+std::string CheckInput(const MeshTopology& topo, const double* points, const ParameterizationOptions& options,
+  std::vector<std::uint8_t>& used)
+{
+  std::string error;
+  if (!CheckDiskTopology(topo, error))
   {
-    if (LoopLength(loops[k], points) > LoopLength(loops[outer], points))
+    return "Cannot parameterize: " + error + ".";
+  }
+  const Index n = topo.NumberOfVertices();
+  used.assign(n, 0);
+  for (Index v = 0; v < n; ++v)
+  {
+    used[v] = topo.Valence(v) > 0;
+    if (used[v] && !Point(points, v).allFinite())
     {
-      outer = k;
+      return "Cannot parameterize: point " + std::to_string(v) + " has non-finite coordinates.";
     }
   }
-  result.OuterBoundary = loops[outer];
-  std::vector<double> uv(2 * static_cast<std::size_t>(n), 0.0);
-
-  if (natural)
+  const bool natural = options.Boundary == ParameterizationBoundary::Natural;
+  const bool mixSearch = options.OptimizeMix;
+  if (!std::isfinite(options.ConformalWeight) || !std::isfinite(options.AuthalicWeight) ||
+    (!mixSearch && options.ConformalWeight == 0.0 && options.AuthalicWeight == 0.0))
   {
-    std::vector<Index> prev(n, -1);
-    for (Index v = 0; v < n; ++v)
-    {
-      if (topo.BoundaryNext(v) >= 0)
+    return "The conformal and authalic weights must be finite and not both 0.";
+  }
+  if (natural && (options.AuthalicWeight != 0.0 || mixSearch))
+  {
+    return "Natural boundaries are defined for the conformal energy only (thesis section 5.4.2): "
+           "set the authalic weight to 0 and do not optimise the mix, or fix the boundary.";
+  }
+  if (natural && options.BoundaryOptimizationSteps > 0)
+  {
+    return "Boundary optimisation needs a fixed boundary (it moves the fixed boundary points).";
+  }
+  if (mixSearch && !(options.OptimalRange[0] <= options.OptimalRange[1]))
+  {
+    return "The search range of the optimal mix is empty.";
+  }
+  if ((options.BoundaryOptimizationSteps > 0 || options.KeepBoundaryBasis) && !options.Constraints.empty())
+  {
+    return "Boundary optimisation and the boundary basis do not combine with point constraints.";
+  }
+  return CheckConstraints(options.Constraints, used);
+}
+
+/// The two boundary vertices farthest apart (all boundary loops) and their
+/// squared distance: exact up to 20000 boundary vertices, else a double
+/// sweep (farthest from any vertex, then farthest from that one).
+double FarthestBoundaryPair(const std::vector<std::vector<Index>>& loops, const double* points, int threads,
+  Index& pa, Index& pb)
+{
+  std::vector<Index> boundary;
+  for (const auto& loop : loops)
+  {
+    boundary.insert(boundary.end(), loop.begin(), loop.end());
+  }
+  pa = pb = boundary[0];
+  double far = -1.0;
+  if (boundary.size() <= 20000)
+  {
+    std::vector<double> best(boundary.size(), -1.0);
+    std::vector<Index> partner(boundary.size(), -1);
+    ParallelFor(static_cast<std::int64_t>(boundary.size()), threads, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t i = b; i < e; ++i)
       {
-        prev[topo.BoundaryNext(v)] = v;
-      }
-    }
-    // The two boundary vertices farthest apart (all boundary loops).
-    std::vector<Index> boundary;
-    for (const auto& loop : loops)
-    {
-      boundary.insert(boundary.end(), loop.begin(), loop.end());
-    }
-    Index pa = boundary[0], pb = boundary[0];
-    double far = -1.0;
-    if (boundary.size() <= 20000)
-    {
-      std::vector<double> best(boundary.size(), -1.0);
-      std::vector<Index> partner(boundary.size(), -1);
-      ParallelFor(static_cast<std::int64_t>(boundary.size()), threads, [&](std::int64_t b, std::int64_t e) {
-        for (std::int64_t i = b; i < e; ++i)
+        for (std::size_t j = i + 1; j < boundary.size(); ++j)
         {
-          for (std::size_t j = i + 1; j < boundary.size(); ++j)
+          const double d = (Point(points, boundary[i]) - Point(points, boundary[j])).squaredNorm();
+          if (d > best[i])
           {
-            const double d = (Point(points, boundary[i]) - Point(points, boundary[j])).squaredNorm();
-            if (d > best[i])
-            {
-              best[i] = d;
-              partner[i] = boundary[j];
-            }
-          }
-        }
-      });
-      for (std::size_t i = 0; i < boundary.size(); ++i)
-      {
-        if (best[i] > far)
-        {
-          far = best[i];
-          pa = boundary[i];
-          pb = partner[i];
-        }
-      }
-    }
-    else // a double sweep: farthest from any vertex, then farthest from that one
-    {
-      for (int sweep = 0; sweep < 2; ++sweep)
-      {
-        const Index from = sweep == 0 ? boundary[0] : pa;
-        far = -1.0;
-        for (Index v : boundary)
-        {
-          const double d = (Point(points, v) - Point(points, from)).squaredNorm();
-          if (d > far)
-          {
-            far = d;
-            (sweep == 0 ? pa : pb) = v;
+            best[i] = d;
+            partner[i] = boundary[j];
           }
         }
       }
-    }
-    if (!(far > 0.0))
+    });
+    for (std::size_t i = 0; i < boundary.size(); ++i)
     {
-      return Fail("Cannot parameterize: the boundary points all coincide.");
+      if (best[i] > far)
+      {
+        far = best[i];
+        pa = boundary[i];
+        pb = partner[i];
+      }
     }
-    result.PinnedVertices = { pa, pb };
-    Index degenerate = 0;
-    const RowMatrix rows = NaturalSystem(topo, points, threads, prev, degenerate);
-    result.DegenerateTriangles = degenerate;
-    // Pins at (0,0) and (d,0), d their 3D distance; with two or more point
-    // constraints the pins' positions are unknowns too (the constraints then
-    // fix the similarity that the pins fix otherwise).
-    const bool freePins = options.Constraints.size() >= 2;
-    std::vector<std::uint8_t> kind(2 * static_cast<std::size_t>(n), KindFactor);
-    Eigen::MatrixXd fixed = Eigen::MatrixXd::Zero(2 * n, 1);
+    return far;
+  }
+  for (int sweep = 0; sweep < 2; ++sweep)
+  {
+    const Index from = sweep == 0 ? boundary[0] : pa;
+    far = -1.0;
+    for (Index v : boundary)
+    {
+      const double d = (Point(points, v) - Point(points, from)).squaredNorm();
+      if (d > far)
+      {
+        far = d;
+        (sweep == 0 ? pa : pb) = v;
+      }
+    }
+  }
+  return far;
+}
+
+/// The natural map is defined up to a similarity: with one point constraint,
+/// translate it onto its target; with none, fit the map into [0,1]^2 by a
+/// uniform scale and a translation (the energy does not change).
+void PlaceNaturalMap(const ParameterizationOptions& options, const std::vector<std::uint8_t>& used,
+  std::vector<double>& uv)
+{
+  const Index n = static_cast<Index>(used.size());
+  if (options.Constraints.size() == 1)
+  {
+    const PointConstraint& c = options.Constraints[0];
+    Vec2 at(0, 0);
+    for (int j = 0; j < 3; ++j)
+    {
+      if (c.Vertices[j] >= 0)
+      {
+        at += c.Weights[j] * UV(uv.data(), c.Vertices[j]);
+      }
+    }
     for (Index v = 0; v < n; ++v)
+    {
+      uv[2 * v] += used[v] ? c.Target[0] - at.x() : 0.0;
+      uv[2 * v + 1] += used[v] ? c.Target[1] - at.y() : 0.0;
+    }
+  }
+  else if (options.Constraints.empty())
+  {
+    Vec2 lo(HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL);
+    for (Index v = 0; v < n; ++v)
+    {
+      if (used[v])
+      {
+        lo = lo.cwiseMin(UV(uv.data(), v));
+        hi = hi.cwiseMax(UV(uv.data(), v));
+      }
+    }
+    const double extent = std::max(hi.x() - lo.x(), hi.y() - lo.y());
+    for (Index v = 0; v < n; ++v)
+    {
+      if (used[v] && extent > 0.0)
+      {
+        uv[2 * v] = (uv[2 * v] - lo.x()) / extent;
+        uv[2 * v + 1] = (uv[2 * v + 1] - lo.y()) / extent;
+      }
+    }
+  }
+}
+
+/// The natural conformal map (eq. 5.7): the two farthest boundary points
+/// pinned at (0,0) and (d,0), d their 3D distance; with two or more point
+/// constraints the pins' positions are unknowns too (the constraints then
+/// fix the similarity that the pins fix otherwise).  An error message, or
+/// empty with `uv` set.
+std::string MapNatural(const MeshTopology& topo, const double* points, const ParameterizationOptions& options,
+  const std::vector<std::vector<Index>>& loops, const std::vector<std::uint8_t>& used, int threads,
+  ParameterizationResult& result, std::vector<double>& uv)
+{
+  const Index n = topo.NumberOfVertices();
+  std::vector<Index> prev(n, -1);
+  for (Index v = 0; v < n; ++v)
+  {
+    if (topo.BoundaryNext(v) >= 0)
+    {
+      prev[topo.BoundaryNext(v)] = v;
+    }
+  }
+  Index pa = -1, pb = -1;
+  const double far = FarthestBoundaryPair(loops, points, threads, pa, pb);
+  if (!(far > 0.0))
+  {
+    return "Cannot parameterize: the boundary points all coincide.";
+  }
+  result.PinnedVertices = { pa, pb };
+  Index degenerate = 0;
+  const RowMatrix rows = NaturalSystem(topo, points, threads, prev, degenerate);
+  result.DegenerateTriangles = degenerate;
+  const bool freePins = options.Constraints.size() >= 2;
+  std::vector<std::uint8_t> kind(2 * static_cast<std::size_t>(n), KindFactor);
+  Eigen::MatrixXd fixed = Eigen::MatrixXd::Zero(2 * n, 1);
+  for (Index v = 0; v < n; ++v)
+  {
+    if (!used[v])
+    {
+      kind[2 * v] = kind[2 * v + 1] = KindFixed;
+    }
+  }
+  for (int d = 0; d < 2; ++d)
+  {
+    kind[2 * pa + d] = kind[2 * pb + d] = freePins ? KindExtra : KindFixed;
+  }
+  fixed(2 * pb, 0) = std::sqrt(far);
+  ParameterizationSolver solver;
+  std::string error;
+  // u and v share the cotangent matrix and are coupled on the boundary only.
+  if (!solver.Setup(rows, kind, fixed, true, VertexOrder(topo, points, threads), true, threads, error))
+  {
+    return "Cannot parameterize: " + error + ".";
+  }
+  std::vector<ConstraintRow> constraints;
+  if (freePins)
+  {
+    AddConstraintRows(options, true, constraints);
+  }
+  Eigen::MatrixXd solution = fixed;
+  if (!solver.Solve(constraints, solution, error))
+  {
+    return "Cannot parameterize: " + error + ".";
+  }
+  for (Index v = 0; v < n; ++v)
+  {
+    uv[2 * v] = used[v] ? solution(2 * v, 0) : 0.0;
+    uv[2 * v + 1] = used[v] ? solution(2 * v + 1, 0) : 0.0;
+  }
+  PlaceNaturalMap(options, used, uv);
+  return {};
+}
+
+/// The unknowns of a fixed-boundary map (one per vertex, u and v as two
+/// columns) and the solves over them.
+struct FixedBoundarySystem
+{
+  const MeshTopology& Topology;
+  const double* Points;
+  int Threads;
+  std::vector<std::uint8_t> Kind;
+  Eigen::MatrixXd Fixed;
+  std::vector<int> FixedList;
+  std::vector<Index> FreeList;
+  std::vector<Index> Order;
+  std::vector<ConstraintRow> Constraints;
+
+  FixedBoundarySystem(const MeshTopology& topo, const double* points, int threads, const std::vector<std::uint8_t>& used)
+    : Topology(topo)
+    , Points(points)
+    , Threads(threads)
+    , Kind(topo.NumberOfVertices(), KindFactor)
+    , Fixed(Eigen::MatrixXd::Zero(topo.NumberOfVertices(), 2))
+  {
+    for (Index v = 0; v < topo.NumberOfVertices(); ++v)
     {
       if (!used[v])
       {
-        kind[2 * v] = kind[2 * v + 1] = KindFixed;
-      }
-    }
-    for (int d = 0; d < 2; ++d)
-    {
-      kind[2 * pa + d] = kind[2 * pb + d] = freePins ? KindExtra : KindFixed;
-    }
-    fixed(2 * pb, 0) = std::sqrt(far);
-    ParameterizationSolver solver;
-    // u and v share the cotangent matrix and are coupled on the boundary only.
-    if (!solver.Setup(rows, kind, fixed, true, VertexOrder(topo, points, threads), true, threads, error))
-    {
-      return Fail("Cannot parameterize: " + error + ".");
-    }
-    std::vector<ConstraintRow> constraints;
-    if (freePins)
-    {
-      AddConstraintRows(options, true, constraints);
-    }
-    Eigen::MatrixXd solution = fixed;
-    if (!solver.Solve(constraints, solution, error))
-    {
-      return Fail("Cannot parameterize: " + error + ".");
-    }
-    for (Index v = 0; v < n; ++v)
-    {
-      uv[2 * v] = used[v] ? solution(2 * v, 0) : 0.0;
-      uv[2 * v + 1] = used[v] ? solution(2 * v + 1, 0) : 0.0;
-    }
-    if (options.Constraints.size() == 1)
-    {
-      // One constraint: translate the map onto it (the energy does not change).
-      const PointConstraint& c = options.Constraints[0];
-      Vec2 at(0, 0);
-      for (int j = 0; j < 3; ++j)
-      {
-        if (c.Vertices[j] >= 0)
-        {
-          at += c.Weights[j] * UV(uv.data(), c.Vertices[j]);
-        }
-      }
-      for (Index v = 0; v < n; ++v)
-      {
-        uv[2 * v] += used[v] ? c.Target[0] - at.x() : 0.0;
-        uv[2 * v + 1] += used[v] ? c.Target[1] - at.y() : 0.0;
-      }
-    }
-    else if (options.Constraints.empty())
-    {
-      // Fit into [0,1]^2 by a uniform scale and a translation (a similarity:
-      // still the natural conformal map).
-      Vec2 lo(HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL);
-      for (Index v = 0; v < n; ++v)
-      {
-        if (used[v])
-        {
-          lo = lo.cwiseMin(UV(uv.data(), v));
-          hi = hi.cwiseMax(UV(uv.data(), v));
-        }
-      }
-      const double extent = std::max(hi.x() - lo.x(), hi.y() - lo.y());
-      for (Index v = 0; v < n; ++v)
-      {
-        if (used[v] && extent > 0.0)
-        {
-          uv[2 * v] = (uv[2 * v] - lo.x()) / extent;
-          uv[2 * v + 1] = (uv[2 * v + 1] - lo.y()) / extent;
-        }
+        Kind[v] = KindUnused;
       }
     }
   }
-  else
+
+  void Fix(Index v, double u, double w)
   {
-    // Fixed boundary.
-    std::vector<std::uint8_t> kind(n, KindFactor);
-    Eigen::MatrixXd fixed = Eigen::MatrixXd::Zero(n, 2);
-    std::vector<int> fixedList;
-    for (Index v = 0; v < n; ++v)
-    {
-      if (!used[v])
-      {
-        kind[v] = KindUnused;
-      }
-    }
-    const auto fix = [&](Index v, double u, double w) {
-      kind[v] = KindFixed;
-      fixed(v, 0) = u;
-      fixed(v, 1) = w;
-      fixedList.push_back(v);
-    };
+    Kind[v] = KindFixed;
+    Fixed(v, 0) = u;
+    Fixed(v, 1) = w;
+    FixedList.push_back(v);
+  }
+
+  /// Fixes the boundary (given positions on every loop, or the outer loop on
+  /// a circle or square); an error message, or empty.
+  std::string FixBoundary(const ParameterizationOptions& options, const std::vector<std::vector<Index>>& loops,
+    const std::vector<Index>& outer)
+  {
     if (options.Boundary == ParameterizationBoundary::Given)
     {
       if (!options.GivenUV)
       {
-        return Fail("Given boundary positions were requested but none were supplied.");
+        return "Given boundary positions were requested but none were supplied.";
       }
       for (const auto& loop : loops)
       {
@@ -1349,126 +1121,178 @@ ParameterizationResult ParameterizeUnguarded(
           const double u = options.GivenUV[2 * v], w = options.GivenUV[2 * v + 1];
           if (!std::isfinite(u) || !std::isfinite(w))
           {
-            return Fail("The given boundary position of point " + std::to_string(v) + " is not finite.");
+            return "The given boundary position of point " + std::to_string(v) + " is not finite.";
           }
-          fix(v, u, w);
+          Fix(v, u, w);
         }
       }
     }
     else
     {
-      if (options.Boundary == ParameterizationBoundary::Square && result.OuterBoundary.size() < 4)
+      if (options.Boundary == ParameterizationBoundary::Square && outer.size() < 4)
       {
-        return Fail("A square boundary needs at least 4 boundary points.");
+        return "A square boundary needs at least 4 boundary points.";
       }
-      std::vector<double> placed(2 * static_cast<std::size_t>(n), 0.0);
-      PlaceOuterBoundary(result.OuterBoundary, points, options, placed.data());
-      for (Index v : result.OuterBoundary)
+      std::vector<double> placed(2 * static_cast<std::size_t>(Topology.NumberOfVertices()), 0.0);
+      PlaceBoundaryLoop(outer, Points, options.Boundary, options.Spacing, placed.data());
+      for (Index v : outer)
       {
-        fix(v, placed[2 * v], placed[2 * v + 1]);
+        Fix(v, placed[2 * v], placed[2 * v + 1]);
       }
     }
-    std::vector<ConstraintRow> constraints;
-    AddConstraintRows(options, false, constraints);
-    const bool wantBasis = options.KeepBoundaryBasis || options.BoundaryOptimizationSteps > 0;
-    std::vector<Index> freeList;
+    for (Index v = 0; v < Topology.NumberOfVertices(); ++v)
+    {
+      if (Kind[v] == KindFactor)
+      {
+        FreeList.push_back(v);
+      }
+    }
+    AddConstraintRows(options, false, Constraints);
+    return {};
+  }
+
+  /// One solve of the energy lambda E_A + mu E_chi into `out` (2 per
+  /// vertex); with `responses`, also its impulse responses (section 5.4.2).
+  bool Solve(double lambda, double mu, std::vector<double>& out, Eigen::MatrixXd* responses,
+    ParameterizationResult& result, std::string& error)
+  {
+    Index degenerate = 0;
+    const RowMatrix rows = VertexSystem(Topology, Points, lambda, mu, Threads, degenerate);
+    result.DegenerateTriangles = degenerate;
+    ParameterizationSolver solver;
+    Eigen::MatrixXd solution = Fixed;
+    if (Order.empty())
+    {
+      Order = VertexOrder(Topology, Points, Threads);
+    }
+    if (!solver.Setup(rows, Kind, Fixed, mu == 0.0, Order, false, Threads, error) ||
+      !solver.Solve(Constraints, solution, error))
+    {
+      return false;
+    }
+    const Index n = Topology.NumberOfVertices();
+    out.assign(2 * static_cast<std::size_t>(n), 0.0);
     for (Index v = 0; v < n; ++v)
     {
-      if (kind[v] == KindFactor)
-      {
-        freeList.push_back(v);
-      }
+      out[2 * v] = solution(v, 0);
+      out[2 * v + 1] = solution(v, 1);
     }
-    const double basisBytes = 8.0 * freeList.size() * fixedList.size();
-    if (wantBasis && basisBytes > options.MaximumBasisBytes)
+    if (responses)
     {
-      std::ostringstream os;
-      os << "The boundary basis would need " << basisBytes / (1 << 20) << " MiB (" << freeList.size()
-         << " free x " << fixedList.size() << " boundary points), more than the limit of "
-         << options.MaximumBasisBytes / (1 << 20) << " MiB.";
-      return Fail(os.str());
+      *responses = solver.ImpulseResponses(rows, FixedList);
     }
-    std::vector<Index> vertexOrder;
-    // One solve of the fixed-boundary system; with `responses`, also its
-    // impulse responses (section 5.4.2).
-    const auto solve = [&](double lambda, double mu, std::vector<double>& out,
-                         Eigen::MatrixXd* responses) {
-      Index degenerate = 0;
-      const RowMatrix rows = VertexSystem(topo, points, lambda, mu, threads, degenerate);
-      result.DegenerateTriangles = degenerate;
-      ParameterizationSolver solver;
-      Eigen::MatrixXd solution = fixed;
-      if (vertexOrder.empty())
-      {
-        vertexOrder = VertexOrder(topo, points, threads);
-      }
-      if (!solver.Setup(rows, kind, fixed, mu == 0.0, vertexOrder, false, threads, error) ||
-        !solver.Solve(constraints, solution, error))
-      {
-        return false;
-      }
-      out.assign(2 * static_cast<std::size_t>(n), 0.0);
-      for (Index v = 0; v < n; ++v)
-      {
-        out[2 * v] = solution(v, 0);
-        out[2 * v + 1] = solution(v, 1);
-      }
-      if (responses)
-      {
-        *responses = solver.ImpulseResponses(rows, fixedList);
-      }
-      return true;
-    };
-    Eigen::MatrixXd responses;
-    if (mixSearch)
+    return true;
+  }
+
+  /// Section 5.5.1: the conformal and authalic maps, blended by the l of
+  /// the search range that minimises the chosen energy (and so are their
+  /// impulse responses, eq. 5.8, if asked for).
+  bool SolveOptimalMix(const ParameterizationOptions& options, std::vector<double>& uv, Eigen::MatrixXd* responses,
+    ParameterizationResult& result, std::string& error)
+  {
+    std::vector<double> uvA, uvX;
+    Eigen::MatrixXd responsesX;
+    if (!Solve(1.0, 0.0, uvA, responses, result, error) ||
+      !Solve(0.0, 1.0, uvX, responses ? &responsesX : nullptr, result, error))
     {
-      std::vector<double> uvA, uvX;
-      Eigen::MatrixXd responsesX;
-      if (!solve(1.0, 0.0, uvA, wantBasis ? &responses : nullptr) ||
-        !solve(0.0, 1.0, uvX, wantBasis ? &responsesX : nullptr))
-      {
-        return Fail("Cannot parameterize: " + error + ".");
-      }
-      const double a3 = TotalArea3D(topo, points, threads), a2 = TotalArea2D(topo, uvA.data(), threads);
-      const double s = a2 > 0.0 ? std::sqrt(a3 / a2) : 1.0;
-      const std::vector<double> poly =
-        MixEnergyPolynomial(topo, points, uvA.data(), uvX.data(), s, options.OptimalEnergy);
-      const double l = MinimizePolynomial(poly, options.OptimalRange[0], options.OptimalRange[1]);
-      result.OptimalMix = l;
-      for (std::size_t k = 0; k < uv.size(); ++k)
-      {
-        uv[k] = l * uvA[k] + (1.0 - l) * uvX[k];
-      }
-      if (wantBasis) // the responses of the interpolated family (eq. 5.8)
-      {
-        responses = l * responses + (1.0 - l) * responsesX;
-      }
+      return false;
     }
-    else if (!solve(options.ConformalWeight, options.AuthalicWeight, uv, wantBasis ? &responses : nullptr))
+    const double a3 = TotalArea3D(Topology, Points, Threads), a2 = TotalArea2D(Topology, uvA.data(), Threads);
+    const double s = a2 > 0.0 ? std::sqrt(a3 / a2) : 1.0;
+    const std::vector<double> poly =
+      MixEnergyPolynomial(Topology, Points, uvA.data(), uvX.data(), s, options.OptimalEnergy);
+    const double l = MinimizePolynomial(poly, options.OptimalRange[0], options.OptimalRange[1]);
+    result.OptimalMix = l;
+    for (std::size_t k = 0; k < uv.size(); ++k)
     {
-      return Fail("Cannot parameterize: " + error + ".");
+      uv[k] = l * uvA[k] + (1.0 - l) * uvX[k];
     }
-    std::unique_ptr<BoundaryBasis> basis;
-    if (wantBasis)
+    if (responses)
     {
-      basis = std::make_unique<BoundaryBasis>(n, std::vector<Index>(fixedList.begin(), fixedList.end()),
-        std::move(freeList), std::vector<double>(responses.data(), responses.data() + responses.size()));
+      *responses = l * *responses + (1.0 - l) * responsesX;
     }
-    for (Index v = 0; v < n; ++v)
+    return true;
+  }
+};
+
+/// A map with a fixed boundary (section 5.3), optionally the optimal mix
+/// (5.5.1), the boundary basis and boundary optimisation (5.5.2).  An error
+/// message, or empty with `uv` set.
+std::string MapFixedBoundary(const MeshTopology& topo, const double* points, const ParameterizationOptions& options,
+  const std::vector<std::vector<Index>>& loops, const std::vector<std::uint8_t>& used, int threads,
+  ParameterizationResult& result, std::vector<double>& uv)
+{
+  FixedBoundarySystem system(topo, points, threads, used);
+  std::string error = system.FixBoundary(options, loops, result.OuterBoundary);
+  if (!error.empty())
+  {
+    return error;
+  }
+  const bool wantBasis = options.KeepBoundaryBasis || options.BoundaryOptimizationSteps > 0;
+  const double basisBytes = 8.0 * system.FreeList.size() * system.FixedList.size();
+  if (wantBasis && basisBytes > options.MaximumBasisBytes)
+  {
+    std::ostringstream os;
+    os << "The boundary basis would need " << basisBytes / (1 << 20) << " MiB (" << system.FreeList.size()
+       << " free x " << system.FixedList.size() << " boundary points), more than the limit of "
+       << options.MaximumBasisBytes / (1 << 20) << " MiB.";
+    return os.str();
+  }
+  Eigen::MatrixXd responses;
+  Eigen::MatrixXd* wanted = wantBasis ? &responses : nullptr;
+  const bool solved = options.OptimizeMix
+    ? system.SolveOptimalMix(options, uv, wanted, result, error)
+    : system.Solve(options.ConformalWeight, options.AuthalicWeight, uv, wanted, result, error);
+  if (!solved)
+  {
+    return "Cannot parameterize: " + error + ".";
+  }
+  const Index n = topo.NumberOfVertices();
+  std::unique_ptr<BoundaryBasis> basis;
+  if (wantBasis)
+  {
+    basis = std::make_unique<BoundaryBasis>(n,
+      std::vector<Index>(system.FixedList.begin(), system.FixedList.end()), std::move(system.FreeList),
+      std::vector<double>(responses.data(), responses.data() + responses.size()));
+  }
+  for (Index v = 0; v < n; ++v)
+  {
+    if (!used[v])
     {
-      if (!used[v])
-      {
-        uv[2 * v] = uv[2 * v + 1] = 0.0;
-      }
+      uv[2 * v] = uv[2 * v + 1] = 0.0;
     }
-    if (basis && options.BoundaryOptimizationSteps > 0)
-    {
-      OptimizeBoundary(topo, points, *basis, options, uv, result);
-    }
-    if (options.KeepBoundaryBasis)
-    {
-      result.Basis = std::move(basis);
-    }
+  }
+  if (basis && options.BoundaryOptimizationSteps > 0)
+  {
+    OptimizeBoundary(topo, points, *basis, options, uv, result);
+  }
+  if (options.KeepBoundaryBasis)
+  {
+    result.Basis = std::move(basis);
+  }
+  return {};
+}
+
+ParameterizationResult ParameterizeUnguarded(
+  const MeshTopology& topo, const double* points, const ParameterizationOptions& options)
+{
+  std::vector<std::uint8_t> used;
+  std::string error = CheckInput(topo, points, options, used);
+  if (!error.empty())
+  {
+    return Fail(error);
+  }
+  const int threads = ResolveThreadCount(options.NumberOfThreads);
+  ParameterizationResult result;
+  const std::vector<std::vector<Index>> loops = topo.BoundaryLoops();
+  result.OuterBoundary = loops[LongestLoop(loops, points)];
+  std::vector<double> uv(2 * static_cast<std::size_t>(topo.NumberOfVertices()), 0.0);
+  error = options.Boundary == ParameterizationBoundary::Natural
+    ? MapNatural(topo, points, options, loops, used, threads, result, uv)
+    : MapFixedBoundary(topo, points, options, loops, used, threads, result, uv);
+  if (!error.empty())
+  {
+    return Fail(error);
   }
   for (double value : uv)
   {

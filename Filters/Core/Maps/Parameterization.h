@@ -21,6 +21,8 @@
 // points through the impulse-response basis (BoundaryBasis).
 #pragma once
 
+#include "Maps/BoundaryPlacement.h"
+#include "Maps/Distortion.h"
 #include "Mesh/MeshTopology.h"
 
 #include <array>
@@ -30,28 +32,6 @@
 
 namespace beltrami
 {
-
-enum class ParameterizationBoundary : int
-{
-  Circle = 0,  ///< outer loop on the circle of centre (0.5, 0.5), radius 0.5
-  Square = 1,  ///< outer loop on [0,1]^2, corners at the quarters of its length
-  Given = 2,   ///< every boundary vertex at the caller's position (GivenUV)
-  Natural = 3  ///< natural boundaries (eq. 5.7), conformal energy only
-};
-
-enum class BoundarySpacing : int
-{
-  ArcLength = 0, ///< spacing proportional to the 3D edge lengths along the loop
-  Uniform = 1    ///< equal spacing
-};
-
-/// Energies of section 5.5 (both are used with the map scaled so that its
-/// total area equals the surface's, which makes them independent of units).
-enum class DistortionEnergy : int
-{
-  EdgeLength = 0, ///< sum over edges (|u_i - u_j|^2 / |x_i - x_j|^2 - 1)^2
-  Area = 1        ///< sum over triangles ((A_2D / A_3D)^2 - 1)^2
-};
 
 /// A surface point (a vertex, or a point of a triangle given by barycentric
 /// weights) to be mapped onto a target (section 5.4.1).
@@ -115,18 +95,6 @@ private:
   std::vector<double> Basis;
 };
 
-struct DistortionReport
-{
-  std::vector<double> AngleDistortion; ///< per triangle: mean |angle_2D - angle_3D| (degrees)
-  std::vector<double> AreaDistortion;  ///< per triangle: log((A_2D/sum A_2D) / (A_3D/sum A_3D))
-  std::vector<double> EdgeDistortion;  ///< per triangle: mean |log(|e_2D| / (s |e_3D|))|, s^2 = sum A_2D / sum A_3D
-  double MeanAngle = 0, MaxAngle = 0;  ///< over the triangles with a 3D area
-  double MeanArea = 0, MaxArea = 0;    ///< of |AreaDistortion|
-  double MeanEdge = 0, MaxEdge = 0;
-  Index FlippedTriangles = 0;          ///< 2D signed area <= 0 (3D non-degenerate)
-  Index DegenerateTriangles = 0;       ///< zero 3D area: left out of everything
-};
-
 struct ParameterizationResult
 {
   bool Success = false;
@@ -149,14 +117,5 @@ bool CheckDiskTopology(const MeshTopology& topology, std::string& error);
 /// Computes the parameterization of the mesh at `points` (3 per vertex).
 ParameterizationResult Parameterize(
   const MeshTopology& topology, const double* points, const ParameterizationOptions& options);
-
-/// Distortion of the map `uv` (2 per vertex) against the surface.
-DistortionReport MeasureDistortion(
-  const MeshTopology& topology, const double* points, const double* uv, int numThreads = 0);
-
-/// The energies of section 5.5 for the map `uv` scaled by `scale`
-/// (u -> scale * u), and their gradients (2 per vertex) if `gradient` is not null.
-double DistortionEnergyValue(const MeshTopology& topology, const double* points, const double* uv,
-  double scale, DistortionEnergy energy, double* gradient = nullptr);
 
 } // namespace beltrami
