@@ -524,43 +524,58 @@ std::vector<double> SmoothedCopy(const MeshTopology& topo, const double* x, Lapl
   return copy;
 }
 
-FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const FairingOptions& opt,
-  const FairingConstraints& cons, const ProgressCallback& progress)
+/// What the flows may move: hard constraints (user-fixed or zero weight),
+/// soft weights clamped to [0, 1], boundary vertices, and vertices the flows
+/// cannot move (non-manifold, duplicate faces, non-finite: kept fixed).
+struct VertexRoles
 {
-  FairingReport report;
-  const Index n = topo.NumberOfVertices();
-  const int threads = opt.NumberOfThreads;
-  const TopologySummary& info = topo.Summary();
+  std::vector<std::uint8_t> Fixed, Boundary;
+  std::vector<double> Weight;
+  bool HardConstraints = false;
+};
 
-  // Hard constraints, soft weights and vertices the flows cannot move.
-  std::vector<std::uint8_t> fixed(n, 0), boundary(n, 0);
-  std::vector<double> weight(n, 1.0);
-  bool hardConstraints = false;
+VertexRoles ClassifyVertices(const MeshTopology& topo, const double* x, const FairingOptions& opt,
+  const FairingConstraints& cons, FairingReport& report)
+{
+  const Index n = topo.NumberOfVertices();
+  VertexRoles r;
+  r.Fixed.assign(n, 0);
+  r.Boundary.assign(n, 0);
+  r.Weight.assign(n, 1.0);
   for (Index i = 0; i < n; ++i)
   {
     const std::uint8_t flags = topo.VertexFlags(i);
-    boundary[i] = (flags & VertexBoundary) != 0;
+    r.Boundary[i] = (flags & VertexBoundary) != 0;
     if (cons.Weights)
     {
       const double w = cons.Weights[i];
-      weight[i] = std::isfinite(w) ? std::clamp(w, 0.0, 1.0) : 1.0;
+      r.Weight[i] = std::isfinite(w) ? std::clamp(w, 0.0, 1.0) : 1.0;
     }
-    const bool user = (cons.Fixed && cons.Fixed[i]) || weight[i] == 0.0;
-    hardConstraints = hardConstraints || user;
+    const bool user = (cons.Fixed && cons.Fixed[i]) || r.Weight[i] == 0.0;
+    r.HardConstraints = r.HardConstraints || user;
     const bool unusable = (flags & (VertexNonManifold | VertexDuplicateFace | VertexIsolated)) ||
       !Point(x, i).allFinite();
     report.UnusableVertices += unusable && !(flags & VertexIsolated);
-    fixed[i] = user || unusable || (boundary[i] && opt.Boundary == FairingBoundary::Fixed);
+    r.Fixed[i] = user || unusable || (r.Boundary[i] && opt.Boundary == FairingBoundary::Fixed);
   }
+  return r;
+}
 
+/// Section 3.3.1: the invariant restored after every step (Automatic: the
+/// volume of closed oriented surfaces without hard constraints), with its
+/// initial value; remarks for the user go to `warn`.
+InvariantState ChooseInvariant(const MeshTopology& topo, const double* x, const FairingOptions& opt,
+  const VertexRoles& roles, std::ostringstream& warn, FairingReport& report)
+{
+  const Index n = topo.NumberOfVertices();
+  const TopologySummary& info = topo.Summary();
   InvariantState inv;
   inv.Kind = opt.Invariant;
   const bool closed = info.IsClosed() && info.IsManifold() && info.IsOriented();
   if (inv.Kind == FairingInvariant::Automatic)
   {
-    inv.Kind = closed && !hardConstraints ? FairingInvariant::Volume : FairingInvariant::None;
+    inv.Kind = closed && !roles.HardConstraints ? FairingInvariant::Volume : FairingInvariant::None;
   }
-  std::ostringstream warn;
   if (inv.Kind == FairingInvariant::Volume && !closed)
   {
     warn << "Volume preservation needs a closed, manifold, consistently oriented surface; this one is "
@@ -580,7 +595,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     Index count = 0;
     for (Index i = 0; i < n; ++i)
     {
-      if (boundary[i] && Point(x, i).allFinite())
+      if (roles.Boundary[i] && Point(x, i).allFinite())
       {
         sum += Point(x, i);
         ++count;
@@ -588,20 +603,116 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     }
     inv.PlaneOrigin = count ? Vec3(sum / count) : VertexCentroid(topo, x);
   }
-  if (hardConstraints && inv.Kind != FairingInvariant::None)
+  if (roles.HardConstraints && inv.Kind != FairingInvariant::None)
   {
     warn << "The invariant is restored by scaling, which also moves the fixed points (section 3.3.1). ";
   }
   report.InvariantUsed = inv.Kind;
-  inv.Initial = MeasureInvariant(inv, topo, x, threads, nullptr);
+  inv.Initial = MeasureInvariant(inv, topo, x, opt.NumberOfThreads, nullptr);
   report.InitialInvariant = report.FinalInvariant = inv.Initial;
+  return inv;
+}
+
+/// The operator's geometry (OperatorMollification): x moved by the normal
+/// part of one implicit umbrella step.  On a noisy scan the cotangents of the
+/// noisy triangles are noise too; the copy damps the noise across the
+/// surface and keeps the sampling, so a flat region's copy is the region
+/// itself and flat regions still never move.
+std::vector<double> MollifiedOperatorPoints(const MeshTopology& topo, const double* x,
+  const std::vector<std::uint8_t>& held, const std::vector<double>& weight, const FairingOptions& opt)
+{
+  GraphLaplacian U;
+  std::vector<double> step = SmoothedCopy(topo, x, LaplacianWeights::Umbrella, opt.OperatorMollification, held,
+    weight, opt, U, [] { return static_cast<const Index*>(nullptr); });
+  std::vector<double> regular(x, x + 3 * static_cast<std::size_t>(topo.NumberOfVertices()));
+  for (std::size_t k = 0; k < step.size(); ++k)
+  {
+    step[k] -= x[k];
+  }
+  MoveAlongNormals(topo, regular.data(), step.data(), Keep::Normal, opt.NumberOfThreads);
+  return regular;
+}
+
+/// Section 3.6, by operator splitting: the tangential part (at the new
+/// surface) of an umbrella step, which evens out the sampling.  The umbrella
+/// is dimensionless: its step is lambda*dt in units of the mean edge length
+/// squared (L_umbrella ~ h^2/4 Laplace, L_K ~ Laplace/2), at most 1 so that
+/// it stays a local relaxation.
+void RegulariseSampling(const MeshTopology& topo, double* x, const std::vector<std::uint8_t>& fixed,
+  const std::vector<double>& weight, const FairingOptions& opt)
+{
+  const int threads = opt.NumberOfThreads;
+  GraphLaplacian U;
+  AssembleSurfaceLaplacian(topo, x, LaplacianWeights::Umbrella, U, threads);
+  const double h = MeanEdgeLength(topo, x);
+  const double relax = std::min(1.0, 2.0 * opt.TimeStep / (h * h));
+  const Stage tangential{ U, fixed, weight };
+  std::vector<double> v = Velocity(tangential, 1, x, threads);
+  for (double& vk : v)
+  {
+    vk *= relax;
+  }
+  MoveAlongNormals(topo, x, v.data(), Keep::Tangential, threads);
+}
+
+/// The curve-smoothing pass along the detected feature edges (directions
+/// `along` from the anisotropic weights).
+void SmoothFeatures(const MeshTopology& topo, double* x, const std::vector<Vec3>& along, const VertexRoles& roles,
+  const FairingOptions& opt, GraphLaplacian& curveL, FairingReport& report)
+{
+  const Index n = topo.NumberOfVertices();
+  std::vector<std::vector<Index>> chains;
+  std::vector<std::uint8_t> onCurve;
+  FeatureChains(topo, x, along, chains, onCurve);
+  CurveGraph features;
+  features.Build(n, {}, chains);
+  AssembleCurveLaplacian(features, x, LaplacianWeights::InverseEdgeLength, curveL);
+  Stage curve{ curveL, roles.Fixed, roles.Weight };
+  for (Index i = 0; i < n; ++i)
+  {
+    curve.Fixed[i] = roles.Fixed[i] || roles.Boundary[i] || !onCurve[i];
+  }
+  Integrate(curve, opt, x, report);
+}
+
+/// The counts and the warning sentence of a finished run.
+void FinishReport(const MeshTopology& topo, const VertexRoles& roles, const FairingOptions& opt,
+  std::ostringstream& warn, FairingReport& report)
+{
+  for (Index i = 0; i < topo.NumberOfVertices(); ++i)
+  {
+    report.FixedVertices += roles.Fixed[i] && topo.Valence(i) > 0;
+  }
+  if (report.ExplicitUnstable)
+  {
+    warn << "Explicit integration with time step " << opt.TimeStep
+         << " is above the stability limit (about " << report.StabilityLimit
+         << "): the result oscillates; use implicit integration or a smaller step. ";
+  }
+  if (!report.Converged)
+  {
+    warn << "The linear solver did not reach the tolerance " << opt.Tolerance << " (relative residual "
+         << report.LargestResidual << "). ";
+  }
+  report.Warning = warn.str();
+}
+
+FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const FairingOptions& opt,
+  const FairingConstraints& cons, const ProgressCallback& progress)
+{
+  FairingReport report;
+  const Index n = topo.NumberOfVertices();
+  const int threads = opt.NumberOfThreads;
+  const VertexRoles roles = ClassifyVertices(topo, x, opt, cons, report);
+  const std::vector<std::uint8_t>& fixed = roles.Fixed;
+  const std::vector<double>& weight = roles.Weight;
+  std::ostringstream warn;
+  const InvariantState inv = ChooseInvariant(topo, x, opt, roles, warn, report);
 
   const std::vector<std::vector<Index>> loops =
     opt.Boundary == FairingBoundary::SmoothCurve ? topo.BoundaryLoops() : std::vector<std::vector<Index>>{};
   CurveGraph boundaryCurves;
   boundaryCurves.Build(n, loops, {});
-
-  const bool sampling = opt.Operator == FairingOperator::CurvatureFlowAndSampling;
   GraphLaplacian L, curveL;
   // The solver's renumbering of the surface graph, the same for every step.
   std::vector<Index> order;
@@ -616,7 +727,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
   std::vector<std::uint8_t> held(n);
   for (Index i = 0; i < n; ++i)
   {
-    held[i] = fixed[i] || boundary[i];
+    held[i] = fixed[i] || roles.Boundary[i];
   }
   for (int step = 0; step < opt.NumberOfSteps; ++step)
   {
@@ -651,63 +762,24 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
       Integrate(curve, opt, x, report);
     }
     // The operator's geometry: the current positions (the thesis'
-    // linearisation, sections 3.4.3/3.5.3), or a mollified copy
-    // (OperatorMollification): on a noisy scan the cotangents of the noisy
-    // triangles are noise too.  The copy is x moved by the normal part of
-    // one implicit umbrella step: the noise across the surface is damped,
-    // the sampling is kept, so a flat region's copy is the region itself
-    // and flat regions still never move.
+    // linearisation, sections 3.4.3/3.5.3), or a mollified copy.
     std::vector<double> regular;
     if (opt.OperatorMollification > 0.0 && opt.Operator != FairingOperator::Umbrella)
     {
-      GraphLaplacian U;
-      std::vector<double> step = SmoothedCopy(topo, x, LaplacianWeights::Umbrella, opt.OperatorMollification, held,
-        weight, opt, U, [] { return static_cast<const Index*>(nullptr); });
-      regular.assign(x, x + 3 * static_cast<std::size_t>(n));
-      for (std::size_t k = 0; k < step.size(); ++k)
-      {
-        step[k] -= x[k];
-      }
-      MoveAlongNormals(topo, regular.data(), step.data(), Keep::Normal, threads);
+      regular = MollifiedOperatorPoints(topo, x, held, weight, opt);
     }
     AssembleSurfaceLaplacian(topo, regular.empty() ? x : regular.data(), WeightsOf(opt.Operator), L, threads);
     report.DegenerateTriangles = std::max(report.DegenerateTriangles, L.DegenerateTriangles);
     const bool solves = opt.Integration == FairingIntegration::Implicit && opt.Order == 1;
     const Stage surface{ L, held, omega, solves ? localOrder() : nullptr };
     Integrate(surface, opt, x, report);
-    if (sampling)
+    if (opt.Operator == FairingOperator::CurvatureFlowAndSampling)
     {
-      // Section 3.6, by operator splitting: the tangential part (at the new
-      // surface) of an umbrella step, which evens out the sampling.  The
-      // umbrella is dimensionless: its step is lambda*dt in units of the mean
-      // edge length squared (L_umbrella ~ h^2/4 Laplace, L_K ~ Laplace/2), at
-      // most 1 so that it stays a local relaxation.
-      GraphLaplacian U;
-      AssembleSurfaceLaplacian(topo, x, LaplacianWeights::Umbrella, U, threads);
-      const double h = MeanEdgeLength(topo, x);
-      const double relax = std::min(1.0, 2.0 * opt.TimeStep / (h * h));
-      const Stage tangential{ U, surface.Fixed, weight };
-      std::vector<double> v = Velocity(tangential, 1, x, threads);
-      for (double& vk : v)
-      {
-        vk *= relax;
-      }
-      MoveAlongNormals(topo, x, v.data(), Keep::Tangential, threads);
+      RegulariseSampling(topo, x, surface.Fixed, weight, opt);
     }
     if (opt.Anisotropic && opt.SmoothFeatureCurves)
     {
-      std::vector<std::vector<Index>> chains;
-      std::vector<std::uint8_t> onCurve;
-      FeatureChains(topo, x, along, chains, onCurve);
-      CurveGraph features;
-      features.Build(n, {}, chains);
-      AssembleCurveLaplacian(features, x, LaplacianWeights::InverseEdgeLength, curveL);
-      Stage curve{ curveL, fixed, weight };
-      for (Index i = 0; i < n; ++i)
-      {
-        curve.Fixed[i] = fixed[i] || boundary[i] || !onCurve[i];
-      }
-      Integrate(curve, opt, x, report);
+      SmoothFeatures(topo, x, along, roles, opt, curveL, report);
     }
     if (inv.Kind != FairingInvariant::None)
     {
@@ -719,22 +791,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
       break;
     }
   }
-  for (Index i = 0; i < n; ++i)
-  {
-    report.FixedVertices += fixed[i] && topo.Valence(i) > 0;
-  }
-  if (report.ExplicitUnstable)
-  {
-    warn << "Explicit integration with time step " << opt.TimeStep
-         << " is above the stability limit (about " << report.StabilityLimit
-         << "): the result oscillates; use implicit integration or a smaller step. ";
-  }
-  if (!report.Converged)
-  {
-    warn << "The linear solver did not reach the tolerance " << opt.Tolerance << " (relative residual "
-         << report.LargestResidual << "). ";
-  }
-  report.Warning = warn.str();
+  FinishReport(topo, roles, opt, warn, report);
   return report;
 }
 
