@@ -3,7 +3,7 @@
 #include "vtkBeltramiGather.h"
 #include "vtkBeltramiSurface.h"
 
-#include "Solvers/GraphSolvers.h"
+#include "Mesh/HarmonicExtension.h"
 #include "Support/HelperProcess.h"
 #include "Mesh/Tetrahedra.h"
 
@@ -367,28 +367,9 @@ void vtkTetGenTetrahedralizer::InterpolatePointData(
     }
     beltrami::GraphLaplacian laplacian;
     beltrami::AssembleTetrahedralLaplacian(mesh, points.data(), 3, laplacian);
-    std::vector<std::uint8_t> fixed(numOutput, 0);
-    std::fill(fixed.begin(), fixed.begin() + numInput, 1);
-    const std::vector<double> zero(values.size(), 0.0);
-    for (int first = 0; first < columns; first += 8) // the solver takes up to 8 columns
-    {
-      const int nc = std::min(8, columns - first);
-      std::vector<double> x(static_cast<std::size_t>(numOutput) * nc);
-      for (vtkIdType i = 0; i < numOutput; ++i)
-      {
-        std::copy(&values[i * columns + first], &values[i * columns + first] + nc, &x[i * nc]);
-      }
-      beltrami::ShiftedLaplacianProblem pb = laplacian.Problem(nc); // K x = 0 off the fixed rows
-      pb.Fixed = fixed.data();
-      pb.Scale.assign(nc, 1.0);
-      pb.Tolerance = 1e-12;
-      pb.MaximumIterations = 5000;
-      beltrami::SolveShiftedLaplacian(pb, zero.data(), x.data());
-      for (vtkIdType i = numInput; i < numOutput; ++i)
-      {
-        std::copy(&x[i * nc], &x[i * nc] + nc, &values[i * columns + first]);
-      }
-    }
+    std::vector<std::uint8_t> known(numOutput, 0);
+    std::fill(known.begin(), known.begin() + numInput, 1);
+    beltrami::ExtendHarmonically(laplacian, known.data(), columns, values.data());
   }
   int slot = 0;
   vtkPointData* outPD = output->GetPointData();
