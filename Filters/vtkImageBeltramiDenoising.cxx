@@ -420,4 +420,5 @@ void vtkImageBeltramiDenoising::PrintSelf(ostream& os, vtkIndent indent)
   vtkBeltramiGraphFlow::PrintSettings(this, os, indent);
   os << indent << "ColorSpace: " << this->ColorSpace << "\n";
   os << indent << "Boundary: " << this->Boundary << "\n";
+  os << indent << "UseFixedPixelsArray: " << this->UseFixedPixelsArray << "\n";
 }

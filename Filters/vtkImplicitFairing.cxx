@@ -265,10 +265,13 @@ void vtkImplicitFairing::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Tolerance: " << this->Tolerance << "\n";
   os << indent << "MaximumNumberOfIterations: " << this->MaximumNumberOfIterations << "\n";
   os << indent << "Invariant: " << this->Invariant << "\n";
+  os << indent << "ReferencePlaneNormal: " << this->ReferencePlaneNormal[0] << " " << this->ReferencePlaneNormal[1]
+     << " " << this->ReferencePlaneNormal[2] << "\n";
   os << indent << "BoundaryHandling: " << this->BoundaryHandling << "\n";
   os << indent << "Anisotropic: " << this->Anisotropic << "\n";
   os << indent << "FeatureThreshold: " << this->FeatureThreshold << "\n";
   os << indent << "Mollification: " << this->Mollification << "\n";
+  os << indent << "SmoothFeatureCurves: " << this->SmoothFeatureCurves << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "UseFixedPointsArray: " << this->UseFixedPointsArray << "\n";
   os << indent << "UseSmoothingWeightsArray: " << this->UseSmoothingWeightsArray << "\n";

@@ -359,7 +359,9 @@ void vtkIntrinsicParameterization::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BoundarySpacing: " << this->BoundarySpacing << "\n";
   os << indent << "Constraints: " << this->Internal->Constraints.size() << "\n";
   os << indent << "OptimizeMix: " << this->OptimizeMix << "\n";
+  os << indent << "OptimalMixRange: " << this->OptimalMixRange[0] << " " << this->OptimalMixRange[1] << "\n";
   os << indent << "OptimalEnergy: " << this->OptimalEnergy << "\n";
+  os << indent << "BoundaryEnergy: " << this->BoundaryEnergy << "\n";
   os << indent << "BoundaryOptimizationSteps: " << this->BoundaryOptimizationSteps << "\n";
   os << indent << "KeepBoundaryBasis: " << this->KeepBoundaryBasis << "\n";
   os << indent << "OutputFlattenedMesh: " << this->OutputFlattenedMesh << "\n";

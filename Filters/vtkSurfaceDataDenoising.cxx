@@ -79,4 +79,5 @@ void vtkSurfaceDataDenoising::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   vtkBeltramiGraphFlow::PrintSettings(this, os, indent);
   os << indent << "Units: " << this->Units << "\n";
+  os << indent << "UseFixedPointsArray: " << this->UseFixedPointsArray << "\n";
 }
