@@ -1,4 +1,5 @@
 #include "vtkDiscreteCurvatures.h"
+#include "vtkBeltramiEnumCheck.h"
 
 #include "vtkBeltramiSurface.h"
 
@@ -15,6 +16,16 @@
 
 #include <limits>
 #include <vector>
+
+BELTRAMI_SAME_ENUM(vtkDiscreteCurvatures::MEYER_2003, beltrami::CurvatureMethod::Meyer2003);
+BELTRAMI_SAME_ENUM(vtkDiscreteCurvatures::TAUBIN_1995, beltrami::CurvatureMethod::Taubin1995);
+BELTRAMI_SAME_ENUM(vtkDiscreteCurvatures::MEAN_CURVATURE_NORMAL, beltrami::NormalWeighting::MeanCurvatureNormal);
+BELTRAMI_SAME_ENUM(vtkDiscreteCurvatures::UNIFORM, beltrami::NormalWeighting::Uniform);
+BELTRAMI_SAME_ENUM(vtkDiscreteCurvatures::ANGLE, beltrami::NormalWeighting::Angle);
+BELTRAMI_SAME_ENUM(vtkDiscreteCurvatures::MAX_1999, beltrami::NormalWeighting::Max1999);
+BELTRAMI_SAME_ENUM(vtkDiscreteCurvatures::AREA, beltrami::NormalWeighting::Area);
+BELTRAMI_SAME_ENUM(vtkDiscreteCurvatures::BOUNDARY_NAN, beltrami::BoundaryPolicy::NaN);
+BELTRAMI_SAME_ENUM(vtkDiscreteCurvatures::INTERIOR_AVERAGE, beltrami::BoundaryPolicy::InteriorAverage);
 
 vtkStandardNewMacro(vtkDiscreteCurvatures);
 

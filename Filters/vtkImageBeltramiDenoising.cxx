@@ -1,4 +1,5 @@
 #include "vtkImageBeltramiDenoising.h"
+#include "vtkBeltramiEnumCheck.h"
 
 #include "vtkBeltramiGraphFlow.h"
 #include "vtkBeltramiSurface.h"
@@ -26,6 +27,11 @@
 #include <limits>
 #include <type_traits>
 #include <vector>
+
+BELTRAMI_SAME_ENUM(vtkImageBeltramiDenoising::EXPLICIT, beltrami::GraphFlowIntegration::Explicit);
+BELTRAMI_SAME_ENUM(vtkImageBeltramiDenoising::SEMI_IMPLICIT, beltrami::GraphFlowIntegration::SemiImplicit);
+BELTRAMI_SAME_ENUM(vtkImageBeltramiDenoising::REFLECT, beltrami::GridBoundary::Reflect);
+BELTRAMI_SAME_ENUM(vtkImageBeltramiDenoising::LINEAR, beltrami::GridBoundary::Linear);
 
 vtkStandardNewMacro(vtkImageBeltramiDenoising);
 

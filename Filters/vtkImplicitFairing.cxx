@@ -1,4 +1,5 @@
 #include "vtkImplicitFairing.h"
+#include "vtkBeltramiEnumCheck.h"
 
 #include "vtkBeltramiSurface.h"
 
@@ -20,6 +21,22 @@
 
 #include <cmath>
 #include <vector>
+
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::UMBRELLA, beltrami::FairingOperator::Umbrella);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::SCALE_DEPENDENT_UMBRELLA, beltrami::FairingOperator::ScaleDependentUmbrella);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::CURVATURE_FLOW, beltrami::FairingOperator::CurvatureFlow);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::CURVATURE_FLOW_AND_SAMPLING, beltrami::FairingOperator::CurvatureFlowAndSampling);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::IMPLICIT, beltrami::FairingIntegration::Implicit);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::EXPLICIT, beltrami::FairingIntegration::Explicit);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::TAUBIN_LAMBDA_MU, beltrami::FairingIntegration::TaubinLambdaMu);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::AUTOMATIC, beltrami::FairingInvariant::Automatic);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::NONE, beltrami::FairingInvariant::None);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::VOLUME, beltrami::FairingInvariant::Volume);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::AREA, beltrami::FairingInvariant::Area);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::HEIGHT_FIELD_VOLUME, beltrami::FairingInvariant::HeightFieldVolume);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::FIXED, beltrami::FairingBoundary::Fixed);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::SMOOTH_CURVE, beltrami::FairingBoundary::SmoothCurve);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::VIRTUAL_VERTEX, beltrami::FairingBoundary::VirtualVertex);
 
 vtkStandardNewMacro(vtkImplicitFairing);
 

@@ -1,4 +1,5 @@
 #include "vtkIntrinsicParameterization.h"
+#include "vtkBeltramiEnumCheck.h"
 
 #include "vtkBeltramiSurface.h"
 
@@ -19,6 +20,15 @@
 
 #include <cmath>
 #include <limits>
+
+BELTRAMI_SAME_ENUM(vtkIntrinsicParameterization::CIRCLE, beltrami::ParameterizationBoundary::Circle);
+BELTRAMI_SAME_ENUM(vtkIntrinsicParameterization::SQUARE, beltrami::ParameterizationBoundary::Square);
+BELTRAMI_SAME_ENUM(vtkIntrinsicParameterization::GIVEN, beltrami::ParameterizationBoundary::Given);
+BELTRAMI_SAME_ENUM(vtkIntrinsicParameterization::NATURAL, beltrami::ParameterizationBoundary::Natural);
+BELTRAMI_SAME_ENUM(vtkIntrinsicParameterization::ARC_LENGTH, beltrami::BoundarySpacing::ArcLength);
+BELTRAMI_SAME_ENUM(vtkIntrinsicParameterization::UNIFORM, beltrami::BoundarySpacing::Uniform);
+BELTRAMI_SAME_ENUM(vtkIntrinsicParameterization::EDGE_LENGTH, beltrami::DistortionEnergy::EdgeLength);
+BELTRAMI_SAME_ENUM(vtkIntrinsicParameterization::AREA, beltrami::DistortionEnergy::Area);
 
 vtkStandardNewMacro(vtkIntrinsicParameterization);
 

@@ -1,4 +1,5 @@
 #include "vtkSurfaceDataDenoising.h"
+#include "vtkBeltramiEnumCheck.h"
 
 #include "vtkBeltramiGraphFlow.h"
 #include "vtkBeltramiSurface.h"
@@ -19,6 +20,9 @@
 
 #include <cmath>
 #include <vector>
+
+BELTRAMI_SAME_ENUM(vtkSurfaceDataDenoising::EXPLICIT, beltrami::GraphFlowIntegration::Explicit);
+BELTRAMI_SAME_ENUM(vtkSurfaceDataDenoising::SEMI_IMPLICIT, beltrami::GraphFlowIntegration::SemiImplicit);
 
 vtkStandardNewMacro(vtkSurfaceDataDenoising);
 

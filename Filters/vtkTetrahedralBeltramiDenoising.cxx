@@ -1,4 +1,5 @@
 #include "vtkTetrahedralBeltramiDenoising.h"
+#include "vtkBeltramiEnumCheck.h"
 
 #include "vtkBeltramiGather.h"
 #include "vtkBeltramiGraphFlow.h"
@@ -24,6 +25,9 @@
 
 #include <limits>
 #include <vector>
+
+BELTRAMI_SAME_ENUM(vtkTetrahedralBeltramiDenoising::EXPLICIT, beltrami::GraphFlowIntegration::Explicit);
+BELTRAMI_SAME_ENUM(vtkTetrahedralBeltramiDenoising::SEMI_IMPLICIT, beltrami::GraphFlowIntegration::SemiImplicit);
 
 vtkStandardNewMacro(vtkTetrahedralBeltramiDenoising);
 
