@@ -11,100 +11,14 @@ mean curvature, and prints a short report (ranges, Gauss-Bonnet check).
 import math
 import os
 import sys
-import time
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
-from vtkmodules.vtkIOImage import vtkPNGWriter
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkColorTransferFunction, vtkPolyDataMapper,
-                                         vtkRenderer, vtkRenderWindow, vtkWindowToImageFilter)
-import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (rendering backend)
 
-from beltrami import vtkDiscreteCurvatures, vtkOFFReader
+from beltrami.pipelines import compute_curvatures, render_mean_curvature, write_vtp
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_MESH = os.path.join(HERE, "..", "Testing", "Data", "bunny00.off")
-
-
-def curvature_range(values, percentile=98.0):
-    """Symmetric colour range that ignores NaN and the noisiest 2% of points."""
-    finite = np.abs(values[np.isfinite(values)])
-    limit = float(np.percentile(finite, percentile)) if finite.size else 1.0
-    return -limit, limit
-
-
-def render_mean_curvature(polydata, png_path, size=(800, 800)):
-    """Renders MeanCurvature with a diverging colour map (blue concave, red convex)."""
-    values = vtk_to_numpy(polydata.GetPointData().GetArray("MeanCurvature"))
-    low, high = curvature_range(values)
-    lut = vtkColorTransferFunction()
-    lut.SetColorSpaceToDiverging()
-    lut.AddRGBPoint(low, 0.23, 0.30, 0.75)
-    lut.AddRGBPoint(0.5 * (low + high), 0.87, 0.87, 0.87)
-    lut.AddRGBPoint(high, 0.71, 0.02, 0.15)
-    lut.SetNanColor(1.0, 1.0, 0.0)
-
-    mapper = vtkPolyDataMapper()
-    mapper.SetInputData(polydata)
-    mapper.SetScalarModeToUsePointFieldData()
-    mapper.SelectColorArray("MeanCurvature")
-    mapper.SetLookupTable(lut)
-    mapper.SetColorModeToMapScalars()
-    mapper.ScalarVisibilityOn()
-    mapper.SetScalarRange(low, high)
-    actor = vtkActor()
-    actor.SetMapper(mapper)
-
-    return snapshot(actor, png_path, size, view_up=(0, 1, 0), zoom=1.3)
-
-
-def snapshot(actor, png_path, size, view_up=(0, 1, 0), direction=(0, 0, 1), zoom=1.0):
-    """Renders one actor off screen on white, writes the PNG, returns the image."""
-    renderer = vtkRenderer()
-    renderer.AddActor(actor)
-    renderer.SetBackground(1.0, 1.0, 1.0)
-    camera = renderer.GetActiveCamera()
-    camera.SetPosition(*direction)
-    camera.SetFocalPoint(0, 0, 0)
-    camera.SetViewUp(*view_up)
-    renderer.ResetCamera()
-    camera.Zoom(zoom)
-
-    window = vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.SetMultiSamples(0)
-    window.AddRenderer(renderer)
-    window.SetSize(*size)
-    window.Render()
-    grab = vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.ReadFrontBufferOff()
-    grab.Update()
-    writer = vtkPNGWriter()
-    writer.SetFileName(png_path)
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
-    return grab.GetOutput()
-
-
-def write_vtp(polydata, path):
-    writer = vtkXMLPolyDataWriter()
-    writer.SetFileName(path)
-    writer.SetInputData(polydata)
-    writer.Write()
-
-
-def compute_curvatures(mesh_path):
-    reader = vtkOFFReader()
-    reader.SetFileName(mesh_path)
-    curvatures = vtkDiscreteCurvatures()
-    curvatures.SetInputConnection(reader.GetOutputPort())
-    reader.Update()
-    start = time.perf_counter()
-    curvatures.Update()
-    elapsed = time.perf_counter() - start
-    return curvatures.GetOutput(), elapsed
 
 
 def main(argv):

@@ -12,14 +12,9 @@ a checkerboard texture mapped by the natural conformal map.
 """
 import os
 import sys
-import time
 
-from vtkmodules.vtkImagingSources import vtkImageCanvasSource2D
-from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkTexture
-import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (rendering backend)
-
-from beltrami import vtkIntrinsicParameterization, vtkOFFReader
-from curvature_demo import snapshot, write_vtp
+from beltrami import vtkIntrinsicParameterization
+from beltrami.pipelines import parameterize, render_checkerboard, write_vtp
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_MESH = os.path.join(HERE, "..", "Testing", "Data", "mushroom.off")
@@ -29,53 +24,6 @@ MAPS = (  # name, conformal weight, authalic weight, boundary
     ("authalic (DAP, circle)", 0.0, 1.0, vtkIntrinsicParameterization.CIRCLE),
     ("natural conformal", 1.0, 0.0, vtkIntrinsicParameterization.NATURAL),
 )
-
-
-def parameterize(mesh_path, conformal=1.0, authalic=0.0, boundary=vtkIntrinsicParameterization.NATURAL):
-    reader = vtkOFFReader()
-    reader.SetFileName(mesh_path)
-    reader.Update()
-    f = vtkIntrinsicParameterization()
-    f.SetInputConnection(reader.GetOutputPort())
-    f.SetConformalWeight(conformal)
-    f.SetAuthalicWeight(authalic)
-    f.SetBoundary(boundary)
-    start = time.perf_counter()
-    f.Update()
-    return f, time.perf_counter() - start
-
-
-def checkerboard(squares=16, pixels=32):
-    """A black-and-white checkerboard image, `squares` squares per side."""
-    canvas = vtkImageCanvasSource2D()
-    size = squares * pixels
-    canvas.SetExtent(0, size - 1, 0, size - 1, 0, 0)
-    canvas.SetScalarTypeToUnsignedChar()
-    canvas.SetNumberOfScalarComponents(3)
-    canvas.SetDrawColor(245, 245, 245)
-    canvas.FillBox(0, size - 1, 0, size - 1)
-    canvas.SetDrawColor(40, 60, 140)
-    for i in range(squares):
-        for j in range(squares):
-            if (i + j) % 2:
-                canvas.FillBox(i * pixels, (i + 1) * pixels - 1, j * pixels, (j + 1) * pixels - 1)
-    canvas.Update()
-    return canvas.GetOutput()
-
-
-def render_checkerboard(polydata, png_path, size=(800, 800)):
-    """The surface with a checkerboard mapped through its TCoords."""
-    texture = vtkTexture()
-    texture.SetInputData(checkerboard())
-    texture.InterpolateOff()
-    texture.RepeatOff()
-    mapper = vtkPolyDataMapper()
-    mapper.SetInputData(polydata)
-    mapper.ScalarVisibilityOff()
-    actor = vtkActor()
-    actor.SetMapper(mapper)
-    actor.SetTexture(texture)
-    return snapshot(actor, png_path, size, view_up=(0, 0, 1), direction=(1, -1, 0.6), zoom=1.2)
 
 
 def main(argv):

@@ -17,41 +17,14 @@ import sys
 import time
 
 import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkPoints
-from vtkmodules.vtkCommonDataModel import vtkPolyData
-from vtkmodules.vtkFiltersCore import vtkPolyDataNormals, vtkWindowedSincPolyDataFilter
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkFiltersCore import vtkWindowedSincPolyDataFilter
 
 from beltrami import vtkDiscreteCurvatures, vtkImplicitFairing, vtkOFFReader
-
-import curvature_demo
+from beltrami.pipelines import noisy_along_normals, render_mean_curvature, rms_distance, write_vtp
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_MESH = os.path.join(HERE, "..", "Testing", "Data", "bunny00.off")
-
-
-def noisy_along_normals(polydata, sigma, seed):
-    """A copy of polydata with Gaussian noise of standard deviation sigma
-    along the (unsplit) point normals: a synthetic noisy scan."""
-    normals = vtkPolyDataNormals()
-    normals.SplittingOff()
-    normals.SetInputData(polydata)
-    normals.Update()
-    n = vtk_to_numpy(normals.GetOutput().GetPointData().GetNormals()).astype(float)
-    x = vtk_to_numpy(polydata.GetPoints().GetData()).astype(float)
-    x = x + (sigma * np.random.default_rng(seed).standard_normal(len(x)))[:, None] * n
-    noisy = vtkPolyData()
-    noisy.DeepCopy(polydata)
-    points = vtkPoints()
-    points.SetData(numpy_to_vtk(x, deep=1))
-    noisy.SetPoints(points)
-    return noisy
-
-
-def rms_distance(polydata, clean_points):
-    """RMS vertex-to-vertex distance to the clean points."""
-    x = vtk_to_numpy(polydata.GetPoints().GetData()).astype(float)
-    return float(np.sqrt(np.mean(np.sum((x - clean_points) ** 2, 1))))
 
 
 def run(algorithm, polydata):
@@ -68,8 +41,8 @@ def write_with_curvature(polydata, out_dir, name):
     curvatures.Update()
     vtp = os.path.join(out_dir, name + ".vtp")
     png = os.path.join(out_dir, name + "_mean_curvature.png")
-    curvature_demo.write_vtp(curvatures.GetOutput(), vtp)
-    curvature_demo.render_mean_curvature(curvatures.GetOutput(), png)
+    write_vtp(curvatures.GetOutput(), vtp)
+    render_mean_curvature(curvatures.GetOutput(), png)
     print("wrote %s\nwrote %s" % (vtp, png))
 
 

@@ -11,21 +11,16 @@ from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkFiltersSources import vtkSphereSource
 from vtkmodules.vtkImagingGeneral import vtkImageGaussianSmooth
-from vtkmodules.vtkIOImage import vtkPNGReader
 
-from beltrami import vtkImageBeltramiDenoising, vtkSurfaceDataDenoising
+from beltrami import pipelines, vtkImageBeltramiDenoising, vtkSurfaceDataDenoising
 from configure import configured
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
 
 def load_png(name):
-    r = vtkPNGReader()
-    r.SetFileName(os.path.join(DATA, name + ".png"))
-    r.Update()
-    img = r.GetOutput()
-    w, h, _ = img.GetDimensions()
-    return vtk_to_numpy(img.GetPointData().GetScalars()).reshape(h, w, -1).copy()
+    """The bundled image `name`, rows in VTK's order (bottom row first)."""
+    return pipelines.read_png(os.path.join(DATA, name + ".png"))[::-1].copy()
 
 
 def to_image(a, spacing=(1.0, 1.0), name="values"):

@@ -1,7 +1,5 @@
 """The beltrami package from /usr/bin/python3: filter and OFF I/O on real meshes."""
-import math
 import os
-import sys
 import tempfile
 import unittest
 
@@ -15,8 +13,7 @@ from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIdList, vtkUnsignedCharA
 from vtkmodules.util.numpy_support import numpy_to_vtk
 from configure import configured
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Examples"))
-from smoothing_demo import noisy_along_normals  # noqa: E402  (issue 3's noisy scan)
+from beltrami.pipelines import noisy_along_normals  # noqa: E402  (the demo's noisy scan)
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 

@@ -16,10 +16,7 @@ from vtkmodules.vtkImagingCore import vtkImageDifference
 from vtkmodules.vtkIOImage import vtkPNGReader, vtkPNGWriter
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "..", "Examples"))
-import curvature_demo  # noqa: E402
-import denoising_demo  # noqa: E402
-import parameterization_demo  # noqa: E402
+from beltrami import pipelines  # noqa: E402  (what the demo draws, shared with it)
 
 THRESHOLD = 0.15  # vtkRegressionTestImage's default thresholded error
 DATA = os.path.join(HERE, "..", "Data")
@@ -63,12 +60,12 @@ def compare(name, render):
     return True
 
 
-curvatures, _ = curvature_demo.compute_curvatures(os.path.join(DATA, "bunny00.off"))
-natural, _ = parameterization_demo.parameterize(os.path.join(DATA, "mushroom.off"))
+curvatures, _ = pipelines.compute_curvatures(os.path.join(DATA, "bunny00.off"))
+natural, _ = pipelines.parameterize(os.path.join(DATA, "mushroom.off"))
 ok = compare("bunny00_mean_curvature.png",
-             lambda png: curvature_demo.render_mean_curvature(curvatures, png, size=(400, 400)))
+             lambda png: pipelines.render_mean_curvature(curvatures, png, size=(400, 400)))
 ok = compare("mushroom_checkerboard.png",
-             lambda png: parameterization_demo.render_checkerboard(natural.GetOutput(), png,
+             lambda png: pipelines.render_checkerboard(natural.GetOutput(), png,
                                                                    size=(400, 400))) and ok
 
 
@@ -96,12 +93,12 @@ def compare_pixels(name, render):
     return True
 
 
-def denoised_crop(name, rows, cols, sigma=denoising_demo.SIGMA):
+def denoised_crop(name, rows, cols, sigma=pipelines.SIGMA):
     def render(png):
-        clean = denoising_demo.read_png(name)
+        clean = pipelines.read_png(os.path.join(DATA, name + ".png"))
         clean = clean[..., :1] if name == "camera" else clean[..., :3]
-        result, _ = denoising_demo.denoise(denoising_demo.noisy_version(clean), sigma=sigma)
-        image = denoising_demo.to_image(np.ascontiguousarray(result[rows, cols]))
+        result, _ = pipelines.denoise(pipelines.noisy_version(clean), sigma=sigma)
+        image = pipelines.to_image(np.ascontiguousarray(result[rows, cols]))
         writer = vtkPNGWriter()
         writer.SetFileName(png)
         writer.SetInputData(image)
@@ -125,7 +122,7 @@ def faired_bunny(png):
     curvatures = vtkDiscreteCurvatures()
     curvatures.SetInputConnection(fairing.GetOutputPort())
     curvatures.Update()
-    return curvature_demo.render_mean_curvature(curvatures.GetOutput(), png, size=(400, 400))
+    return pipelines.render_mean_curvature(curvatures.GetOutput(), png, size=(400, 400))
 
 
 ok = compare("bunny00_faired.png", faired_bunny) and ok

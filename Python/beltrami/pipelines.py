@@ -1,0 +1,246 @@
+"""Pipelines and pictures shared by the demo (Examples/) and the tests
+(Testing/Python/): curvatures and their picture, the parameterization and a
+checkerboard mapped by it, image I/O between PNG files, numpy and
+vtkImageData, the image flow with the settings for a noise level, and the
+noisy scans of the smoothing demo.
+
+>>> from beltrami import pipelines
+>>> curvatures, seconds = pipelines.compute_curvatures("Testing/Data/bunny00.off")
+>>> pipelines.render_mean_curvature(curvatures, "bunny.png")   # off screen
+"""
+import time
+
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkPoints
+from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPolyData
+from vtkmodules.vtkFiltersCore import vtkPolyDataNormals
+from vtkmodules.vtkImagingSources import vtkImageCanvasSource2D
+from vtkmodules.vtkIOImage import vtkPNGReader, vtkPNGWriter
+from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
+from vtkmodules.vtkRenderingCore import (vtkActor, vtkColorTransferFunction, vtkPolyDataMapper,
+                                         vtkRenderer, vtkRenderWindow, vtkTexture, vtkWindowToImageFilter)
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (rendering backend)
+
+from .BeltramiFilters import vtkDiscreteCurvatures, vtkImageBeltramiDenoising, vtkIntrinsicParameterization
+from .BeltramiIO import vtkOFFReader
+
+SIGMA = 0.1  # the noise level of the denoising demo and tests
+SEED = 1234
+
+
+def compute_curvatures(mesh_path):
+    reader = vtkOFFReader()
+    reader.SetFileName(mesh_path)
+    curvatures = vtkDiscreteCurvatures()
+    curvatures.SetInputConnection(reader.GetOutputPort())
+    reader.Update()
+    start = time.perf_counter()
+    curvatures.Update()
+    elapsed = time.perf_counter() - start
+    return curvatures.GetOutput(), elapsed
+
+
+def curvature_range(values, percentile=98.0):
+    """Symmetric colour range that ignores NaN and the noisiest 2% of points."""
+    finite = np.abs(values[np.isfinite(values)])
+    limit = float(np.percentile(finite, percentile)) if finite.size else 1.0
+    return -limit, limit
+
+
+def render_mean_curvature(polydata, png_path, size=(800, 800)):
+    """Renders MeanCurvature with a diverging colour map (blue concave, red convex)."""
+    values = vtk_to_numpy(polydata.GetPointData().GetArray("MeanCurvature"))
+    low, high = curvature_range(values)
+    lut = vtkColorTransferFunction()
+    lut.SetColorSpaceToDiverging()
+    lut.AddRGBPoint(low, 0.23, 0.30, 0.75)
+    lut.AddRGBPoint(0.5 * (low + high), 0.87, 0.87, 0.87)
+    lut.AddRGBPoint(high, 0.71, 0.02, 0.15)
+    lut.SetNanColor(1.0, 1.0, 0.0)
+
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputData(polydata)
+    mapper.SetScalarModeToUsePointFieldData()
+    mapper.SelectColorArray("MeanCurvature")
+    mapper.SetLookupTable(lut)
+    mapper.SetColorModeToMapScalars()
+    mapper.ScalarVisibilityOn()
+    mapper.SetScalarRange(low, high)
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+
+    return snapshot(actor, png_path, size, view_up=(0, 1, 0), zoom=1.3)
+
+
+def snapshot(actor, png_path, size, view_up=(0, 1, 0), direction=(0, 0, 1), zoom=1.0):
+    """Renders one actor off screen on white, writes the PNG, returns the image."""
+    renderer = vtkRenderer()
+    renderer.AddActor(actor)
+    renderer.SetBackground(1.0, 1.0, 1.0)
+    camera = renderer.GetActiveCamera()
+    camera.SetPosition(*direction)
+    camera.SetFocalPoint(0, 0, 0)
+    camera.SetViewUp(*view_up)
+    renderer.ResetCamera()
+    camera.Zoom(zoom)
+
+    window = vtkRenderWindow()
+    window.SetOffScreenRendering(1)
+    window.SetMultiSamples(0)
+    window.AddRenderer(renderer)
+    window.SetSize(*size)
+    window.Render()
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(window)
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    writer = vtkPNGWriter()
+    writer.SetFileName(png_path)
+    writer.SetInputConnection(grab.GetOutputPort())
+    writer.Write()
+    return grab.GetOutput()
+
+
+def write_vtp(polydata, path):
+    writer = vtkXMLPolyDataWriter()
+    writer.SetFileName(path)
+    writer.SetInputData(polydata)
+    writer.Write()
+
+
+def parameterize(mesh_path, conformal=1.0, authalic=0.0, boundary=vtkIntrinsicParameterization.NATURAL):
+    reader = vtkOFFReader()
+    reader.SetFileName(mesh_path)
+    reader.Update()
+    f = vtkIntrinsicParameterization()
+    f.SetInputConnection(reader.GetOutputPort())
+    f.SetConformalWeight(conformal)
+    f.SetAuthalicWeight(authalic)
+    f.SetBoundary(boundary)
+    start = time.perf_counter()
+    f.Update()
+    return f, time.perf_counter() - start
+
+
+def checkerboard(squares=16, pixels=32):
+    """A black-and-white checkerboard image, `squares` squares per side."""
+    canvas = vtkImageCanvasSource2D()
+    size = squares * pixels
+    canvas.SetExtent(0, size - 1, 0, size - 1, 0, 0)
+    canvas.SetScalarTypeToUnsignedChar()
+    canvas.SetNumberOfScalarComponents(3)
+    canvas.SetDrawColor(245, 245, 245)
+    canvas.FillBox(0, size - 1, 0, size - 1)
+    canvas.SetDrawColor(40, 60, 140)
+    for i in range(squares):
+        for j in range(squares):
+            if (i + j) % 2:
+                canvas.FillBox(i * pixels, (i + 1) * pixels - 1, j * pixels, (j + 1) * pixels - 1)
+    canvas.Update()
+    return canvas.GetOutput()
+
+
+def render_checkerboard(polydata, png_path, size=(800, 800)):
+    """The surface with a checkerboard mapped through its TCoords."""
+    texture = vtkTexture()
+    texture.SetInputData(checkerboard())
+    texture.InterpolateOff()
+    texture.RepeatOff()
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputData(polydata)
+    mapper.ScalarVisibilityOff()
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    actor.SetTexture(texture)
+    return snapshot(actor, png_path, size, view_up=(0, 0, 1), direction=(1, -1, 0.6), zoom=1.2)
+
+
+def read_png(path):
+    """The PNG file `path` as an (h, w, components) uint8 array, top row first."""
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    image = reader.GetOutput()
+    w, h, _ = image.GetDimensions()
+    return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[::-1].copy()
+
+
+def to_image(a, name="values"):
+    """(h, w, components) array, top row first -> vtkImageData (VTK's rows go up)."""
+    h, w, nc = a.shape
+    image = vtkImageData()
+    image.SetDimensions(w, h, 1)
+    values = numpy_to_vtk(np.ascontiguousarray(a[::-1].reshape(h * w, nc)), deep=1)
+    values.SetName(name)
+    image.GetPointData().SetScalars(values)
+    return image
+
+
+def from_image(image, name="values"):
+    w, h, _ = image.GetDimensions()
+    return vtk_to_numpy(image.GetPointData().GetArray(name)).reshape(h, w, -1)[::-1].copy()
+
+
+def noisy_version(clean8, sigma=SIGMA, seed=SEED):
+    """8-bit image plus Gaussian noise of sigma * 255, rounded and clipped to 8 bits."""
+    noise = np.random.default_rng(seed).normal(0.0, 255.0 * sigma, clean8.shape)
+    return np.clip(np.round(clean8 + noise), 0, 255).astype(np.uint8)
+
+
+def denoise(noisy8, sigma=SIGMA, threads=0):
+    """The Beltrami flow with the settings for noise level sigma; uint8 in and out.
+    Colour images: the coupled flow in RGB, where the noise level is measured (the
+    filter's automatic choice for 8-bit colour, CIE L*u*v*, is perceptually
+    uniform but measures the change in L*u*v* units)."""
+    # 8-bit colours are normalized to [0, 1] by the filter; other values are
+    # taken as they are, so a greyscale image's noise level is in grey levels.
+    unit = 1.0 if noisy8.shape[2] >= 3 else 255.0
+    f = vtkImageBeltramiDenoising()
+    f.SetInputData(to_image(noisy8))
+    f.SetContrastScale(1.5 / (sigma * unit))
+    f.SetEdgeContrast(1.0)
+    f.SetTimeStep(0.2)
+    f.SetNoiseLevel(sigma * unit)
+    f.SetNumberOfIterations(200)
+    f.SetNumberOfThreads(threads)
+    if noisy8.shape[2] >= 3:
+        f.SetColorSpace(vtkImageBeltramiDenoising.RGB)
+    f.Update()
+    return from_image(f.GetOutput()), f.GetOutput().GetFieldData()
+
+
+def psnr(a, b):
+    return 10 * np.log10(255.0 ** 2 / np.mean((a.astype(float) - b.astype(float)) ** 2))
+
+
+def write_side_by_side(left, right, png_path):
+    both = np.concatenate([left, np.full((left.shape[0], 8, left.shape[2]), 255, np.uint8), right], axis=1)
+    writer = vtkPNGWriter()
+    writer.SetFileName(png_path)
+    writer.SetInputData(to_image(both))
+    writer.Write()
+
+
+def noisy_along_normals(polydata, sigma, seed):
+    """A copy of polydata with Gaussian noise of standard deviation sigma
+    along the (unsplit) point normals: a synthetic noisy scan."""
+    normals = vtkPolyDataNormals()
+    normals.SplittingOff()
+    normals.SetInputData(polydata)
+    normals.Update()
+    n = vtk_to_numpy(normals.GetOutput().GetPointData().GetNormals()).astype(float)
+    x = vtk_to_numpy(polydata.GetPoints().GetData()).astype(float)
+    x = x + (sigma * np.random.default_rng(seed).standard_normal(len(x)))[:, None] * n
+    noisy = vtkPolyData()
+    noisy.DeepCopy(polydata)
+    points = vtkPoints()
+    points.SetData(numpy_to_vtk(x, deep=1))
+    noisy.SetPoints(points)
+    return noisy
+
+
+def rms_distance(polydata, clean_points):
+    """RMS vertex-to-vertex distance to the clean points."""
+    x = vtk_to_numpy(polydata.GetPoints().GetData()).astype(float)
+    return float(np.sqrt(np.mean(np.sum((x - clean_points) ** 2, 1))))
