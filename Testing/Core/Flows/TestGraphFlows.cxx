@@ -1,0 +1,223 @@
+// The graph (Beltrami) flows of section 3.8 on images and surfaces
+// (Flows/GraphFlow) and the colour space of section 3.8.4 (Flows/ColorSpace),
+// tested in the core: fixed points, denoising with edges kept, the
+// noise-level stop, fixed values, thread independence, reference colours.
+#include "TestMeshes.h"
+
+#include "Flows/ColorSpace.h"
+#include "Flows/GraphFlow.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+namespace beltrami
+{
+namespace
+{
+
+double RMS(const std::vector<double>& a, const std::vector<double>& b)
+{
+  double s = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k)
+  {
+    s += (a[k] - b[k]) * (a[k] - b[k]);
+  }
+  return std::sqrt(s / a.size());
+}
+
+TEST(ColorSpace, ReferenceColoursAndRoundTrip)
+{
+  // White, black and sRGB red (D65): L*u*v* = (100, 0, 0), (0, 0, 0), (53.24, 175.01, 37.76), over 100.
+  std::vector<double> c = { 1, 1, 1, 0, 0, 0, 1, 0, 0 };
+  RGBToLuv(c.data(), 3, 3);
+  EXPECT_NEAR(c[0], 1.0, 1e-6);
+  EXPECT_NEAR(c[1], 0.0, 1e-6);
+  EXPECT_NEAR(c[2], 0.0, 1e-6);
+  EXPECT_NEAR(c[3], 0.0, 1e-9);
+  EXPECT_NEAR(c[6], 0.5324, 2e-4);
+  EXPECT_NEAR(c[7], 1.7501, 5e-4);
+  EXPECT_NEAR(c[8], 0.3776, 5e-4);
+  // Random colours with a fourth (alpha) value that must not change; 1 and 2 threads agree bit for bit.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<double> rgba(4 * 5000);
+  for (double& v : rgba)
+  {
+    v = u(rng);
+  }
+  std::vector<double> one = rgba, two = rgba;
+  RGBToLuv(one.data(), 5000, 4, 1);
+  RGBToLuv(two.data(), 5000, 4, 2);
+  EXPECT_EQ(one, two);
+  LuvToRGB(one.data(), 5000, 4, 2);
+  double worst = 0.0;
+  for (std::size_t k = 0; k < rgba.size(); ++k)
+  {
+    worst = std::max(worst, std::abs(one[k] - rgba[k]));
+    if (k % 4 == 3)
+    {
+      EXPECT_EQ(one[k], rgba[k]);
+    }
+  }
+  EXPECT_LT(worst, 1e-9);
+}
+
+TEST(ImageGraphFlow, RampsAndConstantsAreFixedPoints)
+{
+  PixelGrid grid{ 40, 30, 1.0, 1.0 };
+  std::vector<double> ramp(40 * 30), constant(40 * 30, 0.7);
+  for (Index y = 0; y < 30; ++y)
+  {
+    for (Index x = 0; x < 40; ++x)
+    {
+      ramp[y * 40 + x] = 0.03 * x - 0.02 * y + 0.5;
+    }
+  }
+  const std::vector<double> ramp0 = ramp, constant0 = constant;
+  GraphFlowOptions o;
+  o.ContrastScale = 10.0;
+  o.NumberOfIterations = 20;
+  for (GraphFlowIntegration integration : { GraphFlowIntegration::Explicit, GraphFlowIntegration::SemiImplicit })
+  {
+    o.Integration = integration;
+    ASSERT_EQ(RunImageGraphFlow(grid, 1, ramp.data(), nullptr, o).Error, "");
+    ASSERT_EQ(RunImageGraphFlow(grid, 1, constant.data(), nullptr, o).Error, "");
+    EXPECT_LT(RMS(ramp, ramp0), 1e-7);
+    EXPECT_EQ(constant, constant0);
+  }
+}
+
+/// A vertical step of height 1 plus Gaussian noise of 0.1 (64 x 64).
+struct NoisyStep
+{
+  PixelGrid Grid{ 64, 64, 1.0, 1.0 };
+  std::vector<double> Clean, Noisy;
+  NoisyStep()
+  {
+    std::mt19937 rng(2);
+    std::normal_distribution<double> noise(0.0, 0.1);
+    for (Index y = 0; y < 64; ++y)
+    {
+      for (Index x = 0; x < 64; ++x)
+      {
+        Clean.push_back(x < 32 ? 0.0 : 1.0);
+        Noisy.push_back(Clean.back() + noise(rng));
+      }
+    }
+  }
+  double StepHeight(const std::vector<double>& f) const // mean of the columns next to the edge
+  {
+    double left = 0, right = 0;
+    for (Index y = 0; y < 64; ++y)
+    {
+      left += f[y * 64 + 31];
+      right += f[y * 64 + 32];
+    }
+    return (right - left) / 64;
+  }
+};
+
+TEST(ImageGraphFlow, RemovesNoiseKeepsTheEdgeAndStopsAtTheNoiseLevel)
+{
+  NoisyStep s;
+  GraphFlowOptions o;
+  o.ContrastScale = 15.0; // 1.5 / sigma
+  o.NumberOfIterations = 200;
+  o.NoiseLevel = 0.1;
+  std::vector<double> f = s.Noisy;
+  const GraphFlowResult r = RunImageGraphFlow(s.Grid, 1, f.data(), nullptr, o);
+  ASSERT_EQ(r.Error, "");
+  EXPECT_LT(r.Iterations, 200); // the noise-level stop ended it
+  EXPECT_NEAR(r.RMSChange, 0.1, 1e-3);
+  EXPECT_LT(r.FinalArea, r.InitialArea);
+  EXPECT_LT(RMS(f, s.Clean), 0.5 * RMS(s.Noisy, s.Clean));
+  // The edge is kept: linear diffusion (alpha -> 0) stopped at the same
+  // noise level flattens it much more.
+  std::vector<double> linear = s.Noisy;
+  GraphFlowOptions heat = o;
+  heat.ContrastScale = 1e-3;
+  ASSERT_EQ(RunImageGraphFlow(s.Grid, 1, linear.data(), nullptr, heat).Error, "");
+  std::printf("step height: Beltrami %.3f, linear diffusion %.3f; RMS error %.4f vs %.4f\n", s.StepHeight(f),
+    s.StepHeight(linear), RMS(f, s.Clean), RMS(linear, s.Clean));
+  EXPECT_GT(s.StepHeight(f), 0.75);
+  EXPECT_GT(s.StepHeight(f), s.StepHeight(linear) + 0.1);
+  EXPECT_LT(RMS(f, s.Clean), RMS(linear, s.Clean));
+  // The same run on 1 thread: the same values (deterministic sums).
+  std::vector<double> g = s.Noisy;
+  o.NumberOfThreads = 1;
+  RunImageGraphFlow(s.Grid, 1, g.data(), nullptr, o);
+  EXPECT_EQ(f, g);
+}
+
+TEST(ImageGraphFlow, FixedPixelsKeepTheirValuesAndBadInputIsAnError)
+{
+  NoisyStep s;
+  std::vector<std::uint8_t> fixed(s.Noisy.size(), 0);
+  for (std::size_t k = 0; k < fixed.size(); k += 7)
+  {
+    fixed[k] = 1;
+  }
+  GraphFlowOptions o;
+  o.ContrastScale = 15.0;
+  std::vector<double> f = s.Noisy;
+  ASSERT_EQ(RunImageGraphFlow(s.Grid, 1, f.data(), fixed.data(), o).Error, "");
+  for (std::size_t k = 0; k < fixed.size(); ++k)
+  {
+    if (fixed[k])
+    {
+      EXPECT_EQ(f[k], s.Noisy[k]);
+    }
+  }
+  f[5] = std::nan("");
+  const std::vector<double> before = f;
+  EXPECT_NE(RunImageGraphFlow(s.Grid, 1, f.data(), nullptr, o).Error, "");
+  o.ContrastScale = -1.0;
+  EXPECT_NE(RunImageGraphFlow(s.Grid, 1, f.data(), nullptr, o).Error, "");
+  for (std::size_t k = 0; k < f.size(); ++k) // nothing changed (NaN stays NaN)
+  {
+    EXPECT_TRUE(f[k] == before[k] || (std::isnan(f[k]) && std::isnan(before[k])));
+  }
+}
+
+TEST(SurfaceGraphFlow, SmoothsDataOnASphereAndKeepsConstantsAndFixedPoints)
+{
+  const test::Mesh sphere = test::OctahedronSphere(4);
+  const MeshTopology topo = sphere.Topology();
+  const Index n = topo.NumberOfVertices();
+  std::mt19937 rng(9);
+  std::normal_distribution<double> noise(0.0, 0.1);
+  std::vector<double> clean(n), noisy(n), constant(n, 2.5);
+  std::vector<std::uint8_t> fixed(n, 0);
+  for (Index i = 0; i < n; ++i)
+  {
+    clean[i] = sphere.Points[3 * i + 2]; // f = z
+    noisy[i] = clean[i] + noise(rng);
+    fixed[i] = i % 11 == 0;
+  }
+  GraphFlowOptions o;
+  o.Integration = GraphFlowIntegration::SemiImplicit;
+  o.ContrastScale = 0.2;
+  o.TimeStep = 0.002;
+  o.NumberOfIterations = 5;
+  std::vector<double> f = noisy;
+  const GraphFlowResult r = RunSurfaceGraphFlow(topo, sphere.Points.data(), 1, f.data(), fixed.data(), o);
+  ASSERT_EQ(r.Error, "");
+  EXPECT_GT(r.SolverIterations, 0);
+  EXPECT_LT(RMS(f, clean), 0.6 * RMS(noisy, clean));
+  for (Index i = 0; i < n; ++i)
+  {
+    if (fixed[i])
+    {
+      EXPECT_EQ(f[i], noisy[i]);
+    }
+  }
+  const std::vector<double> constant0 = constant;
+  ASSERT_EQ(RunSurfaceGraphFlow(topo, sphere.Points.data(), 1, constant.data(), nullptr, o).Error, "");
+  EXPECT_LT(RMS(constant, constant0), 1e-9);
+}
+
+} // namespace
+} // namespace beltrami
