@@ -502,20 +502,19 @@ vtkIdType vtkBeltramiSurface::NumberOfTopologyPoints() const
 }
 
 vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owner,
-  vtkInformationVector** inputVector, vtkInformationVector* outputVector, int numberOfThreads,
-  bool oneRings, bool wholeSurface)
+  vtkInformationVector** inputVector, vtkInformationVector* outputVector, int numberOfThreads, Needs needs)
 {
   InputData = vtkPolyData::GetData(inputVector[0]);
   OutputData = vtkPolyData::GetData(outputVector);
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   Holding = PiecesHoldingData(outInfo, InputData); // collective: before any return
   bool built = false;
-  if (oneRings && Holding > 1 && OnePiecePerRank(outInfo))
+  if (needs == Needs::OneRings && Holding > 1 && OnePiecePerRank(outInfo))
   {
     built = ExchangeOneRings(numberOfThreads); // collective too
   }
   Gather = nullptr;
-  if (wholeSurface && Holding > 1 && OnePiecePerRank(outInfo))
+  if (needs == Needs::WholeSurface && Holding > 1 && OnePiecePerRank(outInfo))
   {
     Gather = std::make_shared<vtkBeltramiGather>();
     vtkNew<vtkPolyData> empty; // (a missing input: an empty piece)
@@ -559,6 +558,28 @@ vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owne
     return Failed;
   }
   return Ready;
+}
+
+int vtkBeltramiSurface::Execute(vtkAlgorithm* owner, vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector, int numberOfThreads, Needs needs,
+  const std::function<bool(vtkBeltramiSurface&)>& run, const std::function<void(vtkPolyData*)>& received)
+{
+  vtkBeltramiSurface surface;
+  const PrepareResult prepared = surface.Prepare(owner, inputVector, outputVector, numberOfThreads, needs);
+  if (prepared == Gathered)
+  {
+    const int done = surface.Finish(true);
+    if (received)
+    {
+      received(vtkPolyData::GetData(outputVector));
+    }
+    return done;
+  }
+  if (prepared != Ready)
+  {
+    return prepared == NothingToDo ? 1 : 0;
+  }
+  return surface.Finish(run(surface));
 }
 
 int vtkBeltramiSurface::Finish(bool ok)

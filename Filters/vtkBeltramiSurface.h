@@ -16,6 +16,7 @@
 #include <vtkSmartPointer.h>
 #include <vtkType.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,12 +37,21 @@ public:
   /// yields a topology without triangles.
   bool Build(vtkPolyData* input, int numberOfThreads);
 
+  /// What a filter needs of a distributed run (pvbatch, pvserver: one piece
+  /// per rank).
+  enum class Needs
+  {
+    Piece,       ///< each piece on its own
+    OneRings,    ///< the whole 1-ring (star of triangles) of every point of the piece
+    WholeSurface ///< the whole surface at once
+  };
+
   enum PrepareResult
   {
     Failed = 0,  ///< an error was reported on the owner: RequestData returns 0
     NothingToDo, ///< the input has no points: the output is the input
     Ready,       ///< built: Input(), Output() (a shallow copy of the input), Topology()
-    Gathered     ///< a rank other than 0 of a gathered run (wholeSurface): return Finish(true)
+    Gathered     ///< a rank other than 0 of a gathered run (WholeSurface): return Finish(true)
   };
   /// The common start of every surface filter's RequestData: fetches the
   /// poly data input and output, passes the input through, and builds the
@@ -49,7 +59,7 @@ public:
   /// empty piece of distributed data).  Collective in distributed runs
   /// (see PiecesHoldingData): every rank must call it.
   ///
-  /// `oneRings`: the filter needs the whole 1-ring (star of triangles) of
+  /// Needs::OneRings: the filter needs the whole 1-ring (star of triangles) of
   /// every point of its piece.  When the data are split over ranks and no
   /// rank's piece has ghost cells (sources and readers that cannot make
   /// them), the ranks exchange the triangles at the edges of their pieces
@@ -57,19 +67,28 @@ public:
   /// (same ids) and the ghost points after them (NumberOfTopologyPoints() >
   /// NumberOfInputPoints()); Input() stays the piece.
   ///
-  /// `wholeSurface`: the filter needs the whole surface at once.  When the
+  /// Needs::WholeSurface: the filter needs the whole surface at once.  When the
   /// data are split over the ranks, the pieces are gathered on rank 0 (see
   /// vtkBeltramiGather): there Input() and Output() are the whole surface and
   /// its output, and the filter runs as in a serial run; the other ranks get
   /// Gathered.  Every rank ends RequestData with Finish, which sends each
   /// rank the results for its piece.
   PrepareResult Prepare(vtkAlgorithm* owner, vtkInformationVector** inputVector,
-    vtkInformationVector* outputVector, int numberOfThreads, bool oneRings = false,
-    bool wholeSurface = false);
+    vtkInformationVector* outputVector, int numberOfThreads, Needs needs = Needs::Piece);
   /// The end of RequestData after Prepare's Ready (`ok`: the filter
   /// succeeded) or Gathered (pass true): in a gathered run the results go
   /// to every rank's output.  Returns RequestData's value (rank 0's outcome).
   int Finish(bool ok);
+  /// The one way a surface filter's RequestData runs, serial or distributed:
+  /// Prepare with `needs`, then `run(surface)` where the surface is Ready
+  /// (the filter's work on Input(), Output() and Topology(); false on
+  /// error), then Finish, which in a gathered run sends every rank the
+  /// results of its piece.  On the ranks that only receive results,
+  /// `received(output)` is called after Finish (optional: e.g. to read the
+  /// report from the output's field data).  Returns RequestData's value.
+  static int Execute(vtkAlgorithm* owner, vtkInformationVector** inputVector, vtkInformationVector* outputVector,
+    int numberOfThreads, Needs needs, const std::function<bool(vtkBeltramiSurface&)>& run,
+    const std::function<void(vtkPolyData*)>& received = {});
   /// True when Prepare gathered the pieces of distributed data.
   bool IsGathered() const { return Gather != nullptr; }
   /// Points of the input piece (the output's points).

@@ -79,12 +79,12 @@ int vtkDiscreteCurvatures::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   // The whole 1-rings of the points at the edge of a piece.
-  vtkBeltramiSurface surface;
-  const auto prepared = surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads, true);
-  if (prepared != vtkBeltramiSurface::Ready)
-  {
-    return prepared == vtkBeltramiSurface::NothingToDo;
-  }
+  return vtkBeltramiSurface::Execute(this, inputVector, outputVector, this->NumberOfThreads,
+    vtkBeltramiSurface::Needs::OneRings, [this](vtkBeltramiSurface& surface) { return this->Compute(surface) != 0; });
+}
+
+int vtkDiscreteCurvatures::Compute(vtkBeltramiSurface& surface)
+{
   vtkPolyData* input = surface.Input();
   vtkPolyData* output = surface.Output();
   // Computed on the topology's points (generated ghost points last), kept

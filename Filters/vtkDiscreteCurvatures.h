@@ -51,6 +51,8 @@
 #include "BeltramiFiltersModule.h" // export macro
 #include "vtkPolyDataAlgorithm.h"
 
+class vtkBeltramiSurface;
+
 class BELTRAMIFILTERS_EXPORT vtkDiscreteCurvatures : public vtkPolyDataAlgorithm
 {
 public:
@@ -154,6 +156,8 @@ protected:
   int NumberOfThreads = 0;
 
 private:
+  /// RequestData's work on the prepared surface (vtkBeltramiSurface::Execute).
+  int Compute(vtkBeltramiSurface& surface);
   vtkDiscreteCurvatures(const vtkDiscreteCurvatures&) = delete;
   void operator=(const vtkDiscreteCurvatures&) = delete;
 };

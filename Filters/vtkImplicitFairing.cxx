@@ -53,13 +53,16 @@ int vtkImplicitFairing::RequestData(
   // Implicit steps and the invariants couple all points: data split over the
   // ranks of a distributed run are smoothed whole on rank 0
   // (vtkBeltramiGather), as in a serial run.
-  vtkBeltramiSurface surface;
-  const auto prepared =
-    surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads, false, true);
-  if (prepared == vtkBeltramiSurface::Gathered)
-  {
-    const int done = surface.Finish(true);
-    vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  const auto fair = [this](vtkBeltramiSurface& surface) {
+    if (surface.IsGathered() && !this->FixedPointIds.empty())
+    {
+      vtkWarningMacro("Distributed data gathered on rank 0: the fixed point ids refer to the points of the "
+                      "gathered surface (rank 0's piece first); a fixed-points array (input array 0) is the "
+                      "reliable way to fix points of distributed data.");
+    }
+    return this->Fair(surface) != 0;
+  };
+  const auto received = [this](vtkPolyData* output) { // the solver iterations of rank 0's run
     if (vtkDataArray* iterations = output->GetFieldData()->GetArray("FairingIterations"))
     {
       for (vtkIdType k = 0; k < iterations->GetNumberOfTuples(); ++k)
@@ -67,19 +70,9 @@ int vtkImplicitFairing::RequestData(
         this->Iterations.push_back(static_cast<int>(iterations->GetTuple1(k)));
       }
     }
-    return done;
-  }
-  if (prepared != vtkBeltramiSurface::Ready)
-  {
-    return prepared == vtkBeltramiSurface::NothingToDo;
-  }
-  if (surface.IsGathered() && !this->FixedPointIds.empty())
-  {
-    vtkWarningMacro("Distributed data gathered on rank 0: the fixed point ids refer to the points of the "
-                    "gathered surface (rank 0's piece first); a fixed-points array (input array 0) is the "
-                    "reliable way to fix points of distributed data.");
-  }
-  return surface.Finish(this->Fair(surface) != 0);
+  };
+  return vtkBeltramiSurface::Execute(this, inputVector, outputVector, this->NumberOfThreads,
+    vtkBeltramiSurface::Needs::WholeSurface, fair, received);
 }
 
 int vtkImplicitFairing::Fair(vtkBeltramiSurface& surface)

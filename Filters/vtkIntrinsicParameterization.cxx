@@ -138,32 +138,24 @@ int vtkIntrinsicParameterization::RequestData(
   // A parameterization is one solve over the whole surface: data split over
   // the ranks of a distributed run are gathered on rank 0 (vtkBeltramiGather)
   // and every rank gets the results for its own points and cells.
-  vtkBeltramiSurface surface;
-  const auto prepared =
-    surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads, false, true);
-  if (prepared == vtkBeltramiSurface::Gathered)
-  {
-    const int done = surface.Finish(true);
-    this->ReadReport(vtkPolyData::GetData(outputVector)->GetFieldData());
-    return done;
-  }
-  if (prepared != vtkBeltramiSurface::Ready)
-  {
-    return prepared == vtkBeltramiSurface::NothingToDo;
-  }
-  if (surface.PiecesWithData() > 1) // pieces streamed one by one: no gathering
-  {
-    vtkWarningMacro("A parameterization needs the whole surface: this piece of " << surface.PiecesWithData()
-      << " streamed pieces is passed through. Update the whole data set.");
-    return 1;
-  }
-  if (surface.IsGathered() && !this->Internal->Constraints.empty())
-  {
-    vtkWarningMacro("Distributed data gathered on rank 0: the point constraints by vertex id refer to the "
-                    "points of the gathered surface (rank 0's piece first); the constraint target array "
-                    "(input array 1) is the reliable way to constrain distributed data.");
-  }
-  return surface.Finish(this->Parameterize(surface) != 0);
+  const auto parameterize = [this](vtkBeltramiSurface& surface) {
+    if (surface.PiecesWithData() > 1) // pieces streamed one by one: no gathering
+    {
+      vtkWarningMacro("A parameterization needs the whole surface: this piece of " << surface.PiecesWithData()
+        << " streamed pieces is passed through. Update the whole data set.");
+      return true;
+    }
+    if (surface.IsGathered() && !this->Internal->Constraints.empty())
+    {
+      vtkWarningMacro("Distributed data gathered on rank 0: the point constraints by vertex id refer to the "
+                      "points of the gathered surface (rank 0's piece first); the constraint target array "
+                      "(input array 1) is the reliable way to constrain distributed data.");
+    }
+    return this->Parameterize(surface) != 0;
+  };
+  return vtkBeltramiSurface::Execute(this, inputVector, outputVector, this->NumberOfThreads,
+    vtkBeltramiSurface::Needs::WholeSurface, parameterize,
+    [this](vtkPolyData* output) { this->ReadReport(output->GetFieldData()); });
 }
 
 int vtkIntrinsicParameterization::Parameterize(vtkBeltramiSurface& surface)

@@ -38,18 +38,7 @@ int vtkSurfaceDataDenoising::RequestData(
   // The flow couples all points (semi-implicit steps, noise-level stop,
   // mean edge length): data split over the ranks of a distributed run are
   // smoothed whole on rank 0 (vtkBeltramiGather), as in a serial run.
-  vtkBeltramiSurface surface;
-  const auto prepared =
-    surface.Prepare(this, inputVector, outputVector, this->NumberOfThreads, false, true);
-  if (prepared == vtkBeltramiSurface::Gathered)
-  {
-    return surface.Finish(true);
-  }
-  if (prepared != vtkBeltramiSurface::Ready)
-  {
-    return prepared == vtkBeltramiSurface::NothingToDo;
-  }
-  const auto smooth = [&]() -> int {
+  const auto smooth = [this](vtkBeltramiSurface& surface) -> bool {
     vtkPolyData* input = surface.Input();
     vtkPolyData* output = surface.Output();
     const beltrami::MeshTopology& topo = surface.Topology();
@@ -57,12 +46,12 @@ int vtkSurfaceDataDenoising::RequestData(
     vtkDataArray* array = this->GetInputArrayToProcess(0, input, association);
     if (!vtkBeltramiGraphFlow::IsPointArray(this, array, association))
     {
-      return 0;
+      return false;
     }
     if (topo.NumberOfTriangles() == 0)
     {
       vtkWarningMacro("Input has no polygons or triangle strips: the data are left as they are.");
-      return 1;
+      return true;
     }
     surface.WarnAboutInput(this, "a free boundary where pieces meet", "The data at non-manifold points are kept.");
     std::vector<double> storage;
@@ -73,9 +62,10 @@ int vtkSurfaceDataDenoising::RequestData(
       [&topo](const double* x, int nc, double* values, const std::uint8_t* fixed,
         const beltrami::GraphFlowOptions& options, const beltrami::ProgressCallback& progress) {
         return beltrami::RunSurfaceGraphFlow(topo, x, nc, values, fixed, options, progress);
-      });
+      }) != 0;
   };
-  return surface.Finish(smooth() != 0);
+  return vtkBeltramiSurface::Execute(this, inputVector, outputVector, this->NumberOfThreads,
+    vtkBeltramiSurface::Needs::WholeSurface, smooth);
 }
 
 void vtkSurfaceDataDenoising::PrintSelf(ostream& os, vtkIndent indent)
