@@ -3,15 +3,17 @@
 // With an elimination order from the caller (the parameterization's nested
 // dissection): our SupernodalLU, its Cholesky form for symmetric positive
 // definite systems and its LU for the others; it runs independent subtrees
-// on separate threads (179k vertices, 2 threads, analysis included: Cholesky
-// 0.21 s, LU 0.27-0.31 s, where CHOLMOD took 0.34 s and UMFPACK 0.65-0.82 s).  SuiteSparse otherwise, and
+// on separate threads, faster than CHOLMOD and UMFPACK on the
+// parameterization's systems (the README's parameterization section has the
+// timings).  SuiteSparse otherwise, and
 // when SupernodalLU fails: CHOLMOD's supernodal Cholesky, UMFPACK's LU (any
 // pivot; also when the Cholesky finds the matrix not positive definite).
 // SuiteSparse is set up for this project's machines:
 // - ordering: the caller's (a nested dissection of the mesh) or AMD.
 //   CHOLMOD's default tries METIS after AMD when the fill is high; on the
 //   parameterization systems (10^5 vertices) METIS saves flops but costs more
-//   time than it saves (179k vertices: ordering 0.9 s vs 0.17 s).
+//   time than it saves (at 179k vertices the ordering took about five times
+//   longer).
 // - memory: SuiteSparse's allocations of 1 MiB and more go through
 //   LargeBuffer (2 MiB pages, cached): the factor of a 179k-vertex system is
 //   ~100 MB, and faulting it in 4 KiB pages cost as much as computing it.

@@ -14,7 +14,7 @@
 // (UMFPACK) instead.
 //
 // Why not SuiteSparse alone: UMFPACK's symbolic analysis and frontal
-// assembly cost 0.19 s of the 0.67 s of a 179k-vertex DAP factorization, and
+// assembly cost over a quarter of a DAP factorization's time, and
 // UMFPACK and CHOLMOD run one tree of fronts on one core (their BLAS calls
 // barely use a second).  Here the elimination tree's independent subtrees are
 // factorized on separate threads (the BLAS single-threaded meanwhile), then
