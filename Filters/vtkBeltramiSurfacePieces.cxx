@@ -1,0 +1,351 @@
+// vtkBeltramiSurface, distributed runs: how many pieces hold data, the
+// exchange of the triangles around the points at the edges of the pieces
+// (whole 1-rings), and Prepare / Execute / Finish, the one way a surface
+// filter runs (gathered on rank 0 when it needs the whole surface).
+#include "vtkBeltramiSurface.h"
+
+#include "vtkBeltramiGather.h"
+
+#include <vtkAlgorithm.h>
+#include <vtkBoundingBox.h>
+#include <vtkCommunicator.h>
+#include <vtkDataSetAttributes.h>
+#include <vtkDoubleArray.h>
+#include <vtkFloatArray.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkMultiProcessController.h>
+#include <vtkNew.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <sstream>
+#include <vector>
+
+using beltrami::Index;
+
+namespace
+{
+
+int RequestedPieces(vtkInformation* outInfo)
+{
+  return outInfo && outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+}
+
+} // namespace
+
+bool vtkBeltramiSurface::OnePiecePerRank(vtkInformation* outInfo)
+{
+  const int pieces = RequestedPieces(outInfo);
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  return pieces > 1 && controller && controller->GetNumberOfProcesses() == pieces &&
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) == controller->GetLocalProcessId();
+}
+
+int vtkBeltramiSurface::PiecesHoldingData(vtkInformation* outInfo, vtkDataSet* input)
+{
+  const int pieces = RequestedPieces(outInfo);
+  if (pieces <= 1)
+  {
+    return 1;
+  }
+  if (!OnePiecePerRank(outInfo))
+  {
+    return pieces; // not one piece per rank: cannot ask the others
+  }
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  int local = input && input->GetNumberOfPoints() > 0 ? 1 : 0, holding = 0;
+  controller->AllReduce(&local, &holding, 1, vtkCommunicator::SUM_OP);
+  return holding;
+}
+
+void vtkBeltramiSurface::WarnDistributed(vtkAlgorithm* owner, int pieces, const char* pieceBoundary)
+{
+  vtkWarningWithObjectMacro(owner, "Distributed data (" << pieces << " pieces hold points): each piece is "
+    "smoothed on its own with " << pieceBoundary << ", so near the piece boundaries the result is not the "
+    "serial one. Run it on the whole data set (e.g. after Merge Blocks / D3 to one process).");
+}
+
+void vtkBeltramiSurface::WarnAboutInput(
+  vtkAlgorithm* owner, const char* pieceBoundary, const char* consequence) const
+{
+  if (Holding > 1)
+  {
+    WarnDistributed(owner, Holding, pieceBoundary);
+  }
+  else if (!TopologyWarning().empty())
+  {
+    vtkWarningWithObjectMacro(owner, << TopologyWarning() << ". " << consequence);
+  }
+}
+
+bool vtkBeltramiSurface::ExchangeOneRings(int numberOfThreads)
+{
+  // Called on every rank when the pieces are the ranks and several hold
+  // points (PiecesHoldingData communicated): the decision is collective.
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const bool hasPoints = InputData && InputData->GetNumberOfPoints() > 0;
+  bool hasGhosts = false; // duplicate cells (a ghost array of zeros is no ghost layer)
+  if (vtkUnsignedCharArray* ghosts = InputData ? InputData->GetCellGhostArray() : nullptr)
+  {
+    const unsigned char* flags = ghosts->GetPointer(0);
+    hasGhosts = std::any_of(flags, flags + ghosts->GetNumberOfValues(),
+      [](unsigned char f) { return (f & vtkDataSetAttributes::DUPLICATECELL) != 0; });
+  }
+  int local[2] = { hasPoints && !hasGhosts ? 1 : 0, hasGhosts ? 1 : 0 };
+  int global[2] = { 0, 0 };
+  controller->AllReduce(local, global, 2, vtkCommunicator::SUM_OP);
+  if (global[0] == 0 || global[1] > 0)
+  {
+    return false; // the pieces came with ghost cells, or none holds points
+  }
+
+  // What this piece offers: every triangle at a vertex on the edge of the
+  // piece (a boundary or non-manifold vertex of its own topology), as its
+  // corners' coordinates.  A point that pieces share is on the edge of each
+  // of them, so every piece gets the whole star of its shared points - also
+  // from a piece that touches it at that point only.
+  const int ranks = controller->GetNumberOfProcesses();
+  const int rank = controller->GetLocalProcessId();
+  std::vector<double> offer;
+  std::vector<Index> edgeVertices; // this piece's boundary and non-manifold vertices
+  const bool built = hasPoints && Build(InputData, numberOfThreads);
+  if (built)
+  {
+    const beltrami::MeshTopology& topo = *Mesh;
+    std::vector<std::uint8_t> offered(static_cast<std::size_t>(topo.NumberOfTriangles()), 0);
+    for (Index v = 0; v < topo.NumberOfVertices(); ++v)
+    {
+      if (topo.VertexFlags(v) & (beltrami::VertexBoundary | beltrami::VertexNonManifold))
+      {
+        edgeVertices.push_back(v);
+        for (const Index* c = topo.CornersBegin(v); c != topo.CornersEnd(v); ++c)
+        {
+          offered[*c / 3] = 1;
+        }
+      }
+    }
+    for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
+    {
+      for (int k = 0; offered[t] && k < 3; ++k)
+      {
+        double x[3];
+        InputData->GetPoint(topo.CornerVertex(3 * t + k), x);
+        offer.insert(offer.end(), x, x + 3);
+      }
+    }
+  }
+  std::vector<vtkIdType> lengths(static_cast<std::size_t>(ranks), 0), offsets(ranks + 1, 0);
+  const vtkIdType length = static_cast<vtkIdType>(offer.size());
+  controller->AllGather(&length, lengths.data(), 1);
+  for (int r = 0; r < ranks; ++r)
+  {
+    offsets[r + 1] = offsets[r] + lengths[r];
+  }
+  std::vector<double> offers(static_cast<std::size_t>(offsets[ranks]));
+  controller->AllGatherV(offer.data(), offers.data(), length, lengths.data(), offsets.data());
+  if (edgeVertices.empty() || offsets[ranks] == length)
+  {
+    return built; // nothing to join (this piece has no edge, or no other piece offers)
+  }
+
+  // Join: this piece's edge vertices, then the other pieces' corners, with
+  // their copies of common points merged (as vtkBeltramiGather does).
+  const vtkIdType own = static_cast<vtkIdType>(edgeVertices.size());
+  const vtkIdType corners = (offsets[ranks] - length) / 3;
+  vtkNew<vtkPoints> joined;
+  joined->SetDataTypeToDouble();
+  joined->SetNumberOfPoints(own + corners);
+  vtkBoundingBox box;
+  for (vtkIdType i = 0; i < own; ++i)
+  {
+    double x[3];
+    InputData->GetPoint(edgeVertices[i], x);
+    joined->SetPoint(i, x);
+    box.AddPoint(x);
+  }
+  vtkIdType corner = 0;
+  for (int r = 0; r < ranks; ++r)
+  {
+    for (vtkIdType k = offsets[r]; r != rank && k < offsets[r + 1]; k += 3, ++corner)
+    {
+      joined->SetPoint(own + corner, offers.data() + k);
+      box.AddPoint(offers.data() + k);
+    }
+  }
+  const std::vector<vtkIdType> merged =
+    vtkBeltramiGather::CoincidentPoints(joined, 1e-12 * box.GetDiagonalLength());
+  // Per representative: the piece's point it stands for, or a new ghost point
+  // (numbered after the piece's points).
+  std::vector<vtkIdType> pointOf(static_cast<std::size_t>(own + corners), -1);
+  for (vtkIdType i = 0; i < own; ++i)
+  {
+    pointOf[merged[i]] = edgeVertices[i];
+  }
+  const Index n = Mesh->NumberOfVertices();
+  beltrami::IndexArray triangles(Mesh->TriangleList());
+  const std::size_t kept = triangles.size() / 3;
+  std::vector<double> ghostPoints;
+  for (vtkIdType t = 0; t < corners / 3; ++t)
+  {
+    const vtkIdType* m = merged.data() + own + 3 * t;
+    if (pointOf[m[0]] < 0 && pointOf[m[1]] < 0 && pointOf[m[2]] < 0)
+    {
+      continue; // not at this piece
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      if (pointOf[m[k]] < 0)
+      {
+        pointOf[m[k]] = n + static_cast<vtkIdType>(ghostPoints.size() / 3);
+        const double* x = joined->GetPoint(m[k]);
+        ghostPoints.insert(ghostPoints.end(), x, x + 3);
+      }
+      triangles.push_back(static_cast<Index>(pointOf[m[k]]));
+    }
+  }
+  if (triangles.size() / 3 == kept)
+  {
+    return true; // the other pieces' edges do not touch this one
+  }
+  // The piece's coordinates (their own precision), then the ghost points'.
+  const Index total = n + static_cast<Index>(ghostPoints.size() / 3);
+  vtkSmartPointer<vtkDataArray> coordinates = NewArray(Floats ? VTK_FLOAT : VTK_DOUBLE, nullptr, 3, total);
+  if (Floats)
+  {
+    float* x = vtkFloatArray::FastDownCast(coordinates)->GetPointer(0);
+    std::copy(Floats, Floats + 3 * static_cast<std::size_t>(n), x);
+    std::copy(ghostPoints.begin(), ghostPoints.end(), x + 3 * static_cast<std::size_t>(n));
+    Floats = x;
+  }
+  else
+  {
+    double* x = vtkDoubleArray::FastDownCast(coordinates)->GetPointer(0);
+    std::copy(Doubles, Doubles + 3 * static_cast<std::size_t>(n), x);
+    std::copy(ghostPoints.begin(), ghostPoints.end(), x + 3 * static_cast<std::size_t>(n));
+    Doubles = x;
+  }
+  PointData = coordinates;
+  // Input cells of the kept triangles (TriangleCell); -1 for the ring's.
+  std::vector<vtkIdType> cells(triangles.size() / 3, -1);
+  const beltrami::IndexArray& original = Mesh->OriginalTriangleIds();
+  for (std::size_t t = 0; t < kept; ++t)
+  {
+    cells[t] = TriangleCell(original[t]);
+  }
+  try
+  {
+    Mesh = std::make_unique<beltrami::MeshTopology>(total, std::move(triangles), numberOfThreads);
+  }
+  catch (const std::exception& e)
+  {
+    ErrorText = e.what();
+    Mesh.reset();
+    return false;
+  }
+  CellOfTriangle = std::move(cells);
+  return true;
+}
+
+vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owner,
+  vtkInformationVector** inputVector, vtkInformationVector* outputVector, int numberOfThreads, Needs needs)
+{
+  InputData = vtkPolyData::GetData(inputVector[0]);
+  OutputData = vtkPolyData::GetData(outputVector);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  Holding = PiecesHoldingData(outInfo, InputData); // collective: before any return
+  bool built = false;
+  if (needs == Needs::OneRings && Holding > 1 && OnePiecePerRank(outInfo))
+  {
+    built = ExchangeOneRings(numberOfThreads); // collective too
+  }
+  Gather = nullptr;
+  if (needs == Needs::WholeSurface && Holding > 1 && OnePiecePerRank(outInfo))
+  {
+    Gather = std::make_shared<vtkBeltramiGather>();
+    vtkNew<vtkPolyData> empty; // (a missing input: an empty piece)
+    Whole = vtkPolyData::SafeDownCast(Gather->Collect(
+      vtkMultiProcessController::GetGlobalController(), InputData ? InputData : empty.Get())); // collective
+    PieceOutput = OutputData;
+    if (PieceOutput && InputData)
+    {
+      PieceOutput->ShallowCopy(InputData);
+    }
+    if (!Whole)
+    {
+      return Gathered;
+    }
+    WholeOutput = vtkSmartPointer<vtkPolyData>::New();
+    InputData = Whole;
+    OutputData = WholeOutput;
+    Holding = 1; // the whole surface, as in a serial run
+  }
+  if (!InputData || !OutputData)
+  {
+    vtkErrorWithObjectMacro(owner, "Missing input or output poly data.");
+    Finish(false);
+    return Failed;
+  }
+  OutputData->ShallowCopy(InputData);
+  Pieces = Gather ? 1 : std::max(1, RequestedPieces(outInfo));
+  if (InputData->GetNumberOfPoints() == 0)
+  {
+    if (Pieces <= 1) // an empty piece of distributed data is normal
+    {
+      vtkWarningWithObjectMacro(owner, "Input has no points: nothing to do.");
+    }
+    Finish(true); // (a gathered run: the outputs stay the inputs)
+    return NothingToDo;
+  }
+  if (!built && !Build(InputData, numberOfThreads))
+  {
+    vtkErrorWithObjectMacro(owner, "Cannot process the input surface: " << Error());
+    Finish(false);
+    return Failed;
+  }
+  return Ready;
+}
+
+int vtkBeltramiSurface::Execute(vtkAlgorithm* owner, vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector, int numberOfThreads, Needs needs,
+  const std::function<bool(vtkBeltramiSurface&)>& run, const std::function<void(vtkPolyData*)>& received)
+{
+  vtkBeltramiSurface surface;
+  const PrepareResult prepared = surface.Prepare(owner, inputVector, outputVector, numberOfThreads, needs);
+  if (prepared == Gathered)
+  {
+    const int done = surface.Finish(true);
+    if (received)
+    {
+      received(vtkPolyData::GetData(outputVector));
+    }
+    return done;
+  }
+  if (prepared != Ready)
+  {
+    return prepared == NothingToDo ? 1 : 0;
+  }
+  return surface.Finish(run(surface));
+}
+
+int vtkBeltramiSurface::Finish(bool ok)
+{
+  if (!Gather)
+  {
+    return ok ? 1 : 0;
+  }
+  const bool done = Gather->Distribute(Whole, WholeOutput, ok, PieceOutput);
+  Gather = nullptr; // once
+  return done ? 1 : 0;
+}
+
