@@ -14,6 +14,18 @@ namespace beltrami
 namespace
 {
 
+/// A small mesh from its points and triangles (3 ids each).
+test::Mesh Small(std::initializer_list<Eigen::Vector3d> points, std::initializer_list<Index> triangles)
+{
+  test::Mesh m;
+  for (const Eigen::Vector3d& p : points)
+  {
+    m.AddPoint(p);
+  }
+  m.Triangles.assign(triangles);
+  return m;
+}
+
 HalfEdgeMesh Build(const test::Mesh& m)
 {
   HalfEdgeMesh mesh;
@@ -78,14 +90,7 @@ TEST(HalfEdgeMesh, BoundaryVerticesAreAnchoredOnTheBoundary)
 
 TEST(HalfEdgeMesh, FlipTurnsTheDiagonalOfAQuadAndRefusesWhatItCannot)
 {
-  test::Mesh quad;
-  quad.AddPoint({ 0, 0, 0 });
-  quad.AddPoint({ 1, 0, 0 });
-  quad.AddPoint({ 1, 1, 0 });
-  quad.AddPoint({ 0, 1, 0 });
-  quad.AddTriangle(0, 1, 2);
-  quad.AddTriangle(0, 2, 3);
-  HalfEdgeMesh mesh = Build(quad);
+  HalfEdgeMesh mesh = Build(Small({ { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 } }, { 0, 1, 2, 0, 2, 3 }));
   const Index diagonal = mesh.FindHalfEdge(0, 2);
   ASSERT_GE(diagonal, 0);
   EXPECT_FALSE(mesh.CanFlip(mesh.FindHalfEdge(0, 1))); // boundary
@@ -104,16 +109,8 @@ TEST(HalfEdgeMesh, FlipTurnsTheDiagonalOfAQuadAndRefusesWhatItCannot)
     EXPECT_GT((b - a).cross(c - a).z(), 0.0);
   }
   // A tetrahedron: every flip would create an edge that exists.
-  test::Mesh tet;
-  tet.AddPoint({ 0, 0, 0 });
-  tet.AddPoint({ 1, 0, 0 });
-  tet.AddPoint({ 0, 1, 0 });
-  tet.AddPoint({ 0, 0, 1 });
-  tet.AddTriangle(0, 2, 1);
-  tet.AddTriangle(0, 1, 3);
-  tet.AddTriangle(1, 2, 3);
-  tet.AddTriangle(2, 0, 3);
-  HalfEdgeMesh closed = Build(tet);
+  HalfEdgeMesh closed =
+    Build(Small({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } }, { 0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3 }));
   for (Index h = 0; h < closed.NumberOfHalfEdges(); ++h)
   {
     EXPECT_FALSE(closed.FlipEdge(h));
@@ -208,15 +205,8 @@ TEST(HalfEdgeMesh, MovesKeepTheConnectivityAndChartsComeOutWithAVertexMap)
 
 TEST(HalfEdgeMesh, NonManifoldInputIsRefused)
 {
-  test::Mesh fin; // three triangles on one edge
-  fin.AddPoint({ 0, 0, 0 });
-  fin.AddPoint({ 1, 0, 0 });
-  fin.AddPoint({ 0, 1, 0 });
-  fin.AddPoint({ 0, -1, 0 });
-  fin.AddPoint({ 0, 0, 1 });
-  fin.AddTriangle(0, 1, 2);
-  fin.AddTriangle(1, 0, 3);
-  fin.AddTriangle(0, 1, 4);
+  const test::Mesh fin = // three triangles on one edge
+    Small({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 }, { 0, 0, 1 } }, { 0, 1, 2, 1, 0, 3, 0, 1, 4 });
   HalfEdgeMesh mesh;
   std::string error;
   EXPECT_FALSE(HalfEdgeMesh::FromTopology(fin.Topology(), fin.Points.data(), mesh, error));
