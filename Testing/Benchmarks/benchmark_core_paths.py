@@ -48,7 +48,7 @@ def digest(*arrays):
     return h.hexdigest()[:16]
 
 
-def run(f, make, outputs, repeats):
+def run(make, outputs, repeats):
     def once():
         filt = make()
         filt.Update()
@@ -137,7 +137,7 @@ def main():
                                                              o.GetPointData().GetArray("GaussianCurvature")]),
     ]
     for name, make, outputs in cases:
-        t, d = run(None, make, outputs, repeats)
+        t, d = run(make, outputs, repeats)
         print("%-40s %8.3f s   %s" % (name, t, d), flush=True)
 
 

@@ -91,22 +91,6 @@ std::string CheckOptions(const GraphFlowOptions& o, int components, int maximum,
 GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphFlowOptions& o,
   const ProgressCallback& progress);
 
-/// Calls run(std::integral_constant<int, NC>()) with NC = components (1 to 6):
-/// the kernels are compiled per component count.
-template <typename Run>
-GraphFlowResult WithComponents(int components, Run&& run)
-{
-  switch (components)
-  {
-    case 1: return run(std::integral_constant<int, 1>());
-    case 2: return run(std::integral_constant<int, 2>());
-    case 3: return run(std::integral_constant<int, 3>());
-    case 4: return run(std::integral_constant<int, 4>());
-    case 5: return run(std::integral_constant<int, 5>());
-    default: return run(std::integral_constant<int, 6>());
-  }
-}
-
 /// The row kernels are compiled twice, for AVX2/FMA processors and for any
 /// x86-64, and the processor picks at run time: the build stays portable.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)

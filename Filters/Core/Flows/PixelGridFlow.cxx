@@ -467,7 +467,7 @@ GraphFlowResult RunImageGraphFlow(const PixelGrid& grid, int components, double*
   {
     return result;
   }
-  return WithComponents(components, [&](auto nc) {
+  return WithCount<6>(components, [&](auto nc) { // kernels compiled per component count
     return RunGrid<decltype(nc)::value>(grid, values, fixed, options, progress);
   });
 }

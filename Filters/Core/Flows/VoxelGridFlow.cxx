@@ -443,7 +443,7 @@ GraphFlowResult RunVolumeGraphFlow(const VoxelGrid& grid, int components, double
   {
     return result;
   }
-  return WithComponents(components, [&](auto nc) {
+  return WithCount<6>(components, [&](auto nc) { // kernels compiled per component count
     VoxelDiscretization<decltype(nc)::value> disc(grid, fixed, options.EdgeContrast, options.NumberOfThreads,
       options.Integration == GraphFlowIntegration::SemiImplicit);
     return Integrate(disc, values, options, progress);

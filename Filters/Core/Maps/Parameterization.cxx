@@ -7,11 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <new>
-#include <numeric>
 #include <sstream>
-#include <tuple>
 
 namespace beltrami
 {

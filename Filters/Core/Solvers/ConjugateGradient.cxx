@@ -154,17 +154,7 @@ ConjugateGradientResult SolveConjugateGradient(
   {
     throw std::invalid_argument("SolveConjugateGradient: inconsistent problem");
   }
-  switch (nc)
-  {
-    case 1: return Solve<1>(pb, b, x);
-    case 2: return Solve<2>(pb, b, x);
-    case 3: return Solve<3>(pb, b, x);
-    case 4: return Solve<4>(pb, b, x);
-    case 5: return Solve<5>(pb, b, x);
-    case 6: return Solve<6>(pb, b, x);
-    case 7: return Solve<7>(pb, b, x);
-    default: return Solve<8>(pb, b, x);
-  }
+  return WithCount<8>(nc, [&](auto k) { return Solve<decltype(k)::value>(pb, b, x); });
 }
 
 } // namespace beltrami

@@ -538,13 +538,7 @@ ConjugateGradientResult SolveSquaredLaplacian(const ShiftedLaplacianProblem& pb,
     none.Converged = true;
     return none;
   }
-  switch (nc)
-  {
-    case 1: return SolveSquared<1>(pb, b, x);
-    case 2: return SolveSquared<2>(pb, b, x);
-    case 3: return SolveSquared<3>(pb, b, x);
-    default: return SolveSquared<4>(pb, b, x);
-  }
+  return WithCount<4>(nc, [&](auto k) { return SolveSquared<decltype(k)::value>(pb, b, x); });
 }
 
 ConjugateGradientResult SolveShiftedLaplacian(
@@ -562,14 +556,11 @@ ConjugateGradientResult SolveShiftedLaplacian(
     none.Converged = true;
     return none;
   }
-  switch (nc)
+  if (nc > 4)
   {
-    case 1: return SolveShifted<1>(pb, b, x);
-    case 2: return SolveShifted<2>(pb, b, x);
-    case 3: return SolveShifted<3>(pb, b, x);
-    case 4: return SolveShifted<4>(pb, b, x);
-    default: return SolveShifted<8>(pb, b, x);
+    return SolveShifted<8>(pb, b, x); // 5 to 7 columns padded to 8
   }
+  return WithCount<4>(nc, [&](auto k) { return SolveShifted<decltype(k)::value>(pb, b, x); });
 }
 
 } // namespace beltrami

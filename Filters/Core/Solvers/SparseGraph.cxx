@@ -45,19 +45,13 @@ void ApplyStiffnessColumns(Index rows, const std::int64_t* offsets, const Index*
 void ApplyGraphStiffness(Index rows, const std::int64_t* offsets, const Index* neighbors,
   const double* weights, const double* diagonal, const double* x, double* y, int columns, int numThreads)
 {
-  const auto run = [&](auto product) { product(rows, offsets, neighbors, weights, diagonal, x, y, numThreads); };
-  switch (columns)
+  if (columns < 1 || columns > 8)
   {
-    case 1: return run(ApplyStiffnessColumns<1>);
-    case 2: return run(ApplyStiffnessColumns<2>);
-    case 3: return run(ApplyStiffnessColumns<3>);
-    case 4: return run(ApplyStiffnessColumns<4>);
-    case 5: return run(ApplyStiffnessColumns<5>);
-    case 6: return run(ApplyStiffnessColumns<6>);
-    case 7: return run(ApplyStiffnessColumns<7>);
-    case 8: return run(ApplyStiffnessColumns<8>);
-    default: throw std::invalid_argument("ApplyStiffness: 1 to 8 columns");
+    throw std::invalid_argument("ApplyStiffness: 1 to 8 columns");
   }
+  WithCount<8>(columns, [&](auto k) {
+    ApplyStiffnessColumns<decltype(k)::value>(rows, offsets, neighbors, weights, diagonal, x, y, numThreads);
+  });
 }
 
 std::vector<Index> LocalityOrder(Index rows, const std::int64_t* offsets, const Index* neighbors)

@@ -10,6 +10,8 @@
 
 #include <cstdint>
 #include <functional>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace beltrami
@@ -59,5 +61,21 @@ std::vector<double> ParallelPartials(std::int64_t n, int numberOfValues, int num
 /// For uniform work only (no load balancing).
 void ParallelForStatic(std::int64_t n, int numThreads,
   const std::function<void(std::int64_t begin, std::int64_t end)>& body);
+
+/// Calls run(std::integral_constant<int, K>()) with K = count clamped to
+/// [1, Maximum]: kernels compiled per column or component count (the loops
+/// over K unroll and vectorize), chosen at run time.
+template <int Maximum, typename Run>
+decltype(auto) WithCount(int count, Run&& run)
+{
+  if constexpr (Maximum > 1)
+  {
+    if (count < Maximum)
+    {
+      return WithCount<Maximum - 1>(count, std::forward<Run>(run));
+    }
+  }
+  return run(std::integral_constant<int, Maximum>());
+}
 
 } // namespace beltrami
