@@ -71,7 +71,7 @@ std::string vtkBeltramiGraphFlow::StabilityWarning(
     return {};
   }
   std::ostringstream s;
-  s << r.UnstableSteps << " explicit step(s) of " << o.TimeStep
+  s << r.UnstableSteps << " explicit step(s) of " << (o.TimeStep > 0.0 ? o.TimeStep : r.LastTimeStep)
     << " exceeded the stability limit (" << r.SmallestStableStep
     << " at the steepest point); the result may oscillate. Use AdaptiveTimeStep, the semi-implicit "
        "integration or a smaller TimeStep.";
@@ -80,7 +80,7 @@ std::string vtkBeltramiGraphFlow::StabilityWarning(
 
 int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkDataSet* output,
   vtkDataArray* array, const double* points, bool useMask, const beltrami::GraphFlowOptions& options,
-  int maxComponents, double unit, int measureDimension, const MeshFlow& flow)
+  int maxComponents, const MeshFlow& flow)
 {
   std::string error;
   const std::vector<std::uint8_t> fixed =
@@ -99,23 +99,7 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
                                                  << " can be smoothed. The output is the input.");
     return 0;
   }
-  if (!(unit > 0.0) || !std::isfinite(unit))
-  {
-    vtkErrorWithObjectMacro(owner, "The mean edge length of the input is "
-        << unit << ": cannot scale the mesh. The output is the input.");
-    return 0;
-  }
   const vtkIdType numPoints = input->GetNumberOfPoints();
-  std::vector<double> scaled(points, points + 3 * numPoints);
-  for (double& x : scaled)
-  {
-    x /= unit;
-    if (!std::isfinite(x))
-    {
-      vtkErrorWithObjectMacro(owner, "The input has NaN or infinite point coordinates. The output is the input.");
-      return 0;
-    }
-  }
   std::vector<double> values(static_cast<std::size_t>(numPoints) * nc);
   for (vtkIdType i = 0; i < numPoints; ++i)
   {
@@ -125,7 +109,7 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
     }
   }
   owner->UpdateProgress(0.0);
-  beltrami::GraphFlowResult result = flow(scaled.data(), nc, values.data(),
+  const beltrami::GraphFlowResult result = flow(points, nc, values.data(),
     fixed.empty() ? nullptr : fixed.data(), options, [owner](double fraction) {
       owner->UpdateProgress(fraction);
       return !owner->GetAbortExecute();
@@ -135,7 +119,7 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
     vtkErrorWithObjectMacro(owner, << result.Error << ". The output is the input.");
     return 0;
   }
-  if (result.Cancelled)
+  if (!result.Completed)
   {
     return 1;
   }
@@ -147,11 +131,6 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
   vtkSmartPointer<vtkDataArray> smoothed = vtkBeltramiSurface::NewArray(VTK_DOUBLE, array->GetName(), nc, numPoints);
   std::copy(values.begin(), values.end(), vtkDoubleArray::SafeDownCast(smoothed)->GetPointer(0));
   ReplaceArray(input, output, array, smoothed);
-  // Measures and time in the units the flow used: back in the mesh's units.
-  const double measure = std::pow(unit, measureDimension);
-  result.InitialArea *= measure;
-  result.FinalArea *= measure;
-  result.Time *= unit * unit;
   AddReport(output->GetFieldData(), result);
   return 1;
 }

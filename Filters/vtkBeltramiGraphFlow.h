@@ -8,6 +8,8 @@
 
 #include "BeltramiFiltersModule.h" // export macro
 
+#include "vtkBeltramiSettings.h"
+
 #include "Flows/GraphFlow.h"
 
 #include <cstdint>
@@ -26,19 +28,30 @@ class vtkFieldData;
 class BELTRAMIFILTERS_EXPORT vtkBeltramiGraphFlow
 {
 public:
-  /// Reads the settings every graph-flow filter has (same getter names).
+  /// Copies the settings every graph-flow filter has (vtkBeltramiGraphFlow-
+  /// SettingsMacro) to or from the core's options: from GraphFlowOptions{}
+  /// or GraphFlowOptions::ForMeshes() in the constructors (the defaults'
+  /// one source), to the options of a run.
+  template <typename Filter>
+  static void CopySettings(Filter* f, beltrami::GraphFlowOptions& o, vtkBeltramiCopy direction)
+  {
+    BeltramiCopySetting(f->ContrastScale, o.ContrastScale, direction);
+    BeltramiCopySetting(f->EdgeContrast, o.EdgeContrast, direction);
+    BeltramiCopySetting(f->Integration, o.Integration, direction);
+    BeltramiCopySetting(f->TimeStep, o.TimeStep, direction);
+    BeltramiCopySetting(f->AdaptiveTimeStep, o.AdaptiveTimeStep, direction);
+    BeltramiCopySetting(f->NumberOfIterations, o.NumberOfIterations, direction);
+    BeltramiCopySetting(f->NoiseLevel, o.NoiseLevel, direction);
+    BeltramiCopySetting(f->Units, o.Units, direction);
+    BeltramiCopySetting(f->NumberOfThreads, o.NumberOfThreads, direction);
+  }
+
+  /// The core's options of a run.
   template <typename Filter>
   static beltrami::GraphFlowOptions Options(Filter* f)
   {
     beltrami::GraphFlowOptions o;
-    o.ContrastScale = f->GetContrastScale();
-    o.EdgeContrast = f->GetEdgeContrast();
-    o.Integration = static_cast<beltrami::GraphFlowIntegration>(f->GetIntegration());
-    o.TimeStep = f->GetTimeStep();
-    o.AdaptiveTimeStep = f->GetAdaptiveTimeStep();
-    o.NumberOfIterations = f->GetNumberOfIterations();
-    o.NoiseLevel = f->GetNoiseLevel();
-    o.NumberOfThreads = f->GetNumberOfThreads();
+    CopySettings(f, o, vtkBeltramiCopy::ToCore);
     return o;
   }
 
@@ -46,14 +59,15 @@ public:
   template <typename Filter>
   static void PrintSettings(Filter* f, std::ostream& os, vtkIndent indent)
   {
-    os << indent << "ContrastScale: " << f->GetContrastScale() << "\n";
-    os << indent << "EdgeContrast: " << f->GetEdgeContrast() << "\n";
-    os << indent << "Integration: " << f->GetIntegration() << "\n";
-    os << indent << "TimeStep: " << f->GetTimeStep() << "\n";
-    os << indent << "AdaptiveTimeStep: " << f->GetAdaptiveTimeStep() << "\n";
-    os << indent << "NumberOfIterations: " << f->GetNumberOfIterations() << "\n";
-    os << indent << "NoiseLevel: " << f->GetNoiseLevel() << "\n";
-    os << indent << "NumberOfThreads: " << f->GetNumberOfThreads() << "\n";
+    os << indent << "ContrastScale: " << f->ContrastScale << "\n";
+    os << indent << "EdgeContrast: " << f->EdgeContrast << "\n";
+    os << indent << "Integration: " << f->Integration << "\n";
+    os << indent << "TimeStep: " << f->TimeStep << "\n";
+    os << indent << "AdaptiveTimeStep: " << f->AdaptiveTimeStep << "\n";
+    os << indent << "NumberOfIterations: " << f->NumberOfIterations << "\n";
+    os << indent << "NoiseLevel: " << f->NoiseLevel << "\n";
+    os << indent << "NumberOfThreads: " << f->NumberOfThreads << "\n";
+    os << indent << "UseFixedPointsArray: " << f->UseFixedPointsArray << "\n";
   }
 
   /// True when `array` (the owner's input array 0) is a point array; else
@@ -81,15 +95,13 @@ public:
   /// The body the mesh filters share (vtkSurfaceDataDenoising,
   /// vtkTetrahedralBeltramiDenoising): checks `array` (the owner's input
   /// array 0: point data, 1 to maxComponents components) and the optional
-  /// mask (input array 1, when useMask), measures the mesh in units of
-  /// `unit` (its mean edge length, or 1 for physical units), runs `flow`,
-  /// and writes the smoothed array (double, same name) and the report
-  /// (measures of dimension measureDimension and the time back in the mesh's
-  /// units).  Returns the value for RequestData; errors and warnings go to
-  /// the owner, and on error the output stays the input.
+  /// mask (input array 1, when useMask), runs `flow` (the core measures the
+  /// mesh in the options' Units), and writes the smoothed array (double,
+  /// same name) and the report.  Returns the value for RequestData; errors
+  /// and warnings go to the owner, and on error the output stays the input.
   static int RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkDataSet* output, vtkDataArray* array,
     const double* points, bool useMask, const beltrami::GraphFlowOptions& options, int maxComponents,
-    double unit, int measureDimension, const MeshFlow& flow);
+    const MeshFlow& flow);
 };
 
 #endif

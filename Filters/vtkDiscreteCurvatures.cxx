@@ -1,5 +1,5 @@
 #include "vtkDiscreteCurvatures.h"
-#include "vtkBeltramiEnumCheck.h"
+#include "vtkBeltramiSettings.h"
 
 #include "vtkBeltramiSurface.h"
 

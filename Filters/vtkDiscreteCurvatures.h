@@ -131,7 +131,7 @@ public:
 
   ///@{
   /// Threads used (0: all cores). Default 0.
-  vtkSetClampMacro(NumberOfThreads, int, 0, 4096);
+  vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
   vtkGetMacro(NumberOfThreads, int);
   ///@}
 

@@ -1,5 +1,5 @@
 #include "vtkImageBeltramiDenoising.h"
-#include "vtkBeltramiEnumCheck.h"
+#include "vtkBeltramiSettings.h"
 
 #include "vtkBeltramiGraphFlow.h"
 #include "vtkBeltramiSurface.h"
@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <type_traits>
 #include <vector>
@@ -127,12 +128,197 @@ beltrami::GraphFlowResult RunVolume(vtkImageData* input, const int* ext, int com
   return beltrami::RunVolumeGraphFlow(grid, components, values, fixed, options, progress);
 }
 
+/// The axes of a 2D image's grid (any of XY, XZ, YZ), or none for a 3D
+/// image (`volume`: the 3-manifold flow on its voxels).
+GridMapping MapGrid(const int* whole, const int* inExt, bool& volume)
+{
+  GridMapping grid;
+  std::copy(inExt, inExt + 6, grid.Extent);
+  int axes[3], nAxes = 0;
+  for (int a = 0; a < 3; ++a)
+  {
+    if (whole[2 * a + 1] > whole[2 * a])
+    {
+      axes[nAxes++] = a;
+    }
+  }
+  volume = nAxes == 3;
+  for (int a = 0; a < 3 && nAxes < 2; ++a)
+  {
+    if (nAxes == 0 || axes[0] != a)
+    {
+      axes[nAxes++] = a;
+    }
+  }
+  if (!volume)
+  {
+    grid.Axis0 = std::min(axes[0], axes[1]);
+    grid.Axis1 = std::max(axes[0], axes[1]);
+  }
+  return grid;
+}
+
+/// The values the core smooths: `Used` components per pixel; colours
+/// normalised to [0, 1] by the range of their integer type, in L*u*v* when
+/// `Luv` (then `RGB` keeps the values before the flow for the noise-level
+/// stop, which compares the change back in RGB).
+struct FlowValues
+{
+  beltrami::LargeVector<double> Values;
+  int Used = 0;
+  double Range = 1.0;
+  bool Luv = false;
+  std::vector<double> RGB;
+};
+
+/// Reads `array` as the core's values; false (after an error) when it
+/// cannot be smoothed.
+bool ReadValues(vtkImageBeltramiDenoising* self, vtkDataArray* array, vtkIdType count, FlowValues& v)
+{
+  const int nc = array->GetNumberOfComponents();
+  const char* name = array->GetName() ? array->GetName() : "";
+  if (array->GetNumberOfTuples() != count)
+  {
+    vtkErrorWithObjectMacro(self, "The array '" << name << "' has " << array->GetNumberOfTuples()
+                                                << " tuples for " << count << " points.");
+    return false;
+  }
+  const int space = self->GetColorSpace();
+  const bool integral = array->GetDataType() != VTK_FLOAT && array->GetDataType() != VTK_DOUBLE;
+  const bool color = space == vtkImageBeltramiDenoising::RGB || space == vtkImageBeltramiDenoising::LUV ||
+    (space == vtkImageBeltramiDenoising::AUTOMATIC && array->GetDataType() == VTK_UNSIGNED_CHAR &&
+      (nc == 3 || nc == 4));
+  if (color && nc != 3 && nc != 4)
+  {
+    vtkErrorWithObjectMacro(self, "Colour spaces need 3 (RGB) or 4 (RGBA) components; '"
+      << name << "' has " << nc << ". The output is the input.");
+    return false;
+  }
+  v.Used = color ? 3 : nc;
+  if (v.Used > 6)
+  {
+    vtkErrorWithObjectMacro(self, "At most 6 components can be smoothed together; '"
+      << name << "' has " << nc << ". The output is the input.");
+    return false;
+  }
+  v.Luv = color && space != vtkImageBeltramiDenoising::RGB;
+  v.Range = color && integral ? array->GetDataTypeMax() : 1.0;
+  v.Values.resize(static_cast<std::size_t>(count) * v.Used);
+  if (array->HasStandardMemoryLayout())
+  {
+    switch (array->GetDataType())
+    {
+      vtkTemplateMacro(Extract(static_cast<const VTK_TT*>(array->GetVoidPointer(0)), count, nc, v.Used,
+        1.0 / v.Range, v.Values.data()));
+      default:
+        vtkErrorWithObjectMacro(self, "Unsupported array type " << array->GetDataTypeAsString() << ".");
+        return false;
+    }
+  }
+  else
+  {
+    for (vtkIdType i = 0; i < count; ++i)
+    {
+      for (int k = 0; k < v.Used; ++k)
+      {
+        v.Values[i * v.Used + k] = array->GetComponent(i, k) / v.Range;
+      }
+    }
+  }
+  if (v.Luv)
+  {
+    if (self->GetNoiseLevel() > 0.0)
+    {
+      v.RGB.assign(v.Values.begin(), v.Values.end());
+    }
+    beltrami::RGBToLuv(v.Values.data(), count, 3, self->GetNumberOfThreads());
+  }
+  return true;
+}
+
+/// The noise-level stop of colours flowed in L*u*v*: the RMS change in RGB.
+std::function<double(const double*)> ChangeInRGB(const std::vector<double>& rgb, vtkIdType count, int threads)
+{
+  return [&rgb, count, threads, converted = std::vector<double>()](const double* luvValues) mutable {
+    converted.assign(luvValues, luvValues + rgb.size());
+    beltrami::LuvToRGB(converted.data(), count, 3, threads);
+    double sum = 0.0;
+    for (std::size_t k = 0; k < rgb.size(); ++k)
+    {
+      sum += (converted[k] - rgb[k]) * (converted[k] - rgb[k]);
+    }
+    return rgb.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(rgb.size()));
+  };
+}
+
+/// Runs the flow on the values: the pixel grid of a 2D image, or the voxels
+/// of a 3D image (`volume`).
+beltrami::GraphFlowResult RunFlow(vtkImageBeltramiDenoising* self, vtkImageData* input, const int* inExt,
+  const GridMapping& grid, bool volume, const std::vector<std::uint8_t>& fixed, FlowValues& v)
+{
+  beltrami::GraphFlowOptions options = vtkBeltramiGraphFlow::Options(self);
+  options.Boundary = static_cast<beltrami::GridBoundary>(self->GetBoundaryHandling());
+  const vtkIdType count = input->GetNumberOfPoints();
+  if (!v.RGB.empty())
+  {
+    options.ChangeMeasure = ChangeInRGB(v.RGB, count, self->GetNumberOfThreads());
+  }
+  self->UpdateProgress(0.0);
+  const beltrami::ProgressCallback progress = [self](double fraction) {
+    self->UpdateProgress(fraction);
+    return !self->GetAbortExecute();
+  };
+  const std::uint8_t* mask = fixed.empty() ? nullptr : fixed.data();
+  beltrami::PixelGrid pixels;
+  pixels.Width = inExt[2 * grid.Axis0 + 1] - inExt[2 * grid.Axis0] + 1;
+  pixels.Height = inExt[2 * grid.Axis1 + 1] - inExt[2 * grid.Axis1] + 1;
+  pixels.SpacingX = std::abs(input->GetSpacing()[grid.Axis0]);
+  pixels.SpacingY = std::abs(input->GetSpacing()[grid.Axis1]);
+  const beltrami::GraphFlowResult result = volume
+    ? RunVolume(input, inExt, v.Used, v.Values.data(), mask, options, progress)
+    : beltrami::RunImageGraphFlow(pixels, v.Used, v.Values.data(), mask, options, progress);
+  const std::string warning = vtkBeltramiGraphFlow::StabilityWarning(options, result);
+  if (!warning.empty() && result.Error.empty() && result.Completed)
+  {
+    vtkWarningWithObjectMacro(self, << warning);
+  }
+  return result;
+}
+
+/// Writes the smoothed values over the output extent (the input's name and
+/// type, back from L*u*v*) and the report.
+void WriteOutput(vtkImageBeltramiDenoising* self, vtkImageData* input, vtkImageData* output,
+  vtkDataArray* array, const int* inExt, FlowValues& v, const beltrami::GraphFlowResult& result)
+{
+  if (v.Luv)
+  {
+    beltrami::LuvToRGB(v.Values.data(), input->GetNumberOfPoints(), 3, self->GetNumberOfThreads());
+  }
+  int outExt[6];
+  output->GetExtent(outExt);
+  const int nc = array->GetNumberOfComponents();
+  vtkSmartPointer<vtkDataArray> smoothed = vtk::TakeSmartPointer(vtkDataArray::CreateDataArray(array->GetDataType()));
+  smoothed->SetName(array->GetName());
+  smoothed->SetNumberOfComponents(nc);
+  smoothed->SetNumberOfTuples(output->GetNumberOfPoints());
+  switch (smoothed->GetDataType())
+  {
+    vtkTemplateMacro(Store(static_cast<VTK_TT*>(smoothed->GetVoidPointer(0)), outExt, inExt, nc, v.Used,
+      v.Range, v.Values.data(), array));
+  }
+  vtkBeltramiGraphFlow::ReplaceArray(input, output, array, smoothed);
+  vtkBeltramiGraphFlow::AddReport(output->GetFieldData(), result);
+}
+
 } // namespace
 
 vtkImageBeltramiDenoising::vtkImageBeltramiDenoising()
 {
+  beltrami::GraphFlowOptions defaults;
+  vtkBeltramiGraphFlow::CopySettings(this, defaults, vtkBeltramiCopy::FromCore);
+  BeltramiCopySetting(this->BoundaryHandling, defaults.Boundary, vtkBeltramiCopy::FromCore);
   this->SetInputArrayToProcess(
-    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+    SMOOTHED_ARRAY, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
 }
 
 bool vtkImageBeltramiDenoising::IsLocal() const
@@ -206,21 +392,17 @@ int vtkImageBeltramiDenoising::RequestData(
 {
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkImageData* output = vtkImageData::GetData(outputVector);
-  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
   if (!input || !output)
   {
     vtkErrorMacro("Input and output must be vtkImageData.");
     return 0;
   }
-  int outExt[6], whole[6];
-  outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), outExt);
-  inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
-
+  int outExt[6], whole[6], inExt[6];
+  outputVector->GetInformationObject(0)->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), outExt);
+  inputVector[0]->GetInformationObject(0)->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+  input->GetExtent(inExt);
   // A defined output first: the input, cropped to the requested extent.
   output->ShallowCopy(input);
-  int inExt[6];
-  input->GetExtent(inExt);
   if (!std::equal(inExt, inExt + 6, outExt) && input->GetNumberOfPoints() > 0)
   {
     output->Crop(outExt);
@@ -238,185 +420,45 @@ int vtkImageBeltramiDenoising::RequestData(
       return 0;
     }
   }
-
-  GridMapping grid;
-  std::copy(inExt, inExt + 6, grid.Extent);
-  int axes[3], nAxes = 0;
-  for (int a = 0; a < 3; ++a)
-  {
-    if (whole[2 * a + 1] > whole[2 * a])
-    {
-      axes[nAxes++] = a;
-    }
-  }
-  // 3D images: the voxels split into tetrahedra, the 3-manifold flow.
-  const bool volume = nAxes == 3;
+  bool volume = false;
+  const GridMapping grid = MapGrid(whole, inExt, volume);
   if (volume && grid.Count() > std::numeric_limits<beltrami::Index>::max() / 8)
   {
     vtkErrorMacro("The 3D image has " << grid.Count() << " voxels: too many for one piece of the "
                                       << "tetrahedral flow; stream it in pieces. The output is the input.");
     return 0;
   }
-  for (int a = 0; a < 3 && nAxes < 2; ++a)
-  {
-    if (nAxes == 0 || axes[0] != a)
-    {
-      axes[nAxes++] = a;
-    }
-  }
-  if (!volume)
-  {
-    grid.Axis0 = std::min(axes[0], axes[1]);
-    grid.Axis1 = std::max(axes[0], axes[1]);
-  }
-
   int association = -1;
-  vtkDataArray* array = this->GetInputArrayToProcess(0, inputVector, association);
+  vtkDataArray* array = this->GetInputArrayToProcess(SMOOTHED_ARRAY, inputVector, association);
   if (!vtkBeltramiGraphFlow::IsPointArray(this, array, association))
   {
     return 0;
   }
   std::string error;
-  const std::vector<std::uint8_t> fixed =
-    this->UseFixedPixelsArray ? vtkBeltramiSurface::SelectedPointMask(this, input, 1, "fixed-pixel mask", error)
-                              : std::vector<std::uint8_t>();
+  const std::vector<std::uint8_t> fixed = this->UseFixedPointsArray
+    ? vtkBeltramiSurface::SelectedPointMask(this, input, FIXED_POINTS_ARRAY, "fixed-pixel mask", error)
+    : std::vector<std::uint8_t>();
   if (!error.empty())
   {
     vtkErrorMacro(<< error << " The output is the input.");
     return 0;
   }
-  const int nc = array->GetNumberOfComponents();
-  const vtkIdType count = input->GetNumberOfPoints();
-  if (array->GetNumberOfTuples() != count)
+  FlowValues v;
+  if (!ReadValues(this, array, input->GetNumberOfPoints(), v))
   {
-    vtkErrorMacro("The array '" << (array->GetName() ? array->GetName() : "") << "' has "
-                                << array->GetNumberOfTuples() << " tuples for " << count << " points.");
     return 0;
   }
-  const bool integral = array->GetDataType() != VTK_FLOAT && array->GetDataType() != VTK_DOUBLE;
-  const bool color = this->ColorSpace == RGB || this->ColorSpace == LUV ||
-    (this->ColorSpace == AUTOMATIC && array->GetDataType() == VTK_UNSIGNED_CHAR && (nc == 3 || nc == 4));
-  const bool luv = color && this->ColorSpace != RGB;
-  if (color && nc != 3 && nc != 4)
-  {
-    vtkErrorMacro("Colour spaces need 3 (RGB) or 4 (RGBA) components; '"
-      << (array->GetName() ? array->GetName() : "") << "' has " << nc << ". The output is the input.");
-    return 0;
-  }
-  const int used = color ? 3 : nc;
-  if (used > 6)
-  {
-    vtkErrorMacro("At most 6 components can be smoothed together; '"
-      << (array->GetName() ? array->GetName() : "") << "' has " << nc << ". The output is the input.");
-    return 0;
-  }
-  // Colours are normalised to [0, 1] by the range of their integer type.
-  const double range = color && integral ? array->GetDataTypeMax() : 1.0;
-
-  beltrami::LargeVector<double> values(static_cast<std::size_t>(count) * used);
-  if (array->HasStandardMemoryLayout())
-  {
-    switch (array->GetDataType())
-    {
-      vtkTemplateMacro(Extract(static_cast<const VTK_TT*>(array->GetVoidPointer(0)), count, nc, used,
-        1.0 / range, values.data()));
-      default:
-        vtkErrorMacro("Unsupported array type " << array->GetDataTypeAsString() << ".");
-        return 0;
-    }
-  }
-  else
-  {
-    for (vtkIdType i = 0; i < count; ++i)
-    {
-      for (int k = 0; k < used; ++k)
-      {
-        values[i * used + k] = array->GetComponent(i, k) / range;
-      }
-    }
-  }
-  // The noise of colours is measured in (normalised) RGB: when they flow in
-  // L*u*v*, the stop compares the change back in RGB.
-  std::vector<double> rgb;
-  if (luv)
-  {
-    if (this->NoiseLevel > 0.0)
-    {
-      rgb.assign(values.begin(), values.end());
-    }
-    beltrami::RGBToLuv(values.data(), count, 3, this->NumberOfThreads);
-  }
-
-  beltrami::PixelGrid pixels;
-  pixels.Width = inExt[2 * grid.Axis0 + 1] - inExt[2 * grid.Axis0] + 1;
-  pixels.Height = inExt[2 * grid.Axis1 + 1] - inExt[2 * grid.Axis1] + 1;
-  pixels.SpacingX = std::abs(input->GetSpacing()[grid.Axis0]);
-  pixels.SpacingY = std::abs(input->GetSpacing()[grid.Axis1]);
-  beltrami::GraphFlowOptions options = vtkBeltramiGraphFlow::Options(this);
-  if (!(options.TimeStep > 0.0))
-  {
-    // Automatic: 80% of the explicit stability limit on a unit grid (about
-    // 0.24 in 2D, 0.12 for the Kuhn tetrahedra of a volume).
-    options.TimeStep = volume ? 0.1 : 0.2;
-  }
-  options.Boundary = static_cast<beltrami::GridBoundary>(this->Boundary);
-  std::vector<double> converted;
-  if (!rgb.empty())
-  {
-    const int threads = this->NumberOfThreads;
-    options.ChangeMeasure = [&rgb, &converted, count, threads](const double* luvValues) {
-      converted.assign(luvValues, luvValues + rgb.size());
-      beltrami::LuvToRGB(converted.data(), count, 3, threads);
-      double sum = 0.0;
-      for (std::size_t k = 0; k < rgb.size(); ++k)
-      {
-        sum += (converted[k] - rgb[k]) * (converted[k] - rgb[k]);
-      }
-      return rgb.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(rgb.size()));
-    };
-  }
-
-  this->UpdateProgress(0.0);
-  const beltrami::ProgressCallback progress = [this](double fraction) {
-    this->UpdateProgress(fraction);
-    return !this->GetAbortExecute();
-  };
-  const beltrami::GraphFlowResult result = volume
-    ? RunVolume(input, inExt, used, values.data(), fixed.empty() ? nullptr : fixed.data(), options, progress)
-    : beltrami::RunImageGraphFlow(pixels, used, values.data(), fixed.empty() ? nullptr : fixed.data(), options,
-        progress);
+  const beltrami::GraphFlowResult result = RunFlow(this, input, inExt, grid, volume, fixed, v);
   if (!result.Error.empty())
   {
     vtkErrorMacro(<< result.Error << ". The output is the input.");
     return 0;
   }
-  if (result.Cancelled)
+  if (!result.Completed)
   {
     return 1; // aborted: the output is the input
   }
-  const std::string warning = vtkBeltramiGraphFlow::StabilityWarning(options, result);
-  if (!warning.empty())
-  {
-    vtkWarningMacro(<< warning);
-  }
-  if (luv)
-  {
-    beltrami::LuvToRGB(values.data(), count, 3, this->NumberOfThreads);
-  }
-
-  // The output array over the output extent: the input's name and type.
-  vtkSmartPointer<vtkDataArray> smoothed = vtk::TakeSmartPointer(vtkDataArray::CreateDataArray(array->GetDataType()));
-  smoothed->SetName(array->GetName());
-  smoothed->SetNumberOfComponents(nc);
-  const vtkIdType outCount = output->GetNumberOfPoints();
-  smoothed->SetNumberOfTuples(outCount);
-  switch (smoothed->GetDataType())
-  {
-    vtkTemplateMacro(Store(static_cast<VTK_TT*>(smoothed->GetVoidPointer(0)), outExt, inExt, nc, used,
-      range, values.data(), array));
-  }
-  vtkBeltramiGraphFlow::ReplaceArray(input, output, array, smoothed);
-  vtkBeltramiGraphFlow::AddReport(output->GetFieldData(), result);
+  WriteOutput(this, input, output, array, inExt, v, result);
   return 1;
 }
 
@@ -425,6 +467,5 @@ void vtkImageBeltramiDenoising::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   vtkBeltramiGraphFlow::PrintSettings(this, os, indent);
   os << indent << "ColorSpace: " << this->ColorSpace << "\n";
-  os << indent << "Boundary: " << this->Boundary << "\n";
-  os << indent << "UseFixedPixelsArray: " << this->UseFixedPixelsArray << "\n";
+  os << indent << "BoundaryHandling: " << this->BoundaryHandling << "\n";
 }

@@ -43,8 +43,8 @@
  *    it is), NONE (always as it is), RGB or LUV.  Colour images are smoothed
  *    in normalised units (RGB in [0, 1]; L*u*v* / 100), an RGBA alpha channel
  *    is passed unchanged.
- *  - Boundary beyond the image border: LINEAR (default, linear ramps are
- *    fixed points) or REFLECT (mirror, Neumann).
+ *  - BoundaryHandling beyond the image border: LINEAR (default, linear
+ *    ramps are fixed points) or REFLECT (mirror, Neumann).
  * Height fields and range images: the value is a physical height; keep
  * ContrastScale 1 and the image's spacing is honoured (anisotropic too).
  *
@@ -52,13 +52,13 @@
  * 1 to 6 components, any numeric type: the output array has the input's
  * name and type, integers rounded and clamped).  Input array 1 (optional):
  * a point array whose non-zero values mark pixels kept as they are (with
- * UseFixedPixelsArray).
+ * UseFixedPointsArray).
  * 2D images (XY, XZ and YZ slices) use the pixel-grid kernel above.  3D
  * images (section 2.8.2): the voxels are split into tetrahedra (6 per cell
  * around the cell diagonal, the split of vtkTetrahedralBeltramiDenoising's
  * voxel cells, evaluated without an explicit mesh) and the volume
  * (x, y, z, alpha f) in R^(3+n) is smoothed the same way, E =
- * V_base / V_graph; spacing honoured; the Boundary setting does not apply
+ * V_base / V_graph; spacing honoured; the BoundaryHandling setting does not apply
  * (natural boundary).  Explicit steps are stable up to about 0.12 there
  * (half the 2D limit): the automatic TimeStep is 0.1, and explicit steps of
  * 0.1 are the documented setting for volumes (faster than semi-implicit
@@ -80,6 +80,7 @@
 #define vtkImageBeltramiDenoising_h
 
 #include "BeltramiFiltersModule.h" // export macro
+#include "vtkBeltramiGraphFlowSettings.h" // the shared settings
 #include "vtkImageAlgorithm.h"
 
 class BELTRAMIFILTERS_EXPORT vtkImageBeltramiDenoising : public vtkImageAlgorithm
@@ -89,11 +90,8 @@ public:
   vtkTypeMacro(vtkImageBeltramiDenoising, vtkImageAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  enum IntegrationType
-  {
-    EXPLICIT = 0,
-    SEMI_IMPLICIT = 1
-  };
+  vtkBeltramiGraphFlowSettingsMacro();
+
   enum ColorSpaceType
   {
     AUTOMATIC = 0,
@@ -101,39 +99,25 @@ public:
     RGB = 2,
     LUV = 3
   };
-  enum BoundaryType
+  enum BoundaryHandlingType
   {
     REFLECT = 0,
     LINEAR = 1
   };
-
-  vtkSetClampMacro(ContrastScale, double, 1e-12, VTK_DOUBLE_MAX);
-  vtkGetMacro(ContrastScale, double);
-  vtkSetClampMacro(EdgeContrast, double, -1.0, 10.0);
-  vtkGetMacro(EdgeContrast, double);
-  vtkSetClampMacro(Integration, int, EXPLICIT, SEMI_IMPLICIT);
-  vtkGetMacro(Integration, int);
-  vtkSetClampMacro(TimeStep, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(TimeStep, double);
-  vtkSetMacro(AdaptiveTimeStep, bool);
-  vtkGetMacro(AdaptiveTimeStep, bool);
-  vtkBooleanMacro(AdaptiveTimeStep, bool);
-  vtkSetClampMacro(NumberOfIterations, int, 0, VTK_INT_MAX);
-  vtkGetMacro(NumberOfIterations, int);
-  vtkSetClampMacro(NoiseLevel, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(NoiseLevel, double);
   vtkSetClampMacro(ColorSpace, int, AUTOMATIC, LUV);
   vtkGetMacro(ColorSpace, int);
-  vtkSetClampMacro(Boundary, int, REFLECT, LINEAR);
-  vtkGetMacro(Boundary, int);
-  vtkSetMacro(NumberOfThreads, int);
-  vtkGetMacro(NumberOfThreads, int);
-  /// Whether the mask selected as input array 1 is used (default on; nothing
-  /// selected = no mask).  ParaView's panel starts with it off, because it
-  /// preselects an array of the input for every array selection.
-  vtkSetMacro(UseFixedPixelsArray, bool);
-  vtkGetMacro(UseFixedPixelsArray, bool);
-  vtkBooleanMacro(UseFixedPixelsArray, bool);
+  vtkSetClampMacro(BoundaryHandling, int, REFLECT, LINEAR);
+  vtkGetMacro(BoundaryHandling, int);
+
+  /// The names these settings had before (state files and scripts keep
+  /// working): Boundary = BoundaryHandling, UseFixedPixelsArray =
+  /// UseFixedPointsArray.
+  void SetBoundary(int boundary) { this->SetBoundaryHandling(boundary); }
+  int GetBoundary() { return this->BoundaryHandling; }
+  void SetUseFixedPixelsArray(bool use) { this->SetUseFixedPointsArray(use); }
+  bool GetUseFixedPixelsArray() { return this->UseFixedPointsArray; }
+  void UseFixedPixelsArrayOn() { this->SetUseFixedPointsArray(true); }
+  void UseFixedPixelsArrayOff() { this->SetUseFixedPointsArray(false); }
 
 protected:
   vtkImageBeltramiDenoising();
@@ -147,17 +131,9 @@ protected:
   /// quantity): then pieces need NumberOfIterations ghost pixels only.
   bool IsLocal() const;
 
-  double ContrastScale = 1.0;
-  double EdgeContrast = 1.0;
-  int Integration = EXPLICIT;
-  double TimeStep = 0.0; // automatic: 0.2 (2D), 0.1 (3D)
-  bool AdaptiveTimeStep = false;
-  int NumberOfIterations = 10;
-  double NoiseLevel = 0.0;
+  vtkBeltramiGraphFlowMembersMacro();
   int ColorSpace = AUTOMATIC;
-  int Boundary = LINEAR;
-  int NumberOfThreads = 0;
-  bool UseFixedPixelsArray = true;
+  int BoundaryHandling;
 
 private:
   vtkImageBeltramiDenoising(const vtkImageBeltramiDenoising&) = delete;

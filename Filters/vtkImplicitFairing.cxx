@@ -1,5 +1,5 @@
 #include "vtkImplicitFairing.h"
-#include "vtkBeltramiEnumCheck.h"
+#include "vtkBeltramiSettings.h"
 
 #include "vtkBeltramiSurface.h"
 
@@ -38,11 +38,44 @@ BELTRAMI_SAME_ENUM(vtkImplicitFairing::FIXED, beltrami::FairingBoundary::Fixed);
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::SMOOTH_CURVE, beltrami::FairingBoundary::SmoothCurve);
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::VIRTUAL_VERTEX, beltrami::FairingBoundary::VirtualVertex);
 
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::MEAN_EDGE_LENGTH, beltrami::LengthUnit::MeanEdgeLength);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::PHYSICAL, beltrami::LengthUnit::Physical);
+
 vtkStandardNewMacro(vtkImplicitFairing);
 
 vtkImplicitFairing::vtkImplicitFairing()
 {
+  // The defaults have one source: the core's FairingOptions.
+  beltrami::FairingOptions defaults;
+  this->CopySettings(defaults, vtkBeltramiCopy::FromCore);
   // Input arrays 0 (fixed points) and 1 (weights) are optional: none by default.
+}
+
+void vtkImplicitFairing::CopySettings(beltrami::FairingOptions& o, vtkBeltramiCopy direction)
+{
+  BeltramiCopySetting(this->Operator, o.Operator, direction);
+  BeltramiCopySetting(this->Order, o.Order, direction);
+  BeltramiCopySetting(this->OperatorMollification, o.OperatorMollification, direction);
+  BeltramiCopySetting(this->Integration, o.Integration, direction);
+  BeltramiCopySetting(this->TimeStep, o.TimeStep, direction);
+  BeltramiCopySetting(this->Units, o.Units, direction);
+  BeltramiCopySetting(this->NumberOfIterations, o.NumberOfIterations, direction);
+  BeltramiCopySetting(this->SolverTolerance, o.SolverTolerance, direction);
+  BeltramiCopySetting(this->MaximumSolverIterations, o.MaximumSolverIterations, direction);
+  BeltramiCopySetting(this->Invariant, o.Invariant, direction);
+  for (int k = 0; k < 3; ++k)
+  {
+    BeltramiCopySetting(this->ReferencePlaneNormal[k], o.ReferencePlaneNormal[k], direction);
+  }
+  BeltramiCopySetting(this->BoundaryHandling, o.Boundary, direction);
+  BeltramiCopySetting(this->Anisotropic, o.Anisotropic, direction);
+  BeltramiCopySetting(this->FeatureThreshold, o.FeatureThreshold, direction);
+  BeltramiCopySetting(this->MinimumAnisotropicWeight, o.MinimumAnisotropicWeight, direction);
+  BeltramiCopySetting(this->Mollification, o.Mollification, direction);
+  BeltramiCopySetting(this->SmoothFeatureCurves, o.SmoothFeatureCurves, direction);
+  BeltramiCopySetting(this->TaubinLambda, o.TaubinLambda, direction);
+  BeltramiCopySetting(this->TaubinMu, o.TaubinMu, direction);
+  BeltramiCopySetting(this->NumberOfThreads, o.NumberOfThreads, direction);
 }
 
 
@@ -77,9 +110,6 @@ int vtkImplicitFairing::RequestData(
 
 int vtkImplicitFairing::Fair(vtkBeltramiSurface& surface)
 {
-  vtkPolyData* input = surface.Input();
-  vtkPolyData* output = surface.Output();
-  const vtkIdType numPoints = input->GetNumberOfPoints();
   const beltrami::MeshTopology& topo = surface.Topology();
   if (topo.NumberOfTriangles() == 0)
   {
@@ -87,24 +117,66 @@ int vtkImplicitFairing::Fair(vtkBeltramiSurface& surface)
     return 1;
   }
   surface.WarnAboutInput(this, "its piece boundary fixed", "Non-manifold points are kept fixed.");
+  std::vector<std::uint8_t> fixed;
+  std::vector<double> weights;
+  if (!this->GatherConstraints(surface, fixed, weights))
+  {
+    return 0;
+  }
+  beltrami::FairingConstraints constraints;
+  constraints.Fixed = fixed.empty() ? nullptr : fixed.data();
+  constraints.Weights = weights.empty() ? nullptr : weights.data();
 
+  // The core works in double, in place.
+  std::vector<double> x(3 * static_cast<std::size_t>(surface.Input()->GetNumberOfPoints()));
+  surface.Dispatch([&](const auto* p) {
+    std::copy(p, p + x.size(), x.begin());
+    return 0;
+  });
+  beltrami::FairingOptions options;
+  this->CopySettings(options, vtkBeltramiCopy::ToCore);
+  this->UpdateProgress(0.0);
+  const beltrami::FairingReport report = beltrami::FairSurface(topo, x.data(), options, constraints,
+    [this](double fraction) {
+      this->UpdateProgress(fraction);
+      return !this->GetAbortExecute();
+    });
+  if (!report.Error.empty())
+  {
+    vtkErrorMacro(<< report.Error);
+    return 0;
+  }
+  if (!report.Completed)
+  {
+    surface.Output()->ShallowCopy(surface.Input()); // aborted: a defined output, the input
+    return 1;
+  }
+  this->Iterations = report.Iterations;
+  this->WriteOutput(surface, x, report);
+  return 1;
+}
+
+bool vtkImplicitFairing::GatherConstraints(
+  vtkBeltramiSurface& surface, std::vector<std::uint8_t>& fixed, std::vector<double>& weights)
+{
+  vtkPolyData* input = surface.Input();
+  const vtkIdType numPoints = input->GetNumberOfPoints();
   std::string error;
-  std::vector<std::uint8_t> fixed = this->UseFixedPointsArray
-    ? vtkBeltramiSurface::SelectedPointMask(this, input, 0, "fixed-points", error)
-    : std::vector<std::uint8_t>();
+  if (this->UseFixedPointsArray)
+  {
+    fixed = vtkBeltramiSurface::SelectedPointMask(this, input, FIXED_POINTS_ARRAY, "fixed-points", error);
+  }
   if (!this->FixedPointIds.empty())
   {
     fixed.resize(numPoints, 0);
     vtkIdType outside = 0;
     for (vtkIdType id : this->FixedPointIds)
     {
-      if (id >= 0 && id < numPoints)
+      const bool inside = id >= 0 && id < numPoints;
+      outside += inside ? 0 : 1;
+      if (inside)
       {
         fixed[id] = 1;
-      }
-      else
-      {
-        ++outside;
       }
     }
     if (outside)
@@ -114,18 +186,12 @@ int vtkImplicitFairing::Fair(vtkBeltramiSurface& surface)
     }
   }
   vtkDataArray* weightArray = error.empty() && this->UseSmoothingWeightsArray
-    ? surface.SelectedPointArray(this, 1, 1, "smoothing-weight", error)
+    ? surface.SelectedPointArray(this, SMOOTHING_WEIGHTS_ARRAY, 1, "smoothing-weight", error)
     : nullptr;
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
-    return 0;
-  }
-  std::vector<double> weights;
-  beltrami::FairingConstraints constraints;
-  if (!fixed.empty())
-  {
-    constraints.Fixed = fixed.data();
+    return false;
   }
   if (weightArray)
   {
@@ -134,66 +200,16 @@ int vtkImplicitFairing::Fair(vtkBeltramiSurface& surface)
     {
       weights[i] = weightArray->GetComponent(i, 0);
     }
-    constraints.Weights = weights.data();
   }
+  return true;
+}
 
-  // The core works in double, in place.
-  std::vector<double> x(3 * static_cast<std::size_t>(numPoints));
-  surface.Dispatch([&](const auto* p) {
-    std::copy(p, p + x.size(), x.begin());
-    return 0;
-  });
-
-  beltrami::FairingOptions options;
-  options.Operator = static_cast<beltrami::FairingOperator>(this->Operator);
-  options.Order = this->Order;
-  options.OperatorMollification = this->OperatorMollification;
-  options.Integration = static_cast<beltrami::FairingIntegration>(this->Integration);
-  options.NumberOfSteps = this->NumberOfSteps;
-  options.Tolerance = this->Tolerance;
-  options.MaximumIterations = this->MaximumNumberOfIterations;
-  options.Invariant = static_cast<beltrami::FairingInvariant>(this->Invariant);
-  std::copy(this->ReferencePlaneNormal, this->ReferencePlaneNormal + 3, options.ReferencePlaneNormal);
-  options.Boundary = static_cast<beltrami::FairingBoundary>(this->BoundaryHandling);
-  options.Anisotropic = this->Anisotropic;
-  options.MinimumAnisotropicWeight = this->MinimumAnisotropicWeight;
-  options.Mollification = this->Mollification;
-  options.SmoothFeatureCurves = this->SmoothFeatureCurves;
-  options.TaubinLambda = this->TaubinLambda;
-  options.TaubinMu = this->TaubinMu;
-  options.NumberOfThreads = this->NumberOfThreads;
-  options.TimeStep = this->TimeStep;
-  options.FeatureThreshold = this->FeatureThreshold;
-  if (this->TimeStepUnits == MEAN_EDGE_LENGTH)
-  {
-    const double h = beltrami::MeanEdgeLength(topo, x.data());
-    if (!(h > 0.0) || !std::isfinite(h))
-    {
-      vtkErrorMacro("The mean edge length of the input is " << h
-                                                            << ": cannot scale the time step.");
-      return 0;
-    }
-    if (this->Operator != UMBRELLA)
-    {
-      // L has units 1/length^2, L^2 1/length^4.
-      options.TimeStep *= this->Order == 2 ? h * h * h * h : h * h;
-    }
-    options.FeatureThreshold /= h;
-  }
-
-  this->UpdateProgress(0.0);
-  const beltrami::FairingReport report = beltrami::FairSurface(topo, x.data(), options, constraints,
-    [this](double fraction) {
-      this->UpdateProgress(fraction);
-      return !this->GetAbortExecute();
-    });
-  if (!report.Completed)
-  {
-    output->ShallowCopy(input); // aborted: a defined output, the input
-    return 1;
-  }
-  this->Iterations = report.Iterations;
-
+void vtkImplicitFairing::WriteOutput(
+  vtkBeltramiSurface& surface, const std::vector<double>& x, const beltrami::FairingReport& report)
+{
+  vtkPolyData* input = surface.Input();
+  vtkPolyData* output = surface.Output();
+  const vtkIdType numPoints = input->GetNumberOfPoints();
   // New points in the input's precision.
   vtkNew<vtkPoints> points;
   points->SetDataType(input->GetPoints()->GetDataType() == VTK_FLOAT ? VTK_FLOAT : VTK_DOUBLE);
@@ -244,7 +260,6 @@ int vtkImplicitFairing::Fair(vtkBeltramiSurface& surface)
   {
     vtkWarningMacro(<< report.DegenerateTriangles << " zero-area triangles were skipped (section 3.5.3).");
   }
-  return 1;
 }
 
 void vtkImplicitFairing::AddFixedPoint(vtkIdType pointId)
@@ -270,18 +285,21 @@ void vtkImplicitFairing::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "OperatorMollification: " << this->OperatorMollification << "\n";
   os << indent << "Integration: " << this->Integration << "\n";
   os << indent << "TimeStep: " << this->TimeStep << "\n";
-  os << indent << "TimeStepUnits: " << this->TimeStepUnits << "\n";
-  os << indent << "NumberOfSteps: " << this->NumberOfSteps << "\n";
-  os << indent << "Tolerance: " << this->Tolerance << "\n";
-  os << indent << "MaximumNumberOfIterations: " << this->MaximumNumberOfIterations << "\n";
+  os << indent << "Units: " << this->Units << "\n";
+  os << indent << "NumberOfIterations: " << this->NumberOfIterations << "\n";
+  os << indent << "SolverTolerance: " << this->SolverTolerance << "\n";
+  os << indent << "MaximumSolverIterations: " << this->MaximumSolverIterations << "\n";
   os << indent << "Invariant: " << this->Invariant << "\n";
   os << indent << "ReferencePlaneNormal: " << this->ReferencePlaneNormal[0] << " " << this->ReferencePlaneNormal[1]
      << " " << this->ReferencePlaneNormal[2] << "\n";
   os << indent << "BoundaryHandling: " << this->BoundaryHandling << "\n";
   os << indent << "Anisotropic: " << this->Anisotropic << "\n";
   os << indent << "FeatureThreshold: " << this->FeatureThreshold << "\n";
+  os << indent << "MinimumAnisotropicWeight: " << this->MinimumAnisotropicWeight << "\n";
   os << indent << "Mollification: " << this->Mollification << "\n";
   os << indent << "SmoothFeatureCurves: " << this->SmoothFeatureCurves << "\n";
+  os << indent << "TaubinLambda: " << this->TaubinLambda << "\n";
+  os << indent << "TaubinMu: " << this->TaubinMu << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "UseFixedPointsArray: " << this->UseFixedPointsArray << "\n";
   os << indent << "UseSmoothingWeightsArray: " << this->UseSmoothingWeightsArray << "\n";

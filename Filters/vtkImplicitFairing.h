@@ -6,7 +6,7 @@
  *
  * Moves the points of a triangle mesh (polygons and strips are triangulated
  * internally; the output keeps the input's cells and point data) by
- * NumberOfSteps steps of the flow dX/dt = lambda W L(X):
+ * NumberOfIterations steps of the flow dX/dt = lambda W L(X):
  *  - Operator: UMBRELLA (eq. 3.7), SCALE_DEPENDENT_UMBRELLA (eq. 3.11),
  *    CURVATURE_FLOW (default; section 3.5, dX/dt = -kappa_H n, so flat regions
  *    do not move whatever their triangulation), or CURVATURE_FLOW_AND_SAMPLING
@@ -31,7 +31,7 @@
  *    iteration counts in the field array FairingIterations), EXPLICIT (forward Euler: a warning
  *    when the step is above the stability limit) or TAUBIN_LAMBDA_MU
  *    (Taubin's lambda|mu passes, for comparison).
- *  - TimeStep lambda*dt.  With TimeStepUnits = MEAN_EDGE_LENGTH (default) it
+ *  - TimeStep lambda*dt.  With Units = MEAN_EDGE_LENGTH (default) it
  *    is given in units of h^2 (h^4 for order 2), h the input's mean edge
  *    length (default: 1 step of 4 h^4), so the same value smooths coarse
  *    and fine scans of one object alike; with PHYSICAL it is in length^2
@@ -74,9 +74,16 @@
 #include "BeltramiFiltersModule.h" // export macro
 #include "vtkPolyDataAlgorithm.h"
 
-#include <vector> // for Iterations
+#include <cstdint> // for GatherConstraints
+#include <vector>  // for Iterations
 
 class vtkBeltramiSurface;
+enum class vtkBeltramiCopy;
+namespace beltrami
+{
+struct FairingOptions;
+struct FairingReport;
+}
 
 class BELTRAMIFILTERS_EXPORT vtkImplicitFairing : public vtkPolyDataAlgorithm
 {
@@ -112,7 +119,13 @@ public:
     SMOOTH_CURVE = 1,
     VIRTUAL_VERTEX = 2
   };
-  enum TimeStepUnitsType
+  /// The input arrays (SetInputArrayToProcess index): both optional.
+  enum InputArrays
+  {
+    FIXED_POINTS_ARRAY = 0,     ///< non-zero values mark fixed points
+    SMOOTHING_WEIGHTS_ARRAY = 1 ///< smoothing weights in [0, 1]
+  };
+  enum UnitsType
   {
     MEAN_EDGE_LENGTH = 0,
     PHYSICAL = 1
@@ -128,14 +141,14 @@ public:
   vtkGetMacro(Integration, int);
   vtkSetClampMacro(TimeStep, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(TimeStep, double);
-  vtkSetClampMacro(TimeStepUnits, int, MEAN_EDGE_LENGTH, PHYSICAL);
-  vtkGetMacro(TimeStepUnits, int);
-  vtkSetClampMacro(NumberOfSteps, int, 0, VTK_INT_MAX);
-  vtkGetMacro(NumberOfSteps, int);
-  vtkSetClampMacro(Tolerance, double, 1e-15, 1.0);
-  vtkGetMacro(Tolerance, double);
-  vtkSetClampMacro(MaximumNumberOfIterations, int, 1, VTK_INT_MAX);
-  vtkGetMacro(MaximumNumberOfIterations, int);
+  vtkSetClampMacro(Units, int, MEAN_EDGE_LENGTH, PHYSICAL);
+  vtkGetMacro(Units, int);
+  vtkSetClampMacro(NumberOfIterations, int, 0, VTK_INT_MAX);
+  vtkGetMacro(NumberOfIterations, int);
+  vtkSetClampMacro(SolverTolerance, double, 1e-15, 1.0);
+  vtkGetMacro(SolverTolerance, double);
+  vtkSetClampMacro(MaximumSolverIterations, int, 1, VTK_INT_MAX);
+  vtkGetMacro(MaximumSolverIterations, int);
   vtkSetClampMacro(Invariant, int, AUTOMATIC, HEIGHT_FIELD_VOLUME);
   vtkGetMacro(Invariant, int);
   vtkSetVector3Macro(ReferencePlaneNormal, double);
@@ -158,8 +171,21 @@ public:
   vtkGetMacro(TaubinLambda, double);
   vtkSetMacro(TaubinMu, double);
   vtkGetMacro(TaubinMu, double);
-  vtkSetClampMacro(NumberOfThreads, int, 0, 4096);
+  vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
   vtkGetMacro(NumberOfThreads, int);
+
+  /// The names these settings had before (state files and scripts keep
+  /// working): TimeStepUnits = Units, NumberOfSteps = NumberOfIterations,
+  /// Tolerance = SolverTolerance, MaximumNumberOfIterations =
+  /// MaximumSolverIterations.
+  void SetTimeStepUnits(int units) { this->SetUnits(units); }
+  int GetTimeStepUnits() { return this->Units; }
+  void SetNumberOfSteps(int steps) { this->SetNumberOfIterations(steps); }
+  int GetNumberOfSteps() { return this->NumberOfIterations; }
+  void SetTolerance(double tolerance) { this->SetSolverTolerance(tolerance); }
+  double GetTolerance() { return this->SolverTolerance; }
+  void SetMaximumNumberOfIterations(int iterations) { this->SetMaximumSolverIterations(iterations); }
+  int GetMaximumNumberOfIterations() { return this->MaximumSolverIterations; }
 
   /// Whether the arrays selected as input arrays 0 (fixed points) and 1
   /// (smoothing weights) are used (default on; nothing selected = none).
@@ -193,26 +219,27 @@ protected:
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  int Operator = CURVATURE_FLOW;
-  int Order = 2;
-  double OperatorMollification = 1.0;
-  int Integration = IMPLICIT;
-  double TimeStep = 4.0;
-  int TimeStepUnits = MEAN_EDGE_LENGTH;
-  int NumberOfSteps = 1;
-  double Tolerance = 1e-4;
-  int MaximumNumberOfIterations = 1000;
-  int Invariant = AUTOMATIC;
-  double ReferencePlaneNormal[3] = { 0.0, 0.0, 1.0 };
-  int BoundaryHandling = FIXED;
-  bool Anisotropic = false;
-  double FeatureThreshold = 0.5;
-  double MinimumAnisotropicWeight = -0.1;
-  double Mollification = 1.0;
-  bool SmoothFeatureCurves = false;
-  double TaubinLambda = 0.6307;
-  double TaubinMu = -0.6732;
-  int NumberOfThreads = 0;
+  // Defaults: the core's FairingOptions{} (set in the constructor).
+  int Operator;
+  int Order;
+  double OperatorMollification;
+  int Integration;
+  double TimeStep;
+  int Units;
+  int NumberOfIterations;
+  double SolverTolerance;
+  int MaximumSolverIterations;
+  int Invariant;
+  double ReferencePlaneNormal[3];
+  int BoundaryHandling;
+  bool Anisotropic;
+  double FeatureThreshold;
+  double MinimumAnisotropicWeight;
+  double Mollification;
+  bool SmoothFeatureCurves;
+  double TaubinLambda;
+  double TaubinMu;
+  int NumberOfThreads;
   bool UseFixedPointsArray = true;
   std::vector<vtkIdType> FixedPointIds;
   bool UseSmoothingWeightsArray = true;
@@ -224,6 +251,13 @@ private:
 
   /// Smooths the surface Prepare built (RequestData's value).
   int Fair(vtkBeltramiSurface& surface);
+  /// The fixed points (array and ids) and smoothing weights of `surface`
+  /// into `fixed` and `weights`; false (after an error) when unusable.
+  bool GatherConstraints(vtkBeltramiSurface& surface, std::vector<std::uint8_t>& fixed, std::vector<double>& weights);
+  /// Writes the smoothed points `x` and the report into the output.
+  void WriteOutput(vtkBeltramiSurface& surface, const std::vector<double>& x, const beltrami::FairingReport& report);
+  /// Copies the settings to or from the core's options (one list of pairs).
+  void CopySettings(beltrami::FairingOptions& options, vtkBeltramiCopy direction);
 };
 
 #endif

@@ -1,5 +1,5 @@
 #include "vtkIntrinsicParameterization.h"
-#include "vtkBeltramiEnumCheck.h"
+#include "vtkBeltramiSettings.h"
 
 #include "vtkBeltramiSurface.h"
 

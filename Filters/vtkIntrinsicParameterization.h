@@ -143,7 +143,7 @@ public:
 
   ///@{
   /// Threads of the assembly (0 = all; BELTRAMI_NUM_THREADS).
-  vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
+  vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
   vtkGetMacro(NumberOfThreads, int);
   ///@}
 

@@ -1,10 +1,9 @@
 #include "vtkSurfaceDataDenoising.h"
-#include "vtkBeltramiEnumCheck.h"
+#include "vtkBeltramiSettings.h"
 
 #include "vtkBeltramiGraphFlow.h"
 #include "vtkBeltramiSurface.h"
 
-#include "Flows/Fairing.h"
 #include "Flows/GraphFlow.h"
 
 #include <vtkDataArray.h>
@@ -26,10 +25,15 @@ BELTRAMI_SAME_ENUM(vtkSurfaceDataDenoising::SEMI_IMPLICIT, beltrami::GraphFlowIn
 
 vtkStandardNewMacro(vtkSurfaceDataDenoising);
 
+BELTRAMI_SAME_ENUM(vtkSurfaceDataDenoising::MEAN_EDGE_LENGTH, beltrami::LengthUnit::MeanEdgeLength);
+BELTRAMI_SAME_ENUM(vtkSurfaceDataDenoising::PHYSICAL, beltrami::LengthUnit::Physical);
+
 vtkSurfaceDataDenoising::vtkSurfaceDataDenoising()
 {
+  beltrami::GraphFlowOptions defaults = beltrami::GraphFlowOptions::ForMeshes();
+  vtkBeltramiGraphFlow::CopySettings(this, defaults, vtkBeltramiCopy::FromCore);
   this->SetInputArrayToProcess(
-    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+    SMOOTHED_ARRAY, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
 }
 
 int vtkSurfaceDataDenoising::RequestData(
@@ -43,7 +47,7 @@ int vtkSurfaceDataDenoising::RequestData(
     vtkPolyData* output = surface.Output();
     const beltrami::MeshTopology& topo = surface.Topology();
     int association = -1;
-    vtkDataArray* array = this->GetInputArrayToProcess(0, input, association);
+    vtkDataArray* array = this->GetInputArrayToProcess(SMOOTHED_ARRAY, input, association);
     if (!vtkBeltramiGraphFlow::IsPointArray(this, array, association))
     {
       return false;
@@ -56,9 +60,8 @@ int vtkSurfaceDataDenoising::RequestData(
     surface.WarnAboutInput(this, "a free boundary where pieces meet", "The data at non-manifold points are kept.");
     std::vector<double> storage;
     const double* points = surface.PointsAsDouble(storage);
-    const double unit = this->Units == MEAN_EDGE_LENGTH ? beltrami::MeanEdgeLength(topo, points) : 1.0;
     return vtkBeltramiGraphFlow::RunOnMesh(this, input, output, array, points, this->UseFixedPointsArray,
-      vtkBeltramiGraphFlow::Options(this), 5, unit, 2,
+      vtkBeltramiGraphFlow::Options(this), 5,
       [&topo](const double* x, int nc, double* values, const std::uint8_t* fixed,
         const beltrami::GraphFlowOptions& options, const beltrami::ProgressCallback& progress) {
         return beltrami::RunSurfaceGraphFlow(topo, x, nc, values, fixed, options, progress);
@@ -73,5 +76,4 @@ void vtkSurfaceDataDenoising::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   vtkBeltramiGraphFlow::PrintSettings(this, os, indent);
   os << indent << "Units: " << this->Units << "\n";
-  os << indent << "UseFixedPointsArray: " << this->UseFixedPointsArray << "\n";
 }

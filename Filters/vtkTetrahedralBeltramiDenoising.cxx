@@ -1,5 +1,5 @@
 #include "vtkTetrahedralBeltramiDenoising.h"
-#include "vtkBeltramiEnumCheck.h"
+#include "vtkBeltramiSettings.h"
 
 #include "vtkBeltramiGather.h"
 #include "vtkBeltramiGraphFlow.h"
@@ -31,10 +31,15 @@ BELTRAMI_SAME_ENUM(vtkTetrahedralBeltramiDenoising::SEMI_IMPLICIT, beltrami::Gra
 
 vtkStandardNewMacro(vtkTetrahedralBeltramiDenoising);
 
+BELTRAMI_SAME_ENUM(vtkTetrahedralBeltramiDenoising::MEAN_EDGE_LENGTH, beltrami::LengthUnit::MeanEdgeLength);
+BELTRAMI_SAME_ENUM(vtkTetrahedralBeltramiDenoising::PHYSICAL, beltrami::LengthUnit::Physical);
+
 vtkTetrahedralBeltramiDenoising::vtkTetrahedralBeltramiDenoising()
 {
+  beltrami::GraphFlowOptions defaults = beltrami::GraphFlowOptions::ForMeshes();
+  vtkBeltramiGraphFlow::CopySettings(this, defaults, vtkBeltramiCopy::FromCore);
   this->SetInputArrayToProcess(
-    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+    SMOOTHED_ARRAY, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
 }
 
 int vtkTetrahedralBeltramiDenoising::RequestData(
@@ -89,7 +94,7 @@ int vtkTetrahedralBeltramiDenoising::Smooth(
     vtkBeltramiSurface::WarnDistributed(this, holding, "a free boundary where pieces meet");
   }
   int association = -1;
-  vtkDataArray* array = this->GetInputArrayToProcess(0, input, association);
+  vtkDataArray* array = this->GetInputArrayToProcess(SMOOTHED_ARRAY, input, association);
   if (!vtkBeltramiGraphFlow::IsPointArray(this, array, association))
   {
     return 0;
@@ -160,9 +165,8 @@ int vtkTetrahedralBeltramiDenoising::Smooth(
   {
     input->GetPoint(i, &points[3 * i]);
   }
-  const double unit = this->Units == MEAN_EDGE_LENGTH ? mesh.MeanEdgeLength(points.data()) : 1.0;
   return vtkBeltramiGraphFlow::RunOnMesh(this, input, output, array, points.data(),
-    this->UseFixedPointsArray, vtkBeltramiGraphFlow::Options(this), 6, unit, 3,
+    this->UseFixedPointsArray, vtkBeltramiGraphFlow::Options(this), 6,
     [&mesh](const double* x, int nc, double* values, const std::uint8_t* fixed,
       const beltrami::GraphFlowOptions& options, const beltrami::ProgressCallback& progress) {
       return beltrami::RunTetrahedralGraphFlow(mesh, x, nc, values, fixed, options, progress);
@@ -174,5 +178,4 @@ void vtkTetrahedralBeltramiDenoising::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   vtkBeltramiGraphFlow::PrintSettings(this, os, indent);
   os << indent << "Units: " << this->Units << "\n";
-  os << indent << "UseFixedPointsArray: " << this->UseFixedPointsArray << "\n";
 }

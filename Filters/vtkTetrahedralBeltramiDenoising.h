@@ -41,6 +41,7 @@
 #define vtkTetrahedralBeltramiDenoising_h
 
 #include "BeltramiFiltersModule.h" // export macro
+#include "vtkBeltramiGraphFlowSettings.h" // the shared settings
 #include "vtkUnstructuredGridAlgorithm.h"
 
 class BELTRAMIFILTERS_EXPORT vtkTetrahedralBeltramiDenoising : public vtkUnstructuredGridAlgorithm
@@ -50,41 +51,8 @@ public:
   vtkTypeMacro(vtkTetrahedralBeltramiDenoising, vtkUnstructuredGridAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  enum IntegrationType
-  {
-    EXPLICIT = 0,
-    SEMI_IMPLICIT = 1
-  };
-  enum UnitsType
-  {
-    MEAN_EDGE_LENGTH = 0,
-    PHYSICAL = 1
-  };
-
-  vtkSetClampMacro(ContrastScale, double, 1e-12, VTK_DOUBLE_MAX);
-  vtkGetMacro(ContrastScale, double);
-  vtkSetClampMacro(EdgeContrast, double, -1.0, 10.0);
-  vtkGetMacro(EdgeContrast, double);
-  vtkSetClampMacro(Integration, int, EXPLICIT, SEMI_IMPLICIT);
-  vtkGetMacro(Integration, int);
-  vtkSetClampMacro(TimeStep, double, 1e-12, VTK_DOUBLE_MAX);
-  vtkGetMacro(TimeStep, double);
-  vtkSetMacro(AdaptiveTimeStep, bool);
-  vtkGetMacro(AdaptiveTimeStep, bool);
-  vtkBooleanMacro(AdaptiveTimeStep, bool);
-  vtkSetClampMacro(NumberOfIterations, int, 0, VTK_INT_MAX);
-  vtkGetMacro(NumberOfIterations, int);
-  vtkSetClampMacro(NoiseLevel, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(NoiseLevel, double);
-  vtkSetClampMacro(Units, int, MEAN_EDGE_LENGTH, PHYSICAL);
-  vtkGetMacro(Units, int);
-  vtkSetMacro(NumberOfThreads, int);
-  vtkGetMacro(NumberOfThreads, int);
-  /// Whether the mask selected as input array 1 is used (default on; nothing
-  /// selected = no mask; ParaView's panel starts with it off).
-  vtkSetMacro(UseFixedPointsArray, bool);
-  vtkGetMacro(UseFixedPointsArray, bool);
-  vtkBooleanMacro(UseFixedPointsArray, bool);
+  vtkBeltramiGraphFlowSettingsMacro();
+  vtkBeltramiMeshUnitsMacro();
 
 protected:
   vtkTetrahedralBeltramiDenoising();
@@ -92,16 +60,7 @@ protected:
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  double ContrastScale = 1.0;
-  double EdgeContrast = 1.0;
-  int Integration = SEMI_IMPLICIT;
-  double TimeStep = 0.1;
-  bool AdaptiveTimeStep = false;
-  int NumberOfIterations = 10;
-  double NoiseLevel = 0.0;
-  int Units = MEAN_EDGE_LENGTH;
-  int NumberOfThreads = 0;
-  bool UseFixedPointsArray = true;
+  vtkBeltramiGraphFlowMembersMacro();
 
 private:
   vtkTetrahedralBeltramiDenoising(const vtkTetrahedralBeltramiDenoising&) = delete;

@@ -83,7 +83,7 @@ def fairing(mesh, threads, step=10.0, steps=1, order=1, mollification=0.0):
     f.SetOrder(order)
     f.SetOperatorMollification(mollification)
     f.SetTimeStep(step)
-    f.SetNumberOfSteps(steps)
+    f.SetNumberOfIterations(steps)
     f.SetNumberOfThreads(threads)
     return f
 
@@ -149,7 +149,7 @@ for step in (10.0, 100.0):
         f.SetOperator(vtkImplicitFairing.UMBRELLA)
         f.SetOrder(1)
         f.SetTimeStep(step)
-        f.SetTolerance(tolerance)
+        f.SetSolverTolerance(tolerance)
         f.Update()
         counts.append(f"{f.GetIterations(0)} at tolerance {tolerance:g}")
     print(f"  lambda*dt = {step:g}: " + ", ".join(counts))

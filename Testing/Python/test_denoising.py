@@ -69,7 +69,7 @@ class ImageInvariants(unittest.TestCase):
         const = np.full((30, 20, 1), 0.7)
         for boundary in (0, 1):
             for integration in (0, 1):
-                out, _ = denoise(const, Boundary=boundary, Integration=integration,
+                out, _ = denoise(const, BoundaryHandling=boundary, Integration=integration,
                                  NumberOfIterations=5, ContrastScale=10.0)
                 self.assertLess(np.abs(out - const).max(), 1e-12)
 

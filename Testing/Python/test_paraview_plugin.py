@@ -218,8 +218,8 @@ image.UpdatePipeline()  # as in the GUI: the array lists need the data informati
 denoise = ImageBeltramiDenoising(Input=image)
 check(denoise.ContrastScale == 1 and denoise.EdgeContrast == 1, "default alpha, gamma (Beltrami flow)")
 check(denoise.Integration == "Explicit" and denoise.ColorSpace == "Automatic", "default integration, colours")
-check(denoise.Boundary == "Linear" and denoise.NumberOfIterations == 10, "default boundary, iterations")
-check(denoise.UseFixedPixelsArray == 0, "no mask by default")
+check(denoise.BoundaryHandling == "Linear" and denoise.NumberOfIterations == 10, "default boundary, iterations")
+check(denoise.UseFixedPointsArray == 0, "no mask by default")
 from beltrami import vtkImageBeltramiDenoising  # noqa: E402
 from configure import configured  # noqa: E402
 from vtkmodules.vtkIOImage import vtkPNGReader  # noqa: E402

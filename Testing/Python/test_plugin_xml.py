@@ -125,6 +125,13 @@ def check_proxy(proxy_el, file):
         if prop.find("EnumerationDomain") is not None:
             check_enumeration(obj, proxy, name, command, prop)
         setting = command[3:] if command.startswith("Set") else command
+        # A setting renamed for consistency keeps its old XML name (the key of
+        # state files) and shows the new name: the label must be the setting.
+        if setting != name and command != "SetInputArrayToProcess":
+            label = (prop.get("label") or "").replace(" ", "")
+            if label != setting:
+                fail(f"{file}: {proxy}.{name}: calls {command}; its label must be the setting's name "
+                     f"(spaced), not '{prop.get('label')}'")
         if setting not in printed:
             fail(f"{file}: {proxy}.{name}: {cls}::PrintSelf does not list {setting}")
 

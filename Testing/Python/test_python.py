@@ -4,6 +4,7 @@ import tempfile
 import unittest
 
 import numpy as np
+import beltrami
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersSources import vtkSphereSource
 
@@ -172,7 +173,7 @@ class FairingFromPython(unittest.TestCase):
             f.SetInputData(bunny)
             f.SetOrder(order)
             f.SetTimeStep(100.0)
-            f.SetNumberOfSteps(1)
+            f.SetNumberOfIterations(1)
             f.Update()
             out = f.GetOutput()
             x = vtk_to_numpy(out.GetPoints().GetData())
@@ -213,7 +214,7 @@ class FairingFromPython(unittest.TestCase):
         sinc = min(error(sinc_filter(pb)) for pb in (0.005, 0.01, 0.02, 0.05, 0.1))
         default = error(configured(vtkImplicitFairing(), noisy))
         l2 = min(error(configured(vtkImplicitFairing(), noisy, Operator=vtkImplicitFairing.UMBRELLA, Order=2,
-                                  TimeStep=t, NumberOfSteps=1)) for t in (10.0, 20.0, 40.0))
+                                  TimeStep=t, NumberOfIterations=1)) for t in (10.0, 20.0, 40.0))
         noise = float(np.sqrt(np.mean(np.sum((noisy_points - clean) ** 2, 1)))) / diag
         print(f"noisy bunny RMS/diagonal: noise {noise:.5f}, windowed sinc (best) {sinc:.5f}, "
               f"default curvature flow {default:.5f}, umbrella L^2 (best) {l2:.5f}")
@@ -231,7 +232,7 @@ class FairingFromPython(unittest.TestCase):
         bunny.GetPointData().AddArray(mask)
         f = vtkImplicitFairing()
         f.SetInputData(bunny)
-        f.SetInputArrayToProcess(0, 0, 0, 0, "Fixed")
+        f.SetInputArrayToProcess(vtkImplicitFairing.FIXED_POINTS_ARRAY, 0, 0, 0, "Fixed")
         f.Update()
         before = vtk_to_numpy(bunny.GetPoints().GetData())
         after = vtk_to_numpy(f.GetOutput().GetPoints().GetData())
@@ -239,6 +240,27 @@ class FairingFromPython(unittest.TestCase):
         self.assertGreater(np.abs(after - before).max(), 1e-4)
         self.assertIsNotNone(f.GetOutput().GetPointData().GetArray("Fixed"))  # point data carried
         self.assertIsNone(f.GetOutput().GetFieldData().GetArray("FairingInvariant"))
+
+    def test_old_setting_names_still_work(self):
+        # Settings renamed for one name across the filters keep their old
+        # names as aliases (scripts written before keep working).
+        f = vtkImplicitFairing()
+        f.SetTimeStepUnits(vtkImplicitFairing.PHYSICAL)
+        f.SetNumberOfSteps(3)
+        f.SetTolerance(1e-6)
+        f.SetMaximumNumberOfIterations(50)
+        self.assertEqual((f.GetUnits(), f.GetNumberOfIterations(), f.GetSolverTolerance(),
+                          f.GetMaximumSolverIterations()), (vtkImplicitFairing.PHYSICAL, 3, 1e-6, 50))
+        d = beltrami.vtkImageBeltramiDenoising()
+        d.SetBoundary(d.REFLECT)
+        d.UseFixedPixelsArrayOff()
+        self.assertEqual((d.GetBoundaryHandling(), d.GetUseFixedPointsArray()), (d.REFLECT, False))
+        # The fixed-points array has one name and is input array 1 of every
+        # denoiser (array 0 is the array smoothed), array 0 of the fairing.
+        for cls in (beltrami.vtkImageBeltramiDenoising, beltrami.vtkSurfaceDataDenoising,
+                    beltrami.vtkTetrahedralBeltramiDenoising):
+            self.assertEqual((cls.SMOOTHED_ARRAY, cls.FIXED_POINTS_ARRAY), (0, 1))
+        self.assertEqual(vtkImplicitFairing.FIXED_POINTS_ARRAY, 0)
 
     def test_fixed_point_ids(self):
         # Hard constraints by id (AddFixedPoint), on top of the array; an id

@@ -190,8 +190,8 @@ void ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, Fairing
   sl.Factor = dt;
   sl.Fixed = fixed.data();
   sl.Scale = scale;
-  sl.Tolerance = opt.Tolerance;
-  sl.MaximumIterations = opt.MaximumIterations;
+  sl.Tolerance = opt.SolverTolerance;
+  sl.MaximumIterations = opt.MaximumSolverIterations;
   sl.NumberOfThreads = threads;
   ConjugateGradientResult r;
   if (order == 1)
@@ -251,8 +251,8 @@ ConjugateGradientResult SolveOrderTwo(const Stage& st, const FairingOptions& opt
   pb.Diagonal = diag.data();
   pb.Fixed = fixed.data();
   pb.Scale = scale;
-  pb.Tolerance = opt.Tolerance;
-  pb.MaximumIterations = opt.MaximumIterations;
+  pb.Tolerance = opt.SolverTolerance;
+  pb.MaximumIterations = opt.MaximumSolverIterations;
   pb.NumberOfThreads = threads;
   pb.Apply = [&](const double* in, double* out) {
     L.ApplyStiffness(in, out, 3, threads);
@@ -602,7 +602,7 @@ void FinishReport(const MeshTopology& topo, const VertexRoles& roles, const Fair
   }
   if (!report.Converged)
   {
-    warn << "The linear solver did not reach the tolerance " << opt.Tolerance << " (relative residual "
+    warn << "The linear solver did not reach the tolerance " << opt.SolverTolerance << " (relative residual "
          << report.LargestResidual << "). ";
   }
   report.Warning = warn.str();
@@ -640,7 +640,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
   {
     held[i] = fixed[i] || roles.Boundary[i];
   }
-  for (int step = 0; step < opt.NumberOfSteps; ++step)
+  for (int step = 0; step < opt.NumberOfIterations; ++step)
   {
     std::vector<double> omega = weight;
     std::vector<Vec3> along;
@@ -696,7 +696,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     {
       report.FinalInvariant = RestoreInvariant(inv, topo, x, threads);
     }
-    if (progress && !progress(static_cast<double>(step + 1) / opt.NumberOfSteps))
+    if (progress && !progress(static_cast<double>(step + 1) / opt.NumberOfIterations))
     {
       report.Completed = false;
       break;
@@ -713,8 +713,24 @@ FairingReport FairSurface(const MeshTopology& topo, double* points, const Fairin
 {
   FairingOptions opt = options;
   opt.Order = std::clamp(opt.Order, 1, 2);
-  opt.NumberOfSteps = std::max(0, opt.NumberOfSteps);
+  opt.NumberOfIterations = std::max(0, opt.NumberOfIterations);
   opt.TimeStep = std::isfinite(opt.TimeStep) ? std::max(0.0, opt.TimeStep) : 0.0;
+  if (opt.Units == LengthUnit::MeanEdgeLength && topo.NumberOfTriangles() > 0)
+  {
+    const double h = MeanEdgeLength(topo, points);
+    if (!(h > 0.0) || !std::isfinite(h))
+    {
+      FairingReport failed;
+      failed.Error = "The mean edge length of the input is " + std::to_string(h) + ": cannot scale the time step.";
+      return failed;
+    }
+    if (opt.Operator != FairingOperator::Umbrella)
+    {
+      opt.TimeStep *= opt.Order == 2 ? h * h * h * h : h * h; // L: 1/length^2, L^2: 1/length^4
+    }
+    opt.FeatureThreshold /= h;
+    opt.Units = LengthUnit::Physical;
+  }
   if (opt.Boundary != FairingBoundary::VirtualVertex || topo.Summary().NumberOfBoundaryLoops == 0)
   {
     return FairClosedOrFixed(topo, points, opt, cons, progress);

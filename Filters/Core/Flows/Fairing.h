@@ -59,20 +59,29 @@ enum class FairingBoundary : int
   VirtualVertex = 2 ///< each loop closed by a fan to a virtual vertex at its barycentre
 };
 
+/// The defaults are those of vtkImplicitFairing and its ParaView panel (one
+/// source: the filter starts from FairingOptions{}): second-order curvature
+/// flow, one implicit step of 4 h^4 with h the mean edge length.
 struct FairingOptions
 {
   FairingOperator Operator = FairingOperator::CurvatureFlow;
-  int Order = 1; ///< 1: L, 2: L^2 (section 3.2.6)
+  int Order = 2; ///< 1: L, 2: L^2 (section 3.2.6)
   FairingIntegration Integration = FairingIntegration::Implicit;
-  double TimeStep = 1.0; ///< lambda*dt (length^2 except for the umbrella)
-  int NumberOfSteps = 1;
-  double Tolerance = 1e-4; ///< reduction of the solver residual (see ConjugateGradient.h)
-  int MaximumIterations = 1000;
+  /// lambda*dt, in length^2 (order 1) or length^4 (order 2) of `Units`; the
+  /// umbrella operator's step is dimensionless.
+  double TimeStep = 4.0;
+  /// Unit of TimeStep and FeatureThreshold: the mean edge length h of the
+  /// input (then the step is scaled by h^2 or h^4 and the threshold by 1/h),
+  /// or the mesh's own units.
+  LengthUnit Units = LengthUnit::MeanEdgeLength;
+  int NumberOfIterations = 1; ///< time steps
+  double SolverTolerance = 1e-4; ///< reduction of the solver residual (see ConjugateGradient.h)
+  int MaximumSolverIterations = 1000;
   FairingInvariant Invariant = FairingInvariant::Automatic;
   double ReferencePlaneNormal[3] = { 0.0, 0.0, 1.0 }; ///< for HeightFieldVolume
   FairingBoundary Boundary = FairingBoundary::Fixed;
   bool Anisotropic = false;          ///< section 3.7.1
-  double FeatureThreshold = 1.0;     ///< T, a curvature (1/length)
+  double FeatureThreshold = 0.5;     ///< T, a curvature (1/length of `Units`)
   double MinimumAnisotropicWeight = -0.1;
   /// The weights are computed on a pre-mollified copy (one implicit
   /// curvature-flow step of Mollification * TimeStep; 0: off), as the thesis
@@ -87,7 +96,7 @@ struct FairingOptions
   /// copy is the region itself (flat regions still never move).  Noisy
   /// bunny, order 2, 4 h^4: RMS error 0.00121 of the diagonal instead of
   /// 0.00127.  Not used by the umbrella operator.
-  double OperatorMollification = 0.0;
+  double OperatorMollification = 1.0;
   bool SmoothFeatureCurves = false;  ///< a curve-smoothing pass along detected edges
   double TaubinLambda = 0.6307, TaubinMu = -0.6732; ///< figure 3.5(d)
   int NumberOfThreads = 0;
@@ -102,6 +111,7 @@ struct FairingConstraints
 struct FairingReport
 {
   bool Completed = true;               ///< false if cancelled (positions of the last full step)
+  std::string Error;                   ///< non-empty: nothing was done (points unchanged)
   std::vector<int> Iterations;         ///< solver iterations per linear solve
   double LargestResidual = 0.0;        ///< relative residual of the worst solve
   bool Converged = true;               ///< every solve reached the tolerance

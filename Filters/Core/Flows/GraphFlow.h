@@ -34,6 +34,7 @@
 // level.
 #pragma once
 
+#include "Mesh/MeshMeasures.h"
 #include "Mesh/MeshTopology.h"
 #include "Support/Parallel.h"
 
@@ -57,12 +58,22 @@ enum class GridBoundary : int
   Linear = 1   ///< linear extrapolation: f(-1) = 2 f(0) - f(1); ramps are fixed points
 };
 
+/// The defaults are those of vtkImageBeltramiDenoising; ForMeshes() gives
+/// those of vtkSurfaceDataDenoising and vtkTetrahedralBeltramiDenoising (one
+/// source: the filters start from these).
 struct GraphFlowOptions
 {
   double ContrastScale = 1.0; ///< alpha: data units -> embedding units (section 3.8.4)
   double EdgeContrast = 1.0;  ///< gamma of eq. 3.19 (1: Beltrami flow)
   GraphFlowIntegration Integration = GraphFlowIntegration::Explicit;
-  double TimeStep = 0.2;      ///< in (length unit)^2 of the base (pixel spacing, mesh units)
+  /// In (length unit)^2 of the base: pixel spacing, or `Units` on meshes.
+  /// 0: automatic, below the explicit stability limit on unit grids: 0.2 on
+  /// pixel grids (limit about 0.24), 0.1 on voxel grids (0.12) and meshes.
+  double TimeStep = 0.0;
+  /// Meshes: the length unit of the base (TimeStep, ContrastScale): the mean
+  /// edge length (the same settings suit meshes of any size) or the mesh's
+  /// own units.  Images use their spacing.
+  LengthUnit Units = LengthUnit::MeanEdgeLength;
   bool AdaptiveTimeStep = false;
   int NumberOfIterations = 10;
   /// > 0: stop once the RMS change of the data (per component, data units)
@@ -78,21 +89,32 @@ struct GraphFlowOptions
   double SolverTolerance = 1e-4;                ///< semi-implicit: CG residual reduction
   int MaximumSolverIterations = 500;
   int NumberOfThreads = 0;
+
+  /// The defaults of the mesh filters: semi-implicit steps of 0.1 h^2.
+  static GraphFlowOptions ForMeshes()
+  {
+    GraphFlowOptions o;
+    o.Integration = GraphFlowIntegration::SemiImplicit;
+    o.TimeStep = 0.1;
+    return o;
+  }
 };
 
 struct GraphFlowResult
 {
+  bool Completed = true;      ///< false if cancelled (the values of the last full step)
+  std::string Error;          ///< non-empty: nothing was changed
   int Iterations = 0;         ///< steps taken
-  double Time = 0.0;          ///< total flow time
-  double InitialArea = 0.0;   ///< area of the graph surface before / after
+  double Time = 0.0;          ///< total flow time (length^2 of the base, physical)
+  double InitialArea = 0.0;   ///< area (volume) of the graph before / after, physical units
   double FinalArea = 0.0;
   double RMSChange = 0.0;     ///< RMS of f_out - f_in per component (data units)
+  /// The last step and the explicit stability limit (positivity, smallest
+  /// seen), in the units of TimeStep.
   double LastTimeStep = 0.0;
-  double SmallestStableStep = 0.0; ///< explicit stability limit (positivity), smallest seen
+  double SmallestStableStep = 0.0;
   int UnstableSteps = 0;      ///< explicit steps larger than that limit
   int SolverIterations = 0;   ///< semi-implicit: CG iterations, all steps
-  bool Cancelled = false;
-  std::string Error;          ///< non-empty: nothing was changed
 };
 
 /// A pixel grid: Width x Height samples, row-major (x fastest), spacing in

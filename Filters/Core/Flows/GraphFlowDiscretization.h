@@ -41,6 +41,9 @@ public:
   /// Set before the first Update: the semi-implicit solver needs the operator
   /// (Mass, Speed, Diagonal, KU and Apply); the explicit one only Velocity.
   bool StoreOperator = true;
+  /// The time step of GraphFlowOptions::TimeStep = 0 (below the explicit
+  /// stability limit on unit grids).
+  double AutomaticTimeStep = 0.1;
   // Filled by Update(u):
   LargeVector<double> Velocity; ///< s_i (K u)_i / a_i, zero where fixed: du/dt = -Velocity
   LargeVector<double> Mass, Speed, Diagonal, KU; ///< a_i, s_i, sum_j c_ij, K u (with ghosts)

@@ -28,9 +28,9 @@ std::string CheckOptions(const GraphFlowOptions& o, int components, int maximum,
   {
     return "the edge contrast (gamma) must be in [-1, 10]";
   }
-  if (!(o.TimeStep > 0.0) || !std::isfinite(o.TimeStep))
+  if (!(o.TimeStep >= 0.0) || !std::isfinite(o.TimeStep))
   {
-    return "the time step must be positive and finite";
+    return "the time step must be positive (or 0: automatic) and finite";
   }
   if (o.NumberOfIterations < 0)
   {
@@ -331,7 +331,7 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
   Disc.Update(U.data());
   Result.InitialArea = Result.FinalArea = Disc.Area;
   Result.SmallestStableStep = Disc.MaxRate > 0.0 ? 1.0 / Disc.MaxRate : HUGE_VAL;
-  double dt = O.TimeStep;
+  double dt = O.TimeStep > 0.0 ? O.TimeStep : Disc.AutomaticTimeStep;
   if (O.AdaptiveTimeStep && explicitSteps)
   {
     dt = std::min(dt, 0.9 * Result.SmallestStableStep);
@@ -341,7 +341,7 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
   {
     if (progress && !progress(static_cast<double>(it) / O.NumberOfIterations))
     {
-      Result.Cancelled = true;
+      Result.Completed = false;
       break;
     }
     const double stable = Disc.MaxRate > 0.0 ? 1.0 / Disc.MaxRate : HUGE_VAL;

@@ -1,11 +1,14 @@
 #include "Flows/GraphFlowDiscretization.h"
 
 #include "Mesh/Laplacian.h"
+#include "Mesh/MeshMeasures.h"
 #include "Mesh/Tetrahedra.h"
 
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <string>
+#include <vector>
 
 namespace beltrami
 {
@@ -125,6 +128,37 @@ private:
   GraphLaplacian Laplacian;
 };
 
+/// Runs `run` on the points measured in the options' length unit: divided
+/// by `unit` (the mean edge length; 1 in physical units), with the area (or
+/// volume, `measureDimension`) and time of the report back in the mesh's
+/// units.
+GraphFlowResult InUnits(Index numberOfVertices, const double* points, double unit, int measureDimension,
+  const std::function<GraphFlowResult(const double* scaled)>& run)
+{
+  GraphFlowResult result;
+  if (!(unit > 0.0) || !std::isfinite(unit))
+  {
+    result.Error = "the mean edge length of the input is " + std::to_string(unit) + ": cannot scale the mesh";
+    return result;
+  }
+  std::vector<double> scaled(points, points + 3 * static_cast<std::size_t>(numberOfVertices));
+  for (double& x : scaled)
+  {
+    x /= unit;
+    if (!std::isfinite(x))
+    {
+      result.Error = "the input has NaN or infinite point coordinates";
+      return result;
+    }
+  }
+  result = run(scaled.data());
+  const double measure = std::pow(unit, measureDimension);
+  result.InitialArea *= measure;
+  result.FinalArea *= measure;
+  result.Time *= unit * unit;
+  return result;
+}
+
 } // namespace
 
 GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* points,
@@ -143,12 +177,15 @@ GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* 
   {
     unusable[i] = (topology.VertexFlags(i) & ~VertexBoundary) != 0;
   }
-  MeshDiscretization disc(topology.NumberOfVertices(), points, components, fixed, unusable.data(),
-    [&](const double* x, int dimension, GraphLaplacian& l) {
-      AssembleSurfaceLaplacian(topology, x, dimension, LaplacianWeights::Cotangent, l, threads);
-    },
-    0.5, options.EdgeContrast, threads);
-  return Integrate(disc, values, options, progress);
+  const double unit = options.Units == LengthUnit::MeanEdgeLength ? MeanEdgeLength(topology, points) : 1.0;
+  return InUnits(topology.NumberOfVertices(), points, unit, 2, [&](const double* scaled) {
+    MeshDiscretization disc(topology.NumberOfVertices(), scaled, components, fixed, unusable.data(),
+      [&](const double* x, int dimension, GraphLaplacian& l) {
+        AssembleSurfaceLaplacian(topology, x, dimension, LaplacianWeights::Cotangent, l, threads);
+      },
+      0.5, options.EdgeContrast, threads);
+    return Integrate(disc, values, options, progress);
+  });
 }
 
 GraphFlowResult RunTetrahedralGraphFlow(const TetrahedralMesh& mesh, const double* points,
@@ -162,12 +199,15 @@ GraphFlowResult RunTetrahedralGraphFlow(const TetrahedralMesh& mesh, const doubl
     return result;
   }
   const int threads = options.NumberOfThreads;
-  MeshDiscretization disc(mesh.NumberOfVertices(), points, components, fixed, nullptr,
-    [&](const double* x, int dimension, GraphLaplacian& l) {
-      AssembleTetrahedralLaplacian(mesh, x, dimension, l, threads);
-    },
-    1.0, options.EdgeContrast, threads);
-  return Integrate(disc, values, options, progress);
+  const double unit = options.Units == LengthUnit::MeanEdgeLength ? mesh.MeanEdgeLength(points) : 1.0;
+  return InUnits(mesh.NumberOfVertices(), points, unit, 3, [&](const double* scaled) {
+    MeshDiscretization disc(mesh.NumberOfVertices(), scaled, components, fixed, nullptr,
+      [&](const double* x, int dimension, GraphLaplacian& l) {
+        AssembleTetrahedralLaplacian(mesh, x, dimension, l, threads);
+      },
+      1.0, options.EdgeContrast, threads);
+    return Integrate(disc, values, options, progress);
+  });
 }
 
 } // namespace beltrami

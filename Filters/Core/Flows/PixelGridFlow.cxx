@@ -123,6 +123,7 @@ public:
     Gamma = gamma;
     Threads = threads;
     StoreOperator = storeOperator;
+    AutomaticTimeStep = 0.2;
     Size = grid.Width * grid.Height;
     Components = NC;
     PW = grid.Width + 2;

@@ -10,6 +10,16 @@
 namespace beltrami
 {
 
+/// The length unit of the settings of the smoothing flows (time steps,
+/// feature thresholds, the data scale of the graph flows): the mean edge
+/// length of the input (the same settings then suit meshes of any size) or
+/// the mesh's own units.
+enum class LengthUnit : int
+{
+  MeanEdgeLength = 0,
+  Physical = 1
+};
+
 /// Volume enclosed by a closed oriented triangle mesh (eq. 3.10), total area,
 /// and the volume between the surface and the plane through `origin` with unit
 /// normal `normal` (the surface projected on the plane times its height).

@@ -28,6 +28,21 @@ double MeanEdgeLength(const Mesh& m)
   return sum / m.Triangles.size();
 }
 
+/// The options these tests start from: first-order steps of 1 in the mesh's
+/// own units, no mollification of the operator, feature threshold 1 (the
+/// core's defaults are vtkImplicitFairing's: order 2, 4 h^4, see
+/// DefaultsAreTheFiltersInEdgeLengthUnits).
+FairingOptions PhysicalOptions()
+{
+  FairingOptions o;
+  o.Order = 1;
+  o.TimeStep = 1.0;
+  o.Units = LengthUnit::Physical;
+  o.OperatorMollification = 0.0;
+  o.FeatureThreshold = 1.0;
+  return o;
+}
+
 FairingReport Smooth(Mesh& m, const FairingOptions& o, const FairingConstraints& c = {})
 {
   const MeshTopology topo = m.Topology();
@@ -100,9 +115,9 @@ TEST(Fairing, TwoRateSphereKeepsItsShapeUnderCurvatureFlow)
   const Mesh sphere = test::TwoRateSphere(1.0, 24, 96, 6, 24);
   ASSERT_GT(Volume(sphere), 0.0);
   const double h = MeanEdgeLength(sphere);
-  FairingOptions o;
+  FairingOptions o = PhysicalOptions();
   o.TimeStep = 2 * h * h; // physical units: length^2
-  o.NumberOfSteps = 5;
+  o.NumberOfIterations = 5;
   Mesh flow = sphere;
   const FairingReport r = Smooth(flow, o);
   EXPECT_EQ(r.InvariantUsed, FairingInvariant::Volume);
@@ -130,7 +145,7 @@ TEST(Fairing, TwoRateSphereKeepsItsShapeUnderCurvatureFlow)
 
   // vtkImplicitFairing's defaults: one order-2 step of 4 h^4 on the
   // mollified copy; a strong version of it (100 h^4) keeps the sphere too.
-  FairingOptions d;
+  FairingOptions d = PhysicalOptions();
   d.Order = 2;
   d.OperatorMollification = 1.0;
   d.TimeStep = 100 * h * h * h * h;
@@ -163,12 +178,12 @@ TEST(Fairing, FlatIrregularPatchDoesNotMoveUnderCurvatureFlow)
       // filter's default for noisy scans).
       const int order = 1 + variant % 2;
       Mesh m = patch;
-      FairingOptions o;
+      FairingOptions o = PhysicalOptions();
       o.Operator = op;
       o.Order = order;
       o.OperatorMollification = variant < 2 ? 0.0 : 1.0;
       o.TimeStep = op == FairingOperator::Umbrella ? 10.0 : 0.01;
-      o.NumberOfSteps = 3;
+      o.NumberOfIterations = 3;
       const FairingReport r = Smooth(m, o);
       EXPECT_EQ(r.InvariantUsed, FairingInvariant::None); // open surface
       const double moved = MaxDisplacement(m, patch);
@@ -201,11 +216,11 @@ TEST(Fairing, VolumeIsPreservedExactly)
     for (int order : { 1, 2 })
     {
       Mesh m = torus;
-      FairingOptions o;
+      FairingOptions o = PhysicalOptions();
       o.Operator = op;
       o.Order = order;
       o.TimeStep = op == FairingOperator::Umbrella ? 5.0 : 0.01;
-      o.NumberOfSteps = 7;
+      o.NumberOfIterations = 7;
       const FairingReport r = Smooth(m, o);
       EXPECT_EQ(r.InvariantUsed, FairingInvariant::Volume);
       EXPECT_NEAR(Volume(m) / v0, 1.0, 1e-10) << static_cast<int>(op) << " order " << order;
@@ -224,9 +239,9 @@ TEST(Fairing, HardConstraintsAreBitExactAndSoftWeightsAttenuate)
   {
     fixed[i] = 1;
   }
-  FairingOptions o;
+  FairingOptions o = PhysicalOptions();
   o.TimeStep = 0.01;
-  o.NumberOfSteps = 3;
+  o.NumberOfIterations = 3;
   Mesh m = sphere;
   FairingConstraints c;
   c.Fixed = fixed.data();
@@ -273,7 +288,7 @@ TEST(Fairing, ExplicitUmbrellaAboveOneIsReportedUnstable)
 {
   Mesh sphere = test::OctahedronSphere(3);
   AddNormalNoise(sphere, 0.02, 2);
-  FairingOptions o;
+  FairingOptions o = PhysicalOptions();
   o.Operator = FairingOperator::Umbrella;
   o.Integration = FairingIntegration::Explicit;
   o.TimeStep = 0.9;
@@ -297,7 +312,7 @@ TEST(Fairing, ImplicitLargeStepsAreStableAndIterationCountsAreModest)
   for (double step : { 10.0, 100.0 })
   {
     Mesh m = torus;
-    FairingOptions o;
+    FairingOptions o = PhysicalOptions();
     o.Operator = FairingOperator::Umbrella;
     o.TimeStep = step;
     const FairingReport r = Smooth(m, o);
@@ -323,9 +338,9 @@ TEST(Fairing, ResultsDoNotDependOnTheThreadCount)
   Mesh torus = test::Torus(1.0, 0.4, 120, 60, 0.3, 1);
   AddNormalNoise(torus, 0.01, 5);
   Mesh a = torus, b = torus;
-  FairingOptions o;
+  FairingOptions o = PhysicalOptions();
   o.TimeStep = 0.001;
-  o.NumberOfSteps = 2;
+  o.NumberOfIterations = 2;
   o.NumberOfThreads = 1;
   Smooth(a, o);
   o.NumberOfThreads = 2;
@@ -353,9 +368,9 @@ TEST(Fairing, BoundaryModes)
     }
     return rough / 48;
   };
-  FairingOptions o;
+  FairingOptions o = PhysicalOptions();
   o.TimeStep = 0.02;
-  o.NumberOfSteps = 3;
+  o.NumberOfIterations = 3;
   Mesh fixed = cylinder;
   Smooth(fixed, o);
   EXPECT_EQ(rimRoughness(fixed), rimRoughness(cylinder));
@@ -408,9 +423,9 @@ TEST(Fairing, HeightFieldAndAreaInvariants)
   (void)origin;
   const double v0 = VolumeAbovePlane(topo, bump.Points.data(), o0, normal);
   Mesh m = bump;
-  FairingOptions o;
+  FairingOptions o = PhysicalOptions();
   o.TimeStep = 0.01;
-  o.NumberOfSteps = 4;
+  o.NumberOfIterations = 4;
   o.Invariant = FairingInvariant::HeightFieldVolume;
   Smooth(m, o);
   EXPECT_NEAR(VolumeAbovePlane(topo, m.Points.data(), o0, normal) / v0, 1.0, 1e-10);
@@ -475,10 +490,10 @@ TEST(Fairing, AnisotropicSmoothingRestoresTheCubeEdges)
   double n0, d0;
   CubeErrors(noisy, n0, d0);
   const double h = MeanEdgeLength(clean);
-  FairingOptions o;
+  FairingOptions o = PhysicalOptions();
   o.TimeStep = 1.0 * h * h;
-  o.NumberOfSteps = 10;
-  o.Tolerance = 1e-6;
+  o.NumberOfIterations = 10;
+  o.SolverTolerance = 1e-6;
   Mesh iso = noisy;
   Smooth(iso, o);
   double ni, di;
@@ -537,11 +552,11 @@ TEST(Fairing, SamplingFlowRegularisesTheTrianglesAndKeepsTheSphere)
     return sum / m.NumberOfVertices();
   };
   Mesh m = sphere;
-  FairingOptions o;
+  FairingOptions o = PhysicalOptions();
   o.Operator = FairingOperator::CurvatureFlowAndSampling;
   const double h = MeanEdgeLength(sphere);
   o.TimeStep = 20 * h * h;
-  o.NumberOfSteps = 10;
+  o.NumberOfIterations = 10;
   Smooth(m, o);
   Mesh flow = sphere;
   o.Operator = FairingOperator::CurvatureFlow;
@@ -559,10 +574,10 @@ TEST(Fairing, TaubinLambdaMuShrinksLessThanPlainDiffusion)
   Mesh sphere = test::OctahedronSphere(4);
   AddNormalNoise(sphere, 0.02, 8);
   const double v0 = Volume(sphere);
-  FairingOptions o;
+  FairingOptions o = PhysicalOptions();
   o.Operator = FairingOperator::Umbrella;
   o.Invariant = FairingInvariant::None;
-  o.NumberOfSteps = 20;
+  o.NumberOfIterations = 20;
   o.Integration = FairingIntegration::TaubinLambdaMu;
   Mesh taubin = sphere;
   Smooth(taubin, o);
@@ -574,4 +589,40 @@ TEST(Fairing, TaubinLambdaMuShrinksLessThanPlainDiffusion)
   std::printf("volume loss: Taubin %.4f, explicit umbrella %.4f\n", lossTaubin, lossDiffusion);
   EXPECT_LT(std::abs(lossTaubin), 0.2 * std::abs(lossDiffusion));
   EXPECT_LT(MaxRadialDeviation(taubin, 1.0), MaxRadialDeviation(sphere, 1.0));
+}
+
+TEST(Fairing, DefaultsAreTheFiltersInEdgeLengthUnits)
+{
+  // FairingOptions{} is vtkImplicitFairing's default: one implicit order-2
+  // curvature-flow step of 4 h^4 on the mollified operator, h the mean edge
+  // length; the same run spelled out in physical units gives the same bits.
+  Mesh noisy = test::TwoRateSphere(1.0, 12, 48, 6, 24);
+  AddNormalNoise(noisy, 0.01, 7);
+  const double h = MeanEdgeLength(noisy.Topology(), noisy.Points.data());
+  Mesh byDefault = noisy;
+  const FairingReport r = Smooth(byDefault, FairingOptions{});
+  ASSERT_TRUE(r.Completed && r.Error.empty());
+  FairingOptions physical = PhysicalOptions();
+  physical.Order = 2;
+  physical.OperatorMollification = 1.0;
+  physical.TimeStep = 4.0 * (h * h * h * h);
+  physical.FeatureThreshold = 0.5 / h;
+  Mesh spelledOut = noisy;
+  Smooth(spelledOut, physical);
+  EXPECT_EQ(byDefault.Points, spelledOut.Points);
+  double moved = 0.0;
+  for (std::size_t k = 0; k < noisy.Points.size(); ++k)
+  {
+    moved = std::max(moved, std::abs(byDefault.Points[k] - noisy.Points[k]));
+  }
+  EXPECT_GT(moved, 0.001); // the noise is 0.01
+
+  // A mesh without length (all points at one place) cannot be measured in
+  // edge lengths: an error, the points unchanged.
+  Mesh collapsed = noisy;
+  std::fill(collapsed.Points.begin(), collapsed.Points.end(), 0.5);
+  const std::vector<double> before = collapsed.Points;
+  const FairingReport failed = Smooth(collapsed, FairingOptions{});
+  EXPECT_FALSE(failed.Error.empty());
+  EXPECT_EQ(collapsed.Points, before);
 }

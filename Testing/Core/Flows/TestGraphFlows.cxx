@@ -182,6 +182,63 @@ TEST(ImageGraphFlow, FixedPixelsKeepTheirValuesAndBadInputIsAnError)
   }
 }
 
+TEST(GraphFlowOptions, AutomaticStepAndEdgeLengthUnitsAreTheFiltersDefaults)
+{
+  // Images (vtkImageBeltramiDenoising's defaults, GraphFlowOptions{}):
+  // TimeStep 0 means 0.2 explicit steps on pixel grids.
+  PixelGrid grid{ 24, 20, 1.0, 1.0 };
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.1);
+  std::vector<double> image(24 * 20);
+  for (double& v : image)
+  {
+    v = 0.5 + noise(rng);
+  }
+  std::vector<double> automatic = image, spelledOut = image;
+  const GraphFlowResult a = RunImageGraphFlow(grid, 1, automatic.data(), nullptr, GraphFlowOptions{});
+  GraphFlowOptions explicitSteps;
+  explicitSteps.TimeStep = 0.2;
+  RunImageGraphFlow(grid, 1, spelledOut.data(), nullptr, explicitSteps);
+  EXPECT_EQ(a.LastTimeStep, 0.2);
+  EXPECT_EQ(automatic, spelledOut);
+  EXPECT_LT(RMS(automatic, std::vector<double>(image.size(), 0.5)), 0.5 * RMS(image, std::vector<double>(image.size(), 0.5)));
+
+  // Meshes (the mesh filters' defaults, ForMeshes()): semi-implicit steps of
+  // 0.1 h^2 with the mesh measured in its mean edge length h - the same
+  // numbers as physical units on the mesh scaled by 1/h; the time and the
+  // area come back in the mesh's units.
+  test::Mesh sphere = test::OctahedronSphere(3);
+  for (double& x : sphere.Points)
+  {
+    x *= 7.0;
+  }
+  const MeshTopology topo = sphere.Topology();
+  const Index n = topo.NumberOfVertices();
+  const double h = MeanEdgeLength(topo, sphere.Points.data());
+  std::vector<double> f(n);
+  for (Index i = 0; i < n; ++i)
+  {
+    f[i] = sphere.Points[3 * i + 2] / 7.0 + noise(rng);
+  }
+  std::vector<double> inEdgeLengths = f, inPhysical = f;
+  const GraphFlowOptions defaults = GraphFlowOptions::ForMeshes();
+  EXPECT_EQ(defaults.Integration, GraphFlowIntegration::SemiImplicit);
+  const GraphFlowResult r = RunSurfaceGraphFlow(topo, sphere.Points.data(), 1, inEdgeLengths.data(), nullptr, defaults);
+  ASSERT_EQ(r.Error, "");
+  std::vector<double> scaled = sphere.Points;
+  for (double& x : scaled)
+  {
+    x /= h;
+  }
+  GraphFlowOptions physical = defaults;
+  physical.Units = LengthUnit::Physical;
+  const GraphFlowResult p = RunSurfaceGraphFlow(topo, scaled.data(), 1, inPhysical.data(), nullptr, physical);
+  EXPECT_EQ(inEdgeLengths, inPhysical);
+  EXPECT_NEAR(r.Time, p.Time * h * h, 1e-12 * r.Time);
+  EXPECT_NEAR(r.InitialArea, p.InitialArea * h * h, 1e-12 * r.InitialArea);
+  EXPECT_NEAR(r.Time, 10 * 0.1 * h * h, 1e-12 * r.Time);
+}
+
 TEST(SurfaceGraphFlow, SmoothsDataOnASphereAndKeepsConstantsAndFixedPoints)
 {
   const test::Mesh sphere = test::OctahedronSphere(4);
@@ -198,6 +255,7 @@ TEST(SurfaceGraphFlow, SmoothsDataOnASphereAndKeepsConstantsAndFixedPoints)
     fixed[i] = i % 11 == 0;
   }
   GraphFlowOptions o;
+  o.Units = LengthUnit::Physical; // settings in the mesh's own units
   o.Integration = GraphFlowIntegration::SemiImplicit;
   o.ContrastScale = 0.2;
   o.TimeStep = 0.002;

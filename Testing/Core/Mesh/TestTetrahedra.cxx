@@ -140,6 +140,7 @@ TEST(Tetrahedra, LinearAndConstantFieldsAreFixedPoints)
       }
       const std::vector<double> f0 = f;
       GraphFlowOptions o;
+      o.Units = LengthUnit::Physical; // settings in the mesh\'s own units
       o.ContrastScale = 2.0;
       o.EdgeContrast = gamma;
       o.Integration = integration;
@@ -160,6 +161,7 @@ TEST(Tetrahedra, LinearAndConstantFieldsAreFixedPoints)
   // A constant with a free boundary (the natural boundary condition).
   std::vector<double> c(grid.Size(), 0.25);
   GraphFlowOptions o;
+  o.Units = LengthUnit::Physical; // settings in the mesh\'s own units
   o.ContrastScale = 5.0;
   o.TimeStep = 0.002;
   o.NumberOfIterations = 10;
@@ -201,6 +203,7 @@ TEST(Tetrahedra, FlowKeepsAJumpAndRemovesNoise)
     p /= h; // mean edge length units, as the filter
   }
   GraphFlowOptions o;
+  o.Units = LengthUnit::Physical; // settings in the mesh\'s own units
   o.ContrastScale = 1.5 / sigma;
   o.Integration = GraphFlowIntegration::SemiImplicit;
   o.TimeStep = 0.1;
@@ -268,6 +271,7 @@ TEST(Tetrahedra, VoxelFlowEqualsTheFlowOnTheKuhnMesh)
     for (auto integration : { GraphFlowIntegration::Explicit, GraphFlowIntegration::SemiImplicit })
     {
       GraphFlowOptions o;
+      o.Units = LengthUnit::Physical; // settings in the mesh\'s own units
       o.ContrastScale = 10.0;
       o.Integration = integration;
       o.TimeStep = integration == GraphFlowIntegration::Explicit ? 0.05 : 0.2;
