@@ -29,7 +29,20 @@ BELTRAMI_SAME_ENUM(vtkDiscreteCurvatures::INTERIOR_AVERAGE, beltrami::BoundaryPo
 
 vtkStandardNewMacro(vtkDiscreteCurvatures);
 
-vtkDiscreteCurvatures::vtkDiscreteCurvatures() = default;
+vtkDiscreteCurvatures::vtkDiscreteCurvatures()
+{
+  // The defaults have one source: the core's CurvatureOptions.
+  beltrami::CurvatureOptions defaults;
+  this->CopySettings(defaults, vtkBeltramiCopy::FromCore);
+}
+
+void vtkDiscreteCurvatures::CopySettings(beltrami::CurvatureOptions& o, vtkBeltramiCopy direction)
+{
+  BeltramiCopySetting(this->Method, o.Method, direction);
+  BeltramiCopySetting(this->NormalWeighting, o.Weighting, direction);
+  BeltramiCopySetting(this->BoundaryHandling, o.Boundary, direction);
+  BeltramiCopySetting(this->NumberOfThreads, o.NumberOfThreads, direction);
+}
 
 int vtkDiscreteCurvatures::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
@@ -136,10 +149,7 @@ int vtkDiscreteCurvatures::Compute(vtkBeltramiSurface& surface)
   }
 
   beltrami::CurvatureOptions options;
-  options.Method = static_cast<beltrami::CurvatureMethod>(this->Method);
-  options.Weighting = static_cast<beltrami::NormalWeighting>(this->NormalWeighting);
-  options.Boundary = static_cast<beltrami::BoundaryPolicy>(this->BoundaryHandling);
-  options.NumberOfThreads = this->NumberOfThreads;
+  this->CopySettings(options, vtkBeltramiCopy::ToCore);
   beltrami::CurvatureOutputs out;
   out.MeanCurvatureNormal = Pointer(meanCurvatureNormal);
   out.MixedArea = Pointer(mixedArea);

@@ -52,6 +52,11 @@
 #include "vtkPolyDataAlgorithm.h"
 
 class vtkBeltramiSurface;
+enum class vtkBeltramiCopy;
+namespace beltrami
+{
+struct CurvatureOptions;
+}
 
 class BELTRAMIFILTERS_EXPORT vtkDiscreteCurvatures : public vtkPolyDataAlgorithm
 {
@@ -142,9 +147,10 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  int Method = MEYER_2003;
-  int NormalWeighting = MEAN_CURVATURE_NORMAL;
-  int BoundaryHandling = BOUNDARY_NAN;
+  // Defaults: the core's CurvatureOptions{} (set in the constructor).
+  int Method;
+  int NormalWeighting;
+  int BoundaryHandling;
   bool ComputeMeanCurvatureNormal = true;
   bool ComputeMixedArea = true;
   bool ComputeMeanCurvature = true;
@@ -153,9 +159,11 @@ protected:
   bool ComputePrincipalDirections = true;
   bool ComputeNormals = true;
   bool ComputeVertexStatus = true;
-  int NumberOfThreads = 0;
+  int NumberOfThreads;
 
 private:
+  /// Copies the settings to or from the core's options (one list of pairs).
+  void CopySettings(beltrami::CurvatureOptions& options, vtkBeltramiCopy direction);
   /// RequestData's work on the prepared surface (vtkBeltramiSurface::Execute).
   int Compute(vtkBeltramiSurface& surface);
   vtkDiscreteCurvatures(const vtkDiscreteCurvatures&) = delete;

@@ -41,7 +41,27 @@ struct vtkIntrinsicParameterization::Internals
 vtkIntrinsicParameterization::vtkIntrinsicParameterization()
   : Internal(new Internals)
 {
+  // The defaults have one source: the core's ParameterizationOptions.
+  beltrami::ParameterizationOptions defaults;
+  this->CopySettings(defaults, vtkBeltramiCopy::FromCore);
   // Input arrays 0 (given boundary UV) and 1 (constraint targets) are optional.
+}
+
+void vtkIntrinsicParameterization::CopySettings(
+  beltrami::ParameterizationOptions& o, vtkBeltramiCopy direction)
+{
+  BeltramiCopySetting(this->ConformalWeight, o.ConformalWeight, direction);
+  BeltramiCopySetting(this->AuthalicWeight, o.AuthalicWeight, direction);
+  BeltramiCopySetting(this->Boundary, o.Boundary, direction);
+  BeltramiCopySetting(this->BoundarySpacing, o.Spacing, direction);
+  BeltramiCopySetting(this->OptimizeMix, o.OptimizeMix, direction);
+  BeltramiCopySetting(this->OptimalEnergy, o.OptimalEnergy, direction);
+  BeltramiCopySetting(this->OptimalMixRange[0], o.OptimalRange[0], direction);
+  BeltramiCopySetting(this->OptimalMixRange[1], o.OptimalRange[1], direction);
+  BeltramiCopySetting(this->BoundaryOptimizationSteps, o.BoundaryOptimizationSteps, direction);
+  BeltramiCopySetting(this->BoundaryEnergy, o.BoundaryEnergy, direction);
+  BeltramiCopySetting(this->KeepBoundaryBasis, o.KeepBoundaryBasis, direction);
+  BeltramiCopySetting(this->NumberOfThreads, o.NumberOfThreads, direction);
 }
 
 vtkIntrinsicParameterization::~vtkIntrinsicParameterization() = default;
@@ -160,71 +180,19 @@ int vtkIntrinsicParameterization::RequestData(
 
 int vtkIntrinsicParameterization::Parameterize(vtkBeltramiSurface& surface)
 {
-  vtkPolyData* input = surface.Input();
-  vtkPolyData* output = surface.Output();
-  const vtkIdType numPoints = input->GetNumberOfPoints();
   const beltrami::MeshTopology& topo = surface.Topology();
-
-  std::string error;
-  vtkDataArray* givenArray = surface.SelectedPointArray(this, 0, 2, "given boundary UV", error);
-  vtkDataArray* targetArray =
-    error.empty() ? surface.SelectedPointArray(this, 1, 2, "constraint target", error) : nullptr;
-  if (!error.empty())
+  beltrami::ParameterizationOptions options;
+  this->CopySettings(options, vtkBeltramiCopy::ToCore);
+  std::vector<double> given;
+  if (!this->ReadInputArrays(surface, options, given))
   {
-    vtkErrorMacro(<< error);
     return 0;
   }
-  beltrami::ParameterizationOptions options;
-  options.ConformalWeight = this->ConformalWeight;
-  options.AuthalicWeight = this->AuthalicWeight;
-  options.Boundary = static_cast<beltrami::ParameterizationBoundary>(this->Boundary);
-  options.Spacing = static_cast<beltrami::BoundarySpacing>(this->BoundarySpacing);
-  std::vector<double> given;
-  if (this->Boundary == GIVEN)
-  {
-    if (!givenArray)
-    {
-      vtkErrorMacro("Boundary GIVEN needs a 2-component point array of boundary positions (input array 0).");
-      return 0;
-    }
-    given.resize(2 * static_cast<std::size_t>(numPoints));
-    for (vtkIdType i = 0; i < numPoints; ++i)
-    {
-      given[2 * i] = givenArray->GetComponent(i, 0);
-      given[2 * i + 1] = givenArray->GetComponent(i, 1);
-    }
-    options.GivenUV = given.data();
-  }
-  options.Constraints = this->Internal->Constraints;
-  if (targetArray)
-  {
-    for (vtkIdType i = 0; i < numPoints; ++i)
-    {
-      const double u = targetArray->GetComponent(i, 0), v = targetArray->GetComponent(i, 1);
-      if (std::isfinite(u) && std::isfinite(v))
-      {
-        beltrami::PointConstraint pc;
-        pc.Vertices[0] = static_cast<beltrami::Index>(i);
-        pc.Target[0] = u;
-        pc.Target[1] = v;
-        options.Constraints.push_back(pc);
-      }
-    }
-  }
-  options.OptimizeMix = this->OptimizeMix;
-  options.OptimalEnergy = static_cast<beltrami::DistortionEnergy>(this->OptimalEnergy);
-  options.OptimalRange[0] = this->OptimalMixRange[0];
-  options.OptimalRange[1] = this->OptimalMixRange[1];
-  options.BoundaryOptimizationSteps = this->BoundaryOptimizationSteps;
-  options.BoundaryEnergy = static_cast<beltrami::DistortionEnergy>(this->BoundaryEnergy);
-  options.KeepBoundaryBasis = this->KeepBoundaryBasis;
-  options.NumberOfThreads = this->NumberOfThreads;
-
   this->UpdateProgress(0.0);
   std::vector<double> converted; // float points: one copy in double
   const double* points = surface.PointsAsDouble(converted);
   beltrami::ParameterizationResult result = beltrami::Parameterize(topo, points, options);
-  if (!result.Success)
+  if (!result.Error.empty())
   {
     vtkErrorMacro(<< result.Error);
     return 0;
@@ -236,7 +204,62 @@ int vtkIntrinsicParameterization::Parameterize(vtkBeltramiSurface& surface)
   this->UpdateProgress(0.9);
   const beltrami::DistortionReport distortion =
     beltrami::MeasureDistortion(topo, points, result.UV.data(), this->NumberOfThreads);
+  this->WriteMap(surface, result);
+  this->WriteDistortion(surface, distortion, result);
+  this->Internal->Basis = std::move(result.Basis);
+  this->UpdateProgress(1.0);
+  return 1;
+}
 
+bool vtkIntrinsicParameterization::ReadInputArrays(
+  vtkBeltramiSurface& surface, beltrami::ParameterizationOptions& options, std::vector<double>& given)
+{
+  const vtkIdType numPoints = surface.Input()->GetNumberOfPoints();
+  std::string error;
+  vtkDataArray* givenArray = surface.SelectedPointArray(this, 0, 2, "given boundary UV", error);
+  vtkDataArray* targetArray =
+    error.empty() ? surface.SelectedPointArray(this, 1, 2, "constraint target", error) : nullptr;
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return false;
+  }
+  if (this->Boundary == GIVEN)
+  {
+    if (!givenArray)
+    {
+      vtkErrorMacro("Boundary GIVEN needs a 2-component point array of boundary positions (input array 0).");
+      return false;
+    }
+    given.resize(2 * static_cast<std::size_t>(numPoints));
+    for (vtkIdType i = 0; i < numPoints; ++i)
+    {
+      given[2 * i] = givenArray->GetComponent(i, 0);
+      given[2 * i + 1] = givenArray->GetComponent(i, 1);
+    }
+    options.GivenUV = given.data();
+  }
+  options.Constraints = this->Internal->Constraints;
+  for (vtkIdType i = 0; targetArray && i < numPoints; ++i)
+  {
+    const double u = targetArray->GetComponent(i, 0), v = targetArray->GetComponent(i, 1);
+    if (std::isfinite(u) && std::isfinite(v))
+    {
+      beltrami::PointConstraint pc;
+      pc.Vertices[0] = static_cast<beltrami::Index>(i);
+      pc.Target[0] = u;
+      pc.Target[1] = v;
+      options.Constraints.push_back(pc);
+    }
+  }
+  return true;
+}
+
+void vtkIntrinsicParameterization::WriteMap(
+  vtkBeltramiSurface& surface, const beltrami::ParameterizationResult& result)
+{
+  vtkPolyData* output = surface.Output();
+  const vtkIdType numPoints = surface.Input()->GetNumberOfPoints();
   // Outputs on LargeBuffer's cached pages (vtkBeltramiSurface::NewArray):
   // fresh pages for the UVs and the three cell arrays cost about as much as
   // the distortion measure itself (179k vertices: ~40 ms every run).
@@ -265,7 +288,14 @@ int vtkIntrinsicParameterization::Parameterize(vtkBeltramiSurface& surface)
       output->GetPointData()->ShallowCopy(pd);
     }
   }
+}
 
+void vtkIntrinsicParameterization::WriteDistortion(vtkBeltramiSurface& surface,
+  const beltrami::DistortionReport& distortion, const beltrami::ParameterizationResult& result)
+{
+  vtkPolyData* input = surface.Input();
+  vtkPolyData* output = surface.Output();
+  const beltrami::MeshTopology& topo = surface.Topology();
   // Per-cell distortion: the mean over each input cell's triangles; NaN for
   // cells without triangles (vertices, lines).
   const vtkIdType numCells = input->GetNumberOfCells();
@@ -334,9 +364,6 @@ int vtkIntrinsicParameterization::Parameterize(vtkBeltramiSurface& surface)
   this->MeanAreaDistortion = distortion.MeanArea;
   this->MeanEdgeDistortion = distortion.MeanEdge;
   this->NumberOfFlippedTriangles = distortion.FlippedTriangles;
-  this->Internal->Basis = std::move(result.Basis);
-  this->UpdateProgress(1.0);
-  return 1;
 }
 
 void vtkIntrinsicParameterization::ReadReport(vtkFieldData* fd)

@@ -58,6 +58,13 @@
 #include <vector> // for the constraints
 
 class vtkBeltramiSurface;
+enum class vtkBeltramiCopy;
+namespace beltrami
+{
+struct DistortionReport;
+struct ParameterizationOptions;
+struct ParameterizationResult;
+}
 class vtkDataArray;
 class vtkDoubleArray;
 class vtkFieldData;
@@ -169,18 +176,19 @@ protected:
   ~vtkIntrinsicParameterization() override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  double ConformalWeight = 1.0;
-  double AuthalicWeight = 0.0;
-  int Boundary = CIRCLE;
-  int BoundarySpacing = ARC_LENGTH;
-  bool OptimizeMix = false;
-  int OptimalEnergy = EDGE_LENGTH;
-  double OptimalMixRange[2] = { 0.0, 1.0 };
-  int BoundaryOptimizationSteps = 0;
-  int BoundaryEnergy = EDGE_LENGTH;
-  bool KeepBoundaryBasis = false;
+  // Defaults: the core's ParameterizationOptions{} (set in the constructor).
+  double ConformalWeight;
+  double AuthalicWeight;
+  int Boundary;
+  int BoundarySpacing;
+  bool OptimizeMix;
+  int OptimalEnergy;
+  double OptimalMixRange[2];
+  int BoundaryOptimizationSteps;
+  int BoundaryEnergy;
+  bool KeepBoundaryBasis;
+  int NumberOfThreads;
   bool OutputFlattenedMesh = false;
-  int NumberOfThreads = 0;
 
   double OptimalMix = -1.0;
   double MeanAngleDistortion = 0.0;
@@ -194,6 +202,17 @@ private:
 
   /// The map of the surface Prepare built (RequestData's value).
   int Parameterize(vtkBeltramiSurface& surface);
+  /// The given boundary (input array 0, into `given`) and the constraint
+  /// targets (input array 1) into `options`; false (after an error) if unusable.
+  bool ReadInputArrays(vtkBeltramiSurface& surface, beltrami::ParameterizationOptions& options,
+    std::vector<double>& given);
+  /// UV (and the flattened points) into the output.
+  void WriteMap(vtkBeltramiSurface& surface, const beltrami::ParameterizationResult& result);
+  /// Per-cell distortion, the field-data report and the getters' values.
+  void WriteDistortion(vtkBeltramiSurface& surface, const beltrami::DistortionReport& distortion,
+    const beltrami::ParameterizationResult& result);
+  /// Copies the settings to or from the core's options (one list of pairs).
+  void CopySettings(beltrami::ParameterizationOptions& options, vtkBeltramiCopy direction);
   /// The distortion getters from the field data of an output (the ranks of a
   /// gathered distributed run other than 0).
   void ReadReport(vtkFieldData* fd);

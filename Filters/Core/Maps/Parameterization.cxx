@@ -621,7 +621,6 @@ ParameterizationResult ParameterizeUnguarded(
         " zero-area triangles were left out of the energy");
   }
   result.UV = std::move(uv);
-  result.Success = true;
   return result;
 }
 

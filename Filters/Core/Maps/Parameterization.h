@@ -97,8 +97,7 @@ private:
 
 struct ParameterizationResult
 {
-  bool Success = false;
-  std::string Error;   ///< why not (Success == false): the map is then empty
+  std::string Error;   ///< non-empty: no map (UV empty), and why
   std::string Warning; ///< non-fatal remarks
   std::vector<double> UV; ///< 2 per vertex; vertices in no triangle get (0, 0)
   std::vector<Index> OuterBoundary; ///< the loop that was fixed (or pinned)
