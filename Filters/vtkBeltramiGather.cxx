@@ -1,5 +1,7 @@
 #include "vtkBeltramiGather.h"
 
+#include "vtkBeltramiSurface.h"
+
 #include <vtkBoundingBox.h>
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
@@ -597,4 +599,31 @@ bool vtkBeltramiGather::Distribute(
     }
   }
   return result;
+}
+
+int vtkBeltramiGather::RunWhole(vtkInformation* outInfo, vtkPointSet* input, vtkPointSet* output,
+  Results results, const Run& run, const std::function<bool()>& gatherIf)
+{
+  const int holding = // collective in distributed runs: before any return
+    vtkBeltramiSurface::PiecesHoldingData(outInfo, input);
+  const bool split = holding > 1 && vtkBeltramiSurface::OnePiecePerRank(outInfo) && input && output;
+  if (!split || (gatherIf && !gatherIf()))
+  {
+    return run(input, output, holding);
+  }
+  vtkBeltramiGather gather;
+  vtkSmartPointer<vtkPointSet> whole = gather.Collect(vtkMultiProcessController::GetGlobalController(), input);
+  if (results == Results::OnRankZero)
+  {
+    output->Initialize();
+    return whole ? run(whole, output, 1) : 1;
+  }
+  output->ShallowCopy(input);
+  if (!whole)
+  {
+    return gather.Distribute(nullptr, nullptr, true, output) ? 1 : 0; // ranks other than 0
+  }
+  vtkSmartPointer<vtkPointSet> wholeOutput = vtk::TakeSmartPointer(whole->NewInstance());
+  const bool ok = run(whole, wholeOutput, 1) != 0;
+  return gather.Distribute(whole, wholeOutput, ok, output) ? 1 : 0;
 }

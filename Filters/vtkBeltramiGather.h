@@ -13,9 +13,11 @@
 #include <vtkSmartPointer.h>
 #include <vtkType.h>
 
+#include <functional>
 #include <vector>
 
 class vtkAlgorithm;
+class vtkInformation;
 class vtkMultiProcessController;
 class vtkPoints;
 class vtkPointSet;
@@ -23,6 +25,28 @@ class vtkPointSet;
 class BELTRAMIFILTERS_EXPORT vtkBeltramiGather
 {
 public:
+  /// Where the results of a gathered run go.
+  enum class Results
+  {
+    ToEveryPiece, ///< each rank's output gets the results for its points and cells
+    OnRankZero    ///< a new data set (e.g. a mesh of the whole volume) on rank 0; other ranks' outputs empty
+  };
+  /// The filter's work: `input` to `output`; `holding` > 1: a piece of
+  /// streamed or distributed data run on its own.  Returns RequestData's value.
+  using Run = std::function<int(vtkPointSet* input, vtkPointSet* output, int holding)>;
+
+  /// The one way a filter that needs the whole data set runs (surface filters:
+  /// vtkBeltramiSurface::Execute, which builds on this class).  Collective in
+  /// distributed runs: every rank calls it.  When the data are split over
+  /// the ranks (one piece per rank) and `gatherIf` (collective, optional:
+  /// default yes) says so, the pieces are collected on rank 0, run(whole,
+  /// wholeOutput, 1) runs there as in a serial run, and the results go where
+  /// `results` says; otherwise run(input, output, holding) runs on this
+  /// rank's data.  Returns RequestData's value (rank 0's outcome for every
+  /// rank of a gathered run with ToEveryPiece).
+  static int RunWhole(vtkInformation* outInfo, vtkPointSet* input, vtkPointSet* output, Results results,
+    const Run& run, const std::function<bool()>& gatherIf = {});
+
   /// Collective over `controller` (every rank calls it).  Sends this rank's
   /// piece (its points, its cells without ghost cells, all point arrays) to
   /// rank 0, which returns the whole data set: the pieces appended, points

@@ -46,18 +46,13 @@ public:
     WholeSurface ///< the whole surface at once
   };
 
-  enum PrepareResult
-  {
-    Failed = 0,  ///< an error was reported on the owner: RequestData returns 0
-    NothingToDo, ///< the input has no points: the output is the input
-    Ready,       ///< built: Input(), Output() (a shallow copy of the input), Topology()
-    Gathered     ///< a rank other than 0 of a gathered run (WholeSurface): return Finish(true)
-  };
-  /// The common start of every surface filter's RequestData: fetches the
-  /// poly data input and output, passes the input through, and builds the
-  /// surface; errors and warnings are reported on `owner` (no warning for an
-  /// empty piece of distributed data).  Collective in distributed runs
-  /// (see PiecesHoldingData): every rank must call it.
+  /// The one way a surface filter's RequestData runs, serial or distributed:
+  /// fetches the poly data input and output, passes the input through,
+  /// builds the surface and calls `run(surface)` (the filter's work on
+  /// Input(), Output() and Topology(); false on error).  Errors and warnings
+  /// are reported on `owner` (no warning for an empty piece of distributed
+  /// data).  Collective in distributed runs (see PiecesHoldingData): every
+  /// rank must call it.  Returns RequestData's value.
   ///
   /// Needs::OneRings: the filter needs the whole 1-ring (star of triangles) of
   /// every point of its piece.  When the data are split over ranks and no
@@ -67,30 +62,17 @@ public:
   /// (same ids) and the ghost points after them (NumberOfTopologyPoints() >
   /// NumberOfInputPoints()); Input() stays the piece.
   ///
-  /// Needs::WholeSurface: the filter needs the whole surface at once.  When the
-  /// data are split over the ranks, the pieces are gathered on rank 0 (see
-  /// vtkBeltramiGather): there Input() and Output() are the whole surface and
-  /// its output, and the filter runs as in a serial run; the other ranks get
-  /// Gathered.  Every rank ends RequestData with Finish, which sends each
-  /// rank the results for its piece.
-  PrepareResult Prepare(vtkAlgorithm* owner, vtkInformationVector** inputVector,
-    vtkInformationVector* outputVector, int numberOfThreads, Needs needs = Needs::Piece);
-  /// The end of RequestData after Prepare's Ready (`ok`: the filter
-  /// succeeded) or Gathered (pass true): in a gathered run the results go
-  /// to every rank's output.  Returns RequestData's value (rank 0's outcome).
-  int Finish(bool ok);
-  /// The one way a surface filter's RequestData runs, serial or distributed:
-  /// Prepare with `needs`, then `run(surface)` where the surface is Ready
-  /// (the filter's work on Input(), Output() and Topology(); false on
-  /// error), then Finish, which in a gathered run sends every rank the
-  /// results of its piece.  On the ranks that only receive results,
-  /// `received(output)` is called after Finish (optional: e.g. to read the
-  /// report from the output's field data).  Returns RequestData's value.
+  /// Needs::WholeSurface: the filter needs the whole surface at once.  When
+  /// the data are split over the ranks, vtkBeltramiGather::RunWhole gathers
+  /// the pieces on rank 0, `run` works there on the whole surface as in a
+  /// serial run (IsGathered()), and every rank's output gets the results for
+  /// its piece; on the other ranks `received(output)` is called then
+  /// (optional: e.g. to read the report from the output's field data).
   static int Execute(vtkAlgorithm* owner, vtkInformationVector** inputVector, vtkInformationVector* outputVector,
     int numberOfThreads, Needs needs, const std::function<bool(vtkBeltramiSurface&)>& run,
     const std::function<void(vtkPolyData*)>& received = {});
-  /// True when Prepare gathered the pieces of distributed data.
-  bool IsGathered() const { return Gather != nullptr; }
+  /// True when Execute runs on the whole surface gathered from the ranks.
+  bool IsGathered() const { return Gathered; }
   /// Points of the input piece (the output's points).
   vtkIdType NumberOfInputPoints() const;
   /// Points of the topology: the input's, then the ghost points of the
@@ -98,7 +80,7 @@ public:
   vtkIdType NumberOfTopologyPoints() const;
   vtkPolyData* Input() const { return InputData; }
   vtkPolyData* Output() const { return OutputData; }
-  /// PiecesHoldingData of the request (Prepare calls it on every rank).
+  /// PiecesHoldingData of the request (Execute calls it on every rank).
   int PiecesWithData() const { return Holding; }
 
   /// How many pieces of the request on `outInfo` hold points of `input`.
@@ -194,11 +176,13 @@ private:
   /// (with or without a ring), false when Build is still to be called (the
   /// pieces came with ghost cells, or the piece could not be built).
   bool ExchangeOneRings(int numberOfThreads);
+  /// Execute's start on InputData and OutputData: the pass-through, the
+  /// empty and missing cases, and the surface (unless `built`).  Returns
+  /// RequestData's value when there is nothing for `run` to do, else -1.
+  int Start(vtkAlgorithm* owner, int numberOfThreads, bool built);
 
   std::unique_ptr<beltrami::MeshTopology> Mesh;
-  std::shared_ptr<vtkBeltramiGather> Gather; // gathered run (wholeSurface)
-  vtkSmartPointer<vtkPolyData> Whole, WholeOutput; // rank 0 of a gathered run
-  vtkPolyData* PieceOutput = nullptr; // this rank's output in a gathered run
+  bool Gathered = false;
   vtkPolyData* InputData = nullptr;
   vtkPolyData* OutputData = nullptr;
   int Pieces = 1;  // UPDATE_NUMBER_OF_PIECES of the request

@@ -1,6 +1,6 @@
 // vtkBeltramiSurface, distributed runs: how many pieces hold data, the
 // exchange of the triangles around the points at the edges of the pieces
-// (whole 1-rings), and Prepare / Execute / Finish, the one way a surface
+// (whole 1-rings), and Execute, the one way a surface
 // filter runs (gathered on rank 0 when it needs the whole surface).
 #include "vtkBeltramiSurface.h"
 
@@ -257,95 +257,69 @@ bool vtkBeltramiSurface::ExchangeOneRings(int numberOfThreads)
   return true;
 }
 
-vtkBeltramiSurface::PrepareResult vtkBeltramiSurface::Prepare(vtkAlgorithm* owner,
-  vtkInformationVector** inputVector, vtkInformationVector* outputVector, int numberOfThreads, Needs needs)
+int vtkBeltramiSurface::Start(vtkAlgorithm* owner, int numberOfThreads, bool built)
 {
-  InputData = vtkPolyData::GetData(inputVector[0]);
-  OutputData = vtkPolyData::GetData(outputVector);
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  Holding = PiecesHoldingData(outInfo, InputData); // collective: before any return
-  bool built = false;
-  if (needs == Needs::OneRings && Holding > 1 && OnePiecePerRank(outInfo))
-  {
-    built = ExchangeOneRings(numberOfThreads); // collective too
-  }
-  Gather = nullptr;
-  if (needs == Needs::WholeSurface && Holding > 1 && OnePiecePerRank(outInfo))
-  {
-    Gather = std::make_shared<vtkBeltramiGather>();
-    vtkNew<vtkPolyData> empty; // (a missing input: an empty piece)
-    Whole = vtkPolyData::SafeDownCast(Gather->Collect(
-      vtkMultiProcessController::GetGlobalController(), InputData ? InputData : empty.Get())); // collective
-    PieceOutput = OutputData;
-    if (PieceOutput && InputData)
-    {
-      PieceOutput->ShallowCopy(InputData);
-    }
-    if (!Whole)
-    {
-      return Gathered;
-    }
-    WholeOutput = vtkSmartPointer<vtkPolyData>::New();
-    InputData = Whole;
-    OutputData = WholeOutput;
-    Holding = 1; // the whole surface, as in a serial run
-  }
   if (!InputData || !OutputData)
   {
     vtkErrorWithObjectMacro(owner, "Missing input or output poly data.");
-    Finish(false);
-    return Failed;
+    return 0;
   }
   OutputData->ShallowCopy(InputData);
-  Pieces = Gather ? 1 : std::max(1, RequestedPieces(outInfo));
   if (InputData->GetNumberOfPoints() == 0)
   {
     if (Pieces <= 1) // an empty piece of distributed data is normal
     {
       vtkWarningWithObjectMacro(owner, "Input has no points: nothing to do.");
     }
-    Finish(true); // (a gathered run: the outputs stay the inputs)
-    return NothingToDo;
+    return 1;
   }
   if (!built && !Build(InputData, numberOfThreads))
   {
     vtkErrorWithObjectMacro(owner, "Cannot process the input surface: " << Error());
-    Finish(false);
-    return Failed;
+    return 0;
   }
-  return Ready;
+  return -1;
 }
 
 int vtkBeltramiSurface::Execute(vtkAlgorithm* owner, vtkInformationVector** inputVector,
   vtkInformationVector* outputVector, int numberOfThreads, Needs needs,
   const std::function<bool(vtkBeltramiSurface&)>& run, const std::function<void(vtkPolyData*)>& received)
 {
-  vtkBeltramiSurface surface;
-  const PrepareResult prepared = surface.Prepare(owner, inputVector, outputVector, numberOfThreads, needs);
-  if (prepared == Gathered)
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  const int requested = std::max(1, RequestedPieces(outInfo));
+  if (needs != Needs::WholeSurface)
   {
-    const int done = surface.Finish(true);
-    if (received)
-    {
-      received(vtkPolyData::GetData(outputVector));
-    }
-    return done;
+    vtkBeltramiSurface surface;
+    surface.InputData = input;
+    surface.OutputData = output;
+    surface.Pieces = requested;
+    surface.Holding = PiecesHoldingData(outInfo, input); // collective: before any return
+    const bool built = needs == Needs::OneRings && surface.Holding > 1 && OnePiecePerRank(outInfo) &&
+      surface.ExchangeOneRings(numberOfThreads); // collective too
+    const int done = surface.Start(owner, numberOfThreads, built);
+    return done >= 0 ? done : (run(surface) ? 1 : 0);
   }
-  if (prepared != Ready)
+  vtkNew<vtkPolyData> empty; // (a missing input: an empty piece)
+  vtkPointSet* piece = input ? static_cast<vtkPointSet*>(input) : empty.Get();
+  bool ran = false;
+  const int done = vtkBeltramiGather::RunWhole(outInfo, piece, output, vtkBeltramiGather::Results::ToEveryPiece,
+    [&](vtkPointSet* in, vtkPointSet* out, int holding) {
+      ran = true;
+      vtkBeltramiSurface surface;
+      surface.InputData = vtkPolyData::SafeDownCast(in);
+      surface.OutputData = vtkPolyData::SafeDownCast(out);
+      surface.Gathered = in != piece;
+      surface.Pieces = surface.Gathered ? 1 : requested;
+      surface.Holding = holding;
+      const int started = surface.Start(owner, numberOfThreads, false);
+      return started >= 0 ? started : (run(surface) ? 1 : 0);
+    });
+  if (!ran && received && output)
   {
-    return prepared == NothingToDo ? 1 : 0;
+    received(output);
   }
-  return surface.Finish(run(surface));
-}
-
-int vtkBeltramiSurface::Finish(bool ok)
-{
-  if (!Gather)
-  {
-    return ok ? 1 : 0;
-  }
-  const bool done = Gather->Distribute(Whole, WholeOutput, ok, PieceOutput);
-  Gather = nullptr; // once
-  return done ? 1 : 0;
+  return done;
 }
 

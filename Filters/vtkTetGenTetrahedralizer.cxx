@@ -106,32 +106,25 @@ int vtkTetGenTetrahedralizer::RequestData(
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  const int holding = // collective in distributed runs: before any return
-    vtkBeltramiSurface::PiecesHoldingData(outInfo, input);
-  if (holding > 1 && vtkBeltramiSurface::OnePiecePerRank(outInfo) && input && output)
-  {
-    // Pieces that are closed surfaces of their own are meshed where they
-    // are; a surface split over the ranks (open pieces) is gathered on rank
-    // 0 and meshed whole there (the other ranks' outputs stay empty).
-    vtkBeltramiSurface piece; // built once: meshed from here when all pieces are closed
-    int open = input->GetNumberOfPoints() > 0 &&
-        (!piece.Build(input, 1) || !piece.Topology().Summary().IsClosed())
-      ? 1
-      : 0;
+  // Pieces that are closed surfaces of their own are meshed where they
+  // are; a surface split over the ranks (open pieces) is gathered on rank
+  // 0 and meshed whole there (the other ranks' outputs stay empty).
+  vtkBeltramiSurface piece; // built once: meshed from here when all pieces are closed
+  bool built = false;
+  const auto anyPieceOpen = [&]() {
+    built = input->GetNumberOfPoints() > 0 && piece.Build(input, 1);
+    int open = input->GetNumberOfPoints() > 0 && (!built || !piece.Topology().Summary().IsClosed()) ? 1 : 0;
     int anyOpen = 0;
-    vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-    controller->AllReduce(&open, &anyOpen, 1, vtkCommunicator::SUM_OP);
-    if (anyOpen > 0)
-    {
-      vtkBeltramiGather gather;
-      vtkSmartPointer<vtkPolyData> whole = vtkPolyData::SafeDownCast(gather.Collect(controller, input));
-      output->Initialize();
-      return whole ? this->Mesh(whole, output, 1) : 1;
-    }
-    return this->Mesh(input, output, holding, &piece);
-  }
-  return this->Mesh(input, output, holding);
+    vtkMultiProcessController::GetGlobalController()->AllReduce(&open, &anyOpen, 1, vtkCommunicator::SUM_OP);
+    return anyOpen > 0;
+  };
+  return vtkBeltramiGather::RunWhole(outputVector->GetInformationObject(0), input, output,
+    vtkBeltramiGather::Results::OnRankZero,
+    [&](vtkPointSet* in, vtkPointSet* out, int holding) {
+      return this->Mesh(vtkPolyData::SafeDownCast(in), vtkUnstructuredGrid::SafeDownCast(out), holding,
+        built && in == input ? &piece : nullptr);
+    },
+    anyPieceOpen);
 }
 
 int vtkTetGenTetrahedralizer::Mesh(

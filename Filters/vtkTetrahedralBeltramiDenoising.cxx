@@ -47,27 +47,13 @@ int vtkTetrahedralBeltramiDenoising::RequestData(
 {
   vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0]);
   vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  const int holding = // collective in distributed runs: before any return
-    vtkBeltramiSurface::PiecesHoldingData(outInfo, input);
-  if (holding > 1 && vtkBeltramiSurface::OnePiecePerRank(outInfo) && input && output)
-  {
-    // The flow couples all points (semi-implicit steps, noise-level stop,
-    // mean edge length): data split over the ranks are smoothed whole on
-    // rank 0 (vtkBeltramiGather), as in a serial run.
-    vtkBeltramiGather gather;
-    vtkSmartPointer<vtkUnstructuredGrid> whole = vtkUnstructuredGrid::SafeDownCast(
-      gather.Collect(vtkMultiProcessController::GetGlobalController(), input));
-    output->ShallowCopy(input);
-    if (!whole)
-    {
-      return gather.Distribute(nullptr, nullptr, true, output) ? 1 : 0; // ranks other than 0
-    }
-    vtkNew<vtkUnstructuredGrid> wholeOutput;
-    const bool ok = this->Smooth(whole, wholeOutput, 1) != 0;
-    return gather.Distribute(whole, wholeOutput, ok, output) ? 1 : 0;
-  }
-  return this->Smooth(input, output, holding);
+  // The flow couples all points (semi-implicit steps, noise-level stop,
+  // mean edge length): data split over the ranks are smoothed whole on
+  // rank 0, as in a serial run, and every rank gets its points' values.
+  return vtkBeltramiGather::RunWhole(outputVector->GetInformationObject(0), input, output,
+    vtkBeltramiGather::Results::ToEveryPiece, [this](vtkPointSet* in, vtkPointSet* out, int holding) {
+      return this->Smooth(vtkUnstructuredGrid::SafeDownCast(in), vtkUnstructuredGrid::SafeDownCast(out), holding);
+    });
 }
 
 int vtkTetrahedralBeltramiDenoising::Smooth(
