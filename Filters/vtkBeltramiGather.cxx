@@ -349,14 +349,13 @@ std::vector<vtkIdType> vtkBeltramiGather::CoincidentPoints(vtkPoints* points, do
   return merged;
 }
 
-vtkSmartPointer<vtkPointSet> vtkBeltramiGather::Collect(
-  vtkMultiProcessController* controller, vtkPointSet* input)
+namespace
 {
-  Controller = controller;
-  const int rank = controller->GetLocalProcessId(), ranks = controller->GetNumberOfProcesses();
 
-  // This rank's piece: its points and point arrays, its cells without the
-  // ghost cells, and the kept cells' ids.
+/// This rank's piece as sent to rank 0: its points and point arrays, its
+/// cells without the ghost cells, the kept cells' ids and its cell count.
+vtkSmartPointer<vtkPointSet> PieceToSend(vtkPointSet* input)
+{
   auto piece = vtk::TakeSmartPointer(input->NewInstance());
   vtkNew<vtkIdTypeArray> cellIds;
   cellIds->SetName(LocalCellIds);
@@ -373,12 +372,76 @@ vtkSmartPointer<vtkPointSet> vtkBeltramiGather::Collect(
   numberOfCells->SetName(PieceCells);
   numberOfCells->InsertNextValue(input->GetNumberOfCells());
   piece->GetFieldData()->AddArray(numberOfCells);
+  return piece;
+}
+
+/// The point arrays of the reference piece that every piece with points
+/// has, over the whole point set (`count` points; pointIds: each piece's
+/// points' whole ids): the value of a shared point from the first piece
+/// that has it.
+void JoinPointArrays(const std::vector<vtkSmartPointer<vtkPointSet>>& pieces,
+  const std::vector<std::vector<vtkIdType>>& pointIds, vtkPointSet* reference, vtkIdType count, vtkPointSet* whole)
+{
+  vtkPointData* pd0 = reference->GetPointData();
+  for (int a = 0; a < pd0->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* array0 = pd0->GetArray(a);
+    if (!array0 || !array0->GetName())
+    {
+      continue;
+    }
+    auto array = vtk::TakeSmartPointer(array0->NewInstance());
+    array->SetName(array0->GetName());
+    array->SetNumberOfComponents(array0->GetNumberOfComponents());
+    array->SetNumberOfTuples(count);
+    std::vector<char> set(static_cast<std::size_t>(count), 0);
+    bool everywhere = true;
+    for (std::size_t r = 0; r < pieces.size() && everywhere; ++r)
+    {
+      vtkDataArray* from = pieces[r]->GetPointData()->GetArray(array0->GetName());
+      if (pieces[r]->GetNumberOfPoints() == 0)
+      {
+        continue;
+      }
+      everywhere = from && from->GetNumberOfComponents() == array0->GetNumberOfComponents();
+      for (vtkIdType k = 0; everywhere && k < pieces[r]->GetNumberOfPoints(); ++k)
+      {
+        const vtkIdType id = pointIds[r][k];
+        if (!set[id])
+        {
+          array->SetTuple(id, k, from);
+          set[id] = 1;
+        }
+      }
+    }
+    if (everywhere)
+    {
+      whole->GetPointData()->AddArray(array);
+      for (int t = 0; t < vtkDataSetAttributes::NUM_ATTRIBUTES; ++t)
+      {
+        if (pd0->GetAbstractAttribute(t) == array0)
+        {
+          whole->GetPointData()->SetActiveAttribute(array->GetName(), t);
+        }
+      }
+    }
+  }
+
+}
+
+} // namespace
+
+vtkSmartPointer<vtkPointSet> vtkBeltramiGather::Collect(
+  vtkMultiProcessController* controller, vtkPointSet* input)
+{
+  Controller = controller;
+  const int rank = controller->GetLocalProcessId(), ranks = controller->GetNumberOfProcesses();
+  vtkSmartPointer<vtkPointSet> piece = PieceToSend(input);
   if (rank != 0)
   {
     controller->Send(piece, 0, PieceTag);
     return nullptr;
   }
-
   std::vector<vtkSmartPointer<vtkPointSet>> pieces(static_cast<std::size_t>(ranks));
   pieces[0] = piece;
   for (int r = 1; r < ranks; ++r)
@@ -386,9 +449,31 @@ vtkSmartPointer<vtkPointSet> vtkBeltramiGather::Collect(
     pieces[r] = vtk::TakeSmartPointer(input->NewInstance());
     controller->Receive(pieces[r], r, PieceTag);
   }
+  // The first piece with points gives the arrays, types and field data
+  // (rank 0's piece may be empty).
+  vtkPointSet* reference = pieces[0];
+  for (const auto& p : pieces)
+  {
+    if (p->GetNumberOfPoints() > 0)
+    {
+      reference = p;
+      break;
+    }
+  }
+  auto whole = vtk::TakeSmartPointer(input->NewInstance());
+  const vtkIdType count = this->JoinPoints(pieces, reference, whole);
+  JoinPointArrays(pieces, PointIds, reference, count, whole);
+  this->JoinCells(pieces, whole);
+  whole->GetFieldData()->ShallowCopy(reference->GetFieldData());
+  whole->GetFieldData()->RemoveArray(PieceCells);
+  return whole;
+}
 
-  // Points: all pieces' points, those within 1e-12 of the diagonal merged
-  // (pieces share copies of the points on their common boundary).
+vtkIdType vtkBeltramiGather::JoinPoints(
+  const std::vector<vtkSmartPointer<vtkPointSet>>& pieces, vtkPointSet* reference, vtkPointSet* whole)
+{
+  // All pieces' points, those within 1e-12 of the diagonal merged (pieces
+  // share copies of the points on their common boundary).
   vtkIdType total = 0;
   vtkBoundingBox box;
   for (const auto& p : pieces)
@@ -422,18 +507,6 @@ vtkSmartPointer<vtkPointSet> vtkBeltramiGather::Collect(
     }
     wholeId[i] = wholeId[merged[i]];
   }
-  // The first piece with points gives the arrays, types and field data
-  // (rank 0's piece may be empty).
-  vtkPointSet* reference = pieces[0];
-  for (const auto& p : pieces)
-  {
-    if (p->GetNumberOfPoints() > 0)
-    {
-      reference = p;
-      break;
-    }
-  }
-  auto whole = vtk::TakeSmartPointer(input->NewInstance());
   vtkNew<vtkPoints> points;
   points->SetDataType(reference->GetPoints() ? reference->GetPoints()->GetDataType() : VTK_DOUBLE);
   points->SetNumberOfPoints(count);
@@ -447,55 +520,11 @@ vtkSmartPointer<vtkPointSet> vtkBeltramiGather::Collect(
   {
     PointIds[r].assign(wholeId.begin() + first[r], wholeId.begin() + first[r + 1]);
   }
+  return count;
+}
 
-  // Point arrays (those of the reference piece, where every piece with
-  // points has them): the value of a shared point from the first piece
-  // that has it.
-  vtkPointData* pd0 = reference->GetPointData();
-  for (int a = 0; a < pd0->GetNumberOfArrays(); ++a)
-  {
-    vtkDataArray* array0 = pd0->GetArray(a);
-    if (!array0 || !array0->GetName())
-    {
-      continue;
-    }
-    auto array = vtk::TakeSmartPointer(array0->NewInstance());
-    array->SetName(array0->GetName());
-    array->SetNumberOfComponents(array0->GetNumberOfComponents());
-    array->SetNumberOfTuples(count);
-    std::vector<char> set(static_cast<std::size_t>(count), 0);
-    bool everywhere = true;
-    for (std::size_t r = 0; r < pieces.size() && everywhere; ++r)
-    {
-      vtkDataArray* from = pieces[r]->GetPointData()->GetArray(array0->GetName());
-      if (pieces[r]->GetNumberOfPoints() == 0)
-      {
-        continue;
-      }
-      everywhere = from && from->GetNumberOfComponents() == array0->GetNumberOfComponents();
-      for (vtkIdType k = 0; everywhere && k < pieces[r]->GetNumberOfPoints(); ++k)
-      {
-        const vtkIdType id = PointIds[r][k];
-        if (!set[id])
-        {
-          array->SetTuple(id, k, from);
-          set[id] = 1;
-        }
-      }
-    }
-    if (everywhere)
-    {
-      whole->GetPointData()->AddArray(array);
-      for (int t = 0; t < vtkDataSetAttributes::NUM_ATTRIBUTES; ++t)
-      {
-        if (pd0->GetAbstractAttribute(t) == array0)
-        {
-          whole->GetPointData()->SetActiveAttribute(array->GetName(), t);
-        }
-      }
-    }
-  }
-
+void vtkBeltramiGather::JoinCells(const std::vector<vtkSmartPointer<vtkPointSet>>& pieces, vtkPointSet* whole)
+{
   // Cells in the pieces' order; each piece cell's whole id.
   const std::vector<std::vector<vtkIdType>> placed = AppendCells(pieces, PointIds, whole);
   CellIds.assign(pieces.size(), {});
@@ -513,9 +542,6 @@ vtkSmartPointer<vtkPointSet> vtkBeltramiGather::Collect(
       }
     }
   }
-  whole->GetFieldData()->ShallowCopy(reference->GetFieldData());
-  whole->GetFieldData()->RemoveArray(PieceCells);
-  return whole;
 }
 
 bool vtkBeltramiGather::Distribute(

@@ -73,6 +73,13 @@ public:
   static std::vector<vtkIdType> CoincidentPoints(vtkPoints* points, double tolerance);
 
 private:
+  /// Collect's stages on rank 0: the points of all pieces with their copies
+  /// of common points merged (PointIds; returns the count), and the cells in
+  /// the pieces' order (CellIds).
+  vtkIdType JoinPoints(
+    const std::vector<vtkSmartPointer<vtkPointSet>>& pieces, vtkPointSet* reference, vtkPointSet* whole);
+  void JoinCells(const std::vector<vtkSmartPointer<vtkPointSet>>& pieces, vtkPointSet* whole);
+
   vtkMultiProcessController* Controller = nullptr;
   // Rank 0: for every rank, its points' and cells' ids in the whole surface
   // (-1: a ghost cell, left out).

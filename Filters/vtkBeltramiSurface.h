@@ -27,6 +27,7 @@ class vtkDataArray;
 class vtkDataSet;
 class vtkInformation;
 class vtkInformationVector;
+class vtkMultiProcessController;
 class vtkPolyData;
 
 class BELTRAMIFILTERS_EXPORT vtkBeltramiSurface
@@ -176,6 +177,17 @@ private:
   /// (with or without a ring), false when Build is still to be called (the
   /// pieces came with ghost cells, or the piece could not be built).
   bool ExchangeOneRings(int numberOfThreads);
+  /// Its stages: whether the pieces lack the rings (collective: some piece
+  /// holds points, none has ghost cells); the triangles this piece offers
+  /// (at its boundary and non-manifold vertices, into `edgeVertices`), as
+  /// corner coordinates; the other pieces' triangles that touch this piece
+  /// joined to it; and the topology rebuilt with them (the first `kept`
+  /// triangles are the piece's own; `ghostPoints` after the piece's points).
+  bool RingsAreMissing(vtkMultiProcessController* controller) const;
+  std::vector<double> EdgeTriangles(std::vector<beltrami::Index>& edgeVertices) const;
+  bool AddRing(const std::vector<beltrami::Index>& edgeVertices, const std::vector<double>& offers, int numberOfThreads);
+  bool Rebuild(beltrami::IndexArray triangles, const std::vector<double>& ghostPoints, std::size_t kept,
+    int numberOfThreads);
   /// Execute's start on InputData and OutputData: the pass-through, the
   /// empty and missing cases, and the surface (unless `built`).  Returns
   /// RequestData's value when there is nothing for `run` to do, else -1.

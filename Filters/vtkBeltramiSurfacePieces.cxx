@@ -92,59 +92,16 @@ void vtkBeltramiSurface::WarnAboutInput(
 bool vtkBeltramiSurface::ExchangeOneRings(int numberOfThreads)
 {
   // Called on every rank when the pieces are the ranks and several hold
-  // points (PiecesHoldingData communicated): the decision is collective.
+  // points (PiecesHoldingData communicated): the decisions are collective.
   vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  const bool hasPoints = InputData && InputData->GetNumberOfPoints() > 0;
-  bool hasGhosts = false; // duplicate cells (a ghost array of zeros is no ghost layer)
-  if (vtkUnsignedCharArray* ghosts = InputData ? InputData->GetCellGhostArray() : nullptr)
-  {
-    const unsigned char* flags = ghosts->GetPointer(0);
-    hasGhosts = std::any_of(flags, flags + ghosts->GetNumberOfValues(),
-      [](unsigned char f) { return (f & vtkDataSetAttributes::DUPLICATECELL) != 0; });
-  }
-  int local[2] = { hasPoints && !hasGhosts ? 1 : 0, hasGhosts ? 1 : 0 };
-  int global[2] = { 0, 0 };
-  controller->AllReduce(local, global, 2, vtkCommunicator::SUM_OP);
-  if (global[0] == 0 || global[1] > 0)
+  if (!RingsAreMissing(controller))
   {
     return false; // the pieces came with ghost cells, or none holds points
   }
-
-  // What this piece offers: every triangle at a vertex on the edge of the
-  // piece (a boundary or non-manifold vertex of its own topology), as its
-  // corners' coordinates.  A point that pieces share is on the edge of each
-  // of them, so every piece gets the whole star of its shared points - also
-  // from a piece that touches it at that point only.
-  const int ranks = controller->GetNumberOfProcesses();
-  const int rank = controller->GetLocalProcessId();
-  std::vector<double> offer;
   std::vector<Index> edgeVertices; // this piece's boundary and non-manifold vertices
-  const bool built = hasPoints && Build(InputData, numberOfThreads);
-  if (built)
-  {
-    const beltrami::MeshTopology& topo = *Mesh;
-    std::vector<std::uint8_t> offered(static_cast<std::size_t>(topo.NumberOfTriangles()), 0);
-    for (Index v = 0; v < topo.NumberOfVertices(); ++v)
-    {
-      if (topo.VertexFlags(v) & (beltrami::VertexBoundary | beltrami::VertexNonManifold))
-      {
-        edgeVertices.push_back(v);
-        for (const Index* c = topo.CornersBegin(v); c != topo.CornersEnd(v); ++c)
-        {
-          offered[*c / 3] = 1;
-        }
-      }
-    }
-    for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
-    {
-      for (int k = 0; offered[t] && k < 3; ++k)
-      {
-        double x[3];
-        InputData->GetPoint(topo.CornerVertex(3 * t + k), x);
-        offer.insert(offer.end(), x, x + 3);
-      }
-    }
-  }
+  const bool built = InputData && InputData->GetNumberOfPoints() > 0 && Build(InputData, numberOfThreads);
+  const std::vector<double> offer = built ? EdgeTriangles(edgeVertices) : std::vector<double>();
+  const int ranks = controller->GetNumberOfProcesses();
   std::vector<vtkIdType> lengths(static_cast<std::size_t>(ranks), 0), offsets(ranks + 1, 0);
   const vtkIdType length = static_cast<vtkIdType>(offer.size());
   controller->AllGather(&length, lengths.data(), 1);
@@ -158,11 +115,68 @@ bool vtkBeltramiSurface::ExchangeOneRings(int numberOfThreads)
   {
     return built; // nothing to join (this piece has no edge, or no other piece offers)
   }
+  // The other pieces' offers, without this one's.
+  const int rank = controller->GetLocalProcessId();
+  offers.erase(offers.begin() + offsets[rank], offers.begin() + offsets[rank + 1]);
+  return AddRing(edgeVertices, offers, numberOfThreads);
+}
 
+bool vtkBeltramiSurface::RingsAreMissing(vtkMultiProcessController* controller) const
+{
+  const bool hasPoints = InputData && InputData->GetNumberOfPoints() > 0;
+  bool hasGhosts = false; // duplicate cells (a ghost array of zeros is no ghost layer)
+  if (vtkUnsignedCharArray* ghosts = InputData ? InputData->GetCellGhostArray() : nullptr)
+  {
+    const unsigned char* flags = ghosts->GetPointer(0);
+    hasGhosts = std::any_of(flags, flags + ghosts->GetNumberOfValues(),
+      [](unsigned char f) { return (f & vtkDataSetAttributes::DUPLICATECELL) != 0; });
+  }
+  int local[2] = { hasPoints && !hasGhosts ? 1 : 0, hasGhosts ? 1 : 0 };
+  int global[2] = { 0, 0 };
+  controller->AllReduce(local, global, 2, vtkCommunicator::SUM_OP);
+  return global[0] > 0 && global[1] == 0;
+}
+
+std::vector<double> vtkBeltramiSurface::EdgeTriangles(std::vector<Index>& edgeVertices) const
+{
+  // Every triangle at a vertex on the edge of the piece (a boundary or
+  // non-manifold vertex of its own topology), as its corners' coordinates.
+  // A point that pieces share is on the edge of each of them, so every
+  // piece gets the whole star of its shared points - also from a piece that
+  // touches it at that point only.
+  const beltrami::MeshTopology& topo = *Mesh;
+  std::vector<double> offer;
+  std::vector<std::uint8_t> offered(static_cast<std::size_t>(topo.NumberOfTriangles()), 0);
+  for (Index v = 0; v < topo.NumberOfVertices(); ++v)
+  {
+    if (topo.VertexFlags(v) & (beltrami::VertexBoundary | beltrami::VertexNonManifold))
+    {
+      edgeVertices.push_back(v);
+      for (const Index* c = topo.CornersBegin(v); c != topo.CornersEnd(v); ++c)
+      {
+        offered[*c / 3] = 1;
+      }
+    }
+  }
+  for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
+  {
+    for (int k = 0; offered[t] && k < 3; ++k)
+    {
+      double x[3];
+      InputData->GetPoint(topo.CornerVertex(3 * t + k), x);
+      offer.insert(offer.end(), x, x + 3);
+    }
+  }
+  return offer;
+}
+
+bool vtkBeltramiSurface::AddRing(
+  const std::vector<Index>& edgeVertices, const std::vector<double>& offers, int numberOfThreads)
+{
   // Join: this piece's edge vertices, then the other pieces' corners, with
   // their copies of common points merged (as vtkBeltramiGather does).
   const vtkIdType own = static_cast<vtkIdType>(edgeVertices.size());
-  const vtkIdType corners = (offsets[ranks] - length) / 3;
+  const vtkIdType corners = static_cast<vtkIdType>(offers.size() / 3);
   vtkNew<vtkPoints> joined;
   joined->SetDataTypeToDouble();
   joined->SetNumberOfPoints(own + corners);
@@ -174,14 +188,11 @@ bool vtkBeltramiSurface::ExchangeOneRings(int numberOfThreads)
     joined->SetPoint(i, x);
     box.AddPoint(x);
   }
-  vtkIdType corner = 0;
-  for (int r = 0; r < ranks; ++r)
+  for (vtkIdType corner = 0; corner < corners; ++corner)
   {
-    for (vtkIdType k = offsets[r]; r != rank && k < offsets[r + 1]; k += 3, ++corner)
-    {
-      joined->SetPoint(own + corner, offers.data() + k);
-      box.AddPoint(offers.data() + k);
-    }
+    double x[3] = { offers[3 * corner], offers[3 * corner + 1], offers[3 * corner + 2] };
+    joined->SetPoint(own + corner, x);
+    box.AddPoint(x);
   }
   const std::vector<vtkIdType> merged =
     vtkBeltramiGather::CoincidentPoints(joined, 1e-12 * box.GetDiagonalLength());
@@ -218,6 +229,13 @@ bool vtkBeltramiSurface::ExchangeOneRings(int numberOfThreads)
   {
     return true; // the other pieces' edges do not touch this one
   }
+  return Rebuild(std::move(triangles), ghostPoints, kept, numberOfThreads);
+}
+
+bool vtkBeltramiSurface::Rebuild(
+  beltrami::IndexArray triangles, const std::vector<double>& ghostPoints, std::size_t kept, int numberOfThreads)
+{
+  const Index n = Mesh->NumberOfVertices();
   // The piece's coordinates (their own precision), then the ghost points'.
   const Index total = n + static_cast<Index>(ghostPoints.size() / 3);
   vtkSmartPointer<vtkDataArray> coordinates = NewArray(Floats ? VTK_FLOAT : VTK_DOUBLE, nullptr, 3, total);

@@ -69,6 +69,109 @@ beltrami::PersistentHelperProcess& TetGenHelper()
   static auto* helper = new beltrami::PersistentHelperProcess(TetGenHelperPath(), { "--serve" });
   return *helper;
 }
+/// Meshes the closed surface (points, triangles) in the TetGen helper
+/// (Filters/Tools/beltrami_tetgen.cxx) with `switches`: the points
+/// (the input's first) and tetrahedra of the answer, checked; a crash of
+/// libtet is diagnosed by TetGen's self-intersection check.  False after
+/// an error on `self`.
+bool RunTetGen(vtkAlgorithm* self, const std::string& switches, vtkIdType numPoints, const double* points,
+  const beltrami::IndexArray& triangles, std::vector<double>& outputPoints, std::vector<std::int32_t>& tets)
+{
+  // The request for the TetGen helper (Filters/Tools/beltrami_tetgen.cxx).
+  std::vector<char> request;
+  const auto put = [&request](const void* data, std::size_t n) {
+    request.insert(request.end(), static_cast<const char*>(data), static_cast<const char*>(data) + n);
+  };
+  const std::uint32_t length = static_cast<std::uint32_t>(switches.size());
+  const std::int32_t pointCount = static_cast<std::int32_t>(numPoints);
+  const std::int32_t triangleCount = static_cast<std::int32_t>(triangles.size() / 3);
+  request.reserve(64 + switches.size() + 24 * static_cast<std::size_t>(numPoints) + 4 * triangles.size());
+  put("BTET1", 5);
+  put(&length, 4);
+  put(switches.data(), switches.size());
+  put(&pointCount, 4);
+  put(points, 3 * sizeof(double) * static_cast<std::size_t>(numPoints));
+  put(&triangleCount, 4);
+  put(triangles.data(), triangles.size() * sizeof(beltrami::Index));
+
+  // The answer: at most ~64 points and ~400 tetrahedra per input point even
+  // with small volume bounds; more means a damaged answer.
+  const double maximumBytes = 1e8 + 2e4 * static_cast<double>(numPoints);
+  const auto keepGoing = [self]() { return !self->GetAbortExecute(); };
+  beltrami::HelperProcessResult run;
+  try
+  {
+    run = TetGenHelper().Request(request, maximumBytes, /*timeout=*/0.0, keepGoing);
+    if (run.Signal && !run.Cancelled)
+    {
+      // Diagnose the crash with TetGen's self-intersection check.
+      const beltrami::HelperProcessResult check = beltrami::RunHelperProcess(
+        TetGenHelperPath(), { "--intersections" }, request, maximumBytes, /*timeout=*/0.0, keepGoing);
+      beltrami::ByteReader answer(check.Output, "TetGen helper");
+      char magic[5];
+      if (!check.Signal && check.Output.size() == 13 && (answer.Take(magic, 5), answer.Get<std::int32_t>() == 0))
+      {
+        const std::int32_t intersecting = answer.Get<std::int32_t>();
+        if (intersecting > 0)
+        {
+          vtkErrorWithObjectMacro(self, "The surface intersects itself: TetGen found "
+            << intersecting << " intersecting triangles. The output is empty.");
+          return false;
+        }
+      }
+    }
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorWithObjectMacro(self, << e.what() << ". The output is empty.");
+    return false;
+  }
+  try
+  {
+    beltrami::ByteReader answer(run.Output, "TetGen helper");
+    char magic[5];
+    answer.Take(magic, 5);
+    if (std::memcmp(magic, "BTET1", 5) != 0)
+    {
+      throw std::runtime_error("malformed answer of the TetGen helper");
+    }
+    const std::int32_t code = answer.Get<std::int32_t>();
+    if (code != 0)
+    {
+      vtkErrorWithObjectMacro(self, << answer.String() << ": " << TetGenReason(code) << " (code " << code << ", switches '"
+                    << switches << "'). The output is empty.");
+      return false;
+    }
+    const std::int32_t n = answer.Get<std::int32_t>();
+    if (n < numPoints || static_cast<double>(n) * 24.0 > static_cast<double>(answer.Left()))
+    {
+      throw std::runtime_error("malformed answer of the TetGen helper");
+    }
+    outputPoints.resize(3 * static_cast<std::size_t>(n));
+    answer.Take(outputPoints.data(), outputPoints.size() * sizeof(double));
+    const std::int32_t t = answer.Get<std::int32_t>();
+    if (t <= 0 || static_cast<double>(t) * 16.0 != static_cast<double>(answer.Left()))
+    {
+      throw std::runtime_error("malformed answer of the TetGen helper");
+    }
+    tets.resize(4 * static_cast<std::size_t>(t));
+    answer.Take(tets.data(), tets.size() * sizeof(std::int32_t));
+    for (const std::int32_t id : tets)
+    {
+      if (id < 0 || id >= n)
+      {
+        throw std::runtime_error("the TetGen helper returned a tetrahedron with a point that does not exist");
+      }
+    }
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorWithObjectMacro(self, << e.what() << ". The output is empty.");
+    return false;
+  }
+  return true;
+}
+
 } // namespace
 
 std::string vtkTetGenTetrahedralizer::GetSwitches() const
@@ -182,101 +285,12 @@ int vtkTetGenTetrahedralizer::Mesh(
     return 0;
   }
 
-  // The request for the TetGen helper (Filters/Tools/beltrami_tetgen.cxx).
   const std::string switches = this->GetSwitches();
-  const beltrami::IndexArray& triangles = topo.TriangleList();
-  std::vector<char> request;
-  const auto put = [&request](const void* data, std::size_t n) {
-    request.insert(request.end(), static_cast<const char*>(data), static_cast<const char*>(data) + n);
-  };
-  const std::uint32_t length = static_cast<std::uint32_t>(switches.size());
-  const std::int32_t pointCount = static_cast<std::int32_t>(numPoints);
-  const std::int32_t triangleCount = static_cast<std::int32_t>(triangles.size() / 3);
-  request.reserve(64 + switches.size() + 24 * static_cast<std::size_t>(numPoints) + 4 * triangles.size());
-  put("BTET1", 5);
-  put(&length, 4);
-  put(switches.data(), switches.size());
-  put(&pointCount, 4);
-  put(points, 3 * sizeof(double) * static_cast<std::size_t>(numPoints));
-  put(&triangleCount, 4);
-  put(triangles.data(), triangles.size() * sizeof(beltrami::Index));
-
-  this->UpdateProgress(0.0);
-  // The answer: at most ~64 points and ~400 tetrahedra per input point even
-  // with small volume bounds; more means a damaged answer.
-  const double maximumBytes = 1e8 + 2e4 * static_cast<double>(numPoints);
-  const auto keepGoing = [this]() { return !this->GetAbortExecute(); };
-  beltrami::HelperProcessResult run;
-  try
-  {
-    run = TetGenHelper().Request(request, maximumBytes, /*timeout=*/0.0, keepGoing);
-    if (run.Signal && !run.Cancelled)
-    {
-      // Diagnose the crash with TetGen's self-intersection check.
-      const beltrami::HelperProcessResult check = beltrami::RunHelperProcess(
-        TetGenHelperPath(), { "--intersections" }, request, maximumBytes, /*timeout=*/0.0, keepGoing);
-      beltrami::ByteReader answer(check.Output, "TetGen helper");
-      char magic[5];
-      if (!check.Signal && check.Output.size() == 13 && (answer.Take(magic, 5), answer.Get<std::int32_t>() == 0))
-      {
-        const std::int32_t intersecting = answer.Get<std::int32_t>();
-        if (intersecting > 0)
-        {
-          vtkErrorMacro("The surface intersects itself: TetGen found "
-            << intersecting << " intersecting triangles. The output is empty.");
-          return 0;
-        }
-      }
-    }
-  }
-  catch (const std::exception& e)
-  {
-    vtkErrorMacro(<< e.what() << ". The output is empty.");
-    return 0;
-  }
   std::vector<double> outputPoints;
   std::vector<std::int32_t> tets;
-  try
+  this->UpdateProgress(0.0);
+  if (!RunTetGen(this, switches, numPoints, points, topo.TriangleList(), outputPoints, tets))
   {
-    beltrami::ByteReader answer(run.Output, "TetGen helper");
-    char magic[5];
-    answer.Take(magic, 5);
-    if (std::memcmp(magic, "BTET1", 5) != 0)
-    {
-      throw std::runtime_error("malformed answer of the TetGen helper");
-    }
-    const std::int32_t code = answer.Get<std::int32_t>();
-    if (code != 0)
-    {
-      vtkErrorMacro(<< answer.String() << ": " << TetGenReason(code) << " (code " << code << ", switches '"
-                    << switches << "'). The output is empty.");
-      return 0;
-    }
-    const std::int32_t n = answer.Get<std::int32_t>();
-    if (n < numPoints || static_cast<double>(n) * 24.0 > static_cast<double>(answer.Left()))
-    {
-      throw std::runtime_error("malformed answer of the TetGen helper");
-    }
-    outputPoints.resize(3 * static_cast<std::size_t>(n));
-    answer.Take(outputPoints.data(), outputPoints.size() * sizeof(double));
-    const std::int32_t t = answer.Get<std::int32_t>();
-    if (t <= 0 || static_cast<double>(t) * 16.0 != static_cast<double>(answer.Left()))
-    {
-      throw std::runtime_error("malformed answer of the TetGen helper");
-    }
-    tets.resize(4 * static_cast<std::size_t>(t));
-    answer.Take(tets.data(), tets.size() * sizeof(std::int32_t));
-    for (const std::int32_t id : tets)
-    {
-      if (id < 0 || id >= n)
-      {
-        throw std::runtime_error("the TetGen helper returned a tetrahedron with a point that does not exist");
-      }
-    }
-  }
-  catch (const std::exception& e)
-  {
-    vtkErrorMacro(<< e.what() << ". The output is empty.");
     return 0;
   }
   this->UpdateProgress(0.8);

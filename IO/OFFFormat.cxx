@@ -155,6 +155,211 @@ struct Fail
   }
 };
 
+/// The parse of one file: the lines, the current line `At` and its tokens,
+/// the header's flags and counts; each stage returns false after `Fail`.
+struct Parser
+{
+  const std::vector<Line>& Lines;
+  const Fail& Failed;
+  OFFMesh& Mesh;
+  std::vector<std::string_view> Tokens;
+  std::size_t At = 0;
+  bool HasTexture = false, HasColor = false, HasNormal = false;
+  std::int64_t NumVertices = -1, NumFaces = -1;
+
+  bool Header();
+  bool Vertices();
+  bool Faces();
+};
+
+/// The keyword [ST][C][N][4][n]OFF (optional) and the counts.
+bool Parser::Header()
+{
+  Tokenize(Lines[0].Text, Tokens);
+  std::size_t first = 0;
+  std::int64_t probe;
+  if (!ParseInt(Tokens[0], probe))
+  {
+    std::string_view key = Tokens[0];
+    if (key.substr(0, 2) == "ST")
+    {
+      HasTexture = true;
+      key.remove_prefix(2);
+    }
+    if (!key.empty() && key.front() == 'C')
+    {
+      HasColor = true;
+      key.remove_prefix(1);
+    }
+    if (!key.empty() && key.front() == 'N')
+    {
+      HasNormal = true;
+      key.remove_prefix(1);
+    }
+    if (!key.empty() && (key.front() == '4' || key.front() == 'n'))
+    {
+      return Failed(Lines[0].Number, "4D and n-dimensional OFF files are not supported");
+    }
+    if (key != "OFF")
+    {
+      return Failed(Lines[0].Number,
+        "not an OFF file: header '" + std::string(Tokens[0].substr(0, 32)) + "'");
+    }
+    if (Tokens.size() > 1 && Tokens[1] == "BINARY")
+    {
+      return Failed(Lines[0].Number, "binary OFF files are not supported");
+    }
+    first = 1;
+    if (Tokens.size() <= 1)
+    {
+      At = 1;
+      if (At >= Lines.size())
+      {
+        return Failed(Lines[0].Number, "missing vertex and face counts");
+      }
+      Tokenize(Lines[At].Text, Tokens);
+      first = 0;
+    }
+  }
+  if (Tokens.size() < first + 2 || !ParseInt(Tokens[first], NumVertices) ||
+    !ParseInt(Tokens[first + 1], NumFaces) || NumVertices < 0 || NumFaces < 0)
+  {
+    return Failed(Lines[At].Number, "expected non-negative vertex and face counts");
+  }
+  ++At;
+  const std::int64_t available = static_cast<std::int64_t>(Lines.size() - At);
+  if (NumVertices > available || NumFaces > available - NumVertices)
+  {
+    std::ostringstream os;
+    os << "the header declares " << NumVertices << " vertices and " << NumFaces
+       << " faces but only " << available << " data lines follow (truncated or corrupt file)";
+    return Failed(Lines[At - 1].Number, os.str());
+  }
+
+  return true;
+}
+
+/// The vertex lines: points, and normals, colours and texture coordinates
+/// as the keyword says.
+bool Parser::Vertices()
+{
+  const std::size_t base = 3 + (HasNormal ? 3 : 0);
+  Mesh.Points.resize(3 * NumVertices);
+  if (HasNormal)
+  {
+    Mesh.Normals.resize(3 * NumVertices);
+  }
+  if (HasColor)
+  {
+    Mesh.PointColors.resize(4 * NumVertices);
+  }
+  if (HasTexture)
+  {
+    Mesh.TextureCoords.resize(2 * NumVertices);
+  }
+  for (std::int64_t v = 0; v < NumVertices; ++v, ++At)
+  {
+    Tokenize(Lines[At].Text, Tokens);
+    const std::int64_t number = Lines[At].Number;
+    std::size_t colorCount = 0;
+    if (HasColor)
+    {
+      const std::int64_t rest = static_cast<std::int64_t>(Tokens.size()) -
+        static_cast<std::int64_t>(base) - (HasTexture ? 2 : 0);
+      colorCount = rest >= 4 ? 4 : 3;
+    }
+    const std::size_t needed = base + colorCount + (HasTexture ? 2 : 0);
+    if (Tokens.size() < needed)
+    {
+      return Failed(number, "vertex line has too few values");
+    }
+    for (int d = 0; d < 3; ++d)
+    {
+      if (!ParseDouble(Tokens[d], Mesh.Points[3 * v + d]))
+      {
+        return Failed(number, "invalid or non-finite vertex coordinate '" +
+            std::string(Tokens[d].substr(0, 32)) + "'");
+      }
+    }
+    for (int d = 0; d < 3 && HasNormal; ++d)
+    {
+      if (!ParseDouble(Tokens[3 + d], Mesh.Normals[3 * v + d]))
+      {
+        return Failed(number, "invalid vertex normal");
+      }
+    }
+    if (HasColor)
+    {
+      if (!ParseColor(&Tokens[base], colorCount, &Mesh.PointColors[4 * v]))
+      {
+        return Failed(number, "invalid vertex colour");
+      }
+      Mesh.HasPointAlpha = Mesh.HasPointAlpha || colorCount == 4;
+    }
+    for (int d = 0; d < 2 && HasTexture; ++d)
+    {
+      if (!ParseDouble(Tokens[base + colorCount + d], Mesh.TextureCoords[2 * v + d]))
+      {
+        return Failed(number, "invalid texture coordinate");
+      }
+    }
+  }
+
+  return true;
+}
+
+/// The face lines: vertex ids (validated), and colours where a line has 3
+/// or 4 values after them.
+bool Parser::Faces()
+{
+  Mesh.FaceOffsets.reserve(NumFaces + 1);
+  Mesh.FaceOffsets.push_back(0);
+  bool anyFaceColor = false;
+  std::vector<std::uint8_t> faceColors;
+  for (std::int64_t f = 0; f < NumFaces; ++f, ++At)
+  {
+    Tokenize(Lines[At].Text, Tokens);
+    const std::int64_t number = Lines[At].Number;
+    std::int64_t n;
+    if (!ParseInt(Tokens[0], n) || n < 3)
+    {
+      return Failed(number, "expected a face with at least 3 vertices");
+    }
+    if (static_cast<std::uint64_t>(n) > Tokens.size() - 1)
+    {
+      return Failed(number, "face declares more vertices than the line holds");
+    }
+    for (std::int64_t k = 1; k <= n; ++k)
+    {
+      std::int64_t id;
+      if (!ParseInt(Tokens[k], id) || id < 0 || id >= NumVertices)
+      {
+        return Failed(number, "face vertex index '" + std::string(Tokens[k].substr(0, 32)) +
+            "' is not in [0, " + std::to_string(NumVertices) + ")");
+      }
+      Mesh.FaceIndices.push_back(id);
+    }
+    Mesh.FaceOffsets.push_back(static_cast<std::int64_t>(Mesh.FaceIndices.size()));
+    const std::size_t extra = Tokens.size() - 1 - static_cast<std::size_t>(n);
+    std::uint8_t rgba[4] = { 200, 200, 200, 255 };
+    if (extra == 3 || extra == 4)
+    {
+      if (!ParseColor(&Tokens[1 + n], extra, rgba))
+      {
+        return Failed(number, "invalid face colour");
+      }
+      anyFaceColor = true;
+      Mesh.HasFaceAlpha = Mesh.HasFaceAlpha || extra == 4;
+    }
+    faceColors.insert(faceColors.end(), rgba, rgba + 4);
+  }
+  if (anyFaceColor)
+  {
+    Mesh.FaceColors = std::move(faceColors);
+  }
+  return true;
+}
+
 } // namespace
 
 bool ParseOFF(const char* data, std::size_t size, OFFMesh& mesh, std::string& error)
@@ -167,182 +372,8 @@ bool ParseOFF(const char* data, std::size_t size, OFFMesh& mesh, std::string& er
   {
     return fail(0, "empty file (no OFF header)");
   }
-  std::vector<std::string_view> tokens;
-  Tokenize(lines[0].Text, tokens);
-
-  // Header keyword: [ST][C][N][4][n]OFF, optional.
-  bool hasTexture = false, hasColor = false, hasNormal = false;
-  std::size_t line = 0, first = 0;
-  std::int64_t probe;
-  if (!ParseInt(tokens[0], probe))
-  {
-    std::string_view key = tokens[0];
-    if (key.substr(0, 2) == "ST")
-    {
-      hasTexture = true;
-      key.remove_prefix(2);
-    }
-    if (!key.empty() && key.front() == 'C')
-    {
-      hasColor = true;
-      key.remove_prefix(1);
-    }
-    if (!key.empty() && key.front() == 'N')
-    {
-      hasNormal = true;
-      key.remove_prefix(1);
-    }
-    if (!key.empty() && (key.front() == '4' || key.front() == 'n'))
-    {
-      return fail(lines[0].Number, "4D and n-dimensional OFF files are not supported");
-    }
-    if (key != "OFF")
-    {
-      return fail(lines[0].Number,
-        "not an OFF file: header '" + std::string(tokens[0].substr(0, 32)) + "'");
-    }
-    if (tokens.size() > 1 && tokens[1] == "BINARY")
-    {
-      return fail(lines[0].Number, "binary OFF files are not supported");
-    }
-    first = 1;
-    if (tokens.size() <= 1)
-    {
-      line = 1;
-      if (line >= lines.size())
-      {
-        return fail(lines[0].Number, "missing vertex and face counts");
-      }
-      Tokenize(lines[line].Text, tokens);
-      first = 0;
-    }
-  }
-  std::int64_t numVertices = -1, numFaces = -1;
-  if (tokens.size() < first + 2 || !ParseInt(tokens[first], numVertices) ||
-    !ParseInt(tokens[first + 1], numFaces) || numVertices < 0 || numFaces < 0)
-  {
-    return fail(lines[line].Number, "expected non-negative vertex and face counts");
-  }
-  ++line;
-  const std::int64_t available = static_cast<std::int64_t>(lines.size() - line);
-  if (numVertices > available || numFaces > available - numVertices)
-  {
-    std::ostringstream os;
-    os << "the header declares " << numVertices << " vertices and " << numFaces
-       << " faces but only " << available << " data lines follow (truncated or corrupt file)";
-    return fail(lines[line - 1].Number, os.str());
-  }
-
-  // Vertices.
-  const std::size_t base = 3 + (hasNormal ? 3 : 0);
-  mesh.Points.resize(3 * numVertices);
-  if (hasNormal)
-  {
-    mesh.Normals.resize(3 * numVertices);
-  }
-  if (hasColor)
-  {
-    mesh.PointColors.resize(4 * numVertices);
-  }
-  if (hasTexture)
-  {
-    mesh.TextureCoords.resize(2 * numVertices);
-  }
-  for (std::int64_t v = 0; v < numVertices; ++v, ++line)
-  {
-    Tokenize(lines[line].Text, tokens);
-    const std::int64_t number = lines[line].Number;
-    std::size_t colorCount = 0;
-    if (hasColor)
-    {
-      const std::int64_t rest = static_cast<std::int64_t>(tokens.size()) -
-        static_cast<std::int64_t>(base) - (hasTexture ? 2 : 0);
-      colorCount = rest >= 4 ? 4 : 3;
-    }
-    const std::size_t needed = base + colorCount + (hasTexture ? 2 : 0);
-    if (tokens.size() < needed)
-    {
-      return fail(number, "vertex line has too few values");
-    }
-    for (int d = 0; d < 3; ++d)
-    {
-      if (!ParseDouble(tokens[d], mesh.Points[3 * v + d]))
-      {
-        return fail(number, "invalid or non-finite vertex coordinate '" +
-            std::string(tokens[d].substr(0, 32)) + "'");
-      }
-    }
-    for (int d = 0; d < 3 && hasNormal; ++d)
-    {
-      if (!ParseDouble(tokens[3 + d], mesh.Normals[3 * v + d]))
-      {
-        return fail(number, "invalid vertex normal");
-      }
-    }
-    if (hasColor)
-    {
-      if (!ParseColor(&tokens[base], colorCount, &mesh.PointColors[4 * v]))
-      {
-        return fail(number, "invalid vertex colour");
-      }
-      mesh.HasPointAlpha = mesh.HasPointAlpha || colorCount == 4;
-    }
-    for (int d = 0; d < 2 && hasTexture; ++d)
-    {
-      if (!ParseDouble(tokens[base + colorCount + d], mesh.TextureCoords[2 * v + d]))
-      {
-        return fail(number, "invalid texture coordinate");
-      }
-    }
-  }
-
-  // Faces.
-  mesh.FaceOffsets.reserve(numFaces + 1);
-  mesh.FaceOffsets.push_back(0);
-  bool anyFaceColor = false;
-  std::vector<std::uint8_t> faceColors;
-  for (std::int64_t f = 0; f < numFaces; ++f, ++line)
-  {
-    Tokenize(lines[line].Text, tokens);
-    const std::int64_t number = lines[line].Number;
-    std::int64_t n;
-    if (!ParseInt(tokens[0], n) || n < 3)
-    {
-      return fail(number, "expected a face with at least 3 vertices");
-    }
-    if (static_cast<std::uint64_t>(n) > tokens.size() - 1)
-    {
-      return fail(number, "face declares more vertices than the line holds");
-    }
-    for (std::int64_t k = 1; k <= n; ++k)
-    {
-      std::int64_t id;
-      if (!ParseInt(tokens[k], id) || id < 0 || id >= numVertices)
-      {
-        return fail(number, "face vertex index '" + std::string(tokens[k].substr(0, 32)) +
-            "' is not in [0, " + std::to_string(numVertices) + ")");
-      }
-      mesh.FaceIndices.push_back(id);
-    }
-    mesh.FaceOffsets.push_back(static_cast<std::int64_t>(mesh.FaceIndices.size()));
-    const std::size_t extra = tokens.size() - 1 - static_cast<std::size_t>(n);
-    std::uint8_t rgba[4] = { 200, 200, 200, 255 };
-    if (extra == 3 || extra == 4)
-    {
-      if (!ParseColor(&tokens[1 + n], extra, rgba))
-      {
-        return fail(number, "invalid face colour");
-      }
-      anyFaceColor = true;
-      mesh.HasFaceAlpha = mesh.HasFaceAlpha || extra == 4;
-    }
-    faceColors.insert(faceColors.end(), rgba, rgba + 4);
-  }
-  if (anyFaceColor)
-  {
-    mesh.FaceColors = std::move(faceColors);
-  }
-  return true;
+  Parser parser{ lines, fail, mesh };
+  return parser.Header() && parser.Vertices() && parser.Faces();
 }
 
 bool ReadOFFFile(const std::string& fileName, OFFMesh& mesh, std::string& error)

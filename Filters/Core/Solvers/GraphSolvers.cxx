@@ -311,148 +311,202 @@ inline std::complex<double> Times(std::complex<double> a, std::complex<double> b
   return { a.real() * b.real() - a.imag() * b.imag(), a.real() * b.imag() + a.imag() * b.real() };
 }
 
+/// The solve of SolveSquaredLaplacian for NC columns: one COCG run on
+/// (D + i a K_ff) dz = res (res: the initial real residual); x = x0 + Re dz.
+/// The real residual of Re dz is the complex one amplified (by up to
+/// ~ a ||K|| / D), so the complex residual is first asked for two orders of
+/// magnitude more than the real one needs; where that was not enough, the
+/// same run goes on with a tighter target (no restart).
 template <int NC>
-ConjugateGradientResult SolveSquared(const ShiftedLaplacianProblem& pb, const double* b, double* x)
+class SquaredSolver
 {
+public:
   using Complex = std::complex<double>;
-  constexpr int W = 2 * NC; // complex vectors: per row NC real parts, then NC imaginary parts
-  const std::int64_t n = pb.Rows;
-  const int threads = pb.NumberOfThreads;
-  const double t = pb.Factor, a = std::sqrt(t);
-  const auto isFree = [&](std::int64_t i) { return !pb.Fixed || !pb.Fixed[i]; };
-  const std::size_t size = static_cast<std::size_t>(n) * NC;
-  LargeVector<double> kx(size), nkx(size), res(size);
-  LargeVector<double> X(2 * size), R(2 * size), Z(2 * size), P(2 * size), KP(2 * size);
-  LargeVector<Complex> inverse(static_cast<std::size_t>(n)); // Jacobi: 1 / (D_i + i a K_ii)
-  ParallelForStatic(n, threads, [&](std::int64_t s, std::int64_t e) {
-    for (std::int64_t i = s; i < e; ++i)
-    {
-      inverse[i] = isFree(i) ? 1.0 / Complex(pb.Shift[i], a * pb.Diagonal[i]) : Complex(0.0);
-    }
-  });
+  static constexpr int W = 2 * NC; // complex vectors: per row NC real parts, then NC imaginary parts
 
-  // res = b - A x on the free rows; returns the column norms.
-  const auto realResidual = [&]() {
-    StiffnessProduct<NC>(pb, x, kx.data());
-    ParallelForStatic(n, threads, [&](std::int64_t s, std::int64_t e) {
+  SquaredSolver(const ShiftedLaplacianProblem& pb, const double* b, double* x)
+    : Pb(pb)
+    , B(b)
+    , Xout(x)
+    , N(pb.Rows)
+    , Threads(pb.NumberOfThreads)
+    , T(pb.Factor)
+    , A(std::sqrt(pb.Factor))
+    , Size(static_cast<std::size_t>(pb.Rows) * NC)
+    , KX(Size)
+    , NKX(Size)
+    , Res(Size)
+    , X(2 * Size)
+    , R(2 * Size)
+    , Z(2 * Size)
+    , P(2 * Size)
+    , KP(2 * Size)
+    , Inverse(static_cast<std::size_t>(pb.Rows))
+  {
+    ParallelForStatic(N, Threads, [&](std::int64_t s, std::int64_t e) { // Jacobi: 1 / (D_i + i a K_ii)
       for (std::int64_t i = s; i < e; ++i)
       {
-        const double f = isFree(i) ? 1.0 / pb.Shift[i] : 0.0;
+        Inverse[i] = IsFree(i) ? 1.0 / Complex(Pb.Shift[i], A * Pb.Diagonal[i]) : Complex(0.0);
+      }
+    });
+  }
+
+  ConjugateGradientResult Run()
+  {
+    Norms = RealResidual();
+    for (int c = 0; c < NC; ++c)
+    {
+      Initial[c] = std::sqrt(std::max(0.0, Norms[c]));
+      Threshold[c] = std::max(Pb.Tolerance * Initial[c], ResidualRoundOff * Pb.Scale[c]);
+    }
+    double needed = Check();
+    if (Result.Converged)
+    {
+      return Result;
+    }
+    Start();
+    double target = 0.01 * needed, lastRelative = Result.RelativeResidual;
+    while (Result.Iterations < Pb.MaximumIterations)
+    {
+      Complex alpha[NC], beta[NC];
+      ApplyOperator(alpha);
+      const bool reached = Advance(alpha, beta, target);
+      if (reached || Stalled || Result.Iterations >= Pb.MaximumIterations)
+      {
+        WriteSolution();
+        Norms = RealResidual();
+        needed = Check();
+        if (Result.Converged || Stalled || !(Result.RelativeResidual < 0.5 * lastRelative))
+        {
+          return Result; // not converged: no progress left in this run, the caller decides
+        }
+        lastRelative = Result.RelativeResidual;
+        target *= std::max(1e-4, 0.1 * needed);
+      }
+      NewDirection(beta);
+    }
+    return Result;
+  }
+
+private:
+  bool IsFree(std::int64_t i) const { return !Pb.Fixed || !Pb.Fixed[i]; }
+
+  /// Res = b - A x on the free rows; returns the column norms.
+  std::vector<double> RealResidual()
+  {
+    StiffnessProduct<NC>(Pb, Xout, KX.data());
+    ParallelForStatic(N, Threads, [&](std::int64_t s, std::int64_t e) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        const double f = IsFree(i) ? 1.0 / Pb.Shift[i] : 0.0;
         for (int c = 0; c < NC; ++c)
         {
-          nkx[i * NC + c] = f * kx[i * NC + c];
+          NKX[i * NC + c] = f * KX[i * NC + c];
         }
       }
     });
-    StiffnessProduct<NC>(pb, nkx.data(), kx.data());
-    return ParallelSum(n, NC, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+    StiffnessProduct<NC>(Pb, NKX.data(), KX.data());
+    return ParallelSum(N, NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
       for (std::int64_t i = s; i < e; ++i)
       {
-        const bool f = isFree(i);
+        const bool f = IsFree(i);
         for (int c = 0; c < NC; ++c)
         {
           const std::int64_t k = i * NC + c;
-          res[k] = f ? b[k] - pb.Shift[i] * x[k] - t * kx[k] : 0.0;
-          acc[c] += res[k] * res[k];
+          Res[k] = f ? B[k] - Pb.Shift[i] * Xout[k] - T * KX[k] : 0.0;
+          acc[c] += Res[k] * Res[k];
         }
       }
     });
-  };
+  }
 
-  ConjugateGradientResult result;
-  std::vector<double> norms = realResidual(), initial(NC), threshold(NC);
-  // Columns still above their threshold; the fraction of the current real
-  // residual they need (the smallest over those columns).
-  const auto check = [&]() {
+  /// Whether every column is below its threshold (Result.Converged) and the
+  /// fraction of the current real residual the columns still above it need
+  /// (the smallest over those columns).
+  double Check()
+  {
     bool done = true;
     double relative = 0.0, needed = 1.0;
     for (int c = 0; c < NC; ++c)
     {
-      const double norm = std::sqrt(std::max(0.0, norms[c]));
-      if (initial[c] > 0.0)
+      const double norm = std::sqrt(std::max(0.0, Norms[c]));
+      if (Initial[c] > 0.0)
       {
-        relative = std::max(relative, norm / initial[c]);
+        relative = std::max(relative, norm / Initial[c]);
       }
-      if (norm > threshold[c])
+      if (norm > Threshold[c])
       {
         done = false;
-        needed = std::min(needed, threshold[c] / norm);
+        needed = std::min(needed, Threshold[c] / norm);
       }
     }
-    result.RelativeResidual = relative;
-    result.Converged = done;
+    Result.RelativeResidual = relative;
+    Result.Converged = done;
     return needed;
-  };
-  for (int c = 0; c < NC; ++c)
-  {
-    initial[c] = std::sqrt(std::max(0.0, norms[c]));
-    threshold[c] = std::max(pb.Tolerance * initial[c], ResidualRoundOff * pb.Scale[c]);
   }
-  double needed = check();
-  if (result.Converged)
+
+  /// The COCG start from the real residual: X = 0, R = Res, P = M^-1 R.
+  void Start()
   {
-    return result;
-  }
-  // One COCG run on (D + i a K_ff) dz = res (res: the initial real residual);
-  // x = x0 + Re dz.  The real residual of Re dz is the complex one amplified
-  // (by up to ~ a ||K|| / D), so the complex residual is first asked for two
-  // orders of magnitude more than the real one needs; where that was not
-  // enough, the same run goes on with a tighter target (no restart).
-  LargeVector<double> x0(x, x + size);
-  std::vector<double> sums = ParallelSum(n, 3 * NC, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
-    for (std::int64_t i = s; i < e; ++i)
-    {
-      for (int c = 0; c < NC; ++c)
-      {
-        const double r = res[i * NC + c];
-        const Complex z = Times(inverse[i], r);
-        X[i * W + c] = X[i * W + NC + c] = 0.0;
-        R[i * W + c] = r;
-        R[i * W + NC + c] = 0.0;
-        P[i * W + c] = z.real();
-        P[i * W + NC + c] = z.imag();
-        acc[2 * c] += r * z.real(); // rho = r^T z, unconjugated
-        acc[2 * c + 1] += r * z.imag();
-        acc[2 * NC + c] += r * r;
-      }
-    }
-  });
-  Complex rho[NC];
-  double start[NC], current[NC];
-  for (int c = 0; c < NC; ++c)
-  {
-    rho[c] = Complex(sums[2 * c], sums[2 * c + 1]);
-    start[c] = current[c] = std::sqrt(sums[2 * NC + c]);
-  }
-  double target = 0.01 * needed, lastRelative = result.RelativeResidual;
-  while (result.Iterations < pb.MaximumIterations)
-  {
-    StiffnessProduct<W>(pb, P.data(), KP.data());
-    // q = D p + i a K p (into KP) and p^T q.
-    const std::vector<double> pq = ParallelSum(n, 2 * NC, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+    X0.assign(Xout, Xout + Size);
+    const std::vector<double> sums = ParallelSum(N, 3 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
       for (std::int64_t i = s; i < e; ++i)
       {
-        const bool f = isFree(i);
+        for (int c = 0; c < NC; ++c)
+        {
+          const double r = Res[i * NC + c];
+          const Complex z = Times(Inverse[i], r);
+          X[i * W + c] = X[i * W + NC + c] = 0.0;
+          R[i * W + c] = r;
+          R[i * W + NC + c] = 0.0;
+          P[i * W + c] = z.real();
+          P[i * W + NC + c] = z.imag();
+          acc[2 * c] += r * z.real(); // rho = r^T z, unconjugated
+          acc[2 * c + 1] += r * z.imag();
+          acc[2 * NC + c] += r * r;
+        }
+      }
+    });
+    for (int c = 0; c < NC; ++c)
+    {
+      Rho[c] = Complex(sums[2 * c], sums[2 * c + 1]);
+      StartNorm[c] = std::sqrt(sums[2 * NC + c]);
+    }
+  }
+
+  /// q = D p + i a K p (into KP) and alpha = rho / p^T q.
+  void ApplyOperator(Complex* alpha)
+  {
+    StiffnessProduct<W>(Pb, P.data(), KP.data());
+    const std::vector<double> pq = ParallelSum(N, 2 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        const bool f = IsFree(i);
         for (int c = 0; c < NC; ++c)
         {
           const std::int64_t re = i * W + c, im = re + NC;
           const Complex p(P[re], P[im]);
-          const Complex q = f ? pb.Shift[i] * p + Complex(-a * KP[im], a * KP[re]) : Complex(0.0);
+          const Complex q = f ? Pb.Shift[i] * p + Complex(-A * KP[im], A * KP[re]) : Complex(0.0);
           KP[re] = q.real();
           KP[im] = q.imag();
-          const Complex pq = Times(p, q);
-          acc[2 * c] += pq.real();
-          acc[2 * c + 1] += pq.imag();
+          const Complex product = Times(p, q);
+          acc[2 * c] += product.real();
+          acc[2 * c + 1] += product.imag();
         }
       }
     });
-    Complex alpha[NC];
     for (int c = 0; c < NC; ++c)
     {
       const Complex d(pq[2 * c], pq[2 * c + 1]);
-      alpha[c] = std::abs(d) > 0.0 ? rho[c] / d : Complex(0.0);
+      alpha[c] = std::abs(d) > 0.0 ? Rho[c] / d : Complex(0.0);
     }
-    sums = ParallelSum(n, 3 * NC, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+  }
+
+  /// X += alpha P, R -= alpha Q, Z = M^-1 R, the new rho and beta; true when
+  /// every column's complex residual reached `target` of its start.
+  bool Advance(const Complex* alpha, Complex* beta, double target)
+  {
+    const std::vector<double> sums = ParallelSum(N, 3 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
       for (std::int64_t i = s; i < e; ++i)
       {
         for (int c = 0; c < NC; ++c)
@@ -460,7 +514,7 @@ ConjugateGradientResult SolveSquared(const ShiftedLaplacianProblem& pb, const do
           const std::int64_t re = i * W + c, im = re + NC;
           const Complex xx = Complex(X[re], X[im]) + Times(alpha[c], Complex(P[re], P[im]));
           const Complex r = Complex(R[re], R[im]) - Times(alpha[c], Complex(KP[re], KP[im]));
-          const Complex z = Times(inverse[i], r);
+          const Complex z = Times(Inverse[i], r);
           X[re] = xx.real();
           X[im] = xx.imag();
           R[re] = r.real();
@@ -474,39 +528,38 @@ ConjugateGradientResult SolveSquared(const ShiftedLaplacianProblem& pb, const do
         }
       }
     });
-    ++result.Iterations;
-    Complex beta[NC];
-    bool reached = true, stalled = false;
+    ++Result.Iterations;
+    bool reached = true;
     for (int c = 0; c < NC; ++c)
     {
       const Complex rhoNew(sums[2 * c], sums[2 * c + 1]);
-      current[c] = std::sqrt(sums[2 * NC + c]);
-      reached = reached && current[c] <= target * start[c];
-      stalled = stalled || (current[c] > 0.0 && !(std::abs(rho[c]) > 0.0));
-      beta[c] = std::abs(rho[c]) > 0.0 ? rhoNew / rho[c] : Complex(0.0);
-      rho[c] = rhoNew;
+      const double current = std::sqrt(sums[2 * NC + c]);
+      reached = reached && current <= target * StartNorm[c];
+      Stalled = Stalled || (current > 0.0 && !(std::abs(Rho[c]) > 0.0));
+      beta[c] = std::abs(Rho[c]) > 0.0 ? rhoNew / Rho[c] : Complex(0.0);
+      Rho[c] = rhoNew;
     }
-    if (reached || stalled || result.Iterations >= pb.MaximumIterations)
-    {
-      ParallelForStatic(n, threads, [&](std::int64_t s, std::int64_t e) {
-        for (std::int64_t i = s; i < e; ++i)
-        {
-          for (int c = 0; c < NC; ++c)
-          {
-            x[i * NC + c] = isFree(i) ? x0[i * NC + c] + X[i * W + c] : x0[i * NC + c];
-          }
-        }
-      });
-      norms = realResidual();
-      needed = check();
-      if (result.Converged || stalled || !(result.RelativeResidual < 0.5 * lastRelative))
+    return reached;
+  }
+
+  /// x = x0 + Re X on the free rows.
+  void WriteSolution()
+  {
+    ParallelForStatic(N, Threads, [&](std::int64_t s, std::int64_t e) {
+      for (std::int64_t i = s; i < e; ++i)
       {
-        return result; // not converged: no progress left in this run, the caller decides
+        for (int c = 0; c < NC; ++c)
+        {
+          Xout[i * NC + c] = IsFree(i) ? X0[i * NC + c] + X[i * W + c] : X0[i * NC + c];
+        }
       }
-      lastRelative = result.RelativeResidual;
-      target *= std::max(1e-4, 0.1 * needed);
-    }
-    ParallelForStatic(n, threads, [&](std::int64_t s, std::int64_t e) {
+    });
+  }
+
+  /// P = Z + beta P.
+  void NewDirection(const Complex* beta)
+  {
+    ParallelForStatic(N, Threads, [&](std::int64_t s, std::int64_t e) {
       for (std::int64_t i = s; i < e; ++i)
       {
         for (int c = 0; c < NC; ++c)
@@ -519,8 +572,23 @@ ConjugateGradientResult SolveSquared(const ShiftedLaplacianProblem& pb, const do
       }
     });
   }
-  return result;
-}
+
+  const ShiftedLaplacianProblem& Pb;
+  const double* B;
+  double* Xout;
+  const std::int64_t N;
+  const int Threads;
+  const double T, A;
+  const std::size_t Size;
+  LargeVector<double> KX, NKX, Res, X0;
+  LargeVector<double> X, R, Z, P, KP;
+  LargeVector<Complex> Inverse;
+  ConjugateGradientResult Result;
+  std::vector<double> Norms;
+  double Initial[NC] = {}, Threshold[NC] = {}, StartNorm[NC] = {};
+  Complex Rho[NC];
+  bool Stalled = false;
+};
 
 } // namespace
 
@@ -538,7 +606,7 @@ ConjugateGradientResult SolveSquaredLaplacian(const ShiftedLaplacianProblem& pb,
     none.Converged = true;
     return none;
   }
-  return WithCount<4>(nc, [&](auto k) { return SolveSquared<decltype(k)::value>(pb, b, x); });
+  return WithCount<4>(nc, [&](auto k) { return SquaredSolver<decltype(k)::value>(pb, b, x).Run(); });
 }
 
 ConjugateGradientResult SolveShiftedLaplacian(
