@@ -25,6 +25,7 @@
 
 using beltrami::test::DataFile;
 using beltrami::test::MessageCollector;
+using beltrami::test::ReadOFF;
 using beltrami::test::Value;
 
 namespace
@@ -43,16 +44,6 @@ vtkSmartPointer<vtkPolyData> RunFilter(vtkPolyData* input, vtkDiscreteCurvatures
   f->Update();
   auto out = vtkSmartPointer<vtkPolyData>::New();
   out->ShallowCopy(f->GetOutput());
-  return out;
-}
-
-vtkSmartPointer<vtkPolyData> ReadOFF(const std::string& name)
-{
-  vtkNew<vtkOFFReader> reader;
-  reader->SetFileName(DataFile(name).c_str());
-  reader->Update();
-  auto out = vtkSmartPointer<vtkPolyData>::New();
-  out->ShallowCopy(reader->GetOutput());
   return out;
 }
 

@@ -1,6 +1,9 @@
 // Helpers for the VTK-level tests.
 #pragma once
 
+#include "vtkOFFReader.h"
+
+#include <vtkCellArray.h>
 #include <vtkCommand.h>
 #include <vtkDataArray.h>
 #include <vtkObject.h>
@@ -8,6 +11,10 @@
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 
+#include <vtkCellArrayIterator.h>
+#include <vtkMath.h>
+
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -53,6 +60,40 @@ inline double Value(vtkPolyData* pd, const char* name, vtkIdType i, int componen
 inline std::string DataFile(const std::string& name)
 {
   return std::string(BELTRAMI_TEST_DATA_DIR) + "/" + name;
+}
+
+/// A mesh of Testing/Data read by vtkOFFReader.
+inline vtkSmartPointer<vtkPolyData> ReadOFF(const std::string& name)
+{
+  vtkSmartPointer<vtkOFFReader> reader = vtkSmartPointer<vtkOFFReader>::New();
+  reader->SetFileName(DataFile(name).c_str());
+  reader->Update();
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->ShallowCopy(reader->GetOutput());
+  return out;
+}
+
+/// The mean length of the edges of the triangles (each interior edge twice).
+inline double MeanEdgeLength(vtkPolyData* pd)
+{
+  double sum = 0.0;
+  vtkIdType count = 0;
+  vtkIdType n = 0;
+  const vtkIdType* ids = nullptr;
+  auto it = vtkSmartPointer<vtkCellArrayIterator>::Take(pd->GetPolys()->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    it->GetCurrentCell(n, ids);
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      double a[3], b[3];
+      pd->GetPoint(ids[k], a);
+      pd->GetPoint(ids[(k + 1) % n], b);
+      sum += std::sqrt(vtkMath::Distance2BetweenPoints(a, b));
+      ++count;
+    }
+  }
+  return count ? sum / count : 0.0;
 }
 
 } // namespace test

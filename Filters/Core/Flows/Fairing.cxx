@@ -274,8 +274,43 @@ ConjugateGradientResult SolveOrderTwo(const Stage& st, const FairingOptions& opt
   return SolveConjugateGradient(pb, b.data(), x);
 }
 
+/// Points with a NaN or infinite coordinate are held (VertexRoles) and their
+/// triangles are left out of the operator; their zero weights would still
+/// carry the NaN into every product (0 * NaN), so while it lives they take
+/// part as the origin, and they get their own values back after.
+class NonFinitePointsAsOrigin
+{
+public:
+  NonFinitePointsAsOrigin(double* x, Index n)
+    : X(x)
+  {
+    for (Index i = 0; i < n; ++i)
+    {
+      if (!Point(x, i).allFinite())
+      {
+        Saved.emplace_back(i, Point(x, i));
+        std::fill(x + 3 * i, x + 3 * i + 3, 0.0);
+      }
+    }
+  }
+  ~NonFinitePointsAsOrigin()
+  {
+    for (const auto& [i, p] : Saved)
+    {
+      std::copy(p.data(), p.data() + 3, X + 3 * i);
+    }
+  }
+  NonFinitePointsAsOrigin(const NonFinitePointsAsOrigin&) = delete;
+  NonFinitePointsAsOrigin& operator=(const NonFinitePointsAsOrigin&) = delete;
+
+private:
+  double* X;
+  std::vector<std::pair<Index, Vec3>> Saved;
+};
+
 void Integrate(const Stage& st, const FairingOptions& opt, double* x, FairingReport& report)
 {
+  const NonFinitePointsAsOrigin guard(x, st.L.NumberOfVertices);
   switch (opt.Integration)
   {
     case FairingIntegration::Implicit:

@@ -10,16 +10,22 @@ namespace beltrami
 
 namespace
 {
-/// Sum over triangles of f(a, b, c) (deterministic, parallel), 4 values.
+/// Sum over triangles of f(a, b, c) (deterministic, parallel), 4 values;
+/// triangles with a NaN or infinite corner are left out (the measures of the
+/// rest of the surface, where the flows keep such points fixed).
 template <typename F>
-std::vector<double> SumOverTriangles(const MeshTopology& topo, int numThreads, F&& f)
+std::vector<double> SumOverTriangles(const MeshTopology& topo, const double* points, int numThreads, F&& f)
 {
   const IndexArray& tri = topo.TriangleList();
   return ParallelSum(topo.NumberOfTriangles(), 4, numThreads,
     [&](std::int64_t begin, std::int64_t end, double* acc) {
       for (std::int64_t t = begin; t < end; ++t)
       {
-        f(tri[3 * t], tri[3 * t + 1], tri[3 * t + 2], acc);
+        const Index a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
+        if (Point(points, a).allFinite() && Point(points, b).allFinite() && Point(points, c).allFinite())
+        {
+          f(a, b, c, acc);
+        }
       }
     });
 }
@@ -45,7 +51,7 @@ Vec3 VertexCentroid(const MeshTopology& topo, const double* points)
 double VolumeAndCentroid(const MeshTopology& topo, const double* points, int numThreads, Vec3* centroid)
 {
   const Vec3 o = VertexCentroid(topo, points);
-  const std::vector<double> s = SumOverTriangles(topo, numThreads, [&](Index a, Index b, Index c, double* acc) {
+  const std::vector<double> s = SumOverTriangles(topo, points, numThreads, [&](Index a, Index b, Index c, double* acc) {
     const Vec3 pa = Point(points, a) - o, pb = Point(points, b) - o, pc = Point(points, c) - o;
     const double v = pa.dot(pb.cross(pc)) / 6.0;
     acc[0] += v;
@@ -63,7 +69,7 @@ double VolumeAndCentroid(const MeshTopology& topo, const double* points, int num
 
 double AreaAndCentroid(const MeshTopology& topo, const double* points, int numThreads, Vec3* centroid)
 {
-  const std::vector<double> s = SumOverTriangles(topo, numThreads, [&](Index a, Index b, Index c, double* acc) {
+  const std::vector<double> s = SumOverTriangles(topo, points, numThreads, [&](Index a, Index b, Index c, double* acc) {
     const Vec3 pa = Point(points, a), pb = Point(points, b), pc = Point(points, c);
     const double area = 0.5 * (pb - pa).cross(pc - pa).norm();
     acc[0] += area;
@@ -82,7 +88,7 @@ double AreaAndCentroid(const MeshTopology& topo, const double* points, int numTh
 double HeightVolume(const MeshTopology& topo, const double* points, const Vec3& origin,
   const Vec3& normal, int numThreads)
 {
-  const std::vector<double> s = SumOverTriangles(topo, numThreads, [&](Index a, Index b, Index c, double* acc) {
+  const std::vector<double> s = SumOverTriangles(topo, points, numThreads, [&](Index a, Index b, Index c, double* acc) {
     const Vec3 pa = Point(points, a) - origin, pb = Point(points, b) - origin,
                pc = Point(points, c) - origin;
     const double projectedArea = 0.5 * (pb - pa).cross(pc - pa).dot(normal);
@@ -95,11 +101,17 @@ double MeanEdgeLength(const MeshTopology& topo, const double* x)
 {
   const MeshTopology::EdgeTable& e = topo.Edges();
   double sum = 0.0;
+  std::int64_t finite = 0;
   for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
   {
-    sum += (Point(x, e.Vertices[2 * k]) - Point(x, e.Vertices[2 * k + 1])).norm();
+    const double length = (Point(x, e.Vertices[2 * k]) - Point(x, e.Vertices[2 * k + 1])).norm();
+    if (std::isfinite(length))
+    {
+      sum += length;
+      ++finite;
+    }
   }
-  return e.NumberOfEdges() ? sum / e.NumberOfEdges() : 0.0;
+  return finite ? sum / finite : 0.0;
 }
 
 double EnclosedVolume(const MeshTopology& topo, const double* points, int numThreads)

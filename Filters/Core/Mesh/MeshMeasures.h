@@ -24,7 +24,8 @@ enum class LengthUnit : int
 /// and the volume between the surface and the plane through `origin` with unit
 /// normal `normal` (the surface projected on the plane times its height).
 double EnclosedVolume(const MeshTopology& topology, const double* points, int numThreads = 0);
-/// Mean length of the edges (the natural unit of time steps: lambda*dt ~ h^2).
+/// Mean length of the edges (the natural unit of time steps: lambda*dt ~ h^2);
+/// edges at NaN or infinite points are left out (0 when none is left).
 double MeanEdgeLength(const MeshTopology& topology, const double* points);
 double SurfaceArea(const MeshTopology& topology, const double* points, int numThreads = 0);
 double VolumeAbovePlane(const MeshTopology& topology, const double* points, const double origin[3],
