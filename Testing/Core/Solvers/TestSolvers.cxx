@@ -1,5 +1,5 @@
-// The parallel loops and linear solvers of the core (Filters/Core/Support/Parallel,
-// Filters/Core/Solvers/ConjugateGradient).
+// The linear solvers of the core (Filters/Core/Solvers): conjugate
+// gradients, the graph solvers, the sparse factorizations and their orders.
 #include "TestMeshes.h"
 
 #include "Solvers/ConjugateGradient.h"
@@ -12,7 +12,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -150,41 +149,6 @@ void ExpectSolved(const FlowSystem& s, int nc, double tolerance, const std::vect
 }
 
 } // namespace
-
-TEST(Parallel, StaticLoopsAndPartialsCoverEveryIndexOnce)
-{
-  for (std::int64_t n : { 0, 1, 4095, 4096, 4097, 50000 })
-  {
-    for (int threads : { 1, 2, 3 })
-    {
-      std::vector<std::atomic<int>> seen(static_cast<std::size_t>(n));
-      ParallelForStatic(n, threads, [&](std::int64_t b, std::int64_t e) {
-        for (std::int64_t i = b; i < e; ++i)
-        {
-          seen[i]++;
-        }
-      });
-      for (std::int64_t i = 0; i < n; ++i)
-      {
-        ASSERT_EQ(seen[i].load(), 1) << "n " << n << " threads " << threads << " index " << i;
-      }
-      // A maximum from the per-chunk partials (a sum of chunk maxima was the
-      // bug of the surface flows' stable step).
-      const std::vector<double> partials = ParallelPartials(n, 1, threads, [&](std::int64_t b, std::int64_t e, double* m) {
-        for (std::int64_t i = b; i < e; ++i)
-        {
-          m[0] = std::max(m[0], static_cast<double>((i * 7919) % 1000));
-        }
-      });
-      ASSERT_EQ(static_cast<std::int64_t>(partials.size()), (n + ParallelChunkSize - 1) / ParallelChunkSize);
-      const double expected = n > 1000 ? 999.0 : 0.0;
-      if (n > 1000)
-      {
-        EXPECT_EQ(*std::max_element(partials.begin(), partials.end()), expected);
-      }
-    }
-  }
-}
 
 TEST(Solvers, LocalityOrderIsAPermutationOverComponents)
 {
