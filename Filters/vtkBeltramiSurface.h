@@ -77,7 +77,7 @@ public:
   /// Points of the input piece (the output's points).
   vtkIdType NumberOfInputPoints() const;
   /// Points of the topology: the input's, then the ghost points of the
-  /// other pieces' triangles (Prepare's oneRings).
+  /// other pieces' triangles (Execute's OneRings).
   vtkIdType NumberOfTopologyPoints() const;
   vtkPolyData* Input() const { return InputData; }
   vtkPolyData* Output() const { return OutputData; }
@@ -99,7 +99,7 @@ public:
   /// hold points), each piece smoothed on its own with `pieceBoundary`
   /// (e.g. "its piece boundary fixed").
   static void WarnDistributed(vtkAlgorithm* owner, int pieces, const char* pieceBoundary);
-  /// The smoothing filters' warning after Prepare: WarnDistributed for pieces
+  /// The smoothing filters' warning after Execute has built the surface: WarnDistributed for pieces
   /// streamed one by one (no gathering), else the topology's defects
   /// (TopologyWarning) followed by `consequence`.
   void WarnAboutInput(vtkAlgorithm* owner, const char* pieceBoundary, const char* consequence) const;
@@ -149,7 +149,7 @@ public:
   /// The input cell (vtkPolyData cell id: verts, lines, polys, strips) that
   /// triangle t of the triangle list given to the topology came from; call
   /// it with Topology().OriginalTriangleIds()[k] for kept triangle k.  -1
-  /// for a triangle of another piece's (Prepare's oneRings).
+  /// for a triangle of another piece's (Execute's OneRings).
   vtkIdType TriangleCell(beltrami::Index t) const
   {
     return CellOfTriangle.empty() ? FirstPolygonCell + t : CellOfTriangle[t];
@@ -167,7 +167,7 @@ private:
   /// The general path of Build: any polygons (triangulated) and strips.
   void BuildTriangles(vtkPolyData* input, beltrami::IndexArray& triangles);
 
-  /// Prepare's one-ring exchange (collective): builds the piece's topology,
+  /// Execute's one-ring exchange (collective): builds the piece's topology,
   /// every piece sends the triangles at its edge vertices to all ranks, and
   /// each keeps those that touch its own points (coincident points joined
   /// as vtkBeltramiGather joins them), so that every point of the piece gets

@@ -50,7 +50,7 @@ int vtkDiscreteCurvatures::RequestUpdateExtent(
   // Curvature at a point needs its whole 1-ring.  Streamed pieces (one
   // process) need one more ghost level from upstream.  Pieces that are the
   // ranks of a distributed run exchange their edge triangles themselves
-  // (vtkBeltramiSurface::Prepare): asking upstream for ghost cells there
+  // (vtkBeltramiSurface::Execute): asking upstream for ghost cells there
   // would re-execute it (a RedistributeDataSet of a 4.8M-triangle surface
   // ran again for over a minute) and most sources cannot make them.
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);

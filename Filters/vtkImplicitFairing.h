@@ -249,7 +249,7 @@ private:
   vtkImplicitFairing(const vtkImplicitFairing&) = delete;
   void operator=(const vtkImplicitFairing&) = delete;
 
-  /// Smooths the surface Prepare built (RequestData's value).
+  /// Smooths the surface Execute built (RequestData's value).
   int Fair(vtkBeltramiSurface& surface);
   /// The fixed points (array and ids) and smoothing weights of `surface`
   /// into `fixed` and `weights`; false (after an error) when unusable.

@@ -200,7 +200,7 @@ private:
   vtkIntrinsicParameterization(const vtkIntrinsicParameterization&) = delete;
   void operator=(const vtkIntrinsicParameterization&) = delete;
 
-  /// The map of the surface Prepare built (RequestData's value).
+  /// The map of the surface Execute built (RequestData's value).
   int Parameterize(vtkBeltramiSurface& surface);
   /// The given boundary (input array 0, into `given`) and the constraint
   /// targets (input array 1) into `options`; false (after an error) if unusable.
