@@ -22,6 +22,7 @@
 #include <cmath>
 #include <random>
 
+using beltrami::test::AddPointField;
 using beltrami::test::MessageCollector;
 
 namespace
@@ -138,18 +139,9 @@ TEST(SurfaceDataDenoising, DefaultsSmoothNoisyDataOnASphere)
   sphere->Update();
   auto mesh = vtkSmartPointer<vtkPolyData>::New();
   mesh->ShallowCopy(sphere->GetOutput());
-  vtkNew<vtkDoubleArray> clean, values;
-  clean->SetName("clean");
-  values->SetName("values");
-  std::mt19937 rng(5);
-  std::normal_distribution<double> noise(0.0, 0.05);
-  for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i)
-  {
-    const double z = mesh->GetPoint(i)[2] / 5.0;
-    clean->InsertNextValue(z);
-    values->InsertNextValue(z + noise(rng));
-  }
-  mesh->GetPointData()->AddArray(clean);
+  const auto height = [](const double* x) { return x[2] / 5.0; };
+  vtkDoubleArray* clean = AddPointField(mesh, "clean", height);
+  vtkDoubleArray* values = AddPointField(mesh, "values", height, 0.05, 5);
   mesh->GetPointData()->SetScalars(values);
   vtkNew<vtkSurfaceDataDenoising> f; // semi-implicit steps of 0.1 h^2
   f->SetInputData(mesh);
@@ -171,19 +163,9 @@ TEST(TetrahedralBeltramiDenoising, LinearFieldsStayAndNoiseGoes)
   vtkNew<vtkImageData> grid;
   grid->SetDimensions(9, 9, 9);
   grid->SetSpacing(0.5, 0.5, 0.5);
-  vtkNew<vtkDoubleArray> linear, noisy;
-  linear->SetName("linear");
-  noisy->SetName("noisy");
-  std::mt19937 rng(2);
-  std::normal_distribution<double> noise(0.0, 0.1);
-  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i)
-  {
-    const double* x = grid->GetPoint(i);
-    linear->InsertNextValue(0.3 * x[0] - 0.2 * x[1] + 0.1 * x[2] + 1.0);
-    noisy->InsertNextValue(1.0 + noise(rng));
-  }
-  grid->GetPointData()->AddArray(linear);
-  grid->GetPointData()->AddArray(noisy);
+  vtkDoubleArray* linear =
+    AddPointField(grid, "linear", [](const double* x) { return 0.3 * x[0] - 0.2 * x[1] + 0.1 * x[2] + 1.0; });
+  vtkDoubleArray* noisy = AddPointField(grid, "noisy", [](const double*) { return 1.0; }, 0.1, 2);
   vtkNew<vtkDataSetTriangleFilter> tetrahedralize;
   tetrahedralize->SetInputData(grid);
   tetrahedralize->Update();

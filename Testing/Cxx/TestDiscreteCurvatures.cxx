@@ -35,16 +35,7 @@ vtkSmartPointer<vtkPolyData> RunFilter(vtkPolyData* input, vtkDiscreteCurvatures
   MessageCollector* messages = nullptr)
 {
   vtkNew<vtkDiscreteCurvatures> local;
-  vtkDiscreteCurvatures* f = filter ? filter : local.Get();
-  if (messages)
-  {
-    messages->Watch(f);
-  }
-  f->SetInputData(input);
-  f->Update();
-  auto out = vtkSmartPointer<vtkPolyData>::New();
-  out->ShallowCopy(f->GetOutput());
-  return out;
+  return beltrami::test::RunOn(filter ? filter : local.Get(), input, messages);
 }
 
 double TotalCurvature(vtkPolyData* pd)

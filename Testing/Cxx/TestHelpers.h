@@ -12,9 +12,13 @@
 #include <vtkSmartPointer.h>
 
 #include <vtkCellArrayIterator.h>
+#include <vtkDataSet.h>
+#include <vtkDoubleArray.h>
 #include <vtkMath.h>
 
 #include <cmath>
+#include <functional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -60,6 +64,40 @@ inline double Value(vtkPolyData* pd, const char* name, vtkIdType i, int componen
 inline std::string DataFile(const std::string& name)
 {
   return std::string(BELTRAMI_TEST_DATA_DIR) + "/" + name;
+}
+
+/// Runs `filter` on `input` (its messages to `messages` when given) and
+/// returns a shallow copy of its output.
+template <typename Output = vtkPolyData, typename Filter>
+vtkSmartPointer<Output> RunOn(Filter* filter, vtkDataObject* input, MessageCollector* messages = nullptr)
+{
+  if (messages)
+  {
+    messages->Watch(filter);
+  }
+  filter->SetInputData(input);
+  filter->Update();
+  auto out = vtkSmartPointer<Output>::New();
+  out->ShallowCopy(filter->GetOutput());
+  return out;
+}
+
+/// A point array `name` added to `data`: f(x) at every point x, plus Gaussian
+/// noise of standard deviation `sigma` (seeded: the same values every run).
+inline vtkSmartPointer<vtkDoubleArray> AddPointField(vtkDataSet* data, const char* name,
+  const std::function<double(const double* x)>& f, double sigma = 0.0, unsigned seed = 1)
+{
+  auto array = vtkSmartPointer<vtkDoubleArray>::New();
+  array->SetName(name);
+  array->SetNumberOfTuples(data->GetNumberOfPoints());
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, sigma > 0.0 ? sigma : 1.0);
+  for (vtkIdType i = 0; i < data->GetNumberOfPoints(); ++i)
+  {
+    array->SetValue(i, f(data->GetPoint(i)) + (sigma > 0.0 ? noise(rng) : 0.0));
+  }
+  data->GetPointData()->AddArray(array);
+  return array;
 }
 
 /// A mesh of Testing/Data read by vtkOFFReader.

@@ -65,15 +65,7 @@ double RadialError(vtkPolyData* pd, double radius)
 
 vtkSmartPointer<vtkPolyData> Fair(vtkPolyData* input, vtkImplicitFairing* f, MessageCollector* messages = nullptr)
 {
-  if (messages)
-  {
-    messages->Watch(f);
-  }
-  f->SetInputData(input);
-  f->Update();
-  auto out = vtkSmartPointer<vtkPolyData>::New();
-  out->ShallowCopy(f->GetOutput());
-  return out;
+  return beltrami::test::RunOn(f, input, messages);
 }
 
 } // namespace
