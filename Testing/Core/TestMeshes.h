@@ -3,6 +3,8 @@
 
 #include "Mesh/MeshTopology.h"
 
+#include "IO/OFFFormat.h"
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -11,6 +13,7 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -58,6 +61,32 @@ struct Mesh
     return area;
   }
 };
+
+/// A triangle mesh of Testing/Data (an OFF file); `error` says why when
+/// it cannot be read or has a face that is not a triangle (then empty).
+inline Mesh ReadMesh(const std::string& name, std::string& error)
+{
+  OFFMesh off;
+  Mesh m;
+  if (!ReadOFFFile(std::string(BELTRAMI_TEST_DATA_DIR) + "/" + name, off, error))
+  {
+    return m;
+  }
+  m.Points = off.Points;
+  for (std::int64_t f = 0; f < off.NumberOfFaces(); ++f)
+  {
+    if (off.FaceOffsets[f + 1] - off.FaceOffsets[f] != 3)
+    {
+      error = name + ": face " + std::to_string(f) + " is not a triangle";
+      return Mesh();
+    }
+    for (std::int64_t k = off.FaceOffsets[f]; k < off.FaceOffsets[f + 1]; ++k)
+    {
+      m.Triangles.push_back(static_cast<Index>(off.FaceIndices[k]));
+    }
+  }
+  return m;
+}
 
 /// Unit sphere from an octahedron, quadrisected and re-projected `levels`
 /// times (thesis section 2.7.1): 6, 18, 66, 258, 1026, 4098, 16386 vertices.

@@ -3,7 +3,6 @@
 // conformal maps, constraints, near-optimal maps, the boundary basis and
 // bad input.
 #include "Maps/Parameterization.h"
-#include "IO/OFFFormat.h"
 #include "TestMeshes.h"
 
 #include <gtest/gtest.h>
@@ -18,19 +17,9 @@ namespace
 
 Mesh ReadMesh(const std::string& name)
 {
-  OFFMesh off;
   std::string error;
-  EXPECT_TRUE(ReadOFFFile(std::string(BELTRAMI_TEST_DATA_DIR) + "/" + name, off, error)) << error;
-  Mesh m;
-  m.Points = off.Points;
-  for (std::int64_t f = 0; f < off.NumberOfFaces(); ++f)
-  {
-    EXPECT_EQ(off.FaceOffsets[f + 1] - off.FaceOffsets[f], 3);
-    for (std::int64_t k = off.FaceOffsets[f]; k < off.FaceOffsets[f + 1]; ++k)
-    {
-      m.Triangles.push_back(static_cast<Index>(off.FaceIndices[k]));
-    }
-  }
+  Mesh m = test::ReadMesh(name, error);
+  EXPECT_EQ(error, "");
   return m;
 }
 

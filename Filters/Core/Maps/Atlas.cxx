@@ -1,0 +1,259 @@
+#include "Maps/Atlas.h"
+
+#include "Maps/ChartPartition.h"
+#include "Maps/Distortion.h"
+#include "Maps/Parameterization.h"
+#include "Support/Parallel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace beltrami
+{
+
+namespace
+{
+
+/// Maps `chart` (its Triangles set) onto its own square by DCP; false when
+/// the map fails or flips a triangle.
+bool MapChart(const MeshTopology& topology, const double* points, ParameterizationBoundary boundary, AtlasChart& chart)
+{
+  ChartMesh mesh = ExtractChart(topology, chart.Triangles);
+  std::vector<double> local(3 * mesh.Vertices.size());
+  for (std::size_t v = 0; v < mesh.Vertices.size(); ++v)
+  {
+    std::copy(points + 3 * static_cast<std::size_t>(mesh.Vertices[v]),
+      points + 3 * static_cast<std::size_t>(mesh.Vertices[v]) + 3, local.begin() + 3 * v);
+  }
+  const MeshTopology chartTopology(static_cast<Index>(mesh.Vertices.size()), mesh.Corners, 1);
+  // The requested boundary; where a square flips a triangle (three boundary
+  // points of a triangle on one side), the circle, which never puts three
+  // points on a line; else the chart is split.
+  ParameterizationResult map;
+  for (const ParameterizationBoundary shape : { boundary, ParameterizationBoundary::Circle })
+  {
+    ParameterizationOptions options;
+    options.Boundary = shape;
+    options.NumberOfThreads = 1; // the charts run in parallel
+    map = Parameterize(chartTopology, local.data(), options);
+    chart.Boundary = shape;
+    if (map.Error.empty() && CountFlipped(chartTopology, local.data(), map.UV.data()) == 0)
+    {
+      break;
+    }
+    map.UV.clear();
+  }
+  if (map.UV.empty())
+  {
+    return false;
+  }
+  const DistortionReport distortion = MeasureDistortion(chartTopology, local.data(), map.UV.data(), 1);
+  chart.Triangles = std::move(mesh.Triangles);
+  chart.Vertices = std::move(mesh.Vertices);
+  chart.Corners = std::move(mesh.Corners);
+  chart.UV = std::move(map.UV);
+  chart.Area3D = TotalArea3D(chartTopology, local.data(), 1);
+  chart.MeanAngleDistortion = distortion.MeanAngle;
+  chart.MeanAreaDistortion = distortion.MeanArea;
+  return true;
+}
+
+/// A chart's rectangle for the packing: its map's bounding box at the scale
+/// that gives its map its 3D area.
+struct Box
+{
+  double MinU = 0, MinV = 0, Width = 0, Height = 0, Scale = 1;
+  double X = 0, Y = 0; ///< where it goes (lower left corner, gap included)
+};
+
+Box BoxOf(const AtlasChart& chart)
+{
+  Box box;
+  double maxU = -HUGE_VAL, maxV = -HUGE_VAL;
+  box.MinU = box.MinV = HUGE_VAL;
+  for (std::size_t v = 0; v < chart.UV.size() / 2; ++v)
+  {
+    box.MinU = std::min(box.MinU, chart.UV[2 * v]);
+    box.MinV = std::min(box.MinV, chart.UV[2 * v + 1]);
+    maxU = std::max(maxU, chart.UV[2 * v]);
+    maxV = std::max(maxV, chart.UV[2 * v + 1]);
+  }
+  double area2D = 0.0;
+  for (std::size_t t = 0; t < chart.Corners.size() / 3; ++t)
+  {
+    const double* a = &chart.UV[2 * chart.Corners[3 * t]];
+    const double* b = &chart.UV[2 * chart.Corners[3 * t + 1]];
+    const double* c = &chart.UV[2 * chart.Corners[3 * t + 2]];
+    area2D += 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+  }
+  box.Scale = area2D > 0.0 ? std::sqrt(chart.Area3D / area2D) : 1.0;
+  box.Width = box.Scale * (maxU - box.MinU);
+  box.Height = box.Scale * (maxV - box.MinV);
+  return box;
+}
+
+/// Shelf packing of the boxes (each grown by `gap`) in rows at most `rowWidth`
+/// wide, tallest first; returns the side of the square that holds them.
+double Shelves(std::vector<Box>& boxes, const std::vector<std::size_t>& order, double rowWidth, double gap)
+{
+  double x = 0.0, y = 0.0, rowHeight = 0.0, width = 0.0;
+  for (std::size_t k : order)
+  {
+    Box& b = boxes[k];
+    if (x > 0.0 && x + b.Width + gap > rowWidth)
+    {
+      y += rowHeight;
+      x = rowHeight = 0.0;
+    }
+    b.X = x;
+    b.Y = y;
+    x += b.Width + gap;
+    rowHeight = std::max(rowHeight, b.Height + gap);
+    width = std::max(width, x);
+  }
+  return std::max(width, y + rowHeight);
+}
+
+/// Packs the charts into [0, 1]^2 (Offset, Scale of every chart): the best of
+/// a few row widths, with a gap of MarginTexels; returns the packing efficiency.
+double PackCharts(std::vector<AtlasChart>& charts, const AtlasOptions& options)
+{
+  std::vector<Box> boxes;
+  double area = 0.0, widest = 0.0;
+  for (const AtlasChart& chart : charts)
+  {
+    boxes.push_back(BoxOf(chart));
+    area += boxes.back().Width * boxes.back().Height;
+    widest = std::max(widest, boxes.back().Width);
+  }
+  std::vector<std::size_t> order(boxes.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return boxes[a].Height > boxes[b].Height; });
+  const double margin = options.MarginTexels / std::max(1, options.TextureSize); // in [0, 1]^2 units
+  // The gap between charts depends on the final scale: pack, measure, pack
+  // again with the gap that scale needs, until the gap is at least the margin.
+  double gap = 0.0, rowWidth = widest, side = 0.0, fit = 1.0;
+  for (int pass = 0; pass < 8; ++pass)
+  {
+    double best = HUGE_VAL;
+    for (double f = 1.0; f <= 1.6; f += 0.05)
+    {
+      const double width = std::max(widest + gap, f * std::sqrt(area));
+      const double s = Shelves(boxes, order, width, gap);
+      if (s < best)
+      {
+        best = s;
+        rowWidth = width;
+      }
+    }
+    side = Shelves(boxes, order, rowWidth, gap);
+    fit = (1.0 - margin) / side; // the last chart ends a margin before 1
+    if (fit * gap >= margin * (1.0 - 1e-9))
+    {
+      break;
+    }
+    gap = std::max(gap * 1.01, margin / fit);
+  }
+  double efficiency = 0.0;
+  for (std::size_t k = 0; k < charts.size(); ++k)
+  {
+    const Box& b = boxes[k];
+    charts[k].Scale = fit * b.Scale;
+    charts[k].Offset[0] = fit * (b.X + gap) - charts[k].Scale * b.MinU;
+    charts[k].Offset[1] = fit * (b.Y + gap) - charts[k].Scale * b.MinV;
+    efficiency += fit * fit * charts[k].Area3D;
+  }
+  return efficiency;
+}
+
+/// Maps every region; a region whose map fails or flips is split (into
+/// disks) and its parts mapped again.  False with `error` on a failure that
+/// splitting cannot cure.
+bool MapAllCharts(const MeshTopology& topology, const double* points, const DualGraph& graph,
+  std::vector<std::vector<Index>> regions, const AtlasOptions& options, AtlasResult& result)
+{
+  while (!regions.empty())
+  {
+    std::vector<AtlasChart> round(regions.size());
+    std::vector<std::uint8_t> mapped(regions.size(), 0);
+    ParallelFor(static_cast<std::int64_t>(regions.size()), options.NumberOfThreads,
+      [&](std::int64_t begin, std::int64_t end) {
+        for (std::int64_t k = begin; k < end; ++k)
+        {
+          round[k].Triangles = regions[k];
+          mapped[k] = MapChart(topology, points, options.ChartBoundary, round[k]) ? 1 : 0;
+        }
+      },
+      {}, 0, 1);
+    std::vector<std::vector<Index>> again;
+    for (std::size_t k = 0; k < regions.size(); ++k)
+    {
+      if (mapped[k])
+      {
+        result.Charts.push_back(std::move(round[k]));
+        continue;
+      }
+      std::vector<std::vector<Index>> halves = SplitRegion(graph, regions[k]);
+      if (halves[1].empty())
+      {
+        result.Error = "The map of a single triangle failed (degenerate triangle " + std::to_string(regions[k][0]) + ")";
+        return false;
+      }
+      ++result.SplitsForFlips;
+      for (std::vector<Index>& half : halves)
+      {
+        if (!SplitIntoDisks(topology, graph, std::move(half), again, result.Error))
+        {
+          return false;
+        }
+      }
+    }
+    regions = std::move(again);
+  }
+  std::sort(result.Charts.begin(), result.Charts.end(),
+    [](const AtlasChart& a, const AtlasChart& b) { return a.Triangles.front() < b.Triangles.front(); });
+  return true;
+}
+
+} // namespace
+
+AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const AtlasOptions& options)
+{
+  AtlasResult result;
+  const Index nt = topology.NumberOfTriangles();
+  if (nt == 0)
+  {
+    result.Error = "The surface has no triangles";
+    return result;
+  }
+  for (std::int64_t k = 0; k < 3 * static_cast<std::int64_t>(topology.NumberOfVertices()); ++k)
+  {
+    if (!std::isfinite(points[k]))
+    {
+      result.Error = "The surface has NaN or infinite point coordinates";
+      return result;
+    }
+  }
+  const DualGraph graph(topology, points);
+  const int count = options.NumberOfCharts > 0 ? options.NumberOfCharts : std::max(1, nt / 2000);
+  std::vector<std::vector<Index>> regions;
+  if (!PartitionIntoCharts(topology, graph, count, regions, result.Error) ||
+    !MapAllCharts(topology, points, graph, std::move(regions), options, result))
+  {
+    result.Charts.clear();
+    return result;
+  }
+  result.ChartOfTriangle.assign(nt, -1);
+  for (std::size_t c = 0; c < result.Charts.size(); ++c)
+  {
+    for (Index t : result.Charts[c].Triangles)
+    {
+      result.ChartOfTriangle[t] = static_cast<int>(c);
+    }
+  }
+  result.PackingEfficiency = PackCharts(result.Charts, options);
+  return result;
+}
+
+} // namespace beltrami

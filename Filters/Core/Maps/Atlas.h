@@ -1,0 +1,69 @@
+// Beltrami core: an atlas of a triangle surface of any genus, open or closed,
+// with any number of components (thesis section 4.2): disk-like charts
+// (Maps/ChartPartition), each mapped by the discrete conformal
+// parameterization onto its own square (section 4.2.2: DCP with the chart's
+// boundary on the square, spaced by arc length; the circle where the square
+// would flip a triangle), charts whose map still flips split until none does, and all charts packed into [0, 1]^2 at one
+// scale (texels per unit of surface length alike on every chart) with a
+// margin between them.
+#pragma once
+
+#include "Maps/BoundaryPlacement.h"
+#include "Mesh/MeshTopology.h"
+
+#include <string>
+#include <vector>
+
+namespace beltrami
+{
+
+struct AtlasOptions
+{
+  /// Charts to start from (splits add more); 0: automatic, about one per
+  /// 2,000 triangles and at least one per component (closed components get
+  /// two when they are split into disks).
+  int NumberOfCharts = 0;
+  /// The boundary of every chart's map: the square of section 4.2.2, or the circle.
+  ParameterizationBoundary ChartBoundary = ParameterizationBoundary::Square;
+  /// The margin between packed charts, in texels of a TextureSize^2 texture.
+  int TextureSize = 1024;
+  double MarginTexels = 2.0;
+  int NumberOfThreads = 0;
+};
+
+struct AtlasChart
+{
+  std::vector<Index> Triangles; ///< ids in the surface, ascending
+  std::vector<Index> Vertices;  ///< chart vertex -> surface vertex, ascending
+  IndexArray Corners;           ///< 3 per chart triangle (same order as Triangles), chart vertex ids
+  std::vector<double> UV;       ///< 2 per chart vertex: the chart's map, in [0, 1]^2 (its own square)
+  /// The boundary of the map: the requested one, or the circle where the
+  /// square would have flipped a triangle.
+  ParameterizationBoundary Boundary = ParameterizationBoundary::Square;
+  double Area3D = 0.0;          ///< area of the chart on the surface
+  double MeanAngleDistortion = 0.0, MeanAreaDistortion = 0.0; ///< of UV (Maps/Distortion)
+  double Offset[2] = { 0.0, 0.0 }; ///< packed: atlas UV = Offset + Scale * UV
+  double Scale = 1.0;
+};
+
+struct AtlasResult
+{
+  std::string Error;   ///< non-empty: no atlas
+  std::string Warning; ///< non-fatal remarks
+  std::vector<int> ChartOfTriangle; ///< per surface triangle
+  std::vector<AtlasChart> Charts;
+  int SplitsForFlips = 0;           ///< charts split because their map flipped a triangle
+  double PackingEfficiency = 0.0;   ///< area of the packed charts' maps / area of [0, 1]^2
+};
+
+/// The atlas of the surface (its kept triangles; 3 doubles per point).
+AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const AtlasOptions& options = {});
+
+/// The packed position in [0, 1]^2 of chart vertex v of `chart`.
+inline void AtlasUV(const AtlasChart& chart, Index v, double* uv)
+{
+  uv[0] = chart.Offset[0] + chart.Scale * chart.UV[2 * v];
+  uv[1] = chart.Offset[1] + chart.Scale * chart.UV[2 * v + 1];
+}
+
+} // namespace beltrami

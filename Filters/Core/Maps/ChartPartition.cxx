@@ -1,0 +1,356 @@
+#include "Maps/ChartPartition.h"
+
+#include "Mesh/Geometry.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <numeric>
+#include <queue>
+
+namespace beltrami
+{
+
+DualGraph::DualGraph(const MeshTopology& topology, const double* points)
+{
+  const Index nt = topology.NumberOfTriangles();
+  const IndexArray& tri = topology.TriangleList();
+  Neighbors.assign(3 * static_cast<std::size_t>(nt), -1);
+  Distances.assign(3 * static_cast<std::size_t>(nt), 0.0);
+  Areas.resize(nt);
+  std::vector<Vec3> centroid(nt);
+  for (Index t = 0; t < nt; ++t)
+  {
+    const Vec3 a = Point(points, tri[3 * t]), b = Point(points, tri[3 * t + 1]), c = Point(points, tri[3 * t + 2]);
+    centroid[t] = (a + b + c) / 3.0;
+    Areas[t] = 0.5 * (b - a).cross(c - a).norm();
+  }
+  const MeshTopology::EdgeTable& edges = topology.Edges();
+  const auto link = [&](Index from, Index to) {
+    for (int k = 0; k < 3; ++k)
+    {
+      if (Neighbors[3 * from + k] < 0)
+      {
+        Neighbors[3 * from + k] = to;
+        Distances[3 * from + k] = (centroid[from] - centroid[to]).norm();
+        return;
+      }
+    }
+  };
+  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
+  {
+    const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
+    if (edges.FaceCount[e] == 2 && c0 >= 0 && c1 >= 0)
+    {
+      link(c0 / 3, c1 / 3);
+      link(c1 / 3, c0 / 3);
+    }
+  }
+}
+
+ChartMesh ExtractChart(const MeshTopology& topology, std::vector<Index> triangles)
+{
+  ChartMesh chart;
+  std::sort(triangles.begin(), triangles.end());
+  chart.Triangles = std::move(triangles);
+  const IndexArray& tri = topology.TriangleList();
+  for (Index t : chart.Triangles)
+  {
+    chart.Vertices.insert(chart.Vertices.end(), { tri[3 * t], tri[3 * t + 1], tri[3 * t + 2] });
+  }
+  std::sort(chart.Vertices.begin(), chart.Vertices.end());
+  chart.Vertices.erase(std::unique(chart.Vertices.begin(), chart.Vertices.end()), chart.Vertices.end());
+  chart.Corners.resize(3 * chart.Triangles.size());
+  for (std::size_t k = 0; k < chart.Triangles.size(); ++k)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      const Index v = tri[3 * chart.Triangles[k] + c];
+      chart.Corners[3 * k + c] = static_cast<Index>(
+        std::lower_bound(chart.Vertices.begin(), chart.Vertices.end(), v) - chart.Vertices.begin());
+    }
+  }
+  return chart;
+}
+
+bool IsDisk(const ChartMesh& chart, std::string* why)
+{
+  const MeshTopology topology(static_cast<Index>(chart.Vertices.size()), chart.Corners, 1);
+  const TopologySummary& s = topology.Summary();
+  const bool disk = s.IsManifold() && s.IsOriented() && s.NumberOfBoundaryLoops == 1 && s.EulerCharacteristic == 1;
+  if (!disk && why)
+  {
+    *why = topology.Describe();
+  }
+  return disk;
+}
+
+namespace
+{
+
+/// Distances along the dual graph to the nearest of a growing set of seeds
+/// (each new seed relaxes only the triangles it is nearer to).
+class NearestSeeds
+{
+public:
+  NearestSeeds(const DualGraph& graph, const std::vector<std::uint8_t>& allowed)
+    : Graph(graph)
+    , Allowed(allowed)
+    , Distance(graph.NumberOfTriangles(), std::numeric_limits<double>::infinity())
+    , Label(graph.NumberOfTriangles(), -1)
+  {
+  }
+
+  void Add(Index seed, int label)
+  {
+    using Item = std::pair<double, Index>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+    Distance[seed] = 0.0;
+    Label[seed] = label;
+    queue.emplace(0.0, seed);
+    while (!queue.empty())
+    {
+      const auto [d, t] = queue.top();
+      queue.pop();
+      if (d > Distance[t] || Label[t] != label)
+      {
+        continue;
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        const Index n = Graph.Neighbors[3 * t + k];
+        const double nd = d + Graph.Distances[3 * t + k];
+        if (n >= 0 && (Allowed.empty() || Allowed[n]) && nd < Distance[n])
+        {
+          Distance[n] = nd;
+          Label[n] = label;
+          queue.emplace(nd, n);
+        }
+      }
+    }
+  }
+
+  /// The allowed, reached triangle farthest from every seed among `candidates`.
+  Index Farthest(const std::vector<Index>& candidates) const
+  {
+    Index best = candidates.empty() ? -1 : candidates.front();
+    for (Index t : candidates)
+    {
+      best = Distance[t] > Distance[best] && std::isfinite(Distance[t]) ? t : best;
+    }
+    return best;
+  }
+
+  const DualGraph& Graph;
+  const std::vector<std::uint8_t>& Allowed;
+  std::vector<double> Distance;
+  std::vector<int> Label;
+};
+
+/// The connected components of the dual graph, as triangle lists.
+std::vector<std::vector<Index>> Components(const DualGraph& graph)
+{
+  const Index nt = graph.NumberOfTriangles();
+  std::vector<int> component(nt, -1);
+  std::vector<std::vector<Index>> components;
+  for (Index start = 0; start < nt; ++start)
+  {
+    if (component[start] >= 0)
+    {
+      continue;
+    }
+    components.emplace_back();
+    std::vector<Index>& members = components.back();
+    component[start] = static_cast<int>(components.size() - 1);
+    members.push_back(start);
+    for (std::size_t k = 0; k < members.size(); ++k)
+    {
+      for (int j = 0; j < 3; ++j)
+      {
+        const Index n = graph.Neighbors[3 * members[k] + j];
+        if (n >= 0 && component[n] < 0)
+        {
+          component[n] = component[start];
+          members.push_back(n);
+        }
+      }
+    }
+  }
+  return components;
+}
+
+} // namespace
+
+std::vector<Index> ChooseSeeds(const DualGraph& graph, int count)
+{
+  const std::vector<std::vector<Index>> components = Components(graph);
+  const double total = std::accumulate(graph.Areas.begin(), graph.Areas.end(), 0.0);
+  const std::vector<std::uint8_t> all;
+  NearestSeeds nearest(graph, all);
+  std::vector<Index> seeds;
+  for (const std::vector<Index>& members : components)
+  {
+    double area = 0.0;
+    for (Index t : members)
+    {
+      area += graph.Areas[t];
+    }
+    const int share = std::max(1, static_cast<int>(std::lround(count * (total > 0.0 ? area / total : 0.0))));
+    // The first seed: the triangle farthest from the component's first one
+    // (an end of the component rather than its middle).
+    NearestSeeds probe(graph, all);
+    probe.Add(members.front(), 0);
+    for (int k = 0; k < share; ++k)
+    {
+      const Index seed = k == 0 ? probe.Farthest(members) : nearest.Farthest(members);
+      seeds.push_back(seed);
+      nearest.Add(seed, static_cast<int>(seeds.size() - 1));
+    }
+  }
+  return seeds;
+}
+
+std::vector<int> GrowRegions(const DualGraph& graph, const std::vector<Index>& seeds,
+  const std::vector<std::uint8_t>& allowed, std::vector<double>* distance)
+{
+  NearestSeeds nearest(graph, allowed);
+  for (std::size_t k = 0; k < seeds.size(); ++k)
+  {
+    nearest.Add(seeds[k], static_cast<int>(k));
+  }
+  if (distance)
+  {
+    *distance = nearest.Distance;
+  }
+  return nearest.Label;
+}
+
+std::vector<std::vector<Index>> SplitRegion(const DualGraph& graph, const std::vector<Index>& triangles)
+{
+  std::vector<std::uint8_t> allowed(graph.NumberOfTriangles(), 0);
+  for (Index t : triangles)
+  {
+    allowed[t] = 1;
+  }
+  NearestSeeds fromFirst(graph, allowed);
+  fromFirst.Add(triangles.front(), 0);
+  const Index a = fromFirst.Farthest(triangles);
+  NearestSeeds fromA(graph, allowed);
+  fromA.Add(a, 0);
+  const Index b = fromA.Farthest(triangles);
+  std::vector<std::vector<Index>> halves(2);
+  if (a == b)
+  {
+    halves[0] = triangles;
+    return halves;
+  }
+  const std::vector<int> label = GrowRegions(graph, { a, b }, allowed);
+  for (Index t : triangles)
+  {
+    halves[label[t] == 1 ? 1 : 0].push_back(t);
+  }
+  return halves;
+}
+
+void SmoothRegionBoundaries(const DualGraph& graph, std::vector<int>& label, int passes)
+{
+  for (int pass = 0; pass < passes; ++pass)
+  {
+    bool moved = false;
+    for (Index t = 0; t < graph.NumberOfTriangles(); ++t)
+    {
+      // An ear: two (or three) neighbours in one other region, at most one in its own.
+      int other = -1, count = 0, own = 0;
+      for (int k = 0; k < 3; ++k)
+      {
+        const Index n = graph.Neighbors[3 * t + k];
+        if (n < 0)
+        {
+          continue;
+        }
+        if (label[n] == label[t])
+        {
+          ++own;
+        }
+        else if (other < 0 || label[n] == other)
+        {
+          other = label[n];
+          ++count;
+        }
+      }
+      if (own <= 1 && count >= 2)
+      {
+        label[t] = other;
+        moved = true;
+      }
+    }
+    if (!moved)
+    {
+      break;
+    }
+  }
+}
+
+bool SplitIntoDisks(const MeshTopology& topology, const DualGraph& graph, std::vector<Index> region,
+  std::vector<std::vector<Index>>& disks, std::string& error)
+{
+  std::vector<std::vector<Index>> pending;
+  pending.push_back(std::move(region));
+  while (!pending.empty())
+  {
+    std::vector<Index> part = std::move(pending.back());
+    pending.pop_back();
+    if (part.empty())
+    {
+      continue;
+    }
+    if (IsDisk(ExtractChart(topology, part)))
+    {
+      disks.push_back(std::move(part));
+      continue;
+    }
+    std::vector<std::vector<Index>> halves = SplitRegion(graph, part);
+    if (halves[1].empty())
+    {
+      error = "A single triangle is not a disk: the surface is not manifold where it should be.";
+      return false;
+    }
+    pending.push_back(std::move(halves[0]));
+    pending.push_back(std::move(halves[1]));
+  }
+  return true;
+}
+
+bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, int count,
+  std::vector<std::vector<Index>>& charts, std::string& error)
+{
+  charts.clear();
+  const TopologySummary& s = topology.Summary();
+  if (!s.IsManifold() || !s.IsOriented())
+  {
+    error = "An atlas needs a manifold, consistently oriented surface; the input has " + topology.Describe();
+    return false;
+  }
+  const std::vector<Index> seeds = ChooseSeeds(graph, count);
+  std::vector<int> label = GrowRegions(graph, seeds);
+  SmoothRegionBoundaries(graph, label);
+  std::vector<std::vector<Index>> regions(seeds.size());
+  for (Index t = 0; t < graph.NumberOfTriangles(); ++t)
+  {
+    regions[label[t]].push_back(t);
+  }
+  for (std::vector<Index>& region : regions)
+  {
+    if (!SplitIntoDisks(topology, graph, std::move(region), charts, error))
+    {
+      return false;
+    }
+  }
+  std::sort(charts.begin(), charts.end(), [](const auto& x, const auto& y) { return x.front() < y.front(); });
+  return true;
+}
+
+} // namespace beltrami

@@ -1,0 +1,86 @@
+// Beltrami core: the partition of a triangle surface into disk-like charts
+// (thesis section 4.2.1, after Eck et al.: approximate Voronoi regions).
+//
+// Seeds are spread over every connected component by farthest-point
+// sampling on the dual graph (triangles joined across their manifold edges,
+// at the distance of their centroids); every triangle joins the nearest seed
+// (a multi-source Dijkstra, so each region is connected).  A region that is
+// not a topological disk (Euler characteristic 1 and one boundary loop: a
+// band around a handle, a closed component, a region that touches itself at
+// a vertex) is split in two along the same distances from its two most
+// distant triangles, until every chart is a disk.
+#pragma once
+
+#include "Mesh/MeshTopology.h"
+
+#include <string>
+#include <vector>
+
+namespace beltrami
+{
+
+/// The triangles of a surface joined across their edges used by exactly two
+/// triangles (the dual graph): 3 neighbours per triangle (-1: none, across a
+/// boundary or non-manifold edge) and the distances of the centroids.
+struct DualGraph
+{
+  std::vector<Index> Neighbors;   ///< 3 per triangle
+  std::vector<double> Distances;  ///< 3 per triangle
+  std::vector<double> Areas;      ///< 3D area per triangle
+
+  DualGraph(const MeshTopology& topology, const double* points);
+  Index NumberOfTriangles() const { return static_cast<Index>(Areas.size()); }
+};
+
+/// The triangles of one chart as a mesh of their own.
+struct ChartMesh
+{
+  std::vector<Index> Triangles; ///< ids in the surface
+  std::vector<Index> Vertices;  ///< chart vertex -> surface vertex, ascending
+  IndexArray Corners;           ///< 3 per chart triangle, chart vertex ids
+};
+
+/// The chart mesh of `triangles` (ids of `topology`).
+ChartMesh ExtractChart(const MeshTopology& topology, std::vector<Index> triangles);
+
+/// True when the triangles of `chart` form a topological disk: manifold,
+/// oriented, one boundary loop, Euler characteristic 1.
+bool IsDisk(const ChartMesh& chart, std::string* why = nullptr);
+
+/// Seeds for `count` charts (at least one per connected component of the
+/// dual graph, the rest shared by area), by farthest-point sampling.
+std::vector<Index> ChooseSeeds(const DualGraph& graph, int count);
+
+/// label[t] = the index (in `seeds`) of the nearest seed along the dual
+/// graph, over the triangles with allowed[t] (all if empty); -1 elsewhere
+/// and where no seed reaches.  distance: the distance to it (optional).
+std::vector<int> GrowRegions(const DualGraph& graph, const std::vector<Index>& seeds,
+  const std::vector<std::uint8_t>& allowed = {}, std::vector<double>* distance = nullptr);
+
+/// Moves every triangle that touches its own region by at most one edge and
+/// another region by two (an ear of a jagged region boundary: on a square
+/// chart boundary its three corners would be collinear) to that region,
+/// `passes` times at most.  (A region can lose its connectivity or its disk
+/// shape when it is thin: the partition checks every chart after.)
+void SmoothRegionBoundaries(const DualGraph& graph, std::vector<int>& label, int passes = 4);
+
+/// Splits `triangles` (a connected set) in two: seeds at the triangle
+/// farthest from its first triangle and the one farthest from that; the
+/// halves are the regions grown from them.  Either half may be empty only
+/// when `triangles` has one triangle.
+std::vector<std::vector<Index>> SplitRegion(const DualGraph& graph, const std::vector<Index>& triangles);
+
+/// `region` (connected) as disks: kept when it is one, else split
+/// (SplitRegion) until every part is; the disks are appended to `disks`.
+/// False with `error` when a single triangle is no disk.
+bool SplitIntoDisks(const MeshTopology& topology, const DualGraph& graph, std::vector<Index> region,
+  std::vector<std::vector<Index>>& disks, std::string& error);
+
+/// The partition: every triangle of `topology` in exactly one disk-like
+/// chart (chart[t] = its index).  `count`: the number of initial regions
+/// (splits add more).  False with `error` when the surface is not manifold
+/// and oriented (no chart of it could be a disk).
+bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, int count,
+  std::vector<std::vector<Index>>& charts, std::string& error);
+
+} // namespace beltrami

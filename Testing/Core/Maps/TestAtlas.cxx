@@ -1,0 +1,161 @@
+// The atlas of thesis section 4.2 (Maps/ChartPartition, Maps/Atlas): every
+// triangle in one disk-like chart, no flipped triangle, charts inside their
+// squares and packed without overlap, on surfaces of genus 0, 1 and 2,
+// closed, open, with sharp edges and with several components.
+#include "Maps/Atlas.h"
+#include "Maps/ChartPartition.h"
+#include "Maps/Distortion.h"
+#include "TestMeshes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+using namespace beltrami;
+using beltrami::test::Mesh;
+
+namespace
+{
+
+/// Two meshes as one (the second's vertex ids shifted).
+Mesh Join(const Mesh& a, const Mesh& b)
+{
+  Mesh m = a;
+  const Index shift = a.NumberOfVertices();
+  m.Points.insert(m.Points.end(), b.Points.begin(), b.Points.end());
+  for (Index v : b.Triangles)
+  {
+    m.Triangles.push_back(v + shift);
+  }
+  return m;
+}
+
+/// Checks everything an atlas promises; returns the largest chart area over
+/// the smallest (for the report).
+void ExpectValidAtlas(const Mesh& mesh, const AtlasResult& atlas, const char* name)
+{
+  ASSERT_EQ(atlas.Error, "") << name;
+  const MeshTopology topology = mesh.Topology();
+  ASSERT_EQ(atlas.ChartOfTriangle.size(), static_cast<std::size_t>(topology.NumberOfTriangles()));
+  std::vector<int> seen(topology.NumberOfTriangles(), 0);
+  double surfaceArea = 0.0, largest = 0.0, smallest = HUGE_VAL;
+  std::vector<std::array<double, 4>> boxes;
+  for (std::size_t c = 0; c < atlas.Charts.size(); ++c)
+  {
+    const AtlasChart& chart = atlas.Charts[c];
+    for (Index t : chart.Triangles)
+    {
+      ++seen[t];
+      ASSERT_EQ(atlas.ChartOfTriangle[t], static_cast<int>(c));
+    }
+    ChartMesh piece = ExtractChart(topology, chart.Triangles);
+    std::string why;
+    EXPECT_TRUE(IsDisk(piece, &why)) << name << " chart " << c << ": " << why;
+    const MeshTopology local(static_cast<Index>(chart.Vertices.size()), chart.Corners, 1);
+    std::vector<double> points(3 * chart.Vertices.size());
+    for (std::size_t v = 0; v < chart.Vertices.size(); ++v)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        points[3 * v + k] = mesh.Points[3 * chart.Vertices[v] + k];
+      }
+    }
+    EXPECT_EQ(CountFlipped(local, points.data(), chart.UV.data()), 0) << name << " chart " << c;
+    std::array<double, 4> box = { HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL };
+    for (std::size_t v = 0; v < chart.Vertices.size(); ++v)
+    {
+      EXPECT_GE(chart.UV[2 * v], -1e-12);
+      EXPECT_LE(chart.UV[2 * v + 1], 1.0 + 1e-12);
+      double uv[2];
+      AtlasUV(chart, static_cast<Index>(v), uv);
+      box = { std::min(box[0], uv[0]), std::min(box[1], uv[1]), std::max(box[2], uv[0]), std::max(box[3], uv[1]) };
+    }
+    EXPECT_GE(box[0], 0.0);
+    EXPECT_GE(box[1], 0.0);
+    EXPECT_LE(box[2], 1.0);
+    EXPECT_LE(box[3], 1.0);
+    boxes.push_back(box);
+    surfaceArea += chart.Area3D;
+    largest = std::max(largest, chart.Area3D);
+    smallest = std::min(smallest, chart.Area3D);
+  }
+  for (int count : seen)
+  {
+    ASSERT_EQ(count, 1) << name << ": every triangle in exactly one chart";
+  }
+  // Packed charts do not overlap: their boxes are at least the margin apart.
+  for (std::size_t i = 0; i < boxes.size(); ++i)
+  {
+    for (std::size_t j = i + 1; j < boxes.size(); ++j)
+    {
+      const bool apart = boxes[i][2] < boxes[j][0] || boxes[j][2] < boxes[i][0] || boxes[i][3] < boxes[j][1] ||
+        boxes[j][3] < boxes[i][1];
+      ASSERT_TRUE(apart) << name << ": charts " << i << " and " << j << " overlap";
+    }
+  }
+  EXPECT_NEAR(surfaceArea, mesh.TotalArea(), 1e-9 * mesh.TotalArea());
+  EXPECT_GT(atlas.PackingEfficiency, 0.3) << name;
+  EXPECT_LT(atlas.PackingEfficiency, 1.0) << name;
+  const auto squares = std::count_if(atlas.Charts.begin(), atlas.Charts.end(),
+    [](const AtlasChart& c) { return c.Boundary == ParameterizationBoundary::Square; });
+  std::printf("%s: %zu charts (%ld on squares, %d split for flips), areas %.3g..%.3g, packing %.1f%%\n", name,
+    atlas.Charts.size(), static_cast<long>(squares), atlas.SplitsForFlips, smallest, largest,
+    100.0 * atlas.PackingEfficiency);
+}
+
+} // namespace
+
+TEST(Atlas, ClosedSurfacesOfGenusZeroOneAndTwo)
+{
+  const Mesh sphere = test::OctahedronSphere(4);
+  const Mesh torus = test::Torus(2.0, 0.7, 48, 24, 0.2, 5);
+  std::string error;
+  const Mesh eight = test::ReadMesh("eight.off", error);
+  ASSERT_EQ(error, "");
+  const Mesh fandisk = test::ReadMesh("fandisk.off", error); // sharp edges
+  ASSERT_EQ(error, "");
+  for (const auto& [mesh, name] : { std::make_pair(&sphere, "sphere"), std::make_pair(&torus, "torus"),
+         std::make_pair(&eight, "genus 2"), std::make_pair(&fandisk, "fandisk") })
+  {
+    const MeshTopology topology = mesh->Topology();
+    ExpectValidAtlas(*mesh, BuildAtlas(topology, mesh->Points.data()), name);
+  }
+}
+
+TEST(Atlas, OpenSurfacesSeveralComponentsAndChartCounts)
+{
+  std::string error;
+  const Mesh mushroom = test::ReadMesh("mushroom.off", error);
+  ASSERT_EQ(error, "");
+  const Mesh both = Join(mushroom, test::Torus(2.0, 0.5, 30, 12, 0.0, 1));
+  const MeshTopology topology = both.Topology();
+  for (int charts : { 1, 8, 40 })
+  {
+    AtlasOptions options;
+    options.NumberOfCharts = charts;
+    const AtlasResult atlas = BuildAtlas(topology, both.Points.data(), options);
+    ExpectValidAtlas(both, atlas, ("mushroom + torus, " + std::to_string(charts) + " charts").c_str());
+    EXPECT_GE(atlas.Charts.size(), static_cast<std::size_t>(std::max(charts, 3))); // a torus needs 2 or more
+  }
+}
+
+TEST(Atlas, BadInputIsAnErrorNotACrash)
+{
+  Mesh nonManifold = test::OctahedronSphere(1);
+  nonManifold.AddTriangle(0, 1, nonManifold.AddPoint({ 3.0, 3.0, 3.0 })); // a fin on an edge
+  nonManifold.AddTriangle(0, 1, nonManifold.AddPoint({ -3.0, 3.0, 3.0 }));
+  const MeshTopology fins = nonManifold.Topology();
+  EXPECT_NE(BuildAtlas(fins, nonManifold.Points.data()).Error, "");
+
+  Mesh nan = test::OctahedronSphere(2);
+  nan.Points[4] = std::nan("");
+  const MeshTopology nanTopology = nan.Topology();
+  const AtlasResult withNaN = BuildAtlas(nanTopology, nan.Points.data());
+  EXPECT_NE(withNaN.Error, "");
+  EXPECT_TRUE(withNaN.Charts.empty());
+
+  const MeshTopology empty(0, IndexArray(), 1);
+  EXPECT_NE(BuildAtlas(empty, nullptr).Error, "");
+}
