@@ -22,7 +22,8 @@ from vtkmodules.vtkRenderingCore import (vtkActor, vtkColorTransferFunction, vtk
                                          vtkRenderer, vtkRenderWindow, vtkTexture, vtkWindowToImageFilter)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (rendering backend)
 
-from .BeltramiFilters import vtkDiscreteCurvatures, vtkImageBeltramiDenoising, vtkIntrinsicParameterization
+from .BeltramiFilters import (vtkDiscreteCurvatures, vtkImageBeltramiDenoising, vtkIntrinsicParameterization,
+                              vtkSurfaceAtlas)
 from .BeltramiIO import vtkOFFReader
 
 SIGMA = 0.1  # the noise level of the denoising demo and tests
@@ -123,6 +124,19 @@ def parameterize(mesh_path, conformal=1.0, authalic=0.0, boundary=vtkIntrinsicPa
     return f, time.perf_counter() - start
 
 
+def surface_atlas(mesh_path, charts=0):
+    """vtkSurfaceAtlas on an OFF mesh; returns (filter, seconds)."""
+    reader = vtkOFFReader()
+    reader.SetFileName(mesh_path)
+    reader.Update()
+    f = vtkSurfaceAtlas()
+    f.SetInputConnection(reader.GetOutputPort())
+    f.SetNumberOfCharts(charts)
+    start = time.perf_counter()
+    f.Update()
+    return f, time.perf_counter() - start
+
+
 def checkerboard(squares=16, pixels=32):
     """A black-and-white checkerboard image, `squares` squares per side."""
     canvas = vtkImageCanvasSource2D()
@@ -141,10 +155,10 @@ def checkerboard(squares=16, pixels=32):
     return canvas.GetOutput()
 
 
-def render_checkerboard(polydata, png_path, size=(800, 800)):
+def render_checkerboard(polydata, png_path, size=(800, 800), squares=16, view_up=(0, 0, 1), direction=(1, -1, 0.6)):
     """The surface with a checkerboard mapped through its TCoords."""
     texture = vtkTexture()
-    texture.SetInputData(checkerboard())
+    texture.SetInputData(checkerboard(squares))
     texture.InterpolateOff()
     texture.RepeatOff()
     mapper = vtkPolyDataMapper()
@@ -153,7 +167,7 @@ def render_checkerboard(polydata, png_path, size=(800, 800)):
     actor = vtkActor()
     actor.SetMapper(mapper)
     actor.SetTexture(texture)
-    return snapshot(actor, png_path, size, view_up=(0, 0, 1), direction=(1, -1, 0.6), zoom=1.2)
+    return snapshot(actor, png_path, size, view_up=view_up, direction=direction, zoom=1.2)
 
 
 def read_png(path):

@@ -212,6 +212,20 @@ check(uv_difference < 1e-9 and angles.shape == (natural_map.GetNumberOfCells(),)
       "split mushroom over %d partition(s): the natural conformal map of serial (UV difference %g)"
       % (partitions, uv_difference))
 
+# The atlas of a closed surface (section 4.2), split over the ranks: gathered
+# and cut on rank 0, the other ranks' pieces empty; the whole cut surface as
+# in serial.
+elephant_surface = OpenDataFile(os.path.join(DATA, "elephant.off"))
+atlas = SurfaceAtlas(Input=ExtractSurface(Input=RedistributeDataSet(Input=elephant_surface)))
+check(atlas.ChartBoundary == "Square" and atlas.NumberOfCharts == 0 and atlas.MarginTexels == 2.0,
+      "atlas defaults")
+atlas.UpdatePipeline()
+cut = servermanager.Fetch(atlas)
+atlas_uv = vtk_to_numpy(cut.GetPointData().GetTCoords())
+atlas_charts = cut.GetFieldData().GetArray("AtlasCharts").GetValue(0)
+check(cut.GetNumberOfCells() == elephant_surface.GetDataInformation().GetNumberOfCells() and atlas_charts >= 2 and (atlas_uv >= 0).all() and (atlas_uv <= 1).all(),
+      "atlas of the elephant over %d partition(s): %d charts, UV in [0,1]^2" % (partitions, atlas_charts))
+
 # Image denoising: the camera picture (8-bit greyscale) through the plugin.
 image = PNGSeriesReader(FileNames=[os.path.join(DATA, "camera.png")])
 image.UpdatePipeline()  # as in the GUI: the array lists need the data information

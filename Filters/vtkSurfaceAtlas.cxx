@@ -1,0 +1,213 @@
+#include "vtkSurfaceAtlas.h"
+#include "vtkBeltramiSettings.h"
+
+#include "vtkBeltramiGather.h"
+#include "vtkBeltramiSurface.h"
+
+#include "Maps/Atlas.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkIdTypeArray.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+
+#include <vector>
+
+BELTRAMI_SAME_ENUM(vtkSurfaceAtlas::CIRCLE, beltrami::ParameterizationBoundary::Circle);
+BELTRAMI_SAME_ENUM(vtkSurfaceAtlas::SQUARE, beltrami::ParameterizationBoundary::Square);
+
+vtkStandardNewMacro(vtkSurfaceAtlas);
+
+vtkSurfaceAtlas::vtkSurfaceAtlas()
+{
+  // The defaults have one source: the core's AtlasOptions.
+  beltrami::AtlasOptions defaults;
+  this->CopySettings(defaults, vtkBeltramiCopy::FromCore);
+}
+
+void vtkSurfaceAtlas::CopySettings(beltrami::AtlasOptions& o, vtkBeltramiCopy direction)
+{
+  BeltramiCopySetting(this->NumberOfCharts, o.NumberOfCharts, direction);
+  BeltramiCopySetting(this->ChartBoundary, o.ChartBoundary, direction);
+  BeltramiCopySetting(this->TextureSize, o.TextureSize, direction);
+  BeltramiCopySetting(this->MarginTexels, o.MarginTexels, direction);
+  BeltramiCopySetting(this->NumberOfThreads, o.NumberOfThreads, direction);
+}
+
+int vtkSurfaceAtlas::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  if (!input || !output)
+  {
+    vtkErrorMacro("Input and output must be vtkPolyData.");
+    return 0;
+  }
+  // The atlas needs the whole surface: split data are gathered on rank 0,
+  // which holds the cut surface (a new mesh: the other ranks' outputs stay empty).
+  return vtkBeltramiGather::RunWhole(outputVector->GetInformationObject(0), input, output,
+    vtkBeltramiGather::Results::OnRankZero, [this](vtkPointSet* in, vtkPointSet* out, int) {
+      return this->Build(vtkPolyData::SafeDownCast(in), vtkPolyData::SafeDownCast(out));
+    });
+}
+
+int vtkSurfaceAtlas::Build(vtkPolyData* input, vtkPolyData* output)
+{
+  output->Initialize(); // a defined output: empty
+  if (!input || input->GetNumberOfPoints() == 0)
+  {
+    vtkWarningMacro("Input has no points: the atlas is empty.");
+    return 1;
+  }
+  vtkBeltramiSurface surface;
+  if (!surface.Build(input, this->NumberOfThreads))
+  {
+    vtkErrorMacro("Cannot process the input surface: " << surface.Error());
+    return 0;
+  }
+  const beltrami::MeshTopology& topology = surface.Topology();
+  if (topology.NumberOfTriangles() == 0)
+  {
+    vtkWarningMacro("Input has no polygons or triangle strips: the atlas is empty.");
+    return 1;
+  }
+  std::vector<double> storage;
+  const double* points = surface.PointsAsDouble(storage);
+  beltrami::AtlasOptions options;
+  this->CopySettings(options, vtkBeltramiCopy::ToCore);
+  this->UpdateProgress(0.0);
+  const beltrami::AtlasResult atlas = beltrami::BuildAtlas(topology, points, options);
+  if (!atlas.Error.empty())
+  {
+    vtkErrorMacro(<< atlas.Error << ". The output is empty.");
+    return 0;
+  }
+  std::vector<vtkIdType> triangleCell(topology.NumberOfTriangles());
+  for (beltrami::Index t = 0; t < topology.NumberOfTriangles(); ++t)
+  {
+    triangleCell[t] = surface.TriangleCell(topology.OriginalTriangleIds()[t]);
+  }
+  this->WriteCutSurface(input, atlas, triangleCell, output);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkSurfaceAtlas::WriteCutSurface(vtkPolyData* input, const beltrami::AtlasResult& atlas,
+  const std::vector<vtkIdType>& triangleCell, vtkPolyData* output)
+{
+  vtkIdType numPoints = 0, numTriangles = 0;
+  for (const beltrami::AtlasChart& chart : atlas.Charts)
+  {
+    numPoints += static_cast<vtkIdType>(chart.Vertices.size());
+    numTriangles += static_cast<vtkIdType>(chart.Triangles.size());
+  }
+  vtkNew<vtkPoints> cutPoints;
+  cutPoints->SetDataType(input->GetPoints()->GetDataType() == VTK_FLOAT ? VTK_FLOAT : VTK_DOUBLE);
+  cutPoints->SetNumberOfPoints(numPoints);
+  vtkNew<vtkDoubleArray> uv, chartUV;
+  uv->SetName("UV");
+  chartUV->SetName("ChartUV");
+  uv->SetNumberOfComponents(2);
+  chartUV->SetNumberOfComponents(2);
+  uv->SetNumberOfTuples(numPoints);
+  chartUV->SetNumberOfTuples(numPoints);
+  vtkNew<vtkIdTypeArray> pointIds, cellIds;
+  pointIds->SetName("vtkOriginalPointIds");
+  cellIds->SetName("vtkOriginalCellIds");
+  pointIds->SetNumberOfTuples(numPoints);
+  cellIds->SetNumberOfTuples(numTriangles);
+  vtkNew<vtkIntArray> chartId;
+  chartId->SetName("ChartId");
+  chartId->SetNumberOfTuples(numTriangles);
+  vtkNew<vtkCellArray> triangles;
+  triangles->AllocateExact(numTriangles, 3 * numTriangles);
+  vtkIdType first = 0, cell = 0;
+  for (std::size_t c = 0; c < atlas.Charts.size(); ++c)
+  {
+    const beltrami::AtlasChart& chart = atlas.Charts[c];
+    for (std::size_t v = 0; v < chart.Vertices.size(); ++v)
+    {
+      const vtkIdType id = first + static_cast<vtkIdType>(v);
+      cutPoints->SetPoint(id, input->GetPoint(chart.Vertices[v]));
+      pointIds->SetValue(id, chart.Vertices[v]);
+      double packed[2];
+      beltrami::AtlasUV(chart, static_cast<beltrami::Index>(v), packed);
+      uv->SetTypedTuple(id, packed);
+      chartUV->SetTypedTuple(id, &chart.UV[2 * v]);
+    }
+    for (std::size_t t = 0; t < chart.Triangles.size(); ++t, ++cell)
+    {
+      const vtkIdType ids[3] = { first + chart.Corners[3 * t], first + chart.Corners[3 * t + 1],
+        first + chart.Corners[3 * t + 2] };
+      triangles->InsertNextCell(3, ids);
+      chartId->SetValue(cell, static_cast<int>(c));
+      cellIds->SetValue(cell, triangleCell[chart.Triangles[t]]);
+    }
+    first += static_cast<vtkIdType>(chart.Vertices.size());
+  }
+  output->SetPoints(cutPoints);
+  output->SetPolys(triangles);
+  output->GetPointData()->CopyAllocate(input->GetPointData(), numPoints);
+  for (vtkIdType p = 0; p < numPoints; ++p)
+  {
+    output->GetPointData()->CopyData(input->GetPointData(), pointIds->GetValue(p), p);
+  }
+  output->GetCellData()->CopyAllocate(input->GetCellData(), numTriangles);
+  for (vtkIdType t = 0; t < numTriangles; ++t)
+  {
+    output->GetCellData()->CopyData(input->GetCellData(), cellIds->GetValue(t), t);
+  }
+  output->GetPointData()->AddArray(uv);
+  output->GetPointData()->SetTCoords(uv);
+  output->GetPointData()->AddArray(chartUV);
+  output->GetPointData()->AddArray(pointIds);
+  output->GetCellData()->AddArray(chartId);
+  output->GetCellData()->AddArray(cellIds);
+
+  vtkNew<vtkDoubleArray> area, angle, areaDistortion;
+  area->SetName("AtlasChartArea");
+  angle->SetName("AtlasChartAngleDistortion");
+  areaDistortion->SetName("AtlasChartAreaDistortion");
+  for (const beltrami::AtlasChart& chart : atlas.Charts)
+  {
+    area->InsertNextValue(chart.Area3D);
+    angle->InsertNextValue(chart.MeanAngleDistortion);
+    areaDistortion->InsertNextValue(chart.MeanAreaDistortion);
+  }
+  vtkNew<vtkIntArray> count, splits;
+  count->SetName("AtlasCharts");
+  count->InsertNextValue(static_cast<int>(atlas.Charts.size()));
+  splits->SetName("AtlasSplitsForFlips");
+  splits->InsertNextValue(atlas.SplitsForFlips);
+  vtkNew<vtkDoubleArray> efficiency;
+  efficiency->SetName("AtlasPackingEfficiency");
+  efficiency->InsertNextValue(atlas.PackingEfficiency);
+  vtkFieldData* fd = output->GetFieldData();
+  fd->ShallowCopy(input->GetFieldData());
+  for (vtkAbstractArray* a : { static_cast<vtkAbstractArray*>(count), static_cast<vtkAbstractArray*>(area),
+         static_cast<vtkAbstractArray*>(angle), static_cast<vtkAbstractArray*>(areaDistortion),
+         static_cast<vtkAbstractArray*>(efficiency), static_cast<vtkAbstractArray*>(splits) })
+  {
+    fd->AddArray(a);
+  }
+}
+
+void vtkSurfaceAtlas::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "NumberOfCharts: " << this->NumberOfCharts << "\n";
+  os << indent << "ChartBoundary: " << this->ChartBoundary << "\n";
+  os << indent << "TextureSize: " << this->TextureSize << "\n";
+  os << indent << "MarginTexels: " << this->MarginTexels << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}

@@ -1,0 +1,106 @@
+/**
+ * @class   vtkSurfaceAtlas
+ * @brief   An atlas of charts for triangle surfaces of any genus, open or
+ *          closed, with any number of components (thesis section 4.2):
+ *          texture coordinates ("UV unwrapping") of closed surfaces.
+ *
+ * The surface is cut into disk-like charts (approximate Voronoi regions of
+ * seeds spread by farthest-point sampling over every component, grown along
+ * the dual graph, ragged boundaries smoothed, regions that are not disks -
+ * bands around handles, closed components - split until every chart is
+ * one).  Each chart is mapped by the discrete conformal parameterization
+ * (DCP, chapter 5) onto its own square (ChartBoundary SQUARE, section
+ * 4.2.2; the chart's boundary spaced by arc length), or onto the circle
+ * (CIRCLE): a chart whose square map would flip a triangle is mapped onto
+ * the circle instead, and a chart whose map still flips is split, so no
+ * triangle is ever flipped.  The charts are packed into [0, 1]^2 at one
+ * scale (the same texels per unit of surface length on every chart), with
+ * MarginTexels texels of a TextureSize^2 texture between them.
+ *
+ * Settings: NumberOfCharts (charts to start from; splits add more; 0, the
+ * default: about one per 2,000 triangles, at least one per component),
+ * ChartBoundary, TextureSize (1024), MarginTexels (2), NumberOfThreads.
+ *
+ * Output: the surface cut along the chart seams (the points of a seam
+ * duplicated, one copy per chart; the input's point and cell data carried)
+ * with point arrays UV (packed, also the TCoords), ChartUV (each chart in
+ * its own square) and vtkOriginalPointIds, cell arrays ChartId and
+ * vtkOriginalCellIds (polygons and strips are triangulated; vertices and
+ * lines are dropped), and field arrays AtlasCharts (the count),
+ * AtlasChartArea, AtlasChartAngleDistortion (mean, degrees),
+ * AtlasChartAreaDistortion (mean |log area ratio|), AtlasPackingEfficiency
+ * (the charts' share of [0, 1]^2) and AtlasSplitsForFlips.
+ *
+ * Non-manifold or inconsistently oriented surfaces, NaN coordinates and
+ * empty input are reported and give an empty output.  An atlas needs the
+ * whole surface: in a distributed run (pvbatch, pvserver) a surface split
+ * over the ranks is gathered on rank 0, which holds the cut surface (the
+ * other ranks' outputs are empty).
+ */
+#ifndef vtkSurfaceAtlas_h
+#define vtkSurfaceAtlas_h
+
+#include "BeltramiFiltersModule.h" // export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <vector> // for WriteCutSurface
+
+enum class vtkBeltramiCopy;
+namespace beltrami
+{
+struct AtlasOptions;
+struct AtlasResult;
+}
+
+class BELTRAMIFILTERS_EXPORT vtkSurfaceAtlas : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkSurfaceAtlas* New();
+  vtkTypeMacro(vtkSurfaceAtlas, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum ChartBoundaryType
+  {
+    CIRCLE = 0,
+    SQUARE = 1
+  };
+
+  vtkSetClampMacro(NumberOfCharts, int, 0, VTK_INT_MAX);
+  vtkGetMacro(NumberOfCharts, int);
+  vtkSetClampMacro(ChartBoundary, int, CIRCLE, SQUARE);
+  vtkGetMacro(ChartBoundary, int);
+  vtkSetClampMacro(TextureSize, int, 1, VTK_INT_MAX);
+  vtkGetMacro(TextureSize, int);
+  vtkSetClampMacro(MarginTexels, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MarginTexels, double);
+  vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
+  vtkGetMacro(NumberOfThreads, int);
+
+protected:
+  vtkSurfaceAtlas();
+  ~vtkSurfaceAtlas() override = default;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  // Defaults: the core's AtlasOptions{} (set in the constructor).
+  int NumberOfCharts;
+  int ChartBoundary;
+  int TextureSize;
+  double MarginTexels;
+  int NumberOfThreads;
+
+private:
+  vtkSurfaceAtlas(const vtkSurfaceAtlas&) = delete;
+  void operator=(const vtkSurfaceAtlas&) = delete;
+
+  /// The atlas of `input` into `output` (RequestData's value).
+  int Build(vtkPolyData* input, vtkPolyData* output);
+  /// The cut surface of `atlas` (built on `input`, whose triangle t came from
+  /// input cell triangleCell[t]) into `output`.
+  void WriteCutSurface(vtkPolyData* input, const beltrami::AtlasResult& atlas,
+    const std::vector<vtkIdType>& triangleCell, vtkPolyData* output);
+  /// Copies the settings to or from the core's options (one list of pairs).
+  void CopySettings(beltrami::AtlasOptions& options, vtkBeltramiCopy direction);
+};
+
+#endif

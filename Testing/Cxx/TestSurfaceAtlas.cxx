@@ -1,0 +1,141 @@
+// vtkSurfaceAtlas (the parameterization family, chapter 4): the cut surface
+// of a closed real mesh, its charts' UVs, seams, carried data, bad input.
+#include "TestHelpers.h"
+
+#include "vtkSurfaceAtlas.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkFieldData.h>
+#include <vtkIdTypeArray.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+
+using beltrami::test::AddPointField;
+using beltrami::test::MessageCollector;
+using beltrami::test::ReadOFF;
+using beltrami::test::RunOn;
+
+namespace
+{
+
+/// Total area of the triangles of `pd`, in 3D or (uv) in the plane (signed).
+double Area(vtkPolyData* pd, vtkDataArray* uv = nullptr, vtkIdType* flipped = nullptr)
+{
+  double total = 0.0;
+  vtkIdType n = 0;
+  const vtkIdType* ids = nullptr;
+  auto it = vtk::TakeSmartPointer(pd->GetPolys()->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    it->GetCurrentCell(n, ids);
+    if (uv)
+    {
+      const double* a = uv->GetTuple2(ids[0]);
+      const double a0 = a[0], a1 = a[1];
+      const double* b = uv->GetTuple2(ids[1]);
+      const double b0 = b[0], b1 = b[1];
+      const double* c = uv->GetTuple2(ids[2]);
+      const double area = 0.5 * ((b0 - a0) * (c[1] - a1) - (b1 - a1) * (c[0] - a0));
+      total += area;
+      if (flipped && !(area > 0.0))
+      {
+        ++*flipped;
+      }
+      continue;
+    }
+    double p[3][3], e1[3], e2[3], cross[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      pd->GetPoint(ids[k], p[k]);
+    }
+    vtkMath::Subtract(p[1], p[0], e1);
+    vtkMath::Subtract(p[2], p[0], e2);
+    vtkMath::Cross(e1, e2, cross);
+    total += 0.5 * vtkMath::Norm(cross);
+  }
+  return total;
+}
+
+} // namespace
+
+TEST(SurfaceAtlas, ClosedRealMeshIsCutIntoValidCharts)
+{
+  auto bunny = ReadOFF("bunny00.off");
+  AddPointField(bunny, "height", [](const double* x) { return x[1]; });
+  vtkNew<vtkSurfaceAtlas> f;
+  const auto out = RunOn(f.Get(), bunny);
+  ASSERT_GT(out->GetNumberOfCells(), 0);
+  EXPECT_EQ(out->GetNumberOfCells(), bunny->GetNumberOfCells());
+  EXPECT_GT(out->GetNumberOfPoints(), bunny->GetNumberOfPoints()); // seam points duplicated
+  vtkDataArray* uv = out->GetPointData()->GetArray("UV");
+  vtkDataArray* chartUV = out->GetPointData()->GetArray("ChartUV");
+  vtkDataArray* original = out->GetPointData()->GetArray("vtkOriginalPointIds");
+  vtkDataArray* height = out->GetPointData()->GetArray("height");
+  ASSERT_TRUE(uv && chartUV && original && height);
+  EXPECT_EQ(out->GetPointData()->GetTCoords(), uv);
+  double worst = 0.0;
+  for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i)
+  {
+    for (int k = 0; k < 2; ++k)
+    {
+      ASSERT_GE(uv->GetComponent(i, k), 0.0);
+      ASSERT_LE(uv->GetComponent(i, k), 1.0);
+    }
+    const vtkIdType o = static_cast<vtkIdType>(original->GetComponent(i, 0));
+    double a[3], b[3];
+    out->GetPoint(i, a);
+    bunny->GetPoint(o, b);
+    worst = std::max(worst, vtkMath::Distance2BetweenPoints(a, b));
+    ASSERT_EQ(height->GetComponent(i, 0), bunny->GetPointData()->GetArray("height")->GetComponent(o, 0));
+  }
+  EXPECT_EQ(worst, 0.0); // every cut point is its original, exactly
+  vtkIdType flipped = 0;
+  EXPECT_GT(Area(out, uv, &flipped), 0.3); // the charts' share of [0, 1]^2
+  EXPECT_EQ(flipped, 0);
+  EXPECT_NEAR(Area(out), Area(bunny), 1e-9 * Area(bunny));
+  vtkDataArray* chartId = out->GetCellData()->GetArray("ChartId");
+  vtkDataArray* charts = out->GetFieldData()->GetArray("AtlasCharts");
+  vtkDataArray* efficiency = out->GetFieldData()->GetArray("AtlasPackingEfficiency");
+  ASSERT_TRUE(chartId && charts && efficiency);
+  EXPECT_GE(charts->GetComponent(0, 0), 2.0); // a closed surface needs two charts at least
+  EXPECT_EQ(chartId->GetRange()[1] + 1, charts->GetComponent(0, 0));
+  EXPECT_NEAR(efficiency->GetComponent(0, 0), Area(out, uv), 1e-6);
+  std::printf("bunny00 atlas: %g charts, packing %.1f%%\n", charts->GetComponent(0, 0),
+    100.0 * efficiency->GetComponent(0, 0));
+  EXPECT_NE(out->GetCellData()->GetArray("vtkOriginalCellIds"), nullptr);
+}
+
+TEST(SurfaceAtlas, BadInputIsReportedWithAnEmptyOutput)
+{
+  vtkNew<vtkPolyData> empty;
+  vtkNew<vtkSurfaceAtlas> f;
+  vtkNew<MessageCollector> warnings;
+  EXPECT_EQ(RunOn(f.Get(), empty, warnings)->GetNumberOfPoints(), 0);
+  EXPECT_FALSE(warnings->Warnings.empty());
+
+  // Three triangles on one edge: not manifold.
+  vtkNew<vtkPoints> points;
+  for (const auto& p : { std::array<double, 3>{ 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 }, { 0, 0, 1 } })
+  {
+    points->InsertNextPoint(p.data());
+  }
+  vtkNew<vtkCellArray> cells;
+  for (const auto& t : { std::array<vtkIdType, 3>{ 0, 1, 2 }, { 1, 0, 3 }, { 0, 1, 4 } })
+  {
+    cells->InsertNextCell(3, t.data());
+  }
+  vtkNew<vtkPolyData> fins;
+  fins->SetPoints(points);
+  fins->SetPolys(cells);
+  vtkNew<vtkSurfaceAtlas> g;
+  vtkNew<MessageCollector> errors;
+  EXPECT_EQ(RunOn(g.Get(), fins, errors)->GetNumberOfPoints(), 0);
+  ASSERT_FALSE(errors->Errors.empty());
+  EXPECT_NE(errors->Errors[0].find("manifold"), std::string::npos) << errors->Errors[0];
+}
