@@ -3,6 +3,7 @@
 #include "Maps/ChartPartition.h"
 #include "Maps/Distortion.h"
 #include "Maps/Parameterization.h"
+#include "Solvers/DenseBlocks.h"
 #include "Support/Parallel.h"
 
 #include <algorithm>
@@ -173,6 +174,7 @@ double PackCharts(std::vector<AtlasChart>& charts, const AtlasOptions& options)
 bool MapAllCharts(const MeshTopology& topology, const double* points, const DualGraph& graph,
   std::vector<std::vector<Index>> regions, const AtlasOptions& options, AtlasResult& result)
 {
+  const SingleThreadedBlas blas; // the charts run in parallel: no BLAS threads within
   while (!regions.empty())
   {
     std::vector<AtlasChart> round(regions.size());

@@ -104,21 +104,29 @@ public:
   {
   }
 
-  void Add(Index seed, int label)
+  void Add(Index seed, int label) { AddAll({ seed }, label); }
+
+  /// Seeds seeds[k] labelled first + k, all at once (one multi-source
+  /// Dijkstra: each triangle gets the nearest of them).
+  void AddAll(const std::vector<Index>& seeds, int first)
   {
     using Item = std::pair<double, Index>;
     std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-    Distance[seed] = 0.0;
-    Label[seed] = label;
-    queue.emplace(0.0, seed);
+    for (std::size_t k = 0; k < seeds.size(); ++k)
+    {
+      Distance[seeds[k]] = 0.0;
+      Label[seeds[k]] = first + static_cast<int>(k);
+      queue.emplace(0.0, seeds[k]);
+    }
     while (!queue.empty())
     {
       const auto [d, t] = queue.top();
       queue.pop();
-      if (d > Distance[t] || Label[t] != label)
+      if (d > Distance[t])
       {
         continue;
       }
+      const int label = Label[t];
       for (int k = 0; k < 3; ++k)
       {
         const Index n = Graph.Neighbors[3 * t + k];
@@ -184,12 +192,80 @@ std::vector<std::vector<Index>> Components(const DualGraph& graph)
 
 } // namespace
 
-std::vector<Index> ChooseSeeds(const DualGraph& graph, int count)
+namespace
+{
+
+/// `share` triangles of a component at evenly spread fractions of its area
+/// (a golden-ratio sequence over the cumulative area, in breadth-first
+/// order: a spread of the whole component, the same every run).
+void SpreadSeeds(const DualGraph& graph, const std::vector<Index>& members, int share, std::vector<Index>& seeds)
+{
+  std::vector<double> cumulative(members.size());
+  double area = 0.0;
+  for (std::size_t k = 0; k < members.size(); ++k)
+  {
+    area += graph.Areas[members[k]];
+    cumulative[k] = area;
+  }
+  std::vector<std::uint8_t> taken(members.size(), 0);
+  for (int k = 0; k < share; ++k)
+  {
+    const double fraction = std::fmod(0.5 + k * 0.6180339887498949, 1.0);
+    std::size_t at = static_cast<std::size_t>(
+      std::lower_bound(cumulative.begin(), cumulative.end(), fraction * area) - cumulative.begin());
+    at = std::min(at, members.size() - 1);
+    while (taken[at] && at + 1 < members.size())
+    {
+      ++at;
+    }
+    if (!taken[at])
+    {
+      taken[at] = 1;
+      seeds.push_back(members[at]);
+    }
+  }
+}
+
+/// One Lloyd-like relaxation: every region's new seed is its triangle
+/// farthest from the region's boundary (its centre along the surface).
+std::vector<Index> CentreSeeds(const DualGraph& graph, const std::vector<int>& label, std::size_t regions)
+{
+  std::vector<Index> boundary;
+  for (Index t = 0; t < graph.NumberOfTriangles(); ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index n = graph.Neighbors[3 * t + k];
+      if (n < 0 || label[n] != label[t])
+      {
+        boundary.push_back(t);
+        break;
+      }
+    }
+  }
+  std::vector<double> inward;
+  if (!boundary.empty())
+  {
+    GrowRegions(graph, boundary, {}, &inward);
+  }
+  std::vector<Index> centre(regions, -1);
+  for (Index t = 0; t < graph.NumberOfTriangles(); ++t)
+  {
+    Index& c = centre[label[t]];
+    if (c < 0 || (!inward.empty() && inward[t] > inward[c]))
+    {
+      c = t;
+    }
+  }
+  return centre;
+}
+
+} // namespace
+
+std::vector<Index> ChooseSeeds(const DualGraph& graph, int count, std::vector<int>* label)
 {
   const std::vector<std::vector<Index>> components = Components(graph);
   const double total = std::accumulate(graph.Areas.begin(), graph.Areas.end(), 0.0);
-  const std::vector<std::uint8_t> all;
-  NearestSeeds nearest(graph, all);
   std::vector<Index> seeds;
   for (const std::vector<Index>& members : components)
   {
@@ -198,17 +274,15 @@ std::vector<Index> ChooseSeeds(const DualGraph& graph, int count)
     {
       area += graph.Areas[t];
     }
-    const int share = std::max(1, static_cast<int>(std::lround(count * (total > 0.0 ? area / total : 0.0))));
-    // The first seed: the triangle farthest from the component's first one
-    // (an end of the component rather than its middle).
-    NearestSeeds probe(graph, all);
-    probe.Add(members.front(), 0);
-    for (int k = 0; k < share; ++k)
-    {
-      const Index seed = k == 0 ? probe.Farthest(members) : nearest.Farthest(members);
-      seeds.push_back(seed);
-      nearest.Add(seed, static_cast<int>(seeds.size() - 1));
-    }
+    SpreadSeeds(graph, members,
+      std::max(1, static_cast<int>(std::lround(count * (total > 0.0 ? area / total : 0.0)))), seeds);
+  }
+  std::vector<int> regions = GrowRegions(graph, seeds);
+  seeds = CentreSeeds(graph, regions, seeds.size());
+  regions = GrowRegions(graph, seeds);
+  if (label)
+  {
+    *label = std::move(regions);
   }
   return seeds;
 }
@@ -217,10 +291,7 @@ std::vector<int> GrowRegions(const DualGraph& graph, const std::vector<Index>& s
   const std::vector<std::uint8_t>& allowed, std::vector<double>* distance)
 {
   NearestSeeds nearest(graph, allowed);
-  for (std::size_t k = 0; k < seeds.size(); ++k)
-  {
-    nearest.Add(seeds[k], static_cast<int>(k));
-  }
+  nearest.AddAll(seeds, 0);
   if (distance)
   {
     *distance = nearest.Distance;
@@ -334,8 +405,8 @@ bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, i
     error = "An atlas needs a manifold, consistently oriented surface; the input has " + topology.Describe();
     return false;
   }
-  const std::vector<Index> seeds = ChooseSeeds(graph, count);
-  std::vector<int> label = GrowRegions(graph, seeds);
+  std::vector<int> label;
+  const std::vector<Index> seeds = ChooseSeeds(graph, count, &label);
   SmoothRegionBoundaries(graph, label);
   std::vector<std::vector<Index>> regions(seeds.size());
   for (Index t = 0; t < graph.NumberOfTriangles(); ++t)

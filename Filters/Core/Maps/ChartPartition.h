@@ -1,10 +1,11 @@
 // Beltrami core: the partition of a triangle surface into disk-like charts
 // (thesis section 4.2.1, after Eck et al.: approximate Voronoi regions).
 //
-// Seeds are spread over every connected component by farthest-point
-// sampling on the dual graph (triangles joined across their manifold edges,
-// at the distance of their centroids); every triangle joins the nearest seed
-// (a multi-source Dijkstra, so each region is connected).  A region that is
+// Seeds are spread over every connected component by area, then moved once
+// to the centres of their regions (a Lloyd step along the dual graph:
+// triangles joined across their manifold edges, at the distance of their
+// centroids); every triangle joins the nearest seed (a multi-source
+// Dijkstra, so each region is connected).  A region that is
 // not a topological disk (Euler characteristic 1 and one boundary loop: a
 // band around a handle, a closed component, a region that touches itself at
 // a vertex) is split in two along the same distances from its two most
@@ -48,8 +49,10 @@ ChartMesh ExtractChart(const MeshTopology& topology, std::vector<Index> triangle
 bool IsDisk(const ChartMesh& chart, std::string* why = nullptr);
 
 /// Seeds for `count` charts (at least one per connected component of the
-/// dual graph, the rest shared by area), by farthest-point sampling.
-std::vector<Index> ChooseSeeds(const DualGraph& graph, int count);
+/// dual graph, the rest shared by area), spread by area and moved once to
+/// the centres of their regions; `label` (optional): each triangle's
+/// nearest seed (GrowRegions' result).
+std::vector<Index> ChooseSeeds(const DualGraph& graph, int count, std::vector<int>* label = nullptr);
 
 /// label[t] = the index (in `seeds`) of the nearest seed along the dual
 /// graph, over the triangles with allowed[t] (all if empty); -1 elsewhere

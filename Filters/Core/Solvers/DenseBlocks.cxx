@@ -169,6 +169,11 @@ void SolveOnTheRight(Triangle triangle, int m, int w, const double* d, int ldd, 
   }
 }
 
+} // namespace beltrami::detail
+
+namespace beltrami
+{
+
 SingleThreadedBlas::SingleThreadedBlas()
 {
   static const auto functions = [] {
@@ -191,4 +196,4 @@ SingleThreadedBlas::~SingleThreadedBlas()
   }
 }
 
-} // namespace beltrami::detail
+} // namespace beltrami

@@ -1,8 +1,10 @@
-// Beltrami core, private to Solvers/SupernodalLU: the dense kernels of the
-// supernodal factorizations - products, LU and Cholesky of diagonal blocks,
-// triangular solves - by the BLAS and LAPACK for large blocks (OpenBLAS's
-// where installed) and by Eigen for small ones, and a guard that runs the
-// BLAS single-threaded while our own threads factor subtrees.
+// Beltrami core: the dense kernels of the supernodal factorizations
+// (beltrami::detail, for Solvers/SupernodalLU) - products, LU and Cholesky
+// of diagonal blocks, triangular solves - by the BLAS and LAPACK for large
+// blocks (OpenBLAS's where installed) and by Eigen for small ones; and
+// SingleThreadedBlas, a guard that runs the BLAS single-threaded while our
+// own threads factor (subtrees, or many small systems such as an atlas's
+// charts).
 #pragma once
 
 #include <Eigen/Dense>
@@ -34,6 +36,11 @@ enum class Triangle
 /// b (m x w) := b * T^-1 with T one of the triangles of d.
 void SolveOnTheRight(Triangle triangle, int m, int w, const double* d, int ldd, double* b, int ldb);
 
+} // namespace beltrami::detail
+
+namespace beltrami
+{
+
 /// Runs the BLAS single-threaded while it lives (OpenBLAS: its threads
 /// would otherwise be shared by our threads' concurrent calls, which made
 /// the subtrees 4-7x slower); nothing for a BLAS without that setting.
@@ -50,4 +57,4 @@ private:
   int Saved = 1;
 };
 
-} // namespace beltrami::detail
+} // namespace beltrami
