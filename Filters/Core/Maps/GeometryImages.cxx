@@ -1,0 +1,165 @@
+#include "Maps/GeometryImages.h"
+
+#include "Mesh/Geometry.h"
+#include "Support/Parallel.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace beltrami
+{
+
+namespace
+{
+
+/// Twice the signed area of the triangle (a, b, c) in the plane.
+inline double Cross2(const double* a, const double* b, const double* c)
+{
+  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+/// Barycentric coordinates of p in the chart triangle t; true when p is
+/// inside or on its boundary (a relative tolerance of 1e-12 for round-off).
+bool Barycentric(const AtlasChart& chart, Index t, const double* p, double* w)
+{
+  const double* a = &chart.UV[2 * chart.Corners[3 * t]];
+  const double* b = &chart.UV[2 * chart.Corners[3 * t + 1]];
+  const double* c = &chart.UV[2 * chart.Corners[3 * t + 2]];
+  const double area = Cross2(a, b, c);
+  if (!(area > 0.0))
+  {
+    return false;
+  }
+  w[0] = Cross2(p, b, c) / area;
+  w[1] = Cross2(a, p, c) / area;
+  w[2] = 1.0 - w[0] - w[1];
+  const double eps = -1e-12;
+  return w[0] >= eps && w[1] >= eps && w[2] >= eps;
+}
+
+} // namespace
+
+Index LocateInChart(const AtlasChart& chart, const double uv[2], double barycentric[3])
+{
+  for (Index t = 0; t < static_cast<Index>(chart.Corners.size() / 3); ++t)
+  {
+    if (Barycentric(chart, t, uv, barycentric))
+    {
+      return t;
+    }
+  }
+  return -1;
+}
+
+ChartRaster RasterizeChart(const AtlasChart& chart, int resolution, int numThreads)
+{
+  ChartRaster raster;
+  const int n = std::max(1, resolution);
+  raster.Resolution = n;
+  const std::size_t pixels = static_cast<std::size_t>(n) * n;
+  raster.Face.assign(pixels, -1);
+  raster.Barycentric.assign(3 * pixels, 0.0);
+  // The triangles that reach each row, in triangle order (so that a pixel on
+  // a shared edge goes to the first triangle whatever the thread count).
+  const Index triangles = static_cast<Index>(chart.Corners.size() / 3);
+  std::vector<std::vector<Index>> rows(n);
+  const auto pixelOf = [n](double u) { return std::clamp(static_cast<int>(std::floor(u * n - 0.5)), -1, n - 1); };
+  for (Index t = 0; t < triangles; ++t)
+  {
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double v = chart.UV[2 * chart.Corners[3 * t + k] + 1];
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+    for (int j = std::max(0, pixelOf(lo)); j <= std::min(n - 1, pixelOf(hi) + 1); ++j)
+    {
+      rows[j].push_back(t);
+    }
+  }
+  ParallelFor(n, numThreads,
+    [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t j = begin; j < end; ++j)
+      {
+        const double y = (static_cast<double>(j) + 0.5) / n;
+        for (Index t : rows[j])
+        {
+          double lo = HUGE_VAL, hi = -HUGE_VAL;
+          for (int k = 0; k < 3; ++k)
+          {
+            const double u = chart.UV[2 * chart.Corners[3 * t + k]];
+            lo = std::min(lo, u);
+            hi = std::max(hi, u);
+          }
+          for (int i = std::max(0, pixelOf(lo)); i <= std::min(n - 1, pixelOf(hi) + 1); ++i)
+          {
+            const std::size_t p = static_cast<std::size_t>(j) * n + i;
+            const double centre[2] = { (i + 0.5) / n, y };
+            double w[3];
+            if (raster.Face[p] < 0 && Barycentric(chart, t, centre, w))
+            {
+              raster.Face[p] = t;
+              std::copy(w, w + 3, &raster.Barycentric[3 * p]);
+            }
+          }
+        }
+      }
+    },
+    {}, 0, 1);
+  return raster;
+}
+
+std::vector<double> InterpolateOnRaster(
+  const ChartRaster& raster, const AtlasChart& chart, const double* values, int components)
+{
+  const std::size_t pixels = raster.Face.size();
+  std::vector<double> out(pixels * components, std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t p = 0; p < pixels; ++p)
+  {
+    const Index t = raster.Face[p];
+    if (t < 0)
+    {
+      continue;
+    }
+    for (int c = 0; c < components; ++c)
+    {
+      double v = 0.0;
+      for (int k = 0; k < 3; ++k)
+      {
+        v += raster.Barycentric[3 * p + k] * values[static_cast<std::size_t>(chart.Corners[3 * t + k]) * components + c];
+      }
+      out[p * components + c] = v;
+    }
+  }
+  return out;
+}
+
+std::vector<double> AreaMap(const ChartRaster& raster, const AtlasChart& chart, const double* points)
+{
+  const Index triangles = static_cast<Index>(chart.Corners.size() / 3);
+  std::vector<double> ratio(triangles);
+  for (Index t = 0; t < triangles; ++t)
+  {
+    const Index* c = &chart.Corners[3 * t];
+    const Vec3 a = Point(points, chart.Vertices[c[0]]), b = Point(points, chart.Vertices[c[1]]),
+               d = Point(points, chart.Vertices[c[2]]);
+    const double area3D = 0.5 * (b - a).cross(d - a).norm();
+    const double area2D = 0.5 * Cross2(&chart.UV[2 * c[0]], &chart.UV[2 * c[1]], &chart.UV[2 * c[2]]);
+    ratio[t] = area2D > 0.0 ? area3D / area2D : 0.0;
+  }
+  std::vector<double> out(raster.Face.size(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t p = 0; p < raster.Face.size(); ++p)
+  {
+    if (raster.Face[p] >= 0)
+    {
+      out[p] = ratio[raster.Face[p]];
+    }
+  }
+  return out;
+}
+
+} // namespace beltrami

@@ -1,0 +1,45 @@
+// Beltrami core: the geometry of an atlas chart as images (thesis sections
+// 4.2.3 and 5.4: the surface replaced by a catalogue of 2D maps).  A chart's
+// own square [0, 1]^2 (AtlasChart::UV) is sampled at the centres of an n x n
+// pixel grid: every pixel inside the chart gets its triangle and its exact
+// barycentric coordinates there, from which any per-vertex quantity is
+// interpolated (the embedding map M_x, curvature maps M_H and M_K, point
+// data) and the per-triangle area ratio gives the area map M_A (3D area per
+// unit of map area).
+#pragma once
+
+#include "Maps/Atlas.h"
+
+#include <vector>
+
+namespace beltrami
+{
+
+/// Where the pixels of a chart's square fall: pixel (i, j) (row j, x
+/// fastest) has its centre at ((i + 0.5) / n, (j + 0.5) / n).
+struct ChartRaster
+{
+  int Resolution = 0;
+  std::vector<Index> Face;          ///< chart triangle index per pixel, -1 outside the chart
+  std::vector<double> Barycentric;  ///< 3 per pixel (weights of the triangle's corners)
+};
+
+/// Finds the chart triangle that contains `uv` (a point of the chart's
+/// square) and its barycentric coordinates; -1 when outside.  Points on an
+/// edge shared by two triangles go to the first of them.
+Index LocateInChart(const AtlasChart& chart, const double uv[2], double barycentric[3]);
+
+/// Samples the chart at every pixel centre of an n x n grid (threads: 0 all).
+ChartRaster RasterizeChart(const AtlasChart& chart, int resolution, int numThreads = 0);
+
+/// values (components per chart vertex, in the order of chart.Vertices)
+/// interpolated at every pixel: `components` doubles per pixel, NaN outside.
+std::vector<double> InterpolateOnRaster(
+  const ChartRaster& raster, const AtlasChart& chart, const double* values, int components);
+
+/// The area map: per pixel the 3D area of its triangle over the triangle's
+/// area in the chart's square (NaN outside).  Summed over the pixels and
+/// multiplied by the pixel area 1/n^2 it gives the chart's 3D area.
+std::vector<double> AreaMap(const ChartRaster& raster, const AtlasChart& chart, const double* points);
+
+} // namespace beltrami
