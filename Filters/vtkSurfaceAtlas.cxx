@@ -5,6 +5,8 @@
 #include "vtkBeltramiSurface.h"
 
 #include "Maps/Atlas.h"
+#include "Maps/GeometryImages.h"
+#include "Mesh/Curvatures.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -13,13 +15,17 @@
 #include <vtkIdTypeArray.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
+#include <vtkImageData.h>
 #include <vtkIntArray.h>
+#include <vtkMultiBlockDataSet.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 
+#include <algorithm>
+#include <string>
 #include <vector>
 
 BELTRAMI_SAME_ENUM(vtkSurfaceAtlas::CIRCLE, beltrami::ParameterizationBoundary::Circle);
@@ -29,6 +35,7 @@ vtkStandardNewMacro(vtkSurfaceAtlas);
 
 vtkSurfaceAtlas::vtkSurfaceAtlas()
 {
+  this->SetNumberOfOutputPorts(2);
   // The defaults have one source: the core's AtlasOptions.
   beltrami::AtlasOptions defaults;
   this->CopySettings(defaults, vtkBeltramiCopy::FromCore);
@@ -43,6 +50,16 @@ void vtkSurfaceAtlas::CopySettings(beltrami::AtlasOptions& o, vtkBeltramiCopy di
   BeltramiCopySetting(this->NumberOfThreads, o.NumberOfThreads, direction);
 }
 
+int vtkSurfaceAtlas::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 1)
+  {
+    info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkMultiBlockDataSet");
+    return 1;
+  }
+  return this->Superclass::FillOutputPortInformation(port, info);
+}
+
 int vtkSurfaceAtlas::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -53,8 +70,9 @@ int vtkSurfaceAtlas::RequestData(
     vtkErrorMacro("Input and output must be vtkPolyData.");
     return 0;
   }
+  vtkMultiBlockDataSet::GetData(outputVector, 1)->Initialize(); // no maps until they are made
   // The atlas needs the whole surface: split data are gathered on rank 0,
-  // which holds the cut surface (a new mesh: the other ranks' outputs stay empty).
+  // which holds the cut surface and the maps (the other ranks' outputs stay empty).
   return vtkBeltramiGather::RunWhole(outputVector->GetInformationObject(0), input, output,
     vtkBeltramiGather::Results::OnRankZero, [this](vtkPointSet* in, vtkPointSet* out, int) {
       return this->Build(vtkPolyData::SafeDownCast(in), vtkPolyData::SafeDownCast(out));
@@ -98,6 +116,11 @@ int vtkSurfaceAtlas::Build(vtkPolyData* input, vtkPolyData* output)
     triangleCell[t] = surface.TriangleCell(topology.OriginalTriangleIds()[t]);
   }
   this->WriteCutSurface(input, atlas, triangleCell, output);
+  this->UpdateProgress(0.5);
+  if (this->MapResolution > 0)
+  {
+    this->WriteMaps(input, topology, points, atlas, triangleCell);
+  }
   this->UpdateProgress(1.0);
   return 1;
 }
@@ -202,6 +225,101 @@ void vtkSurfaceAtlas::WriteCutSurface(vtkPolyData* input, const beltrami::AtlasR
   }
 }
 
+namespace
+{
+
+/// A chart's map image: n x n pixel centres of its square.
+vtkSmartPointer<vtkImageData> MapImage(int n)
+{
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(n, n, 1);
+  image->SetSpacing(1.0 / n, 1.0 / n, 1.0);
+  image->SetOrigin(0.5 / n, 0.5 / n, 0.0);
+  return image;
+}
+
+/// A new point array `name` of the image (on LargeBuffer's cached pages:
+/// fresh pages for every map cost more than filling them).
+double* AddMap(vtkImageData* image, const char* name, int components)
+{
+  vtkSmartPointer<vtkDataArray> array =
+    vtkBeltramiSurface::NewArray(VTK_DOUBLE, name, components, image->GetNumberOfPoints());
+  image->GetPointData()->AddArray(array);
+  return static_cast<double*>(array->GetVoidPointer(0));
+}
+
+} // namespace
+
+void vtkSurfaceAtlas::WriteMaps(vtkPolyData* input, const beltrami::MeshTopology& topology, const double* points,
+  const beltrami::AtlasResult& atlas, const std::vector<vtkIdType>& triangleCell)
+{
+  // Per-vertex quantities: the curvatures (boundary points from their
+  // interior neighbours) and the input's numeric point arrays, as doubles.
+  const vtkIdType numPoints = input->GetNumberOfPoints();
+  std::vector<double> meanCurvature(numPoints), gaussianCurvature(numPoints);
+  beltrami::CurvatureOptions curvatureOptions;
+  curvatureOptions.Boundary = beltrami::BoundaryPolicy::InteriorAverage;
+  curvatureOptions.NumberOfThreads = this->NumberOfThreads;
+  beltrami::CurvatureOutputs curvatures;
+  curvatures.MeanCurvature = meanCurvature.data();
+  curvatures.GaussianCurvature = gaussianCurvature.data();
+  beltrami::ComputeCurvatures(topology, points, curvatureOptions, curvatures);
+  struct Field
+  {
+    std::string Name;
+    int Components;
+    std::vector<double> Values;
+  };
+  std::vector<Field> fields = { { "Embedding", 3, std::vector<double>(points, points + 3 * numPoints) },
+    { "MeanCurvature", 1, meanCurvature }, { "GaussianCurvature", 1, gaussianCurvature } };
+  vtkPointData* pd = input->GetPointData();
+  for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* array = pd->GetArray(a);
+    if (array && array->GetName() && std::string(array->GetName()) != "Embedding")
+    {
+      Field f{ array->GetName(), array->GetNumberOfComponents(), {} };
+      f.Values.resize(static_cast<std::size_t>(numPoints) * f.Components);
+      for (vtkIdType i = 0; i < numPoints; ++i)
+      {
+        for (int c = 0; c < f.Components; ++c)
+        {
+          f.Values[i * f.Components + c] = array->GetComponent(i, c);
+        }
+      }
+      fields.push_back(std::move(f));
+    }
+  }
+  vtkMultiBlockDataSet* maps = vtkMultiBlockDataSet::SafeDownCast(this->GetOutputDataObject(1));
+  if (!maps)
+  {
+    return;
+  }
+  maps->SetNumberOfBlocks(static_cast<unsigned int>(atlas.Charts.size()));
+  for (std::size_t c = 0; c < atlas.Charts.size(); ++c)
+  {
+    const beltrami::AtlasChart& chart = atlas.Charts[c];
+    const beltrami::ChartRaster raster = beltrami::RasterizeChart(chart, this->MapResolution, this->NumberOfThreads);
+    vtkSmartPointer<vtkImageData> image = MapImage(this->MapResolution);
+    vtkNew<vtkIdTypeArray> faces;
+    faces->SetName("FaceId");
+    faces->SetNumberOfTuples(image->GetNumberOfPoints());
+    for (std::size_t p = 0; p < raster.Face.size(); ++p)
+    {
+      faces->SetValue(static_cast<vtkIdType>(p), raster.Face[p] < 0 ? -1 : triangleCell[chart.Triangles[raster.Face[p]]]);
+    }
+    image->GetPointData()->AddArray(faces);
+    beltrami::AreaMap(raster, chart, points, AddMap(image, "AreaRatio", 1));
+    for (const Field& f : fields)
+    {
+      beltrami::InterpolateOnRaster(raster, chart, f.Values.data(), f.Components,
+        AddMap(image, f.Name.c_str(), f.Components), false, this->NumberOfThreads);
+    }
+    maps->SetBlock(static_cast<unsigned int>(c), image);
+    maps->GetMetaData(static_cast<unsigned int>(c))->Set(vtkCompositeDataSet::NAME(), ("Chart " + std::to_string(c)).c_str());
+  }
+}
+
 void vtkSurfaceAtlas::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -209,5 +327,6 @@ void vtkSurfaceAtlas::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ChartBoundary: " << this->ChartBoundary << "\n";
   os << indent << "TextureSize: " << this->TextureSize << "\n";
   os << indent << "MarginTexels: " << this->MarginTexels << "\n";
+  os << indent << "MapResolution: " << this->MapResolution << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

@@ -19,7 +19,8 @@
  *
  * Settings: NumberOfCharts (charts to start from; splits add more; 0, the
  * default: about one per 2,000 triangles, at least one per component),
- * ChartBoundary, TextureSize (1024), MarginTexels (2), NumberOfThreads.
+ * ChartBoundary, TextureSize (1024), MarginTexels (2), MapResolution (256;
+ * 0: no maps), NumberOfThreads.
  *
  * Output: the surface cut along the chart seams (the points of a seam
  * duplicated, one copy per chart; the input's point and cell data carried)
@@ -30,6 +31,17 @@
  * AtlasChartArea, AtlasChartAngleDistortion (mean, degrees),
  * AtlasChartAreaDistortion (mean |log area ratio|), AtlasPackingEfficiency
  * (the charts' share of [0, 1]^2) and AtlasSplitsForFlips.
+ *
+ * Output 1 (MapResolution > 0): the geometry maps of every chart (section
+ * 4.2.3), a vtkMultiBlockDataSet with one MapResolution^2 vtkImageData per
+ * chart (block i = chart i, its pixel centres at ((i + 0.5) / n, (j + 0.5)
+ * / n) of the chart's square, ChartUV): point arrays FaceId (the input cell
+ * under the pixel, -1 outside the chart), Embedding (the surface point, 3
+ * components: M_x), AreaRatio (3D area per unit of map area: M_A),
+ * MeanCurvature and GaussianCurvature (M_H, M_K: the operators of chapter 2
+ * at the vertices, interpolated; boundary points from their interior
+ * neighbours) and every numeric point array of the input, interpolated
+ * exactly (barycentric in the chart's triangles); NaN outside the chart.
  *
  * Non-manifold or inconsistently oriented surfaces, NaN coordinates and
  * empty input are reported and give an empty output.  An atlas needs the
@@ -48,6 +60,7 @@
 enum class vtkBeltramiCopy;
 namespace beltrami
 {
+class MeshTopology;
 struct AtlasOptions;
 struct AtlasResult;
 }
@@ -73,6 +86,8 @@ public:
   vtkGetMacro(TextureSize, int);
   vtkSetClampMacro(MarginTexels, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(MarginTexels, double);
+  vtkSetClampMacro(MapResolution, int, 0, 16384);
+  vtkGetMacro(MapResolution, int);
   vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
   vtkGetMacro(NumberOfThreads, int);
 
@@ -80,8 +95,10 @@ protected:
   vtkSurfaceAtlas();
   ~vtkSurfaceAtlas() override = default;
 
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
+  int MapResolution = 256;
   // Defaults: the core's AtlasOptions{} (set in the constructor).
   int NumberOfCharts;
   int ChartBoundary;
@@ -99,6 +116,9 @@ private:
   /// input cell triangleCell[t]) into `output`.
   void WriteCutSurface(vtkPolyData* input, const beltrami::AtlasResult& atlas,
     const std::vector<vtkIdType>& triangleCell, vtkPolyData* output);
+  /// The geometry maps of every chart into output 1.
+  void WriteMaps(vtkPolyData* input, const beltrami::MeshTopology& topology, const double* points,
+    const beltrami::AtlasResult& atlas, const std::vector<vtkIdType>& triangleCell);
   /// Copies the settings to or from the core's options (one list of pairs).
   void CopySettings(beltrami::AtlasOptions& options, vtkBeltramiCopy direction);
 };

@@ -2,12 +2,15 @@
 // of a closed real mesh, its charts' UVs, seams, carried data, bad input.
 #include "TestHelpers.h"
 
+#include "vtkDiscreteCurvatures.h"
 #include "vtkSurfaceAtlas.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkFieldData.h>
 #include <vtkIdTypeArray.h>
+#include <vtkImageData.h>
+#include <vtkMultiBlockDataSet.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
@@ -69,6 +72,7 @@ TEST(SurfaceAtlas, ClosedRealMeshIsCutIntoValidCharts)
   auto bunny = ReadOFF("bunny00.off");
   AddPointField(bunny, "height", [](const double* x) { return x[1]; });
   vtkNew<vtkSurfaceAtlas> f;
+  f->SetMapResolution(0); // the maps: GeometryMapsOfEveryChart
   const auto out = RunOn(f.Get(), bunny);
   ASSERT_GT(out->GetNumberOfCells(), 0);
   EXPECT_EQ(out->GetNumberOfCells(), bunny->GetNumberOfCells());
@@ -138,4 +142,87 @@ TEST(SurfaceAtlas, BadInputIsReportedWithAnEmptyOutput)
   EXPECT_EQ(RunOn(g.Get(), fins, errors)->GetNumberOfPoints(), 0);
   ASSERT_FALSE(errors->Errors.empty());
   EXPECT_NE(errors->Errors[0].find("manifold"), std::string::npos) << errors->Errors[0];
+}
+
+TEST(SurfaceAtlas, GeometryMapsOfEveryChart)
+{
+  auto bunny = ReadOFF("bunny00.off");
+  AddPointField(bunny, "height", [](const double* x) { return x[1]; });
+  vtkNew<vtkSurfaceAtlas> f;
+  f->SetMapResolution(384);
+  f->SetInputData(bunny);
+  f->Update();
+  vtkMultiBlockDataSet* maps = vtkMultiBlockDataSet::SafeDownCast(f->GetOutputDataObject(1));
+  vtkDataArray* areas = f->GetOutput()->GetFieldData()->GetArray("AtlasChartArea");
+  ASSERT_TRUE(maps && areas);
+  ASSERT_EQ(static_cast<vtkIdType>(maps->GetNumberOfBlocks()), areas->GetNumberOfTuples());
+  vtkNew<vtkDiscreteCurvatures> curvatures;
+  curvatures->SetInputData(bunny);
+  curvatures->Update();
+  vtkDataArray* vertexH = curvatures->GetOutput()->GetPointData()->GetArray("MeanCurvature");
+  double worstArea = 0.0, worstHeight = 0.0, worstOff = 0.0, outsideH = 0.0;
+  vtkIdType inside = 0;
+  for (unsigned int c = 0; c < maps->GetNumberOfBlocks(); ++c)
+  {
+    vtkImageData* image = vtkImageData::SafeDownCast(maps->GetBlock(c));
+    ASSERT_NE(image, nullptr);
+    ASSERT_EQ(image->GetNumberOfPoints(), 384 * 384);
+    vtkDataArray* face = image->GetPointData()->GetArray("FaceId");
+    vtkDataArray* embedding = image->GetPointData()->GetArray("Embedding");
+    vtkDataArray* ratio = image->GetPointData()->GetArray("AreaRatio");
+    vtkDataArray* height = image->GetPointData()->GetArray("height");
+    vtkDataArray* meanH = image->GetPointData()->GetArray("MeanCurvature");
+    ASSERT_TRUE(face && embedding && ratio && height && meanH && image->GetPointData()->GetArray("GaussianCurvature"));
+    double integral = 0.0;
+    for (vtkIdType p = 0; p < image->GetNumberOfPoints(); ++p)
+    {
+      const vtkIdType cell = static_cast<vtkIdType>(face->GetComponent(p, 0));
+      if (cell < 0)
+      {
+        ASSERT_TRUE(std::isnan(embedding->GetComponent(p, 0)));
+        continue;
+      }
+      ++inside;
+      integral += ratio->GetComponent(p, 0) / (384.0 * 384.0);
+      double x[3];
+      embedding->GetTuple(p, x);
+      // A linear point array is reproduced exactly; the point is on its cell.
+      worstHeight = std::max(worstHeight, std::abs(height->GetComponent(p, 0) - x[1]));
+      vtkIdType n = 0;
+      const vtkIdType* ids = nullptr;
+      bunny->GetCellPoints(cell, n, ids);
+      double a[3], b[3], d[3], e1[3], e2[3], normal[3], r[3];
+      bunny->GetPoint(ids[0], a);
+      bunny->GetPoint(ids[1], b);
+      bunny->GetPoint(ids[2], d);
+      vtkMath::Subtract(b, a, e1);
+      vtkMath::Subtract(d, a, e2);
+      vtkMath::Cross(e1, e2, normal);
+      vtkMath::Normalize(normal);
+      vtkMath::Subtract(x, a, r);
+      worstOff = std::max(worstOff, std::abs(vtkMath::Dot(r, normal)));
+      // The curvature map between its triangle's vertex values (the filter's).
+      double lo = HUGE_VAL, hi = -HUGE_VAL;
+      for (int k = 0; k < 3; ++k)
+      {
+        lo = std::min(lo, vertexH->GetComponent(ids[k], 0));
+        hi = std::max(hi, vertexH->GetComponent(ids[k], 0));
+      }
+      const double h = meanH->GetComponent(p, 0);
+      outsideH = std::max(outsideH, std::max(lo - h, h - hi) / std::max(1.0, std::abs(hi)));
+    }
+    worstArea = std::max(worstArea, std::abs(integral - areas->GetComponent(c, 0)) / areas->GetComponent(c, 0));
+  }
+  double bounds[6];
+  bunny->GetBounds(bounds);
+  const double diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) + (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+  std::printf("bunny00 maps at 384^2: %lld pixels inside, area %.2e, linear data %.2e, off the cell %.2e, "
+              "curvature outside its corners %.2e\n", static_cast<long long>(inside), worstArea, worstHeight,
+    worstOff / diagonal, outsideH);
+  EXPECT_GT(inside, 0);
+  EXPECT_LT(worstArea, 3e-3); // pixel coverage of the chart outline: about 1/n (1e-3 at 512^2 on eight.off, core test)
+  EXPECT_LT(worstHeight, 1e-12 * diagonal);
+  EXPECT_LT(worstOff, 1e-6 * diagonal);
+  EXPECT_LT(outsideH, 1e-12);
 }

@@ -113,32 +113,34 @@ ChartRaster RasterizeChart(const AtlasChart& chart, int resolution, int numThrea
   return raster;
 }
 
-std::vector<double> InterpolateOnRaster(
-  const ChartRaster& raster, const AtlasChart& chart, const double* values, int components)
+void InterpolateOnRaster(const ChartRaster& raster, const AtlasChart& chart, const double* values, int components,
+  double* out, bool chartValues, int numThreads)
 {
-  const std::size_t pixels = raster.Face.size();
-  std::vector<double> out(pixels * components, std::numeric_limits<double>::quiet_NaN());
-  for (std::size_t p = 0; p < pixels; ++p)
-  {
-    const Index t = raster.Face[p];
-    if (t < 0)
+  const std::int64_t pixels = static_cast<std::int64_t>(raster.Face.size());
+  ParallelFor(pixels, numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t p = begin; p < end; ++p)
     {
-      continue;
-    }
-    for (int c = 0; c < components; ++c)
-    {
-      double v = 0.0;
-      for (int k = 0; k < 3; ++k)
+      const Index t = raster.Face[p];
+      for (int c = 0; c < components; ++c)
       {
-        v += raster.Barycentric[3 * p + k] * values[static_cast<std::size_t>(chart.Corners[3 * t + k]) * components + c];
+        double v = std::numeric_limits<double>::quiet_NaN();
+        if (t >= 0)
+        {
+          v = 0.0;
+          for (int k = 0; k < 3; ++k)
+          {
+            const Index corner = chart.Corners[3 * t + k];
+            const std::size_t vertex = static_cast<std::size_t>(chartValues ? corner : chart.Vertices[corner]);
+            v += raster.Barycentric[3 * p + k] * values[vertex * components + c];
+          }
+        }
+        out[p * components + c] = v;
       }
-      out[p * components + c] = v;
     }
-  }
-  return out;
+  });
 }
 
-std::vector<double> AreaMap(const ChartRaster& raster, const AtlasChart& chart, const double* points)
+void AreaMap(const ChartRaster& raster, const AtlasChart& chart, const double* points, double* out)
 {
   const Index triangles = static_cast<Index>(chart.Corners.size() / 3);
   std::vector<double> ratio(triangles);
@@ -151,15 +153,10 @@ std::vector<double> AreaMap(const ChartRaster& raster, const AtlasChart& chart, 
     const double area2D = 0.5 * Cross2(&chart.UV[2 * c[0]], &chart.UV[2 * c[1]], &chart.UV[2 * c[2]]);
     ratio[t] = area2D > 0.0 ? area3D / area2D : 0.0;
   }
-  std::vector<double> out(raster.Face.size(), std::numeric_limits<double>::quiet_NaN());
   for (std::size_t p = 0; p < raster.Face.size(); ++p)
   {
-    if (raster.Face[p] >= 0)
-    {
-      out[p] = ratio[raster.Face[p]];
-    }
+    out[p] = raster.Face[p] >= 0 ? ratio[raster.Face[p]] : std::numeric_limits<double>::quiet_NaN();
   }
-  return out;
 }
 
 } // namespace beltrami

@@ -32,14 +32,15 @@ Index LocateInChart(const AtlasChart& chart, const double uv[2], double barycent
 /// Samples the chart at every pixel centre of an n x n grid (threads: 0 all).
 ChartRaster RasterizeChart(const AtlasChart& chart, int resolution, int numThreads = 0);
 
-/// values (components per chart vertex, in the order of chart.Vertices)
-/// interpolated at every pixel: `components` doubles per pixel, NaN outside.
-std::vector<double> InterpolateOnRaster(
-  const ChartRaster& raster, const AtlasChart& chart, const double* values, int components);
+/// values (components per vertex: of the surface's vertices, or of the
+/// chart's when `chartValues`) interpolated at every pixel into `out`:
+/// `components` doubles per pixel, NaN outside.
+void InterpolateOnRaster(const ChartRaster& raster, const AtlasChart& chart, const double* values, int components,
+  double* out, bool chartValues = false, int numThreads = 0);
 
-/// The area map: per pixel the 3D area of its triangle over the triangle's
-/// area in the chart's square (NaN outside).  Summed over the pixels and
-/// multiplied by the pixel area 1/n^2 it gives the chart's 3D area.
-std::vector<double> AreaMap(const ChartRaster& raster, const AtlasChart& chart, const double* points);
+/// The area map into `out`: per pixel the 3D area of its triangle over the
+/// triangle's area in the chart's square (NaN outside).  Summed over the
+/// pixels and multiplied by the pixel area 1/n^2 it gives the chart's 3D area.
+void AreaMap(const ChartRaster& raster, const AtlasChart& chart, const double* points, double* out);
 
 } // namespace beltrami

@@ -190,7 +190,8 @@ TEST(GeometryImages, EmbeddingAreaAndVertexValuesOfEveryChart)
       std::copy_n(&eight.Points[3 * chart.Vertices[v]], 3, &positions[3 * v]);
     }
     const ChartRaster raster = RasterizeChart(chart, n, 2);
-    const std::vector<double> embedding = InterpolateOnRaster(raster, chart, positions.data(), 3);
+    std::vector<double> embedding(3 * raster.Face.size());
+    InterpolateOnRaster(raster, chart, positions.data(), 3, embedding.data(), true);
     // The embedding map against the face found anew at every 7th pixel centre.
     for (std::size_t p = 0; p < raster.Face.size(); p += 7)
     {
@@ -209,7 +210,8 @@ TEST(GeometryImages, EmbeddingAreaAndVertexValuesOfEveryChart)
       }
     }
     // The area map integrates to the chart's area.
-    const std::vector<double> area = AreaMap(raster, chart, eight.Points.data());
+    std::vector<double> area(raster.Face.size());
+    AreaMap(raster, chart, eight.Points.data(), area.data());
     double integral = 0.0;
     for (double a : area)
     {
