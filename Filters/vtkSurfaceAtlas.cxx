@@ -44,6 +44,7 @@ vtkSurfaceAtlas::vtkSurfaceAtlas()
 void vtkSurfaceAtlas::CopySettings(beltrami::AtlasOptions& o, vtkBeltramiCopy direction)
 {
   BeltramiCopySetting(this->NumberOfCharts, o.NumberOfCharts, direction);
+  BeltramiCopySetting(this->BalanceAreas, o.BalanceAreas, direction);
   BeltramiCopySetting(this->ChartBoundary, o.ChartBoundary, direction);
   BeltramiCopySetting(this->TextureSize, o.TextureSize, direction);
   BeltramiCopySetting(this->MarginTexels, o.MarginTexels, direction);
@@ -324,6 +325,7 @@ void vtkSurfaceAtlas::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "NumberOfCharts: " << this->NumberOfCharts << "\n";
+  os << indent << "BalanceAreas: " << this->BalanceAreas << "\n";
   os << indent << "ChartBoundary: " << this->ChartBoundary << "\n";
   os << indent << "TextureSize: " << this->TextureSize << "\n";
   os << indent << "MarginTexels: " << this->MarginTexels << "\n";

@@ -240,7 +240,7 @@ AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const
   const DualGraph graph(topology, points);
   const int count = options.NumberOfCharts > 0 ? options.NumberOfCharts : std::max(1, nt / 2000);
   std::vector<std::vector<Index>> regions;
-  if (!PartitionIntoCharts(topology, graph, count, regions, result.Error) ||
+  if (!PartitionIntoCharts(topology, graph, count, regions, result.Error, options.BalanceAreas) ||
     !MapAllCharts(topology, points, graph, std::move(regions), options, result))
   {
     result.Charts.clear();

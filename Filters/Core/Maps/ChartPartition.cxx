@@ -10,6 +10,7 @@
 #include <limits>
 #include <numeric>
 #include <queue>
+#include <tuple>
 
 namespace beltrami
 {
@@ -395,8 +396,119 @@ bool SplitIntoDisks(const MeshTopology& topology, const DualGraph& graph, std::v
   return true;
 }
 
+namespace
+{
+
+/// The area of a region.
+double RegionArea(const DualGraph& graph, const std::vector<Index>& region)
+{
+  double area = 0.0;
+  for (Index t : region)
+  {
+    area += graph.Areas[t];
+  }
+  return area;
+}
+
+/// Section 4.2.4 for one pair: the union of two neighbouring charts split
+/// again so that both halves carry the same area, along a level line of
+/// d_a - d_b (d_a, d_b: the distances along the union from its two most
+/// distant triangles; the line is a smooth seam between them).  True (the
+/// pair replaced) when both halves are disks.
+bool RebalancePair(const MeshTopology& topology, const DualGraph& graph, std::vector<Index>& first,
+  std::vector<Index>& second)
+{
+  std::vector<Index> both = first;
+  both.insert(both.end(), second.begin(), second.end());
+  std::vector<std::uint8_t> allowed(graph.NumberOfTriangles(), 0);
+  for (Index t : both)
+  {
+    allowed[t] = 1;
+  }
+  std::vector<double> fromFirst, fromA, fromB;
+  GrowRegions(graph, { both.front() }, allowed, &fromFirst);
+  const Index a = *std::max_element(both.begin(), both.end(), [&](Index x, Index y) { return fromFirst[x] < fromFirst[y]; });
+  GrowRegions(graph, { a }, allowed, &fromA);
+  const Index b = *std::max_element(both.begin(), both.end(), [&](Index x, Index y) { return fromA[x] < fromA[y]; });
+  GrowRegions(graph, { b }, allowed, &fromB);
+  std::sort(both.begin(), both.end(), [&](Index x, Index y) {
+    const double fx = fromA[x] - fromB[x], fy = fromA[y] - fromB[y];
+    return fx < fy || (fx == fy && x < y);
+  });
+  const double half = 0.5 * RegionArea(graph, both);
+  double area = 0.0;
+  std::size_t cut = 0;
+  while (cut < both.size() && area + 0.5 * graph.Areas[both[cut]] < half)
+  {
+    area += graph.Areas[both[cut++]];
+  }
+  std::vector<Index> one(both.begin(), both.begin() + cut), two(both.begin() + cut, both.end());
+  if (one.empty() || two.empty() || !IsDisk(ExtractChart(topology, one)) || !IsDisk(ExtractChart(topology, two)))
+  {
+    return false;
+  }
+  first = std::move(one);
+  second = std::move(two);
+  return true;
+}
+
+} // namespace
+
+void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph,
+  std::vector<std::vector<Index>>& charts, double ratio, int rounds)
+{
+  for (int round = 0; round < rounds; ++round)
+  {
+    std::vector<int> chartOf(graph.NumberOfTriangles(), -1);
+    std::vector<double> area(charts.size());
+    for (std::size_t c = 0; c < charts.size(); ++c)
+    {
+      area[c] = RegionArea(graph, charts[c]);
+      for (Index t : charts[c])
+      {
+        chartOf[t] = static_cast<int>(c);
+      }
+    }
+    // Neighbouring pairs whose areas differ by more than `ratio`, the most
+    // unequal first; each chart rebalanced once per round.
+    std::vector<std::tuple<double, int, int>> pairs;
+    for (Index t = 0; t < graph.NumberOfTriangles(); ++t)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const Index n = graph.Neighbors[3 * t + k];
+        const int c = chartOf[t], d = n >= 0 ? chartOf[n] : -1;
+        if (d > c && c >= 0)
+        {
+          const double r = std::max(area[c], area[d]) / std::max(1e-300, std::min(area[c], area[d]));
+          if (r > ratio)
+          {
+            pairs.emplace_back(-r, c, d);
+          }
+        }
+      }
+    }
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    std::vector<std::uint8_t> done(charts.size(), 0);
+    bool changed = false;
+    for (const auto& [r, c, d] : pairs)
+    {
+      if (!done[c] && !done[d] && RebalancePair(topology, graph, charts[c], charts[d]))
+      {
+        done[c] = done[d] = 1;
+        changed = true;
+      }
+    }
+    if (!changed)
+    {
+      break;
+    }
+  }
+}
+
 bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, int count,
-  std::vector<std::vector<Index>>& charts, std::string& error)
+  std::vector<std::vector<Index>>& charts, std::string& error, bool balance)
 {
   charts.clear();
   const TopologySummary& s = topology.Summary();
@@ -419,6 +531,10 @@ bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, i
     {
       return false;
     }
+  }
+  if (balance)
+  {
+    BalanceChartAreas(topology, graph, charts);
   }
   std::sort(charts.begin(), charts.end(), [](const auto& x, const auto& y) { return x.front() < y.front(); });
   return true;

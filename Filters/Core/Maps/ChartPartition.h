@@ -79,11 +79,21 @@ std::vector<std::vector<Index>> SplitRegion(const DualGraph& graph, const std::v
 bool SplitIntoDisks(const MeshTopology& topology, const DualGraph& graph, std::vector<Index> region,
   std::vector<std::vector<Index>>& disks, std::string& error);
 
+/// The area-balanced refinement of section 4.2.4: every pair of
+/// neighbouring charts whose areas differ by more than `ratio` is merged and
+/// split again at the median of its area along a level line of d_a - d_b
+/// (the distances from the union's two most distant triangles), so both
+/// halves carry the same area and the seam is smooth; kept only where both
+/// halves are disks.  At most `rounds` rounds, each chart once per round.
+void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph,
+  std::vector<std::vector<Index>>& charts, double ratio = 1.5, int rounds = 8);
+
 /// The partition: every triangle of `topology` in exactly one disk-like
 /// chart (chart[t] = its index).  `count`: the number of initial regions
-/// (splits add more).  False with `error` when the surface is not manifold
-/// and oriented (no chart of it could be a disk).
+/// (splits add more); `balance`: BalanceChartAreas after.  False with
+/// `error` when the surface is not manifold and oriented (no chart of it
+/// could be a disk).
 bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, int count,
-  std::vector<std::vector<Index>>& charts, std::string& error);
+  std::vector<std::vector<Index>>& charts, std::string& error, bool balance = true);
 
 } // namespace beltrami
