@@ -30,6 +30,7 @@
 
 BELTRAMI_SAME_ENUM(vtkSurfaceAtlas::CIRCLE, beltrami::ParameterizationBoundary::Circle);
 BELTRAMI_SAME_ENUM(vtkSurfaceAtlas::SQUARE, beltrami::ParameterizationBoundary::Square);
+BELTRAMI_SAME_ENUM(vtkSurfaceAtlas::NATURAL, beltrami::ParameterizationBoundary::Natural);
 
 vtkStandardNewMacro(vtkSurfaceAtlas);
 
@@ -39,6 +40,15 @@ vtkSurfaceAtlas::vtkSurfaceAtlas()
   // The defaults have one source: the core's AtlasOptions.
   beltrami::AtlasOptions defaults;
   this->CopySettings(defaults, vtkBeltramiCopy::FromCore);
+}
+
+void vtkSurfaceAtlas::SetChartBoundary(int boundary)
+{
+  if ((boundary == CIRCLE || boundary == SQUARE || boundary == NATURAL) && boundary != this->ChartBoundary)
+  {
+    this->ChartBoundary = boundary;
+    this->Modified();
+  }
 }
 
 void vtkSurfaceAtlas::CopySettings(beltrami::AtlasOptions& o, vtkBeltramiCopy direction)

@@ -14,9 +14,10 @@
  * largest chart over the smallest goes from 54 to 7.4, but the charts get
  * longer: more angle distortion, less packing, and it is slower).  Each chart is mapped by the discrete
  * conformal parameterization (DCP, chapter 5) onto its own square (ChartBoundary SQUARE, section
- * 4.2.2; the chart's boundary spaced by arc length), or onto the circle
- * (CIRCLE): a chart whose square map would flip a triangle is mapped onto
- * the circle instead, and a chart whose map still flips is split, so no
+ * 4.2.2; the chart's boundary spaced by arc length), onto the circle
+ * (CIRCLE), or with a free boundary (NATURAL: the natural conformal map of
+ * section 5.4.2): a chart whose square map would flip a triangle, or whose
+ * free boundary would overlap itself, is mapped onto the circle instead, and a chart whose map still flips is split, so no
  * triangle is ever flipped.  The charts are packed into [0, 1]^2 at one
  * scale (the same texels per unit of surface length on every chart), with
  * MarginTexels texels of a TextureSize^2 texture between them.
@@ -79,12 +80,14 @@ public:
   enum ChartBoundaryType
   {
     CIRCLE = 0,
-    SQUARE = 1
+    SQUARE = 1,
+    NATURAL = 3
   };
 
   vtkSetClampMacro(NumberOfCharts, int, 0, VTK_INT_MAX);
   vtkGetMacro(NumberOfCharts, int);
-  vtkSetClampMacro(ChartBoundary, int, CIRCLE, SQUARE);
+  /// CIRCLE, SQUARE or NATURAL; other values are ignored.
+  virtual void SetChartBoundary(int boundary);
   vtkGetMacro(ChartBoundary, int);
   vtkSetClampMacro(TextureSize, int, 1, VTK_INT_MAX);
   vtkGetMacro(TextureSize, int);

@@ -1,6 +1,8 @@
 """The atlas (vtkSurfaceAtlas, thesis section 4.2) of bunny00 and of its Loop
-subdivisions (300k and 1.2M triangles): charts, packing efficiency, mean
-angle distortion per chart, time (on demand, not a test).
+subdivisions (300k and 1.2M triangles), with square, circle and natural
+chart boundaries: charts, packing efficiency, mean angle distortion
+(area-weighted over the charts), time without the maps (on demand, not a
+test).
 
     source build/beltrami-env.sh
     /usr/bin/python3 Testing/Benchmarks/benchmark_atlas.py [levels]
@@ -31,10 +33,12 @@ def main(argv):
             loop.SetInputData(mesh)
             loop.Update()
             mesh = loop.GetOutput()
-        for boundary, name in ((beltrami.vtkSurfaceAtlas.SQUARE, "square"), (beltrami.vtkSurfaceAtlas.CIRCLE, "circle")):
+        for boundary, name in ((beltrami.vtkSurfaceAtlas.SQUARE, "square"), (beltrami.vtkSurfaceAtlas.CIRCLE, "circle"),
+                               (beltrami.vtkSurfaceAtlas.NATURAL, "natural")):
             f = beltrami.vtkSurfaceAtlas()
             f.SetInputData(mesh)
             f.SetChartBoundary(boundary)
+            f.SetMapResolution(0)  # the atlas only
             start = time.perf_counter()
             f.Update()
             elapsed = time.perf_counter() - start

@@ -16,6 +16,41 @@ namespace beltrami
 namespace
 {
 
+/// True when the segments (a, b) and (c, d) cross (proper intersection).
+bool Cross(const double* a, const double* b, const double* c, const double* d)
+{
+  const auto side = [](const double* p, const double* q, const double* r) {
+    return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+  };
+  const double d1 = side(c, d, a), d2 = side(c, d, b), d3 = side(a, b, c), d4 = side(a, b, d);
+  return ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0));
+}
+
+/// True when the boundary loop of the chart's map is a simple polygon (a
+/// free boundary, unlike a circle or a square, can overlap itself).
+bool BoundaryIsSimple(const MeshTopology& topology, const std::vector<double>& uv)
+{
+  for (const std::vector<Index>& loop : topology.BoundaryLoops())
+  {
+    const std::size_t n = loop.size();
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      for (std::size_t j = i + 2; j < n; ++j)
+      {
+        if ((j + 1) % n == i)
+        {
+          continue; // neighbouring segments
+        }
+        if (Cross(&uv[2 * loop[i]], &uv[2 * loop[(i + 1) % n]], &uv[2 * loop[j]], &uv[2 * loop[(j + 1) % n]]))
+        {
+          return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+
 /// Maps `chart` (its Triangles set) onto its own square by DCP; false when
 /// the map fails or flips a triangle.
 bool MapChart(const MeshTopology& topology, const double* points, ParameterizationBoundary boundary, AtlasChart& chart)
@@ -29,8 +64,8 @@ bool MapChart(const MeshTopology& topology, const double* points, Parameterizati
   }
   const MeshTopology chartTopology(static_cast<Index>(mesh.Vertices.size()), mesh.Corners, 1);
   // The requested boundary; where a square flips a triangle (three boundary
-  // points of a triangle on one side), the circle, which never puts three
-  // points on a line; else the chart is split.
+  // points of a triangle on one side) or a natural boundary overlaps itself,
+  // the circle, which never puts three points on a line; else the chart is split.
   ParameterizationResult map;
   for (const ParameterizationBoundary shape : { boundary, ParameterizationBoundary::Circle })
   {
@@ -39,7 +74,8 @@ bool MapChart(const MeshTopology& topology, const double* points, Parameterizati
     options.NumberOfThreads = 1; // the charts run in parallel
     map = Parameterize(chartTopology, local.data(), options);
     chart.Boundary = shape;
-    if (map.Error.empty() && CountFlipped(chartTopology, local.data(), map.UV.data()) == 0)
+    if (map.Error.empty() && CountFlipped(chartTopology, local.data(), map.UV.data()) == 0 &&
+      (shape != ParameterizationBoundary::Natural || BoundaryIsSimple(chartTopology, map.UV)))
     {
       break;
     }

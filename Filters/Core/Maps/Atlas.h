@@ -29,7 +29,9 @@ struct AtlasOptions
   /// packing 71% -> 61%) and slower (1.2M triangles: 4 s -> 14 s); off by
   /// default.
   bool BalanceAreas = false;
-  /// The boundary of every chart's map: the square of section 4.2.2, or the circle.
+  /// The boundary of every chart's map: the square of section 4.2.2, the
+  /// circle, or free (Natural: the natural conformal map of section 5.4.2;
+  /// a chart whose free boundary would overlap itself goes onto the circle).
   ParameterizationBoundary ChartBoundary = ParameterizationBoundary::Square;
   /// The margin between packed charts, in texels of a TextureSize^2 texture.
   int TextureSize = 1024;

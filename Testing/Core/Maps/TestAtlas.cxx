@@ -274,3 +274,29 @@ TEST(Atlas, AreaBalancedRefinementEvensTheCharts)
     EXPECT_LT(3.0 * spread[1], spread[0]); // and at least 3 times more even than without
   }
 }
+
+TEST(Atlas, NaturalConformalChartsHaveLessAngleDistortion)
+{
+  std::string error;
+  const Mesh bunny = test::ReadMesh("bunny00.off", error);
+  ASSERT_EQ(error, "");
+  const MeshTopology topology = bunny.Topology();
+  double distortion[2] = { 0.0, 0.0 };
+  for (const auto boundary : { ParameterizationBoundary::Square, ParameterizationBoundary::Natural })
+  {
+    AtlasOptions options;
+    options.ChartBoundary = boundary;
+    const AtlasResult atlas = BuildAtlas(topology, bunny.Points.data(), options);
+    ExpectValidAtlas(bunny, atlas, boundary == ParameterizationBoundary::Natural ? "bunny, natural" : "bunny, square");
+    double weighted = 0.0, area = 0.0;
+    for (const AtlasChart& chart : atlas.Charts)
+    {
+      weighted += chart.MeanAngleDistortion * chart.Area3D;
+      area += chart.Area3D;
+    }
+    distortion[boundary == ParameterizationBoundary::Natural] = weighted / area;
+  }
+  std::printf("bunny: mean angle distortion %.2f deg on squares, %.2f deg natural\n", distortion[0], distortion[1]);
+  EXPECT_LT(distortion[1], 1.0);
+  EXPECT_LT(10.0 * distortion[1], distortion[0]);
+}
