@@ -2,6 +2,7 @@
 #include "vtkBeltramiSettings.h"
 
 #include "vtkBeltramiSurface.h"
+#include "vtkSurfaceAtlas.h"
 
 #include "Maps/Parameterization.h"
 
@@ -181,6 +182,11 @@ int vtkIntrinsicParameterization::RequestData(
 int vtkIntrinsicParameterization::Parameterize(vtkBeltramiSurface& surface)
 {
   const beltrami::MeshTopology& topo = surface.Topology();
+  std::string notDisk;
+  if (this->AtlasForNonDisks && !beltrami::CheckDiskTopology(topo, notDisk))
+  {
+    return this->ParameterizeThroughAtlas(surface, notDisk);
+  }
   beltrami::ParameterizationOptions options;
   this->CopySettings(options, vtkBeltramiCopy::ToCore);
   std::vector<double> given;
@@ -208,6 +214,50 @@ int vtkIntrinsicParameterization::Parameterize(vtkBeltramiSurface& surface)
   this->WriteDistortion(surface, distortion, result);
   this->Internal->Basis = std::move(result.Basis);
   this->UpdateProgress(1.0);
+  return 1;
+}
+
+int vtkIntrinsicParameterization::ParameterizeThroughAtlas(vtkBeltramiSurface& surface, const std::string& why)
+{
+  if (surface.IsGathered() || this->Boundary == GIVEN)
+  {
+    vtkErrorMacro(<< why << " An atlas (AtlasForNonDisks) is made in serial runs with the CIRCLE, SQUARE or "
+                            "NATURAL boundary; use Surface Atlas (vtkSurfaceAtlas) for distributed data.");
+    return 0;
+  }
+  vtkNew<vtkSurfaceAtlas> atlas;
+  atlas->SetInputData(surface.Input());
+  atlas->SetChartBoundary(this->Boundary);
+  atlas->SetMapResolution(0);
+  atlas->SetNumberOfThreads(this->NumberOfThreads);
+  atlas->Update();
+  vtkPolyData* cut = atlas->GetOutput();
+  vtkDataArray* charts = cut->GetFieldData()->GetArray("AtlasCharts");
+  if (!charts)
+  {
+    vtkErrorMacro(<< why << " No atlas could be made of it (see the error above).");
+    return 0;
+  }
+  surface.Output()->ShallowCopy(cut);
+  vtkWarningMacro(<< why << " It was parameterized through an atlas of " << charts->GetComponent(0, 0)
+                  << " charts: the output is the surface cut along their seams (vtkOriginalPointIds).");
+  // The getters: area-weighted means over the charts.
+  vtkDataArray* angle = cut->GetFieldData()->GetArray("AtlasChartAngleDistortion");
+  vtkDataArray* area = cut->GetFieldData()->GetArray("AtlasChartArea");
+  vtkDataArray* areaDistortion = cut->GetFieldData()->GetArray("AtlasChartAreaDistortion");
+  double total = 0.0, weightedAngle = 0.0, weightedArea = 0.0;
+  for (vtkIdType c = 0; c < area->GetNumberOfTuples(); ++c)
+  {
+    total += area->GetComponent(c, 0);
+    weightedAngle += angle->GetComponent(c, 0) * area->GetComponent(c, 0);
+    weightedArea += areaDistortion->GetComponent(c, 0) * area->GetComponent(c, 0);
+  }
+  this->MeanAngleDistortion = total > 0.0 ? weightedAngle / total : 0.0;
+  this->MeanAreaDistortion = total > 0.0 ? weightedArea / total : 0.0;
+  this->MeanEdgeDistortion = 0.0;
+  this->NumberOfFlippedTriangles = 0; // the atlas never flips a triangle
+  this->OptimalMix = -1.0;
+  this->Internal->Basis.reset();
   return 1;
 }
 
@@ -393,6 +443,7 @@ void vtkIntrinsicParameterization::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BoundaryEnergy: " << this->BoundaryEnergy << "\n";
   os << indent << "BoundaryOptimizationSteps: " << this->BoundaryOptimizationSteps << "\n";
   os << indent << "KeepBoundaryBasis: " << this->KeepBoundaryBasis << "\n";
+  os << indent << "AtlasForNonDisks: " << this->AtlasForNonDisks << "\n";
   os << indent << "OutputFlattenedMesh: " << this->OutputFlattenedMesh << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

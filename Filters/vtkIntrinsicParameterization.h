@@ -55,6 +55,7 @@
 #include "vtkPolyDataAlgorithm.h"
 
 #include <memory> // for the basis
+#include <string> // for ParameterizeThroughAtlas
 #include <vector> // for the constraints
 
 class vtkBeltramiSurface;
@@ -143,6 +144,19 @@ public:
   ///@}
 
   ///@{
+  /// Closed, higher-genus or multi-component input (no disk): with
+  /// AtlasForNonDisks (default off: an error) it is parameterized through an
+  /// atlas (vtkSurfaceAtlas, thesis section 4.2: disk-like charts, each by
+  /// DCP on its square (Boundary SQUARE), circle (CIRCLE) or free (NATURAL),
+  /// packed into [0,1]^2); the output is then the surface cut along the
+  /// chart seams, with UV, ChartId and vtkOriginalPointIds, and a warning
+  /// says so.  Not in distributed runs (use Surface Atlas there).
+  vtkSetMacro(AtlasForNonDisks, bool);
+  vtkGetMacro(AtlasForNonDisks, bool);
+  vtkBooleanMacro(AtlasForNonDisks, bool);
+  ///@}
+
+  ///@{
   vtkSetMacro(OutputFlattenedMesh, bool);
   vtkGetMacro(OutputFlattenedMesh, bool);
   vtkBooleanMacro(OutputFlattenedMesh, bool);
@@ -189,6 +203,7 @@ protected:
   bool KeepBoundaryBasis;
   int NumberOfThreads;
   bool OutputFlattenedMesh = false;
+  bool AtlasForNonDisks = false;
 
   double OptimalMix = -1.0;
   double MeanAngleDistortion = 0.0;
@@ -202,6 +217,8 @@ private:
 
   /// The map of the surface Execute built (RequestData's value).
   int Parameterize(vtkBeltramiSurface& surface);
+  /// The atlas path for input that is not a disk (AtlasForNonDisks).
+  int ParameterizeThroughAtlas(vtkBeltramiSurface& surface, const std::string& why);
   /// The given boundary (input array 0, into `given`) and the constraint
   /// targets (input array 1) into `options`; false (after an error) if unusable.
   bool ReadInputArrays(vtkBeltramiSurface& surface, beltrami::ParameterizationOptions& options,

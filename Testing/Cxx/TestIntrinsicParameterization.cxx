@@ -139,3 +139,28 @@ TEST(IntrinsicParameterization, ClosedInputIsAClearError)
   EXPECT_NE(messages->Errors[0].find("closed"), std::string::npos) << messages->Errors[0];
   EXPECT_EQ(f->GetOutput()->GetPointData()->GetArray("UV"), nullptr);
 }
+
+TEST(IntrinsicParameterization, ClosedInputThroughAnAtlasWhenAsked)
+{
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(32);
+  sphere->SetPhiResolution(32);
+  sphere->Update();
+  vtkNew<vtkIntrinsicParameterization> f;
+  f->AtlasForNonDisksOn();
+  f->SetBoundary(vtkIntrinsicParameterization::NATURAL);
+  vtkNew<MessageCollector> messages;
+  messages->Watch(f);
+  f->SetInputConnection(sphere->GetOutputPort());
+  f->Update();
+  EXPECT_TRUE(messages->Errors.empty());
+  EXPECT_TRUE(messages->WarnedAbout("atlas"));
+  vtkPolyData* out = f->GetOutput();
+  vtkDataArray* uv = out->GetPointData()->GetArray("UV");
+  ASSERT_NE(uv, nullptr);
+  EXPECT_GT(out->GetNumberOfPoints(), sphere->GetOutput()->GetNumberOfPoints()); // cut along the seams
+  EXPECT_EQ(out->GetNumberOfCells(), sphere->GetOutput()->GetNumberOfCells());
+  EXPECT_EQ(f->GetNumberOfFlippedTriangles(), 0);
+  EXPECT_LT(f->GetMeanAngleDistortion(), 2.0); // natural charts
+  EXPECT_NE(out->GetCellData()->GetArray("ChartId"), nullptr);
+}
