@@ -31,14 +31,7 @@ SEED = 1234
 
 
 def compute_curvatures(mesh_path):
-    reader = vtkOFFReader()
-    reader.SetFileName(mesh_path)
-    curvatures = vtkDiscreteCurvatures()
-    curvatures.SetInputConnection(reader.GetOutputPort())
-    reader.Update()
-    start = time.perf_counter()
-    curvatures.Update()
-    elapsed = time.perf_counter() - start
+    curvatures, elapsed = run_on_off(mesh_path, vtkDiscreteCurvatures())
     return curvatures.GetOutput(), elapsed
 
 
@@ -110,31 +103,31 @@ def write_vtp(polydata, path):
     writer.Write()
 
 
-def parameterize(mesh_path, conformal=1.0, authalic=0.0, boundary=vtkIntrinsicParameterization.NATURAL):
+def run_on_off(mesh_path, f):
+    """Runs the filter `f` on the OFF mesh at `mesh_path` (read first, not
+    timed); returns (f, seconds of f's update)."""
     reader = vtkOFFReader()
     reader.SetFileName(mesh_path)
     reader.Update()
-    f = vtkIntrinsicParameterization()
     f.SetInputConnection(reader.GetOutputPort())
-    f.SetConformalWeight(conformal)
-    f.SetAuthalicWeight(authalic)
-    f.SetBoundary(boundary)
     start = time.perf_counter()
     f.Update()
     return f, time.perf_counter() - start
+
+
+def parameterize(mesh_path, conformal=1.0, authalic=0.0, boundary=vtkIntrinsicParameterization.NATURAL):
+    f = vtkIntrinsicParameterization()
+    f.SetConformalWeight(conformal)
+    f.SetAuthalicWeight(authalic)
+    f.SetBoundary(boundary)
+    return run_on_off(mesh_path, f)
 
 
 def surface_atlas(mesh_path, charts=0):
     """vtkSurfaceAtlas on an OFF mesh; returns (filter, seconds)."""
-    reader = vtkOFFReader()
-    reader.SetFileName(mesh_path)
-    reader.Update()
     f = vtkSurfaceAtlas()
-    f.SetInputConnection(reader.GetOutputPort())
     f.SetNumberOfCharts(charts)
-    start = time.perf_counter()
-    f.Update()
-    return f, time.perf_counter() - start
+    return run_on_off(mesh_path, f)
 
 
 def checkerboard(squares=16, pixels=32):
