@@ -1,0 +1,78 @@
+#include "Flows/FairingInvariants.h"
+
+#include "Mesh/MeshMeasures.h"
+
+#include <cmath>
+
+namespace beltrami::detail
+{
+
+namespace
+{
+
+void Rescale(double* x, Index n, const Vec3& center, double s)
+{
+  for (Index i = 0; i < n; ++i)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      x[3 * i + c] = center[c] + s * (x[3 * i + c] - center[c]);
+    }
+  }
+}
+
+} // namespace
+
+double MeasureInvariant(const InvariantState& s, const MeshTopology& topo, const double* x, int threads,
+  Vec3* center)
+{
+  switch (s.Kind)
+  {
+    case FairingInvariant::Volume:
+      return VolumeAndCentroid(topo, x, threads, center);
+    case FairingInvariant::Area:
+      return AreaAndCentroid(topo, x, threads, center);
+    case FairingInvariant::HeightFieldVolume:
+      return HeightVolume(topo, x, s.PlaneOrigin, s.PlaneNormal, threads);
+    default:
+      return 0.0;
+  }
+}
+
+double RestoreInvariant(const InvariantState& s, const MeshTopology& topo, double* x, int threads)
+{
+  Vec3 center;
+  const double now = MeasureInvariant(s, topo, x, threads, &center);
+  const Index n = topo.NumberOfVertices();
+  if (!(now != 0.0) || !std::isfinite(now) || now * s.Initial <= 0.0)
+  {
+    return now;
+  }
+  switch (s.Kind)
+  {
+    case FairingInvariant::Volume:
+      Rescale(x, n, center, std::cbrt(s.Initial / now));
+      break;
+    case FairingInvariant::Area:
+      Rescale(x, n, center, std::sqrt(s.Initial / now));
+      break;
+    case FairingInvariant::HeightFieldVolume:
+    {
+      const double factor = s.Initial / now; // the volume is linear in the heights
+      for (Index i = 0; i < n; ++i)
+      {
+        const double h = (Point(x, i) - s.PlaneOrigin).dot(s.PlaneNormal);
+        for (int c = 0; c < 3; ++c)
+        {
+          x[3 * i + c] += (factor - 1.0) * h * s.PlaneNormal[c];
+        }
+      }
+      break;
+    }
+    default:
+      break;
+  }
+  return MeasureInvariant(s, topo, x, threads, &center);
+}
+
+} // namespace beltrami::detail

@@ -1,0 +1,27 @@
+// Beltrami core, private to Flows/Fairing: the invariants of section 3.3.1
+// (enclosed volume, area, volume above a reference plane), measured and
+// restored by scaling after every smoothing step.
+#pragma once
+
+#include "Flows/Fairing.h"
+
+namespace beltrami::detail
+{
+
+struct InvariantState
+{
+  FairingInvariant Kind = FairingInvariant::None;
+  Vec3 PlaneOrigin = Vec3::Zero(), PlaneNormal = Vec3::UnitZ();
+  double Initial = 0.0;
+};
+
+/// The invariant's value on x; `center` (optional): the centre the scaling
+/// uses (the volume or area centroid).
+double MeasureInvariant(const InvariantState& s, const MeshTopology& topo, const double* x, int threads,
+  Vec3* center);
+
+/// Section 3.3.1: scales x back to the initial value of the invariant;
+/// returns the value after.
+double RestoreInvariant(const InvariantState& s, const MeshTopology& topo, double* x, int threads);
+
+} // namespace beltrami::detail
