@@ -115,7 +115,14 @@ int vtkSurfaceAtlas::Build(vtkPolyData* input, vtkPolyData* output)
   beltrami::AtlasOptions options;
   this->CopySettings(options, vtkBeltramiCopy::ToCore);
   this->UpdateProgress(0.0);
-  const beltrami::AtlasResult atlas = beltrami::BuildAtlas(topology, points, options);
+  const beltrami::AtlasResult atlas = beltrami::BuildAtlas(topology, points, options, [this](double fraction) {
+    this->UpdateProgress(0.5 * fraction);
+    return !this->GetAbortExecute();
+  });
+  if (!atlas.Completed)
+  {
+    return 1; // aborted: the output stays empty
+  }
   if (!atlas.Error.empty())
   {
     vtkErrorMacro(<< atlas.Error << ". The output is empty.");

@@ -48,8 +48,10 @@
  * neighbours) and every numeric point array of the input, interpolated
  * exactly (barycentric in the chart's triangles); NaN outside the chart.
  *
- * Non-manifold or inconsistently oriented surfaces, NaN coordinates and
- * empty input are reported and give an empty output.  An atlas needs the
+ * Progress is reported while the charts are mapped, and AbortExecute stops
+ * there (empty outputs).  Non-manifold or inconsistently oriented surfaces,
+ * NaN coordinates and empty input are reported and give an empty output;
+ * zero-area triangles and isolated points are accepted.  An atlas needs the
  * whole surface: in a distributed run (pvbatch, pvserver) a surface split
  * over the ranks is gathered on rank 0, which holds the cut surface (the
  * other ranks' outputs are empty).

@@ -5,6 +5,7 @@
 #include "vtkDiscreteCurvatures.h"
 #include "vtkSurfaceAtlas.h"
 
+#include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkFieldData.h>
@@ -225,4 +226,24 @@ TEST(SurfaceAtlas, GeometryMapsOfEveryChart)
   EXPECT_LT(worstHeight, 1e-12 * diagonal);
   EXPECT_LT(worstOff, 1e-6 * diagonal);
   EXPECT_LT(outsideH, 1e-12);
+}
+
+TEST(SurfaceAtlas, AbortLeavesAnEmptyOutput)
+{
+  const auto bunny = ReadOFF("bunny00.off");
+  vtkNew<vtkSurfaceAtlas> f;
+  f->SetInputData(bunny);
+  f->SetNumberOfThreads(1);
+  vtkNew<vtkCallbackCommand> abort;
+  abort->SetCallback([](vtkObject* caller, unsigned long, void*, void*) {
+    auto* alg = static_cast<vtkAlgorithm*>(caller);
+    if (alg->GetProgress() > 0.1)
+    {
+      alg->SetAbortExecute(1);
+    }
+  });
+  f->AddObserver(vtkCommand::ProgressEvent, abort);
+  f->Update();
+  EXPECT_EQ(f->GetOutput()->GetNumberOfPoints(), 0);
+  EXPECT_EQ(vtkMultiBlockDataSet::SafeDownCast(f->GetOutputDataObject(1))->GetNumberOfBlocks(), 0u);
 }

@@ -208,14 +208,15 @@ double PackCharts(std::vector<AtlasChart>& charts, const AtlasOptions& options)
 /// disks) and its parts mapped again.  False with `error` on a failure that
 /// splitting cannot cure.
 bool MapAllCharts(const MeshTopology& topology, const double* points, const DualGraph& graph,
-  std::vector<std::vector<Index>> regions, const AtlasOptions& options, AtlasResult& result)
+  std::vector<std::vector<Index>> regions, const AtlasOptions& options, const ProgressCallback& progress,
+  AtlasResult& result)
 {
   const SingleThreadedBlas blas; // the charts run in parallel: no BLAS threads within
   while (!regions.empty())
   {
     std::vector<AtlasChart> round(regions.size());
     std::vector<std::uint8_t> mapped(regions.size(), 0);
-    ParallelFor(static_cast<std::int64_t>(regions.size()), options.NumberOfThreads,
+    const bool completed = ParallelFor(static_cast<std::int64_t>(regions.size()), options.NumberOfThreads,
       [&](std::int64_t begin, std::int64_t end) {
         for (std::int64_t k = begin; k < end; ++k)
         {
@@ -223,7 +224,12 @@ bool MapAllCharts(const MeshTopology& topology, const double* points, const Dual
           mapped[k] = MapChart(topology, points, options.ChartBoundary, round[k]) ? 1 : 0;
         }
       },
-      {}, 0, 1);
+      progress, 0, 1);
+    if (!completed)
+    {
+      result.Completed = false;
+      return false;
+    }
     std::vector<std::vector<Index>> again;
     for (std::size_t k = 0; k < regions.size(); ++k)
     {
@@ -256,7 +262,8 @@ bool MapAllCharts(const MeshTopology& topology, const double* points, const Dual
 
 } // namespace
 
-AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const AtlasOptions& options)
+AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const AtlasOptions& options,
+  const ProgressCallback& progress)
 {
   AtlasResult result;
   const Index nt = topology.NumberOfTriangles();
@@ -277,7 +284,7 @@ AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const
   const int count = options.NumberOfCharts > 0 ? options.NumberOfCharts : std::max(1, nt / 2000);
   std::vector<std::vector<Index>> regions;
   if (!PartitionIntoCharts(topology, graph, count, regions, result.Error, options.BalanceAreas) ||
-    !MapAllCharts(topology, points, graph, std::move(regions), options, result))
+    !MapAllCharts(topology, points, graph, std::move(regions), options, progress, result))
   {
     result.Charts.clear();
     return result;

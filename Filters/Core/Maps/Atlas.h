@@ -10,6 +10,7 @@
 
 #include "Maps/BoundaryPlacement.h"
 #include "Mesh/MeshTopology.h"
+#include "Support/Parallel.h"
 
 #include <string>
 #include <vector>
@@ -56,6 +57,7 @@ struct AtlasChart
 
 struct AtlasResult
 {
+  bool Completed = true; ///< false if the progress callback cancelled (then no charts)
   std::string Error;   ///< non-empty: no atlas
   std::string Warning; ///< non-fatal remarks
   std::vector<int> ChartOfTriangle; ///< per surface triangle
@@ -65,7 +67,10 @@ struct AtlasResult
 };
 
 /// The atlas of the surface (its kept triangles; 3 doubles per point).
-AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const AtlasOptions& options = {});
+/// `progress` is called between batches of charts while they are mapped (the
+/// longest stage) and may cancel.
+AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const AtlasOptions& options = {},
+  const ProgressCallback& progress = {});
 
 /// The packed position in [0, 1]^2 of chart vertex v of `chart`.
 inline void AtlasUV(const AtlasChart& chart, Index v, double* uv)
