@@ -27,8 +27,7 @@ struct AtlasOptions
   /// The area-balanced refinement of section 4.2.4 (BalanceChartAreas): far
   /// more even chart areas (the elephant's largest over smallest chart 54 ->
   /// 7.4), but longer charts (bunny00: mean angle distortion 12.8 -> 18 deg,
-  /// packing 71% -> 61%) and slower (1.2M triangles: 4 s -> 14 s); off by
-  /// default.
+  /// packing 71% -> 61%); off by default.
   bool BalanceAreas = false;
   /// The boundary of every chart's map: the square of section 4.2.2, the
   /// circle, or free (Natural: the natural conformal map of section 5.4.2;

@@ -415,26 +415,71 @@ double RegionArea(const DualGraph& graph, const std::vector<Index>& region)
 /// d_a - d_b (d_a, d_b: the distances along the union from its two most
 /// distant triangles; the line is a smooth seam between them).  True (the
 /// pair replaced) when both halves are disks.
+/// Distances along the dual graph from `source` (a local id) within
+/// `region` (localOf[t]: t's index in region, -1 outside), by local id.
+std::vector<double> DistancesWithin(
+  const DualGraph& graph, const std::vector<Index>& region, const std::vector<Index>& localOf, Index source)
+{
+  using Item = std::pair<double, Index>;
+  std::vector<double> distance(region.size(), std::numeric_limits<double>::infinity());
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  distance[source] = 0.0;
+  queue.emplace(0.0, source);
+  while (!queue.empty())
+  {
+    const auto [d, local] = queue.top();
+    queue.pop();
+    if (d > distance[local])
+    {
+      continue;
+    }
+    const Index t = region[local];
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index n = graph.Neighbors[3 * t + k];
+      const Index m = n >= 0 ? localOf[n] : -1;
+      const double nd = d + graph.Distances[3 * t + k];
+      if (m >= 0 && nd < distance[m])
+      {
+        distance[m] = nd;
+        queue.emplace(nd, m);
+      }
+    }
+  }
+  return distance;
+}
+
+/// Section 4.2.4 for one pair: the union of two neighbouring charts split
+/// again so that both halves carry the same area, along a level line of
+/// d_a - d_b (d_a, d_b: the distances along the union from its two most
+/// distant triangles; the line is a smooth seam between them).  True (the
+/// pair replaced) when both halves are disks.  localOf: all -1 (scratch,
+/// left all -1).
 bool RebalancePair(const MeshTopology& topology, const DualGraph& graph, std::vector<Index>& first,
-  std::vector<Index>& second)
+  std::vector<Index>& second, std::vector<Index>& localOf)
 {
   std::vector<Index> both = first;
   both.insert(both.end(), second.begin(), second.end());
-  std::vector<std::uint8_t> allowed(graph.NumberOfTriangles(), 0);
-  for (Index t : both)
+  for (std::size_t k = 0; k < both.size(); ++k)
   {
-    allowed[t] = 1;
+    localOf[both[k]] = static_cast<Index>(k);
   }
-  std::vector<double> fromFirst, fromA, fromB;
-  GrowRegions(graph, { both.front() }, allowed, &fromFirst);
-  const Index a = *std::max_element(both.begin(), both.end(), [&](Index x, Index y) { return fromFirst[x] < fromFirst[y]; });
-  GrowRegions(graph, { a }, allowed, &fromA);
-  const Index b = *std::max_element(both.begin(), both.end(), [&](Index x, Index y) { return fromA[x] < fromA[y]; });
-  GrowRegions(graph, { b }, allowed, &fromB);
-  std::sort(both.begin(), both.end(), [&](Index x, Index y) {
-    const double fx = fromA[x] - fromB[x], fy = fromA[y] - fromB[y];
-    return fx < fy || (fx == fy && x < y);
-  });
+  const std::vector<double> fromFirst = DistancesWithin(graph, both, localOf, 0);
+  const Index a = static_cast<Index>(std::max_element(fromFirst.begin(), fromFirst.end()) - fromFirst.begin());
+  const std::vector<double> fromA = DistancesWithin(graph, both, localOf, a);
+  const Index b = static_cast<Index>(std::max_element(fromA.begin(), fromA.end()) - fromA.begin());
+  const std::vector<double> fromB = DistancesWithin(graph, both, localOf, b);
+  std::vector<std::pair<double, Index>> order(both.size()); // (d_a - d_b, triangle)
+  for (std::size_t k = 0; k < both.size(); ++k)
+  {
+    order[k] = { fromA[k] - fromB[k], both[k] };
+    localOf[both[k]] = -1;
+  }
+  std::sort(order.begin(), order.end());
+  for (std::size_t k = 0; k < both.size(); ++k)
+  {
+    both[k] = order[k].second;
+  }
   const double half = 0.5 * RegionArea(graph, both);
   double area = 0.0;
   std::size_t cut = 0;
@@ -457,6 +502,7 @@ bool RebalancePair(const MeshTopology& topology, const DualGraph& graph, std::ve
 void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph,
   std::vector<std::vector<Index>>& charts, double ratio, int rounds)
 {
+  std::vector<Index> localOf(graph.NumberOfTriangles(), -1);
   for (int round = 0; round < rounds; ++round)
   {
     std::vector<int> chartOf(graph.NumberOfTriangles(), -1);
@@ -494,7 +540,7 @@ void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph,
     bool changed = false;
     for (const auto& [r, c, d] : pairs)
     {
-      if (!done[c] && !done[d] && RebalancePair(topology, graph, charts[c], charts[d]))
+      if (!done[c] && !done[d] && RebalancePair(topology, graph, charts[c], charts[d], localOf))
       {
         done[c] = done[d] = 1;
         changed = true;
