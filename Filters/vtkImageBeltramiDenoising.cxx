@@ -6,11 +6,13 @@
 
 #include "Flows/ColorSpace.h"
 #include "Flows/GraphFlow.h"
+#include "Flows/NoiseEstimation.h"
 #include "Support/LargeBuffer.h"
 
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>
 #include <vtkExtentTranslator.h>
+#include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkImageData.h>
 #include <vtkInformation.h>
@@ -169,11 +171,13 @@ struct FlowValues
   double Range = 1.0;
   bool Luv = false;
   std::vector<double> RGB;
+  double EstimatedNoise = -1.0; ///< 2D images: the noise level estimated from the data (RGB units), else -1
 };
 
 /// Reads `array` as the core's values; false (after an error) when it
 /// cannot be smoothed.
-bool ReadValues(vtkImageBeltramiDenoising* self, vtkDataArray* array, vtkIdType count, FlowValues& v)
+bool ReadValues(vtkImageBeltramiDenoising* self, vtkDataArray* array, vtkIdType count,
+  const beltrami::PixelGrid* pixels, FlowValues& v)
 {
   const int nc = array->GetNumberOfComponents();
   const char* name = array->GetName() ? array->GetName() : "";
@@ -225,6 +229,10 @@ bool ReadValues(vtkImageBeltramiDenoising* self, vtkDataArray* array, vtkIdType 
       }
     }
   }
+  if (pixels)
+  {
+    v.EstimatedNoise = beltrami::EstimateImageNoise(*pixels, v.Used, v.Values.data());
+  }
   if (v.Luv)
   {
     if (self->GetNoiseLevel() > 0.0)
@@ -251,6 +259,17 @@ std::function<double(const double*)> ChangeInRGB(const std::vector<double>& rgb,
   };
 }
 
+/// The pixel grid of a 2D image as the core sees it.
+beltrami::PixelGrid PixelsOf(vtkImageData* input, const int* inExt, const GridMapping& grid)
+{
+  beltrami::PixelGrid pixels;
+  pixels.Width = inExt[2 * grid.Axis0 + 1] - inExt[2 * grid.Axis0] + 1;
+  pixels.Height = inExt[2 * grid.Axis1 + 1] - inExt[2 * grid.Axis1] + 1;
+  pixels.SpacingX = std::abs(input->GetSpacing()[grid.Axis0]);
+  pixels.SpacingY = std::abs(input->GetSpacing()[grid.Axis1]);
+  return pixels;
+}
+
 /// Runs the flow on the values: the pixel grid of a 2D image, or the voxels
 /// of a 3D image (`volume`).
 beltrami::GraphFlowResult RunFlow(vtkImageBeltramiDenoising* self, vtkImageData* input, const int* inExt,
@@ -269,11 +288,7 @@ beltrami::GraphFlowResult RunFlow(vtkImageBeltramiDenoising* self, vtkImageData*
     return !self->GetAbortExecute();
   };
   const std::uint8_t* mask = fixed.empty() ? nullptr : fixed.data();
-  beltrami::PixelGrid pixels;
-  pixels.Width = inExt[2 * grid.Axis0 + 1] - inExt[2 * grid.Axis0] + 1;
-  pixels.Height = inExt[2 * grid.Axis1 + 1] - inExt[2 * grid.Axis1] + 1;
-  pixels.SpacingX = std::abs(input->GetSpacing()[grid.Axis0]);
-  pixels.SpacingY = std::abs(input->GetSpacing()[grid.Axis1]);
+  const beltrami::PixelGrid pixels = PixelsOf(input, inExt, grid);
   const beltrami::GraphFlowResult result = volume
     ? RunVolume(input, inExt, v.Used, v.Values.data(), mask, options, progress)
     : beltrami::RunImageGraphFlow(pixels, v.Used, v.Values.data(), mask, options, progress);
@@ -308,6 +323,13 @@ void WriteOutput(vtkImageBeltramiDenoising* self, vtkImageData* input, vtkImageD
   }
   vtkBeltramiGraphFlow::ReplaceArray(input, output, array, smoothed);
   vtkBeltramiGraphFlow::AddReport(output->GetFieldData(), result);
+  if (v.EstimatedNoise >= 0.0)
+  {
+    vtkNew<vtkDoubleArray> estimate;
+    estimate->SetName("EstimatedNoiseLevel");
+    estimate->InsertNextValue(v.EstimatedNoise);
+    output->GetFieldData()->AddArray(estimate);
+  }
 }
 
 } // namespace
@@ -444,7 +466,8 @@ int vtkImageBeltramiDenoising::RequestData(
     return 0;
   }
   FlowValues v;
-  if (!ReadValues(this, array, input->GetNumberOfPoints(), v))
+  const beltrami::PixelGrid pixels = PixelsOf(input, inExt, grid);
+  if (!ReadValues(this, array, input->GetNumberOfPoints(), volume ? nullptr : &pixels, v))
   {
     return 0;
   }

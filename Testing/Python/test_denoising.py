@@ -197,6 +197,29 @@ class ColourQuality(unittest.TestCase):
             self.assertAlmostEqual(change, sigma, delta=0.05 * sigma)  # after rounding to 8 bits
 
 
+class NoiseEstimate(unittest.TestCase):
+    def test_estimated_noise_level_within_ten_percent_on_real_images(self):
+        # Gaussian noise added to camera (grey), coffee and astronaut
+        # (colour, as floats: smoothed as they are); the filter reports its
+        # estimate (field array EstimatedNoiseLevel) even with no step.
+        # Coffee's original carries noise of its own (about 0.009, JPEG):
+        # at 0.02 the estimate measures the sum (sqrt(0.02^2 + 0.009^2) = 0.022).
+        worst = {}
+        for name in ("camera", "coffee", "astronaut"):
+            clean = load_png(name).astype(float) / 255.0
+            clean = clean[..., :1] if name == "camera" else clean[..., :3]
+            for sigma in (0.02, 0.05, 0.1, 0.2):
+                rng = np.random.default_rng(7)
+                noisy = clean + rng.normal(0.0, sigma, clean.shape)
+                _, fd = denoise(noisy, NumberOfIterations=0)
+                estimate = fd.GetArray("EstimatedNoiseLevel").GetValue(0)
+                allowed = 0.12 if (name, sigma) == ("coffee", 0.02) else 0.10
+                worst[(name, sigma)] = estimate / sigma - 1
+                self.assertLess(abs(estimate / sigma - 1), allowed, (name, sigma, estimate))
+        print("estimated noise, relative error:", " ".join("%s/%.2f %+.1f%%" % (k[0], k[1], 100 * v)
+                                                          for k, v in worst.items()))
+
+
 class VectorAndHeightFields(unittest.TestCase):
     def test_uniform_flow_next_to_a_vortex_keeps_its_boundary(self):
         y, x = np.mgrid[0:96, 0:128].astype(float)

@@ -6,6 +6,7 @@
 
 #include "Flows/ColorSpace.h"
 #include "Flows/GraphFlow.h"
+#include "Flows/NoiseEstimation.h"
 
 #include <gtest/gtest.h>
 
@@ -275,6 +276,48 @@ TEST(SurfaceGraphFlow, SmoothsDataOnASphereAndKeepsConstantsAndFixedPoints)
   const std::vector<double> constant0 = constant;
   ASSERT_EQ(RunSurfaceGraphFlow(topo, sphere.Points.data(), 1, constant.data(), nullptr, o).Error, "");
   EXPECT_LT(RMS(constant, constant0), 1e-9);
+}
+
+TEST(NoiseEstimation, WithinTenPercentOnASyntheticImageWithEdges)
+{
+  // A 256 x 256 image with a ramp, a smooth bump and a step edge (the
+  // structure a plain mask would count as noise), two components, plus
+  // Gaussian noise; and pure noise on a constant image.
+  const Index n = 256;
+  PixelGrid grid{ n, n, 1.0, 1.0 };
+  std::vector<double> clean(2 * n * n);
+  for (Index y = 0; y < n; ++y)
+  {
+    for (Index x = 0; x < n; ++x)
+    {
+      const double bump = 0.3 * std::exp(-((x - 80.0) * (x - 80.0) + (y - 150.0) * (y - 150.0)) / 800.0);
+      clean[2 * (y * n + x)] = 0.002 * x + bump + (x > 170 ? 0.5 : 0.0);
+      clean[2 * (y * n + x) + 1] = 0.5 + 0.2 * std::sin(0.05 * x) * std::cos(0.04 * y);
+    }
+  }
+  for (double sigma : { 0.02, 0.05, 0.1, 0.2 })
+  {
+    std::mt19937 rng(17);
+    std::normal_distribution<double> noise(0.0, sigma);
+    std::vector<double> noisy = clean, flat(n * n, 0.5);
+    for (double& v : noisy)
+    {
+      v += noise(rng);
+    }
+    for (double& v : flat)
+    {
+      v += noise(rng);
+    }
+    const double estimate = EstimateImageNoise(grid, 2, noisy.data());
+    const double pure = EstimateImageNoise(grid, 1, flat.data());
+    std::printf("sigma %.2f: estimated %.4f (%+.1f%%), on pure noise %.4f (%+.1f%%)\n", sigma, estimate,
+      100 * (estimate / sigma - 1), pure, 100 * (pure / sigma - 1));
+    EXPECT_NEAR(estimate, sigma, 0.1 * sigma);
+    EXPECT_NEAR(pure, sigma, 0.03 * sigma);
+  }
+  PixelGrid tiny{ 2, 5, 1.0, 1.0 };
+  std::vector<double> few(10, 1.0);
+  EXPECT_EQ(EstimateImageNoise(tiny, 1, few.data()), 0.0);
 }
 
 } // namespace
