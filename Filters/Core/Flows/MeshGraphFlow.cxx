@@ -128,20 +128,40 @@ private:
   GraphLaplacian Laplacian;
 };
 
-/// Runs `run` on the points measured in the options' length unit: divided
-/// by `unit` (the mean edge length; 1 in physical units), with the area (or
-/// volume, `measureDimension`) and time of the report back in the mesh's
-/// units.
-GraphFlowResult InUnits(Index numberOfVertices, const double* points, double unit, int measureDimension,
-  const std::function<GraphFlowResult(const double* scaled)>& run)
+/// What a mesh flow needs of its mesh: its size and dimension (2 surfaces,
+/// 3 volumes), the vertices that do not move (optional), its mean edge
+/// length, the assembler of its Laplacian and the mass scale (section 2.8).
+struct MeshFlowInput
+{
+  Index Vertices = 0;
+  int Dimension = 2;
+  int MaximumComponents = 5;
+  const std::uint8_t* Unusable = nullptr;
+  std::function<double(const double* points)> MeanEdgeLength;
+  MeshDiscretization::Assembler Assemble;
+  double MassScale = 0.5;
+};
+
+/// The body of both mesh flows: the options checked, the points measured in
+/// the options' length unit (divided by the mean edge length, or as they
+/// are), the flow, and the area (or volume) and time of the report back in
+/// the mesh's units.
+GraphFlowResult RunMeshFlow(const MeshFlowInput& mesh, const double* points, int components, double* values,
+  const std::uint8_t* fixed, const GraphFlowOptions& options, const ProgressCallback& progress)
 {
   GraphFlowResult result;
+  result.Error = CheckOptions(options, components, mesh.MaximumComponents, "point data");
+  if (!result.Error.empty() || mesh.Vertices == 0)
+  {
+    return result;
+  }
+  const double unit = options.Units == LengthUnit::MeanEdgeLength ? mesh.MeanEdgeLength(points) : 1.0;
   if (!(unit > 0.0) || !std::isfinite(unit))
   {
     result.Error = "the mean edge length of the input is " + std::to_string(unit) + ": cannot scale the mesh";
     return result;
   }
-  std::vector<double> scaled(points, points + 3 * static_cast<std::size_t>(numberOfVertices));
+  std::vector<double> scaled(points, points + 3 * static_cast<std::size_t>(mesh.Vertices));
   for (double& x : scaled)
   {
     x /= unit;
@@ -151,8 +171,10 @@ GraphFlowResult InUnits(Index numberOfVertices, const double* points, double uni
       return result;
     }
   }
-  result = run(scaled.data());
-  const double measure = std::pow(unit, measureDimension);
+  MeshDiscretization disc(mesh.Vertices, scaled.data(), components, fixed, mesh.Unusable, mesh.Assemble,
+    mesh.MassScale, options.EdgeContrast, options.NumberOfThreads);
+  result = Integrate(disc, values, options, progress);
+  const double measure = std::pow(unit, mesh.Dimension);
   result.InitialArea *= measure;
   result.FinalArea *= measure;
   result.Time *= unit * unit;
@@ -165,49 +187,37 @@ GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* 
   int components, double* values, const std::uint8_t* fixed, const GraphFlowOptions& options,
   const ProgressCallback& progress)
 {
-  GraphFlowResult result;
-  result.Error = CheckOptions(options, components, 5, "point data");
-  if (!result.Error.empty() || topology.NumberOfVertices() == 0)
-  {
-    return result;
-  }
   const int threads = options.NumberOfThreads;
   std::vector<std::uint8_t> unusable(topology.NumberOfVertices());
   for (Index i = 0; i < topology.NumberOfVertices(); ++i)
   {
     unusable[i] = (topology.VertexFlags(i) & ~VertexBoundary) != 0;
   }
-  const double unit = options.Units == LengthUnit::MeanEdgeLength ? MeanEdgeLength(topology, points) : 1.0;
-  return InUnits(topology.NumberOfVertices(), points, unit, 2, [&](const double* scaled) {
-    MeshDiscretization disc(topology.NumberOfVertices(), scaled, components, fixed, unusable.data(),
-      [&](const double* x, int dimension, GraphLaplacian& l) {
-        AssembleSurfaceLaplacian(topology, x, dimension, LaplacianWeights::Cotangent, l, threads);
-      },
-      0.5, options.EdgeContrast, threads);
-    return Integrate(disc, values, options, progress);
-  });
+  MeshFlowInput mesh;
+  mesh.Vertices = topology.NumberOfVertices();
+  mesh.Unusable = unusable.data();
+  mesh.MeanEdgeLength = [&](const double* x) { return MeanEdgeLength(topology, x); };
+  mesh.Assemble = [&](const double* x, int dimension, GraphLaplacian& l) {
+    AssembleSurfaceLaplacian(topology, x, dimension, LaplacianWeights::Cotangent, l, threads);
+  };
+  return RunMeshFlow(mesh, points, components, values, fixed, options, progress);
 }
 
 GraphFlowResult RunTetrahedralGraphFlow(const TetrahedralMesh& mesh, const double* points,
   int components, double* values, const std::uint8_t* fixed, const GraphFlowOptions& options,
   const ProgressCallback& progress)
 {
-  GraphFlowResult result;
-  result.Error = CheckOptions(options, components, 6, "point data");
-  if (!result.Error.empty() || mesh.NumberOfVertices() == 0)
-  {
-    return result;
-  }
   const int threads = options.NumberOfThreads;
-  const double unit = options.Units == LengthUnit::MeanEdgeLength ? mesh.MeanEdgeLength(points) : 1.0;
-  return InUnits(mesh.NumberOfVertices(), points, unit, 3, [&](const double* scaled) {
-    MeshDiscretization disc(mesh.NumberOfVertices(), scaled, components, fixed, nullptr,
-      [&](const double* x, int dimension, GraphLaplacian& l) {
-        AssembleTetrahedralLaplacian(mesh, x, dimension, l, threads);
-      },
-      1.0, options.EdgeContrast, threads);
-    return Integrate(disc, values, options, progress);
-  });
+  MeshFlowInput volume;
+  volume.Vertices = mesh.NumberOfVertices();
+  volume.Dimension = 3;
+  volume.MaximumComponents = 6;
+  volume.MeanEdgeLength = [&](const double* x) { return mesh.MeanEdgeLength(x); };
+  volume.Assemble = [&](const double* x, int dimension, GraphLaplacian& l) {
+    AssembleTetrahedralLaplacian(mesh, x, dimension, l, threads);
+  };
+  volume.MassScale = 1.0;
+  return RunMeshFlow(volume, points, components, values, fixed, options, progress);
 }
 
 } // namespace beltrami
