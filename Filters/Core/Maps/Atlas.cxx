@@ -51,18 +51,18 @@ bool BoundaryIsSimple(const MeshTopology& topology, const std::vector<double>& u
   return true;
 }
 
-/// Maps `chart` (its Triangles set) onto its own square by DCP; false when
-/// the map fails or flips a triangle.
-bool MapChart(const MeshTopology& topology, const double* points, ParameterizationBoundary boundary, AtlasChart& chart)
+/// Maps the chart `mesh` onto its own square by DCP into `chart` (its
+/// triangles and vertices moved there); false (mesh kept) when the map
+/// fails or flips a triangle.
+bool MapChart(ChartMesh& mesh, const double* points, ParameterizationBoundary boundary, AtlasChart& chart)
 {
-  ChartMesh mesh = ExtractChart(topology, chart.Triangles);
   std::vector<double> local(3 * mesh.Vertices.size());
   for (std::size_t v = 0; v < mesh.Vertices.size(); ++v)
   {
     std::copy(points + 3 * static_cast<std::size_t>(mesh.Vertices[v]),
       points + 3 * static_cast<std::size_t>(mesh.Vertices[v]) + 3, local.begin() + 3 * v);
   }
-  const MeshTopology chartTopology(static_cast<Index>(mesh.Vertices.size()), mesh.Corners, 1);
+  const MeshTopology& chartTopology = *mesh.Topology;
   // The requested boundary; where a square flips a triangle (three boundary
   // points of a triangle on one side) or a natural boundary overlaps itself,
   // the circle, which never puts three points on a line; else the chart is split.
@@ -208,7 +208,7 @@ double PackCharts(std::vector<AtlasChart>& charts, const AtlasOptions& options)
 /// disks) and its parts mapped again.  False with `error` on a failure that
 /// splitting cannot cure.
 bool MapAllCharts(const MeshTopology& topology, const double* points, const DualGraph& graph,
-  std::vector<std::vector<Index>> regions, const AtlasOptions& options, const ProgressCallback& progress,
+  std::vector<ChartMesh> regions, const AtlasOptions& options, const ProgressCallback& progress,
   AtlasResult& result)
 {
   const SingleThreadedBlas blas; // the charts run in parallel: no BLAS threads within
@@ -220,8 +220,7 @@ bool MapAllCharts(const MeshTopology& topology, const double* points, const Dual
       [&](std::int64_t begin, std::int64_t end) {
         for (std::int64_t k = begin; k < end; ++k)
         {
-          round[k].Triangles = regions[k];
-          mapped[k] = MapChart(topology, points, options.ChartBoundary, round[k]) ? 1 : 0;
+          mapped[k] = MapChart(regions[k], points, options.ChartBoundary, round[k]) ? 1 : 0;
         }
       },
       progress, 0, 1);
@@ -230,7 +229,7 @@ bool MapAllCharts(const MeshTopology& topology, const double* points, const Dual
       result.Completed = false;
       return false;
     }
-    std::vector<std::vector<Index>> again;
+    std::vector<ChartMesh> again;
     for (std::size_t k = 0; k < regions.size(); ++k)
     {
       if (mapped[k])
@@ -238,10 +237,11 @@ bool MapAllCharts(const MeshTopology& topology, const double* points, const Dual
         result.Charts.push_back(std::move(round[k]));
         continue;
       }
-      std::vector<std::vector<Index>> halves = SplitRegion(graph, regions[k]);
+      std::vector<std::vector<Index>> halves = SplitRegion(graph, regions[k].Triangles);
       if (halves[1].empty())
       {
-        result.Error = "The map of a single triangle failed (degenerate triangle " + std::to_string(regions[k][0]) + ")";
+        result.Error =
+          "The map of a single triangle failed (degenerate triangle " + std::to_string(regions[k].Triangles[0]) + ")";
         return false;
       }
       ++result.SplitsForFlips;
@@ -282,7 +282,7 @@ AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const
   }
   const DualGraph graph(topology, points);
   const int count = options.NumberOfCharts > 0 ? options.NumberOfCharts : std::max(1, nt / 2000);
-  std::vector<std::vector<Index>> regions;
+  std::vector<ChartMesh> regions;
   if (!PartitionIntoCharts(topology, graph, count, regions, result.Error, options.BalanceAreas) ||
     !MapAllCharts(topology, points, graph, std::move(regions), options, progress, result))
   {

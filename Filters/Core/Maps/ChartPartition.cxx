@@ -74,17 +74,17 @@ ChartMesh ExtractChart(const MeshTopology& topology, std::vector<Index> triangle
         std::lower_bound(chart.Vertices.begin(), chart.Vertices.end(), v) - chart.Vertices.begin());
     }
   }
+  chart.Topology = std::make_shared<const MeshTopology>(static_cast<Index>(chart.Vertices.size()), chart.Corners, 1);
   return chart;
 }
 
 bool IsDisk(const ChartMesh& chart, std::string* why)
 {
-  const MeshTopology topology(static_cast<Index>(chart.Vertices.size()), chart.Corners, 1);
-  const TopologySummary& s = topology.Summary();
+  const TopologySummary& s = chart.Topology->Summary();
   const bool disk = s.IsManifold() && s.IsOriented() && s.NumberOfBoundaryLoops == 1 && s.EulerCharacteristic == 1;
   if (!disk && why)
   {
-    *why = topology.Describe();
+    *why = chart.Topology->Describe();
   }
   return disk;
 }
@@ -92,72 +92,58 @@ bool IsDisk(const ChartMesh& chart, std::string* why)
 namespace
 {
 
-/// Distances along the dual graph to the nearest of a growing set of seeds
-/// (each new seed relaxes only the triangles it is nearer to).
-class NearestSeeds
+/// The one Dijkstra of the partition: from `sources` (local ids; source k
+/// labelled k) over a set of triangles with local ids - region[k] the
+/// triangle of local id k, localOf[t] the local id of t (-1 outside); both
+/// empty: every triangle, local = global - each triangle's distance along the
+/// dual graph to the nearest source and that source's label.
+void NearestWithin(const DualGraph& graph, const std::vector<Index>& region, const std::vector<Index>& localOf,
+  const std::vector<Index>& sources, std::vector<double>& distance, std::vector<int>* label)
 {
-public:
-  NearestSeeds(const DualGraph& graph, const std::vector<std::uint8_t>& allowed)
-    : Graph(graph)
-    , Allowed(allowed)
-    , Distance(graph.NumberOfTriangles(), std::numeric_limits<double>::infinity())
-    , Label(graph.NumberOfTriangles(), -1)
+  const bool whole = region.empty();
+  const std::size_t size = whole ? static_cast<std::size_t>(graph.NumberOfTriangles()) : region.size();
+  distance.assign(size, std::numeric_limits<double>::infinity());
+  if (label)
   {
+    label->assign(size, -1);
   }
-
-  void Add(Index seed, int label) { AddAll({ seed }, label); }
-
-  /// Seeds seeds[k] labelled first + k, all at once (one multi-source
-  /// Dijkstra: each triangle gets the nearest of them).
-  void AddAll(const std::vector<Index>& seeds, int first)
+  using Item = std::pair<double, Index>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  for (std::size_t k = 0; k < sources.size(); ++k)
   {
-    using Item = std::pair<double, Index>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-    for (std::size_t k = 0; k < seeds.size(); ++k)
+    distance[sources[k]] = 0.0;
+    if (label)
     {
-      Distance[seeds[k]] = 0.0;
-      Label[seeds[k]] = first + static_cast<int>(k);
-      queue.emplace(0.0, seeds[k]);
+      (*label)[sources[k]] = static_cast<int>(k);
     }
-    while (!queue.empty())
+    queue.emplace(0.0, sources[k]);
+  }
+  while (!queue.empty())
+  {
+    const auto [d, local] = queue.top();
+    queue.pop();
+    if (d > distance[local])
     {
-      const auto [d, t] = queue.top();
-      queue.pop();
-      if (d > Distance[t])
+      continue;
+    }
+    const Index t = whole ? local : region[local];
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index n = graph.Neighbors[3 * t + k];
+      const Index m = n < 0 ? -1 : (whole ? n : localOf[n]);
+      const double nd = d + graph.Distances[3 * t + k];
+      if (m >= 0 && nd < distance[m])
       {
-        continue;
-      }
-      const int label = Label[t];
-      for (int k = 0; k < 3; ++k)
-      {
-        const Index n = Graph.Neighbors[3 * t + k];
-        const double nd = d + Graph.Distances[3 * t + k];
-        if (n >= 0 && (Allowed.empty() || Allowed[n]) && nd < Distance[n])
+        distance[m] = nd;
+        if (label)
         {
-          Distance[n] = nd;
-          Label[n] = label;
-          queue.emplace(nd, n);
+          (*label)[m] = (*label)[local];
         }
+        queue.emplace(nd, m);
       }
     }
   }
-
-  /// The allowed, reached triangle farthest from every seed among `candidates`.
-  Index Farthest(const std::vector<Index>& candidates) const
-  {
-    Index best = candidates.empty() ? -1 : candidates.front();
-    for (Index t : candidates)
-    {
-      best = Distance[t] > Distance[best] && std::isfinite(Distance[t]) ? t : best;
-    }
-    return best;
-  }
-
-  const DualGraph& Graph;
-  const std::vector<std::uint8_t>& Allowed;
-  std::vector<double> Distance;
-  std::vector<int> Label;
-};
+}
 
 /// The connected components of the dual graph, as triangle lists.
 std::vector<std::vector<Index>> Components(const DualGraph& graph)
@@ -247,7 +233,7 @@ std::vector<Index> CentreSeeds(const DualGraph& graph, const std::vector<int>& l
   std::vector<double> inward;
   if (!boundary.empty())
   {
-    GrowRegions(graph, boundary, {}, &inward);
+    GrowRegions(graph, boundary, &inward);
   }
   std::vector<Index> centre(regions, -1);
   for (Index t = 0; t < graph.NumberOfTriangles(); ++t)
@@ -288,41 +274,52 @@ std::vector<Index> ChooseSeeds(const DualGraph& graph, int count, std::vector<in
   return seeds;
 }
 
-std::vector<int> GrowRegions(const DualGraph& graph, const std::vector<Index>& seeds,
-  const std::vector<std::uint8_t>& allowed, std::vector<double>* distance)
+std::vector<int> GrowRegions(const DualGraph& graph, const std::vector<Index>& seeds, std::vector<double>* distance)
 {
-  NearestSeeds nearest(graph, allowed);
-  nearest.AddAll(seeds, 0);
-  if (distance)
-  {
-    *distance = nearest.Distance;
-  }
-  return nearest.Label;
+  std::vector<double> own;
+  std::vector<int> label;
+  NearestWithin(graph, {}, {}, seeds, distance ? *distance : own, &label);
+  return label;
 }
+
+namespace
+{
+
+/// The two triangles of a region (local ids) farthest apart along it: the
+/// farthest from `start`, and the farthest from that one.
+std::pair<Index, Index> FarthestPair(const DualGraph& graph, const std::vector<Index>& region,
+  const std::vector<Index>& localOf, Index start, std::vector<double>& fromA)
+{
+  std::vector<double> fromStart;
+  NearestWithin(graph, region, localOf, { start }, fromStart, nullptr);
+  const Index a = static_cast<Index>(std::max_element(fromStart.begin(), fromStart.end()) - fromStart.begin());
+  NearestWithin(graph, region, localOf, { a }, fromA, nullptr);
+  const Index b = static_cast<Index>(std::max_element(fromA.begin(), fromA.end()) - fromA.begin());
+  return { a, b };
+}
+
+} // namespace
 
 std::vector<std::vector<Index>> SplitRegion(const DualGraph& graph, const std::vector<Index>& triangles)
 {
-  std::vector<std::uint8_t> allowed(graph.NumberOfTriangles(), 0);
-  for (Index t : triangles)
+  std::vector<Index> localOf(graph.NumberOfTriangles(), -1);
+  for (std::size_t k = 0; k < triangles.size(); ++k)
   {
-    allowed[t] = 1;
+    localOf[triangles[k]] = static_cast<Index>(k);
   }
-  NearestSeeds fromFirst(graph, allowed);
-  fromFirst.Add(triangles.front(), 0);
-  const Index a = fromFirst.Farthest(triangles);
-  NearestSeeds fromA(graph, allowed);
-  fromA.Add(a, 0);
-  const Index b = fromA.Farthest(triangles);
+  std::vector<double> fromA, distance;
+  const auto [a, b] = FarthestPair(graph, triangles, localOf, 0, fromA);
   std::vector<std::vector<Index>> halves(2);
   if (a == b)
   {
     halves[0] = triangles;
     return halves;
   }
-  const std::vector<int> label = GrowRegions(graph, { a, b }, allowed);
-  for (Index t : triangles)
+  std::vector<int> label;
+  NearestWithin(graph, triangles, localOf, { a, b }, distance, &label);
+  for (std::size_t k = 0; k < triangles.size(); ++k)
   {
-    halves[label[t] == 1 ? 1 : 0].push_back(t);
+    halves[label[k] == 1 ? 1 : 0].push_back(triangles[k]);
   }
   return halves;
 }
@@ -367,7 +364,7 @@ void SmoothRegionBoundaries(const DualGraph& graph, std::vector<int>& label, int
 }
 
 bool SplitIntoDisks(const MeshTopology& topology, const DualGraph& graph, std::vector<Index> region,
-  std::vector<std::vector<Index>>& disks, std::string& error)
+  std::vector<ChartMesh>& disks, std::string& error)
 {
   std::vector<std::vector<Index>> pending;
   pending.push_back(std::move(region));
@@ -379,9 +376,10 @@ bool SplitIntoDisks(const MeshTopology& topology, const DualGraph& graph, std::v
     {
       continue;
     }
-    if (IsDisk(ExtractChart(topology, part)))
+    ChartMesh chart = ExtractChart(topology, part);
+    if (IsDisk(chart))
     {
-      disks.push_back(std::move(part));
+      disks.push_back(std::move(chart));
       continue;
     }
     std::vector<std::vector<Index>> halves = SplitRegion(graph, part);
@@ -413,62 +411,29 @@ double RegionArea(const DualGraph& graph, const std::vector<Index>& region)
 /// Section 4.2.4 for one pair: the union of two neighbouring charts split
 /// again so that both halves carry the same area, along a level line of
 /// d_a - d_b (d_a, d_b: the distances along the union from its two most
-/// distant triangles; the line is a smooth seam between them).  True (the
-/// pair replaced) when both halves are disks.
-/// Distances along the dual graph from `source` (a local id) within
-/// `region` (localOf[t]: t's index in region, -1 outside), by local id.
-std::vector<double> DistancesWithin(
-  const DualGraph& graph, const std::vector<Index>& region, const std::vector<Index>& localOf, Index source)
+/// distant triangles; the line is a smooth seam between them).  True (the pair replaced) when both halves are disks.
+/// localOf: all -1 (scratch, left all -1).
+bool RebalancePair(const MeshTopology& topology, const DualGraph& graph, ChartMesh& first, ChartMesh& second,
+  std::vector<Index>& localOf)
 {
-  using Item = std::pair<double, Index>;
-  std::vector<double> distance(region.size(), std::numeric_limits<double>::infinity());
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-  distance[source] = 0.0;
-  queue.emplace(0.0, source);
-  while (!queue.empty())
-  {
-    const auto [d, local] = queue.top();
-    queue.pop();
-    if (d > distance[local])
-    {
-      continue;
-    }
-    const Index t = region[local];
-    for (int k = 0; k < 3; ++k)
-    {
-      const Index n = graph.Neighbors[3 * t + k];
-      const Index m = n >= 0 ? localOf[n] : -1;
-      const double nd = d + graph.Distances[3 * t + k];
-      if (m >= 0 && nd < distance[m])
-      {
-        distance[m] = nd;
-        queue.emplace(nd, m);
-      }
-    }
-  }
-  return distance;
-}
-
-/// Section 4.2.4 for one pair: the union of two neighbouring charts split
-/// again so that both halves carry the same area, along a level line of
-/// d_a - d_b (d_a, d_b: the distances along the union from its two most
-/// distant triangles; the line is a smooth seam between them).  True (the
-/// pair replaced) when both halves are disks.  localOf: all -1 (scratch,
-/// left all -1).
-bool RebalancePair(const MeshTopology& topology, const DualGraph& graph, std::vector<Index>& first,
-  std::vector<Index>& second, std::vector<Index>& localOf)
-{
-  std::vector<Index> both = first;
-  both.insert(both.end(), second.begin(), second.end());
+  std::vector<Index> both = first.Triangles;
+  both.insert(both.end(), second.Triangles.begin(), second.Triangles.end());
   for (std::size_t k = 0; k < both.size(); ++k)
   {
     localOf[both[k]] = static_cast<Index>(k);
   }
-  const std::vector<double> fromFirst = DistancesWithin(graph, both, localOf, 0);
-  const Index a = static_cast<Index>(std::max_element(fromFirst.begin(), fromFirst.end()) - fromFirst.begin());
-  const std::vector<double> fromA = DistancesWithin(graph, both, localOf, a);
-  const Index b = static_cast<Index>(std::max_element(fromA.begin(), fromA.end()) - fromA.begin());
-  const std::vector<double> fromB = DistancesWithin(graph, both, localOf, b);
+  // The union's two most distant triangles, by a double sweep from the
+  // triangle of the first chart farthest from the second (a start that does
+  // not depend on the order of the triangles).
+  const std::size_t split = first.Triangles.size();
+  std::vector<Index> ofSecond(both.size() - split);
+  std::iota(ofSecond.begin(), ofSecond.end(), static_cast<Index>(split));
+  std::vector<double> fromSecond, fromA, fromB;
+  NearestWithin(graph, both, localOf, ofSecond, fromSecond, nullptr);
+  const Index start =
+    static_cast<Index>(std::max_element(fromSecond.begin(), fromSecond.begin() + split) - fromSecond.begin());
+  const Index b = FarthestPair(graph, both, localOf, start, fromA).second;
+  NearestWithin(graph, both, localOf, { b }, fromB, nullptr);
   std::vector<std::pair<double, Index>> order(both.size()); // (d_a - d_b, triangle)
   for (std::size_t k = 0; k < both.size(); ++k)
   {
@@ -487,8 +452,13 @@ bool RebalancePair(const MeshTopology& topology, const DualGraph& graph, std::ve
   {
     area += graph.Areas[both[cut++]];
   }
-  std::vector<Index> one(both.begin(), both.begin() + cut), two(both.begin() + cut, both.end());
-  if (one.empty() || two.empty() || !IsDisk(ExtractChart(topology, one)) || !IsDisk(ExtractChart(topology, two)))
+  if (cut == 0 || cut == both.size())
+  {
+    return false;
+  }
+  ChartMesh one = ExtractChart(topology, std::vector<Index>(both.begin(), both.begin() + cut));
+  ChartMesh two = ExtractChart(topology, std::vector<Index>(both.begin() + cut, both.end()));
+  if (!IsDisk(one) || !IsDisk(two))
   {
     return false;
   }
@@ -499,8 +469,8 @@ bool RebalancePair(const MeshTopology& topology, const DualGraph& graph, std::ve
 
 } // namespace
 
-void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph,
-  std::vector<std::vector<Index>>& charts, double ratio, int rounds)
+void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph, std::vector<ChartMesh>& charts,
+  double ratio, int rounds)
 {
   std::vector<Index> localOf(graph.NumberOfTriangles(), -1);
   for (int round = 0; round < rounds; ++round)
@@ -509,8 +479,8 @@ void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph,
     std::vector<double> area(charts.size());
     for (std::size_t c = 0; c < charts.size(); ++c)
     {
-      area[c] = RegionArea(graph, charts[c]);
-      for (Index t : charts[c])
+      area[c] = RegionArea(graph, charts[c].Triangles);
+      for (Index t : charts[c].Triangles)
       {
         chartOf[t] = static_cast<int>(c);
       }
@@ -554,7 +524,7 @@ void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph,
 }
 
 bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, int count,
-  std::vector<std::vector<Index>>& charts, std::string& error, bool balance)
+  std::vector<ChartMesh>& charts, std::string& error, bool balance)
 {
   charts.clear();
   const TopologySummary& s = topology.Summary();
@@ -582,7 +552,8 @@ bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, i
   {
     BalanceChartAreas(topology, graph, charts);
   }
-  std::sort(charts.begin(), charts.end(), [](const auto& x, const auto& y) { return x.front() < y.front(); });
+  std::sort(charts.begin(), charts.end(),
+    [](const ChartMesh& x, const ChartMesh& y) { return x.Triangles.front() < y.Triangles.front(); });
   return true;
 }
 

@@ -14,6 +14,7 @@
 
 #include "Mesh/MeshTopology.h"
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -33,12 +34,14 @@ struct DualGraph
   Index NumberOfTriangles() const { return static_cast<Index>(Areas.size()); }
 };
 
-/// The triangles of one chart as a mesh of their own.
+/// The triangles of one chart as a mesh of their own, with its topology
+/// (built once: the disk check and the chart's map share it).
 struct ChartMesh
 {
-  std::vector<Index> Triangles; ///< ids in the surface
+  std::vector<Index> Triangles; ///< ids in the surface, ascending
   std::vector<Index> Vertices;  ///< chart vertex -> surface vertex, ascending
   IndexArray Corners;           ///< 3 per chart triangle, chart vertex ids
+  std::shared_ptr<const MeshTopology> Topology; ///< of Corners
 };
 
 /// The chart mesh of `triangles` (ids of `topology`).
@@ -55,10 +58,10 @@ bool IsDisk(const ChartMesh& chart, std::string* why = nullptr);
 std::vector<Index> ChooseSeeds(const DualGraph& graph, int count, std::vector<int>* label = nullptr);
 
 /// label[t] = the index (in `seeds`) of the nearest seed along the dual
-/// graph, over the triangles with allowed[t] (all if empty); -1 elsewhere
-/// and where no seed reaches.  distance: the distance to it (optional).
-std::vector<int> GrowRegions(const DualGraph& graph, const std::vector<Index>& seeds,
-  const std::vector<std::uint8_t>& allowed = {}, std::vector<double>* distance = nullptr);
+/// graph (one multi-source Dijkstra); -1 where no seed reaches.  distance:
+/// the distance to it (optional).
+std::vector<int> GrowRegions(
+  const DualGraph& graph, const std::vector<Index>& seeds, std::vector<double>* distance = nullptr);
 
 /// Moves every triangle that touches its own region by at most one edge and
 /// another region by two (an ear of a jagged region boundary: on a square
@@ -77,7 +80,7 @@ std::vector<std::vector<Index>> SplitRegion(const DualGraph& graph, const std::v
 /// (SplitRegion) until every part is; the disks are appended to `disks`.
 /// False with `error` when a single triangle is no disk.
 bool SplitIntoDisks(const MeshTopology& topology, const DualGraph& graph, std::vector<Index> region,
-  std::vector<std::vector<Index>>& disks, std::string& error);
+  std::vector<ChartMesh>& disks, std::string& error);
 
 /// The area-balanced refinement of section 4.2.4: every pair of
 /// neighbouring charts whose areas differ by more than `ratio` is merged and
@@ -85,15 +88,15 @@ bool SplitIntoDisks(const MeshTopology& topology, const DualGraph& graph, std::v
 /// (the distances from the union's two most distant triangles), so both
 /// halves carry the same area and the seam is smooth; kept only where both
 /// halves are disks.  At most `rounds` rounds, each chart once per round.
-void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph,
-  std::vector<std::vector<Index>>& charts, double ratio = 1.5, int rounds = 8);
+void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph, std::vector<ChartMesh>& charts,
+  double ratio = 1.5, int rounds = 8);
 
 /// The partition: every triangle of `topology` in exactly one disk-like
-/// chart (chart[t] = its index).  `count`: the number of initial regions
+/// chart.  `count`: the number of initial regions
 /// (splits add more); `balance`: BalanceChartAreas after.  False with
 /// `error` when the surface is not manifold and oriented (no chart of it
 /// could be a disk).
 bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, int count,
-  std::vector<std::vector<Index>>& charts, std::string& error, bool balance = true);
+  std::vector<ChartMesh>& charts, std::string& error, bool balance = true);
 
 } // namespace beltrami
