@@ -26,7 +26,7 @@ struct AtlasOptions
   int NumberOfCharts = 0;
   /// The area-balanced refinement of section 4.2.4 (BalanceChartAreas): far
   /// more even chart areas (the elephant's largest over smallest chart 54 ->
-  /// 7.4), but longer charts (bunny00: mean angle distortion 12.8 -> 18 deg,
+  /// 7.0), but longer charts (bunny00: mean angle distortion 12.8 -> 18 deg,
   /// packing 71% -> 61%); off by default.
   bool BalanceAreas = false;
   /// The boundary of every chart's map: the square of section 4.2.2, the
