@@ -2,7 +2,10 @@
 subdivisions (300k and 1.2M triangles), with square, circle and natural
 chart boundaries: charts, packing efficiency, mean angle distortion
 (area-weighted over the charts), time without the maps (on demand, not a
-test).
+test).  Then, when build/bin/beltrami-benchmark-cgal-parameterization is
+built (apt install libcgal-dev, rebuild), the peer on the same charts: each
+chart of bunny00's atlas given to CGAL 5.5's DCP (circle border) and LSCM
+(natural), against our circle and natural charts.
 
     source build/beltrami-env.sh
     /usr/bin/python3 Testing/Benchmarks/benchmark_atlas.py [levels]
@@ -13,9 +16,66 @@ import time
 
 from vtkmodules.vtkFiltersModeling import vtkLoopSubdivisionFilter
 
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkPoints
+from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+
 import beltrami
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from benchmark_parameterization import cgal  # noqa: E402  (CGAL on one mesh)
+
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
+
+
+def atlas_of(mesh, boundary):
+    f = beltrami.vtkSurfaceAtlas()
+    f.SetInputData(mesh)
+    f.SetChartBoundary(boundary)
+    f.SetMapResolution(0)
+    f.Update()
+    return f.GetOutput()
+
+
+def chart_mesh(cut, chart):
+    """The triangles of one chart of the cut surface as a mesh of their own."""
+    ids = vtk_to_numpy(cut.GetCellData().GetArray("ChartId"))
+    triangles = vtk_to_numpy(cut.GetPolys().GetConnectivityArray()).reshape(-1, 3)[ids == chart]
+    used, local = np.unique(triangles, return_inverse=True)
+    points = vtkPoints()
+    points.SetData(numpy_to_vtk(vtk_to_numpy(cut.GetPoints().GetData())[used].astype(float), deep=1))
+    cells = vtkCellArray()
+    cells.SetData(numpy_to_vtk(np.arange(0, 3 * len(triangles) + 1, 3, dtype=np.int64), deep=1),
+                  numpy_to_vtk(local.astype(np.int64), deep=1))
+    pd = vtkPolyData()
+    pd.SetPoints(points)
+    pd.SetPolys(cells)
+    return pd
+
+
+def against_cgal(mesh):
+    """Per chart: our circle and natural maps against CGAL's DCP and LSCM."""
+    ours = {name: atlas_of(mesh, b) for name, b in (("DCP", beltrami.vtkSurfaceAtlas.CIRCLE),
+                                                      ("natural", beltrami.vtkSurfaceAtlas.NATURAL))}
+    cut = ours["DCP"]
+    charts = cut.GetFieldData().GetArray("AtlasCharts").GetValue(0)
+    areas = vtk_to_numpy(cut.GetFieldData().GetArray("AtlasChartArea"))
+    rows = {"DCP": [], "natural": []}
+    for c in range(charts):
+        peer = cgal(chart_mesh(cut, c))
+        if not peer:
+            print("  (CGAL comparison skipped: build/bin/beltrami-benchmark-cgal-parameterization not built)")
+            return
+        for name in rows:
+            mine = vtk_to_numpy(ours[name].GetFieldData().GetArray("AtlasChartAngleDistortion"))[c]
+            rows[name].append((mine, peer[name][1]))
+    for name, label in (("DCP", "DCP on circles"), ("natural", "natural vs LSCM")):
+        mine, theirs = np.array(rows[name]).T
+        print("  %-16s mean angle distortion (area-weighted) ours %.3f deg, CGAL %.3f deg; charts where ours is "
+              "worse by more than 0.01 deg: %d of %d" % (label, np.average(mine, weights=areas),
+                                                         np.average(theirs, weights=areas),
+                                                         int(np.sum(mine > theirs + 0.01)), charts))
 
 
 def main(argv):
@@ -51,6 +111,8 @@ def main(argv):
             print("%-10s %9d %7d %8.2f %8.1f%% %9.2f deg %7d" % (
                 name, mesh.GetNumberOfCells(), n, elapsed, 100 * fd.GetArray("AtlasPackingEfficiency").GetValue(0),
                 mean, fd.GetArray("AtlasSplitsForFlips").GetValue(0)))
+    print("bunny00's charts against CGAL 5.5:")
+    against_cgal(reader.GetOutput())
     return 0
 
 
