@@ -1,6 +1,6 @@
 // The CGAL 5.5 side of benchmark_parameterization.py (built only when
 // Debian's libcgal-dev is installed): DCP and DAP with a circle boundary
-// (arc-length spacing) and LSCM (CGAL's natural conformal map, two pinned
+// (arc-length spacing), DCP on a square (CGAL's own corners) and LSCM (CGAL's natural conformal map, two pinned
 // vertices) on an OFF mesh, each timed (best of `repeats`) and measured with
 // the same mean angle and area distortions as vtkIntrinsicParameterization
 // (per triangle the mean |angle_2D - angle_3D| in degrees, and
@@ -12,6 +12,7 @@
 #include <CGAL/Surface_mesh_parameterization/Discrete_authalic_parameterizer_3.h>
 #include <CGAL/Surface_mesh_parameterization/Discrete_conformal_map_parameterizer_3.h>
 #include <CGAL/Surface_mesh_parameterization/LSCM_parameterizer_3.h>
+#include <CGAL/Surface_mesh_parameterization/Square_border_parameterizer_3.h>
 #include <CGAL/Surface_mesh_parameterization/Two_vertices_parameterizer_3.h>
 #include <CGAL/Surface_mesh_parameterization/parameterize.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
@@ -134,6 +135,8 @@ int main(int argc, char* argv[])
   using Border = SMP::Circular_border_arc_length_parameterizer_3<Mesh>;
   Run("DCP", mesh, border, repeats, SMP::Discrete_conformal_map_parameterizer_3<Mesh, Border>());
   Run("DAP", mesh, border, repeats, SMP::Discrete_authalic_parameterizer_3<Mesh, Border>());
+  Run("DCPsquare", mesh, border, repeats,
+    SMP::Discrete_conformal_map_parameterizer_3<Mesh, SMP::Square_border_arc_length_parameterizer_3<Mesh>>());
   Run("LSCM", mesh, border, repeats, SMP::LSCM_parameterizer_3<Mesh, SMP::Two_vertices_parameterizer_3<Mesh>>());
   return 0;
 }

@@ -57,11 +57,12 @@ def chart_mesh(cut, chart):
 def against_cgal(mesh):
     """Per chart: our circle and natural maps against CGAL's DCP and LSCM."""
     ours = {name: atlas_of(mesh, b) for name, b in (("DCP", beltrami.vtkSurfaceAtlas.CIRCLE),
+                                                      ("DCPsquare", beltrami.vtkSurfaceAtlas.SQUARE),
                                                       ("natural", beltrami.vtkSurfaceAtlas.NATURAL))}
     cut = ours["DCP"]
     charts = cut.GetFieldData().GetArray("AtlasCharts").GetValue(0)
     areas = vtk_to_numpy(cut.GetFieldData().GetArray("AtlasChartArea"))
-    rows = {"DCP": [], "natural": []}
+    rows = {"DCP": [], "DCPsquare": [], "natural": []}
     for c in range(charts):
         peer = cgal(chart_mesh(cut, c))
         if not peer:
@@ -70,7 +71,7 @@ def against_cgal(mesh):
         for name in rows:
             mine = vtk_to_numpy(ours[name].GetFieldData().GetArray("AtlasChartAngleDistortion"))[c]
             rows[name].append((mine, peer[name][1]))
-    for name, label in (("DCP", "DCP on circles"), ("natural", "natural vs LSCM")):
+    for name, label in (("DCP", "DCP on circles"), ("DCPsquare", "DCP on squares"), ("natural", "natural vs LSCM")):
         mine, theirs = np.array(rows[name]).T
         print("  %-16s mean angle distortion (area-weighted) ours %.3f deg, CGAL %.3f deg; charts where ours is "
               "worse by more than 0.01 deg: %d of %d" % (label, np.average(mine, weights=areas),

@@ -71,6 +71,7 @@ bool MapChart(ChartMesh& mesh, const double* points, ParameterizationBoundary bo
   {
     ParameterizationOptions options;
     options.Boundary = shape;
+    options.Corners = SquareCorners::Sharpest;
     options.NumberOfThreads = 1; // the charts run in parallel
     map = Parameterize(chartTopology, local.data(), options);
     chart.Boundary = shape;

@@ -523,6 +523,51 @@ void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph, std
   }
 }
 
+namespace
+{
+
+/// The boundaries of splits are as jagged as the first regions' were (ears:
+/// triangles with two edges on the chart's boundary, flat on a square's
+/// side): SmoothRegionBoundaries on the charts, and what that leaves no disk
+/// split again (SplitIntoDisks), twice at most.
+bool SmoothCharts(const MeshTopology& topology, const DualGraph& graph, std::vector<ChartMesh>& charts,
+  std::string& error)
+{
+  for (int round = 0; round < 2; ++round)
+  {
+    std::vector<int> before(graph.NumberOfTriangles());
+    for (std::size_t c = 0; c < charts.size(); ++c)
+    {
+      for (Index t : charts[c].Triangles)
+      {
+        before[t] = static_cast<int>(c);
+      }
+    }
+    std::vector<int> label = before;
+    SmoothRegionBoundaries(graph, label);
+    if (label == before)
+    {
+      break;
+    }
+    std::vector<std::vector<Index>> regions(charts.size());
+    for (Index t = 0; t < graph.NumberOfTriangles(); ++t)
+    {
+      regions[label[t]].push_back(t);
+    }
+    charts.clear();
+    for (std::vector<Index>& region : regions)
+    {
+      if (!SplitIntoDisks(topology, graph, std::move(region), charts, error))
+      {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+} // namespace
+
 bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, int count,
   std::vector<ChartMesh>& charts, std::string& error, bool balance)
 {
@@ -548,9 +593,17 @@ bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, i
       return false;
     }
   }
+  if (!SmoothCharts(topology, graph, charts, error))
+  {
+    return false;
+  }
   if (balance)
   {
     BalanceChartAreas(topology, graph, charts);
+    if (!SmoothCharts(topology, graph, charts, error))
+    {
+      return false;
+    }
   }
   std::sort(charts.begin(), charts.end(),
     [](const ChartMesh& x, const ChartMesh& y) { return x.Triangles.front() < y.Triangles.front(); });

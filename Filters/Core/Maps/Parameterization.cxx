@@ -448,7 +448,14 @@ struct FixedBoundarySystem
         return "A square boundary needs at least 4 boundary points.";
       }
       std::vector<double> placed(2 * static_cast<std::size_t>(Topology.NumberOfVertices()), 0.0);
-      PlaceBoundaryLoop(outer, Points, options.Boundary, options.Spacing, placed.data());
+      std::array<std::size_t, 4> corners{};
+      const bool chosen =
+        options.Boundary == ParameterizationBoundary::Square && options.Corners == SquareCorners::Sharpest;
+      if (chosen)
+      {
+        corners = ChooseSquareCorners(Topology, Points, outer);
+      }
+      PlaceBoundaryLoop(outer, Points, options.Boundary, options.Spacing, placed.data(), chosen ? &corners : nullptr);
       for (Index v : outer)
       {
         Fix(v, placed[2 * v], placed[2 * v + 1]);

@@ -48,6 +48,7 @@ struct ParameterizationOptions
   double AuthalicWeight = 0.0;  ///< mu (DAP)
   ParameterizationBoundary Boundary = ParameterizationBoundary::Circle;
   BoundarySpacing Spacing = BoundarySpacing::ArcLength;
+  SquareCorners Corners = SquareCorners::QuarterLength; ///< Square only
   const double* GivenUV = nullptr; ///< 2 per vertex, read at boundary vertices (Given)
   std::vector<PointConstraint> Constraints;
 

@@ -160,6 +160,53 @@ TEST(Parameterization, SquareBoundaryAndUniformSpacing)
   EXPECT_EQ(Measure(m, r).FlippedTriangles, 0);
 }
 
+TEST(Parameterization, SharpestSquareCornersFlattenNoTriangle)
+{
+  // A strip of 12 x 1 squares, each cut by a diagonal: every vertex is on
+  // the boundary, two corners are the tips of single triangles.  Corners at
+  // the quarters of the length would put triangles flat on the long sides.
+  Mesh m;
+  const int n = 12;
+  for (int j = 0; j <= 1; ++j)
+  {
+    for (int i = 0; i <= n; ++i)
+    {
+      m.Points.insert(m.Points.end(), { double(i), double(j), 0.0 });
+    }
+  }
+  for (int i = 0; i < n; ++i)
+  {
+    m.Triangles.insert(m.Triangles.end(), { i, i + 1, i + n + 2, i, i + n + 2, i + n + 1 });
+  }
+  for (const SquareCorners corners : { SquareCorners::QuarterLength, SquareCorners::Sharpest })
+  {
+    ParameterizationOptions o = Energy(1, 0, ParameterizationBoundary::Square);
+    o.Corners = corners;
+    const ParameterizationResult r = Solve(m, o);
+    ASSERT_EQ(r.Error, "");
+    const Index flat = Measure(m, r).FlippedTriangles;
+    if (corners == SquareCorners::QuarterLength)
+    {
+      EXPECT_GT(flat, 0);
+      continue;
+    }
+    EXPECT_EQ(flat, 0);
+    for (Index v : { n, n + 1 }) // the tips of the ears are corners of the square
+    {
+      EXPECT_TRUE((r.UV[2 * v] == 0.0 || r.UV[2 * v] == 1.0) && (r.UV[2 * v + 1] == 0.0 || r.UV[2 * v + 1] == 1.0))
+        << "vertex " << v;
+    }
+  }
+  // The tip of every ear is a corner.
+  const MeshTopology topology = m.Topology();
+  const std::vector<Index> loop = topology.BoundaryLoops()[0];
+  const std::array<std::size_t, 4> c = ChooseSquareCorners(topology, m.Points.data(), loop);
+  for (Index tip : { n, n + 1 })
+  {
+    EXPECT_NE(std::find_if(c.begin(), c.end(), [&](std::size_t k) { return loop[k] == tip; }), c.end());
+  }
+}
+
 TEST(Parameterization, PointConstraintsLandOnTheirTargets)
 {
   const Mesh m = ReadMesh("nefertiti.off");
