@@ -121,6 +121,9 @@ public:
   /// array lookup of every Beltrami filter, image filters included.
   static vtkDataArray* SelectedPointArray(vtkAlgorithm* owner, vtkDataSet* input, int idx,
     int components, const char* what, std::string& error);
+  /// The same for a cell array.
+  static vtkDataArray* SelectedCellArray(vtkAlgorithm* owner, vtkDataSet* input, int idx,
+    int components, const char* what, std::string& error);
 
   /// A new array of VTK type `dataType` (name, components, tuples), its values
   /// uninitialized.  Arrays of 2 MiB or more are placed on memory the kernel

@@ -28,8 +28,13 @@ vtkDataArray* vtkBeltramiSurface::SelectedPointArray(
   return SelectedPointArray(owner, InputData, idx, components, what, error);
 }
 
-vtkDataArray* vtkBeltramiSurface::SelectedPointArray(vtkAlgorithm* owner, vtkDataSet* input, int idx,
-  int components, const char* what, std::string& error)
+namespace
+{
+
+/// The point or cell array selected as input array `idx` of `owner` (see
+/// SelectedPointArray).
+vtkDataArray* SelectedArray(vtkAlgorithm* owner, vtkDataSet* input, int idx, bool cells, int components,
+  const char* what, std::string& error)
 {
   vtkInformation* info = owner->GetInputArrayInformation(idx);
   const char* name =
@@ -38,7 +43,10 @@ vtkDataArray* vtkBeltramiSurface::SelectedPointArray(vtkAlgorithm* owner, vtkDat
   {
     return nullptr;
   }
-  vtkDataArray* a = input->GetPointData()->GetArray(name);
+  vtkFieldData* own = cells ? static_cast<vtkFieldData*>(input->GetCellData()) : input->GetPointData();
+  vtkFieldData* other = cells ? static_cast<vtkFieldData*>(input->GetPointData()) : input->GetCellData();
+  const char* kind = cells ? " cell array '" : " point array '";
+  vtkDataArray* a = own->GetArray(name);
   if (!a && std::string(name) == "None") // ParaView's none_string of an array selection
   {
     return nullptr;
@@ -48,21 +56,35 @@ vtkDataArray* vtkBeltramiSurface::SelectedPointArray(vtkAlgorithm* owner, vtkDat
     // A warning, not an error: these arrays are optional, and pvpython's
     // Filter(Input=x) chooses defaults from the active source before x is set,
     // so a stale name can reach the filter.
-    vtkWarningWithObjectMacro(owner, << "The " << what << " point array '" << name
-                                     << "' does not exist in the input"
-                                     << (input->GetCellData()->GetAbstractArray(name)
-                                            ? " (it is a cell array; point data are needed)"
+    vtkWarningWithObjectMacro(owner, << "The " << what << kind << name << "' does not exist in the input"
+                                     << (other->GetAbstractArray(name)
+                                            ? (cells ? " (it is a point array; cell data are needed)"
+                                                     : " (it is a cell array; point data are needed)")
                                             : "")
                                      << "; it is ignored.");
     return nullptr;
   }
   if (components > 0 && a->GetNumberOfComponents() != components)
   {
-    error = std::string("The ") + what + " point array '" + name + "' needs " + std::to_string(components) +
+    error = std::string("The ") + what + kind + name + "' needs " + std::to_string(components) +
       (components == 1 ? " component." : " components.");
     return nullptr;
   }
   return a;
+}
+
+} // namespace
+
+vtkDataArray* vtkBeltramiSurface::SelectedPointArray(vtkAlgorithm* owner, vtkDataSet* input, int idx,
+  int components, const char* what, std::string& error)
+{
+  return SelectedArray(owner, input, idx, false, components, what, error);
+}
+
+vtkDataArray* vtkBeltramiSurface::SelectedCellArray(vtkAlgorithm* owner, vtkDataSet* input, int idx,
+  int components, const char* what, std::string& error)
+{
+  return SelectedArray(owner, input, idx, true, components, what, error);
 }
 
 std::vector<std::uint8_t> vtkBeltramiSurface::SelectedPointMask(

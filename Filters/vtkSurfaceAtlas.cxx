@@ -25,6 +25,8 @@
 #include <vtkPolyData.h>
 
 #include <algorithm>
+#include <climits>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -40,6 +42,27 @@ vtkSurfaceAtlas::vtkSurfaceAtlas()
   // The defaults have one source: the core's AtlasOptions.
   beltrami::AtlasOptions defaults;
   this->CopySettings(defaults, vtkBeltramiCopy::FromCore);
+  // Input array 0: seam labels (a cell array; none by default).
+  this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, static_cast<const char*>(nullptr));
+}
+
+bool vtkSurfaceAtlas::ReadSeamLabels(const vtkBeltramiSurface& surface, beltrami::AtlasOptions& options)
+{
+  std::string error;
+  vtkDataArray* labels = vtkBeltramiSurface::SelectedCellArray(this, surface.Input(), 0, 1, "seam label", error);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return false;
+  }
+  const beltrami::MeshTopology& topology = surface.Topology();
+  for (beltrami::Index t = 0; labels && t < topology.NumberOfTriangles(); ++t)
+  {
+    const double label = labels->GetComponent(surface.TriangleCell(topology.OriginalTriangleIds()[t]), 0);
+    // NaN labels form a region of their own.
+    options.SeamLabels.push_back(std::isfinite(label) ? static_cast<int>(std::llround(label)) : INT_MIN);
+  }
+  return true;
 }
 
 void vtkSurfaceAtlas::SetChartBoundary(int boundary)
@@ -55,6 +78,8 @@ void vtkSurfaceAtlas::CopySettings(beltrami::AtlasOptions& o, vtkBeltramiCopy di
 {
   BeltramiCopySetting(this->NumberOfCharts, o.NumberOfCharts, direction);
   BeltramiCopySetting(this->BalanceAreas, o.BalanceAreas, direction);
+  BeltramiCopySetting(this->SplitAtFeatures, o.SplitAtFeatures, direction);
+  BeltramiCopySetting(this->FeatureAngle, o.FeatureAngle, direction);
   BeltramiCopySetting(this->ChartBoundary, o.ChartBoundary, direction);
   BeltramiCopySetting(this->TextureSize, o.TextureSize, direction);
   BeltramiCopySetting(this->MarginTexels, o.MarginTexels, direction);
@@ -114,6 +139,10 @@ int vtkSurfaceAtlas::Build(vtkPolyData* input, vtkPolyData* output)
   const double* points = surface.PointsAsDouble(storage);
   beltrami::AtlasOptions options;
   this->CopySettings(options, vtkBeltramiCopy::ToCore);
+  if (!this->ReadSeamLabels(surface, options))
+  {
+    return 0;
+  }
   this->UpdateProgress(0.0);
   const beltrami::AtlasResult atlas = beltrami::BuildAtlas(topology, points, options, [this](double fraction) {
     this->UpdateProgress(0.5 * fraction);
@@ -230,6 +259,9 @@ void vtkSurfaceAtlas::WriteCutSurface(vtkPolyData* input, const beltrami::AtlasR
   count->InsertNextValue(static_cast<int>(atlas.Charts.size()));
   splits->SetName("AtlasSplitsForFlips");
   splits->InsertNextValue(atlas.SplitsForFlips);
+  vtkNew<vtkIntArray> cutEdges;
+  cutEdges->SetName("AtlasCutEdges");
+  cutEdges->InsertNextValue(static_cast<int>(atlas.CutEdges));
   vtkNew<vtkDoubleArray> efficiency;
   efficiency->SetName("AtlasPackingEfficiency");
   efficiency->InsertNextValue(atlas.PackingEfficiency);
@@ -237,7 +269,8 @@ void vtkSurfaceAtlas::WriteCutSurface(vtkPolyData* input, const beltrami::AtlasR
   fd->ShallowCopy(input->GetFieldData());
   for (vtkAbstractArray* a : { static_cast<vtkAbstractArray*>(count), static_cast<vtkAbstractArray*>(area),
          static_cast<vtkAbstractArray*>(angle), static_cast<vtkAbstractArray*>(areaDistortion),
-         static_cast<vtkAbstractArray*>(efficiency), static_cast<vtkAbstractArray*>(splits) })
+         static_cast<vtkAbstractArray*>(efficiency), static_cast<vtkAbstractArray*>(splits),
+         static_cast<vtkAbstractArray*>(cutEdges) })
   {
     fd->AddArray(a);
   }
@@ -343,6 +376,8 @@ void vtkSurfaceAtlas::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "NumberOfCharts: " << this->NumberOfCharts << "\n";
   os << indent << "BalanceAreas: " << this->BalanceAreas << "\n";
+  os << indent << "SplitAtFeatures: " << this->SplitAtFeatures << "\n";
+  os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
   os << indent << "ChartBoundary: " << this->ChartBoundary << "\n";
   os << indent << "TextureSize: " << this->TextureSize << "\n";
   os << indent << "MarginTexels: " << this->MarginTexels << "\n";

@@ -14,7 +14,8 @@
  * largest chart over the smallest goes from 54 to 7.0, but the charts get
  * longer: more angle distortion, less packing, and it is slower).  Each chart is mapped by the discrete
  * conformal parameterization (DCP, chapter 5) onto its own square (ChartBoundary SQUARE, section
- * 4.2.2; the chart's boundary spaced by arc length), onto the circle
+ * 4.2.2; the chart's boundary spaced by arc length, the square's corners at
+ * its sharpest turns, so that no triangle lies flat on a side), onto the circle
  * (CIRCLE), or with a free boundary (NATURAL: the natural conformal map of
  * section 5.4.2): a chart whose square map would flip a triangle, or whose
  * free boundary would overlap itself, is mapped onto the circle instead, and a chart whose map still flips is split, so no
@@ -22,10 +23,17 @@
  * scale (the same texels per unit of surface length on every chart), with
  * MarginTexels texels of a TextureSize^2 texture between them.
  *
+ * Seams: input array 0 (SetInputArrayToProcess, a cell array of labels:
+ * a segmentation, part or material ids) makes the edges between cells of
+ * different labels chart boundaries (no chart spans two labels); with
+ * SplitAtFeatures (off by default) so are the sharp edges, whose triangles'
+ * normals differ by more than FeatureAngle degrees (60; section 4.2.3) - a
+ * sharp edge that ends inside a chart splits it.
+ *
  * Settings: NumberOfCharts (charts to start from; splits add more; 0, the
  * default: about one per 2,000 triangles, at least one per component),
- * ChartBoundary, TextureSize (1024), MarginTexels (2), MapResolution (256;
- * 0: no maps), NumberOfThreads.
+ * ChartBoundary, SplitAtFeatures, FeatureAngle, TextureSize (1024),
+ * MarginTexels (2), MapResolution (256; 0: no maps), NumberOfThreads.
  *
  * Output: the surface cut along the chart seams (the points of a seam
  * duplicated, one copy per chart; the input's point and cell data carried)
@@ -35,7 +43,8 @@
  * lines are dropped), and field arrays AtlasCharts (the count),
  * AtlasChartArea, AtlasChartAngleDistortion (mean, degrees),
  * AtlasChartAreaDistortion (mean |log area ratio|), AtlasPackingEfficiency
- * (the charts' share of [0, 1]^2) and AtlasSplitsForFlips.
+ * (the charts' share of [0, 1]^2), AtlasSplitsForFlips and AtlasCutEdges
+ * (seam and sharp edges kept as chart boundaries).
  *
  * Output 1 (MapResolution > 0): the geometry maps of every chart (section
  * 4.2.3), a vtkMultiBlockDataSet with one MapResolution^2 vtkImageData per
@@ -65,6 +74,7 @@
 #include <vector> // for WriteCutSurface
 
 enum class vtkBeltramiCopy;
+class vtkBeltramiSurface;
 namespace beltrami
 {
 class MeshTopology;
@@ -98,6 +108,13 @@ public:
   vtkSetMacro(BalanceAreas, bool);
   vtkGetMacro(BalanceAreas, bool);
   vtkBooleanMacro(BalanceAreas, bool);
+  /// Sharp edges (normals differing by more than FeatureAngle degrees) as
+  /// chart boundaries (off by default).
+  vtkSetMacro(SplitAtFeatures, bool);
+  vtkGetMacro(SplitAtFeatures, bool);
+  vtkBooleanMacro(SplitAtFeatures, bool);
+  vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
+  vtkGetMacro(FeatureAngle, double);
   vtkSetClampMacro(MapResolution, int, 0, 16384);
   vtkGetMacro(MapResolution, int);
   vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
@@ -114,6 +131,8 @@ protected:
   // Defaults: the core's AtlasOptions{} (set in the constructor).
   int NumberOfCharts;
   bool BalanceAreas;
+  bool SplitAtFeatures;
+  double FeatureAngle;
   int ChartBoundary;
   int TextureSize;
   double MarginTexels;
@@ -132,6 +151,9 @@ private:
   /// The geometry maps of every chart into output 1.
   void WriteMaps(vtkPolyData* input, const beltrami::MeshTopology& topology, const double* points,
     const beltrami::AtlasResult& atlas, const std::vector<vtkIdType>& triangleCell);
+  /// The seam labels (input array 0, a cell array) per kept triangle into
+  /// `options`; false (error reported) when the array is unusable.
+  bool ReadSeamLabels(const vtkBeltramiSurface& surface, beltrami::AtlasOptions& options);
   /// Copies the settings to or from the core's options (one list of pairs).
   void CopySettings(beltrami::AtlasOptions& options, vtkBeltramiCopy direction);
 };

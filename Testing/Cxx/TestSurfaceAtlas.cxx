@@ -9,7 +9,9 @@
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkFieldData.h>
+#include <vtkDoubleArray.h>
 #include <vtkIdTypeArray.h>
+#include <vtkIntArray.h>
 #include <vtkImageData.h>
 #include <vtkMultiBlockDataSet.h>
 #include <vtkNew.h>
@@ -19,6 +21,7 @@
 
 #include <array>
 #include <cmath>
+#include <map>
 
 using beltrami::test::AddPointField;
 using beltrami::test::MessageCollector;
@@ -143,6 +146,70 @@ TEST(SurfaceAtlas, BadInputIsReportedWithAnEmptyOutput)
   EXPECT_EQ(RunOn(g.Get(), fins, errors)->GetNumberOfPoints(), 0);
   ASSERT_FALSE(errors->Errors.empty());
   EXPECT_NE(errors->Errors[0].find("manifold"), std::string::npos) << errors->Errors[0];
+}
+
+TEST(SurfaceAtlas, SeamLabelsAndSharpEdgesBoundTheCharts)
+{
+  auto fandisk = ReadOFF("fandisk.off");
+  // User seams: a cell array of labels (the halves on either side of a plane).
+  vtkNew<vtkIntArray> part;
+  part->SetName("Part");
+  double bounds[6];
+  fandisk->GetBounds(bounds);
+  for (vtkIdType c = 0; c < fandisk->GetNumberOfCells(); ++c)
+  {
+    double p[3];
+    fandisk->GetPoint(fandisk->GetCell(c)->GetPointId(0), p);
+    part->InsertNextValue(p[0] > 0.5 * (bounds[0] + bounds[1]) ? 1 : 0);
+  }
+  fandisk->GetCellData()->AddArray(part);
+  vtkNew<vtkSurfaceAtlas> f;
+  f->SetMapResolution(0);
+  f->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "Part");
+  const auto out = RunOn(f.Get(), fandisk);
+  vtkDataArray* chart = out->GetCellData()->GetArray("ChartId");
+  vtkDataArray* carried = out->GetCellData()->GetArray("Part");
+  ASSERT_TRUE(chart && carried);
+  std::map<int, int> labelOfChart;
+  for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+  {
+    const int id = static_cast<int>(chart->GetTuple1(c)), label = static_cast<int>(carried->GetTuple1(c));
+    EXPECT_EQ(labelOfChart.emplace(id, label).first->second, label) << "chart " << id << " spans two labels";
+  }
+  const int seams = static_cast<int>(out->GetFieldData()->GetArray("AtlasCutEdges")->GetTuple1(0));
+  EXPECT_GT(seams, 20);
+
+  // Sharp edges as chart boundaries: more charts, the creases among the seams.
+  vtkNew<vtkSurfaceAtlas> plain, sharp;
+  plain->SetMapResolution(0);
+  sharp->SetMapResolution(0);
+  sharp->SplitAtFeaturesOn();
+  const auto charts = [](vtkPolyData* pd) { return pd->GetFieldData()->GetArray("AtlasCharts")->GetTuple1(0); };
+  const auto withFeatures = RunOn(sharp.Get(), fandisk);
+  EXPECT_GT(charts(withFeatures), charts(RunOn(plain.Get(), fandisk)));
+  EXPECT_GT(withFeatures->GetFieldData()->GetArray("AtlasCutEdges")->GetTuple1(0), 600); // fandisk: 699 above 60 deg
+
+  // A missing label array is a warning (no seams); a 3-component one an error.
+  vtkNew<vtkSurfaceAtlas> missing;
+  missing->SetMapResolution(0);
+  missing->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "NoSuchArray");
+  vtkNew<MessageCollector> warnings;
+  EXPECT_GT(RunOn(missing.Get(), fandisk, warnings)->GetNumberOfCells(), 0);
+  ASSERT_FALSE(warnings->Warnings.empty());
+  EXPECT_NE(warnings->Warnings[0].find("NoSuchArray"), std::string::npos);
+  vtkNew<vtkDoubleArray> vectors;
+  vectors->SetName("Vectors");
+  vectors->SetNumberOfComponents(3);
+  vectors->SetNumberOfTuples(fandisk->GetNumberOfCells());
+  vectors->Fill(0.0);
+  fandisk->GetCellData()->AddArray(vectors);
+  vtkNew<vtkSurfaceAtlas> wrong;
+  wrong->SetMapResolution(0);
+  wrong->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "Vectors");
+  vtkNew<MessageCollector> errors;
+  EXPECT_EQ(RunOn(wrong.Get(), fandisk, errors)->GetNumberOfCells(), 0);
+  ASSERT_FALSE(errors->Errors.empty());
+  EXPECT_NE(errors->Errors[0].find("component"), std::string::npos) << errors->Errors[0];
 }
 
 TEST(SurfaceAtlas, GeometryMapsOfEveryChart)

@@ -225,6 +225,13 @@ atlas_uv = vtk_to_numpy(cut.GetPointData().GetTCoords())
 atlas_charts = cut.GetFieldData().GetArray("AtlasCharts").GetValue(0)
 check(cut.GetNumberOfCells() == elephant_surface.GetDataInformation().GetNumberOfCells() and atlas_charts >= 2 and (atlas_uv >= 0).all() and (atlas_uv <= 1).all(),
       "atlas of the elephant over %d partition(s): %d charts, UV in [0,1]^2" % (partitions, atlas_charts))
+atlas.SplitAtFeatures = 1
+atlas.FeatureAngle = 75.0
+atlas.UpdatePipeline()
+sharp_cut = servermanager.Fetch(atlas)
+check(list(atlas.SeamLabelsArray)[-1] == "None" and sharp_cut.GetFieldData().GetArray("AtlasCutEdges").GetValue(0) == 45
+      and sharp_cut.GetFieldData().GetArray("AtlasCharts").GetValue(0) > atlas_charts,
+      "atlas keeping the elephant's 45 edges sharper than 75 degrees as chart boundaries")
 
 # Image denoising: the camera picture (8-bit greyscale) through the plugin.
 image = PNGSeriesReader(FileNames=[os.path.join(DATA, "camera.png")])

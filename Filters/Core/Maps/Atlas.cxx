@@ -3,6 +3,7 @@
 #include "Maps/ChartPartition.h"
 #include "Maps/Distortion.h"
 #include "Maps/Parameterization.h"
+#include "Mesh/MeshMeasures.h"
 #include "Solvers/DenseBlocks.h"
 #include "Support/Parallel.h"
 
@@ -281,7 +282,25 @@ AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const
       return result;
     }
   }
-  const DualGraph graph(topology, points);
+  if (!options.SeamLabels.empty() && options.SeamLabels.size() != static_cast<std::size_t>(nt))
+  {
+    result.Error = "The seam labels have " + std::to_string(options.SeamLabels.size()) + " values for " +
+      std::to_string(nt) + " triangles";
+    return result;
+  }
+  std::vector<std::uint8_t> cut;
+  if (options.SplitAtFeatures)
+  {
+    cut = SharpEdges(topology, points, options.FeatureAngle);
+  }
+  if (!options.SeamLabels.empty())
+  {
+    const std::vector<std::uint8_t> seams = EdgesBetweenLabels(topology, options.SeamLabels);
+    cut.resize(seams.size(), 0);
+    std::transform(cut.begin(), cut.end(), seams.begin(), cut.begin(), [](std::uint8_t a, std::uint8_t b) { return a | b; });
+  }
+  result.CutEdges = std::count(cut.begin(), cut.end(), std::uint8_t(1));
+  const DualGraph graph(topology, points, cut.empty() ? nullptr : &cut);
   const int count = options.NumberOfCharts > 0 ? options.NumberOfCharts : std::max(1, nt / 2000);
   std::vector<ChartMesh> regions;
   if (!PartitionIntoCharts(topology, graph, count, regions, result.Error, options.BalanceAreas) ||

@@ -5,13 +5,15 @@
 // boundary on the square, spaced by arc length; the circle where the square
 // would flip a triangle), charts whose map still flips split until none does, and all charts packed into [0, 1]^2 at one
 // scale (texels per unit of surface length alike on every chart) with a
-// margin between them.
+// margin between them.  Seams given as labels and sharp edges can be kept
+// as chart boundaries.
 #pragma once
 
 #include "Maps/BoundaryPlacement.h"
 #include "Mesh/MeshTopology.h"
 #include "Support/Parallel.h"
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -33,6 +35,17 @@ struct AtlasOptions
   /// circle, or free (Natural: the natural conformal map of section 5.4.2;
   /// a chart whose free boundary would overlap itself goes onto the circle).
   ParameterizationBoundary ChartBoundary = ParameterizationBoundary::Square;
+  /// Sharp edges (dihedral angle above FeatureAngle degrees, section 4.2.3)
+  /// as chart boundaries: charts never cross them (a feature that ends
+  /// inside a chart splits it).  Off by default: coarse organic meshes have
+  /// scattered sharp edges (the elephant 167 above 60 deg) that would cut
+  /// their charts small.
+  bool SplitAtFeatures = false;
+  double FeatureAngle = 60.0;
+  /// User seams: one label per surface triangle (kept triangles, in the
+  /// topology's order); edges between different labels are chart
+  /// boundaries.  Empty: none.
+  std::vector<int> SeamLabels;
   /// The margin between packed charts, in texels of a TextureSize^2 texture.
   int TextureSize = 1024;
   double MarginTexels = 2.0;
@@ -62,6 +75,7 @@ struct AtlasResult
   std::vector<int> ChartOfTriangle; ///< per surface triangle
   std::vector<AtlasChart> Charts;
   int SplitsForFlips = 0;           ///< charts split because their map flipped a triangle
+  std::int64_t CutEdges = 0;        ///< seam and feature edges kept as chart boundaries
   double PackingEfficiency = 0.0;   ///< area of the packed charts' maps / area of [0, 1]^2
 };
 

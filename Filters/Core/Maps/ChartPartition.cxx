@@ -15,7 +15,7 @@
 namespace beltrami
 {
 
-DualGraph::DualGraph(const MeshTopology& topology, const double* points)
+DualGraph::DualGraph(const MeshTopology& topology, const double* points, const std::vector<std::uint8_t>* cut)
 {
   const Index nt = topology.NumberOfTriangles();
   const IndexArray& tri = topology.TriangleList();
@@ -44,12 +44,32 @@ DualGraph::DualGraph(const MeshTopology& topology, const double* points)
   for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
   {
     const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
-    if (edges.FaceCount[e] == 2 && c0 >= 0 && c1 >= 0)
+    if (edges.FaceCount[e] != 2 || c0 < 0 || c1 < 0)
     {
-      link(c0 / 3, c1 / 3);
-      link(c1 / 3, c0 / 3);
+      continue;
     }
+    if (cut && (*cut)[e])
+    {
+      Cuts.emplace_back(c0 / 3, c1 / 3);
+      Cuts.emplace_back(c1 / 3, c0 / 3);
+      continue;
+    }
+    link(c0 / 3, c1 / 3);
+    link(c1 / 3, c0 / 3);
   }
+  std::sort(Cuts.begin(), Cuts.end());
+}
+
+std::vector<std::uint8_t> EdgesBetweenLabels(const MeshTopology& topology, const std::vector<int>& label)
+{
+  const MeshTopology::EdgeTable& edges = topology.Edges();
+  std::vector<std::uint8_t> seam(edges.NumberOfEdges(), 0);
+  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
+  {
+    const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
+    seam[e] = c0 >= 0 && c1 >= 0 && label[c0 / 3] != label[c1 / 3];
+  }
+  return seam;
 }
 
 ChartMesh ExtractChart(const MeshTopology& topology, std::vector<Index> triangles)
@@ -87,6 +107,22 @@ bool IsDisk(const ChartMesh& chart, std::string* why)
     *why = chart.Topology->Describe();
   }
   return disk;
+}
+
+bool HasCutInside(const DualGraph& graph, const ChartMesh& chart)
+{
+  for (Index t : chart.Triangles) // ascending
+  {
+    auto cut = std::lower_bound(graph.Cuts.begin(), graph.Cuts.end(), std::make_pair(t, Index(-1)));
+    for (; cut != graph.Cuts.end() && cut->first == t; ++cut)
+    {
+      if (std::binary_search(chart.Triangles.begin(), chart.Triangles.end(), cut->second))
+      {
+        return true;
+      }
+    }
+  }
+  return false;
 }
 
 namespace
@@ -377,7 +413,7 @@ bool SplitIntoDisks(const MeshTopology& topology, const DualGraph& graph, std::v
       continue;
     }
     ChartMesh chart = ExtractChart(topology, part);
-    if (IsDisk(chart))
+    if (IsDisk(chart) && !HasCutInside(graph, chart))
     {
       disks.push_back(std::move(chart));
       continue;
@@ -458,7 +494,7 @@ bool RebalancePair(const MeshTopology& topology, const DualGraph& graph, ChartMe
   }
   ChartMesh one = ExtractChart(topology, std::vector<Index>(both.begin(), both.begin() + cut));
   ChartMesh two = ExtractChart(topology, std::vector<Index>(both.begin() + cut, both.end()));
-  if (!IsDisk(one) || !IsDisk(two))
+  if (!IsDisk(one) || !IsDisk(two) || HasCutInside(graph, one) || HasCutInside(graph, two))
   {
     return false;
   }

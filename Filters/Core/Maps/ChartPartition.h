@@ -14,8 +14,10 @@
 
 #include "Mesh/MeshTopology.h"
 
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace beltrami
@@ -23,14 +25,18 @@ namespace beltrami
 
 /// The triangles of a surface joined across their edges used by exactly two
 /// triangles (the dual graph): 3 neighbours per triangle (-1: none, across a
-/// boundary or non-manifold edge) and the distances of the centroids.
+/// boundary, non-manifold or cut edge) and the distances of the centroids.
+/// Cut edges (seams, feature edges) are never crossed: every region, split
+/// and chart has them on its boundary.
 struct DualGraph
 {
   std::vector<Index> Neighbors;   ///< 3 per triangle
   std::vector<double> Distances;  ///< 3 per triangle
   std::vector<double> Areas;      ///< 3D area per triangle
+  std::vector<std::pair<Index, Index>> Cuts; ///< the triangle pairs across cut edges, both ways, sorted
 
-  DualGraph(const MeshTopology& topology, const double* points);
+  /// cut (optional): 1 per edge of topology.Edges() that charts must not cross.
+  DualGraph(const MeshTopology& topology, const double* points, const std::vector<std::uint8_t>* cut = nullptr);
   Index NumberOfTriangles() const { return static_cast<Index>(Areas.size()); }
 };
 
@@ -50,6 +56,14 @@ ChartMesh ExtractChart(const MeshTopology& topology, std::vector<Index> triangle
 /// True when the triangles of `chart` form a topological disk: manifold,
 /// oriented, one boundary loop, Euler characteristic 1.
 bool IsDisk(const ChartMesh& chart, std::string* why = nullptr);
+
+/// True when a cut edge of `graph` lies inside `chart` (its two triangles
+/// in the chart: a seam or feature that ends inside the chart).
+bool HasCutInside(const DualGraph& graph, const ChartMesh& chart);
+
+/// The edges (of topology.Edges()) between triangles of different labels
+/// (one per triangle): the seams of a segmentation.
+std::vector<std::uint8_t> EdgesBetweenLabels(const MeshTopology& topology, const std::vector<int>& label);
 
 /// Seeds for `count` charts (at least one per connected component of the
 /// dual graph, the rest shared by area), spread by area and moved once to
@@ -76,7 +90,7 @@ void SmoothRegionBoundaries(const DualGraph& graph, std::vector<int>& label, int
 /// when `triangles` has one triangle.
 std::vector<std::vector<Index>> SplitRegion(const DualGraph& graph, const std::vector<Index>& triangles);
 
-/// `region` (connected) as disks: kept when it is one, else split
+/// `region` (connected) as disks without a cut inside: kept when it is one, else split
 /// (SplitRegion) until every part is; the disks are appended to `disks`.
 /// False with `error` when a single triangle is no disk.
 bool SplitIntoDisks(const MeshTopology& topology, const DualGraph& graph, std::vector<Index> region,

@@ -114,6 +114,27 @@ double MeanEdgeLength(const MeshTopology& topo, const double* x)
   return finite ? sum / finite : 0.0;
 }
 
+std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, double angleDegrees)
+{
+  const MeshTopology::EdgeTable& e = topo.Edges();
+  const IndexArray& tri = topo.TriangleList();
+  const double cosine = std::cos(angleDegrees * M_PI / 180.0);
+  const auto normal = [&](Index corner) {
+    const Index* v = &tri[corner - corner % 3];
+    return (Point(x, v[1]) - Point(x, v[0])).cross(Point(x, v[2]) - Point(x, v[0])).normalized();
+  };
+  std::vector<std::uint8_t> sharp(e.NumberOfEdges(), 0);
+  for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
+  {
+    const Index c0 = e.OppositeCorners[2 * k], c1 = e.OppositeCorners[2 * k + 1];
+    if (e.FaceCount[k] == 2 && c0 >= 0 && c1 >= 0)
+    {
+      sharp[k] = normal(c0).dot(normal(c1)) < cosine; // false for NaN (degenerate triangles)
+    }
+  }
+  return sharp;
+}
+
 double EnclosedVolume(const MeshTopology& topo, const double* points, int numThreads)
 {
   return VolumeAndCentroid(topo, points, numThreads, nullptr);

@@ -1,11 +1,15 @@
 // Beltrami core: global measures of a triangle surface (3 doubles per
 // point): enclosed volume (eq. 3.10), area, the volume above a plane (the
-// invariants of section 3.3.1), their centroids, and the mean edge length
-// (the unit of time steps and of the data scale of the graph flows).
+// invariants of section 3.3.1), their centroids, the mean edge length
+// (the unit of time steps and of the data scale of the graph flows), and
+// the sharp edges.
 #pragma once
 
 #include "Mesh/Geometry.h"
 #include "Mesh/MeshTopology.h"
+
+#include <cstdint>
+#include <vector>
 
 namespace beltrami
 {
@@ -28,6 +32,10 @@ double EnclosedVolume(const MeshTopology& topology, const double* points, int nu
 /// edges at NaN or infinite points are left out (0 when none is left).
 double MeanEdgeLength(const MeshTopology& topology, const double* points);
 double SurfaceArea(const MeshTopology& topology, const double* points, int numThreads = 0);
+/// 1 per edge of topology.Edges() whose two triangles' normals differ by
+/// more than `angleDegrees` (the dihedral test of thesis section 4.2.3, like
+/// vtkFeatureEdges' FeatureAngle); boundary and non-manifold edges: 0.
+std::vector<std::uint8_t> SharpEdges(const MeshTopology& topology, const double* points, double angleDegrees);
 double VolumeAbovePlane(const MeshTopology& topology, const double* points, const double origin[3],
   const double normal[3], int numThreads = 0);
 

@@ -6,6 +6,7 @@
 #include "Maps/ChartPartition.h"
 #include "Maps/Distortion.h"
 #include "Maps/GeometryImages.h"
+#include "Mesh/MeshMeasures.h"
 #include "TestMeshes.h"
 
 #include <gtest/gtest.h>
@@ -352,4 +353,70 @@ TEST(Atlas, HolesZeroAreaTrianglesAndIsolatedPoints)
     ExpectValidAtlas(
       grid, atlas, boundary == ParameterizationBoundary::Square ? "grid with holes, square" : "grid with holes, natural");
   }
+}
+
+namespace
+{
+
+/// The edges of `cut` whose two triangles lie in one chart.
+int CutEdgesInsideCharts(const MeshTopology& topology, const std::vector<std::uint8_t>& cut, const AtlasResult& atlas)
+{
+  const MeshTopology::EdgeTable& edges = topology.Edges();
+  int inside = 0;
+  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
+  {
+    const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
+    inside += cut[e] && atlas.ChartOfTriangle[c0 / 3] == atlas.ChartOfTriangle[c1 / 3];
+  }
+  return inside;
+}
+
+} // namespace
+
+TEST(Atlas, SeamsAndSharpEdgesAreChartBoundaries)
+{
+  std::string error;
+  // Sharp edges (section 4.2.3): fandisk's creases, some ending inside smooth regions.
+  for (const char* name : { "fandisk.off", "elephant.off" })
+  {
+    const Mesh mesh = test::ReadMesh(name, error);
+    ASSERT_EQ(error, "");
+    const MeshTopology topology = mesh.Topology();
+    AtlasOptions options;
+    options.SplitAtFeatures = true;
+    const AtlasResult atlas = BuildAtlas(topology, mesh.Points.data(), options);
+    ExpectValidAtlas(mesh, atlas, name);
+    const std::vector<std::uint8_t> sharp = SharpEdges(topology, mesh.Points.data(), options.FeatureAngle);
+    EXPECT_GT(atlas.CutEdges, 100) << name;
+    EXPECT_EQ(atlas.CutEdges, std::count(sharp.begin(), sharp.end(), std::uint8_t(1))) << name;
+    EXPECT_EQ(CutEdgesInsideCharts(topology, sharp, atlas), 0) << name;
+    const AtlasResult plain = BuildAtlas(topology, mesh.Points.data());
+    EXPECT_GT(CutEdgesInsideCharts(topology, sharp, plain), 0) << name << ": charts cross sharp edges by default";
+    std::printf("%s: %zu charts keeping %lld sharp edges on their boundaries (%zu without)\n", name,
+      atlas.Charts.size(), static_cast<long long>(atlas.CutEdges), plain.Charts.size());
+  }
+  // User seams: labels of a segmentation (a polar cap and two half-spheres).
+  const Mesh sphere = test::OctahedronSphere(5);
+  const MeshTopology topology = sphere.Topology();
+  AtlasOptions options;
+  for (Index t = 0; t < topology.NumberOfTriangles(); ++t)
+  {
+    const Index* v = &topology.TriangleList()[3 * t];
+    const Eigen::Vector3d c = (sphere.Point(v[0]) + sphere.Point(v[1]) + sphere.Point(v[2])) / 3.0;
+    options.SeamLabels.push_back(c.z() > 0.5 ? 2 : (c.x() > 0.0 ? 1 : 0));
+  }
+  const AtlasResult atlas = BuildAtlas(topology, sphere.Points.data(), options);
+  ExpectValidAtlas(sphere, atlas, "sphere with seams");
+  const std::vector<std::uint8_t> seams = EdgesBetweenLabels(topology, options.SeamLabels);
+  EXPECT_GT(atlas.CutEdges, 50);
+  EXPECT_EQ(CutEdgesInsideCharts(topology, seams, atlas), 0);
+  for (const AtlasChart& chart : atlas.Charts) // no chart spans two labels
+  {
+    for (Index t : chart.Triangles)
+    {
+      EXPECT_EQ(options.SeamLabels[t], options.SeamLabels[chart.Triangles.front()]);
+    }
+  }
+  options.SeamLabels.pop_back();
+  EXPECT_NE(BuildAtlas(topology, sphere.Points.data(), options).Error, "") << "one label short";
 }
