@@ -303,7 +303,8 @@ AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const
   const DualGraph graph(topology, points, cut.empty() ? nullptr : &cut);
   const int count = options.NumberOfCharts > 0 ? options.NumberOfCharts : std::max(1, nt / 2000);
   std::vector<ChartMesh> regions;
-  if (!PartitionIntoCharts(topology, graph, count, regions, result.Error, options.BalanceAreas) ||
+  if (!PartitionIntoCharts(
+        topology, graph, count, regions, result.Error, options.BalanceAreas, options.NumberOfThreads) ||
     !MapAllCharts(topology, points, graph, std::move(regions), options, progress, result))
   {
     result.Charts.clear();

@@ -1,12 +1,16 @@
 #include "Maps/ChartPartition.h"
 
 #include "Mesh/Geometry.h"
+#include "Support/Parallel.h"
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <numeric>
 #include <queue>
@@ -143,8 +147,17 @@ void NearestWithin(const DualGraph& graph, const std::vector<Index>& region, con
   {
     label->assign(size, -1);
   }
-  using Item = std::pair<double, Index>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  // The queue holds 64-bit keys: the distance rounded to float (its bits
+  // order like the values) above the local id.  The distances themselves
+  // stay double: an entry popped a rounding early is corrected later, so
+  // the result is the exact shortest distance.
+  const auto key = [](double d, Index local) {
+    const float f = static_cast<float>(d);
+    std::uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    return (static_cast<std::uint64_t>(bits) << 32) | static_cast<std::uint32_t>(local);
+  };
+  std::priority_queue<std::uint64_t, std::vector<std::uint64_t>, std::greater<std::uint64_t>> queue;
   for (std::size_t k = 0; k < sources.size(); ++k)
   {
     distance[sources[k]] = 0.0;
@@ -152,16 +165,18 @@ void NearestWithin(const DualGraph& graph, const std::vector<Index>& region, con
     {
       (*label)[sources[k]] = static_cast<int>(k);
     }
-    queue.emplace(0.0, sources[k]);
+    queue.push(key(0.0, sources[k]));
   }
   while (!queue.empty())
   {
-    const auto [d, local] = queue.top();
+    const std::uint64_t top = queue.top();
     queue.pop();
-    if (d > distance[local])
+    const Index local = static_cast<Index>(top & 0xffffffffu);
+    if (top > key(distance[local], local))
     {
-      continue;
+      continue; // stale
     }
+    const double d = distance[local];
     const Index t = whole ? local : region[local];
     for (int k = 0; k < 3; ++k)
     {
@@ -175,7 +190,7 @@ void NearestWithin(const DualGraph& graph, const std::vector<Index>& region, con
         {
           (*label)[m] = (*label)[local];
         }
-        queue.emplace(nd, m);
+        queue.push(key(nd, m));
       }
     }
   }
@@ -562,12 +577,39 @@ void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph, std
 namespace
 {
 
+/// SplitIntoDisks on every region (in parallel; the disks in the regions'
+/// order).
+bool DisksOf(const MeshTopology& topology, const DualGraph& graph, std::vector<std::vector<Index>>& regions,
+  std::vector<ChartMesh>& charts, std::string& error, int numThreads)
+{
+  std::vector<std::vector<ChartMesh>> disks(regions.size());
+  std::vector<std::string> errors(regions.size());
+  ParallelFor(static_cast<std::int64_t>(regions.size()), numThreads,
+    [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t k = begin; k < end; ++k)
+      {
+        SplitIntoDisks(topology, graph, std::move(regions[k]), disks[k], errors[k]);
+      }
+    },
+    {}, 0, 1);
+  for (std::size_t k = 0; k < regions.size(); ++k)
+  {
+    if (!errors[k].empty())
+    {
+      error = errors[k];
+      return false;
+    }
+    std::move(disks[k].begin(), disks[k].end(), std::back_inserter(charts));
+  }
+  return true;
+}
+
 /// The boundaries of splits are as jagged as the first regions' were (ears:
 /// triangles with two edges on the chart's boundary, flat on a square's
 /// side): SmoothRegionBoundaries on the charts, and what that leaves no disk
 /// split again (SplitIntoDisks), twice at most.
 bool SmoothCharts(const MeshTopology& topology, const DualGraph& graph, std::vector<ChartMesh>& charts,
-  std::string& error)
+  std::string& error, int numThreads)
 {
   for (int round = 0; round < 2; ++round)
   {
@@ -591,12 +633,9 @@ bool SmoothCharts(const MeshTopology& topology, const DualGraph& graph, std::vec
       regions[label[t]].push_back(t);
     }
     charts.clear();
-    for (std::vector<Index>& region : regions)
+    if (!DisksOf(topology, graph, regions, charts, error, numThreads))
     {
-      if (!SplitIntoDisks(topology, graph, std::move(region), charts, error))
-      {
-        return false;
-      }
+      return false;
     }
   }
   return true;
@@ -605,7 +644,7 @@ bool SmoothCharts(const MeshTopology& topology, const DualGraph& graph, std::vec
 } // namespace
 
 bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, int count,
-  std::vector<ChartMesh>& charts, std::string& error, bool balance)
+  std::vector<ChartMesh>& charts, std::string& error, bool balance, int numThreads)
 {
   charts.clear();
   const TopologySummary& s = topology.Summary();
@@ -622,21 +661,18 @@ bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, i
   {
     regions[label[t]].push_back(t);
   }
-  for (std::vector<Index>& region : regions)
+  if (!DisksOf(topology, graph, regions, charts, error, numThreads))
   {
-    if (!SplitIntoDisks(topology, graph, std::move(region), charts, error))
-    {
-      return false;
-    }
+    return false;
   }
-  if (!SmoothCharts(topology, graph, charts, error))
+  if (!SmoothCharts(topology, graph, charts, error, numThreads))
   {
     return false;
   }
   if (balance)
   {
     BalanceChartAreas(topology, graph, charts);
-    if (!SmoothCharts(topology, graph, charts, error))
+    if (!SmoothCharts(topology, graph, charts, error, numThreads))
     {
       return false;
     }

@@ -107,10 +107,11 @@ void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph, std
 
 /// The partition: every triangle of `topology` in exactly one disk-like
 /// chart.  `count`: the number of initial regions
-/// (splits add more); `balance`: BalanceChartAreas after.  False with
+/// (splits add more); `balance`: BalanceChartAreas after; the regions are
+/// split into disks on `numThreads` threads (0: all).  False with
 /// `error` when the surface is not manifold and oriented (no chart of it
 /// could be a disk).
 bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, int count,
-  std::vector<ChartMesh>& charts, std::string& error, bool balance = true);
+  std::vector<ChartMesh>& charts, std::string& error, bool balance = true, int numThreads = 0);
 
 } // namespace beltrami
