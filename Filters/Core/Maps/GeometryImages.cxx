@@ -88,14 +88,26 @@ ChartRaster RasterizeChart(const AtlasChart& chart, int resolution, int numThrea
         const double y = (static_cast<double>(j) + 0.5) / n;
         for (Index t : rows[j])
         {
+          // The triangle's span on the row's centre line (the pixels a
+          // scanline meets; one more on each side for round-off: the
+          // barycentric test decides).
           double lo = HUGE_VAL, hi = -HUGE_VAL;
           for (int k = 0; k < 3; ++k)
           {
-            const double u = chart.UV[2 * chart.Corners[3 * t + k]];
-            lo = std::min(lo, u);
-            hi = std::max(hi, u);
+            const double* p = &chart.UV[2 * chart.Corners[3 * t + k]];
+            const double* q = &chart.UV[2 * chart.Corners[3 * t + (k + 1) % 3]];
+            if ((p[1] - y) * (q[1] - y) <= 0.0)
+            {
+              const double u = p[1] == q[1] ? p[0] : p[0] + (y - p[1]) * (q[0] - p[0]) / (q[1] - p[1]);
+              lo = std::min({ lo, u, p[1] == q[1] ? q[0] : u });
+              hi = std::max({ hi, u, p[1] == q[1] ? q[0] : u });
+            }
           }
-          for (int i = std::max(0, pixelOf(lo)); i <= std::min(n - 1, pixelOf(hi) + 1); ++i)
+          if (!(lo <= hi))
+          {
+            continue; // the row's centre line misses the triangle
+          }
+          for (int i = std::max(0, pixelOf(lo) - 1); i <= std::min(n - 1, pixelOf(hi) + 2); ++i)
           {
             const std::size_t p = static_cast<std::size_t>(j) * n + i;
             const double centre[2] = { (i + 0.5) / n, y };
