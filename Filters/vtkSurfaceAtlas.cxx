@@ -347,10 +347,11 @@ void vtkSurfaceAtlas::WriteMaps(vtkPolyData* input, const beltrami::MeshTopology
     return;
   }
   maps->SetNumberOfBlocks(static_cast<unsigned int>(atlas.Charts.size()));
+  beltrami::ChartRaster raster; // one for every chart: its memory is reused
   for (std::size_t c = 0; c < atlas.Charts.size(); ++c)
   {
     const beltrami::AtlasChart& chart = atlas.Charts[c];
-    const beltrami::ChartRaster raster = beltrami::RasterizeChart(chart, this->MapResolution, this->NumberOfThreads);
+    beltrami::RasterizeChart(chart, this->MapResolution, raster, this->NumberOfThreads);
     vtkSmartPointer<vtkImageData> image = MapImage(this->MapResolution);
     vtkNew<vtkIdTypeArray> faces;
     faces->SetName("FaceId");

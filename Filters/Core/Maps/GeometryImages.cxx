@@ -57,6 +57,12 @@ Index LocateInChart(const AtlasChart& chart, const double uv[2], double barycent
 ChartRaster RasterizeChart(const AtlasChart& chart, int resolution, int numThreads)
 {
   ChartRaster raster;
+  RasterizeChart(chart, resolution, raster, numThreads);
+  return raster;
+}
+
+void RasterizeChart(const AtlasChart& chart, int resolution, ChartRaster& raster, int numThreads)
+{
   const int n = std::max(1, resolution);
   raster.Resolution = n;
   const std::size_t pixels = static_cast<std::size_t>(n) * n;
@@ -122,7 +128,6 @@ ChartRaster RasterizeChart(const AtlasChart& chart, int resolution, int numThrea
       }
     },
     {}, 0, 1);
-  return raster;
 }
 
 void InterpolateOnRaster(const ChartRaster& raster, const AtlasChart& chart, const double* values, int components,

@@ -31,6 +31,9 @@ Index LocateInChart(const AtlasChart& chart, const double uv[2], double barycent
 
 /// Samples the chart at every pixel centre of an n x n grid (threads: 0 all).
 ChartRaster RasterizeChart(const AtlasChart& chart, int resolution, int numThreads = 0);
+/// The same into `raster`, reusing its memory (one raster for many charts:
+/// no new pages to clear for each).
+void RasterizeChart(const AtlasChart& chart, int resolution, ChartRaster& raster, int numThreads = 0);
 
 /// values (components per vertex: of the surface's vertices, or of the
 /// chart's when `chartValues`) interpolated at every pixel into `out`:
