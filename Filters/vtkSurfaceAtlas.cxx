@@ -77,6 +77,7 @@ void vtkSurfaceAtlas::SetChartBoundary(int boundary)
 void vtkSurfaceAtlas::CopySettings(beltrami::AtlasOptions& o, vtkBeltramiCopy direction)
 {
   BeltramiCopySetting(this->NumberOfCharts, o.NumberOfCharts, direction);
+  BeltramiCopySetting(this->MaximumChartArea, o.MaximumChartArea, direction);
   BeltramiCopySetting(this->BalanceAreas, o.BalanceAreas, direction);
   BeltramiCopySetting(this->SplitAtFeatures, o.SplitAtFeatures, direction);
   BeltramiCopySetting(this->FeatureAngle, o.FeatureAngle, direction);
@@ -156,6 +157,10 @@ int vtkSurfaceAtlas::Build(vtkPolyData* input, vtkPolyData* output)
   {
     vtkErrorMacro(<< atlas.Error << ". The output is empty.");
     return 0;
+  }
+  if (!atlas.Warning.empty())
+  {
+    vtkWarningMacro(<< atlas.Warning << ".");
   }
   std::vector<vtkIdType> triangleCell(topology.NumberOfTriangles());
   for (beltrami::Index t = 0; t < topology.NumberOfTriangles(); ++t)
@@ -376,6 +381,7 @@ void vtkSurfaceAtlas::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "NumberOfCharts: " << this->NumberOfCharts << "\n";
+  os << indent << "MaximumChartArea: " << this->MaximumChartArea << "\n";
   os << indent << "BalanceAreas: " << this->BalanceAreas << "\n";
   os << indent << "SplitAtFeatures: " << this->SplitAtFeatures << "\n";
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";

@@ -32,6 +32,7 @@
  *
  * Settings: NumberOfCharts (charts to start from; splits add more; 0, the
  * default: about one per 2,000 triangles, at least one per component),
+ * MaximumChartArea (0: no limit; larger charts are split),
  * ChartBoundary, SplitAtFeatures, FeatureAngle, TextureSize (1024),
  * MarginTexels (2), MapResolution (256; 0: no maps), NumberOfThreads.
  *
@@ -98,6 +99,11 @@ public:
 
   vtkSetClampMacro(NumberOfCharts, int, 0, VTK_INT_MAX);
   vtkGetMacro(NumberOfCharts, int);
+  /// The largest chart area (the input's units squared; 0, the default: no
+  /// limit): larger charts are split, and NumberOfCharts is raised to the
+  /// surface's area over it.
+  vtkSetClampMacro(MaximumChartArea, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MaximumChartArea, double);
   /// CIRCLE, SQUARE or NATURAL; other values are ignored.
   virtual void SetChartBoundary(int boundary);
   vtkGetMacro(ChartBoundary, int);
@@ -130,6 +136,7 @@ protected:
   int MapResolution = 256;
   // Defaults: the core's AtlasOptions{} (set in the constructor).
   int NumberOfCharts;
+  double MaximumChartArea;
   bool BalanceAreas;
   bool SplitAtFeatures;
   double FeatureAngle;

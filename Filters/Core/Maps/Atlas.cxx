@@ -301,14 +301,27 @@ AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const
   }
   result.CutEdges = std::count(cut.begin(), cut.end(), std::uint8_t(1));
   const DualGraph graph(topology, points, cut.empty() ? nullptr : &cut);
-  const int count = options.NumberOfCharts > 0 ? options.NumberOfCharts : std::max(1, nt / 2000);
+  int count = options.NumberOfCharts > 0 ? options.NumberOfCharts : std::max(1, nt / 2000);
+  if (options.MaximumChartArea > 0.0) // start from enough charts (better shapes than halving large ones)
+  {
+    const double total = std::accumulate(graph.Areas.begin(), graph.Areas.end(), 0.0);
+    count = std::max<double>(count, std::min<double>(nt, std::ceil(total / options.MaximumChartArea)));
+  }
   std::vector<ChartMesh> regions;
+  int oversized = 0;
   if (!PartitionIntoCharts(
         topology, graph, count, regions, result.Error, options.BalanceAreas, options.NumberOfThreads) ||
+    (options.MaximumChartArea > 0.0 &&
+      !SplitLargeCharts(
+        topology, graph, regions, options.MaximumChartArea, result.Error, oversized, options.NumberOfThreads)) ||
     !MapAllCharts(topology, points, graph, std::move(regions), options, progress, result))
   {
     result.Charts.clear();
     return result;
+  }
+  if (oversized > 0)
+  {
+    result.Warning = std::to_string(oversized) + " triangle(s) are larger than the maximum chart area on their own";
   }
   result.ChartOfTriangle.assign(nt, -1);
   for (std::size_t c = 0; c < result.Charts.size(); ++c)

@@ -26,6 +26,10 @@ struct AtlasOptions
   /// 2,000 triangles and at least one per component (closed components get
   /// two when they are split into disks).
   int NumberOfCharts = 0;
+  /// The largest chart area (in the surface's units squared): larger charts
+  /// are split until none is (a single triangle larger than that stays, with
+  /// a warning).  0: no limit.
+  double MaximumChartArea = 0.0;
   /// The area-balanced refinement of section 4.2.4 (BalanceChartAreas): far
   /// more even chart areas (the elephant's largest over smallest chart 54 ->
   /// 7.0), but longer charts (bunny00: mean angle distortion 12.8 -> 18 deg,

@@ -643,6 +643,75 @@ bool SmoothCharts(const MeshTopology& topology, const DualGraph& graph, std::vec
 
 } // namespace
 
+namespace
+{
+
+/// Splits the charts larger than `maximumArea` until none is (single
+/// triangles apart: counted in `oversized`).
+bool SplitUntilSmallEnough(const MeshTopology& topology, const DualGraph& graph, std::vector<ChartMesh>& charts,
+  double maximumArea, std::string& error, int& oversized, int numThreads)
+{
+  while (true)
+  {
+    std::vector<ChartMesh> kept;
+    std::vector<std::vector<Index>> halves;
+    oversized = 0;
+    for (ChartMesh& chart : charts)
+    {
+      const bool large = RegionArea(graph, chart.Triangles) > maximumArea;
+      if (large && chart.Triangles.size() > 1)
+      {
+        for (std::vector<Index>& half : SplitRegion(graph, chart.Triangles))
+        {
+          halves.push_back(std::move(half));
+        }
+        continue;
+      }
+      oversized += large;
+      kept.push_back(std::move(chart));
+    }
+    charts = std::move(kept);
+    if (halves.empty())
+    {
+      return true;
+    }
+    if (!DisksOf(topology, graph, halves, charts, error, numThreads))
+    {
+      return false;
+    }
+  }
+}
+
+} // namespace
+
+bool SplitLargeCharts(const MeshTopology& topology, const DualGraph& graph, std::vector<ChartMesh>& charts,
+  double maximumArea, std::string& error, int& oversized, int numThreads)
+{
+  // The splits' boundaries are smoothed, which can move an ear back over
+  // the limit: split again; the last round is not smoothed.
+  for (int round = 0;; ++round)
+  {
+    if (!SplitUntilSmallEnough(topology, graph, charts, maximumArea, error, oversized, numThreads))
+    {
+      return false;
+    }
+    if (round == 3)
+    {
+      return true;
+    }
+    if (!SmoothCharts(topology, graph, charts, error, numThreads))
+    {
+      return false;
+    }
+    if (std::none_of(charts.begin(), charts.end(), [&](const ChartMesh& c) {
+          return c.Triangles.size() > 1 && RegionArea(graph, c.Triangles) > maximumArea;
+        }))
+    {
+      return true;
+    }
+  }
+}
+
 bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, int count,
   std::vector<ChartMesh>& charts, std::string& error, bool balance, int numThreads)
 {

@@ -105,6 +105,13 @@ bool SplitIntoDisks(const MeshTopology& topology, const DualGraph& graph, std::v
 void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph, std::vector<ChartMesh>& charts,
   double ratio = 1.5, int rounds = 8);
 
+/// Splits every chart larger than `maximumArea` (SplitRegion, then into
+/// disks, boundaries smoothed) until none is; a single triangle larger than
+/// that stays (the count of such charts is returned).  False with `error`
+/// as SplitIntoDisks.
+bool SplitLargeCharts(const MeshTopology& topology, const DualGraph& graph, std::vector<ChartMesh>& charts,
+  double maximumArea, std::string& error, int& oversized, int numThreads = 0);
+
 /// The partition: every triangle of `topology` in exactly one disk-like
 /// chart.  `count`: the number of initial regions
 /// (splits add more); `balance`: BalanceChartAreas after; the regions are

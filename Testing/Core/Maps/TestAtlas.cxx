@@ -420,3 +420,34 @@ TEST(Atlas, SeamsAndSharpEdgesAreChartBoundaries)
   options.SeamLabels.pop_back();
   EXPECT_NE(BuildAtlas(topology, sphere.Points.data(), options).Error, "") << "one label short";
 }
+
+TEST(Atlas, MaximumChartAreaIsKept)
+{
+  std::string error;
+  const Mesh bunny = test::ReadMesh("bunny00.off", error);
+  ASSERT_EQ(error, "");
+  const MeshTopology topology = bunny.Topology();
+  for (const double share : { 1.0 / 100, 1.0 / 400 })
+  {
+    AtlasOptions options;
+    options.MaximumChartArea = share * bunny.TotalArea();
+    options.NumberOfCharts = 10; // raised to the area over the limit
+    const AtlasResult atlas = BuildAtlas(topology, bunny.Points.data(), options);
+    ExpectValidAtlas(bunny, atlas, share > 0.005 ? "bunny, 1/100 of the area at most" : "bunny, 1/400 at most");
+    EXPECT_GE(atlas.Charts.size(), 1.0 / share);
+    EXPECT_EQ(atlas.Warning, "");
+    for (const AtlasChart& chart : atlas.Charts)
+    {
+      EXPECT_LE(chart.Area3D, options.MaximumChartArea * (1 + 1e-12));
+    }
+  }
+  // A limit below a triangle's area: every chart a single triangle, a warning.
+  const Mesh sphere = test::OctahedronSphere(1);
+  const MeshTopology coarse = sphere.Topology();
+  AtlasOptions tiny;
+  tiny.MaximumChartArea = 1e-3;
+  const AtlasResult atlas = BuildAtlas(coarse, sphere.Points.data(), tiny);
+  ExpectValidAtlas(sphere, atlas, "sphere, charts below a triangle");
+  EXPECT_EQ(atlas.Charts.size(), static_cast<std::size_t>(coarse.NumberOfTriangles()));
+  EXPECT_NE(atlas.Warning, "");
+}
