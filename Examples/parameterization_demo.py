@@ -6,8 +6,9 @@ conformal map (circle boundary), the discrete authalic map and the natural
 conformal map with vtkIntrinsicParameterization, prints their distortion,
 writes a .vtp with UV and the distortion arrays, and renders the surface with
 a checkerboard texture mapped by the natural conformal map.  Then the atlas
-of a closed mesh (thesis section 4.2; default: the bundled bunny), rendered
-with a checkerboard through its packed UV.
+of a closed mesh (thesis section 4.2; default: the bundled bunny) and of a
+CAD part (fandisk, its sharp edges kept as chart boundaries), rendered with a
+checkerboard through their packed UV.
 
     source build/beltrami-env.sh
     xvfb-run -a /usr/bin/python3 Examples/parameterization_demo.py [mesh.off] [output-dir] [closed.off]
@@ -21,6 +22,7 @@ from beltrami.pipelines import parameterize, render_checkerboard, surface_atlas,
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_MESH = os.path.join(HERE, "..", "Testing", "Data", "mushroom.off")
 DEFAULT_CLOSED = os.path.join(HERE, "..", "Testing", "Data", "bunny00.off")
+DEFAULT_CAD = os.path.join(HERE, "..", "Testing", "Data", "fandisk.off")
 
 MAPS = (  # name, conformal weight, authalic weight, boundary
     ("conformal (DCP, circle)", 1.0, 0.0, vtkIntrinsicParameterization.CIRCLE),
@@ -50,13 +52,14 @@ def main(argv):
     write_vtp(out, vtp)
     render_checkerboard(out, png)
     print("wrote %s\nwrote %s" % (vtp, png))
-    return atlas(argv[3] if len(argv) > 3 else DEFAULT_CLOSED, out_dir)
+    return atlas(argv[3] if len(argv) > 3 else DEFAULT_CLOSED, out_dir) or \
+        atlas(DEFAULT_CAD, out_dir, split_at_features=True, direction=(1, 0.6, 0.8))
 
 
-def atlas(mesh_path, out_dir):
+def atlas(mesh_path, out_dir, split_at_features=False, direction=(0, 0.2, 1)):
     """The atlas of a closed mesh: charts, packing, a checkerboard picture."""
     name = os.path.splitext(os.path.basename(mesh_path))[0]
-    f, elapsed = surface_atlas(mesh_path)
+    f, elapsed = surface_atlas(mesh_path, split_at_features=split_at_features)
     out = f.GetOutput()
     fd = out.GetFieldData()
     if fd.GetArray("AtlasCharts") is None:
@@ -64,13 +67,15 @@ def atlas(mesh_path, out_dir):
         return 1
     angles = fd.GetArray("AtlasChartAngleDistortion")
     mean_angle = sum(angles.GetValue(k) for k in range(angles.GetNumberOfTuples())) / angles.GetNumberOfTuples()
-    print("atlas of %s: %d charts in %.3f s, packing efficiency %.1f%%, mean chart angle distortion %.2f deg"
+    print("atlas of %s: %d charts in %.3f s, packing efficiency %.1f%%, mean chart angle distortion %.2f deg, "
+          "%d sharp edges kept as chart boundaries"
           % (mesh_path, fd.GetArray("AtlasCharts").GetValue(0), elapsed,
-             100 * fd.GetArray("AtlasPackingEfficiency").GetValue(0), mean_angle))
+             100 * fd.GetArray("AtlasPackingEfficiency").GetValue(0), mean_angle,
+             fd.GetArray("AtlasCutEdges").GetValue(0)))
     vtp = os.path.join(out_dir, name + "_atlas.vtp")
     png = os.path.join(out_dir, name + "_atlas_checkerboard.png")
     write_vtp(out, vtp)
-    render_checkerboard(out, png, squares=64, view_up=(0, 1, 0), direction=(0, 0.2, 1))
+    render_checkerboard(out, png, squares=64, view_up=(0, 1, 0), direction=direction)
     print("wrote %s\nwrote %s" % (vtp, png))
     return 0
 

@@ -11,7 +11,7 @@
  * one), optionally the area-balanced refinement of section 4.2.4
  * (BalanceAreas, off by default: neighbouring charts of unequal area re-split
  * at the median of their area along a smooth seam; on the elephant the
- * largest chart over the smallest goes from 54 to 7.0, but the charts get
+ * largest chart over the smallest goes from 164 to 7.6, but the charts get
  * longer: more angle distortion, less packing, and it is slower).  Each chart is mapped by the discrete
  * conformal parameterization (DCP, chapter 5) onto its own square (ChartBoundary SQUARE, section
  * 4.2.2; the chart's boundary spaced by arc length, the square's corners at

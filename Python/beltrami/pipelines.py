@@ -123,10 +123,12 @@ def parameterize(mesh_path, conformal=1.0, authalic=0.0, boundary=vtkIntrinsicPa
     return run_on_off(mesh_path, f)
 
 
-def surface_atlas(mesh_path, charts=0):
-    """vtkSurfaceAtlas on an OFF mesh; returns (filter, seconds)."""
+def surface_atlas(mesh_path, charts=0, split_at_features=False):
+    """vtkSurfaceAtlas on an OFF mesh (sharp edges kept as chart boundaries
+    on request); returns (filter, seconds)."""
     f = vtkSurfaceAtlas()
     f.SetNumberOfCharts(charts)
+    f.SetSplitAtFeatures(split_at_features)
     return run_on_off(mesh_path, f)
 
 
