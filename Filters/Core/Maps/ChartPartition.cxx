@@ -375,6 +375,26 @@ std::vector<std::vector<Index>> SplitRegion(const DualGraph& graph, const std::v
   return halves;
 }
 
+namespace
+{
+
+/// True when triangle t has a cut edge to a triangle of region `other`
+/// (moving t there would put the cut inside the region).
+bool CutBetween(const DualGraph& graph, Index t, const std::vector<int>& label, int other)
+{
+  auto cut = std::lower_bound(graph.Cuts.begin(), graph.Cuts.end(), std::make_pair(t, Index(-1)));
+  for (; cut != graph.Cuts.end() && cut->first == t; ++cut)
+  {
+    if (label[cut->second] == other)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+} // namespace
+
 void SmoothRegionBoundaries(const DualGraph& graph, std::vector<int>& label, int passes)
 {
   for (int pass = 0; pass < passes; ++pass)
@@ -401,7 +421,7 @@ void SmoothRegionBoundaries(const DualGraph& graph, std::vector<int>& label, int
           ++count;
         }
       }
-      if (own <= 1 && count >= 2)
+      if (own <= 1 && count >= 2 && !CutBetween(graph, t, label, other))
       {
         label[t] = other;
         moved = true;
