@@ -1,7 +1,7 @@
 #include "Maps/ChartPartition.h"
+#include "Maps/ChartPartitionDetail.h"
 
 #include "Mesh/Geometry.h"
-#include "Support/Parallel.h"
 
 #include <Eigen/Geometry>
 
@@ -10,14 +10,14 @@
 #include <cstdint>
 #include <cstring>
 #include <functional>
-#include <iterator>
 #include <limits>
 #include <numeric>
 #include <queue>
-#include <tuple>
 
 namespace beltrami
 {
+
+using namespace detail;
 
 DualGraph::DualGraph(const MeshTopology& topology, const double* points, const std::vector<std::uint8_t>* cut)
 {
@@ -113,31 +113,41 @@ bool IsDisk(const ChartMesh& chart, std::string* why)
   return disk;
 }
 
-bool HasCutInside(const DualGraph& graph, const ChartMesh& chart)
+namespace
 {
-  for (Index t : chart.Triangles) // ascending
+
+/// True when pred(u) holds for a triangle u across a cut edge of t.
+template <typename Predicate>
+bool AnyAcrossCut(const DualGraph& graph, Index t, Predicate&& pred)
+{
+  auto cut = std::lower_bound(graph.Cuts.begin(), graph.Cuts.end(), std::make_pair(t, Index(-1)));
+  for (; cut != graph.Cuts.end() && cut->first == t; ++cut)
   {
-    auto cut = std::lower_bound(graph.Cuts.begin(), graph.Cuts.end(), std::make_pair(t, Index(-1)));
-    for (; cut != graph.Cuts.end() && cut->first == t; ++cut)
+    if (pred(cut->second))
     {
-      if (std::binary_search(chart.Triangles.begin(), chart.Triangles.end(), cut->second))
-      {
-        return true;
-      }
+      return true;
     }
   }
   return false;
 }
 
-namespace
-{
+} // namespace
 
-/// The one Dijkstra of the partition: from `sources` (local ids; source k
-/// labelled k) over a set of triangles with local ids - region[k] the
-/// triangle of local id k, localOf[t] the local id of t (-1 outside); both
-/// empty: every triangle, local = global - each triangle's distance along the
-/// dual graph to the nearest source and that source's label.
-void NearestWithin(const DualGraph& graph, const std::vector<Index>& region, const std::vector<Index>& localOf,
+bool detail::IsChart(const DualGraph& graph, const ChartMesh& chart)
+{
+  return IsDisk(chart) && !HasCutInside(graph, chart);
+}
+
+bool HasCutInside(const DualGraph& graph, const ChartMesh& chart)
+{
+  return std::any_of(chart.Triangles.begin(), chart.Triangles.end(), [&](Index t) {
+    return AnyAcrossCut(graph, t, [&](Index u) {
+      return std::binary_search(chart.Triangles.begin(), chart.Triangles.end(), u); // ascending
+    });
+  });
+}
+
+void detail::NearestWithin(const DualGraph& graph, const std::vector<Index>& region, const std::vector<Index>& localOf,
   const std::vector<Index>& sources, std::vector<double>& distance, std::vector<int>* label)
 {
   const bool whole = region.empty();
@@ -195,6 +205,9 @@ void NearestWithin(const DualGraph& graph, const std::vector<Index>& region, con
     }
   }
 }
+
+namespace
+{
 
 /// The connected components of the dual graph, as triangle lists.
 std::vector<std::vector<Index>> Components(const DualGraph& graph)
@@ -333,12 +346,7 @@ std::vector<int> GrowRegions(const DualGraph& graph, const std::vector<Index>& s
   return label;
 }
 
-namespace
-{
-
-/// The two triangles of a region (local ids) farthest apart along it: the
-/// farthest from `start`, and the farthest from that one.
-std::pair<Index, Index> FarthestPair(const DualGraph& graph, const std::vector<Index>& region,
+std::pair<Index, Index> detail::FarthestPair(const DualGraph& graph, const std::vector<Index>& region,
   const std::vector<Index>& localOf, Index start, std::vector<double>& fromA)
 {
   std::vector<double> fromStart;
@@ -348,8 +356,6 @@ std::pair<Index, Index> FarthestPair(const DualGraph& graph, const std::vector<I
   const Index b = static_cast<Index>(std::max_element(fromA.begin(), fromA.end()) - fromA.begin());
   return { a, b };
 }
-
-} // namespace
 
 std::vector<std::vector<Index>> SplitRegion(const DualGraph& graph, const std::vector<Index>& triangles)
 {
@@ -374,26 +380,6 @@ std::vector<std::vector<Index>> SplitRegion(const DualGraph& graph, const std::v
   }
   return halves;
 }
-
-namespace
-{
-
-/// True when triangle t has a cut edge to a triangle of region `other`
-/// (moving t there would put the cut inside the region).
-bool CutBetween(const DualGraph& graph, Index t, const std::vector<int>& label, int other)
-{
-  auto cut = std::lower_bound(graph.Cuts.begin(), graph.Cuts.end(), std::make_pair(t, Index(-1)));
-  for (; cut != graph.Cuts.end() && cut->first == t; ++cut)
-  {
-    if (label[cut->second] == other)
-    {
-      return true;
-    }
-  }
-  return false;
-}
-
-} // namespace
 
 void SmoothRegionBoundaries(const DualGraph& graph, std::vector<int>& label, int passes)
 {
@@ -421,7 +407,8 @@ void SmoothRegionBoundaries(const DualGraph& graph, std::vector<int>& label, int
           ++count;
         }
       }
-      if (own <= 1 && count >= 2 && !CutBetween(graph, t, label, other))
+      // (never into the region across a cut edge of t: the cut would be inside it)
+      if (own <= 1 && count >= 2 && !AnyAcrossCut(graph, t, [&](Index u) { return label[u] == other; }))
       {
         label[t] = other;
         moved = true;
@@ -448,7 +435,7 @@ bool SplitIntoDisks(const MeshTopology& topology, const DualGraph& graph, std::v
       continue;
     }
     ChartMesh chart = ExtractChart(topology, part);
-    if (IsDisk(chart) && !HasCutInside(graph, chart))
+    if (IsChart(graph, chart))
     {
       disks.push_back(std::move(chart));
       continue;
@@ -462,312 +449,6 @@ bool SplitIntoDisks(const MeshTopology& topology, const DualGraph& graph, std::v
     pending.push_back(std::move(halves[0]));
     pending.push_back(std::move(halves[1]));
   }
-  return true;
-}
-
-namespace
-{
-
-/// The area of a region.
-double RegionArea(const DualGraph& graph, const std::vector<Index>& region)
-{
-  double area = 0.0;
-  for (Index t : region)
-  {
-    area += graph.Areas[t];
-  }
-  return area;
-}
-
-/// Section 4.2.4 for one pair: the union of two neighbouring charts split
-/// again so that both halves carry the same area, along a level line of
-/// d_a - d_b (d_a, d_b: the distances along the union from its two most
-/// distant triangles; the line is a smooth seam between them).  True (the pair replaced) when both halves are disks.
-/// localOf: all -1 (scratch, left all -1).
-bool RebalancePair(const MeshTopology& topology, const DualGraph& graph, ChartMesh& first, ChartMesh& second,
-  std::vector<Index>& localOf)
-{
-  std::vector<Index> both = first.Triangles;
-  both.insert(both.end(), second.Triangles.begin(), second.Triangles.end());
-  for (std::size_t k = 0; k < both.size(); ++k)
-  {
-    localOf[both[k]] = static_cast<Index>(k);
-  }
-  // The union's two most distant triangles, by a double sweep from the
-  // triangle of the first chart farthest from the second (a start that does
-  // not depend on the order of the triangles).
-  const std::size_t split = first.Triangles.size();
-  std::vector<Index> ofSecond(both.size() - split);
-  std::iota(ofSecond.begin(), ofSecond.end(), static_cast<Index>(split));
-  std::vector<double> fromSecond, fromA, fromB;
-  NearestWithin(graph, both, localOf, ofSecond, fromSecond, nullptr);
-  const Index start =
-    static_cast<Index>(std::max_element(fromSecond.begin(), fromSecond.begin() + split) - fromSecond.begin());
-  const Index b = FarthestPair(graph, both, localOf, start, fromA).second;
-  NearestWithin(graph, both, localOf, { b }, fromB, nullptr);
-  std::vector<std::pair<double, Index>> order(both.size()); // (d_a - d_b, triangle)
-  for (std::size_t k = 0; k < both.size(); ++k)
-  {
-    order[k] = { fromA[k] - fromB[k], both[k] };
-    localOf[both[k]] = -1;
-  }
-  std::sort(order.begin(), order.end());
-  for (std::size_t k = 0; k < both.size(); ++k)
-  {
-    both[k] = order[k].second;
-  }
-  const double half = 0.5 * RegionArea(graph, both);
-  double area = 0.0;
-  std::size_t cut = 0;
-  while (cut < both.size() && area + 0.5 * graph.Areas[both[cut]] < half)
-  {
-    area += graph.Areas[both[cut++]];
-  }
-  if (cut == 0 || cut == both.size())
-  {
-    return false;
-  }
-  ChartMesh one = ExtractChart(topology, std::vector<Index>(both.begin(), both.begin() + cut));
-  ChartMesh two = ExtractChart(topology, std::vector<Index>(both.begin() + cut, both.end()));
-  if (!IsDisk(one) || !IsDisk(two) || HasCutInside(graph, one) || HasCutInside(graph, two))
-  {
-    return false;
-  }
-  first = std::move(one);
-  second = std::move(two);
-  return true;
-}
-
-} // namespace
-
-void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph, std::vector<ChartMesh>& charts,
-  double ratio, int rounds)
-{
-  std::vector<Index> localOf(graph.NumberOfTriangles(), -1);
-  for (int round = 0; round < rounds; ++round)
-  {
-    std::vector<int> chartOf(graph.NumberOfTriangles(), -1);
-    std::vector<double> area(charts.size());
-    for (std::size_t c = 0; c < charts.size(); ++c)
-    {
-      area[c] = RegionArea(graph, charts[c].Triangles);
-      for (Index t : charts[c].Triangles)
-      {
-        chartOf[t] = static_cast<int>(c);
-      }
-    }
-    // Neighbouring pairs whose areas differ by more than `ratio`, the most
-    // unequal first; each chart rebalanced once per round.
-    std::vector<std::tuple<double, int, int>> pairs;
-    for (Index t = 0; t < graph.NumberOfTriangles(); ++t)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        const Index n = graph.Neighbors[3 * t + k];
-        const int c = chartOf[t], d = n >= 0 ? chartOf[n] : -1;
-        if (d > c && c >= 0)
-        {
-          const double r = std::max(area[c], area[d]) / std::max(1e-300, std::min(area[c], area[d]));
-          if (r > ratio)
-          {
-            pairs.emplace_back(-r, c, d);
-          }
-        }
-      }
-    }
-    std::sort(pairs.begin(), pairs.end());
-    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    std::vector<std::uint8_t> done(charts.size(), 0);
-    bool changed = false;
-    for (const auto& [r, c, d] : pairs)
-    {
-      if (!done[c] && !done[d] && RebalancePair(topology, graph, charts[c], charts[d], localOf))
-      {
-        done[c] = done[d] = 1;
-        changed = true;
-      }
-    }
-    if (!changed)
-    {
-      break;
-    }
-  }
-}
-
-namespace
-{
-
-/// SplitIntoDisks on every region (in parallel; the disks in the regions'
-/// order).
-bool DisksOf(const MeshTopology& topology, const DualGraph& graph, std::vector<std::vector<Index>>& regions,
-  std::vector<ChartMesh>& charts, std::string& error, int numThreads)
-{
-  std::vector<std::vector<ChartMesh>> disks(regions.size());
-  std::vector<std::string> errors(regions.size());
-  ParallelFor(static_cast<std::int64_t>(regions.size()), numThreads,
-    [&](std::int64_t begin, std::int64_t end) {
-      for (std::int64_t k = begin; k < end; ++k)
-      {
-        SplitIntoDisks(topology, graph, std::move(regions[k]), disks[k], errors[k]);
-      }
-    },
-    {}, 0, 1);
-  for (std::size_t k = 0; k < regions.size(); ++k)
-  {
-    if (!errors[k].empty())
-    {
-      error = errors[k];
-      return false;
-    }
-    std::move(disks[k].begin(), disks[k].end(), std::back_inserter(charts));
-  }
-  return true;
-}
-
-/// The boundaries of splits are as jagged as the first regions' were (ears:
-/// triangles with two edges on the chart's boundary, flat on a square's
-/// side): SmoothRegionBoundaries on the charts, and what that leaves no disk
-/// split again (SplitIntoDisks), twice at most.
-bool SmoothCharts(const MeshTopology& topology, const DualGraph& graph, std::vector<ChartMesh>& charts,
-  std::string& error, int numThreads)
-{
-  for (int round = 0; round < 2; ++round)
-  {
-    std::vector<int> before(graph.NumberOfTriangles());
-    for (std::size_t c = 0; c < charts.size(); ++c)
-    {
-      for (Index t : charts[c].Triangles)
-      {
-        before[t] = static_cast<int>(c);
-      }
-    }
-    std::vector<int> label = before;
-    SmoothRegionBoundaries(graph, label);
-    if (label == before)
-    {
-      break;
-    }
-    std::vector<std::vector<Index>> regions(charts.size());
-    for (Index t = 0; t < graph.NumberOfTriangles(); ++t)
-    {
-      regions[label[t]].push_back(t);
-    }
-    charts.clear();
-    if (!DisksOf(topology, graph, regions, charts, error, numThreads))
-    {
-      return false;
-    }
-  }
-  return true;
-}
-
-} // namespace
-
-namespace
-{
-
-/// Splits the charts larger than `maximumArea` until none is (single
-/// triangles apart: counted in `oversized`).
-bool SplitUntilSmallEnough(const MeshTopology& topology, const DualGraph& graph, std::vector<ChartMesh>& charts,
-  double maximumArea, std::string& error, int& oversized, int numThreads)
-{
-  while (true)
-  {
-    std::vector<ChartMesh> kept;
-    std::vector<std::vector<Index>> halves;
-    oversized = 0;
-    for (ChartMesh& chart : charts)
-    {
-      const bool large = RegionArea(graph, chart.Triangles) > maximumArea;
-      if (large && chart.Triangles.size() > 1)
-      {
-        for (std::vector<Index>& half : SplitRegion(graph, chart.Triangles))
-        {
-          halves.push_back(std::move(half));
-        }
-        continue;
-      }
-      oversized += large;
-      kept.push_back(std::move(chart));
-    }
-    charts = std::move(kept);
-    if (halves.empty())
-    {
-      return true;
-    }
-    if (!DisksOf(topology, graph, halves, charts, error, numThreads))
-    {
-      return false;
-    }
-  }
-}
-
-} // namespace
-
-bool SplitLargeCharts(const MeshTopology& topology, const DualGraph& graph, std::vector<ChartMesh>& charts,
-  double maximumArea, std::string& error, int& oversized, int numThreads)
-{
-  // The splits' boundaries are smoothed, which can move an ear back over
-  // the limit: split again; the last round is not smoothed.
-  for (int round = 0;; ++round)
-  {
-    if (!SplitUntilSmallEnough(topology, graph, charts, maximumArea, error, oversized, numThreads))
-    {
-      return false;
-    }
-    if (round == 3)
-    {
-      return true;
-    }
-    if (!SmoothCharts(topology, graph, charts, error, numThreads))
-    {
-      return false;
-    }
-    if (std::none_of(charts.begin(), charts.end(), [&](const ChartMesh& c) {
-          return c.Triangles.size() > 1 && RegionArea(graph, c.Triangles) > maximumArea;
-        }))
-    {
-      return true;
-    }
-  }
-}
-
-bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, int count,
-  std::vector<ChartMesh>& charts, std::string& error, bool balance, int numThreads)
-{
-  charts.clear();
-  const TopologySummary& s = topology.Summary();
-  if (!s.IsManifold() || !s.IsOriented())
-  {
-    error = "An atlas needs a manifold, consistently oriented surface; the input has " + topology.Describe();
-    return false;
-  }
-  std::vector<int> label;
-  const std::vector<Index> seeds = ChooseSeeds(graph, count, &label);
-  SmoothRegionBoundaries(graph, label);
-  std::vector<std::vector<Index>> regions(seeds.size());
-  for (Index t = 0; t < graph.NumberOfTriangles(); ++t)
-  {
-    regions[label[t]].push_back(t);
-  }
-  if (!DisksOf(topology, graph, regions, charts, error, numThreads))
-  {
-    return false;
-  }
-  if (!SmoothCharts(topology, graph, charts, error, numThreads))
-  {
-    return false;
-  }
-  if (balance)
-  {
-    BalanceChartAreas(topology, graph, charts);
-    if (!SmoothCharts(topology, graph, charts, error, numThreads))
-    {
-      return false;
-    }
-  }
-  std::sort(charts.begin(), charts.end(),
-    [](const ChartMesh& x, const ChartMesh& y) { return x.Triangles.front() < y.Triangles.front(); });
   return true;
 }
 
