@@ -12,9 +12,6 @@ chart of bunny00's atlas given to CGAL 5.5's DCP (circle border) and LSCM
 """
 import os
 import sys
-import time
-
-from vtkmodules.vtkFiltersModeling import vtkLoopSubdivisionFilter
 
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
@@ -24,14 +21,13 @@ from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 import beltrami
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from benchmark_parameterization import cgal  # noqa: E402  (CGAL on one mesh)
+from benchmark_parameterization import cgal, mesh  # noqa: E402  (CGAL on one mesh; bundled meshes)
+from timing import timed  # noqa: E402
 
-DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
-
-def atlas_of(mesh, boundary):
+def atlas_of(data, boundary):
     f = beltrami.vtkSurfaceAtlas()
-    f.SetInputData(mesh)
+    f.SetInputData(data)
     f.SetChartBoundary(boundary)
     f.SetMapResolution(0)
     f.Update()
@@ -54,9 +50,9 @@ def chart_mesh(cut, chart):
     return pd
 
 
-def against_cgal(mesh):
+def against_cgal(data):
     """Per chart: our circle and natural maps against CGAL's DCP and LSCM."""
-    ours = {name: atlas_of(mesh, b) for name, b in (("DCP", beltrami.vtkSurfaceAtlas.CIRCLE),
+    ours = {name: atlas_of(data, b) for name, b in (("DCP", beltrami.vtkSurfaceAtlas.CIRCLE),
                                                       ("DCPsquare", beltrami.vtkSurfaceAtlas.SQUARE),
                                                       ("natural", beltrami.vtkSurfaceAtlas.NATURAL))}
     cut = ours["DCP"]
@@ -79,40 +75,30 @@ def against_cgal(mesh):
                                                          int(np.sum(mine > theirs + 0.01)), charts))
 
 
-def timed(f, repeats):
-    """Seconds of f.Update(): (the first run, the best of `repeats`)."""
-    times = []
-    for _ in range(repeats):
+def first_and_best(f, repeats=3):
+    """Seconds of f.Update(): the first run and the best of `repeats` (timing.timed)."""
+    def run():
         f.Modified()
-        start = time.perf_counter()
         f.Update()
-        times.append(time.perf_counter() - start)
-    return times[0], min(times)
+    first = timed(run, 1)[1]
+    return first, min(first, timed(run, repeats - 1)[1])
 
 
 def main(argv):
     levels = int(argv[1]) if len(argv) > 1 else 2
-    reader = beltrami.vtkOFFReader()
-    reader.SetFileName(os.path.join(DATA, "bunny00.off"))
-    reader.Update()
+    bunny = mesh("bunny00.off")
     print("time: the first run and the best of 3 (this VM's timings vary by up to 50% between runs)")
     print("%-10s %9s %7s %13s %9s %11s %7s" % ("boundary", "triangles", "charts", "time s", "packing",
                                               "mean angle", "splits"))
     for level in range(levels + 1):
-        mesh = reader.GetOutput()
-        if level:
-            loop = vtkLoopSubdivisionFilter()
-            loop.SetNumberOfSubdivisions(level)
-            loop.SetInputData(mesh)
-            loop.Update()
-            mesh = loop.GetOutput()
+        data = mesh("bunny00.off", level) if level else bunny
         for boundary, name in ((beltrami.vtkSurfaceAtlas.SQUARE, "square"), (beltrami.vtkSurfaceAtlas.CIRCLE, "circle"),
                                (beltrami.vtkSurfaceAtlas.NATURAL, "natural")):
             f = beltrami.vtkSurfaceAtlas()
-            f.SetInputData(mesh)
+            f.SetInputData(data)
             f.SetChartBoundary(boundary)
             f.SetMapResolution(0)  # the atlas only
-            first, elapsed = timed(f, 3)
+            first, elapsed = first_and_best(f)
             fd = f.GetOutput().GetFieldData()
             angles = fd.GetArray("AtlasChartAngleDistortion")
             areas = fd.GetArray("AtlasChartArea")
@@ -120,21 +106,21 @@ def main(argv):
             total = sum(areas.GetValue(k) for k in range(n))
             mean = sum(angles.GetValue(k) * areas.GetValue(k) for k in range(n)) / total
             print("%-10s %9d %7d %6.2f / %4.2f %8.1f%% %9.2f deg %7d" % (
-                name, mesh.GetNumberOfCells(), n, first, elapsed, 100 * fd.GetArray("AtlasPackingEfficiency").GetValue(0),
+                name, data.GetNumberOfCells(), n, first, elapsed, 100 * fd.GetArray("AtlasPackingEfficiency").GetValue(0),
                 mean, fd.GetArray("AtlasSplitsForFlips").GetValue(0)))
     maps = beltrami.vtkSurfaceAtlas()
-    maps.SetInputData(reader.GetOutput())
+    maps.SetInputData(bunny)
     maps.SetMapResolution(512)
     atlas_only = beltrami.vtkSurfaceAtlas()
-    atlas_only.SetInputData(reader.GetOutput())
+    atlas_only.SetInputData(bunny)
     atlas_only.SetMapResolution(0)
-    with_maps, without = timed(maps, 3)[1], timed(atlas_only, 3)[1]
+    with_maps, without = first_and_best(maps)[1], first_and_best(atlas_only)[1]
     charts = maps.GetOutput().GetFieldData().GetArray("AtlasCharts").GetValue(0)
     print("geometry maps of bunny00's %d charts at 512^2 (FaceId, Embedding, AreaRatio, MeanCurvature, "
           "GaussianCurvature: %.1f Mpixels): %.3f s (best of 3, atlas excluded)"
           % (charts, charts * 512 * 512 / 1e6, with_maps - without))
     print("bunny00's charts against CGAL 5.5:")
-    against_cgal(reader.GetOutput())
+    against_cgal(bunny)
     return 0
 
 

@@ -16,29 +16,15 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from timing import timed  # noqa: E402
+from benchmark_parameterization import mesh  # noqa: E402  (bundled mesh, Loop-subdivided)
 
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
-from vtkmodules.vtkFiltersModeling import vtkLoopSubdivisionFilter  # noqa: E402
 from vtkmodules.vtkIOImage import vtkPNGReader  # noqa: E402
 
 import beltrami  # noqa: E402
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
-
-
-def read_off(name, levels=0):
-    r = beltrami.vtkOFFReader()
-    r.SetFileName(os.path.join(DATA, name))
-    r.Update()
-    out = r.GetOutput()
-    if levels:
-        loop = vtkLoopSubdivisionFilter()
-        loop.SetNumberOfSubdivisions(levels)
-        loop.SetInputData(out)
-        loop.Update()
-        out = loop.GetOutput()
-    return out
 
 
 def digest(*arrays):
@@ -61,12 +47,12 @@ def run(make, outputs, repeats):
 def main():
     repeats = int(sys.argv[1]) if len(sys.argv) > 1 else 3
     rng = np.random.default_rng(1)
-    bunny = read_off("bunny00.off", 1)  # ~300k triangles, ~150k points
+    bunny = mesh("bunny00.off", 1)  # ~300k triangles, ~150k points
     pts = vtk_to_numpy(bunny.GetPoints().GetData())
     noisy = type(bunny)()
     noisy.DeepCopy(bunny)
     noisy.GetPoints().SetData(numpy_to_vtk(pts + 1e-3 * rng.standard_normal(pts.shape), deep=True))
-    patch = read_off("patch-01.off", 3)  # ~45k vertices, a disk
+    patch = mesh("patch-01.off", 3)  # ~45k vertices, a disk
     png = vtkPNGReader()
     png.SetFileName(os.path.join(DATA, "camera.png"))
     png.Update()

@@ -46,9 +46,14 @@ def cgal(data):
     return results
 
 
-def mesh(name, levels):
+def mesh(name, levels=0):
+    """The bundled OFF mesh `name` after `levels` Loop subdivisions (the
+    benchmarks' bigger meshes)."""
     reader = vtkOFFReader()
     reader.SetFileName(os.path.join(DATA, name))
+    reader.Update()
+    if not levels:
+        return reader.GetOutput()
     loop = vtkLoopSubdivisionFilter()
     loop.SetInputConnection(reader.GetOutputPort())
     loop.SetNumberOfSubdivisions(levels)
