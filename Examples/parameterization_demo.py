@@ -8,7 +8,9 @@ writes a .vtp with UV and the distortion arrays, and renders the surface with
 a checkerboard texture mapped by the natural conformal map.  Then the atlas
 of a closed mesh (thesis section 4.2; default: the bundled bunny) and of a
 CAD part (fandisk, its sharp edges kept as chart boundaries), rendered with a
-checkerboard through their packed UV.
+checkerboard through their packed UV; the closed mesh's mean curvature
+baked into its atlas texture (the geometry maps as one atlas image), written
+as an image and rendered back onto the surface through UV.
 
     source build/beltrami-env.sh
     xvfb-run -a /usr/bin/python3 Examples/parameterization_demo.py [mesh.off] [output-dir] [closed.off]
@@ -17,7 +19,8 @@ import os
 import sys
 
 from beltrami import vtkIntrinsicParameterization
-from beltrami.pipelines import parameterize, render_checkerboard, surface_atlas, write_vtp
+from beltrami.pipelines import (atlas_texture, parameterize, render_checkerboard, render_textured, surface_atlas,
+                                to_image, write_png, write_vtp)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_MESH = os.path.join(HERE, "..", "Testing", "Data", "mushroom.off")
@@ -52,12 +55,13 @@ def main(argv):
     write_vtp(out, vtp)
     render_checkerboard(out, png)
     print("wrote %s\nwrote %s" % (vtp, png))
-    return atlas(argv[3] if len(argv) > 3 else DEFAULT_CLOSED, out_dir) or \
+    return atlas(argv[3] if len(argv) > 3 else DEFAULT_CLOSED, out_dir, bake=True) or \
         atlas(DEFAULT_CAD, out_dir, split_at_features=True, direction=(1, 0.6, 0.8))
 
 
-def atlas(mesh_path, out_dir, split_at_features=False, direction=(0, 0.2, 1)):
-    """The atlas of a closed mesh: charts, packing, a checkerboard picture."""
+def atlas(mesh_path, out_dir, split_at_features=False, direction=(0, 0.2, 1), bake=False):
+    """The atlas of a closed mesh: charts, packing, a checkerboard picture;
+    with `bake`, its mean curvature as an atlas texture."""
     name = os.path.splitext(os.path.basename(mesh_path))[0]
     f, elapsed = surface_atlas(mesh_path, split_at_features=split_at_features)
     out = f.GetOutput()
@@ -77,6 +81,14 @@ def atlas(mesh_path, out_dir, split_at_features=False, direction=(0, 0.2, 1)):
     write_vtp(out, vtp)
     render_checkerboard(out, png, squares=64, view_up=(0, 1, 0), direction=direction)
     print("wrote %s\nwrote %s" % (vtp, png))
+    if bake:
+        texture = atlas_texture(f)
+        flat = os.path.join(out_dir, name + "_atlas_mean_curvature_map.png")
+        textured = os.path.join(out_dir, name + "_atlas_mean_curvature_texture.png")
+        write_png(texture, flat)
+        render_textured(f.GetOutput(), to_image(texture), textured, view_up=(0, 1, 0), direction=direction)
+        print("mean curvature baked into a %dx%d atlas texture\nwrote %s\nwrote %s"
+              % (texture.shape[1], texture.shape[0], flat, textured))
     return 0
 
 

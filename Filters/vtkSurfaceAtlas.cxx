@@ -304,29 +304,55 @@ double* AddMap(vtkImageData* image, const char* name, int components)
   return static_cast<double*>(array->GetVoidPointer(0));
 }
 
-} // namespace
-
-void vtkSurfaceAtlas::WriteMaps(vtkPolyData* input, const beltrami::MeshTopology& topology, const double* points,
-  const beltrami::AtlasResult& atlas, const std::vector<vtkIdType>& triangleCell)
+/// A per-vertex quantity sampled by the maps.
+struct MapField
 {
-  // Per-vertex quantities: the curvatures (boundary points from their
-  // interior neighbours) and the input's numeric point arrays, as doubles.
+  std::string Name;
+  int Components;
+  std::vector<double> Values; ///< per surface vertex
+};
+
+/// The maps of `chart` (one of the atlas' charts, or the whole packed atlas)
+/// at n^2 pixels, rasterised into `raster` (reused).
+vtkSmartPointer<vtkImageData> ChartMaps(const beltrami::AtlasChart& chart, int n, const double* points,
+  const std::vector<MapField>& fields, const std::vector<vtkIdType>& triangleCell, beltrami::ChartRaster& raster,
+  int numThreads)
+{
+  beltrami::RasterizeChart(chart, n, raster, numThreads);
+  vtkSmartPointer<vtkImageData> image = MapImage(n);
+  vtkNew<vtkIdTypeArray> faces;
+  faces->SetName("FaceId");
+  faces->SetNumberOfTuples(image->GetNumberOfPoints());
+  for (std::size_t p = 0; p < raster.Face.size(); ++p)
+  {
+    faces->SetValue(static_cast<vtkIdType>(p), raster.Face[p] < 0 ? -1 : triangleCell[chart.Triangles[raster.Face[p]]]);
+  }
+  image->GetPointData()->AddArray(faces);
+  beltrami::AreaMap(raster, chart, points, AddMap(image, "AreaRatio", 1));
+  for (const MapField& f : fields)
+  {
+    beltrami::InterpolateOnRaster(
+      raster, chart, f.Values.data(), f.Components, AddMap(image, f.Name.c_str(), f.Components), false, numThreads);
+  }
+  return image;
+}
+
+/// The per-vertex quantities of the maps: the embedding, the curvatures
+/// (boundary points from their interior neighbours) and the input's numeric
+/// point arrays, as doubles.
+std::vector<MapField> MapFields(
+  vtkPolyData* input, const beltrami::MeshTopology& topology, const double* points, int numThreads)
+{
   const vtkIdType numPoints = input->GetNumberOfPoints();
   std::vector<double> meanCurvature(numPoints), gaussianCurvature(numPoints);
   beltrami::CurvatureOptions curvatureOptions;
   curvatureOptions.Boundary = beltrami::BoundaryPolicy::InteriorAverage;
-  curvatureOptions.NumberOfThreads = this->NumberOfThreads;
+  curvatureOptions.NumberOfThreads = numThreads;
   beltrami::CurvatureOutputs curvatures;
   curvatures.MeanCurvature = meanCurvature.data();
   curvatures.GaussianCurvature = gaussianCurvature.data();
   beltrami::ComputeCurvatures(topology, points, curvatureOptions, curvatures);
-  struct Field
-  {
-    std::string Name;
-    int Components;
-    std::vector<double> Values;
-  };
-  std::vector<Field> fields = { { "Embedding", 3, std::vector<double>(points, points + 3 * numPoints) },
+  std::vector<MapField> fields = { { "Embedding", 3, std::vector<double>(points, points + 3 * numPoints) },
     { "MeanCurvature", 1, meanCurvature }, { "GaussianCurvature", 1, gaussianCurvature } };
   vtkPointData* pd = input->GetPointData();
   for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
@@ -334,7 +360,7 @@ void vtkSurfaceAtlas::WriteMaps(vtkPolyData* input, const beltrami::MeshTopology
     vtkDataArray* array = pd->GetArray(a);
     if (array && array->GetName() && std::string(array->GetName()) != "Embedding")
     {
-      Field f{ array->GetName(), array->GetNumberOfComponents(), {} };
+      MapField f{ array->GetName(), array->GetNumberOfComponents(), {} };
       f.Values.resize(static_cast<std::size_t>(numPoints) * f.Components);
       for (vtkIdType i = 0; i < numPoints; ++i)
       {
@@ -346,33 +372,45 @@ void vtkSurfaceAtlas::WriteMaps(vtkPolyData* input, const beltrami::MeshTopology
       fields.push_back(std::move(f));
     }
   }
+  return fields;
+}
+
+} // namespace
+
+void vtkSurfaceAtlas::WriteMaps(vtkPolyData* input, const beltrami::MeshTopology& topology, const double* points,
+  const beltrami::AtlasResult& atlas, const std::vector<vtkIdType>& triangleCell)
+{
   vtkMultiBlockDataSet* maps = vtkMultiBlockDataSet::SafeDownCast(this->GetOutputDataObject(1));
   if (!maps)
   {
     return;
   }
-  maps->SetNumberOfBlocks(static_cast<unsigned int>(atlas.Charts.size()));
+  const std::vector<MapField> fields = MapFields(input, topology, points, this->NumberOfThreads);
   beltrami::ChartRaster raster; // one for every chart: its memory is reused
-  for (std::size_t c = 0; c < atlas.Charts.size(); ++c)
+  if (this->MapLayout == ATLAS)
   {
-    const beltrami::AtlasChart& chart = atlas.Charts[c];
-    beltrami::RasterizeChart(chart, this->MapResolution, raster, this->NumberOfThreads);
-    vtkSmartPointer<vtkImageData> image = MapImage(this->MapResolution);
-    vtkNew<vtkIdTypeArray> faces;
-    faces->SetName("FaceId");
-    faces->SetNumberOfTuples(image->GetNumberOfPoints());
+    const beltrami::AtlasChart packed = beltrami::PackedAtlas(atlas);
+    vtkSmartPointer<vtkImageData> image =
+      ChartMaps(packed, this->MapResolution, points, fields, triangleCell, raster, this->NumberOfThreads);
+    vtkNew<vtkIntArray> charts;
+    charts->SetName("ChartId");
+    charts->SetNumberOfTuples(image->GetNumberOfPoints());
     for (std::size_t p = 0; p < raster.Face.size(); ++p)
     {
-      faces->SetValue(static_cast<vtkIdType>(p), raster.Face[p] < 0 ? -1 : triangleCell[chart.Triangles[raster.Face[p]]]);
+      charts->SetValue(static_cast<vtkIdType>(p),
+        raster.Face[p] < 0 ? -1 : atlas.ChartOfTriangle[packed.Triangles[raster.Face[p]]]);
     }
-    image->GetPointData()->AddArray(faces);
-    beltrami::AreaMap(raster, chart, points, AddMap(image, "AreaRatio", 1));
-    for (const Field& f : fields)
-    {
-      beltrami::InterpolateOnRaster(raster, chart, f.Values.data(), f.Components,
-        AddMap(image, f.Name.c_str(), f.Components), false, this->NumberOfThreads);
-    }
-    maps->SetBlock(static_cast<unsigned int>(c), image);
+    image->GetPointData()->AddArray(charts);
+    maps->SetNumberOfBlocks(1);
+    maps->SetBlock(0, image);
+    maps->GetMetaData(0u)->Set(vtkCompositeDataSet::NAME(), "Atlas");
+    return;
+  }
+  maps->SetNumberOfBlocks(static_cast<unsigned int>(atlas.Charts.size()));
+  for (std::size_t c = 0; c < atlas.Charts.size(); ++c)
+  {
+    maps->SetBlock(static_cast<unsigned int>(c),
+      ChartMaps(atlas.Charts[c], this->MapResolution, points, fields, triangleCell, raster, this->NumberOfThreads));
     maps->GetMetaData(static_cast<unsigned int>(c))->Set(vtkCompositeDataSet::NAME(), ("Chart " + std::to_string(c)).c_str());
   }
 }
@@ -389,5 +427,6 @@ void vtkSurfaceAtlas::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TextureSize: " << this->TextureSize << "\n";
   os << indent << "MarginTexels: " << this->MarginTexels << "\n";
   os << indent << "MapResolution: " << this->MapResolution << "\n";
+  os << indent << "MapLayout: " << this->MapLayout << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

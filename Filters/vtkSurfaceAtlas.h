@@ -34,7 +34,8 @@
  * default: about one per 2,000 triangles, at least one per component),
  * MaximumChartArea (0: no limit; larger charts are split),
  * ChartBoundary, SplitAtFeatures, FeatureAngle, TextureSize (1024),
- * MarginTexels (2), MapResolution (256; 0: no maps), NumberOfThreads.
+ * MarginTexels (2), MapResolution (256; 0: no maps), MapLayout (CHARTS),
+ * NumberOfThreads.
  *
  * Output: the surface cut along the chart seams (the points of a seam
  * duplicated, one copy per chart; the input's point and cell data carried)
@@ -57,6 +58,11 @@
  * at the vertices, interpolated; boundary points from their interior
  * neighbours) and every numeric point array of the input, interpolated
  * exactly (barycentric in the chart's triangles); NaN outside the chart.
+ * With MapLayout ATLAS the maps are instead one MapResolution^2 image of the
+ * packed atlas (block "Atlas": pixel centres in UV, the texels of a texture
+ * of that size), with the same arrays (AreaRatio then per unit of UV area)
+ * and ChartId (-1 between the charts): a texture bake of the surface's
+ * geometry and data, one map set for the whole surface.
  *
  * Progress is reported while the charts are mapped, and AbortExecute stops
  * there (empty outputs).  Non-manifold or inconsistently oriented surfaces,
@@ -123,6 +129,13 @@ public:
   vtkGetMacro(FeatureAngle, double);
   vtkSetClampMacro(MapResolution, int, 0, 16384);
   vtkGetMacro(MapResolution, int);
+  enum MapLayoutType
+  {
+    CHARTS = 0, ///< one image per chart, of its own square (ChartUV)
+    ATLAS = 1   ///< one image of the packed atlas (UV): the texture's texels
+  };
+  vtkSetClampMacro(MapLayout, int, CHARTS, ATLAS);
+  vtkGetMacro(MapLayout, int);
   vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
   vtkGetMacro(NumberOfThreads, int);
 
@@ -134,6 +147,7 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   int MapResolution = 256;
+  int MapLayout = CHARTS;
   // Defaults: the core's AtlasOptions{} (set in the constructor).
   int NumberOfCharts;
   double MaximumChartArea;

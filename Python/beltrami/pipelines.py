@@ -152,8 +152,13 @@ def checkerboard(squares=16, pixels=32):
 
 def render_checkerboard(polydata, png_path, size=(800, 800), squares=16, view_up=(0, 0, 1), direction=(1, -1, 0.6)):
     """The surface with a checkerboard mapped through its TCoords."""
+    return render_textured(polydata, checkerboard(squares), png_path, size, view_up, direction)
+
+
+def render_textured(polydata, image, png_path, size=(800, 800), view_up=(0, 0, 1), direction=(1, -1, 0.6)):
+    """The surface with the image (vtkImageData, RGB) mapped through its TCoords."""
     texture = vtkTexture()
-    texture.SetInputData(checkerboard(squares))
+    texture.SetInputData(image)
     texture.InterpolateOff()
     texture.RepeatOff()
     mapper = vtkPolyDataMapper()
@@ -163,6 +168,47 @@ def render_checkerboard(polydata, png_path, size=(800, 800), squares=16, view_up
     actor.SetMapper(mapper)
     actor.SetTexture(texture)
     return snapshot(actor, png_path, size, view_up=view_up, direction=direction, zoom=1.2)
+
+
+def diverging_colours(values, background=(255, 255, 255)):
+    """(h, w) values -> (h, w, 3) uint8 in the diverging map of
+    render_mean_curvature (blue negative, red positive, over the symmetric
+    range of curvature_range); NaN in `background`."""
+    low, high = curvature_range(values)
+    t = np.clip((np.nan_to_num(values) - low) / (high - low), 0.0, 1.0)[..., None]
+    blue, grey, red = np.array([0.23, 0.30, 0.75]), np.array([0.87, 0.87, 0.87]), np.array([0.71, 0.02, 0.15])
+    rgb = np.where(t < 0.5, blue + 2 * t * (grey - blue), grey + (2 * t - 1) * (red - grey))
+    rgb = np.round(255 * rgb).astype(np.uint8)
+    rgb[~np.isfinite(values)] = background
+    return rgb
+
+
+def atlas_texture(atlas_filter, name="MeanCurvature", resolution=1024):
+    """The point array `name` baked into the atlas texture: the filter's maps
+    as one atlas image (MapLayout ATLAS) at resolution^2 texels, coloured by
+    diverging_colours; returns the (h, w, 3) uint8 array, top row first."""
+    atlas_filter.SetMapLayout(vtkSurfaceAtlas.ATLAS)
+    atlas_filter.SetMapResolution(resolution)
+    atlas_filter.Update()
+    maps = atlas_filter.GetOutputDataObject(1)
+    values = from_image(maps.GetBlock(0), name)[..., 0]
+    return pad_charts(diverging_colours(values), np.isfinite(values))
+
+
+def pad_charts(rgb, inside, texels=2):
+    """Texels outside the charts (within `texels` of one) take the colour of
+    a neighbour inside, so that a texture lookup at a chart's edge never
+    reads the background (the seams would show as lines)."""
+    rgb, inside = rgb.copy(), inside.copy()
+    for _ in range(texels):
+        grown = inside.copy()
+        for axis, step in ((0, 1), (0, -1), (1, 1), (1, -1)):
+            source = np.roll(inside, step, axis)
+            take = ~grown & source
+            rgb[take] = np.roll(rgb, step, axis)[take]
+            grown |= take
+        inside = grown
+    return rgb
 
 
 def read_png(path):
@@ -223,12 +269,17 @@ def psnr(a, b):
     return 10 * np.log10(255.0 ** 2 / np.mean((a.astype(float) - b.astype(float)) ** 2))
 
 
-def write_side_by_side(left, right, png_path):
-    both = np.concatenate([left, np.full((left.shape[0], 8, left.shape[2]), 255, np.uint8), right], axis=1)
+def write_png(a, png_path):
+    """(h, w, components) uint8 array, top row first -> PNG file."""
     writer = vtkPNGWriter()
     writer.SetFileName(png_path)
-    writer.SetInputData(to_image(both))
+    writer.SetInputData(to_image(a))
     writer.Write()
+
+
+def write_side_by_side(left, right, png_path):
+    write_png(np.concatenate([left, np.full((left.shape[0], 8, left.shape[2]), 255, np.uint8), right], axis=1),
+              png_path)
 
 
 def noisy_along_normals(polydata, sigma, seed):

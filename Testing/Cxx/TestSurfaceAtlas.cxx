@@ -13,6 +13,7 @@
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
 #include <vtkImageData.h>
+#include <vtkInformation.h>
 #include <vtkMultiBlockDataSet.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
@@ -293,6 +294,77 @@ TEST(SurfaceAtlas, GeometryMapsOfEveryChart)
   EXPECT_LT(worstHeight, 1e-12 * diagonal);
   EXPECT_LT(worstOff, 1e-6 * diagonal);
   EXPECT_LT(outsideH, 1e-12);
+}
+
+TEST(SurfaceAtlas, OneAtlasImageOfThePackedCharts)
+{
+  const auto bunny = ReadOFF("bunny00.off");
+  vtkNew<vtkSurfaceAtlas> f;
+  f->SetMapLayout(vtkSurfaceAtlas::ATLAS);
+  f->SetMapResolution(512);
+  f->SetInputData(bunny);
+  f->Update();
+  vtkMultiBlockDataSet* maps = vtkMultiBlockDataSet::SafeDownCast(f->GetOutputDataObject(1));
+  ASSERT_TRUE(maps && maps->GetNumberOfBlocks() == 1);
+  EXPECT_STREQ(maps->GetMetaData(0u)->Get(vtkCompositeDataSet::NAME()), "Atlas");
+  vtkImageData* image = vtkImageData::SafeDownCast(maps->GetBlock(0));
+  ASSERT_TRUE(image && image->GetNumberOfPoints() == 512 * 512);
+  // The chart of every input cell, from the cut surface.
+  vtkPolyData* cut = f->GetOutput();
+  vtkDataArray* cutChart = cut->GetCellData()->GetArray("ChartId");
+  vtkDataArray* cutCell = cut->GetCellData()->GetArray("vtkOriginalCellIds");
+  ASSERT_TRUE(cutChart && cutCell);
+  std::vector<int> chartOf(bunny->GetNumberOfCells(), -1);
+  for (vtkIdType c = 0; c < cut->GetNumberOfCells(); ++c)
+  {
+    chartOf[static_cast<vtkIdType>(cutCell->GetComponent(c, 0))] = static_cast<int>(cutChart->GetComponent(c, 0));
+  }
+  vtkDataArray* face = image->GetPointData()->GetArray("FaceId");
+  vtkDataArray* chart = image->GetPointData()->GetArray("ChartId");
+  vtkDataArray* ratio = image->GetPointData()->GetArray("AreaRatio");
+  vtkDataArray* embedding = image->GetPointData()->GetArray("Embedding");
+  ASSERT_TRUE(face && chart && ratio && embedding && image->GetPointData()->GetArray("MeanCurvature"));
+  double integral = 0.0, worstOff = 0.0;
+  vtkIdType inside = 0, wrongChart = 0;
+  for (vtkIdType p = 0; p < image->GetNumberOfPoints(); ++p)
+  {
+    const vtkIdType cell = static_cast<vtkIdType>(face->GetComponent(p, 0));
+    if (cell < 0)
+    {
+      EXPECT_EQ(chart->GetComponent(p, 0), -1.0);
+      continue;
+    }
+    ++inside;
+    wrongChart += chartOf[cell] != static_cast<int>(chart->GetComponent(p, 0));
+    integral += ratio->GetComponent(p, 0) / (512.0 * 512.0);
+    double x[3], a[3], b[3], d[3], e1[3], e2[3], normal[3], r[3];
+    embedding->GetTuple(p, x);
+    vtkIdType n = 0;
+    const vtkIdType* ids = nullptr;
+    bunny->GetCellPoints(cell, n, ids);
+    bunny->GetPoint(ids[0], a);
+    bunny->GetPoint(ids[1], b);
+    bunny->GetPoint(ids[2], d);
+    vtkMath::Subtract(b, a, e1);
+    vtkMath::Subtract(d, a, e2);
+    vtkMath::Cross(e1, e2, normal);
+    vtkMath::Normalize(normal);
+    vtkMath::Subtract(x, a, r);
+    worstOff = std::max(worstOff, std::abs(vtkMath::Dot(r, normal)));
+  }
+  vtkDataArray* areas = cut->GetFieldData()->GetArray("AtlasChartArea");
+  double total = 0.0;
+  for (vtkIdType c = 0; c < areas->GetNumberOfTuples(); ++c)
+  {
+    total += areas->GetComponent(c, 0);
+  }
+  const double packing = cut->GetFieldData()->GetArray("AtlasPackingEfficiency")->GetComponent(0, 0);
+  std::printf("bunny00 atlas image at 512^2: %lld texels inside (packing %.3f), area %.2e\n",
+    static_cast<long long>(inside), packing, std::abs(integral - total) / total);
+  EXPECT_EQ(wrongChart, 0);
+  EXPECT_NEAR(inside / (512.0 * 512.0), packing, 0.05);
+  EXPECT_LT(std::abs(integral - total) / total, 1e-3);
+  EXPECT_LT(worstOff, 1e-6 * bunny->GetLength());
 }
 
 TEST(SurfaceAtlas, AbortLeavesAnEmptyOutput)

@@ -42,6 +42,29 @@ bool Barycentric(const AtlasChart& chart, Index t, const double* p, double* w)
 
 } // namespace
 
+AtlasChart PackedAtlas(const AtlasResult& atlas)
+{
+  AtlasChart packed;
+  for (const AtlasChart& chart : atlas.Charts)
+  {
+    const Index first = static_cast<Index>(packed.Vertices.size());
+    packed.Triangles.insert(packed.Triangles.end(), chart.Triangles.begin(), chart.Triangles.end());
+    packed.Vertices.insert(packed.Vertices.end(), chart.Vertices.begin(), chart.Vertices.end());
+    for (Index corner : chart.Corners)
+    {
+      packed.Corners.push_back(first + corner);
+    }
+    for (Index v = 0; v < static_cast<Index>(chart.Vertices.size()); ++v)
+    {
+      double uv[2];
+      AtlasUV(chart, v, uv);
+      packed.UV.insert(packed.UV.end(), uv, uv + 2);
+    }
+    packed.Area3D += chart.Area3D;
+  }
+  return packed;
+}
+
 Index LocateInChart(const AtlasChart& chart, const double uv[2], double barycentric[3])
 {
   for (Index t = 0; t < static_cast<Index>(chart.Corners.size() / 3); ++t)

@@ -24,6 +24,14 @@ struct ChartRaster
   std::vector<double> Barycentric;  ///< 3 per pixel (weights of the triangle's corners)
 };
 
+/// The whole atlas as one chart of [0, 1]^2: every chart's triangles (chart
+/// after chart, so Triangles is not ascending) at their packed positions
+/// (AtlasUV), Vertices the surface vertex of every chart vertex (a seam
+/// vertex once per chart, as in the cut surface), Area3D the surface's area.
+/// The functions below then sample the atlas texture itself: one map set for
+/// the whole surface, at the texels of the packed UV.
+AtlasChart PackedAtlas(const AtlasResult& atlas);
+
 /// Finds the chart triangle that contains `uv` (a point of the chart's
 /// square) and its barycentric coordinates; -1 when outside.  Points on an
 /// edge shared by two triangles go to the first of them.

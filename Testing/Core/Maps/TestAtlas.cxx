@@ -243,6 +243,64 @@ TEST(GeometryImages, EmbeddingAreaAndVertexValuesOfEveryChart)
   EXPECT_LT(worstVertex, 1e-12);
 }
 
+TEST(GeometryImages, PackedAtlasSamplesTheWholeSurfaceOnce)
+{
+  std::string error;
+  const Mesh eight = test::ReadMesh("eight.off", error);
+  ASSERT_EQ(error, "");
+  const MeshTopology topology = eight.Topology();
+  const AtlasResult atlas = BuildAtlas(topology, eight.Points.data());
+  ASSERT_EQ(atlas.Error, "");
+  const AtlasChart packed = PackedAtlas(atlas);
+  // Every surface triangle once, every corner on its chart's surface vertex.
+  std::vector<Index> triangles = packed.Triangles;
+  std::sort(triangles.begin(), triangles.end());
+  ASSERT_EQ(static_cast<Index>(triangles.size()), topology.NumberOfTriangles());
+  for (Index t = 0; t < topology.NumberOfTriangles(); ++t)
+  {
+    ASSERT_EQ(triangles[t], t);
+  }
+  for (std::size_t t = 0; t < packed.Triangles.size(); ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      ASSERT_EQ(packed.Vertices[packed.Corners[3 * t + k]], topology.CornerVertex(3 * packed.Triangles[t] + k));
+    }
+  }
+  // The texels of the packed atlas: pixels in the chart of their triangle
+  // (the charts do not overlap), the area map summing to the surface's area.
+  const int n = 1024;
+  const ChartRaster raster = RasterizeChart(packed, n, 2);
+  std::vector<double> area(raster.Face.size());
+  AreaMap(raster, packed, eight.Points.data(), area.data());
+  double integral = 0.0, total = 0.0;
+  std::size_t inside = 0, wrongChart = 0;
+  for (std::size_t p = 0; p < raster.Face.size(); ++p)
+  {
+    integral += std::isnan(area[p]) ? 0.0 : area[p] / (double(n) * n);
+    if (raster.Face[p] < 0)
+    {
+      continue;
+    }
+    ++inside;
+    const AtlasChart& chart = atlas.Charts[atlas.ChartOfTriangle[packed.Triangles[raster.Face[p]]]];
+    const double uv[2] = { ((p % n + 0.5) / n - chart.Offset[0]) / chart.Scale,
+      ((p / n + 0.5) / n - chart.Offset[1]) / chart.Scale };
+    double w[3];
+    wrongChart += LocateInChart(chart, uv, w) < 0;
+  }
+  for (const AtlasChart& chart : atlas.Charts)
+  {
+    total += chart.Area3D;
+  }
+  EXPECT_NEAR(packed.Area3D, total, 1e-12 * total);
+  std::printf("packed atlas of genus 2 at %d^2: %zu texels inside (%.1f%%), area %.2e\n", n, inside,
+    100.0 * inside / (double(n) * n), std::abs(integral - total) / total);
+  EXPECT_GT(inside, static_cast<std::size_t>(0.5 * atlas.PackingEfficiency * n * n));
+  EXPECT_EQ(wrongChart, 0u);
+  EXPECT_LT(std::abs(integral - total) / total, 3e-3);
+}
+
 TEST(Atlas, AreaBalancedRefinementEvensTheCharts)
 {
   // Section 4.2.4 on meshes with long protrusions (the elephant's trunk and
