@@ -1,0 +1,59 @@
+// Beltrami core: exactly N sample points on a surface through its atlas
+// (thesis sections 4.3.1-4.3.2).  The control map is the atlas texture
+// (Maps/GeometryImages' PackedAtlas: all charts at one texel density): the
+// area map (3D area per texel) times an importance per vertex, so a constant
+// importance gives a uniform density on the surface.  The chart boundaries
+// (seams and the surface's own boundary) are sampled first, once for both
+// charts along a seam, by 1D error diffusion along the paths between the seam
+// graph's corners with the square-root law (samples per unit length = the
+// square root of samples per unit area); a band of half a sample spacing
+// around them is left out of the image; the rest of the count goes to the
+// halftone of the control map (Remeshing/ErrorDiffusion).
+#pragma once
+
+#include "Maps/Atlas.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace beltrami
+{
+
+struct SamplingOptions
+{
+  std::int64_t NumberOfSamples = 10000;
+  /// Texels per side of the control map; 0: automatic, about 8 texels of
+  /// chart per sample (a mean density of 1/8, where error diffusion's
+  /// blue noise is at its best).
+  int Resolution = 0;
+  int NumberOfThreads = 0;
+};
+
+enum class SampleKind : std::uint8_t
+{
+  Interior = 0, ///< from the halftone, inside one chart
+  Boundary = 1, ///< on a chart boundary path (a seam or the surface's boundary)
+  Corner = 2    ///< where chart boundaries meet (or a boundary loop starts)
+};
+
+struct SurfaceSamples
+{
+  std::string Error;               ///< non-empty: no samples
+  std::vector<Index> Triangle;     ///< surface triangle per sample
+  std::vector<double> Barycentric; ///< 3 per sample: weights of the triangle's corners
+  std::vector<double> Positions;   ///< 3 per sample
+  std::vector<SampleKind> Kind;
+  std::vector<int> Chart;          ///< the chart of interior samples; -1 on boundaries
+  int Resolution = 0;              ///< of the control map
+  double Density = 0.0;            ///< samples per unit area where the importance is 1
+  std::int64_t BoundarySamples = 0;///< samples on chart boundaries (corners included)
+  std::vector<double> ControlMap;  ///< expected samples per texel (Resolution^2, NaN outside the charts)
+  std::vector<std::uint8_t> Halftone; ///< 1 per texel holding an interior sample
+};
+
+/// `importance`: one value >= 0 per surface vertex (null: uniform).
+SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
+  const double* importance, const SamplingOptions& options = {});
+
+} // namespace beltrami
