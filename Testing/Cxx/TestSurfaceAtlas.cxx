@@ -70,6 +70,24 @@ double Area(vtkPolyData* pd, vtkDataArray* uv = nullptr, vtkIdType* flipped = nu
   return total;
 }
 
+/// The distance of x from the plane of triangle `cell` of pd.
+double DistanceToCellPlane(vtkPolyData* pd, vtkIdType cell, const double x[3])
+{
+  vtkIdType n = 0;
+  const vtkIdType* ids = nullptr;
+  pd->GetCellPoints(cell, n, ids);
+  double a[3], b[3], d[3], e1[3], e2[3], normal[3], r[3];
+  pd->GetPoint(ids[0], a);
+  pd->GetPoint(ids[1], b);
+  pd->GetPoint(ids[2], d);
+  vtkMath::Subtract(b, a, e1);
+  vtkMath::Subtract(d, a, e2);
+  vtkMath::Cross(e1, e2, normal);
+  vtkMath::Normalize(normal);
+  vtkMath::Subtract(x, a, r);
+  return std::abs(vtkMath::Dot(r, normal));
+}
+
 } // namespace
 
 TEST(SurfaceAtlas, ClosedRealMeshIsCutIntoValidCharts)
@@ -257,19 +275,10 @@ TEST(SurfaceAtlas, GeometryMapsOfEveryChart)
       embedding->GetTuple(p, x);
       // A linear point array is reproduced exactly; the point is on its cell.
       worstHeight = std::max(worstHeight, std::abs(height->GetComponent(p, 0) - x[1]));
+      worstOff = std::max(worstOff, DistanceToCellPlane(bunny, cell, x));
       vtkIdType n = 0;
       const vtkIdType* ids = nullptr;
       bunny->GetCellPoints(cell, n, ids);
-      double a[3], b[3], d[3], e1[3], e2[3], normal[3], r[3];
-      bunny->GetPoint(ids[0], a);
-      bunny->GetPoint(ids[1], b);
-      bunny->GetPoint(ids[2], d);
-      vtkMath::Subtract(b, a, e1);
-      vtkMath::Subtract(d, a, e2);
-      vtkMath::Cross(e1, e2, normal);
-      vtkMath::Normalize(normal);
-      vtkMath::Subtract(x, a, r);
-      worstOff = std::max(worstOff, std::abs(vtkMath::Dot(r, normal)));
       // The curvature map between its triangle's vertex values (the filter's).
       double lo = HUGE_VAL, hi = -HUGE_VAL;
       for (int k = 0; k < 3; ++k)
@@ -337,20 +346,9 @@ TEST(SurfaceAtlas, OneAtlasImageOfThePackedCharts)
     ++inside;
     wrongChart += chartOf[cell] != static_cast<int>(chart->GetComponent(p, 0));
     integral += ratio->GetComponent(p, 0) / (512.0 * 512.0);
-    double x[3], a[3], b[3], d[3], e1[3], e2[3], normal[3], r[3];
+    double x[3];
     embedding->GetTuple(p, x);
-    vtkIdType n = 0;
-    const vtkIdType* ids = nullptr;
-    bunny->GetCellPoints(cell, n, ids);
-    bunny->GetPoint(ids[0], a);
-    bunny->GetPoint(ids[1], b);
-    bunny->GetPoint(ids[2], d);
-    vtkMath::Subtract(b, a, e1);
-    vtkMath::Subtract(d, a, e2);
-    vtkMath::Cross(e1, e2, normal);
-    vtkMath::Normalize(normal);
-    vtkMath::Subtract(x, a, r);
-    worstOff = std::max(worstOff, std::abs(vtkMath::Dot(r, normal)));
+    worstOff = std::max(worstOff, DistanceToCellPlane(bunny, cell, x));
   }
   vtkDataArray* areas = cut->GetFieldData()->GetArray("AtlasChartArea");
   double total = 0.0;

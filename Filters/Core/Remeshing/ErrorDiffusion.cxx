@@ -118,7 +118,9 @@ void AdjustCount(const double* density, int width, int height, const std::uint8_
 void SeparateNeighbours(
   const double* density, int width, int height, const std::uint8_t* roles, std::vector<std::uint8_t>& samples)
 {
-  const auto at = [&](int x, int y) { return x >= 0 && y >= 0 && x < width && y < height && samples[static_cast<std::size_t>(y) * width + x]; };
+  const auto at = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < width && y < height && samples[static_cast<std::size_t>(y) * width + x];
+  };
   const auto crowded = [&](int x, int y) { return at(x - 1, y) || at(x + 1, y) || at(x, y - 1) || at(x, y + 1); };
   for (int y = 0; y < height; ++y)
   {
@@ -152,8 +154,8 @@ void SeparateNeighbours(
 
 } // namespace
 
-std::int64_t DiffuseErrors(const double* density, int width, int height, double scale, const std::uint8_t* roles,
-  std::uint8_t* samples, double* value)
+std::int64_t DiffuseErrors(
+  const double* density, int width, int height, double scale, const std::uint8_t* roles, std::uint8_t* samples)
 {
   const std::array<Weights, 256>& table = WeightTable();
   // Two rows of incoming error, one pixel of padding on each side.
@@ -173,7 +175,8 @@ std::int64_t DiffuseErrors(const double* density, int width, int height, double 
       const int x = forward ? k : width - 1 - k;
       const std::size_t p = static_cast<std::size_t>(row) * width + x;
       const PixelRole role = roles ? static_cast<PixelRole>(roles[p]) : PixelRole::Free;
-      const double d = std::clamp(scale * density[p], 0.0, 1.0);
+      const double scaled = scale * density[p];
+      const double d = scaled > 0.0 ? std::min(scaled, 1.0) : 0.0; // NaN: 0
       const double v = d + current[x + 1];
       current[x + 1] = 0.0;
       bool sample = false;
@@ -198,10 +201,6 @@ std::int64_t DiffuseErrors(const double* density, int width, int height, double 
       {
         samples[p] = sample ? 1 : 0;
         count += sample;
-        if (value)
-        {
-          value[p] = v;
-        }
       }
       if (error == 0.0)
       {

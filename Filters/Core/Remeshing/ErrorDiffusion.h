@@ -8,9 +8,9 @@
 // starts), with pixels forced to be samples (constraints) or excluded
 // (features and boundaries, sampled separately; their share of the density
 // is diffused to the neighbours).  The exact count comes from scaling the
-// density (a few secant steps on the scale), then, if the count still
-// differs by a few samples, from adding or removing the samples whose
-// diffused value was nearest to the threshold.
+// density (secant steps on the scale until within 1%), then from adding or
+// removing the rest spread over the image in proportion to the density,
+// where no two samples end up side by side.
 #pragma once
 
 #include <cstdint>
@@ -40,12 +40,11 @@ struct HalftoneResult
 };
 
 /// One error diffusion pass: `density` (width x height, row-major, expected
-/// samples per pixel, clamped to [0, 1]) times `scale` into `samples` (1 per
-/// sample); `roles` (null: all Free) as PixelRole values.  `value` (when not
-/// null) receives every pixel's diffused value (density plus incoming
-/// error), from which the exact count is adjusted.  Returns the sample count.
-std::int64_t DiffuseErrors(const double* density, int width, int height, double scale, const std::uint8_t* roles,
-  std::uint8_t* samples, double* value = nullptr);
+/// samples per pixel; times `scale`, clamped to [0, 1], NaN as 0) into
+/// `samples` (1 per sample); `roles` (null: all Free) as PixelRole values.
+/// Returns the sample count.
+std::int64_t DiffuseErrors(
+  const double* density, int width, int height, double scale, const std::uint8_t* roles, std::uint8_t* samples);
 
 /// Exactly `count` samples distributed by `density` (its sum need not be
 /// `count`: it is scaled).  An error when the count is above what the free
