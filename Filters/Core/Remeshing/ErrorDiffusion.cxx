@@ -60,13 +60,21 @@ const std::array<Weights, 256>& WeightTable()
   return table;
 }
 
+/// A pixel's expected samples: its density times `scale`, in [0, 1] (NaN,
+/// infinite and negative values: 0, as Halftone counts them).
+inline double Level(double density, double scale)
+{
+  const double scaled = scale * density;
+  return std::isfinite(scaled) && scaled > 0.0 ? std::min(scaled, 1.0) : 0.0;
+}
+
 /// Adds (change > 0) or removes (change < 0) |change| samples among the
 /// free pixels of positive density, spread over the image in proportion to
 /// the density (a 1D error diffusion over the candidates in scan order):
 /// first where no two samples end up side by side (added: pixels with no
 /// sample beside them; removed: samples with one beside them), then anywhere.
-void AdjustCount(const double* density, int width, int height, const std::uint8_t* roles, std::int64_t change,
-  std::vector<std::uint8_t>& samples)
+void AdjustCount(const double* density, double scale, int width, int height, const std::uint8_t* roles,
+  std::int64_t change, std::vector<std::uint8_t>& samples)
 {
   const bool add = change > 0;
   const std::uint8_t from = add ? 0 : 1;
@@ -78,11 +86,14 @@ void AdjustCount(const double* density, int width, int height, const std::uint8_
   };
   const auto candidate = [&](std::size_t p, int round) {
     const bool free = !roles || static_cast<PixelRole>(roles[p]) == PixelRole::Free;
-    return free && density[p] > 0.0 && samples[p] == from && (round == 2 || crowded(p) != add);
+    return free && Level(density[p], scale) > 0.0 && samples[p] == from && (round == 2 || crowded(p) != add);
   };
   // Expected share of a candidate: added samples go where the density is
   // (over the free pixels left there), removed ones evenly over the samples.
-  const auto weight = [&](std::size_t p) { return add ? density[p] / std::max(1e-9, 1.0 - density[p]) : 1.0; };
+  const auto weight = [&](std::size_t p) {
+    const double d = Level(density[p], scale);
+    return add ? d / std::max(1e-9, 1.0 - d) : 1.0;
+  };
   std::int64_t left = std::abs(change);
   for (int round = 0; round < 3 && left > 0; ++round)
   {
@@ -140,7 +151,7 @@ void SeparateNeighbours(
           const int qx = x + dx, qy = y + dy, distance = dx * dx + dy * dy;
           const std::size_t q = static_cast<std::size_t>(qy) * width + qx;
           if (distance < bestDistance && qx >= 0 && qy >= 0 && qx < width && qy < height && !samples[q] &&
-            density[q] > 0.0 && (!roles || static_cast<PixelRole>(roles[q]) == PixelRole::Free) && !crowded(qx, qy))
+            Level(density[q], 1.0) > 0.0 && (!roles || static_cast<PixelRole>(roles[q]) == PixelRole::Free) && !crowded(qx, qy))
           {
             best = static_cast<int>(q);
             bestDistance = distance;
@@ -175,8 +186,7 @@ std::int64_t DiffuseErrors(
       const int x = forward ? k : width - 1 - k;
       const std::size_t p = static_cast<std::size_t>(row) * width + x;
       const PixelRole role = roles ? static_cast<PixelRole>(roles[p]) : PixelRole::Free;
-      const double scaled = scale * density[p];
-      const double d = scaled > 0.0 ? std::min(scaled, 1.0) : 0.0; // NaN: 0
+      const double d = Level(density[p], scale);
       const double v = d + current[x + 1];
       current[x + 1] = 0.0;
       bool sample = false;
@@ -239,7 +249,7 @@ HalftoneResult Halftone(const double* density, int width, int height, std::int64
   for (std::size_t p = 0; p < pixels; ++p)
   {
     const PixelRole role = roles ? static_cast<PixelRole>(roles[p]) : PixelRole::Free;
-    const double d = std::isfinite(density[p]) ? std::max(0.0, density[p]) : 0.0;
+    const double d = Level(density[p], 1.0) > 0.0 ? density[p] : 0.0; // finite and positive
     forced += role == PixelRole::Sample;
     capacity += role == PixelRole::Sample || (role == PixelRole::Free && d > 0.0);
     mass += role == PixelRole::Free ? d : 0.0;
@@ -250,11 +260,6 @@ HalftoneResult Halftone(const double* density, int width, int height, std::int64
       std::to_string(forced) + " (the forced ones) and " + std::to_string(capacity) +
       " (one per pixel of positive density)";
     return result;
-  }
-  std::vector<double> clean(density, density + pixels);
-  for (double& d : clean)
-  {
-    d = std::isfinite(d) ? std::max(0.0, d) : 0.0;
   }
   result.Samples.assign(pixels, 0);
   const std::int64_t wanted = count - forced;
@@ -268,7 +273,7 @@ HalftoneResult Halftone(const double* density, int width, int height, std::int64
   // (the count grows with the scale, not always strictly).
   for (result.Passes = 1;; ++result.Passes)
   {
-    got = DiffuseErrors(clean.data(), width, height, scale, roles, result.Samples.data());
+    got = DiffuseErrors(density, width, height, scale, roles, result.Samples.data());
     if (std::abs(got - count) <= tolerance || wanted == 0 || result.Passes == 12)
     {
       break;
@@ -282,8 +287,8 @@ HalftoneResult Halftone(const double* density, int width, int height, std::int64
     scale = next;
   }
   result.Scale = scale;
-  AdjustCount(clean.data(), width, height, roles, count - got, result.Samples);
-  SeparateNeighbours(clean.data(), width, height, roles, result.Samples);
+  AdjustCount(density, scale, width, height, roles, count - got, result.Samples);
+  SeparateNeighbours(density, width, height, roles, result.Samples);
   result.Adjusted = std::abs(count - got);
   result.Count = count;
   return result;

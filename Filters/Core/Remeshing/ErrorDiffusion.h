@@ -40,7 +40,7 @@ struct HalftoneResult
 };
 
 /// One error diffusion pass: `density` (width x height, row-major, expected
-/// samples per pixel; times `scale`, clamped to [0, 1], NaN as 0) into
+/// samples per pixel; times `scale`, clamped to [0, 1], NaN and infinity as 0) into
 /// `samples` (1 per sample); `roles` (null: all Free) as PixelRole values.
 /// Returns the sample count.
 std::int64_t DiffuseErrors(

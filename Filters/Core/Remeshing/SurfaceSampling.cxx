@@ -168,6 +168,29 @@ void SampleBoundaries(const MeshTopology& topology, const double* points, const 
   }
 }
 
+/// Marks the texels (of an n x n image, coordinates in texels) whose centre
+/// lies within `radius` of the segment from a to b as Outside.
+void MarkAroundSegment(const double* a, const double* b, double radius, int n, std::vector<std::uint8_t>& roles)
+{
+  const double dx = b[0] - a[0], dy = b[1] - a[1], length2 = dx * dx + dy * dy;
+  const int x0 = std::max(0, static_cast<int>(std::floor(std::min(a[0], b[0]) - radius)));
+  const int x1 = std::min(n - 1, static_cast<int>(std::ceil(std::max(a[0], b[0]) + radius)));
+  const int y0 = std::max(0, static_cast<int>(std::floor(std::min(a[1], b[1]) - radius)));
+  const int y1 = std::min(n - 1, static_cast<int>(std::ceil(std::max(a[1], b[1]) + radius)));
+  for (int y = y0; y <= y1; ++y)
+  {
+    for (int x = x0; x <= x1; ++x)
+    {
+      const double px = x + 0.5 - a[0], py = y + 0.5 - a[1];
+      const double s = length2 > 0.0 ? std::clamp((px * dx + py * dy) / length2, 0.0, 1.0) : 0.0;
+      if ((px - s * dx) * (px - s * dx) + (py - s * dy) * (py - s * dy) <= radius * radius)
+      {
+        roles[static_cast<std::size_t>(y) * n + x] = static_cast<std::uint8_t>(PixelRole::Outside);
+      }
+    }
+  }
+}
+
 /// Marks the texels within half a sample spacing of every chart boundary
 /// edge (in each chart it bounds) as outside the halftone: the boundary
 /// samples stand for that band.
@@ -200,26 +223,8 @@ void ExcludeBoundaryBand(const MeshTopology& topology, const double* points, con
           uv[k][0] *= n;
           uv[k][1] *= n;
         }
-        const double dx = uv[1][0] - uv[0][0], dy = uv[1][1] - uv[0][1];
-        const double lengthPx = std::sqrt(dx * dx + dy * dy);
-        const double radius = 0.5 * spacing3D * lengthPx / length3D;
-        const int x0 = std::max(0, static_cast<int>(std::floor(std::min(uv[0][0], uv[1][0]) - radius)));
-        const int x1 = std::min(n - 1, static_cast<int>(std::ceil(std::max(uv[0][0], uv[1][0]) + radius)));
-        const int y0 = std::max(0, static_cast<int>(std::floor(std::min(uv[0][1], uv[1][1]) - radius)));
-        const int y1 = std::min(n - 1, static_cast<int>(std::ceil(std::max(uv[0][1], uv[1][1]) + radius)));
-        for (int y = y0; y <= y1; ++y)
-        {
-          for (int x = x0; x <= x1; ++x)
-          {
-            const double px = x + 0.5 - uv[0][0], py = y + 0.5 - uv[0][1];
-            const double s = lengthPx > 0.0 ? std::clamp((px * dx + py * dy) / (lengthPx * lengthPx), 0.0, 1.0) : 0.0;
-            const double qx = px - s * dx, qy = py - s * dy;
-            if (qx * qx + qy * qy <= radius * radius)
-            {
-              roles[static_cast<std::size_t>(y) * n + x] = static_cast<std::uint8_t>(PixelRole::Outside);
-            }
-          }
-        }
+        const double lengthPx = std::hypot(uv[1][0] - uv[0][0], uv[1][1] - uv[0][1]);
+        MarkAroundSegment(uv[0], uv[1], 0.5 * spacing3D * lengthPx / length3D, n, roles);
       }
     }
   }

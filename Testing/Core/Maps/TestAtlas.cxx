@@ -7,6 +7,7 @@
 #include "Maps/Distortion.h"
 #include "Maps/GeometryImages.h"
 #include "Mesh/MeshMeasures.h"
+#include "Maps/MeshWithAtlas.h"
 #include "TestMeshes.h"
 
 #include <gtest/gtest.h>
@@ -164,12 +165,10 @@ TEST(Atlas, BadInputIsAnErrorNotACrash)
 
 TEST(GeometryImages, EmbeddingAreaAndVertexValuesOfEveryChart)
 {
-  std::string error;
-  const Mesh eight = test::ReadMesh("eight.off", error);
-  ASSERT_EQ(error, "");
-  const MeshTopology topology = eight.Topology();
-  const AtlasResult atlas = BuildAtlas(topology, eight.Points.data());
-  ASSERT_EQ(atlas.Error, "");
+  const test::MeshWithAtlas loaded("eight.off");
+  ASSERT_EQ(loaded.Error, "");
+  const Mesh& eight = loaded.Surface;
+  const AtlasResult& atlas = loaded.Atlas;
   double lo[3] = { HUGE_VAL, HUGE_VAL, HUGE_VAL }, hi[3] = { -HUGE_VAL, -HUGE_VAL, -HUGE_VAL };
   for (Index v = 0; v < eight.NumberOfVertices(); ++v)
   {
@@ -245,12 +244,11 @@ TEST(GeometryImages, EmbeddingAreaAndVertexValuesOfEveryChart)
 
 TEST(GeometryImages, PackedAtlasSamplesTheWholeSurfaceOnce)
 {
-  std::string error;
-  const Mesh eight = test::ReadMesh("eight.off", error);
-  ASSERT_EQ(error, "");
-  const MeshTopology topology = eight.Topology();
-  const AtlasResult atlas = BuildAtlas(topology, eight.Points.data());
-  ASSERT_EQ(atlas.Error, "");
+  const test::MeshWithAtlas loaded("eight.off");
+  ASSERT_EQ(loaded.Error, "");
+  const Mesh& eight = loaded.Surface;
+  const MeshTopology& topology = loaded.Topology;
+  const AtlasResult& atlas = loaded.Atlas;
   const AtlasChart packed = PackedAtlas(atlas);
   // Every surface triangle once, every corner on its chart's surface vertex.
   std::vector<Index> triangles = packed.Triangles;

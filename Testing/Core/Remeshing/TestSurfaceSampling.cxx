@@ -2,7 +2,7 @@
 #include "Maps/Atlas.h"
 #include "Mesh/MeshMeasures.h"
 #include "Remeshing/SurfaceSampling.h"
-#include "TestMeshes.h"
+#include "Maps/MeshWithAtlas.h"
 
 #include <gtest/gtest.h>
 
@@ -50,12 +50,11 @@ TEST(SurfaceSampling, ExactCountsOnClosedOpenAndHigherGenusSurfaces)
 {
   for (const char* name : { "bunny00.off", "mushroom.off", "eight.off" })
   {
-    std::string error;
-    const Mesh mesh = test::ReadMesh(name, error);
-    ASSERT_EQ(error, "");
-    const MeshTopology topology = mesh.Topology();
-    const AtlasResult atlas = BuildAtlas(topology, mesh.Points.data());
-    ASSERT_EQ(atlas.Error, "");
+    const test::MeshWithAtlas loaded(name);
+    ASSERT_EQ(loaded.Error, "") << name;
+    const Mesh& mesh = loaded.Surface;
+    const MeshTopology& topology = loaded.Topology;
+    const AtlasResult& atlas = loaded.Atlas;
     for (std::int64_t count : { 2000, 5000, 12345 })
     {
       SamplingOptions options;
@@ -99,11 +98,11 @@ TEST(SurfaceSampling, ExactCountsOnClosedOpenAndHigherGenusSurfaces)
 
 TEST(SurfaceSampling, DensityFollowsTheImportance)
 {
-  std::string error;
-  const Mesh mesh = test::ReadMesh("bunny00.off", error);
-  ASSERT_EQ(error, "");
-  const MeshTopology topology = mesh.Topology();
-  const AtlasResult atlas = BuildAtlas(topology, mesh.Points.data());
+  const test::MeshWithAtlas loaded("bunny00.off");
+  ASSERT_EQ(loaded.Error, "");
+  const Mesh& mesh = loaded.Surface;
+  const MeshTopology& topology = loaded.Topology;
+  const AtlasResult& atlas = loaded.Atlas;
   // Four times the importance above the middle height: four times the samples per area.
   std::vector<double> heights(mesh.NumberOfVertices());
   for (Index v = 0; v < mesh.NumberOfVertices(); ++v)
@@ -152,10 +151,11 @@ TEST(SurfaceSampling, DensityFollowsTheImportance)
 
 TEST(SurfaceSampling, TooFewSamplesForTheBoundariesIsAnError)
 {
-  std::string error;
-  const Mesh mesh = test::ReadMesh("bunny00.off", error);
-  const MeshTopology topology = mesh.Topology();
-  const AtlasResult atlas = BuildAtlas(topology, mesh.Points.data());
+  const test::MeshWithAtlas loaded("bunny00.off");
+  ASSERT_EQ(loaded.Error, "");
+  const Mesh& mesh = loaded.Surface;
+  const MeshTopology& topology = loaded.Topology;
+  const AtlasResult& atlas = loaded.Atlas;
   SamplingOptions options;
   options.NumberOfSamples = 20;
   const SurfaceSamples s = SampleSurface(topology, mesh.Points.data(), atlas, nullptr, options);
