@@ -77,6 +77,122 @@ Index LocateInChart(const AtlasChart& chart, const double uv[2], double barycent
   return -1;
 }
 
+ChartLocator::ChartLocator(const AtlasChart& chart)
+  : Chart(&chart)
+{
+  const Index triangles = static_cast<Index>(chart.Corners.size() / 3);
+  double upper[2] = { -HUGE_VAL, -HUGE_VAL };
+  Lower[0] = Lower[1] = HUGE_VAL;
+  for (std::size_t i = 0; i < chart.UV.size(); ++i)
+  {
+    Lower[i % 2] = std::min(Lower[i % 2], chart.UV[i]);
+    upper[i % 2] = std::max(upper[i % 2], chart.UV[i]);
+  }
+  Cells = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(triangles))));
+  for (int axis = 0; axis < 2; ++axis)
+  {
+    Width[axis] = upper[axis] > Lower[axis] ? (upper[axis] - Lower[axis]) / Cells : 1.0;
+  }
+  // Each triangle in every cell its bounding box touches (counted, then filled).
+  const auto forCells = [&](Index t, auto&& visit) {
+    int lo[2] = { Cells, Cells }, hi[2] = { -1, -1 };
+    for (int k = 0; k < 3; ++k)
+    {
+      for (int axis = 0; axis < 2; ++axis)
+      {
+        const int c = CellOf(chart.UV[2 * chart.Corners[3 * t + k] + axis], axis);
+        lo[axis] = std::min(lo[axis], c);
+        hi[axis] = std::max(hi[axis], c);
+      }
+    }
+    for (int y = lo[1]; y <= hi[1]; ++y)
+    {
+      for (int x = lo[0]; x <= hi[0]; ++x)
+      {
+        visit(static_cast<std::size_t>(y) * Cells + x);
+      }
+    }
+  };
+  Offsets.assign(static_cast<std::size_t>(Cells) * Cells + 1, 0);
+  for (Index t = 0; t < triangles; ++t)
+  {
+    forCells(t, [&](std::size_t cell) { ++Offsets[cell + 1]; });
+  }
+  for (std::size_t c = 1; c < Offsets.size(); ++c)
+  {
+    Offsets[c] += Offsets[c - 1];
+  }
+  Items.resize(Offsets.back());
+  std::vector<std::int64_t> fill(Offsets.begin(), Offsets.end() - 1);
+  for (Index t = 0; t < triangles; ++t)
+  {
+    forCells(t, [&](std::size_t cell) { Items[fill[cell]++] = t; });
+  }
+}
+
+int ChartLocator::CellOf(double u, int axis) const
+{
+  const double c = std::floor((u - Lower[axis]) / Width[axis]);
+  return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(Cells - 1)));
+}
+
+Index ChartLocator::Locate(const double uv[2], double barycentric[3]) const
+{
+  if (!(std::isfinite(uv[0]) && std::isfinite(uv[1])))
+  {
+    return -1;
+  }
+  const std::size_t cell = static_cast<std::size_t>(CellOf(uv[1], 1)) * Cells + CellOf(uv[0], 0);
+  for (std::int64_t i = Offsets[cell]; i < Offsets[cell + 1]; ++i)
+  {
+    if (Barycentric(*Chart, Items[i], uv, barycentric))
+    {
+      return Items[i];
+    }
+  }
+  return -1;
+}
+
+Index ChartLocator::LocateNearest(const double uv[2], double barycentric[3]) const
+{
+  Index best = Locate(uv, barycentric);
+  if (best >= 0 || !(std::isfinite(uv[0]) && std::isfinite(uv[1])))
+  {
+    return best;
+  }
+  double bestOutside = HUGE_VAL, w[3];
+  const int cx = CellOf(uv[0], 0), cy = CellOf(uv[1], 1);
+  for (int y = std::max(0, cy - 1); y <= std::min(Cells - 1, cy + 1); ++y)
+  {
+    for (int x = std::max(0, cx - 1); x <= std::min(Cells - 1, cx + 1); ++x)
+    {
+      const std::size_t cell = static_cast<std::size_t>(y) * Cells + x;
+      for (std::int64_t i = Offsets[cell]; i < Offsets[cell + 1]; ++i)
+      {
+        w[0] = w[1] = w[2] = -HUGE_VAL; // a degenerate triangle leaves them unset
+        Barycentric(*Chart, Items[i], uv, w);
+        const double outside = -std::min({ w[0], w[1], w[2] });
+        if (std::isfinite(outside) && outside < bestOutside)
+        {
+          bestOutside = outside;
+          best = Items[i];
+          double sum = 0.0;
+          for (int k = 0; k < 3; ++k)
+          {
+            barycentric[k] = std::max(0.0, w[k]);
+            sum += barycentric[k];
+          }
+          for (int k = 0; k < 3; ++k)
+          {
+            barycentric[k] /= sum;
+          }
+        }
+      }
+    }
+  }
+  return best;
+}
+
 ChartRaster RasterizeChart(const AtlasChart& chart, int resolution, int numThreads)
 {
   ChartRaster raster;

@@ -10,6 +10,7 @@
 
 #include "Maps/Atlas.h"
 
+#include <cstdint>
 #include <vector>
 
 namespace beltrami
@@ -36,6 +37,29 @@ AtlasChart PackedAtlas(const AtlasResult& atlas);
 /// square) and its barycentric coordinates; -1 when outside.  Points on an
 /// edge shared by two triangles go to the first of them.
 Index LocateInChart(const AtlasChart& chart, const double uv[2], double barycentric[3]);
+
+/// LocateInChart for many points: the chart's triangles bucketed on a grid
+/// of about one triangle per cell.  The chart must outlive the locator.
+class ChartLocator
+{
+public:
+  explicit ChartLocator(const AtlasChart& chart);
+  /// As LocateInChart (the first triangle in the cell's list on shared edges).
+  Index Locate(const double uv[2], double barycentric[3]) const;
+  /// The triangle of the cell's 3 x 3 neighbourhood that uv is least far
+  /// outside of (in barycentric terms), with its weights clamped to the
+  /// triangle: for points pushed just off the chart by round-off.  -1 when
+  /// no triangle is near.
+  Index LocateNearest(const double uv[2], double barycentric[3]) const;
+
+private:
+  int CellOf(double u, int axis) const;
+  const AtlasChart* Chart = nullptr;
+  int Cells = 1;
+  double Lower[2] = { 0.0, 0.0 }, Width[2] = { 1.0, 1.0 };
+  std::vector<std::int64_t> Offsets; ///< CSR of the cells (x fastest)
+  std::vector<Index> Items;          ///< chart triangles per cell
+};
 
 /// Samples the chart at every pixel centre of an n x n grid (threads: 0 all).
 ChartRaster RasterizeChart(const AtlasChart& chart, int resolution, int numThreads = 0);

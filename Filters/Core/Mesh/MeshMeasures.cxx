@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -112,6 +113,60 @@ double MeanEdgeLength(const MeshTopology& topo, const double* x)
     }
   }
   return finite ? sum / finite : 0.0;
+}
+
+TriangleQuality MeasureTriangleQuality(const MeshTopology& topo, const double* x)
+{
+  TriangleQuality q;
+  const IndexArray& tri = topo.TriangleList();
+  q.MinimumAngle = 180.0;
+  Index measured = 0;
+  for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
+  {
+    const Vec3 p[3] = { Point(x, tri[3 * t]), Point(x, tri[3 * t + 1]), Point(x, tri[3 * t + 2]) };
+    double angles[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      const Vec3 u = p[(k + 1) % 3] - p[k], v = p[(k + 2) % 3] - p[k];
+      angles[k] = std::atan2(u.cross(v).norm(), u.dot(v)) * 180.0 / M_PI;
+    }
+    const double smallest = std::min({ angles[0], angles[1], angles[2] });
+    if (!(smallest > 0.0))
+    {
+      ++q.DegenerateTriangles;
+      continue;
+    }
+    ++measured;
+    q.MeanMinimumAngle += smallest;
+    q.MinimumAngle = std::min(q.MinimumAngle, smallest);
+    q.MaximumAngle = std::max({ q.MaximumAngle, angles[0], angles[1], angles[2] });
+    q.FractionBelow30 += smallest < 30.0;
+  }
+  q.MeanMinimumAngle /= std::max<Index>(1, measured);
+  q.FractionBelow30 /= std::max<Index>(1, topo.NumberOfTriangles());
+  q.MinimumAngle = q.DegenerateTriangles > 0 || measured == 0 ? 0.0 : q.MinimumAngle;
+  Index interior = 0, regular = 0;
+  for (Index v = 0; v < topo.NumberOfVertices(); ++v)
+  {
+    if (topo.IsInterior(v) && topo.Valence(v) > 0)
+    {
+      ++interior;
+      regular += topo.Valence(v) == 6;
+    }
+  }
+  q.FractionValence6 = interior > 0 ? static_cast<double>(regular) / interior : 0.0;
+  const MeshTopology::EdgeTable& e = topo.Edges();
+  double sum = 0.0, sum2 = 0.0;
+  for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
+  {
+    const double length = (Point(x, e.Vertices[2 * k]) - Point(x, e.Vertices[2 * k + 1])).norm();
+    sum += length;
+    sum2 += length * length;
+  }
+  const double count = std::max<double>(1.0, static_cast<double>(e.NumberOfEdges()));
+  const double mean = sum / count;
+  q.EdgeLengthVariation = mean > 0.0 ? std::sqrt(std::max(0.0, sum2 / count - mean * mean)) / mean : 0.0;
+  return q;
 }
 
 std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, double angleDegrees)

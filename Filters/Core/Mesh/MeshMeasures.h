@@ -40,6 +40,21 @@ double VolumeAbovePlane(const MeshTopology& topology, const double* points, cons
   const double normal[3], int numThreads = 0);
 
 
+/// The quality figures of a triangle mesh (the remesher's targets, thesis
+/// chapter 4): angles of its triangles, valences of its interior vertices,
+/// regularity of its edge lengths.
+struct TriangleQuality
+{
+  double MeanMinimumAngle = 0.0;    ///< degrees: mean over the triangles of their smallest angle
+  double MinimumAngle = 0.0;        ///< degrees: the smallest angle of all
+  double MaximumAngle = 0.0;        ///< degrees: the largest angle of all
+  double FractionBelow30 = 0.0;     ///< of the triangles, with an angle below 30 degrees
+  double FractionValence6 = 0.0;    ///< of the interior vertices, of valence 6
+  double EdgeLengthVariation = 0.0; ///< standard deviation / mean of the edge lengths
+  Index DegenerateTriangles = 0;    ///< of zero area (or non-finite points)
+};
+TriangleQuality MeasureTriangleQuality(const MeshTopology& topology, const double* points);
+
 /// The mean of the points of used vertices (valence > 0, finite).
 Vec3 VertexCentroid(const MeshTopology& topology, const double* points);
 /// The enclosed volume (relative to the vertex centroid, for accuracy) and,

@@ -5,8 +5,11 @@
 #include "Mesh/Geometry.h"
 #include "Remeshing/ErrorDiffusion.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
 namespace beltrami
@@ -110,10 +113,9 @@ void AddSample(const MeshTopology& topology, const double* points, Index triangl
   out.Chart.push_back(chart);
 }
 
-/// A sample at fraction t of the way from vertex a to vertex b (b == a: at
-/// the vertex), on a triangle that has them.
-void AddBoundarySample(const MeshTopology& topology, const double* points, Index a, Index b, double t,
-  SampleKind kind, SurfaceSamples& out)
+/// The triangle with the edge (a, b) (b == a: one with the vertex a) and the
+/// weights of the point at fraction t of the way from a to b.
+Index EdgePoint(const MeshTopology& topology, Index a, Index b, double t, double* w)
 {
   Index triangle = topology.CornersBegin(a)[0] / 3;
   if (b != a)
@@ -122,49 +124,72 @@ void AddBoundarySample(const MeshTopology& topology, const double* points, Index
     const std::int64_t e = EdgeOf(edges, std::min(a, b), std::max(a, b));
     triangle = (edges.OppositeCorners[2 * e] >= 0 ? edges.OppositeCorners[2 * e] : edges.OppositeCorners[2 * e + 1]) / 3;
   }
-  double w[3];
   for (int k = 0; k < 3; ++k)
   {
     const Index v = topology.CornerVertex(3 * triangle + k);
-    w[k] = v == a ? 1.0 - t : (v == b ? t : 0.0);
+    w[k] = v == a ? 1.0 - t : (v == b && b != a ? t : 0.0);
   }
-  AddSample(topology, points, triangle, w, kind, -1, out);
+  return triangle;
 }
 
 /// The corners, then samples along every path at the spacing of the density
 /// (1D error diffusion: samples where the integral of sqrt(density) passes
 /// even fractions of it; a closed loop keeps at least three samples).
 void SampleBoundaries(const MeshTopology& topology, const double* points, const double* importance,
-  const BoundaryPaths& boundaries, double density, SurfaceSamples& out)
+  const std::vector<int>& chartOfTriangle, const BoundaryPaths& boundaries, double density, SurfaceSamples& out)
 {
   const auto lambda = [&](Index v) { return std::sqrt(density * (importance ? std::max(0.0, importance[v]) : 1.0)); };
+  std::vector<Index> cornerSample(topology.NumberOfVertices(), -1);
   for (Index c : boundaries.Corners)
   {
-    AddBoundarySample(topology, points, c, c, 0.0, SampleKind::Corner, out);
+    double w[3];
+    cornerSample[c] = static_cast<Index>(out.Kind.size());
+    AddSample(topology, points, EdgePoint(topology, c, c, 0.0, w), w, SampleKind::Corner, -1, out);
   }
-  for (const std::vector<Index>& path : boundaries.Paths)
+  for (const std::vector<Index>& vertices : boundaries.Paths)
   {
-    std::vector<double> cumulative(path.size(), 0.0);
-    for (std::size_t i = 1; i < path.size(); ++i)
+    SamplePath path;
+    path.Vertices = vertices;
+    const MeshTopology::EdgeTable& edges = topology.Edges();
+    const std::int64_t first = EdgeOf(edges, std::min(vertices[0], vertices[1]), std::max(vertices[0], vertices[1]));
+    for (int side = 0, k = 0; side < 2; ++side)
     {
-      const double length = (Point(points, path[i]) - Point(points, path[i - 1])).norm();
-      cumulative[i] = cumulative[i - 1] + 0.5 * (lambda(path[i]) + lambda(path[i - 1])) * length;
+      const Index corner = edges.OppositeCorners[2 * first + side];
+      path.Charts[k] = corner >= 0 ? chartOfTriangle[corner / 3] : path.Charts[k];
+      k += corner >= 0;
+    }
+    path.Arc.assign(vertices.size(), 0.0);
+    std::vector<double> cumulative(vertices.size(), 0.0);
+    for (std::size_t i = 1; i < vertices.size(); ++i)
+    {
+      const double length = (Point(points, vertices[i]) - Point(points, vertices[i - 1])).norm();
+      path.Arc[i] = path.Arc[i - 1] + length;
+      cumulative[i] = cumulative[i - 1] + 0.5 * (lambda(vertices[i]) + lambda(vertices[i - 1])) * length;
     }
     const double total = cumulative.back();
-    const bool loop = path.front() == path.back();
+    const bool loop = vertices.front() == vertices.back();
     const std::int64_t inside = std::max<std::int64_t>(loop ? 2 : 0, std::llround(total) - 1);
+    path.Samples.push_back(cornerSample[vertices.front()]);
+    path.SampleArc.push_back(0.0);
     std::size_t node = 0;
     for (std::int64_t j = 1; j <= inside; ++j)
     {
       const double at = total > 0.0 ? j * total / (inside + 1) : 0.0;
-      while (node + 2 < path.size() && cumulative[node + 1] < at)
+      while (node + 2 < vertices.size() && cumulative[node + 1] < at)
       {
         ++node;
       }
       const double span = cumulative[node + 1] - cumulative[node];
       const double t = span > 0.0 ? std::clamp((at - cumulative[node]) / span, 0.0, 1.0) : 0.5;
-      AddBoundarySample(topology, points, path[node], path[node + 1], t, SampleKind::Boundary, out);
+      double w[3];
+      path.Samples.push_back(static_cast<Index>(out.Kind.size()));
+      path.SampleArc.push_back(path.Arc[node] + t * (path.Arc[node + 1] - path.Arc[node]));
+      AddSample(topology, points, EdgePoint(topology, vertices[node], vertices[node + 1], t, w), w,
+        SampleKind::Boundary, -1, out);
     }
+    path.Samples.push_back(cornerSample[vertices.back()]);
+    path.SampleArc.push_back(path.Arc.back());
+    out.Paths.push_back(std::move(path));
   }
 }
 
@@ -214,23 +239,81 @@ void ExcludeBoundaryBand(const MeshTopology& topology, const double* points, con
           continue;
         }
         const AtlasChart& chart = atlas.Charts[atlas.ChartOfTriangle[corner / 3]];
-        double uv[2][2];
-        for (int k = 0; k < 2; ++k)
+        const Index c = topology.CornerVertex(corner);
+        double uv[3][2];
+        for (int k = 0; k < 3; ++k)
         {
+          const Index v = k == 0 ? a : (k == 1 ? b : c);
           const Index local = static_cast<Index>(
-            std::lower_bound(chart.Vertices.begin(), chart.Vertices.end(), k ? b : a) - chart.Vertices.begin());
+            std::lower_bound(chart.Vertices.begin(), chart.Vertices.end(), v) - chart.Vertices.begin());
           AtlasUV(chart, local, uv[k]);
           uv[k][0] *= n;
           uv[k][1] *= n;
         }
+        // The band's width in texels by the map's scale across the edge (the
+        // height of the triangle there in texels over its height in 3D): a
+        // map squeezed across the boundary would otherwise have a band far
+        // wider than half a spacing on the surface.
         const double lengthPx = std::hypot(uv[1][0] - uv[0][0], uv[1][1] - uv[0][1]);
-        MarkAroundSegment(uv[0], uv[1], 0.5 * spacing3D * lengthPx / length3D, n, roles);
+        const double areaPx = std::abs((uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1]) - (uv[1][1] - uv[0][1]) * (uv[2][0] - uv[0][0]));
+        const double area3D = (Point(points, b) - Point(points, a)).cross(Point(points, c) - Point(points, a)).norm();
+        const double scale = area3D > 0.0 && lengthPx > 0.0 ? (areaPx / lengthPx) / (area3D / length3D) : lengthPx / length3D;
+        MarkAroundSegment(uv[0], uv[1], 0.5 * spacing3D * scale, n, roles);
       }
     }
   }
 }
 
+/// The control map at n^2 texels: expected samples per texel at unit
+/// density (the area map times the importance, NaN outside the charts);
+/// returns its sum.
+double BuildControlMap(const AtlasChart& packed, const double* points, const double* importance, int n, int threads,
+  ChartRaster& raster, std::vector<double>& map)
+{
+  RasterizeChart(packed, n, raster, threads);
+  std::vector<double> ratio(raster.Face.size()), weight(raster.Face.size(), 1.0);
+  AreaMap(raster, packed, points, ratio.data());
+  if (importance)
+  {
+    InterpolateOnRaster(raster, packed, importance, 1, weight.data(), false, threads);
+  }
+  double mass = 0.0;
+  map.resize(raster.Face.size());
+  for (std::size_t p = 0; p < raster.Face.size(); ++p)
+  {
+    const double d = raster.Face[p] >= 0 ? ratio[p] * std::max(0.0, weight[p]) / (double(n) * n) : 0.0;
+    map[p] = raster.Face[p] >= 0 ? d : std::numeric_limits<double>::quiet_NaN();
+    mass += d;
+  }
+  return mass;
+}
+
+/// The q-quantile of the finite values.
+double Quantile(const std::vector<double>& values, double q)
+{
+  std::vector<double> finite;
+  std::copy_if(values.begin(), values.end(), std::back_inserter(finite), [](double v) { return std::isfinite(v); });
+  if (finite.empty())
+  {
+    return 0.0;
+  }
+  const auto at = finite.begin() + static_cast<std::ptrdiff_t>(q * (finite.size() - 1));
+  std::nth_element(finite.begin(), at, finite.end());
+  return *at;
+}
+
 } // namespace
+
+Index LocateOnPath(const MeshTopology& topology, const SamplePath& path, double arc, double barycentric[3])
+{
+  const std::size_t last = path.Vertices.size() - 1;
+  std::size_t node = static_cast<std::size_t>(
+    std::upper_bound(path.Arc.begin(), path.Arc.end(), arc) - path.Arc.begin());
+  node = std::clamp<std::size_t>(node, 1, last) - 1;
+  const double span = path.Arc[node + 1] - path.Arc[node];
+  const double t = span > 0.0 ? std::clamp((arc - path.Arc[node]) / span, 0.0, 1.0) : 0.0;
+  return EdgePoint(topology, path.Vertices[node], path.Vertices[node + 1], t, barycentric);
+}
 
 SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
   const double* importance, const SamplingOptions& options)
@@ -242,27 +325,26 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
     return out;
   }
   const double packing = std::max(1e-3, atlas.PackingEfficiency);
-  const int n = options.Resolution > 0
+  int n = options.Resolution > 0
     ? options.Resolution
     : std::clamp(static_cast<int>(std::ceil(std::sqrt(8.0 * options.NumberOfSamples / packing))), 32, 8192);
-  out.Resolution = n;
-  // The control map: expected samples per texel at unit density.
   const AtlasChart packed = PackedAtlas(atlas);
-  const ChartRaster raster = RasterizeChart(packed, n, options.NumberOfThreads);
-  std::vector<double> ratio(raster.Face.size()), weight(raster.Face.size(), 1.0);
-  AreaMap(raster, packed, points, ratio.data());
-  if (importance)
+  ChartRaster raster;
+  double mass = BuildControlMap(packed, points, importance, n, options.NumberOfThreads, raster, out.ControlMap);
+  if (options.Resolution <= 0 && mass > 0.0)
   {
-    InterpolateOnRaster(raster, packed, importance, 1, weight.data(), false, options.NumberOfThreads);
+    // Where the charts' maps shrink the surface most, a texel would need
+    // more than one sample: finer texels until 99.9% of them need at most
+    // half a sample.
+    const double busiest = Quantile(out.ControlMap, 0.999) * options.NumberOfSamples / mass;
+    const int finer = std::min(8192, static_cast<int>(std::ceil(n * std::sqrt(busiest / 0.5))));
+    if (finer > n)
+    {
+      n = finer;
+      mass = BuildControlMap(packed, points, importance, n, options.NumberOfThreads, raster, out.ControlMap);
+    }
   }
-  double mass = 0.0;
-  out.ControlMap.resize(raster.Face.size());
-  for (std::size_t p = 0; p < raster.Face.size(); ++p)
-  {
-    const double d = raster.Face[p] >= 0 ? ratio[p] * std::max(0.0, weight[p]) / (double(n) * n) : 0.0;
-    out.ControlMap[p] = raster.Face[p] >= 0 ? d : std::numeric_limits<double>::quiet_NaN();
-    mass += d;
-  }
+  out.Resolution = n;
   if (!(mass > 0.0))
   {
     out.Error = "the importance is zero everywhere: no density to sample";
@@ -273,7 +355,7 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
   // by the map's mass.
   out.Density = options.NumberOfSamples / mass;
   const BoundaryPaths boundaries = ChartBoundaries(topology, atlas.ChartOfTriangle);
-  SampleBoundaries(topology, points, importance, boundaries, out.Density, out);
+  SampleBoundaries(topology, points, importance, atlas.ChartOfTriangle, boundaries, out.Density, out);
   out.BoundarySamples = static_cast<std::int64_t>(out.Kind.size());
   if (out.BoundarySamples > options.NumberOfSamples)
   {

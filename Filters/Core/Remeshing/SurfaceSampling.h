@@ -37,6 +37,17 @@ enum class SampleKind : std::uint8_t
   Corner = 2    ///< where chart boundaries meet (or a boundary loop starts)
 };
 
+/// A chart boundary path (a seam, a stretch of the surface's boundary or of
+/// a feature) and the samples on it.
+struct SamplePath
+{
+  std::vector<Index> Vertices;     ///< surface vertices, corner to corner (first == last on a loop)
+  std::vector<double> Arc;         ///< 3D arc length at each vertex (Arc[0] = 0)
+  std::vector<Index> Samples;      ///< sample ids in order, the corner samples at both ends
+  std::vector<double> SampleArc;   ///< arc length of each sample
+  int Charts[2] = { -1, -1 };      ///< the charts on its two sides (-1: none, on the surface's boundary)
+};
+
 struct SurfaceSamples
 {
   std::string Error;               ///< non-empty: no samples
@@ -48,9 +59,14 @@ struct SurfaceSamples
   int Resolution = 0;              ///< of the control map
   double Density = 0.0;            ///< samples per unit area where the importance is 1
   std::int64_t BoundarySamples = 0;///< samples on chart boundaries (corners included)
+  std::vector<SamplePath> Paths;   ///< the chart boundaries with their samples
   std::vector<double> ControlMap;  ///< expected samples per texel (Resolution^2, NaN outside the charts)
   std::vector<std::uint8_t> Halftone; ///< 1 per texel holding an interior sample
 };
+
+/// The point at arc length `arc` along `path`: a surface triangle with the
+/// path's edge there and the barycentric weights of its corners.
+Index LocateOnPath(const MeshTopology& topology, const SamplePath& path, double arc, double barycentric[3]);
 
 /// `importance`: one value >= 0 per surface vertex (null: uniform).
 SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,

@@ -1,4 +1,4 @@
-// Test helper: a mesh of Testing/Data with its topology and default atlas,
+// Test helper: a mesh of Testing/Data with its topology and atlas (default options unless given),
 // for the tests of the atlas, its maps and the remesher built on them.
 #pragma once
 
@@ -19,10 +19,10 @@ struct MeshWithAtlas
   MeshTopology Topology;
   AtlasResult Atlas;
 
-  explicit MeshWithAtlas(const std::string& name)
+  explicit MeshWithAtlas(const std::string& name, const AtlasOptions& options = {})
     : Surface(ReadMesh(name, Error))
     , Topology(Surface.Topology())
-    , Atlas(BuildAtlas(Topology, Surface.Points.data()))
+    , Atlas(BuildAtlas(Topology, Surface.Points.data(), options))
   {
     Error = Error.empty() ? Atlas.Error : Error;
   }

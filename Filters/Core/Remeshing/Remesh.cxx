@@ -1,0 +1,346 @@
+#include "Remeshing/Remesh.h"
+
+#include "Maps/GeometryImages.h"
+#include "Remeshing/ConstrainedDelaunay.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+namespace beltrami
+{
+
+namespace
+{
+
+/// One chart's share of the triangulation: its triangles in sample ids, and
+/// interior samples it had to move inside (sample, new triangle, weights).
+struct ChartTriangles
+{
+  std::string Error;
+  std::vector<Index> Triangles;
+  std::vector<double> UV; ///< 2 per triangle corner
+  struct Moved
+  {
+    Index Sample, Triangle;
+    double Weights[3];
+  };
+  std::vector<Moved> Moves;
+};
+
+/// The chart's points (its boundary paths' samples, then its interior
+/// samples) with their positions in the chart and the path segments.
+struct ChartPoints
+{
+  std::vector<Index> Sample;
+  std::vector<double> UV;
+  std::vector<Index> Segments;
+};
+
+ChartPoints GatherChart(const MeshTopology& topology, const AtlasChart& chart, const SurfaceSamples& samples,
+  const std::vector<int>& paths, const std::vector<Index>& interior, std::string& error)
+{
+  ChartPoints out;
+  std::unordered_map<Index, Index> local;
+  const auto add = [&](Index s) {
+    const auto [at, added] = local.emplace(s, static_cast<Index>(out.Sample.size()));
+    if (added)
+    {
+      double uv[2] = { 0.0, 0.0 };
+      if (!ChartPosition(topology, chart, samples.Triangle[s], &samples.Barycentric[3 * s], uv))
+      {
+        error = "a sample of a chart's boundary is not in the chart";
+      }
+      out.Sample.push_back(s);
+      out.UV.insert(out.UV.end(), uv, uv + 2);
+    }
+    return at->second;
+  };
+  for (int p : paths)
+  {
+    const std::vector<Index>& ids = samples.Paths[p].Samples;
+    for (std::size_t i = 0; i + 1 < ids.size(); ++i)
+    {
+      out.Segments.push_back(add(ids[i]));
+      out.Segments.push_back(add(ids[i + 1]));
+    }
+  }
+  for (Index s : interior)
+  {
+    add(s);
+  }
+  return out;
+}
+
+/// Moves each unused interior point to the centroid of the kept triangle
+/// whose centroid is nearest (strictly inside the domain); false if a
+/// boundary point is unused (the domain is broken).
+bool MoveInside(const DomainTriangulation& cdt, std::size_t firstInterior, ChartPoints& points)
+{
+  for (Index u : cdt.Unused)
+  {
+    if (static_cast<std::size_t>(u) < firstInterior || cdt.Triangles.empty())
+    {
+      return false;
+    }
+    double best = HUGE_VAL, target[2] = { 0.0, 0.0 };
+    for (std::size_t t = 0; t < cdt.Triangles.size(); t += 3)
+    {
+      double c[2] = { 0.0, 0.0 };
+      for (int k = 0; k < 3; ++k)
+      {
+        c[0] += points.UV[2 * cdt.Triangles[t + k]] / 3.0;
+        c[1] += points.UV[2 * cdt.Triangles[t + k] + 1] / 3.0;
+      }
+      const double d = std::hypot(c[0] - points.UV[2 * u], c[1] - points.UV[2 * u + 1]);
+      if (d < best)
+      {
+        best = d;
+        target[0] = c[0];
+        target[1] = c[1];
+      }
+    }
+    points.UV[2 * u] = target[0];
+    points.UV[2 * u + 1] = target[1];
+  }
+  return true;
+}
+
+/// Twice the signed area of the triangle (a, b, c) of the points' UV.
+double Cross2(const std::vector<double>& uv, Index a, Index b, Index c)
+{
+  return (uv[2 * b] - uv[2 * a]) * (uv[2 * c + 1] - uv[2 * a + 1]) -
+    (uv[2 * b + 1] - uv[2 * a + 1]) * (uv[2 * c] - uv[2 * a]);
+}
+
+/// Flips away the ears of the triangulation: triangles of three consecutive
+/// boundary samples (two of their edges on the boundary).  The chart on the
+/// other side of the boundary can have the same ear where the path turns
+/// the same way in both planes (across a corner of both squares): two
+/// triangles with the same three vertices.  Each ear's inner edge is
+/// swapped where the quadrilateral is convex.
+void FlipEars(const ChartPoints& points, std::vector<Index>& triangles)
+{
+  const auto key = [](Index a, Index b) { return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b); };
+  std::unordered_map<std::uint64_t, std::uint8_t> constrained;
+  for (std::size_t s = 0; s + 1 < points.Segments.size(); s += 2)
+  {
+    constrained[key(points.Segments[s], points.Segments[s + 1])] = 1;
+  }
+  std::unordered_map<std::uint64_t, std::size_t> triangleOfEdge; // directed edge a -> b: its triangle
+  const auto directed = [](Index a, Index b) { return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b); };
+  for (std::size_t t = 0; t < triangles.size(); t += 3)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      triangleOfEdge[directed(triangles[t + k], triangles[t + (k + 1) % 3])] = t;
+    }
+  }
+  for (std::size_t t = 0; t < triangles.size(); t += 3)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      // Ear at corner k: its two edges there constrained, the opposite one not.
+      const Index m = triangles[t + k], a = triangles[t + (k + 1) % 3], b = triangles[t + (k + 2) % 3];
+      if (!constrained.count(key(m, a)) || !constrained.count(key(b, m)) || constrained.count(key(a, b)))
+      {
+        continue;
+      }
+      const auto across = triangleOfEdge.find(directed(b, a));
+      if (across == triangleOfEdge.end())
+      {
+        continue;
+      }
+      const std::size_t u = across->second;
+      Index x = triangles[u];
+      for (int j = 0; j < 3; ++j)
+      {
+        x = triangles[u + j] != a && triangles[u + j] != b ? triangles[u + j] : x;
+      }
+      if (Cross2(points.UV, m, a, x) > 0.0 && Cross2(points.UV, m, x, b) > 0.0)
+      {
+        // (m, a, b) + (b, a, x) -> (m, a, x) + (m, x, b)
+        triangles[t] = m, triangles[t + 1] = a, triangles[t + 2] = x;
+        triangles[u] = m, triangles[u + 1] = x, triangles[u + 2] = b;
+        for (std::size_t f : { t, u })
+        {
+          for (int j = 0; j < 3; ++j)
+          {
+            triangleOfEdge[directed(triangles[f + j], triangles[f + (j + 1) % 3])] = f;
+          }
+        }
+        break;
+      }
+    }
+  }
+}
+
+ChartTriangles TriangulateChart(const MeshTopology& topology, const AtlasChart& chart, const SurfaceSamples& samples,
+  const std::vector<int>& paths, const std::vector<Index>& interior)
+{
+  ChartTriangles out;
+  ChartPoints points = GatherChart(topology, chart, samples, paths, interior, out.Error);
+  const std::size_t firstInterior = points.Sample.size() - interior.size();
+  DomainTriangulation cdt;
+  for (int attempt = 0; attempt < 3 && out.Error.empty(); ++attempt)
+  {
+    cdt = TriangulateDomain(points.UV, points.Segments);
+    if (!cdt.Error.empty() || cdt.Unused.empty())
+    {
+      break;
+    }
+    if (!MoveInside(cdt, firstInterior, points))
+    {
+      out.Error = "the boundary samples of a chart do not enclose a domain";
+    }
+    const ChartLocator locator(chart);
+    for (Index u : cdt.Unused)
+    {
+      ChartTriangles::Moved moved;
+      moved.Sample = points.Sample[u];
+      const Index t = locator.LocateNearest(&points.UV[2 * u], moved.Weights);
+      if (t < 0)
+      {
+        out.Error = "a sample moved inside its chart is off the chart";
+        break;
+      }
+      moved.Triangle = chart.Triangles[t];
+      out.Moves.push_back(moved);
+    }
+  }
+  if (out.Error.empty() && !cdt.Error.empty())
+  {
+    out.Error = cdt.Error;
+  }
+  if (out.Error.empty() && !cdt.Unused.empty())
+  {
+    out.Error = "samples stayed outside their chart";
+  }
+  FlipEars(points, cdt.Triangles);
+  for (Index p : cdt.Triangles)
+  {
+    out.Triangles.push_back(points.Sample[p]);
+    out.UV.insert(out.UV.end(), { points.UV[2 * p], points.UV[2 * p + 1] });
+  }
+  return out;
+}
+
+} // namespace
+
+bool ChartPosition(const MeshTopology& topology, const AtlasChart& chart, Index triangle, const double* barycentric,
+  double* uv)
+{
+  uv[0] = uv[1] = 0.0;
+  for (int k = 0; k < 3; ++k)
+  {
+    if (barycentric[k] == 0.0)
+    {
+      continue;
+    }
+    const Index v = topology.CornerVertex(3 * triangle + k);
+    const auto at = std::lower_bound(chart.Vertices.begin(), chart.Vertices.end(), v);
+    if (at == chart.Vertices.end() || *at != v)
+    {
+      return false;
+    }
+    const std::size_t local = static_cast<std::size_t>(at - chart.Vertices.begin());
+    uv[0] += barycentric[k] * chart.UV[2 * local];
+    uv[1] += barycentric[k] * chart.UV[2 * local + 1];
+  }
+  return true;
+}
+
+Vec3 SurfacePoint(const MeshTopology& topology, const double* points, Index triangle, const double* barycentric)
+{
+  Vec3 x = Vec3::Zero();
+  for (int k = 0; k < 3; ++k)
+  {
+    x += barycentric[k] * Point(points, topology.CornerVertex(3 * triangle + k));
+  }
+  return x;
+}
+
+Remesh CreateRemesh(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
+  const SurfaceSamples& samples, int numThreads)
+{
+  Remesh out;
+  const Index n = static_cast<Index>(samples.Kind.size());
+  const std::size_t charts = atlas.Charts.size();
+  std::vector<std::vector<int>> paths(charts);
+  std::vector<std::vector<Index>> interior(charts);
+  out.Path.assign(n, -1);
+  out.Arc.assign(n, 0.0);
+  for (std::size_t p = 0; p < samples.Paths.size(); ++p)
+  {
+    const SamplePath& path = samples.Paths[p];
+    for (int side = 0; side < 2; ++side)
+    {
+      if (path.Charts[side] >= 0)
+      {
+        paths[path.Charts[side]].push_back(static_cast<int>(p));
+      }
+    }
+    for (std::size_t i = 1; i + 1 < path.Samples.size(); ++i)
+    {
+      out.Path[path.Samples[i]] = static_cast<int>(p);
+      out.Arc[path.Samples[i]] = path.SampleArc[i];
+    }
+  }
+  for (Index s = 0; s < n; ++s)
+  {
+    if (samples.Kind[s] == SampleKind::Interior)
+    {
+      interior[samples.Chart[s]].push_back(s);
+    }
+  }
+  std::vector<ChartTriangles> parts(charts);
+  ParallelFor(static_cast<std::int64_t>(charts), numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t c = begin; c < end; ++c)
+    {
+      parts[c] = TriangulateChart(topology, atlas.Charts[c], samples, paths[c], interior[c]);
+    }
+  }, {}, 0, 1);
+  out.Triangle = samples.Triangle;
+  out.Barycentric = samples.Barycentric;
+  out.Kind = samples.Kind;
+  IndexArray triangles;
+  std::vector<int> faceChart;
+  std::vector<double> cornerUV;
+  for (std::size_t c = 0; c < charts; ++c)
+  {
+    if (!parts[c].Error.empty())
+    {
+      out.Error = "chart " + std::to_string(c) + ": " + parts[c].Error;
+      return out;
+    }
+    triangles.insert(triangles.end(), parts[c].Triangles.begin(), parts[c].Triangles.end());
+    faceChart.insert(faceChart.end(), parts[c].Triangles.size() / 3, static_cast<int>(c));
+    cornerUV.insert(cornerUV.end(), parts[c].UV.begin(), parts[c].UV.end());
+    for (const ChartTriangles::Moved& moved : parts[c].Moves)
+    {
+      out.Triangle[moved.Sample] = moved.Triangle;
+      std::copy(moved.Weights, moved.Weights + 3, &out.Barycentric[3 * moved.Sample]);
+    }
+  }
+  const MeshTopology topologyOut(n, std::move(triangles));
+  std::vector<double> positions(3 * static_cast<std::size_t>(n));
+  for (Index s = 0; s < n; ++s)
+  {
+    const Vec3 x = SurfacePoint(topology, points, out.Triangle[s], &out.Barycentric[3 * s]);
+    std::copy(x.data(), x.data() + 3, &positions[3 * s]);
+  }
+  if (topologyOut.NumberOfDroppedTriangles() > 0 ||
+    !HalfEdgeMesh::FromTopology(topologyOut, positions.data(), out.Mesh, out.Error))
+  {
+    out.Error = "the charts' triangulations do not join into a manifold: " +
+      (out.Error.empty() ? topologyOut.Describe() : out.Error);
+    return out;
+  }
+  out.FaceChart = std::move(faceChart);
+  out.CornerUV = std::move(cornerUV);
+  return out;
+}
+
+} // namespace beltrami

@@ -1,0 +1,392 @@
+#include "Remeshing/RemeshOptimization.h"
+
+#include "Maps/GeometryImages.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+
+namespace beltrami
+{
+
+namespace
+{
+
+/// Twice the signed area of the triangle (a, b, c) in the plane.
+inline double Cross2(const double* a, const double* b, const double* c)
+{
+  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+/// Area / perimeter^2 of a 3D triangle, over its value for the equilateral
+/// triangle (1: equilateral, 0: degenerate).
+double Roundness(const Vec3& a, const Vec3& b, const Vec3& c)
+{
+  const double perimeter = (b - a).norm() + (c - b).norm() + (a - c).norm();
+  const double area = 0.5 * (b - a).cross(c - a).norm();
+  return perimeter > 0.0 ? area / (perimeter * perimeter) * (36.0 / std::sqrt(3.0)) : 0.0;
+}
+
+/// The part of the plane triangle (p, a, b) nearer to p than to a and b
+/// (p's Voronoi region in it; in an obtuse triangle the circumcentre is
+/// replaced by the middle of the longest edge, the mixed area of thesis
+/// section 2.3): its area and centroid.
+double VoronoiPart(const double* p, const double* a, const double* b, double* centroid)
+{
+  const double ux = a[0] - p[0], uy = a[1] - p[1], vx = b[0] - p[0], vy = b[1] - p[1];
+  const double cross = ux * vy - uy * vx;
+  const double uu = ux * ux + uy * uy, vv = vx * vx + vy * vy, uv = ux * vx + uy * vy;
+  double c[2]; // relative to p
+  if (uv < 0.0 || uu < uv || vv < uv || cross == 0.0) // obtuse (or flat): middle of the longest edge
+  {
+    const double ab = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]);
+    const double* far = ab >= uu && ab >= vv ? a : (uu >= vv ? a : b);
+    const double* other = ab >= uu && ab >= vv ? b : p;
+    c[0] = 0.5 * (far[0] + other[0]) - p[0];
+    c[1] = 0.5 * (far[1] + other[1]) - p[1];
+  }
+  else
+  {
+    c[0] = (vy * uu - uy * vv) / (2.0 * cross);
+    c[1] = (ux * vv - vx * uu) / (2.0 * cross);
+  }
+  // Two triangles: (p, a/2, c) and (p, c, b/2).
+  const double area1 = 0.5 * std::abs(0.5 * ux * c[1] - 0.5 * uy * c[0]);
+  const double area2 = 0.5 * std::abs(c[0] * 0.5 * vy - c[1] * 0.5 * vx);
+  const double area = area1 + area2;
+  for (int k = 0; k < 2; ++k)
+  {
+    const double half[2] = { 0.5 * (k ? uy : ux), 0.5 * (k ? vy : vx) };
+    centroid[k] = p[k] + (area > 0.0 ? (area1 * (half[0] + c[k]) + area2 * (c[k] + half[1])) / (3.0 * area) : 0.0);
+  }
+  return area;
+}
+
+class Optimizer
+{
+public:
+  Optimizer(Remesh& remesh, const MeshTopology& topology, const double* points, const AtlasResult& atlas,
+    const SurfaceSamples& samples, const double* importance)
+    : R(remesh), M(remesh.Mesh), Topology(topology), Points(points), Atlas(atlas), Samples(samples),
+      Importance(importance)
+  {
+    for (const AtlasChart& chart : atlas.Charts)
+    {
+      Locators.emplace_back(chart);
+    }
+    Valence.resize(M.NumberOfVertices());
+    for (Index v = 0; v < M.NumberOfVertices(); ++v)
+    {
+      Valence[v] = M.Valence(v);
+    }
+    PathIndex.assign(M.NumberOfVertices(), -1);
+    for (const SamplePath& path : samples.Paths)
+    {
+      for (std::size_t i = 1; i + 1 < path.Samples.size(); ++i)
+      {
+        PathIndex[path.Samples[i]] = static_cast<Index>(i);
+      }
+    }
+  }
+
+  std::int64_t SwapForValence();
+  std::int64_t SwapForShape();
+  double Relax();
+
+private:
+  const double* UVAt(Index h) const { return &R.CornerUV[2 * h]; }
+  bool SameChart(Index h) const
+  {
+    return !M.IsBoundary(h) && R.FaceChart[h / 3] == R.FaceChart[M.Twin(h) / 3];
+  }
+  bool FlipKeepsCharts(Index h) const;
+  void Flip(Index h);
+  int Target(Index v) const { return M.IsBoundaryVertex(v) ? 4 : 6; }
+  double Weight(Index f) const;
+  bool MoveInterior(Index v, double& moved);
+  bool MoveOnPath(Index v, double& moved);
+  bool Place(Index v, Index triangle, const double* w, double& moved);
+
+  Remesh& R;
+  HalfEdgeMesh& M;
+  const MeshTopology& Topology;
+  const double* Points;
+  const AtlasResult& Atlas;
+  const SurfaceSamples& Samples;
+  const double* Importance;
+  std::vector<ChartLocator> Locators;
+  std::vector<Index> Valence;
+  std::vector<Index> PathIndex; ///< per vertex: its index in its path's Samples
+};
+
+/// The flip of h's edge (faces (a, b, c), (b, a, d) -> (c, a, d), (d, b, c))
+/// keeps both new faces positively oriented in the chart and does not fold
+/// the surface (the new faces' normals within 60 degrees of the old ones').
+bool Optimizer::FlipKeepsCharts(Index h) const
+{
+  const Index t = M.Twin(h);
+  const double *a = UVAt(h), *b = UVAt(HalfEdgeMesh::Next(h)), *c = UVAt(HalfEdgeMesh::Prev(h));
+  const double* d = UVAt(HalfEdgeMesh::Prev(t));
+  const double scale = std::abs(Cross2(a, b, c)) + std::abs(Cross2(b, a, d));
+  if (!(Cross2(c, a, d) > 1e-6 * scale && Cross2(d, b, c) > 1e-6 * scale))
+  {
+    return false;
+  }
+  const Vec3 pa = M.Position(M.Tail(h)), pb = M.Position(M.Head(h));
+  const Vec3 pc = M.Position(M.Tail(HalfEdgeMesh::Prev(h))), pd = M.Position(M.Tail(HalfEdgeMesh::Prev(t)));
+  const Vec3 before = ((pb - pa).cross(pc - pa) + (pa - pb).cross(pd - pb)).normalized();
+  const Vec3 n0 = (pa - pc).cross(pd - pc).normalized(), n1 = (pb - pd).cross(pc - pd).normalized();
+  return n0.dot(before) > 0.5 && n1.dot(before) > 0.5;
+}
+
+void Optimizer::Flip(Index h)
+{
+  const Index t = M.Twin(h);
+  const Index a = M.Tail(h), b = M.Head(h), c = M.Tail(HalfEdgeMesh::Prev(h)), d = M.Tail(HalfEdgeMesh::Prev(t));
+  const double uv[4][2] = { { UVAt(h)[0], UVAt(h)[1] },
+    { UVAt(HalfEdgeMesh::Next(h))[0], UVAt(HalfEdgeMesh::Next(h))[1] },
+    { UVAt(HalfEdgeMesh::Prev(h))[0], UVAt(HalfEdgeMesh::Prev(h))[1] },
+    { UVAt(HalfEdgeMesh::Prev(t))[0], UVAt(HalfEdgeMesh::Prev(t))[1] } };
+  const Index g = 3 * (h / 3), k = 3 * (t / 3);
+  M.FlipEdge(h); // faces (c, a, d) at g and (d, b, c) at k
+  const int order[6] = { 2, 0, 3, 3, 1, 2 };
+  for (int i = 0; i < 6; ++i)
+  {
+    const Index corner = i < 3 ? g + i : k + i - 3;
+    R.CornerUV[2 * corner] = uv[order[i]][0];
+    R.CornerUV[2 * corner + 1] = uv[order[i]][1];
+  }
+  --Valence[a];
+  --Valence[b];
+  ++Valence[c];
+  ++Valence[d];
+}
+
+/// Swaps edges inside charts wherever that lowers the sum of squared
+/// deviations of the four valences from their targets (section 4.4.2).
+std::int64_t Optimizer::SwapForValence()
+{
+  std::int64_t swaps = 0;
+  for (Index h = 0; h < M.NumberOfHalfEdges(); ++h)
+  {
+    if (!SameChart(h) || M.Twin(h) < h)
+    {
+      continue;
+    }
+    const Index a = M.Tail(h), b = M.Head(h);
+    const Index c = M.Tail(HalfEdgeMesh::Prev(h)), d = M.Tail(HalfEdgeMesh::Prev(M.Twin(h)));
+    const auto dev = [&](Index v, int change) {
+      const double x = Valence[v] + change - Target(v);
+      return x * x;
+    };
+    const double before = dev(a, 0) + dev(b, 0) + dev(c, 0) + dev(d, 0);
+    const double after = dev(a, -1) + dev(b, -1) + dev(c, 1) + dev(d, 1);
+    if (after < before && M.CanFlip(h) && FlipKeepsCharts(h))
+    {
+      Flip(h);
+      ++swaps;
+    }
+  }
+  return swaps;
+}
+
+/// Swaps edges inside charts wherever that raises the smaller
+/// area/perimeter^2 ratio of the two triangles (in 3D).
+std::int64_t Optimizer::SwapForShape()
+{
+  std::int64_t swaps = 0;
+  for (Index h = 0; h < M.NumberOfHalfEdges(); ++h)
+  {
+    if (!SameChart(h) || M.Twin(h) < h)
+    {
+      continue;
+    }
+    const Vec3 a = M.Position(M.Tail(h)), b = M.Position(M.Head(h));
+    const Vec3 c = M.Position(M.Tail(HalfEdgeMesh::Prev(h))), d = M.Position(M.Tail(HalfEdgeMesh::Prev(M.Twin(h))));
+    const double before = std::min(Roundness(a, b, c), Roundness(b, a, d));
+    const double after = std::min(Roundness(c, a, d), Roundness(d, b, c));
+    if (after > before * 1.01 && M.CanFlip(h) && FlipKeepsCharts(h))
+    {
+      Flip(h);
+      ++swaps;
+    }
+  }
+  return swaps;
+}
+
+/// The relaxation weight of face f: its 3D area times its mean importance.
+double Optimizer::Weight(Index f) const
+{
+  const Vec3 a = M.Position(M.Tail(3 * f)), b = M.Position(M.Tail(3 * f + 1)), c = M.Position(M.Tail(3 * f + 2));
+  double importance = 1.0;
+  if (Importance)
+  {
+    importance = 0.0;
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index v = M.Tail(3 * f + k);
+      for (int j = 0; j < 3; ++j)
+      {
+        importance += R.Barycentric[3 * v + j] * std::max(0.0, Importance[Topology.CornerVertex(3 * R.Triangle[v] + j)]) / 3.0;
+      }
+    }
+  }
+  return 0.5 * (b - a).cross(c - a).norm() * importance;
+}
+
+/// Moves vertex v to (triangle, w) of the input if every face around it stays
+/// positively oriented in its chart; `moved` gets the 3D distance.
+bool Optimizer::Place(Index v, Index triangle, const double* w, double& moved)
+{
+  std::vector<std::pair<Index, std::array<double, 2>>> corners;
+  bool valid = true;
+  M.ForEachOutgoing(v, [&](Index h) {
+    std::array<double, 2> uv;
+    valid = valid && ChartPosition(Topology, Atlas.Charts[R.FaceChart[h / 3]], triangle, w, uv.data()) &&
+      Cross2(uv.data(), UVAt(HalfEdgeMesh::Next(h)), UVAt(HalfEdgeMesh::Prev(h))) >
+        1e-3 * std::abs(Cross2(UVAt(h), UVAt(HalfEdgeMesh::Next(h)), UVAt(HalfEdgeMesh::Prev(h))));
+    corners.push_back({ h, uv });
+  });
+  if (!valid)
+  {
+    return false;
+  }
+  for (const auto& [h, uv] : corners)
+  {
+    R.CornerUV[2 * h] = uv[0];
+    R.CornerUV[2 * h + 1] = uv[1];
+  }
+  const Vec3 x = SurfacePoint(Topology, Points, triangle, w);
+  moved = (x - M.Position(v)).norm();
+  M.SetPosition(v, x);
+  R.Triangle[v] = triangle;
+  std::copy(w, w + 3, &R.Barycentric[3 * v]);
+  return true;
+}
+
+/// An interior vertex towards the weighted centroid of its faces in its
+/// chart (halving the step while a face would flip).
+bool Optimizer::MoveInterior(Index v, double& moved)
+{
+  double sum = 0.0, target[2] = { 0.0, 0.0 };
+  int chart = -1;
+  const double* p = nullptr;
+  M.ForEachOutgoing(v, [&](Index h) {
+    // The face's share of v's Voronoi cell in the plane, weighted by the
+    // face's 3D area (times importance) per unit of its area in the plane.
+    const double* q[3] = { UVAt(h), UVAt(HalfEdgeMesh::Next(h)), UVAt(HalfEdgeMesh::Prev(h)) };
+    const double planeArea = 0.5 * std::abs(Cross2(q[0], q[1], q[2]));
+    double c[2];
+    const double part = VoronoiPart(q[0], q[1], q[2], c);
+    const double w = planeArea > 0.0 ? Weight(h / 3) / planeArea * part : 0.0;
+    target[0] += w * c[0];
+    target[1] += w * c[1];
+    sum += w;
+    chart = R.FaceChart[h / 3];
+    p = UVAt(h);
+  });
+  if (!(sum > 0.0) || chart < 0)
+  {
+    return false;
+  }
+  const double start[2] = { p[0], p[1] };
+  for (double step = 1.0; step > 0.1; step *= 0.5)
+  {
+    const double uv[2] = { start[0] + step * (target[0] / sum - start[0]), start[1] + step * (target[1] / sum - start[1]) };
+    double w[3];
+    const Index t = Locators[chart].LocateNearest(uv, w);
+    if (t >= 0 && Place(v, Atlas.Charts[chart].Triangles[t], w, moved))
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+/// A vertex of a chart boundary path along it by the tangential part of the
+/// move to the weighted centroid of all its faces (on both sides of a seam),
+/// kept between its neighbours on the path.
+bool Optimizer::MoveOnPath(Index v, double& moved)
+{
+  const SamplePath& path = Samples.Paths[R.Path[v]];
+  const Index i = PathIndex[v];
+  double sum = 0.0;
+  Vec3 target = Vec3::Zero();
+  M.ForEachOutgoing(v, [&](Index h) {
+    const double w = Weight(h / 3);
+    target += w * (M.Position(M.Tail(h)) + M.Position(M.Head(h)) + M.Position(M.Tail(HalfEdgeMesh::Prev(h)))) / 3.0;
+    sum += w;
+  });
+  if (!(sum > 0.0))
+  {
+    return false;
+  }
+  const double arc = R.Arc[v];
+  const double lo = i > 1 ? R.Arc[path.Samples[i - 1]] : 0.0;
+  const double hi = i + 2 < static_cast<Index>(path.Samples.size()) ? R.Arc[path.Samples[i + 1]] : path.Arc.back();
+  // The path's direction at v: between the points a little before and after it.
+  double w0[3], w1[3];
+  const double delta = 1e-3 * (hi - lo);
+  const Index t0 = LocateOnPath(Topology, path, arc - delta, w0), t1 = LocateOnPath(Topology, path, arc + delta, w1);
+  const Vec3 tangent = SurfacePoint(Topology, Points, t1, w1) - SurfacePoint(Topology, Points, t0, w0);
+  if (!(tangent.norm() > 0.0))
+  {
+    return false;
+  }
+  const double shift = (target / sum - M.Position(v)).dot(tangent.normalized());
+  for (double step = 1.0; step > 0.1; step *= 0.5)
+  {
+    const double next = std::clamp(arc + step * shift, lo + 0.1 * (arc - lo), hi - 0.1 * (hi - arc));
+    double w[3];
+    const Index t = LocateOnPath(Topology, path, next, w);
+    if (Place(v, t, w, moved))
+    {
+      R.Arc[v] = next;
+      return true;
+    }
+  }
+  return false;
+}
+
+/// One relaxation sweep over the vertices (section 4.4.3); the mean 3D move.
+double Optimizer::Relax()
+{
+  double total = 0.0;
+  for (Index v = 0; v < M.NumberOfVertices(); ++v)
+  {
+    double moved = 0.0;
+    if (R.Kind[v] == SampleKind::Interior)
+    {
+      MoveInterior(v, moved);
+    }
+    else if (R.Kind[v] == SampleKind::Boundary)
+    {
+      MoveOnPath(v, moved);
+    }
+    total += moved;
+  }
+  return total / std::max<Index>(1, M.NumberOfVertices());
+}
+
+} // namespace
+
+RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& topology, const double* points,
+  const AtlasResult& atlas, const SurfaceSamples& samples, const RemeshOptimizationOptions& options)
+{
+  RemeshOptimizationStatistics stats;
+  if (!remesh.Error.empty())
+  {
+    return stats;
+  }
+  Optimizer optimizer(remesh, topology, points, atlas, samples, options.Importance);
+  for (int i = 0; i < options.Iterations; ++i)
+  {
+    stats.ShapeSwaps += optimizer.SwapForShape();
+    stats.ValenceSwaps += optimizer.SwapForValence();
+    stats.MeanDisplacement = optimizer.Relax();
+  }
+  return stats;
+}
+
+} // namespace beltrami
