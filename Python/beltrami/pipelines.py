@@ -23,7 +23,7 @@ from vtkmodules.vtkRenderingCore import (vtkActor, vtkColorTransferFunction, vtk
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (rendering backend)
 
 from .BeltramiFilters import (vtkDiscreteCurvatures, vtkImageBeltramiDenoising, vtkIntrinsicParameterization,
-                              vtkSurfaceAtlas)
+                              vtkSurfaceAtlas, vtkSurfaceRemeshing)
 from .BeltramiIO import vtkOFFReader
 
 SIGMA = 0.1  # the noise level of the denoising demo and tests
@@ -130,6 +130,31 @@ def surface_atlas(mesh_path, charts=0, split_at_features=False):
     f.SetNumberOfCharts(charts)
     f.SetSplitAtFeatures(split_at_features)
     return run_on_off(mesh_path, f)
+
+
+def remesh(mesh_path, vertices=10000, importance=0, gamma=1.0, split_at_features=False):
+    """vtkSurfaceRemeshing on an OFF mesh (importance: vtkSurfaceRemeshing's
+    UNIFORM, MEAN_CURVATURE, ...); returns (filter, seconds)."""
+    f = vtkSurfaceRemeshing()
+    f.SetNumberOfVertices(vertices)
+    f.SetImportance(importance)
+    f.SetGamma(gamma)
+    f.SetSplitAtFeatures(split_at_features)
+    return run_on_off(mesh_path, f)
+
+
+def render_wireframe(polydata, png_path, size=(800, 800), view_up=(0, 1, 0), direction=(0, 0.2, 1), zoom=1.0):
+    """The surface in a light colour with its edges drawn (a remesh's
+    triangles)."""
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputData(polydata)
+    mapper.ScalarVisibilityOff()
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetColor(0.93, 0.86, 0.70)
+    actor.GetProperty().EdgeVisibilityOn()
+    actor.GetProperty().SetEdgeColor(0.15, 0.15, 0.15)
+    return snapshot(actor, png_path, size, view_up=view_up, direction=direction, zoom=zoom)
 
 
 def checkerboard(squares=16, pixels=32):

@@ -233,6 +233,20 @@ check(list(atlas.SeamLabelsArray)[-1] == "None" and sharp_cut.GetFieldData().Get
       and sharp_cut.GetFieldData().GetArray("AtlasCharts").GetValue(0) > atlas_charts,
       "atlas keeping the elephant's 45 edges sharper than 75 degrees as chart boundaries")
 
+# The remesher (chapter 4) on the split elephant: gathered on rank 0, which
+# holds the whole remesh with exactly the requested vertices.
+remesher = SurfaceRemeshing(Input=ExtractSurface(Input=RedistributeDataSet(Input=elephant_surface)))
+check(remesher.NumberOfVertices == 10000 and remesher.Importance == "Uniform" and remesher.Iterations == 50,
+      "remesher defaults")
+remesher.NumberOfVertices = 4000
+remesher.UpdatePipeline()
+remeshed = servermanager.Fetch(remesher)
+elephant_info = elephant_surface.GetDataInformation()
+same_genus = 2 * 4000 + elephant_info.GetNumberOfCells() - 2 * elephant_info.GetNumberOfPoints()  # F = 2V - 2 chi
+check(remeshed.GetNumberOfPoints() == 4000 and remeshed.GetNumberOfCells() == same_genus
+      and remeshed.GetFieldData().GetArray("RemeshMeanMinimumAngle").GetValue(0) > 48.0,
+      "remesh of the elephant (genus 3) over %d partition(s): 4000 vertices, the same Euler characteristic" % partitions)
+
 # Image denoising: the camera picture (8-bit greyscale) through the plugin.
 image = PNGSeriesReader(FileNames=[os.path.join(DATA, "camera.png")])
 image.UpdatePipeline()  # as in the GUI: the array lists need the data information

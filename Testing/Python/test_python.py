@@ -9,7 +9,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersSources import vtkSphereSource
 
 from beltrami import (vtkDiscreteCurvatures, vtkImplicitFairing, vtkIntrinsicParameterization,
-                      vtkOFFReader, vtkOFFWriter)
+                      vtkOFFReader, vtkOFFWriter, vtkSurfaceRemeshing)
 from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIdList, vtkUnsignedCharArray
 from vtkmodules.util.numpy_support import numpy_to_vtk
 from configure import configured
@@ -366,6 +366,64 @@ class ParameterizationFromPython(unittest.TestCase):
         f.GlobalWarningDisplayOn()
         self.assertTrue(failed)  # the request failed
         self.assertIsNone(f.GetOutput().GetPointData().GetArray("UV"))
+
+
+class RemeshingFromPython(unittest.TestCase):
+    """vtkSurfaceRemeshing (thesis chapter 4) through the wrapping."""
+
+    def remesher(self, name="mushroom.off"):
+        reader = vtkOFFReader()
+        reader.SetFileName(os.path.join(DATA, name))
+        f = vtkSurfaceRemeshing()
+        f.SetInputConnection(reader.GetOutputPort())
+        return reader, f
+
+    def test_exact_count_point_data_and_the_kept_atlas(self):
+        reader, f = self.remesher()
+        reader.Update()
+        heights = numpy_to_vtk(vtk_to_numpy(reader.GetOutput().GetPoints().GetData())[:, 2].copy())
+        heights.SetName("Height")
+        reader.GetOutput().GetPointData().AddArray(heights)
+        f.SetInputData(reader.GetOutput())
+        self.assertEqual((f.GetNumberOfVertices(), f.GetImportance(), f.GetIterations()), (10000, 0, 50))
+        for count in (3000, 1234):
+            f.SetNumberOfVertices(count)
+            f.Update()
+            out = f.GetOutput()
+            self.assertEqual(out.GetNumberOfPoints(), count)
+            # The interpolated height is the height of the new vertices (linear data, barycentric interpolation).
+            z = vtk_to_numpy(out.GetPoints().GetData())[:, 2]
+            np.testing.assert_allclose(vtk_to_numpy(out.GetPointData().GetArray("Height")), z, atol=1e-9)
+            self.assertGreater(out.GetFieldData().GetArray("RemeshMeanMinimumAngle").GetValue(0), 49.0)
+        self.assertEqual(f.GetAtlasBuilds(), 1)  # only the sampling changed
+        control = f.GetOutputDataObject(1).GetBlock(0)
+        halftone = vtk_to_numpy(control.GetPointData().GetArray("Halftone"))
+        kinds = vtk_to_numpy(f.GetOutput().GetPointData().GetArray("SampleKind"))
+        self.assertEqual(int(halftone.sum()), int((kinds == 0).sum()))
+
+    def test_curvature_importance_concentrates_the_vertices(self):
+        _, f = self.remesher("bunny00.off")
+        f.SetNumberOfVertices(3000)
+        f.SetImportance(vtkSurfaceRemeshing.MEAN_CURVATURE)
+        f.Update()
+        self.assertEqual(f.GetOutput().GetNumberOfPoints(), 3000)
+        variation = f.GetOutput().GetFieldData().GetArray("RemeshEdgeLengthVariation").GetValue(0)
+        f.SetImportance(vtkSurfaceRemeshing.UNIFORM)
+        f.Update()
+        uniform = f.GetOutput().GetFieldData().GetArray("RemeshEdgeLengthVariation").GetValue(0)
+        self.assertGreater(variation, 2 * uniform)
+
+    def test_bad_requests_are_errors_not_crashes(self):
+        _, f = self.remesher()
+        f.SetNumberOfVertices(10)  # fewer than the chart boundaries need
+        f.GlobalWarningDisplayOff()
+        failed = f.GetExecutive().Update() == 0
+        f.SetNumberOfVertices(1000)
+        f.SetImportance(vtkSurfaceRemeshing.POINT_ARRAY)  # no array selected
+        failed_array = f.GetExecutive().Update() == 0
+        f.GlobalWarningDisplayOn()
+        self.assertTrue(failed and failed_array)
+        self.assertEqual(f.GetOutput().GetNumberOfPoints(), 0)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,272 @@
+#include "vtkSurfaceRemeshing.h"
+
+#include "vtkBeltramiGather.h"
+#include "vtkBeltramiSurface.h"
+
+#include "Maps/Atlas.h"
+#include "Mesh/MeshMeasures.h"
+#include "Remeshing/SurfaceRemeshing.h"
+
+#include <vtkCellArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkIdList.h>
+#include <vtkImageData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkMultiBlockDataSet.h>
+#include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkSurfaceRemeshing);
+
+struct vtkSurfaceRemeshing::Kept
+{
+  beltrami::AtlasResult Atlas;
+  const void* Input = nullptr;
+  vtkMTimeType InputTime = 0;
+  bool SplitAtFeatures = false;
+  double FeatureAngle = 0.0;
+};
+
+vtkSurfaceRemeshing::vtkSurfaceRemeshing()
+{
+  this->SetNumberOfOutputPorts(2);
+  // Input array 0: the importance of POINT_ARRAY (a point array).
+  this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, static_cast<const char*>(nullptr));
+}
+
+vtkSurfaceRemeshing::~vtkSurfaceRemeshing() = default;
+
+int vtkSurfaceRemeshing::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 1)
+  {
+    info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkMultiBlockDataSet");
+    return 1;
+  }
+  return this->Superclass::FillOutputPortInformation(port, info);
+}
+
+int vtkSurfaceRemeshing::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  if (!input || !output)
+  {
+    vtkErrorMacro("Input and output must be vtkPolyData.");
+    return 0;
+  }
+  vtkMultiBlockDataSet::GetData(outputVector, 1)->Initialize();
+  return vtkBeltramiGather::RunWhole(outputVector->GetInformationObject(0), input, output,
+    vtkBeltramiGather::Results::OnRankZero, [this](vtkPointSet* in, vtkPointSet* out, int) {
+      return this->Build(vtkPolyData::SafeDownCast(in), vtkPolyData::SafeDownCast(out));
+    });
+}
+
+const beltrami::AtlasResult& vtkSurfaceRemeshing::Atlas(vtkPolyData* input, const void* topology, const double* points)
+{
+  const vtkMTimeType time = std::max(input->GetMTime(), input->GetPoints() ? input->GetPoints()->GetMTime() : 0);
+  if (!this->Cache || this->Cache->Input != input || this->Cache->InputTime != time ||
+    this->Cache->SplitAtFeatures != this->SplitAtFeatures || this->Cache->FeatureAngle != this->FeatureAngle)
+  {
+    beltrami::AtlasOptions options = beltrami::RemeshingAtlasOptions();
+    options.SplitAtFeatures = this->SplitAtFeatures;
+    options.FeatureAngle = this->FeatureAngle;
+    options.NumberOfThreads = this->NumberOfThreads;
+    this->Cache = std::make_unique<Kept>();
+    this->Cache->Atlas =
+      beltrami::BuildAtlas(*static_cast<const beltrami::MeshTopology*>(topology), points, options);
+    this->Cache->Input = input;
+    this->Cache->InputTime = time;
+    this->Cache->SplitAtFeatures = this->SplitAtFeatures;
+    this->Cache->FeatureAngle = this->FeatureAngle;
+    ++this->AtlasBuilds;
+  }
+  return this->Cache->Atlas;
+}
+
+namespace
+{
+
+void AddField(vtkPolyData* output, const char* name, std::initializer_list<double> values)
+{
+  vtkNew<vtkDoubleArray> array;
+  array->SetName(name);
+  for (double v : values)
+  {
+    array->InsertNextValue(v);
+  }
+  output->GetFieldData()->AddArray(array);
+}
+
+/// The remesh into `output`: points, triangles, the input's point data
+/// interpolated, the kind of every vertex and the quality figures.
+void WriteRemesh(vtkPolyData* input, const beltrami::MeshTopology& topology, const beltrami::RemeshResult& r,
+  std::size_t charts, vtkPolyData* output)
+{
+  const vtkIdType n = static_cast<vtkIdType>(r.Points.size() / 3);
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(n);
+  for (vtkIdType v = 0; v < n; ++v)
+  {
+    points->SetPoint(v, &r.Points[3 * v]);
+  }
+  vtkNew<vtkCellArray> polys;
+  for (std::size_t t = 0; t < r.Triangles.size(); t += 3)
+  {
+    const vtkIdType ids[3] = { r.Triangles[t], r.Triangles[t + 1], r.Triangles[t + 2] };
+    polys->InsertNextCell(3, ids);
+  }
+  output->SetPoints(points);
+  output->SetPolys(polys);
+  vtkPointData* in = input->GetPointData();
+  vtkPointData* out = output->GetPointData();
+  out->InterpolateAllocate(in, n);
+  vtkNew<vtkIdList> corners;
+  corners->SetNumberOfIds(3);
+  for (vtkIdType v = 0; v < n; ++v)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      corners->SetId(k, topology.CornerVertex(3 * r.SourceTriangle[v] + k));
+    }
+    out->InterpolatePoint(in, v, corners, const_cast<double*>(&r.SourceBarycentric[3 * v]));
+  }
+  vtkNew<vtkUnsignedCharArray> kind;
+  kind->SetName("SampleKind");
+  kind->SetNumberOfValues(n);
+  for (vtkIdType v = 0; v < n; ++v)
+  {
+    kind->SetValue(v, static_cast<unsigned char>(r.Samples.Kind[v]));
+  }
+  out->AddArray(kind);
+  const beltrami::MeshTopology remesh(static_cast<beltrami::Index>(n), beltrami::IndexArray(r.Triangles.begin(), r.Triangles.end()));
+  const beltrami::TriangleQuality q = beltrami::MeasureTriangleQuality(remesh, r.Points.data());
+  AddField(output, "RemeshMeanMinimumAngle", { q.MeanMinimumAngle });
+  AddField(output, "RemeshMinimumAngle", { q.MinimumAngle });
+  AddField(output, "RemeshFractionBelow30", { q.FractionBelow30 });
+  AddField(output, "RemeshFractionValence6", { q.FractionValence6 });
+  AddField(output, "RemeshEdgeLengthVariation", { q.EdgeLengthVariation });
+  AddField(output, "RemeshCharts", { static_cast<double>(charts) });
+  AddField(output, "RemeshSeconds", { r.SamplingSeconds, r.TriangulationSeconds, r.OptimizationSeconds });
+}
+
+/// The control map and the halftone as one image (output 1).
+void WriteControlMap(const beltrami::SurfaceSamples& samples, vtkMultiBlockDataSet* maps)
+{
+  const int n = samples.Resolution;
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(n, n, 1);
+  image->SetSpacing(1.0 / n, 1.0 / n, 1.0);
+  image->SetOrigin(0.5 / n, 0.5 / n, 0.0);
+  vtkNew<vtkDoubleArray> map;
+  map->SetName("ControlMap");
+  map->SetNumberOfValues(static_cast<vtkIdType>(n) * n);
+  vtkNew<vtkUnsignedCharArray> halftone;
+  halftone->SetName("Halftone");
+  halftone->SetNumberOfValues(static_cast<vtkIdType>(n) * n);
+  for (vtkIdType p = 0; p < static_cast<vtkIdType>(n) * n; ++p)
+  {
+    map->SetValue(p, samples.ControlMap[p]);
+    halftone->SetValue(p, samples.Halftone.empty() ? 0 : samples.Halftone[p]);
+  }
+  image->GetPointData()->AddArray(map);
+  image->GetPointData()->AddArray(halftone);
+  maps->SetNumberOfBlocks(1);
+  maps->SetBlock(0, image);
+  maps->GetMetaData(0u)->Set(vtkMultiBlockDataSet::NAME(), "ControlMap");
+}
+
+} // namespace
+
+int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
+{
+  output->Initialize(); // a defined output: empty
+  if (!input || input->GetNumberOfPoints() == 0)
+  {
+    vtkWarningMacro("Input has no points: the remesh is empty.");
+    return 1;
+  }
+  vtkBeltramiSurface surface;
+  if (!surface.Build(input, this->NumberOfThreads))
+  {
+    vtkErrorMacro("Cannot process the input surface: " << surface.Error());
+    return 0;
+  }
+  const beltrami::MeshTopology& topology = surface.Topology();
+  if (topology.NumberOfTriangles() == 0)
+  {
+    vtkWarningMacro("Input has no polygons or triangle strips: the remesh is empty.");
+    return 1;
+  }
+  std::vector<double> storage;
+  const double* points = surface.PointsAsDouble(storage);
+  std::vector<double> importance;
+  if (this->Importance == POINT_ARRAY)
+  {
+    std::string error;
+    vtkDataArray* array = surface.SelectedPointArray(this, 0, 1, "importance", error);
+    if (!array)
+    {
+      vtkErrorMacro(<< (error.empty() ? std::string("Importance POINT_ARRAY needs a point array (input array 0).") : error)
+                    << " The output is empty.");
+      return 0;
+    }
+    std::vector<double> values(topology.NumberOfVertices());
+    for (beltrami::Index v = 0; v < topology.NumberOfVertices(); ++v)
+    {
+      values[v] = array->GetComponent(v, 0);
+    }
+    importance = beltrami::ImportanceFromValues(values, this->Gamma, this->MinimumImportance);
+  }
+  else if (this->Importance != UNIFORM)
+  {
+    importance = beltrami::ImportanceFromValues(beltrami::CurvatureValues(topology, points,
+      static_cast<beltrami::CurvatureMeasure>(this->Importance), this->NumberOfThreads), this->Gamma,
+      this->MinimumImportance);
+  }
+  const beltrami::AtlasResult& atlas = this->Atlas(input, &topology, points);
+  if (!atlas.Error.empty())
+  {
+    vtkErrorMacro(<< "No atlas: " << atlas.Error << ". The output is empty.");
+    return 0;
+  }
+  beltrami::RemeshOptions options;
+  options.NumberOfVertices = this->NumberOfVertices;
+  options.Iterations = this->Iterations;
+  options.NumberOfThreads = this->NumberOfThreads;
+  const beltrami::RemeshResult remesh =
+    beltrami::RemeshSurface(topology, points, atlas, importance.empty() ? nullptr : importance.data(), options);
+  if (!remesh.Error.empty())
+  {
+    vtkErrorMacro(<< "Cannot remesh with " << this->NumberOfVertices << " vertices: " << remesh.Error
+                  << ". The output is empty.");
+    return 0;
+  }
+  WriteRemesh(input, topology, remesh, atlas.Charts.size(), output);
+  WriteControlMap(remesh.Samples, vtkMultiBlockDataSet::SafeDownCast(this->GetOutputDataObject(1)));
+  return 1;
+}
+
+void vtkSurfaceRemeshing::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "NumberOfVertices: " << this->NumberOfVertices << "\n"
+     << indent << "Importance: " << this->Importance << "\n"
+     << indent << "Gamma: " << this->Gamma << "\n"
+     << indent << "MinimumImportance: " << this->MinimumImportance << "\n"
+     << indent << "SplitAtFeatures: " << this->SplitAtFeatures << "\n"
+     << indent << "FeatureAngle: " << this->FeatureAngle << "\n"
+     << indent << "Iterations: " << this->Iterations << "\n"
+     << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}

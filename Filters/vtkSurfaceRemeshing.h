@@ -1,0 +1,129 @@
+/**
+ * @class   vtkSurfaceRemeshing
+ * @brief   Remeshes a triangle surface of any genus, open or closed, with
+ *          exactly NumberOfVertices vertices (thesis chapter 4): uniform or
+ *          adapted to curvature or to a point array.
+ *
+ * The surface's atlas (vtkSurfaceAtlas's core with natural chart boundaries
+ * and area-balanced charts, section 4.2.4; sharp edges kept as chart
+ * boundaries with SplitAtFeatures) gives the control map: the area map of
+ * the packed atlas times an importance per vertex (section 4.3.1).  Exactly
+ * NumberOfVertices samples are spread over it: the chart boundaries (seams,
+ * the surface's boundary, sharp edges) by 1D error diffusion with the
+ * square-root law, the rest by Ostromoukhov's variable-coefficient error
+ * diffusion (section 4.3.2).  They are triangulated chart by chart in the
+ * parameter plane (CGAL's constrained Delaunay triangulation with exact
+ * predicates, the boundary samples as constraints; section 4.4.1), lifted
+ * to 3D through the input triangles (barycentric coordinates), joined along
+ * the shared boundary samples into one watertight mesh with the input's
+ * topology, and optimised with the vertices kept (sections 4.4.2-4.4.4):
+ * Iterations rounds of area/perimeter^2 and valence edge swaps and Lloyd
+ * relaxation in the parameter planes, seam vertices sliding along the seams.
+ *
+ * Importance: UNIFORM (default), MEAN_CURVATURE (|H|), GAUSSIAN_CURVATURE
+ * (|K|), TOTAL_CURVATURE (k1^2 + k2^2), MAXIMUM_CURVATURE (max |k_i|) or
+ * POINT_ARRAY (input array 0, a 1-component point array), through the
+ * transfer function max(MinimumImportance, (|value| / mean)^Gamma): vertex
+ * density proportional to it.
+ *
+ * Output 0: the remesh (triangles), the input's point arrays interpolated at
+ * its vertices (barycentric in the input triangle under each), point array
+ * SampleKind (0 inside a chart, 1 on a chart boundary, 2 at a corner of the
+ * chart boundaries), field arrays RemeshMeanMinimumAngle,
+ * RemeshMinimumAngle, RemeshFractionBelow30, RemeshFractionValence6,
+ * RemeshEdgeLengthVariation (degrees and fractions), RemeshCharts and
+ * RemeshSeconds (sampling, triangulation, optimisation).  Output 1: a
+ * vtkMultiBlockDataSet with the control map as an image (block
+ * "ControlMap": point arrays ControlMap, expected samples per texel, NaN
+ * outside the charts, and Halftone, 1 where an interior sample is).
+ *
+ * The atlas is kept between runs: changing only NumberOfVertices,
+ * Importance, Gamma, MinimumImportance or Iterations re-runs sampling,
+ * triangulation and optimisation only.  Non-manifold or inconsistently
+ * oriented input, NaN points, empty input and counts the chart boundaries
+ * cannot hold are reported as errors with an empty output.  The remesher
+ * needs the whole surface: split data are gathered on rank 0, which holds
+ * the remesh.
+ */
+#ifndef vtkSurfaceRemeshing_h
+#define vtkSurfaceRemeshing_h
+
+#include "BeltramiFiltersModule.h"
+#include <vtkPolyDataAlgorithm.h>
+
+#include <memory> // for the kept atlas
+
+namespace beltrami
+{
+struct AtlasResult;
+}
+
+class BELTRAMIFILTERS_EXPORT vtkSurfaceRemeshing : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkSurfaceRemeshing* New();
+  vtkTypeMacro(vtkSurfaceRemeshing, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum ImportanceType
+  {
+    UNIFORM = 0,
+    MEAN_CURVATURE = 1,
+    GAUSSIAN_CURVATURE = 2,
+    TOTAL_CURVATURE = 3,
+    MAXIMUM_CURVATURE = 4,
+    POINT_ARRAY = 5
+  };
+
+  vtkSetClampMacro(NumberOfVertices, vtkIdType, 3, VTK_ID_MAX);
+  vtkGetMacro(NumberOfVertices, vtkIdType);
+  vtkSetClampMacro(Importance, int, UNIFORM, POINT_ARRAY);
+  vtkGetMacro(Importance, int);
+  vtkSetClampMacro(Gamma, double, 0.0, 10.0);
+  vtkGetMacro(Gamma, double);
+  vtkSetClampMacro(MinimumImportance, double, 0.0, 1.0);
+  vtkGetMacro(MinimumImportance, double);
+  vtkSetMacro(SplitAtFeatures, bool);
+  vtkGetMacro(SplitAtFeatures, bool);
+  vtkBooleanMacro(SplitAtFeatures, bool);
+  vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
+  vtkGetMacro(FeatureAngle, double);
+  vtkSetClampMacro(Iterations, int, 0, VTK_INT_MAX);
+  vtkGetMacro(Iterations, int);
+  vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
+  vtkGetMacro(NumberOfThreads, int);
+  /// How many times the atlas was built (it is kept while the input and the
+  /// feature settings stay the same).
+  vtkGetMacro(AtlasBuilds, int);
+
+protected:
+  vtkSurfaceRemeshing();
+  ~vtkSurfaceRemeshing() override;
+
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  vtkIdType NumberOfVertices = 10000;
+  int Importance = UNIFORM;
+  double Gamma = 1.0;
+  double MinimumImportance = 0.05;
+  bool SplitAtFeatures = false;
+  double FeatureAngle = 60.0;
+  int Iterations = 50;
+  int NumberOfThreads = 0;
+  int AtlasBuilds = 0;
+
+private:
+  vtkSurfaceRemeshing(const vtkSurfaceRemeshing&) = delete;
+  void operator=(const vtkSurfaceRemeshing&) = delete;
+
+  int Build(vtkPolyData* input, vtkPolyData* output);
+  /// The atlas of the input: the kept one while the input's geometry and the
+  /// feature settings are those it was built for.
+  const beltrami::AtlasResult& Atlas(vtkPolyData* input, const void* topology, const double* points);
+
+  struct Kept;
+  std::unique_ptr<Kept> Cache;
+};
+
+#endif
