@@ -1,5 +1,6 @@
 #include "vtkBeltramiSurface.h"
 
+#include <vtkAlgorithm.h>
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
 #include <vtkDoubleArray.h>
@@ -128,6 +129,27 @@ bool ValidCell(vtkIdType n, const vtkIdType* ids, vtkIdType numPoints)
 }
 
 } // namespace
+
+vtkBeltramiSurface::Readiness vtkBeltramiSurface::BuildWhole(
+  vtkAlgorithm* owner, vtkPolyData* input, int numberOfThreads, const char* product)
+{
+  if (!input || input->GetNumberOfPoints() == 0)
+  {
+    vtkWarningWithObjectMacro(owner, << "Input has no points: " << product << " is empty.");
+    return Readiness::Empty;
+  }
+  if (!this->Build(input, numberOfThreads))
+  {
+    vtkErrorWithObjectMacro(owner, << "Cannot process the input surface: " << this->Error());
+    return Readiness::Failed;
+  }
+  if (this->Topology().NumberOfTriangles() == 0)
+  {
+    vtkWarningWithObjectMacro(owner, << "Input has no polygons or triangle strips: " << product << " is empty.");
+    return Readiness::Empty;
+  }
+  return Readiness::Ready;
+}
 
 bool vtkBeltramiSurface::Build(vtkPolyData* input, int numberOfThreads)
 {

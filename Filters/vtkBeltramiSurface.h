@@ -37,6 +37,17 @@ public:
   /// input cannot be processed at all; an input with no polygons is valid and
   /// yields a topology without triangles.
   bool Build(vtkPolyData* input, int numberOfThreads);
+  /// Build for the filters that work on the whole surface at once (the
+  /// atlas, the remesher): an input without points or triangles gives a
+  /// warning on `owner` that `product` (e.g. "the atlas") is empty, an
+  /// unusable one an error.
+  enum class Readiness
+  {
+    Ready,
+    Empty, ///< nothing to do: the output stays empty (RequestData succeeds)
+    Failed ///< error reported (RequestData fails)
+  };
+  Readiness BuildWhole(vtkAlgorithm* owner, vtkPolyData* input, int numberOfThreads, const char* product);
 
   /// What a filter needs of a distributed run (pvbatch, pvserver: one piece
   /// per rank).

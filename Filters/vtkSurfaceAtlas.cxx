@@ -119,23 +119,13 @@ int vtkSurfaceAtlas::RequestData(
 int vtkSurfaceAtlas::Build(vtkPolyData* input, vtkPolyData* output)
 {
   output->Initialize(); // a defined output: empty
-  if (!input || input->GetNumberOfPoints() == 0)
-  {
-    vtkWarningMacro("Input has no points: the atlas is empty.");
-    return 1;
-  }
   vtkBeltramiSurface surface;
-  if (!surface.Build(input, this->NumberOfThreads))
+  const vtkBeltramiSurface::Readiness ready = surface.BuildWhole(this, input, this->NumberOfThreads, "the atlas");
+  if (ready != vtkBeltramiSurface::Readiness::Ready)
   {
-    vtkErrorMacro("Cannot process the input surface: " << surface.Error());
-    return 0;
+    return ready == vtkBeltramiSurface::Readiness::Empty ? 1 : 0;
   }
   const beltrami::MeshTopology& topology = surface.Topology();
-  if (topology.NumberOfTriangles() == 0)
-  {
-    vtkWarningMacro("Input has no polygons or triangle strips: the atlas is empty.");
-    return 1;
-  }
   std::vector<double> storage;
   const double* points = surface.PointsAsDouble(storage);
   beltrami::AtlasOptions options;

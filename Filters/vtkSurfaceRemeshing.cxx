@@ -192,23 +192,13 @@ void WriteControlMap(const beltrami::SurfaceSamples& samples, vtkMultiBlockDataS
 int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
 {
   output->Initialize(); // a defined output: empty
-  if (!input || input->GetNumberOfPoints() == 0)
-  {
-    vtkWarningMacro("Input has no points: the remesh is empty.");
-    return 1;
-  }
   vtkBeltramiSurface surface;
-  if (!surface.Build(input, this->NumberOfThreads))
+  const vtkBeltramiSurface::Readiness ready = surface.BuildWhole(this, input, this->NumberOfThreads, "the remesh");
+  if (ready != vtkBeltramiSurface::Readiness::Ready)
   {
-    vtkErrorMacro("Cannot process the input surface: " << surface.Error());
-    return 0;
+    return ready == vtkBeltramiSurface::Readiness::Empty ? 1 : 0;
   }
   const beltrami::MeshTopology& topology = surface.Topology();
-  if (topology.NumberOfTriangles() == 0)
-  {
-    vtkWarningMacro("Input has no polygons or triangle strips: the remesh is empty.");
-    return 1;
-  }
   std::vector<double> storage;
   const double* points = surface.PointsAsDouble(storage);
   std::vector<double> importance;
