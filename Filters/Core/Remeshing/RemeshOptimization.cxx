@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace beltrami
@@ -118,6 +119,7 @@ private:
   std::vector<ChartLocator> Locators;
   std::vector<Index> Valence;
   std::vector<Index> PathIndex; ///< per vertex: its index in its path's Samples
+  std::vector<std::pair<Index, std::array<double, 2>>> PlaceCorners; ///< Place's buffer (no allocation per move)
 };
 
 /// The flip of h's edge (faces (a, b, c), (b, a, d) -> (c, a, d), (d, b, c))
@@ -239,7 +241,8 @@ double Optimizer::Weight(Index f) const
 /// positively oriented in its chart; `moved` gets the 3D distance.
 bool Optimizer::Place(Index v, Index triangle, const double* w, double& moved)
 {
-  std::vector<std::pair<Index, std::array<double, 2>>> corners;
+  std::vector<std::pair<Index, std::array<double, 2>>>& corners = PlaceCorners;
+  corners.clear();
   bool valid = true;
   M.ForEachOutgoing(v, [&](Index h) {
     std::array<double, 2> uv;
