@@ -62,6 +62,7 @@ case "$action" in
     xvfb-run -a /usr/bin/python3 Examples/smoothing_demo.py Testing/Data/bunny00.off "$ROOT/demo-output"
     xvfb-run -a /usr/bin/python3 Examples/parameterization_demo.py Testing/Data/mushroom.off "$ROOT/demo-output"
     xvfb-run -a /usr/bin/python3 Examples/remeshing_demo.py "$ROOT/demo-output"
+    xvfb-run -a /usr/bin/python3 Examples/line_drawing_demo.py "$ROOT/demo-output"
     /usr/bin/python3 Examples/denoising_demo.py "$ROOT/demo-output"
     ;;
   test)

@@ -12,7 +12,7 @@ import time
 
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkPoints
+from vtkmodules.vtkCommonCore import vtkLookupTable, vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPolyData
 from vtkmodules.vtkFiltersCore import vtkPolyDataNormals
 from vtkmodules.vtkImagingSources import vtkImageCanvasSource2D
@@ -23,7 +23,7 @@ from vtkmodules.vtkRenderingCore import (vtkActor, vtkColorTransferFunction, vtk
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (rendering backend)
 
 from .BeltramiFilters import (vtkDiscreteCurvatures, vtkImageBeltramiDenoising, vtkIntrinsicParameterization,
-                              vtkSurfaceAtlas, vtkSurfaceRemeshing)
+                              vtkSurfaceAtlas, vtkSurfaceLineDrawing, vtkSurfaceRemeshing)
 from .BeltramiIO import vtkOFFReader
 
 SIGMA = 0.1  # the noise level of the denoising demo and tests
@@ -69,8 +69,15 @@ def render_mean_curvature(polydata, png_path, size=(800, 800)):
 
 def snapshot(actor, png_path, size, view_up=(0, 1, 0), direction=(0, 0, 1), zoom=1.0):
     """Renders one actor off screen on white, writes the PNG, returns the image."""
+    return capture(framed_renderer([actor], view_up, direction, zoom), png_path, size)
+
+
+def framed_renderer(actors, view_up=(0, 1, 0), direction=(0, 0, 1), zoom=1.0):
+    """A renderer on white with the actors, its camera looking at them from
+    `direction` (the actors framed, then zoomed)."""
     renderer = vtkRenderer()
-    renderer.AddActor(actor)
+    for actor in actors:
+        renderer.AddActor(actor)
     renderer.SetBackground(1.0, 1.0, 1.0)
     camera = renderer.GetActiveCamera()
     camera.SetPosition(*direction)
@@ -78,7 +85,11 @@ def snapshot(actor, png_path, size, view_up=(0, 1, 0), direction=(0, 0, 1), zoom
     camera.SetViewUp(*view_up)
     renderer.ResetCamera()
     camera.Zoom(zoom)
+    return renderer
 
+
+def capture(renderer, png_path, size):
+    """Renders off screen, writes the PNG, returns the image."""
     window = vtkRenderWindow()
     window.SetOffScreenRendering(1)
     window.SetMultiSamples(0)
@@ -155,6 +166,75 @@ def render_wireframe(polydata, png_path, size=(800, 800), view_up=(0, 1, 0), dir
     actor.GetProperty().EdgeVisibilityOn()
     actor.GetProperty().SetEdgeColor(0.15, 0.15, 0.15)
     return snapshot(actor, png_path, size, view_up=view_up, direction=direction, zoom=zoom)
+
+
+# Colours of vtkSurfaceLineDrawing's line types (contour, suggestive contour,
+# suggestive highlight, ridge, valley, boundary, crease).
+LINE_COLOURS = ((0.0, 0.0, 0.0), (0.10, 0.25, 0.75), (0.95, 0.55, 0.05), (0.80, 0.10, 0.10),
+                (0.10, 0.55, 0.20), (0.0, 0.0, 0.0), (0.35, 0.35, 0.35))
+
+
+def line_drawing(mesh_path, ridges=False, valleys=False, highlights=False):
+    """vtkSurfaceLineDrawing on an OFF mesh (contours, suggestive contours,
+    boundaries and creases; ridges, valleys and highlights on request);
+    returns the filter, not yet updated: its camera is set by
+    render_line_drawing."""
+    reader = vtkOFFReader()
+    reader.SetFileName(mesh_path)
+    drawing = vtkSurfaceLineDrawing()
+    drawing.SetInputConnection(reader.GetOutputPort())
+    drawing.SetRidges(ridges)
+    drawing.SetValleys(valleys)
+    drawing.SetSuggestiveHighlights(highlights)
+    return drawing
+
+
+def follow(drawing, camera):
+    """Sets the drawing's view to the camera's (vtkCamera)."""
+    drawing.SetCameraPosition(camera.GetPosition())
+    drawing.SetViewDirection(camera.GetDirectionOfProjection())
+    drawing.SetParallelProjection(bool(camera.GetParallelProjection()))
+
+
+def render_line_drawing(drawing, png_path, size=(800, 800), view_up=(0, 1, 0), direction=(0, 0, 1), zoom=1.0,
+                        line_width=2.0):
+    """The drawing's lines over its surface in white, for a camera looking
+    from `direction`: the drawing is updated for that camera first.
+    Returns (image, seconds of the drawing's update)."""
+    drawing.GetInputAlgorithm().Update()
+    surface_mapper = vtkPolyDataMapper()
+    surface_mapper.SetInputConnection(drawing.GetInputConnection(0, 0))
+    surface_mapper.ScalarVisibilityOff()
+    surface_mapper.SetResolveCoincidentTopologyToPolygonOffset()
+    surface_mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(2.0, 2.0)
+    surface = vtkActor()
+    surface.SetMapper(surface_mapper)
+    surface.GetProperty().SetColor(1.0, 1.0, 1.0)
+    surface.GetProperty().SetAmbient(0.35)
+    surface.GetProperty().SetDiffuse(0.65)
+    renderer = framed_renderer([surface], view_up, direction, zoom)
+    follow(drawing, renderer.GetActiveCamera())
+    start = time.perf_counter()
+    drawing.Update()
+    elapsed = time.perf_counter() - start
+    colours = vtkLookupTable()
+    colours.SetNumberOfTableValues(len(LINE_COLOURS))
+    for i, rgb in enumerate(LINE_COLOURS):
+        colours.SetTableValue(i, *rgb, 1.0)
+    colours.SetTableRange(0, len(LINE_COLOURS) - 1)
+    lines_mapper = vtkPolyDataMapper()
+    lines_mapper.SetInputData(drawing.GetOutput())
+    lines_mapper.SetScalarModeToUseCellFieldData()
+    lines_mapper.SelectColorArray("LineType")
+    lines_mapper.SetLookupTable(colours)
+    lines_mapper.SetColorModeToMapScalars()
+    lines_mapper.SetScalarRange(0, len(LINE_COLOURS) - 1)
+    lines = vtkActor()
+    lines.SetMapper(lines_mapper)
+    lines.GetProperty().SetLineWidth(line_width)
+    lines.GetProperty().LightingOff()
+    renderer.AddActor(lines)
+    return capture(renderer, png_path, size), elapsed
 
 
 def checkerboard(squares=16, pixels=32):

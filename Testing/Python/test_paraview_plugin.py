@@ -426,6 +426,35 @@ check(np.abs(reference - before[matched]).max() > 1e-3 and np.abs(after - refere
       "tetrahedral denoising over %d partition(s) smooths as in serial (difference %g)"
       % (partitions, np.abs(after - reference).max()))
 
+# Surface Line Drawing following a view's camera (beltrami_paraview): a
+# sphere's contour is the circle where p.(c - p) = 0, i.e. p.c = R^2, for the
+# camera c, wherever the camera goes.  (No rendering here: the test runs
+# without a display; setting the view's camera properties moves its
+# vtkCamera as interaction does.)
+import beltrami_paraview  # noqa: E402
+sphere = Sphere(Radius=1.0, ThetaResolution=128, PhiResolution=128)
+drawing = SurfaceLineDrawing(Input=sphere)
+check(drawing.SuggestiveContourThreshold == 0.1 and drawing.CreaseAngle == 40 and drawing.Contours == 1,
+      "line drawing defaults")
+view = CreateRenderView()
+stop = beltrami_paraview.follow_camera(drawing, view)
+for position in ((0.0, 0.0, 5.0), (3.0, -4.0, 2.0)):
+    view.CameraPosition = list(position)
+    view.CameraFocalPoint = [0.0, 0.0, 0.0]
+    check(np.allclose(list(drawing.CameraPosition), position), "the drawing follows the camera to %s" % (position,))
+    lines = servermanager.Fetch(drawing)
+    if partitions == 1:
+        p = vtk_to_numpy(lines.GetPoints().GetData())
+        kinds = vtk_to_numpy(lines.GetCellData().GetArray("LineType"))
+        residual = np.abs(p @ np.array(position) - 1.0).max()
+        check(lines.GetNumberOfCells() >= 1 and set(kinds) == {0} and residual < 0.02,
+              "the sphere's contour for the camera at %s (p.c - 1 up to %.4f)" % (position, residual))
+stop()
+view.CameraPosition = [0.0, 5.0, 0.0]
+check(np.allclose(list(drawing.CameraPosition), (3.0, -4.0, 2.0)), "the drawing stops following")
+Delete(drawing)
+Delete(view)
+
 with tempfile.TemporaryDirectory() as tmp:
     path = os.path.join(tmp, "bunny.off")
     SaveData(path, proxy=reader)

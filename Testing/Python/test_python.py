@@ -9,8 +9,9 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersSources import vtkSphereSource
 
 from beltrami import (vtkDiscreteCurvatures, vtkImplicitFairing, vtkIntrinsicParameterization,
-                      vtkOFFReader, vtkOFFWriter, vtkSurfaceRemeshing)
-from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIdList, vtkUnsignedCharArray
+                      vtkOFFReader, vtkOFFWriter, vtkSurfaceLineDrawing, vtkSurfaceRemeshing)
+from vtkmodules.vtkCommonCore import vtkCommand, vtkDoubleArray, vtkIdList, vtkPoints, vtkUnsignedCharArray
+from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 from vtkmodules.util.numpy_support import numpy_to_vtk
 from configure import configured
 
@@ -424,6 +425,126 @@ class RemeshingFromPython(unittest.TestCase):
         f.GlobalWarningDisplayOn()
         self.assertTrue(failed and failed_array)
         self.assertEqual(f.GetOutput().GetNumberOfPoints(), 0)
+
+
+class LineDrawingFromPython(unittest.TestCase):
+    """vtkSurfaceLineDrawing (issue 27) through the wrapping."""
+
+    def drawing(self, source):
+        f = vtkSurfaceLineDrawing()
+        f.SetInputConnection(source.GetOutputPort())
+        return f
+
+    def sphere(self):
+        s = vtkSphereSource()
+        s.SetThetaResolution(96)
+        s.SetPhiResolution(96)
+        s.Update()
+        return s
+
+    def warnings_of(self, f):
+        seen = []  # (an observed warning is not printed)
+        tag = f.AddObserver(vtkCommand.WarningEvent, lambda *_: seen.append(1))
+        status = f.GetExecutive().Update()
+        f.RemoveObserver(tag)
+        return status, len(seen)
+
+    def test_a_new_camera_reruns_only_the_per_view_pass(self):
+        reader = vtkOFFReader()
+        reader.SetFileName(os.path.join(DATA, "bunny00.off"))
+        f = self.drawing(reader)
+        f.SetRidges(True)
+        cameras = ((0.0, 0.02, 0.4), (0.4, 0.1, 0.0), (-0.3, 0.2, -0.2))
+        counts = []
+        for camera in cameras:
+            f.SetCameraPosition(camera)
+            f.Update()
+            lines = f.GetOutput()
+            counts.append(lines.GetNumberOfCells())
+            kinds = vtk_to_numpy(lines.GetCellData().GetArray("LineType"))
+            self.assertTrue({0, 1, 3} <= set(kinds.tolist()), "contours, suggestive contours and ridges")
+            self.assertIsNotNone(lines.GetCellData().GetArray("Strength"))
+            self.assertIsNotNone(lines.GetPointData().GetArray("Strength"))
+            # Contour points: n.v = 0 with the interpolated normals.
+            p = vtk_to_numpy(lines.GetPoints().GetData())
+            n = vtk_to_numpy(lines.GetPointData().GetNormals())
+            on_contour = np.zeros(len(p), bool)
+            for cell in np.flatnonzero(kinds == 0):
+                ids = lines.GetCell(int(cell)).GetPointIds()
+                on_contour[[ids.GetId(k) for k in range(ids.GetNumberOfIds())]] = True
+            v = np.array(camera) - p[on_contour]
+            v /= np.linalg.norm(v, axis=1)[:, None]
+            ndotv = np.abs(np.sum(n[on_contour] * v, axis=1) / np.linalg.norm(n[on_contour], axis=1))
+            self.assertLess(float(np.median(ndotv)), 0.01)
+            surface = f.GetOutputDataObject(1)
+            self.assertEqual(surface.GetNumberOfPoints(), 37706)
+            self.assertEqual(surface.GetPointData().GetArray("CurvatureDerivative").GetNumberOfComponents(), 4)
+            for name in ("NdotV", "RadialCurvature", "RadialCurvatureDerivative"):
+                self.assertIsNotNone(surface.GetPointData().GetArray(name))
+        self.assertEqual(f.GetGeometryBuilds(), 1)
+        self.assertEqual(len(set(counts)), len(cameras), "each camera its own drawing")
+        # Parallel projection: the view direction is what counts.
+        f.SetParallelProjection(True)
+        f.SetViewDirection(0, 0, -1)
+        f.Update()
+        self.assertGreater(f.GetOutput().GetNumberOfCells(), 0)
+        self.assertEqual(f.GetGeometryBuilds(), 1)
+
+    def test_sphere_contour_is_one_closed_polyline(self):
+        f = self.drawing(self.sphere())
+        f.SetParallelProjection(True)
+        f.SetViewDirection(1, 2, 3)
+        f.Update()
+        lines = f.GetOutput()
+        self.assertEqual(lines.GetNumberOfCells(), 1)
+        ids = lines.GetCell(0).GetPointIds()
+        self.assertEqual(ids.GetId(0), ids.GetId(ids.GetNumberOfIds() - 1), "closed: the first point repeated")
+        p = vtk_to_numpy(lines.GetPoints().GetData())
+        self.assertLess(float(np.abs(p @ (np.array([1, 2, 3]) / np.sqrt(14))).max()), 0.01)
+
+    def test_bad_input_gives_lines_where_defined_and_a_warning(self):
+        sphere = self.sphere().GetOutput()
+        # A third triangle on an edge (non-manifold) and a NaN point.
+        broken = vtkPolyData()
+        broken.DeepCopy(sphere)
+        ids = vtkIdList()
+        broken.GetCellPoints(200, ids)
+        extra = broken.GetPoints().InsertNextPoint(0.0, 0.0, 0.0)
+        broken.GetPolys().InsertNextCell(3, [ids.GetId(0), ids.GetId(1), extra])
+        broken.GetPoints().SetPoint(1000, float("nan"), 0.0, 0.0)
+        f = vtkSurfaceLineDrawing()
+        f.SetInputData(broken)
+        f.SetParallelProjection(True)
+        status, warnings = self.warnings_of(f)
+        self.assertEqual(status, 1)
+        self.assertGreater(warnings, 0)
+        kinds = vtk_to_numpy(f.GetOutput().GetCellData().GetArray("LineType"))
+        self.assertIn(0, kinds.tolist(), "the contour is still drawn")
+        self.assertTrue(np.isfinite(vtk_to_numpy(f.GetOutput().GetPoints().GetData())).all())
+        # Empty input, no triangles: a warning and an empty output.
+        for data in (vtkPolyData(), self.lines_only()):
+            f.SetInputData(data)
+            status, warnings = self.warnings_of(f)
+            self.assertEqual((status, f.GetOutput().GetNumberOfCells()), (1, 0))
+            self.assertGreater(warnings, 0)
+        # No view direction: an error.
+        f.SetInputData(sphere)
+        f.SetViewDirection(0, 0, 0)
+        f.GlobalWarningDisplayOff()
+        self.assertEqual(f.GetExecutive().Update(), 0)
+        f.GlobalWarningDisplayOn()
+        self.assertEqual(f.GetOutput().GetNumberOfCells(), 0)
+
+    def lines_only(self):
+        data = vtkPolyData()
+        points = vtkPoints()
+        for k in range(3):
+            points.InsertNextPoint(k, 0.0, 0.0)
+        data.SetPoints(points)
+        cells = vtkCellArray()
+        cells.InsertNextCell(3, [0, 1, 2])
+        data.SetLines(cells)
+        return data
 
 
 if __name__ == "__main__":

@@ -4,7 +4,8 @@ checkerboard mapped by its natural conformal parameterization, the bunny
 after an implicit curvature-flow step (mean curvature colours), the bunny's
 atlas (a checkerboard through its packed UV: seams, one texel density), the
 bunny remeshed with 2,000 vertices, uniformly and adapted to its mean
-curvature (chapter 4: the triangles drawn), and the
+curvature (chapter 4: the triangles drawn), line drawings of the bunny
+and of fandisk, and the
 denoising demo's results on the noisy camera (greyscale) and coffee (colour)
 images (256 x 256 crops).
 Run with --make-baseline to regenerate them (look at them before committing)."""
@@ -137,6 +138,15 @@ for label, importance in (("uniform", 0), ("mean_curvature", 1)):
     remeshed, _ = pipelines.remesh(os.path.join(DATA, "bunny00.off"), 2000, importance)
     ok = compare("bunny00_remesh_%s.png" % label,
                  lambda png: pipelines.render_wireframe(remeshed.GetOutput(), png, size=(400, 400))) and ok
+# Line drawings from fixed cameras: the bunny (contours, suggestive contours,
+# ridges and valleys) and the CAD part fandisk (contours, suggestive
+# contours, creases).
+for mesh, direction, zoom, extra in (("bunny00", (0.8, 0.2, 1), 1.2, dict(ridges=True, valleys=True)),
+                                     ("fandisk", (1, 0.6, 0.8), 0.9, {})):
+    drawing = pipelines.line_drawing(os.path.join(DATA, mesh + ".off"), **extra)
+    ok = compare("%s_line_drawing.png" % mesh,
+                 lambda png: pipelines.render_line_drawing(drawing, png, size=(400, 400), direction=direction,
+                                                           zoom=zoom)[0]) and ok
 ok = compare_pixels("camera_denoised.png", denoised_crop("camera", slice(128, 384), slice(128, 384))) and ok
 ok = compare_pixels("coffee_denoised.png", denoised_crop("coffee", slice(72, 328), slice(172, 428))) and ok
 sys.exit(0 if ok else 1)

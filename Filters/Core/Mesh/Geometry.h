@@ -38,6 +38,17 @@ inline Vec3 Point(const double* points, Index i)
   return LoadPoint<3>(points, 3, i);
 }
 
+/// An orthonormal tangent frame (u, v) of the unit normal n, with u x v = n.
+inline void TangentFrame(const Vec3& n, Vec3& u, Vec3& v)
+{
+  Vec3 axis = Vec3::Zero();
+  int k = 0;
+  n.cwiseAbs().minCoeff(&k);
+  axis[k] = 1.0;
+  u = (axis - axis.dot(n) * n).normalized();
+  v = n.cross(u);
+}
+
 /// Point i of an array of 2 doubles per point (parameter-plane coordinates).
 inline Vec2 UV(const double* uv, Index i)
 {

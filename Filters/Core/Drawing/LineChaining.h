@@ -1,0 +1,32 @@
+// Beltrami core: segments joined into polylines where they share an end.
+#pragma once
+
+#include "Drawing/LineDrawing.h"
+
+#include <vector>
+
+namespace beltrami
+{
+
+/// One point of a chain: end `End` (0 or 1) of segment `Segment`.
+struct ChainPoint
+{
+  Index Segment;
+  int End;
+};
+
+/// A polyline of segment ends; a closed one does not repeat its first point.
+struct SegmentChain
+{
+  std::vector<ChainPoint> Points;
+  bool Closed = false;
+};
+
+/// Joins the segments whose ends have the same Key (>= 0) when exactly two
+/// ends have it; an end with Key -1, with a Key of its own or one shared by
+/// three or more ends (a junction) ends its chain there.  Open chains come
+/// first, in the order of their first segment, then the closed loops; the
+/// result does not depend on anything but the segments and their order.
+std::vector<SegmentChain> ChainSegments(const std::vector<LineSegment>& segments);
+
+} // namespace beltrami

@@ -1,0 +1,501 @@
+#include "Drawing/LineDrawing.h"
+
+#include "Drawing/LineChaining.h"
+#include "Mesh/CurvatureDerivatives.h"
+#include "Mesh/Curvatures.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+
+namespace beltrami
+{
+
+namespace
+{
+
+constexpr double NaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double Degree = M_PI / 180.0;
+/// Faces per block of the per-face passes: blocks keep the segments in face
+/// order whatever the thread count.
+constexpr std::int64_t FacesPerBlock = 4096;
+
+std::int64_t EdgeKey(Index a, Index b, Index numVertices)
+{
+  return static_cast<std::int64_t>(std::min(a, b)) * numVertices + std::max(a, b);
+}
+
+std::int64_t VertexKey(Index v, Index numVertices)
+{
+  return static_cast<std::int64_t>(numVertices) * numVertices + v;
+}
+
+/// The zero set of the linear function with values f at the corners of
+/// face `face` (vertices v): its two ends on the face's edges.  The point on
+/// an edge is computed from the edge's lower vertex id, so that both faces of
+/// the edge find the same point.  False if f has no sign change (f >= 0
+/// counts as positive) or a value is not finite.
+bool ZeroCrossing(Index face, const Index* v, const double* f, Index numVertices, LineSegment& s)
+{
+  if (!std::isfinite(f[0]) || !std::isfinite(f[1]) || !std::isfinite(f[2]))
+  {
+    return false;
+  }
+  const bool positive[3] = { f[0] >= 0.0, f[1] >= 0.0, f[2] >= 0.0 };
+  if (positive[0] == positive[1] && positive[1] == positive[2])
+  {
+    return false;
+  }
+  s.Face = face;
+  int found = 0;
+  for (int a = 0; a < 3; ++a)
+  {
+    const int b = (a + 1) % 3;
+    if (positive[a] != positive[b])
+    {
+      const int lo = v[a] < v[b] ? a : b, hi = a + b - lo;
+      const double t = f[lo] / (f[lo] - f[hi]);
+      LineEnd& end = s.End[found++];
+      end.Key = EdgeKey(v[a], v[b], numVertices);
+      end.W[0] = end.W[1] = end.W[2] = 0.0;
+      end.W[lo] = 1.0 - t;
+      end.W[hi] = t;
+    }
+  }
+  return true;
+}
+
+double Interpolate(const LineEnd& end, const double* g)
+{
+  return end.W[0] * g[0] + end.W[1] * g[1] + end.W[2] * g[2];
+}
+
+/// Keeps the part of s where the linear function with corner values g is
+/// >= 0 (the new end inside the face, Key -1); false if none is left.
+bool Clip(LineSegment& s, const double* g)
+{
+  const double a = Interpolate(s.End[0], g), b = Interpolate(s.End[1], g);
+  if (!std::isfinite(a) || !std::isfinite(b) || (a < 0.0 && b < 0.0))
+  {
+    return false;
+  }
+  if (a >= 0.0 && b >= 0.0)
+  {
+    return true;
+  }
+  const double t = a / (a - b);
+  LineEnd cut;
+  for (int k = 0; k < 3; ++k)
+  {
+    cut.W[k] = (1.0 - t) * s.End[0].W[k] + t * s.End[1].W[k];
+  }
+  s.End[a < 0.0 ? 0 : 1] = cut;
+  return true;
+}
+
+/// The corner values of face f of a per-vertex field, optionally mapped.
+void Corners(const std::vector<Index>& tri, Index f, const double* field, double* out)
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    out[k] = field[tri[3 * static_cast<std::int64_t>(f) + k]];
+  }
+}
+
+/// Runs body(face, lists) over all faces, in blocks that each fill their
+/// own `count` lists of segments; returns the `count` lists with the
+/// blocks' segments in face order (the same for any thread count).
+template <typename Body>
+std::vector<std::vector<LineSegment>> CollectSegments(Index numFaces, int numThreads, int count, Body&& body)
+{
+  const std::int64_t blocks = (numFaces + FacesPerBlock - 1) / FacesPerBlock;
+  std::vector<std::vector<std::vector<LineSegment>>> perBlock(
+    blocks, std::vector<std::vector<LineSegment>>(count));
+  ParallelFor(
+    blocks, numThreads,
+    [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t b = begin; b < end; ++b)
+      {
+        const Index last = static_cast<Index>(std::min<std::int64_t>(numFaces, (b + 1) * FacesPerBlock));
+        for (Index f = static_cast<Index>(b * FacesPerBlock); f < last; ++f)
+        {
+          body(f, perBlock[b].data());
+        }
+      }
+    },
+    {}, 0, 1);
+  std::vector<std::vector<LineSegment>> lists(count);
+  for (int l = 0; l < count; ++l)
+  {
+    std::size_t total = 0;
+    for (const auto& block : perBlock)
+    {
+      total += block[l].size();
+    }
+    lists[l].reserve(total);
+    for (const auto& block : perBlock)
+    {
+      lists[l].insert(lists[l].end(), block[l].begin(), block[l].end());
+    }
+  }
+  return lists;
+}
+
+/// The gradient of the linear function with corner values g on the
+/// triangle p (zero for a degenerate one).
+Vec3 FaceGradient(const Vec3* p, const double* g)
+{
+  const Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]);
+  const double nn = n.squaredNorm();
+  if (!(nn > 0.0))
+  {
+    return Vec3::Zero();
+  }
+  Vec3 gradient = Vec3::Zero();
+  for (int k = 0; k < 3; ++k)
+  {
+    // grad(phi_k) = n x (p_{k+2} - p_{k+1}) / |n|^2
+    gradient += g[k] * n.cross(p[(k + 2) % 3] - p[(k + 1) % 3]);
+  }
+  return gradient / nn;
+}
+
+} // namespace
+
+template <typename T>
+void LineDrawingGeometry::Build(const MeshTopology& topology, const T* points, int numThreads)
+{
+  const Index n = topology.NumberOfVertices();
+  Triangles.assign(topology.TriangleList().begin(), topology.TriangleList().end());
+  Points.assign(points, points + 3 * static_cast<std::int64_t>(n));
+  for (auto* field : { &Normals, &E1, &E2 })
+  {
+    field->assign(3 * static_cast<std::size_t>(n), NaN);
+  }
+  K1.assign(n, NaN);
+  K2.assign(n, NaN);
+  CurvatureOptions options;
+  options.NumberOfThreads = numThreads;
+  CurvatureOutputs out;
+  out.Normals = Normals.data();
+  out.MaximumCurvature = K1.data();
+  out.MinimumCurvature = K2.data();
+  out.PrincipalDirection1 = E1.data();
+  out.PrincipalDirection2 = E2.data();
+  ComputeCurvatures(topology, Points.data(), options, out);
+  UndefinedVertices = 0;
+  for (Index i = 0; i < n; ++i)
+  {
+    UndefinedVertices += topology.Valence(i) > 0 && !std::isfinite(K1[i]);
+  }
+  Derivatives.assign(4 * static_cast<std::size_t>(n), NaN);
+  const CurvatureTensors tensors{ Normals.data(), K1.data(), K2.data(), E1.data(), E2.data() };
+  ComputeCurvatureDerivatives(topology, Points.data(), tensors, Derivatives.data(), numThreads);
+
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (Index i = 0; i < n; ++i)
+  {
+    const Vec3 p = Point(Points.data(), i);
+    if (p.allFinite() && topology.Valence(i) > 0)
+    {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  }
+  DefaultFeatureSize = (hi - lo).allFinite() ? 0.01 * (hi - lo).norm() : 0.0;
+  FindRidges(false, numThreads);
+  FindRidges(true, numThreads);
+  FindFeatureEdges(topology);
+}
+
+template void LineDrawingGeometry::Build<float>(const MeshTopology&, const float*, int);
+template void LineDrawingGeometry::Build<double>(const MeshTopology&, const double*, int);
+
+void LineDrawingGeometry::FindRidges(bool valleys, int numThreads)
+{
+  // A valley is a ridge of -kappa_2 along e2: D_e2(-kappa_2) = -C(e2,e2,e2).
+  const std::vector<double>& direction = valleys ? E2 : E1;
+  const int component = valleys ? 3 : 0;
+  const double sign = valleys ? -1.0 : 1.0;
+  const Index n = NumberOfVertices();
+  auto lists = CollectSegments(NumberOfFaces(), numThreads, 1, [&](Index f, std::vector<LineSegment>* out) {
+    const Index* v = Triangles.data() + 3 * static_cast<std::int64_t>(f);
+    Vec3 e[3], p[3];
+    double g[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      e[k] = Point(direction.data(), v[k]);
+      p[k] = Point(Points.data(), v[k]);
+      // The principal directions are lines, not vectors: turned like the first corner's.
+      const double flip = k > 0 && e[k].dot(e[0]) < 0.0 ? -1.0 : 1.0;
+      e[k] *= flip;
+      g[k] = sign * flip * Derivatives[4 * static_cast<std::int64_t>(v[k]) + component];
+    }
+    LineSegment s;
+    // A maximum along e: the derivative decreases along e.
+    if (ZeroCrossing(f, v, g, n, s) && FaceGradient(p, g).dot(e[0] + e[1] + e[2]) < 0.0)
+    {
+      out[0].push_back(s);
+    }
+  });
+  (valleys ? ValleyCandidates : RidgeCandidates) = std::move(lists[0]);
+}
+
+LineSegment LineDrawingGeometry::EdgeSegment(Index a, Index b, Index face) const
+{
+  LineSegment s;
+  s.Face = face;
+  for (int end = 0; end < 2; ++end)
+  {
+    const Index vertex = end == 0 ? a : b;
+    s.End[end].Key = VertexKey(vertex, NumberOfVertices());
+    for (int k = 0; k < 3; ++k)
+    {
+      s.End[end].W[k] = Triangles[3 * static_cast<std::int64_t>(face) + k] == vertex ? 1.0 : 0.0;
+    }
+  }
+  return s;
+}
+
+void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology)
+{
+  const MeshTopology::EdgeTable& edges = topology.Edges();
+  BoundaryEdges.clear();
+  InteriorEdges.clear();
+  const auto faceNormal = [&](Index f) {
+    const Index* v = Triangles.data() + 3 * static_cast<std::int64_t>(f);
+    const Vec3 a = Point(Points.data(), v[0]);
+    return Vec3((Point(Points.data(), v[1]) - a).cross(Point(Points.data(), v[2]) - a).normalized());
+  };
+  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
+  {
+    const Index a = edges.Vertices[2 * e], b = edges.Vertices[2 * e + 1];
+    const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
+    if (edges.FaceCount[e] == 1)
+    {
+      BoundaryEdges.push_back(EdgeSegment(a, b, (c0 >= 0 ? c0 : c1) / 3));
+    }
+    else if (edges.FaceCount[e] == 2 && c0 >= 0 && c1 >= 0)
+    {
+      const double cosine = faceNormal(c0 / 3).dot(faceNormal(c1 / 3));
+      if (std::isfinite(cosine))
+      {
+        InteriorEdges.push_back({ a, b, c0 / 3, static_cast<float>(std::acos(std::clamp(cosine, -1.0, 1.0)) / Degree) });
+      }
+    }
+  }
+}
+
+namespace
+{
+
+/// The per-vertex quantities of a view (see the header's conventions).
+void ComputeViewFields(const LineDrawingGeometry& geo, const LineView& view, int numThreads, double* ndotv,
+  double* kr, double* drkr)
+{
+  const Vec3 parallel = -view.Direction.normalized();
+  ParallelFor(geo.NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (Index i = static_cast<Index>(begin); i < end; ++i)
+    {
+      const Vec3 p = Point(geo.Points.data(), i), n = Point(geo.Normals.data(), i);
+      const Vec3 v = view.Perspective ? Vec3((view.Position - p).normalized()) : parallel;
+      ndotv[i] = n.dot(v);
+      kr[i] = drkr[i] = NaN;
+      const Vec3 w = v - ndotv[i] * n;
+      const double sine = w.norm();
+      if (!(sine > 1e-9))
+      {
+        continue; // the radial direction is undefined where the surface faces the viewer
+      }
+      double r[2] = { w.dot(Point(geo.E1.data(), i)), w.dot(Point(geo.E2.data(), i)) };
+      const double length = std::hypot(r[0], r[1]);
+      r[0] /= length;
+      r[1] /= length;
+      const double k1 = geo.K1[i], k2 = geo.K2[i];
+      kr[i] = k1 * r[0] * r[0] + k2 * r[1] * r[1];
+      const double tau = (k2 - k1) * r[0] * r[1];
+      const double* c = geo.Derivatives.data() + 4 * static_cast<std::int64_t>(i);
+      drkr[i] = EvaluateCubicForm(c, r, r, r) - 2.0 * (ndotv[i] / sine) * tau * tau;
+    }
+  });
+}
+
+/// Turns segments into polylines with their points' positions, normals and
+/// strengths (strength(segment, corner values) gives a segment's corner
+/// strengths).
+template <typename Strength>
+void AddLines(const LineDrawingGeometry& geo, const std::vector<LineSegment>& segments, LineType type,
+  Strength&& strength, LineSet& lines)
+{
+  for (const SegmentChain& chain : ChainSegments(segments))
+  {
+    const Index first = static_cast<Index>(lines.Points.size() / 3);
+    double sum = 0.0;
+    for (const ChainPoint& cp : chain.Points)
+    {
+      const LineSegment& s = segments[cp.Segment];
+      const LineEnd& end = s.End[cp.End];
+      const Index* v = geo.Triangles.data() + 3 * static_cast<std::int64_t>(s.Face);
+      Vec3 p = Vec3::Zero(), n = Vec3::Zero();
+      for (int k = 0; k < 3; ++k)
+      {
+        p += end.W[k] * Point(geo.Points.data(), v[k]);
+        n += end.W[k] * Point(geo.Normals.data(), v[k]);
+      }
+      double corners[3];
+      strength(cp.Segment, v, corners);
+      const double value = Interpolate(end, corners);
+      n.normalize();
+      lines.Points.insert(lines.Points.end(), p.data(), p.data() + 3);
+      lines.Normals.insert(lines.Normals.end(), n.data(), n.data() + 3);
+      lines.PointStrength.push_back(value);
+      lines.Connectivity.push_back(static_cast<Index>(lines.PointStrength.size() - 1));
+      sum += value;
+    }
+    if (chain.Closed)
+    {
+      lines.Connectivity.push_back(first);
+    }
+    lines.Offsets.push_back(static_cast<Index>(lines.Connectivity.size()));
+    lines.Type.push_back(static_cast<std::uint8_t>(type));
+    lines.Closed.push_back(chain.Closed);
+    lines.Strength.push_back(sum / chain.Points.size());
+  }
+}
+
+} // namespace
+
+LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const LineDrawingOptions& options,
+  const ViewFields& fields)
+{
+  const Index n = geo.NumberOfVertices();
+  const double size = options.FeatureSize > 0.0 ? options.FeatureSize : geo.AutomaticFeatureSize();
+  std::vector<double> own[3];
+  double* field[3] = { fields.NdotV, fields.RadialCurvature, fields.RadialCurvatureDerivative };
+  for (int k = 0; k < 3; ++k)
+  {
+    if (!field[k])
+    {
+      own[k].resize(n);
+      field[k] = own[k].data();
+    }
+  }
+  const double *ndotv = field[0], *kr = field[1], *drkr = field[2];
+  ComputeViewFields(geo, view, options.NumberOfThreads, field[0], field[1], field[2]);
+
+  const bool* draw = options.Draw;
+  const bool radial =
+    draw[int(LineType::SuggestiveContour)] || draw[int(LineType::SuggestiveHighlight)];
+  const double cosAngle = std::cos(options.SuggestiveAngle * Degree);
+  const double scale = size * size;
+  // Contours, suggestive contours, suggestive highlights.
+  auto lists = CollectSegments(geo.NumberOfFaces(), options.NumberOfThreads, 3,
+    [&](Index f, std::vector<LineSegment>* out) {
+      const Index* v = geo.Triangles.data() + 3 * static_cast<std::int64_t>(f);
+      double nv[3], k[3];
+      Corners(geo.Triangles, f, ndotv, nv);
+      LineSegment s;
+      if (draw[int(LineType::Contour)] && ZeroCrossing(f, v, nv, n, s))
+      {
+        out[0].push_back(s);
+      }
+      Corners(geo.Triangles, f, kr, k);
+      if (!radial || !ZeroCrossing(f, v, k, n, s))
+      {
+        return;
+      }
+      double d[3], facing[3], front[3];
+      Corners(geo.Triangles, f, drkr, d);
+      for (int c = 0; c < 3; ++c)
+      {
+        facing[c] = cosAngle - nv[c];
+        front[c] = options.DropBackFacing ? nv[c] : 1.0;
+      }
+      for (int list = 1; list <= 2; ++list)
+      {
+        if (!draw[list])
+        {
+          continue;
+        }
+        double test[3];
+        for (int c = 0; c < 3; ++c)
+        {
+          test[c] = (list == 1 ? d[c] : -d[c]) * scale - options.SuggestiveThreshold;
+        }
+        LineSegment piece = s;
+        if (Clip(piece, test) && Clip(piece, facing) && Clip(piece, front))
+        {
+          out[list].push_back(piece);
+        }
+      }
+    });
+
+  // Ridges and valleys: the candidates clipped by the threshold and the view.
+  const auto clipRidges = [&](const std::vector<LineSegment>& candidates, bool valleys) {
+    std::vector<LineSegment> kept;
+    for (LineSegment s : candidates)
+    {
+      double test[3], front[3], k[3], nv[3];
+      Corners(geo.Triangles, s.Face, valleys ? geo.K2.data() : geo.K1.data(), k);
+      Corners(geo.Triangles, s.Face, ndotv, nv);
+      for (int c = 0; c < 3; ++c)
+      {
+        test[c] = (valleys ? -k[c] : k[c]) * size - options.RidgeThreshold;
+        front[c] = options.DropBackFacing ? nv[c] : 1.0;
+      }
+      if (Clip(s, test) && Clip(s, front))
+      {
+        kept.push_back(s);
+      }
+    }
+    return kept;
+  };
+
+  LineSet lines;
+  const auto one = [](Index, const Index*, double* c) { c[0] = c[1] = c[2] = 1.0; };
+  const auto vertexStrength = [&](const double* values, double factor) {
+    return [=, &geo](Index, const Index* v, double* c) {
+      for (int k = 0; k < 3; ++k)
+      {
+        c[k] = factor * values[v[k]];
+      }
+      (void)geo;
+    };
+  };
+  AddLines(geo, lists[0], LineType::Contour, one, lines);
+  AddLines(geo, lists[1], LineType::SuggestiveContour, vertexStrength(drkr, scale), lines);
+  AddLines(geo, lists[2], LineType::SuggestiveHighlight, vertexStrength(drkr, -scale), lines);
+  if (draw[int(LineType::Ridge)])
+  {
+    AddLines(geo, clipRidges(geo.RidgeCandidates, false), LineType::Ridge, vertexStrength(geo.K1.data(), size), lines);
+  }
+  if (draw[int(LineType::Valley)])
+  {
+    AddLines(geo, clipRidges(geo.ValleyCandidates, true), LineType::Valley, vertexStrength(geo.K2.data(), -size), lines);
+  }
+  if (draw[int(LineType::Boundary)])
+  {
+    AddLines(geo, geo.BoundaryEdges, LineType::Boundary, one, lines);
+  }
+  if (draw[int(LineType::Crease)])
+  {
+    std::vector<LineSegment> creases;
+    std::vector<double> angles;
+    for (const LineDrawingGeometry::InteriorEdge& e : geo.InteriorEdges)
+    {
+      if (e.Angle > options.CreaseAngle)
+      {
+        creases.push_back(geo.EdgeSegment(e.A, e.B, e.Face));
+        angles.push_back(e.Angle);
+      }
+    }
+    AddLines(geo, creases, LineType::Crease,
+      [&](Index s, const Index*, double* c) { c[0] = c[1] = c[2] = angles[s]; }, lines);
+  }
+  return lines;
+}
+
+} // namespace beltrami

@@ -1,0 +1,157 @@
+// Beltrami core: line drawings of a triangle surface (issue 27): contours,
+// suggestive contours and highlights (DeCarlo, Finkelstein, Rusinkiewicz &
+// Santella 2003; DeCarlo & Rusinkiewicz 2007), ridges and valleys,
+// boundaries and creases, chained into polylines.
+//
+// Two passes:
+//  - LineDrawingGeometry::Build, view independent and kept between views:
+//    the curvature tensors of chapter 2 (ComputeCurvatures), their
+//    derivatives (ComputeCurvatureDerivatives), the ridge and valley
+//    candidates, the boundary and crease edges;
+//  - DrawLines, per view: n.v, the radial curvature kappa_r and its
+//    derivative D_r kappa_r at the vertices, their zero sets on the faces
+//    (interpolated inside the triangles, not along mesh edges), the tests
+//    applied by clipping each segment where its tested quantity crosses its
+//    threshold, and the segments chained into polylines.
+//
+// Conventions: normals point out of the surface as the triangles' orientation
+// says, kappa > 0 where the surface bends away from its normal (a sphere with
+// outward normals).  v is the unit vector from the surface to the camera, w
+// its projection onto the tangent plane, r = w/|w|, theta the angle between n
+// and v.  kappa_r = II(r, r), and along r (v taken as locally constant, as
+// DeCarlo et al. do) D_r kappa_r = C(r,r,r) - 2 cot(theta) tau^2, tau =
+// II(r, r x n) the geodesic torsion: at kappa_r = 0 this is their
+// C(r,r,r) + 2 K cot(theta).
+#pragma once
+
+#include "Mesh/Geometry.h"
+#include "Mesh/MeshTopology.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace beltrami
+{
+
+enum class LineType : std::uint8_t
+{
+  Contour = 0,             ///< n.v = 0
+  SuggestiveContour = 1,   ///< kappa_r = 0, D_r kappa_r > 0
+  SuggestiveHighlight = 2, ///< kappa_r = 0, D_r kappa_r < 0
+  Ridge = 3,               ///< D_e1 kappa_1 = 0, a maximum along e1, kappa_1 > threshold
+  Valley = 4,              ///< D_e2 kappa_2 = 0, a minimum along e2, kappa_2 < -threshold
+  Boundary = 5,            ///< edges of one triangle
+  Crease = 6               ///< edges whose dihedral angle exceeds the crease angle
+};
+constexpr int NumberOfLineTypes = 7;
+
+/// The camera: a position (perspective) or a direction of projection
+/// (orthographic: the direction the camera looks along).
+struct LineView
+{
+  bool Perspective = true;
+  Vec3 Position = Vec3(0, 0, 1);
+  Vec3 Direction = Vec3(0, 0, -1);
+};
+
+struct LineDrawingOptions
+{
+  /// Which line types to draw, by LineType.
+  bool Draw[NumberOfLineTypes] = { true, true, false, false, false, true, true };
+  /// The length that makes the thresholds scale-free; 0: automatic (1% of
+  /// the bounding-box diagonal).
+  double FeatureSize = 0.0;
+  /// Suggestive contours (highlights) are drawn where D_r kappa_r (its
+  /// negative) times FeatureSize^2 exceeds this ...
+  double SuggestiveThreshold = 0.1;
+  /// ... and where the surface turns at least this angle (degrees) away from
+  /// the viewer: near theta = 0 the radial direction is unstable.
+  double SuggestiveAngle = 15.0;
+  /// Ridges (valleys) where kappa_1 (-kappa_2) times FeatureSize exceeds this.
+  double RidgeThreshold = 0.4;
+  /// Creases where the normals of an edge's two triangles differ by more
+  /// than this (degrees; above VTK's 30 so that coarse organic meshes do
+  /// not draw their tessellation).
+  double CreaseAngle = 40.0;
+  /// Drop the pieces of every type but contours where n.v < 0.
+  bool DropBackFacing = true;
+  int NumberOfThreads = 0;
+};
+
+/// One end of a segment: on a mesh edge (Key identifies it, so that the
+/// segments of neighbouring faces join there), on a vertex, or inside a face
+/// where a test clipped it (Key -1); W: barycentric weights in Face.
+struct LineEnd
+{
+  std::int64_t Key = -1;
+  double W[3] = { 0, 0, 0 };
+};
+struct LineSegment
+{
+  Index Face = 0;
+  LineEnd End[2];
+};
+
+/// The view-independent pass, kept while only the view or thresholds change.
+class LineDrawingGeometry
+{
+public:
+  /// Builds everything from a topology and its points (3 per vertex).
+  template <typename T>
+  void Build(const MeshTopology& topology, const T* points, int numThreads = 0);
+
+  Index NumberOfVertices() const { return static_cast<Index>(K1.size()); }
+  Index NumberOfFaces() const { return static_cast<Index>(Triangles.size() / 3); }
+  double AutomaticFeatureSize() const { return DefaultFeatureSize; }
+
+  std::vector<Index> Triangles; ///< the topology's kept triangles
+  std::vector<double> Points, Normals, K1, K2, E1, E2;
+  std::vector<double> Derivatives; ///< 4 per vertex: see ComputeCurvatureDerivatives
+  /// Vertices of triangles whose curvature is undefined (boundary,
+  /// non-manifold, NaN or degenerate 1-rings).
+  Index UndefinedVertices = 0;
+  /// Candidates, before thresholds and the view: ridges and valleys (with
+  /// the maximum / minimum test passed), boundary edges.
+  std::vector<LineSegment> RidgeCandidates, ValleyCandidates, BoundaryEdges;
+  /// The edges of two triangles, with the angle between their normals.
+  struct InteriorEdge
+  {
+    Index A, B, Face;
+    float Angle; ///< degrees
+  };
+  std::vector<InteriorEdge> InteriorEdges;
+  /// The segment along edge a-b of `face`, its ends keyed by the vertices.
+  LineSegment EdgeSegment(Index a, Index b, Index face) const;
+
+private:
+  double DefaultFeatureSize = 0.0;
+  void FindRidges(bool valleys, int numThreads);
+  void FindFeatureEdges(const MeshTopology& topology);
+};
+
+/// Per-vertex quantities of one view (outputs; null ones skipped).
+struct ViewFields
+{
+  double* NdotV = nullptr;
+  double* RadialCurvature = nullptr;           ///< kappa_r
+  double* RadialCurvatureDerivative = nullptr; ///< D_r kappa_r
+};
+
+/// Polylines: line l has the points Connectivity[Offsets[l] .. Offsets[l+1]),
+/// a closed one repeating its first point at its end.
+struct LineSet
+{
+  std::vector<double> Points, Normals; ///< 3 per point
+  std::vector<double> PointStrength;   ///< the tested quantity (1 for contours, boundaries)
+  std::vector<Index> Offsets{ 0 }, Connectivity;
+  std::vector<std::uint8_t> Type;      ///< LineType per line
+  std::vector<std::uint8_t> Closed;    ///< 1 for a closed loop
+  std::vector<double> Strength;        ///< mean point strength per line
+  Index NumberOfLines() const { return static_cast<Index>(Type.size()); }
+};
+
+/// The per-view pass.
+LineSet DrawLines(const LineDrawingGeometry& geometry, const LineView& view,
+  const LineDrawingOptions& options, const ViewFields& fields = {});
+
+} // namespace beltrami

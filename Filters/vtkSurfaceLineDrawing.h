@@ -1,0 +1,181 @@
+/**
+ * @class   vtkSurfaceLineDrawing
+ * @brief   Line drawings of a triangle surface for a camera: contours,
+ *          suggestive contours and highlights, ridges and valleys,
+ *          boundaries and creases, as polylines on the surface.
+ *
+ * The thesis (1.1, figure 1.1a) names line drawing as a first use of its
+ * operators.  The lines are zero sets interpolated inside the triangles
+ * (not along mesh edges), chained into polylines:
+ *  - CONTOUR: n.v = 0, v the unit vector from the surface to the camera.
+ *  - SUGGESTIVE_CONTOUR (DeCarlo, Finkelstein, Rusinkiewicz & Santella
+ *    2003): the radial curvature kappa_r (the normal curvature along the
+ *    projection w of v onto the tangent plane) is 0 and its derivative
+ *    D_w kappa_r > 0; drawn where D_w kappa_r * FeatureSize^2 exceeds
+ *    SuggestiveContourThreshold and the surface turns at least
+ *    SuggestiveContourAngle degrees away from the viewer.
+ *  - SUGGESTIVE_HIGHLIGHT (DeCarlo & Rusinkiewicz 2007): kappa_r = 0 with
+ *    D_w kappa_r < 0, the same tests on -D_w kappa_r.
+ *  - RIDGE / VALLEY: the maximum principal curvature kappa_1 at a maximum
+ *    along its direction with kappa_1 * FeatureSize > RidgeThreshold / the
+ *    minimum one kappa_2 at a minimum with -kappa_2 * FeatureSize >
+ *    RidgeThreshold.
+ *  - BOUNDARY: edges of one triangle; CREASE: edges whose triangles'
+ *    normals differ by more than CreaseAngle degrees.
+ * Curvature is positive where the surface bends away from its normal (a
+ * sphere with outward normals), the normals following the triangles'
+ * orientation.  The curvature tensor is the thesis' (chapter 2,
+ * vtkDiscreteCurvatures); its derivative per vertex is Rusinkiewicz's
+ * (2004) per-face least-squares fit averaged with the mixed areas.
+ * FeatureSize 0 (default) is 1% of the bounding-box diagonal.
+ *
+ * The camera: CameraPosition (perspective, default) or, with
+ * ParallelProjection on, ViewDirection (the direction the camera looks
+ * along).  In ParaView, beltrami_paraview.follow_camera(drawing, view)
+ * (Python/beltrami_paraview.py) keeps them equal to a view's camera, in the
+ * GUI's Python shell and in pvpython.
+ *
+ * The view-independent part (curvatures, their derivatives, ridge, valley
+ * and feature-edge candidates) is kept while the input does not change: a
+ * new camera or threshold re-runs only the per-view pass
+ * (GetGeometryBuilds() counts the other).  With DropBackFacing (default)
+ * the pieces of suggestive contours, highlights, ridges and valleys where
+ * n.v < 0 are dropped (hidden lines are the renderer's depth test).
+ *
+ * Output 0: polylines, cell arrays LineType (the enumeration below) and
+ * Strength (the mean of the tested quantity along the line: D_w kappa_r
+ * FeatureSize^2 for suggestive lines, |kappa| FeatureSize for ridges and
+ * valleys, the dihedral angle for creases, 1 for contours and boundaries),
+ * point arrays Strength (the same per point, for fading) and Normals (the
+ * surface normal, for offset rendering).  Output 1: the input surface with
+ * point arrays CurvatureDerivative (4 components: C(e1,e1,e1),
+ * C(e1,e1,e2), C(e1,e2,e2), C(e2,e2,e2) in the principal frame), and per
+ * view NdotV, RadialCurvature and RadialCurvatureDerivative, for shading.
+ *
+ * Boundary, non-manifold and degenerate vertices have no curvature: the
+ * lines that need it stop at their triangles, with a warning; contours,
+ * boundaries and creases are drawn everywhere.  Split data in distributed
+ * runs are gathered on rank 0, which holds the drawing.
+ */
+#ifndef vtkSurfaceLineDrawing_h
+#define vtkSurfaceLineDrawing_h
+
+#include "BeltramiFiltersModule.h"
+#include <vtkPolyDataAlgorithm.h>
+
+#include <memory> // for the kept geometry
+
+enum class vtkBeltramiCopy;
+namespace beltrami
+{
+struct LineDrawingOptions;
+}
+
+class BELTRAMIFILTERS_EXPORT vtkSurfaceLineDrawing : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkSurfaceLineDrawing* New();
+  vtkTypeMacro(vtkSurfaceLineDrawing, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum LineTypes
+  {
+    CONTOUR = 0,
+    SUGGESTIVE_CONTOUR = 1,
+    SUGGESTIVE_HIGHLIGHT = 2,
+    RIDGE = 3,
+    VALLEY = 4,
+    BOUNDARY = 5,
+    CREASE = 6
+  };
+
+  vtkSetVector3Macro(CameraPosition, double);
+  vtkGetVector3Macro(CameraPosition, double);
+  vtkSetVector3Macro(ViewDirection, double);
+  vtkGetVector3Macro(ViewDirection, double);
+  vtkSetMacro(ParallelProjection, bool);
+  vtkGetMacro(ParallelProjection, bool);
+  vtkBooleanMacro(ParallelProjection, bool);
+
+  vtkSetMacro(Contours, bool);
+  vtkGetMacro(Contours, bool);
+  vtkBooleanMacro(Contours, bool);
+  vtkSetMacro(SuggestiveContours, bool);
+  vtkGetMacro(SuggestiveContours, bool);
+  vtkBooleanMacro(SuggestiveContours, bool);
+  vtkSetMacro(SuggestiveHighlights, bool);
+  vtkGetMacro(SuggestiveHighlights, bool);
+  vtkBooleanMacro(SuggestiveHighlights, bool);
+  vtkSetMacro(Ridges, bool);
+  vtkGetMacro(Ridges, bool);
+  vtkBooleanMacro(Ridges, bool);
+  vtkSetMacro(Valleys, bool);
+  vtkGetMacro(Valleys, bool);
+  vtkBooleanMacro(Valleys, bool);
+  vtkSetMacro(Boundaries, bool);
+  vtkGetMacro(Boundaries, bool);
+  vtkBooleanMacro(Boundaries, bool);
+  vtkSetMacro(Creases, bool);
+  vtkGetMacro(Creases, bool);
+  vtkBooleanMacro(Creases, bool);
+
+  vtkSetClampMacro(FeatureSize, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(FeatureSize, double);
+  vtkSetClampMacro(SuggestiveContourThreshold, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(SuggestiveContourThreshold, double);
+  vtkSetClampMacro(SuggestiveContourAngle, double, 0.0, 90.0);
+  vtkGetMacro(SuggestiveContourAngle, double);
+  vtkSetClampMacro(RidgeThreshold, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(RidgeThreshold, double);
+  vtkSetClampMacro(CreaseAngle, double, 0.0, 180.0);
+  vtkGetMacro(CreaseAngle, double);
+  vtkSetMacro(DropBackFacing, bool);
+  vtkGetMacro(DropBackFacing, bool);
+  vtkBooleanMacro(DropBackFacing, bool);
+  vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
+  vtkGetMacro(NumberOfThreads, int);
+
+  /// How many times the view-independent pass ran (it is kept while the
+  /// input stays the same).
+  vtkGetMacro(GeometryBuilds, int);
+
+protected:
+  vtkSurfaceLineDrawing();
+  ~vtkSurfaceLineDrawing() override;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  double CameraPosition[3] = { 0.0, 0.0, 1.0 };
+  double ViewDirection[3] = { 0.0, 0.0, -1.0 };
+  bool ParallelProjection = false;
+  bool Contours = true;
+  bool SuggestiveContours = true;
+  bool SuggestiveHighlights = false;
+  bool Ridges = false;
+  bool Valleys = false;
+  bool Boundaries = true;
+  bool Creases = true;
+  double FeatureSize = 0.0;
+  double SuggestiveContourThreshold = 0.0;
+  double SuggestiveContourAngle = 0.0;
+  double RidgeThreshold = 0.0;
+  double CreaseAngle = 0.0;
+  bool DropBackFacing = true;
+  int NumberOfThreads = 0;
+  int GeometryBuilds = 0;
+
+private:
+  vtkSurfaceLineDrawing(const vtkSurfaceLineDrawing&) = delete;
+  void operator=(const vtkSurfaceLineDrawing&) = delete;
+
+  void CopySettings(beltrami::LineDrawingOptions& options, vtkBeltramiCopy direction);
+  int Draw(vtkPolyData* input, vtkPolyData* output);
+  /// Builds the view-independent pass unless the kept one is for `input`;
+  /// false (output empty) when there is nothing to draw or an error.
+  int UpdateGeometry(vtkPolyData* input, bool& ready);
+
+  struct Kept;
+  std::unique_ptr<Kept> Cache;
+};
+
+#endif

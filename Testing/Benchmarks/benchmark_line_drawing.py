@@ -1,0 +1,62 @@
+"""Line drawings (vtkSurfaceLineDrawing, issue 27) on the 1.2M-triangle
+Loop-subdivided bunny (on demand, not a test): the view-independent pass
+(curvatures, their derivatives, ridge and feature-edge candidates) against
+our curvature filter alone (vtkDiscreteCurvatures, the part every drawing
+needs), and one per-view pass (a new camera: contours, suggestive
+contours, ridges, chaining), on 1 and 2 threads, best of three.
+
+    source build/beltrami-env.sh
+    /usr/bin/python3 Testing/Benchmarks/benchmark_line_drawing.py [levels]
+"""
+import os
+import sys
+
+import beltrami
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from benchmark_parameterization import mesh  # noqa: E402  (bundled meshes, Loop-subdivided)
+from timing import timed  # noqa: E402
+
+
+def main(argv):
+    levels = int(argv[1]) if len(argv) > 1 else 2
+    data = mesh("bunny00.off", levels)
+    print("bunny00 after %d Loop subdivisions: %d points, %d triangles"
+          % (levels, data.GetNumberOfPoints(), data.GetNumberOfCells()))
+    cameras = [(0.0, 0.02, 0.4), (0.4, 0.1, 0.0), (-0.3, 0.2, -0.2), (0.1, 0.3, 0.3)]
+    for threads in (1, 2):
+        curvatures = beltrami.vtkDiscreteCurvatures()
+        curvatures.SetInputData(data)
+        curvatures.SetNumberOfThreads(threads)
+
+        def curvature_run():
+            curvatures.Modified()
+            curvatures.Update()
+        _, curvature_time = timed(curvature_run)
+
+        drawing = beltrami.vtkSurfaceLineDrawing()
+        drawing.SetInputData(data)
+        drawing.SetRidges(True)
+        drawing.SetNumberOfThreads(threads)
+
+        def whole_run():
+            data.Modified()  # a new input: both passes
+            drawing.Update()
+        _, whole = timed(whole_run)
+        state = {"camera": 0}
+
+        def view_run():
+            state["camera"] += 1
+            drawing.SetCameraPosition(cameras[state["camera"] % len(cameras)])
+            drawing.Update()
+        _, per_view = timed(view_run, repeats=len(cameras))
+        lines = drawing.GetOutput()
+        print("%d thread(s): curvature filter %.3f s; line drawing: view-independent pass %.3f s (%.2fx the "
+              "curvature filter), per-view pass %.1f ms (%d polylines, %d points); view-independent builds %d"
+              % (threads, curvature_time, whole - per_view, (whole - per_view) / curvature_time, 1000 * per_view,
+                 lines.GetNumberOfCells(), lines.GetNumberOfPoints(), drawing.GetGeometryBuilds()))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

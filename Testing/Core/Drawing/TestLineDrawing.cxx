@@ -1,0 +1,314 @@
+// Line drawings (issue 27): curvature derivatives against analytic surfaces,
+// suggestive contours on a Gaussian bump, contours on spheres, ridges and
+// valleys of an ellipsoid, suggestive contours meeting contours on a torus,
+// chaining, and bad input.
+#include "TestMeshes.h"
+
+#include "Drawing/LineChaining.h"
+#include "Drawing/LineDrawing.h"
+#include "Mesh/CurvatureDerivatives.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+
+using namespace beltrami;
+using test::Mesh;
+
+namespace
+{
+
+LineDrawingGeometry Geometry(const Mesh& m, int threads = 0)
+{
+  LineDrawingGeometry geo;
+  geo.Build(m.Topology(threads), m.Points.data(), threads);
+  return geo;
+}
+
+LineDrawingOptions Only(LineType type)
+{
+  LineDrawingOptions o;
+  for (bool& d : o.Draw)
+  {
+    d = false;
+  }
+  o.Draw[static_cast<int>(type)] = true;
+  return o;
+}
+
+LineView Orthographic(const Vec3& direction)
+{
+  LineView v;
+  v.Perspective = false;
+  v.Direction = direction;
+  return v;
+}
+
+/// The points of the lines of one type.
+std::vector<Vec3> PointsOf(const LineSet& lines, LineType type)
+{
+  std::vector<Vec3> points;
+  for (Index l = 0; l < lines.NumberOfLines(); ++l)
+  {
+    if (lines.Type[l] != static_cast<std::uint8_t>(type))
+    {
+      continue;
+    }
+    for (Index k = lines.Offsets[l]; k < lines.Offsets[l + 1]; ++k)
+    {
+      points.push_back(Point(lines.Points.data(), lines.Connectivity[k]));
+    }
+  }
+  return points;
+}
+
+double Bump(double x, double y, double h, double s)
+{
+  return h * std::exp(-(x * x + y * y) / (2 * s * s));
+}
+
+/// The worst relative distance of the suggestive-contour points of the bump
+/// (s = 1) seen from above to the inflection circle r = s, and their count.
+std::pair<double, std::size_t> BumpContourError(int n)
+{
+  const Mesh m = test::HeightField([](double x, double y) { return Bump(x, y, 1.0, 1.0); }, 3.0, n, 0.0, false, 1);
+  const LineDrawingGeometry geo = Geometry(m);
+  LineDrawingOptions o = Only(LineType::SuggestiveContour);
+  o.SuggestiveThreshold = 0.0;
+  const LineSet lines = DrawLines(geo, Orthographic({ 0, 0, -1 }), o);
+  double worst = 0.0;
+  const std::vector<Vec3> points = PointsOf(lines, LineType::SuggestiveContour);
+  for (const Vec3& p : points)
+  {
+    worst = std::max(worst, std::abs(std::hypot(p[0], p[1]) - 1.0));
+  }
+  return { worst, points.size() };
+}
+
+/// The ellipsoid x^2/a^2 + y^2/b^2 + z^2/c^2 = 1 from a subdivided
+/// octahedron turned first (so that no vertex lies on a symmetry plane);
+/// outward triangles, or inward ones when `inward`.
+Mesh Ellipsoid(double a, double b, double c, int levels, bool inward)
+{
+  Mesh m = test::OctahedronSphere(levels);
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  for (Index i = 0; i < m.NumberOfVertices(); ++i)
+  {
+    const Eigen::Vector3d p = turn * m.Point(i);
+    m.SetPoint(i, { a * p[0], b * p[1], c * p[2] });
+  }
+  if (inward)
+  {
+    for (std::size_t t = 0; t < m.Triangles.size(); t += 3)
+    {
+      std::swap(m.Triangles[t + 1], m.Triangles[t + 2]);
+    }
+  }
+  return m;
+}
+
+/// Distance from p to the nearest segment of the lines of one type.
+double DistanceToLines(const LineSet& lines, LineType type, const Vec3& p)
+{
+  double best = std::numeric_limits<double>::infinity();
+  for (Index l = 0; l < lines.NumberOfLines(); ++l)
+  {
+    if (lines.Type[l] != static_cast<std::uint8_t>(type))
+    {
+      continue;
+    }
+    for (Index k = lines.Offsets[l]; k + 1 < lines.Offsets[l + 1]; ++k)
+    {
+      const Vec3 a = Point(lines.Points.data(), lines.Connectivity[k]);
+      const Vec3 b = Point(lines.Points.data(), lines.Connectivity[k + 1]);
+      const double t = std::clamp((p - a).dot(b - a) / std::max(1e-300, (b - a).squaredNorm()), 0.0, 1.0);
+      best = std::min(best, (a + t * (b - a) - p).norm());
+    }
+  }
+  return best;
+}
+
+Index CountLines(const LineSet& lines, LineType type, bool closedOnly = false)
+{
+  Index count = 0;
+  for (Index l = 0; l < lines.NumberOfLines(); ++l)
+  {
+    count += lines.Type[l] == static_cast<std::uint8_t>(type) && (!closedOnly || lines.Closed[l]);
+  }
+  return count;
+}
+
+} // namespace
+
+TEST(LineDrawing, CurvatureDerivativeOfBump)
+{
+  // Along a meridian (a geodesic), C(r,r,r) is the arc-length derivative of
+  // the meridian's curvature: compare with the analytic value.
+  const double h = 1.0, s = 1.0;
+  const Mesh m = test::HeightField([&](double x, double y) { return Bump(x, y, h, s); }, 3.0, 121, 0.0, false, 1);
+  const LineDrawingGeometry geo = Geometry(m);
+  double worst = 0.0, scale = 0.0;
+  for (Index i = 0; i < m.NumberOfVertices(); ++i)
+  {
+    const Eigen::Vector3d p = m.Point(i);
+    const double rho = std::hypot(p[0], p[1]);
+    if (rho < 0.4 || rho > 2.5)
+    {
+      continue; // (the umbilic at the top leaves the directions undefined)
+    }
+    const double f = Bump(p[0], p[1], h, s), f1 = -rho / (s * s) * f, f2 = f * (rho * rho / std::pow(s, 4) - 1 / (s * s));
+    const double f3 = f * (3 * rho / std::pow(s, 4) - std::pow(rho, 3) / std::pow(s, 6));
+    const double q = 1 + f1 * f1;
+    const double expected = -(f3 * q - 3 * f1 * f2 * f2) / std::pow(q, 2.5) / std::sqrt(q);
+    const Vec3 radial = Vec3(p[0] / rho, p[1] / rho, f1).normalized();
+    double r[2] = { radial.dot(Point(geo.E1.data(), i)), radial.dot(Point(geo.E2.data(), i)) };
+    const double norm = std::hypot(r[0], r[1]);
+    r[0] /= norm;
+    r[1] /= norm;
+    const double estimate = EvaluateCubicForm(geo.Derivatives.data() + 4 * i, r, r, r);
+    worst = std::max(worst, std::abs(estimate - expected));
+    scale = std::max(scale, std::abs(expected));
+  }
+  std::printf("bump C(r,r,r): worst error %.4f of max %.4f\n", worst, scale);
+  EXPECT_LT(worst, 0.05 * scale); // (largest near the top's umbilic)
+}
+
+TEST(LineDrawing, SphereDerivativesVanish)
+{
+  const LineDrawingGeometry geo = Geometry(test::OctahedronSphere(5, 2.0));
+  double worst = 0.0;
+  for (double c : geo.Derivatives)
+  {
+    worst = std::max(worst, std::abs(c));
+  }
+  std::printf("sphere |C| max %.5f (1/R^2 = 0.25)\n", worst);
+  EXPECT_LT(worst, 0.01 * 0.25);
+}
+
+TEST(LineDrawing, BumpSuggestiveContourOnInflectionCircle)
+{
+  double previous = 1.0;
+  for (int n : { 61, 121, 241 })
+  {
+    const auto [error, count] = BumpContourError(n);
+    std::printf("bump n=%d: %zu points, worst |r - s|/s = %.5f\n", n, count, error);
+    EXPECT_GT(count, 100u);
+    EXPECT_LT(error, previous / 2.5) << "the error shrinks with refinement";
+    previous = error;
+  }
+  EXPECT_LT(previous, 0.01);
+}
+
+TEST(LineDrawing, SphereContoursAreGreatCircles)
+{
+  const Mesh m = test::OctahedronSphere(5);
+  const LineDrawingGeometry geo = Geometry(m);
+  const Vec3 d = Vec3(1, 2, 3).normalized();
+  LineDrawingOptions o; // defaults: contours, suggestive contours, boundaries, creases
+  const LineSet lines = DrawLines(geo, Orthographic(d), o);
+  const std::vector<Vec3> contour = PointsOf(lines, LineType::Contour);
+  double worst = 0.0;
+  for (const Vec3& p : contour)
+  {
+    worst = std::max(worst, std::abs(p.dot(d)));
+  }
+  std::printf("sphere: %zu contour points, worst |p.d| %.5f, %d lines\n", contour.size(), worst,
+    lines.NumberOfLines());
+  EXPECT_GT(contour.size(), 100u);
+  EXPECT_LT(worst, 0.01); // the zero set of n.v interpolated on chords of a sphere of 4098 vertices
+  EXPECT_EQ(lines.NumberOfLines(), 1) << "one closed contour, nothing else";
+  EXPECT_EQ(CountLines(lines, LineType::Contour, true), 1);
+  // No suggestive contours even without a threshold: kappa_r = 1 everywhere.
+  LineDrawingOptions all = Only(LineType::SuggestiveContour);
+  all.SuggestiveThreshold = 0.0;
+  all.SuggestiveAngle = 0.0;
+  EXPECT_EQ(DrawLines(geo, Orthographic(d), all).NumberOfLines(), 0);
+  // Perspective from (0, 0, 5): the contour is the circle z = 1/5.
+  LineView camera;
+  camera.Position = Vec3(0, 0, 5);
+  const LineSet near = DrawLines(geo, camera, o);
+  worst = 0.0;
+  for (const Vec3& p : PointsOf(near, LineType::Contour))
+  {
+    worst = std::max(worst, std::abs(p[2] - 0.2));
+  }
+  EXPECT_LT(worst, 0.01);
+  EXPECT_EQ(CountLines(near, LineType::Contour, true), 1);
+}
+
+TEST(LineDrawing, EllipsoidRidgesAndValleysInCoordinatePlanes)
+{
+  const double axes[3] = { 3.0, 2.0, 1.0 };
+  for (bool inward : { false, true })
+  {
+    const Mesh m = Ellipsoid(axes[0], axes[1], axes[2], 6, inward);
+    const LineDrawingGeometry geo = Geometry(m);
+    const LineType type = inward ? LineType::Valley : LineType::Ridge;
+    LineDrawingOptions o = Only(type);
+    o.DropBackFacing = false;
+    const LineSet lines = DrawLines(geo, Orthographic({ 0, 0, -1 }), o);
+    const std::vector<Vec3> points = PointsOf(lines, type);
+    std::vector<double> distance; // to the nearest coordinate plane, relative to its axis
+    for (const Vec3& p : points)
+    {
+      distance.push_back(std::min({ std::abs(p[0]) / axes[0], std::abs(p[1]) / axes[1], std::abs(p[2]) / axes[2] }));
+    }
+    std::sort(distance.begin(), distance.end());
+    ASSERT_GT(distance.size(), 300u);
+    const double median = distance[distance.size() / 2], q90 = distance[distance.size() * 9 / 10];
+    std::printf("ellipsoid %s: %zu points in %d lines; distance to a coordinate plane: median %.4f, 90%% %.4f, max %.4f\n",
+      inward ? "valleys" : "ridges", points.size(), lines.NumberOfLines(), median, q90, distance.back());
+    EXPECT_LT(median, 0.005);
+    EXPECT_LT(q90, 0.015);
+    EXPECT_EQ(CountLines(lines, inward ? LineType::Ridge : LineType::Valley), 0);
+  }
+}
+
+TEST(LineDrawing, TorusSuggestiveContoursEndOnContours)
+{
+  const Mesh m = test::Torus(2.0, 1.0, 240, 120, 0.0, 1);
+  const LineDrawingGeometry geo = Geometry(m);
+  LineDrawingOptions o;
+  o.Draw[int(LineType::Boundary)] = o.Draw[int(LineType::Crease)] = false;
+  o.SuggestiveThreshold = 0.0;
+  o.SuggestiveAngle = 0.0;
+  const LineSet lines = DrawLines(geo, Orthographic(Vec3(0, -1, -0.8).normalized()), o);
+  const double edge = 2 * M_PI * 1.0 / 120;
+  // DeCarlo et al.: suggestive contours meet the contours.  An end is either
+  // on a contour or where D_r kappa_r falls to the threshold (here 0: the
+  // strength there is 0), where the zero set of kappa_r goes on as no line.
+  int onContour = 0, atThreshold = 0, unexplained = 0;
+  for (Index l = 0; l < lines.NumberOfLines(); ++l)
+  {
+    if (lines.Type[l] != static_cast<std::uint8_t>(LineType::SuggestiveContour) || lines.Closed[l])
+    {
+      continue;
+    }
+    for (Index k : { lines.Offsets[l], lines.Offsets[l + 1] - 1 })
+    {
+      const Index id = lines.Connectivity[k];
+      if (DistanceToLines(lines, LineType::Contour, Point(lines.Points.data(), id)) < 2 * edge)
+      {
+        ++onContour;
+      }
+      else if (std::abs(lines.PointStrength[id]) < 1e-9)
+      {
+        ++atThreshold;
+      }
+      else
+      {
+        ++unexplained;
+      }
+    }
+  }
+  std::printf("torus: %d contours (%d closed), %d suggestive contours: %d ends on a contour, %d where D_r kappa_r = 0, "
+              "%d other\n",
+    CountLines(lines, LineType::Contour), CountLines(lines, LineType::Contour, true),
+    CountLines(lines, LineType::SuggestiveContour), onContour, atThreshold, unexplained);
+  EXPECT_GE(onContour, 2);
+  EXPECT_EQ(unexplained, 0);
+  EXPECT_EQ(CountLines(lines, LineType::Contour), CountLines(lines, LineType::Contour, true))
+    << "contours of a closed smooth surface are closed";
+}
