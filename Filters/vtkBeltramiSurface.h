@@ -83,6 +83,15 @@ public:
   static int Execute(vtkAlgorithm* owner, vtkInformationVector** inputVector, vtkInformationVector* outputVector,
     int numberOfThreads, Needs needs, const std::function<bool(vtkBeltramiSurface&)>& run,
     const std::function<void(vtkPolyData*)>& received = {});
+  /// The RequestData of the filters that make a new data set from the whole
+  /// surface (the atlas, the remesher, the line drawing): fetches the poly
+  /// data input and output 0 (an error on `owner` if either is missing),
+  /// empties every other output, and calls run(input, output) on the whole
+  /// surface: split data over the ranks are gathered on rank 0, which holds
+  /// the result (the other ranks' outputs stay empty).  Collective in
+  /// distributed runs.  Returns RequestData's value.
+  static int RunOnWholeSurface(vtkAlgorithm* owner, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector, const std::function<int(vtkPolyData*, vtkPolyData*)>& run);
   /// True when Execute runs on the whole surface gathered from the ranks.
   bool IsGathered() const { return Gathered; }
   /// Points of the input piece (the output's points).

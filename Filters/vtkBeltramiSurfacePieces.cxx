@@ -299,6 +299,29 @@ int vtkBeltramiSurface::Start(vtkAlgorithm* owner, int numberOfThreads, bool bui
   return -1;
 }
 
+int vtkBeltramiSurface::RunOnWholeSurface(vtkAlgorithm* owner, vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector, const std::function<int(vtkPolyData*, vtkPolyData*)>& run)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  if (!input || !output)
+  {
+    vtkErrorWithObjectMacro(owner, "Input and output must be vtkPolyData.");
+    return 0;
+  }
+  for (int port = 1; port < outputVector->GetNumberOfInformationObjects(); ++port)
+  {
+    if (vtkDataObject* other = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT()))
+    {
+      other->Initialize(); // nothing until run fills it
+    }
+  }
+  return vtkBeltramiGather::RunWhole(outputVector->GetInformationObject(0), input, output,
+    vtkBeltramiGather::Results::OnRankZero, [&run](vtkPointSet* in, vtkPointSet* out, int) {
+      return run(vtkPolyData::SafeDownCast(in), vtkPolyData::SafeDownCast(out));
+    });
+}
+
 int vtkBeltramiSurface::Execute(vtkAlgorithm* owner, vtkInformationVector** inputVector,
   vtkInformationVector* outputVector, int numberOfThreads, Needs needs,
   const std::function<bool(vtkBeltramiSurface&)>& run, const std::function<void(vtkPolyData*)>& received)

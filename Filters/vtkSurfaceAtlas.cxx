@@ -1,7 +1,6 @@
 #include "vtkSurfaceAtlas.h"
 #include "vtkBeltramiSettings.h"
 
-#include "vtkBeltramiGather.h"
 #include "vtkBeltramiSurface.h"
 
 #include "Maps/Atlas.h"
@@ -100,20 +99,8 @@ int vtkSurfaceAtlas::FillOutputPortInformation(int port, vtkInformation* info)
 int vtkSurfaceAtlas::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
-  vtkPolyData* output = vtkPolyData::GetData(outputVector);
-  if (!input || !output)
-  {
-    vtkErrorMacro("Input and output must be vtkPolyData.");
-    return 0;
-  }
-  vtkMultiBlockDataSet::GetData(outputVector, 1)->Initialize(); // no maps until they are made
-  // The atlas needs the whole surface: split data are gathered on rank 0,
-  // which holds the cut surface and the maps (the other ranks' outputs stay empty).
-  return vtkBeltramiGather::RunWhole(outputVector->GetInformationObject(0), input, output,
-    vtkBeltramiGather::Results::OnRankZero, [this](vtkPointSet* in, vtkPointSet* out, int) {
-      return this->Build(vtkPolyData::SafeDownCast(in), vtkPolyData::SafeDownCast(out));
-    });
+  return vtkBeltramiSurface::RunOnWholeSurface(this, inputVector, outputVector,
+    [this](vtkPolyData* input, vtkPolyData* output) { return this->Build(input, output); });
 }
 
 int vtkSurfaceAtlas::Build(vtkPolyData* input, vtkPolyData* output)

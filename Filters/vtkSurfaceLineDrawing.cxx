@@ -1,6 +1,5 @@
 #include "vtkSurfaceLineDrawing.h"
 
-#include "vtkBeltramiGather.h"
 #include "vtkBeltramiSettings.h"
 #include "vtkBeltramiSurface.h"
 
@@ -68,18 +67,8 @@ void vtkSurfaceLineDrawing::CopySettings(beltrami::LineDrawingOptions& o, vtkBel
 int vtkSurfaceLineDrawing::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
-  vtkPolyData* output = vtkPolyData::GetData(outputVector);
-  if (!input || !output)
-  {
-    vtkErrorMacro("Input and output must be vtkPolyData.");
-    return 0;
-  }
-  vtkPolyData::GetData(outputVector, 1)->Initialize();
-  return vtkBeltramiGather::RunWhole(outputVector->GetInformationObject(0), input, output,
-    vtkBeltramiGather::Results::OnRankZero, [this](vtkPointSet* in, vtkPointSet* out, int) {
-      return this->Draw(vtkPolyData::SafeDownCast(in), vtkPolyData::SafeDownCast(out));
-    });
+  return vtkBeltramiSurface::RunOnWholeSurface(this, inputVector, outputVector,
+    [this](vtkPolyData* input, vtkPolyData* output) { return this->Draw(input, output); });
 }
 
 int vtkSurfaceLineDrawing::UpdateGeometry(vtkPolyData* input, bool& ready)

@@ -1,6 +1,5 @@
 #include "vtkSurfaceRemeshing.h"
 
-#include "vtkBeltramiGather.h"
 #include "vtkBeltramiSurface.h"
 
 #include "Maps/Atlas.h"
@@ -58,18 +57,8 @@ int vtkSurfaceRemeshing::FillOutputPortInformation(int port, vtkInformation* inf
 int vtkSurfaceRemeshing::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
-  vtkPolyData* output = vtkPolyData::GetData(outputVector);
-  if (!input || !output)
-  {
-    vtkErrorMacro("Input and output must be vtkPolyData.");
-    return 0;
-  }
-  vtkMultiBlockDataSet::GetData(outputVector, 1)->Initialize();
-  return vtkBeltramiGather::RunWhole(outputVector->GetInformationObject(0), input, output,
-    vtkBeltramiGather::Results::OnRankZero, [this](vtkPointSet* in, vtkPointSet* out, int) {
-      return this->Build(vtkPolyData::SafeDownCast(in), vtkPolyData::SafeDownCast(out));
-    });
+  return vtkBeltramiSurface::RunOnWholeSurface(this, inputVector, outputVector,
+    [this](vtkPolyData* input, vtkPolyData* output) { return this->Build(input, output); });
 }
 
 const beltrami::AtlasResult& vtkSurfaceRemeshing::Atlas(vtkPolyData* input, const void* topology, const double* points)
