@@ -248,6 +248,7 @@ TEST(LineDrawing, EllipsoidRidgesAndValleysInCoordinatePlanes)
     const LineType type = inward ? LineType::Valley : LineType::Ridge;
     LineDrawingOptions o = Only(type);
     o.DropBackFacing = false;
+    o.RidgeThreshold = 0.05; // kappa > 0.67 with the automatic feature size (the default 0.4 keeps none: max kappa 3)
     const LineSet lines = DrawLines(geo, Orthographic({ 0, 0, -1 }), o);
     const std::vector<Vec3> points = PointsOf(lines, type);
     std::vector<double> distance; // to the nearest coordinate plane, relative to its axis
