@@ -33,6 +33,8 @@ vtkStandardNewMacro(vtkSurfaceLineDrawing);
 struct vtkSurfaceLineDrawing::Kept
 {
   beltrami::LineDrawingGeometry Geometry;
+  /// Its derivatives as the surface output's array, made once (not per view).
+  vtkSmartPointer<vtkDoubleArray> Derivatives;
   const void* Input = nullptr;
   vtkMTimeType InputTime = 0;
 };
@@ -69,40 +71,6 @@ int vtkSurfaceLineDrawing::RequestData(
 {
   return vtkBeltramiSurface::RunOnWholeSurface(this, inputVector, outputVector,
     [this](vtkPolyData* input, vtkPolyData* output) { return this->Draw(input, output); });
-}
-
-int vtkSurfaceLineDrawing::UpdateGeometry(vtkPolyData* input, bool& ready)
-{
-  const vtkMTimeType time = std::max(input->GetMTime(), input->GetPoints() ? input->GetPoints()->GetMTime() : 0);
-  ready = true;
-  if (this->Cache && this->Cache->Input == input && this->Cache->InputTime == time)
-  {
-    return 1;
-  }
-  this->Cache.reset();
-  vtkBeltramiSurface surface;
-  const vtkBeltramiSurface::Readiness readiness =
-    surface.BuildWhole(this, input, this->NumberOfThreads, "the line drawing");
-  if (readiness != vtkBeltramiSurface::Readiness::Ready)
-  {
-    ready = false;
-    return readiness == vtkBeltramiSurface::Readiness::Empty ? 1 : 0;
-  }
-  auto kept = std::make_unique<Kept>();
-  surface.Dispatch([&](const auto* points) { kept->Geometry.Build(surface.Topology(), points, this->NumberOfThreads); });
-  kept->Input = input;
-  kept->InputTime = time;
-  ++this->GeometryBuilds;
-  if (kept->Geometry.UndefinedVertices > 0)
-  {
-    const std::string defects = surface.TopologyWarning();
-    vtkWarningMacro(<< kept->Geometry.UndefinedVertices
-                    << " points have no curvature (boundary, non-manifold, NaN or degenerate 1-rings"
-                    << (defects.empty() ? std::string() : ": " + defects)
-                    << "): suggestive contours, highlights, ridges and valleys stop at their triangles.");
-  }
-  this->Cache = std::move(kept);
-  return 1;
 }
 
 namespace
@@ -152,6 +120,41 @@ void WriteLines(const beltrami::LineSet& lines, vtkPolyData* output)
 
 } // namespace
 
+int vtkSurfaceLineDrawing::UpdateGeometry(vtkPolyData* input, bool& ready)
+{
+  const vtkMTimeType time = std::max(input->GetMTime(), input->GetPoints() ? input->GetPoints()->GetMTime() : 0);
+  ready = true;
+  if (this->Cache && this->Cache->Input == input && this->Cache->InputTime == time)
+  {
+    return 1;
+  }
+  this->Cache.reset();
+  vtkBeltramiSurface surface;
+  const vtkBeltramiSurface::Readiness readiness =
+    surface.BuildWhole(this, input, this->NumberOfThreads, "the line drawing");
+  if (readiness != vtkBeltramiSurface::Readiness::Ready)
+  {
+    ready = false;
+    return readiness == vtkBeltramiSurface::Readiness::Empty ? 1 : 0;
+  }
+  auto kept = std::make_unique<Kept>();
+  surface.Dispatch([&](const auto* points) { kept->Geometry.Build(surface.Topology(), points, this->NumberOfThreads); });
+  kept->Derivatives = FromVector("CurvatureDerivative", 4, kept->Geometry.Derivatives);
+  kept->Input = input;
+  kept->InputTime = time;
+  ++this->GeometryBuilds;
+  if (kept->Geometry.UndefinedVertices > 0)
+  {
+    const std::string defects = surface.TopologyWarning();
+    vtkWarningMacro(<< kept->Geometry.UndefinedVertices
+                    << " points have no curvature (boundary, non-manifold, NaN or degenerate 1-rings"
+                    << (defects.empty() ? std::string() : ": " + defects)
+                    << "): suggestive contours, highlights, ridges and valleys stop at their triangles.");
+  }
+  this->Cache = std::move(kept);
+  return 1;
+}
+
 int vtkSurfaceLineDrawing::Draw(vtkPolyData* input, vtkPolyData* output)
 {
   output->Initialize(); // a defined output: empty
@@ -185,7 +188,7 @@ int vtkSurfaceLineDrawing::Draw(vtkPolyData* input, vtkPolyData* output)
   const beltrami::ViewFields fields{ ndotv->GetPointer(0), kr->GetPointer(0), drkr->GetPointer(0) };
   WriteLines(beltrami::DrawLines(geometry, view, options, fields), output);
   vtkPointData* pd = surface->GetPointData();
-  pd->AddArray(FromVector("CurvatureDerivative", 4, geometry.Derivatives));
+  pd->AddArray(this->Cache->Derivatives);
   pd->AddArray(ndotv);
   pd->AddArray(kr);
   pd->AddArray(drkr);

@@ -96,7 +96,7 @@ bool Clip(LineSegment& s, const double* g)
   return true;
 }
 
-/// The corner values of face f of a per-vertex field, optionally mapped.
+/// The corner values of face f of a per-vertex field.
 void Corners(const std::vector<Index>& tri, Index f, const double* field, double* out)
 {
   for (int k = 0; k < 3; ++k)
@@ -456,13 +456,12 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
 
   LineSet lines;
   const auto one = [](Index, const Index*, double* c) { c[0] = c[1] = c[2] = 1.0; };
-  const auto vertexStrength = [&](const double* values, double factor) {
-    return [=, &geo](Index, const Index* v, double* c) {
+  const auto vertexStrength = [](const double* values, double factor) {
+    return [=](Index, const Index* v, double* c) {
       for (int k = 0; k < 3; ++k)
       {
         c[k] = factor * values[v[k]];
       }
-      (void)geo;
     };
   };
   AddLines(geo, lists[0], LineType::Contour, one, lines);
