@@ -3,20 +3,20 @@
 
 Adds Gaussian noise (sigma = 0.1 of the range, fixed seed) to the bundled
 greyscale `camera` and colour `coffee` images (from scikit-image's data), smooths
-them with vtkImageBeltramiDenoising (the Beltrami flow, colours coupled, stopped by
-the discrepancy principle when the change reaches the noise level), prints the PSNR and writes
-noisy | denoised pictures side by side.
+them with vtkImageBeltramiDenoising at its defaults (the Beltrami flow, colours
+coupled; no parameter set: the noise level is estimated from the image, the
+contrast scale follows from it and the flow stops at the least estimated error,
+Monte-Carlo SURE), prints the PSNR, the estimated noise and error and the
+settings chosen, and writes noisy | denoised pictures side by side.
 
     source build/beltrami-env.sh
     /usr/bin/python3 Examples/denoising_demo.py [output-dir]
-
-Settings, for noise of standard deviation sigma (in the image's range 0..1):
-contrast scale alpha = 1.5 / sigma, edge contrast gamma = 1 (Beltrami flow),
-explicit steps of 0.2 pixel^2, noise level sigma.
 """
 import os
 import sys
 import time
+
+import numpy as np
 
 from beltrami.pipelines import SIGMA, denoise, noisy_version, psnr, read_png, write_side_by_side
 
@@ -38,9 +38,16 @@ def main(argv):
         elapsed = time.perf_counter() - start
         png = os.path.join(out_dir, name + "_denoised.png")
         write_side_by_side(noisy, result, png)
-        print("  %-7s %dx%d: noisy %.2f dB -> %.2f dB in %.3f s (%d steps)\n  wrote %s"
+        scale = 1.0 if clean.shape[2] >= 3 else 255.0  # grey levels are the values; colours in [0, 1]
+        print("  %-7s %dx%d: noisy %.2f dB -> %.2f dB in %.3f s (%d steps)\n"
+              "          estimated noise %.3f (added %.3f), contrast scale %.3g, estimated RMS error %.4f "
+              "(true %.4f)\n  wrote %s"
               % (name, clean.shape[1], clean.shape[0], psnr(noisy, clean), psnr(result, clean), elapsed,
-                 report.GetArray("FlowIterations").GetValue(0), png))
+                 report.GetArray("FlowIterations").GetValue(0),
+                 report.GetArray("EstimatedNoiseLevel").GetValue(0) / scale, SIGMA,
+                 report.GetArray("FlowContrastScale").GetValue(0),
+                 report.GetArray("FlowEstimatedError").GetValue(1) / scale,
+                 np.sqrt(np.mean((result / 255.0 - clean / 255.0) ** 2)), png))
     return 0
 
 

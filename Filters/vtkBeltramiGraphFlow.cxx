@@ -61,16 +61,35 @@ void vtkBeltramiGraphFlow::AddReport(vtkFieldData* fd, const beltrami::GraphFlow
   addDouble("FlowRMSChange", { r.RMSChange });
   addDouble("FlowArea", { r.InitialArea, r.FinalArea });
   addInt("FlowSolverIterations", r.SolverIterations);
+  addDouble("EstimatedNoiseLevel", { r.EstimatedNoiseLevel });
+  addDouble("FlowNoiseLevel", { r.NoiseLevel });
+  addDouble("FlowContrastScale", { r.ContrastScale });
+  if (r.InitialRisk > 0.0)
+  {
+    addDouble("FlowEstimatedError", { r.InitialRisk, r.FinalRisk });
+  }
 }
 
 std::string vtkBeltramiGraphFlow::StabilityWarning(
   const beltrami::GraphFlowOptions& o, const beltrami::GraphFlowResult& r)
 {
+  std::ostringstream s;
+  if (r.StoppedByLimit)
+  {
+    s << "The flow reached its iteration limit (" << r.Iterations << ") before its stopping rule"
+      << (o.Stop == beltrami::GraphFlowStop::Iterations ? " (the noise level)" : "")
+      << ": the data may be under-smoothed. Raise "
+      << (o.Stop == beltrami::GraphFlowStop::Iterations ? "NumberOfIterations" : "MaximumNumberOfIterations")
+      << " or use a larger TimeStep.";
+    if (r.UnstableSteps > 0)
+    {
+      s << " ";
+    }
+  }
   if (r.UnstableSteps == 0)
   {
-    return {};
+    return s.str();
   }
-  std::ostringstream s;
   s << r.UnstableSteps << " explicit step(s) of " << (o.TimeStep > 0.0 ? o.TimeStep : r.LastTimeStep)
     << " exceeded the stability limit (" << r.SmallestStableStep
     << " at the steepest point); the result may oscillate. Use AdaptiveTimeStep, the semi-implicit "

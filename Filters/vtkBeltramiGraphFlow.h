@@ -41,6 +41,8 @@ public:
     BeltramiCopySetting(f->TimeStep, o.TimeStep, direction);
     BeltramiCopySetting(f->AdaptiveTimeStep, o.AdaptiveTimeStep, direction);
     BeltramiCopySetting(f->NumberOfIterations, o.NumberOfIterations, direction);
+    BeltramiCopySetting(f->StoppingRule, o.Stop, direction);
+    BeltramiCopySetting(f->MaximumNumberOfIterations, o.MaximumNumberOfIterations, direction);
     BeltramiCopySetting(f->NoiseLevel, o.NoiseLevel, direction);
     BeltramiCopySetting(f->Units, o.Units, direction);
     BeltramiCopySetting(f->NumberOfThreads, o.NumberOfThreads, direction);
@@ -65,6 +67,8 @@ public:
     os << indent << "TimeStep: " << f->TimeStep << "\n";
     os << indent << "AdaptiveTimeStep: " << f->AdaptiveTimeStep << "\n";
     os << indent << "NumberOfIterations: " << f->NumberOfIterations << "\n";
+    os << indent << "StoppingRule: " << f->StoppingRule << "\n";
+    os << indent << "MaximumNumberOfIterations: " << f->MaximumNumberOfIterations << "\n";
     os << indent << "NoiseLevel: " << f->NoiseLevel << "\n";
     os << indent << "NumberOfThreads: " << f->NumberOfThreads << "\n";
     os << indent << "UseFixedPointsArray: " << f->UseFixedPointsArray << "\n";
@@ -80,10 +84,14 @@ public:
     vtkDataSet* input, vtkDataSet* output, vtkDataArray* original, vtkDataArray* smoothed);
 
   /// Field arrays FlowIterations, FlowTime, FlowRMSChange, FlowArea (initial,
-  /// final area of the graph surface), FlowSolverIterations.
+  /// final area of the graph surface), FlowSolverIterations,
+  /// EstimatedNoiseLevel (from the input alone), and the settings the run
+  /// used: FlowNoiseLevel, FlowContrastScale; with the least-risk stop
+  /// FlowEstimatedError (estimated RMS error to the clean data: input, result).
   static void AddReport(vtkFieldData* fd, const beltrami::GraphFlowResult& result);
 
-  /// A warning for explicit steps beyond the stability limit (empty if none).
+  /// Warnings for explicit steps beyond the stability limit and for a
+  /// rule-based stop cut short by the iteration limit (empty if none).
   static std::string StabilityWarning(
     const beltrami::GraphFlowOptions& options, const beltrami::GraphFlowResult& result);
 

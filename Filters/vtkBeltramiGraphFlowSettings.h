@@ -24,7 +24,14 @@
     EXPLICIT = 0,                                                                                 \
     SEMI_IMPLICIT = 1                                                                             \
   };                                                                                              \
-  vtkSetClampMacro(ContrastScale, double, 1e-12, VTK_DOUBLE_MAX);                                 \
+  enum StoppingRuleType                                                                           \
+  {                                                                                               \
+    FIXED_ITERATIONS = 0, /* NumberOfIterations steps */                                          \
+    NOISE_LEVEL = 1,      /* when the RMS change reaches the noise level (discrepancy) */         \
+    MINIMUM_RISK = 2      /* at the least estimated error (Monte-Carlo SURE) */                   \
+  };                                                                                              \
+  /** 0: automatic (relative to the noise level and the length unit). */                         \
+  vtkSetClampMacro(ContrastScale, double, 0.0, VTK_DOUBLE_MAX);                                   \
   vtkGetMacro(ContrastScale, double);                                                             \
   vtkSetClampMacro(EdgeContrast, double, -1.0, 10.0);                                             \
   vtkGetMacro(EdgeContrast, double);                                                              \
@@ -37,6 +44,11 @@
   vtkBooleanMacro(AdaptiveTimeStep, bool);                                                        \
   vtkSetClampMacro(NumberOfIterations, int, 0, VTK_INT_MAX);                                      \
   vtkGetMacro(NumberOfIterations, int);                                                           \
+  vtkSetClampMacro(StoppingRule, int, FIXED_ITERATIONS, MINIMUM_RISK);                            \
+  vtkGetMacro(StoppingRule, int);                                                                 \
+  vtkSetClampMacro(MaximumNumberOfIterations, int, 1, VTK_INT_MAX);                               \
+  vtkGetMacro(MaximumNumberOfIterations, int);                                                    \
+  /** 0: estimated from the data. */                                                              \
   vtkSetClampMacro(NoiseLevel, double, 0.0, VTK_DOUBLE_MAX);                                      \
   vtkGetMacro(NoiseLevel, double);                                                                \
   vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);                                         \
@@ -65,6 +77,8 @@
   double TimeStep;                                                                                \
   bool AdaptiveTimeStep;                                                                          \
   int NumberOfIterations;                                                                         \
+  int StoppingRule;                                                                               \
+  int MaximumNumberOfIterations;                                                                  \
   double NoiseLevel;                                                                              \
   int Units;                                                                                      \
   int NumberOfThreads;                                                                            \

@@ -6,7 +6,6 @@
 
 #include "Flows/ColorSpace.h"
 #include "Flows/GraphFlow.h"
-#include "Flows/NoiseEstimation.h"
 #include "Support/LargeBuffer.h"
 
 #include <vtkDataArray.h>
@@ -162,22 +161,18 @@ GridMapping MapGrid(const int* whole, const int* inExt, bool& volume)
 
 /// The values the core smooths: `Used` components per pixel; colours
 /// normalised to [0, 1] by the range of their integer type, in L*u*v* when
-/// `Luv` (then `RGB` keeps the values before the flow for the noise-level
-/// stop, which compares the change back in RGB).
+/// `Luv` (the noise-level and least-risk stops measure in RGB).
 struct FlowValues
 {
   beltrami::LargeVector<double> Values;
   int Used = 0;
   double Range = 1.0;
   bool Luv = false;
-  std::vector<double> RGB;
-  double EstimatedNoise = -1.0; ///< 2D images: the noise level estimated from the data (RGB units), else -1
 };
 
 /// Reads `array` as the core's values; false (after an error) when it
 /// cannot be smoothed.
-bool ReadValues(vtkImageBeltramiDenoising* self, vtkDataArray* array, vtkIdType count,
-  const beltrami::PixelGrid* pixels, FlowValues& v)
+bool ReadValues(vtkImageBeltramiDenoising* self, vtkDataArray* array, vtkIdType count, FlowValues& v)
 {
   const int nc = array->GetNumberOfComponents();
   const char* name = array->GetName() ? array->GetName() : "";
@@ -205,7 +200,7 @@ bool ReadValues(vtkImageBeltramiDenoising* self, vtkDataArray* array, vtkIdType 
       << name << "' has " << nc << ". The output is the input.");
     return false;
   }
-  v.Luv = color && space != vtkImageBeltramiDenoising::RGB;
+  v.Luv = space == vtkImageBeltramiDenoising::LUV;
   v.Range = color && integral ? array->GetDataTypeMax() : 1.0;
   v.Values.resize(static_cast<std::size_t>(count) * v.Used);
   if (array->HasStandardMemoryLayout())
@@ -229,34 +224,11 @@ bool ReadValues(vtkImageBeltramiDenoising* self, vtkDataArray* array, vtkIdType 
       }
     }
   }
-  if (pixels)
-  {
-    v.EstimatedNoise = beltrami::EstimateImageNoise(*pixels, v.Used, v.Values.data());
-  }
   if (v.Luv)
   {
-    if (self->GetNoiseLevel() > 0.0)
-    {
-      v.RGB.assign(v.Values.begin(), v.Values.end());
-    }
     beltrami::RGBToLuv(v.Values.data(), count, 3, self->GetNumberOfThreads());
   }
   return true;
-}
-
-/// The noise-level stop of colours flowed in L*u*v*: the RMS change in RGB.
-std::function<double(const double*)> ChangeInRGB(const std::vector<double>& rgb, vtkIdType count, int threads)
-{
-  return [&rgb, count, threads, converted = std::vector<double>()](const double* luvValues) mutable {
-    converted.assign(luvValues, luvValues + rgb.size());
-    beltrami::LuvToRGB(converted.data(), count, 3, threads);
-    double sum = 0.0;
-    for (std::size_t k = 0; k < rgb.size(); ++k)
-    {
-      sum += (converted[k] - rgb[k]) * (converted[k] - rgb[k]);
-    }
-    return rgb.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(rgb.size()));
-  };
 }
 
 /// The pixel grid of a 2D image as the core sees it.
@@ -278,9 +250,11 @@ beltrami::GraphFlowResult RunFlow(vtkImageBeltramiDenoising* self, vtkImageData*
   beltrami::GraphFlowOptions options = vtkBeltramiGraphFlow::Options(self);
   options.Boundary = static_cast<beltrami::GridBoundary>(self->GetBoundaryHandling());
   const vtkIdType count = input->GetNumberOfPoints();
-  if (!v.RGB.empty())
+  if (v.Luv)
   {
-    options.ChangeMeasure = ChangeInRGB(v.RGB, count, self->GetNumberOfThreads());
+    const int threads = self->GetNumberOfThreads();
+    options.ToNoiseSpace = [count, threads](double* x) { beltrami::LuvToRGB(x, count, 3, threads); };
+    options.FromNoiseSpace = [count, threads](double* x) { beltrami::RGBToLuv(x, count, 3, threads); };
   }
   self->UpdateProgress(0.0);
   const beltrami::ProgressCallback progress = [self](double fraction) {
@@ -323,13 +297,6 @@ void WriteOutput(vtkImageBeltramiDenoising* self, vtkImageData* input, vtkImageD
   }
   vtkBeltramiGraphFlow::ReplaceArray(input, output, array, smoothed);
   vtkBeltramiGraphFlow::AddReport(output->GetFieldData(), result);
-  if (v.EstimatedNoise >= 0.0)
-  {
-    vtkNew<vtkDoubleArray> estimate;
-    estimate->SetName("EstimatedNoiseLevel");
-    estimate->InsertNextValue(v.EstimatedNoise);
-    output->GetFieldData()->AddArray(estimate);
-  }
 }
 
 } // namespace
@@ -345,7 +312,8 @@ vtkImageBeltramiDenoising::vtkImageBeltramiDenoising()
 
 bool vtkImageBeltramiDenoising::IsLocal() const
 {
-  return this->Integration == EXPLICIT && !this->AdaptiveTimeStep && this->NoiseLevel <= 0.0;
+  return this->Integration == EXPLICIT && !this->AdaptiveTimeStep && this->NoiseLevel <= 0.0 &&
+    this->StoppingRule == FIXED_ITERATIONS && this->ContrastScale > 0.0;
 }
 
 int vtkImageBeltramiDenoising::RequestInformation(
@@ -466,8 +434,7 @@ int vtkImageBeltramiDenoising::RequestData(
     return 0;
   }
   FlowValues v;
-  const beltrami::PixelGrid pixels = PixelsOf(input, inExt, grid);
-  if (!ReadValues(this, array, input->GetNumberOfPoints(), volume ? nullptr : &pixels, v))
+  if (!ReadValues(this, array, input->GetNumberOfPoints(), v))
   {
     return 0;
   }

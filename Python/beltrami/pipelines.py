@@ -348,24 +348,16 @@ def noisy_version(clean8, sigma=SIGMA, seed=SEED):
     return np.clip(np.round(clean8 + noise), 0, 255).astype(np.uint8)
 
 
-def denoise(noisy8, sigma=SIGMA, threads=0):
-    """The Beltrami flow with the settings for noise level sigma; uint8 in and out.
-    Colour images: the coupled flow in RGB, where the noise level is measured (the
-    filter's automatic choice for 8-bit colour, CIE L*u*v*, is perceptually
-    uniform but measures the change in L*u*v* units)."""
-    # 8-bit colours are normalized to [0, 1] by the filter; other values are
-    # taken as they are, so a greyscale image's noise level is in grey levels.
-    unit = 1.0 if noisy8.shape[2] >= 3 else 255.0
+def denoise(noisy8, threads=0, **settings):
+    """The Beltrami flow at its defaults (no parameter set: the noise level is
+    estimated from the image, the contrast scale follows from it and the flow
+    stops at the least estimated error); uint8 in and out.  `settings`: other
+    vtkImageBeltramiDenoising settings by name (ColorSpace=..., ...)."""
     f = vtkImageBeltramiDenoising()
     f.SetInputData(to_image(noisy8))
-    f.SetContrastScale(1.5 / (sigma * unit))
-    f.SetEdgeContrast(1.0)
-    f.SetTimeStep(0.2)
-    f.SetNoiseLevel(sigma * unit)
-    f.SetNumberOfIterations(200)
     f.SetNumberOfThreads(threads)
-    if noisy8.shape[2] >= 3:
-        f.SetColorSpace(vtkImageBeltramiDenoising.RGB)
+    for key, value in settings.items():
+        getattr(f, "Set" + key)(value)
     f.Update()
     return from_image(f.GetOutput()), f.GetOutput().GetFieldData()
 

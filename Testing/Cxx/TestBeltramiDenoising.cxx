@@ -74,6 +74,7 @@ TEST(ImageBeltramiDenoising, RemovesNoiseKeepsTheEdgeAndReports)
   f->SetInputData(image);
   f->SetContrastScale(1.5 / sigma); // the documented setting for noise sigma
   f->SetNoiseLevel(sigma);
+  f->SetStoppingRule(vtkImageBeltramiDenoising::NOISE_LEVEL);
   f->SetNumberOfIterations(200);
   f->Update();
   vtkImageData* out = f->GetOutput();
@@ -143,7 +144,7 @@ TEST(SurfaceDataDenoising, DefaultsSmoothNoisyDataOnASphere)
   vtkDoubleArray* clean = AddPointField(mesh, "clean", height);
   vtkDoubleArray* values = AddPointField(mesh, "values", height, 0.05, 5);
   mesh->GetPointData()->SetScalars(values);
-  vtkNew<vtkSurfaceDataDenoising> f; // semi-implicit steps of 0.1 h^2
+  vtkNew<vtkSurfaceDataDenoising> f; // semi-implicit steps of 0.1 h^2, automatic settings
   f->SetInputData(mesh);
   f->Update();
   vtkDataArray* out = f->GetOutput()->GetPointData()->GetArray("values");
@@ -155,7 +156,13 @@ TEST(SurfaceDataDenoising, DefaultsSmoothNoisyDataOnASphere)
   vtkDataArray* time = f->GetOutput()->GetFieldData()->GetArray("FlowTime");
   ASSERT_NE(time, nullptr);
   const double h = beltrami::test::MeanEdgeLength(mesh);
-  EXPECT_NEAR(time->GetComponent(0, 0), 10 * 0.1 * h * h, 0.1 * 10 * 0.1 * h * h); // in the mesh's units
+  vtkFieldData* fd = f->GetOutput()->GetFieldData();
+  const double steps = fd->GetArray("FlowIterations")->GetComponent(0, 0);
+  EXPECT_GT(steps, 0);
+  EXPECT_NEAR(time->GetComponent(0, 0), steps * 0.1 * h * h, 1e-9 * h * h); // in the mesh's units
+  // The noise estimated from the data alone, used by the stop.
+  EXPECT_NEAR(fd->GetArray("EstimatedNoiseLevel")->GetComponent(0, 0), 0.05, 0.005);
+  EXPECT_EQ(fd->GetArray("FlowNoiseLevel")->GetComponent(0, 0), fd->GetArray("EstimatedNoiseLevel")->GetComponent(0, 0));
 }
 
 TEST(TetrahedralBeltramiDenoising, LinearFieldsStayAndNoiseGoes)

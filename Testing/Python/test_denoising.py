@@ -64,25 +64,26 @@ class ImageInvariants(unittest.TestCase):
         ramp = np.dstack([0.3 * x - 0.2 * y + 1.0, 0.05 * y, -0.1 * x])
         for gamma in (-1.0, 0.0, 1.0, 2.0):
             out, _ = denoise(ramp, spacing=(0.5, 2.0), ContrastScale=3.0, EdgeContrast=gamma,
-                             NumberOfIterations=20, TimeStep=0.05)
+                             StoppingRule=0, NumberOfIterations=20, TimeStep=0.05)
             self.assertLess(np.abs(out - ramp).max(), 1e-9, gamma)
         const = np.full((30, 20, 1), 0.7)
         for boundary in (0, 1):
             for integration in (0, 1):
                 out, _ = denoise(const, BoundaryHandling=boundary, Integration=integration,
-                                 NumberOfIterations=5, ContrastScale=10.0)
+                                 StoppingRule=0, NumberOfIterations=5, ContrastScale=10.0)
                 self.assertLess(np.abs(out - const).max(), 1e-12)
 
     def test_pieces_threads_and_whole_image_agree_bit_for_bit(self):
         rng = np.random.default_rng(3)
         a = load_png("camera")[100:196, 200:330, :1] / 255.0 + rng.normal(0, 0.1, (96, 130, 1))
-        ref, _ = denoise(a, ContrastScale=15.0, NumberOfIterations=7, NumberOfThreads=1)
-        two, _ = denoise(a, ContrastScale=15.0, NumberOfIterations=7, NumberOfThreads=2)
+        ref, _ = denoise(a, ContrastScale=15.0, StoppingRule=0, NumberOfIterations=7, NumberOfThreads=1)
+        two, _ = denoise(a, ContrastScale=15.0, StoppingRule=0, NumberOfIterations=7, NumberOfThreads=2)
         self.assertTrue(np.array_equal(ref, two))
         # Pieces: ask for sub-extents; the filter reads NumberOfIterations ghost pixels.
         f = vtkImageBeltramiDenoising()
         f.SetInputData(to_image(a))
         f.SetContrastScale(15.0)
+        f.SetStoppingRule(f.FIXED_ITERATIONS)
         f.SetNumberOfIterations(7)
         for ext in ((0, 63, 0, 40, 0, 0), (64, 129, 41, 95, 0, 0), (10, 20, 30, 90, 0, 0)):
             f.UpdateExtent(ext)
@@ -92,8 +93,9 @@ class ImageInvariants(unittest.TestCase):
                 ext[3] - ext[2] + 1, ext[1] - ext[0] + 1)
             self.assertTrue(np.array_equal(piece, ref[ext[2]:ext[3] + 1, ext[0]:ext[1] + 1, 0]), ext)
         # Global stopping rule: the whole extent is requested, same numbers.
-        whole, _ = denoise(a, ContrastScale=15.0, NoiseLevel=0.1, NumberOfIterations=50)
+        whole, _ = denoise(a, ContrastScale=15.0, NoiseLevel=0.1, StoppingRule=1, NumberOfIterations=50)
         f.SetNoiseLevel(0.1)
+        f.SetStoppingRule(f.NOISE_LEVEL)
         f.SetNumberOfIterations(50)
         f.UpdateExtent((5, 60, 5, 50, 0, 0))
         piece = vtk_to_numpy(f.GetOutput().GetPointData().GetArray("values")).reshape(46, 56)
@@ -108,7 +110,7 @@ class GreyscaleQuality(unittest.TestCase):
         self.assertAlmostEqual(psnr(noisy, clean), 20.0, delta=0.05)
         # Documented setting for noise sigma: alpha = 1.5/sigma, gamma = 1 (Beltrami
         # flow), explicit steps of 0.2, stop when the RMS change reaches sigma.
-        out, fd = denoise(noisy, ContrastScale=15.0, NoiseLevel=0.1, NumberOfIterations=200)
+        out, fd = denoise(noisy, ContrastScale=15.0, NoiseLevel=0.1, StoppingRule=1, NumberOfIterations=200)
         quality = psnr(out, clean)
         print("camera sigma 0.1: noisy 20.0 dB -> %.2f dB in %d steps" % (
             quality, fd.GetArray("FlowIterations").GetValue(0)))
@@ -121,7 +123,7 @@ class GreyscaleQuality(unittest.TestCase):
         self.assertLess(area.GetValue(1), 0.5 * area.GetValue(0))  # the noise was area
         # Semi-implicit and adaptive variants: same stopping rule, good too.
         for settings in ({"Integration": 1, "TimeStep": 0.5}, {"AdaptiveTimeStep": True}):
-            out, _ = denoise(noisy, ContrastScale=15.0, NoiseLevel=0.1, NumberOfIterations=200,
+            out, _ = denoise(noisy, ContrastScale=15.0, NoiseLevel=0.1, StoppingRule=1, NumberOfIterations=200,
                              **settings)
             self.assertGreater(psnr(out, clean), 27.5, settings)
 
@@ -132,7 +134,7 @@ class GreyscaleQuality(unittest.TestCase):
         for gamma in (-1.0, 0.0, 1.0, 2.0):
             # gamma < 1 flows are stiff at edges (speed up to W^(1 - gamma)): semi-implicit steps.
             out, fd = denoise(noisy, ContrastScale=15.0, EdgeContrast=gamma, Integration=1,
-                              TimeStep=0.5, NoiseLevel=0.1, NumberOfIterations=400)
+                              TimeStep=0.5, NoiseLevel=0.1, StoppingRule=1, NumberOfIterations=400)
             print("gamma %g: %.2f dB in %d steps" % (gamma, psnr(out, clean),
                                                      fd.GetArray("FlowIterations").GetValue(0)))
             self.assertGreater(psnr(out, clean), psnr(noisy, clean) + 5.0, gamma)
@@ -142,7 +144,7 @@ class GreyscaleQuality(unittest.TestCase):
         # 1.8 dB and values up to 94 on the whole camera image).  A smoothing
         # flow: no value leaves the range of the noisy data.
         for alpha in (10.0, 15.0):
-            out, _ = denoise(noisy, ContrastScale=alpha, EdgeContrast=-1.0, NumberOfIterations=10)
+            out, _ = denoise(noisy, ContrastScale=alpha, EdgeContrast=-1.0, StoppingRule=0, NumberOfIterations=10)
             self.assertGreater(psnr(out, clean), psnr(noisy, clean) + 5.0, alpha)
             self.assertGreaterEqual(out.min(), noisy.min(), alpha)
             self.assertLessEqual(out.max(), noisy.max(), alpha)
@@ -172,15 +174,16 @@ class ColourQuality(unittest.TestCase):
             noisy8 = np.clip(np.round(clean8 + rng.normal(0, 255 * sigma, clean8.shape)), 0, 255)
             noisy8 = noisy8.astype(np.uint8)
             noisy = noisy8 / 255.0
-            settings = dict(ContrastScale=1.5 / sigma, NoiseLevel=sigma, NumberOfIterations=200)
+            settings = dict(ContrastScale=1.5 / sigma, NoiseLevel=sigma, StoppingRule=1, NumberOfIterations=200)
             coupled, _ = denoise(noisy, ColorSpace=vtkImageBeltramiDenoising.RGB, **settings)
             separate = np.dstack([denoise(noisy[..., c:c + 1], **settings)[0][..., 0] for c in range(3)])
             clean = clean8 / 255.0
             p_coupled, p_separate = psnr(coupled, clean), psnr(separate, clean)
             b_coupled = chroma_error_at_edges(coupled, clean)
             b_separate = chroma_error_at_edges(separate, clean)
-            # The default for 8-bit colour: L*u*v*, integer output.
-            luv, _ = denoise(noisy8, ContrastScale=3.0, NumberOfIterations=5)
+            # L*u*v* on request, integer output.
+            luv, _ = denoise(noisy8, ColorSpace=vtkImageBeltramiDenoising.LUV, ContrastScale=3.0, StoppingRule=0,
+                             NumberOfIterations=5)
             self.assertEqual(luv.dtype, np.uint8)
             p_luv = psnr(luv / 255.0, clean)
             print("%s: noisy %.2f dB, channel-by-channel %.2f dB, coupled RGB %.2f dB, LUV %.2f dB; "
@@ -191,7 +194,8 @@ class ColourQuality(unittest.TestCase):
             self.assertGreater(p_luv, psnr(noisy, clean) + 4.5)
             # A noise level for 8-bit colours is in RGB units, also when they
             # flow in L*u*v*: the flow stops when the RGB change reaches it.
-            stopped, fd = denoise(noisy8, ContrastScale=5.0, NoiseLevel=sigma, NumberOfIterations=200)
+            stopped, fd = denoise(noisy8, ColorSpace=vtkImageBeltramiDenoising.LUV, ContrastScale=5.0, NoiseLevel=sigma,
+                                  StoppingRule=1, NumberOfIterations=200)
             self.assertAlmostEqual(fd.GetArray("FlowRMSChange").GetValue(0), sigma, delta=1e-3 * sigma)
             change = np.sqrt(np.mean((stopped / 255.0 - noisy) ** 2))
             self.assertAlmostEqual(change, sigma, delta=0.05 * sigma)  # after rounding to 8 bits
@@ -211,7 +215,7 @@ class NoiseEstimate(unittest.TestCase):
             for sigma in (0.02, 0.05, 0.1, 0.2):
                 rng = np.random.default_rng(7)
                 noisy = clean + rng.normal(0.0, sigma, clean.shape)
-                _, fd = denoise(noisy, NumberOfIterations=0)
+                _, fd = denoise(noisy, StoppingRule=0, NumberOfIterations=0)
                 estimate = fd.GetArray("EstimatedNoiseLevel").GetValue(0)
                 allowed = 0.12 if (name, sigma) == ("coffee", 0.02) else 0.10
                 worst[(name, sigma)] = estimate / sigma - 1
@@ -234,8 +238,8 @@ class VectorAndHeightFields(unittest.TestCase):
             return np.degrees(np.abs(np.angle(np.exp(1j * a))))[region].mean()
 
         band = (np.abs(x - 63.5) < 4) & (np.abs(y - 48) < 30)  # along the boundary
-        ours, _ = denoise(noisy, ContrastScale=1.5 / sigma, NoiseLevel=sigma, NumberOfIterations=300)
-        linear, _ = denoise(noisy, ContrastScale=1e-3, NoiseLevel=sigma, NumberOfIterations=3000,
+        ours, _ = denoise(noisy, ContrastScale=1.5 / sigma, NoiseLevel=sigma, StoppingRule=1, NumberOfIterations=300)
+        linear, _ = denoise(noisy, ContrastScale=1e-3, NoiseLevel=sigma, StoppingRule=1, NumberOfIterations=3000,
                             AdaptiveTimeStep=True)
         e_noisy, e_ours, e_linear = (angular_error(v, band) for v in (noisy, ours, linear))
         print("vortex boundary angular error: noisy %.1f, Beltrami %.1f, linear diffusion %.1f deg"
@@ -253,7 +257,7 @@ class VectorAndHeightFields(unittest.TestCase):
         sigma = 0.5
         noisy = clean + rng.normal(0, sigma, clean.shape)
         ours, _ = denoise(noisy, spacing=(1.0, 2.0), ContrastScale=1.0, NoiseLevel=sigma,
-                          NumberOfIterations=500, AdaptiveTimeStep=True)
+                          StoppingRule=1, NumberOfIterations=500, AdaptiveTimeStep=True)
 
         def gaussian(std):
             g = vtkImageGaussianSmooth()
@@ -301,7 +305,8 @@ class SurfaceData(unittest.TestCase):
             f.SetInputData(sphere)
             f.SetContrastScale(alpha)
             f.SetNoiseLevel(sigma)
-            f.SetNumberOfIterations(2000)
+            f.SetStoppingRule(f.NOISE_LEVEL)
+            f.SetMaximumNumberOfIterations(2000)
             f.SetAdaptiveTimeStep(alpha < 1)
             f.Update()
             out = f.GetOutput()

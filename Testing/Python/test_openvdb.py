@@ -58,6 +58,7 @@ def denoiser(f, source):
     f.SetNoiseLevel(0.1)
     f.SetIntegration(1)
     f.SetTimeStep(0.1)
+    f.SetStoppingRule(1)  # the noise level: the same steps on the dense and the sparse path
     f.SetNumberOfIterations(100)
     f.Update()
     return f

@@ -97,11 +97,11 @@ def compare_pixels(name, render):
     return True
 
 
-def denoised_crop(name, rows, cols, sigma=pipelines.SIGMA):
+def denoised_crop(name, rows, cols):
     def render(png):
         clean = pipelines.read_png(os.path.join(DATA, name + ".png"))
         clean = clean[..., :1] if name == "camera" else clean[..., :3]
-        result, _ = pipelines.denoise(pipelines.noisy_version(clean), sigma=sigma)
+        result, _ = pipelines.denoise(pipelines.noisy_version(clean))  # the defaults: automatic
         image = pipelines.to_image(np.ascontiguousarray(result[rows, cols]))
         writer = vtkPNGWriter()
         writer.SetFileName(png)

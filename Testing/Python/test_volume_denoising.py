@@ -85,7 +85,7 @@ class VolumeQuality(unittest.TestCase):
         clean = blobs()
         noisy = clean + np.random.default_rng(3).normal(0, SIGMA, clean.shape)
         grid = tetrahedralize(noisy)
-        _, out = denoise(grid, ContrastScale=1.5 / SIGMA, NoiseLevel=SIGMA, NumberOfIterations=200)
+        _, out = denoise(grid, ContrastScale=1.5 / SIGMA, NoiseLevel=SIGMA, StoppingRule=1, NumberOfIterations=200)
         ours = vtk_to_numpy(out.GetPointData().GetArray("v")).reshape(clean.shape)
         self.assertEqual(out.GetNumberOfCells(), grid.GetNumberOfCells())
 
@@ -125,7 +125,7 @@ class ImageVolumes(unittest.TestCase):
         # vtkDataSetTriangleFilter's tetrahedra: equal up to discretisation.
         clean = blobs()
         noisy = clean + np.random.default_rng(3).normal(0, SIGMA, clean.shape)
-        settings = dict(ContrastScale=1.5 / SIGMA, NoiseLevel=SIGMA, NumberOfIterations=200)
+        settings = dict(ContrastScale=1.5 / SIGMA, NoiseLevel=SIGMA, StoppingRule=1, NumberOfIterations=200)
         _, ours = self.image_flow(noisy, Integration=1, TimeStep=0.1, **settings)
         _, out = denoise(tetrahedralize(noisy), **settings)
         tets = vtk_to_numpy(out.GetPointData().GetArray("v")).reshape(clean.shape)
@@ -156,11 +156,11 @@ class ImageVolumes(unittest.TestCase):
         self.assertTrue(0.1 * (steps - 1) < flow_time <= 0.1 * steps + 1e-12)  # the last step stops at sigma
         self.assertNotIn("stability limit", log)
         self.assertGreater(psnr(explicit, clean), psnr(ours, clean) - 0.1)
-        self.assertIn("stability limit", warnings(TimeStep=0.2, NumberOfIterations=3)[2])
+        self.assertIn("stability limit", warnings(TimeStep=0.2, StoppingRule=0, NumberOfIterations=3)[2])
 
     def test_pieces_and_threads_equal_the_whole_volume(self):
         noisy = blobs(20) + np.random.default_rng(4).normal(0, SIGMA, (20, 20, 20))
-        settings = dict(ContrastScale=1.5 / SIGMA, TimeStep=0.02, NumberOfIterations=4)
+        settings = dict(ContrastScale=1.5 / SIGMA, TimeStep=0.02, StoppingRule=0, NumberOfIterations=4)
         _, whole = self.image_flow(noisy, NumberOfThreads=1, **settings)
         _, two = self.image_flow(noisy, NumberOfThreads=2, **settings)
         self.assertTrue(np.array_equal(whole, two))
@@ -183,7 +183,7 @@ class VolumeInvariants(unittest.TestCase):
 
     def test_constant_field_and_fixed_points(self):
         grid = tetrahedralize(np.full((6, 5, 4), 0.3))
-        _, out = denoise(grid, ContrastScale=10.0, NumberOfIterations=5)
+        _, out = denoise(grid, ContrastScale=10.0, StoppingRule=0, NumberOfIterations=5)
         self.assertTrue(np.all(vtk_to_numpy(out.GetPointData().GetArray("v")) == 0.3))
 
         noisy = np.random.default_rng(1).normal(0, 1, (6, 5, 4))
@@ -216,7 +216,7 @@ class VolumeInvariants(unittest.TestCase):
         append = vtkAppendFilter()
         append.AddInputData(image(noisy))
         append.Update()
-        settings = dict(ContrastScale=1.5 / SIGMA, Integration=1, TimeStep=0.1, NumberOfIterations=5)
+        settings = dict(ContrastScale=1.5 / SIGMA, Integration=1, TimeStep=0.1, StoppingRule=0, NumberOfIterations=5)
         f, out = denoise(append.GetOutput(), Units=1, **settings)  # physical units: spacing 1, as the image
         voxels = vtk_to_numpy(out.GetPointData().GetArray("v"))
         g = configured(vtkImageBeltramiDenoising(), image(noisy), **settings)

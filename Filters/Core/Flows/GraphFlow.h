@@ -29,9 +29,12 @@
 // Integration (section 3.8.5): explicit Euler, or semi-implicit Euler with
 // the weights, areas and indicators of the current state (a sparse SPD system
 // per step, solved by conjugate gradients, all channels at once).  Time step
-// fixed, or adapted from the change of the total area.  Optional stop by the
-// discrepancy principle: when the RMS change of the data reaches the noise
-// level.
+// fixed, or adapted from the change of the total area.  Stop after a fixed
+// number of steps, by the discrepancy principle (when the RMS change of the
+// data reaches the noise level), or at the least estimated risk: Monte-Carlo
+// SURE (Stein's unbiased risk estimate, Ramani, Blu and Unser 2008), the
+// mean squared error to the unknown clean data estimated at every step from
+// a second run on the data plus a small known perturbation.
 #pragma once
 
 #include "Mesh/MeshMeasures.h"
@@ -51,6 +54,14 @@ enum class GraphFlowIntegration : int
   SemiImplicit = 1
 };
 
+/// When the time loop ends.
+enum class GraphFlowStop : int
+{
+  Iterations = 0, ///< after NumberOfIterations steps
+  NoiseLevel = 1, ///< when the RMS change reaches NoiseLevel (discrepancy principle)
+  MinimumRisk = 2 ///< at the step of least estimated risk (SURE; NoiseLevel is the noise)
+};
+
 /// What the image flow assumes beyond the image border.
 enum class GridBoundary : int
 {
@@ -63,7 +74,11 @@ enum class GridBoundary : int
 /// source: the filters start from these).
 struct GraphFlowOptions
 {
-  double ContrastScale = 1.0; ///< alpha: data units -> embedding units (section 3.8.4)
+  /// alpha: data units -> embedding units (section 3.8.4).  0 (default):
+  /// automatic, c h / sigma with h the base's length unit (the spacing's
+  /// geometric mean on images, Units on meshes), sigma the noise level and c
+  /// calibrated with the least-risk stop (1.5; 1.25 on volumes).
+  double ContrastScale = 0.0;
   double EdgeContrast = 1.0;  ///< gamma of eq. 3.19 (1: Beltrami flow)
   GraphFlowIntegration Integration = GraphFlowIntegration::Explicit;
   /// In (length unit)^2 of the base: pixel spacing, or `Units` on meshes.
@@ -75,16 +90,23 @@ struct GraphFlowOptions
   /// own units.  Images use their spacing.
   LengthUnit Units = LengthUnit::MeanEdgeLength;
   bool AdaptiveTimeStep = false;
-  int NumberOfIterations = 10;
-  /// > 0: stop once the RMS change of the data (per component, data units)
-  /// reaches this noise level (discrepancy principle).
+  int NumberOfIterations = 10; ///< the steps of GraphFlowStop::Iterations
+  /// The rule that ends the flow.  NoiseLevel and MinimumRisk need NoiseLevel
+  /// > 0 (legacy: NoiseLevel > 0 with Iterations stops by NoiseLevel too, after at
+  /// most NumberOfIterations steps).
+  GraphFlowStop Stop = GraphFlowStop::MinimumRisk;
+  /// The safety bound of the rule-based stops (NoiseLevel, MinimumRisk): far
+  /// above what the rules need; GraphFlowResult::StoppedByLimit tells when
+  /// it ended a run before its rule.
+  int MaximumNumberOfIterations = 2000;
+  /// The standard deviation of the noise (per component, data units): the
+  /// stop of NoiseLevel and MinimumRisk.  0: estimated from the data.
   double NoiseLevel = 0.0;
-  /// Optional: the RMS change in the units NoiseLevel is given in, from the
-  /// values being smoothed (data units, Components per vertex) - for data
-  /// smoothed in another space than the one the noise was measured in
-  /// (colours flowed in L*u*v*, noise given in RGB).  Default: the RMS change
-  /// of the values themselves.
-  std::function<double(const double* values)> ChangeMeasure;
+  /// Optional, for data smoothed in another space than the one the noise
+  /// lives in (colours flowed in L*u*v*, noise in RGB): converts values
+  /// (data units, Components per vertex, in place) into the noise's space,
+  /// and back.  The change and the risk are measured in the noise's space.
+  std::function<void(double* values)> ToNoiseSpace, FromNoiseSpace;
   GridBoundary Boundary = GridBoundary::Linear; ///< images only
   double SolverTolerance = 1e-4;                ///< semi-implicit: CG residual reduction
   int MaximumSolverIterations = 500;
@@ -115,6 +137,19 @@ struct GraphFlowResult
   double SmallestStableStep = 0.0;
   int UnstableSteps = 0;      ///< explicit steps larger than that limit
   int SolverIterations = 0;   ///< semi-implicit: CG iterations, all steps
+  /// MinimumRisk: the estimated root mean squared error to the clean data
+  /// (data units) at the input and at the result.
+  double InitialRisk = 0.0;
+  double FinalRisk = 0.0;
+  /// A rule-based stop (NoiseLevel, MinimumRisk) ended by
+  /// MaximumNumberOfIterations before its rule.
+  bool StoppedByLimit = false;
+  /// The noise level estimated from the data (Flows/NoiseEstimation; 0
+  /// where the domain is too small), the noise level and the contrast scale
+  /// the run used.
+  double EstimatedNoiseLevel = 0.0;
+  double NoiseLevel = 0.0;
+  double ContrastScale = 0.0;
 };
 
 /// A pixel grid: Width x Height samples, row-major (x fastest), spacing in

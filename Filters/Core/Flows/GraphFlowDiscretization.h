@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <type_traits>
@@ -42,8 +44,14 @@ public:
   /// (Mass, Speed, Diagonal, KU and Apply); the explicit one only Velocity.
   bool StoreOperator = true;
   /// The time step of GraphFlowOptions::TimeStep = 0 (below the explicit
-  /// stability limit on unit grids).
+  /// stability limit, which scales with the square of the spacing).
   double AutomaticTimeStep = 0.1;
+  /// The length of the base the automatic contrast scale is relative to:
+  /// the geometric mean of the spacing (images), the mesh's length unit.
+  double LengthScale = 1.0;
+  /// The automatic contrast scale is AutomaticContrast * LengthScale / sigma
+  /// (calibrated with the least-risk stop: 1.5 on images, 1.25 on volumes).
+  double AutomaticContrast = 1.5;
   // Filled by Update(u):
   LargeVector<double> Velocity; ///< s_i (K u)_i / a_i, zero where fixed: du/dt = -Velocity
   LargeVector<double> Mass, Speed, Diagonal, KU; ///< a_i, s_i, sum_j c_ij, K u (with ghosts)
@@ -58,6 +66,10 @@ public:
   /// K as an explicit graph Laplacian, where it is one (meshes): the
   /// semi-implicit step then uses the faster graph solver.
   virtual const GraphLaplacian* Graph() const { return nullptr; }
+  /// The standard deviation of additive Gaussian noise in `values` (data
+  /// units, Components per vertex) estimated from them alone
+  /// (Flows/NoiseEstimation); 0 where the domain is too small.
+  virtual double EstimateNoise(const double* values) const = 0;
 
 protected:
   double Gamma = 1.0;
@@ -90,8 +102,12 @@ protected:
 /// an error sentence, empty if they are usable.
 std::string CheckOptions(const GraphFlowOptions& o, int components, int maximum, const std::string& what);
 
+/// Makes a discretization of the data's domain (a second one for the
+/// risk estimate's probe run).
+using DiscretizationFactory = std::function<std::unique_ptr<FlowDiscretization>()>;
+
 /// The time loop shared by images, volumes and meshes (section 3.8.5).
-GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphFlowOptions& o,
+GraphFlowResult Integrate(const DiscretizationFactory& make, double* values, const GraphFlowOptions& o,
   const ProgressCallback& progress);
 
 /// The row kernels are compiled twice, for AVX2/FMA processors and for any

@@ -20,9 +20,9 @@ std::string CheckOptions(const GraphFlowOptions& o, int components, int maximum,
   {
     return what + " with 1 to " + std::to_string(maximum) + " components are supported";
   }
-  if (!(o.ContrastScale > 0.0) || !std::isfinite(o.ContrastScale))
+  if (!(o.ContrastScale >= 0.0) || !std::isfinite(o.ContrastScale))
   {
-    return "the contrast scale (alpha) must be positive and finite";
+    return "the contrast scale (alpha) must be positive (or 0: automatic) and finite";
   }
   if (!(o.EdgeContrast >= -1.0) || !(o.EdgeContrast <= 10.0))
   {
@@ -47,77 +47,112 @@ std::string CheckOptions(const GraphFlowOptions& o, int components, int maximum,
 namespace
 {
 
-/// The state of one run of the time loop (section 3.8.5) and its stages.
+/// One run of the flow: its discretization and its state (scaled data).
+struct FlowRun
+{
+  std::unique_ptr<FlowDiscretization> Disc;
+  LargeVector<double> U, Next;
+};
+
+/// The size of the probe of the risk estimate, relative to the noise.
+constexpr double ProbeSize = 0.01;
+
+/// The state of the time loop (section 3.8.5) and its stages.  With the
+/// MinimumRisk stop a second run (the probe) flows the data plus
+/// ProbeSize * sigma * b (b = +-1 at random, in the noise's space) with the
+/// same steps: b . (f(y + eps b) - f(y)) / eps estimates the divergence of
+/// the flow in Monte-Carlo SURE.
 class FlowIntegrator
 {
 public:
-  FlowIntegrator(FlowDiscretization& disc, const GraphFlowOptions& o)
-    : Disc(disc)
+  FlowIntegrator(const DiscretizationFactory& make, const GraphFlowOptions& o)
+    : Make(make)
     , O(o)
-    , N(disc.Size)
-    , NC(disc.Components)
-    , Size(static_cast<std::size_t>(disc.Size) * disc.Components)
-    , Alpha(o.ContrastScale)
     , Threads(o.NumberOfThreads)
+    , Stop(o.Stop == GraphFlowStop::Iterations && o.NoiseLevel > 0.0 ? GraphFlowStop::NoiseLevel : o.Stop)
   {
   }
 
   GraphFlowResult Run(double* values, const ProgressCallback& progress);
 
 private:
-  FlowDiscretization& Disc;
+  const DiscretizationFactory& Make;
   const GraphFlowOptions& O;
-  const Index N;
-  const int NC;
-  const std::size_t Size;
-  const double Alpha;
+  double Alpha = 1.0; // the contrast scale
+  double Sigma = 0.0; // the noise level of the stops
   const int Threads;
+  const GraphFlowStop Stop;
+  FlowRun Main, Probe;
+  Index N = 0;
+  int NC = 1;
+  std::size_t Size = 0;
   GraphFlowResult Result;
-  LargeVector<double> U, U0, Next, Rhs, Shift, Diag;
+  LargeVector<double> U0, Rhs, Shift, Diag;
   std::vector<Index> Order; // the graph solver's renumbering (meshes)
-  std::vector<double> Scratch;
+  std::vector<double> Scratch, Y, B, Best; // risk: the data and b in noise space, the best state
 
   bool Start(const double* values);
-  void ExplicitStep(double dt);
-  void SemiImplicitStep(double dt);
-  void SolveOnGraph(const GraphLaplacian& graph, const std::vector<double>& scale);
-  void SolveMatrixFree(const std::vector<double>& scale);
+  void Step(FlowRun& run, double dt);
+  void ExplicitStep(FlowRun& run, double dt);
+  void SemiImplicitStep(FlowRun& run, double dt);
+  void SolveOnGraph(FlowRun& run, const GraphLaplacian& graph, const std::vector<double>& scale);
+  void SolveMatrixFree(FlowRun& run, const std::vector<double>& scale);
   /// Section 3.8.5: the step grows with the relative decrease of the area.
   void AdaptStep(double previousArea, double& dt, double& previousRate) const;
   /// The fraction of the last step (Next -> U) at which the change reaches the noise level.
   double NoiseLevelFraction();
+  /// The estimated mean squared error of the main run's state (SURE).
+  double Risk();
   void Finish(double* values, const ProgressCallback& progress);
+  int Limit() const { return O.Stop == GraphFlowStop::Iterations ? O.NumberOfIterations : O.MaximumNumberOfIterations; }
 
-  /// The user's measure, on the values in data units.
-  double Measured(const LargeVector<double>& x)
+  /// The state x in the noise's space (data units): a view of Scratch.
+  const double* InNoiseSpace(const LargeVector<double>& x)
   {
     Scratch.resize(Size);
-    for (std::size_t k = 0; k < Size; ++k)
+    ParallelFor(static_cast<std::int64_t>(Size), Threads, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t k = b; k < e; ++k)
+      {
+        Scratch[k] = x[k] / Alpha;
+      }
+    });
+    if (O.ToNoiseSpace)
     {
-      Scratch[k] = x[k] / Alpha;
+      O.ToNoiseSpace(Scratch.data());
     }
-    return O.ChangeMeasure(Scratch.data());
+    return Scratch.data();
   }
 
-  double RMSChange()
+  /// The RMS difference of x to the input, in the noise's space.
+  double ChangeOf(const LargeVector<double>& x)
   {
-    if (O.ChangeMeasure)
+    if (O.ToNoiseSpace)
     {
-      return Measured(U);
+      const double* f = InNoiseSpace(x);
+      double sum = 0.0;
+      for (std::size_t k = 0; k < Size; ++k)
+      {
+        sum += (f[k] - Y[k]) * (f[k] - Y[k]);
+      }
+      return std::sqrt(sum / static_cast<double>(Size));
     }
     const double s = ParallelSum(static_cast<std::int64_t>(Size), 1, Threads,
       [&](std::int64_t b, std::int64_t e, double* acc) {
         for (std::int64_t k = b; k < e; ++k)
         {
-          acc[0] += (U[k] - U0[k]) * (U[k] - U0[k]);
+          acc[0] += (x[k] - U0[k]) * (x[k] - U0[k]);
         }
       })[0];
-    return Size ? std::sqrt(s / static_cast<double>(Size)) / Alpha : 0.0;
+    return std::sqrt(s / static_cast<double>(Size)) / Alpha;
   }
 };
 
 bool FlowIntegrator::Start(const double* values)
 {
+  Main.Disc = Make();
+  N = Main.Disc->Size;
+  NC = Main.Disc->Components;
+  Size = static_cast<std::size_t>(N) * NC;
   for (std::size_t k = 0; k < Size; ++k)
   {
     if (!std::isfinite(values[k]))
@@ -126,9 +161,31 @@ bool FlowIntegrator::Start(const double* values)
       return false;
     }
   }
-  U.resize(Size);
+  // The noise, estimated in its own space, and the automatic settings.
+  Scratch.assign(values, values + Size);
+  if (O.ToNoiseSpace)
+  {
+    O.ToNoiseSpace(Scratch.data());
+    Y = Scratch;
+  }
+  Result.EstimatedNoiseLevel = Main.Disc->EstimateNoise(Scratch.data());
+  Sigma = O.NoiseLevel > 0.0 ? O.NoiseLevel : Result.EstimatedNoiseLevel;
+  // The automatic contrast scale is relative to the noise where the data
+  // flow: in another space, the noise there is the estimate there, scaled
+  // like a given noise level.
+  double flowSigma = Sigma;
+  if (O.ToNoiseSpace && O.ContrastScale <= 0.0 && Result.EstimatedNoiseLevel > 0.0)
+  {
+    flowSigma = Sigma * Main.Disc->EstimateNoise(values) / Result.EstimatedNoiseLevel;
+  }
+  Alpha = O.ContrastScale > 0.0 ? O.ContrastScale
+    : flowSigma > 0.0           ? Main.Disc->AutomaticContrast * Main.Disc->LengthScale / flowSigma
+                                : 1.0;
+  Result.NoiseLevel = Sigma;
+  Result.ContrastScale = Alpha;
   U0.resize(Size);
-  Next.resize(Size);
+  Main.U.resize(Size);
+  Main.Next.resize(Size);
   if (O.Integration == GraphFlowIntegration::SemiImplicit)
   {
     Rhs.resize(Size);
@@ -136,18 +193,53 @@ bool FlowIntegrator::Start(const double* values)
   }
   for (std::size_t k = 0; k < Size; ++k)
   {
-    U0[k] = U[k] = Alpha * values[k];
+    U0[k] = Main.U[k] = Alpha * values[k];
+  }
+  if (Stop == GraphFlowStop::MinimumRisk && Sigma > 0.0)
+  {
+    // The probe: y + eps b in the noise's space, b = +-1 (a fixed seed:
+    // runs are reproducible).
+    std::uint64_t state = 0x9E3779B97F4A7C15ull;
+    B.resize(Size);
+    for (double& b : B)
+    {
+      state = state * 6364136223846793005ull + 1442695040888963407ull;
+      b = (state >> 63) ? 1.0 : -1.0;
+    }
+    const double eps = ProbeSize * Sigma;
+    Scratch.assign(Size, 0.0);
+    for (std::size_t k = 0; k < Size; ++k)
+    {
+      Scratch[k] = (O.ToNoiseSpace ? Y[k] : values[k]) + eps * B[k];
+    }
+    if (O.FromNoiseSpace)
+    {
+      O.FromNoiseSpace(Scratch.data());
+    }
+    Probe.Disc = Make();
+    Probe.U.resize(Size);
+    Probe.Next.resize(Size);
+    for (std::size_t k = 0; k < Size; ++k)
+    {
+      Probe.U[k] = Alpha * Scratch[k];
+    }
   }
   return true;
 }
 
-void FlowIntegrator::ExplicitStep(double dt)
+void FlowIntegrator::Step(FlowRun& run, double dt)
+{
+  O.Integration == GraphFlowIntegration::Explicit ? ExplicitStep(run, dt) : SemiImplicitStep(run, dt);
+  run.U.swap(run.Next);
+}
+
+void FlowIntegrator::ExplicitStep(FlowRun& run, double dt)
 {
   // Velocity is zero at fixed vertices: one flat loop over all values.
   ParallelFor(static_cast<std::int64_t>(Size), Threads, [&](std::int64_t b, std::int64_t e) {
-    const double* __restrict v = Disc.Velocity.data();
-    const double* __restrict x = U.data();
-    double* __restrict y = Next.data();
+    const double* __restrict v = run.Disc->Velocity.data();
+    const double* __restrict x = run.U.data();
+    double* __restrict y = run.Next.data();
     for (std::int64_t j = b; j < e; ++j)
     {
       y[j] = x[j] - dt * v[j];
@@ -155,20 +247,21 @@ void FlowIntegrator::ExplicitStep(double dt)
   });
 }
 
-void FlowIntegrator::SemiImplicitStep(double dt)
+void FlowIntegrator::SemiImplicitStep(FlowRun& run, double dt)
 {
   // (D + K_int) u' = D u - (K u - K_int u), D_i = a_i / (dt s_i): the
   // ghost values beyond the image border are those of the current state.
-  Disc.Apply(U.data(), Next.data(), false);
+  FlowDiscretization& disc = *run.Disc;
+  disc.Apply(run.U.data(), run.Next.data(), false);
   ParallelFor(N, Threads, [&](std::int64_t b, std::int64_t e) {
     for (std::int64_t i = b; i < e; ++i)
     {
-      const double d = Disc.Mass[i] / (dt * Disc.Speed[i]);
+      const double d = disc.Mass[i] / (dt * disc.Speed[i]);
       Shift[i] = d;
       for (int k = 0; k < NC; ++k)
       {
         const std::int64_t j = i * NC + k;
-        Rhs[j] = d * U[j] - (Disc.KU[j] - Next[j]);
+        Rhs[j] = d * run.U[j] - (disc.KU[j] - run.Next[j]);
       }
     }
   });
@@ -185,54 +278,62 @@ void FlowIntegrator::SemiImplicitStep(double dt)
   {
     s = std::sqrt(s) + 1e-300;
   }
-  Next = U; // initial guess and fixed values
-  if (const GraphLaplacian* graph = Disc.Graph())
+  run.Next = run.U; // initial guess and fixed values
+  if (const GraphLaplacian* graph = disc.Graph())
   {
-    SolveOnGraph(*graph, scale);
+    SolveOnGraph(run, *graph, scale);
   }
   else
   {
-    SolveMatrixFree(scale);
+    SolveMatrixFree(run, scale);
   }
 }
 
-void FlowIntegrator::SolveOnGraph(const GraphLaplacian& graph, const std::vector<double>& scale)
+/// The solver tolerance: the risk's probe differs from the data by 1% of
+/// the noise, and the solver's error must stay far below that.
+double Tolerance(const GraphFlowOptions& o, GraphFlowStop stop)
+{
+  return stop == GraphFlowStop::MinimumRisk ? std::min(o.SolverTolerance, 1e-8) : o.SolverTolerance;
+}
+
+void FlowIntegrator::SolveOnGraph(FlowRun& run, const GraphLaplacian& graph, const std::vector<double>& scale)
 {
   ShiftedLaplacianProblem sl = graph.Problem(NC);
   sl.Shift = Shift.data();
-  sl.Fixed = Disc.Fixed.data();
+  sl.Fixed = run.Disc->Fixed.data();
   if (Order.empty())
   {
     Order = LocalityOrder(N, graph.Offsets, graph.Neighbors); // the graph stays
   }
   sl.Order = Order.data();
   sl.Scale = scale;
-  sl.Tolerance = O.SolverTolerance;
+  sl.Tolerance = Tolerance(O, Stop);
   sl.MaximumIterations = O.MaximumSolverIterations;
   sl.NumberOfThreads = Threads;
-  Result.SolverIterations += SolveShiftedLaplacian(sl, Rhs.data(), Next.data()).Iterations;
+  Result.SolverIterations += SolveShiftedLaplacian(sl, Rhs.data(), run.Next.data()).Iterations;
 }
 
-void FlowIntegrator::SolveMatrixFree(const std::vector<double>& scale)
+void FlowIntegrator::SolveMatrixFree(FlowRun& run, const std::vector<double>& scale)
 {
+  FlowDiscretization& disc = *run.Disc;
   Diag.resize(N);
   ParallelFor(N, Threads, [&](std::int64_t b, std::int64_t e) {
     for (std::int64_t i = b; i < e; ++i)
     {
-      Diag[i] = Shift[i] + Disc.Diagonal[i]; // Jacobi
+      Diag[i] = Shift[i] + disc.Diagonal[i]; // Jacobi
     }
   });
   ConjugateGradientProblem cg;
   cg.Rows = N;
   cg.Columns = NC;
   cg.Diagonal = Diag.data();
-  cg.Fixed = Disc.Fixed.data();
+  cg.Fixed = disc.Fixed.data();
   cg.Scale = scale;
-  cg.Tolerance = O.SolverTolerance;
+  cg.Tolerance = Tolerance(O, Stop);
   cg.MaximumIterations = O.MaximumSolverIterations;
   cg.NumberOfThreads = Threads;
   cg.Apply = [&](const double* x, double* y) {
-    Disc.Apply(x, y, false);
+    disc.Apply(x, y, false);
     ParallelFor(N, Threads, [&](std::int64_t b, std::int64_t e) {
       for (std::int64_t i = b; i < e; ++i)
       {
@@ -243,7 +344,7 @@ void FlowIntegrator::SolveMatrixFree(const std::vector<double>& scale)
       }
     });
   };
-  Result.SolverIterations += SolveConjugateGradient(cg, Rhs.data(), Next.data()).Iterations;
+  Result.SolverIterations += SolveConjugateGradient(cg, Rhs.data(), run.Next.data()).Iterations;
 }
 
 void FlowIntegrator::AdaptStep(double previousArea, double& dt, double& previousRate) const
@@ -251,7 +352,8 @@ void FlowIntegrator::AdaptStep(double previousArea, double& dt, double& previous
   // A large change of the total area means much noise was removed and a
   // larger step is safe; when the change slows down the step shrinks so that
   // the structure of the data is not flattened.
-  const double rate = previousArea > 0.0 ? (previousArea - Disc.Area) / (previousArea * dt) : 0.0;
+  const double area = Main.Disc->Area;
+  const double rate = previousArea > 0.0 ? (previousArea - area) / (previousArea * dt) : 0.0;
   if (previousRate > 0.0 && rate > 0.0)
   {
     dt *= std::min(2.0, std::max(0.5, rate / previousRate));
@@ -261,17 +363,19 @@ void FlowIntegrator::AdaptStep(double previousArea, double& dt, double& previous
 
 double FlowIntegrator::NoiseLevelFraction()
 {
-  if (O.ChangeMeasure)
+  const LargeVector<double>& u = Main.U;
+  const LargeVector<double>& previous = Main.Next;
+  if (O.ToNoiseSpace)
   {
-    // A measure of its own: its square taken as quadratic along the step,
+    // Another space: the squared change taken as quadratic along the step,
     // through t = 0, 1/2 and 1.
-    const double m0 = std::pow(Measured(Next), 2), m1 = std::pow(RMSChange(), 2);
+    const double m0 = std::pow(ChangeOf(previous), 2), m1 = std::pow(ChangeOf(u), 2);
     LargeVector<double> half(Size);
     for (std::size_t k = 0; k < Size; ++k)
     {
-      half[k] = 0.5 * (Next[k] + U[k]);
+      half[k] = 0.5 * (previous[k] + u[k]);
     }
-    const double mh = std::pow(Measured(half), 2), goal = O.NoiseLevel * O.NoiseLevel;
+    const double mh = std::pow(ChangeOf(half), 2), goal = Sigma * Sigma;
     // m(t) = m0 + b t + c t^2
     const double c = 2.0 * (m1 + m0 - 2.0 * mh), b = m1 - m0 - c;
     double t = 1.0;
@@ -291,27 +395,61 @@ double FlowIntegrator::NoiseLevelFraction()
     [&](std::int64_t b, std::int64_t e, double* acc) {
       for (std::int64_t k = b; k < e; ++k)
       {
-        const double a = Next[k] - U0[k], d = U[k] - Next[k];
+        const double a = previous[k] - U0[k], d = u[k] - previous[k];
         acc[0] += a * a;
         acc[1] += a * d;
         acc[2] += d * d;
       }
     });
-  const double target = static_cast<double>(Size) * std::pow(O.NoiseLevel * Alpha, 2);
+  const double target = static_cast<double>(Size) * std::pow(Sigma * Alpha, 2);
   const double disc2 = s[1] * s[1] - s[2] * (s[0] - target);
   return s[2] > 0.0 && disc2 >= 0.0 ? std::min(1.0, std::max(0.0, (-s[1] + std::sqrt(disc2)) / s[2])) : 1.0;
 }
 
+double FlowIntegrator::Risk()
+{
+  // SURE = |f(y) - y|^2 / M - sigma^2 + 2 sigma^2 div f / M, in the noise's
+  // space, div f = b . (f(y + eps b) - f(y)) / eps.
+  double fit = 0.0, divergence = 0.0;
+  if (O.ToNoiseSpace)
+  {
+    std::vector<double> f(InNoiseSpace(Main.U), InNoiseSpace(Main.U) + Size);
+    const double* p = InNoiseSpace(Probe.U);
+    for (std::size_t k = 0; k < Size; ++k)
+    {
+      fit += (f[k] - Y[k]) * (f[k] - Y[k]);
+      divergence += B[k] * (p[k] - f[k]);
+    }
+  }
+  else
+  {
+    const std::vector<double> s = ParallelSum(static_cast<std::int64_t>(Size), 2, Threads,
+      [&](std::int64_t b, std::int64_t e, double* acc) {
+        for (std::int64_t k = b; k < e; ++k)
+        {
+          const double d = Main.U[k] - U0[k];
+          acc[0] += d * d;
+          acc[1] += B[k] * (Probe.U[k] - Main.U[k]);
+        }
+      });
+    fit = s[0] / (Alpha * Alpha);
+    divergence = s[1] / Alpha;
+  }
+  const double m = static_cast<double>(Size), var = Sigma * Sigma;
+  return fit / m - var + 2.0 * var * divergence / (ProbeSize * Sigma * m);
+}
+
 void FlowIntegrator::Finish(double* values, const ProgressCallback& progress)
 {
-  Result.RMSChange = RMSChange();
+  Result.RMSChange = ChangeOf(Main.U);
+  const std::vector<std::uint8_t>& fixed = Main.Disc->Fixed;
   for (Index i = 0; i < N; ++i)
   {
-    if (!Disc.Fixed[i]) // fixed values stay bit-exact (no round trip through alpha)
+    if (!fixed[i]) // fixed values stay bit-exact (no round trip through alpha)
     {
       for (int k = 0; k < NC; ++k)
       {
-        values[i * NC + k] = U[i * NC + k] / Alpha;
+        values[i * NC + k] = Main.U[i * NC + k] / Alpha;
       }
     }
   }
@@ -327,24 +465,43 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
   {
     return Result;
   }
+  FlowDiscretization& disc = *Main.Disc;
   const bool explicitSteps = O.Integration == GraphFlowIntegration::Explicit;
-  Disc.Update(U.data());
-  Result.InitialArea = Result.FinalArea = Disc.Area;
-  Result.SmallestStableStep = Disc.MaxRate > 0.0 ? 1.0 / Disc.MaxRate : HUGE_VAL;
-  double dt = O.TimeStep > 0.0 ? O.TimeStep : Disc.AutomaticTimeStep;
+  disc.Update(Main.U.data());
+  if (Stop != GraphFlowStop::Iterations && !(Sigma > 0.0))
+  {
+    // No noise given or found (too small a domain, or clean data): nothing to remove.
+    Result.Completed = true;
+    Finish(values, progress);
+    return Result;
+  }
+  const bool risk = Stop == GraphFlowStop::MinimumRisk;
+  if (risk)
+  {
+    Probe.Disc->Update(Probe.U.data());
+    Result.InitialRisk = Result.FinalRisk = std::sqrt(std::max(0.0, Risk()));
+  }
+  double bestRisk = Result.InitialRisk * Result.InitialRisk, bestTime = 0.0;
+  int bestIterations = 0;
+  Result.InitialArea = Result.FinalArea = disc.Area;
+  Result.SmallestStableStep = disc.MaxRate > 0.0 ? 1.0 / disc.MaxRate : HUGE_VAL;
+  double dt = O.TimeStep > 0.0 ? O.TimeStep : disc.AutomaticTimeStep;
   if (O.AdaptiveTimeStep && explicitSteps)
   {
     dt = std::min(dt, 0.9 * Result.SmallestStableStep);
   }
   double previousRate = -1.0; // relative area decrease per unit time, last step
-  for (int it = 0; it < O.NumberOfIterations; ++it)
+  const int limit = Limit();
+  bool ruleMet = false;
+  for (int it = 0; it < limit && !ruleMet; ++it)
   {
-    if (progress && !progress(static_cast<double>(it) / O.NumberOfIterations))
+    const double done = Stop == GraphFlowStop::Iterations ? static_cast<double>(it) / limit : 1.0 - std::exp(-it / 50.0);
+    if (progress && !progress(done))
     {
       Result.Completed = false;
       break;
     }
-    const double stable = Disc.MaxRate > 0.0 ? 1.0 / Disc.MaxRate : HUGE_VAL;
+    const double stable = disc.MaxRate > 0.0 ? 1.0 / disc.MaxRate : HUGE_VAL;
     Result.SmallestStableStep = std::min(Result.SmallestStableStep, stable);
     if (explicitSteps && O.AdaptiveTimeStep)
     {
@@ -354,36 +511,69 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
     {
       ++Result.UnstableSteps;
     }
-    explicitSteps ? ExplicitStep(dt) : SemiImplicitStep(dt);
-    U.swap(Next);
-    const double previousArea = Disc.Area;
-    Disc.Update(U.data());
+    Step(Main, dt);
+    const double previousArea = disc.Area;
+    disc.Update(Main.U.data());
     ++Result.Iterations;
     Result.Time += dt;
     Result.LastTimeStep = dt;
-    Result.FinalArea = Disc.Area;
+    Result.FinalArea = disc.Area;
+    if (risk)
+    {
+      Step(Probe, dt);
+      Probe.Disc->Update(Probe.U.data());
+      const double r = Risk();
+      if (r < bestRisk)
+      {
+        bestRisk = r;
+        bestTime = Result.Time;
+        bestIterations = Result.Iterations;
+        Best.assign(Main.U.begin(), Main.U.end());
+      }
+      // Past the minimum: the risk rose 1% above it, or the flow ran twice
+      // as long as to the minimum without a lower one.
+      ruleMet = r > bestRisk + 0.01 * std::abs(bestRisk) || Result.Time > 2.0 * bestTime + 2.0 * dt;
+    }
     if (O.AdaptiveTimeStep)
     {
       AdaptStep(previousArea, dt, previousRate);
     }
-    if (O.NoiseLevel > 0.0 && RMSChange() >= O.NoiseLevel)
+    if (Stop == GraphFlowStop::NoiseLevel && ChangeOf(Main.U) >= Sigma)
     {
       // Discrepancy reached within this step: go back along it to the point
       // where the change equals the noise level.
+      ruleMet = true;
       const double t = NoiseLevelFraction();
       if (t < 1.0)
       {
         for (std::size_t k = 0; k < Size; ++k)
         {
-          U[k] = Next[k] + t * (U[k] - Next[k]);
+          Main.U[k] = Main.Next[k] + t * (Main.U[k] - Main.Next[k]);
         }
         Result.Time -= (1.0 - t) * dt;
         Result.LastTimeStep = t * dt;
-        Disc.Update(U.data());
-        Result.FinalArea = Disc.Area;
+        disc.Update(Main.U.data());
+        Result.FinalArea = disc.Area;
       }
-      break;
     }
+  }
+  Result.StoppedByLimit = Stop != GraphFlowStop::Iterations && !ruleMet && Result.Completed;
+  if (risk)
+  {
+    // Back to the state of least risk.
+    if (Best.empty())
+    {
+      Main.U = U0;
+    }
+    else
+    {
+      std::copy(Best.begin(), Best.end(), Main.U.begin());
+    }
+    Result.Time = bestTime;
+    Result.Iterations = bestIterations;
+    Result.FinalRisk = std::sqrt(std::max(0.0, bestRisk));
+    disc.Update(Main.U.data());
+    Result.FinalArea = disc.Area;
   }
   Finish(values, progress);
   return Result;
@@ -391,10 +581,10 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
 
 } // namespace
 
-GraphFlowResult Integrate(FlowDiscretization& disc, double* values, const GraphFlowOptions& o,
+GraphFlowResult Integrate(const DiscretizationFactory& make, double* values, const GraphFlowOptions& o,
   const ProgressCallback& progress)
 {
-  return FlowIntegrator(disc, o).Run(values, progress);
+  return FlowIntegrator(make, o).Run(values, progress);
 }
 
 } // namespace beltrami::detail

@@ -1,4 +1,5 @@
 #include "Flows/GraphFlowDiscretization.h"
+#include "Flows/NoiseEstimation.h"
 
 #include "Mesh/Laplacian.h"
 #include "Mesh/MeshMeasures.h"
@@ -48,6 +49,9 @@ public:
     GraphLaplacian base;
     Assemble(points, 3, base);
     BaseMeasure.assign(base.Mass.begin(), base.Mass.end());
+    BaseOffsets = base.Offsets; // the mesh's graph: it outlives the run
+    BaseNeighbors = base.Neighbors;
+    Points = points;
     Fixed.assign(Size, 0);
     for (Index i = 0; i < Size; ++i)
     {
@@ -61,6 +65,12 @@ public:
       std::copy(points + 3 * static_cast<std::size_t>(i), points + 3 * static_cast<std::size_t>(i) + 3,
         &Embedded[static_cast<std::size_t>(i) * dim]);
     }
+  }
+
+  double EstimateNoise(const double* values) const override
+  {
+    return EstimateGraphNoise(
+      Size, BaseOffsets, BaseNeighbors, Points, Components, values, Fixed.data());
   }
 
   void Update(const double* u) override
@@ -125,6 +135,9 @@ private:
   Assembler Assemble;
   double MassScale;
   std::vector<double> BaseMeasure, Embedded, Positive;
+  const std::int64_t* BaseOffsets = nullptr; ///< the base graph (noise estimate)
+  const Index* BaseNeighbors = nullptr;
+  const double* Points = nullptr; ///< base coordinates, 3 per vertex
   GraphLaplacian Laplacian;
 };
 
@@ -171,9 +184,14 @@ GraphFlowResult RunMeshFlow(const MeshFlowInput& mesh, const double* points, int
       return result;
     }
   }
-  MeshDiscretization disc(mesh.Vertices, scaled.data(), components, fixed, mesh.Unusable, mesh.Assemble,
-    mesh.MassScale, options.EdgeContrast, options.NumberOfThreads);
-  result = Integrate(disc, values, options, progress);
+  const double length = options.Units == LengthUnit::MeanEdgeLength ? 1.0 : mesh.MeanEdgeLength(points);
+  const auto make = [&]() {
+    auto disc = std::make_unique<MeshDiscretization>(mesh.Vertices, scaled.data(), components, fixed,
+      mesh.Unusable, mesh.Assemble, mesh.MassScale, options.EdgeContrast, options.NumberOfThreads);
+    disc->LengthScale = length;
+    return disc;
+  };
+  result = Integrate(make, values, options, progress);
   const double measure = std::pow(unit, mesh.Dimension);
   result.InitialArea *= measure;
   result.FinalArea *= measure;

@@ -10,43 +10,51 @@ namespace beltrami
 namespace
 {
 
-/// One component's estimate (values with `stride` doubles per pixel).
-double ComponentNoise(const PixelGrid& grid, const double* values, int stride)
+/// Responses and gradients of the samples of one component.
+struct Samples
 {
-  const Index w = grid.Width, h = grid.Height;
-  const auto at = [&](Index x, Index y) { return values[(static_cast<std::size_t>(y) * w + x) * stride]; };
-  std::vector<double> response, gradient;
-  response.reserve(static_cast<std::size_t>(w - 2) * (h - 2));
-  gradient.reserve(response.capacity());
-  for (Index y = 1; y + 1 < h; ++y)
+  std::vector<double> Response; ///< |high-pass response| / its noise gain
+  std::vector<double> Gradient; ///< any measure that grows with the gradient
+};
+
+/// The median response over the half of the samples with the smallest
+/// gradient, as a standard deviation (0 without samples).
+double RobustDeviation(Samples& s)
+{
+  if (s.Response.empty())
   {
-    for (Index x = 1; x + 1 < w; ++x)
-    {
-      const double a = at(x - 1, y - 1), b = at(x, y - 1), c = at(x + 1, y - 1);
-      const double d = at(x - 1, y), e = at(x, y), f = at(x + 1, y);
-      const double g = at(x - 1, y + 1), i = at(x, y + 1), j = at(x + 1, y + 1);
-      response.push_back(std::abs(a - 2 * b + c - 2 * d + 4 * e - 2 * f + g - 2 * i + j));
-      const double gx = (c + 2 * f + j) - (a + 2 * d + g), gy = (g + 2 * i + j) - (a + 2 * b + c);
-      gradient.push_back(gx * gx + gy * gy);
-    }
+    return 0.0;
   }
-  // The half of the pixels with the smallest gradient (ties: all of them).
-  std::vector<double> sorted = gradient;
+  std::vector<double> sorted = s.Gradient;
   const std::size_t half = sorted.size() / 2;
   std::nth_element(sorted.begin(), sorted.begin() + half, sorted.end());
   const double limit = sorted[half];
   std::vector<double> kept;
   kept.reserve(half + 1);
-  for (std::size_t k = 0; k < response.size(); ++k)
+  for (std::size_t k = 0; k < s.Response.size(); ++k)
   {
-    if (gradient[k] <= limit)
+    if (s.Gradient[k] <= limit) // ties: all of them
     {
-      kept.push_back(response[k]);
+      kept.push_back(s.Response[k]);
     }
   }
   const std::size_t middle = kept.size() / 2;
   std::nth_element(kept.begin(), kept.begin() + middle, kept.end());
-  return kept[middle] / 0.6744897501960817 / 6.0;
+  return kept[middle] / 0.6744897501960817;
+}
+
+/// The mean over the components of one component's estimate.
+template <typename Component>
+double MeanOverComponents(int components, Component&& component)
+{
+  double sum = 0.0;
+  for (int c = 0; c < components; ++c)
+  {
+    Samples s;
+    component(c, s);
+    sum += RobustDeviation(s);
+  }
+  return sum / components;
 }
 
 } // namespace
@@ -57,12 +65,118 @@ double EstimateImageNoise(const PixelGrid& grid, int components, const double* v
   {
     return 0.0;
   }
-  double sum = 0.0;
-  for (int c = 0; c < components; ++c)
+  const Index w = grid.Width, h = grid.Height;
+  return MeanOverComponents(components, [&](int comp, Samples& s) {
+    const auto at = [&](Index x, Index y) {
+      return values[(static_cast<std::size_t>(y) * w + x) * components + comp];
+    };
+    s.Response.reserve(static_cast<std::size_t>(w - 2) * (h - 2));
+    s.Gradient.reserve(s.Response.capacity());
+    for (Index y = 1; y + 1 < h; ++y)
+    {
+      for (Index x = 1; x + 1 < w; ++x)
+      {
+        const double a = at(x - 1, y - 1), b = at(x, y - 1), c = at(x + 1, y - 1);
+        const double d = at(x - 1, y), e = at(x, y), f = at(x + 1, y);
+        const double g = at(x - 1, y + 1), i = at(x, y + 1), j = at(x + 1, y + 1);
+        s.Response.push_back(std::abs(a - 2 * b + c - 2 * d + 4 * e - 2 * f + g - 2 * i + j) / 6.0);
+        const double gx = (c + 2 * f + j) - (a + 2 * d + g), gy = (g + 2 * i + j) - (a + 2 * b + c);
+        s.Gradient.push_back(gx * gx + gy * gy);
+      }
+    }
+  });
+}
+
+double EstimateVolumeNoise(const VoxelGrid& grid, int components, const double* values)
+{
+  if (grid.Width < 3 || grid.Height < 3 || grid.Depth < 3 || components < 1 || !values)
   {
-    sum += ComponentNoise(grid, values + c, components);
+    return 0.0;
   }
-  return sum / components;
+  const std::int64_t w = grid.Width, h = grid.Height, d = grid.Depth;
+  const double gain = std::sqrt(216.0);
+  const double line[3] = { 1.0, -2.0, 1.0 };
+  return MeanOverComponents(components, [&](int comp, Samples& s) {
+    const auto at = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+      return values[((z * h + y) * w + x) * components + comp];
+    };
+    s.Response.reserve(static_cast<std::size_t>((w - 2) * (h - 2) * (d - 2)));
+    s.Gradient.reserve(s.Response.capacity());
+    for (std::int64_t z = 1; z + 1 < d; ++z)
+    {
+      for (std::int64_t y = 1; y + 1 < h; ++y)
+      {
+        for (std::int64_t x = 1; x + 1 < w; ++x)
+        {
+          double r = 0.0;
+          for (int k = 0; k < 3; ++k)
+          {
+            for (int j = 0; j < 3; ++j)
+            {
+              const double c = line[k] * line[j];
+              for (int i = 0; i < 3; ++i)
+              {
+                r += c * line[i] * at(x + i - 1, y + j - 1, z + k - 1);
+              }
+            }
+          }
+          const double gx = at(x + 1, y, z) - at(x - 1, y, z), gy = at(x, y + 1, z) - at(x, y - 1, z),
+                       gz = at(x, y, z + 1) - at(x, y, z - 1);
+          s.Response.push_back(std::abs(r) / gain);
+          s.Gradient.push_back(gx * gx + gy * gy + gz * gz);
+        }
+      }
+    }
+  });
+}
+
+double EstimateGraphNoise(Index size, const std::int64_t* offsets, const Index* neighbors, const double* points,
+  int components, const double* values, const std::uint8_t* skip)
+{
+  if (size <= 0 || components < 1 || !values || !offsets || !neighbors || !points)
+  {
+    return 0.0;
+  }
+  Index counted = 0;
+  const double estimate = MeanOverComponents(components, [&](int comp, Samples& s) {
+    for (Index i = 0; i < size; ++i)
+    {
+      const std::int64_t b = offsets[i], e = offsets[i + 1];
+      const double n = static_cast<double>(e - b);
+      if (n < 3 || (skip && skip[i]))
+      {
+        continue;
+      }
+      double mean = 0.0, centre[3] = { 0.0, 0.0, 0.0 };
+      for (std::int64_t k = b; k < e; ++k)
+      {
+        mean += values[static_cast<std::size_t>(neighbors[k]) * components + comp];
+        for (int a = 0; a < 3; ++a)
+        {
+          centre[a] += points[3 * static_cast<std::size_t>(neighbors[k]) + a];
+        }
+      }
+      mean /= n;
+      double moment[3] = { 0.0, 0.0, 0.0 }, spread = 0.0;
+      for (std::int64_t k = b; k < e; ++k)
+      {
+        const double df = values[static_cast<std::size_t>(neighbors[k]) * components + comp] - mean;
+        for (int a = 0; a < 3; ++a)
+        {
+          const double dx = points[3 * static_cast<std::size_t>(neighbors[k]) + a] - centre[a] / n;
+          moment[a] += dx * df;
+          spread += dx * dx;
+        }
+      }
+      const double r = values[static_cast<std::size_t>(i) * components + comp] - mean;
+      s.Response.push_back(std::abs(r) / std::sqrt(1.0 + 1.0 / n));
+      s.Gradient.push_back(
+        spread > 0.0 ? (moment[0] * moment[0] + moment[1] * moment[1] + moment[2] * moment[2]) / (spread * spread)
+                     : 0.0);
+    }
+    counted = static_cast<Index>(s.Response.size());
+  });
+  return counted >= 8 ? estimate : 0.0;
 }
 
 } // namespace beltrami

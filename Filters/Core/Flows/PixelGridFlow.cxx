@@ -1,4 +1,5 @@
 #include "Flows/GraphFlowDiscretization.h"
+#include "Flows/NoiseEstimation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -123,7 +124,8 @@ public:
     Gamma = gamma;
     Threads = threads;
     StoreOperator = storeOperator;
-    AutomaticTimeStep = 0.2;
+    // 0.2 on unit grids (limit about 0.24), scaled with the spacing.
+    AutomaticTimeStep = 0.2 * 2.0 / (1.0 / (grid.SpacingX * grid.SpacingX) + 1.0 / (grid.SpacingY * grid.SpacingY));
     Size = grid.Width * grid.Height;
     Components = NC;
     PW = grid.Width + 2;
@@ -139,7 +141,10 @@ public:
     // Area scale for the indicator's guard (B has units 1/length).
     Epsilon2 = 1e-18 / std::pow(std::min(grid.SpacingX, grid.SpacingY), 2);
     BaseMass = 2.0 * grid.SpacingX * grid.SpacingY;
+    LengthScale = std::sqrt(grid.SpacingX * grid.SpacingY);
   }
+
+  double EstimateNoise(const double* values) const override { return EstimateImageNoise(Grid, NC, values); }
 
   void Update(const double* u) override
   {
@@ -442,13 +447,17 @@ template <int NC>
 GraphFlowResult RunGrid(const PixelGrid& grid, double* values, const std::uint8_t* fixed,
   const GraphFlowOptions& o, const ProgressCallback& progress)
 {
-  GridDiscretization<NC> disc(
-    grid, o.Boundary, o.EdgeContrast, o.NumberOfThreads, o.Integration == GraphFlowIntegration::SemiImplicit);
-  if (fixed)
-  {
-    std::copy(fixed, fixed + disc.Size, disc.Fixed.begin());
-  }
-  return Integrate(disc, values, o, progress);
+  return Integrate(
+    [&]() {
+      auto disc = std::make_unique<GridDiscretization<NC>>(
+        grid, o.Boundary, o.EdgeContrast, o.NumberOfThreads, o.Integration == GraphFlowIntegration::SemiImplicit);
+      if (fixed)
+      {
+        std::copy(fixed, fixed + disc->Size, disc->Fixed.begin());
+      }
+      return disc;
+    },
+    values, o, progress);
 }
 
 } // namespace

@@ -1,4 +1,5 @@
 #include "Flows/GraphFlowDiscretization.h"
+#include "Flows/NoiseEstimation.h"
 
 #include "Mesh/Tetrahedra.h"
 
@@ -117,6 +118,8 @@ public:
   /// storeOperator: keep Mass, Speed, Diagonal and KU (the semi-implicit
   /// solver's); explicit steps need the velocity only (4 doubles per voxel
   /// less).
+  double EstimateNoise(const double* values) const override { return EstimateVolumeNoise(Grid, NC, values); }
+
   VoxelDiscretization(const VoxelGrid& grid, const std::uint8_t* fixed, double gamma, int threads, bool storeOperator)
     : Grid(grid)
   {
@@ -125,6 +128,12 @@ public:
     StoreOperator = storeOperator;
     Size = static_cast<Index>(grid.Width * grid.Height * grid.Depth);
     Components = NC;
+    LengthScale = std::cbrt(grid.SpacingX * grid.SpacingY * grid.SpacingZ);
+    AutomaticContrast = 1.25;
+    // 0.1 on unit grids (limit about 0.12), scaled with the spacing.
+    AutomaticTimeStep = 0.1 * 3.0 /
+      (1.0 / (grid.SpacingX * grid.SpacingX) + 1.0 / (grid.SpacingY * grid.SpacingY) +
+        1.0 / (grid.SpacingZ * grid.SpacingZ));
     Allocate();
     for (int d = 0; d < 8; ++d)
     {
@@ -444,9 +453,11 @@ GraphFlowResult RunVolumeGraphFlow(const VoxelGrid& grid, int components, double
     return result;
   }
   return WithCount<6>(components, [&](auto nc) { // kernels compiled per component count
-    VoxelDiscretization<decltype(nc)::value> disc(grid, fixed, options.EdgeContrast, options.NumberOfThreads,
-      options.Integration == GraphFlowIntegration::SemiImplicit);
-    return Integrate(disc, values, options, progress);
+    const auto make = [&]() {
+      return std::make_unique<VoxelDiscretization<decltype(nc)::value>>(grid, fixed, options.EdgeContrast,
+        options.NumberOfThreads, options.Integration == GraphFlowIntegration::SemiImplicit);
+    };
+    return Integrate(make, values, options, progress);
   });
 }
 

@@ -146,6 +146,7 @@ TEST(Tetrahedra, LinearAndConstantFieldsAreFixedPoints)
       o.Integration = integration;
       o.TimeStep = integration == GraphFlowIntegration::Explicit ? 0.002 : 0.5;
       o.NumberOfIterations = 10;
+      o.Stop = GraphFlowStop::Iterations;
       o.SolverTolerance = 1e-12;
       const GraphFlowResult r =
         RunTetrahedralGraphFlow(mesh, grid.Points.data(), 2, f.data(), boundary.data(), o);
@@ -165,6 +166,7 @@ TEST(Tetrahedra, LinearAndConstantFieldsAreFixedPoints)
   o.ContrastScale = 5.0;
   o.TimeStep = 0.002;
   o.NumberOfIterations = 10;
+  o.Stop = GraphFlowStop::Iterations;
   RunTetrahedralGraphFlow(mesh, grid.Points.data(), 1, c.data(), nullptr, o);
   for (double v : c)
   {
@@ -207,7 +209,7 @@ TEST(Tetrahedra, FlowKeepsAJumpAndRemovesNoise)
   o.ContrastScale = 1.5 / sigma;
   o.Integration = GraphFlowIntegration::SemiImplicit;
   o.TimeStep = 0.1;
-  o.NumberOfIterations = 100;
+  o.Stop = GraphFlowStop::NoiseLevel;
   o.NoiseLevel = sigma;
   const GraphFlowResult r = RunTetrahedralGraphFlow(mesh, points.data(), 1, f.data(), nullptr, o);
   ASSERT_TRUE(r.Error.empty()) << r.Error;
@@ -275,6 +277,7 @@ TEST(Tetrahedra, VoxelFlowEqualsTheFlowOnTheKuhnMesh)
       o.ContrastScale = 10.0;
       o.Integration = integration;
       o.TimeStep = integration == GraphFlowIntegration::Explicit ? 0.05 : 0.2;
+      o.Stop = GraphFlowStop::Iterations;
       o.NumberOfIterations = 6;
       o.SolverTolerance = 1e-12;
       o.NumberOfThreads = 1;
