@@ -76,7 +76,9 @@ std::string vtkBeltramiGraphFlow::StabilityWarning(
   std::ostringstream s;
   if (r.StoppedByLimit)
   {
-    s << "The flow reached its iteration limit (" << r.Iterations << ") before its stopping rule"
+    s << "The flow reached its iteration limit ("
+      << (o.Stop == beltrami::GraphFlowStop::Iterations ? o.NumberOfIterations : o.MaximumNumberOfIterations)
+      << ") before its stopping rule"
       << (o.Stop == beltrami::GraphFlowStop::Iterations ? " (the noise level)" : "")
       << ": the data may be under-smoothed. Raise "
       << (o.Stop == beltrami::GraphFlowStop::Iterations ? "NumberOfIterations" : "MaximumNumberOfIterations")

@@ -49,7 +49,7 @@ def run(label, clean):
     rows = []
     colour = dict(ColorSpace=2) if nc == 3 else {}  # coupled RGB: the noise is measured there
     for threads in (1, 2):
-        out, t = timed(lambda: denoise(noisy, ContrastScale=1.5 / SIGMA, NoiseLevel=SIGMA,
+        out, t = timed(lambda: denoise(noisy, ContrastScale=1.5 / SIGMA, NoiseLevel=SIGMA, StoppingRule=1,
                                        NumberOfIterations=200, NumberOfThreads=threads, **colour)[0])
         rows.append(("Beltrami flow (%d thread%s)" % (threads, "s" if threads > 1 else ""), psnr(out, clean), t))
     best = None
@@ -77,7 +77,7 @@ def run(label, clean):
         tv_psnr, tv_time = rows[-1][1:]
         peak = (0.0, 0)
         for steps in range(2, 80, 2):
-            out, t = timed(lambda: denoise(noisy, ContrastScale=1.5 / SIGMA, NumberOfIterations=steps,
+            out, t = timed(lambda: denoise(noisy, ContrastScale=1.5 / SIGMA, StoppingRule=0, NumberOfIterations=steps,
                                            NumberOfThreads=2, **colour)[0])
             p = psnr(out, clean)
             if p >= tv_psnr:

@@ -413,7 +413,8 @@ double FlowIntegrator::Risk()
   double fit = 0.0, divergence = 0.0;
   if (O.ToNoiseSpace)
   {
-    std::vector<double> f(InNoiseSpace(Main.U), InNoiseSpace(Main.U) + Size);
+    const double* main = InNoiseSpace(Main.U);
+    const std::vector<double> f(main, main + Size);
     const double* p = InNoiseSpace(Probe.U);
     for (std::size_t k = 0; k < Size; ++k)
     {

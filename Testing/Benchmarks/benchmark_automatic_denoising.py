@@ -1,0 +1,120 @@
+"""Denoising at the defaults (issue 29: no parameter set) against the peers at
+their oracle settings (the best of a sweep chosen with the clean data):
+vtkImageAnisotropicDiffusion3D, vtkImageGaussianSmooth and scikit-image's TV
+(Chambolle; skipped without python3-skimage), and our flow's own oracle
+(contrast scale x stopping step), on the two MRI volumes, an MRI volume
+upsampled to N^3 (default 256) and the photographs; Gaussian noise sigma 0.05
+and 0.1 (fixed seed).  PSNR and seconds (the peers' time is that of their best
+setting alone); threads: all.
+Run on demand:  source build/beltrami-env.sh && /usr/bin/python3 Testing/Benchmarks/benchmark_automatic_denoising.py [N] [--large-only]"""
+import os
+import sys
+import time
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkImagingGeneral import vtkImageAnisotropicDiffusion3D, vtkImageGaussianSmooth
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "Python"))
+from test_automatic_denoising import denoise, flow_oracle, load_png, load_volume, psnr, to_image  # noqa: E402
+
+try:
+    from skimage.restoration import denoise_tv_chambolle
+except ImportError:
+    denoise_tv_chambolle = None
+
+
+def timed(function):
+    start = time.perf_counter()
+    result = function()
+    return result, time.perf_counter() - start
+
+
+def vtk_filter(f, noisy, spacing):
+    f.SetInputData(to_image(noisy, spacing))
+    f.Update()
+    return vtk_to_numpy(f.GetOutput().GetPointData().GetArray("v")).reshape(noisy.shape)
+
+
+def anisotropic(noisy, spacing, k, iterations):
+    f = vtkImageAnisotropicDiffusion3D() if noisy.ndim == 4 else None
+    if f is None:
+        from vtkmodules.vtkImagingGeneral import vtkImageAnisotropicDiffusion2D
+        f = vtkImageAnisotropicDiffusion2D()
+    f.SetDiffusionThreshold(k)
+    f.SetDiffusionFactor(1.0)
+    f.SetNumberOfIterations(iterations)
+    f.FacesOn()
+    f.EdgesOn()
+    f.CornersOn()
+    return vtk_filter(f, noisy, spacing)
+
+
+def gaussian(noisy, spacing, std):
+    f = vtkImageGaussianSmooth()
+    f.SetDimensionality(noisy.ndim - 1)
+    f.SetStandardDeviations(std, std, std)
+    f.SetRadiusFactors(3, 3, 3)
+    return vtk_filter(f, noisy, spacing)
+
+
+def oracle(clean, run, settings):
+    """(best PSNR, its setting, the time of that setting alone)."""
+    best = max(((psnr(run(s), clean), s) for s in settings), key=lambda x: x[0])
+    _, t = timed(lambda: run(best[1]))
+    return best[0], best[1], t
+
+
+def row(name, clean, spacing, sigma, with_flow_oracle):
+    noisy = clean + np.random.default_rng(5).normal(0, sigma, clean.shape)
+    (ours, fd), t_ours = timed(lambda: denoise(noisy, spacing))
+    p_ours = psnr(ours, clean)
+    p_ad, s_ad, t_ad = oracle(clean, lambda s: anisotropic(noisy, spacing, *s),
+                              [(k * sigma, n) for k in (0.5, 1.0, 2.0, 3.0) for n in (2, 4, 8, 16)])
+    p_g, s_g, t_g = oracle(clean, lambda s: gaussian(noisy, spacing, s), (0.5, 0.7, 0.85, 1.0, 1.2, 1.5, 2.0))
+    text = ("%-18s sigma %.2f: defaults %.2f dB %.2f s (%d steps, est. noise %.4f) | VTK anisotropic diffusion oracle %.2f dB %.2f s "
+            "(k %.3f, %d it) | Gaussian oracle %.2f dB (std %.2f)"
+            % (name, sigma, p_ours, t_ours, fd.GetArray("FlowIterations").GetValue(0),
+               fd.GetArray("EstimatedNoiseLevel").GetValue(0), p_ad, t_ad, s_ad[0], s_ad[1], p_g, s_g))
+    if denoise_tv_chambolle is not None:
+        channel = None if clean.shape[-1] == 1 else -1
+        squeeze = (lambda a: a[..., 0]) if channel is None else (lambda a: a)
+        p_tv, w_tv, t_tv = oracle(clean, lambda w: denoise_tv_chambolle(squeeze(noisy), weight=w, channel_axis=channel)
+                                  .reshape(clean.shape), [sigma * f for f in (0.5, 0.7, 1.0, 1.4, 2.0)])
+        text += " | TV oracle %.2f dB %.2f s (weight %.3f)" % (p_tv, t_tv, w_tv)
+    if with_flow_oracle:
+        text += " | our flow's oracle %.2f dB" % flow_oracle(noisy, clean, spacing, sigma)
+    text += " | time ratio ours/VTK anisotropic %.2f" % (t_ours / t_ad)
+    print(text, flush=True)
+
+
+def upsampled(n):
+    from vtkmodules.vtkImagingCore import vtkImageResample
+    clean, spacing = load_volume("mri_s0_10slices")
+    r = vtkImageResample()
+    r.SetInputData(to_image(clean, spacing))
+    r.SetInterpolationModeToCubic()
+    for axis, size in enumerate(reversed(clean.shape[:3])):
+        r.SetAxisMagnificationFactor(axis, n / size)
+    r.Update()
+    d = r.GetOutput().GetDimensions()
+    a = vtk_to_numpy(r.GetOutput().GetPointData().GetScalars()).reshape(d[2], d[1], d[0], 1)
+    return np.clip(a, 0.0, 1.0), (1.0, 1.0, 1.0)
+
+
+def main(argv):
+    n = int(argv[1]) if len(argv) > 1 else 256
+    for sigma in (0.05, 0.1) if "--large-only" not in argv else ():
+        for name in ("mri_piesno", "mri_s0_10slices"):
+            clean, spacing = load_volume(name)
+            row(name, clean, spacing, sigma, True)
+        for name in ("camera", "coffee", "astronaut"):
+            row(name, load_png(name), (1.0, 1.0), sigma, False)
+    clean, spacing = upsampled(n)
+    row("MRI S0 at %d^3" % n, clean, spacing, 0.05, False)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
