@@ -14,13 +14,19 @@
  * The mesh itself does not move.
  *
  * Settings as vtkImageBeltramiDenoising (ContrastScale alpha, EdgeContrast
- * gamma, Integration, TimeStep, AdaptiveTimeStep, NumberOfIterations,
- * NoiseLevel, NumberOfThreads), except that the integration is
- * SEMI_IMPLICIT by default: on irregular meshes a few small triangles make
- * the explicit stability limit tiny.  Units: with MEAN_EDGE_LENGTH (default) the
- * mesh is measured in units of its mean edge length h, so TimeStep is in h^2
- * and alpha maps data units to h (as pixels do for images: alpha = 1.5/sigma
- * for noise sigma); with PHYSICAL both are in the mesh's own units.
+ * gamma, Integration, TimeStep, AdaptiveTimeStep, StoppingRule,
+ * NumberOfIterations, MaximumNumberOfIterations, NoiseLevel,
+ * NumberOfThreads), with the same automatic defaults (noise level estimated
+ * from the data: the residual of each value about its neighbours' mean,
+ * over the half of the points with the smallest gradient of the
+ * neighbours' values; contrast scale 1.5 h / sigma; least-estimated-error
+ * stop), except that the integration is SEMI_IMPLICIT with steps of 0.1 h^2
+ * by default: on irregular meshes a few small triangles make the explicit
+ * stability limit tiny (the least-error stop solves to 1e-8 so that the
+ * probe run's difference is not solver error).  Units: with MEAN_EDGE_LENGTH
+ * (default) the mesh is measured in units of its mean edge length h, so
+ * TimeStep is in h^2 and alpha maps data units to h (as pixels do for
+ * images); with PHYSICAL both are in the mesh's own units.
  *
  * Input array 0: the point array to smooth (default: the active scalars; any
  * numeric type, written back as double under the same name).  Input array 1

@@ -15,9 +15,10 @@
  *
  * Settings as vtkSurfaceDataDenoising (ContrastScale alpha, EdgeContrast
  * gamma, Integration (SEMI_IMPLICIT by default), TimeStep, AdaptiveTimeStep,
- * NumberOfIterations, NoiseLevel, Units, NumberOfThreads).  With
+ * StoppingRule, NumberOfIterations, MaximumNumberOfIterations, NoiseLevel,
+ * Units, NumberOfThreads; the same automatic defaults).  With
  * MEAN_EDGE_LENGTH units (default) the mesh is measured in its mean edge
- * length h: TimeStep in h^2, alpha = 1.5 / sigma for noise sigma.  The
+ * length h: TimeStep in h^2, the automatic alpha 1.5 h / sigma.  The
  * boundary is free (natural boundary condition): constants are fixed points;
  * linear fields are fixed points where the boundary values are held (mask).
  *
