@@ -179,6 +179,19 @@ check(np.isfinite(x).all(), "finite smoothed points")
 # and the filters treat it as in a serial run.
 original = servermanager.Fetch(reader)
 check(abs(volume(smoothed) / volume(original) - 1) < 1e-9, "volume preserved through the plugin")
+# Taubin's lambda|mu through the panel: the thesis' values by default, and the
+# panel's values reach the filter (a wider pass band keeps more of the noise).
+taubin = ImplicitFairing(Input=reader, Integration="Taubin lambda|mu", NumberOfIterations=10)
+check(abs(taubin.TaubinLambda - 0.6307) < 1e-12 and abs(taubin.TaubinMu + 0.6732) < 1e-12, "default Taubin lambda, mu")
+taubin.UpdatePipeline()
+narrow = vtk_to_numpy(servermanager.Fetch(taubin).GetPoints().GetData()).astype(float)
+taubin.TaubinMu = -0.64  # pass band 1/0.6307 - 1/0.64 = 0.023
+taubin.UpdatePipeline()
+wide = vtk_to_numpy(servermanager.Fetch(taubin).GetPoints().GetData()).astype(float)
+bunny_points = vtk_to_numpy(original.GetPoints().GetData()).astype(float)
+check(np.abs(wide - narrow).max() > 1e-6 and np.abs(wide - bunny_points).mean() != np.abs(narrow - bunny_points).mean(),
+      "Taubin mu set in the panel reaches the filter")
+Delete(taubin)
 
 mushroom = OpenDataFile(os.path.join(DATA, "mushroom.off"))
 param = IntrinsicParameterization(Input=mushroom)
