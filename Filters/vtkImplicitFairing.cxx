@@ -34,6 +34,7 @@ BELTRAMI_SAME_ENUM(vtkImplicitFairing::NONE, beltrami::FairingInvariant::None);
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::VOLUME, beltrami::FairingInvariant::Volume);
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::AREA, beltrami::FairingInvariant::Area);
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::HEIGHT_FIELD_VOLUME, beltrami::FairingInvariant::HeightFieldVolume);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::REVOLUTION_VOLUME, beltrami::FairingInvariant::RevolutionVolume);
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::FIXED, beltrami::FairingBoundary::Fixed);
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::SMOOTH_CURVE, beltrami::FairingBoundary::SmoothCurve);
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::VIRTUAL_VERTEX, beltrami::FairingBoundary::VirtualVertex);

@@ -41,7 +41,10 @@
  *    exactly for closed, oriented surfaces without fixed points, and nothing
  *    otherwise; VOLUME, AREA, HEIGHT_FIELD_VOLUME (volume between the surface
  *    and the plane through the boundary's mean point with normal
- *    ReferencePlaneNormal) or NONE.  Restored by scaling after every step.
+ *    ReferencePlaneNormal), REVOLUTION_VOLUME (surfaces of revolution, open
+ *    or closed: the volume between the surface and the axis through the area
+ *    centroid along ReferencePlaneNormal, restored by scaling the distances
+ *    to the axis) or NONE.  Restored by scaling after every step.
  *  - Constraints (section 3.2.7): input array 0 (optional) is a point array
  *    whose non-zero values mark fixed points, and AddFixedPoint adds fixed
  *    points by id (they stay bit-exact unless an invariant rescales the
@@ -111,7 +114,8 @@ public:
     NONE = 1,
     VOLUME = 2,
     AREA = 3,
-    HEIGHT_FIELD_VOLUME = 4
+    HEIGHT_FIELD_VOLUME = 4,
+    REVOLUTION_VOLUME = 5
   };
   enum BoundaryType
   {
@@ -149,7 +153,7 @@ public:
   vtkGetMacro(SolverTolerance, double);
   vtkSetClampMacro(MaximumSolverIterations, int, 1, VTK_INT_MAX);
   vtkGetMacro(MaximumSolverIterations, int);
-  vtkSetClampMacro(Invariant, int, AUTOMATIC, HEIGHT_FIELD_VOLUME);
+  vtkSetClampMacro(Invariant, int, AUTOMATIC, REVOLUTION_VOLUME);
   vtkGetMacro(Invariant, int);
   vtkSetVector3Macro(ReferencePlaneNormal, double);
   vtkGetVector3Macro(ReferencePlaneNormal, double);

@@ -458,7 +458,9 @@ InvariantState ChooseInvariant(const MeshTopology& topo, const double* x, const 
          << topo.Describe() << ": no invariant is preserved. ";
     inv.Kind = FairingInvariant::None;
   }
-  if (inv.Kind == FairingInvariant::HeightFieldVolume)
+  const bool referenced =
+    inv.Kind == FairingInvariant::HeightFieldVolume || inv.Kind == FairingInvariant::RevolutionVolume;
+  if (referenced)
   {
     inv.PlaneNormal = Vec3(opt.ReferencePlaneNormal[0], opt.ReferencePlaneNormal[1], opt.ReferencePlaneNormal[2]);
     if (!(inv.PlaneNormal.norm() > 0.0))
@@ -478,6 +480,11 @@ InvariantState ChooseInvariant(const MeshTopology& topo, const double* x, const 
       }
     }
     inv.PlaneOrigin = count ? Vec3(sum / count) : VertexCentroid(topo, x);
+  }
+  if (inv.Kind == FairingInvariant::RevolutionVolume)
+  {
+    // The axis passes through the area centroid (on the axis of a surface of revolution).
+    AreaAndCentroid(topo, x, opt.NumberOfThreads, &inv.PlaneOrigin);
   }
   if (roles.HardConstraints && inv.Kind != FairingInvariant::None)
   {

@@ -49,7 +49,8 @@ enum class FairingInvariant : int
   None = 1,
   Volume = 2,           ///< exact volume (eq. 3.10) by scaling about the volume centroid
   Area = 3,             ///< total area by scaling about the area centroid
-  HeightFieldVolume = 4 ///< volume between the surface and a reference plane, by scaling heights
+  HeightFieldVolume = 4, ///< volume between the surface and a reference plane, by scaling heights
+  RevolutionVolume = 5   ///< volume about an axis (surfaces of revolution), by scaling the radii
 };
 
 enum class FairingBoundary : int
@@ -78,7 +79,9 @@ struct FairingOptions
   double SolverTolerance = 1e-4; ///< reduction of the solver residual (see ConjugateGradient.h)
   int MaximumSolverIterations = 1000;
   FairingInvariant Invariant = FairingInvariant::Automatic;
-  double ReferencePlaneNormal[3] = { 0.0, 0.0, 1.0 }; ///< for HeightFieldVolume
+  /// HeightFieldVolume: the normal of the reference plane; RevolutionVolume:
+  /// the direction of the axis (through the initial area centroid).
+  double ReferencePlaneNormal[3] = { 0.0, 0.0, 1.0 };
   FairingBoundary Boundary = FairingBoundary::Fixed;
   bool Anisotropic = false;          ///< section 3.7.1
   double FeatureThreshold = 0.5;     ///< T, a curvature (1/length of `Units`)

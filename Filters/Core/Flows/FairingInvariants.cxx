@@ -34,6 +34,8 @@ double MeasureInvariant(const InvariantState& s, const MeshTopology& topo, const
       return AreaAndCentroid(topo, x, threads, center);
     case FairingInvariant::HeightFieldVolume:
       return HeightVolume(topo, x, s.PlaneOrigin, s.PlaneNormal, threads);
+    case FairingInvariant::RevolutionVolume:
+      return RevolutionVolume(topo, x, s.PlaneOrigin, s.PlaneNormal, threads);
     default:
       return 0.0;
   }
@@ -65,6 +67,20 @@ double RestoreInvariant(const InvariantState& s, const MeshTopology& topo, doubl
         for (int c = 0; c < 3; ++c)
         {
           x[3 * i + c] += (factor - 1.0) * h * s.PlaneNormal[c];
+        }
+      }
+      break;
+    }
+    case FairingInvariant::RevolutionVolume:
+    {
+      const double factor = std::sqrt(s.Initial / now); // the volume is quadratic in the radii
+      for (Index i = 0; i < n; ++i)
+      {
+        const Vec3 p = Point(x, i) - s.PlaneOrigin;
+        const Vec3 radial = p - p.dot(s.PlaneNormal) * s.PlaneNormal;
+        for (int c = 0; c < 3; ++c)
+        {
+          x[3 * i + c] += (factor - 1.0) * radial[c];
         }
       }
       break;

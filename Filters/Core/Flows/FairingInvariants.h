@@ -1,5 +1,6 @@
 // Beltrami core, private to Flows/Fairing: the invariants of section 3.3.1
-// (enclosed volume, area, volume above a reference plane), measured and
+// (enclosed volume, area, volume above a reference plane, volume about an
+// axis), measured and
 // restored by scaling after every smoothing step.
 #pragma once
 
@@ -11,6 +12,7 @@ namespace beltrami::detail
 struct InvariantState
 {
   FairingInvariant Kind = FairingInvariant::None;
+  /// The reference plane (HeightFieldVolume) or axis (RevolutionVolume).
   Vec3 PlaneOrigin = Vec3::Zero(), PlaneNormal = Vec3::UnitZ();
   double Initial = 0.0;
 };

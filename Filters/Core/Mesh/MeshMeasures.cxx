@@ -98,6 +98,20 @@ double HeightVolume(const MeshTopology& topo, const double* points, const Vec3& 
   return s[0];
 }
 
+double RevolutionVolume(const MeshTopology& topo, const double* points, const Vec3& origin, const Vec3& axis,
+  int numThreads)
+{
+  const std::vector<double> s = SumOverTriangles(topo, points, numThreads, [&](Index a, Index b, Index c, double* acc) {
+    const Vec3 pa = Point(points, a) - origin, pb = Point(points, b) - origin, pc = Point(points, c) - origin;
+    // The field F = r / 2 (r the radial part of the position) is linear: its
+    // flux through the triangle is the value at the centroid times the area vector.
+    const Vec3 centre = (pa + pb + pc) / 3.0;
+    const Vec3 radial = centre - centre.dot(axis) * axis;
+    acc[0] += 0.25 * radial.dot((pb - pa).cross(pc - pa));
+  });
+  return s[0];
+}
+
 double MeanEdgeLength(const MeshTopology& topo, const double* x)
 {
   const MeshTopology::EdgeTable& e = topo.Edges();

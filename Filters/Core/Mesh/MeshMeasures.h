@@ -65,5 +65,11 @@ double AreaAndCentroid(const MeshTopology& topology, const double* points, int n
 /// VolumeAbovePlane with a unit normal.
 double HeightVolume(const MeshTopology& topology, const double* points, const Vec3& origin,
   const Vec3& normal, int numThreads);
+/// The volume between the surface and the axis through `origin` along the
+/// unit `axis` (a surface of revolution, open or closed: the flux of half the
+/// radial position, whose divergence is 1 and whose flux through the end
+/// disks is 0).  Signed by the orientation (positive for outward normals).
+double RevolutionVolume(const MeshTopology& topology, const double* points, const Vec3& origin,
+  const Vec3& axis, int numThreads);
 
 } // namespace beltrami
