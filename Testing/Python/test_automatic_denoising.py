@@ -65,14 +65,14 @@ def psnr(a, b):
 
 
 def flow_oracle(noisy, clean, spacing, sigma):
-    """The flow's best PSNR over contrast scales c h / sigma, c in {0.5, 0.75, ...,
-    3}, and every stopping step: explicit steps at the automatic step size,
+    """The flow's best PSNR over contrast scales c h / sigma, c in {0.75, 1, 1.5,
+    2}, and every stopping step: explicit steps at the automatic step size,
     one step per run (the flow has no other state, so chained runs are its
     trajectory), each scale followed until its PSNR has fallen 0.2 dB below its
     best."""
     h = np.prod(spacing[:noisy.ndim - 1]) ** (1.0 / (noisy.ndim - 1))
     best = -np.inf
-    for c in (0.5, 0.75, 1.0, 1.5, 2.0, 3.0):
+    for c in (0.75, 1.0, 1.5, 2.0):  # the best c was 1-2 on all of them in a wider sweep (0.25-5)
         state, top = noisy, psnr(noisy, clean)
         for _ in range(400):
             state, _ = denoise(state, spacing, ContrastScale=c * h / sigma, StoppingRule=0, NumberOfIterations=1)
