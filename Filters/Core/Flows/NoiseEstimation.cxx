@@ -10,6 +10,17 @@ namespace beltrami
 namespace
 {
 
+/// At most about this many samples are used (rows, planes or vertices taken
+/// at a regular stride beyond): the median of millions is as good, and big
+/// volumes need neither the time nor the memory of all.
+constexpr std::int64_t SampleBudget = std::int64_t(1) << 22;
+
+/// The stride that keeps `count` samples within the budget.
+std::int64_t StrideFor(double count)
+{
+  return std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(count / SampleBudget)));
+}
+
 /// Responses and gradients of the samples of one component.
 struct Samples
 {
@@ -66,13 +77,14 @@ double EstimateImageNoise(const PixelGrid& grid, int components, const double* v
     return 0.0;
   }
   const Index w = grid.Width, h = grid.Height;
+  const std::int64_t stride = StrideFor(static_cast<double>(w - 2) * (h - 2)); // rows
   return MeanOverComponents(components, [&](int comp, Samples& s) {
     const auto at = [&](Index x, Index y) {
       return values[(static_cast<std::size_t>(y) * w + x) * components + comp];
     };
-    s.Response.reserve(static_cast<std::size_t>(w - 2) * (h - 2));
+    s.Response.reserve(static_cast<std::size_t>(w - 2) * ((h - 2) / stride + 1));
     s.Gradient.reserve(s.Response.capacity());
-    for (Index y = 1; y + 1 < h; ++y)
+    for (Index y = 1; y + 1 < h; y += stride)
     {
       for (Index x = 1; x + 1 < w; ++x)
       {
@@ -96,35 +108,35 @@ double EstimateVolumeNoise(const VoxelGrid& grid, int components, const double* 
   const std::int64_t w = grid.Width, h = grid.Height, d = grid.Depth;
   const double gain = std::sqrt(216.0);
   const double line[3] = { 1.0, -2.0, 1.0 };
+  const std::int64_t rows = (h - 2) * (d - 2);
+  const std::int64_t stride = StrideFor(static_cast<double>(w - 2) * rows); // rows (y, z)
   return MeanOverComponents(components, [&](int comp, Samples& s) {
     const auto at = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
       return values[((z * h + y) * w + x) * components + comp];
     };
-    s.Response.reserve(static_cast<std::size_t>((w - 2) * (h - 2) * (d - 2)));
+    s.Response.reserve(static_cast<std::size_t>((w - 2) * (rows / stride + 1)));
     s.Gradient.reserve(s.Response.capacity());
-    for (std::int64_t z = 1; z + 1 < d; ++z)
+    for (std::int64_t row = 0; row < rows; row += stride)
     {
-      for (std::int64_t y = 1; y + 1 < h; ++y)
+      const std::int64_t y = 1 + row % (h - 2), z = 1 + row / (h - 2);
+      for (std::int64_t x = 1; x + 1 < w; ++x)
       {
-        for (std::int64_t x = 1; x + 1 < w; ++x)
+        double r = 0.0;
+        for (int k = 0; k < 3; ++k)
         {
-          double r = 0.0;
-          for (int k = 0; k < 3; ++k)
+          for (int j = 0; j < 3; ++j)
           {
-            for (int j = 0; j < 3; ++j)
+            const double c = line[k] * line[j];
+            for (int i = 0; i < 3; ++i)
             {
-              const double c = line[k] * line[j];
-              for (int i = 0; i < 3; ++i)
-              {
-                r += c * line[i] * at(x + i - 1, y + j - 1, z + k - 1);
-              }
+              r += c * line[i] * at(x + i - 1, y + j - 1, z + k - 1);
             }
           }
-          const double gx = at(x + 1, y, z) - at(x - 1, y, z), gy = at(x, y + 1, z) - at(x, y - 1, z),
-                       gz = at(x, y, z + 1) - at(x, y, z - 1);
-          s.Response.push_back(std::abs(r) / gain);
-          s.Gradient.push_back(gx * gx + gy * gy + gz * gz);
         }
+        const double gx = at(x + 1, y, z) - at(x - 1, y, z), gy = at(x, y + 1, z) - at(x, y - 1, z),
+                     gz = at(x, y, z + 1) - at(x, y, z - 1);
+        s.Response.push_back(std::abs(r) / gain);
+        s.Gradient.push_back(gx * gx + gy * gy + gz * gz);
       }
     }
   });
@@ -138,8 +150,9 @@ double EstimateGraphNoise(Index size, const std::int64_t* offsets, const Index* 
     return 0.0;
   }
   Index counted = 0;
+  const std::int64_t stride = StrideFor(static_cast<double>(size));
   const double estimate = MeanOverComponents(components, [&](int comp, Samples& s) {
-    for (Index i = 0; i < size; ++i)
+    for (Index i = 0; i < size; i += stride)
     {
       const std::int64_t b = offsets[i], e = offsets[i + 1];
       const double n = static_cast<double>(e - b);
