@@ -106,9 +106,29 @@ std::string CheckOptions(const GraphFlowOptions& o, int components, int maximum,
 /// risk estimate's probe run).
 using DiscretizationFactory = std::function<std::unique_ptr<FlowDiscretization>()>;
 
+/// Optional, for large grids with explicit steps: the risk estimate's probe
+/// runs on a window of the data (a band of whole rows or planes, so a
+/// contiguous range of vertices) instead of all of it, next to a reference
+/// run of the unperturbed window, and the divergence is counted on the
+/// window's inner part (a margin away from the window's own border, which
+/// the flow's few voxels of reach do not cross), scaled to the whole.
+struct ProbeWindow
+{
+  DiscretizationFactory Make;         ///< the window's discretization (empty: no window)
+  Index Begin = 0, End = 0;           ///< vertices of the window
+  Index InnerBegin = 0, InnerEnd = 0; ///< vertices whose divergence counts
+};
+
+/// The window of a grid of `layers` layers (rows, planes) of `layerSize`
+/// vertices for `o`, or none (small grids, other stops, semi-implicit steps,
+/// a noise space); `make(first, count)` makes the discretization of `count`
+/// layers from layer `first`.
+ProbeWindow GridProbeWindow(Index layers, Index layerSize, const GraphFlowOptions& o,
+  const std::function<std::unique_ptr<FlowDiscretization>(Index first, Index count)>& make);
+
 /// The time loop shared by images, volumes and meshes (section 3.8.5).
 GraphFlowResult Integrate(const DiscretizationFactory& make, double* values, const GraphFlowOptions& o,
-  const ProgressCallback& progress);
+  const ProgressCallback& progress, const ProbeWindow& window = {});
 
 /// The row kernels are compiled twice, for AVX2/FMA processors and for any
 /// x86-64, and the processor picks at run time: the build stays portable.

@@ -65,8 +65,9 @@ constexpr double ProbeSize = 0.01;
 class FlowIntegrator
 {
 public:
-  FlowIntegrator(const DiscretizationFactory& make, const GraphFlowOptions& o)
+  FlowIntegrator(const DiscretizationFactory& make, const GraphFlowOptions& o, const ProbeWindow& window)
     : Make(make)
+    , Window(window)
     , O(o)
     , Threads(o.NumberOfThreads)
     , Stop(o.Stop == GraphFlowStop::Iterations && o.NoiseLevel > 0.0 ? GraphFlowStop::NoiseLevel : o.Stop)
@@ -77,12 +78,14 @@ public:
 
 private:
   const DiscretizationFactory& Make;
+  const ProbeWindow& Window;
   const GraphFlowOptions& O;
   double Alpha = 1.0; // the contrast scale
   double Sigma = 0.0; // the noise level of the stops
   const int Threads;
   const GraphFlowStop Stop;
-  FlowRun Main, Probe;
+  FlowRun Main, Probe, Reference; // Reference: the unperturbed window (windowed probe only)
+  bool Windowed = false;
   Index N = 0;
   int NC = 1;
   std::size_t Size = 0;
@@ -216,12 +219,21 @@ bool FlowIntegrator::Start(const double* values)
     {
       O.FromNoiseSpace(Scratch.data());
     }
-    Probe.Disc = Make();
-    Probe.U.resize(Size);
-    Probe.Next.resize(Size);
-    for (std::size_t k = 0; k < Size; ++k)
+    Windowed = Window.Make && !O.ToNoiseSpace && O.Integration == GraphFlowIntegration::Explicit;
+    const std::size_t begin = Windowed ? static_cast<std::size_t>(Window.Begin) * NC : 0;
+    const std::size_t end = Windowed ? static_cast<std::size_t>(Window.End) * NC : Size;
+    Probe.Disc = Windowed ? Window.Make() : Make();
+    Probe.U.resize(end - begin);
+    Probe.Next.resize(end - begin);
+    for (std::size_t k = begin; k < end; ++k)
     {
-      Probe.U[k] = Alpha * Scratch[k];
+      Probe.U[k - begin] = Alpha * Scratch[k];
+    }
+    if (Windowed)
+    {
+      Reference.Disc = Window.Make();
+      Reference.U.assign(U0.begin() + begin, U0.begin() + end);
+      Reference.Next.resize(end - begin);
     }
   }
   return true;
@@ -236,7 +248,7 @@ void FlowIntegrator::Step(FlowRun& run, double dt)
 void FlowIntegrator::ExplicitStep(FlowRun& run, double dt)
 {
   // Velocity is zero at fixed vertices: one flat loop over all values.
-  ParallelFor(static_cast<std::int64_t>(Size), Threads, [&](std::int64_t b, std::int64_t e) {
+  ParallelFor(static_cast<std::int64_t>(run.U.size()), Threads, [&](std::int64_t b, std::int64_t e) {
     const double* __restrict v = run.Disc->Velocity.data();
     const double* __restrict x = run.U.data();
     double* __restrict y = run.Next.data();
@@ -422,6 +434,26 @@ double FlowIntegrator::Risk()
       divergence += B[k] * (p[k] - f[k]);
     }
   }
+  else if (Windowed)
+  {
+    // The fit over everything, the divergence over the window's inner part
+    // (probe against the unperturbed window), scaled to the whole.
+    const std::int64_t begin = static_cast<std::int64_t>(Window.Begin) * NC;
+    const std::int64_t first = static_cast<std::int64_t>(Window.InnerBegin) * NC;
+    const std::int64_t last = static_cast<std::int64_t>(Window.InnerEnd) * NC;
+    fit = ParallelSum(static_cast<std::int64_t>(Size), 1, Threads, [&](std::int64_t b, std::int64_t e, double* acc) {
+      for (std::int64_t k = b; k < e; ++k)
+      {
+        acc[0] += (Main.U[k] - U0[k]) * (Main.U[k] - U0[k]);
+      }
+    })[0] / (Alpha * Alpha);
+    divergence = ParallelSum(last - first, 1, Threads, [&](std::int64_t b, std::int64_t e, double* acc) {
+      for (std::int64_t k = first + b; k < first + e; ++k)
+      {
+        acc[0] += B[k] * (Probe.U[k - begin] - Reference.U[k - begin]);
+      }
+    })[0] / Alpha * static_cast<double>(Size) / static_cast<double>(last - first);
+  }
   else
   {
     const std::vector<double> s = ParallelSum(static_cast<std::int64_t>(Size), 2, Threads,
@@ -480,6 +512,10 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
   if (risk)
   {
     Probe.Disc->Update(Probe.U.data());
+    if (Windowed)
+    {
+      Reference.Disc->Update(Reference.U.data());
+    }
     Result.InitialRisk = Result.FinalRisk = std::sqrt(std::max(0.0, Risk()));
   }
   double bestRisk = Result.InitialRisk * Result.InitialRisk, bestTime = 0.0;
@@ -523,6 +559,11 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
     {
       Step(Probe, dt);
       Probe.Disc->Update(Probe.U.data());
+      if (Windowed)
+      {
+        Step(Reference, dt);
+        Reference.Disc->Update(Reference.U.data());
+      }
       const double r = Risk();
       if (r < bestRisk)
       {
@@ -582,10 +623,30 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
 
 } // namespace
 
-GraphFlowResult Integrate(const DiscretizationFactory& make, double* values, const GraphFlowOptions& o,
-  const ProgressCallback& progress)
+ProbeWindow GridProbeWindow(Index layers, Index layerSize, const GraphFlowOptions& o,
+  const std::function<std::unique_ptr<FlowDiscretization>(Index first, Index count)>& make)
 {
-  return FlowIntegrator(make, o).Run(values, progress);
+  ProbeWindow w;
+  constexpr Index Margin = 8; // layers: the flow's reach (a few of them) and more
+  const Index inner = std::max<Index>(16, layers / 16);
+  if (!o.WindowedRisk || o.Stop != GraphFlowStop::MinimumRisk || o.Integration != GraphFlowIntegration::Explicit ||
+    o.ToNoiseSpace || static_cast<double>(layers) * layerSize <= double(1 << 21) || inner + 2 * Margin >= layers / 2)
+  {
+    return w;
+  }
+  const Index innerFirst = (layers - inner) / 2, first = innerFirst - Margin, count = inner + 2 * Margin;
+  w.Make = [make, first, count]() { return make(first, count); };
+  w.Begin = first * layerSize;
+  w.End = (first + count) * layerSize;
+  w.InnerBegin = innerFirst * layerSize;
+  w.InnerEnd = (innerFirst + inner) * layerSize;
+  return w;
+}
+
+GraphFlowResult Integrate(const DiscretizationFactory& make, double* values, const GraphFlowOptions& o,
+  const ProgressCallback& progress, const ProbeWindow& window)
+{
+  return FlowIntegrator(make, o, window).Run(values, progress);
 }
 
 } // namespace beltrami::detail

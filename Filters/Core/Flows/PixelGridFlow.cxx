@@ -447,17 +447,21 @@ template <int NC>
 GraphFlowResult RunGrid(const PixelGrid& grid, double* values, const std::uint8_t* fixed,
   const GraphFlowOptions& o, const ProgressCallback& progress)
 {
-  return Integrate(
-    [&]() {
-      auto disc = std::make_unique<GridDiscretization<NC>>(
-        grid, o.Boundary, o.EdgeContrast, o.NumberOfThreads, o.Integration == GraphFlowIntegration::SemiImplicit);
-      if (fixed)
-      {
-        std::copy(fixed, fixed + disc->Size, disc->Fixed.begin());
-      }
-      return disc;
-    },
-    values, o, progress);
+  // The grid (or a band of its rows, from row `first`).
+  const auto band = [&](Index first, Index rows) -> std::unique_ptr<FlowDiscretization> {
+    PixelGrid g = grid;
+    g.Height = rows;
+    auto disc = std::make_unique<GridDiscretization<NC>>(
+      g, o.Boundary, o.EdgeContrast, o.NumberOfThreads, o.Integration == GraphFlowIntegration::SemiImplicit);
+    if (fixed)
+    {
+      const std::uint8_t* from = fixed + static_cast<std::size_t>(first) * grid.Width;
+      std::copy(from, from + disc->Size, disc->Fixed.begin());
+    }
+    return disc;
+  };
+  return Integrate([&]() { return band(0, grid.Height); }, values, o, progress,
+    GridProbeWindow(grid.Height, grid.Width, o, band)); // a band of rows for the risk's probe (large images)
 }
 
 } // namespace

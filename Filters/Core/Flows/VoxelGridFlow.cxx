@@ -453,11 +453,21 @@ GraphFlowResult RunVolumeGraphFlow(const VoxelGrid& grid, int components, double
     return result;
   }
   return WithCount<6>(components, [&](auto nc) { // kernels compiled per component count
+    constexpr int NC = decltype(nc)::value;
+    const bool store = options.Integration == GraphFlowIntegration::SemiImplicit;
     const auto make = [&]() {
-      return std::make_unique<VoxelDiscretization<decltype(nc)::value>>(grid, fixed, options.EdgeContrast,
-        options.NumberOfThreads, options.Integration == GraphFlowIntegration::SemiImplicit);
+      return std::make_unique<VoxelDiscretization<NC>>(grid, fixed, options.EdgeContrast, options.NumberOfThreads, store);
     };
-    return Integrate(make, values, options, progress);
+    // A band of planes for the risk's probe (large volumes).
+    const Index plane = static_cast<Index>(grid.Width * grid.Height);
+    const ProbeWindow window = GridProbeWindow(static_cast<Index>(grid.Depth), plane, options,
+      [&grid, fixed, &options, store, plane](Index first, Index count) -> std::unique_ptr<FlowDiscretization> {
+        VoxelGrid band = grid;
+        band.Depth = count;
+        return std::make_unique<VoxelDiscretization<NC>>(band, fixed ? fixed + static_cast<std::size_t>(first) * plane : nullptr,
+          options.EdgeContrast, options.NumberOfThreads, store);
+      });
+    return Integrate(make, values, options, progress, window);
   });
 }
 

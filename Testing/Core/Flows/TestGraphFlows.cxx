@@ -328,5 +328,51 @@ TEST(NoiseEstimation, WithinTenPercentOnASyntheticImageWithEdges)
   EXPECT_EQ(EstimateImageNoise(tiny, 1, few.data()), 0.0);
 }
 
+
+TEST(LeastRiskStop, AWindowedProbeStopsWhereTheFullProbeDoes)
+{
+  // A volume of more than 2^21 voxels (96 x 96 x 256): the risk's probe runs
+  // on a band of 16 planes plus margins next to an unperturbed run of it, a
+  // quarter of the work of a probe over everything; the stop, the result and
+  // the estimated error stay those of the full probe.
+  VoxelGrid grid;
+  grid.Width = grid.Height = 96;
+  grid.Depth = 256;
+  const std::size_t n = static_cast<std::size_t>(grid.Width * grid.Height * grid.Depth);
+  std::vector<double> clean(n), noisy(n);
+  std::mt19937 rng(21);
+  std::normal_distribution<double> noise(0.0, 0.08);
+  for (std::int64_t z = 0, k = 0; z < grid.Depth; ++z)
+  {
+    for (std::int64_t y = 0; y < grid.Height; ++y)
+    {
+      for (std::int64_t x = 0; x < grid.Width; ++x, ++k)
+      {
+        clean[k] = 0.4 + 0.25 * std::sin(x / 9.0) * std::cos(y / 7.0 + z / 11.0) + 0.3 * ((x + z / 3) % 64 < 32);
+        noisy[k] = clean[k] + noise(rng);
+      }
+    }
+  }
+  GraphFlowResult results[2];
+  double psnr[2];
+  for (int windowed : { 0, 1 })
+  {
+    std::vector<double> v = noisy;
+    GraphFlowOptions o; // the defaults: automatic contrast, least-risk stop
+    o.WindowedRisk = windowed;
+    results[windowed] = RunVolumeGraphFlow(grid, 1, v.data(), nullptr, o);
+    ASSERT_EQ(results[windowed].Error, "");
+    psnr[windowed] = -10 * std::log10(RMS(v, clean) * RMS(v, clean));
+  }
+  std::printf("least-risk stop, full probe: %d steps, %.3f dB, estimated error %.5f; windowed: %d steps, %.3f dB, "
+              "%.5f\n", results[0].Iterations, psnr[0], results[0].FinalRisk, results[1].Iterations, psnr[1],
+    results[1].FinalRisk);
+  EXPECT_GT(results[0].Iterations, 5);
+  EXPECT_LE(std::abs(results[1].Iterations - results[0].Iterations), 2);
+  EXPECT_NEAR(psnr[1], psnr[0], 0.05);
+  EXPECT_NEAR(results[1].FinalRisk, results[0].FinalRisk, 0.1 * results[0].FinalRisk);
+  EXPECT_NEAR(results[1].InitialRisk, results[0].InitialRisk, 1e-9); // the noise level: SURE of the input
+}
+
 } // namespace
 } // namespace beltrami
