@@ -70,7 +70,7 @@ void vtkBeltramiGraphFlow::AddReport(vtkFieldData* fd, const beltrami::GraphFlow
   }
 }
 
-std::string vtkBeltramiGraphFlow::StabilityWarning(
+std::string vtkBeltramiGraphFlow::RunWarnings(
   const beltrami::GraphFlowOptions& o, const beltrami::GraphFlowResult& r)
 {
   std::ostringstream s;
@@ -144,7 +144,7 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
   {
     return 1;
   }
-  const std::string warning = StabilityWarning(options, result);
+  const std::string warning = RunWarnings(options, result);
   if (!warning.empty())
   {
     vtkWarningWithObjectMacro(owner, << warning);

@@ -92,7 +92,7 @@ public:
 
   /// Warnings for explicit steps beyond the stability limit and for a
   /// rule-based stop cut short by the iteration limit (empty if none).
-  static std::string StabilityWarning(
+  static std::string RunWarnings(
     const beltrami::GraphFlowOptions& options, const beltrami::GraphFlowResult& result);
 
   /// Runs the flow on (points, components, values in place, fixed mask).

@@ -266,7 +266,7 @@ beltrami::GraphFlowResult RunFlow(vtkImageBeltramiDenoising* self, vtkImageData*
   const beltrami::GraphFlowResult result = volume
     ? RunVolume(input, inExt, v.Used, v.Values.data(), mask, options, progress)
     : beltrami::RunImageGraphFlow(pixels, v.Used, v.Values.data(), mask, options, progress);
-  const std::string warning = vtkBeltramiGraphFlow::StabilityWarning(options, result);
+  const std::string warning = vtkBeltramiGraphFlow::RunWarnings(options, result);
   if (!warning.empty() && result.Error.empty() && result.Completed)
   {
     vtkWarningWithObjectMacro(self, << warning);
