@@ -56,6 +56,10 @@ void vtkImplicitFairing::CopySettings(beltrami::FairingOptions& o, vtkBeltramiCo
 {
   BeltramiCopySetting(this->Operator, o.Operator, direction);
   BeltramiCopySetting(this->Order, o.Order, direction);
+  for (int k = 0; k < 4; ++k)
+  {
+    BeltramiCopySetting(this->OrderWeights[k], o.OrderWeights[k], direction);
+  }
   BeltramiCopySetting(this->OperatorMollification, o.OperatorMollification, direction);
   BeltramiCopySetting(this->Integration, o.Integration, direction);
   BeltramiCopySetting(this->TimeStep, o.TimeStep, direction);
@@ -246,6 +250,13 @@ void vtkImplicitFairing::WriteOutput(
     inv->InsertNextValue(report.FinalInvariant);
     fd->AddArray(inv);
   }
+  if (report.LargestGain > 1.0)
+  {
+    vtkNew<vtkDoubleArray> gain;
+    gain->SetName("FairingLargestGain");
+    gain->InsertNextValue(report.LargestGain);
+    fd->AddArray(gain);
+  }
   output->SetFieldData(fd);
 
   if (!report.Warning.empty())
@@ -283,6 +294,8 @@ void vtkImplicitFairing::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Operator: " << this->Operator << "\n";
   os << indent << "Order: " << this->Order << "\n";
+  os << indent << "OrderWeights: " << this->OrderWeights[0] << " " << this->OrderWeights[1] << " " << this->OrderWeights[2]
+     << " " << this->OrderWeights[3] << "\n";
   os << indent << "OperatorMollification: " << this->OperatorMollification << "\n";
   os << indent << "Integration: " << this->Integration << "\n";
   os << indent << "TimeStep: " << this->TimeStep << "\n";

@@ -12,9 +12,23 @@
  *    do not move whatever their triangulation), or CURVATURE_FLOW_AND_SAMPLING
  *    (section 3.6: the curvature flow plus the tangential part of the
  *    umbrella, which evens out the triangles without changing the shape).
- *  - Order 1 (L) or 2 (L^2, section 3.2.6; default: the sharper low-pass
+ *  - Order 1 (L), 2 (L^2, section 3.2.6; default: the sharper low-pass
  *    filter, which removes noise at the scale of the triangles and keeps
- *    larger shapes).
+ *    larger shapes), 3 or 4 (closer still to an ideal low-pass, figure 3.4a;
+ *    each solver iteration costs k stiffness products), or COMBINATION (0):
+ *    the flow dX/dt = -lambda sum_k c_k (-L)^k X with OrderWeights c_1..c_4
+ *    (default 1, 1: L + L^2).  A negative weight on a lower order amplifies
+ *    that scale (feature exaggeration, section 3.2.6); the highest weight
+ *    used must be positive, and a step that would amplify a frequency more
+ *    than 100-fold (or without bound: its matrix not positive definite) is
+ *    refused with an error.  One step multiplies the component of frequency
+ *    w by 1 / (1 + dt sum_k c_k w^k); the largest gain of a run goes to the
+ *    field array FairingLargestGain.  Orders 3 and 4 are solved as products
+ *    of factors of degree 1 and 2; on a 37k-point scan they need about 15x
+ *    the solver iterations of order 2 (2900-3200 against 190: raise
+ *    MaximumSolverIterations, a warning says when the limit ends a solve)
+ *    and smooth noise about as well (bunny00, 0.3% noise, best step: RMS
+ *    error 0.00120 and 0.00126 of the diagonal against 0.00121).
  *  - OperatorMollification (default 1; 0: off): the operator of each step is
  *    evaluated on a mollified copy of the points - each moved by the normal
  *    part of one implicit umbrella step of this (dimensionless) time -
@@ -32,11 +46,12 @@
  *    when the step is above the stability limit) or TAUBIN_LAMBDA_MU
  *    (Taubin's lambda|mu passes, for comparison).
  *  - TimeStep lambda*dt.  With Units = MEAN_EDGE_LENGTH (default) it
- *    is given in units of h^2 (h^4 for order 2), h the input's mean edge
+ *    is given in units of h^(2k) for order k, h the input's mean edge
  *    length (default: 1 step of 4 h^4), so the same value smooths coarse
- *    and fine scans of one object alike; with PHYSICAL it is in length^2
- *    (length^4 for order 2; the
- *    umbrella's step is always dimensionless).
+ *    and fine scans of one object alike (a combination's terms are
+ *    c_k (h^2 L)^k and its step is in units of h^(2K), K its highest order);
+ *    with PHYSICAL it is in length^(2k) (the umbrella's step is always
+ *    dimensionless).
  *  - Invariant (section 3.3): AUTOMATIC (default) keeps the enclosed volume
  *    exactly for closed, oriented surfaces without fixed points, and nothing
  *    otherwise; VOLUME, AREA, HEIGHT_FIELD_VOLUME (volume between the surface
@@ -102,6 +117,10 @@ public:
     CURVATURE_FLOW = 2,
     CURVATURE_FLOW_AND_SAMPLING = 3
   };
+  enum OrderType
+  {
+    COMBINATION = 0 ///< the weighted sum of L..L^4 given by OrderWeights
+  };
   enum IntegrationType
   {
     IMPLICIT = 0,
@@ -137,8 +156,12 @@ public:
 
   vtkSetClampMacro(Operator, int, UMBRELLA, CURVATURE_FLOW_AND_SAMPLING);
   vtkGetMacro(Operator, int);
-  vtkSetClampMacro(Order, int, 1, 2);
+  /// Order of the operator: 1-4, or COMBINATION (the OrderWeights).
+  vtkSetClampMacro(Order, int, COMBINATION, 4);
   vtkGetMacro(Order, int);
+  /// COMBINATION: the weights of L, L^2, L^3, L^4.
+  vtkSetVector4Macro(OrderWeights, double);
+  vtkGetVector4Macro(OrderWeights, double);
   vtkSetClampMacro(OperatorMollification, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(OperatorMollification, double);
   vtkSetClampMacro(Integration, int, IMPLICIT, TAUBIN_LAMBDA_MU);
@@ -226,6 +249,7 @@ protected:
   // Defaults: the core's FairingOptions{} (set in the constructor).
   int Operator;
   int Order;
+  double OrderWeights[4];
   double OperatorMollification;
   int Integration;
   double TimeStep;

@@ -9,10 +9,12 @@
 #include "Mesh/MeshMeasures.h"
 #include "Mesh/RingGeometry.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <sstream>
 
@@ -49,29 +51,124 @@ void ApplyLaplacian(const GraphLaplacian& L, const double* x, double* y, int thr
   });
 }
 
-/// The flow velocity without the time step: W L X (order 1) or -W L L X (order 2).
-std::vector<double> Velocity(const Stage& st, int order, const double* x, int threads)
+/// The flow's operator, a polynomial in -L = M^-1 S: the velocity is
+/// -sum_k C[k-1] (-L)^k X (order k: C[k-1] = 1, the others 0).
+struct Powers
 {
-  const std::size_t size = 3 * static_cast<std::size_t>(st.L.NumberOfVertices);
-  std::vector<double> v(size), tmp(order == 2 ? size : 0);
-  ApplyLaplacian(st.L, x, v.data(), threads);
-  if (order == 2)
+  double C[4] = { 0.0, 0.0, 0.0, 0.0 };
+  int Degree = 0;
+
+  static Powers Single(int order)
   {
-    // L is undefined at held vertices (boundaries, constraints): L^2 uses L = 0 there.
-    for (Index i = 0; i < st.L.NumberOfVertices; ++i)
+    Powers p;
+    p.C[order - 1] = 1.0;
+    p.Degree = order;
+    return p;
+  }
+  static Powers Of(const FairingOptions& o)
+  {
+    if (o.Order >= 1)
     {
-      for (int c = 0; st.Fixed[i] && c < 3; ++c)
+      return Single(o.Order);
+    }
+    Powers p;
+    for (int k = 1; k <= 4; ++k)
+    {
+      p.C[k - 1] = o.OrderWeights[k - 1];
+      p.Degree = p.C[k - 1] != 0.0 ? k : p.Degree;
+    }
+    return p;
+  }
+  /// sum_k C[k-1] w^k.
+  double operator()(double w) const
+  {
+    double sum = 0.0;
+    for (int k = Degree; k >= 1; --k)
+    {
+      sum = (sum + C[k - 1]) * w;
+    }
+    return sum;
+  }
+  /// Only the term of order k, with a positive weight.
+  bool Pure(int k) const
+  {
+    double others = 0.0;
+    for (int j = 1; j <= 4; ++j)
+    {
+      others += j == k ? 0.0 : std::abs(C[j - 1]);
+    }
+    return Degree == k && C[k - 1] > 0.0 && others == 0.0;
+  }
+  bool NonNegative() const { return std::min({ C[0], C[1], C[2], C[3] }) >= 0.0; }
+  /// The least and the largest value on [0, wmax] (wmax may be infinite).
+  std::pair<double, double> Range(double wmax) const
+  {
+    // The least is at 0 or at a root of p', within Cauchy's bound of those.
+    double bound = 0.0;
+    for (int k = 1; k < Degree; ++k)
+    {
+      bound = std::max(bound, std::abs(k * C[k - 1]) / std::abs(Degree * C[Degree - 1]));
+    }
+    const double lo = Least(std::min(wmax, 1.0 + bound));
+    return { lo, std::isfinite(wmax) ? std::max((*this)(wmax), -Least(wmax, -1.0)) : HUGE_VAL };
+  }
+
+  /// The least of sign * p on [0, w] (w finite): sampled (a polynomial of
+  /// degree 4 at most; the end points exact), refined by a ternary search
+  /// between the neighbours of the least sample.
+  double Least(double w, double sign = 1.0) const
+  {
+    constexpr int samples = 4096;
+    const auto f = [&](double v) { return sign * (*this)(v); };
+    double lo = 0.0;
+    int least = 0;
+    for (int j = 0; j <= samples; ++j)
+    {
+      const double v = f(w * j / samples);
+      least = v < lo ? j : least;
+      lo = std::min(lo, v);
+    }
+    double a = w * std::max(0, least - 1) / samples, b = w * std::min(samples, least + 1) / samples;
+    for (int it = 0; it < 100 && least > 0; ++it)
+    {
+      const double m1 = a + (b - a) / 3.0, m2 = b - (b - a) / 3.0;
+      if (f(m1) < f(m2))
       {
-        v[3 * i + c] = 0.0;
+        b = m2;
+      }
+      else
+      {
+        a = m1;
       }
     }
-    ApplyLaplacian(st.L, v.data(), tmp.data(), threads);
-    for (std::size_t k = 0; k < size; ++k)
+    return std::min(lo, f(0.5 * (a + b)));
+  }
+};
+
+/// The flow velocity without the time step: -W sum_k C[k-1] (-L)^k X.
+std::vector<double> Velocity(const Stage& st, const Powers& p, const double* x, int threads)
+{
+  const Index n = st.L.NumberOfVertices;
+  const std::size_t size = 3 * static_cast<std::size_t>(n);
+  std::vector<double> v(size, 0.0), u(x, x + size), next(size);
+  for (int k = 1; k <= p.Degree; ++k)
+  {
+    // (-L) u, with L = 0 at held vertices (boundaries, constraints), where it is undefined.
+    ApplyLaplacian(st.L, u.data(), next.data(), threads);
+    for (Index i = 0; i < n; ++i)
     {
-      v[k] = -tmp[k];
+      for (int c = 0; c < 3; ++c)
+      {
+        next[3 * i + c] = st.Fixed[i] ? 0.0 : -next[3 * i + c];
+      }
+    }
+    u.swap(next);
+    for (std::size_t j = 0; j < size; ++j)
+    {
+      v[j] -= p.C[k - 1] * u[j];
     }
   }
-  for (Index i = 0; i < st.L.NumberOfVertices; ++i)
+  for (Index i = 0; i < n; ++i)
   {
     for (int c = 0; c < 3; ++c)
     {
@@ -81,18 +178,18 @@ std::vector<double> Velocity(const Stage& st, int order, const double* x, int th
   return v;
 }
 
-void ExplicitStep(const Stage& st, int order, double dt, double* x, int threads)
+void ExplicitStep(const Stage& st, const Powers& p, double dt, double* x, int threads)
 {
-  const std::vector<double> v = Velocity(st, order, x, threads);
+  const std::vector<double> v = Velocity(st, p, x, threads);
   for (std::size_t k = 0; k < v.size(); ++k)
   {
     x[k] += dt * v[k];
   }
 }
 
-/// Largest stable explicit time step (Gershgorin: rho(W M^-1 S) <= 2 max w S_ii / a_i;
-/// for the umbrella this is the thesis' lambda*dt < 1).
-double StabilityLimit(const Stage& st, int order)
+/// Gershgorin's bound on the frequencies of the moving rows:
+/// rho(W M^-1 S) <= 2 max |w| S_ii / a_i.
+double LargestFrequency(const Stage& st)
 {
   double m = 0.0;
   for (Index i = 0; i < st.L.NumberOfVertices; ++i)
@@ -102,141 +199,42 @@ double StabilityLimit(const Stage& st, int order)
       m = std::max(m, std::abs(st.Omega[i]) * st.L.Diagonal[i] / st.L.Mass[i]);
     }
   }
-  if (!(m > 0.0))
-  {
-    return std::numeric_limits<double>::infinity();
-  }
-  return order == 1 ? 1.0 / m : 0.5 / (m * m);
+  return 2.0 * m;
 }
 
-ConjugateGradientResult SolveOrderTwo(const Stage& st, const FairingOptions& opt, const std::vector<double>& m,
-  const std::vector<double>& invMass, const std::vector<std::uint8_t>& fixed, const std::vector<double>& scale,
-  const std::vector<double>& b, double* x);
+/// Largest stable explicit time step: dt p(w) <= 2 on the frequencies (for
+/// the umbrella this is the thesis' lambda*dt < 1).
+double StabilityLimit(const Stage& st, const Powers& p)
+{
+  const double top = p.Range(LargestFrequency(st)).second;
+  return top > 0.0 ? 2.0 / top : std::numeric_limits<double>::infinity();
+}
 
-/// One backward Euler step in the symmetric form of Fairing.h.  Rows with a
-/// negative weight (inverse diffusion of the anisotropic flow) are advanced
-/// explicitly and then held, so the system stays positive definite.
-void ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, FairingReport& report)
+/// The rows of an implicit step's system M W^-1 + dt sum_k c_k S (N S)^(k-1):
+/// the diagonal M W^-1 (m), the inner N (M^-1, zero at held rows), the rows
+/// that do not move, the size of the solution per column.
+struct StepSystem
+{
+  std::vector<double> Diagonal, InverseMass;
+  std::vector<std::uint8_t> Fixed;
+  std::vector<double> Scale;
+  /// N = (M W^-1)^-1 on the moving rows and 0 on the others: then the step
+  /// is a polynomial in one operator, and may be factored.
+  bool UnitWeights = true;
+};
+
+/// (StepSystem) x = b for the polynomial p, through the system's action,
+/// Jacobi-preconditioned (the diagonal of S N S exactly, higher powers
+/// estimated from it; with |c_k| the preconditioner stays positive).
+ConjugateGradientResult SolvePolynomial(const Stage& st, const Powers& p, double dt, const StepSystem& sys,
+  const FairingOptions& opt, const std::vector<double>& b, double* x)
 {
   const GraphLaplacian& L = st.L;
   const Index n = L.NumberOfVertices;
   const int threads = opt.NumberOfThreads;
-  const int order = opt.Order;
-  const double dt = opt.TimeStep;
-  std::vector<std::uint8_t> fixed = st.Fixed;
-  bool anyNegative = false;
-  for (Index i = 0; i < n; ++i)
-  {
-    anyNegative = anyNegative || (!fixed[i] && st.Omega[i] < 0.0);
-  }
-  if (anyNegative)
-  {
-    const std::vector<double> v = Velocity(st, order, x, threads);
-    for (Index i = 0; i < n; ++i)
-    {
-      if (!fixed[i] && st.Omega[i] < 0.0)
-      {
-        for (int c = 0; c < 3; ++c)
-        {
-          x[3 * i + c] += dt * v[3 * i + c];
-        }
-      }
-    }
-  }
-  std::vector<double> m(n, 0.0), invMass(n, 0.0);
-  Index numFree = 0;
-  for (Index i = 0; i < n; ++i)
-  {
-    // The inner M^-1 of L^2: zero at held vertices, where L is taken as 0.
-    invMass[i] = L.Mass[i] > 0.0 && !st.Fixed[i] ? 1.0 / L.Mass[i] : 0.0;
-    if (fixed[i] || !(st.Omega[i] > 0.0) || !(L.Mass[i] > 0.0))
-    {
-      fixed[i] = 1;
-      continue;
-    }
-    m[i] = L.Mass[i] / st.Omega[i];
-    ++numFree;
-  }
-  if (numFree == 0)
-  {
-    return;
-  }
-  const std::size_t size = 3 * static_cast<std::size_t>(n);
-  std::vector<double> b(size);
-  Vec3 center = Vec3::Zero();
-  for (Index i = 0; i < n; ++i)
-  {
-    center += Point(x, i);
-  }
-  center /= n;
-  std::vector<double> scale(3, 0.0);
-  for (Index i = 0; i < n; ++i)
-  {
-    for (int c = 0; c < 3; ++c)
-    {
-      b[3 * i + c] = m[i] * x[3 * i + c];
-      if (!fixed[i])
-      {
-        const double d = m[i] * (x[3 * i + c] - center[c]);
-        scale[c] += d * d;
-      }
-    }
-  }
-  for (double& s : scale)
-  {
-    s = std::sqrt(s);
-  }
-  ShiftedLaplacianProblem sl = L.Problem(3);
-  sl.Shift = m.data();
-  sl.Factor = dt;
-  sl.Fixed = fixed.data();
-  sl.Scale = scale;
-  sl.Tolerance = opt.SolverTolerance;
-  sl.MaximumIterations = opt.MaximumSolverIterations;
-  sl.NumberOfThreads = threads;
-  ConjugateGradientResult r;
-  if (order == 1)
-  {
-    // A graph Laplacian plus a diagonal: the fast solver (renumbered rows,
-    // single-precision corrections of a double-precision residual).
-    sl.Order = st.Order;
-    r = SolveShiftedLaplacian(sl, b.data(), x);
-  }
-  else
-  {
-    // M + dt S M^-1 S: with unit row weights and the inner M^-1 zero exactly
-    // at the rows kept fixed, the complex-shift solver applies.
-    bool squared = true;
-    for (Index i = 0; squared && i < n; ++i)
-    {
-      squared = fixed[i] ? invMass[i] == 0.0 : std::abs(m[i] * invMass[i] - 1.0) <= 1e-12;
-    }
-    if (squared)
-    {
-      r = SolveSquaredLaplacian(sl, b.data(), x);
-    }
-    if (!r.Converged)
-    {
-      const int before = r.Iterations;
-      r = SolveOrderTwo(st, opt, m, invMass, fixed, scale, b, x);
-      r.Iterations += before;
-    }
-  }
-  report.Iterations.push_back(r.Iterations);
-  report.LargestResidual = std::max(report.LargestResidual, r.RelativeResidual);
-  report.Converged = report.Converged && r.Converged;
-}
-
-/// The order-2 system (M W^-1 + dt S M^-1 S) X' = b, through its action.
-ConjugateGradientResult SolveOrderTwo(const Stage& st, const FairingOptions& opt, const std::vector<double>& m,
-  const std::vector<double>& invMass, const std::vector<std::uint8_t>& fixed, const std::vector<double>& scale,
-  const std::vector<double>& b, double* x)
-{
-  const GraphLaplacian& L = st.L;
-  const Index n = L.NumberOfVertices;
-  const int threads = opt.NumberOfThreads;
-  const double dt = opt.TimeStep;
-  std::vector<double> tmp(3 * static_cast<std::size_t>(n)), diag(n);
+  const std::vector<double>& m = sys.Diagonal;
+  const std::vector<double>& invMass = sys.InverseMass;
+  std::vector<double> power(3 * static_cast<std::size_t>(n)), tmp(power.size()), diag(n);
   for (Index i = 0; i < n; ++i)
   {
     double s2 = L.Diagonal[i] * L.Diagonal[i] * invMass[i];
@@ -244,27 +242,37 @@ ConjugateGradientResult SolveOrderTwo(const Stage& st, const FairingOptions& opt
     {
       s2 += L.Weights[k] * L.Weights[k] * invMass[L.Neighbors[k]];
     }
-    diag[i] = m[i] + dt * s2;
+    double sk = L.Diagonal[i], sum = 0.0;
+    for (int k = 1; k <= p.Degree; ++k)
+    {
+      sum += std::abs(p.C[k - 1]) * sk;
+      sk = k == 1 ? s2 : sk * L.Diagonal[i] * invMass[i];
+    }
+    diag[i] = m[i] + dt * sum;
   }
   ConjugateGradientProblem pb;
   pb.Rows = n;
   pb.Columns = 3;
   pb.Diagonal = diag.data();
-  pb.Fixed = fixed.data();
-  pb.Scale = scale;
+  pb.Fixed = sys.Fixed.data();
+  pb.Scale = sys.Scale;
   pb.Tolerance = opt.SolverTolerance;
   pb.MaximumIterations = opt.MaximumSolverIterations;
   pb.NumberOfThreads = threads;
   pb.Apply = [&](const double* in, double* out) {
-    L.ApplyStiffness(in, out, 3, threads);
-    for (Index i = 0; i < n; ++i)
+    const double* source = in;
+    for (int k = 1; k <= p.Degree; ++k)
     {
-      for (int c = 0; c < 3; ++c)
-      {
-        tmp[3 * i + c] = out[3 * i + c] * invMass[i];
-      }
+      L.ApplyStiffness(source, power.data(), 3, threads); // S (N S)^(k-1) in
+      ParallelFor(n, threads, [&](std::int64_t s, std::int64_t e) {
+        for (std::int64_t j = 3 * s; j < 3 * e; ++j)
+        {
+          out[j] = (k == 1 ? 0.0 : out[j]) + p.C[k - 1] * power[j];
+          tmp[j] = k < p.Degree ? power[j] * invMass[j / 3] : 0.0;
+        }
+      });
+      source = tmp.data();
     }
-    L.ApplyStiffness(tmp.data(), out, 3, threads);
     ParallelFor(n, threads, [&](std::int64_t s, std::int64_t e) {
       for (std::int64_t k = 3 * s; k < 3 * e; ++k)
       {
@@ -273,6 +281,223 @@ ConjugateGradientResult SolveOrderTwo(const Stage& st, const FairingOptions& opt
     });
   };
   return SolveConjugateGradient(pb, b.data(), x);
+}
+
+/// One solve of the step system for p and dt, x (the positions) in place:
+/// order 1 by the graph solver, pure order 2 with unit weights by the
+/// complex-shift solver, anything else (or what they leave unconverged)
+/// matrix-free.
+ConjugateGradientResult SolveStep(
+  const Stage& st, const Powers& p, double dt, const StepSystem& sys, const FairingOptions& opt, double* x)
+{
+  const Index n = st.L.NumberOfVertices;
+  std::vector<double> b(3 * static_cast<std::size_t>(n));
+  for (std::size_t k = 0; k < b.size(); ++k)
+  {
+    b[k] = sys.Diagonal[k / 3] * x[k];
+  }
+  ShiftedLaplacianProblem sl = st.L.Problem(3);
+  sl.Shift = sys.Diagonal.data();
+  sl.Factor = dt * p.C[p.Degree - 1];
+  sl.Fixed = sys.Fixed.data();
+  sl.Scale = sys.Scale;
+  sl.Tolerance = opt.SolverTolerance;
+  sl.MaximumIterations = opt.MaximumSolverIterations;
+  sl.NumberOfThreads = opt.NumberOfThreads;
+  if (p.Pure(1))
+  {
+    // A graph Laplacian plus a diagonal: the fast solver (renumbered rows,
+    // single-precision corrections of a double-precision residual).
+    sl.Order = st.Order;
+    return SolveShiftedLaplacian(sl, b.data(), x);
+  }
+  ConjugateGradientResult r;
+  if (p.Pure(2) && sys.UnitWeights)
+  {
+    r = SolveSquaredLaplacian(sl, b.data(), x);
+  }
+  if (!r.Converged)
+  {
+    const int before = r.Iterations;
+    r = SolvePolynomial(st, p, dt, sys, opt, b, x);
+    r.Iterations += before;
+  }
+  return r;
+}
+
+/// 1 + dt p(w) as a product of real factors 1 + a w (a > 0) and
+/// 1 + a w + b w^2 (complex roots: positive for every w), from the roots of
+/// the polynomial; empty if a root is real and non-negative (a combination
+/// with a negative weight that the factors cannot hold) or two coincide.
+std::vector<Powers> Factors(const Powers& p, double dt)
+{
+  const int K = p.Degree;
+  // In units of sigma = (dt c_K)^(-1/K), w = sigma u, the polynomial in u is
+  // monic (coefficients near 1 whatever the mesh's size): its companion.
+  const double sigma = std::pow(dt * p.C[K - 1], -1.0 / K);
+  Eigen::MatrixXd companion = Eigen::MatrixXd::Zero(K, K);
+  for (int k = 0; k < K; ++k)
+  {
+    // Row 0: minus the coefficients of u^(K-1), ..., u^0 (the latter 1).
+    const int power = K - 1 - k;
+    companion(0, k) = power == 0 ? -1.0 : -dt * p.C[power - 1] * std::pow(sigma, power);
+    if (k + 1 < K)
+    {
+      companion(k + 1, k) = 1.0;
+    }
+  }
+  const Eigen::VectorXcd roots = sigma * Eigen::EigenSolver<Eigen::MatrixXd>(companion, false).eigenvalues();
+  std::vector<Powers> factors;
+  for (int j = 0; j < K; ++j)
+  {
+    const std::complex<double> r = roots[j];
+    for (int i = 0; i < j; ++i)
+    {
+      if (std::abs(roots[i] - r) <= 1e-6 * std::abs(r))
+      {
+        return {};
+      }
+    }
+    Powers f;
+    if (std::abs(r.imag()) <= 1e-9 * std::abs(r))
+    {
+      if (!(r.real() < 0.0))
+      {
+        return {};
+      }
+      f.C[0] = -1.0 / r.real(); // 1 - w / r
+      f.Degree = 1;
+    }
+    else if (r.imag() > 0.0)
+    {
+      f.C[0] = -2.0 * r.real() / std::norm(r); // (1 - w / r)(1 - w / conj r)
+      f.C[1] = 1.0 / std::norm(r);
+      f.Degree = 2;
+    }
+    else
+    {
+      continue; // the conjugate's factor
+    }
+    factors.push_back(f);
+  }
+  return factors;
+}
+
+/// A step may amplify a frequency at most this much: beyond, its matrix is
+/// nearly singular (or indefinite) and no solve is meaningful.
+constexpr double MaximumGain = 100.0;
+
+/// A combination with a negative weight: whether the step's matrix is
+/// positive definite on the frequencies of `st`, 1 + dt p(w) >= 1 /
+/// MaximumGain up to Gershgorin's bound; the largest gain 1 / min(1 + dt
+/// p(w)) goes to the report.
+bool StepIsDefined(const Stage& st, const Powers& p, double dt, FairingReport& report)
+{
+  if (p.NonNegative())
+  {
+    return true;
+  }
+  const double lowest = 1.0 + dt * p.Range(LargestFrequency(st)).first;
+  report.LargestGain = std::max(report.LargestGain, lowest > 0.0 ? 1.0 / lowest : HUGE_VAL);
+  return lowest >= 1.0 / MaximumGain;
+}
+
+/// One backward Euler step in the symmetric form of Fairing.h.  Rows with a
+/// negative weight (inverse diffusion of the anisotropic flow) are advanced
+/// explicitly and then held, so the system stays positive definite.  False
+/// (nothing moved) when a combination's step is not positive definite.
+/// Above order 2 (unit weights) the step is the product of its factors of
+/// degree 1 and 2, taken one after the other: each one is conditioned like an
+/// order-1 or order-2 step, where the whole polynomial's condition number
+/// grows as (dt w_max^k) - on the bunny scan, order 3: 17854 iterations to
+/// 1e-8 at once, a few hundred by factors.  With held rows the product is
+/// exact: each factor's boundary terms compose into the polynomial's.
+bool ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, FairingReport& report)
+{
+  const GraphLaplacian& L = st.L;
+  const Index n = L.NumberOfVertices;
+  const Powers p = Powers::Of(opt);
+  const double dt = opt.TimeStep;
+  if (!StepIsDefined(st, p, dt, report))
+  {
+    return false;
+  }
+  StepSystem sys;
+  sys.Fixed = st.Fixed;
+  bool anyNegative = false;
+  for (Index i = 0; i < n; ++i)
+  {
+    anyNegative = anyNegative || (!sys.Fixed[i] && st.Omega[i] < 0.0);
+  }
+  if (anyNegative)
+  {
+    const std::vector<double> v = Velocity(st, p, x, opt.NumberOfThreads);
+    for (Index i = 0; i < n; ++i)
+    {
+      if (!sys.Fixed[i] && st.Omega[i] < 0.0)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          x[3 * i + c] += dt * v[3 * i + c];
+        }
+      }
+    }
+  }
+  sys.Diagonal.assign(n, 0.0);
+  sys.InverseMass.assign(n, 0.0);
+  Index numFree = 0;
+  for (Index i = 0; i < n; ++i)
+  {
+    // The inner M^-1 of the powers: zero at held vertices, where L is taken as 0.
+    sys.InverseMass[i] = L.Mass[i] > 0.0 && !st.Fixed[i] ? 1.0 / L.Mass[i] : 0.0;
+    if (sys.Fixed[i] || !(st.Omega[i] > 0.0) || !(L.Mass[i] > 0.0))
+    {
+      sys.Fixed[i] = 1;
+      sys.UnitWeights = sys.UnitWeights && sys.InverseMass[i] == 0.0;
+      continue;
+    }
+    sys.Diagonal[i] = L.Mass[i] / st.Omega[i];
+    sys.UnitWeights = sys.UnitWeights && std::abs(sys.Diagonal[i] * sys.InverseMass[i] - 1.0) <= 1e-12;
+    ++numFree;
+  }
+  if (numFree == 0)
+  {
+    return true;
+  }
+  Vec3 center = Vec3::Zero();
+  for (Index i = 0; i < n; ++i)
+  {
+    center += Point(x, i);
+  }
+  center /= n;
+  sys.Scale.assign(3, 0.0);
+  for (Index i = 0; i < n; ++i)
+  {
+    for (int c = 0; c < 3 && !sys.Fixed[i]; ++c)
+    {
+      const double d = sys.Diagonal[i] * (x[3 * i + c] - center[c]);
+      sys.Scale[c] += d * d;
+    }
+  }
+  for (double& s : sys.Scale)
+  {
+    s = std::sqrt(s);
+  }
+  const bool factored = sys.UnitWeights && !p.Pure(1) && !p.Pure(2);
+  const std::vector<Powers> factors = factored ? Factors(p, dt) : std::vector<Powers>{};
+  ConjugateGradientResult r;
+  r.Converged = true;
+  for (const Powers& f : factors.size() > 1 ? factors : std::vector<Powers>{ p })
+  {
+    const ConjugateGradientResult fr = SolveStep(st, f, factors.size() > 1 ? 1.0 : dt, sys, opt, x);
+    r.Iterations += fr.Iterations;
+    r.RelativeResidual = std::max(r.RelativeResidual, fr.RelativeResidual);
+    r.Converged = r.Converged && fr.Converged;
+  }
+  report.Iterations.push_back(r.Iterations);
+  report.LargestResidual = std::max(report.LargestResidual, r.RelativeResidual);
+  report.Converged = report.Converged && r.Converged;
+  return true;
 }
 
 /// Points with a NaN or infinite coordinate are held (VertexRoles) and their
@@ -309,27 +534,30 @@ private:
   std::vector<std::pair<Index, Vec3>> Saved;
 };
 
-void Integrate(const Stage& st, const FairingOptions& opt, double* x, FairingReport& report)
+/// One step of the chosen integration; false when it is not defined (a
+/// combination whose implicit step is not positive definite): nothing moved.
+bool Integrate(const Stage& st, const FairingOptions& opt, double* x, FairingReport& report)
 {
   const NonFinitePointsAsOrigin guard(x, st.L.NumberOfVertices);
   switch (opt.Integration)
   {
     case FairingIntegration::Implicit:
-      ImplicitStep(st, opt, x, report);
-      break;
+      return ImplicitStep(st, opt, x, report);
     case FairingIntegration::Explicit:
     {
-      const double limit = StabilityLimit(st, opt.Order);
+      const Powers p = Powers::Of(opt);
+      const double limit = StabilityLimit(st, p);
       report.StabilityLimit = report.StabilityLimit > 0.0 ? std::min(report.StabilityLimit, limit) : limit;
       report.ExplicitUnstable = report.ExplicitUnstable || opt.TimeStep > limit * (1.0 + 1e-12);
-      ExplicitStep(st, opt.Order, opt.TimeStep, x, opt.NumberOfThreads);
-      break;
+      ExplicitStep(st, p, opt.TimeStep, x, opt.NumberOfThreads);
+      return true;
     }
     case FairingIntegration::TaubinLambdaMu:
-      ExplicitStep(st, 1, opt.TaubinLambda, x, opt.NumberOfThreads);
-      ExplicitStep(st, 1, opt.TaubinMu, x, opt.NumberOfThreads);
-      break;
+      ExplicitStep(st, Powers::Single(1), opt.TaubinLambda, x, opt.NumberOfThreads);
+      ExplicitStep(st, Powers::Single(1), opt.TaubinMu, x, opt.NumberOfThreads);
+      return true;
   }
+  return true;
 }
 
 LaplacianWeights WeightsOf(FairingOperator op)
@@ -530,7 +758,7 @@ void RegulariseSampling(const MeshTopology& topo, double* x, const std::vector<s
   const double h = MeanEdgeLength(topo, x);
   const double relax = std::min(1.0, 2.0 * opt.TimeStep / (h * h));
   const Stage tangential{ U, fixed, weight };
-  std::vector<double> v = Velocity(tangential, 1, x, threads);
+  std::vector<double> v = Velocity(tangential, Powers::Single(1), x, threads);
   for (double& vk : v)
   {
     vk *= relax;
@@ -540,7 +768,7 @@ void RegulariseSampling(const MeshTopology& topo, double* x, const std::vector<s
 
 /// The curve-smoothing pass along the detected feature edges (directions
 /// `along` from the anisotropic weights).
-void SmoothFeatures(const MeshTopology& topo, double* x, const std::vector<Vec3>& along, const VertexRoles& roles,
+bool SmoothFeatures(const MeshTopology& topo, double* x, const std::vector<Vec3>& along, const VertexRoles& roles,
   const FairingOptions& opt, GraphLaplacian& curveL, FairingReport& report)
 {
   const Index n = topo.NumberOfVertices();
@@ -555,7 +783,27 @@ void SmoothFeatures(const MeshTopology& topo, double* x, const std::vector<Vec3>
   {
     curve.Fixed[i] = roles.Fixed[i] || roles.Boundary[i] || !onCurve[i];
   }
-  Integrate(curve, opt, x, report);
+  return Integrate(curve, opt, x, report);
+}
+
+/// A combination's step that is not positive definite ends the run at the
+/// last defined step, with an error at the first step (nothing was done).
+void UndefinedStep(int step, int steps, std::ostringstream& warn, FairingReport& report)
+{
+  std::ostringstream why;
+  why << "The combination of orders would amplify some frequencies of this mesh more than " << MaximumGain
+      << "-fold or without bound in one step (1 + dt p(w) < " << 1.0 / MaximumGain
+      << ": the implicit step is not defined or nearly singular); use a smaller time step or a smaller negative "
+         "weight";
+  if (step == 0)
+  {
+    report.Error = why.str() + ". The points are unchanged.";
+  }
+  else
+  {
+    warn << why.str() << ": stopped after " << step << " of " << steps << " steps. ";
+  }
+  report.Completed = false;
 }
 
 /// The counts and the warning sentence of a finished run.
@@ -612,8 +860,17 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
   {
     held[i] = fixed[i] || roles.Boundary[i];
   }
+  // A combination with a negative weight: each step's start, kept in case
+  // the step is not defined there (section 3.2.6's amplification).
+  const bool amplifies = !Powers::Of(opt).NonNegative();
+  std::vector<double> start;
   for (int step = 0; step < opt.NumberOfIterations; ++step)
   {
+    if (amplifies)
+    {
+      start.assign(x, x + 3 * static_cast<std::size_t>(n));
+    }
+    bool defined = true;
     std::vector<double> omega = weight;
     std::vector<Vec3> along;
     if (opt.Anisotropic)
@@ -642,7 +899,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
       {
         curve.Fixed[i] = fixed[i] || boundaryCurves.Offsets[i + 1] - boundaryCurves.Offsets[i] < 2;
       }
-      Integrate(curve, opt, x, report);
+      defined = Integrate(curve, opt, x, report);
     }
     // The operator's geometry: the current positions (the thesis'
     // linearisation, sections 3.4.3/3.5.3), or a mollified copy.
@@ -653,16 +910,22 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     }
     AssembleSurfaceLaplacian(topo, regular.empty() ? x : regular.data(), WeightsOf(opt.Operator), L, threads);
     report.DegenerateTriangles = std::max(report.DegenerateTriangles, L.DegenerateTriangles);
-    const bool solves = opt.Integration == FairingIntegration::Implicit && opt.Order == 1;
+    const bool solves = opt.Integration == FairingIntegration::Implicit && Powers::Of(opt).Pure(1);
     const Stage surface{ L, held, omega, solves ? localOrder() : nullptr };
-    Integrate(surface, opt, x, report);
+    defined = defined && Integrate(surface, opt, x, report);
     if (opt.Operator == FairingOperator::CurvatureFlowAndSampling)
     {
       RegulariseSampling(topo, x, surface.Fixed, weight, opt);
     }
     if (opt.Anisotropic && opt.SmoothFeatureCurves)
     {
-      SmoothFeatures(topo, x, along, roles, opt, curveL, report);
+      defined = defined && SmoothFeatures(topo, x, along, roles, opt, curveL, report);
+    }
+    if (!defined)
+    {
+      std::copy(start.begin(), start.end(), x);
+      UndefinedStep(step, opt.NumberOfIterations, warn, report);
+      break;
     }
     if (inv.Kind != FairingInvariant::None)
     {
@@ -678,15 +941,34 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
   return report;
 }
 
+/// Order 0: finite weights, the highest non-zero one positive.
+bool CheckOrderWeights(const FairingOptions& opt)
+{
+  const Powers p = Powers::Of(opt);
+  bool finite = true;
+  for (double c : p.C)
+  {
+    finite = finite && std::isfinite(c);
+  }
+  return finite && p.Degree > 0 && p.C[p.Degree - 1] > 0.0;
+}
+
 } // namespace
 
 FairingReport FairSurface(const MeshTopology& topo, double* points, const FairingOptions& options,
   const FairingConstraints& cons, const ProgressCallback& progress)
 {
   FairingOptions opt = options;
-  opt.Order = std::clamp(opt.Order, 1, 2);
+  opt.Order = std::clamp(opt.Order, 0, 4);
   opt.NumberOfIterations = std::max(0, opt.NumberOfIterations);
   opt.TimeStep = std::isfinite(opt.TimeStep) ? std::max(0.0, opt.TimeStep) : 0.0;
+  const int degree = Powers::Of(opt).Degree;
+  if (opt.Order == 0 && !CheckOrderWeights(opt))
+  {
+    FairingReport failed;
+    failed.Error = "OrderWeights must be finite, with a positive weight on the highest order used.";
+    return failed;
+  }
   if (opt.Units == LengthUnit::MeanEdgeLength && topo.NumberOfTriangles() > 0)
   {
     const double h = MeanEdgeLength(topo, points);
@@ -698,7 +980,17 @@ FairingReport FairSurface(const MeshTopology& topo, double* points, const Fairin
     }
     if (opt.Operator != FairingOperator::Umbrella)
     {
-      opt.TimeStep *= opt.Order == 2 ? h * h * h * h : h * h; // L: 1/length^2, L^2: 1/length^4
+      // L^k: 1/length^(2k); a combination's terms are c_k (h^2 L)^k.
+      double unit = 1.0;
+      for (int k = 0; k < 2 * degree; ++k)
+      {
+        unit *= h;
+      }
+      opt.TimeStep *= unit;
+      for (int k = 1; k <= 4; ++k)
+      {
+        opt.OrderWeights[k - 1] *= std::pow(h * h, k - degree);
+      }
     }
     opt.FeatureThreshold /= h;
     opt.Units = LengthUnit::Physical;

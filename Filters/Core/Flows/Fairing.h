@@ -1,19 +1,29 @@
 // Beltrami core: surface smoothing of thesis chapter 3 (sections 3.2-3.7).
 //
 // Every flow is dX/dt = lambda * W * L(X) with one of the Laplacians of
-// Laplacian.h (order 1) or dX/dt = -lambda * W * L(L(X)) (order 2, section
-// 3.2.6), W the per-vertex weights (soft constraints, section 3.2.7, times the
+// Laplacian.h (order 1), dX/dt = -lambda * W * L(L(X)) (order 2, section
+// 3.2.6), in general dX/dt = -lambda * W * sum_k c_k (-L)^k X for k = 1..4
+// (orders 3 and 4, and the combinations of section 3.2.6), W the per-vertex weights (soft constraints, section 3.2.7, times the
 // anisotropic weights of section 3.7.1).  The operator is linearised per step
 // (sections 3.4.3 and 3.5.3).  Implicit integration solves, in the symmetric
 // form (multiplying the rows of (I - dt W L) X' = X by a_i / w_i),
 //     order 1:  (M W^-1 + dt S) X' = M W^-1 X
 //     order 2:  (M W^-1 + dt S M^-1 S) X' = M W^-1 X
+//     general:  (M W^-1 + dt sum_k c_k S (M^-1 S)^(k-1)) X' = M W^-1 X
 // which are symmetric positive definite for every operator (the cotangent
 // stiffness is positive semi-definite), with a Jacobi-preconditioned
 // conjugate gradient (appendix A.5): order 1 by the graph solver
 // (SolveShiftedLaplacian); order 2 with unit weights W as the real part of
 // the complex system (M + i sqrt(dt) S) Z = b (SolveSquaredLaplacian: same
-// solution, a few times fewer iterations), otherwise matrix-free.  Vertices with w_i = 0 are hard
+// solution, a few times fewer iterations), otherwise matrix-free.  A step
+// maps a component along a generalised eigenvector S v = w M v to
+// 1 / (1 + dt sum_k c_k w^k) of itself (figure 3.4's transfer function): the
+// higher the order, the closer to an ideal low-pass; a negative c_k amplifies
+// low or middle frequencies (feature exaggeration), allowed as long as no
+// frequency of the mesh (up to Gershgorin's bound) grows more than 100-fold
+// in one step; beyond, the run is refused (or ends) with a message.  Above
+// order 2 with unit weights the step is solved as the product of its real
+// factors of degree 1 and 2, one after the other (exact, held rows included).  Vertices with w_i = 0 are hard
 // constraints and keep their position exactly.
 #pragma once
 
@@ -66,10 +76,18 @@ enum class FairingBoundary : int
 struct FairingOptions
 {
   FairingOperator Operator = FairingOperator::CurvatureFlow;
-  int Order = 2; ///< 1: L, 2: L^2 (section 3.2.6)
+  /// 1-4: L^k (section 3.2.6); 0: the combination of OrderWeights.
+  int Order = 2;
+  /// Order 0: the weights c_1..c_4 of L, L^2, L^3, L^4 in the flow
+  /// dX/dt = -lambda sum_k c_k (-L)^k X.  With MeanEdgeLength units each term
+  /// is made dimensionless with h (c_k (h^2 L)^k), so TimeStep is in units of
+  /// h^(2K), K the highest order used.  A negative weight on a lower order
+  /// exaggerates the features of that scale (section 3.2.6); the highest
+  /// order's weight must be positive.
+  double OrderWeights[4] = { 1.0, 1.0, 0.0, 0.0 };
   FairingIntegration Integration = FairingIntegration::Implicit;
-  /// lambda*dt, in length^2 (order 1) or length^4 (order 2) of `Units`; the
-  /// umbrella operator's step is dimensionless.
+  /// lambda*dt, in length^(2k) of `Units` for order k (2K for a
+  /// combination up to order K); the umbrella operator's step is dimensionless.
   double TimeStep = 4.0;
   /// Unit of TimeStep and FeatureThreshold: the mean edge length h of the
   /// input (then the step is scaled by h^2 or h^4 and the threshold by 1/h),
@@ -120,6 +138,10 @@ struct FairingReport
   bool Converged = true;               ///< every solve reached the tolerance
   bool ExplicitUnstable = false;       ///< explicit time step above the stability limit
   double StabilityLimit = 0.0;         ///< largest stable explicit lambda*dt (estimate)
+  /// Implicit combinations with a negative weight: the largest factor by
+  /// which one step multiplies a frequency, 1 / min(1 + dt p(w)) (estimate;
+  /// 1 when nothing is amplified).
+  double LargestGain = 1.0;
   FairingInvariant InvariantUsed = FairingInvariant::None;
   double InitialInvariant = 0.0, FinalInvariant = 0.0;
   Index FixedVertices = 0;             ///< hard constraints + fixed boundary + unusable vertices
