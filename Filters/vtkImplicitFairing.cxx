@@ -8,6 +8,8 @@
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
+
+#include <tuple>
 #include <vtkFloatArray.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
@@ -123,14 +125,16 @@ int vtkImplicitFairing::Fair(vtkBeltramiSurface& surface)
   }
   surface.WarnAboutInput(this, "its piece boundary fixed", "Non-manifold points are kept fixed.");
   std::vector<std::uint8_t> fixed;
-  std::vector<double> weights;
-  if (!this->GatherConstraints(surface, fixed, weights))
+  std::vector<double> weights, axes, normals;
+  if (!this->GatherConstraints(surface, fixed, weights, axes, normals))
   {
     return 0;
   }
   beltrami::FairingConstraints constraints;
   constraints.Fixed = fixed.empty() ? nullptr : fixed.data();
   constraints.Weights = weights.empty() ? nullptr : weights.data();
+  constraints.AxisDirections = axes.empty() ? nullptr : axes.data();
+  constraints.PlaneNormals = normals.empty() ? nullptr : normals.data();
 
   // The core works in double, in place.
   std::vector<double> x(3 * static_cast<std::size_t>(surface.Input()->GetNumberOfPoints()));
@@ -161,8 +165,8 @@ int vtkImplicitFairing::Fair(vtkBeltramiSurface& surface)
   return 1;
 }
 
-bool vtkImplicitFairing::GatherConstraints(
-  vtkBeltramiSurface& surface, std::vector<std::uint8_t>& fixed, std::vector<double>& weights)
+bool vtkImplicitFairing::GatherConstraints(vtkBeltramiSurface& surface, std::vector<std::uint8_t>& fixed,
+  std::vector<double>& weights, std::vector<double>& axes, std::vector<double>& normals)
 {
   vtkPolyData* input = surface.Input();
   const vtkIdType numPoints = input->GetNumberOfPoints();
@@ -193,6 +197,18 @@ bool vtkImplicitFairing::GatherConstraints(
   vtkDataArray* weightArray = error.empty() && this->UseSmoothingWeightsArray
     ? surface.SelectedPointArray(this, SMOOTHING_WEIGHTS_ARRAY, 1, "smoothing-weight", error)
     : nullptr;
+  // Section 3.2.7's axis and plane constraints: 3-component point arrays.
+  for (auto [use, idx, what, values] : { std::tuple{ this->UseAxisDirectionsArray, AXIS_DIRECTIONS_ARRAY,
+                                           "axis-direction", &axes },
+         std::tuple{ this->UsePlaneNormalsArray, PLANE_NORMALS_ARRAY, "plane-normal", &normals } })
+  {
+    vtkDataArray* array = error.empty() && use ? surface.SelectedPointArray(this, idx, 3, what, error) : nullptr;
+    for (vtkIdType i = 0; array && i < numPoints; ++i)
+    {
+      values->resize(3 * static_cast<std::size_t>(numPoints));
+      array->GetTuple(i, values->data() + 3 * i);
+    }
+  }
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
@@ -317,5 +333,7 @@ void vtkImplicitFairing::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "UseFixedPointsArray: " << this->UseFixedPointsArray << "\n";
   os << indent << "UseSmoothingWeightsArray: " << this->UseSmoothingWeightsArray << "\n";
+  os << indent << "UseAxisDirectionsArray: " << this->UseAxisDirectionsArray << "\n";
+  os << indent << "UsePlaneNormalsArray: " << this->UsePlaneNormalsArray << "\n";
   os << indent << "Fixed point ids: " << this->FixedPointIds.size() << "\n";
 }

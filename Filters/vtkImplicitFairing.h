@@ -64,7 +64,14 @@
  *    whose non-zero values mark fixed points, and AddFixedPoint adds fixed
  *    points by id (they stay bit-exact unless an invariant rescales the
  *    whole surface); input array 1 (optional) is a
- *    point array of smoothing weights in [0, 1] (0 = fixed).
+ *    point array of smoothing weights in [0, 1] (0 = fixed); input arrays
+ *    2 and 3 (optional, 3 components) hold points on an axis or a plane: a
+ *    non-zero vector of AXIS_DIRECTIONS_ARRAY lets the point move only along
+ *    it, one of PLANE_NORMALS_ARRAY only in the plane normal to it (a mirror
+ *    plane's cut, a slide along a symmetry axis).  They are kept inside the
+ *    solves (Baraff and Witkin's filtered conjugate gradient), so the rest
+ *    of the surface sees them; like fixed points they turn the automatic
+ *    volume invariant off.
  *  - BoundaryHandling (section 3.5.2): FIXED (default), SMOOTH_CURVE (the
  *    boundary loops are smoothed as curves), VIRTUAL_VERTEX (each loop is
  *    closed by a fan to a hidden vertex and smoothed with the surface).
@@ -146,7 +153,9 @@ public:
   enum InputArrays
   {
     FIXED_POINTS_ARRAY = 0,     ///< non-zero values mark fixed points
-    SMOOTHING_WEIGHTS_ARRAY = 1 ///< smoothing weights in [0, 1]
+    SMOOTHING_WEIGHTS_ARRAY = 1, ///< smoothing weights in [0, 1]
+    AXIS_DIRECTIONS_ARRAY = 2,   ///< 3 components: non-zero = moves only along it
+    PLANE_NORMALS_ARRAY = 3      ///< 3 components: non-zero = moves only normal to it
   };
   enum UnitsType
   {
@@ -221,6 +230,13 @@ public:
   vtkSetMacro(UseFixedPointsArray, bool);
   vtkGetMacro(UseFixedPointsArray, bool);
   vtkBooleanMacro(UseFixedPointsArray, bool);
+  /// Whether input arrays 2 and 3 (axis directions, plane normals) are read when selected.
+  vtkSetMacro(UseAxisDirectionsArray, bool);
+  vtkGetMacro(UseAxisDirectionsArray, bool);
+  vtkBooleanMacro(UseAxisDirectionsArray, bool);
+  vtkSetMacro(UsePlaneNormalsArray, bool);
+  vtkGetMacro(UsePlaneNormalsArray, bool);
+  vtkBooleanMacro(UsePlaneNormalsArray, bool);
   vtkSetMacro(UseSmoothingWeightsArray, bool);
   vtkGetMacro(UseSmoothingWeightsArray, bool);
   vtkBooleanMacro(UseSmoothingWeightsArray, bool);
@@ -271,6 +287,8 @@ protected:
   bool UseFixedPointsArray = true;
   std::vector<vtkIdType> FixedPointIds;
   bool UseSmoothingWeightsArray = true;
+  bool UseAxisDirectionsArray = true;
+  bool UsePlaneNormalsArray = true;
   std::vector<int> Iterations;
 
 private:
@@ -281,7 +299,8 @@ private:
   int Fair(vtkBeltramiSurface& surface);
   /// The fixed points (array and ids) and smoothing weights of `surface`
   /// into `fixed` and `weights`; false (after an error) when unusable.
-  bool GatherConstraints(vtkBeltramiSurface& surface, std::vector<std::uint8_t>& fixed, std::vector<double>& weights);
+  bool GatherConstraints(vtkBeltramiSurface& surface, std::vector<std::uint8_t>& fixed, std::vector<double>& weights,
+    std::vector<double>& axes, std::vector<double>& normals);
   /// Writes the smoothed points `x` and the report into the output.
   void WriteOutput(vtkBeltramiSurface& surface, const std::vector<double>& x, const beltrami::FairingReport& report);
   /// Copies the settings to or from the core's options (one list of pairs).

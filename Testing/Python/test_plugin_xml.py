@@ -29,6 +29,8 @@ DIFFERENT_DEFAULT = {
     ("TetrahedralBeltramiDenoising", "UseFixedPointsArray"),
     ("ImplicitFairing", "UseFixedPointsArray"),
     ("ImplicitFairing", "UseSmoothingWeightsArray"),
+    ("ImplicitFairing", "UseAxisDirectionsArray"),
+    ("ImplicitFairing", "UsePlaneNormalsArray"),
 }
 problems = []
 checked = {"properties": 0, "defaults": 0, "enumerations": 0}

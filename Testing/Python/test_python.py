@@ -247,6 +247,44 @@ class FairingFromPython(unittest.TestCase):
         self.assertAlmostEqual(gain.GetValue(0), 4.0 / 3.0, delta=0.01)  # 1 / (1 - 4 / 16): at w h^2 = 1/4
         self.assertGreater(error(f), error(configured(vtkImplicitFairing(), noisy, Order=2)))
 
+    def test_plane_constraint_array_keeps_a_half_model_on_its_mirror_plane(self):
+        # Section 3.2.7: the cut of a half sphere (z = 0) held on its mirror
+        # plane by a PlaneNormals point array while the rest is smoothed
+        # (boundary closed by virtual vertices, so the cut's points move).
+        source = vtkSphereSource()
+        source.SetThetaResolution(48)
+        source.SetPhiResolution(24)
+        source.SetEndPhi(90.0)
+        source.Update()
+        half = source.GetOutput()
+        x = vtk_to_numpy(half.GetPoints().GetData())
+        rng = np.random.default_rng(2)
+        x[:, :2] += rng.normal(0, 0.005, (len(x), 2))
+        x[x[:, 2] > 1e-9, 2] += rng.normal(0, 0.005, (x[:, 2] > 1e-9).sum())
+        half.GetPoints().Modified()
+        cut = np.abs(x[:, 2]) < 1e-12
+        self.assertGreater(cut.sum(), 40)
+        normals = vtkDoubleArray()
+        normals.SetName("MirrorNormal")
+        normals.SetNumberOfComponents(3)
+        for on_cut in cut:
+            normals.InsertNextTuple3(0, 0, 1 if on_cut else 0)
+        half.GetPointData().AddArray(normals)
+
+        def smoothed(constrained):
+            f = configured(vtkImplicitFairing(), half, update=False,
+                           BoundaryHandling=vtkImplicitFairing.VIRTUAL_VERTEX)
+            if constrained:
+                f.SetInputArrayToProcess(vtkImplicitFairing.PLANE_NORMALS_ARRAY, 0, 0, 0, "MirrorNormal")
+            f.Update()
+            return vtk_to_numpy(f.GetOutput().GetPoints().GetData())
+
+        held, free = smoothed(True), smoothed(False)
+        self.assertLess(np.abs(held[cut, 2]).max(), 1e-12)  # on the plane
+        self.assertGreater(np.abs(free[cut, 2]).max(), 1e-3)  # without: off it
+        self.assertGreater(np.abs(held[cut, :2] - x[cut, :2]).max(), 1e-4)  # slid in the plane
+        self.assertGreater(np.abs(held[~cut] - x[~cut]).max(), 1e-3)
+
     def test_fixed_points_array(self):
         bunny = self.bunny()
         mask = vtkUnsignedCharArray()

@@ -15,8 +15,10 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <functional>
 #include <limits>
 #include <sstream>
+#include <tuple>
 
 namespace beltrami
 {
@@ -26,6 +28,54 @@ using namespace detail;
 namespace
 {
 
+/// Section 3.2.7's axis and plane constraints: which part of a vertex's
+/// motion is allowed.
+struct Motions
+{
+  enum : std::uint8_t
+  {
+    Free = 0,
+    OnAxis = 1, ///< only the component along Direction
+    OnPlane = 2 ///< only the components normal to Direction
+  };
+  std::vector<std::uint8_t> Kind;
+  std::vector<Vec3> Direction; ///< unit
+  bool Any = false;
+
+  /// v (3 values per vertex) reduced to its allowed part, in place.
+  void Project(double* v) const
+  {
+    for (std::size_t i = 0; Any && i < Kind.size(); ++i)
+    {
+      if (Kind[i] != Free)
+      {
+        const Vec3 a(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+        const Vec3 along = a.dot(Direction[i]) * Direction[i];
+        const Vec3 kept = Kind[i] == OnAxis ? along : Vec3(a - along);
+        std::copy(kept.data(), kept.data() + 3, v + 3 * i);
+      }
+    }
+  }
+  /// x = before + P (x - before): the allowed part of a move.
+  void KeepAllowed(const std::vector<double>& before, double* x) const
+  {
+    if (!Any)
+    {
+      return;
+    }
+    std::vector<double> move(before.size());
+    for (std::size_t k = 0; k < move.size(); ++k)
+    {
+      move[k] = x[k] - before[k];
+    }
+    Project(move.data());
+    for (std::size_t k = 0; k < move.size(); ++k)
+    {
+      x[k] = before[k] + move[k];
+    }
+  }
+};
+
 /// The Laplacian of a step and what it is applied to.
 struct Stage
 {
@@ -33,7 +83,13 @@ struct Stage
   std::vector<std::uint8_t> Fixed; ///< rows that must not move
   std::vector<double> Omega;       ///< per-row weight (may be < 0 for anisotropy)
   const Index* Order = nullptr;    ///< LocalityOrder of L's graph, if known
+  const Motions* Moves = nullptr;  ///< axis and plane constraints, if any
 };
+
+bool Constrained(const Stage& st)
+{
+  return st.Moves && st.Moves->Any;
+}
 
 /// y = L x = -M^-1 S x (rows without mass: 0).
 void ApplyLaplacian(const GraphLaplacian& L, const double* x, double* y, int threads)
@@ -175,6 +231,10 @@ std::vector<double> Velocity(const Stage& st, const Powers& p, const double* x, 
       v[3 * i + c] *= st.Fixed[i] ? 0.0 : st.Omega[i];
     }
   }
+  if (Constrained(st))
+  {
+    st.Moves->Project(v.data());
+  }
   return v;
 }
 
@@ -223,6 +283,50 @@ struct StepSystem
   bool UnitWeights = true;
 };
 
+/// Section 3.2.7's axis and plane constraints in the solve (Baraff and
+/// Witkin's filtered conjugate gradient): the correction d solves
+/// P A P d = P (b - A x), P the per-vertex projector on the allowed
+/// directions, by one conjugate gradient over all 3n values (P couples a
+/// vertex's coordinates); a vertex's three Jacobi values are equal, so the
+/// preconditioner commutes with P.
+ConjugateGradientResult SolveProjected(const Stage& st, const std::function<void(const double*, double*)>& apply,
+  const std::vector<double>& diag, const StepSystem& sys, const FairingOptions& opt, const std::vector<double>& b,
+  double* x)
+{
+  const std::size_t size = 3 * static_cast<std::size_t>(st.L.NumberOfVertices);
+  std::vector<double> rhs(size), d(size, 0.0), projected(size), diag3(size);
+  std::vector<std::uint8_t> fixed3(size);
+  apply(x, rhs.data());
+  for (std::size_t k = 0; k < size; ++k)
+  {
+    rhs[k] = b[k] - rhs[k];
+    diag3[k] = diag[k / 3];
+    fixed3[k] = sys.Fixed[k / 3];
+  }
+  st.Moves->Project(rhs.data());
+  ConjugateGradientProblem pb;
+  pb.Rows = static_cast<Index>(size);
+  pb.Columns = 1;
+  pb.Diagonal = diag3.data();
+  pb.Fixed = fixed3.data();
+  pb.Scale = { Eigen::Vector3d(sys.Scale[0], sys.Scale[1], sys.Scale[2]).norm() };
+  pb.Tolerance = opt.SolverTolerance;
+  pb.MaximumIterations = opt.MaximumSolverIterations;
+  pb.NumberOfThreads = opt.NumberOfThreads;
+  pb.Apply = [&](const double* in, double* out) {
+    std::copy(in, in + size, projected.begin());
+    st.Moves->Project(projected.data());
+    apply(projected.data(), out);
+    st.Moves->Project(out);
+  };
+  const ConjugateGradientResult r = SolveConjugateGradient(pb, rhs.data(), d.data());
+  for (std::size_t k = 0; k < size; ++k)
+  {
+    x[k] += d[k];
+  }
+  return r;
+}
+
 /// (StepSystem) x = b for the polynomial p, through the system's action,
 /// Jacobi-preconditioned (the diagonal of S N S exactly, higher powers
 /// estimated from it; with |c_k| the preconditioner stays positive).
@@ -250,16 +354,7 @@ ConjugateGradientResult SolvePolynomial(const Stage& st, const Powers& p, double
     }
     diag[i] = m[i] + dt * sum;
   }
-  ConjugateGradientProblem pb;
-  pb.Rows = n;
-  pb.Columns = 3;
-  pb.Diagonal = diag.data();
-  pb.Fixed = sys.Fixed.data();
-  pb.Scale = sys.Scale;
-  pb.Tolerance = opt.SolverTolerance;
-  pb.MaximumIterations = opt.MaximumSolverIterations;
-  pb.NumberOfThreads = threads;
-  pb.Apply = [&](const double* in, double* out) {
+  const auto apply = [&](const double* in, double* out) {
     const double* source = in;
     for (int k = 1; k <= p.Degree; ++k)
     {
@@ -280,6 +375,20 @@ ConjugateGradientResult SolvePolynomial(const Stage& st, const Powers& p, double
       }
     });
   };
+  if (Constrained(st))
+  {
+    return SolveProjected(st, apply, diag, sys, opt, b, x);
+  }
+  ConjugateGradientProblem pb;
+  pb.Rows = n;
+  pb.Columns = 3;
+  pb.Diagonal = diag.data();
+  pb.Fixed = sys.Fixed.data();
+  pb.Scale = sys.Scale;
+  pb.Tolerance = opt.SolverTolerance;
+  pb.MaximumIterations = opt.MaximumSolverIterations;
+  pb.NumberOfThreads = threads;
+  pb.Apply = apply;
   return SolveConjugateGradient(pb, b.data(), x);
 }
 
@@ -304,6 +413,10 @@ ConjugateGradientResult SolveStep(
   sl.Tolerance = opt.SolverTolerance;
   sl.MaximumIterations = opt.MaximumSolverIterations;
   sl.NumberOfThreads = opt.NumberOfThreads;
+  if (Constrained(st))
+  {
+    return SolvePolynomial(st, p, dt, sys, opt, b, x);
+  }
   if (p.Pure(1))
   {
     // A graph Laplacian plus a diagonal: the fast solver (renumbered rows,
@@ -483,7 +596,7 @@ bool ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, Fairing
   {
     s = std::sqrt(s);
   }
-  const bool factored = sys.UnitWeights && !p.Pure(1) && !p.Pure(2);
+  const bool factored = sys.UnitWeights && !Constrained(st) && !p.Pure(1) && !p.Pure(2);
   const std::vector<Powers> factors = factored ? Factors(p, dt) : std::vector<Powers>{};
   ConjugateGradientResult r;
   r.Converged = true;
@@ -635,8 +748,34 @@ struct VertexRoles
 {
   std::vector<std::uint8_t> Fixed, Boundary;
   std::vector<double> Weight;
+  Motions Moves; ///< axis and plane constraints of the vertices that are not fixed
   bool HardConstraints = false;
 };
+
+/// Reads the axis and plane constraints (a non-zero finite direction; the
+/// axis first) of the vertices that are not fixed.
+Motions ReadMotions(const FairingConstraints& cons, const std::vector<std::uint8_t>& fixed)
+{
+  const Index n = static_cast<Index>(fixed.size());
+  Motions m;
+  m.Kind.assign(n, Motions::Free);
+  m.Direction.assign(n, Vec3::Zero());
+  for (Index i = 0; i < n && (cons.AxisDirections || cons.PlaneNormals); ++i)
+  {
+    for (const auto& [array, kind] : { std::pair{ cons.AxisDirections, Motions::OnAxis },
+           std::pair{ cons.PlaneNormals, Motions::OnPlane } })
+    {
+      const Vec3 d = array ? Point(array, i) : Vec3::Zero();
+      if (!fixed[i] && m.Kind[i] == Motions::Free && d.allFinite() && d.norm() > 0.0)
+      {
+        m.Kind[i] = kind;
+        m.Direction[i] = d.normalized();
+        m.Any = true;
+      }
+    }
+  }
+  return m;
+}
 
 VertexRoles ClassifyVertices(const MeshTopology& topo, const double* x, const FairingOptions& opt,
   const FairingConstraints& cons, FairingReport& report)
@@ -662,6 +801,8 @@ VertexRoles ClassifyVertices(const MeshTopology& topo, const double* x, const Fa
     report.UnusableVertices += unusable && !(flags & VertexIsolated);
     r.Fixed[i] = user || unusable || (r.Boundary[i] && opt.Boundary == FairingBoundary::Fixed);
   }
+  r.Moves = ReadMotions(cons, r.Fixed);
+  r.HardConstraints = r.HardConstraints || r.Moves.Any;
   return r;
 }
 
@@ -716,7 +857,8 @@ InvariantState ChooseInvariant(const MeshTopology& topo, const double* x, const 
   }
   if (roles.HardConstraints && inv.Kind != FairingInvariant::None)
   {
-    warn << "The invariant is restored by scaling, which also moves the fixed points (section 3.3.1). ";
+    warn << "The invariant is restored by scaling, which also moves the fixed and the axis- or plane-constrained "
+            "points (section 3.3.1). ";
   }
   report.InvariantUsed = inv.Kind;
   inv.Initial = MeasureInvariant(inv, topo, x, opt.NumberOfThreads, nullptr);
@@ -750,8 +892,9 @@ std::vector<double> MollifiedOperatorPoints(const MeshTopology& topo, const doub
 /// squared (L_umbrella ~ h^2/4 Laplace, L_K ~ Laplace/2), at most 1 so that
 /// it stays a local relaxation.
 void RegulariseSampling(const MeshTopology& topo, double* x, const std::vector<std::uint8_t>& fixed,
-  const std::vector<double>& weight, const FairingOptions& opt)
+  const std::vector<double>& weight, const Motions& moves, const FairingOptions& opt)
 {
+  const std::vector<double> before(x, x + 3 * static_cast<std::size_t>(topo.NumberOfVertices()));
   const int threads = opt.NumberOfThreads;
   GraphLaplacian U;
   AssembleSurfaceLaplacian(topo, x, LaplacianWeights::Umbrella, U, threads);
@@ -764,6 +907,7 @@ void RegulariseSampling(const MeshTopology& topo, double* x, const std::vector<s
     vk *= relax;
   }
   MoveAlongNormals(topo, x, v.data(), Keep::Tangential, threads);
+  moves.KeepAllowed(before, x);
 }
 
 /// The curve-smoothing pass along the detected feature edges (directions
@@ -778,7 +922,7 @@ bool SmoothFeatures(const MeshTopology& topo, double* x, const std::vector<Vec3>
   CurveGraph features;
   features.Build(n, {}, chains);
   AssembleCurveLaplacian(features, x, LaplacianWeights::InverseEdgeLength, curveL);
-  Stage curve{ curveL, roles.Fixed, roles.Weight };
+  Stage curve{ curveL, roles.Fixed, roles.Weight, nullptr, &roles.Moves };
   for (Index i = 0; i < n; ++i)
   {
     curve.Fixed[i] = roles.Fixed[i] || roles.Boundary[i] || !onCurve[i];
@@ -894,7 +1038,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     if (!loops.empty())
     {
       AssembleCurveLaplacian(boundaryCurves, x, WeightsOf(opt.Operator), curveL);
-      Stage curve{ curveL, fixed, weight };
+      Stage curve{ curveL, fixed, weight, nullptr, &roles.Moves };
       for (Index i = 0; i < n; ++i)
       {
         curve.Fixed[i] = fixed[i] || boundaryCurves.Offsets[i + 1] - boundaryCurves.Offsets[i] < 2;
@@ -911,11 +1055,11 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     AssembleSurfaceLaplacian(topo, regular.empty() ? x : regular.data(), WeightsOf(opt.Operator), L, threads);
     report.DegenerateTriangles = std::max(report.DegenerateTriangles, L.DegenerateTriangles);
     const bool solves = opt.Integration == FairingIntegration::Implicit && Powers::Of(opt).Pure(1);
-    const Stage surface{ L, held, omega, solves ? localOrder() : nullptr };
+    const Stage surface{ L, held, omega, solves ? localOrder() : nullptr, &roles.Moves };
     defined = defined && Integrate(surface, opt, x, report);
     if (opt.Operator == FairingOperator::CurvatureFlowAndSampling)
     {
-      RegulariseSampling(topo, x, surface.Fixed, weight, opt);
+      RegulariseSampling(topo, x, surface.Fixed, weight, roles.Moves, opt);
     }
     if (opt.Anisotropic && opt.SmoothFeatureCurves)
     {
@@ -1042,6 +1186,17 @@ FairingReport FairSurface(const MeshTopology& topo, double* points, const Fairin
     weights.assign(cons.Weights, cons.Weights + n);
     weights.resize(next, 1.0);
     extended.Weights = weights.data();
+  }
+  std::vector<double> axes, normals;
+  for (auto [given, copy, to] : { std::tuple{ cons.AxisDirections, &axes, &extended.AxisDirections },
+         std::tuple{ cons.PlaneNormals, &normals, &extended.PlaneNormals } })
+  {
+    if (given)
+    {
+      copy->assign(given, given + 3 * static_cast<std::size_t>(n));
+      copy->resize(3 * static_cast<std::size_t>(next), 0.0);
+      *to = copy->data();
+    }
   }
   opt.Boundary = FairingBoundary::Fixed; // anything left open (e.g. non-manifold) stays fixed
   FairingReport report = FairClosedOrFixed(closed, x.data(), opt, extended, progress);

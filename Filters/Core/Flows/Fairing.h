@@ -123,10 +123,22 @@ struct FairingOptions
   int NumberOfThreads = 0;
 };
 
+/// Section 3.2.7.  Axis and plane constraints are kept during the solves
+/// (Baraff and Witkin's filtered conjugate gradient: the step's system
+/// restricted to the allowed directions, so the other points see the
+/// constraint); they take the matrix-free solver.  A vertex with both moves
+/// along its axis; fixed vertices stay fixed.  Like fixed points, they rule
+/// out the automatic volume invariant (its scaling would move them).
 struct FairingConstraints
 {
   const std::uint8_t* Fixed = nullptr; ///< per vertex: non-zero = hard constraint
   const double* Weights = nullptr;     ///< per vertex smoothing weight, clamped to [0, 1]
+  /// Per vertex 3 values: a non-zero direction holds the vertex on the line
+  /// through it along that direction (only that component moves).
+  const double* AxisDirections = nullptr;
+  /// Per vertex 3 values: a non-zero normal holds the vertex on the plane
+  /// through it normal to that direction (only the other components move).
+  const double* PlaneNormals = nullptr;
 };
 
 struct FairingReport
