@@ -13,11 +13,12 @@ import sys
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkImagingGeneral import vtkImageAnisotropicDiffusion3D, vtkImageGaussianSmooth
+from vtkmodules.vtkImagingGeneral import vtkImageGaussianSmooth
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "Python"))
 from timing import timed as best_of  # noqa: E402  (also keeps freed memory: the same for every method)
+from peers import vtk_anisotropic_diffusion  # noqa: E402
 from test_automatic_denoising import denoise, flow_oracle, load_png, load_volume, psnr, to_image  # noqa: E402
 
 try:
@@ -38,17 +39,7 @@ def vtk_filter(f, noisy, spacing):
 
 
 def anisotropic(noisy, spacing, k, iterations):
-    f = vtkImageAnisotropicDiffusion3D() if noisy.ndim == 4 else None
-    if f is None:
-        from vtkmodules.vtkImagingGeneral import vtkImageAnisotropicDiffusion2D
-        f = vtkImageAnisotropicDiffusion2D()
-    f.SetDiffusionThreshold(k)
-    f.SetDiffusionFactor(1.0)
-    f.SetNumberOfIterations(iterations)
-    f.FacesOn()
-    f.EdgesOn()
-    f.CornersOn()
-    return vtk_filter(f, noisy, spacing)
+    return vtk_filter(vtk_anisotropic_diffusion(k, iterations, volume=noisy.ndim == 4), noisy, spacing)
 
 
 def gaussian(noisy, spacing, std):

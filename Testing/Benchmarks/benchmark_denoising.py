@@ -12,10 +12,10 @@ import os
 import sys
 
 import numpy as np
-from vtkmodules.vtkImagingGeneral import vtkImageAnisotropicDiffusion2D
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
 from timing import timed  # noqa: E402
+from peers import vtk_anisotropic_diffusion  # noqa: E402
 from test_denoising import denoise, load_png, psnr, to_image  # noqa: E402
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
@@ -29,14 +29,8 @@ SIGMA = 0.1
 
 
 def anisotropic_diffusion(noisy, k, iterations):
-    f = vtkImageAnisotropicDiffusion2D()
+    f = vtk_anisotropic_diffusion(k, iterations)
     f.SetInputData(to_image(noisy))
-    f.SetDiffusionThreshold(k)
-    f.SetDiffusionFactor(1.0)
-    f.SetNumberOfIterations(iterations)
-    f.FacesOn()
-    f.EdgesOn()
-    f.CornersOn()
     _, t = timed(lambda: (f.Modified(), f.Update()))
     return vtk_to_numpy(f.GetOutput().GetPointData().GetScalars()).reshape(noisy.shape), t
 

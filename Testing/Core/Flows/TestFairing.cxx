@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <tuple>
 
 using namespace beltrami;
 using test::Mesh;
@@ -707,6 +708,28 @@ TEST(Fairing, DefaultsAreTheFiltersInEdgeLengthUnits)
 namespace
 {
 
+/// The cotangent stiffness S (dense) and the masses at the points of m: the
+/// operator one step of the curvature flow assembles there.
+std::pair<Eigen::MatrixXd, Eigen::VectorXd> DenseStiffnessAndMass(const Mesh& m)
+{
+  const MeshTopology topo = m.Topology();
+  GraphLaplacian L;
+  AssembleSurfaceLaplacian(topo, m.Points.data(), LaplacianWeights::Cotangent, L, 1);
+  const Index n = m.NumberOfVertices();
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd mass(n);
+  for (Index i = 0; i < n; ++i)
+  {
+    S(i, i) = L.Diagonal[i];
+    mass[i] = L.Mass[i];
+    for (std::int64_t k = L.Offsets[i]; k < L.Offsets[i + 1]; ++k)
+    {
+      S(i, L.Neighbors[k]) = -L.Weights[k];
+    }
+  }
+  return { S, mass };
+}
+
 /// The frequencies of a mesh for the linearised flow: the generalised
 /// eigenpairs S v = w M v of the cotangent stiffness and mass at its points
 /// (the operator one step of the curvature flow assembles), v M-orthonormal.
@@ -717,21 +740,8 @@ struct Spectrum
 
   explicit Spectrum(const Mesh& m)
   {
-    const MeshTopology topo = m.Topology();
-    GraphLaplacian L;
-    AssembleSurfaceLaplacian(topo, m.Points.data(), LaplacianWeights::Cotangent, L, 1);
-    const Index n = m.NumberOfVertices();
-    Eigen::MatrixXd S = Eigen::MatrixXd::Zero(n, n);
-    Mass.resize(n);
-    for (Index i = 0; i < n; ++i)
-    {
-      S(i, i) = L.Diagonal[i];
-      Mass[i] = L.Mass[i];
-      for (std::int64_t k = L.Offsets[i]; k < L.Offsets[i + 1]; ++k)
-      {
-        S(i, L.Neighbors[k]) = -L.Weights[k];
-      }
-    }
+    Eigen::MatrixXd S;
+    std::tie(S, Mass) = DenseStiffnessAndMass(m);
     const Eigen::MatrixXd M = Mass.asDiagonal();
     Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(S, M);
     Frequencies = solver.eigenvalues();
@@ -904,19 +914,12 @@ TEST(Fairing, HigherOrderStepsWithHeldPointsSolveTheirSystem)
   {
     held[i] = 1;
   }
-  const MeshTopology topo = noisy.Topology();
-  GraphLaplacian L;
-  AssembleSurfaceLaplacian(topo, noisy.Points.data(), LaplacianWeights::Cotangent, L, 1);
-  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(n, n), N = Eigen::MatrixXd::Zero(n, n), M = Eigen::MatrixXd::Zero(n, n);
+  const auto [S, mass] = DenseStiffnessAndMass(noisy);
+  const Eigen::MatrixXd M = mass.asDiagonal();
+  Eigen::MatrixXd N = Eigen::MatrixXd::Zero(n, n);
   for (Index i = 0; i < n; ++i)
   {
-    S(i, i) = L.Diagonal[i];
-    M(i, i) = L.Mass[i];
-    N(i, i) = held[i] ? 0.0 : 1.0 / L.Mass[i];
-    for (std::int64_t k = L.Offsets[i]; k < L.Offsets[i + 1]; ++k)
-    {
-      S(i, L.Neighbors[k]) = -L.Weights[k];
-    }
+    N(i, i) = held[i] ? 0.0 : 1.0 / mass[i];
   }
   const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>> X0(noisy.Points.data(), n, 3);
   for (const auto& [order, c] : std::vector<std::pair<int, std::array<double, 4>>>{
@@ -983,20 +986,7 @@ TEST(Fairing, AxisAndPlaneConstraintsHoldDuringTheSolve)
       target[3 * i + c] = g(rng);
     }
   }
-  const MeshTopology topo = noisy.Topology();
-  GraphLaplacian L;
-  AssembleSurfaceLaplacian(topo, noisy.Points.data(), LaplacianWeights::Cotangent, L, 1);
-  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(n, n);
-  Eigen::VectorXd mass(n);
-  for (Index i = 0; i < n; ++i)
-  {
-    S(i, i) = L.Diagonal[i];
-    mass[i] = L.Mass[i];
-    for (std::int64_t k = L.Offsets[i]; k < L.Offsets[i + 1]; ++k)
-    {
-      S(i, L.Neighbors[k]) = -L.Weights[k];
-    }
-  }
+  const auto [S, mass] = DenseStiffnessAndMass(noisy);
   // The allowed directions Q (3n x dof) and the initial positions.
   std::vector<Eigen::Vector3d> basis;
   std::vector<Index> owner;
