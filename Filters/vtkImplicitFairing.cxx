@@ -80,6 +80,7 @@ void vtkImplicitFairing::CopySettings(beltrami::FairingOptions& o, vtkBeltramiCo
   BeltramiCopySetting(this->MinimumAnisotropicWeight, o.MinimumAnisotropicWeight, direction);
   BeltramiCopySetting(this->Mollification, o.Mollification, direction);
   BeltramiCopySetting(this->SmoothFeatureCurves, o.SmoothFeatureCurves, direction);
+  BeltramiCopySetting(this->KeepFirstOperator, o.KeepFirstOperator, direction);
   BeltramiCopySetting(this->TaubinLambda, o.TaubinLambda, direction);
   BeltramiCopySetting(this->TaubinMu, o.TaubinMu, direction);
   BeltramiCopySetting(this->NumberOfThreads, o.NumberOfThreads, direction);
@@ -333,6 +334,7 @@ void vtkImplicitFairing::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "UseFixedPointsArray: " << this->UseFixedPointsArray << "\n";
   os << indent << "UseSmoothingWeightsArray: " << this->UseSmoothingWeightsArray << "\n";
+  os << indent << "KeepFirstOperator: " << this->KeepFirstOperator << "\n";
   os << indent << "UseAxisDirectionsArray: " << this->UseAxisDirectionsArray << "\n";
   os << indent << "UsePlaneNormalsArray: " << this->UsePlaneNormalsArray << "\n";
   os << indent << "Fixed point ids: " << this->FixedPointIds.size() << "\n";

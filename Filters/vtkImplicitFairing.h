@@ -203,6 +203,12 @@ public:
   vtkSetMacro(SmoothFeatureCurves, bool);
   vtkGetMacro(SmoothFeatureCurves, bool);
   vtkBooleanMacro(SmoothFeatureCurves, bool);
+  /// Section 3.4.3: keep the operator of the first step for every step (a
+  /// filter relative to the input mesh instead of the current one; off by
+  /// default).
+  vtkSetMacro(KeepFirstOperator, bool);
+  vtkGetMacro(KeepFirstOperator, bool);
+  vtkBooleanMacro(KeepFirstOperator, bool);
   vtkSetMacro(TaubinLambda, double);
   vtkGetMacro(TaubinLambda, double);
   vtkSetMacro(TaubinMu, double);
@@ -281,6 +287,7 @@ protected:
   double MinimumAnisotropicWeight;
   double Mollification;
   bool SmoothFeatureCurves;
+  bool KeepFirstOperator;
   double TaubinLambda;
   double TaubinMu;
   int NumberOfThreads;

@@ -988,7 +988,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     opt.Boundary == FairingBoundary::SmoothCurve ? topo.BoundaryLoops() : std::vector<std::vector<Index>>{};
   CurveGraph boundaryCurves;
   boundaryCurves.Build(n, loops, {});
-  GraphLaplacian L, curveL;
+  GraphLaplacian L, curveL, first;
   // The solver's renumbering of the surface graph, the same for every step.
   std::vector<Index> order;
   const auto localOrder = [&]() {
@@ -1048,11 +1048,22 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     // The operator's geometry: the current positions (the thesis'
     // linearisation, sections 3.4.3/3.5.3), or a mollified copy.
     std::vector<double> regular;
-    if (opt.OperatorMollification > 0.0 && opt.Operator != FairingOperator::Umbrella)
+    if (step > 0 && opt.KeepFirstOperator)
     {
-      regular = MollifiedOperatorPoints(topo, x, held, weight, opt);
+      L = first; // section 3.4.3: relative to the input mesh
     }
-    AssembleSurfaceLaplacian(topo, regular.empty() ? x : regular.data(), WeightsOf(opt.Operator), L, threads);
+    else
+    {
+      if (opt.OperatorMollification > 0.0 && opt.Operator != FairingOperator::Umbrella)
+      {
+        regular = MollifiedOperatorPoints(topo, x, held, weight, opt);
+      }
+      AssembleSurfaceLaplacian(topo, regular.empty() ? x : regular.data(), WeightsOf(opt.Operator), L, threads);
+      if (opt.KeepFirstOperator && opt.NumberOfIterations > 1)
+      {
+        first = L;
+      }
+    }
     report.DegenerateTriangles = std::max(report.DegenerateTriangles, L.DegenerateTriangles);
     const bool solves = opt.Integration == FairingIntegration::Implicit && Powers::Of(opt).Pure(1);
     const Stage surface{ L, held, omega, solves ? localOrder() : nullptr, &roles.Moves };

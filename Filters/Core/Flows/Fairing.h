@@ -119,6 +119,10 @@ struct FairingOptions
   /// 0.00127.  Not used by the umbrella operator.
   double OperatorMollification = 1.0;
   bool SmoothFeatureCurves = false;  ///< a curve-smoothing pass along detected edges
+  /// Section 3.4.3: the surface operator of the first step (its weights and
+  /// areas) kept for every step, a filter relative to the input mesh instead
+  /// of the current one (each step then applies the same linear filter).
+  bool KeepFirstOperator = false;
   double TaubinLambda = 0.6307, TaubinMu = -0.6732; ///< figure 3.5(d)
   int NumberOfThreads = 0;
 };
