@@ -5,6 +5,7 @@
 #include "vtkBeltramiSurface.h"
 
 #include "Flows/ColorSpace.h"
+#include "Flows/TensorSpace.h"
 #include "Flows/GraphFlow.h"
 #include "Support/LargeBuffer.h"
 
@@ -161,13 +162,15 @@ GridMapping MapGrid(const int* whole, const int* inExt, bool& volume)
 
 /// The values the core smooths: `Used` components per pixel; colours
 /// normalised to [0, 1] by the range of their integer type, in L*u*v* when
-/// `Luv` (the noise-level and least-risk stops measure in RGB).
+/// `Luv` (the noise-level and least-risk stops measure in RGB); symmetric
+/// tensors in log coordinates when `LogTensor` (measured back as tensors).
 struct FlowValues
 {
   beltrami::LargeVector<double> Values;
   int Used = 0;
   double Range = 1.0;
   bool Luv = false;
+  bool LogTensor = false;
 };
 
 /// Reads `array` as the core's values; false (after an error) when it
@@ -191,6 +194,13 @@ bool ReadValues(vtkImageBeltramiDenoising* self, vtkDataArray* array, vtkIdType 
   {
     vtkErrorWithObjectMacro(self, "Colour spaces need 3 (RGB) or 4 (RGBA) components; '"
       << name << "' has " << nc << ". The output is the input.");
+    return false;
+  }
+  v.LogTensor = space == vtkImageBeltramiDenoising::LOG_EUCLIDEAN;
+  if (v.LogTensor && nc != 6)
+  {
+    vtkErrorWithObjectMacro(self, "Log-Euclidean smoothing needs symmetric tensors of 6 components (XX, YY, ZZ, "
+      "XY, YZ, XZ); '" << name << "' has " << nc << ". The output is the input.");
     return false;
   }
   v.Used = color ? 3 : nc;
@@ -228,6 +238,16 @@ bool ReadValues(vtkImageBeltramiDenoising* self, vtkDataArray* array, vtkIdType 
   {
     beltrami::RGBToLuv(v.Values.data(), count, 3, self->GetNumberOfThreads());
   }
+  if (v.LogTensor)
+  {
+    const std::int64_t raised = beltrami::SymmetricTensorsToLog(v.Values.data(), count, 6, 1e-6,
+      self->GetNumberOfThreads());
+    if (raised)
+    {
+      vtkWarningWithObjectMacro(self, << raised << " tensors of '" << name << "' are not positive definite (or "
+        "have eigenvalues below 1e-6 of the field's largest): those eigenvalues were raised to that floor.");
+    }
+  }
   return true;
 }
 
@@ -256,6 +276,14 @@ beltrami::GraphFlowResult RunFlow(vtkImageBeltramiDenoising* self, vtkImageData*
     options.ToNoiseSpace = [count, threads](double* x) { beltrami::LuvToRGB(x, count, 3, threads); };
     options.FromNoiseSpace = [count, threads](double* x) { beltrami::RGBToLuv(x, count, 3, threads); };
   }
+  if (v.LogTensor)
+  {
+    const int threads = self->GetNumberOfThreads();
+    options.ToNoiseSpace = [count, threads](double* x) { beltrami::LogToSymmetricTensors(x, count, 6, threads); };
+    options.FromNoiseSpace = [count, threads](double* x) {
+      beltrami::SymmetricTensorsToLog(x, count, 6, 1e-6, threads);
+    };
+  }
   self->UpdateProgress(0.0);
   const beltrami::ProgressCallback progress = [self](double fraction) {
     self->UpdateProgress(fraction);
@@ -282,6 +310,10 @@ void WriteOutput(vtkImageBeltramiDenoising* self, vtkImageData* input, vtkImageD
   if (v.Luv)
   {
     beltrami::LuvToRGB(v.Values.data(), input->GetNumberOfPoints(), 3, self->GetNumberOfThreads());
+  }
+  if (v.LogTensor)
+  {
+    beltrami::LogToSymmetricTensors(v.Values.data(), input->GetNumberOfPoints(), 6, self->GetNumberOfThreads());
   }
   int outExt[6];
   output->GetExtent(outExt);

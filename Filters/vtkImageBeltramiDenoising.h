@@ -64,6 +64,13 @@
  *    coffee and astronaut at noise 0.1 the automatic settings reach 28.2 and
  *    26.5 dB in RGB, 24.6 and 23.8 dB in L*u*v* (dark noise is amplified
  *    there, so one contrast scale does not fit the whole image).
+ *    LOG_EUCLIDEAN: 6-component symmetric tensors (XX, YY, ZZ, XY, YZ, XZ;
+ *    diffusion tensors, structure tensors) smoothed as their matrix
+ *    logarithms (Arsigny et al. 2006), so the result is positive definite
+ *    and averaging does not swell the tensors (equal determinants are kept
+ *    exactly); the noise is estimated and measured on the tensors.
+ *    Eigenvalues below 1e-6 of the field's largest are raised to it, with a
+ *    warning.
  *  - BoundaryHandling beyond the image border: LINEAR (default, linear
  *    ramps are fixed points) or REFLECT (mirror, Neumann).
  * Height fields and range images: the value is a physical height; keep
@@ -126,14 +133,15 @@ public:
     AUTOMATIC = 0,
     NONE = 1,
     RGB = 2,
-    LUV = 3
+    LUV = 3,
+    LOG_EUCLIDEAN = 4 ///< 6-component symmetric tensors, smoothed as matrix logarithms
   };
   enum BoundaryHandlingType
   {
     REFLECT = 0,
     LINEAR = 1
   };
-  vtkSetClampMacro(ColorSpace, int, AUTOMATIC, LUV);
+  vtkSetClampMacro(ColorSpace, int, AUTOMATIC, LOG_EUCLIDEAN);
   vtkGetMacro(ColorSpace, int);
   vtkSetClampMacro(BoundaryHandling, int, REFLECT, LINEAR);
   vtkGetMacro(BoundaryHandling, int);

@@ -284,6 +284,76 @@ class VectorAndHeightFields(unittest.TestCase):
         self.assertLess(rms(ours), 0.5 * rms(noisy))
 
 
+def tensor_matrices(a):
+    """(..., 3, 3) symmetric matrices of VTK's 6-component tensors (XX, YY, ZZ, XY, YZ, XZ)."""
+    xx, yy, zz, xy, yz, xz = np.moveaxis(a, -1, 0)
+    return np.stack([np.stack([xx, xy, xz], -1), np.stack([xy, yy, yz], -1), np.stack([xz, yz, zz], -1)], -2)
+
+
+class TensorFields(unittest.TestCase):
+    @staticmethod
+    def rotating_field(h=48, w=96):
+        """diag(1, 0.25, 0.1) turning about z by two full turns along x: equal determinants."""
+        x = np.mgrid[0:h, 0:w][1].astype(float)
+        t = 4 * np.pi * x / w
+        c, s = np.cos(t), np.sin(t)
+        l1, l2, l3 = 1.0, 0.25, 0.1
+        return np.dstack([l1 * c * c + l2 * s * s, l1 * s * s + l2 * c * c, l3 + 0 * x, (l1 - l2) * c * s,
+                          0 * x, 0 * x])
+
+    def test_log_euclidean_tensors_stay_positive_definite_and_do_not_swell(self):
+        # Issue 31: 6-component symmetric tensors smoothed as matrix
+        # logarithms (Arsigny et al. 2006).  Equal determinants stay equal
+        # (the flow averages log det); smoothing the components themselves
+        # swells the tensors (det of a mean >= the mean's geometric mean).
+        clean = self.rotating_field()
+        det0 = np.linalg.det(tensor_matrices(clean))
+        fixed = dict(StoppingRule=vtkImageBeltramiDenoising.FIXED_ITERATIONS, NumberOfIterations=30, ContrastScale=1.0)
+        logs, _ = denoise(clean, ColorSpace=vtkImageBeltramiDenoising.LOG_EUCLIDEAN, **fixed)
+        plain, _ = denoise(clean, ColorSpace=vtkImageBeltramiDenoising.NONE, **fixed)
+        det_logs = np.linalg.det(tensor_matrices(logs.reshape(clean.shape)))
+        det_plain = np.linalg.det(tensor_matrices(plain.reshape(clean.shape)))
+        moved = np.abs(logs - clean).max()
+        print("rotating tensors: moved %.3f; determinant ratio log-Euclidean %.2e off, components %.3f at most"
+              % (moved, np.abs(det_logs / det0 - 1).max(), (det_plain / det0).max()))
+        self.assertGreater(moved, 0.05)
+        self.assertLess(np.abs(det_logs / det0 - 1).max(), 1e-9)
+        self.assertGreater((det_plain / det0).max(), 1.1)
+
+        # Noisy tensors (sigma 0.05 on every component: 4% not positive
+        # definite, raised with a warning), automatic settings: positive
+        # definite output, where smoothing the components leaves some
+        # indefinite; closer to the clean field than the input (measured RMS
+        # 0.034 against 0.050; the components' flow, 0.017, is more accurate
+        # here: the noise is added to the components, and in log coordinates
+        # it is larger along the small eigenvalues).
+        noisy = clean + np.random.default_rng(4).normal(0, 0.05, clean.shape)
+        self.assertLess(np.linalg.eigvalsh(tensor_matrices(noisy)).min(), 0.0)
+        errors = vtkStringOutputWindow()
+        previous = vtkOutputWindow.GetInstance()
+        vtkOutputWindow.SetInstance(errors)
+        try:
+            smoothed, fd = denoise(noisy, ColorSpace=vtkImageBeltramiDenoising.LOG_EUCLIDEAN)
+        finally:
+            vtkOutputWindow.SetInstance(previous)
+        self.assertIn("not positive definite", errors.GetOutput())
+        smoothed = smoothed.reshape(clean.shape)
+        components, _ = denoise(noisy, ColorSpace=vtkImageBeltramiDenoising.NONE)
+        self.assertGreater(np.linalg.eigvalsh(tensor_matrices(smoothed)).min(), 0.0)
+        self.assertLess(np.linalg.eigvalsh(tensor_matrices(components.reshape(clean.shape))).min(), 0.0)
+        e_noisy, e_smoothed = (np.sqrt(np.mean((v - clean) ** 2)) for v in (noisy, smoothed))
+        print("noisy tensors: RMS error %.4f -> %.4f (estimated noise %.4f)"
+              % (e_noisy, e_smoothed, fd.GetArray("EstimatedNoiseLevel").GetValue(0)))
+        self.assertLess(e_smoothed, 0.8 * e_noisy)
+        # Not tensors: an error, the input as output.
+        vtkOutputWindow.SetInstance(errors)
+        try:
+            out, _ = denoise(clean[..., :3].copy(), ColorSpace=vtkImageBeltramiDenoising.LOG_EUCLIDEAN)
+        finally:
+            vtkOutputWindow.SetInstance(previous)
+        self.assertIn("6 components", errors.GetOutput())
+
+
 class SurfaceData(unittest.TestCase):
     def test_piecewise_constant_field_on_a_sphere_keeps_its_jump(self):
         s = vtkSphereSource()

@@ -7,6 +7,7 @@
 #include "Flows/ColorSpace.h"
 #include "Flows/GraphFlow.h"
 #include "Flows/NoiseEstimation.h"
+#include "Flows/TensorSpace.h"
 
 #include <gtest/gtest.h>
 
@@ -376,3 +377,49 @@ TEST(LeastRiskStop, AWindowedProbeStopsWhereTheFullProbeDoes)
 
 } // namespace
 } // namespace beltrami
+
+using namespace beltrami;
+
+TEST(TensorSpace, LogCoordinatesRoundTripAndMeasureTheLogEuclideanDistance)
+{
+  // Random SPD tensors (VTK order XX, YY, ZZ, XY, YZ, XZ) and back.
+  std::mt19937 rng(8);
+  std::normal_distribution<double> g;
+  std::vector<double> t;
+  for (int i = 0; i < 200; ++i)
+  {
+    Eigen::Matrix3d a;
+    for (int k = 0; k < 9; ++k)
+    {
+      a(k / 3, k % 3) = g(rng);
+    }
+    const Eigen::Matrix3d spd = a * a.transpose() + 0.01 * Eigen::Matrix3d::Identity();
+    t.insert(t.end(), { spd(0, 0), spd(1, 1), spd(2, 2), spd(0, 1), spd(1, 2), spd(0, 2) });
+  }
+  std::vector<double> logs = t;
+  EXPECT_EQ(SymmetricTensorsToLog(logs.data(), 200, 6, 1e-12, 2), 0);
+  std::vector<double> back = logs;
+  LogToSymmetricTensors(back.data(), 200, 6, 2);
+  double worst = 0.0;
+  for (std::size_t k = 0; k < t.size(); ++k)
+  {
+    worst = std::max(worst, std::abs(back[k] - t[k]) / (1.0 + std::abs(t[k])));
+  }
+  EXPECT_LT(worst, 1e-10);
+  // The identity is 0; diag(e, 1, 1) rotated by 45 degrees about z has the
+  // log coordinates of (1/2)[[1, 1, 0], [1, 1, 0], [0, 0, 0]]: off-diagonal
+  // times sqrt 2, so the 6-vector's norm is the Frobenius norm (1).
+  const double c = std::exp(1.0);
+  std::vector<double> two = { 1, 1, 1, 0, 0, 0, (c + 1) / 2, (c + 1) / 2, 1, (c - 1) / 2, 0, 0 };
+  SymmetricTensorsToLog(two.data(), 2, 6, 1e-12);
+  const std::vector<double> expected = { 0, 0, 0, 0, 0, 0, 0.5, 0.5, 0, 0.5 * std::sqrt(2.0), 0, 0 };
+  for (std::size_t k = 0; k < two.size(); ++k)
+  {
+    EXPECT_NEAR(two[k], expected[k], 1e-12) << k;
+  }
+  // Indefinite tensors are raised to the floor and counted.
+  std::vector<double> bad = { 1, 1, 1, 0, 0, 0, 1, -1, 1, 0, 0, 0 };
+  EXPECT_EQ(SymmetricTensorsToLog(bad.data(), 2, 6, 1e-3), 1);
+  LogToSymmetricTensors(bad.data(), 2, 6);
+  EXPECT_NEAR(bad[7], 1e-3, 1e-12);
+}
