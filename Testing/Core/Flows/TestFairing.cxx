@@ -892,6 +892,27 @@ TEST(Fairing, CombinationsThatAmplifyWithoutBoundAreRefused)
   const FairingReport accepted = OneStep(m, 0, { -20, 1, 0, 0 }, 3.9 / 400);
   EXPECT_TRUE(accepted.Error.empty());
   EXPECT_NEAR(accepted.LargestGain, 40.0, 0.01);
+  // In edge-length units, -L + L^2 at a step of 4 is singular (at w h^2 =
+  // 1/2) on a mesh of any size; 3 amplifies 4-fold.
+  for (double size : { 1e-3, 1.0, 1e3 })
+  {
+    Mesh scaled = noisy;
+    for (double& v : scaled.Points)
+    {
+      v *= size;
+    }
+    FairingOptions o = FairingOptions{};
+    o.Order = 0;
+    o.OrderWeights[0] = -1.0;
+    o.OrderWeights[1] = 1.0;
+    const std::vector<double> before = scaled.Points;
+    EXPECT_FALSE(Smooth(scaled, o).Error.empty()) << size;
+    EXPECT_EQ(scaled.Points, before);
+    o.TimeStep = 3.0;
+    const FairingReport r = Smooth(scaled, o);
+    EXPECT_TRUE(r.Error.empty()) << size;
+    EXPECT_NEAR(r.LargestGain, 4.0, 0.01) << size;
+  }
   // A negative weight on the highest order, or no weight at all.
   for (const std::array<double, 4> c : { std::array<double, 4>{ 1, -1, 0, 0 }, std::array<double, 4>{ 0, 0, 0, 0 },
          std::array<double, 4>{ 1, std::nan(""), 0, 0 } })
