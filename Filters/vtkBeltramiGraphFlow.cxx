@@ -2,6 +2,8 @@
 
 #include "vtkBeltramiSurface.h"
 
+#include "Flows/TensorSpace.h"
+
 #include <vtkDataArray.h>
 #include <vtkDataSet.h>
 #include <vtkPointData.h>
@@ -99,9 +101,24 @@ std::string vtkBeltramiGraphFlow::RunWarnings(
   return s.str();
 }
 
+void vtkBeltramiGraphFlow::ToLogEuclidean(vtkAlgorithm* owner, const char* name, double* values, vtkIdType count,
+  int numThreads, beltrami::GraphFlowOptions& options)
+{
+  const std::int64_t raised = beltrami::SymmetricTensorsToLog(values, count, 6, 1e-6, numThreads);
+  if (raised)
+  {
+    vtkWarningWithObjectMacro(owner, << raised << " tensors of '" << name << "' are not positive definite (or "
+      "have eigenvalues below 1e-6 of the field's largest): those eigenvalues were raised to that floor.");
+  }
+  options.ToNoiseSpace = [count, numThreads](double* x) { beltrami::LogToSymmetricTensors(x, count, 6, numThreads); };
+  options.FromNoiseSpace = [count, numThreads](double* x) {
+    beltrami::SymmetricTensorsToLog(x, count, 6, 1e-6, numThreads);
+  };
+}
+
 int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkDataSet* output,
-  vtkDataArray* array, const double* points, bool useMask, const beltrami::GraphFlowOptions& options,
-  int maxComponents, const MeshFlow& flow)
+  vtkDataArray* array, const double* points, bool useMask, const beltrami::GraphFlowOptions& meshOptions,
+  int maxComponents, bool logEuclidean, const MeshFlow& flow)
 {
   std::string error;
   const std::vector<std::uint8_t> fixed =
@@ -120,6 +137,13 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
                                                  << " can be smoothed. The output is the input.");
     return 0;
   }
+  const char* name = array->GetName() ? array->GetName() : "";
+  if (logEuclidean && nc != 6)
+  {
+    vtkErrorWithObjectMacro(owner, "Log-Euclidean smoothing needs symmetric tensors of 6 components (XX, YY, ZZ, "
+      "XY, YZ, XZ); '" << name << "' has " << nc << ". The output is the input.");
+    return 0;
+  }
   const vtkIdType numPoints = input->GetNumberOfPoints();
   std::vector<double> values(static_cast<std::size_t>(numPoints) * nc);
   for (vtkIdType i = 0; i < numPoints; ++i)
@@ -128,6 +152,11 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
     {
       values[i * nc + k] = array->GetComponent(i, k);
     }
+  }
+  beltrami::GraphFlowOptions options = meshOptions;
+  if (logEuclidean)
+  {
+    ToLogEuclidean(owner, name, values.data(), numPoints, options.NumberOfThreads, options);
   }
   owner->UpdateProgress(0.0);
   const beltrami::GraphFlowResult result = flow(points, nc, values.data(),
@@ -148,6 +177,10 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
   if (!warning.empty())
   {
     vtkWarningWithObjectMacro(owner, << warning);
+  }
+  if (logEuclidean)
+  {
+    beltrami::LogToSymmetricTensors(values.data(), numPoints, 6, options.NumberOfThreads);
   }
   vtkSmartPointer<vtkDataArray> smoothed = vtkBeltramiSurface::NewArray(VTK_DOUBLE, array->GetName(), nc, numPoints);
   std::copy(values.begin(), values.end(), vtkDoubleArray::SafeDownCast(smoothed)->GetPointer(0));

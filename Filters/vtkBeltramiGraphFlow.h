@@ -109,7 +109,15 @@ public:
   /// and warnings go to the owner, and on error the output stays the input.
   static int RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkDataSet* output, vtkDataArray* array,
     const double* points, bool useMask, const beltrami::GraphFlowOptions& options, int maxComponents,
-    const MeshFlow& flow);
+    bool logEuclidean, const MeshFlow& flow);
+
+  /// Log-Euclidean smoothing of `count` 6-component symmetric tensors:
+  /// `values` to log coordinates (a warning to `owner`, naming the array as
+  /// `name`, for tensors not positive definite: their eigenvalues raised to
+  /// 1e-6 of the field's largest), and `options` measuring the noise and the
+  /// error on the tensors.  LogToSymmetricTensors maps the result back.
+  static void ToLogEuclidean(vtkAlgorithm* owner, const char* name, double* values, vtkIdType count,
+    int numThreads, beltrami::GraphFlowOptions& options);
 };
 
 #endif

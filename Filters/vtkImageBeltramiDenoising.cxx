@@ -171,6 +171,7 @@ struct FlowValues
   double Range = 1.0;
   bool Luv = false;
   bool LogTensor = false;
+  std::string Name;
 };
 
 /// Reads `array` as the core's values; false (after an error) when it
@@ -197,6 +198,7 @@ bool ReadValues(vtkImageBeltramiDenoising* self, vtkDataArray* array, vtkIdType 
     return false;
   }
   v.LogTensor = space == vtkImageBeltramiDenoising::LOG_EUCLIDEAN;
+  v.Name = name;
   if (v.LogTensor && nc != 6)
   {
     vtkErrorWithObjectMacro(self, "Log-Euclidean smoothing needs symmetric tensors of 6 components (XX, YY, ZZ, "
@@ -238,16 +240,6 @@ bool ReadValues(vtkImageBeltramiDenoising* self, vtkDataArray* array, vtkIdType 
   {
     beltrami::RGBToLuv(v.Values.data(), count, 3, self->GetNumberOfThreads());
   }
-  if (v.LogTensor)
-  {
-    const std::int64_t raised = beltrami::SymmetricTensorsToLog(v.Values.data(), count, 6, 1e-6,
-      self->GetNumberOfThreads());
-    if (raised)
-    {
-      vtkWarningWithObjectMacro(self, << raised << " tensors of '" << name << "' are not positive definite (or "
-        "have eigenvalues below 1e-6 of the field's largest): those eigenvalues were raised to that floor.");
-    }
-  }
   return true;
 }
 
@@ -278,11 +270,8 @@ beltrami::GraphFlowResult RunFlow(vtkImageBeltramiDenoising* self, vtkImageData*
   }
   if (v.LogTensor)
   {
-    const int threads = self->GetNumberOfThreads();
-    options.ToNoiseSpace = [count, threads](double* x) { beltrami::LogToSymmetricTensors(x, count, 6, threads); };
-    options.FromNoiseSpace = [count, threads](double* x) {
-      beltrami::SymmetricTensorsToLog(x, count, 6, 1e-6, threads);
-    };
+    vtkBeltramiGraphFlow::ToLogEuclidean(self, v.Name.c_str(), v.Values.data(), count, self->GetNumberOfThreads(),
+      options);
   }
   self->UpdateProgress(0.0);
   const beltrami::ProgressCallback progress = [self](double fraction) {

@@ -61,7 +61,7 @@ int vtkSurfaceDataDenoising::RequestData(
     std::vector<double> storage;
     const double* points = surface.PointsAsDouble(storage);
     return vtkBeltramiGraphFlow::RunOnMesh(this, input, output, array, points, this->UseFixedPointsArray,
-      vtkBeltramiGraphFlow::Options(this), 5,
+      vtkBeltramiGraphFlow::Options(this), 5, false,
       [&topo](const double* x, int nc, double* values, const std::uint8_t* fixed,
         const beltrami::GraphFlowOptions& options, const beltrami::ProgressCallback& progress) {
         return beltrami::RunSurfaceGraphFlow(topo, x, nc, values, fixed, options, progress);

@@ -152,7 +152,7 @@ int vtkTetrahedralBeltramiDenoising::Smooth(
     input->GetPoint(i, &points[3 * i]);
   }
   return vtkBeltramiGraphFlow::RunOnMesh(this, input, output, array, points.data(),
-    this->UseFixedPointsArray, vtkBeltramiGraphFlow::Options(this), 6,
+    this->UseFixedPointsArray, vtkBeltramiGraphFlow::Options(this), 6, this->LogEuclideanTensors,
     [&mesh](const double* x, int nc, double* values, const std::uint8_t* fixed,
       const beltrami::GraphFlowOptions& options, const beltrami::ProgressCallback& progress) {
       return beltrami::RunTetrahedralGraphFlow(mesh, x, nc, values, fixed, options, progress);
@@ -164,4 +164,5 @@ void vtkTetrahedralBeltramiDenoising::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   vtkBeltramiGraphFlow::PrintSettings(this, os, indent);
   os << indent << "Units: " << this->Units << "\n";
+  os << indent << "LogEuclideanTensors: " << this->LogEuclideanTensors << "\n";
 }

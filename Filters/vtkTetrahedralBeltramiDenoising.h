@@ -55,6 +55,15 @@ public:
   vtkBeltramiGraphFlowSettingsMacro();
   vtkBeltramiMeshUnitsMacro();
 
+  /// 6-component symmetric tensors (XX, YY, ZZ, XY, YZ, XZ; diffusion
+  /// tensors) smoothed as their matrix logarithms (log-Euclidean, Arsigny et
+  /// al. 2006): the result stays positive definite and averaging does not
+  /// swell the tensors; the noise and the error are measured on the tensors.
+  /// Off by default (the components as they are).
+  vtkSetMacro(LogEuclideanTensors, bool);
+  vtkGetMacro(LogEuclideanTensors, bool);
+  vtkBooleanMacro(LogEuclideanTensors, bool);
+
 protected:
   vtkTetrahedralBeltramiDenoising();
   ~vtkTetrahedralBeltramiDenoising() override = default;
@@ -62,6 +71,7 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   vtkBeltramiGraphFlowMembersMacro();
+  bool LogEuclideanTensors = false;
 
 private:
   vtkTetrahedralBeltramiDenoising(const vtkTetrahedralBeltramiDenoising&) = delete;
