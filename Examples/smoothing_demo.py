@@ -7,7 +7,9 @@ smooths it with vtkImplicitFairing's defaults (one implicit step of the
 order-2 curvature flow, 4 h^4, operator on the mollified copy, volume kept
 exactly) and with vtkWindowedSincPolyDataFilter at a few pass bands, prints
 their RMS distance to the clean mesh, and writes the noisy and smoothed
-meshes (.vtp) and PNGs of their mean curvature.
+meshes (.vtp) and PNGs of their mean curvature; then exaggerates the clean
+scan's features with a combination of orders (-0.5 L + L^2, section 3.2.6)
+and writes it the same way (name_exaggerated).
 
     source build/beltrami-env.sh
     xvfb-run -a /usr/bin/python3 Examples/smoothing_demo.py [mesh.off] [output-dir]
@@ -80,6 +82,19 @@ def main(argv):
               % (passband, rms_distance(result, clean) / diagonal, elapsed))
     write_with_curvature(noisy, out_dir, name + "_noisy")
     write_with_curvature(smoothed, out_dir, name + "_smoothed")
+
+    # Section 3.2.6: a combination with a negative weight on L exaggerates the
+    # shapes of a middle scale (here -0.5 L + L^2, three steps of 4 h^4 on the
+    # clean scan: up to 4/3 per step at the wavelength of about 12 edge lengths).
+    exaggerate = vtkImplicitFairing()
+    exaggerate.SetOrder(vtkImplicitFairing.COMBINATION)
+    exaggerate.SetOrderWeights(-0.5, 1.0, 0.0, 0.0)
+    exaggerate.SetNumberOfIterations(3)
+    exaggerated, elapsed = run(exaggerate, mesh)
+    gain = exaggerated.GetFieldData().GetArray("FairingLargestGain").GetValue(0)
+    print("  feature exaggeration (-0.5 L + L^2, 3 steps): largest gain per step %.3f, moved %.5f of the diagonal "
+          "(RMS, %.2f s)" % (gain, rms_distance(exaggerated, clean) / diagonal, elapsed))
+    write_with_curvature(exaggerated, out_dir, name + "_exaggerated")
     return 0
 
 
