@@ -22,6 +22,8 @@ PACKAGES=(
   libtet1.5-dev libopenvdb-dev
   # sparse Cholesky for the parameterization (CHOLMOD) and a fast BLAS under it
   libsuitesparse-dev libopenblas0-pthread
+  # algebraic multigrid for the large implicit solves (hypre's BoomerAMG)
+  libhypre-dev
   # the remesher's constrained Delaunay triangulation (CGAL, header-only)
   libcgal-dev
 )

@@ -44,6 +44,9 @@ BELTRAMI_SAME_ENUM(vtkImplicitFairing::VIRTUAL_VERTEX, beltrami::FairingBoundary
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::MEAN_EDGE_LENGTH, beltrami::LengthUnit::MeanEdgeLength);
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::PHYSICAL, beltrami::LengthUnit::Physical);
 
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::JACOBI, beltrami::Preconditioning::Jacobi);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::MULTIGRID, beltrami::Preconditioning::Multigrid);
+
 vtkStandardNewMacro(vtkImplicitFairing);
 
 vtkImplicitFairing::vtkImplicitFairing()
@@ -69,6 +72,7 @@ void vtkImplicitFairing::CopySettings(beltrami::FairingOptions& o, vtkBeltramiCo
   BeltramiCopySetting(this->NumberOfIterations, o.NumberOfIterations, direction);
   BeltramiCopySetting(this->SolverTolerance, o.SolverTolerance, direction);
   BeltramiCopySetting(this->MaximumSolverIterations, o.MaximumSolverIterations, direction);
+  BeltramiCopySetting(this->Preconditioner, o.Preconditioner, direction);
   BeltramiCopySetting(this->Invariant, o.Invariant, direction);
   for (int k = 0; k < 3; ++k)
   {
@@ -320,6 +324,7 @@ void vtkImplicitFairing::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfIterations: " << this->NumberOfIterations << "\n";
   os << indent << "SolverTolerance: " << this->SolverTolerance << "\n";
   os << indent << "MaximumSolverIterations: " << this->MaximumSolverIterations << "\n";
+  os << indent << "Preconditioner: " << this->Preconditioner << "\n";
   os << indent << "Invariant: " << this->Invariant << "\n";
   os << indent << "ReferencePlaneNormal: " << this->ReferencePlaneNormal[0] << " " << this->ReferencePlaneNormal[1]
      << " " << this->ReferencePlaneNormal[2] << "\n";

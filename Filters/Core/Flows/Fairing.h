@@ -28,6 +28,7 @@
 #pragma once
 
 #include "Mesh/MeshMeasures.h"
+#include "Solvers/AlgebraicMultigrid.h"
 #include "Mesh/MeshTopology.h"
 
 #include <cstdint>
@@ -96,6 +97,9 @@ struct FairingOptions
   int NumberOfIterations = 1; ///< time steps
   double SolverTolerance = 1e-4; ///< reduction of the solver residual (see ConjugateGradient.h)
   int MaximumSolverIterations = 1000;
+  /// Of the graph solvers (orders 1 and 2 without constraints): Jacobi, or
+  /// algebraic multigrid (see Solvers/AlgebraicMultigrid.h for when it pays).
+  Preconditioning Preconditioner = Preconditioning::Jacobi;
   FairingInvariant Invariant = FairingInvariant::Automatic;
   /// HeightFieldVolume: the normal of the reference plane; RevolutionVolume:
   /// the direction of the axis (through the initial area centroid).

@@ -293,6 +293,7 @@ ConjugateGradientResult SolveStep(
   sl.Tolerance = opt.SolverTolerance;
   sl.MaximumIterations = opt.MaximumSolverIterations;
   sl.NumberOfThreads = opt.NumberOfThreads;
+  sl.Preconditioner = opt.Preconditioner;
   if (Constrained(st))
   {
     return SolvePolynomial(st, p, dt, sys, opt, b, x);

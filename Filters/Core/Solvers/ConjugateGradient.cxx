@@ -22,29 +22,43 @@ ConjugateGradientResult Solve(const ConjugateGradientProblem& pb, const double* 
   const int threads = pb.NumberOfThreads;
   const auto isFree = [&](std::int64_t i) { return !pb.Fixed || !pb.Fixed[i]; };
   const auto invDiag = [&](std::int64_t i) {
-    const double d = pb.Diagonal[i];
+    const double d = pb.Diagonal ? pb.Diagonal[i] : 1.0;
     return d > 0.0 ? 1.0 / d : 1.0;
   };
 
   LargeVector<double> r(size), z(size), p(size), q(size);
-  // r = b - A x (fixed rows: 0)
-  pb.Apply(x, q.data());
-  std::vector<double> rz = ParallelSum(n, 2 * nc, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
-    for (std::int64_t i = s; i < e; ++i)
+  // z = M^-1 r (0 on the fixed rows) and per column r.z, then r.r; the
+  // Jacobi preconditioner in the same pass as the sums.
+  const auto precondition = [&]() {
+    if (pb.Preconditioner)
     {
-      const bool f = isFree(i);
-      const double id = invDiag(i);
-      for (int c = 0; c < nc; ++c)
+      pb.Preconditioner(r.data(), z.data());
+    }
+    return ParallelSum(n, 2 * nc, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+      for (std::int64_t i = s; i < e; ++i)
       {
-        const std::int64_t k = i * nc + c;
-        r[k] = f ? b[k] - q[k] : 0.0;
-        z[k] = id * r[k];
-        p[k] = z[k];
-        acc[c] += r[k] * z[k];
-        acc[nc + c] += r[k] * r[k];
+        const bool f = isFree(i);
+        const double id = invDiag(i);
+        for (int c = 0; c < nc; ++c)
+        {
+          const std::int64_t k = i * nc + c;
+          z[k] = !f ? 0.0 : pb.Preconditioner ? z[k] : id * r[k];
+          acc[c] += r[k] * z[k];
+          acc[nc + c] += r[k] * r[k];
+        }
       }
+    });
+  };
+  // r = b - A x (fixed rows: 0), p = z
+  pb.Apply(x, q.data());
+  ParallelFor(n, threads, [&](std::int64_t s, std::int64_t e) {
+    for (std::int64_t k = s * nc; k < e * nc; ++k)
+    {
+      r[k] = isFree(k / nc) ? b[k] - q[k] : 0.0;
     }
   });
+  std::vector<double> rz = precondition();
+  std::copy(z.begin(), z.end(), p.begin());
 
   ConjugateGradientResult result;
   std::vector<double> rzOld(rz.begin(), rz.begin() + nc);
@@ -96,25 +110,18 @@ ConjugateGradientResult Solve(const ConjugateGradientProblem& pb, const double* 
     {
       alpha[c] = active[c] && pq[c] > 0.0 ? rzOld[c] / pq[c] : 0.0;
     }
-    const std::vector<double> sums = ParallelSum(n, 2 * nc, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+    ParallelFor(n, threads, [&](std::int64_t s, std::int64_t e) {
       for (std::int64_t i = s; i < e; ++i)
       {
-        if (!isFree(i))
-        {
-          continue;
-        }
-        const double id = invDiag(i);
-        for (int c = 0; c < nc; ++c)
+        for (int c = 0; c < nc && isFree(i); ++c)
         {
           const std::int64_t k = i * nc + c;
           x[k] += alpha[c] * p[k];
           r[k] -= alpha[c] * q[k];
-          z[k] = id * r[k];
-          acc[c] += r[k] * z[k];
-          acc[nc + c] += r[k] * r[k];
         }
       }
     });
+    const std::vector<double> sums = precondition();
     result.Iterations = it;
     double beta[8];
     for (int c = 0; c < nc; ++c)
@@ -150,7 +157,8 @@ ConjugateGradientResult SolveConjugateGradient(
   const ConjugateGradientProblem& pb, const double* b, double* x)
 {
   const int nc = pb.Columns;
-  if (nc < 1 || nc > 8 || static_cast<int>(pb.Scale.size()) != nc || !pb.Apply || !pb.Diagonal)
+  if (nc < 1 || nc > 8 || static_cast<int>(pb.Scale.size()) != nc || !pb.Apply ||
+    !(pb.Diagonal || pb.Preconditioner))
   {
     throw std::invalid_argument("SolveConjugateGradient: inconsistent problem");
   }

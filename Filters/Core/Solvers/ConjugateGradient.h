@@ -1,4 +1,4 @@
-// Beltrami core: a matrix-free, Jacobi-preconditioned conjugate gradient for
+// Beltrami core: a matrix-free, preconditioned conjugate gradient for
 // symmetric positive definite systems with several right-hand sides at once
 // (x, y, z of the vertices; u, v of a parameterization), and with fixed rows
 // (hard constraints) eliminated: rows marked fixed keep the value they have
@@ -42,6 +42,9 @@ struct ConjugateGradientProblem
   /// y = A x over all rows (x is zero at the fixed rows when called by the solver).
   std::function<void(const double* x, double* y)> Apply;
   const double* Diagonal = nullptr;       ///< diag(A), for the Jacobi preconditioner
+  /// Optional: z = M^-1 r over all rows (columns interleaved; symmetric
+  /// positive definite M, e.g. a multigrid cycle), used instead of Jacobi.
+  std::function<void(const double* r, double* z)> Preconditioner;
   const std::uint8_t* Fixed = nullptr;    ///< optional: non-zero = fixed row
   std::vector<double> Scale;              ///< per column: the size of the solution
   double Tolerance = 1e-6;                ///< residual reduction

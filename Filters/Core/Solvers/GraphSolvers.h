@@ -5,6 +5,7 @@
 // (for the squared systems) one complex symmetric solve.
 #pragma once
 
+#include "Solvers/AlgebraicMultigrid.h"
 #include "Solvers/ConjugateGradient.h"
 
 #include <cstdint>
@@ -43,7 +44,11 @@ struct ShiftedLaplacianProblem
   double Tolerance = 1e-6;
   int MaximumIterations = 1000;
   int NumberOfThreads = 0;
+  Preconditioning Preconditioner = Preconditioning::Jacobi;
 };
+
+/// Whether the graph solvers precondition `problem` by multigrid.
+bool UsesMultigrid(const ShiftedLaplacianProblem& problem);
 
 ConjugateGradientResult SolveShiftedLaplacian(
   const ShiftedLaplacianProblem& problem, const double* b, double* x);
@@ -66,6 +71,11 @@ ConjugateGradientResult SolveShiftedLaplacian(
 /// same run goes on with a tighter target.  Converged is false when a check
 /// shows no progress or the iterations run out (the caller may go on with
 /// another solver from x).
+/// With multigrid (UsesMultigrid), CG on A itself, preconditioned by
+/// B D B with B one V-cycle on D + sqrt(t) K_ff: (D + sqrt(t) K) D^-1
+/// (D + sqrt(t) K) = A + 2 sqrt(t) K lies between A and 2 A, so with exact
+/// inverses in place of B the preconditioned system has a condition number
+/// of at most 2 (6 iterations measured with 30 cycles per B).
 ConjugateGradientResult SolveSquaredLaplacian(
   const ShiftedLaplacianProblem& problem, const double* b, double* x);
 
