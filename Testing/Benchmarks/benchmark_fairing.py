@@ -88,6 +88,14 @@ def fairing(mesh, threads, step=10.0, steps=1, order=1, mollification=0.0):
     return f
 
 
+def subdivided(mesh, levels):
+    loop = vtkLoopSubdivisionFilter()
+    loop.SetInputData(mesh)
+    loop.SetNumberOfSubdivisions(levels)
+    loop.Update()
+    return loop.GetOutput()
+
+
 def defaults(mesh, threads):
     f = vtkImplicitFairing()
     f.SetInputData(mesh)
@@ -103,11 +111,7 @@ print("Speed: one implicit curvature-flow step of order 1 (lambda*dt = 10 h^2) a
 print("(one order-2 step of 4 h^4 on the mollified copy); windowed sinc, 20 iterations;")
 print("first run in this process and best of 3 (CGAL: one run in its own process)")
 for level in (1, 2):
-    loop = vtkLoopSubdivisionFilter()
-    loop.SetInputData(bunny)
-    loop.SetNumberOfSubdivisions(level)
-    loop.Update()
-    mesh = loop.GetOutput()
+    mesh = subdivided(bunny, level)
     _, first_sinc, t_sinc = first_and_best(lambda: sinc(mesh, 0.1))
     h = mean_edge_length(mesh)
     reference = cgal_smooth(mesh, 10.0 * h * h)
@@ -143,11 +147,7 @@ print("one V-cycle per CG iteration), 2 threads, first run in this process (mult
 print("the first multigrid solve of the process also starts MPI, about 0.5 s); distance to a solve")
 print("at tolerance 1e-12, largest over the points, relative to the bounding-box diagonal")
 for level in (1, 2):
-    loop = vtkLoopSubdivisionFilter()
-    loop.SetInputData(bunny)
-    loop.SetNumberOfSubdivisions(level)
-    loop.Update()
-    mesh = loop.GetOutput()
+    mesh = subdivided(bunny, level)
     pts = vtk_to_numpy(mesh.GetPoints().GetData())
     diagonal = np.linalg.norm(pts.max(0) - pts.min(0))
     cases = [(f"noisy {s:g}, defaults", noisy_along_normals(mesh, s * diagonal, seed=1), {}) for s in (0.003, 0.00075)]
