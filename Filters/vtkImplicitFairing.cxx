@@ -9,6 +9,7 @@
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 
+#include <exception>
 #include <tuple>
 #include <vtkFloatArray.h>
 #include <vtkInformation.h>
@@ -22,6 +23,7 @@
 #include <vtkStreamingDemandDrivenPipeline.h>
 
 #include <cmath>
+#include <exception>
 #include <vector>
 
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::UMBRELLA, beltrami::FairingOperator::Umbrella);
@@ -150,11 +152,18 @@ int vtkImplicitFairing::Fair(vtkBeltramiSurface& surface)
   beltrami::FairingOptions options;
   this->CopySettings(options, vtkBeltramiCopy::ToCore);
   this->UpdateProgress(0.0);
-  const beltrami::FairingReport report = beltrami::FairSurface(topo, x.data(), options, constraints,
-    [this](double fraction) {
+  beltrami::FairingReport report;
+  try // the multigrid solver needs MPI and hypre: failures there are errors, not crashes
+  {
+    report = beltrami::FairSurface(topo, x.data(), options, constraints, [this](double fraction) {
       this->UpdateProgress(fraction);
       return !this->GetAbortExecute();
     });
+  }
+  catch (const std::exception& e)
+  {
+    report.Error = e.what();
+  }
   if (!report.Error.empty())
   {
     vtkErrorMacro(<< report.Error);
