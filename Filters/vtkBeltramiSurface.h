@@ -12,6 +12,7 @@
 #include "BeltramiFiltersModule.h" // export macro
 
 #include "Mesh/MeshTopology.h"
+#include "Solvers/Partition.h"
 
 #include <vtkSmartPointer.h>
 #include <vtkType.h>
@@ -55,7 +56,10 @@ public:
   {
     Piece,       ///< each piece on its own
     OneRings,    ///< the whole 1-ring (star of triangles) of every point of the piece
-    WholeSurface ///< the whole surface at once
+    WholeSurface, ///< the whole surface at once
+    /// the whole surface, solved over the ranks: OneRings and the owner of
+    /// every point (Split)
+    Distributed
   };
 
   /// The one way a surface filter's RequestData runs, serial or distributed:
@@ -73,6 +77,14 @@ public:
   /// (ExchangeOneRings): the topology then covers the piece's points first
   /// (same ids) and the ghost points after them (NumberOfTopologyPoints() >
   /// NumberOfInputPoints()); Input() stays the piece.
+  ///
+  /// Needs::Distributed: the filter solves over the whole surface, each rank
+  /// on its own piece.  When the data are split over the ranks and no piece
+  /// has ghost cells, the ranks exchange the rings as for OneRings and
+  /// agree on the owner of every point of the topology (Split()); `run`
+  /// then runs on every rank, an empty piece's too (with an empty topology),
+  /// and must make the same collective calls on each.  Otherwise (not
+  /// split, or pieces with ghost cells) as WholeSurface.
   ///
   /// Needs::WholeSurface: the filter needs the whole surface at once.  When
   /// the data are split over the ranks, vtkBeltramiGather::RunWhole gathers
@@ -94,6 +106,14 @@ public:
     vtkInformationVector* outputVector, const std::function<int(vtkPolyData*, vtkPolyData*)>& run);
   /// True when Execute runs on the whole surface gathered from the ranks.
   bool IsGathered() const { return Gathered; }
+  /// Needs::Distributed on split data: the topology's points over the ranks
+  /// (the piece's points, then the ghost points); null otherwise.
+  const beltrami::Partition* Split() const { return SplitRows.get(); }
+  /// Whether `ok` holds on every rank of a split run (collective there:
+  /// every rank calls it); `ok` itself otherwise.  A distributed filter
+  /// checks its input with it before its collective work, so that a rank's
+  /// error stops all ranks instead of leaving them waiting.
+  bool AllAgree(bool ok) const;
   /// Points of the input piece (the output's points).
   vtkIdType NumberOfInputPoints() const;
   /// Points of the topology: the input's, then the ghost points of the
@@ -207,7 +227,7 @@ private:
   /// joined to it; and the topology rebuilt with them (the first `kept`
   /// triangles are the piece's own; `ghostPoints` after the piece's points).
   bool RingsAreMissing(vtkMultiProcessController* controller) const;
-  std::vector<double> EdgeTriangles(std::vector<beltrami::Index>& edgeVertices) const;
+  std::vector<double> EdgeTriangles(std::vector<beltrami::Index>& edgeVertices);
   bool AddRing(const std::vector<beltrami::Index>& edgeVertices, const std::vector<double>& offers, int numberOfThreads);
   bool Rebuild(beltrami::IndexArray triangles, const std::vector<double>& ghostPoints, std::size_t kept,
     int numberOfThreads);
@@ -216,8 +236,24 @@ private:
   /// RequestData's value when there is nothing for `run` to do, else -1.
   int Start(vtkAlgorithm* owner, int numberOfThreads, bool built);
 
+  /// Needs::Distributed, after ExchangeOneRings (collective): the owner of
+  /// every point of the topology (a point that pieces share belongs to the
+  /// lowest rank holding it) and its row there, matched by coordinates
+  /// (vtkBeltramiGather::CoincidentPoints) among the points the ranks offer.
+  /// False (with ErrorText) when MPI's communicator is not at hand or a
+  /// point has no owner.
+  bool BuildPartition(vtkMultiProcessController* controller);
+  /// Execute with Needs::Distributed: the split run, or -1 when the data
+  /// are not split over ranks that can solve together (then WholeSurface).
+  static int ExecuteDistributed(vtkAlgorithm* owner, vtkPolyData* input, vtkPolyData* output,
+    vtkInformation* outInfo, int numberOfThreads, const std::function<bool(vtkBeltramiSurface&)>& run);
+
   std::unique_ptr<beltrami::MeshTopology> Mesh;
+  std::unique_ptr<beltrami::Partition> SplitRows;
+  std::vector<beltrami::Index> EdgeVertices;  // ExchangeOneRings: the piece's boundary and non-manifold points
+  std::vector<beltrami::Index> OfferedPoints; // and the corners of the triangles it offered
   bool Gathered = false;
+  bool Collective = false; // ExecuteDistributed's run: every rank takes part
   vtkPolyData* InputData = nullptr;
   vtkPolyData* OutputData = nullptr;
   int Pieces = 1;  // UPDATE_NUMBER_OF_PIECES of the request

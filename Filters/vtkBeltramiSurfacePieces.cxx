@@ -14,6 +14,7 @@
 #include <vtkFloatArray.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
+#include <vtkMPICommunicator.h>
 #include <vtkMultiProcessController.h>
 #include <vtkNew.h>
 #include <vtkPoints.h>
@@ -40,6 +41,25 @@ int RequestedPieces(vtkInformation* outInfo)
   return outInfo && outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
     ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
     : 1;
+}
+
+/// Every rank's `mine` appended in rank order (collective); rank r's values
+/// at [offsets[r], offsets[r + 1]).
+std::vector<double> AllGather(
+  vtkMultiProcessController* controller, const std::vector<double>& mine, std::vector<vtkIdType>& offsets)
+{
+  const int ranks = controller->GetNumberOfProcesses();
+  std::vector<vtkIdType> lengths(static_cast<std::size_t>(ranks), 0);
+  offsets.assign(ranks + 1, 0);
+  const vtkIdType length = static_cast<vtkIdType>(mine.size());
+  controller->AllGather(&length, lengths.data(), 1);
+  for (int r = 0; r < ranks; ++r)
+  {
+    offsets[r + 1] = offsets[r] + lengths[r];
+  }
+  std::vector<double> all(static_cast<std::size_t>(offsets[ranks]));
+  controller->AllGatherV(mine.data(), all.data(), length, lengths.data(), offsets.data());
+  return all;
 }
 
 } // namespace
@@ -98,20 +118,13 @@ bool vtkBeltramiSurface::ExchangeOneRings(int numberOfThreads)
   {
     return false; // the pieces came with ghost cells, or none holds points
   }
-  std::vector<Index> edgeVertices; // this piece's boundary and non-manifold vertices
+  std::vector<Index>& edgeVertices = EdgeVertices; // this piece's boundary and non-manifold vertices
   const bool built = InputData && InputData->GetNumberOfPoints() > 0 && Build(InputData, numberOfThreads);
   const std::vector<double> offer = built ? EdgeTriangles(edgeVertices) : std::vector<double>();
   const int ranks = controller->GetNumberOfProcesses();
-  std::vector<vtkIdType> lengths(static_cast<std::size_t>(ranks), 0), offsets(ranks + 1, 0);
-  const vtkIdType length = static_cast<vtkIdType>(offer.size());
-  controller->AllGather(&length, lengths.data(), 1);
-  for (int r = 0; r < ranks; ++r)
-  {
-    offsets[r + 1] = offsets[r] + lengths[r];
-  }
-  std::vector<double> offers(static_cast<std::size_t>(offsets[ranks]));
-  controller->AllGatherV(offer.data(), offers.data(), length, lengths.data(), offsets.data());
-  if (edgeVertices.empty() || offsets[ranks] == length)
+  std::vector<vtkIdType> offsets;
+  std::vector<double> offers = AllGather(controller, offer, offsets);
+  if (edgeVertices.empty() || offsets[ranks] == static_cast<vtkIdType>(offer.size()))
   {
     return built; // nothing to join (this piece has no edge, or no other piece offers)
   }
@@ -137,7 +150,7 @@ bool vtkBeltramiSurface::RingsAreMissing(vtkMultiProcessController* controller) 
   return global[0] > 0 && global[1] == 0;
 }
 
-std::vector<double> vtkBeltramiSurface::EdgeTriangles(std::vector<Index>& edgeVertices) const
+std::vector<double> vtkBeltramiSurface::EdgeTriangles(std::vector<Index>& edgeVertices)
 {
   // Every triangle at a vertex on the edge of the piece (a boundary or
   // non-manifold vertex of its own topology), as its corners' coordinates.
@@ -158,6 +171,7 @@ std::vector<double> vtkBeltramiSurface::EdgeTriangles(std::vector<Index>& edgeVe
       }
     }
   }
+  std::vector<std::uint8_t> corner(static_cast<std::size_t>(topo.NumberOfVertices()), 0);
   for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
   {
     for (int k = 0; offered[t] && k < 3; ++k)
@@ -165,6 +179,15 @@ std::vector<double> vtkBeltramiSurface::EdgeTriangles(std::vector<Index>& edgeVe
       double x[3];
       InputData->GetPoint(topo.CornerVertex(3 * t + k), x);
       offer.insert(offer.end(), x, x + 3);
+      corner[topo.CornerVertex(3 * t + k)] = 1;
+    }
+  }
+  OfferedPoints.clear();
+  for (Index v = 0; v < topo.NumberOfVertices(); ++v)
+  {
+    if (corner[v])
+    {
+      OfferedPoints.push_back(v);
     }
   }
   return offer;
@@ -299,6 +322,65 @@ int vtkBeltramiSurface::Start(vtkAlgorithm* owner, int numberOfThreads, bool bui
   return -1;
 }
 
+int vtkBeltramiSurface::ExecuteDistributed(vtkAlgorithm* owner, vtkPolyData* input, vtkPolyData* output,
+  vtkInformation* outInfo, int numberOfThreads, const std::function<bool(vtkBeltramiSurface&)>& run)
+{
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (!OnePiecePerRank(outInfo) || !vtkMPICommunicator::SafeDownCast(controller->GetCommunicator()))
+  {
+    return -1; // the ranks cannot solve together
+  }
+  vtkBeltramiSurface surface;
+  surface.InputData = input;
+  surface.OutputData = output;
+  surface.Pieces = RequestedPieces(outInfo);
+  surface.Holding = PiecesHoldingData(outInfo, input);  // collective
+  surface.Collective = true;
+  if (surface.Holding <= 1 || !surface.RingsAreMissing(controller)) // collective
+  {
+    return -1; // whole on one rank (serial), or pieces that came with ghost cells (gathered)
+  }
+  const bool built = surface.ExchangeOneRings(numberOfThreads); // collective
+  const bool empty = !input || input->GetNumberOfPoints() == 0;
+  if (!input || !output)
+  {
+    vtkWarningWithObjectMacro(owner, "Missing input or output poly data on this rank: an empty piece.");
+  }
+  else
+  {
+    output->ShallowCopy(input);
+  }
+  if (!built && !empty)
+  {
+    vtkErrorWithObjectMacro(owner, "Cannot process the input surface: " << surface.Error());
+  }
+  if (!surface.AllAgree(built || empty))
+  {
+    return 0;
+  }
+  if (!built)
+  {
+    surface.Mesh = std::make_unique<beltrami::MeshTopology>(0, beltrami::IndexArray());
+  }
+  if (!surface.AllAgree(surface.BuildPartition(controller)))
+  {
+    vtkErrorWithObjectMacro(owner, "Cannot split the solve over the ranks: " << surface.Error());
+    return 0;
+  }
+  return run(surface) ? 1 : 0;
+}
+
+bool vtkBeltramiSurface::AllAgree(bool ok) const
+{
+  if (!Collective)
+  {
+    return ok;
+  }
+  int local = ok ? 1 : 0, all = 0;
+  vtkMultiProcessController::GetGlobalController()->AllReduce(&local, &all, 1, vtkCommunicator::MIN_OP);
+  return all == 1;
+}
+
 int vtkBeltramiSurface::RunOnWholeSurface(vtkAlgorithm* owner, vtkInformationVector** inputVector,
   vtkInformationVector* outputVector, const std::function<int(vtkPolyData*, vtkPolyData*)>& run)
 {
@@ -330,6 +412,15 @@ int vtkBeltramiSurface::Execute(vtkAlgorithm* owner, vtkInformationVector** inpu
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   const int requested = std::max(1, RequestedPieces(outInfo));
+  if (needs == Needs::Distributed)
+  {
+    const int done = ExecuteDistributed(owner, input, output, outInfo, numberOfThreads, run);
+    if (done >= 0)
+    {
+      return done;
+    }
+    needs = Needs::WholeSurface; // not split over ranks that can talk, or pieces with ghost cells
+  }
   if (needs != Needs::WholeSurface)
   {
     vtkBeltramiSurface surface;

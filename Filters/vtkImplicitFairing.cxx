@@ -14,6 +14,7 @@
 #include <vtkFloatArray.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
+#include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
@@ -97,9 +98,12 @@ int vtkImplicitFairing::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   this->Iterations.clear();
-  // Implicit steps and the invariants couple all points: data split over the
-  // ranks of a distributed run are smoothed whole on rank 0
-  // (vtkBeltramiGather), as in a serial run.
+  // Implicit steps and the invariants couple all points.  Data split over
+  // the ranks of a distributed run are solved over the ranks, each rank
+  // holding its own piece (vtkBeltramiSurface::Needs::Distributed); the
+  // options that the distributed run does not cover, and fixed point ids
+  // (which name points of one data set), gather the pieces on rank 0
+  // (vtkBeltramiGather) and smooth the whole surface there.
   const auto fair = [this](vtkBeltramiSurface& surface) {
     if (surface.IsGathered() && !this->FixedPointIds.empty())
     {
@@ -118,24 +122,45 @@ int vtkImplicitFairing::RequestData(
       }
     }
   };
+  beltrami::FairingOptions options;
+  this->CopySettings(options, vtkBeltramiCopy::ToCore);
+  const bool distributes = this->FixedPointIds.empty() &&
+    beltrami::DistributedFairingLimitation(options, this->UseAxisDirectionsArray || this->UsePlaneNormalsArray)
+      .empty();
   return vtkBeltramiSurface::Execute(this, inputVector, outputVector, this->NumberOfThreads,
-    vtkBeltramiSurface::Needs::WholeSurface, fair, received);
+    distributes ? vtkBeltramiSurface::Needs::Distributed : vtkBeltramiSurface::Needs::WholeSurface, fair, received);
 }
 
 int vtkImplicitFairing::Fair(vtkBeltramiSurface& surface)
 {
   const beltrami::MeshTopology& topo = surface.Topology();
-  if (topo.NumberOfTriangles() == 0)
+  const beltrami::Partition* split = surface.Split(); // a distributed run: the ranks solve together
+  const double triangles = static_cast<double>(topo.NumberOfTriangles());
+  if ((split ? split->Sum(triangles) : triangles) == 0.0)
   {
     vtkWarningMacro("Input has no polygons or triangle strips: the points are left as they are.");
     return 1;
   }
-  surface.WarnAboutInput(this, "its piece boundary fixed", "Non-manifold points are kept fixed.");
+  if (!split) // (a split piece's own defects are those of its cut: the report counts the real ones)
+  {
+    surface.WarnAboutInput(this, "its piece boundary fixed", "Non-manifold points are kept fixed.");
+  }
   std::vector<std::uint8_t> fixed;
   std::vector<double> weights, axes, normals;
-  if (!this->GatherConstraints(surface, fixed, weights, axes, normals))
+  if (!surface.AllAgree(this->GatherConstraints(surface, fixed, weights, axes, normals)))
   {
     return 0;
+  }
+  // Distributed: one value per point of the topology (the ghosts get their
+  // owners' in the core).
+  const std::size_t rows = static_cast<std::size_t>(surface.NumberOfTopologyPoints());
+  if (!fixed.empty())
+  {
+    fixed.resize(rows, 0);
+  }
+  if (!weights.empty())
+  {
+    weights.resize(rows, 1.0);
   }
   beltrami::FairingConstraints constraints;
   constraints.Fixed = fixed.empty() ? nullptr : fixed.data();
@@ -143,8 +168,8 @@ int vtkImplicitFairing::Fair(vtkBeltramiSurface& surface)
   constraints.AxisDirections = axes.empty() ? nullptr : axes.data();
   constraints.PlaneNormals = normals.empty() ? nullptr : normals.data();
 
-  // The core works in double, in place.
-  std::vector<double> x(3 * static_cast<std::size_t>(surface.Input()->GetNumberOfPoints()));
+  // The core works in double, in place (distributed: the ghost points too).
+  std::vector<double> x(3 * rows);
   surface.Dispatch([&](const auto* p) {
     std::copy(p, p + x.size(), x.begin());
     return 0;
@@ -158,7 +183,7 @@ int vtkImplicitFairing::Fair(vtkBeltramiSurface& surface)
     report = beltrami::FairSurface(topo, x.data(), options, constraints, [this](double fraction) {
       this->UpdateProgress(fraction);
       return !this->GetAbortExecute();
-    });
+    }, split);
   }
   catch (const std::exception& e)
   {
@@ -245,15 +270,18 @@ void vtkImplicitFairing::WriteOutput(
   vtkPolyData* input = surface.Input();
   vtkPolyData* output = surface.Output();
   const vtkIdType numPoints = input->GetNumberOfPoints();
-  // New points in the input's precision.
+  // New points in the input's precision (an empty piece of a distributed run keeps its own).
   vtkNew<vtkPoints> points;
-  points->SetDataType(input->GetPoints()->GetDataType() == VTK_FLOAT ? VTK_FLOAT : VTK_DOUBLE);
+  points->SetDataType(input->GetPoints() && input->GetPoints()->GetDataType() == VTK_FLOAT ? VTK_FLOAT : VTK_DOUBLE);
   points->SetNumberOfPoints(numPoints);
   for (vtkIdType i = 0; i < numPoints; ++i)
   {
     points->SetPoint(i, x.data() + 3 * i);
   }
-  output->SetPoints(points);
+  if (numPoints > 0)
+  {
+    output->SetPoints(points);
+  }
   // Normals of the input no longer match the smoothed surface.
   if (output->GetPointData()->GetNormals())
   {
@@ -287,8 +315,21 @@ void vtkImplicitFairing::WriteOutput(
     gain->InsertNextValue(report.LargestGain);
     fd->AddArray(gain);
   }
+  if (const beltrami::Partition* split = surface.Split())
+  {
+    vtkNew<vtkIdTypeArray> rows;
+    rows->SetName("FairingDistribution");
+    rows->InsertNextValue(split->OwnedRows());
+    rows->InsertNextValue(split->Rows() - split->OwnedRows());
+    rows->InsertNextValue(surface.Topology().NumberOfTriangles());
+    fd->AddArray(rows);
+  }
   output->SetFieldData(fd);
 
+  if (surface.Split() && surface.Split()->Rank() > 0)
+  {
+    return; // a distributed run's report is global: rank 0 tells it
+  }
   if (!report.Warning.empty())
   {
     vtkWarningMacro(<< report.Warning);

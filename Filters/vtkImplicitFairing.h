@@ -93,11 +93,22 @@
  * output is then the input).  Field data: FairingIterations (solver
  * iterations per linear solve), FairingInvariant (initial and final value of
  * the preserved quantity, if any).
- * Distributed runs (pvbatch, pvserver): implicit steps and the invariants
- * couple all points, so data split over several ranks are gathered on rank
- * 0 (vtkBeltramiGather), smoothed there as one surface, and every rank gets
- * its own points moved: the numbers of a serial run, with the memory and
- * time of one process.
+ * Distributed runs (pvbatch, pvserver): data split over several ranks (one
+ * piece per rank, without ghost cells, e.g. after RedistributeDataSet) are
+ * smoothed in place: the ranks exchange the triangles around their pieces'
+ * common points, each rank assembles the rows of the points it owns, and
+ * every solve is one conjugate gradient over all ranks (Jacobi-
+ * preconditioned), the invariants global sums; no rank holds more than its
+ * piece and the ring around it, and the results are the serial ones to the
+ * solver tolerance.  Field data FairingDistribution on each rank: the
+ * points it owns, the ghost points it holds, the triangles it holds.
+ * Options the distributed run does not cover (explicit and Taubin
+ * integration, anisotropy, the sampling regularisation, boundaries other
+ * than fixed, height-field and revolution volumes, axis and plane
+ * constraints) and fixed point ids (which name points of one data set)
+ * gather the pieces on rank 0 instead (vtkBeltramiGather), smoothed there
+ * as one surface: the numbers of a serial run, with the memory and time of
+ * one process.  So do pieces that come with ghost cells.
  */
 #ifndef vtkImplicitFairing_h
 #define vtkImplicitFairing_h

@@ -348,8 +348,9 @@ difference = np.abs(vtk_to_numpy(split_surface.GetPointData().GetArray("Elevatio
 check(difference < 1e-9, "surface denoising over %d partition(s) equals the serial result (difference %g)"
       % (partitions, difference))
 
-# Fairing of the bunny split over the ranks: gathered and smoothed whole, the
-# serial points (the volume is kept exactly, as in serial).
+# Fairing of the bunny split over the ranks: solved over the ranks, the
+# serial points to the solver tolerance (test_distributed_fairing.py checks
+# more; the volume is kept exactly, as in serial).
 split_bunny = ExtractSurface(Input=RedistributeDataSet(Input=reader))
 split_fairing = ImplicitFairing(Input=split_bunny)
 split_fairing.TimeStep = 2.0
@@ -357,8 +358,10 @@ split_fairing.UpdatePipeline()
 matched = matching_points(servermanager.Fetch(split_bunny), original, "faired bunny")
 difference = np.abs(vtk_to_numpy(servermanager.Fetch(split_fairing).GetPoints().GetData())
                     - vtk_to_numpy(smoothed.GetPoints().GetData())[matched]).max()
-check(difference < 1e-9 * np.abs(vtk_to_numpy(original.GetPoints().GetData())).max(),
-      "fairing over %d partition(s) equals the serial result (difference %g)" % (partitions, difference))
+serial_move = np.abs(vtk_to_numpy(smoothed.GetPoints().GetData()) - vtk_to_numpy(original.GetPoints().GetData())).max()
+check(difference < 1e-2 * serial_move,
+      "fairing over %d partition(s) equals the serial result (difference %g, move %g)"
+      % (partitions, difference, serial_move))
 
 filled = TetGenTetrahedralize(Input=OpenDataFile(os.path.join(DATA, "elephant.off")))
 check(filled.RadiusEdgeRatio == 2.0 and filled.PreserveSurface == 1, "TetGen defaults")

@@ -23,6 +23,66 @@ using namespace detail;
 namespace
 {
 
+/// A distributed run's view of its piece of the surface (FairSurface with a
+/// Partition; empty otherwise).
+struct DistributedSurface
+{
+  const Partition* Split = nullptr;
+  /// The triangles this process counts in global measures: those whose
+  /// corner of lowest global row it owns (each triangle on one process).
+  std::unique_ptr<MeshTopology> Counted;
+  /// Over all processes: closed, manifold and consistently oriented at every
+  /// point (judged by each point's owner, which holds its whole star).
+  bool Closed = false;
+  /// The mean length of the edges, each counted on one process.
+  double MeanEdgeLength = 0.0;
+
+  DistributedSurface(const MeshTopology& topo, const double* x, const Partition* split, int threads)
+    : Split(split)
+  {
+    if (!split)
+    {
+      return;
+    }
+    const auto counts = [&](Index a, Index b) { // an edge: by the owner of its lower end
+      return split->IsOwned(split->GlobalRow(a) < split->GlobalRow(b) ? a : b);
+    };
+    const IndexArray& tri = topo.TriangleList();
+    IndexArray counted;
+    for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
+    {
+      const Index* c = tri.data() + 3 * t;
+      const Index first = *std::min_element(
+        c, c + 3, [&](Index a, Index b) { return split->GlobalRow(a) < split->GlobalRow(b); });
+      if (split->IsOwned(first))
+      {
+        counted.insert(counted.end(), c, c + 3);
+      }
+    }
+    Counted = std::make_unique<MeshTopology>(topo.NumberOfVertices(), std::move(counted), threads);
+    double sums[3] = { 0.0, 0.0, 0.0 }; // open points, edge lengths, edges
+    constexpr std::uint8_t open = VertexBoundary | VertexNonManifold | VertexInconsistent | VertexDuplicateFace;
+    for (Index i = 0; i < topo.NumberOfVertices(); ++i)
+    {
+      sums[0] += split->IsOwned(i) && (topo.VertexFlags(i) & open);
+    }
+    const MeshTopology::EdgeTable& e = topo.Edges();
+    for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
+    {
+      const Index a = e.Vertices[2 * k], b = e.Vertices[2 * k + 1];
+      const double length = (Point(x, a) - Point(x, b)).norm();
+      if (counts(a, b) && std::isfinite(length))
+      {
+        sums[1] += length;
+        sums[2] += 1.0;
+      }
+    }
+    split->Sum(sums, 3);
+    Closed = sums[0] == 0.0;
+    MeanEdgeLength = sums[2] > 0.0 ? sums[1] / sums[2] : 0.0;
+  }
+};
+
 LaplacianWeights WeightsOf(FairingOperator op)
 {
   switch (op)
@@ -71,6 +131,18 @@ void MoveAlongNormals(const MeshTopology& topo, double* x, const double* d, Keep
   }
 }
 
+/// The one Laplacian assembler; distributed, the ghosts' masses are their
+/// owners' (a ghost's own triangles are not all on this process).
+void Assemble(const MeshTopology& topo, const double* x, LaplacianWeights kind, GraphLaplacian& lap, int threads,
+  const Partition* split)
+{
+  AssembleSurfaceLaplacian(topo, x, kind, lap, threads);
+  if (split)
+  {
+    split->UpdateGhosts(lap.Mass.data(), 1);
+  }
+}
+
 /// A copy of x after one implicit order-1 step of `time` with the `kind`
 /// Laplacian (assembled into `lap` at x; `order` gives its LocalityOrder or
 /// null): the pre-mollified geometries of the anisotropic weights and of
@@ -78,16 +150,16 @@ void MoveAlongNormals(const MeshTopology& topo, double* x, const double* d, Keep
 template <typename OrderOf>
 std::vector<double> SmoothedCopy(const MeshTopology& topo, const double* x, LaplacianWeights kind, double time,
   const std::vector<std::uint8_t>& held, const std::vector<double>& weight, const FairingOptions& opt,
-  GraphLaplacian& lap, OrderOf&& order)
+  GraphLaplacian& lap, OrderOf&& order, const Partition* split)
 {
   std::vector<double> copy(x, x + 3 * static_cast<std::size_t>(topo.NumberOfVertices()));
-  AssembleSurfaceLaplacian(topo, copy.data(), kind, lap, opt.NumberOfThreads);
+  Assemble(topo, copy.data(), kind, lap, opt.NumberOfThreads, split);
   FairingOptions so = opt;
   so.Integration = FairingIntegration::Implicit;
   so.Order = 1;
   so.TimeStep = time;
   FairingReport ignored;
-  ImplicitStep(Stage{ lap, held, weight, order() }, so, copy.data(), ignored);
+  ImplicitStep(Stage{ lap, held, weight, order(), nullptr, split }, so, copy.data(), ignored);
   return copy;
 }
 
@@ -128,7 +200,7 @@ Motions ReadMotions(const FairingConstraints& cons, const std::vector<std::uint8
 }
 
 VertexRoles ClassifyVertices(const MeshTopology& topo, const double* x, const FairingOptions& opt,
-  const FairingConstraints& cons, FairingReport& report)
+  const FairingConstraints& cons, const Partition* split, FairingReport& report)
 {
   const Index n = topo.NumberOfVertices();
   VertexRoles r;
@@ -148,11 +220,19 @@ VertexRoles ClassifyVertices(const MeshTopology& topo, const double* x, const Fa
     r.HardConstraints = r.HardConstraints || user;
     const bool unusable = (flags & (VertexNonManifold | VertexDuplicateFace | VertexIsolated)) ||
       !Point(x, i).allFinite();
-    report.UnusableVertices += unusable && !(flags & VertexIsolated);
+    report.UnusableVertices += unusable && !(flags & VertexIsolated) && (!split || split->IsOwned(i));
     r.Fixed[i] = user || unusable || (r.Boundary[i] && opt.Boundary == FairingBoundary::Fixed);
   }
   r.Moves = ReadMotions(cons, r.Fixed);
   r.HardConstraints = r.HardConstraints || r.Moves.Any;
+  if (split)
+  {
+    // A ghost's star is not all here: it takes its owner's roles.
+    split->UpdateGhosts(r.Fixed);
+    split->UpdateGhosts(r.Boundary);
+    split->UpdateGhosts(r.Weight);
+    r.HardConstraints = split->Max(r.HardConstraints ? 1.0 : 0.0) > 0.0;
+  }
   return r;
 }
 
@@ -160,13 +240,15 @@ VertexRoles ClassifyVertices(const MeshTopology& topo, const double* x, const Fa
 /// volume of closed oriented surfaces without hard constraints), with its
 /// initial value; remarks for the user go to `warn`.
 InvariantState ChooseInvariant(const MeshTopology& topo, const double* x, const FairingOptions& opt,
-  const VertexRoles& roles, std::ostringstream& warn, FairingReport& report)
+  const VertexRoles& roles, const DistributedSurface& pieces, std::ostringstream& warn, FairingReport& report)
 {
   const Index n = topo.NumberOfVertices();
   const TopologySummary& info = topo.Summary();
   InvariantState inv;
   inv.Kind = opt.Invariant;
-  const bool closed = info.IsClosed() && info.IsManifold() && info.IsOriented();
+  inv.Split = pieces.Split;
+  inv.Counted = pieces.Counted.get();
+  const bool closed = pieces.Split ? pieces.Closed : info.IsClosed() && info.IsManifold() && info.IsOriented();
   if (inv.Kind == FairingInvariant::Automatic)
   {
     inv.Kind = closed && !roles.HardConstraints ? FairingInvariant::Volume : FairingInvariant::None;
@@ -222,17 +304,22 @@ InvariantState ChooseInvariant(const MeshTopology& topo, const double* x, const 
 /// surface and keeps the sampling, so a flat region's copy is the region
 /// itself and flat regions still never move.
 std::vector<double> MollifiedOperatorPoints(const MeshTopology& topo, const double* x,
-  const std::vector<std::uint8_t>& held, const std::vector<double>& weight, const FairingOptions& opt)
+  const std::vector<std::uint8_t>& held, const std::vector<double>& weight, const FairingOptions& opt,
+  const Partition* split)
 {
   GraphLaplacian U;
   std::vector<double> step = SmoothedCopy(topo, x, LaplacianWeights::Umbrella, opt.OperatorMollification, held,
-    weight, opt, U, [] { return static_cast<const Index*>(nullptr); });
+    weight, opt, U, [] { return static_cast<const Index*>(nullptr); }, split);
   std::vector<double> regular(x, x + 3 * static_cast<std::size_t>(topo.NumberOfVertices()));
   for (std::size_t k = 0; k < step.size(); ++k)
   {
     step[k] -= x[k];
   }
   MoveAlongNormals(topo, regular.data(), step.data(), Keep::Normal, opt.NumberOfThreads);
+  if (split)
+  {
+    split->UpdateGhosts(regular.data(), 3); // the ghosts' normals are not all here
+  }
   return regular;
 }
 
@@ -302,11 +389,19 @@ void UndefinedStep(int step, int steps, std::ostringstream& warn, FairingReport&
 
 /// The counts and the warning sentence of a finished run.
 void FinishReport(const MeshTopology& topo, const VertexRoles& roles, const FairingOptions& opt,
-  std::ostringstream& warn, FairingReport& report)
+  const Partition* split, std::ostringstream& warn, FairingReport& report)
 {
   for (Index i = 0; i < topo.NumberOfVertices(); ++i)
   {
-    report.FixedVertices += roles.Fixed[i] && topo.Valence(i) > 0;
+    report.FixedVertices += roles.Fixed[i] && topo.Valence(i) > 0 && (!split || split->IsOwned(i));
+  }
+  if (split)
+  {
+    double counts[2] = { static_cast<double>(report.FixedVertices), static_cast<double>(report.UnusableVertices) };
+    split->Sum(counts, 2);
+    report.FixedVertices = static_cast<Index>(counts[0]);
+    report.UnusableVertices = static_cast<Index>(counts[1]);
+    report.DegenerateTriangles = static_cast<Index>(split->Max(report.DegenerateTriangles));
   }
   if (report.ExplicitUnstable)
   {
@@ -323,16 +418,17 @@ void FinishReport(const MeshTopology& topo, const VertexRoles& roles, const Fair
 }
 
 FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const FairingOptions& opt,
-  const FairingConstraints& cons, const ProgressCallback& progress)
+  const FairingConstraints& cons, const ProgressCallback& progress, const DistributedSurface& pieces)
 {
   FairingReport report;
   const Index n = topo.NumberOfVertices();
   const int threads = opt.NumberOfThreads;
-  const VertexRoles roles = ClassifyVertices(topo, x, opt, cons, report);
+  const Partition* split = pieces.Split;
+  const VertexRoles roles = ClassifyVertices(topo, x, opt, cons, split, report);
   const std::vector<std::uint8_t>& fixed = roles.Fixed;
   const std::vector<double>& weight = roles.Weight;
   std::ostringstream warn;
-  const InvariantState inv = ChooseInvariant(topo, x, opt, roles, warn, report);
+  const InvariantState inv = ChooseInvariant(topo, x, opt, roles, pieces, warn, report);
 
   const std::vector<std::vector<Index>> loops =
     opt.Boundary == FairingBoundary::SmoothCurve ? topo.BoundaryLoops() : std::vector<std::vector<Index>>{};
@@ -374,7 +470,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
       // weights see the shape rather than the noise.
       const std::vector<double> mollified = opt.Mollification > 0.0
         ? SmoothedCopy(topo, x, LaplacianWeights::Cotangent, opt.TimeStep * opt.Mollification, held, weight, opt, L,
-            [&] { return localOrder(); })
+            [&] { return localOrder(); }, split)
         : std::vector<double>(x, x + 3 * static_cast<std::size_t>(n));
       const std::vector<double> a = AnisotropicWeights(topo, mollified.data(), opt,
         opt.SmoothFeatureCurves ? &along : nullptr, report.FeatureVertices);
@@ -406,9 +502,9 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     {
       if (opt.OperatorMollification > 0.0 && opt.Operator != FairingOperator::Umbrella)
       {
-        regular = MollifiedOperatorPoints(topo, x, held, weight, opt);
+        regular = MollifiedOperatorPoints(topo, x, held, weight, opt, split);
       }
-      AssembleSurfaceLaplacian(topo, regular.empty() ? x : regular.data(), WeightsOf(opt.Operator), L, threads);
+      Assemble(topo, regular.empty() ? x : regular.data(), WeightsOf(opt.Operator), L, threads, split);
       if (opt.KeepFirstOperator && opt.NumberOfIterations > 1)
       {
         first = L;
@@ -416,7 +512,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     }
     report.DegenerateTriangles = std::max(report.DegenerateTriangles, L.DegenerateTriangles);
     const bool solves = opt.Integration == FairingIntegration::Implicit && Powers::Of(opt).Pure(1);
-    const Stage surface{ L, held, omega, solves ? localOrder() : nullptr, &roles.Moves };
+    const Stage surface{ L, held, omega, solves && !split ? localOrder() : nullptr, &roles.Moves, split };
     defined = defined && Integrate(surface, opt, x, report);
     if (opt.Operator == FairingOperator::CurvatureFlowAndSampling)
     {
@@ -436,13 +532,14 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     {
       report.FinalInvariant = RestoreInvariant(inv, topo, x, threads);
     }
-    if (progress && !progress(static_cast<double>(step + 1) / opt.NumberOfIterations))
+    const bool stop = progress && !progress(static_cast<double>(step + 1) / opt.NumberOfIterations);
+    if (split ? split->Max(stop ? 1.0 : 0.0) > 0.0 : stop) // (distributed: all stop together)
     {
       report.Completed = false;
       break;
     }
   }
-  FinishReport(topo, roles, opt, warn, report);
+  FinishReport(topo, roles, opt, split, warn, report);
   return report;
 }
 
@@ -460,9 +557,44 @@ bool CheckOrderWeights(const FairingOptions& opt)
 
 } // namespace
 
-FairingReport FairSurface(const MeshTopology& topo, double* points, const FairingOptions& options,
-  const FairingConstraints& cons, const ProgressCallback& progress)
+std::string DistributedFairingLimitation(const FairingOptions& opt, bool axisOrPlaneConstraints)
 {
+  if (opt.Integration != FairingIntegration::Implicit)
+  {
+    return "explicit and Taubin integration";
+  }
+  if (opt.Anisotropic)
+  {
+    return "anisotropic smoothing";
+  }
+  if (opt.Operator == FairingOperator::CurvatureFlowAndSampling)
+  {
+    return "the sampling regularisation";
+  }
+  if (opt.Boundary != FairingBoundary::Fixed)
+  {
+    return "boundaries other than fixed";
+  }
+  if (opt.Invariant == FairingInvariant::HeightFieldVolume || opt.Invariant == FairingInvariant::RevolutionVolume)
+  {
+    return "the height-field and revolution volumes";
+  }
+  return axisOrPlaneConstraints ? "axis and plane constraints" : "";
+}
+
+FairingReport FairSurface(const MeshTopology& topo, double* points, const FairingOptions& options,
+  const FairingConstraints& cons, const ProgressCallback& progress, const Partition* split)
+{
+  if (split)
+  {
+    const std::string limit = DistributedFairingLimitation(options, cons.AxisDirections || cons.PlaneNormals);
+    if (!limit.empty())
+    {
+      FairingReport failed;
+      failed.Error = "Distributed fairing does not support " + limit + ".";
+      return failed;
+    }
+  }
   FairingOptions opt = options;
   opt.Order = std::clamp(opt.Order, 0, 4);
   opt.NumberOfIterations = std::max(0, opt.NumberOfIterations);
@@ -474,9 +606,10 @@ FairingReport FairSurface(const MeshTopology& topo, double* points, const Fairin
     failed.Error = "OrderWeights must be finite, with a positive weight on the highest order used.";
     return failed;
   }
-  if (opt.Units == LengthUnit::MeanEdgeLength && topo.NumberOfTriangles() > 0)
+  const DistributedSurface pieces(topo, points, split, opt.NumberOfThreads);
+  if (opt.Units == LengthUnit::MeanEdgeLength && (split || topo.NumberOfTriangles() > 0))
   {
-    const double h = MeanEdgeLength(topo, points);
+    const double h = split ? pieces.MeanEdgeLength : MeanEdgeLength(topo, points);
     if (!(h > 0.0) || !std::isfinite(h))
     {
       FairingReport failed;
@@ -502,7 +635,7 @@ FairingReport FairSurface(const MeshTopology& topo, double* points, const Fairin
   }
   if (opt.Boundary != FairingBoundary::VirtualVertex || topo.Summary().NumberOfBoundaryLoops == 0)
   {
-    return FairClosedOrFixed(topo, points, opt, cons, progress);
+    return FairClosedOrFixed(topo, points, opt, cons, progress, pieces);
   }
   // Section 3.5.2: close each boundary loop with a fan of virtual triangles to
   // a virtual vertex at its barycentre, smooth the closed surface, drop them.
@@ -560,7 +693,8 @@ FairingReport FairSurface(const MeshTopology& topo, double* points, const Fairin
     }
   }
   opt.Boundary = FairingBoundary::Fixed; // anything left open (e.g. non-manifold) stays fixed
-  FairingReport report = FairClosedOrFixed(closed, x.data(), opt, extended, progress);
+  FairingReport report =
+    FairClosedOrFixed(closed, x.data(), opt, extended, progress, DistributedSurface(closed, x.data(), nullptr, 0));
   std::copy(x.begin(), x.begin() + 3 * static_cast<std::size_t>(n), points);
   return report;
 }

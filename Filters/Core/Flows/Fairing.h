@@ -29,6 +29,7 @@
 
 #include "Mesh/MeshMeasures.h"
 #include "Solvers/AlgebraicMultigrid.h"
+#include "Solvers/Partition.h"
 #include "Mesh/MeshTopology.h"
 
 #include <cstdint>
@@ -172,8 +173,25 @@ struct FairingReport
 };
 
 /// Smooths `points` (3 doubles per vertex, in place) of the surface `topology`.
+///
+/// Distributed (`split`: the surface's points split over MPI processes, see
+/// Solvers/Partition.h; collective, every process calls it): `topology` is
+/// this process' piece with the whole star of every point it owns (the
+/// other points are ghosts, and may miss triangles), and the constraint
+/// arrays cover the piece's points.  Each process assembles the rows of its
+/// own points; every solve is one conjugate gradient over all processes
+/// (Jacobi-preconditioned, matrix-free: the serial graph solvers' renumbering
+/// and complex shift are per process), the measures and invariants are sums
+/// over the processes, and the ghosts' results are their owners'.  The owned
+/// points' results equal a serial run's to the solver tolerance.  Not
+/// every option is distributed: see DistributedFairingLimitation.
 FairingReport FairSurface(const MeshTopology& topology, double* points,
   const FairingOptions& options, const FairingConstraints& constraints = {},
-  const ProgressCallback& progress = {});
+  const ProgressCallback& progress = {}, const Partition* split = nullptr);
+
+/// Empty when FairSurface runs `options` distributed, else what it cannot
+/// run that way (e.g. "anisotropic smoothing"): the caller then gathers the
+/// surface on one process.
+std::string DistributedFairingLimitation(const FairingOptions& options, bool axisOrPlaneConstraints);
 
 } // namespace beltrami

@@ -21,11 +21,48 @@ void Rescale(double* x, Index n, const Vec3& center, double s)
   }
 }
 
+/// Volume or area with its centroid over the processes of a distributed
+/// run: each process' share of the counted triangles, the volumes from one
+/// origin (the vertex centroid of the owned points of all processes).
+double MeasureDistributed(const InvariantState& s, const MeshTopology& topo, const double* x, int threads,
+  Vec3* center)
+{
+  double sums[4] = { 0.0, 0.0, 0.0, 0.0 };
+  for (Index i = 0; i < topo.NumberOfVertices(); ++i)
+  {
+    if (s.Split->IsOwned(i) && topo.Valence(i) > 0 && Point(x, i).allFinite())
+    {
+      sums[0] += 1.0;
+      for (int c = 0; c < 3; ++c)
+      {
+        sums[1 + c] += x[3 * i + c];
+      }
+    }
+  }
+  s.Split->Sum(sums, 4);
+  const Vec3 origin = sums[0] > 0.0 ? Vec3(Vec3(sums[1], sums[2], sums[3]) / sums[0]) : Vec3::Zero();
+  Vec3 share;
+  const double amount = s.Kind == FairingInvariant::Volume
+    ? VolumeAndCentroid(*s.Counted, x, threads, &share, &origin)
+    : AreaAndCentroid(*s.Counted, x, threads, &share);
+  double total[4] = { amount, amount * share[0], amount * share[1], amount * share[2] };
+  s.Split->Sum(total, 4);
+  if (center)
+  {
+    *center = total[0] != 0.0 ? Vec3(Vec3(total[1], total[2], total[3]) / total[0]) : origin;
+  }
+  return total[0];
+}
+
 } // namespace
 
 double MeasureInvariant(const InvariantState& s, const MeshTopology& topo, const double* x, int threads,
   Vec3* center)
 {
+  if (s.Split && (s.Kind == FairingInvariant::Volume || s.Kind == FairingInvariant::Area))
+  {
+    return MeasureDistributed(s, topo, x, threads, center);
+  }
   switch (s.Kind)
   {
     case FairingInvariant::Volume:

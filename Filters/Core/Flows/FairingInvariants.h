@@ -5,6 +5,7 @@
 #pragma once
 
 #include "Flows/Fairing.h"
+#include "Solvers/Partition.h"
 
 namespace beltrami::detail
 {
@@ -15,6 +16,11 @@ struct InvariantState
   /// The reference plane (HeightFieldVolume) or axis (RevolutionVolume).
   Vec3 PlaneOrigin = Vec3::Zero(), PlaneNormal = Vec3::UnitZ();
   double Initial = 0.0;
+  /// A distributed run: the triangles this process counts in the measures
+  /// (each triangle of the surface on one process), summed over the
+  /// processes of `Split`.
+  const MeshTopology* Counted = nullptr;
+  const Partition* Split = nullptr;
 };
 
 /// The invariant's value on x; `center` (optional): the centre the scaling

@@ -134,12 +134,12 @@ double LargestFrequency(const Stage& st)
   double m = 0.0;
   for (Index i = 0; i < st.L.NumberOfVertices; ++i)
   {
-    if (!st.Fixed[i] && st.L.Mass[i] > 0.0)
+    if (!st.Fixed[i] && st.L.Mass[i] > 0.0 && (!st.Split || st.Split->IsOwned(i)))
     {
       m = std::max(m, std::abs(st.Omega[i]) * st.L.Diagonal[i] / st.L.Mass[i]);
     }
   }
-  return 2.0 * m;
+  return 2.0 * (st.Split ? st.Split->Max(m) : m);
 }
 
 /// Largest stable explicit time step: dt p(w) <= 2 on the frequencies (for
@@ -246,6 +246,10 @@ ConjugateGradientResult SolvePolynomial(const Stage& st, const Powers& p, double
           tmp[j] = k < p.Degree ? power[j] * invMass[j / 3] : 0.0;
         }
       });
+      if (st.Split && k < p.Degree)
+      {
+        st.Split->UpdateGhosts(tmp.data(), 3); // the ghosts' rows of S are incomplete here
+      }
       source = tmp.data();
     }
     ParallelFor(n, threads, [&](std::int64_t s, std::int64_t e) {
@@ -269,13 +273,14 @@ ConjugateGradientResult SolvePolynomial(const Stage& st, const Powers& p, double
   pb.MaximumIterations = opt.MaximumSolverIterations;
   pb.NumberOfThreads = threads;
   pb.Apply = apply;
+  pb.Split = st.Split;
   return SolveConjugateGradient(pb, b.data(), x);
 }
 
 /// One solve of the step system for p and dt, x (the positions) in place:
 /// order 1 by the graph solver, pure order 2 with unit weights by the
 /// complex-shift solver, anything else (or what they leave unconverged)
-/// matrix-free.
+/// matrix-free; distributed (st.Split), always matrix-free.
 ConjugateGradientResult SolveStep(
   const Stage& st, const Powers& p, double dt, const StepSystem& sys, const FairingOptions& opt, double* x)
 {
@@ -294,7 +299,7 @@ ConjugateGradientResult SolveStep(
   sl.MaximumIterations = opt.MaximumSolverIterations;
   sl.NumberOfThreads = opt.NumberOfThreads;
   sl.Preconditioner = opt.Preconditioner;
-  if (Constrained(st))
+  if (Constrained(st) || st.Split)
   {
     return SolvePolynomial(st, p, dt, sys, opt, b, x);
   }
@@ -453,24 +458,41 @@ bool ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, Fairing
     sys.UnitWeights = sys.UnitWeights && std::abs(sys.Diagonal[i] * sys.InverseMass[i] - 1.0) <= 1e-12;
     ++numFree;
   }
-  if (numFree == 0)
+  // (Distributed: over the owned rows of all processes, so that every
+  // process takes the same branches and solves together.)
+  const auto counted = [&](Index i) { return !st.Split || st.Split->IsOwned(i); };
+  double totals[8] = { static_cast<double>(numFree), sys.UnitWeights ? 0.0 : 1.0 };
+  for (Index i = 0; i < n; ++i)
+  {
+    totals[2] += counted(i);
+    for (int c = 0; c < 3 && counted(i); ++c)
+    {
+      totals[3 + c] += x[3 * i + c];
+    }
+  }
+  if (st.Split)
+  {
+    st.Split->Sum(totals, 6);
+    st.Split->UpdateGhosts(sys.InverseMass);
+  }
+  sys.UnitWeights = totals[1] == 0.0;
+  if (totals[0] == 0.0)
   {
     return true;
   }
-  Vec3 center = Vec3::Zero();
-  for (Index i = 0; i < n; ++i)
-  {
-    center += Point(x, i);
-  }
-  center /= n;
+  const Vec3 center = Vec3(totals[3], totals[4], totals[5]) / totals[2];
   sys.Scale.assign(3, 0.0);
   for (Index i = 0; i < n; ++i)
   {
-    for (int c = 0; c < 3 && !sys.Fixed[i]; ++c)
+    for (int c = 0; c < 3 && !sys.Fixed[i] && counted(i); ++c)
     {
       const double d = sys.Diagonal[i] * (x[3 * i + c] - center[c]);
       sys.Scale[c] += d * d;
     }
+  }
+  if (st.Split)
+  {
+    st.Split->Sum(sys.Scale.data(), 3);
   }
   for (double& s : sys.Scale)
   {

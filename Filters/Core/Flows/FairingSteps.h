@@ -7,6 +7,7 @@
 #include "Flows/Fairing.h"
 #include "Mesh/Geometry.h"
 #include "Mesh/Laplacian.h"
+#include "Solvers/Partition.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -72,6 +73,10 @@ struct Stage
   std::vector<double> Omega;       ///< per-row weight (may be < 0 for anisotropy)
   const Index* Order = nullptr;    ///< LocalityOrder of L's graph, if known
   const Motions* Moves = nullptr;  ///< axis and plane constraints, if any
+  /// A distributed run (see FairSurface): the rows this process owns are
+  /// solved with the other processes' (one collective conjugate gradient);
+  /// the other rows are ghosts, copies of their owners' rows.
+  const Partition* Split = nullptr;
 };
 
 inline bool Constrained(const Stage& st)

@@ -49,9 +49,10 @@ Vec3 VertexCentroid(const MeshTopology& topo, const double* points)
   return used ? Vec3(c / used) : c;
 }
 
-double VolumeAndCentroid(const MeshTopology& topo, const double* points, int numThreads, Vec3* centroid)
+double VolumeAndCentroid(const MeshTopology& topo, const double* points, int numThreads, Vec3* centroid,
+  const Vec3* origin)
 {
-  const Vec3 o = VertexCentroid(topo, points);
+  const Vec3 o = origin ? *origin : VertexCentroid(topo, points);
   const std::vector<double> s = SumOverTriangles(topo, points, numThreads, [&](Index a, Index b, Index c, double* acc) {
     const Vec3 pa = Point(points, a) - o, pb = Point(points, b) - o, pc = Point(points, c) - o;
     const double v = pa.dot(pb.cross(pc)) / 6.0;

@@ -58,8 +58,12 @@ TriangleQuality MeasureTriangleQuality(const MeshTopology& topology, const doubl
 /// The mean of the points of used vertices (valence > 0, finite).
 Vec3 VertexCentroid(const MeshTopology& topology, const double* points);
 /// The enclosed volume (relative to the vertex centroid, for accuracy) and,
-/// if `centroid` is given, the centroid of the enclosed solid.
-double VolumeAndCentroid(const MeshTopology& topology, const double* points, int numThreads, Vec3* centroid);
+/// if `centroid` is given, the centroid of the enclosed solid.  With
+/// `origin`: relative to it instead (the signed volume of the cones from it
+/// over the triangles; on part of a closed surface, a share that adds up to
+/// the volume over all parts measured from the same origin).
+double VolumeAndCentroid(const MeshTopology& topology, const double* points, int numThreads, Vec3* centroid,
+  const Vec3* origin = nullptr);
 /// The total area and, if `centroid` is given, the area centroid.
 double AreaAndCentroid(const MeshTopology& topology, const double* points, int numThreads, Vec3* centroid);
 /// VolumeAbovePlane with a unit normal.

@@ -1,5 +1,6 @@
 #include "Solvers/ConjugateGradient.h"
 
+#include "Solvers/Partition.h"
 #include "Support/LargeBuffer.h"
 
 #include <algorithm>
@@ -20,7 +21,25 @@ ConjugateGradientResult Solve(const ConjugateGradientProblem& pb, const double* 
   const std::int64_t n = pb.Rows;
   const std::size_t size = static_cast<std::size_t>(n) * nc;
   const int threads = pb.NumberOfThreads;
-  const auto isFree = [&](std::int64_t i) { return !pb.Fixed || !pb.Fixed[i]; };
+  const Partition* split = pb.Split;
+  const auto isFree = [&](std::int64_t i) {
+    return (!pb.Fixed || !pb.Fixed[i]) && (!split || split->IsOwned(static_cast<Index>(i)));
+  };
+  // Over the processes (a distributed solve): sums, and the ghost rows of
+  // an operand or of the result.
+  const auto total = [&](std::vector<double> sums) {
+    if (split)
+    {
+      split->Sum(sums.data(), static_cast<int>(sums.size()));
+    }
+    return sums;
+  };
+  const auto refresh = [&](double* v) {
+    if (split)
+    {
+      split->UpdateGhosts(v, nc);
+    }
+  };
   const auto invDiag = [&](std::int64_t i) {
     const double d = pb.Diagonal ? pb.Diagonal[i] : 1.0;
     return d > 0.0 ? 1.0 / d : 1.0;
@@ -34,7 +53,7 @@ ConjugateGradientResult Solve(const ConjugateGradientProblem& pb, const double* 
     {
       pb.Preconditioner(r.data(), z.data());
     }
-    return ParallelSum(n, 2 * nc, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+    return total(ParallelSum(n, 2 * nc, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
       for (std::int64_t i = s; i < e; ++i)
       {
         const bool f = isFree(i);
@@ -47,9 +66,10 @@ ConjugateGradientResult Solve(const ConjugateGradientProblem& pb, const double* 
           acc[nc + c] += r[k] * r[k];
         }
       }
-    });
+    }));
   };
   // r = b - A x (fixed rows: 0), p = z
+  refresh(x);
   pb.Apply(x, q.data());
   ParallelFor(n, threads, [&](std::int64_t s, std::int64_t e) {
     for (std::int64_t k = s * nc; k < e * nc; ++k)
@@ -92,8 +112,9 @@ ConjugateGradientResult Solve(const ConjugateGradientProblem& pb, const double* 
   // Fixed rows of x must not leak into A p: p is zero there by construction.
   for (int it = 1; it <= pb.MaximumIterations; ++it)
   {
+    refresh(p.data());
     pb.Apply(p.data(), q.data());
-    const std::vector<double> pq = ParallelSum(n, nc, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+    const std::vector<double> pq = total(ParallelSum(n, nc, threads, [&](std::int64_t s, std::int64_t e, double* acc) {
       for (std::int64_t i = s; i < e; ++i)
       {
         if (isFree(i))
@@ -104,7 +125,7 @@ ConjugateGradientResult Solve(const ConjugateGradientProblem& pb, const double* 
           }
         }
       }
-    });
+    }));
     double alpha[8];
     for (int c = 0; c < nc; ++c)
     {
@@ -135,6 +156,7 @@ ConjugateGradientResult Solve(const ConjugateGradientProblem& pb, const double* 
     if (converged(sums))
     {
       result.Converged = true;
+      refresh(x);
       return result;
     }
     ParallelFor(n, threads, [&](std::int64_t s, std::int64_t e) {
@@ -148,6 +170,7 @@ ConjugateGradientResult Solve(const ConjugateGradientProblem& pb, const double* 
       }
     });
   }
+  refresh(x);
   return result;
 }
 
@@ -158,7 +181,7 @@ ConjugateGradientResult SolveConjugateGradient(
 {
   const int nc = pb.Columns;
   if (nc < 1 || nc > 8 || static_cast<int>(pb.Scale.size()) != nc || !pb.Apply ||
-    !(pb.Diagonal || pb.Preconditioner))
+    !(pb.Diagonal || pb.Preconditioner || pb.Rows == 0))
   {
     throw std::invalid_argument("SolveConjugateGradient: inconsistent problem");
   }

@@ -24,6 +24,8 @@
 namespace beltrami
 {
 
+class Partition;
+
 /// Residuals below ResidualRoundOff * Scale (the caller's size of the
 /// solution) are round-off: nothing is solved.
 constexpr double ResidualRoundOff = 1e-13;
@@ -50,6 +52,12 @@ struct ConjugateGradientProblem
   double Tolerance = 1e-6;                ///< residual reduction
   int MaximumIterations = 1000;
   int NumberOfThreads = 0;
+  /// Optional: the rows split over processes (collective solve).  Only the
+  /// owned rows are unknowns (ghost rows count as fixed here); Apply gets
+  /// its input with the ghost rows holding their owners' values, the inner
+  /// products are summed over the processes, and on return the ghost rows
+  /// of x hold their owners' results.
+  const Partition* Split = nullptr;
 };
 
 /// Solves A x = b; x holds the initial guess (and the fixed values) on entry.

@@ -1,0 +1,88 @@
+// Beltrami core: the rows of a system split over MPI processes (the points
+// of a surface split over the ranks of pvbatch or pvserver).  Each process
+// owns some of its local rows and holds copies (ghosts) of rows that other
+// processes own: the 1-ring neighbours of its owned rows, so that its owned
+// rows of a Laplacian can be assembled and applied locally.  Owned rows get
+// consecutive global numbers per process (process p's first row after those
+// of processes 0..p-1).  The solvers sum their inner products over the owned
+// rows of all processes (Sum) and refresh the ghosts from their owners
+// before each product (UpdateGhosts), so a distributed solve is the serial
+// one up to the order of the sums.  No process ever holds the whole system.
+//
+// Every method but the accessors is collective: all processes of the
+// communicator call it, in the same order.  The only file besides
+// AlgebraicMultigrid.cxx that sees MPI.
+#pragma once
+
+#include "Support/Parallel.h"
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace beltrami
+{
+
+class Partition
+{
+public:
+  /// `communicator` points to an MPI_Comm (MPI initialised by the caller);
+  /// local row i is owned by process ownerRank[i], where it is local row
+  /// ownerRow[i] (for an owned row: ownerRank[i] = this process, ownerRow[i]
+  /// = i).  Throws std::runtime_error, on every process, when some process
+  /// names a row that its owner does not own.
+  Partition(const void* communicator, Index rows, const int* ownerRank, const Index* ownerRow);
+  ~Partition();
+  Partition(const Partition&) = delete;
+  Partition& operator=(const Partition&) = delete;
+
+  Index Rows() const { return static_cast<Index>(Owned.size()); }
+  bool IsOwned(Index i) const { return Owned[i] != 0; }
+  /// The global row of local row i (owned or ghost).
+  std::int64_t GlobalRow(Index i) const { return Global[i]; }
+  std::int64_t FirstRow() const { return First; }
+  Index OwnedRows() const { return OwnedCount; }
+  std::int64_t TotalRows() const { return Total; }
+  int Rank() const { return RankId; }
+  int Size() const { return Processes; }
+  /// The MPI_Comm (a pointer to it) the rows are split over.
+  const void* Communicator() const;
+  /// Values this process sends per column in one UpdateGhosts (its owned
+  /// rows that are ghosts elsewhere, counted once per process holding them).
+  std::int64_t SentPerUpdate() const;
+
+  /// The ghost rows of `values` (`columns` interleaved per row) set to their
+  /// owners' values.
+  void UpdateGhosts(double* values, int columns) const;
+  template <typename T>
+  void UpdateGhosts(std::vector<T>& values) const
+  {
+    std::vector<double> v(values.begin(), values.end());
+    UpdateGhosts(v.data(), 1);
+    std::copy(v.begin(), v.end(), values.begin());
+  }
+  /// values[k] replaced by its sum (or largest value) over the processes.
+  void Sum(double* values, int count) const;
+  void Max(double* values, int count) const;
+  double Sum(double value) const
+  {
+    Sum(&value, 1);
+    return value;
+  }
+  double Max(double value) const
+  {
+    Max(&value, 1);
+    return value;
+  }
+
+private:
+  struct Exchange;
+  std::unique_ptr<Exchange> Plan;
+  std::vector<std::uint8_t> Owned;
+  std::vector<std::int64_t> Global;
+  std::int64_t First = 0, Total = 0;
+  Index OwnedCount = 0;
+  int RankId = 0, Processes = 1;
+};
+
+} // namespace beltrami

@@ -1,0 +1,203 @@
+"""ImplicitFairing on surfaces split over the ranks of pvbatch (issue 28):
+each rank smooths its own piece, every solve runs over all ranks, and the
+results equal the serial ones (plain VTK on the whole surface) to the solver
+tolerance.  Run by ctest with 1, 2, 3 and 4 ranks (mpirun --oversubscribe).
+
+Checked: the real bunny cut anywhere by RedistributeDataSet (points where
+three or more pieces meet from 3 ranks on), with the default options (order
+2 curvature flow, operator mollification, exact volume) at a tight and at the
+default tolerance; fixed points and smoothing weights; order 1 with the
+area invariant; an open surface (boundary fixed); a rank with an empty piece;
+a NaN point in one piece; and the counts each rank reports: with 4 ranks no
+rank holds more than a third of the points or triangles."""
+import os
+import sys
+
+from paraview.simple import *  # noqa: F401,F403
+from paraview import servermanager
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+import numpy as np
+
+DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
+
+
+def check(condition, message):
+    if not condition:
+        print("FAILED: " + message)
+        sys.exit(1)
+    print("ok: " + message)
+
+
+LoadPlugin(os.environ["BELTRAMI_PLUGIN"], ns=globals())
+from beltrami import vtkImplicitFairing  # noqa: E402
+
+ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
+bunny = OpenDataFile(os.path.join(DATA, "bunny00.off"))
+whole_bunny = servermanager.Fetch(bunny)
+
+
+def points(polydata):
+    return vtk_to_numpy(polydata.GetPoints().GetData()).astype(float)
+
+
+ARRAYS = {"FixedPointsArray": (0, "UseFixedPointsArray"), "SmoothingWeightsArray": (1, "UseSmoothingWeightsArray")}
+
+
+def serial(polydata, **settings):
+    """The filter on the whole surface in plain VTK (a serial run)."""
+    f = vtkImplicitFairing()
+    f.SetInputData(polydata)
+    for name, value in settings.items():
+        if name in ARRAYS:
+            f.SetInputArrayToProcess(ARRAYS[name][0], 0, 0, 0, value[1])
+        else:
+            getattr(f, "Set" + name)(value)
+    f.Update()
+    return f.GetOutput()
+
+
+def matched(pieces, whole):
+    """For every point of the fetched pieces, the id of the whole surface's
+    point at the same coordinates (the pieces' copies of common points map to
+    one point); checks that they cover the whole surface."""
+    index = {tuple(x): i for i, x in enumerate(points(whole))}
+    ids = np.array([index.get(tuple(x), -1) for x in points(pieces)])
+    check(ids.min() >= 0 and len(set(ids)) == whole.GetNumberOfPoints(), "the pieces cover the surface")
+    return ids
+
+
+def split_run(source, label, tolerance, relative, prepare=None, partitions=0, **settings):
+    """The filter on `source` redistributed over the ranks against the serial
+    run; the largest difference must be below `tolerance` times `relative`
+    (the serial move, or the size of the surface).  Returns the fetched
+    pieces' result and the serial one."""
+    redistributed = RedistributeDataSet(Input=source)
+    redistributed.NumberOfPartitions = partitions
+    unprepared = split = ExtractSurface(Input=redistributed)
+    if prepare:
+        split = prepare(split)
+    faired = ImplicitFairing(Input=split, **settings)
+    faired.UpdatePipeline()
+    # (Points matched before `prepare`, which may make some NaN.)
+    ids = matched(servermanager.Fetch(unprepared), servermanager.Fetch(source))
+    result = servermanager.Fetch(faired)
+    whole = servermanager.Fetch(prepare(source)) if prepare else servermanager.Fetch(source)
+    reference = serial(whole, **settings)
+    ours, theirs = points(result), points(reference)[ids]
+    finite = np.isfinite(theirs).all(axis=1)
+    check((np.isnan(ours) == np.isnan(theirs)).all(), "%s: NaN exactly where the serial run has it" % label)
+    kept = np.isfinite(points(reference)).all(axis=1)
+    scale = relative(points(whole)[kept], points(reference)[kept])
+    difference = np.abs(ours[finite] - theirs[finite]).max()
+    shared = int((np.bincount(ids) >= 3).sum())
+    check(difference <= tolerance * scale,
+          "%s over %d rank(s) equals the serial result: difference %.3g <= %.0e x %.3g (%d points in 3+ pieces)"
+          % (label, ranks, difference, tolerance, scale, shared))
+    return faired, result, reference, shared
+
+
+def size(before, after):
+    return np.abs(before).max()
+
+
+def move(before, after):
+    return np.abs(after - before).max()
+
+
+# The default step at a tight tolerance: the serial numbers up to round-off
+# of the solves; at the default tolerance within 1% of the move.
+faired, result, reference, shared = split_run(bunny, "bunny, defaults, tolerance 1e-10", 1e-9, size,
+                                               SolverTolerance=1e-10)
+check(ranks < 3 or shared > 0, "bunny: points where three pieces meet")
+split_run(bunny, "bunny, defaults", 1e-2, move)
+
+
+def volume(polydata):
+    p = points(polydata)
+    t = vtk_to_numpy(polydata.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+    return float(np.sum(np.einsum("ij,ij->i", p[t[:, 0]], np.cross(p[t[:, 1]], p[t[:, 2]])))) / 6
+
+
+check(abs(volume(reference) / volume(whole_bunny) - 1) < 1e-9, "serial volume kept")
+# (The fetched pieces are the surface with its common points repeated: its volume is the surface's.)
+check(abs(volume(result) / volume(whole_bunny) - 1) < 1e-9,
+      "distributed volume kept exactly (%.3g)" % (volume(result) / volume(whole_bunny) - 1))
+
+# What each rank holds: its own points, the ghost points of the rings, its
+# triangles (field data FairingDistribution, one row per rank).
+counts = ProgrammableFilter(Input=faired, OutputDataSetType="vtkPolyData")
+counts.Script = """
+from vtkmodules.vtkCommonCore import vtkIdTypeArray, vtkPoints
+d = self.GetInput().GetFieldData().GetArray("FairingDistribution")
+out = self.GetOutput()
+p = vtkPoints()
+p.InsertNextPoint(0.0, 0.0, 0.0)
+out.SetPoints(p)
+for k, name in enumerate(("Owned", "Ghosts", "Triangles")):
+    a = vtkIdTypeArray()
+    a.SetName(name)
+    a.InsertNextValue(d.GetValue(k) if d else -1)
+    out.GetPointData().AddArray(a)
+"""
+table = servermanager.Fetch(counts).GetPointData()
+owned, ghosts, triangles = (vtk_to_numpy(table.GetArray(n)) for n in ("Owned", "Ghosts", "Triangles"))
+if ranks > 1:
+    check((owned >= 0).all() and owned.sum() == whole_bunny.GetNumberOfPoints(),
+          "each point owned by one rank (%s)" % owned)
+    check(ranks != 4 or ((owned + ghosts).max() <= whole_bunny.GetNumberOfPoints() / 3
+                         and triangles.max() <= whole_bunny.GetNumberOfCells() / 3),
+          "no rank holds more than a third: points %s of %d, triangles %s of %d"
+          % (owned + ghosts, whole_bunny.GetNumberOfPoints(), triangles, whole_bunny.GetNumberOfCells()))
+
+# Options that keep working distributed: fixed points and smoothing weights
+# (point arrays), order 1 with the area invariant.
+def with_masks(source):
+    f = ProgrammableFilter(Input=source)
+    f.Script = """
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+out = self.GetOutput()
+out.ShallowCopy(self.GetInput())
+if out.GetNumberOfPoints():
+    p = vtk_to_numpy(out.GetPoints().GetData()).astype(float)
+    fixed = numpy_to_vtk((p[:, 1] > 0.15).astype(np.uint8), deep=1)
+    fixed.SetName("fixed")
+    weight = numpy_to_vtk(np.clip(10.0 * (p[:, 0] + 0.05), 0.0, 1.0), deep=1)
+    weight.SetName("weight")
+    out.GetPointData().AddArray(fixed)
+    out.GetPointData().AddArray(weight)
+"""
+    return f
+
+
+split_run(bunny, "bunny with fixed points and weights", 1e-2, move, prepare=with_masks, NumberOfIterations=2,
+          UseFixedPointsArray=1, FixedPointsArray=["POINTS", "fixed"],
+          UseSmoothingWeightsArray=1, SmoothingWeightsArray=["POINTS", "weight"])
+split_run(bunny, "bunny, order 1, area kept", 1e-2, move, Order=1, Invariant=3, TimeStep=2.0)
+
+# An open surface: its boundary fixed, no invariant.
+split_run(OpenDataFile(os.path.join(DATA, "mushroom.off")), "mushroom (open)", 1e-2, move)
+
+# A rank with an empty piece (fewer partitions than ranks).
+if ranks > 1:
+    split_run(bunny, "bunny on %d of %d ranks" % (ranks - 1, ranks), 1e-2, move, partitions=ranks - 1)
+
+
+# A NaN point (in whichever piece holds it): kept as it is, the rest smoothed as in serial.
+def with_nan(source):
+    f = ProgrammableFilter(Input=source)
+    f.Script = """
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+out = self.GetOutput()
+out.DeepCopy(self.GetInput())
+if out.GetNumberOfPoints():
+    p = vtk_to_numpy(out.GetPoints().GetData())
+    p[(p == np.array(%r)).all(axis=1)] = np.nan
+    out.GetPoints().Modified()
+""" % (points(whole_bunny)[1000].tolist(),)
+    return f
+
+
+split_run(bunny, "bunny with a NaN point", 1e-2, move, prepare=with_nan)
+print("distributed fairing test passed")
