@@ -96,6 +96,11 @@ def split_run(source, label, tolerance, relative, prepare=None, partitions=0, **
     return faired, result, reference, shared
 
 
+def iterations(polydata):
+    a = polydata.GetFieldData().GetArray("FairingIterations")
+    return [int(a.GetValue(k)) for k in range(a.GetNumberOfTuples())]
+
+
 def size(before, after):
     return np.abs(before).max()
 
@@ -122,6 +127,15 @@ check(abs(volume(reference) / volume(whole_bunny) - 1) < 1e-9, "serial volume ke
 # (The fetched pieces are the surface with its common points repeated: its volume is the surface's.)
 check(abs(volume(result) / volume(whole_bunny) - 1) < 1e-9,
       "distributed volume kept exactly (%.3g)" % (volume(result) / volume(whole_bunny) - 1))
+
+# Algebraic multigrid over the ranks (one BoomerAMG hierarchy spanning them):
+# the serial result and the serial iteration counts, an empty rank included.
+for partitions in ([0, ranks - 1] if ranks > 1 else [0]):
+    _, result, reference, _ = split_run(bunny, "bunny, multigrid, %d partitions" % (partitions or ranks), 1e-9, size,
+                                        partitions=partitions, Preconditioner=1, SolverTolerance=1e-10)
+    ours, theirs = iterations(result), iterations(reference)
+    check(len(ours) == len(theirs) and all(abs(a - b) <= 2 for a, b in zip(ours, theirs)),
+          "multigrid iterations over the ranks %s, serial %s" % (ours, theirs))
 
 # What each rank holds: its own points, the ghost points of the rings, its
 # triangles (field data FairingDistribution, one row per rank).

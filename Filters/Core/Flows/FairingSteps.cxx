@@ -280,7 +280,8 @@ ConjugateGradientResult SolvePolynomial(const Stage& st, const Powers& p, double
 /// One solve of the step system for p and dt, x (the positions) in place:
 /// order 1 by the graph solver, pure order 2 with unit weights by the
 /// complex-shift solver, anything else (or what they leave unconverged)
-/// matrix-free; distributed (st.Split), always matrix-free.
+/// matrix-free; distributed (st.Split), by the multigrid-preconditioned
+/// graph solvers where they apply, otherwise matrix-free.
 ConjugateGradientResult SolveStep(
   const Stage& st, const Powers& p, double dt, const StepSystem& sys, const FairingOptions& opt, double* x)
 {
@@ -299,7 +300,9 @@ ConjugateGradientResult SolveStep(
   sl.MaximumIterations = opt.MaximumSolverIterations;
   sl.NumberOfThreads = opt.NumberOfThreads;
   sl.Preconditioner = opt.Preconditioner;
-  if (Constrained(st) || st.Split)
+  sl.Split = st.Split;
+  const bool graph = p.Pure(1) || (p.Pure(2) && sys.UnitWeights);
+  if (Constrained(st) || (st.Split && !(graph && UsesMultigrid(sl))))
   {
     return SolvePolynomial(st, p, dt, sys, opt, b, x);
   }

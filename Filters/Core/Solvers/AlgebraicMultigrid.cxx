@@ -1,5 +1,7 @@
 #include "Solvers/AlgebraicMultigrid.h"
 
+#include "Solvers/Partition.h"
+
 #include <mpi.h>
 
 #include <HYPRE.h>
@@ -77,6 +79,7 @@ double* VectorData(HYPRE_IJVector v)
 struct AlgebraicMultigrid::Hierarchy
 {
   Index Rows = 0;
+  std::vector<Index> Owned; ///< distributed: the local rows this process owns, in global order
   HYPRE_IJMatrix Matrix = nullptr;
   HYPRE_IJVector B = nullptr, X = nullptr;
   HYPRE_Solver Solver = nullptr;
@@ -110,20 +113,33 @@ struct AlgebraicMultigrid::Hierarchy
 namespace
 {
 
-/// The IJ matrix of D + t K on the free rows, identity rows elsewhere; rows
-/// are assembled in blocks to bound the staging memory.
-HYPRE_IJMatrix AssembleMatrix(Index n, const std::int64_t* offsets, const Index* neighbors,
-  const double* weights, const double* diagonal, const double* shift, double factor,
+/// Where the hierarchy lives: this process alone, or the processes of a
+/// Partition (its owned rows, numbered globally).
+struct Layout
+{
+  MPI_Comm Comm = MPI_COMM_SELF;
+  std::int64_t First = 0;
+  const Partition* Split = nullptr;
+  std::int64_t Global(Index i) const { return Split ? Split->GlobalRow(i) : i; }
+};
+
+/// The IJ matrix of D + t K on the free rows (`owned`: the local rows of
+/// this process), identity rows elsewhere; rows are assembled in blocks to
+/// bound the staging memory.
+HYPRE_IJMatrix AssembleMatrix(const Layout& at, const std::vector<Index>& owned, const std::int64_t* offsets,
+  const Index* neighbors, const double* weights, const double* diagonal, const double* shift, double factor,
   const std::uint8_t* fixed)
 {
   const auto isFree = [&](Index i) { return !fixed || !fixed[i]; };
+  const Index n = static_cast<Index>(owned.size());
   HYPRE_IJMatrix m = nullptr;
-  HYPRE_IJMatrixCreate(MPI_COMM_SELF, 0, n - 1, 0, n - 1, &m);
+  HYPRE_IJMatrixCreate(at.Comm, at.First, at.First + n - 1, at.First, at.First + n - 1, &m);
   HYPRE_IJMatrixSetObjectType(m, HYPRE_PARCSR);
   std::vector<HYPRE_Int> sizes(static_cast<std::size_t>(n));
-  for (Index i = 0; i < n; ++i)
+  for (Index k = 0; k < n; ++k)
   {
-    sizes[i] = isFree(i) ? static_cast<HYPRE_Int>(offsets[i + 1] - offsets[i] + 1) : 1;
+    const Index i = owned[k];
+    sizes[k] = isFree(i) ? static_cast<HYPRE_Int>(offsets[i + 1] - offsets[i] + 1) : 1;
   }
   HYPRE_IJMatrixSetRowSizes(m, sizes.data());
   HYPRE_IJMatrixInitialize(m);
@@ -137,10 +153,11 @@ HYPRE_IJMatrix AssembleMatrix(Index n, const std::int64_t* offsets, const Index*
     cols.clear();
     counts.clear();
     values.clear();
-    for (Index i = first; i < std::min<Index>(n, first + block); ++i)
+    for (Index k = first; k < std::min<Index>(n, first + block); ++k)
     {
-      rows.push_back(i);
-      cols.push_back(i);
+      const Index i = owned[k];
+      rows.push_back(at.Global(i));
+      cols.push_back(at.Global(i));
       const bool free = isFree(i);
       values.push_back(free ? (shift ? shift[i] : 0.0) + factor * diagonal[i] : 1.0);
       HYPRE_Int count = 1;
@@ -148,7 +165,7 @@ HYPRE_IJMatrix AssembleMatrix(Index n, const std::int64_t* offsets, const Index*
       {
         if (isFree(neighbors[k]))
         {
-          cols.push_back(neighbors[k]);
+          cols.push_back(at.Global(neighbors[k]));
           values.push_back(-factor * weights[k]);
           ++count;
         }
@@ -162,10 +179,10 @@ HYPRE_IJMatrix AssembleMatrix(Index n, const std::int64_t* offsets, const Index*
   return m;
 }
 
-HYPRE_IJVector MakeVector(Index n)
+HYPRE_IJVector MakeVector(const Layout& at, Index n)
 {
   HYPRE_IJVector v = nullptr;
-  HYPRE_IJVectorCreate(MPI_COMM_SELF, 0, n - 1, &v);
+  HYPRE_IJVectorCreate(at.Comm, at.First, at.First + n - 1, &v);
   HYPRE_IJVectorSetObjectType(v, HYPRE_PARCSR);
   HYPRE_IJVectorInitialize(v);
   HYPRE_IJVectorAssemble(v);
@@ -176,19 +193,34 @@ HYPRE_IJVector MakeVector(Index n)
 
 AlgebraicMultigrid::AlgebraicMultigrid(Index rows, const std::int64_t* offsets, const Index* neighbors,
   const double* weights, const double* diagonal, const double* shift, double factor,
-  const std::uint8_t* fixed)
+  const std::uint8_t* fixed, const Partition* split)
   : H(std::make_unique<Hierarchy>())
 {
-  if (rows <= 0 || !offsets || !neighbors || !weights || !diagonal)
+  if ((rows <= 0 && !split) || (rows > 0 && (!offsets || !neighbors || !weights || !diagonal)))
   {
     throw std::invalid_argument("AlgebraicMultigrid: inconsistent problem");
   }
   EnsureRuntime();
   std::lock_guard<std::mutex> lock(HypreMutex());
   H->Rows = rows;
-  H->Matrix = AssembleMatrix(rows, offsets, neighbors, weights, diagonal, shift, factor, fixed);
-  H->B = MakeVector(rows);
-  H->X = MakeVector(rows);
+  Layout at;
+  at.Split = split;
+  if (split)
+  {
+    at.Comm = *static_cast<const MPI_Comm*>(split->Communicator());
+    at.First = split->FirstRow();
+  }
+  for (Index i = 0; i < rows; ++i)
+  {
+    if (!split || split->IsOwned(i))
+    {
+      H->Owned.push_back(i);
+    }
+  }
+  const Index owned = static_cast<Index>(H->Owned.size());
+  H->Matrix = AssembleMatrix(at, H->Owned, offsets, neighbors, weights, diagonal, shift, factor, fixed);
+  H->B = MakeVector(at, owned);
+  H->X = MakeVector(at, owned);
   HYPRE_BoomerAMGCreate(&H->Solver);
   HYPRE_BoomerAMGSetPrintLevel(H->Solver, 0);
   HYPRE_BoomerAMGSetMaxIter(H->Solver, 1); // one cycle per application
@@ -222,20 +254,25 @@ AlgebraicMultigrid::~AlgebraicMultigrid()
 void AlgebraicMultigrid::Apply(const double* r, double* z, int columns) const
 {
   std::lock_guard<std::mutex> lock(HypreMutex());
-  const Index n = H->Rows;
+  const std::vector<Index>& owned = H->Owned;
+  const Index n = static_cast<Index>(owned.size());
   double* b = VectorData(H->B);
   double* x = VectorData(H->X);
+  if (n < H->Rows)
+  {
+    std::fill(z, z + static_cast<std::int64_t>(H->Rows) * columns, 0.0); // the ghost rows
+  }
   for (int c = 0; c < columns; ++c)
   {
-    for (Index i = 0; i < n; ++i)
+    for (Index k = 0; k < n; ++k)
     {
-      b[i] = r[static_cast<std::int64_t>(i) * columns + c];
-      x[i] = 0.0;
+      b[k] = r[static_cast<std::int64_t>(owned[k]) * columns + c];
+      x[k] = 0.0;
     }
     HYPRE_BoomerAMGSolve(H->Solver, H->ParMatrix(), VectorObject(H->B), VectorObject(H->X));
-    for (Index i = 0; i < n; ++i)
+    for (Index k = 0; k < n; ++k)
     {
-      z[static_cast<std::int64_t>(i) * columns + c] = x[i];
+      z[static_cast<std::int64_t>(owned[k]) * columns + c] = x[k];
     }
   }
 }

@@ -20,7 +20,9 @@
 // hypre runs over MPI: on a process where MPI is not initialised (plain
 // Python, the GUI's builtin server) the first multigrid set-up initialises it
 // (as a singleton, about half a second) and finalises it at exit.  The
-// hierarchy lives on MPI_COMM_SELF: each process solves its own systems.
+// hierarchy lives on MPI_COMM_SELF (each process solves its own systems),
+// or on the processes of a Partition (a distributed solve: each process
+// assembles its owned rows, and hypre's ParCSR matrices span them all).
 #pragma once
 
 #include "Support/Parallel.h"
@@ -30,6 +32,8 @@
 
 namespace beltrami
 {
+
+class Partition;
 
 /// The preconditioner of the graph solvers (ShiftedLaplacianProblem).
 enum class Preconditioning
@@ -45,9 +49,13 @@ public:
   /// (K_ii = diagonal[i], K_ij = -weights[k]), D = shift (nullptr: 0),
   /// t = factor; rows marked in `fixed` (optional) are identity rows, and
   /// the couplings to them are left out (the system on the free rows).
+  /// With `split` (collective over its processes): the rows this process
+  /// owns, coupled to the other processes' through the ghost rows (whose
+  /// `fixed` must be their owners'); Apply then sets the owned rows of z and
+  /// zeroes the ghost rows.
   AlgebraicMultigrid(Index rows, const std::int64_t* offsets, const Index* neighbors,
     const double* weights, const double* diagonal, const double* shift, double factor,
-    const std::uint8_t* fixed);
+    const std::uint8_t* fixed, const Partition* split = nullptr);
   ~AlgebraicMultigrid();
   AlgebraicMultigrid(const AlgebraicMultigrid&) = delete;
   AlgebraicMultigrid& operator=(const AlgebraicMultigrid&) = delete;

@@ -1,5 +1,6 @@
 #include "Solvers/GraphSolvers.h"
 
+#include "Solvers/Partition.h"
 #include "Solvers/SparseGraph.h"
 #include "Support/LargeBuffer.h"
 
@@ -601,6 +602,10 @@ std::vector<std::uint8_t> HeldRows(const ShiftedLaplacianProblem& pb, bool squar
     const double d = (pb.Shift ? pb.Shift[i] : 0.0) + pb.Factor * pb.Diagonal[i];
     held[i] = (pb.Fixed && pb.Fixed[i]) || !(d > 0.0) || !std::isfinite(d) || (squared && !(pb.Shift[i] > 0.0));
   }
+  if (pb.Split)
+  {
+    pb.Split->UpdateGhosts(held); // a ghost's diagonal is not all here
+  }
   return held;
 }
 
@@ -616,6 +621,7 @@ ConjugateGradientProblem MultigridProblem(const ShiftedLaplacianProblem& pb, con
   cg.Tolerance = pb.Tolerance;
   cg.MaximumIterations = pb.MaximumIterations;
   cg.NumberOfThreads = pb.NumberOfThreads;
+  cg.Split = pb.Split;
   return cg;
 }
 
@@ -636,7 +642,7 @@ ConjugateGradientResult SolveShiftedMultigrid(const ShiftedLaplacianProblem& pb,
 {
   const std::vector<std::uint8_t> held = HeldRows(pb, false);
   const AlgebraicMultigrid amg(
-    pb.Rows, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, pb.Shift, pb.Factor, held.data());
+    pb.Rows, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, pb.Shift, pb.Factor, held.data(), pb.Split);
   ConjugateGradientProblem cg = MultigridProblem(pb, held);
   cg.Apply = [&](const double* in, double* out) { ShiftedProduct(pb, pb.Factor, in, out); };
   cg.Preconditioner = [&](const double* r, double* z) { amg.Apply(r, z, pb.Columns); };
@@ -647,7 +653,8 @@ ConjugateGradientResult SolveSquaredMultigrid(const ShiftedLaplacianProblem& pb,
 {
   const std::vector<std::uint8_t> held = HeldRows(pb, true);
   const double a = std::sqrt(pb.Factor);
-  const AlgebraicMultigrid amg(pb.Rows, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, pb.Shift, a, held.data());
+  const AlgebraicMultigrid amg(
+    pb.Rows, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, pb.Shift, a, held.data(), pb.Split);
   const int nc = pb.Columns;
   const std::int64_t size = static_cast<std::int64_t>(pb.Rows) * nc;
   LargeVector<double> kx(size), tmp(size);
@@ -667,6 +674,10 @@ ConjugateGradientResult SolveSquaredMultigrid(const ShiftedLaplacianProblem& pb,
         kx[k] = held[k / nc] ? 0.0 : kx[k] / pb.Shift[k / nc];
       }
     });
+    if (pb.Split)
+    {
+      pb.Split->UpdateGhosts(kx.data(), nc); // the ghosts' rows of K x are not all here
+    }
     ApplyGraphStiffness(pb.Rows, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, kx.data(), out, nc, pb.NumberOfThreads);
     ParallelFor(size, pb.NumberOfThreads, [&](std::int64_t s, std::int64_t e) {
       for (std::int64_t k = s; k < e; ++k)
@@ -699,12 +710,16 @@ bool UsesMultigrid(const ShiftedLaplacianProblem& pb)
 ConjugateGradientResult SolveSquaredLaplacian(const ShiftedLaplacianProblem& pb, const double* b, double* x)
 {
   const int nc = pb.Columns;
-  if (nc < 1 || nc > 4 || static_cast<int>(pb.Scale.size()) != nc || !pb.Offsets || !pb.Neighbors ||
-    !pb.Weights || !pb.Diagonal || !pb.Shift || !(pb.Factor >= 0.0))
+  if (nc < 1 || nc > 4 || static_cast<int>(pb.Scale.size()) != nc || !(pb.Factor >= 0.0) ||
+    (pb.Rows > 0 && (!pb.Offsets || !pb.Neighbors || !pb.Weights || !pb.Diagonal || !pb.Shift)))
   {
     throw std::invalid_argument("SolveSquaredLaplacian: inconsistent problem");
   }
-  if (pb.Rows <= 0)
+  if (pb.Split && !UsesMultigrid(pb))
+  {
+    throw std::invalid_argument("SolveSquaredLaplacian: a distributed solve needs the multigrid preconditioner");
+  }
+  if (pb.Rows <= 0 && !pb.Split)
   {
     ConjugateGradientResult none;
     none.Converged = true;
@@ -721,12 +736,16 @@ ConjugateGradientResult SolveShiftedLaplacian(
   const ShiftedLaplacianProblem& pb, const double* b, double* x)
 {
   const int nc = pb.Columns;
-  if (nc < 1 || nc > 8 || static_cast<int>(pb.Scale.size()) != nc || !pb.Offsets || !pb.Neighbors ||
-    !pb.Weights || !pb.Diagonal)
+  if (nc < 1 || nc > 8 || static_cast<int>(pb.Scale.size()) != nc ||
+    (pb.Rows > 0 && (!pb.Offsets || !pb.Neighbors || !pb.Weights || !pb.Diagonal)))
   {
     throw std::invalid_argument("SolveShiftedLaplacian: inconsistent problem");
   }
-  if (pb.Rows <= 0)
+  if (pb.Split && !UsesMultigrid(pb))
+  {
+    throw std::invalid_argument("SolveShiftedLaplacian: a distributed solve needs the multigrid preconditioner");
+  }
+  if (pb.Rows <= 0 && !pb.Split)
   {
     ConjugateGradientResult none;
     none.Converged = true;

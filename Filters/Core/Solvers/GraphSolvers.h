@@ -45,6 +45,11 @@ struct ShiftedLaplacianProblem
   int MaximumIterations = 1000;
   int NumberOfThreads = 0;
   Preconditioning Preconditioner = Preconditioning::Jacobi;
+  /// Optional: the rows split over processes (a collective solve, see
+  /// ConjugateGradientProblem::Split); multigrid only, the hierarchy
+  /// spanning the processes (the Jacobi solvers' renumbering is per process:
+  /// distributed Jacobi solves take SolveConjugateGradient).
+  const Partition* Split = nullptr;
 };
 
 /// Whether the graph solvers precondition `problem` by multigrid.
