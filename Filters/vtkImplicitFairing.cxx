@@ -322,6 +322,7 @@ void vtkImplicitFairing::WriteOutput(
     rows->InsertNextValue(split->OwnedRows());
     rows->InsertNextValue(split->Rows() - split->OwnedRows());
     rows->InsertNextValue(surface.Topology().NumberOfTriangles());
+    rows->InsertNextValue(split->SentPerUpdate());
     fd->AddArray(rows);
   }
   output->SetFieldData(fd);

@@ -35,6 +35,10 @@
  *    clean mesh's step of any size where Jacobi needs 70-500, but each
  *    costs about 25 of ours and its set-up more: on 2 cores Jacobi is the
  *    faster up to the 1.2M triangles measured (README, Fairing speed).
+ *    Distributed, both run over the ranks with the serial iteration counts
+ *    (the multigrid hierarchy spans the ranks; the order-2 Jacobi solve is
+ *    the same complex-shift COCG; order-1 Jacobi solves are in double
+ *    precision, without the serial renumbering).
  *  - OperatorMollification (default 1; 0: off): the operator of each step is
  *    evaluated on a mollified copy of the points - each moved by the normal
  *    part of one implicit umbrella step of this (dimensionless) time -
@@ -97,11 +101,13 @@
  * piece per rank, without ghost cells, e.g. after RedistributeDataSet) are
  * smoothed in place: the ranks exchange the triangles around their pieces'
  * common points, each rank assembles the rows of the points it owns, and
- * every solve is one conjugate gradient over all ranks (Jacobi-
- * preconditioned), the invariants global sums; no rank holds more than its
+ * every solve is one conjugate gradient over all ranks (the serial
+ * solvers, see Preconditioner), the invariants global sums; no rank holds more than its
  * piece and the ring around it, and the results are the serial ones to the
  * solver tolerance.  Field data FairingDistribution on each rank: the
- * points it owns, the ghost points it holds, the triangles it holds.
+ * points it owns, the ghost points it holds, the triangles it holds, and
+ * the points whose values it sends to other ranks per ghost update (two
+ * updates of 3 values per point in each Jacobi iteration of an order-2 solve).
  * Options the distributed run does not cover (explicit and Taubin
  * integration, anisotropy, the sampling regularisation, boundaries other
  * than fixed, height-field and revolution volumes, axis and plane

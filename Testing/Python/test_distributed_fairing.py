@@ -10,6 +10,7 @@ default tolerance; fixed points and smoothing weights; order 1 with the
 area invariant; an open surface (boundary fixed); a rank with an empty piece;
 a NaN point in one piece; and the counts each rank reports: with 4 ranks no
 rank holds more than a third of the points or triangles."""
+import builtins  # (ParaView's programmable filters put numpy_interface's all, max, sum... in __main__)
 import os
 import sys
 
@@ -101,40 +102,69 @@ def iterations(polydata):
     return [int(a.GetValue(k)) for k in range(a.GetNumberOfTuples())]
 
 
-def size(before, after):
+def extent_of(before, after):
     return np.abs(before).max()
 
 
-def move(before, after):
+def move_of(before, after):
     return np.abs(after - before).max()
 
 
 # The default step at a tight tolerance: the serial numbers up to round-off
 # of the solves; at the default tolerance within 1% of the move.
-faired, result, reference, shared = split_run(bunny, "bunny, defaults, tolerance 1e-10", 1e-9, size,
+faired, result, reference, shared = split_run(bunny, "bunny, defaults, tolerance 1e-10", 1e-9, extent_of,
                                                SolverTolerance=1e-10)
 check(ranks < 3 or shared > 0, "bunny: points where three pieces meet")
-split_run(bunny, "bunny, defaults", 1e-2, move)
+split_run(bunny, "bunny, defaults", 1e-2, move_of)
 
 
-def volume(polydata):
+# A noisy scan (0.3% of the diagonal along the normals): points of tiny area
+# make the order-2 system ill-conditioned; a solver that meets the residual
+# tolerance can still leave them off by more than the noise (a plain CG on
+# the order-2 operator did: 5e-3 of the diagonal here). The distributed
+# complex-shift solve must stay as close as the serial one (3.8e-6).
+def noisy_scan(source):
+    f = ProgrammableFilter(Input=source)
+    f.Script = """
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+out = self.GetOutput()
+out.DeepCopy(self.GetInput())
+if out.GetNumberOfPoints():
+    p = vtk_to_numpy(out.GetPoints().GetData())
+    # The noise of each point from its coordinates, the same on every rank and in the serial run.
+    h = np.sin(p @ np.array([12.9898e3, 78.233e3, 37.719e3])) * 43758.5453
+    p += (0.003 * %r) * (2.0 * (h - np.floor(h)) - 1.0)[:, None] * np.array([0.577, 0.577, 0.577])
+    out.GetPoints().Modified()
+""" % (float(np.linalg.norm(points(whole_bunny).max(0) - points(whole_bunny).min(0))),)
+    return f
+
+
+def diagonal_of(before, after):
+    return np.linalg.norm(before.max(0) - before.min(0))
+
+
+split_run(bunny, "noisy bunny, defaults", 1e-4, diagonal_of, prepare=noisy_scan)
+
+
+def enclosed_volume(polydata):
     p = points(polydata)
     t = vtk_to_numpy(polydata.GetPolys().GetConnectivityArray()).reshape(-1, 3)
     return float(np.sum(np.einsum("ij,ij->i", p[t[:, 0]], np.cross(p[t[:, 1]], p[t[:, 2]])))) / 6
 
 
-check(abs(volume(reference) / volume(whole_bunny) - 1) < 1e-9, "serial volume kept")
+check(abs(enclosed_volume(reference) / enclosed_volume(whole_bunny) - 1) < 1e-9, "serial volume kept")
 # (The fetched pieces are the surface with its common points repeated: its volume is the surface's.)
-check(abs(volume(result) / volume(whole_bunny) - 1) < 1e-9,
-      "distributed volume kept exactly (%.3g)" % (volume(result) / volume(whole_bunny) - 1))
+check(abs(enclosed_volume(result) / enclosed_volume(whole_bunny) - 1) < 1e-9,
+      "distributed volume kept exactly (%.3g)" % (enclosed_volume(result) / enclosed_volume(whole_bunny) - 1))
 
 # Algebraic multigrid over the ranks (one BoomerAMG hierarchy spanning them):
 # the serial result and the serial iteration counts, an empty rank included.
 for partitions in ([0, ranks - 1] if ranks > 1 else [0]):
-    _, result, reference, _ = split_run(bunny, "bunny, multigrid, %d partitions" % (partitions or ranks), 1e-9, size,
+    _, result, reference, _ = split_run(bunny, "bunny, multigrid, %d partitions" % (partitions or ranks), 1e-9, extent_of,
                                         partitions=partitions, Preconditioner=1, SolverTolerance=1e-10)
     ours, theirs = iterations(result), iterations(reference)
-    check(len(ours) == len(theirs) and all(abs(a - b) <= 2 for a, b in zip(ours, theirs)),
+    check(len(ours) == len(theirs) and builtins.all(builtins.abs(a - b) <= 2 for a, b in zip(ours, theirs)),
           "multigrid iterations over the ranks %s, serial %s" % (ours, theirs))
 
 # What each rank holds: its own points, the ghost points of the rings, its
@@ -184,17 +214,17 @@ if out.GetNumberOfPoints():
     return f
 
 
-split_run(bunny, "bunny with fixed points and weights", 1e-2, move, prepare=with_masks, NumberOfIterations=2,
+split_run(bunny, "bunny with fixed points and weights", 1e-2, move_of, prepare=with_masks, NumberOfIterations=2,
           UseFixedPointsArray=1, FixedPointsArray=["POINTS", "fixed"],
           UseSmoothingWeightsArray=1, SmoothingWeightsArray=["POINTS", "weight"])
-split_run(bunny, "bunny, order 1, area kept", 1e-2, move, Order=1, Invariant=3, TimeStep=2.0)
+split_run(bunny, "bunny, order 1, area kept", 1e-2, move_of, Order=1, Invariant=3, TimeStep=2.0)
 
 # An open surface: its boundary fixed, no invariant.
-split_run(OpenDataFile(os.path.join(DATA, "mushroom.off")), "mushroom (open)", 1e-2, move)
+split_run(OpenDataFile(os.path.join(DATA, "mushroom.off")), "mushroom (open)", 1e-2, move_of)
 
 # A rank with an empty piece (fewer partitions than ranks).
 if ranks > 1:
-    split_run(bunny, "bunny on %d of %d ranks" % (ranks - 1, ranks), 1e-2, move, partitions=ranks - 1)
+    split_run(bunny, "bunny on %d of %d ranks" % (ranks - 1, ranks), 1e-2, move_of, partitions=ranks - 1)
 
 
 # A NaN point (in whichever piece holds it): kept as it is, the rest smoothed as in serial.
@@ -213,5 +243,5 @@ if out.GetNumberOfPoints():
     return f
 
 
-split_run(bunny, "bunny with a NaN point", 1e-2, move, prepare=with_nan)
+split_run(bunny, "bunny with a NaN point", 1e-2, move_of, prepare=with_nan)
 print("distributed fairing test passed")

@@ -179,10 +179,11 @@ struct FairingReport
 /// this process' piece with the whole star of every point it owns (the
 /// other points are ghosts, and may miss triangles), and the constraint
 /// arrays cover the piece's points.  Each process assembles the rows of its
-/// own points; every solve is one conjugate gradient over all processes
-/// (Jacobi-preconditioned, matrix-free: the serial graph solvers' renumbering
-/// and complex shift are per process), the measures and invariants are sums
-/// over the processes, and the ghosts' results are their owners'.  The owned
+/// own points; every solve is one conjugate gradient over all processes (the
+/// serial solvers: order 2 by the complex-shift COCG or multigrid, order 1
+/// by multigrid or matrix-free in double precision, the rest matrix-free),
+/// the measures and invariants are sums over the processes, and the ghosts'
+/// results are their owners'.  The owned
 /// points' results equal a serial run's to the solver tolerance.  Not
 /// every option is distributed: see DistributedFairingLimitation.
 FairingReport FairSurface(const MeshTopology& topology, double* points,

@@ -280,8 +280,8 @@ ConjugateGradientResult SolvePolynomial(const Stage& st, const Powers& p, double
 /// One solve of the step system for p and dt, x (the positions) in place:
 /// order 1 by the graph solver, pure order 2 with unit weights by the
 /// complex-shift solver, anything else (or what they leave unconverged)
-/// matrix-free; distributed (st.Split), by the multigrid-preconditioned
-/// graph solvers where they apply, otherwise matrix-free.
+/// matrix-free; distributed (st.Split) the same, except order 1 with Jacobi
+/// (matrix-free: the graph solver's renumbering is per process).
 ConjugateGradientResult SolveStep(
   const Stage& st, const Powers& p, double dt, const StepSystem& sys, const FairingOptions& opt, double* x)
 {
@@ -301,8 +301,7 @@ ConjugateGradientResult SolveStep(
   sl.NumberOfThreads = opt.NumberOfThreads;
   sl.Preconditioner = opt.Preconditioner;
   sl.Split = st.Split;
-  const bool graph = p.Pure(1) || (p.Pure(2) && sys.UnitWeights);
-  if (Constrained(st) || (st.Split && !(graph && UsesMultigrid(sl))))
+  if (Constrained(st) || (st.Split && p.Pure(1) && !UsesMultigrid(sl)))
   {
     return SolvePolynomial(st, p, dt, sys, opt, b, x);
   }

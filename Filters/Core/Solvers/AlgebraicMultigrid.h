@@ -1,7 +1,8 @@
 // Beltrami core: algebraic multigrid (hypre's BoomerAMG) as the
 // preconditioner of the conjugate gradients on the shifted graph Laplacians
 // D + t K (the implicit steps of fairing and of the graph flows, harmonic
-// extensions).  The only file that sees hypre.
+// extensions).  The only file that sees hypre (with Partition.cxx, the
+// only ones that see MPI).
 //
 // Where it pays: its iteration counts do not depend on the conditioning of
 // a clean mesh's system (4 iterations for one implicit curvature-flow step

@@ -390,24 +390,45 @@ public:
   }
 
 private:
-  bool IsFree(std::int64_t i) const { return !Pb.Fixed || !Pb.Fixed[i]; }
+  /// Distributed (Pb.Split): only the owned rows are unknowns; the ghost
+  /// rows of an operand are refreshed before each product, sums are summed
+  /// over the processes.
+  bool IsFree(std::int64_t i) const { return IsHeld(i) ? false : !Pb.Split || Pb.Split->IsOwned(static_cast<Index>(i)); }
+  bool IsHeld(std::int64_t i) const { return Pb.Fixed && Pb.Fixed[i]; }
+  std::vector<double> Total(std::vector<double> sums) const
+  {
+    if (Pb.Split)
+    {
+      Pb.Split->Sum(sums.data(), static_cast<int>(sums.size()));
+    }
+    return sums;
+  }
+  void Refresh(double* v, int columns) const
+  {
+    if (Pb.Split)
+    {
+      Pb.Split->UpdateGhosts(v, columns);
+    }
+  }
 
   /// Res = b - A x on the free rows; returns the column norms.
   std::vector<double> RealResidual()
   {
+    Refresh(Xout, NC);
     StiffnessProduct<NC>(Pb, Xout, KX.data());
     ParallelForStatic(N, Threads, [&](std::int64_t s, std::int64_t e) {
       for (std::int64_t i = s; i < e; ++i)
       {
-        const double f = IsFree(i) ? 1.0 / Pb.Shift[i] : 0.0;
+        const double f = IsHeld(i) ? 0.0 : 1.0 / Pb.Shift[i];
         for (int c = 0; c < NC; ++c)
         {
           NKX[i * NC + c] = f * KX[i * NC + c];
         }
       }
     });
+    Refresh(NKX.data(), NC); // the ghosts' rows of K x are not all here
     StiffnessProduct<NC>(Pb, NKX.data(), KX.data());
-    return ParallelSum(N, NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+    return Total(ParallelSum(N, NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
       for (std::int64_t i = s; i < e; ++i)
       {
         const bool f = IsFree(i);
@@ -418,7 +439,7 @@ private:
           acc[c] += Res[k] * Res[k];
         }
       }
-    });
+    }));
   }
 
   /// Whether every column is below its threshold (Result.Converged) and the
@@ -450,7 +471,7 @@ private:
   void Start()
   {
     X0.assign(Xout, Xout + Size);
-    const std::vector<double> sums = ParallelSum(N, 3 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+    const std::vector<double> sums = Total(ParallelSum(N, 3 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
       for (std::int64_t i = s; i < e; ++i)
       {
         for (int c = 0; c < NC; ++c)
@@ -467,7 +488,7 @@ private:
           acc[2 * NC + c] += r * r;
         }
       }
-    });
+    }));
     for (int c = 0; c < NC; ++c)
     {
       Rho[c] = Complex(sums[2 * c], sums[2 * c + 1]);
@@ -478,8 +499,9 @@ private:
   /// q = D p + i a K p (into KP) and alpha = rho / p^T q.
   void ApplyOperator(Complex* alpha)
   {
+    Refresh(P.data(), W);
     StiffnessProduct<W>(Pb, P.data(), KP.data());
-    const std::vector<double> pq = ParallelSum(N, 2 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+    const std::vector<double> pq = Total(ParallelSum(N, 2 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
       for (std::int64_t i = s; i < e; ++i)
       {
         const bool f = IsFree(i);
@@ -491,11 +513,11 @@ private:
           KP[re] = q.real();
           KP[im] = q.imag();
           const Complex product = Times(p, q);
-          acc[2 * c] += product.real();
-          acc[2 * c + 1] += product.imag();
+          acc[2 * c] += f ? product.real() : 0.0;
+          acc[2 * c + 1] += f ? product.imag() : 0.0;
         }
       }
-    });
+    }));
     for (int c = 0; c < NC; ++c)
     {
       const Complex d(pq[2 * c], pq[2 * c + 1]);
@@ -507,7 +529,7 @@ private:
   /// every column's complex residual reached `target` of its start.
   bool Advance(const Complex* alpha, Complex* beta, double target)
   {
-    const std::vector<double> sums = ParallelSum(N, 3 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+    const std::vector<double> sums = Total(ParallelSum(N, 3 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
       for (std::int64_t i = s; i < e; ++i)
       {
         for (int c = 0; c < NC; ++c)
@@ -523,12 +545,13 @@ private:
           Z[re] = z.real();
           Z[im] = z.imag();
           const Complex rz = Times(r, z);
-          acc[2 * c] += rz.real();
-          acc[2 * c + 1] += rz.imag();
-          acc[2 * NC + c] += std::norm(r);
+          const bool f = IsFree(i);
+          acc[2 * c] += f ? rz.real() : 0.0;
+          acc[2 * c + 1] += f ? rz.imag() : 0.0;
+          acc[2 * NC + c] += f ? std::norm(r) : 0.0;
         }
       }
-    });
+    }));
     ++Result.Iterations;
     bool reached = true;
     for (int c = 0; c < NC; ++c)
@@ -714,10 +737,6 @@ ConjugateGradientResult SolveSquaredLaplacian(const ShiftedLaplacianProblem& pb,
     (pb.Rows > 0 && (!pb.Offsets || !pb.Neighbors || !pb.Weights || !pb.Diagonal || !pb.Shift)))
   {
     throw std::invalid_argument("SolveSquaredLaplacian: inconsistent problem");
-  }
-  if (pb.Split && !UsesMultigrid(pb))
-  {
-    throw std::invalid_argument("SolveSquaredLaplacian: a distributed solve needs the multigrid preconditioner");
   }
   if (pb.Rows <= 0 && !pb.Split)
   {

@@ -46,9 +46,11 @@ struct ShiftedLaplacianProblem
   int NumberOfThreads = 0;
   Preconditioning Preconditioner = Preconditioning::Jacobi;
   /// Optional: the rows split over processes (a collective solve, see
-  /// ConjugateGradientProblem::Split); multigrid only, the hierarchy
-  /// spanning the processes (the Jacobi solvers' renumbering is per process:
-  /// distributed Jacobi solves take SolveConjugateGradient).
+  /// ConjugateGradientProblem::Split): multigrid with the hierarchy spanning
+  /// the processes, or for SolveSquaredLaplacian also the Jacobi COCG.
+  /// SolveShiftedLaplacian's Jacobi solver renumbers its rows per process:
+  /// there a Split needs multigrid (distributed order-1 Jacobi solves take
+  /// SolveConjugateGradient, the same iteration in double precision).
   const Partition* Split = nullptr;
 };
 

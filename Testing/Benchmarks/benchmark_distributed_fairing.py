@@ -1,0 +1,121 @@
+"""Benchmark (on demand): vtkImplicitFairing's default step on the noisy
+1.2M-triangle bunny (bunny00 Loop-subdivided twice, Gaussian noise of 0.3%
+and of 0.075% of the diagonal along the normals) split over 1, 2 and 4 ranks
+of pvbatch (RedistributeDataSet), with the Jacobi preconditioner and (on the
+lighter noise only: on the heavier one a serial multigrid step takes over 10
+minutes, see the README) the multigrid one:
+wall time of the filter, solver iterations, the largest share of points and
+triangles a rank holds, and the values each rank sends per ghost update.
+One thread per rank, so 2 ranks use the 2 cores of the CI machines and 4
+ranks are oversubscribed (2 per core): read the 4-rank times as such.  The
+1-rank run is the serial code path (the data are whole on one rank).
+Run:  source build/beltrami-env.sh && /usr/bin/python3 Testing/Benchmarks/benchmark_distributed_fairing.py
+(it starts `mpirun ... pvbatch` itself; a worker prints one JSON line per case)."""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.abspath(__file__)
+NOISES = {0.003: (("Jacobi", 0),), 0.00075: (("Jacobi", 0), ("multigrid", 1))}
+
+
+def worker(mesh_file, noise):
+    from paraview.simple import LoadPlugin, XMLPolyDataReader, RedistributeDataSet, ExtractSurface, \
+        ProgrammableFilter
+    from paraview import servermanager
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    LoadPlugin(os.environ["BELTRAMI_PLUGIN"], ns=globals())
+    ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
+    source = XMLPolyDataReader(FileName=[mesh_file])
+    split = ExtractSurface(Input=RedistributeDataSet(Input=source)) if ranks > 1 else source
+    split.UpdatePipeline()
+    for name, preconditioner in NOISES[noise]:
+        faired = ImplicitFairing(Input=split, NumberOfThreads=1, Preconditioner=preconditioner)  # noqa: F821
+        start = time.perf_counter()
+        faired.UpdatePipeline()
+        seconds = time.perf_counter() - start
+        counts = ProgrammableFilter(Input=faired, OutputDataSetType="vtkPolyData")
+        counts.Script = """
+from vtkmodules.vtkCommonCore import vtkIdTypeArray, vtkPoints
+d = self.GetInput().GetFieldData().GetArray("FairingDistribution")
+i = self.GetInput().GetFieldData().GetArray("FairingIterations")
+out = self.GetOutput()
+p = vtkPoints()
+p.InsertNextPoint(0.0, 0.0, 0.0)
+out.SetPoints(p)
+values = [d.GetValue(k) for k in range(4)] if d else [self.GetInput().GetNumberOfPoints(), 0,
+          self.GetInput().GetNumberOfCells(), 0]
+for k, name in enumerate(("Owned", "Ghosts", "Triangles", "Sent")):
+    a = vtkIdTypeArray()
+    a.SetName(name)
+    a.InsertNextValue(values[k])
+    out.GetPointData().AddArray(a)
+a = vtkIdTypeArray()
+a.SetName("Iterations")
+total = 0  # (not sum(): the programmable filter's namespace has numpy_interface's)
+for k in range(i.GetNumberOfTuples() if i else 0):
+    total += i.GetValue(k)
+a.InsertNextValue(total)
+out.GetPointData().AddArray(a)
+"""
+        pd = servermanager.Fetch(counts).GetPointData()
+        column = {n: vtk_to_numpy(pd.GetArray(n)).tolist() for n in ("Owned", "Ghosts", "Triangles", "Sent",
+                                                                     "Iterations")}
+        print("RESULT " + json.dumps(dict(ranks=ranks, case=name, noise=noise, seconds=seconds, **column)),
+              flush=True)
+
+
+def driver():
+    import numpy as np
+    from vtkmodules.vtkFiltersModeling import vtkLoopSubdivisionFilter
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
+    from beltrami import vtkOFFReader
+    from beltrami.pipelines import noisy_along_normals
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    reader = vtkOFFReader()
+    reader.SetFileName(os.path.join(os.path.dirname(HERE), "..", "Data", "bunny00.off"))
+    loop = vtkLoopSubdivisionFilter()
+    loop.SetInputConnection(reader.GetOutputPort())
+    loop.SetNumberOfSubdivisions(2)
+    loop.Update()
+    mesh = loop.GetOutput()
+    p = vtk_to_numpy(mesh.GetPoints().GetData())
+    print("Bunny: %d points, %d triangles; default step (order 2, 4 h^4), one thread per rank"
+          % (mesh.GetNumberOfPoints(), mesh.GetNumberOfCells()))
+    results = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for noise in NOISES:
+            noisy = noisy_along_normals(mesh, noise * float(np.linalg.norm(p.max(0) - p.min(0))), seed=1)
+            mesh_file = os.path.join(tmp, "noisy.vtp")
+            w = vtkXMLPolyDataWriter()
+            w.SetInputData(noisy)
+            w.SetFileName(mesh_file)
+            w.Write()
+            for ranks in (1, 2, 4):
+                out = subprocess.run(["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks),
+                                      "pvbatch", HERE, "--worker", mesh_file, repr(noise)],
+                                     capture_output=True, text=True, timeout=3000).stdout
+                results += [json.loads(line[7:]) for line in out.splitlines() if line.startswith("RESULT ")]
+    print("%-7s %-10s %5s %9s %8s %10s %13s %13s %11s" % ("noise", "solver", "ranks", "seconds", "speedup",
+                                                            "iterations", "points/rank", "triangles/rk",
+                                                            "sent/update"))
+    for noise, cases in NOISES.items():
+        for name, _ in cases:
+            runs = [r for r in results if r["case"] == name and r["noise"] == noise]
+            base = next(r["seconds"] for r in runs if r["ranks"] == 1)
+            for r in runs:
+                held = max(o + g for o, g in zip(r["Owned"], r["Ghosts"]))
+                print("%-7s %-10s %5d %9.2f %7.2fx %10d %12.1f%% %12.1f%% %11d" % (
+                    "%g%%" % (100 * noise), name, r["ranks"], r["seconds"], base / r["seconds"],
+                    max(r["Iterations"]), 100.0 * held / sum(r["Owned"]),
+                    100.0 * max(r["Triangles"]) / mesh.GetNumberOfCells(), max(r["Sent"])))
+
+
+if __name__ == "__main__":
+    if "--worker" in sys.argv:
+        worker(sys.argv[sys.argv.index("--worker") + 1], float(sys.argv[sys.argv.index("--worker") + 2]))
+    else:
+        driver()
