@@ -62,6 +62,9 @@ case "$action" in
     source "$BUILD/beltrami-env.sh"
     xvfb-run -a /usr/bin/python3 Examples/curvature_demo.py Testing/Data/bunny00.off "$ROOT/demo-output"
     xvfb-run -a /usr/bin/python3 Examples/smoothing_demo.py Testing/Data/bunny00.off "$ROOT/demo-output"
+    # The same smoothing split over 2 ranks of pvbatch, solved over the ranks (issue 28).
+    xvfb-run -a mpirun --allow-run-as-root --oversubscribe -np 2 pvbatch \
+      Examples/distributed_smoothing_demo.py Testing/Data/bunny00.off "$ROOT/demo-output"
     xvfb-run -a /usr/bin/python3 Examples/parameterization_demo.py Testing/Data/mushroom.off "$ROOT/demo-output"
     xvfb-run -a /usr/bin/python3 Examples/remeshing_demo.py "$ROOT/demo-output"
     xvfb-run -a /usr/bin/python3 Examples/line_drawing_demo.py "$ROOT/demo-output"

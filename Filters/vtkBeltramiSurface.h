@@ -132,6 +132,10 @@ public:
   /// this is collective there: every rank must call it.  Otherwise
   /// (streaming pieces one by one) the number of pieces.
   static int PiecesHoldingData(vtkInformation* outInfo, vtkDataSet* input);
+  /// Every rank's `mine` appended in rank order (collective: every rank calls it); rank r's
+  /// values at [offsets[r], offsets[r + 1]).
+  static std::vector<double> AllGather(
+    vtkMultiProcessController* controller, const std::vector<double>& mine, std::vector<vtkIdType>& offsets);
   /// True when the request on `outInfo` is one piece per rank of the global
   /// controller, this rank's own (pvbatch, pvserver): the ranks can talk.
   static bool OnePiecePerRank(vtkInformation* outInfo);
@@ -243,6 +247,7 @@ private:
   /// False (with ErrorText) when MPI's communicator is not at hand or a
   /// point has no owner.
   bool BuildPartition(vtkMultiProcessController* controller);
+
   /// Execute with Needs::Distributed: the split run, or -1 when the data
   /// are not split over ranks that can solve together (then WholeSurface).
   static int ExecuteDistributed(vtkAlgorithm* owner, vtkPolyData* input, vtkPolyData* output,

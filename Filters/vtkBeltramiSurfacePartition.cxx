@@ -23,29 +23,6 @@ using beltrami::Index;
 namespace
 {
 
-/// Every rank's `mine` (`width` values per point, the first 3 its
-/// coordinates) appended in rank order; owner[k] is the rank of point k.
-std::vector<double> GatherPoints(
-  vtkMultiProcessController* controller, const std::vector<double>& mine, int width, std::vector<int>& owner)
-{
-  const int ranks = controller->GetNumberOfProcesses();
-  std::vector<vtkIdType> lengths(static_cast<std::size_t>(ranks), 0), offsets(ranks + 1, 0);
-  const vtkIdType length = static_cast<vtkIdType>(mine.size());
-  controller->AllGather(&length, lengths.data(), 1);
-  for (int r = 0; r < ranks; ++r)
-  {
-    offsets[r + 1] = offsets[r] + lengths[r];
-  }
-  std::vector<double> all(static_cast<std::size_t>(offsets[ranks]));
-  controller->AllGatherV(mine.data(), all.data(), length, lengths.data(), offsets.data());
-  owner.clear();
-  for (int r = 0; r < ranks; ++r)
-  {
-    owner.insert(owner.end(), static_cast<std::size_t>(lengths[r] / width), r);
-  }
-  return all;
-}
-
 /// The coincident-point classes (vtkBeltramiGather::CoincidentPoints) of
 /// `first` points (3 values each) followed by `second` points (`width`
 /// values each, coordinates first).
@@ -64,6 +41,26 @@ std::vector<vtkIdType> MatchPoints(const std::vector<double>& first, const std::
     box.AddPoint(x);
   }
   return vtkBeltramiGather::CoincidentPoints(joined, 1e-12 * box.GetDiagonalLength());
+}
+
+} // namespace
+
+namespace
+{
+
+/// Every rank's `mine` (`width` values per point, the first 3 its
+/// coordinates) appended in rank order; owner[k] is the rank of point k.
+std::vector<double> GatherPoints(
+  vtkMultiProcessController* controller, const std::vector<double>& mine, int width, std::vector<int>& owner)
+{
+  std::vector<vtkIdType> offsets;
+  std::vector<double> all = vtkBeltramiSurface::AllGather(controller, mine, offsets);
+  owner.clear();
+  for (std::size_t r = 0; r + 1 < offsets.size(); ++r)
+  {
+    owner.insert(owner.end(), static_cast<std::size_t>((offsets[r + 1] - offsets[r]) / width), static_cast<int>(r));
+  }
+  return all;
 }
 
 } // namespace

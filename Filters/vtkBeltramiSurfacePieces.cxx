@@ -43,9 +43,9 @@ int RequestedPieces(vtkInformation* outInfo)
     : 1;
 }
 
-/// Every rank's `mine` appended in rank order (collective); rank r's values
-/// at [offsets[r], offsets[r + 1]).
-std::vector<double> AllGather(
+} // namespace
+
+std::vector<double> vtkBeltramiSurface::AllGather(
   vtkMultiProcessController* controller, const std::vector<double>& mine, std::vector<vtkIdType>& offsets)
 {
   const int ranks = controller->GetNumberOfProcesses();
@@ -61,8 +61,6 @@ std::vector<double> AllGather(
   controller->AllGatherV(mine.data(), all.data(), length, lengths.data(), offsets.data());
   return all;
 }
-
-} // namespace
 
 bool vtkBeltramiSurface::OnePiecePerRank(vtkInformation* outInfo)
 {

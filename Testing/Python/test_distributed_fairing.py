@@ -118,12 +118,9 @@ check(ranks < 3 or shared > 0, "bunny: points where three pieces meet")
 split_run(bunny, "bunny, defaults", 1e-2, move_of)
 
 
-# A noisy scan (0.3% of the diagonal along the normals): points of tiny area
-# make the order-2 system ill-conditioned; a solver that meets the residual
-# tolerance can still leave them off by more than the noise (a plain CG on
-# the order-2 operator did: 5e-3 of the diagonal here). The distributed
-# complex-shift solve must stay as close as the serial one (3.8e-6).
-def noisy_scan(source):
+def moved_points(source, change):
+    """`source` with its points changed by `change` (Python code on p, the
+    piece's n x 3 points) on every rank's piece (and in the serial run)."""
     f = ProgrammableFilter(Input=source)
     f.Script = """
 import numpy as np
@@ -132,12 +129,23 @@ out = self.GetOutput()
 out.DeepCopy(self.GetInput())
 if out.GetNumberOfPoints():
     p = vtk_to_numpy(out.GetPoints().GetData())
-    # The noise of each point from its coordinates, the same on every rank and in the serial run.
-    h = np.sin(p @ np.array([12.9898e3, 78.233e3, 37.719e3])) * 43758.5453
-    p += (0.003 * %r) * (2.0 * (h - np.floor(h)) - 1.0)[:, None] * np.array([0.577, 0.577, 0.577])
+    %s
     out.GetPoints().Modified()
-""" % (float(np.linalg.norm(points(whole_bunny).max(0) - points(whole_bunny).min(0))),)
+""" % change
     return f
+
+
+# A noisy scan (uniform noise of up to 0.3% of the diagonal): points of tiny
+# area make the order-2 system ill-conditioned; a solver that meets the
+# residual tolerance can still leave them off by more than the noise (a
+# plain CG on the order-2 operator did: 5e-3 of the diagonal on the noisy
+# bunny). The distributed complex-shift solve must stay as close as the
+# serial one.
+def noisy_scan(source):
+    # The noise of each point from its coordinates: the same on every rank and in the serial run.
+    amplitude = 0.003 * float(np.linalg.norm(points(whole_bunny).max(0) - points(whole_bunny).min(0)))
+    return moved_points(source, "h = np.sin(p @ np.array([12.9898e3, 78.233e3, 37.719e3])) * 43758.5453; "
+                                "p += %r * (2.0 * (h - np.floor(h)) - 1.0)[:, None] * 0.577" % amplitude)
 
 
 def diagonal_of(before, after):
@@ -229,18 +237,7 @@ if ranks > 1:
 
 # A NaN point (in whichever piece holds it): kept as it is, the rest smoothed as in serial.
 def with_nan(source):
-    f = ProgrammableFilter(Input=source)
-    f.Script = """
-import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
-out = self.GetOutput()
-out.DeepCopy(self.GetInput())
-if out.GetNumberOfPoints():
-    p = vtk_to_numpy(out.GetPoints().GetData())
-    p[(p == np.array(%r)).all(axis=1)] = np.nan
-    out.GetPoints().Modified()
-""" % (points(whole_bunny)[1000].tolist(),)
-    return f
+    return moved_points(source, "p[(p == np.array(%r)).all(axis=1)] = np.nan" % (points(whole_bunny)[1000].tolist(),))
 
 
 split_run(bunny, "bunny with a NaN point", 1e-2, move_of, prepare=with_nan)
