@@ -354,6 +354,10 @@ int vtkBeltramiSurface::ExecuteDistributed(vtkAlgorithm* owner, vtkPolyData* inp
   }
   if (!surface.AllAgree(built || empty))
   {
+    if (built || empty)
+    {
+      vtkErrorWithObjectMacro(owner, "Another rank cannot process its piece of the surface (see its error).");
+    }
     return 0;
   }
   if (!built)

@@ -463,7 +463,7 @@ bool ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, Fairing
   // (Distributed: over the owned rows of all processes, so that every
   // process takes the same branches and solves together.)
   const auto counted = [&](Index i) { return !st.Split || st.Split->IsOwned(i); };
-  double totals[8] = { static_cast<double>(numFree), sys.UnitWeights ? 0.0 : 1.0 };
+  double totals[6] = { static_cast<double>(numFree), sys.UnitWeights ? 0.0 : 1.0 };
   for (Index i = 0; i < n; ++i)
   {
     totals[2] += counted(i);
