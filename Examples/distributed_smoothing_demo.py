@@ -12,8 +12,8 @@ import sys
 import tempfile
 
 import numpy as np
-from paraview import servermanager
-from paraview.simple import ExtractSurface, LoadPlugin, ProgrammableFilter, RedistributeDataSet, XMLPolyDataReader
+from paraview import servermanager, simple
+from paraview.simple import ExtractSurface, ProgrammableFilter, RedistributeDataSet, XMLPolyDataReader
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkLookupTable
 from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
@@ -30,7 +30,8 @@ def main(argv):
     mesh_path = argv[1] if len(argv) > 1 else DEFAULT_MESH
     out_dir = argv[2] if len(argv) > 2 else "demo-output"
     os.makedirs(out_dir, exist_ok=True)
-    LoadPlugin(os.environ["BELTRAMI_PLUGIN"], ns=globals())
+    if not hasattr(simple, "ImplicitFairing"):  # (loaded at start where PV_PLUGIN_PATH names its folder)
+        simple.LoadPlugin(os.environ["BELTRAMI_PLUGIN"])
     ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
     reader = vtkOFFReader()
     reader.SetFileName(mesh_path)
@@ -49,7 +50,7 @@ def main(argv):
         writer.Write()
         # Read whole on rank 0, cut into one piece per rank, smoothed in place.
         split = ExtractSurface(Input=RedistributeDataSet(Input=XMLPolyDataReader(FileName=[path])))
-        faired = ImplicitFairing(Input=split)  # noqa: F821 (from the plugin)
+        faired = simple.ImplicitFairing(Input=split)
         ranked = ProgrammableFilter(Input=faired)
         ranked.Script = """
 import numpy as np

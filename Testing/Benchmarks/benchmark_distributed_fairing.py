@@ -23,17 +23,17 @@ NOISES = {0.003: (("Jacobi", 0),), 0.00075: (("Jacobi", 0), ("multigrid", 1))}
 
 
 def worker(mesh_file, noise):
-    from paraview.simple import LoadPlugin, XMLPolyDataReader, RedistributeDataSet, ExtractSurface, \
-        ProgrammableFilter
-    from paraview import servermanager
+    from paraview.simple import XMLPolyDataReader, RedistributeDataSet, ExtractSurface, ProgrammableFilter
+    from paraview import servermanager, simple
     from vtkmodules.util.numpy_support import vtk_to_numpy
-    LoadPlugin(os.environ["BELTRAMI_PLUGIN"], ns=globals())
+    if not hasattr(simple, "ImplicitFairing"):  # (loaded at start where PV_PLUGIN_PATH names its folder)
+        simple.LoadPlugin(os.environ["BELTRAMI_PLUGIN"])
     ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
     source = XMLPolyDataReader(FileName=[mesh_file])
     split = ExtractSurface(Input=RedistributeDataSet(Input=source)) if ranks > 1 else source
     split.UpdatePipeline()
     for name, preconditioner in NOISES[noise]:
-        faired = ImplicitFairing(Input=split, NumberOfThreads=1, Preconditioner=preconditioner)  # noqa: F821
+        faired = simple.ImplicitFairing(Input=split, NumberOfThreads=1, Preconditioner=preconditioner)
         start = time.perf_counter()
         faired.UpdatePipeline()
         seconds = time.perf_counter() - start

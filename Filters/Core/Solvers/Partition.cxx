@@ -82,9 +82,9 @@ Partition::Partition(const void* communicator, Index rows, const int* ownerRank,
   // The ghosts, grouped by owner: each owner learns which of its rows it
   // sends to whom, and answers with their global numbers.
   x.ReceiveCounts.assign(P, 0);
-  for (Index i = 0; i < rows; ++i)
+  for (Index i = 0; i < rows && !bad; ++i) // (a bad owner rank is no index)
   {
-    x.ReceiveCounts[ownerRank[i]] += !Owned[i] && !bad;
+    x.ReceiveCounts[ownerRank[i]] += !Owned[i];
   }
   x.ReceiveOffsets = OffsetsOf(x.ReceiveCounts);
   x.ReceiveRows.resize(static_cast<std::size_t>(x.ReceiveOffsets.back() + x.ReceiveCounts.back()));

@@ -233,6 +233,12 @@ TEST(Partition, InconsistentOwnershipThrowsOnEveryProcess)
   const int owners[2] = { rank, rank };
   const Index rows[2] = { 1, 1 };
   EXPECT_THROW(Partition(&world, 2, owners, rows), std::runtime_error);
+  // A ghost whose owner was not found (rank -1) on the last process only.
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const int unknown[2] = { rank, rank == size - 1 ? -1 : rank };
+  const Index own[2] = { 0, 1 };
+  EXPECT_THROW(Partition(&world, 2, unknown, own), std::runtime_error);
 }
 
 int main(int argc, char** argv)
