@@ -3,8 +3,10 @@
 // MeshTopology once, and exposes the points without copying them when they
 // are float or double.  In distributed runs it counts the ranks that hold
 // data, exchanges the triangles around the pieces' common points where a
-// filter needs 1-rings, or gathers split data on rank 0 (vtkBeltramiGather)
-// for the filters that solve over the whole surface.  Not wrapped: an
+// filter needs 1-rings, agrees on the owner of every point where a filter
+// solves over the ranks (vtkBeltramiSurfacePartition.cxx), or gathers split
+// data on rank 0 (vtkBeltramiGather) for the filters that need the whole
+// surface on one process.  Not wrapped: an
 // implementation helper of the module.
 #ifndef vtkBeltramiSurface_h
 #define vtkBeltramiSurface_h
@@ -132,8 +134,8 @@ public:
   /// this is collective there: every rank must call it.  Otherwise
   /// (streaming pieces one by one) the number of pieces.
   static int PiecesHoldingData(vtkInformation* outInfo, vtkDataSet* input);
-  /// Every rank's `mine` appended in rank order (collective: every rank calls it); rank r's
-  /// values at [offsets[r], offsets[r + 1]).
+  /// Every rank's `mine` appended in rank order (collective: every rank
+  /// calls it); rank r's values at [offsets[r], offsets[r + 1]).
   static std::vector<double> AllGather(
     vtkMultiProcessController* controller, const std::vector<double>& mine, std::vector<vtkIdType>& offsets);
   /// True when the request on `outInfo` is one piece per rank of the global
