@@ -113,11 +113,12 @@ def move_of(before, after):
 
 
 # The default step at a tight tolerance: the serial numbers up to round-off
-# of the solves; at the default tolerance within 1% of the move.
+# of the solves; at the default tolerance within 1e-4 of the move (the same
+# solvers run over the ranks; the options on the matrix-free path 1e-3).
 faired, result, reference, shared = split_run(bunny, "bunny, defaults, tolerance 1e-10", 1e-9, extent_of,
                                                SolverTolerance=1e-10)
 check(ranks < 3 or shared > 0, "bunny: points where three pieces meet")
-split_run(bunny, "bunny, defaults", 1e-2, move_of)
+split_run(bunny, "bunny, defaults", 1e-4, move_of)
 
 
 def moved_points(source, change):
@@ -225,17 +226,17 @@ if out.GetNumberOfPoints():
     return f
 
 
-split_run(bunny, "bunny with fixed points and weights", 1e-2, move_of, prepare=with_masks, NumberOfIterations=2,
+split_run(bunny, "bunny with fixed points and weights", 1e-3, move_of, prepare=with_masks, NumberOfIterations=2,
           UseFixedPointsArray=1, FixedPointsArray=["POINTS", "fixed"],
           UseSmoothingWeightsArray=1, SmoothingWeightsArray=["POINTS", "weight"])
-split_run(bunny, "bunny, order 1, area kept", 1e-2, move_of, Order=1, Invariant=3, TimeStep=2.0)
+split_run(bunny, "bunny, order 1, area kept", 1e-3, move_of, Order=1, Invariant=3, TimeStep=2.0)
 
 # An open surface: its boundary fixed, no invariant.
-split_run(OpenDataFile(os.path.join(DATA, "mushroom.off")), "mushroom (open)", 1e-2, move_of)
+split_run(OpenDataFile(os.path.join(DATA, "mushroom.off")), "mushroom (open)", 1e-3, move_of)
 
 # A rank with an empty piece (fewer partitions than ranks).
 if ranks > 1:
-    split_run(bunny, "bunny on %d of %d ranks" % (ranks - 1, ranks), 1e-2, move_of, partitions=ranks - 1)
+    split_run(bunny, "bunny on %d of %d ranks" % (ranks - 1, ranks), 1e-4, move_of, partitions=ranks - 1)
 
 
 # A NaN point (in whichever piece holds it): kept as it is, the rest smoothed as in serial.
@@ -243,7 +244,7 @@ def with_nan(source):
     return moved_points(source, "p[(p == np.array(%r)).all(axis=1)] = np.nan" % (points(whole_bunny)[1000].tolist(),))
 
 
-split_run(bunny, "bunny with a NaN point", 1e-2, move_of, prepare=with_nan)
+split_run(bunny, "bunny with a NaN point", 1e-4, move_of, prepare=with_nan)
 # A piece that owns no point: a height field cut so that one rank's piece is
 # a single triangle whose corners all belong to lower ranks' pieces (and, on
 # 4 ranks, the last piece empty).  Made per rank by a programmable source
@@ -312,7 +313,7 @@ if ranks > 1:
     counts = ProgrammableFilter(Input=lone, OutputDataSetType="vtkPolyData")
     counts.Script = COUNTS
     owned = vtk_to_numpy(servermanager.Fetch(counts).GetPointData().GetArray("Owned"))
-    check(owned[builtins.min(2, ranks - 1)] == 0 and difference <= 1e-2 * moved,
+    check(owned[builtins.min(2, ranks - 1)] == 0 and difference <= 1e-3 * moved,
           "a rank that owns no point (owned %s): the serial result (difference %.3g, move %.3g)"
           % (owned, difference, moved))
 print("distributed fairing test passed")
