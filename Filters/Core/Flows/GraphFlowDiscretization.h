@@ -29,6 +29,11 @@ namespace beltrami::detail
 /// gamma < 1 flows at E^(gamma - 1) <= 1e6.
 constexpr double MinimumIndicator = 1e-3;
 
+/// The constant c of the automatic contrast scale c h / sigma, calibrated
+/// with the least-risk stop: images and meshes, and voxel grids.
+constexpr double SurfaceAutomaticContrast = 1.5;
+constexpr double VolumeAutomaticContrast = 1.25;
+
 /// A discretization of the graph surface: the symmetric stiffness K (with
 /// (K u)_i = sum_j c_ij (u_i - u_j)), the lumped mass a_i and the speed
 /// s_i = E_i^(gamma - 1), so that the flow is du_i/dt = -s_i (K u)_i / a_i.
@@ -51,7 +56,7 @@ public:
   double LengthScale = 1.0;
   /// The automatic contrast scale is AutomaticContrast * LengthScale / sigma
   /// (calibrated with the least-risk stop: 1.5 on images, 1.25 on volumes).
-  double AutomaticContrast = 1.5;
+  double AutomaticContrast = SurfaceAutomaticContrast;
   // Filled by Update(u):
   LargeVector<double> Velocity; ///< s_i (K u)_i / a_i, zero where fixed: du/dt = -Velocity
   LargeVector<double> Mass, Speed, Diagonal, KU; ///< a_i, s_i, sum_j c_ij, K u (with ghosts)

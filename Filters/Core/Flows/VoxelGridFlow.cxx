@@ -129,7 +129,7 @@ public:
     Size = static_cast<Index>(grid.Width * grid.Height * grid.Depth);
     Components = NC;
     LengthScale = std::cbrt(grid.SpacingX * grid.SpacingY * grid.SpacingZ);
-    AutomaticContrast = 1.25;
+    AutomaticContrast = VolumeAutomaticContrast;
     // 0.1 on unit grids (limit about 0.12), scaled with the spacing.
     AutomaticTimeStep = 0.1 * 3.0 /
       (1.0 / (grid.SpacingX * grid.SpacingX) + 1.0 / (grid.SpacingY * grid.SpacingY) +

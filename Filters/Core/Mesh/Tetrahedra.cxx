@@ -3,6 +3,7 @@
 #include "Support/LargeBuffer.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <numeric>
@@ -176,6 +177,53 @@ std::vector<Index> GridTetrahedra(Index nx, Index ny, Index nz)
     }
   }
   return tets;
+}
+
+std::vector<std::uint8_t> TetrahedralMesh::BoundaryVertices() const
+{
+  // Every face as its sorted corners; a face that appears once is on the boundary.
+  std::vector<std::array<Index, 3>> faces;
+  faces.reserve(Tets.size());
+  for (std::size_t t = 0; t < Tets.size(); t += 4)
+  {
+    for (int skip = 0; skip < 4; ++skip)
+    {
+      std::array<Index, 3> f;
+      int m = 0;
+      for (int a = 0; a < 4; ++a)
+      {
+        if (a != skip)
+        {
+          f[m++] = Tets[t + a];
+        }
+      }
+      std::sort(f.begin(), f.end());
+      faces.push_back(f);
+    }
+  }
+  std::sort(faces.begin(), faces.end());
+  std::vector<std::uint8_t> boundary(NumVertices, 0);
+  for (Index v = 0; v < NumVertices; ++v)
+  {
+    boundary[v] = IncidentOffsets[v + 1] == IncidentOffsets[v]; // in no tetrahedron
+  }
+  for (std::size_t k = 0; k < faces.size();)
+  {
+    std::size_t e = k + 1;
+    while (e < faces.size() && faces[e] == faces[k])
+    {
+      ++e;
+    }
+    if (e - k == 1)
+    {
+      for (const Index v : faces[k])
+      {
+        boundary[v] = 1;
+      }
+    }
+    k = e;
+  }
+  return boundary;
 }
 
 double TetrahedralMesh::MeanEdgeLength(const double* points) const

@@ -102,6 +102,10 @@ public:
   const std::vector<std::int64_t>& NeighborOffsets() const { return Offsets; }
   const std::vector<Index>& Neighbors() const { return NeighborList; }
 
+  /// Per vertex, 1 on the boundary (a face of only one tetrahedron) or in
+  /// no tetrahedron, else 0.
+  std::vector<std::uint8_t> BoundaryVertices() const;
+
   /// Mean edge length at `points` (3 doubles per vertex).
   double MeanEdgeLength(const double* points) const;
 
