@@ -16,6 +16,20 @@
 #include <vtkAlgorithm.h>
 #include <vtkSmartPointer.h>
 
+#include <vtkCellArray.h>
+#include <vtkCellArrayIterator.h>
+#include <vtkCellType.h>
+#include <vtkExtentTranslator.h>
+#include <vtkImageData.h>
+#include <vtkInformation.h>
+#include <vtkInformationIntegerRequestKey.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkUnstructuredGrid.h>
+
+#include "Mesh/Tetrahedra.h"
+
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -187,4 +201,149 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
   ReplaceArray(input, output, array, smoothed);
   AddReport(output->GetFieldData(), result);
   return 1;
+}
+
+vtkBeltramiGraphFlow::ImageGrid vtkBeltramiGraphFlow::GridOf(vtkImageData* image, const int* whole, const int* ext)
+{
+  ImageGrid grid;
+  int axes[3], nAxes = 0;
+  for (int a = 0; a < 3; ++a)
+  {
+    if (whole[2 * a + 1] > whole[2 * a])
+    {
+      axes[nAxes++] = a;
+    }
+  }
+  grid.Volume = nAxes == 3;
+  for (int a = 0; a < 3 && nAxes < 2; ++a)
+  {
+    if (nAxes == 0 || axes[0] != a)
+    {
+      axes[nAxes++] = a;
+    }
+  }
+  const double* spacing = image->GetSpacing();
+  const auto size = [ext](int a) { return std::max(0, ext[2 * a + 1] - ext[2 * a] + 1); };
+  if (grid.Volume)
+  {
+    grid.Voxels.Width = size(0);
+    grid.Voxels.Height = size(1);
+    grid.Voxels.Depth = size(2);
+    grid.Voxels.SpacingX = std::abs(spacing[0]);
+    grid.Voxels.SpacingY = std::abs(spacing[1]);
+    grid.Voxels.SpacingZ = std::abs(spacing[2]);
+    return grid;
+  }
+  grid.Axis0 = std::min(axes[0], axes[1]);
+  grid.Axis1 = std::max(axes[0], axes[1]);
+  grid.Pixels.Width = size(grid.Axis0);
+  grid.Pixels.Height = size(grid.Axis1);
+  grid.Pixels.SpacingX = std::abs(spacing[grid.Axis0]);
+  grid.Pixels.SpacingY = std::abs(spacing[grid.Axis1]);
+  return grid;
+}
+
+vtkIdType vtkBeltramiGraphFlow::ExtentIndex(const int* e, const int* ijk)
+{
+  const vtkIdType nx = e[1] - e[0] + 1, ny = e[3] - e[2] + 1;
+  return (ijk[0] - e[0]) + nx * ((ijk[1] - e[2]) + ny * static_cast<vtkIdType>(ijk[2] - e[4]));
+}
+
+void vtkBeltramiGraphFlow::RequestImageExtent(vtkInformation* inInfo, vtkInformation* outInfo, int rings)
+{
+  int whole[6], ext[6];
+  inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+  outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext);
+  const int pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+  if (pieces > 1)
+  {
+    // The executive will split our update extent into this piece just before
+    // RequestData (CAN_PRODUCE_SUB_EXTENT): make the same split here, and ask
+    // the input for the extent this piece needs as one piece of its own, or
+    // the input's executive would split it again (without our ghost rings).
+    const int piece = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
+    const int ghosts = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS());
+    vtkInformationIntegerKey* splitKey = vtkExtentTranslator::UPDATE_SPLIT_MODE();
+    const int mode = outInfo->Has(splitKey) ? outInfo->Get(splitKey) : vtkExtentTranslator::BLOCK_MODE;
+    vtkNew<vtkExtentTranslator> translator;
+    int pieceExt[6];
+    if (!translator->PieceToExtentThreadSafe(piece, pieces, ghosts, ext, pieceExt, mode, 0))
+    {
+      pieceExt[0] = pieceExt[2] = pieceExt[4] = 0; // an empty piece
+      pieceExt[1] = pieceExt[3] = pieceExt[5] = -1;
+    }
+    std::copy(pieceExt, pieceExt + 6, ext);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    if (rings < 0)
+    {
+      ext[2 * a] = whole[2 * a];
+      ext[2 * a + 1] = whole[2 * a + 1];
+    }
+    else if (ext[2 * a] <= ext[2 * a + 1])
+    {
+      ext[2 * a] = std::max(whole[2 * a], ext[2 * a] - rings);
+      ext[2 * a + 1] = std::min(whole[2 * a + 1], ext[2 * a + 1] + rings);
+    }
+  }
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext, 6);
+}
+
+std::vector<beltrami::Index> vtkBeltramiGraphFlow::Tetrahedra(vtkAlgorithm* owner, vtkUnstructuredGrid* input)
+{
+  // The tetrahedra, and voxels (VTK_VOXEL, e.g. the active voxels of a
+  // sparse OpenVDB grid) split into their six Kuhn tetrahedra (as the 3D
+  // image path: conforming, since all voxels share the axes); other cells
+  // are ignored.
+  std::vector<beltrami::Index> tets;
+  vtkIdType others = 0;
+  vtkCellArray* cells = input->GetCells();
+  vtkUnsignedCharArray* types = input->GetCellTypesArray();
+  if (cells && types)
+  {
+    auto it = vtk::TakeSmartPointer(cells->NewIterator());
+    vtkIdType cellId = 0;
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
+    {
+      vtkIdType n = 0;
+      const vtkIdType* ids = nullptr;
+      it->GetCurrentCell(n, ids);
+      const int type = types->GetValue(cellId);
+      if (type == VTK_TETRA && n == 4)
+      {
+        for (int a = 0; a < 4; ++a)
+        {
+          tets.push_back(static_cast<beltrami::Index>(ids[a]));
+        }
+      }
+      else if (type == VTK_VOXEL && n == 8)
+      {
+        // VTK_VOXEL numbers its corners x + 2y + 4z, the corner bits of KuhnPaths.
+        for (const auto& path : beltrami::KuhnPaths)
+        {
+          const int first = 1 << path[0], second = first | (1 << path[1]);
+          for (const int corner : { 0, first, second, 7 })
+          {
+            tets.push_back(static_cast<beltrami::Index>(ids[corner]));
+          }
+        }
+      }
+      else
+      {
+        ++others;
+      }
+    }
+  }
+  if (others > 0)
+  {
+    vtkWarningWithObjectMacro(owner, << others << " cells that are neither tetrahedra nor voxels are ignored "
+                    << "(tetrahedralize them first, e.g. with vtkDataSetTriangleFilter).");
+  }
+  return tets;
 }

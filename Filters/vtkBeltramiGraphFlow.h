@@ -24,6 +24,9 @@ class vtkAlgorithm;
 class vtkDataArray;
 class vtkDataSet;
 class vtkFieldData;
+class vtkImageData;
+class vtkInformation;
+class vtkUnstructuredGrid;
 
 class BELTRAMIFILTERS_EXPORT vtkBeltramiGraphFlow
 {
@@ -118,6 +121,34 @@ public:
   /// error on the tensors.  LogToSymmetricTensors maps the result back.
   static void ToLogEuclidean(vtkAlgorithm* owner, const char* name, double* values, vtkIdType count,
     int numThreads, beltrami::GraphFlowOptions& options);
+
+  /// A vtkImageData as the core sees it: a 2D image (in any of the XY, XZ
+  /// and YZ planes: the VTK axes of its grid's x and y) or a 3D image.
+  struct ImageGrid
+  {
+    bool Volume = false;
+    int Axis0 = 0, Axis1 = 1;   ///< 2D: VTK axes of the pixel grid's x and y
+    beltrami::PixelGrid Pixels; ///< 2D
+    beltrami::VoxelGrid Voxels; ///< 3D
+  };
+  /// The grid of `image` over its extent `ext` (absolute spacing); whether
+  /// it is 2D or 3D comes from the whole extent `whole`.
+  static ImageGrid GridOf(vtkImageData* image, const int* whole, const int* ext);
+  /// Index in an image of extent `e` of the point with structured index ijk.
+  static vtkIdType ExtentIndex(const int* e, const int* ijk);
+  /// RequestUpdateExtent of the image filters (which set
+  /// CAN_PRODUCE_SUB_EXTENT): the update extent of a piece request is split
+  /// as the executive will split it, and the input is asked for it grown by
+  /// `rings` samples within the whole extent (a local filter), or for the
+  /// whole extent (rings < 0: a filter that needs all of it).
+  static void RequestImageExtent(vtkInformation* inInfo, vtkInformation* outInfo, int rings);
+
+  /// The tetrahedra of `input` (4 point ids each): its tetrahedra, and its
+  /// voxels (VTK_VOXEL, e.g. the active voxels of a sparse OpenVDB grid)
+  /// split into their six Kuhn tetrahedra (as the 3D image path:
+  /// conforming, since all voxels share the axes).  Other cells are ignored
+  /// with a warning to `owner`.
+  static std::vector<beltrami::Index> Tetrahedra(vtkAlgorithm* owner, vtkUnstructuredGrid* input);
 };
 
 #endif

@@ -11,12 +11,10 @@
 
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>
-#include <vtkExtentTranslator.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkImageData.h>
 #include <vtkInformation.h>
-#include <vtkInformationIntegerRequestKey.h>
 #include <vtkInformationVector.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
@@ -40,28 +38,6 @@ vtkStandardNewMacro(vtkImageBeltramiDenoising);
 
 namespace
 {
-
-/// The pixels of a 2D image, as seen by the core: two axes of the VTK extent.
-struct GridMapping
-{
-  int Axis0 = 0, Axis1 = 1; // VTK axes of the grid's x and y
-  int Extent[6] = { 0, -1, 0, -1, 0, -1 };
-  vtkIdType Count() const
-  {
-    vtkIdType n = 1;
-    for (int a = 0; a < 3; ++a)
-    {
-      n *= std::max(0, Extent[2 * a + 1] - Extent[2 * a] + 1);
-    }
-    return n;
-  }
-  /// Index in an image of extent `e` of the point with structured index ijk.
-  static vtkIdType Index(const int* e, const int* ijk)
-  {
-    const vtkIdType nx = e[1] - e[0] + 1, ny = e[3] - e[2] + 1;
-    return (ijk[0] - e[0]) + nx * ((ijk[1] - e[2]) + ny * static_cast<vtkIdType>(ijk[2] - e[4]));
-  }
-};
 
 /// Copies `count` tuples of the first `used` of `nc` components into doubles, scaled.
 template <typename T>
@@ -101,7 +77,7 @@ void Store(T* dst, const int* outExt, const int* inExt, int nc, int used, double
     {
       for (ijk[0] = outExt[0]; ijk[0] <= outExt[1]; ++ijk[0], ++o)
       {
-        const vtkIdType i = GridMapping::Index(inExt, ijk);
+        const vtkIdType i = vtkBeltramiGraphFlow::ExtentIndex(inExt, ijk);
         for (int k = 0; k < nc; ++k)
         {
           dst[o * nc + k] =
@@ -110,54 +86,6 @@ void Store(T* dst, const int* outExt, const int* inExt, int nc, int used, double
       }
     }
   }
-}
-
-/// A 3D image: its voxels split into tetrahedra (6 per cell, the Kuhn split
-/// of GridTetrahedra) at their physical positions, smoothed by the
-/// 3-manifold flow (RunVolumeGraphFlow: no explicit mesh).
-beltrami::GraphFlowResult RunVolume(vtkImageData* input, const int* ext, int components, double* values,
-  const std::uint8_t* fixed, const beltrami::GraphFlowOptions& options,
-  const beltrami::ProgressCallback& progress)
-{
-  const double* spacing = input->GetSpacing();
-  beltrami::VoxelGrid grid;
-  grid.Width = ext[1] - ext[0] + 1;
-  grid.Height = ext[3] - ext[2] + 1;
-  grid.Depth = ext[5] - ext[4] + 1;
-  grid.SpacingX = std::abs(spacing[0]);
-  grid.SpacingY = std::abs(spacing[1]);
-  grid.SpacingZ = std::abs(spacing[2]);
-  return beltrami::RunVolumeGraphFlow(grid, components, values, fixed, options, progress);
-}
-
-/// The axes of a 2D image's grid (any of XY, XZ, YZ), or none for a 3D
-/// image (`volume`: the 3-manifold flow on its voxels).
-GridMapping MapGrid(const int* whole, const int* inExt, bool& volume)
-{
-  GridMapping grid;
-  std::copy(inExt, inExt + 6, grid.Extent);
-  int axes[3], nAxes = 0;
-  for (int a = 0; a < 3; ++a)
-  {
-    if (whole[2 * a + 1] > whole[2 * a])
-    {
-      axes[nAxes++] = a;
-    }
-  }
-  volume = nAxes == 3;
-  for (int a = 0; a < 3 && nAxes < 2; ++a)
-  {
-    if (nAxes == 0 || axes[0] != a)
-    {
-      axes[nAxes++] = a;
-    }
-  }
-  if (!volume)
-  {
-    grid.Axis0 = std::min(axes[0], axes[1]);
-    grid.Axis1 = std::max(axes[0], axes[1]);
-  }
-  return grid;
 }
 
 /// The values the core smooths: `Used` components per pixel; colours
@@ -243,21 +171,10 @@ bool ReadValues(vtkImageBeltramiDenoising* self, vtkDataArray* array, vtkIdType 
   return true;
 }
 
-/// The pixel grid of a 2D image as the core sees it.
-beltrami::PixelGrid PixelsOf(vtkImageData* input, const int* inExt, const GridMapping& grid)
-{
-  beltrami::PixelGrid pixels;
-  pixels.Width = inExt[2 * grid.Axis0 + 1] - inExt[2 * grid.Axis0] + 1;
-  pixels.Height = inExt[2 * grid.Axis1 + 1] - inExt[2 * grid.Axis1] + 1;
-  pixels.SpacingX = std::abs(input->GetSpacing()[grid.Axis0]);
-  pixels.SpacingY = std::abs(input->GetSpacing()[grid.Axis1]);
-  return pixels;
-}
-
 /// Runs the flow on the values: the pixel grid of a 2D image, or the voxels
-/// of a 3D image (`volume`).
-beltrami::GraphFlowResult RunFlow(vtkImageBeltramiDenoising* self, vtkImageData* input, const int* inExt,
-  const GridMapping& grid, bool volume, const std::vector<std::uint8_t>& fixed, FlowValues& v)
+/// of a 3D image (ImageGrid::Volume).
+beltrami::GraphFlowResult RunFlow(vtkImageBeltramiDenoising* self, vtkImageData* input,
+  const vtkBeltramiGraphFlow::ImageGrid& grid, const std::vector<std::uint8_t>& fixed, FlowValues& v)
 {
   beltrami::GraphFlowOptions options = vtkBeltramiGraphFlow::Options(self);
   options.Boundary = static_cast<beltrami::GridBoundary>(self->GetBoundaryHandling());
@@ -279,10 +196,9 @@ beltrami::GraphFlowResult RunFlow(vtkImageBeltramiDenoising* self, vtkImageData*
     return !self->GetAbortExecute();
   };
   const std::uint8_t* mask = fixed.empty() ? nullptr : fixed.data();
-  const beltrami::PixelGrid pixels = PixelsOf(input, inExt, grid);
-  const beltrami::GraphFlowResult result = volume
-    ? RunVolume(input, inExt, v.Used, v.Values.data(), mask, options, progress)
-    : beltrami::RunImageGraphFlow(pixels, v.Used, v.Values.data(), mask, options, progress);
+  const beltrami::GraphFlowResult result = grid.Volume
+    ? beltrami::RunVolumeGraphFlow(grid.Voxels, v.Used, v.Values.data(), mask, options, progress)
+    : beltrami::RunImageGraphFlow(grid.Pixels, v.Used, v.Values.data(), mask, options, progress);
   const std::string warning = vtkBeltramiGraphFlow::RunWarnings(options, result);
   if (!warning.empty() && result.Error.empty() && result.Completed)
   {
@@ -349,52 +265,9 @@ int vtkImageBeltramiDenoising::RequestInformation(
 int vtkImageBeltramiDenoising::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  int whole[6], ext[6];
-  inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
-  outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext);
-  const int pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
-    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
-    : 1;
-  if (pieces > 1)
-  {
-    // The executive will split our update extent into this piece just before
-    // RequestData (CAN_PRODUCE_SUB_EXTENT): make the same split here, and ask
-    // the input for the extent this piece needs as one piece of its own, or
-    // the input's executive would split it again (without our ghost rings).
-    const int piece = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
-    const int ghosts = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS());
-    vtkInformationIntegerKey* splitKey = vtkExtentTranslator::UPDATE_SPLIT_MODE();
-    const int mode = outInfo->Has(splitKey) ? outInfo->Get(splitKey) : vtkExtentTranslator::BLOCK_MODE;
-    vtkNew<vtkExtentTranslator> translator;
-    int pieceExt[6];
-    if (!translator->PieceToExtentThreadSafe(piece, pieces, ghosts, ext, pieceExt, mode, 0))
-    {
-      pieceExt[0] = pieceExt[2] = pieceExt[4] = 0; // an empty piece
-      pieceExt[1] = pieceExt[3] = pieceExt[5] = -1;
-    }
-    std::copy(pieceExt, pieceExt + 6, ext);
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
-  }
-  for (int a = 0; a < 3; ++a)
-  {
-    if (!this->IsLocal())
-    {
-      ext[2 * a] = whole[2 * a];
-      ext[2 * a + 1] = whole[2 * a + 1];
-    }
-    else if (ext[2 * a] <= ext[2 * a + 1])
-    {
-      // One ring of neighbours per explicit step.
-      const int g = this->NumberOfIterations;
-      ext[2 * a] = std::max(whole[2 * a], ext[2 * a] - g);
-      ext[2 * a + 1] = std::min(whole[2 * a + 1], ext[2 * a + 1] + g);
-    }
-  }
-  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext, 6);
+  // One ring of neighbours per explicit step, or everything.
+  vtkBeltramiGraphFlow::RequestImageExtent(inputVector[0]->GetInformationObject(0),
+    outputVector->GetInformationObject(0), this->IsLocal() ? this->NumberOfIterations : -1);
   return 1;
 }
 
@@ -431,11 +304,10 @@ int vtkImageBeltramiDenoising::RequestData(
       return 0;
     }
   }
-  bool volume = false;
-  const GridMapping grid = MapGrid(whole, inExt, volume);
-  if (volume && grid.Count() > std::numeric_limits<beltrami::Index>::max() / 8)
+  const vtkBeltramiGraphFlow::ImageGrid grid = vtkBeltramiGraphFlow::GridOf(input, whole, inExt);
+  if (grid.Volume && input->GetNumberOfPoints() > std::numeric_limits<beltrami::Index>::max() / 8)
   {
-    vtkErrorMacro("The 3D image has " << grid.Count() << " voxels: too many for one piece of the "
+    vtkErrorMacro("The 3D image has " << input->GetNumberOfPoints() << " voxels: too many for one piece of the "
                                       << "tetrahedral flow; stream it in pieces. The output is the input.");
     return 0;
   }
@@ -459,7 +331,7 @@ int vtkImageBeltramiDenoising::RequestData(
   {
     return 0;
   }
-  const beltrami::GraphFlowResult result = RunFlow(this, input, inExt, grid, volume, fixed, v);
+  const beltrami::GraphFlowResult result = RunFlow(this, input, grid, fixed, v);
   if (!result.Error.empty())
   {
     vtkErrorMacro(<< result.Error << ". The output is the input.");

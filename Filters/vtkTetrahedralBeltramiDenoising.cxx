@@ -8,9 +8,6 @@
 #include "Flows/GraphFlow.h"
 #include "Mesh/Tetrahedra.h"
 
-#include <vtkCellArray.h>
-#include <vtkCellArrayIterator.h>
-#include <vtkCellType.h>
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>
 #include <vtkInformation.h>
@@ -20,7 +17,6 @@
 #include <vtkObjectFactory.h>
 #include <vtkPoints.h>
 #include <vtkSmartPointer.h>
-#include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 
 #include <limits>
@@ -86,54 +82,7 @@ int vtkTetrahedralBeltramiDenoising::Smooth(
     return 0;
   }
 
-  // The tetrahedra, and voxels (VTK_VOXEL, e.g. the active voxels of a
-  // sparse OpenVDB grid) split into their six Kuhn tetrahedra (as the 3D
-  // image path: conforming, since all voxels share the axes); other cells
-  // are ignored.
-  std::vector<beltrami::Index> tets;
-  vtkIdType others = 0;
-  vtkCellArray* cells = input->GetCells();
-  vtkUnsignedCharArray* types = input->GetCellTypesArray();
-  if (cells && types)
-  {
-    auto it = vtk::TakeSmartPointer(cells->NewIterator());
-    vtkIdType cellId = 0;
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
-    {
-      vtkIdType n = 0;
-      const vtkIdType* ids = nullptr;
-      it->GetCurrentCell(n, ids);
-      const int type = types->GetValue(cellId);
-      if (type == VTK_TETRA && n == 4)
-      {
-        for (int a = 0; a < 4; ++a)
-        {
-          tets.push_back(static_cast<beltrami::Index>(ids[a]));
-        }
-      }
-      else if (type == VTK_VOXEL && n == 8)
-      {
-        // VTK_VOXEL numbers its corners x + 2y + 4z, the corner bits of KuhnPaths.
-        for (const auto& path : beltrami::KuhnPaths)
-        {
-          const int first = 1 << path[0], second = first | (1 << path[1]);
-          for (const int corner : { 0, first, second, 7 })
-          {
-            tets.push_back(static_cast<beltrami::Index>(ids[corner]));
-          }
-        }
-      }
-      else
-      {
-        ++others;
-      }
-    }
-  }
-  if (others > 0)
-  {
-    vtkWarningMacro(<< others << " cells that are neither tetrahedra nor voxels are ignored "
-                    << "(tetrahedralize them first, e.g. with vtkDataSetTriangleFilter).");
-  }
+  std::vector<beltrami::Index> tets = vtkBeltramiGraphFlow::Tetrahedra(this, input);
   if (tets.empty())
   {
     vtkWarningMacro("The input has no tetrahedra or voxels: the data are left as they are.");
