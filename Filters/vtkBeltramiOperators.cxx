@@ -156,12 +156,17 @@ void AddReport(vtkFieldData* fd, const beltrami::GraphOperatorReport& r)
 vtkBeltramiOperators::vtkBeltramiOperators()
 {
   beltrami::GraphOperatorOptions defaults;
-  BeltramiCopySetting(this->ContrastScale, defaults.ContrastScale, vtkBeltramiCopy::FromCore);
-  BeltramiCopySetting(this->NoiseLevel, defaults.NoiseLevel, vtkBeltramiCopy::FromCore);
-  BeltramiCopySetting(this->BoundaryHandling, defaults.Boundary, vtkBeltramiCopy::FromCore);
-  BeltramiCopySetting(this->NumberOfThreads, defaults.NumberOfThreads, vtkBeltramiCopy::FromCore);
+  this->CopySettings(defaults, vtkBeltramiCopy::FromCore);
   this->SetInputArrayToProcess(
     DATA_ARRAY, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+}
+
+void vtkBeltramiOperators::CopySettings(beltrami::GraphOperatorOptions& o, vtkBeltramiCopy direction)
+{
+  BeltramiCopySetting(this->ContrastScale, o.ContrastScale, direction);
+  BeltramiCopySetting(this->NoiseLevel, o.NoiseLevel, direction);
+  BeltramiCopySetting(this->BoundaryHandling, o.Boundary, direction);
+  BeltramiCopySetting(this->NumberOfThreads, o.NumberOfThreads, direction);
 }
 
 int vtkBeltramiOperators::FillInputPortInformation(int, vtkInformation* info)
@@ -230,9 +235,7 @@ int vtkBeltramiOperators::RequestData(
         }
         const double* points = surface.PointsAsDouble(storage);
         beltrami::GraphOperatorOptions o;
-        o.ContrastScale = this->ContrastScale;
-        o.NoiseLevel = this->NoiseLevel;
-        o.NumberOfThreads = this->NumberOfThreads;
+        this->CopySettings(o, vtkBeltramiCopy::ToCore);
         Maps maps;
         const beltrami::GraphOperatorOutputs out =
           maps.Allocate(this, surface.Input()->GetNumberOfPoints(), 3, nc, true);
@@ -294,9 +297,7 @@ int vtkBeltramiOperators::RunMesh(vtkDataSet* input, vtkDataSet* output, vtkUnst
     input->GetPoint(i, &points[3 * i]);
   }
   beltrami::GraphOperatorOptions o;
-  o.ContrastScale = this->ContrastScale;
-  o.NoiseLevel = this->NoiseLevel;
-  o.NumberOfThreads = this->NumberOfThreads;
+  this->CopySettings(o, vtkBeltramiCopy::ToCore);
   Maps maps;
   const beltrami::GraphOperatorOutputs out = maps.Allocate(this, n, 3, nc, false);
   const beltrami::GraphOperatorReport r =
@@ -337,10 +338,7 @@ int vtkBeltramiOperators::RunImage(vtkImageData* input, vtkImageData* output, co
   }
   const vtkBeltramiGraphFlow::ImageGrid grid = vtkBeltramiGraphFlow::GridOf(input, whole, inExt);
   beltrami::GraphOperatorOptions o;
-  o.ContrastScale = this->ContrastScale;
-  o.NoiseLevel = this->NoiseLevel;
-  o.Boundary = static_cast<beltrami::GridBoundary>(this->BoundaryHandling);
-  o.NumberOfThreads = this->NumberOfThreads;
+  this->CopySettings(o, vtkBeltramiCopy::ToCore);
   Maps maps;
   const beltrami::GraphOperatorOutputs out =
     maps.Allocate(this, input->GetNumberOfPoints(), grid.Volume ? 3 : 2, nc, !grid.Volume);

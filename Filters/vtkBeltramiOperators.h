@@ -59,6 +59,11 @@
 class vtkDataArray;
 class vtkImageData;
 class vtkUnstructuredGrid;
+enum class vtkBeltramiCopy;
+namespace beltrami
+{
+struct GraphOperatorOptions;
+}
 
 class BELTRAMIFILTERS_EXPORT vtkBeltramiOperators : public vtkDataSetAlgorithm
 {
@@ -145,6 +150,8 @@ private:
   vtkBeltramiOperators(const vtkBeltramiOperators&) = delete;
   void operator=(const vtkBeltramiOperators&) = delete;
 
+  /// The settings to or from the core's options (their one source of defaults).
+  void CopySettings(beltrami::GraphOperatorOptions& options, vtkBeltramiCopy direction);
   int RunImage(vtkImageData* input, vtkImageData* output, const int* whole, const int* outExt);
   int RunMesh(vtkDataSet* input, vtkDataSet* output, vtkUnstructuredGrid* volume, int holding);
 };

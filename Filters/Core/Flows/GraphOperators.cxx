@@ -155,6 +155,16 @@ struct PaddedGrid
   GridBoundary Rule = GridBoundary::Linear;
   double Alpha = 1.0;
 
+  PaddedGrid(std::int64_t nx, std::int64_t ny, std::int64_t nz, int components, const double* values,
+    GridBoundary rule, double alpha)
+    : Size{ nx, ny, nz }
+    , Components(components)
+    , Values(values)
+    , Rule(rule)
+    , Alpha(alpha)
+  {
+  }
+
   void Data(std::int64_t x, std::int64_t y, std::int64_t z, double* out) const
   {
     std::int64_t ix[2], iy[2], iz[2];
@@ -201,9 +211,21 @@ std::unique_ptr<MeshTopology> GridTriangles(Index w, Index h, bool otherDiagonal
   return std::make_unique<MeshTopology>(w * h, std::move(triangles), threads);
 }
 
-/// The graph (x, y, z, alpha f) of point data: 3 + components values per vertex.
-std::vector<double> Embed(Index size, const double* points, int components, const double* values, double alpha)
+/// The start of both mesh paths: the input checked (`maximum` components),
+/// alpha chosen (from the mean edge length and the noise estimate), and the
+/// graph (x, y, z, alpha f) of the point data, 3 + components values per
+/// vertex; empty when there is nothing to do (an error, or no vertex).
+std::vector<double> StartMesh(Index size, const double* points, int components, const double* values,
+  const GraphOperatorOptions& options, int maximum, const std::function<double()>& meanEdgeLength,
+  const std::function<double()>& estimate, GraphOperatorReport& report)
 {
+  report.Error = CheckInput(options, components, maximum);
+  if (!report.Error.empty() || size == 0)
+  {
+    return {};
+  }
+  ChooseContrast(options, SurfaceAutomaticContrast, meanEdgeLength(), estimate, report);
+  const double alpha = report.ContrastScale;
   const int n = 3 + components;
   std::vector<double> embedded(static_cast<std::size_t>(size) * n);
   for (std::size_t i = 0; i < static_cast<std::size_t>(size); ++i)
@@ -238,13 +260,7 @@ GraphOperatorReport ComputeImageGraphOperators(const PixelGrid& grid, int compon
     [&]() { return EstimateImageNoise(grid, components, values); }, report);
   const int n = 2 + components;
   const Writer writer(outputs, 2, components, report.ContrastScale, 2);
-  PaddedGrid padded;
-  padded.Size[0] = grid.Width;
-  padded.Size[1] = grid.Height;
-  padded.Components = components;
-  padded.Values = values;
-  padded.Rule = options.Boundary;
-  padded.Alpha = report.ContrastScale;
+  const PaddedGrid padded(grid.Width, grid.Height, 1, components, values, options.Boundary, report.ContrastScale);
   const Index pw = grid.Width + 2;
   const Index band = std::max<Index>(1, std::min<Index>(grid.Height, BandVertices / pw));
   std::unique_ptr<MeshTopology> first, second;
@@ -311,14 +327,8 @@ GraphOperatorReport ComputeVolumeGraphOperators(const VoxelGrid& grid, int compo
     [&]() { return EstimateVolumeNoise(grid, components, values); }, report);
   const int n = 3 + components;
   const Writer writer(outputs, 3, components, report.ContrastScale, 3);
-  PaddedGrid padded;
-  padded.Size[0] = grid.Width;
-  padded.Size[1] = grid.Height;
-  padded.Size[2] = grid.Depth;
-  padded.Components = components;
-  padded.Values = values;
-  padded.Rule = options.Boundary;
-  padded.Alpha = report.ContrastScale;
+  const PaddedGrid padded(grid.Width, grid.Height, grid.Depth, components, values, options.Boundary,
+    report.ContrastScale);
   const Index pw = static_cast<Index>(grid.Width + 2), ph = static_cast<Index>(grid.Height + 2);
   const std::int64_t plane = static_cast<std::int64_t>(pw) * ph;
   const Index slab = static_cast<Index>(std::max<std::int64_t>(1, std::min<std::int64_t>(grid.Depth, BandVertices / plane)));
@@ -378,26 +388,26 @@ GraphOperatorReport ComputeSurfaceGraphOperators(const MeshTopology& topology, c
   int components, const double* values, const GraphOperatorOptions& options, const GraphOperatorOutputs& outputs)
 {
   GraphOperatorReport report;
-  report.Error = CheckInput(options, components, 5);
   const Index size = topology.NumberOfVertices();
-  if (!report.Error.empty() || size == 0)
-  {
-    return report;
-  }
-  const int threads = options.NumberOfThreads;
   std::vector<std::uint8_t> unusable(size);
   for (Index i = 0; i < size; ++i)
   {
     unusable[i] = topology.VertexFlags(i) != VertexRegular;
   }
-  ChooseContrast(options, SurfaceAutomaticContrast, MeanEdgeLength(topology, points), [&]() {
-    const auto& edges = topology.Edges();
-    return EstimateGraphNoise(size, edges.NeighborOffsets.data(), edges.Neighbors.data(), points, components,
-      values, unusable.data());
-  }, report);
-  const int n = 3 + components;
+  const std::vector<double> embedded = StartMesh(size, points, components, values, options, 5,
+    [&]() { return MeanEdgeLength(topology, points); },
+    [&]() {
+      const auto& edges = topology.Edges();
+      return EstimateGraphNoise(size, edges.NeighborOffsets.data(), edges.Neighbors.data(), points, components,
+        values, unusable.data());
+    },
+    report);
+  if (embedded.empty())
+  {
+    return report;
+  }
+  const int threads = options.NumberOfThreads, n = 3 + components;
   const double alpha = report.ContrastScale;
-  const std::vector<double> embedded = Embed(size, points, components, values, alpha);
   std::vector<double> kn(embedded.size()), area(size), defect(size), base(size);
   ComputeBeltramiOperator(topology, embedded.data(), n, n, kn.data(), area.data(), defect.data(), threads);
   ComputeBeltramiOperator(topology, points, 3, 3, nullptr, base.data(), nullptr, threads);
@@ -419,21 +429,21 @@ GraphOperatorReport ComputeTetrahedralGraphOperators(const TetrahedralMesh& mesh
   int components, const double* values, const GraphOperatorOptions& options, const GraphOperatorOutputs& outputs)
 {
   GraphOperatorReport report;
-  report.Error = CheckInput(options, components, 6);
   const Index size = mesh.NumberOfVertices();
-  if (!report.Error.empty() || size == 0)
+  const std::vector<std::uint8_t> boundary = mesh.BoundaryVertices();
+  const std::vector<double> embedded = StartMesh(size, points, components, values, options, 6,
+    [&]() { return mesh.MeanEdgeLength(points); },
+    [&]() {
+      return EstimateGraphNoise(size, mesh.NeighborOffsets().data(), mesh.Neighbors().data(), points, components,
+        values, boundary.data());
+    },
+    report);
+  if (embedded.empty())
   {
     return report;
   }
-  const int threads = options.NumberOfThreads;
-  const std::vector<std::uint8_t> boundary = mesh.BoundaryVertices();
-  ChooseContrast(options, SurfaceAutomaticContrast, mesh.MeanEdgeLength(points), [&]() {
-    return EstimateGraphNoise(size, mesh.NeighborOffsets().data(), mesh.Neighbors().data(), points, components,
-      values, boundary.data());
-  }, report);
-  const int n = 3 + components;
+  const int threads = options.NumberOfThreads, n = 3 + components;
   const double alpha = report.ContrastScale;
-  const std::vector<double> embedded = Embed(size, points, components, values, alpha);
   GraphLaplacian graph, base;
   AssembleTetrahedralLaplacian(mesh, embedded.data(), n, graph, threads);
   AssembleTetrahedralLaplacian(mesh, points, 3, base, threads);
