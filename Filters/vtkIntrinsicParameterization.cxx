@@ -36,6 +36,7 @@ vtkStandardNewMacro(vtkIntrinsicParameterization);
 struct vtkIntrinsicParameterization::Internals
 {
   std::vector<beltrami::PointConstraint> Constraints;
+  std::vector<beltrami::LineConstraint> Lines;
   std::unique_ptr<beltrami::BoundaryBasis> Basis;
 };
 
@@ -90,11 +91,29 @@ void vtkIntrinsicParameterization::AddSurfacePointConstraint(vtkIdType a, vtkIdT
   this->Modified();
 }
 
+void vtkIntrinsicParameterization::AddLineConstraint(vtkIdList* pointIds, double u0, double v0, double u1, double v1)
+{
+  beltrami::LineConstraint line;
+  for (vtkIdType k = 0; pointIds && k < pointIds->GetNumberOfIds(); ++k)
+  {
+    const vtkIdType id = pointIds->GetId(k);
+    line.Path.push_back(id < 0 ? -1
+        : static_cast<beltrami::Index>(std::min<vtkIdType>(id, std::numeric_limits<beltrami::Index>::max())));
+  }
+  line.From[0] = u0;
+  line.From[1] = v0;
+  line.To[0] = u1;
+  line.To[1] = v1;
+  this->Internal->Lines.push_back(std::move(line));
+  this->Modified();
+}
+
 void vtkIntrinsicParameterization::RemoveAllConstraints()
 {
-  if (!this->Internal->Constraints.empty())
+  if (!this->Internal->Constraints.empty() || !this->Internal->Lines.empty())
   {
     this->Internal->Constraints.clear();
+    this->Internal->Lines.clear();
     this->Modified();
   }
 }
@@ -102,6 +121,11 @@ void vtkIntrinsicParameterization::RemoveAllConstraints()
 int vtkIntrinsicParameterization::GetNumberOfConstraints() const
 {
   return static_cast<int>(this->Internal->Constraints.size());
+}
+
+int vtkIntrinsicParameterization::GetNumberOfLineConstraints() const
+{
+  return static_cast<int>(this->Internal->Lines.size());
 }
 
 void vtkIntrinsicParameterization::GetBoundaryPointIds(vtkIdList* ids) const
@@ -166,9 +190,9 @@ int vtkIntrinsicParameterization::RequestData(
         << " streamed pieces is passed through. Update the whole data set.");
       return true;
     }
-    if (surface.IsGathered() && !this->Internal->Constraints.empty())
+    if (surface.IsGathered() && (!this->Internal->Constraints.empty() || !this->Internal->Lines.empty()))
     {
-      vtkWarningMacro("Distributed data gathered on rank 0: the point constraints by vertex id refer to the "
+      vtkWarningMacro("Distributed data gathered on rank 0: the point and line constraints by vertex id refer to the "
                       "points of the gathered surface (rank 0's piece first); the constraint target array "
                       "(input array 1) is the reliable way to constrain distributed data.");
     }
@@ -290,6 +314,7 @@ bool vtkIntrinsicParameterization::ReadInputArrays(
     options.GivenUV = given.data();
   }
   options.Constraints = this->Internal->Constraints;
+  options.Lines = this->Internal->Lines;
   for (vtkIdType i = 0; targetArray && i < numPoints; ++i)
   {
     const double u = targetArray->GetComponent(i, 0), v = targetArray->GetComponent(i, 1);
@@ -437,6 +462,7 @@ void vtkIntrinsicParameterization::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Boundary: " << this->Boundary << "\n";
   os << indent << "BoundarySpacing: " << this->BoundarySpacing << "\n";
   os << indent << "Constraints: " << this->Internal->Constraints.size() << "\n";
+  os << indent << "LineConstraints: " << this->Internal->Lines.size() << "\n";
   os << indent << "OptimizeMix: " << this->OptimizeMix << "\n";
   os << indent << "OptimalMixRange: " << this->OptimalMixRange[0] << " " << this->OptimalMixRange[1] << "\n";
   os << indent << "OptimalEnergy: " << this->OptimalEnergy << "\n";

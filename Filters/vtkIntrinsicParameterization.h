@@ -23,7 +23,9 @@
  *  - Point constraints (section 5.4.1, Lagrange multipliers): by
  *    AddPointConstraint / AddSurfacePointConstraint, and/or input array 1, a
  *    2-component point array whose finite values are the targets of their
- *    points (NaN = free).  With natural boundaries and two or more
+ *    points (NaN = free).  Line constraints (AddLineConstraint): a path of
+ *    points along mesh edges mapped onto a segment at arc-length fractions.
+ *    With natural boundaries and two or more
  *    constraints, the constraints replace the pins.
  *  - OptimizeMix (section 5.5.1): the map l U_A + (1-l) U_chi with the l in
  *    OptimalMixRange minimising OptimalEnergy (EDGE_LENGTH or AREA
@@ -117,8 +119,17 @@ public:
   void AddPointConstraint(vtkIdType pointId, double u, double v);
   void AddSurfacePointConstraint(vtkIdType a, vtkIdType b, vtkIdType c, double wa, double wb,
     double wc, double u, double v);
+  /// Line constraint (section 5.4.1): the path of points `pointIds`
+  /// (consecutive ones joined by a mesh edge, e.g. the output of
+  /// vtkDijkstraGraphGeodesicPath reversed to start at its start vertex)
+  /// mapped onto the segment (u0, v0)-(u1, v1), each point at its
+  /// arc-length fraction: the thesis' constraints on the line's
+  /// intersections with the mesh edges.
+  void AddLineConstraint(vtkIdList* pointIds, double u0, double v0, double u1, double v1);
+  /// Removes the point and the line constraints.
   void RemoveAllConstraints();
   int GetNumberOfConstraints() const;
+  int GetNumberOfLineConstraints() const;
   ///@}
 
   ///@{

@@ -10,7 +10,8 @@ from vtkmodules.vtkFiltersSources import vtkSphereSource
 
 from beltrami import (vtkDiscreteCurvatures, vtkImplicitFairing, vtkIntrinsicParameterization,
                       vtkOFFReader, vtkOFFWriter, vtkSurfaceLineDrawing, vtkSurfaceRemeshing)
-from vtkmodules.vtkCommonCore import vtkCommand, vtkDoubleArray, vtkIdList, vtkPoints, vtkUnsignedCharArray
+from vtkmodules.vtkCommonCore import (vtkCommand, vtkDoubleArray, vtkIdList, vtkOutputWindow, vtkPoints,
+                                     vtkStringOutputWindow, vtkUnsignedCharArray)
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 from vtkmodules.util.numpy_support import numpy_to_vtk
 from configure import configured
@@ -431,6 +432,57 @@ class ParameterizationFromPython(unittest.TestCase):
         uv = vtk_to_numpy(f.GetOutput().GetPointData().GetArray("UV"))
         np.testing.assert_allclose(uv[1000], [0.4, 0.45], atol=1e-9)
         np.testing.assert_allclose(uv[2000], [0.6, 0.55], atol=1e-9)
+
+    def test_line_constraint_from_a_geodesic_path(self):
+        # Section 5.4.1: a geodesic path along edges (vtkDijkstraGraphGeodesicPath)
+        # mapped onto a segment: every path point on it at its arc-length
+        # fraction.  Of twelve paths from one point, the one the free map
+        # draws straightest is straightened between its ends' free places: no
+        # triangle flips and the angle distortion hardly changes (forcing a
+        # strongly curved path straight can fold triangles next to it).
+        from vtkmodules.vtkFiltersModeling import vtkDijkstraGraphGeodesicPath
+        mesh = self.mushroom()
+        free = configured(vtkIntrinsicParameterization(), mesh)
+        uv0 = vtk_to_numpy(free.GetOutput().GetPointData().GetArray("UV"))
+        a = int(np.argmin(np.linalg.norm(uv0 - [0.3, 0.5], axis=1)))
+        best = None
+        for angle in np.linspace(0, 2 * np.pi, 12, endpoint=False):
+            b = int(np.argmin(np.linalg.norm(uv0 - uv0[a] - 0.2 * np.array([np.cos(angle), np.sin(angle)]), axis=1)))
+            found = configured(vtkDijkstraGraphGeodesicPath(), mesh, StartVertex=a, EndVertex=b).GetIdList()
+            order = [found.GetId(k) for k in reversed(range(found.GetNumberOfIds()))]  # it runs from the end
+            d, rel = uv0[b] - uv0[a], uv0[order] - uv0[a]
+            bend = np.abs(rel[:, 0] * d[1] - rel[:, 1] * d[0]).max() / (d @ d)
+            if best is None or bend < best[0]:
+                best = (bend, order)
+        bend, order = best
+        self.assertLess(bend, 0.05)
+        self.assertGreaterEqual(len(order), 8)
+        ids = vtkIdList()
+        for v in order:
+            ids.InsertNextId(v)
+        f = vtkIntrinsicParameterization()
+        f.SetInputData(mesh)
+        f.AddLineConstraint(ids, *uv0[order[0]], *uv0[order[-1]])
+        self.assertEqual(f.GetNumberOfLineConstraints(), 1)
+        f.Update()
+        uv = vtk_to_numpy(f.GetOutput().GetPointData().GetArray("UV"))
+        pts = vtk_to_numpy(mesh.GetPoints().GetData())
+        s = np.concatenate([[0], np.cumsum(np.linalg.norm(np.diff(pts[order], axis=0), axis=1))])
+        expected = uv0[order[0]] + (s / s[-1])[:, None] * (uv0[order[-1]] - uv0[order[0]])
+        np.testing.assert_allclose(uv[order], expected, atol=1e-9)
+        self.assertEqual(f.GetNumberOfFlippedTriangles(), 0)
+        self.assertLess(f.GetMeanAngleDistortion(), 1.1 * free.GetMeanAngleDistortion())
+        # A path with a gap is a clear error.
+        gap = vtkIdList()
+        for k in (0, 2, 3):
+            gap.InsertNextId(order[k])
+        f.RemoveAllConstraints()
+        self.assertEqual(f.GetNumberOfLineConstraints(), 0)
+        f.AddLineConstraint(gap, 0.3, 0.5, 0.7, 0.5)
+        errors = vtkStringOutputWindow()
+        vtkOutputWindow.SetInstance(errors)
+        f.Update()
+        self.assertIn("not joined by a mesh edge", errors.GetOutput())
 
     def test_boundary_basis_moves_the_boundary_without_a_solve(self):
         mesh = self.mushroom()

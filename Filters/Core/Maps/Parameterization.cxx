@@ -63,6 +63,80 @@ void BoundaryBasis::PullBack(const double* gradient, double* boundaryGradient) c
   }
 }
 
+std::string AppendLineConstraint(const MeshTopology& topo, const double* points, const LineConstraint& line,
+  std::vector<PointConstraint>& constraints)
+{
+  const std::vector<Index>& path = line.Path;
+  if (path.size() < 2)
+  {
+    return "a line needs at least two points";
+  }
+  if (!std::isfinite(line.From[0]) || !std::isfinite(line.From[1]) || !std::isfinite(line.To[0]) ||
+    !std::isfinite(line.To[1]) || (line.From[0] == line.To[0] && line.From[1] == line.To[1]))
+  {
+    return "the target segment needs two distinct, finite end points";
+  }
+  const Index n = topo.NumberOfVertices();
+  const auto& edges = topo.Edges();
+  const auto joined = [&](Index a, Index b) {
+    return std::binary_search(edges.Neighbors.data() + edges.NeighborOffsets[a],
+      edges.Neighbors.data() + edges.NeighborOffsets[a + 1], b);
+  };
+  std::vector<double> length(path.size(), 0.0);
+  std::vector<Index> sorted(path.begin(), path.end());
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+  {
+    return "a point appears twice on the line";
+  }
+  for (std::size_t i = 0; i < path.size(); ++i)
+  {
+    if (path[i] < 0 || path[i] >= n || topo.Valence(path[i]) == 0)
+    {
+      return "point " + std::to_string(path[i]) + " is not on the surface";
+    }
+    if (i == 0)
+    {
+      continue;
+    }
+    const Index a = path[i - 1], b = path[i];
+    if (!joined(a, b))
+    {
+      return "points " + std::to_string(a) + " and " + std::to_string(b) +
+        " are not joined by a mesh edge (give the line as a path along edges, e.g. a geodesic path)";
+    }
+    length[i] = length[i - 1] + (Point(points, b) - Point(points, a)).norm();
+  }
+  const double total = length.back();
+  if (!(total > 0.0) || !std::isfinite(total))
+  {
+    return "the line has no length";
+  }
+  // A point whose neighbours on the path share an edge is a detour of a
+  // path along edges: the three are a triangle, which a straight line
+  // through all three would collapse (or flip).  It is left free, the line
+  // passing along the edge between its neighbours.
+  std::vector<std::size_t> kept{ 0 };
+  for (std::size_t i = 1; i + 1 < path.size(); ++i)
+  {
+    if (!joined(path[kept.back()], path[i + 1]))
+    {
+      kept.push_back(i);
+    }
+  }
+  kept.push_back(path.size() - 1);
+  for (const std::size_t i : kept)
+  {
+    const double t = length[i] / total;
+    PointConstraint c;
+    c.Vertices = { { path[i], -1, -1 } };
+    c.Target[0] = line.From[0] + t * (line.To[0] - line.From[0]);
+    c.Target[1] = line.From[1] + t * (line.To[1] - line.From[1]);
+    constraints.push_back(c);
+  }
+  return {};
+}
+
 bool CheckDiskTopology(const MeshTopology& topo, std::string& error)
 {
   const TopologySummary& s = topo.Summary();
@@ -595,8 +669,19 @@ std::string MapFixedBoundary(const MeshTopology& topo, const double* points, con
 }
 
 ParameterizationResult ParameterizeUnguarded(
-  const MeshTopology& topo, const double* points, const ParameterizationOptions& options)
+  const MeshTopology& topo, const double* points, const ParameterizationOptions& given)
 {
+  // Line constraints become point constraints (section 5.4.1).
+  ParameterizationOptions options = given;
+  for (std::size_t k = 0; k < given.Lines.size(); ++k)
+  {
+    const std::string lineError = AppendLineConstraint(topo, points, given.Lines[k], options.Constraints);
+    if (!lineError.empty())
+    {
+      return Fail("Line constraint " + std::to_string(k) + ": " + lineError);
+    }
+  }
+  options.Lines.clear();
   std::vector<std::uint8_t> used;
   std::string error = CheckInput(topo, points, options, used);
   if (!error.empty())

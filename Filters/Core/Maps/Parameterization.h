@@ -42,6 +42,19 @@ struct PointConstraint
   double Target[2] = { 0.0, 0.0 };
 };
 
+/// Section 5.4.1: a line on the surface mapped onto a segment of the plane,
+/// "by constraining the endpoints and the intersections of the line with
+/// the edges of the mesh": a path of mesh vertices (consecutive ones joined
+/// by a mesh edge, e.g. a geodesic path along edges), each vertex placed on
+/// the segment From-To at its arc-length fraction.  Expanded into point
+/// constraints (Lagrange multipliers, one per vertex of the path).
+struct LineConstraint
+{
+  std::vector<Index> Path;
+  double From[2] = { 0.0, 0.0 };
+  double To[2] = { 1.0, 0.0 };
+};
+
 struct ParameterizationOptions
 {
   double ConformalWeight = 1.0; ///< lambda (DCP)
@@ -51,6 +64,7 @@ struct ParameterizationOptions
   SquareCorners Corners = SquareCorners::QuarterLength; ///< Square only
   const double* GivenUV = nullptr; ///< 2 per vertex, read at boundary vertices (Given)
   std::vector<PointConstraint> Constraints;
+  std::vector<LineConstraint> Lines; ///< added to Constraints by Parameterize
 
   /// Section 5.5.1: replace the map by l U^A + (1-l) U^chi with the l in
   /// [OptimalRange[0], OptimalRange[1]] that minimises OptimalEnergy (fixed
@@ -113,6 +127,12 @@ struct ParameterizationResult
 /// oriented surface of genus 0 with at least one boundary loop); if not,
 /// `error` says what the input is instead.
 bool CheckDiskTopology(const MeshTopology& topology, std::string& error);
+
+/// The point constraints of `line` (appended to `constraints`); an error
+/// sentence, empty if the line is usable (at least two distinct vertices on
+/// the surface, joined by mesh edges, finite and distinct end targets).
+std::string AppendLineConstraint(const MeshTopology& topology, const double* points, const LineConstraint& line,
+  std::vector<PointConstraint>& constraints);
 
 /// Computes the parameterization of the mesh at `points` (3 per vertex).
 ParameterizationResult Parameterize(

@@ -267,6 +267,191 @@ TEST(Parameterization, PointConstraintsLandOnTheirTargets)
   }
 }
 
+namespace
+{
+
+/// Largest distance of the line's vertices from their targets: the segment
+/// From-To at their arc-length fractions.
+double LineResidual(const Mesh& m, const LineConstraint& line, const std::vector<double>& uv)
+{
+  std::vector<double> s(line.Path.size(), 0.0);
+  for (std::size_t i = 1; i < line.Path.size(); ++i)
+  {
+    s[i] = s[i - 1] + (m.Point(line.Path[i]) - m.Point(line.Path[i - 1])).norm();
+  }
+  double worst = 0.0;
+  for (std::size_t i = 0; i < line.Path.size(); ++i)
+  {
+    const double t = s[i] / s.back();
+    for (int d = 0; d < 2; ++d)
+    {
+      worst = std::max(worst, std::abs(uv[2 * line.Path[i] + d] - (line.From[d] + t * (line.To[d] - line.From[d]))));
+    }
+  }
+  return worst;
+}
+
+/// A shortest path along edges (by edge count) from a to b through interior vertices.
+std::vector<Index> EdgePath(const MeshTopology& topo, Index a, Index b)
+{
+  const auto& e = topo.Edges();
+  std::vector<Index> previous(topo.NumberOfVertices(), -2), queue{ a };
+  previous[a] = -1;
+  for (std::size_t k = 0; k < queue.size() && previous[b] == -2; ++k)
+  {
+    for (std::int64_t j = e.NeighborOffsets[queue[k]]; j < e.NeighborOffsets[queue[k] + 1]; ++j)
+    {
+      if (previous[e.Neighbors[j]] == -2 && topo.IsInterior(e.Neighbors[j]))
+      {
+        previous[e.Neighbors[j]] = queue[k];
+        queue.push_back(e.Neighbors[j]);
+      }
+    }
+  }
+  std::vector<Index> path;
+  for (Index v = b; v != -1; v = previous[v])
+  {
+    path.insert(path.begin(), v);
+  }
+  return path;
+}
+
+} // namespace
+
+TEST(Parameterization, LineConstraintsLandOnTheirSegments)
+{
+  // Section 5.4.1: a line's vertices on the target segment at their
+  // arc-length fractions.  A flat grid with its own boundary is its own DCP:
+  // a line whose targets agree with it changes nothing, a bent one is met
+  // exactly without a flipped triangle.
+  const int n = 21;
+  const Mesh m = test::HeightField([](double, double) { return 0.0; }, 1.0, n, 0.0, false, 1);
+  std::vector<double> own(2 * m.NumberOfVertices());
+  for (Index i = 0; i < m.NumberOfVertices(); ++i)
+  {
+    own[2 * i] = m.Points[3 * i];
+    own[2 * i + 1] = m.Points[3 * i + 1];
+  }
+  LineConstraint line; // the row y = 0 from x = -0.5 to 0.5
+  for (int i = 5; i <= 15; ++i)
+  {
+    line.Path.push_back(i * n + 10);
+  }
+  line.From[0] = -0.5;
+  line.To[0] = 0.5;
+  ParameterizationOptions o = Energy(1, 0, ParameterizationBoundary::Given);
+  o.GivenUV = own.data();
+  o.Lines = { line };
+  ParameterizationResult r = Solve(m, o);
+  ASSERT_EQ(r.UV.size(), own.size());
+  double moved = 0.0;
+  for (std::size_t k = 0; k < own.size(); ++k)
+  {
+    moved = std::max(moved, std::abs(r.UV[k] - own[k]));
+  }
+  EXPECT_LT(moved, 1e-9);
+  o.Lines[0].From[1] = -0.2;
+  o.Lines[0].To[1] = 0.2;
+  r = Solve(m, o);
+  ASSERT_EQ(r.UV.size(), own.size());
+  EXPECT_LT(LineResidual(m, o.Lines[0], r.UV), 1e-9);
+  EXPECT_EQ(Measure(m, r).FlippedTriangles, 0);
+  // A staircase along edges: each corner's neighbours on the path share a
+  // diagonal edge, so the corner is left free (the three are a triangle that
+  // a straight line would collapse); the diagonal through the other points
+  // agrees with the plane, which stays as it is.
+  LineConstraint stairs;
+  for (int i = 4; i < 16; ++i)
+  {
+    stairs.Path.push_back(i * n + i);
+    stairs.Path.push_back((i + 1) * n + i);
+  }
+  stairs.Path.push_back(16 * n + 16);
+  stairs.From[0] = stairs.From[1] = own[2 * stairs.Path.front()];
+  stairs.To[0] = stairs.To[1] = own[2 * stairs.Path.back()];
+  o.Lines = { stairs };
+  r = Solve(m, o);
+  ASSERT_EQ(r.UV.size(), own.size());
+  moved = 0.0;
+  for (std::size_t k = 0; k < own.size(); ++k)
+  {
+    moved = std::max(moved, std::abs(r.UV[k] - own[k]));
+  }
+  EXPECT_LT(moved, 1e-9);
+  // Natural boundary: a line that agrees with a similarity gives that
+  // similarity (zero conformal energy), the line replacing the two pins.
+  o = Energy(1, 0, ParameterizationBoundary::Natural);
+  line.From[0] = 0.1;
+  line.From[1] = 0.2;
+  line.To[0] = 0.9;
+  line.To[1] = 0.5;
+  o.Lines = { line };
+  r = Solve(m, o);
+  ASSERT_EQ(r.UV.size(), own.size());
+  EXPECT_LT(LineResidual(m, line, r.UV), 1e-9);
+  EXPECT_LT(SimilarityResidual(m, r.UV), 1e-8);
+
+  // A real face: a path of edges across it straightened between the places
+  // its ends have in the unconstrained map (circle boundary).
+  const Mesh face = ReadMesh("nefertiti.off");
+  const MeshTopology topo = face.Topology();
+  const ParameterizationResult free = Solve(face, Energy(1, 0, ParameterizationBoundary::Circle));
+  Index a = -1, b = -1;
+  for (Index v = 0; v < face.NumberOfVertices(); ++v)
+  {
+    const double u = free.UV[2 * v], w = free.UV[2 * v + 1];
+    if (topo.IsInterior(v) && std::abs(w - 0.5) < 0.05 && (a < 0 || u < free.UV[2 * a]))
+    {
+      a = v;
+    }
+    if (topo.IsInterior(v) && std::abs(w - 0.5) < 0.05 && (b < 0 || u > free.UV[2 * b]))
+    {
+      b = v;
+    }
+  }
+  LineConstraint across;
+  across.Path = EdgePath(topo, a, b);
+  across.From[0] = free.UV[2 * a];
+  across.From[1] = free.UV[2 * a + 1];
+  across.To[0] = free.UV[2 * b];
+  across.To[1] = free.UV[2 * b + 1];
+  ParameterizationOptions straight = Energy(1, 0, ParameterizationBoundary::Circle);
+  straight.Lines = { across };
+  const ParameterizationResult r2 = Solve(face, straight);
+  ASSERT_EQ(r2.UV.size(), free.UV.size());
+  const DistortionReport before = Measure(face, free), after = Measure(face, r2);
+  std::printf("nefertiti: a %zu-vertex path straightened: residual %.1e, flipped %lld, mean angle distortion "
+              "%.3f -> %.3f degrees\n",
+    across.Path.size(), LineResidual(face, across, r2.UV), static_cast<long long>(after.FlippedTriangles),
+    before.MeanAngle, after.MeanAngle);
+  EXPECT_GE(across.Path.size(), 10u);
+  EXPECT_LT(LineResidual(face, across, r2.UV), 1e-9);
+  EXPECT_EQ(after.FlippedTriangles, 0);
+
+  // Bad lines: clear errors.
+  const auto error = [&](LineConstraint bad) {
+    ParameterizationOptions e = Energy(1, 0, ParameterizationBoundary::Circle);
+    e.Lines = { bad };
+    return Parameterize(m.Topology(), m.Points.data(), e).Error;
+  };
+  LineConstraint gap = line;
+  gap.Path.erase(gap.Path.begin() + 3);
+  EXPECT_NE(error(gap).find("not joined by a mesh edge"), std::string::npos) << error(gap);
+  LineConstraint single = line;
+  single.Path.resize(1);
+  EXPECT_NE(error(single).find("at least two points"), std::string::npos);
+  LineConstraint twice = line;
+  twice.Path.push_back(twice.Path[2]);
+  EXPECT_NE(error(twice).find("twice"), std::string::npos);
+  LineConstraint flat = line;
+  flat.To[0] = flat.From[0];
+  flat.To[1] = flat.From[1];
+  EXPECT_NE(error(flat).find("distinct"), std::string::npos);
+  LineConstraint toBoundary; // along the fixed boundary row y = -1: disagrees with the circle
+  toBoundary.Path = { 0, n, 2 * n };
+  EXPECT_NE(error(toBoundary).find("inconsistent"), std::string::npos) << error(toBoundary);
+}
+
 TEST(Parameterization, OptimalMixMinimisesTheEnergy)
 {
   const Mesh m = ReadMesh("three_peaks.off");
