@@ -32,7 +32,8 @@
  *    distortion, the map scaled to the surface's area); l is in GetOptimalMix().
  *  - BoundaryOptimizationSteps (section 5.5.2): gradient-descent steps on the
  *    boundary points for BoundaryEnergy through the impulse-response basis
- *    (steps that would flip a triangle are refused).  KeepBoundaryBasis keeps
+ *    (steps that would flip a triangle are refused; point and line
+ *    constraints stay met, also through the kept basis).  KeepBoundaryBasis keeps
  *    that basis after the update: ComputeUV() then gives the map for any new
  *    boundary positions without a new solve.
  *  - OutputFlattenedMesh: the output points are (u, v, 0) instead of the input's.

@@ -500,6 +500,17 @@ class ParameterizationFromPython(unittest.TestCase):
         result = vtkDoubleArray()
         self.assertTrue(f.ComputeUV(moved, result))
         np.testing.assert_allclose(vtk_to_numpy(result), uv @ matrix.T + [1.0, -2.0], atol=1e-10)
+        # With a point constraint the basis keeps it: the constrained point
+        # stays on its target for any boundary (an affine change moves the
+        # others, not it).
+        f.AddPointConstraint(1000, 0.45, 0.55)
+        f.Update()
+        uv = vtk_to_numpy(f.GetOutput().GetPointData().GetArray("UV"))
+        np.testing.assert_allclose(uv[1000], [0.45, 0.55], atol=1e-9)
+        self.assertTrue(f.ComputeUV(moved, result))
+        shifted = vtk_to_numpy(result)
+        np.testing.assert_allclose(shifted[1000], [0.45, 0.55], atol=1e-9)
+        self.assertGreater(np.abs(shifted - (uv @ matrix.T + [1.0, -2.0])).max(), 1e-2)
 
     def test_closed_input_is_an_error_not_a_crash(self):
         reader = vtkOFFReader()

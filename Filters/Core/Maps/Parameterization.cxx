@@ -16,11 +16,12 @@ namespace beltrami
 using namespace detail;
 
 BoundaryBasis::BoundaryBasis(Index numberOfVertices, std::vector<Index> boundary,
-  std::vector<Index> free, std::vector<double> basis)
+  std::vector<Index> free, std::vector<double> basis, std::vector<double> offset)
   : Vertices(numberOfVertices)
   , Boundary(std::move(boundary))
   , Free(std::move(free))
   , Basis(std::move(basis))
+  , Offset(std::move(offset))
 {
 }
 
@@ -34,8 +35,8 @@ void BoundaryBasis::Apply(const double* boundaryUV, double* uv) const
   const Eigen::Matrix<double, Eigen::Dynamic, 2> u = b * p;
   for (Eigen::Index k = 0; k < nf; ++k)
   {
-    uv[2 * Free[k]] = u(k, 0);
-    uv[2 * Free[k] + 1] = u(k, 1);
+    uv[2 * Free[k]] = u(k, 0) + (Offset.empty() ? 0.0 : Offset[2 * k]);
+    uv[2 * Free[k] + 1] = u(k, 1) + (Offset.empty() ? 0.0 : Offset[2 * k + 1]);
   }
   for (Eigen::Index k = 0; k < nb; ++k)
   {
@@ -270,10 +271,6 @@ std::string CheckInput(const MeshTopology& topo, const double* points, const Par
   if (mixSearch && !(options.OptimalRange[0] <= options.OptimalRange[1]))
   {
     return "The search range of the optimal mix is empty.";
-  }
-  if ((options.BoundaryOptimizationSteps > 0 || options.KeepBoundaryBasis) && !options.Constraints.empty())
-  {
-    return "Boundary optimisation and the boundary basis do not combine with point constraints.";
   }
   return CheckConstraints(options.Constraints, used);
 }
@@ -547,9 +544,11 @@ struct FixedBoundarySystem
   }
 
   /// One solve of the energy lambda E_A + mu E_chi into `out` (2 per
-  /// vertex); with `responses`, also its impulse responses (section 5.4.2).
+  /// vertex); with `responses`, also its impulse responses (section 5.4.2)
+  /// and, under point constraints, the map of a zero boundary (`offset`,
+  /// free vertices x (u, v)).
   bool Solve(double lambda, double mu, std::vector<double>& out, Eigen::MatrixXd* responses,
-    ParameterizationResult& result, std::string& error)
+    Eigen::MatrixXd* offset, ParameterizationResult& result, std::string& error)
   {
     Index degenerate = 0;
     const RowMatrix rows = VertexSystem(Topology, Points, lambda, mu, Threads, degenerate);
@@ -575,6 +574,11 @@ struct FixedBoundarySystem
     if (responses)
     {
       *responses = solver.ImpulseResponses(rows, FixedList);
+      *offset = Eigen::MatrixXd::Zero(responses->rows(), 2);
+      if (!Constraints.empty() && !solver.ConstrainResponses(Constraints, *responses, *offset, error))
+      {
+        return false;
+      }
     }
     return true;
   }
@@ -583,12 +587,12 @@ struct FixedBoundarySystem
   /// the search range that minimises the chosen energy (and so are their
   /// impulse responses, eq. 5.8, if asked for).
   bool SolveOptimalMix(const ParameterizationOptions& options, std::vector<double>& uv, Eigen::MatrixXd* responses,
-    ParameterizationResult& result, std::string& error)
+    Eigen::MatrixXd* offset, ParameterizationResult& result, std::string& error)
   {
     std::vector<double> uvA, uvX;
-    Eigen::MatrixXd responsesX;
-    if (!Solve(1.0, 0.0, uvA, responses, result, error) ||
-      !Solve(0.0, 1.0, uvX, responses ? &responsesX : nullptr, result, error))
+    Eigen::MatrixXd responsesX, offsetX;
+    if (!Solve(1.0, 0.0, uvA, responses, offset, result, error) ||
+      !Solve(0.0, 1.0, uvX, responses ? &responsesX : nullptr, &offsetX, result, error))
     {
       return false;
     }
@@ -605,6 +609,7 @@ struct FixedBoundarySystem
     if (responses)
     {
       *responses = l * *responses + (1.0 - l) * responsesX;
+      *offset = l * *offset + (1.0 - l) * offsetX;
     }
     return true;
   }
@@ -633,11 +638,11 @@ std::string MapFixedBoundary(const MeshTopology& topo, const double* points, con
        << options.MaximumBasisBytes / (1 << 20) << " MiB.";
     return os.str();
   }
-  Eigen::MatrixXd responses;
+  Eigen::MatrixXd responses, offset;
   Eigen::MatrixXd* wanted = wantBasis ? &responses : nullptr;
   const bool solved = options.OptimizeMix
-    ? system.SolveOptimalMix(options, uv, wanted, result, error)
-    : system.Solve(options.ConformalWeight, options.AuthalicWeight, uv, wanted, result, error);
+    ? system.SolveOptimalMix(options, uv, wanted, &offset, result, error)
+    : system.Solve(options.ConformalWeight, options.AuthalicWeight, uv, wanted, &offset, result, error);
   if (!solved)
   {
     return "Cannot parameterize: " + error + ".";
@@ -646,9 +651,15 @@ std::string MapFixedBoundary(const MeshTopology& topo, const double* points, con
   std::unique_ptr<BoundaryBasis> basis;
   if (wantBasis)
   {
+    std::vector<double> shift; // 2 per free vertex, interleaved (none without constraints)
+    for (Eigen::Index k = 0; !system.Constraints.empty() && k < offset.rows(); ++k)
+    {
+      shift.push_back(offset(k, 0));
+      shift.push_back(offset(k, 1));
+    }
     basis = std::make_unique<BoundaryBasis>(n,
       std::vector<Index>(system.FixedList.begin(), system.FixedList.end()), std::move(system.FreeList),
-      std::vector<double>(responses.data(), responses.data() + responses.size()));
+      std::vector<double>(responses.data(), responses.data() + responses.size()), std::move(shift));
   }
   for (Index v = 0; v < n; ++v)
   {

@@ -74,7 +74,7 @@ struct ParameterizationOptions
   double OptimalRange[2] = { 0.0, 1.0 };
 
   /// Section 5.5.2: gradient-descent steps on the boundary points (fixed
-  /// boundaries, no constraints); 0 = off.
+  /// boundaries; point and line constraints stay met); 0 = off.
   int BoundaryOptimizationSteps = 0;
   DistortionEnergy BoundaryEnergy = DistortionEnergy::EdgeLength;
   /// Keep the impulse-response basis in the result (BoundaryBasis).
@@ -91,9 +91,11 @@ struct ParameterizationOptions
 class BoundaryBasis
 {
 public:
-  /// basis: column-major, free.size() x boundary.size().
+  /// basis: column-major, free.size() x boundary.size(); offset (optional,
+  /// point constraints): the map of the free vertices (u and v, 2 per free
+  /// vertex) for a boundary all at (0, 0), added to every map.
   BoundaryBasis(Index numberOfVertices, std::vector<Index> boundary, std::vector<Index> free,
-    std::vector<double> basis);
+    std::vector<double> basis, std::vector<double> offset = {});
   const std::vector<Index>& BoundaryVertices() const { return Boundary; }
   Index NumberOfVertices() const { return Vertices; }
   /// uv: 2 per vertex on exit (points in no triangle get (0, 0)); boundaryUV:
@@ -108,6 +110,7 @@ private:
   std::vector<Index> Boundary; ///< fixed vertices, columns of the basis
   std::vector<Index> Free;     ///< free vertices, rows of the basis
   std::vector<double> Basis;
+  std::vector<double> Offset; ///< 2 per free vertex, or empty
 };
 
 struct ParameterizationResult

@@ -325,6 +325,48 @@ struct ParameterizationSolver
     return true;
   }
 
+  /// The impulse responses under point constraints (on factor unknowns of a
+  /// system without extra unknowns; one column per constraint target): with
+  /// the constraints held at zero, the response to the fixed unknowns is
+  /// (I + Y K^-1 C^T) R for the unconstrained responses R (in place), Y =
+  /// A^-1 C, K = -C^T Y; the map of zero fixed values under the targets is
+  /// `offset` = -Y K^-1 T.  The map for any fixed values p is then
+  /// responses p + offset, and it meets the constraints.  False (with
+  /// `error`) when the constraints are redundant or touch fixed unknowns.
+  bool ConstrainResponses(const std::vector<ConstraintRow>& constraints, Eigen::MatrixXd& responses,
+    Eigen::MatrixXd& offset, std::string& error) const
+  {
+    const int r = static_cast<int>(constraints.size());
+    const int columns = static_cast<int>(AFD_d.cols());
+    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(NumberFactor, r), T(r, columns);
+    for (int k = 0; k < r; ++k)
+    {
+      for (const auto& [u, coefficient] : constraints[k].Entries)
+      {
+        if (Kind[u] != KindFactor)
+        {
+          error = "point constraints on boundary points do not combine with the boundary basis";
+          return false;
+        }
+        C(Slot[u], k) += coefficient;
+      }
+      for (int col = 0; col < columns; ++col)
+      {
+        T(k, col) = constraints[k].Target[col];
+      }
+    }
+    const Eigen::MatrixXd Y = Factor.Solve(C);
+    Eigen::FullPivLU<Eigen::MatrixXd> lu(-C.transpose() * Y);
+    if (lu.rank() < r)
+    {
+      error = "the point constraints are inconsistent or redundant (two constraints on the same point)";
+      return false;
+    }
+    responses += Y * lu.solve(C.transpose() * responses);
+    offset = -Y * lu.solve(T);
+    return true;
+  }
+
   /// Impulse responses of the fixed unknowns (section 5.4.2), for a system
   /// without extra unknowns: column j = response to fixed unknown `fixed[j]`.
   Eigen::MatrixXd ImpulseResponses(const RowMatrix& rows, const std::vector<int>& fixed) const

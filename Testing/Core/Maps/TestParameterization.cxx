@@ -544,6 +544,108 @@ TEST(Parameterization, BoundaryBasisReproducesSolvesAndOptimisationDescends)
   }
 }
 
+TEST(Parameterization, BoundaryBasisAndOptimisationKeepPointAndLineConstraints)
+{
+  // Under constraints the basis is the constrained responses plus the map of
+  // a zero boundary: any boundary placement through it equals a constrained
+  // solve with that boundary given, and the boundary optimisation keeps the
+  // constraints met while its energy descends.
+  const Mesh m = ReadMesh("patch-01.off");
+  const MeshTopology topo = m.Topology();
+  ParameterizationOptions o = Energy(1, 0, ParameterizationBoundary::Circle);
+  const ParameterizationResult free = Solve(m, o);
+  std::vector<Index> interior;
+  for (Index v = 0; v < m.NumberOfVertices(); ++v)
+  {
+    if (topo.IsInterior(v))
+    {
+      interior.push_back(v);
+    }
+  }
+  ASSERT_GE(interior.size(), 100u);
+  PointConstraint pc; // an interior point moved a little from its free place
+  pc.Vertices = { interior[interior.size() / 3], -1, -1 };
+  pc.Target[0] = free.UV[2 * pc.Vertices[0]] + 0.02;
+  pc.Target[1] = free.UV[2 * pc.Vertices[0] + 1] - 0.01;
+  const Index a = interior[2 * interior.size() / 3];
+  const std::vector<Index> neighbours(topo.Edges().Neighbors.data() + topo.Edges().NeighborOffsets[a],
+    topo.Edges().Neighbors.data() + topo.Edges().NeighborOffsets[a + 1]);
+  LineConstraint line; // a two-point line: an edge at a, kept where the free map has it
+  line.Path = { a, neighbours.front() };
+  line.From[0] = free.UV[2 * a];
+  line.From[1] = free.UV[2 * a + 1];
+  line.To[0] = free.UV[2 * neighbours.front()];
+  line.To[1] = free.UV[2 * neighbours.front() + 1];
+  o.Constraints = { pc };
+  o.Lines = { line };
+  o.KeepBoundaryBasis = true;
+  const ParameterizationResult circle = Solve(m, o);
+  ASSERT_TRUE(circle.Basis);
+  const auto meets = [&](const std::vector<double>& uv) {
+    return std::max({ std::abs(uv[2 * pc.Vertices[0]] - pc.Target[0]), std::abs(uv[2 * pc.Vertices[0] + 1] - pc.Target[1]),
+      std::abs(uv[2 * a] - line.From[0]), std::abs(uv[2 * neighbours.front() + 1] - line.To[1]) });
+  };
+  EXPECT_LT(meets(circle.UV), 1e-9);
+  // The square boundary through the basis = a constrained solve with it given.
+  const ParameterizationResult square = Solve(m, Energy(1, 0, ParameterizationBoundary::Square));
+  std::vector<double> p, uv(square.UV.size());
+  for (Index v : circle.Basis->BoundaryVertices())
+  {
+    p.push_back(square.UV[2 * v]);
+    p.push_back(square.UV[2 * v + 1]);
+  }
+  circle.Basis->Apply(p.data(), uv.data());
+  ParameterizationOptions given = Energy(1, 0, ParameterizationBoundary::Given);
+  given.GivenUV = square.UV.data();
+  given.Constraints = o.Constraints;
+  given.Lines = o.Lines;
+  const ParameterizationResult direct = Solve(m, given);
+  double worst = 0.0;
+  for (std::size_t k = 0; k < uv.size(); ++k)
+  {
+    worst = std::max(worst, std::abs(uv[k] - direct.UV[k]));
+  }
+  EXPECT_LT(worst, 1e-10);
+  EXPECT_LT(meets(uv), 1e-9);
+  double moved = 0.0; // the constraints matter: the map is not the free square map
+  for (std::size_t k = 0; k < uv.size(); ++k)
+  {
+    moved = std::max(moved, std::abs(uv[k] - square.UV[k]));
+  }
+  EXPECT_GT(moved, 5e-3);
+  // The circle's own boundary through the basis gives the solve back.
+  p.clear();
+  for (Index v : circle.Basis->BoundaryVertices())
+  {
+    p.push_back(circle.UV[2 * v]);
+    p.push_back(circle.UV[2 * v + 1]);
+  }
+  circle.Basis->Apply(p.data(), uv.data());
+  worst = 0.0;
+  for (std::size_t k = 0; k < uv.size(); ++k)
+  {
+    worst = std::max(worst, std::abs(uv[k] - circle.UV[k]));
+  }
+  EXPECT_LT(worst, 1e-10);
+  // Boundary optimisation with the constraints, also through the optimal mix.
+  for (const bool mix : { false, true })
+  {
+    ParameterizationOptions opt = o;
+    opt.KeepBoundaryBasis = false;
+    opt.OptimizeMix = mix;
+    opt.BoundaryOptimizationSteps = 15;
+    const ParameterizationResult r = Solve(m, opt);
+    ASSERT_GE(r.BoundaryEnergies.size(), 2u);
+    for (std::size_t k = 1; k < r.BoundaryEnergies.size(); ++k)
+    {
+      EXPECT_LE(r.BoundaryEnergies[k], r.BoundaryEnergies[k - 1]);
+    }
+    EXPECT_LT(r.BoundaryEnergies.back(), 0.8 * r.BoundaryEnergies.front());
+    EXPECT_LT(meets(r.UV), 1e-9) << "mix " << mix;
+    EXPECT_EQ(Measure(m, r).FlippedTriangles, 0);
+  }
+}
+
 TEST(Parameterization, ResultsDoNotDependOnTheThreadCount)
 {
   const Mesh m = ReadMesh("mushroom.off");
