@@ -25,14 +25,31 @@ BoundaryBasis::BoundaryBasis(Index numberOfVertices, std::vector<Index> boundary
 {
 }
 
+BoundaryBasis::BoundaryBasis(Index numberOfVertices, std::vector<Index> boundary, std::vector<Index> free,
+  Map map, Map pullBack)
+  : Vertices(numberOfVertices)
+  , Boundary(std::move(boundary))
+  , Free(std::move(free))
+  , Implicit(std::move(map))
+  , ImplicitPullBack(std::move(pullBack))
+{
+}
+
 void BoundaryBasis::Apply(const double* boundaryUV, double* uv) const
 {
   std::fill(uv, uv + 2 * static_cast<std::size_t>(Vertices), 0.0); // points in no triangle
   const Eigen::Index nb = static_cast<Eigen::Index>(Boundary.size());
   const Eigen::Index nf = static_cast<Eigen::Index>(Free.size());
   Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>> p(boundaryUV, nb, 2);
-  Eigen::Map<const Eigen::MatrixXd> b(Basis.data(), nf, nb);
-  const Eigen::Matrix<double, Eigen::Dynamic, 2> u = b * p;
+  Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> u(nf, 2);
+  if (Implicit)
+  {
+    Implicit(boundaryUV, u.data());
+  }
+  else
+  {
+    u = Eigen::Map<const Eigen::MatrixXd>(Basis.data(), nf, nb) * p;
+  }
   for (Eigen::Index k = 0; k < nf; ++k)
   {
     uv[2 * Free[k]] = u(k, 0) + (Offset.empty() ? 0.0 : Offset[2 * k]);
@@ -55,8 +72,16 @@ void BoundaryBasis::PullBack(const double* gradient, double* boundaryGradient) c
     gf(k, 0) = gradient[2 * Free[k]];
     gf(k, 1) = gradient[2 * Free[k] + 1];
   }
-  Eigen::Map<const Eigen::MatrixXd> b(Basis.data(), nf, nb);
-  const Eigen::Matrix<double, Eigen::Dynamic, 2> gb = b.transpose() * gf;
+  Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> gb(nb, 2);
+  if (ImplicitPullBack)
+  {
+    const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> in = gf;
+    ImplicitPullBack(in.data(), gb.data());
+  }
+  else
+  {
+    gb = Eigen::Map<const Eigen::MatrixXd>(Basis.data(), nf, nb).transpose() * gf;
+  }
   for (Eigen::Index k = 0; k < nb; ++k)
   {
     boundaryGradient[2 * k] = gb(k, 0) + gradient[2 * Boundary[k]];
@@ -463,6 +488,8 @@ struct FixedBoundarySystem
   std::vector<Index> FreeList;
   std::vector<Index> Order;
   std::vector<ConstraintRow> Constraints;
+  std::shared_ptr<RowMatrix> Rows;                  ///< of the last Solve
+  std::shared_ptr<ParameterizationSolver> Solver;   ///< of the last Solve
 
   FixedBoundarySystem(const MeshTopology& topo, const double* points, int threads, const std::vector<std::uint8_t>& used)
     : Topology(topo)
@@ -551,9 +578,11 @@ struct FixedBoundarySystem
     Eigen::MatrixXd* offset, ParameterizationResult& result, std::string& error)
   {
     Index degenerate = 0;
-    const RowMatrix rows = VertexSystem(Topology, Points, lambda, mu, Threads, degenerate);
+    Rows = std::make_shared<RowMatrix>(VertexSystem(Topology, Points, lambda, mu, Threads, degenerate));
     result.DegenerateTriangles = degenerate;
-    ParameterizationSolver solver;
+    Solver = std::make_shared<ParameterizationSolver>(); // kept for an implicit basis
+    ParameterizationSolver& solver = *Solver;
+    const RowMatrix& rows = *Rows;
     Eigen::MatrixXd solution = Fixed;
     if (Order.empty())
     {
@@ -573,14 +602,41 @@ struct FixedBoundarySystem
     }
     if (responses)
     {
-      *responses = solver.ImpulseResponses(rows, FixedList);
-      *offset = Eigen::MatrixXd::Zero(responses->rows(), 2);
-      if (!Constraints.empty() && !solver.ConstrainResponses(Constraints, *responses, *offset, error))
+      ParameterizationSolver::ConstraintProjection projection;
+      if (!solver.Project(Constraints, projection, error))
       {
         return false;
       }
+      *responses = projection.Project(solver.ImpulseResponses(rows, FixedList));
+      *offset = projection.Offset;
     }
     return true;
+  }
+
+  /// The boundary basis of the last Solve kept as its factorization (a
+  /// symmetric system): a map and a pull-back of one solve each.
+  std::unique_ptr<BoundaryBasis> ImplicitBasis(std::string& error)
+  {
+    auto projection = std::make_shared<ParameterizationSolver::ConstraintProjection>();
+    if (!Solver->Project(Constraints, *projection, error))
+    {
+      return nullptr;
+    }
+    auto coupling = std::make_shared<Eigen::SparseMatrix<double>>(Solver->FixedCoupling(*Rows, FixedList));
+    using Rows2 = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
+    const Eigen::Index nb = coupling->cols(), nf = coupling->rows();
+    std::shared_ptr<const ParameterizationSolver> solver = Solver;
+    BoundaryBasis::Map map = [solver, coupling, projection, nb, nf](const double* in, double* out) {
+      const Eigen::MatrixXd x0 = solver->Factor.Solve(-(*coupling * Eigen::Map<const Rows2>(in, nb, 2)));
+      Eigen::Map<Rows2>(out, nf, 2) = projection->Project(x0) + projection->Offset;
+    };
+    // B^T g = -A_FB^T A_FF^-1 P^T g (A_FF symmetric).
+    BoundaryBasis::Map pullBack = [solver, coupling, projection, nb, nf](const double* in, double* out) {
+      const Eigen::MatrixXd y = solver->Factor.Solve(projection->ProjectTransposed(Eigen::Map<const Rows2>(in, nf, 2)));
+      Eigen::Map<Rows2>(out, nb, 2) = -(coupling->transpose() * y);
+    };
+    return std::make_unique<BoundaryBasis>(Topology.NumberOfVertices(),
+      std::vector<Index>(FixedList.begin(), FixedList.end()), FreeList, std::move(map), std::move(pullBack));
   }
 
   /// Section 5.5.1: the conformal and authalic maps, blended by the l of
@@ -630,16 +686,19 @@ std::string MapFixedBoundary(const MeshTopology& topo, const double* points, con
   }
   const bool wantBasis = options.KeepBoundaryBasis || options.BoundaryOptimizationSteps > 0;
   const double basisBytes = 8.0 * system.FreeList.size() * system.FixedList.size();
-  if (wantBasis && basisBytes > options.MaximumBasisBytes)
+  // Beyond the limit the basis stays the factorization: symmetric systems only.
+  const bool implicit = wantBasis && basisBytes > options.MaximumBasisBytes;
+  if (implicit && (options.AuthalicWeight != 0.0 || options.OptimizeMix))
   {
     std::ostringstream os;
     os << "The boundary basis would need " << basisBytes / (1 << 20) << " MiB (" << system.FreeList.size()
        << " free x " << system.FixedList.size() << " boundary points), more than the limit of "
-       << options.MaximumBasisBytes / (1 << 20) << " MiB.";
+       << options.MaximumBasisBytes / (1 << 20) << " MiB; beyond it the basis is kept as the factorization, "
+       << "which needs the conformal energy alone (authalic weight 0, no optimal mix).";
     return os.str();
   }
   Eigen::MatrixXd responses, offset;
-  Eigen::MatrixXd* wanted = wantBasis ? &responses : nullptr;
+  Eigen::MatrixXd* wanted = wantBasis && !implicit ? &responses : nullptr;
   const bool solved = options.OptimizeMix
     ? system.SolveOptimalMix(options, uv, wanted, &offset, result, error)
     : system.Solve(options.ConformalWeight, options.AuthalicWeight, uv, wanted, &offset, result, error);
@@ -649,7 +708,15 @@ std::string MapFixedBoundary(const MeshTopology& topo, const double* points, con
   }
   const Index n = topo.NumberOfVertices();
   std::unique_ptr<BoundaryBasis> basis;
-  if (wantBasis)
+  if (implicit)
+  {
+    basis = system.ImplicitBasis(error);
+    if (!basis)
+    {
+      return "Cannot parameterize: " + error + ".";
+    }
+  }
+  else if (wantBasis)
   {
     std::vector<double> shift; // 2 per free vertex, interleaved (none without constraints)
     for (Eigen::Index k = 0; !system.Constraints.empty() && k < offset.rows(); ++k)

@@ -26,6 +26,7 @@
 #include "Mesh/MeshTopology.h"
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -79,8 +80,10 @@ struct ParameterizationOptions
   DistortionEnergy BoundaryEnergy = DistortionEnergy::EdgeLength;
   /// Keep the impulse-response basis in the result (BoundaryBasis).
   bool KeepBoundaryBasis = false;
-  /// The basis holds (free vertices) x (boundary vertices) doubles; larger
-  /// requests fail with an error rather than exhausting memory.
+  /// The basis holds (free vertices) x (boundary vertices) doubles up to
+  /// this size; beyond it the basis is kept as the factorization (the
+  /// conformal energy: one solve per use) or, for energies whose system is
+  /// not symmetric, refused with an error rather than exhausting memory.
   double MaximumBasisBytes = 1024.0 * 1024.0 * 1024.0;
 
   int NumberOfThreads = 0;
@@ -96,6 +99,15 @@ public:
   /// vertex) for a boundary all at (0, 0), added to every map.
   BoundaryBasis(Index numberOfVertices, std::vector<Index> boundary, std::vector<Index> free,
     std::vector<double> basis, std::vector<double> offset = {});
+  /// A basis too large to hold (ParameterizationOptions::MaximumBasisBytes),
+  /// kept as the factorization it comes from: `map` takes the boundary
+  /// positions (2 per boundary vertex) to the free vertices' (2 each, the
+  /// offset included), `pullBack` a gradient on the free vertices (2 each)
+  /// to the boundary (2 each); one solve per call.
+  using Map = std::function<void(const double* in, double* out)>;
+  BoundaryBasis(Index numberOfVertices, std::vector<Index> boundary, std::vector<Index> free, Map map, Map pullBack);
+  /// Whether the basis is held as a matrix (false: as a factorization).
+  bool IsDense() const { return !Implicit; }
   const std::vector<Index>& BoundaryVertices() const { return Boundary; }
   Index NumberOfVertices() const { return Vertices; }
   /// uv: 2 per vertex on exit (points in no triangle get (0, 0)); boundaryUV:
@@ -111,6 +123,7 @@ private:
   std::vector<Index> Free;     ///< free vertices, rows of the basis
   std::vector<double> Basis;
   std::vector<double> Offset; ///< 2 per free vertex, or empty
+  Map Implicit, ImplicitPullBack;
 };
 
 struct ParameterizationResult

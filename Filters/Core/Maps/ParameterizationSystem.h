@@ -325,20 +325,35 @@ struct ParameterizationSolver
     return true;
   }
 
-  /// The impulse responses under point constraints (on factor unknowns of a
-  /// system without extra unknowns; one column per constraint target): with
-  /// the constraints held at zero, the response to the fixed unknowns is
-  /// (I + Y K^-1 C^T) R for the unconstrained responses R (in place), Y =
-  /// A^-1 C, K = -C^T Y; the map of zero fixed values under the targets is
-  /// `offset` = -Y K^-1 T.  The map for any fixed values p is then
-  /// responses p + offset, and it meets the constraints.  False (with
-  /// `error`) when the constraints are redundant or touch fixed unknowns.
-  bool ConstrainResponses(const std::vector<ConstraintRow>& constraints, Eigen::MatrixXd& responses,
-    Eigen::MatrixXd& offset, std::string& error) const
+  /// Point constraints on the factor unknowns of a system without extra
+  /// unknowns, held on maps of the fixed values: with C the constraint
+  /// columns, Y = A^-1 C and K = -C^T Y, a map x0 of fixed values alone
+  /// becomes x0 + Y K^-1 C^T x0 (the constraints held at zero: Project), and
+  /// the targets T add Offset = -Y K^-1 T.  For a symmetric A (so K too)
+  /// the transpose of the projection is g + C K^-1 Y^T g (ProjectTransposed).
+  struct ConstraintProjection
+  {
+    Eigen::MatrixXd C, Y, Offset;
+    Eigen::FullPivLU<Eigen::MatrixXd> LU;
+    bool Empty() const { return C.cols() == 0; }
+    Eigen::MatrixXd Project(const Eigen::MatrixXd& x0) const
+    {
+      return Empty() ? x0 : Eigen::MatrixXd(x0 + Y * LU.solve(C.transpose() * x0));
+    }
+    Eigen::MatrixXd ProjectTransposed(const Eigen::MatrixXd& g) const
+    {
+      return Empty() ? g : Eigen::MatrixXd(g + C * LU.solve(Y.transpose() * g));
+    }
+  };
+
+  /// The projection of `constraints` (see ConstraintProjection); false (with
+  /// `error`) when they are redundant or touch fixed unknowns.
+  bool Project(const std::vector<ConstraintRow>& constraints, ConstraintProjection& p, std::string& error) const
   {
     const int r = static_cast<int>(constraints.size());
     const int columns = static_cast<int>(AFD_d.cols());
-    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(NumberFactor, r), T(r, columns);
+    p.C = Eigen::MatrixXd::Zero(NumberFactor, r);
+    Eigen::MatrixXd T(r, columns);
     for (int k = 0; k < r; ++k)
     {
       for (const auto& [u, coefficient] : constraints[k].Entries)
@@ -348,35 +363,34 @@ struct ParameterizationSolver
           error = "point constraints on boundary points do not combine with the boundary basis";
           return false;
         }
-        C(Slot[u], k) += coefficient;
+        p.C(Slot[u], k) += coefficient;
       }
       for (int col = 0; col < columns; ++col)
       {
         T(k, col) = constraints[k].Target[col];
       }
     }
-    const Eigen::MatrixXd Y = Factor.Solve(C);
-    Eigen::FullPivLU<Eigen::MatrixXd> lu(-C.transpose() * Y);
-    if (lu.rank() < r)
+    p.Y = Factor.Solve(p.C);
+    p.LU.compute(-p.C.transpose() * p.Y);
+    if (p.LU.rank() < r)
     {
       error = "the point constraints are inconsistent or redundant (two constraints on the same point)";
       return false;
     }
-    responses += Y * lu.solve(C.transpose() * responses);
-    offset = -Y * lu.solve(T);
+    p.Offset = r ? Eigen::MatrixXd(-p.Y * p.LU.solve(T)) : Eigen::MatrixXd::Zero(NumberFactor, columns);
     return true;
   }
 
-  /// Impulse responses of the fixed unknowns (section 5.4.2), for a system
-  /// without extra unknowns: column j = response to fixed unknown `fixed[j]`.
-  Eigen::MatrixXd ImpulseResponses(const RowMatrix& rows, const std::vector<int>& fixed) const
+  /// The coupling A_FB of the factor rows of `rows` to the fixed unknowns
+  /// `fixed` (columns in that order).
+  Eigen::SparseMatrix<double> FixedCoupling(const RowMatrix& rows, const std::vector<int>& fixed) const
   {
     std::vector<int> column(Kind.size(), -1);
     for (std::size_t j = 0; j < fixed.size(); ++j)
     {
       column[fixed[j]] = static_cast<int>(j);
     }
-    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(NumberFactor, static_cast<int>(fixed.size()));
+    std::vector<Eigen::Triplet<double>> entries;
     for (int r = 0; r < static_cast<int>(Kind.size()); ++r)
     {
       if (Kind[r] != KindFactor)
@@ -387,10 +401,20 @@ struct ParameterizationSolver
       {
         if (column[rows.Columns[k]] >= 0)
         {
-          rhs(Slot[r], column[rows.Columns[k]]) -= rows.Values[k];
+          entries.emplace_back(Slot[r], column[rows.Columns[k]], rows.Values[k]);
         }
       }
     }
+    Eigen::SparseMatrix<double> coupling(NumberFactor, static_cast<Eigen::Index>(fixed.size()));
+    coupling.setFromTriplets(entries.begin(), entries.end());
+    return coupling;
+  }
+
+  /// Impulse responses of the fixed unknowns (section 5.4.2), for a system
+  /// without extra unknowns: column j = response to fixed unknown `fixed[j]`.
+  Eigen::MatrixXd ImpulseResponses(const RowMatrix& rows, const std::vector<int>& fixed) const
+  {
+    const Eigen::MatrixXd rhs = -Eigen::MatrixXd(FixedCoupling(rows, fixed));
     Eigen::MatrixXd basis(NumberFactor, rhs.cols());
     const int chunk = 64;
     for (int j = 0; j < rhs.cols(); j += chunk)

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include <cmath>
 
 using namespace beltrami;
@@ -644,6 +646,87 @@ TEST(Parameterization, BoundaryBasisAndOptimisationKeepPointAndLineConstraints)
     EXPECT_LT(meets(r.UV), 1e-9) << "mix " << mix;
     EXPECT_EQ(Measure(m, r).FlippedTriangles, 0);
   }
+}
+
+TEST(Parameterization, BasisBeyondTheLimitIsKeptAsTheFactorization)
+{
+  // A basis over MaximumBasisBytes is kept as the factorization (the
+  // conformal energy): its maps and pull-backs equal the dense basis', with
+  // and without constraints, and so does the boundary optimisation.
+  const Mesh m = ReadMesh("patch-01.off");
+  const MeshTopology topo = m.Topology();
+  Index inner = -1;
+  for (Index v = 0; v < m.NumberOfVertices() && inner < 0; ++v)
+  {
+    inner = topo.IsInterior(v) && v > m.NumberOfVertices() / 2 ? v : -1;
+  }
+  for (const bool constrained : { false, true })
+  {
+    ParameterizationOptions o = Energy(1, 0, ParameterizationBoundary::Circle);
+    o.KeepBoundaryBasis = true;
+    if (constrained)
+    {
+      PointConstraint pc;
+      pc.Vertices = { inner, -1, -1 };
+      pc.Target[0] = 0.45;
+      pc.Target[1] = 0.52;
+      o.Constraints = { pc };
+    }
+    const ParameterizationResult dense = Solve(m, o);
+    o.MaximumBasisBytes = 1.0;
+    const ParameterizationResult held = Solve(m, o);
+    ASSERT_TRUE(dense.Basis && held.Basis);
+    EXPECT_TRUE(dense.Basis->IsDense());
+    EXPECT_FALSE(held.Basis->IsDense());
+    const std::size_t nb = dense.Basis->BoundaryVertices().size();
+    std::vector<double> p(2 * nb), g(2 * m.NumberOfVertices()), a(g.size()), b(g.size()), ga(2 * nb), gb(2 * nb);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (double& x : p)
+    {
+      x = u(rng);
+    }
+    for (double& x : g)
+    {
+      x = u(rng);
+    }
+    dense.Basis->Apply(p.data(), a.data());
+    held.Basis->Apply(p.data(), b.data());
+    dense.Basis->PullBack(g.data(), ga.data());
+    held.Basis->PullBack(g.data(), gb.data());
+    double map = 0.0, pull = 0.0;
+    for (std::size_t k = 0; k < a.size(); ++k)
+    {
+      map = std::max(map, std::abs(a[k] - b[k]));
+    }
+    for (std::size_t k = 0; k < ga.size(); ++k)
+    {
+      pull = std::max(pull, std::abs(ga[k] - gb[k]));
+    }
+    EXPECT_LT(map, 1e-10) << "constrained " << constrained;
+    EXPECT_LT(pull, 1e-9) << "constrained " << constrained;
+    if (constrained)
+    {
+      EXPECT_NEAR(b[2 * inner], 0.45, 1e-9);
+      EXPECT_NEAR(b[2 * inner + 1], 0.52, 1e-9);
+    }
+    o.KeepBoundaryBasis = false;
+    o.BoundaryOptimizationSteps = 10;
+    const ParameterizationResult descent = Solve(m, o);
+    o.MaximumBasisBytes = 1e12;
+    const ParameterizationResult reference = Solve(m, o);
+    ASSERT_EQ(descent.BoundaryEnergies.size(), reference.BoundaryEnergies.size());
+    for (std::size_t k = 0; k < descent.BoundaryEnergies.size(); ++k)
+    {
+      EXPECT_NEAR(descent.BoundaryEnergies[k], reference.BoundaryEnergies[k], 1e-9 * reference.BoundaryEnergies[0]);
+    }
+  }
+  // The authalic energy's system is not symmetric: beyond the limit, an error.
+  ParameterizationOptions dap = Energy(0, 1, ParameterizationBoundary::Circle);
+  dap.KeepBoundaryBasis = true;
+  dap.MaximumBasisBytes = 1.0;
+  const std::string error = Parameterize(topo, m.Points.data(), dap).Error;
+  EXPECT_NE(error.find("conformal energy alone"), std::string::npos) << error;
 }
 
 TEST(Parameterization, ResultsDoNotDependOnTheThreadCount)
