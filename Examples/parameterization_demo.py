@@ -5,7 +5,10 @@ Reads an OFF mesh (default: the bundled mushroom), computes the discrete
 conformal map (circle boundary), the discrete authalic map and the natural
 conformal map with vtkIntrinsicParameterization, prints their distortion,
 writes a .vtp with UV and the distortion arrays, and renders the surface with
-a checkerboard texture mapped by the natural conformal map.  Then the atlas
+a checkerboard texture mapped by the natural conformal map.  Then the
+interactive use of the conformal map: two boundary handles dragged apart and a
+line constraint, the map recomputed from the kept boundary basis without a
+new solve (the flat meshes before and after, side by side).  Then the atlas
 of a closed mesh (thesis section 4.2; default: the bundled bunny) and of a
 CAD part (fandisk, its sharp edges kept as chart boundaries), rendered with a
 checkerboard through their packed UV; the closed mesh's mean curvature
@@ -17,10 +20,15 @@ as an image and rendered back onto the surface through UV.
 """
 import os
 import sys
+import time
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 from beltrami import vtkIntrinsicParameterization
-from beltrami.pipelines import (atlas_texture, parameterize, render_checkerboard, render_textured, surface_atlas,
-                                to_image, write_png, write_vtp)
+from beltrami.pipelines import (atlas_texture, parameterize, render_checkerboard, render_flat_meshes, render_textured,
+                                run_on_off, surface_atlas, to_image, write_png, write_vtp)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_MESH = os.path.join(HERE, "..", "Testing", "Data", "mushroom.off")
@@ -55,6 +63,8 @@ def main(argv):
     write_vtp(out, vtp)
     render_checkerboard(out, png)
     print("wrote %s\nwrote %s" % (vtp, png))
+    if handles(mesh_path, out_dir, name):
+        return 1
     return atlas(argv[3] if len(argv) > 3 else DEFAULT_CLOSED, out_dir, bake=True) or \
         atlas(DEFAULT_CAD, out_dir, split_at_features=True, direction=(1, 0.6, 0.8))
 
@@ -89,6 +99,38 @@ def atlas(mesh_path, out_dir, split_at_features=False, direction=(0, 0.2, 1), ba
         render_textured(f.GetOutput(), to_image(texture), textured, view_up=(0, 1, 0), direction=direction)
         print("mean curvature baked into a %dx%d atlas texture\nwrote %s\nwrote %s"
               % (texture.shape[1], texture.shape[0], flat, textured))
+    return 0
+
+
+def handles(mesh_path, out_dir, name):
+    """Section 5.4.2, interactive use: the conformal map on the circle, then
+    two boundary handles (the rightmost and leftmost boundary points) dragged
+    apart and a line constraint from the centre upwards, the handles moved
+    twice; only the first update solves."""
+    f = vtkIntrinsicParameterization()
+    f.SetOutputFlattenedMesh(True)
+    _, solve_time = run_on_off(mesh_path, f)
+    before = vtkPolyData()
+    before.DeepCopy(f.GetOutput())  # the filter's output changes with the handles
+    uv = vtk_to_numpy(before.GetPointData().GetArray("UV")).copy()
+    right, left = int(np.argmax(uv[:, 0])), int(np.argmin(uv[:, 0]))
+    centre = int(np.argmin(np.linalg.norm(uv - [0.5, 0.5], axis=1)))
+    top = int(np.argmin(np.linalg.norm(uv - [0.5, 0.8], axis=1)))
+    f.AddShortestPathLineConstraint(centre, top, 0.5, 0.5, 0.5, 0.8)
+    for stretch in (0.15, 0.3):
+        f.RemoveAllBoundaryHandles()
+        f.AddBoundaryHandle(right, uv[right, 0] + stretch, uv[right, 1])
+        f.AddBoundaryHandle(left, uv[left, 0] - stretch, uv[left, 1])
+        start = time.perf_counter()
+        f.Update()
+        elapsed = time.perf_counter() - start
+        print("  handles at +-%.2f: %.3f s, %d solve(s) so far, mean angle distortion %.3f deg, flipped %d"
+              % (stretch, elapsed, f.GetNumberOfSolves(), f.GetMeanAngleDistortion(),
+                 f.GetNumberOfFlippedTriangles()))
+    print("  (the conformal map alone took %.3f s)" % solve_time)
+    png = os.path.join(out_dir, name + "_boundary_handles.png")
+    render_flat_meshes((before, f.GetOutput()), png)
+    print("wrote %s" % png)
     return 0
 
 

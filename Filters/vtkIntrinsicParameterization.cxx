@@ -4,10 +4,12 @@
 #include "vtkBeltramiSurface.h"
 #include "vtkSurfaceAtlas.h"
 
+#include "Maps/BoundaryHandles.h"
 #include "Maps/Parameterization.h"
 
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkDataObject.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkIdList.h>
@@ -19,7 +21,9 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
 BELTRAMI_SAME_ENUM(vtkIntrinsicParameterization::CIRCLE, beltrami::ParameterizationBoundary::Circle);
@@ -38,6 +42,14 @@ struct vtkIntrinsicParameterization::Internals
   std::vector<beltrami::PointConstraint> Constraints;
   std::vector<beltrami::LineConstraint> Lines;
   std::unique_ptr<beltrami::BoundaryBasis> Basis;
+  // Boundary handles and what a handles-only update reuses.
+  std::vector<beltrami::BoundaryHandle> Handles;
+  bool HandleChange = false;                  // inside a handle setter
+  vtkTimeStamp SolveSettings;                 // every change but the handles'
+  vtkMTimeType SolvedSettings = 0;
+  std::vector<vtkMTimeType> SolvedStamp; // InputStamp of the solve's input
+  vtkPolyData* SolvedInput = nullptr;
+  beltrami::ParameterizationResult Solved; // the solve's map (before the handles) and report
 };
 
 vtkIntrinsicParameterization::vtkIntrinsicParameterization()
@@ -66,6 +78,38 @@ void vtkIntrinsicParameterization::CopySettings(
   BeltramiCopySetting(this->NumberOfThreads, o.NumberOfThreads, direction);
 }
 
+namespace
+{
+
+/// A point id for the core; ids beyond its range are kept invalid (the
+/// core reports them).
+beltrami::Index CoreIndex(vtkIdType id)
+{
+  return id < 0 ? -1
+                : static_cast<beltrami::Index>(std::min<vtkIdType>(id, std::numeric_limits<beltrami::Index>::max()));
+}
+
+/// A result's map and report (not its basis).
+void CopyReport(const beltrami::ParameterizationResult& from, beltrami::ParameterizationResult& to)
+{
+  to.UV = from.UV;
+  to.OuterBoundary = from.OuterBoundary;
+  to.PinnedVertices = from.PinnedVertices;
+  to.OptimalMix = from.OptimalMix;
+  to.BoundaryEnergies = from.BoundaryEnergies;
+  to.DegenerateTriangles = from.DegenerateTriangles;
+}
+
+vtkNew<vtkDoubleArray> NamedValue(const char* name, double value)
+{
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->InsertNextValue(value);
+  return a;
+}
+
+} // namespace
+
 vtkIntrinsicParameterization::~vtkIntrinsicParameterization() = default;
 
 void vtkIntrinsicParameterization::AddPointConstraint(vtkIdType pointId, double u, double v)
@@ -80,9 +124,7 @@ void vtkIntrinsicParameterization::AddSurfacePointConstraint(vtkIdType a, vtkIdT
   const vtkIdType ids[3] = { a, b, c };
   for (int k = 0; k < 3; ++k)
   {
-    // Ids beyond the core's range are kept invalid (the core reports them).
-    pc.Vertices[k] = ids[k] < 0 ? -1
-      : static_cast<beltrami::Index>(std::min<vtkIdType>(ids[k], std::numeric_limits<beltrami::Index>::max()));
+    pc.Vertices[k] = CoreIndex(ids[k]);
   }
   pc.Weights = { wa, wb, wc };
   pc.Target[0] = u;
@@ -93,13 +135,26 @@ void vtkIntrinsicParameterization::AddSurfacePointConstraint(vtkIdType a, vtkIdT
 
 void vtkIntrinsicParameterization::AddLineConstraint(vtkIdList* pointIds, double u0, double v0, double u1, double v1)
 {
-  beltrami::LineConstraint line;
+  std::vector<vtkIdType> path;
   for (vtkIdType k = 0; pointIds && k < pointIds->GetNumberOfIds(); ++k)
   {
-    const vtkIdType id = pointIds->GetId(k);
-    line.Path.push_back(id < 0 ? -1
-        : static_cast<beltrami::Index>(std::min<vtkIdType>(id, std::numeric_limits<beltrami::Index>::max())));
+    path.push_back(pointIds->GetId(k));
   }
+  this->AddLine(path, false, u0, v0, u1, v1);
+}
+
+void vtkIntrinsicParameterization::AddShortestPathLineConstraint(
+  vtkIdType start, vtkIdType end, double u0, double v0, double u1, double v1)
+{
+  this->AddLine({ start, end }, true, u0, v0, u1, v1);
+}
+
+void vtkIntrinsicParameterization::AddLine(
+  const std::vector<vtkIdType>& path, bool shortest, double u0, double v0, double u1, double v1)
+{
+  beltrami::LineConstraint line;
+  std::transform(path.begin(), path.end(), std::back_inserter(line.Path), CoreIndex);
+  line.ShortestPaths = shortest;
   line.From[0] = u0;
   line.From[1] = v0;
   line.To[0] = u1;
@@ -126,6 +181,81 @@ int vtkIntrinsicParameterization::GetNumberOfConstraints() const
 int vtkIntrinsicParameterization::GetNumberOfLineConstraints() const
 {
   return static_cast<int>(this->Internal->Lines.size());
+}
+
+void vtkIntrinsicParameterization::Modified()
+{
+  if (this->Internal && !this->Internal->HandleChange)
+  {
+    this->Internal->SolveSettings.Modified();
+  }
+  this->Superclass::Modified();
+}
+
+void vtkIntrinsicParameterization::AddBoundaryHandle(vtkIdType pointId, double u, double v)
+{
+  beltrami::BoundaryHandle h;
+  h.Vertex = static_cast<beltrami::Index>(pointId);
+  h.Target[0] = u;
+  h.Target[1] = v;
+  this->Internal->Handles.push_back(h);
+  this->Internal->HandleChange = true;
+  this->Modified();
+  this->Internal->HandleChange = false;
+}
+
+void vtkIntrinsicParameterization::RemoveAllBoundaryHandles()
+{
+  if (!this->Internal->Handles.empty())
+  {
+    this->Internal->Handles.clear();
+    this->Internal->HandleChange = true;
+    this->Modified();
+    this->Internal->HandleChange = false;
+  }
+}
+
+int vtkIntrinsicParameterization::GetNumberOfBoundaryHandles() const
+{
+  return static_cast<int>(this->Internal->Handles.size());
+}
+
+std::vector<vtkMTimeType> vtkIntrinsicParameterization::InputStamp(vtkBeltramiSurface& surface)
+{
+  // What a solve reads: the points, the cells and the two input arrays (the
+  // data object's own time also follows changes of unused arrays, which
+  // ParaView's pipeline makes on every update).
+  vtkPolyData* input = surface.Input();
+  std::vector<vtkMTimeType> stamp{ input->GetPoints() ? input->GetPoints()->GetMTime() : 0,
+    input->GetPolys()->GetMTime(), input->GetStrips()->GetMTime() };
+  for (int k = 0; k < 2; ++k)
+  {
+    vtkInformation* info = this->GetInputArrayInformation(k);
+    const char* name = info && info->Has(vtkDataObject::FIELD_NAME()) ? info->Get(vtkDataObject::FIELD_NAME()) : nullptr;
+    vtkDataArray* array = name ? input->GetPointData()->GetArray(name) : nullptr;
+    stamp.push_back(array ? array->GetMTime() : 0);
+  }
+  return stamp;
+}
+
+bool vtkIntrinsicParameterization::CanReuseSolve(vtkBeltramiSurface& surface)
+{
+  const Internals& in = *this->Internal;
+  return !in.Handles.empty() && in.Basis && !surface.IsGathered() && in.SolvedInput == surface.Input() &&
+    in.SolvedStamp == this->InputStamp(surface) && in.SolvedSettings == in.SolveSettings.GetMTime();
+}
+
+bool vtkIntrinsicParameterization::ApplyHandles(vtkBeltramiSurface& surface, std::vector<double>& uv)
+{
+  std::vector<double> converted;
+  const std::string error = beltrami::MoveBoundaryHandles(surface.Topology(), surface.PointsAsDouble(converted),
+    *this->Internal->Basis, this->Internal->Solved.UV, this->Internal->Handles, uv);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error << ". The output is the input.");
+    return false;
+  }
+  return true;
 }
 
 void vtkIntrinsicParameterization::GetBoundaryPointIds(vtkIdList* ids) const
@@ -160,23 +290,14 @@ bool vtkIntrinsicParameterization::ComputeUV(vtkDataArray* boundaryUV, vtkDouble
   return true;
 }
 
-namespace
-{
-
-vtkNew<vtkDoubleArray> NamedValue(const char* name, double value)
-{
-  vtkNew<vtkDoubleArray> a;
-  a->SetName(name);
-  a->InsertNextValue(value);
-  return a;
-}
-
-} // namespace
 
 int vtkIntrinsicParameterization::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  this->Internal->Basis.reset();
+  if (this->Internal->Handles.empty()) // else kept for an update of the handles alone
+  {
+    this->Internal->Basis.reset();
+  }
   this->OptimalMix = -1.0;
   this->MeanAngleDistortion = this->MeanAreaDistortion = this->MeanEdgeDistortion = 0.0;
   this->NumberOfFlippedTriangles = 0;
@@ -209,36 +330,75 @@ int vtkIntrinsicParameterization::Parameterize(vtkBeltramiSurface& surface)
   std::string notDisk;
   if (this->AtlasForNonDisks && !beltrami::CheckDiskTopology(topo, notDisk))
   {
+    if (!this->Internal->Handles.empty())
+    {
+      vtkWarningMacro("Boundary handles are for a single chart; the atlas of this surface ignores them.");
+    }
     return this->ParameterizeThroughAtlas(surface, notDisk);
   }
+  beltrami::ParameterizationResult result;
+  if (this->CanReuseSolve(surface)) // only the handles changed: the kept basis, no solve
+  {
+    CopyReport(this->Internal->Solved, result);
+  }
+  else if (!this->Solve(surface, result))
+  {
+    return 0;
+  }
+  if (!this->Internal->Handles.empty() && !this->ApplyHandles(surface, result.UV))
+  {
+    return 0;
+  }
+  this->UpdateProgress(0.9);
+  std::vector<double> converted; // float points: one copy in double
+  const beltrami::DistortionReport distortion =
+    beltrami::MeasureDistortion(topo, surface.PointsAsDouble(converted), result.UV.data(), this->NumberOfThreads);
+  this->WriteMap(surface, result);
+  this->WriteDistortion(surface, distortion, result);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+bool vtkIntrinsicParameterization::Solve(vtkBeltramiSurface& surface, beltrami::ParameterizationResult& result)
+{
+  Internals& in = *this->Internal;
+  in.Basis.reset();
   beltrami::ParameterizationOptions options;
   this->CopySettings(options, vtkBeltramiCopy::ToCore);
+  options.KeepBoundaryBasis = options.KeepBoundaryBasis || !in.Handles.empty();
   std::vector<double> given;
   if (!this->ReadInputArrays(surface, options, given))
   {
-    return 0;
+    return false;
   }
   this->UpdateProgress(0.0);
-  std::vector<double> converted; // float points: one copy in double
-  const double* points = surface.PointsAsDouble(converted);
-  beltrami::ParameterizationResult result = beltrami::Parameterize(topo, points, options);
+  std::vector<double> converted;
+  result = beltrami::Parameterize(surface.Topology(), surface.PointsAsDouble(converted), options);
+  ++this->NumberOfSolves;
   if (!result.Error.empty())
   {
     vtkErrorMacro(<< result.Error);
-    return 0;
+    return false;
   }
   if (!result.Warning.empty())
   {
     vtkWarningMacro(<< result.Warning << ".");
   }
-  this->UpdateProgress(0.9);
-  const beltrami::DistortionReport distortion =
-    beltrami::MeasureDistortion(topo, points, result.UV.data(), this->NumberOfThreads);
-  this->WriteMap(surface, result);
-  this->WriteDistortion(surface, distortion, result);
-  this->Internal->Basis = std::move(result.Basis);
-  this->UpdateProgress(1.0);
-  return 1;
+  in.Basis = std::move(result.Basis);
+  if (in.Handles.empty())
+  {
+    return true;
+  }
+  if (!in.Basis)
+  {
+    vtkErrorMacro("Boundary handles need a fixed boundary (CIRCLE, SQUARE or GIVEN). The output is the input.");
+    return false;
+  }
+  CopyReport(result, in.Solved); // what an update of the handles alone reuses
+  in.SolvedInput = surface.Input();
+  in.SolvedStamp = this->InputStamp(surface);
+  in.SolvedSettings = in.SolveSettings.GetMTime();
+  return true;
 }
 
 int vtkIntrinsicParameterization::ParameterizeThroughAtlas(vtkBeltramiSurface& surface, const std::string& why)
@@ -463,6 +623,8 @@ void vtkIntrinsicParameterization::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BoundarySpacing: " << this->BoundarySpacing << "\n";
   os << indent << "Constraints: " << this->Internal->Constraints.size() << "\n";
   os << indent << "LineConstraints: " << this->Internal->Lines.size() << "\n";
+  os << indent << "BoundaryHandles: " << this->Internal->Handles.size() << "\n";
+  os << indent << "NumberOfSolves: " << this->NumberOfSolves << "\n";
   os << indent << "OptimizeMix: " << this->OptimizeMix << "\n";
   os << indent << "OptimalMixRange: " << this->OptimalMixRange[0] << " " << this->OptimalMixRange[1] << "\n";
   os << indent << "OptimalEnergy: " << this->OptimalEnergy << "\n";

@@ -24,9 +24,10 @@
  *    AddPointConstraint / AddSurfacePointConstraint, and/or input array 1, a
  *    2-component point array whose finite values are the targets of their
  *    points (NaN = free).  Line constraints (AddLineConstraint): a path of
- *    points along mesh edges mapped onto a segment at arc-length fractions.
- *    With natural boundaries and two or more
- *    constraints, the constraints replace the pins.
+ *    points along mesh edges mapped onto a segment at arc-length fractions;
+ *    AddShortestPathLineConstraint (ParaView: LineConstraints) takes the
+ *    shortest edge path between two points.  With natural boundaries and two
+ *    or more constraints, the constraints replace the pins.
  *  - OptimizeMix (section 5.5.1): the map l U_A + (1-l) U_chi with the l in
  *    OptimalMixRange minimising OptimalEnergy (EDGE_LENGTH or AREA
  *    distortion, the map scaled to the surface's area); l is in GetOptimalMix().
@@ -36,6 +37,10 @@
  *    constraints stay met, also through the kept basis).  KeepBoundaryBasis keeps
  *    that basis after the update: ComputeUV() then gives the map for any new
  *    boundary positions without a new solve.
+ *  - Boundary handles (AddBoundaryHandle; ParaView: BoundaryHandles) for
+ *    interactive use: boundary points dragged to new (u, v), their loops
+ *    following; when only the handles change, the map comes from the kept
+ *    basis without a new solve (NumberOfSolves).
  *  - OutputFlattenedMesh: the output points are (u, v, 0) instead of the input's.
  * Cell arrays AngleDistortion (mean |2D - 3D| corner angle, degrees),
  * AreaDistortion (log of the normalised 2D/3D area ratio) and EdgeDistortion
@@ -127,6 +132,9 @@ public:
   /// arc-length fraction: the thesis' constraints on the line's
   /// intersections with the mesh edges.
   void AddLineConstraint(vtkIdList* pointIds, double u0, double v0, double u1, double v1);
+  /// Line constraint along the shortest path over mesh edges from point
+  /// `start` to point `end` (ParaView: the LineConstraints property).
+  void AddShortestPathLineConstraint(vtkIdType start, vtkIdType end, double u0, double v0, double u1, double v1);
   /// Removes the point and the line constraints.
   void RemoveAllConstraints();
   int GetNumberOfConstraints() const;
@@ -197,6 +205,25 @@ public:
   bool ComputeUV(vtkDataArray* boundaryUV, vtkDoubleArray* uv) const;
   ///@}
 
+  ///@{
+  /// Boundary handles (section 5.4.2, interactive use): fixed boundary
+  /// points moved to (u, v).  The other points of a handle's boundary loop
+  /// follow, the handles' displacements interpolated along the loop by arc
+  /// length (one handle translates the loop), and the map is the boundary
+  /// basis applied to those positions.  When only the handles change, the
+  /// next update reuses the kept basis: no new solve (NumberOfSolves tells).
+  /// Fixed boundaries only (CIRCLE, SQUARE, GIVEN).  ParaView: the
+  /// BoundaryHandles property (point id, u, v triples).
+  void AddBoundaryHandle(vtkIdType pointId, double u, double v);
+  void RemoveAllBoundaryHandles();
+  int GetNumberOfBoundaryHandles() const;
+  /// Linear solves (parameterizations computed) since the filter was made.
+  vtkGetMacro(NumberOfSolves, int);
+  ///@}
+
+  /// Changes of the handles alone do not ask for a new solve.
+  void Modified() override;
+
 protected:
   vtkIntrinsicParameterization();
   ~vtkIntrinsicParameterization() override;
@@ -222,6 +249,7 @@ protected:
   double MeanAreaDistortion = 0.0;
   double MeanEdgeDistortion = 0.0;
   vtkIdType NumberOfFlippedTriangles = 0;
+  int NumberOfSolves = 0;
 
 private:
   vtkIntrinsicParameterization(const vtkIntrinsicParameterization&) = delete;
@@ -235,6 +263,19 @@ private:
   /// targets (input array 1) into `options`; false (after an error) if unusable.
   bool ReadInputArrays(vtkBeltramiSurface& surface, beltrami::ParameterizationOptions& options,
     std::vector<double>& given);
+  /// A line constraint (path: the points, or waypoints joined by shortest
+  /// edge paths).
+  void AddLine(const std::vector<vtkIdType>& path, bool shortest, double u0, double v0, double u1, double v1);
+  /// The map with the handles applied through the kept basis to the
+  /// boundary of the solve's own map; false after an error.
+  bool ApplyHandles(vtkBeltramiSurface& surface, std::vector<double>& uv);
+  /// The parameterization of the surface into `result` (after ReadInputArrays);
+  /// false after an error.  Keeps the basis and, with handles, the result.
+  bool Solve(vtkBeltramiSurface& surface, beltrami::ParameterizationResult& result);
+  /// Whether the kept basis and map serve this update (only the handles changed).
+  bool CanReuseSolve(vtkBeltramiSurface& surface);
+  /// Modification times of what a solve reads from the input.
+  std::vector<vtkMTimeType> InputStamp(vtkBeltramiSurface& surface);
   /// UV (and the flattened points) into the output.
   void WriteMap(vtkBeltramiSurface& surface, const beltrami::ParameterizationResult& result);
   /// Per-cell distortion, the field-data report and the getters' values.

@@ -154,9 +154,8 @@ def remesh(mesh_path, vertices=10000, importance=0, gamma=1.0, split_at_features
     return run_on_off(mesh_path, f)
 
 
-def render_wireframe(polydata, png_path, size=(800, 800), view_up=(0, 1, 0), direction=(0, 0.2, 1), zoom=1.0):
-    """The surface in a light colour with its edges drawn (a remesh's
-    triangles)."""
+def wireframe_actor(polydata):
+    """The surface in a light colour with its edges drawn."""
     mapper = vtkPolyDataMapper()
     mapper.SetInputData(polydata)
     mapper.ScalarVisibilityOff()
@@ -165,7 +164,25 @@ def render_wireframe(polydata, png_path, size=(800, 800), view_up=(0, 1, 0), dir
     actor.GetProperty().SetColor(0.93, 0.86, 0.70)
     actor.GetProperty().EdgeVisibilityOn()
     actor.GetProperty().SetEdgeColor(0.15, 0.15, 0.15)
-    return snapshot(actor, png_path, size, view_up=view_up, direction=direction, zoom=zoom)
+    return actor
+
+
+def render_wireframe(polydata, png_path, size=(800, 800), view_up=(0, 1, 0), direction=(0, 0.2, 1), zoom=1.0):
+    """The surface in a light colour with its edges drawn (a remesh's
+    triangles)."""
+    return snapshot(wireframe_actor(polydata), png_path, size, view_up=view_up, direction=direction, zoom=zoom)
+
+
+def render_flat_meshes(meshes, png_path, size=(1200, 600), gap=0.2):
+    """Flat meshes (points (u, v, 0)) side by side at one scale, left to right."""
+    actors, x = [], 0.0
+    for mesh in meshes:
+        bounds = mesh.GetBounds()
+        actor = wireframe_actor(mesh)
+        actor.SetPosition(x - bounds[0], 0.0, 0.0)
+        actors.append(actor)
+        x += bounds[1] - bounds[0] + gap
+    return capture(framed_renderer(actors, zoom=1.9), png_path, size)
 
 
 # Colours of vtkSurfaceLineDrawing's line types (contour, suggestive contour,

@@ -205,6 +205,27 @@ uv = vtk_to_numpy(flat.GetPointData().GetTCoords())
 check(uv.shape == (2337, 2) and np.isfinite(uv).all(), "UV texture coordinates on every point")
 mean_angle = flat.GetFieldData().GetArray("MeanAngleDistortion").GetValue(0)
 check(abs(mean_angle - 3.48) < 0.01, "DCP mean angle distortion as CGAL's (%.3f)" % mean_angle)
+# Boundary handles and a line constraint from the panel's properties: the
+# handles' points and the line's ends land on their targets, no flips, and
+# (in this process) moving the handles again costs no new solve.
+handled = IntrinsicParameterization(Input=mushroom)
+right, left = int(np.argmax(uv[:, 0])), int(np.argmin(uv[:, 0]))
+centre = int(np.argmin(np.linalg.norm(uv - [0.5, 0.5], axis=1)))
+near = int(np.argmin(np.linalg.norm(uv - [0.5, 0.8], axis=1)))
+handled.LineConstraints = [centre, near, 0.5, 0.5, 0.5, 0.75]
+for shift in (0.1, 0.2):
+    handled.BoundaryHandles = [right, uv[right, 0] + shift, uv[right, 1], left, uv[left, 0], uv[left, 1] - shift]
+    handled.UpdatePipeline()
+    moved = servermanager.Fetch(handled)
+    moved_uv = vtk_to_numpy(moved.GetPointData().GetTCoords())
+    targets = [[uv[right, 0] + shift, uv[right, 1]], [uv[left, 0], uv[left, 1] - shift], [0.5, 0.5], [0.5, 0.75]]
+    check(np.abs(moved_uv[[right, left, centre, near]] - targets).max() < 1e-9
+          and moved.GetFieldData().GetArray("FlippedTriangles").GetValue(0) == 0,
+          "boundary handles and line constraint land on their targets (shift %g)" % shift)
+    local = handled.GetClientSideObject()
+    check(local is None or local.GetNumberOfSolves() <= 1,
+          "moving the handles again solves nothing (%d solves)" % local.GetNumberOfSolves())
+Delete(handled)
 param.Boundary = "Natural"
 param.UpdatePipeline()
 natural_map = servermanager.Fetch(param)

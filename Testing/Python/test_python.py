@@ -472,6 +472,13 @@ class ParameterizationFromPython(unittest.TestCase):
         np.testing.assert_allclose(uv[order], expected, atol=1e-9)
         self.assertEqual(f.GetNumberOfFlippedTriangles(), 0)
         self.assertLess(f.GetMeanAngleDistortion(), 1.1 * free.GetMeanAngleDistortion())
+        # The same line by its two ends (ParaView's LineConstraints): the
+        # shortest edge path between them is the geodesic path above.
+        g = vtkIntrinsicParameterization()
+        g.SetInputData(mesh)
+        g.AddShortestPathLineConstraint(order[0], order[-1], *uv0[order[0]], *uv0[order[-1]])
+        g.Update()
+        np.testing.assert_allclose(vtk_to_numpy(g.GetOutput().GetPointData().GetArray("UV")), uv, atol=1e-12)
         # A path with a gap is a clear error.
         gap = vtkIdList()
         for k in (0, 2, 3):
@@ -483,6 +490,59 @@ class ParameterizationFromPython(unittest.TestCase):
         vtkOutputWindow.SetInstance(errors)
         f.Update()
         self.assertIn("not joined by a mesh edge", errors.GetOutput())
+
+    def test_boundary_handles_move_the_map_without_a_solve(self):
+        # Interactive use (section 5.4.2): handles on boundary points; the
+        # loop follows by arc length, the map is the parameterization with
+        # that boundary given, and moving the handles again solves nothing.
+        mesh = self.mushroom()
+        free = configured(vtkIntrinsicParameterization(), mesh, KeepBoundaryBasis=True)
+        uv0 = vtk_to_numpy(free.GetOutput().GetPointData().GetArray("UV")).copy()
+        ids = vtkIdList()
+        free.GetBoundaryPointIds(ids)
+        a, b = ids.GetId(0), ids.GetId(ids.GetNumberOfIds() // 2)
+        f = vtkIntrinsicParameterization()
+        f.SetInputData(mesh)
+        for round, (da, db) in enumerate((([0.1, 0.0], [0.0, -0.1]), ([-0.2, 0.05], [0.1, 0.1]))):
+            f.RemoveAllBoundaryHandles()
+            f.AddBoundaryHandle(a, *(uv0[a] + da))
+            f.AddBoundaryHandle(b, *(uv0[b] + db))
+            self.assertEqual(f.GetNumberOfBoundaryHandles(), 2)
+            f.Update()
+            self.assertEqual(f.GetNumberOfSolves(), 1, "round %d" % round)
+            uv = vtk_to_numpy(f.GetOutput().GetPointData().GetArray("UV")).copy()
+            np.testing.assert_allclose(uv[[a, b]], [uv0[a] + da, uv0[b] + db], atol=1e-12)
+            given_input = vtkPolyData()
+            given_input.ShallowCopy(mesh)
+            boundary = numpy_to_vtk(uv, deep=1)
+            boundary.SetName("Handled")
+            given_input.GetPointData().AddArray(boundary)
+            given = vtkIntrinsicParameterization()
+            given.SetInputData(given_input)
+            given.SetBoundary(vtkIntrinsicParameterization.GIVEN)
+            given.SetInputArrayToProcess(0, 0, 0, 0, "Handled")
+            given.Update()
+            np.testing.assert_allclose(vtk_to_numpy(given.GetOutput().GetPointData().GetArray("UV")), uv, atol=1e-9)
+            self.assertEqual(f.GetNumberOfFlippedTriangles(), 0)
+        # Any other change solves again; the handles stay.
+        f.SetAuthalicWeight(0.5)
+        f.Update()
+        self.assertEqual(f.GetNumberOfSolves(), 2)
+        uv = vtk_to_numpy(f.GetOutput().GetPointData().GetArray("UV"))
+        np.testing.assert_allclose(uv[[a, b]], [uv0[a] + [-0.2, 0.05], uv0[b] + [0.1, 0.1]], atol=1e-12)
+        # A handle off the boundary, or on a natural boundary, is an error.
+        errors = vtkStringOutputWindow()
+        vtkOutputWindow.SetInstance(errors)
+        inner = int(np.argmin(np.linalg.norm(uv0 - [0.5, 0.5], axis=1)))
+        f.AddBoundaryHandle(inner, 0.5, 0.5)
+        f.Update()
+        self.assertIn("not a point of the fixed boundary", errors.GetOutput())
+        f.RemoveAllBoundaryHandles()
+        f.AddBoundaryHandle(a, 0.0, 0.0)
+        f.SetAuthalicWeight(0.0)
+        f.SetBoundary(vtkIntrinsicParameterization.NATURAL)
+        f.Update()
+        self.assertIn("need a fixed boundary", errors.GetOutput())
 
     def test_boundary_basis_moves_the_boundary_without_a_solve(self):
         mesh = self.mushroom()

@@ -34,10 +34,6 @@ std::size_t LongestLoop(const std::vector<std::vector<Index>>& loops, const doub
   return outer;
 }
 
-namespace
-{
-
-/// The normalised parameter along the loop: t[k] for loop[k], t[n] = 1.
 std::vector<double> LoopParameter(const std::vector<Index>& loop, const double* points, BoundarySpacing spacing)
 {
   const std::size_t n = loop.size();
@@ -56,6 +52,9 @@ std::vector<double> LoopParameter(const std::vector<Index>& loop, const double* 
   }
   return t;
 }
+
+namespace
+{
 
 /// The first vertex and those nearest to the quarters of the length
 /// (distinct, ascending; n >= 4).

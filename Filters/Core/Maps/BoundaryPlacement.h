@@ -35,6 +35,10 @@ enum class BoundarySpacing : int
 
 /// Length of a closed loop of vertices.
 double LoopLength(const std::vector<Index>& loop, const double* points);
+/// The normalised parameter along a closed loop: t[k] for loop[k], t[0] = 0,
+/// t[n] = 1 (back at loop[0]); by 3D edge lengths or uniform.
+std::vector<double> LoopParameter(const std::vector<Index>& loop, const double* points, BoundarySpacing spacing);
+
 /// The index of the longest loop (the outer boundary); 0 if there is none.
 std::size_t LongestLoop(const std::vector<std::vector<Index>>& loops, const double* points);
 /// Writes the positions (u, v at 2 v, 2 v + 1 of uv) of the vertices of

@@ -2,6 +2,7 @@
 
 #include "Maps/MapOptimization.h"
 #include "Maps/ParameterizationSystem.h"
+#include "Mesh/EdgePaths.h"
 
 #include <Eigen/Dense>
 
@@ -89,13 +90,40 @@ void BoundaryBasis::PullBack(const double* gradient, double* boundaryGradient) c
   }
 }
 
+namespace
+{
+/// The waypoints joined by the shortest edge paths between consecutive ones.
+std::vector<Index> JoinWaypoints(
+  const MeshTopology& topo, const double* points, const std::vector<Index>& waypoints, std::string& error)
+{
+  std::vector<Index> path{ waypoints.front() };
+  for (std::size_t k = 1; k < waypoints.size(); ++k)
+  {
+    const std::vector<Index> leg = ShortestEdgePath(topo, points, waypoints[k - 1], waypoints[k]);
+    if (leg.empty())
+    {
+      error = "no path along mesh edges joins points " + std::to_string(waypoints[k - 1]) + " and " +
+        std::to_string(waypoints[k]);
+      return {};
+    }
+    path.insert(path.end(), leg.begin() + 1, leg.end());
+  }
+  return path;
+}
+} // namespace
+
 std::string AppendLineConstraint(const MeshTopology& topo, const double* points, const LineConstraint& line,
   std::vector<PointConstraint>& constraints)
 {
-  const std::vector<Index>& path = line.Path;
-  if (path.size() < 2)
+  if (line.Path.size() < 2)
   {
     return "a line needs at least two points";
+  }
+  std::string error;
+  const std::vector<Index> path = line.ShortestPaths ? JoinWaypoints(topo, points, line.Path, error) : line.Path;
+  if (!error.empty())
+  {
+    return error;
   }
   if (!std::isfinite(line.From[0]) || !std::isfinite(line.From[1]) || !std::isfinite(line.To[0]) ||
     !std::isfinite(line.To[1]) || (line.From[0] == line.To[0] && line.From[1] == line.To[1]))

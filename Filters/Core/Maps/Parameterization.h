@@ -52,6 +52,9 @@ struct PointConstraint
 struct LineConstraint
 {
   std::vector<Index> Path;
+  /// Path holds waypoints (at least the two ends): consecutive ones are
+  /// joined by the shortest path along mesh edges between them.
+  bool ShortestPaths = false;
   double From[2] = { 0.0, 0.0 };
   double To[2] = { 1.0, 0.0 };
 };
