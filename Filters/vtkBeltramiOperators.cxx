@@ -216,41 +216,12 @@ int vtkBeltramiOperators::RequestData(
   }
   if (vtkPolyData::GetData(inputVector[0]))
   {
-    // Local operators, but the automatic contrast scale's noise estimate and
-    // mean edge length are global: split surfaces are gathered on rank 0.
+    // Local operators (1-rings), and the automatic contrast scale's noise
+    // estimate and mean edge length taken over the ranks: split surfaces
+    // stay distributed (pieces with ghost cells are gathered on rank 0).
     return vtkBeltramiSurface::Execute(this, inputVector, outputVector, this->NumberOfThreads,
-      vtkBeltramiSurface::Needs::WholeSurface, [this](vtkBeltramiSurface& surface) {
-        surface.WarnAboutInput(this, "a free boundary where pieces meet", "The operators are NaN there.");
-        if (surface.Topology().NumberOfTriangles() == 0)
-        {
-          vtkWarningMacro("The input has no polygons or triangle strips: no operators.");
-          return true;
-        }
-        std::vector<double> values, storage;
-        int nc = 0, association = -1;
-        vtkDataArray* array = this->GetInputArrayToProcess(DATA_ARRAY, surface.Input(), association);
-        if (!ReadData(this, array, association, surface.Input(), 5, values, nc))
-        {
-          return false;
-        }
-        const double* points = surface.PointsAsDouble(storage);
-        beltrami::GraphOperatorOptions o;
-        this->CopySettings(o, vtkBeltramiCopy::ToCore);
-        Maps maps;
-        const beltrami::GraphOperatorOutputs out =
-          maps.Allocate(this, surface.Input()->GetNumberOfPoints(), 3, nc, true);
-        const beltrami::GraphOperatorReport r =
-          beltrami::ComputeSurfaceGraphOperators(surface.Topology(), points, nc, values.data(), o, out);
-        if (!r.Error.empty())
-        {
-          vtkErrorMacro(<< r.Error << ". The output is the input.");
-          return false;
-        }
-        const int axes[3] = { 0, 1, 2 };
-        maps.AddTo(surface.Output(), [](vtkIdType o) { return o; }, axes);
-        AddReport(surface.Output()->GetFieldData(), r);
-        return true;
-      });
+      vtkBeltramiSurface::Needs::Distributed,
+      [this](vtkBeltramiSurface& surface) { return this->RunSurface(surface); });
   }
   vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0]);
   vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
@@ -263,6 +234,51 @@ int vtkBeltramiOperators::RequestData(
     [this](vtkPointSet* in, vtkPointSet* out, int holding) {
       return this->RunMesh(in, out, vtkUnstructuredGrid::SafeDownCast(in), holding);
     });
+}
+
+bool vtkBeltramiOperators::RunSurface(vtkBeltramiSurface& surface)
+{
+  const beltrami::Partition* split = surface.Split(); // every rank runs, an empty piece's too
+  const double triangles = static_cast<double>(surface.Topology().NumberOfTriangles());
+  if ((split ? split->Sum(triangles) : triangles) == 0.0)
+  {
+    vtkWarningMacro("The input has no polygons or triangle strips: no operators.");
+    return true;
+  }
+  if (!split) // (a split piece's own defects are those of its cut)
+  {
+    surface.WarnAboutInput(this, "a free boundary where pieces meet", "The operators are NaN there.");
+  }
+  std::vector<double> values, storage;
+  int nc = 0, association = -1;
+  const bool empty = split && surface.NumberOfInputPoints() == 0; // it may lack the arrays
+  vtkDataArray* array = empty ? nullptr : this->GetInputArrayToProcess(DATA_ARRAY, surface.Input(), association);
+  if (!surface.AllAgree(empty || ReadData(this, array, association, surface.Input(), 5, values, nc)))
+  {
+    return false;
+  }
+  const std::size_t rows = static_cast<std::size_t>(surface.NumberOfTopologyPoints());
+  if (split)
+  {
+    nc = static_cast<int>(split->Max(nc));
+    values.resize(rows * nc);
+    split->UpdateGhosts(values.data(), nc);
+  }
+  beltrami::GraphOperatorOptions o;
+  this->CopySettings(o, vtkBeltramiCopy::ToCore);
+  Maps maps;
+  const beltrami::GraphOperatorOutputs out = maps.Allocate(this, static_cast<vtkIdType>(rows), 3, nc, true);
+  const beltrami::GraphOperatorReport r = beltrami::ComputeSurfaceGraphOperators(
+    surface.Topology(), surface.PointsAsDouble(storage), nc, values.data(), o, out, split);
+  if (!r.Error.empty())
+  {
+    vtkErrorMacro(<< r.Error << ". The output is the input.");
+    return false;
+  }
+  const int axes[3] = { 0, 1, 2 };
+  maps.AddTo(surface.Output(), [](vtkIdType o) { return o; }, axes);
+  AddReport(surface.Output()->GetFieldData(), r);
+  return true;
 }
 
 int vtkBeltramiOperators::RunMesh(vtkDataSet* input, vtkDataSet* output, vtkUnstructuredGrid* volume, int holding)

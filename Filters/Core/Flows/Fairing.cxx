@@ -44,9 +44,6 @@ struct DistributedSurface
     {
       return;
     }
-    const auto counts = [&](Index a, Index b) { // an edge: by the owner of its lower end
-      return split->IsOwned(split->GlobalRow(a) < split->GlobalRow(b) ? a : b);
-    };
     const IndexArray& tri = topo.TriangleList();
     IndexArray counted;
     for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
@@ -60,26 +57,14 @@ struct DistributedSurface
       }
     }
     Counted = std::make_unique<MeshTopology>(topo.NumberOfVertices(), std::move(counted), threads);
-    double sums[3] = { 0.0, 0.0, 0.0 }; // open points, edge lengths, edges
-    constexpr std::uint8_t open = VertexBoundary | VertexNonManifold | VertexInconsistent | VertexDuplicateFace;
+    double open = 0.0; // open points
+    constexpr std::uint8_t openFlags = VertexBoundary | VertexNonManifold | VertexInconsistent | VertexDuplicateFace;
     for (Index i = 0; i < topo.NumberOfVertices(); ++i)
     {
-      sums[0] += split->IsOwned(i) && (topo.VertexFlags(i) & open);
+      open += split->IsOwned(i) && (topo.VertexFlags(i) & openFlags);
     }
-    const MeshTopology::EdgeTable& e = topo.Edges();
-    for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
-    {
-      const Index a = e.Vertices[2 * k], b = e.Vertices[2 * k + 1];
-      const double length = (Point(x, a) - Point(x, b)).norm();
-      if (counts(a, b) && std::isfinite(length))
-      {
-        sums[1] += length;
-        sums[2] += 1.0;
-      }
-    }
-    split->Sum(sums, 3);
-    Closed = sums[0] == 0.0;
-    MeanEdgeLength = sums[2] > 0.0 ? sums[1] / sums[2] : 0.0;
+    Closed = split->Sum(open) == 0.0;
+    MeanEdgeLength = beltrami::MeanEdgeLength(topo, x, split);
   }
 };
 

@@ -217,10 +217,10 @@ std::unique_ptr<MeshTopology> GridTriangles(Index w, Index h, bool otherDiagonal
 /// vertex; empty when there is nothing to do (an error, or no vertex).
 std::vector<double> StartMesh(Index size, const double* points, int components, const double* values,
   const GraphOperatorOptions& options, int maximum, const std::function<double()>& meanEdgeLength,
-  const std::function<double()>& estimate, GraphOperatorReport& report)
+  const std::function<double()>& estimate, GraphOperatorReport& report, bool collective = false)
 {
   report.Error = CheckInput(options, components, maximum);
-  if (!report.Error.empty() || size == 0)
+  if (!report.Error.empty() || (size == 0 && !collective)) // (a process of a split run joins the sums)
   {
     return {};
   }
@@ -385,7 +385,8 @@ GraphOperatorReport ComputeVolumeGraphOperators(const VoxelGrid& grid, int compo
 }
 
 GraphOperatorReport ComputeSurfaceGraphOperators(const MeshTopology& topology, const double* points,
-  int components, const double* values, const GraphOperatorOptions& options, const GraphOperatorOutputs& outputs)
+  int components, const double* values, const GraphOperatorOptions& options, const GraphOperatorOutputs& outputs,
+  const Partition* split)
 {
   GraphOperatorReport report;
   const Index size = topology.NumberOfVertices();
@@ -395,15 +396,19 @@ GraphOperatorReport ComputeSurfaceGraphOperators(const MeshTopology& topology, c
     unusable[i] = topology.VertexFlags(i) != VertexRegular;
   }
   const std::vector<double> embedded = StartMesh(size, points, components, values, options, 5,
-    [&]() { return MeanEdgeLength(topology, points); },
+    [&]() { return MeanEdgeLength(topology, points, split); },
     [&]() {
       const auto& edges = topology.Edges();
       return EstimateGraphNoise(size, edges.NeighborOffsets.data(), edges.Neighbors.data(), points, components,
-        values, unusable.data());
+        values, unusable.data(), split);
     },
-    report);
-  if (embedded.empty())
+    report, split != nullptr);
+  if (embedded.empty() || !report.Error.empty())
   {
+    if (split && report.Error.empty())
+    {
+      report.UndefinedVertices = static_cast<Index>(split->Sum(0.0)); // the other processes' sum
+    }
     return report;
   }
   const int threads = options.NumberOfThreads, n = 3 + components;
@@ -412,16 +417,18 @@ GraphOperatorReport ComputeSurfaceGraphOperators(const MeshTopology& topology, c
   ComputeBeltramiOperator(topology, embedded.data(), n, n, kn.data(), area.data(), defect.data(), threads);
   ComputeBeltramiOperator(topology, points, 3, 3, nullptr, base.data(), nullptr, threads);
   const Writer writer(outputs, 3, components, alpha, 2);
+  double undefined = 0.0; // (split: at owned rows)
   for (Index i = 0; i < size; ++i)
   {
     if (unusable[i] || !(area[i] > 0.0) || !(base[i] > 0.0))
     {
       writer.Undefined(i);
-      ++report.UndefinedVertices;
+      undefined += !split || split->IsOwned(i);
       continue;
     }
     writer.Defined(i, &kn[static_cast<std::size_t>(i) * n], defect[i] / area[i], base[i] / area[i]);
   }
+  report.UndefinedVertices = static_cast<Index>(split ? split->Sum(undefined) : undefined);
   return report;
 }
 

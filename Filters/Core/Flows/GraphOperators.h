@@ -76,9 +76,14 @@ GraphOperatorReport ComputeVolumeGraphOperators(const VoxelGrid& grid, int compo
   const GraphOperatorOptions& options, const GraphOperatorOutputs& outputs);
 
 /// Point data over a triangle mesh: points 3 doubles per vertex,
-/// `components` (1 to 5) values per vertex.
+/// `components` (1 to 5) values per vertex.  split (optional, collective):
+/// a surface split over processes (each holding the 1-rings of its rows,
+/// Solvers/Partition; the values of ghost rows are its owners'): the
+/// contrast scale, noise level and undefined count over all of them, as in
+/// a serial run; every process, an empty one too, must call it.
 GraphOperatorReport ComputeSurfaceGraphOperators(const MeshTopology& topology, const double* points,
-  int components, const double* values, const GraphOperatorOptions& options, const GraphOperatorOutputs& outputs);
+  int components, const double* values, const GraphOperatorOptions& options, const GraphOperatorOutputs& outputs,
+  const Partition* split = nullptr);
 
 class TetrahedralMesh;
 

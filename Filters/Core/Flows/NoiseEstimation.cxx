@@ -28,20 +28,34 @@ struct Samples
   std::vector<double> Gradient; ///< any measure that grows with the gradient
 };
 
-/// The median response over the half of the samples with the smallest
-/// gradient, as a standard deviation (0 without samples).
-double RobustDeviation(Samples& s)
+/// The k-th smallest of `values` (0-based; of all processes' with `split`).
+double NthSmallest(std::vector<double>& values, std::int64_t k, const Partition* split)
 {
-  if (s.Response.empty())
+  if (split)
+  {
+    return split->NthSmallest(values, k);
+  }
+  std::nth_element(values.begin(), values.begin() + k, values.end());
+  return values[k];
+}
+
+/// The median response over the half of the samples with the smallest
+/// gradient, as a standard deviation (0 without samples).  split: the
+/// samples of all processes together (collective).
+double RobustDeviation(Samples& s, const Partition* split)
+{
+  const auto total = [&](std::size_t count) {
+    return static_cast<std::int64_t>(split ? split->Sum(static_cast<double>(count)) : count);
+  };
+  const std::int64_t count = total(s.Response.size());
+  if (count == 0)
   {
     return 0.0;
   }
   std::vector<double> sorted = s.Gradient;
-  const std::size_t half = sorted.size() / 2;
-  std::nth_element(sorted.begin(), sorted.begin() + half, sorted.end());
-  const double limit = sorted[half];
+  const double limit = NthSmallest(sorted, count / 2, split);
   std::vector<double> kept;
-  kept.reserve(half + 1);
+  kept.reserve(s.Response.size() / 2 + 1);
   for (std::size_t k = 0; k < s.Response.size(); ++k)
   {
     if (s.Gradient[k] <= limit) // ties: all of them
@@ -49,21 +63,19 @@ double RobustDeviation(Samples& s)
       kept.push_back(s.Response[k]);
     }
   }
-  const std::size_t middle = kept.size() / 2;
-  std::nth_element(kept.begin(), kept.begin() + middle, kept.end());
-  return kept[middle] / 0.6744897501960817;
+  return NthSmallest(kept, total(kept.size()) / 2, split) / 0.6744897501960817;
 }
 
 /// The mean over the components of one component's estimate.
 template <typename Component>
-double MeanOverComponents(int components, Component&& component)
+double MeanOverComponents(int components, Component&& component, const Partition* split = nullptr)
 {
   double sum = 0.0;
   for (int c = 0; c < components; ++c)
   {
     Samples s;
     component(c, s);
-    sum += RobustDeviation(s);
+    sum += RobustDeviation(s, split);
   }
   return sum / components;
 }
@@ -143,20 +155,28 @@ double EstimateVolumeNoise(const VoxelGrid& grid, int components, const double* 
 }
 
 double EstimateGraphNoise(Index size, const std::int64_t* offsets, const Index* neighbors, const double* points,
-  int components, const double* values, const std::uint8_t* skip)
+  int components, const double* values, const std::uint8_t* skip, const Partition* split)
 {
-  if (size <= 0 || components < 1 || !values || !offsets || !neighbors || !points)
+  if (!split && (size <= 0 || !values || !offsets || !neighbors || !points))
+  {
+    return 0.0; // (a process of a split run joins the sums with no samples)
+  }
+  if (components < 1)
   {
     return 0.0;
   }
-  Index counted = 0;
-  const std::int64_t stride = StrideFor(static_cast<double>(size));
+  std::int64_t counted = 0;
+  // Rows at a regular stride of the (global) numbering beyond the budget.
+  const std::int64_t stride = StrideFor(split ? static_cast<double>(split->TotalRows()) : size);
+  const auto sampled = [&](Index i) {
+    return split ? split->IsOwned(i) && split->GlobalRow(i) % stride == 0 : i % stride == 0;
+  };
   const double estimate = MeanOverComponents(components, [&](int comp, Samples& s) {
-    for (Index i = 0; i < size; i += stride)
+    for (Index i = 0; i < size; i += split ? 1 : stride)
     {
       const std::int64_t b = offsets[i], e = offsets[i + 1];
       const double n = static_cast<double>(e - b);
-      if (n < 3 || (skip && skip[i]))
+      if (!sampled(i) || n < 3 || (skip && skip[i]))
       {
         continue;
       }
@@ -187,9 +207,9 @@ double EstimateGraphNoise(Index size, const std::int64_t* offsets, const Index* 
         spread > 0.0 ? (moment[0] * moment[0] + moment[1] * moment[1] + moment[2] * moment[2]) / (spread * spread)
                      : 0.0);
     }
-    counted = static_cast<Index>(s.Response.size());
-  });
-  return counted >= 8 ? estimate : 0.0;
+    counted = static_cast<std::int64_t>(s.Response.size());
+  }, split);
+  return (split ? split->Sum(static_cast<double>(counted)) : counted) >= 8 ? estimate : 0.0;
 }
 
 } // namespace beltrami

@@ -24,6 +24,7 @@
 #pragma once
 
 #include "Flows/GraphFlow.h"
+#include "Solvers/Partition.h"
 
 #include <cstdint>
 
@@ -41,8 +42,12 @@ double EstimateVolumeNoise(const VoxelGrid& grid, int components, const double* 
 /// The same for point data on a graph of `size` vertices (neighbours of i:
 /// neighbors[offsets[i] .. offsets[i + 1]), points 3 doubles per vertex).
 /// Vertices marked in `skip` (optional) and with fewer than 3 neighbours do
-/// not count; 0 when fewer than 8 count.
+/// not count; 0 when fewer than 8 count.  split (optional, collective): a
+/// graph split over processes (Solvers/Partition), every process's owned
+/// rows counted, the median and the half of the samples taken over all of
+/// them: the serial estimate (beyond the sample budget the stride runs over
+/// the partition's global numbering, so the sampled rows differ).
 double EstimateGraphNoise(Index size, const std::int64_t* offsets, const Index* neighbors, const double* points,
-  int components, const double* values, const std::uint8_t* skip = nullptr);
+  int components, const double* values, const std::uint8_t* skip = nullptr, const Partition* split = nullptr);
 
 } // namespace beltrami

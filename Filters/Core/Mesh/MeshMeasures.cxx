@@ -113,21 +113,25 @@ double RevolutionVolume(const MeshTopology& topo, const double* points, const Ve
   return s[0];
 }
 
-double MeanEdgeLength(const MeshTopology& topo, const double* x)
+double MeanEdgeLength(const MeshTopology& topo, const double* x, const Partition* split)
 {
   const MeshTopology::EdgeTable& e = topo.Edges();
-  double sum = 0.0;
-  std::int64_t finite = 0;
+  double sums[2] = { 0.0, 0.0 }; // lengths, edges
   for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
   {
-    const double length = (Point(x, e.Vertices[2 * k]) - Point(x, e.Vertices[2 * k + 1])).norm();
-    if (std::isfinite(length))
+    const Index a = e.Vertices[2 * k], b = e.Vertices[2 * k + 1];
+    const double length = (Point(x, a) - Point(x, b)).norm();
+    if (std::isfinite(length) && (!split || split->IsOwned(split->GlobalRow(a) < split->GlobalRow(b) ? a : b)))
     {
-      sum += length;
-      ++finite;
+      sums[0] += length;
+      sums[1] += 1.0;
     }
   }
-  return finite ? sum / finite : 0.0;
+  if (split)
+  {
+    split->Sum(sums, 2);
+  }
+  return sums[1] > 0.0 ? sums[0] / sums[1] : 0.0;
 }
 
 TriangleQuality MeasureTriangleQuality(const MeshTopology& topo, const double* x)

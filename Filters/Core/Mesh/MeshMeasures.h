@@ -7,6 +7,7 @@
 
 #include "Mesh/Geometry.h"
 #include "Mesh/MeshTopology.h"
+#include "Solvers/Partition.h"
 
 #include <cstdint>
 #include <vector>
@@ -30,7 +31,9 @@ enum class LengthUnit : int
 double EnclosedVolume(const MeshTopology& topology, const double* points, int numThreads = 0);
 /// Mean length of the edges (the natural unit of time steps: lambda*dt ~ h^2);
 /// edges at NaN or infinite points are left out (0 when none is left).
-double MeanEdgeLength(const MeshTopology& topology, const double* points);
+/// split (optional, collective): a surface split over processes, each edge
+/// counted by the owner of its end of lower global row.
+double MeanEdgeLength(const MeshTopology& topology, const double* points, const Partition* split = nullptr);
 double SurfaceArea(const MeshTopology& topology, const double* points, int numThreads = 0);
 /// 1 per edge of topology.Edges() whose two triangles' normals differ by
 /// more than `angleDegrees` (the dihedral test of thesis section 4.2.3, like

@@ -3,6 +3,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <cstring>
 #include <numeric>
 #include <stdexcept>
 #include <type_traits>
@@ -160,6 +161,44 @@ void Partition::Sum(double* values, int count) const
 void Partition::Max(double* values, int count) const
 {
   MPI_Allreduce(MPI_IN_PLACE, values, count, MPI_DOUBLE, MPI_MAX, Plan->Comm);
+}
+
+double Partition::NthSmallest(const std::vector<double>& values, std::int64_t k) const
+{
+  // Non-negative doubles order as their bit patterns: the pattern of the
+  // answer is chosen 8 bits at a time, from one sum of 256 counts over the
+  // processes each (8 sums, whatever the count).
+  std::vector<std::uint64_t> keys(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i)
+  {
+    const double v = values[i] + 0.0; // -0 as +0
+    std::memcpy(&keys[i], &v, sizeof v);
+  }
+  std::uint64_t prefix = 0;
+  std::vector<double> counts(256);
+  for (int shift = 56; shift >= 0; shift -= 8)
+  {
+    const std::uint64_t known = shift == 56 ? 0 : ~std::uint64_t(0) << (shift + 8);
+    std::fill(counts.begin(), counts.end(), 0.0);
+    for (const std::uint64_t key : keys)
+    {
+      if ((key & known) == prefix)
+      {
+        counts[(key >> shift) & 255] += 1.0;
+      }
+    }
+    Sum(counts.data(), 256);
+    std::uint64_t digit = 0;
+    while (digit < 255 && static_cast<double>(k) >= counts[digit])
+    {
+      k -= static_cast<std::int64_t>(counts[digit]);
+      ++digit;
+    }
+    prefix |= digit << shift;
+  }
+  double answer;
+  std::memcpy(&answer, &prefix, sizeof answer);
+  return answer;
 }
 
 } // namespace beltrami

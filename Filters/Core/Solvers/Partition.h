@@ -74,6 +74,10 @@ public:
     Max(&value, 1);
     return value;
   }
+  /// The k-th smallest (0-based) of the values of all processes together,
+  /// exactly (what std::nth_element gives on all of them); the values must
+  /// not be negative, k below their total count.
+  double NthSmallest(const std::vector<double>& values, std::int64_t k) const;
 
 private:
   struct Exchange;

@@ -5,6 +5,7 @@
 // The distributed conjugate gradient (Jacobi, and multigrid with one
 // BoomerAMG hierarchy over the processes) must give every process' rows of
 // the serial solution, which each process also computes whole.
+#include "Flows/NoiseEstimation.h"
 #include "Solvers/ConjugateGradient.h"
 #include "Solvers/GraphSolvers.h"
 #include "Solvers/Partition.h"
@@ -13,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -239,6 +241,84 @@ TEST(Partition, InconsistentOwnershipThrowsOnEveryProcess)
   const int unknown[2] = { rank, rank == size - 1 ? -1 : rank };
   const Index own[2] = { 0, 1 };
   EXPECT_THROW(Partition(&world, 2, unknown, own), std::runtime_error);
+}
+
+TEST(Partition, NthSmallestIsTheOrderStatisticOfAllProcesses)
+{
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const MPI_Comm world = MPI_COMM_WORLD;
+  // All values (ties, zeros of both signs, subnormals, huge ones), dealt
+  // out unevenly: process p takes every value whose index is p mod (size + 1),
+  // the last process also the rest.
+  std::vector<double> all;
+  for (int i = 0; i < 3001; ++i)
+  {
+    const double x = std::fmod(i * 0.6180339887, 1.0);
+    all.push_back(i % 7 == 0 ? 0.25 : i % 11 == 0 ? (i % 2 ? 0.0 : -0.0) : i % 13 == 0 ? 1e-310 * x
+        : i % 17 == 0 ? 1e300 * x : x);
+  }
+  std::vector<double> mine;
+  for (std::size_t i = 0; i < all.size(); ++i)
+  {
+    const int p = static_cast<int>(i % (size + 1));
+    if (p == rank || (p == size && rank == size - 1))
+    {
+      mine.push_back(all[i]);
+    }
+  }
+  const int owner[1] = { rank };
+  const Index row[1] = { 0 };
+  const Partition split(&world, 1, owner, row);
+  for (const std::int64_t k : { std::int64_t(0), std::int64_t(1), std::int64_t(500), std::int64_t(1500),
+         std::int64_t(2999), std::int64_t(3000) })
+  {
+    std::vector<double> sorted = all;
+    std::nth_element(sorted.begin(), sorted.begin() + k, sorted.end());
+    EXPECT_EQ(split.NthSmallest(mine, k), sorted[k] + 0.0) << "k " << k;
+  }
+}
+
+TEST(Partition, DistributedNoiseEstimateIsTheSerialOne)
+{
+  // Point data on the grid graph (the grid's points at (c, r, 0)): smooth
+  // data plus pseudo-random noise of 0.05; every process its block.
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const MPI_Comm world = MPI_COMM_WORLD;
+  const Grid g(60);
+  const Piece piece(g, rank, size);
+  const Partition split(&world, piece.Rows(), piece.OwnerRank.data(), piece.OwnerRow.data());
+  const auto pointOf = [&](int i, double* p) {
+    p[0] = i % g.N;
+    p[1] = i / g.N;
+    p[2] = 0.0;
+  };
+  const auto valueOf = [&](int i, double* f) {
+    const double x = i % g.N, y = i / g.N;
+    f[0] = std::sin(0.1 * x) * std::cos(0.07 * y) + 0.05 * std::sqrt(3.0) * (2.0 * std::fmod(i * 0.7548776662, 1.0) - 1.0);
+    f[1] = 0.01 * x * y;
+  };
+  std::vector<double> points(3 * g.Diagonal.size()), values(2 * g.Diagonal.size());
+  for (std::size_t i = 0; i < g.Diagonal.size(); ++i)
+  {
+    pointOf(static_cast<int>(i), &points[3 * i]);
+    valueOf(static_cast<int>(i), &values[2 * i]);
+  }
+  const double serial = EstimateGraphNoise(static_cast<Index>(g.Diagonal.size()), g.Offsets.data(),
+    g.Neighbors.data(), points.data(), 2, values.data());
+  std::vector<double> localPoints(3 * piece.Global.size()), localValues(2 * piece.Global.size());
+  for (std::size_t l = 0; l < piece.Global.size(); ++l)
+  {
+    pointOf(piece.Global[l], &localPoints[3 * l]);
+    valueOf(piece.Global[l], &localValues[2 * l]);
+  }
+  const double distributed = EstimateGraphNoise(piece.Rows(), piece.Offsets.data(), piece.Neighbors.data(),
+    localPoints.data(), 2, localValues.data(), nullptr, &split);
+  EXPECT_GT(serial, 0.0);
+  EXPECT_EQ(distributed, serial);
 }
 
 int main(int argc, char** argv)
