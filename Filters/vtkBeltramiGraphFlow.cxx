@@ -130,18 +130,16 @@ void vtkBeltramiGraphFlow::ToLogEuclidean(vtkAlgorithm* owner, const char* name,
   };
 }
 
-int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkDataSet* output,
-  vtkDataArray* array, const double* points, bool useMask, const beltrami::GraphFlowOptions& meshOptions,
-  int maxComponents, bool logEuclidean, const MeshFlow& flow)
+bool vtkBeltramiGraphFlow::ReadMeshInput(vtkAlgorithm* owner, vtkDataSet* input, vtkDataArray* array,
+  bool useMask, int maxComponents, bool logEuclidean, std::vector<double>& values, std::vector<std::uint8_t>& fixed)
 {
   std::string error;
-  const std::vector<std::uint8_t> fixed =
-    useMask ? vtkBeltramiSurface::SelectedPointMask(owner, input, 1, "fixed-points", error)
-            : std::vector<std::uint8_t>();
+  fixed = useMask ? vtkBeltramiSurface::SelectedPointMask(owner, input, 1, "fixed-points", error)
+                  : std::vector<std::uint8_t>();
   if (!error.empty())
   {
     vtkErrorWithObjectMacro(owner, << error << " The output is the input.");
-    return 0;
+    return false;
   }
   const int nc = array->GetNumberOfComponents();
   if (nc < 1 || nc > maxComponents)
@@ -149,17 +147,17 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
     vtkErrorWithObjectMacro(owner, "The array '" << (array->GetName() ? array->GetName() : "") << "' has "
                                                  << nc << " components; 1 to " << maxComponents
                                                  << " can be smoothed. The output is the input.");
-    return 0;
+    return false;
   }
-  const char* name = array->GetName() ? array->GetName() : "";
   if (logEuclidean && nc != 6)
   {
     vtkErrorWithObjectMacro(owner, "Log-Euclidean smoothing needs symmetric tensors of 6 components (XX, YY, ZZ, "
-      "XY, YZ, XZ); '" << name << "' has " << nc << ". The output is the input.");
-    return 0;
+      "XY, YZ, XZ); '" << (array->GetName() ? array->GetName() : "") << "' has " << nc
+      << ". The output is the input.");
+    return false;
   }
   const vtkIdType numPoints = input->GetNumberOfPoints();
-  std::vector<double> values(static_cast<std::size_t>(numPoints) * nc);
+  values.resize(static_cast<std::size_t>(numPoints) * nc);
   for (vtkIdType i = 0; i < numPoints; ++i)
   {
     for (int k = 0; k < nc; ++k)
@@ -167,10 +165,40 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
       values[i * nc + k] = array->GetComponent(i, k);
     }
   }
+  return true;
+}
+
+int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkDataSet* output,
+  vtkDataArray* array, const double* points, bool useMask, const beltrami::GraphFlowOptions& meshOptions,
+  int maxComponents, bool logEuclidean, const MeshFlow& flow, const vtkBeltramiSurface* split)
+{
+  std::vector<double> values;
+  std::vector<std::uint8_t> fixed;
+  const bool empty = split && split->Split() && input->GetNumberOfPoints() == 0; // (it may lack the arrays)
+  const bool ok = empty || ReadMeshInput(owner, input, array, useMask, maxComponents, logEuclidean, values, fixed);
+  if (split ? !split->AllAgree(ok) : !ok)
+  {
+    return 0;
+  }
+  int nc = empty ? 0 : array->GetNumberOfComponents();
+  if (const beltrami::Partition* rows = split ? split->Split() : nullptr)
+  {
+    // One value per point of the topology: the ghost points' from their owners.
+    nc = static_cast<int>(rows->Max(nc));
+    values.resize(static_cast<std::size_t>(rows->Rows()) * nc);
+    rows->UpdateGhosts(values.data(), nc);
+    if (rows->Max(fixed.empty() ? 0.0 : 1.0) > 0.0)
+    {
+      fixed.resize(rows->Rows(), 0);
+      rows->UpdateGhosts(fixed);
+    }
+  }
+  const vtkIdType numPoints = input->GetNumberOfPoints();
   beltrami::GraphFlowOptions options = meshOptions;
   if (logEuclidean)
   {
-    ToLogEuclidean(owner, name, values.data(), numPoints, options.NumberOfThreads, options);
+    ToLogEuclidean(owner, array->GetName() ? array->GetName() : "", values.data(), numPoints,
+      options.NumberOfThreads, options);
   }
   owner->UpdateProgress(0.0);
   const beltrami::GraphFlowResult result = flow(points, nc, values.data(),
@@ -183,7 +211,7 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
     vtkErrorWithObjectMacro(owner, << result.Error << ". The output is the input.");
     return 0;
   }
-  if (!result.Completed)
+  if (!result.Completed || empty)
   {
     return 1;
   }
@@ -197,7 +225,8 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
     beltrami::LogToSymmetricTensors(values.data(), numPoints, 6, options.NumberOfThreads);
   }
   vtkSmartPointer<vtkDataArray> smoothed = vtkBeltramiSurface::NewArray(VTK_DOUBLE, array->GetName(), nc, numPoints);
-  std::copy(values.begin(), values.end(), vtkDoubleArray::SafeDownCast(smoothed)->GetPointer(0));
+  std::copy(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(numPoints) * nc,
+    vtkDoubleArray::SafeDownCast(smoothed)->GetPointer(0));
   ReplaceArray(input, output, array, smoothed);
   AddReport(output->GetFieldData(), result);
   return 1;

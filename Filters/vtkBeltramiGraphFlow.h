@@ -21,6 +21,7 @@
 #include <vtkIndent.h>
 
 class vtkAlgorithm;
+class vtkBeltramiSurface;
 class vtkDataArray;
 class vtkDataSet;
 class vtkFieldData;
@@ -110,9 +111,18 @@ public:
   /// mesh in the options' Units), and writes the smoothed array (double,
   /// same name) and the report.  Returns the value for RequestData; errors
   /// and warnings go to the owner, and on error the output stays the input.
+  /// split (optional): a surface of a distributed run (Execute's
+  /// Needs::Distributed); with Split(), every rank calls this (an empty
+  /// piece too), the errors are agreed and the values and mask get one entry
+  /// per topology point (the ghosts' from their owners) before `flow`.
   static int RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkDataSet* output, vtkDataArray* array,
     const double* points, bool useMask, const beltrami::GraphFlowOptions& options, int maxComponents,
-    bool logEuclidean, const MeshFlow& flow);
+    bool logEuclidean, const MeshFlow& flow, const vtkBeltramiSurface* split = nullptr);
+  /// RunOnMesh's input checks: the mask (input array 1, when useMask) and the
+  /// array's values (1 to maxComponents, 6 for log-Euclidean); false after
+  /// an error on `owner`.
+  static bool ReadMeshInput(vtkAlgorithm* owner, vtkDataSet* input, vtkDataArray* array, bool useMask,
+    int maxComponents, bool logEuclidean, std::vector<double>& values, std::vector<std::uint8_t>& fixed);
 
   /// Log-Euclidean smoothing of `count` 6-component symmetric tensors:
   /// `values` to log coordinates (a warning to `owner`, naming the array as

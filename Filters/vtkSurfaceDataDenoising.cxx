@@ -39,36 +39,43 @@ vtkSurfaceDataDenoising::vtkSurfaceDataDenoising()
 int vtkSurfaceDataDenoising::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  // The flow couples all points (semi-implicit steps, noise-level stop,
-  // mean edge length): data split over the ranks of a distributed run are
-  // smoothed whole on rank 0 (vtkBeltramiGather), as in a serial run.
+  // The flow couples all points (the semi-implicit solves, the stops' sums,
+  // the noise estimate, the mean edge length): data split over the ranks of
+  // a distributed run are smoothed over the ranks, each rank its piece and
+  // the rings around it (pieces with ghost cells are gathered on rank 0).
   const auto smooth = [this](vtkBeltramiSurface& surface) -> bool {
     vtkPolyData* input = surface.Input();
-    vtkPolyData* output = surface.Output();
     const beltrami::MeshTopology& topo = surface.Topology();
+    const beltrami::Partition* split = surface.Split(); // every rank runs, an empty piece's too
     int association = -1;
     vtkDataArray* array = this->GetInputArrayToProcess(SMOOTHED_ARRAY, input, association);
-    if (!vtkBeltramiGraphFlow::IsPointArray(this, array, association))
+    const bool empty = split && input->GetNumberOfPoints() == 0;
+    if (!surface.AllAgree(empty || vtkBeltramiGraphFlow::IsPointArray(this, array, association)))
     {
       return false;
     }
-    if (topo.NumberOfTriangles() == 0)
+    const double triangles = static_cast<double>(topo.NumberOfTriangles());
+    if ((split ? split->Sum(triangles) : triangles) == 0.0)
     {
       vtkWarningMacro("Input has no polygons or triangle strips: the data are left as they are.");
       return true;
     }
-    surface.WarnAboutInput(this, "a free boundary where pieces meet", "The data at non-manifold points are kept.");
+    if (!split) // (a split piece's own defects are those of its cut)
+    {
+      surface.WarnAboutInput(this, "a free boundary where pieces meet", "The data at non-manifold points are kept.");
+    }
     std::vector<double> storage;
     const double* points = surface.PointsAsDouble(storage);
-    return vtkBeltramiGraphFlow::RunOnMesh(this, input, output, array, points, this->UseFixedPointsArray,
+    return vtkBeltramiGraphFlow::RunOnMesh(this, input, surface.Output(), array, points, this->UseFixedPointsArray,
       vtkBeltramiGraphFlow::Options(this), 5, false,
-      [&topo](const double* x, int nc, double* values, const std::uint8_t* fixed,
+      [&topo, split](const double* x, int nc, double* values, const std::uint8_t* fixed,
         const beltrami::GraphFlowOptions& options, const beltrami::ProgressCallback& progress) {
-        return beltrami::RunSurfaceGraphFlow(topo, x, nc, values, fixed, options, progress);
-      }) != 0;
+        return beltrami::RunSurfaceGraphFlow(topo, x, nc, values, fixed, options, progress, split);
+      },
+      &surface) != 0;
   };
   return vtkBeltramiSurface::Execute(this, inputVector, outputVector, this->NumberOfThreads,
-    vtkBeltramiSurface::Needs::WholeSurface, smooth);
+    vtkBeltramiSurface::Needs::Distributed, smooth);
 }
 
 void vtkSurfaceDataDenoising::PrintSelf(ostream& os, vtkIndent indent)

@@ -34,11 +34,16 @@
  * points without area, keep their values.  Polygons and strips are
  * triangulated internally; the output is the input with the new array.
  * Field data as vtkImageBeltramiDenoising.
- * Distributed runs (pvbatch, pvserver): the flow couples all points, so
- * data split over several ranks are gathered on rank 0 (vtkBeltramiGather),
- * smoothed there as one surface, and every rank gets the values of its own
- * points: the numbers of a serial run, with the memory and time of one
- * process.
+ * Distributed runs (pvbatch, pvserver): data split over several ranks are
+ * smoothed where they are: the ranks exchange the triangles around their
+ * common points and agree on each point's owner; the mean edge length, the
+ * noise estimate (an exact median over the ranks), the stops' sums and the
+ * semi-implicit solves (conjugate gradient over the ranks) run over all of
+ * them: the serial numbers to the solver's tolerance, the same steps, no
+ * rank holding more than its piece and a ring (an empty piece is fine).
+ * Pieces that come with ghost cells are gathered on rank 0 and smoothed
+ * there.  The risk estimate's probe signs follow the points' positions (in
+ * mean edge lengths), so every layout and scale draws the same.
  */
 #ifndef vtkSurfaceDataDenoising_h
 #define vtkSurfaceDataDenoising_h

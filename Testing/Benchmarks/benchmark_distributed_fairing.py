@@ -3,14 +3,17 @@
 and of 0.075% of the diagonal along the normals) split over 1, 2 and 4 ranks
 of pvbatch (RedistributeDataSet), with the Jacobi preconditioner and (on the
 lighter noise only: on the heavier one a serial multigrid step takes over 10
-minutes, see the README) the multigrid one:
+minutes, see the README) the multigrid one; and vtkSurfaceDataDenoising at
+its defaults on point data over the same mesh (f = sin(40 x) cos(30 y) plus
+Gaussian noise of 0.15; noise estimated, least-risk stop):
 wall time of the filter, solver iterations, the largest share of points and
 triangles a rank holds, and the values each rank sends per ghost update.
 One thread per rank, so 2 ranks use the 2 cores of the CI machines and 4
 ranks are oversubscribed (2 per core): read the 4-rank times as such.  The
 1-rank run is the serial code path (the data are whole on one rank).
 Run:  source build/beltrami-env.sh && /usr/bin/python3 Testing/Benchmarks/benchmark_distributed_fairing.py
-(it starts `mpirun ... pvbatch` itself; a worker prints one JSON line per case)."""
+(it starts `mpirun ... pvbatch` itself; a worker prints one JSON line per case).
+`--only denoising` (or `fairing`) runs one filter's cases."""
 import json
 import os
 import subprocess
@@ -19,7 +22,12 @@ import tempfile
 import time
 
 HERE = os.path.abspath(__file__)
-NOISES = {0.003: (("Jacobi", 0),), 0.00075: (("Jacobi", 0), ("multigrid", 1))}
+NOISES = {0.003: (("Jacobi", 0), ("data denoising", None)), 0.00075: (("Jacobi", 0), ("multigrid", 1))}
+ONLY = sys.argv[sys.argv.index("--only") + 1] if "--only" in sys.argv else None
+
+
+def wanted(case):
+    return ONLY is None or (ONLY == "denoising") == (case == "data denoising")
 
 
 def worker(mesh_file, noise):
@@ -33,7 +41,13 @@ def worker(mesh_file, noise):
     split = ExtractSurface(Input=RedistributeDataSet(Input=source)) if ranks > 1 else source
     split.UpdatePipeline()
     for name, preconditioner in NOISES[noise]:
-        faired = simple.ImplicitFairing(Input=split, NumberOfThreads=1, Preconditioner=preconditioner)
+        if not wanted(name):
+            continue
+        if preconditioner is None:
+            faired = simple.SurfaceDataDenoising(Input=split, NumberOfThreads=1)
+            faired.ArrayToSmooth = ["POINTS", "f"]
+        else:
+            faired = simple.ImplicitFairing(Input=split, NumberOfThreads=1, Preconditioner=preconditioner)
         start = time.perf_counter()
         faired.UpdatePipeline()
         seconds = time.perf_counter() - start
@@ -41,7 +55,7 @@ def worker(mesh_file, noise):
         counts.Script = """
 from vtkmodules.vtkCommonCore import vtkIdTypeArray, vtkPoints
 d = self.GetInput().GetFieldData().GetArray("FairingDistribution")
-i = self.GetInput().GetFieldData().GetArray("FairingIterations")
+i = self.GetInput().GetFieldData().GetArray("FairingIterations") or self.GetInput().GetFieldData().GetArray("FlowIterations")
 out = self.GetOutput()
 p = vtkPoints()
 p.InsertNextPoint(0.0, 0.0, 0.0)
@@ -74,7 +88,7 @@ def driver():
     from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
     from beltrami import vtkOFFReader
     from beltrami.pipelines import noisy_along_normals
-    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
     reader = vtkOFFReader()
     reader.SetFileName(os.path.join(os.path.dirname(HERE), "..", "Data", "bunny00.off"))
     loop = vtkLoopSubdivisionFilter()
@@ -87,8 +101,12 @@ def driver():
           % (mesh.GetNumberOfPoints(), mesh.GetNumberOfCells()))
     results = []
     with tempfile.TemporaryDirectory() as tmp:
-        for noise in NOISES:
+        for noise in [n for n, cases in NOISES.items() if any(wanted(c) for c, _ in cases)]:
             noisy = noisy_along_normals(mesh, noise * float(np.linalg.norm(p.max(0) - p.min(0))), seed=1)
+            f = numpy_to_vtk(np.sin(40 * p[:, 0]) * np.cos(30 * p[:, 1])
+                             + np.random.default_rng(3).normal(0.0, 0.15, len(p)), deep=1)
+            f.SetName("f")
+            noisy.GetPointData().AddArray(f)
             mesh_file = os.path.join(tmp, "noisy.vtp")
             w = vtkXMLPolyDataWriter()
             w.SetInputData(noisy)
@@ -96,19 +114,20 @@ def driver():
             w.Write()
             for ranks in (1, 2, 4):
                 out = subprocess.run(["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks),
-                                      "pvbatch", HERE, "--worker", mesh_file, repr(noise)],
+                                      "pvbatch", HERE, "--worker", mesh_file, repr(noise)]
+                                     + (["--only", ONLY] if ONLY else []),
                                      capture_output=True, text=True, timeout=3000).stdout
                 results += [json.loads(line[7:]) for line in out.splitlines() if line.startswith("RESULT ")]
-    print("%-7s %-10s %5s %9s %8s %10s %13s %13s %11s" % ("noise", "solver", "ranks", "seconds", "speedup",
+    print("%-7s %-14s %5s %9s %8s %10s %13s %13s %11s" % ("noise", "solver", "ranks", "seconds", "speedup",
                                                             "iterations", "points/rank", "triangles/rk",
                                                             "sent/update"))
     for noise, cases in NOISES.items():
-        for name, _ in cases:
+        for name, _ in [c for c in cases if wanted(c[0])]:
             runs = [r for r in results if r["case"] == name and r["noise"] == noise]
             base = next(r["seconds"] for r in runs if r["ranks"] == 1)
             for r in runs:
                 held = max(o + g for o, g in zip(r["Owned"], r["Ghosts"]))
-                print("%-7s %-10s %5d %9.2f %7.2fx %10d %12.1f%% %12.1f%% %11d" % (
+                print("%-7s %-14s %5d %9.2f %7.2fx %10d %12.1f%% %12.1f%% %11d" % (
                     "%g%%" % (100 * noise), name, r["ranks"], r["seconds"], base / r["seconds"],
                     max(r["Iterations"]), 100.0 * held / sum(r["Owned"]),
                     100.0 * max(r["Triangles"]) / mesh.GetNumberOfCells(), max(r["Sent"])))

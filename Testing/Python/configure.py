@@ -1,5 +1,7 @@
-"""The one helper the Python tests share: a VTK filter set up from keyword
-settings, the way the tests and benchmarks describe their runs."""
+"""The helpers the Python tests share: a VTK filter set up from keyword
+settings, the way the tests and benchmarks describe their runs, and the
+checks of the pvpython/pvbatch scripts."""
+import sys
 
 
 def configured(f, source=None, update=True, **settings):
@@ -16,3 +18,14 @@ def configured(f, source=None, update=True, **settings):
     if update:
         f.Update()
     return f
+
+
+def check(condition, message, quiet=False):
+    """A pvpython/pvbatch script's check: "FAILED: message" and exit 1 when
+    `condition` fails (ctest's FAIL_REGULAR_EXPRESSION), else "ok: message"
+    unless quiet."""
+    if not condition:
+        print("FAILED: " + message)
+        sys.exit(1)
+    if not quiet:
+        print("ok: " + message)

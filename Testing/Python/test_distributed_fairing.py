@@ -21,14 +21,10 @@ from paraview import servermanager
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from configure import check  # noqa: E402
+
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
-
-
-def check(condition, message):
-    if not condition:
-        print("FAILED: " + message)
-        sys.exit(1)
-    print("ok: " + message)
 
 
 LoadPlugin(os.environ["BELTRAMI_PLUGIN"], ns=globals())

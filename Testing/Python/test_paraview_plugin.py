@@ -54,6 +54,17 @@ def matching_points(pieces, whole, label, decimals=None):
     return matched
 
 
+def saved_pieces(proxy):
+    """The image pieces of every rank, saved as a .pvti and read back whole."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "pieces.pvti")
+        SaveData(path, proxy=proxy)
+        pieces = vtkXMLPImageDataReader()
+        pieces.SetFileName(path)
+        pieces.Update()
+        return pieces.GetOutput()
+
+
 def check_equal_to_serial(pieces, whole, label, decimals=None):
     """The curvatures of `pieces` equal those of the serial `whole` at the
     same coordinates, every point included; returns how many points three or
@@ -334,13 +345,7 @@ for settings in (dict(ContrastScale=0.06, StoppingRule=0, NumberOfIterations=8),
     denoise.UpdatePipeline()
     serial = configured(vtkImageBeltramiDenoising(), png, NumberOfThreads=1, **settings)
     reference = vtk_to_numpy(serial.GetOutput().GetPointData().GetScalars())
-    with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "denoised.pvti")
-        SaveData(path, proxy=denoise)
-        pieces = vtkXMLPImageDataReader()
-        pieces.SetFileName(path)
-        pieces.Update()
-        ours = vtk_to_numpy(pieces.GetOutput().GetPointData().GetArray(0))
+    ours = vtk_to_numpy(saved_pieces(denoise).GetPointData().GetArray(0))
     check(ours.shape == reference.shape and np.array_equal(ours, reference),
           "image denoising through the plugin over %d partition(s) equals the serial VTK filter (%s): "
           "%d pixels differ" % (partitions, settings,
@@ -361,18 +366,13 @@ for contrast in (0.05, 0.0):
     operators.ContrastScale = contrast
     operators.UpdatePipeline()
     serial = configured(vtkBeltramiOperators(), png, ContrastScale=contrast)
-    with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "operators.pvti")
-        SaveData(path, proxy=operators)
-        pieces = vtkXMLPImageDataReader()
-        pieces.SetFileName(path)
-        pieces.Update()
-        for name in ("MeanCurvatureNormal", "BeltramiOperator", "GaussianCurvature", "EdgeIndicator"):
-            ours = vtk_to_numpy(pieces.GetOutput().GetPointData().GetArray(name))
-            reference = vtk_to_numpy(serial.GetOutput().GetPointData().GetArray(name))
-            check(ours.shape == reference.shape and np.abs(ours - reference).max() <= 1e-12 * np.abs(reference).max(),
-                  "Beltrami operators over %d partition(s) equal the serial filter (%s, contrast %g)"
-                  % (partitions, name, contrast))
+    pieces = saved_pieces(operators)
+    for name in ("MeanCurvatureNormal", "BeltramiOperator", "GaussianCurvature", "EdgeIndicator"):
+        ours = vtk_to_numpy(pieces.GetPointData().GetArray(name))
+        reference = vtk_to_numpy(serial.GetOutput().GetPointData().GetArray(name))
+        check(ours.shape == reference.shape and np.abs(ours - reference).max() <= 1e-12 * np.abs(reference).max(),
+              "Beltrami operators over %d partition(s) equal the serial filter (%s, contrast %g)"
+              % (partitions, name, contrast))
 
 sphere = Sphere(ThetaResolution=64, PhiResolution=64)
 elevation = Elevation(Input=sphere)

@@ -39,6 +39,7 @@
 
 #include "Mesh/MeshMeasures.h"
 #include "Mesh/MeshTopology.h"
+#include "Solvers/Partition.h"
 #include "Support/Parallel.h"
 
 #include <cstdint>
@@ -175,10 +176,16 @@ GraphFlowResult RunImageGraphFlow(const PixelGrid& grid, int components, double*
 /// Runs the flow on point data over a triangle mesh: points are 3 doubles per
 /// vertex, `components` (1 to 5) interleaved values per vertex, in place.
 /// Vertices that are fixed, non-manifold, isolated or without area keep
-/// their values.
+/// their values.  split (optional, collective): the surface split over
+/// processes (Solvers/Partition: each process its rows and the 1-rings of
+/// its own, values and fixed flags of ghost rows their owners'); every
+/// process, one with an empty piece too, calls it; the mean edge length, the
+/// noise estimate, the sums of the stops and the semi-implicit solves run
+/// over all of them: the serial numbers up to the solver's tolerance.  Not
+/// with ToNoiseSpace.
 GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* points,
   int components, double* values, const std::uint8_t* fixed, const GraphFlowOptions& options,
-  const ProgressCallback& progress = {});
+  const ProgressCallback& progress = {}, const Partition* split = nullptr);
 
 /// A voxel grid: Width x Height x Depth samples (x fastest, then y),
 /// spacing in physical units.

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "Flows/GraphFlow.h"
+#include "Solvers/Partition.h"
 #include "Support/LargeBuffer.h"
 
 #include <algorithm>
@@ -75,6 +76,15 @@ public:
   /// units, Components per vertex) estimated from them alone
   /// (Flows/NoiseEstimation); 0 where the domain is too small.
   virtual double EstimateNoise(const double* values) const = 0;
+  /// The signs b = +-1 of the risk estimate's probe, one per value (Size x
+  /// Components): a fixed pseudo-random sequence (runs are reproducible).
+  virtual void ProbeSigns(std::vector<double>& b) const;
+
+  /// Meshes split over processes (collective runs): the rows this process
+  /// counts in sums and maxima are its own (Split->IsOwned), and the
+  /// integrator refreshes the ghost rows after each step.  Null: serial.
+  const Partition* Split = nullptr;
+  bool Counts(Index i) const { return !Split || Split->IsOwned(i); }
 
 protected:
   double Gamma = 1.0;

@@ -43,6 +43,16 @@ std::string CheckOptions(const GraphFlowOptions& o, int components, int maximum,
   return {};
 }
 
+void FlowDiscretization::ProbeSigns(std::vector<double>& b) const
+{
+  std::uint64_t state = 0x9E3779B97F4A7C15ull;
+  b.resize(static_cast<std::size_t>(Size) * Components);
+  for (double& sign : b)
+  {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    sign = (state >> 63) ? 1.0 : -1.0;
+  }
+}
 
 namespace
 {
@@ -89,6 +99,8 @@ private:
   Index N = 0;
   int NC = 1;
   std::size_t Size = 0;
+  const Partition* Split = nullptr; // meshes split over processes
+  double Counted = 0.0;             // values counted over all processes (Size in serial)
   GraphFlowResult Result;
   LargeVector<double> U0, Rhs, Shift, Diag;
   std::vector<Index> Order; // the graph solver's renumbering (meshes)
@@ -108,6 +120,31 @@ private:
   double Risk();
   void Finish(double* values, const ProgressCallback& progress);
   int Limit() const { return O.Stop == GraphFlowStop::Iterations ? O.NumberOfIterations : O.MaximumNumberOfIterations; }
+
+  /// Sums of `width` terms over the values (k = row * NC + component) this
+  /// process counts, over all processes: add(k, acc).
+  template <typename Add>
+  std::vector<double> SumOverValues(int width, Add&& add) const
+  {
+    const FlowDiscretization& disc = *Main.Disc;
+    std::vector<double> s = ParallelSum(static_cast<std::int64_t>(Size), width, Threads,
+      [&](std::int64_t b, std::int64_t e, double* acc) {
+        for (std::int64_t k = b; k < e; ++k)
+        {
+          if (disc.Counts(static_cast<Index>(k / NC)))
+          {
+            add(k, acc);
+          }
+        }
+      });
+    if (Split)
+    {
+      Split->Sum(s.data(), width);
+    }
+    return s;
+  }
+  /// Whether `flag` holds on some process (on this one in serial runs).
+  bool Anywhere(bool flag) const { return Split ? Split->Max(flag ? 1.0 : 0.0) > 0.0 : flag; }
 
   /// The state x in the noise's space (data units): a view of Scratch.
   const double* InNoiseSpace(const LargeVector<double>& x)
@@ -139,14 +176,8 @@ private:
       }
       return std::sqrt(sum / static_cast<double>(Size));
     }
-    const double s = ParallelSum(static_cast<std::int64_t>(Size), 1, Threads,
-      [&](std::int64_t b, std::int64_t e, double* acc) {
-        for (std::int64_t k = b; k < e; ++k)
-        {
-          acc[0] += (x[k] - U0[k]) * (x[k] - U0[k]);
-        }
-      })[0];
-    return std::sqrt(s / static_cast<double>(Size)) / Alpha;
+    const double s = SumOverValues(1, [&](std::int64_t k, double* acc) { acc[0] += (x[k] - U0[k]) * (x[k] - U0[k]); })[0];
+    return std::sqrt(s / Counted) / Alpha;
   }
 };
 
@@ -156,13 +187,27 @@ bool FlowIntegrator::Start(const double* values)
   N = Main.Disc->Size;
   NC = Main.Disc->Components;
   Size = static_cast<std::size_t>(N) * NC;
-  for (std::size_t k = 0; k < Size; ++k)
+  Split = Main.Disc->Split;
+  if (Split && O.ToNoiseSpace)
   {
-    if (!std::isfinite(values[k]))
-    {
-      Result.Error = "the data contain NaN or infinite values";
-      return false;
-    }
+    Result.Error = "data flowed in another space than their noise's are not smoothed over processes";
+    return false;
+  }
+  double counted = 0.0;
+  for (Index i = 0; i < N; ++i)
+  {
+    counted += Main.Disc->Counts(i);
+  }
+  Counted = (Split ? Split->Sum(counted) : counted) * NC;
+  bool finite = true;
+  for (std::size_t k = 0; k < Size && finite; ++k)
+  {
+    finite = std::isfinite(values[k]);
+  }
+  if (Anywhere(!finite))
+  {
+    Result.Error = "the data contain NaN or infinite values";
+    return false;
   }
   // The noise, estimated in its own space, and the automatic settings.
   Scratch.assign(values, values + Size);
@@ -200,15 +245,8 @@ bool FlowIntegrator::Start(const double* values)
   }
   if (Stop == GraphFlowStop::MinimumRisk && Sigma > 0.0)
   {
-    // The probe: y + eps b in the noise's space, b = +-1 (a fixed seed:
-    // runs are reproducible).
-    std::uint64_t state = 0x9E3779B97F4A7C15ull;
-    B.resize(Size);
-    for (double& b : B)
-    {
-      state = state * 6364136223846793005ull + 1442695040888963407ull;
-      b = (state >> 63) ? 1.0 : -1.0;
-    }
+    // The probe: y + eps b in the noise's space, b = +-1.
+    Main.Disc->ProbeSigns(B);
     const double eps = ProbeSize * Sigma;
     Scratch.assign(Size, 0.0);
     for (std::size_t k = 0; k < Size; ++k)
@@ -243,6 +281,10 @@ void FlowIntegrator::Step(FlowRun& run, double dt)
 {
   O.Integration == GraphFlowIntegration::Explicit ? ExplicitStep(run, dt) : SemiImplicitStep(run, dt);
   run.U.swap(run.Next);
+  if (Split)
+  {
+    Split->UpdateGhosts(run.U.data(), NC); // rows of other processes' pieces: their owners' values
+  }
 }
 
 void FlowIntegrator::ExplicitStep(FlowRun& run, double dt)
@@ -280,18 +322,23 @@ void FlowIntegrator::SemiImplicitStep(FlowRun& run, double dt)
   std::vector<double> scale = ParallelSum(N, NC, Threads, [&](std::int64_t b, std::int64_t e, double* acc) {
     for (std::int64_t i = b; i < e; ++i)
     {
-      for (int k = 0; k < NC; ++k)
+      for (int k = 0; k < NC && disc.Counts(static_cast<Index>(i)); ++k)
       {
         acc[k] += Rhs[i * NC + k] * Rhs[i * NC + k];
       }
     }
   });
+  if (Split)
+  {
+    Split->Sum(scale.data(), NC);
+  }
   for (double& s : scale)
   {
     s = std::sqrt(s) + 1e-300;
   }
   run.Next = run.U; // initial guess and fixed values
-  if (const GraphLaplacian* graph = disc.Graph())
+  const GraphLaplacian* graph = disc.Graph();
+  if (graph && !Split) // (its renumbering is per process: split rows take the generic CG)
   {
     SolveOnGraph(run, *graph, scale);
   }
@@ -344,6 +391,7 @@ void FlowIntegrator::SolveMatrixFree(FlowRun& run, const std::vector<double>& sc
   cg.Tolerance = Tolerance(O, Stop);
   cg.MaximumIterations = O.MaximumSolverIterations;
   cg.NumberOfThreads = Threads;
+  cg.Split = Split;
   cg.Apply = [&](const double* x, double* y) {
     disc.Apply(x, y, false);
     ParallelFor(N, Threads, [&](std::int64_t b, std::int64_t e) {
@@ -403,17 +451,13 @@ double FlowIntegrator::NoiseLevelFraction()
     return std::isfinite(t) ? std::min(1.0, std::max(0.0, t)) : 1.0;
   }
   // The RMS change: |a + t d|^2 = target along the step.
-  std::vector<double> s = ParallelSum(static_cast<std::int64_t>(Size), 3, Threads,
-    [&](std::int64_t b, std::int64_t e, double* acc) {
-      for (std::int64_t k = b; k < e; ++k)
-      {
-        const double a = previous[k] - U0[k], d = u[k] - previous[k];
-        acc[0] += a * a;
-        acc[1] += a * d;
-        acc[2] += d * d;
-      }
-    });
-  const double target = static_cast<double>(Size) * std::pow(Sigma * Alpha, 2);
+  std::vector<double> s = SumOverValues(3, [&](std::int64_t k, double* acc) {
+    const double a = previous[k] - U0[k], d = u[k] - previous[k];
+    acc[0] += a * a;
+    acc[1] += a * d;
+    acc[2] += d * d;
+  });
+  const double target = Counted * std::pow(Sigma * Alpha, 2);
   const double disc2 = s[1] * s[1] - s[2] * (s[0] - target);
   return s[2] > 0.0 && disc2 >= 0.0 ? std::min(1.0, std::max(0.0, (-s[1] + std::sqrt(disc2)) / s[2])) : 1.0;
 }
@@ -456,19 +500,15 @@ double FlowIntegrator::Risk()
   }
   else
   {
-    const std::vector<double> s = ParallelSum(static_cast<std::int64_t>(Size), 2, Threads,
-      [&](std::int64_t b, std::int64_t e, double* acc) {
-        for (std::int64_t k = b; k < e; ++k)
-        {
-          const double d = Main.U[k] - U0[k];
-          acc[0] += d * d;
-          acc[1] += B[k] * (Probe.U[k] - Main.U[k]);
-        }
-      });
+    const std::vector<double> s = SumOverValues(2, [&](std::int64_t k, double* acc) {
+      const double d = Main.U[k] - U0[k];
+      acc[0] += d * d;
+      acc[1] += B[k] * (Probe.U[k] - Main.U[k]);
+    });
     fit = s[0] / (Alpha * Alpha);
     divergence = s[1] / Alpha;
   }
-  const double m = static_cast<double>(Size), var = Sigma * Sigma;
+  const double m = Counted, var = Sigma * Sigma;
   return fit / m - var + 2.0 * var * divergence / (ProbeSize * Sigma * m);
 }
 
@@ -533,7 +573,7 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
   for (int it = 0; it < limit && !ruleMet; ++it)
   {
     const double done = Stop == GraphFlowStop::Iterations ? static_cast<double>(it) / limit : 1.0 - std::exp(-it / 50.0);
-    if (progress && !progress(done))
+    if (Anywhere(progress && !progress(done))) // (all processes stop together)
     {
       Result.Completed = false;
       break;

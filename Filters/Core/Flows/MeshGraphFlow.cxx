@@ -36,11 +36,14 @@ public:
   /// -K u / mass is the Laplace-Beltrami operator (1/2 for the surface
   /// weights cot/4 over mixed areas; 1 for volume gradients over vertex
   /// volumes).  unusable (optional): non-zero = vertex kept (non-manifold).
+  /// split: see FlowDiscretization::Split.
   MeshDiscretization(Index size, const double* points, int components, const std::uint8_t* fixed,
-    const std::uint8_t* unusable, Assembler assemble, double massScale, double gamma, int threads)
+    const std::uint8_t* unusable, Assembler assemble, double massScale, double gamma, int threads,
+    const Partition* split)
     : Assemble(std::move(assemble))
     , MassScale(massScale)
   {
+    Split = split;
     Gamma = gamma;
     Threads = threads;
     Size = size;
@@ -70,7 +73,34 @@ public:
   double EstimateNoise(const double* values) const override
   {
     return EstimateGraphNoise(
-      Size, BaseOffsets, BaseNeighbors, Points, Components, values, Fixed.data());
+      Size, BaseOffsets, BaseNeighbors, Points, Components, values, Fixed.data(), Split);
+  }
+
+  void ProbeSigns(std::vector<double>& b) const override
+  {
+    // A hash of the component and of the point's position in units of the
+    // mean edge length, to 1/1024 of it: the same signs for a point wherever
+    // it lies in the numbering (any split over processes) and at any scale
+    // of the mesh (the serial numbers of a distributed run, the same run in
+    // edge-length and physical units).
+    const auto mix = [](std::uint64_t x) { // splitmix64's finaliser
+      x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+      x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+      return x ^ (x >> 31);
+    };
+    b.resize(static_cast<std::size_t>(Size) * Components);
+    for (std::size_t i = 0; i < static_cast<std::size_t>(Size); ++i)
+    {
+      std::uint64_t h = 0x9E3779B97F4A7C15ull;
+      for (int a = 0; a < 3; ++a)
+      {
+        h = mix(h ^ static_cast<std::uint64_t>(std::llround(1024.0 * Points[3 * i + a] / LengthScale)));
+      }
+      for (int k = 0; k < Components; ++k)
+      {
+        b[i * Components + k] = (mix(h + static_cast<std::uint64_t>(k)) >> 63) ? 1.0 : -1.0;
+      }
+    }
   }
 
   void Update(const double* u) override
@@ -113,16 +143,21 @@ public:
         {
           Velocity[i * Components + k] = f * KU[i * Components + k];
         }
-        acc[0] = std::max(acc[0], f * Positive[i]); // a maximum: any order gives the same
+        acc[0] = Counts(static_cast<Index>(i)) ? std::max(acc[0], f * Positive[i]) : acc[0]; // any order: the same
       }
     });
     MaxRate = rates.empty() ? 0.0 : *std::max_element(rates.begin(), rates.end());
     Area = ParallelSum(Size, 1, Threads, [&](std::int64_t b, std::int64_t e, double* acc) {
       for (std::int64_t i = b; i < e; ++i)
       {
-        acc[0] += Laplacian.Mass[i];
+        acc[0] += Counts(static_cast<Index>(i)) ? Laplacian.Mass[i] : 0.0;
       }
     })[0];
+    if (Split)
+    {
+      MaxRate = Split->Max(MaxRate);
+      Area = Split->Sum(Area);
+    }
   }
 
   void Apply(const double* x, double* y, bool) override
@@ -153,6 +188,7 @@ struct MeshFlowInput
   std::function<double(const double* points)> MeanEdgeLength;
   MeshDiscretization::Assembler Assemble;
   double MassScale = 0.5;
+  const Partition* Split = nullptr; ///< a surface split over processes (collective)
 };
 
 /// The body of both mesh flows: the options checked, the points measured in
@@ -164,7 +200,7 @@ GraphFlowResult RunMeshFlow(const MeshFlowInput& mesh, const double* points, int
 {
   GraphFlowResult result;
   result.Error = CheckOptions(options, components, mesh.MaximumComponents, "point data");
-  if (!result.Error.empty() || mesh.Vertices == 0)
+  if (!result.Error.empty() || (mesh.Vertices == 0 && !mesh.Split)) // (a split run's empty piece joins in)
   {
     return result;
   }
@@ -175,19 +211,21 @@ GraphFlowResult RunMeshFlow(const MeshFlowInput& mesh, const double* points, int
     return result;
   }
   std::vector<double> scaled(points, points + 3 * static_cast<std::size_t>(mesh.Vertices));
+  bool finite = true;
   for (double& x : scaled)
   {
     x /= unit;
-    if (!std::isfinite(x))
-    {
-      result.Error = "the input has NaN or infinite point coordinates";
-      return result;
-    }
+    finite = finite && std::isfinite(x);
+  }
+  if (!finite || (mesh.Split && mesh.Split->Max(finite ? 0.0 : 1.0) > 0.0))
+  {
+    result.Error = "the input has NaN or infinite point coordinates";
+    return result;
   }
   const double length = options.Units == LengthUnit::MeanEdgeLength ? 1.0 : mesh.MeanEdgeLength(points);
   const auto make = [&]() {
     auto disc = std::make_unique<MeshDiscretization>(mesh.Vertices, scaled.data(), components, fixed,
-      mesh.Unusable, mesh.Assemble, mesh.MassScale, options.EdgeContrast, options.NumberOfThreads);
+      mesh.Unusable, mesh.Assemble, mesh.MassScale, options.EdgeContrast, options.NumberOfThreads, mesh.Split);
     disc->LengthScale = length;
     return disc;
   };
@@ -203,7 +241,7 @@ GraphFlowResult RunMeshFlow(const MeshFlowInput& mesh, const double* points, int
 
 GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* points,
   int components, double* values, const std::uint8_t* fixed, const GraphFlowOptions& options,
-  const ProgressCallback& progress)
+  const ProgressCallback& progress, const Partition* split)
 {
   const int threads = options.NumberOfThreads;
   std::vector<std::uint8_t> unusable(topology.NumberOfVertices());
@@ -214,7 +252,8 @@ GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* 
   MeshFlowInput mesh;
   mesh.Vertices = topology.NumberOfVertices();
   mesh.Unusable = unusable.data();
-  mesh.MeanEdgeLength = [&](const double* x) { return MeanEdgeLength(topology, x); };
+  mesh.MeanEdgeLength = [&](const double* x) { return MeanEdgeLength(topology, x, split); };
+  mesh.Split = split;
   mesh.Assemble = [&](const double* x, int dimension, GraphLaplacian& l) {
     AssembleSurfaceLaplacian(topology, x, dimension, LaplacianWeights::Cotangent, l, threads);
   };
