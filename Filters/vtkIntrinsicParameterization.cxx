@@ -195,7 +195,7 @@ void vtkIntrinsicParameterization::Modified()
 void vtkIntrinsicParameterization::AddBoundaryHandle(vtkIdType pointId, double u, double v)
 {
   beltrami::BoundaryHandle h;
-  h.Vertex = static_cast<beltrami::Index>(pointId);
+  h.Vertex = CoreIndex(pointId);
   h.Target[0] = u;
   h.Target[1] = v;
   this->Internal->Handles.push_back(h);

@@ -55,7 +55,7 @@ def worker(mesh_file, noise):
         counts.Script = """
 from vtkmodules.vtkCommonCore import vtkIdTypeArray, vtkPoints
 d = self.GetInput().GetFieldData().GetArray("FairingDistribution")
-i = self.GetInput().GetFieldData().GetArray("FairingIterations") or self.GetInput().GetFieldData().GetArray("FlowIterations")
+i = self.GetInput().GetFieldData().GetArray("FairingIterations") or self.GetInput().GetFieldData().GetArray("FlowSolverIterations")
 out = self.GetOutput()
 p = vtkPoints()
 p.InsertNextPoint(0.0, 0.0, 0.0)

@@ -127,11 +127,12 @@ private:
   std::vector<double> SumOverValues(int width, Add&& add) const
   {
     const FlowDiscretization& disc = *Main.Disc;
+    const bool all = !Split; // (serial: no test per value)
     std::vector<double> s = ParallelSum(static_cast<std::int64_t>(Size), width, Threads,
       [&](std::int64_t b, std::int64_t e, double* acc) {
         for (std::int64_t k = b; k < e; ++k)
         {
-          if (disc.Counts(static_cast<Index>(k / NC)))
+          if (all || disc.Counts(static_cast<Index>(k / NC)))
           {
             add(k, acc);
           }
