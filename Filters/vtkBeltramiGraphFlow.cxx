@@ -195,7 +195,7 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
   }
   const vtkIdType numPoints = input->GetNumberOfPoints();
   beltrami::GraphFlowOptions options = meshOptions;
-  if (logEuclidean)
+  if (logEuclidean && !empty)
   {
     ToLogEuclidean(owner, array->GetName() ? array->GetName() : "", values.data(), numPoints,
       options.NumberOfThreads, options);
