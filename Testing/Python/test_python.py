@@ -641,6 +641,39 @@ class RemeshingFromPython(unittest.TestCase):
         self.assertTrue(failed and failed_array)
         self.assertEqual(f.GetOutput().GetNumberOfPoints(), 0)
 
+    def test_bad_input_is_an_error_or_a_warning_with_an_empty_output(self):
+        # Non-manifold and NaN input: a clear error; empty and lines-only
+        # input: a warning; in every case an empty remesh, never a crash.
+        reader, _ = self.remesher()
+        reader.Update()
+        mushroom = reader.GetOutput()
+        non_manifold = vtkPolyData()
+        non_manifold.DeepCopy(mushroom)
+        a, b = mushroom.GetCell(0).GetPointId(0), mushroom.GetCell(0).GetPointId(1)
+        tip = non_manifold.GetPoints().InsertNextPoint(*(np.array(mushroom.GetPoint(a)) + [0.0, 0.0, 0.3]))
+        non_manifold.GetPolys().InsertNextCell(3, [a, b, tip])  # a third triangle on an edge
+        with_nan = vtkPolyData()
+        with_nan.DeepCopy(mushroom)
+        with_nan.GetPoints().SetPoint(5, float("nan"), 0.0, 0.0)
+        lines = vtkPolyData()
+        lines.SetPoints(vtkPoints())
+        lines.GetPoints().InsertNextPoint(0.0, 0.0, 0.0)
+        lines.GetPoints().InsertNextPoint(1.0, 0.0, 0.0)
+        lines.SetLines(vtkCellArray())
+        lines.GetLines().InsertNextCell(2, [0, 1])
+        for data, succeeds, message in ((non_manifold, False, "non-manifold edges"),
+                                        (with_nan, False, "NaN or infinite point coordinates"),
+                                        (vtkPolyData(), True, "Input has no points"),
+                                        (lines, True, "no polygons or triangle strips")):
+            log = vtkStringOutputWindow()
+            vtkOutputWindow.SetInstance(log)
+            f = vtkSurfaceRemeshing()
+            f.SetInputData(data)
+            f.SetNumberOfVertices(2000)
+            self.assertEqual(f.GetExecutive().Update() == 1, succeeds, message)
+            self.assertIn(message, log.GetOutput())
+            self.assertEqual(f.GetOutput().GetNumberOfPoints(), 0, message)
+
 
 class LineDrawingFromPython(unittest.TestCase):
     """vtkSurfaceLineDrawing (issue 27) through the wrapping."""
