@@ -222,7 +222,11 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
   }
   beltrami::RemeshOptions options;
   options.NumberOfVertices = this->NumberOfVertices;
-  options.Iterations = this->Iterations;
+  // The first fifth of the rounds in the charts' planes, the rest stitching
+  // across the seams on the surface (beltrami::RemeshOptimization).
+  options.Iterations = this->Iterations / 5;
+  options.StitchingIterations = this->Iterations - options.Iterations;
+  options.FeatureAngle = this->SplitAtFeatures ? this->FeatureAngle : 0.0;
   options.NumberOfThreads = this->NumberOfThreads;
   const beltrami::RemeshResult remesh =
     beltrami::RemeshSurface(topology, points, atlas, importance.empty() ? nullptr : importance.data(), options);

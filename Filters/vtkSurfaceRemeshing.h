@@ -18,7 +18,11 @@
  * the shared boundary samples into one watertight mesh with the input's
  * topology, and optimised with the vertices kept (sections 4.4.2-4.4.4):
  * Iterations rounds of area/perimeter^2 and valence edge swaps and Lloyd
- * relaxation in the parameter planes, seam vertices sliding along the seams.
+ * relaxation: the first fifth in the parameter planes, seam vertices
+ * sliding along the seams, the rest stitching the charts (section 4.4.4):
+ * swaps across the seams and Lloyd relaxation on the surface in 3D, seam
+ * vertices free, only the surface's boundary and the sharp edges (with
+ * SplitAtFeatures) kept as lines.
  *
  * Importance: UNIFORM (default), MEAN_CURVATURE (|H|), GAUSSIAN_CURVATURE
  * (|K|), TOTAL_CURVATURE (k1^2 + k2^2), MAXIMUM_CURVATURE (max |k_i|) or

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <unordered_set>
 
 namespace beltrami
 {
@@ -64,13 +65,39 @@ double VoronoiPart(const double* p, const double* a, const double* b, double* ce
   return area;
 }
 
+/// The Voronoi part of VoronoiPart for a triangle in 3D, computed in the
+/// triangle's own plane: its area and its centroid (3D).
+double VoronoiPart3D(const Vec3& p, const Vec3& a, const Vec3& b, Vec3& centroid)
+{
+  const Vec3 n = (a - p).cross(b - p);
+  if (!(n.norm() > 0.0))
+  {
+    return 0.0;
+  }
+  const Vec3 e1 = (a - p).normalized(), e2 = n.normalized().cross(e1);
+  const double origin[2] = { 0.0, 0.0 }, a2[2] = { (a - p).norm(), 0.0 },
+               b2[2] = { (b - p).dot(e1), (b - p).dot(e2) };
+  double c[2];
+  const double area = VoronoiPart(origin, a2, b2, c);
+  centroid = p + c[0] * e1 + c[1] * e2;
+  return area;
+}
+
+/// How a vertex may move while stitching.
+enum Mobility : std::uint8_t
+{
+  Free = 0,   ///< anywhere on the surface
+  OnPath = 1, ///< along its path (the surface's boundary or a feature)
+  Fixed = 2   ///< a corner on the surface's boundary or a feature
+};
+
 class Optimizer
 {
 public:
   Optimizer(Remesh& remesh, const MeshTopology& topology, const double* points, const AtlasResult& atlas,
     const SurfaceSamples& samples, const double* importance)
     : R(remesh), M(remesh.Mesh), Topology(topology), Points(points), Atlas(atlas), Samples(samples),
-      Importance(importance)
+      ImportanceValues(importance)
   {
     for (const AtlasChart& chart : atlas.Charts)
     {
@@ -94,6 +121,7 @@ public:
   std::int64_t SwapForValence();
   std::int64_t SwapForShape();
   double Relax();
+  Index BeginStitching(const std::uint8_t* featureEdges);
 
 private:
   const double* UVAt(Index h) const { return &R.CornerUV[2 * h]; }
@@ -101,12 +129,30 @@ private:
   {
     return !M.IsBoundary(h) && R.FaceChart[h / 3] == R.FaceChart[M.Twin(h) / 3];
   }
+  /// h's edge may be swapped: inside a chart, or, while stitching, anywhere
+  /// but along a path that stays (a feature).
+  bool Swappable(Index h) const
+  {
+    return Stitching ? !M.IsBoundary(h) && !KeptEdges.count(EdgeKey(M.Tail(h), M.Head(h))) : SameChart(h);
+  }
+  static std::uint64_t EdgeKey(Index a, Index b)
+  {
+    return static_cast<std::uint64_t>(std::min(a, b)) << 32 | static_cast<std::uint32_t>(std::max(a, b));
+  }
   bool FlipKeepsCharts(Index h) const;
+  bool FlipKeepsSurface(Index h) const;
+  bool CanSwap(Index h) const { return M.CanFlip(h) && (Stitching || FlipKeepsCharts(h)) && FlipKeepsSurface(h); }
   void Flip(Index h);
+  std::pair<double, double> Roundnesses(Index h) const;
   int Target(Index v) const { return M.IsBoundaryVertex(v) ? 4 : 6; }
+  double Importance(Index f) const;
   double Weight(Index f) const;
   bool MoveInterior(Index v, double& moved);
   bool MoveOnPath(Index v, double& moved);
+  bool MoveOnSurface(Index v, double& moved);
+  Index NearestOnSurface(const Vec3& p, Index start, double radius, double* w);
+  bool KeepsPlane(Index v, Index triangle, const double* w);
+  bool KeepsSurface(Index v, const Vec3& x) const;
   bool Place(Index v, Index triangle, const double* w, double& moved);
 
   Remesh& R;
@@ -115,26 +161,35 @@ private:
   const double* Points;
   const AtlasResult& Atlas;
   const SurfaceSamples& Samples;
-  const double* Importance;
+  const double* ImportanceValues;
   std::vector<ChartLocator> Locators;
   std::vector<Index> Valence;
   std::vector<Index> PathIndex; ///< per vertex: its index in its path's Samples
   std::vector<std::pair<Index, std::array<double, 2>>> PlaceCorners; ///< Place's buffer (no allocation per move)
+  bool Stitching = false;
+  std::vector<std::uint8_t> Moves;     ///< per vertex while stitching: its Mobility
+  std::unordered_set<std::uint64_t> KeptEdges; ///< EdgeKey of the remesh's edges along kept paths
+  std::vector<std::uint32_t> Visited;  ///< per input triangle: NearestOnSurface's stamp
+  std::uint32_t Stamp = 0;
+  std::vector<Index> Queue;            ///< NearestOnSurface's buffer
 };
 
 /// The flip of h's edge (faces (a, b, c), (b, a, d) -> (c, a, d), (d, b, c))
-/// keeps both new faces positively oriented in the chart and does not fold
-/// the surface (the new faces' normals within 60 degrees of the old ones').
+/// keeps both new faces positively oriented in the chart.
 bool Optimizer::FlipKeepsCharts(Index h) const
 {
   const Index t = M.Twin(h);
   const double *a = UVAt(h), *b = UVAt(HalfEdgeMesh::Next(h)), *c = UVAt(HalfEdgeMesh::Prev(h));
   const double* d = UVAt(HalfEdgeMesh::Prev(t));
   const double scale = std::abs(Cross2(a, b, c)) + std::abs(Cross2(b, a, d));
-  if (!(Cross2(c, a, d) > 1e-6 * scale && Cross2(d, b, c) > 1e-6 * scale))
-  {
-    return false;
-  }
+  return Cross2(c, a, d) > 1e-6 * scale && Cross2(d, b, c) > 1e-6 * scale;
+}
+
+/// The flip of h's edge does not fold the surface: the new faces' normals
+/// are within 60 degrees of the old ones' mean.
+bool Optimizer::FlipKeepsSurface(Index h) const
+{
+  const Index t = M.Twin(h);
   const Vec3 pa = M.Position(M.Tail(h)), pb = M.Position(M.Head(h));
   const Vec3 pc = M.Position(M.Tail(HalfEdgeMesh::Prev(h))), pd = M.Position(M.Tail(HalfEdgeMesh::Prev(t)));
   const Vec3 before = ((pb - pa).cross(pc - pa) + (pa - pb).cross(pd - pb)).normalized();
@@ -165,14 +220,26 @@ void Optimizer::Flip(Index h)
   ++Valence[d];
 }
 
-/// Swaps edges inside charts wherever that lowers the sum of squared
-/// deviations of the four valences from their targets (section 4.4.2).
+/// The smaller area/perimeter^2 ratio of h's two faces (in 3D) before and
+/// after the flip of h's edge.
+std::pair<double, double> Optimizer::Roundnesses(Index h) const
+{
+  const Vec3 a = M.Position(M.Tail(h)), b = M.Position(M.Head(h));
+  const Vec3 c = M.Position(M.Tail(HalfEdgeMesh::Prev(h))), d = M.Position(M.Tail(HalfEdgeMesh::Prev(M.Twin(h))));
+  return { std::min(Roundness(a, b, c), Roundness(b, a, d)), std::min(Roundness(c, a, d), Roundness(d, b, c)) };
+}
+
+/// Swaps edges (Swappable) wherever that lowers the sum of squared
+/// deviations of the four valences from their targets (section 4.4.2)
+/// without halving the smaller area/perimeter^2 ratio of the two triangles
+/// (else the shape swaps and these would undo each other round after round,
+/// and a sliver could be left by the last one).
 std::int64_t Optimizer::SwapForValence()
 {
   std::int64_t swaps = 0;
   for (Index h = 0; h < M.NumberOfHalfEdges(); ++h)
   {
-    if (!SameChart(h) || M.Twin(h) < h)
+    if (!Swappable(h) || M.Twin(h) < h)
     {
       continue;
     }
@@ -184,31 +251,32 @@ std::int64_t Optimizer::SwapForValence()
     };
     const double before = dev(a, 0) + dev(b, 0) + dev(c, 0) + dev(d, 0);
     const double after = dev(a, -1) + dev(b, -1) + dev(c, 1) + dev(d, 1);
-    if (after < before && M.CanFlip(h) && FlipKeepsCharts(h))
+    if (after < before && CanSwap(h))
     {
-      Flip(h);
-      ++swaps;
+      const auto [roundBefore, roundAfter] = Roundnesses(h);
+      if (roundAfter >= 0.5 * roundBefore)
+      {
+        Flip(h);
+        ++swaps;
+      }
     }
   }
   return swaps;
 }
 
-/// Swaps edges inside charts wherever that raises the smaller
+/// Swaps edges (Swappable) wherever that raises the smaller
 /// area/perimeter^2 ratio of the two triangles (in 3D).
 std::int64_t Optimizer::SwapForShape()
 {
   std::int64_t swaps = 0;
   for (Index h = 0; h < M.NumberOfHalfEdges(); ++h)
   {
-    if (!SameChart(h) || M.Twin(h) < h)
+    if (!Swappable(h) || M.Twin(h) < h)
     {
       continue;
     }
-    const Vec3 a = M.Position(M.Tail(h)), b = M.Position(M.Head(h));
-    const Vec3 c = M.Position(M.Tail(HalfEdgeMesh::Prev(h))), d = M.Position(M.Tail(HalfEdgeMesh::Prev(M.Twin(h))));
-    const double before = std::min(Roundness(a, b, c), Roundness(b, a, d));
-    const double after = std::min(Roundness(c, a, d), Roundness(d, b, c));
-    if (after > before * 1.01 && M.CanFlip(h) && FlipKeepsCharts(h))
+    const auto [before, after] = Roundnesses(h);
+    if (after > before * 1.01 && CanSwap(h))
     {
       Flip(h);
       ++swaps;
@@ -217,50 +285,83 @@ std::int64_t Optimizer::SwapForShape()
   return swaps;
 }
 
+/// The mean importance of face f (1 without one).
+double Optimizer::Importance(Index f) const
+{
+  if (!ImportanceValues)
+  {
+    return 1.0;
+  }
+  double importance = 0.0;
+  for (int k = 0; k < 3; ++k)
+  {
+    const Index v = M.Tail(3 * f + k);
+    for (int j = 0; j < 3; ++j)
+    {
+      importance +=
+        R.Barycentric[3 * v + j] * std::max(0.0, ImportanceValues[Topology.CornerVertex(3 * R.Triangle[v] + j)]) / 3.0;
+    }
+  }
+  return importance;
+}
+
 /// The relaxation weight of face f: its 3D area times its mean importance.
 double Optimizer::Weight(Index f) const
 {
   const Vec3 a = M.Position(M.Tail(3 * f)), b = M.Position(M.Tail(3 * f + 1)), c = M.Position(M.Tail(3 * f + 2));
-  double importance = 1.0;
-  if (Importance)
-  {
-    importance = 0.0;
-    for (int k = 0; k < 3; ++k)
-    {
-      const Index v = M.Tail(3 * f + k);
-      for (int j = 0; j < 3; ++j)
-      {
-        importance += R.Barycentric[3 * v + j] * std::max(0.0, Importance[Topology.CornerVertex(3 * R.Triangle[v] + j)]) / 3.0;
-      }
-    }
-  }
-  return 0.5 * (b - a).cross(c - a).norm() * importance;
+  return 0.5 * (b - a).cross(c - a).norm() * Importance(f);
 }
 
-/// Moves vertex v to (triangle, w) of the input if every face around it stays
-/// positively oriented in its chart; `moved` gets the 3D distance.
-bool Optimizer::Place(Index v, Index triangle, const double* w, double& moved)
+/// Every face around v stays positively oriented in its chart with v at
+/// (triangle, w) of the input; their corners' positions go to PlaceCorners.
+bool Optimizer::KeepsPlane(Index v, Index triangle, const double* w)
 {
-  std::vector<std::pair<Index, std::array<double, 2>>>& corners = PlaceCorners;
-  corners.clear();
+  PlaceCorners.clear();
   bool valid = true;
   M.ForEachOutgoing(v, [&](Index h) {
     std::array<double, 2> uv;
     valid = valid && ChartPosition(Topology, Atlas.Charts[R.FaceChart[h / 3]], triangle, w, uv.data()) &&
       Cross2(uv.data(), UVAt(HalfEdgeMesh::Next(h)), UVAt(HalfEdgeMesh::Prev(h))) >
         1e-3 * std::abs(Cross2(UVAt(h), UVAt(HalfEdgeMesh::Next(h)), UVAt(HalfEdgeMesh::Prev(h))));
-    corners.push_back({ h, uv });
+    PlaceCorners.push_back({ h, uv });
   });
-  if (!valid)
+  return valid;
+}
+
+/// Every face around v stays within 60 degrees of the normal of v's faces
+/// (area-weighted, before the move) with v at x: no fold.
+bool Optimizer::KeepsSurface(Index v, const Vec3& x) const
+{
+  Vec3 normal = Vec3::Zero();
+  M.ForEachOutgoing(v, [&](Index h) {
+    const Vec3 a = M.Position(M.Tail(h)), b = M.Position(M.Head(h)), c = M.Position(M.Tail(HalfEdgeMesh::Prev(h)));
+    normal += (b - a).cross(c - a);
+  });
+  normal.normalize();
+  bool valid = normal.allFinite();
+  M.ForEachOutgoing(v, [&](Index h) {
+    const Vec3 n = (M.Position(M.Head(h)) - x).cross(M.Position(M.Tail(HalfEdgeMesh::Prev(h))) - x);
+    valid = valid && n.dot(normal) > 0.5 * n.norm() && n.norm() > 0.0;
+  });
+  return valid;
+}
+
+/// Moves vertex v to (triangle, w) of the input if no face around it flips
+/// (in its chart, or on the surface while stitching); `moved` gets the 3D
+/// distance.
+bool Optimizer::Place(Index v, Index triangle, const double* w, double& moved)
+{
+  const Vec3 x = SurfacePoint(Topology, Points, triangle, w);
+  PlaceCorners.clear();
+  if (Stitching ? !KeepsSurface(v, x) : !KeepsPlane(v, triangle, w))
   {
     return false;
   }
-  for (const auto& [h, uv] : corners)
+  for (const auto& [h, uv] : PlaceCorners) // empty while stitching (the charts are left behind)
   {
     R.CornerUV[2 * h] = uv[0];
     R.CornerUV[2 * h + 1] = uv[1];
   }
-  const Vec3 x = SurfacePoint(Topology, Points, triangle, w);
   moved = (x - M.Position(v)).norm();
   M.SetPosition(v, x);
   R.Triangle[v] = triangle;
@@ -352,6 +453,146 @@ bool Optimizer::MoveOnPath(Index v, double& moved)
   return false;
 }
 
+/// The input triangle nearest to p among those reached from `start` through
+/// triangles less than `radius` from p (the ball a move of that length
+/// stays in), with the nearest point's weights in w.
+Index Optimizer::NearestOnSurface(const Vec3& p, Index start, double radius, double* w)
+{
+  if (++Stamp == 0)
+  {
+    std::fill(Visited.begin(), Visited.end(), 0);
+    Stamp = 1;
+  }
+  Queue.assign(1, start);
+  Visited[start] = Stamp;
+  Index best = -1;
+  double bestDistance = HUGE_VAL;
+  const double reach = radius * radius * (1.0 + 1e-9);
+  for (std::size_t i = 0; i < Queue.size(); ++i)
+  {
+    const Index t = Queue[i];
+    double weights[3];
+    const double d = ClosestPointOnTriangle(p, Point(Points, Topology.CornerVertex(3 * t)),
+      Point(Points, Topology.CornerVertex(3 * t + 1)), Point(Points, Topology.CornerVertex(3 * t + 2)), weights);
+    if (d < bestDistance)
+    {
+      bestDistance = d;
+      best = t;
+      std::copy(weights, weights + 3, w);
+    }
+    if (d > reach && t != start)
+    {
+      continue;
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index corner = Topology.CornerVertex(3 * t + k);
+      for (const Index* c = Topology.CornersBegin(corner); c != Topology.CornersEnd(corner); ++c)
+      {
+        if (Visited[*c / 3] != Stamp)
+        {
+          Visited[*c / 3] = Stamp;
+          Queue.push_back(*c / 3);
+        }
+      }
+    }
+  }
+  return best;
+}
+
+/// A free vertex while stitching: towards the centroid of its Voronoi cell
+/// on the surface (each face's part in its own plane, weighted by the face's
+/// importance), tangentially, then onto the input at the nearest point
+/// (halving the step while a face would fold).
+bool Optimizer::MoveOnSurface(Index v, double& moved)
+{
+  double sum = 0.0;
+  Vec3 target = Vec3::Zero(), normal = Vec3::Zero();
+  const Vec3 x = M.Position(v);
+  M.ForEachOutgoing(v, [&](Index h) {
+    const Vec3 a = M.Position(M.Head(h)), b = M.Position(M.Tail(HalfEdgeMesh::Prev(h)));
+    Vec3 c;
+    const double w = VoronoiPart3D(x, a, b, c) * Importance(h / 3);
+    target += w * c;
+    sum += w;
+    normal += (a - x).cross(b - x);
+  });
+  if (!(sum > 0.0) || !(normal.norm() > 0.0))
+  {
+    return false;
+  }
+  normal.normalize();
+  Vec3 shift = target / sum - x;
+  shift -= shift.dot(normal) * normal;
+  for (double step = 1.0; step > 0.1; step *= 0.5)
+  {
+    double w[3];
+    const Index t = NearestOnSurface(x + step * shift, R.Triangle[v], step * shift.norm(), w);
+    if (t >= 0 && Place(v, t, w, moved))
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+/// Starts the stitching rounds: the mobility of every vertex (free, except
+/// samples on the surface's boundary or on feature edges, which slide along
+/// their paths, and corners touching them, which stay); the number of
+/// chart-boundary samples freed.
+Index Optimizer::BeginStitching(const std::uint8_t* featureEdges)
+{
+  const MeshTopology::EdgeTable& edges = Topology.Edges();
+  std::vector<std::uint8_t> kept(Topology.NumberOfVertices(), 0); // surface vertices on a kept edge
+  const auto isKept = [&](std::int64_t e) { return edges.FaceCount[e] != 2 || (featureEdges && featureEdges[e]); };
+  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
+  {
+    if (isKept(e))
+    {
+      kept[edges.Vertices[2 * e]] = kept[edges.Vertices[2 * e + 1]] = 1;
+    }
+  }
+  const auto edgeOf = [&](Index a, Index b) -> std::int64_t {
+    const Index* begin = edges.Neighbors.data() + edges.NeighborOffsets[a];
+    const Index* end = edges.Neighbors.data() + edges.NeighborOffsets[a + 1];
+    const Index* at = std::lower_bound(begin, end, b);
+    return at != end && *at == b ? edges.NeighborEdges[edges.NeighborOffsets[a] + (at - begin)] : -1;
+  };
+  Moves.assign(M.NumberOfVertices(), Free);
+  Index freed = 0;
+  for (Index v = 0; v < M.NumberOfVertices(); ++v)
+  {
+    if (R.Kind[v] == SampleKind::Corner)
+    {
+      const double* w = &R.Barycentric[3 * v];
+      const int k = static_cast<int>(std::max_element(w, w + 3) - w);
+      Moves[v] = kept[Topology.CornerVertex(3 * R.Triangle[v] + k)] ? Fixed : Free;
+    }
+    else if (R.Kind[v] == SampleKind::Boundary)
+    {
+      const SamplePath& path = Samples.Paths[R.Path[v]];
+      const std::size_t i = std::min<std::size_t>(path.Vertices.size() - 2,
+        std::upper_bound(path.Arc.begin(), path.Arc.end(), R.Arc[v]) - path.Arc.begin() - 1);
+      const std::int64_t e = edgeOf(path.Vertices[i], path.Vertices[i + 1]);
+      Moves[v] = e < 0 || isKept(e) ? OnPath : Free;
+    }
+    freed += R.Kind[v] != SampleKind::Interior && Moves[v] == Free;
+  }
+  for (const SamplePath& path : Samples.Paths)
+  {
+    for (std::size_t i = 0; i + 1 < path.Samples.size(); ++i)
+    {
+      if (Moves[path.Samples[i]] != Free && Moves[path.Samples[i + 1]] != Free)
+      {
+        KeptEdges.insert(EdgeKey(path.Samples[i], path.Samples[i + 1]));
+      }
+    }
+  }
+  Visited.assign(Topology.NumberOfTriangles(), 0);
+  Stitching = true;
+  return freed;
+}
+
 /// One relaxation sweep over the vertices (section 4.4.3); the mean 3D move.
 double Optimizer::Relax()
 {
@@ -359,7 +600,18 @@ double Optimizer::Relax()
   for (Index v = 0; v < M.NumberOfVertices(); ++v)
   {
     double moved = 0.0;
-    if (R.Kind[v] == SampleKind::Interior)
+    if (Stitching)
+    {
+      if (Moves[v] == Free)
+      {
+        MoveOnSurface(v, moved);
+      }
+      else if (Moves[v] == OnPath)
+      {
+        MoveOnPath(v, moved);
+      }
+    }
+    else if (R.Kind[v] == SampleKind::Interior)
     {
       MoveInterior(v, moved);
     }
@@ -383,8 +635,13 @@ RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& 
     return stats;
   }
   Optimizer optimizer(remesh, topology, points, atlas, samples, options.Importance);
-  for (int i = 0; i < options.Iterations; ++i)
+  const int rounds = std::max(0, options.Iterations) + std::max(0, options.StitchingIterations);
+  for (int i = 0; i < rounds; ++i)
   {
+    if (i == std::max(0, options.Iterations))
+    {
+      stats.FreedVertices = optimizer.BeginStitching(options.FeatureEdges);
+    }
     stats.ShapeSwaps += optimizer.SwapForShape();
     stats.ValenceSwaps += optimizer.SwapForValence();
     stats.MeanDisplacement = optimizer.Relax();

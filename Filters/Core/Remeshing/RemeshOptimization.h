@@ -1,16 +1,25 @@
 // Beltrami core: the optimisation of a remesh (thesis sections 4.4.2-4.4.4)
-// with its vertices kept: edge swaps inside charts that bring valences to 6
-// (4 on the surface's boundary) and improve the triangles' area/perimeter^2
-// ratio in 3D, alternated with a relaxation of the vertices in their chart's
-// parameter plane: Lloyd's step, each vertex to the centroid of its Voronoi
-// cell (the mixed areas of section 2.3 in every triangle) with the density
-// of the triangle's 3D area times its importance per unit of plane area, so
-// that the cells become equal in area (or in importance integral for an
-// adapted mesh; the thesis' area-dispersion weights of 4.4.3 in Lloyd's
-// form, which measured better: valence 6 at 80% against 75%), vertices on chart boundaries sliding along
+// with its vertices kept, in two passes.  Chart rounds: edge swaps inside
+// charts that bring valences to 6 (4 on the surface's boundary) and improve
+// the triangles' area/perimeter^2 ratio in 3D, alternated with a relaxation
+// of the vertices in their chart's parameter plane: Lloyd's step, each
+// vertex to the centroid of its Voronoi cell (the mixed areas of section 2.3
+// in every triangle) with the density of the triangle's 3D area times its
+// importance per unit of plane area, so that the cells become equal in area
+// (or in importance integral for an adapted mesh; the thesis'
+// area-dispersion weights of 4.4.3 in Lloyd's form, which measured better:
+// valence 6 at 80% against 75%), vertices on chart boundaries sliding along
 // their path by the tangential part of the same relaxation across the seam
-// (fig. 4.10), corners fixed.  Every move and swap keeps all triangles
-// positively oriented in their chart's parameter plane.
+// (fig. 4.10), corners fixed; every move and swap keeps all triangles
+// positively oriented in their chart's parameter plane.  Stitching rounds
+// (section 4.4.4) then free the seams: the same swaps over every edge and
+// Lloyd's step in 3D on the surface itself (each triangle's Voronoi part in
+// its own plane, the move made tangential and put back on the input
+// surface at the nearest point), so the triangles of close chart corners
+// and the ears along seams get repaired; only samples on the surface's
+// boundary and on feature edges stay on their paths, and corners on them
+// stay fixed.  Every stitching move and swap keeps the triangles within 60
+// degrees of their neighbourhood's normal (no fold).
 #pragma once
 
 #include "Remeshing/Remesh.h"
@@ -20,16 +29,22 @@ namespace beltrami
 
 struct RemeshOptimizationOptions
 {
-  /// Rounds of (swaps, relaxation).
-  int Iterations = 50;
+  /// Chart rounds of (swaps, relaxation).
+  int Iterations = 10;
+  /// Stitching rounds of (swaps, relaxation) after them.
+  int StitchingIterations = 40;
   /// One value >= 0 per input vertex weighting the relaxation (null: uniform).
   const double* Importance = nullptr;
+  /// One flag per edge of topology.Edges(): feature edges (sharp or marked)
+  /// whose samples stay on their paths while stitching (null: none).
+  const std::uint8_t* FeatureEdges = nullptr;
 };
 
 struct RemeshOptimizationStatistics
 {
   std::int64_t ValenceSwaps = 0, ShapeSwaps = 0;
   double MeanDisplacement = 0.0; ///< of the vertices in the last relaxation, in 3D (the surface's units)
+  Index FreedVertices = 0;  ///< chart-boundary samples that moved freely while stitching
 };
 
 RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& topology, const double* points,

@@ -1,6 +1,7 @@
 #include "Remeshing/SurfaceRemeshing.h"
 
 #include "Mesh/Curvatures.h"
+#include "Mesh/MeshMeasures.h"
 
 #include <algorithm>
 #include <chrono>
@@ -102,7 +103,11 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   start = std::chrono::steady_clock::now();
   RemeshOptimizationOptions optimization;
   optimization.Iterations = options.Iterations;
+  optimization.StitchingIterations = options.StitchingIterations;
   optimization.Importance = importance;
+  const std::vector<std::uint8_t> features =
+    options.FeatureAngle > 0.0 ? SharpEdges(topology, points, options.FeatureAngle) : std::vector<std::uint8_t>();
+  optimization.FeatureEdges = features.empty() ? nullptr : features.data();
   out.Optimization = OptimizeRemesh(remesh, topology, points, atlas, out.Samples, optimization);
   out.OptimizationSeconds = SecondsSince(start);
   out.Points = remesh.Mesh.Points();

@@ -19,7 +19,12 @@ struct RemeshOptions
 {
   std::int64_t NumberOfVertices = 10000;
   int Resolution = 0; ///< of the control map; 0: automatic (SamplingOptions)
-  int Iterations = 50; ///< rounds of swaps and relaxation
+  int Iterations = 10;          ///< chart rounds of swaps and relaxation
+  int StitchingIterations = 40; ///< stitching rounds after them (RemeshOptimization)
+  /// > 0: edges whose triangles' normals differ by more than this many
+  /// degrees are features, kept while stitching (the atlas's FeatureAngle
+  /// when it splits at features); 0: none.
+  double FeatureAngle = 0.0;
   int NumberOfThreads = 0;
 };
 
