@@ -178,6 +178,22 @@ void WriteControlMap(const beltrami::SurfaceSamples& samples, vtkMultiBlockDataS
 
 } // namespace
 
+void vtkSurfaceRemeshing::AddTransferFunctionPoint(double x, double importance)
+{
+  this->TransferFunction.push_back(x);
+  this->TransferFunction.push_back(importance);
+  this->Modified();
+}
+
+void vtkSurfaceRemeshing::RemoveAllTransferFunctionPoints()
+{
+  if (!this->TransferFunction.empty())
+  {
+    this->TransferFunction.clear();
+    this->Modified();
+  }
+}
+
 int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
 {
   output->Initialize(); // a defined output: empty
@@ -190,7 +206,7 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
   const beltrami::MeshTopology& topology = surface.Topology();
   std::vector<double> storage;
   const double* points = surface.PointsAsDouble(storage);
-  std::vector<double> importance;
+  std::vector<double> values;
   if (this->Importance == POINT_ARRAY)
   {
     std::string error;
@@ -201,18 +217,32 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
                     << " The output is empty.");
       return 0;
     }
-    std::vector<double> values(topology.NumberOfVertices());
+    values.resize(topology.NumberOfVertices());
     for (beltrami::Index v = 0; v < topology.NumberOfVertices(); ++v)
     {
       values[v] = array->GetComponent(v, 0);
     }
-    importance = beltrami::ImportanceFromValues(values, this->Gamma, this->MinimumImportance);
   }
   else if (this->Importance != UNIFORM)
   {
-    importance = beltrami::ImportanceFromValues(beltrami::CurvatureValues(topology, points,
-      static_cast<beltrami::CurvatureMeasure>(this->Importance), this->NumberOfThreads), this->Gamma,
-      this->MinimumImportance);
+    values = beltrami::CurvatureValues(
+      topology, points, static_cast<beltrami::CurvatureMeasure>(this->Importance), this->NumberOfThreads);
+  }
+  std::vector<double> importance;
+  if (!values.empty())
+  {
+    beltrami::ImportanceOptions transfer;
+    transfer.Gamma = this->Gamma;
+    transfer.TransferFunction = this->TransferFunction;
+    transfer.Gradation = this->Gradation;
+    transfer.Minimum = this->MinimumImportance;
+    beltrami::ImportanceResult result =
+      beltrami::ImportanceFromValues(topology, points, values, transfer, this->NumberOfThreads);
+    if (!result.Warning.empty())
+    {
+      vtkWarningMacro(<< "Importance: " << result.Warning << ".");
+    }
+    importance = std::move(result.Importance);
   }
   const beltrami::AtlasResult& atlas = this->Atlas(input, &topology, points);
   if (!atlas.Error.empty())
@@ -248,6 +278,8 @@ void vtkSurfaceRemeshing::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "Importance: " << this->Importance << "\n"
      << indent << "Gamma: " << this->Gamma << "\n"
      << indent << "MinimumImportance: " << this->MinimumImportance << "\n"
+     << indent << "Gradation: " << this->Gradation << "\n"
+     << indent << "TransferFunctionPoints: " << this->GetNumberOfTransferFunctionPoints() << "\n"
      << indent << "SplitAtFeatures: " << this->SplitAtFeatures << "\n"
      << indent << "FeatureAngle: " << this->FeatureAngle << "\n"
      << indent << "Iterations: " << this->Iterations << "\n"

@@ -27,8 +27,12 @@
  * Importance: UNIFORM (default), MEAN_CURVATURE (|H|), GAUSSIAN_CURVATURE
  * (|K|), TOTAL_CURVATURE (k1^2 + k2^2), MAXIMUM_CURVATURE (max |k_i|) or
  * POINT_ARRAY (input array 0, a 1-component point array), through the
- * transfer function max(MinimumImportance, (|value| / mean)^Gamma): vertex
- * density proportional to it.
+ * transfer function of x = |value| / mean: x^Gamma, or the piecewise-linear
+ * function through the points given by AddTransferFunctionPoint(x,
+ * importance) when there are any; then low-pass filtered over the surface
+ * when Gradation > 0 (smooth gradation: the heat kernel of that standard
+ * deviation, in surface units) and raised to at least MinimumImportance:
+ * vertex density proportional to it.
  *
  * Output 0: the remesh (triangles), the input's point arrays interpolated at
  * its vertices (barycentric in the input triangle under each), point array
@@ -56,6 +60,7 @@
 #include <vtkPolyDataAlgorithm.h>
 
 #include <memory> // for the kept atlas
+#include <vector> // for the transfer function
 
 namespace beltrami
 {
@@ -85,6 +90,16 @@ public:
   vtkGetMacro(Importance, int);
   vtkSetClampMacro(Gamma, double, 0.0, 10.0);
   vtkGetMacro(Gamma, double);
+  /// Smooth gradation: the width (standard deviation, in the surface's
+  /// units) of the low-pass filter of the importance; 0 (default): none.
+  vtkSetClampMacro(Gradation, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(Gradation, double);
+  /// The transfer function as a piecewise-linear function of x = |value| /
+  /// mean |value| (points in ascending x; constant beyond the first and
+  /// last), used instead of x^Gamma when it has points.
+  void AddTransferFunctionPoint(double x, double importance);
+  void RemoveAllTransferFunctionPoints();
+  int GetNumberOfTransferFunctionPoints() const { return static_cast<int>(this->TransferFunction.size() / 2); }
   vtkSetClampMacro(MinimumImportance, double, 0.0, 1.0);
   vtkGetMacro(MinimumImportance, double);
   vtkSetMacro(SplitAtFeatures, bool);
@@ -111,6 +126,8 @@ protected:
   int Importance = UNIFORM;
   double Gamma = 1.0;
   double MinimumImportance = 0.05;
+  double Gradation = 0.0;
+  std::vector<double> TransferFunction; ///< (x, importance) pairs
   bool SplitAtFeatures = false;
   double FeatureAngle = 60.0;
   int Iterations = 50;

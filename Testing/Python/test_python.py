@@ -629,6 +629,36 @@ class RemeshingFromPython(unittest.TestCase):
         uniform = f.GetOutput().GetFieldData().GetArray("RemeshEdgeLengthVariation").GetValue(0)
         self.assertGreater(variation, 2 * uniform)
 
+    def test_transfer_function_and_gradation(self):
+        # A flat transfer function makes every importance 1: the uniform
+        # remesh, point for point.  A steep one adapts, and a gradation much
+        # wider than the bunny evens its importance out again.
+        _, f = self.remesher("bunny00.off")
+        f.SetNumberOfVertices(2000)
+        f.Update()
+        uniform = vtk_to_numpy(f.GetOutput().GetPoints().GetData()).copy()
+
+        def variation():
+            f.Update()
+            self.assertEqual(f.GetOutput().GetNumberOfPoints(), 2000)
+            return f.GetOutput().GetFieldData().GetArray("RemeshEdgeLengthVariation").GetValue(0)
+        flat = variation()
+        f.SetImportance(vtkSurfaceRemeshing.MEAN_CURVATURE)
+        f.AddTransferFunctionPoint(0.0, 1.0)
+        f.AddTransferFunctionPoint(10.0, 1.0)
+        self.assertEqual(f.GetNumberOfTransferFunctionPoints(), 2)
+        f.Update()
+        np.testing.assert_allclose(vtk_to_numpy(f.GetOutput().GetPoints().GetData()), uniform, atol=1e-12)
+        f.RemoveAllTransferFunctionPoints()
+        f.AddTransferFunctionPoint(3.0, 6.0)  # unsorted on purpose
+        f.AddTransferFunctionPoint(0.0, 0.2)
+        adapted = variation()
+        f.SetGradation(10.0)
+        graded = variation()
+        self.assertGreater(adapted, 2 * flat)
+        self.assertLess(graded, 1.2 * flat)
+        self.assertEqual(f.GetAtlasBuilds(), 1)  # only the sampling changed
+
     def test_bad_requests_are_errors_not_crashes(self):
         _, f = self.remesher()
         f.SetNumberOfVertices(10)  # fewer than the chart boundaries need

@@ -1,6 +1,7 @@
 #include "Remeshing/SurfaceRemeshing.h"
 
 #include "Mesh/Curvatures.h"
+#include "Mesh/Laplacian.h"
 #include "Mesh/MeshMeasures.h"
 
 #include <algorithm>
@@ -54,7 +55,70 @@ std::vector<double> CurvatureValues(const MeshTopology& topology, const double* 
   return values;
 }
 
-std::vector<double> ImportanceFromValues(const std::vector<double>& values, double gamma, double minimum)
+namespace
+{
+
+/// The piecewise-linear function through `pairs` (x, y; x ascending) at x.
+double PiecewiseLinear(const std::vector<double>& pairs, double x)
+{
+  const std::size_t n = pairs.size() / 2;
+  if (x <= pairs[0])
+  {
+    return pairs[1];
+  }
+  for (std::size_t k = 1; k < n; ++k)
+  {
+    if (x <= pairs[2 * k])
+    {
+      const double x0 = pairs[2 * k - 2], x1 = pairs[2 * k];
+      const double t = x1 > x0 ? (x - x0) / (x1 - x0) : 1.0;
+      return pairs[2 * k - 1] + t * (pairs[2 * k + 1] - pairs[2 * k - 1]);
+    }
+  }
+  return pairs[2 * n - 1];
+}
+
+/// Eight implicit heat steps of (width^2 / 2) / 8 each on `importance`
+/// (their kernel's step response is within 0.012 of the Gaussian's in 1D;
+/// four: 0.020); false if a solve did not converge.
+bool SmoothOverSurface(const MeshTopology& topology, const double* points, double width,
+  std::vector<double>& importance, int numThreads)
+{
+  GraphLaplacian laplacian;
+  AssembleSurfaceLaplacian(topology, points, LaplacianWeights::Cotangent, laplacian, numThreads);
+  // S = -M Laplace / 2 (Mesh/Laplacian), so (M + t S) u' = M u is an
+  // implicit step of t / 2 of u_t = Laplace u; eight of width^2 / 8 make
+  // the variance width^2.
+  ShiftedLaplacianProblem problem = laplacian.Problem(1);
+  problem.Shift = laplacian.Mass.data();
+  problem.Factor = 0.125 * width * width;
+  problem.Tolerance = 1e-8;
+  problem.MaximumIterations = std::max<Index>(1000, topology.NumberOfVertices());
+  problem.NumberOfThreads = numThreads;
+  problem.Scale = { std::max(1e-300, *std::max_element(importance.begin(), importance.end())) };
+  std::vector<std::uint8_t> fixed(importance.size(), 0);
+  for (std::size_t v = 0; v < importance.size(); ++v)
+  {
+    fixed[v] = !(laplacian.Mass[v] > 0.0); // no area: kept
+  }
+  problem.Fixed = fixed.data();
+  bool converged = true;
+  std::vector<double> b(importance.size());
+  for (int step = 0; step < 8; ++step)
+  {
+    for (std::size_t v = 0; v < importance.size(); ++v)
+    {
+      b[v] = fixed[v] ? importance[v] : laplacian.Mass[v] * importance[v];
+    }
+    converged = SolveShiftedLaplacian(problem, b.data(), importance.data()).Converged && converged;
+  }
+  return converged;
+}
+
+} // namespace
+
+ImportanceResult ImportanceFromValues(const MeshTopology& topology, const double* points,
+  const std::vector<double>& values, const ImportanceOptions& options, int numThreads)
 {
   double sum = 0.0;
   std::size_t finite = 0;
@@ -67,13 +131,39 @@ std::vector<double> ImportanceFromValues(const std::vector<double>& values, doub
     }
   }
   const double mean = finite > 0 ? sum / finite : 0.0;
-  std::vector<double> importance(values.size(), 1.0);
+  std::vector<std::pair<double, double>> knots; // the transfer function's finite points, by x
+  for (std::size_t k = 0; k + 1 < options.TransferFunction.size(); k += 2)
+  {
+    if (std::isfinite(options.TransferFunction[k]) && std::isfinite(options.TransferFunction[k + 1]))
+    {
+      knots.emplace_back(options.TransferFunction[k], options.TransferFunction[k + 1]);
+    }
+  }
+  std::stable_sort(knots.begin(), knots.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<double> pairs;
+  for (const auto& [x, y] : knots)
+  {
+    pairs.insert(pairs.end(), { x, y });
+  }
+  const bool table = !pairs.empty();
+  ImportanceResult out;
+  out.Importance.assign(values.size(), 1.0);
   for (std::size_t i = 0; i < values.size(); ++i)
   {
     const double relative = std::isfinite(values[i]) && mean > 0.0 ? std::abs(values[i]) / mean : 1.0;
-    importance[i] = std::max(minimum, std::pow(relative, gamma));
+    const double f = table ? PiecewiseLinear(pairs, relative) : std::pow(relative, options.Gamma);
+    out.Importance[i] = std::isfinite(f) ? std::max(0.0, f) : 1.0;
   }
-  return importance;
+  if (options.Gradation > 0.0 &&
+    !SmoothOverSurface(topology, points, options.Gradation, out.Importance, numThreads))
+  {
+    out.Warning = "the gradation's solve did not converge";
+  }
+  for (double& importance : out.Importance)
+  {
+    importance = std::max(options.Minimum, std::max(0.0, importance));
+  }
+  return out;
 }
 
 RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,

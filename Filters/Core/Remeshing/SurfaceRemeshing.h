@@ -63,10 +63,38 @@ enum class CurvatureMeasure : int
 std::vector<double> CurvatureValues(const MeshTopology& topology, const double* points, CurvatureMeasure measure,
   int numThreads = 0);
 
-/// The importance of section 4.3.1 from any values per vertex: the transfer
-/// function max(minimum, (|value| / mean |value|)^gamma) (gamma 0: uniform;
-/// larger gammas adapt more), non-finite values at the mean (importance 1).
-std::vector<double> ImportanceFromValues(const std::vector<double>& values, double gamma, double minimum);
+/// How values per vertex become the importance (thesis section 4.3.1).
+struct ImportanceOptions
+{
+  /// The transfer function of x = |value| / mean |value|: x^Gamma (0:
+  /// uniform; larger gammas adapt more) ...
+  double Gamma = 1.0;
+  /// ... or, when not empty, the piecewise-linear function through these
+  /// (x, importance) pairs (sorted by x; pairs with a non-finite number are
+  /// left out), constant beyond the first and the last.
+  std::vector<double> TransferFunction;
+  /// Smooth gradation: the importance low-pass filtered over the surface
+  /// with a kernel of this standard deviation (surface units; 0: none).
+  double Gradation = 0.0;
+  /// Minimum sampling: the importance is at least this (after the filter).
+  double Minimum = 0.0;
+};
+
+struct ImportanceResult
+{
+  std::vector<double> Importance; ///< per vertex, >= 0
+  std::string Warning;            ///< non-empty: the gradation's solve did not converge (its last iterate is used)
+};
+
+/// The importance from any values per vertex (non-finite values count as
+/// the mean: importance 1 before the filter).  The gradation is the heat
+/// kernel of variance Gradation^2 on the surface (its natural "Gaussian
+/// filter" in surface units, which the thesis approximates by an image
+/// filter and would ideally drive by the area map): eight implicit heat steps
+/// with the cotangent Laplacian (SolveShiftedLaplacian), keeping the
+/// importance's integral over the surface.
+ImportanceResult ImportanceFromValues(const MeshTopology& topology, const double* points,
+  const std::vector<double>& values, const ImportanceOptions& options, int numThreads = 0);
 
 /// `importance`: one value >= 0 per input vertex (null: uniform).
 RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,

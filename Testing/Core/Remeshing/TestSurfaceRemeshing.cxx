@@ -3,6 +3,7 @@
 // optimised (sections 4.4.1-4.4.4), on a closed organic mesh (bunny), one
 // with a boundary (mushroom), genus 2 (eight) and a CAD part with sharp
 // edges kept as chart boundaries (fandisk).
+#include "Mesh/Laplacian.h"
 #include "Mesh/MeshMeasures.h"
 #include "Remeshing/SurfaceRemeshing.h"
 #include "Maps/MeshWithAtlas.h"
@@ -119,6 +120,15 @@ RemeshResult RemeshWith(const test::MeshWithAtlas& loaded, std::int64_t count, c
   return RemeshSurface(loaded.Topology, loaded.Points(), loaded.Atlas, importance, options);
 }
 
+/// The importance |value / mean|^gamma.
+std::vector<double> GammaImportance(const MeshTopology& topology, const double* points,
+  const std::vector<double>& values, double gamma)
+{
+  ImportanceOptions options;
+  options.Gamma = gamma;
+  return ImportanceFromValues(topology, points, values, options).Importance;
+}
+
 MeshTopology TopologyOf(const RemeshResult& r)
 {
   return MeshTopology(static_cast<Index>(r.Points.size() / 3), IndexArray(r.Triangles.begin(), r.Triangles.end()));
@@ -192,8 +202,8 @@ TEST(SurfaceRemeshing, CurvatureAdaptedRemeshIsCloser)
   // diagonal) and the triangles stay nearly as good as uniform ones.
   const test::MeshWithAtlas loaded("bunny00.off", RemeshAtlas(false));
   ASSERT_EQ(loaded.Error, "");
-  const std::vector<double> importance = ImportanceFromValues(
-    CurvatureValues(loaded.Topology, loaded.Points(), CurvatureMeasure::MaximumCurvature), 0.25, 0.0);
+  const std::vector<double> importance = GammaImportance(loaded.Topology, loaded.Points(),
+    CurvatureValues(loaded.Topology, loaded.Points(), CurvatureMeasure::MaximumCurvature), 0.25);
   const RemeshResult out = RemeshWith(loaded, 10000, importance.data());
   ASSERT_EQ(out.Error, "");
   const MeshTopology topology = TopologyOf(out);
@@ -228,7 +238,7 @@ TEST(SurfaceRemeshing, EdgeLengthsFollowTheCurvatureToTheRequestedGamma)
   const std::vector<double> kappa = CurvatureValues(input, ellipsoid.Points.data(), CurvatureMeasure::MaximumCurvature);
   for (double gamma : { 0.5, 1.0, 2.0 })
   {
-    const std::vector<double> importance = ImportanceFromValues(kappa, gamma, 0.0);
+    const std::vector<double> importance = GammaImportance(input, ellipsoid.Points.data(), kappa, gamma);
     RemeshOptions options;
     options.NumberOfVertices = 5000;
     const RemeshResult out = RemeshSurface(input, ellipsoid.Points.data(), atlas, importance.data(), options);
@@ -264,4 +274,76 @@ TEST(SurfaceRemeshing, EdgeLengthsFollowTheCurvatureToTheRequestedGamma)
     std::printf("gamma %.1f: slope %.4f (expected %.4f)\n", gamma, slope, -gamma / 2);
     EXPECT_NEAR(slope / (-gamma / 2), 1.0, 0.06) << gamma;
   }
+}
+
+TEST(SurfaceRemeshing, GradationIsTheHeatKernelOfItsWidth)
+{
+  // A step of the importance (0.5 for x < 0, 1.5 for x > 0: values 1 and 3
+  // with gamma 1) on a jittered flat square [-0.5, 0.5]^2, filtered with
+  // width s = 0.05: the profile across the step is the Gaussian's,
+  // 1 + 0.5 erf(x / (s sqrt 2)), within 0.036 (eight implicit heat steps
+  // differ from the Gaussian by 0.012 in 1D; a jittered mesh of spacing s/5
+  // places the step itself within +-s/25), and the integral over the
+  // surface is kept.
+  const test::Mesh square = test::HeightField([](double, double) { return 0.0; }, 0.5, 101, 0.2, true, 3);
+  const MeshTopology topology = square.Topology();
+  std::vector<double> values(topology.NumberOfVertices());
+  for (Index v = 0; v < topology.NumberOfVertices(); ++v)
+  {
+    values[v] = square.Points[3 * v] < 0.0 ? 1.0 : 3.0;
+  }
+  ImportanceOptions options;
+  options.Gradation = 0.05;
+  const ImportanceResult smooth = ImportanceFromValues(topology, square.Points.data(), values, options);
+  EXPECT_EQ(smooth.Warning, "");
+  options.Gradation = 0.0;
+  const ImportanceResult step = ImportanceFromValues(topology, square.Points.data(), values, options);
+  GraphLaplacian laplacian;
+  AssembleSurfaceLaplacian(topology, square.Points.data(), LaplacianWeights::Cotangent, laplacian);
+  double before = 0.0, after = 0.0, worst = 0.0;
+  for (Index v = 0; v < topology.NumberOfVertices(); ++v)
+  {
+    before += laplacian.Mass[v] * step.Importance[v];
+    after += laplacian.Mass[v] * smooth.Importance[v];
+    const double x = square.Points[3 * v];
+    worst = std::max(worst, std::abs(smooth.Importance[v] - (1.0 + 0.5 * std::erf(x / (0.05 * std::sqrt(2.0))))));
+  }
+  std::printf("gradation 0.05: largest difference from the Gaussian profile %.4f (step 1); integral %.8f -> %.8f\n",
+    worst, before, after);
+  EXPECT_LT(worst, 0.045);
+  EXPECT_NEAR(after, before, 1e-6 * before);
+}
+
+TEST(SurfaceRemeshing, TransferFunctionIsPiecewiseLinearAndTheMinimumHolds)
+{
+  // x = value / mean (mean 1 here); the points are given unsorted, with one
+  // left out for its NaN.
+  const test::Mesh square = test::HeightField([](double, double) { return 0.0; }, 0.5, 5, 0.0, false, 1);
+  const MeshTopology topology = square.Topology();
+  std::vector<double> values(topology.NumberOfVertices(), 1.0);
+  values[0] = 0.0;
+  values[1] = 0.5;
+  values[2] = 2.0;
+  values[3] = 10.0;
+  values[4] = std::nan("");
+  double mean = 0.0;
+  for (double v : values)
+  {
+    mean += std::isfinite(v) ? v / (values.size() - 1) : 0.0;
+  }
+  ImportanceOptions options;
+  options.TransferFunction = { 3.0, 4.0, 0.0, 0.2, std::nan(""), 9.0, 1.0, 1.0 };
+  options.Minimum = 0.3;
+  const std::vector<double> importance = ImportanceFromValues(topology, square.Points.data(), values, options).Importance;
+  const auto expected = [&](double value) {
+    const double x = value / mean;
+    const double f = x <= 1.0 ? 0.2 + 0.8 * x : (x <= 3.0 ? 1.0 + 1.5 * (x - 1.0) : 4.0);
+    return std::max(0.3, f);
+  };
+  for (int v = 0; v < 4; ++v)
+  {
+    EXPECT_NEAR(importance[v], expected(values[v]), 1e-12) << v;
+  }
+  EXPECT_NEAR(importance[4], 1.0, 1e-12) << "NaN counts as the mean";
+  EXPECT_NEAR(importance[5], expected(1.0), 1e-12);
 }
