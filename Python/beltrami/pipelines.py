@@ -143,14 +143,19 @@ def surface_atlas(mesh_path, charts=0, split_at_features=False):
     return run_on_off(mesh_path, f)
 
 
-def remesh(mesh_path, vertices=10000, importance=0, gamma=1.0, split_at_features=False):
+def remesh(mesh_path, vertices=10000, importance=0, gamma=1.0, split_at_features=False, gradation=0.0,
+           transfer_function=()):
     """vtkSurfaceRemeshing on an OFF mesh (importance: vtkSurfaceRemeshing's
-    UNIFORM, MEAN_CURVATURE, ...); returns (filter, seconds)."""
+    UNIFORM, MEAN_CURVATURE, ...; transfer_function: (x, importance) pairs
+    used instead of gamma); returns (filter, seconds)."""
     f = vtkSurfaceRemeshing()
     f.SetNumberOfVertices(vertices)
     f.SetImportance(importance)
     f.SetGamma(gamma)
     f.SetSplitAtFeatures(split_at_features)
+    f.SetGradation(gradation)
+    for x, y in transfer_function:
+        f.AddTransferFunctionPoint(x, y)
     return run_on_off(mesh_path, f)
 
 

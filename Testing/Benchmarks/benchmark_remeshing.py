@@ -1,0 +1,182 @@
+#!/usr/bin/python3
+"""Benchmark (on demand, not a test): vtkSurfaceRemeshing against CGAL 5.5's
+isotropic_remeshing, in the same run, on the same meshes and vertex counts.
+
+    source build/beltrami-env.sh
+    /usr/bin/python3 Testing/Benchmarks/benchmark_remeshing.py [--big]
+
+CGAL runs through build/bin/beltrami-benchmark-cgal-isotropic-remeshing
+(built when Debian's libcgal-dev is installed): 5 iterations, the target edge
+length of equilateral triangles that cover the surface with the requested
+number of vertices, sqrt(2 area / (sqrt(3) N)), and on fandisk the edges
+sharper than 60 degrees kept as constrained polylines.  Both remeshes are
+measured by the same code here: vertex count, mean and smallest minimum
+angle, share of triangles below 30 degrees, share of interior vertices of
+valence 6, edge-length variation, and the two-sided Hausdorff distance to
+the input (vertices and triangle centres), over the bounding-box diagonal.
+
+Our time is the whole filter (atlas included) on a fresh filter, then the
+re-run after a change of the vertex count (the atlas kept) with its parts:
+sampling (the thesis' interactive preview), triangulation, optimisation.
+--big adds the 1.2M-triangle bunny (bunny00 after two Loop subdivisions) to
+about 100k vertices."""
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkFiltersCore import vtkCellCenters, vtkTriangleFilter
+from vtkmodules.vtkFiltersGeneral import vtkDistancePolyDataFilter
+from vtkmodules.vtkFiltersModeling import vtkLoopSubdivisionFilter
+
+import timing  # noqa: F401 (the shared allocator settings)
+from beltrami import vtkOFFReader, vtkOFFWriter, vtkSurfaceRemeshing
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = os.path.join(HERE, "..", "Data")
+CGAL = os.path.join(HERE, "..", "..", "build", "bin", "beltrami-benchmark-cgal-isotropic-remeshing")
+
+
+def read(path, levels=0):
+    reader = vtkOFFReader()
+    reader.SetFileName(path)
+    reader.Update()
+    if not levels:
+        return reader.GetOutput()
+    loop = vtkLoopSubdivisionFilter()
+    loop.SetInputConnection(reader.GetOutputPort())
+    loop.SetNumberOfSubdivisions(levels)
+    loop.Update()
+    return loop.GetOutput()
+
+
+def arrays(data):
+    """(points, triangles) as numpy arrays."""
+    tri = vtkTriangleFilter()
+    tri.SetInputData(data)
+    tri.Update()
+    cells = vtk_to_numpy(tri.GetOutput().GetPolys().GetConnectivityArray()).reshape(-1, 3)
+    return vtk_to_numpy(tri.GetOutput().GetPoints().GetData()).astype(float), cells
+
+
+def area(points, triangles):
+    p = points[triangles]
+    return 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1).sum()
+
+
+def max_distance(query, surface):
+    """The largest distance from the points of `query` to the surface."""
+    f = vtkDistancePolyDataFilter()
+    f.SetInputData(0, query)
+    f.SetInputData(1, surface)
+    f.SignedDistanceOff()
+    f.ComputeSecondDistanceOff()
+    f.Update()
+    return float(np.abs(vtk_to_numpy(f.GetOutput().GetPointData().GetArray("Distance"))).max())
+
+
+def quality(remesh, input_data, diagonal):
+    """The figures of the issue, measured the same way for every remesher."""
+    points, triangles = arrays(remesh)
+    p = points[triangles]
+    angles = []
+    for k in range(3):
+        u = p[:, (k + 1) % 3] - p[:, k]
+        v = p[:, (k + 2) % 3] - p[:, k]
+        cos = (u * v).sum(1) / np.maximum(np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1), 1e-300)
+        angles.append(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
+    minimum = np.min(angles, axis=0)
+    edges = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1)
+    unique, counts = np.unique(edges, axis=0, return_counts=True)
+    boundary = np.zeros(len(points), bool)
+    boundary[unique[counts == 1].ravel()] = True
+    valence = np.bincount(unique.ravel(), minlength=len(points))
+    interior = ~boundary & (valence > 0)
+    lengths = np.linalg.norm(points[unique[:, 0]] - points[unique[:, 1]], axis=1)
+    centres = vtkCellCenters()
+    centres.SetInputData(remesh)
+    centres.VertexCellsOn()
+    centres.Update()
+    hausdorff = max(max_distance(input_data, remesh), max_distance(remesh, input_data),
+                    max_distance(centres.GetOutput(), input_data))
+    return dict(vertices=int((valence > 0).sum()), mean_min=minimum.mean(), worst=minimum.min(),
+                below30=100.0 * (minimum < 30.0).mean(), valence6=100.0 * (valence[interior] == 6).mean(),
+                cv=lengths.std() / lengths.mean(), hausdorff=100.0 * hausdorff / diagonal)
+
+
+def cgal(data, count, features):
+    """(seconds, remesh) from CGAL, or None when it is not built."""
+    if not os.path.exists(CGAL):
+        return None
+    points, triangles = arrays(data)
+    target = np.sqrt(2.0 * area(points, triangles) / (np.sqrt(3.0) * count))
+    with tempfile.TemporaryDirectory() as tmp:
+        path, out = os.path.join(tmp, "in.off"), os.path.join(tmp, "out.off")
+        w = vtkOFFWriter()
+        w.SetInputData(data)
+        w.SetFileName(path)
+        w.Write()
+        run = subprocess.run([CGAL, path, repr(target), "5", "60" if features else "0", out],
+                             capture_output=True, text=True, timeout=3600)
+        if run.returncode != 0:
+            print("  CGAL failed: " + run.stderr.strip())
+            return None
+        return float(run.stdout.split()[0]), read(out)
+
+
+def ours(data, count, features):
+    """(seconds of a fresh filter, the filter after a re-run with count - 1
+    vertices and its seconds, the remesh of the first run)."""
+    f = vtkSurfaceRemeshing()
+    f.SetInputData(data)
+    f.SetNumberOfVertices(count)
+    f.SetSplitAtFeatures(features)
+    start = time.perf_counter()
+    f.Update()
+    seconds = time.perf_counter() - start
+    remesh = type(f.GetOutput())()
+    remesh.DeepCopy(f.GetOutput())
+    f.SetNumberOfVertices(count - 1)
+    start = time.perf_counter()
+    f.Update()
+    return seconds, f, time.perf_counter() - start, remesh
+
+
+def line(name, seconds, q):
+    return ("  %-6s %8.2f s  %7d vertices  min angle mean %.2f worst %5.2f  <30deg %.3f%%  valence 6 %.1f%%  "
+            "edge cv %.3f  Hausdorff %.3f%%" % (name, seconds, q["vertices"], q["mean_min"], q["worst"],
+                                               q["below30"], q["valence6"], q["cv"], q["hausdorff"]))
+
+
+def main(argv):
+    cases = [("bunny00.off", 0, 10000, False), ("mushroom.off", 0, 10000, False), ("eight.off", 0, 10000, False),
+             ("fandisk.off", 0, 10000, True), ("bunny00.off", 0, 2000, False)]
+    if "--big" in argv:
+        cases.append(("bunny00.off", 2, 100000, False))
+    if not os.path.exists(CGAL):
+        print("(CGAL comparison skipped: %s not built; apt install libcgal-dev and rebuild)" % CGAL)
+    for name, levels, count, features in cases:
+        data = read(os.path.join(DATA, name), levels)
+        bounds = np.array(data.GetBounds())
+        diagonal = np.linalg.norm(bounds[1::2] - bounds[::2])
+        print("%s%s (%d triangles) to %d vertices%s:" % (
+            name, ", %d Loop levels" % levels if levels else "", data.GetNumberOfCells(), count,
+            ", sharp edges kept" if features else ""))
+        seconds, f, rerun, remesh = ours(data, count, features)
+        parts = f.GetOutput().GetFieldData().GetArray("RemeshSeconds")
+        print(line("ours", seconds, quality(remesh, data, diagonal)) +
+              "\n         re-run with another count, atlas kept: %.3f s (sampling %.3f, triangulation %.3f, "
+              "optimisation %.3f)" % (rerun, parts.GetValue(0), parts.GetValue(1), parts.GetValue(2)))
+        peer = cgal(data, count, features)
+        if peer:
+            print(line("CGAL", peer[0], quality(peer[1], data, diagonal)) +
+                  "\n         ours %.1fx faster than CGAL" % (peer[0] / seconds))
+        sys.stdout.flush()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
