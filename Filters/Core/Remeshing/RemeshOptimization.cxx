@@ -83,6 +83,21 @@ double VoronoiPart3D(const Vec3& p, const Vec3& a, const Vec3& b, Vec3& centroid
   return area;
 }
 
+/// One thread's buffers for the moves (no allocation per move).
+struct MoveBuffers
+{
+  std::vector<std::pair<Index, std::array<double, 2>>> Corners; ///< Place's new corner positions
+  std::vector<Index> Queue;            ///< NearestOnSurface's triangles
+  std::vector<std::uint32_t> Visited;  ///< per input triangle: NearestOnSurface's stamp
+  std::uint32_t Stamp = 0;             ///< above every stamp in Visited
+};
+
+MoveBuffers& ThreadBuffers()
+{
+  static thread_local MoveBuffers buffers;
+  return buffers;
+}
+
 /// How a vertex may move while stitching.
 enum Mobility : std::uint8_t
 {
@@ -122,6 +137,7 @@ public:
   std::int64_t SwapForShape();
   double Relax();
   Index BeginStitching(const std::uint8_t* featureEdges);
+  int NumberOfThreads = 0;
 
 private:
   const double* UVAt(Index h) const { return &R.CornerUV[2 * h]; }
@@ -133,7 +149,12 @@ private:
   /// but along a path that stays (a feature).
   bool Swappable(Index h) const
   {
-    return Stitching ? !M.IsBoundary(h) && !KeptEdges.count(EdgeKey(M.Tail(h), M.Head(h))) : SameChart(h);
+    if (!Stitching)
+    {
+      return SameChart(h);
+    }
+    const Index a = M.Tail(h), b = M.Head(h);
+    return !M.IsBoundary(h) && (Moves[a] == Free || Moves[b] == Free || !KeptEdges.count(EdgeKey(a, b)));
   }
   static std::uint64_t EdgeKey(Index a, Index b)
   {
@@ -154,6 +175,8 @@ private:
   bool KeepsPlane(Index v, Index triangle, const double* w);
   bool KeepsSurface(Index v, const Vec3& x) const;
   bool Place(Index v, Index triangle, const double* w, double& moved);
+  void Move(Index v, double& moved);
+  void ColourVertices();
 
   Remesh& R;
   HalfEdgeMesh& M;
@@ -165,13 +188,11 @@ private:
   std::vector<ChartLocator> Locators;
   std::vector<Index> Valence;
   std::vector<Index> PathIndex; ///< per vertex: its index in its path's Samples
-  std::vector<std::pair<Index, std::array<double, 2>>> PlaceCorners; ///< Place's buffer (no allocation per move)
   bool Stitching = false;
   std::vector<std::uint8_t> Moves;     ///< per vertex while stitching: its Mobility
   std::unordered_set<std::uint64_t> KeptEdges; ///< EdgeKey of the remesh's edges along kept paths
-  std::vector<std::uint32_t> Visited;  ///< per input triangle: NearestOnSurface's stamp
-  std::uint32_t Stamp = 0;
-  std::vector<Index> Queue;            ///< NearestOnSurface's buffer
+  std::vector<std::int64_t> ColourOffsets; ///< CSR of the colours over ColourVerticesList
+  std::vector<Index> ColourVerticesList;
 };
 
 /// The flip of h's edge (faces (a, b, c), (b, a, d) -> (c, a, d), (d, b, c))
@@ -313,17 +334,19 @@ double Optimizer::Weight(Index f) const
 }
 
 /// Every face around v stays positively oriented in its chart with v at
-/// (triangle, w) of the input; their corners' positions go to PlaceCorners.
+/// (triangle, w) of the input; their corners' positions go to the thread's
+/// buffer.
 bool Optimizer::KeepsPlane(Index v, Index triangle, const double* w)
 {
-  PlaceCorners.clear();
+  std::vector<std::pair<Index, std::array<double, 2>>>& corners = ThreadBuffers().Corners;
+  corners.clear();
   bool valid = true;
   M.ForEachOutgoing(v, [&](Index h) {
     std::array<double, 2> uv;
     valid = valid && ChartPosition(Topology, Atlas.Charts[R.FaceChart[h / 3]], triangle, w, uv.data()) &&
       Cross2(uv.data(), UVAt(HalfEdgeMesh::Next(h)), UVAt(HalfEdgeMesh::Prev(h))) >
         1e-3 * std::abs(Cross2(UVAt(h), UVAt(HalfEdgeMesh::Next(h)), UVAt(HalfEdgeMesh::Prev(h))));
-    PlaceCorners.push_back({ h, uv });
+    corners.push_back({ h, uv });
   });
   return valid;
 }
@@ -352,12 +375,13 @@ bool Optimizer::KeepsSurface(Index v, const Vec3& x) const
 bool Optimizer::Place(Index v, Index triangle, const double* w, double& moved)
 {
   const Vec3 x = SurfacePoint(Topology, Points, triangle, w);
-  PlaceCorners.clear();
+  std::vector<std::pair<Index, std::array<double, 2>>>& corners = ThreadBuffers().Corners;
+  corners.clear();
   if (Stitching ? !KeepsSurface(v, x) : !KeepsPlane(v, triangle, w))
   {
     return false;
   }
-  for (const auto& [h, uv] : PlaceCorners) // empty while stitching (the charts are left behind)
+  for (const auto& [h, uv] : corners) // empty while stitching (the charts are left behind)
   {
     R.CornerUV[2 * h] = uv[0];
     R.CornerUV[2 * h + 1] = uv[1];
@@ -458,19 +482,23 @@ bool Optimizer::MoveOnPath(Index v, double& moved)
 /// stays in), with the nearest point's weights in w.
 Index Optimizer::NearestOnSurface(const Vec3& p, Index start, double radius, double* w)
 {
-  if (++Stamp == 0)
+  MoveBuffers& buffers = ThreadBuffers();
+  std::vector<Index>& queue = buffers.Queue;
+  std::vector<std::uint32_t>& visited = buffers.Visited;
+  if (visited.size() != static_cast<std::size_t>(Topology.NumberOfTriangles()) || ++buffers.Stamp == 0)
   {
-    std::fill(Visited.begin(), Visited.end(), 0);
-    Stamp = 1;
+    visited.assign(Topology.NumberOfTriangles(), 0);
+    buffers.Stamp = 1;
   }
-  Queue.assign(1, start);
-  Visited[start] = Stamp;
+  const std::uint32_t stamp = buffers.Stamp;
+  queue.assign(1, start);
+  visited[start] = stamp;
   Index best = -1;
   double bestDistance = HUGE_VAL;
   const double reach = radius * radius * (1.0 + 1e-9);
-  for (std::size_t i = 0; i < Queue.size(); ++i)
+  for (std::size_t i = 0; i < queue.size(); ++i)
   {
-    const Index t = Queue[i];
+    const Index t = queue[i];
     double weights[3];
     const double d = ClosestPointOnTriangle(p, Point(Points, Topology.CornerVertex(3 * t)),
       Point(Points, Topology.CornerVertex(3 * t + 1)), Point(Points, Topology.CornerVertex(3 * t + 2)), weights);
@@ -489,10 +517,10 @@ Index Optimizer::NearestOnSurface(const Vec3& p, Index start, double radius, dou
       const Index corner = Topology.CornerVertex(3 * t + k);
       for (const Index* c = Topology.CornersBegin(corner); c != Topology.CornersEnd(corner); ++c)
       {
-        if (Visited[*c / 3] != Stamp)
+        if (visited[*c / 3] != stamp)
         {
-          Visited[*c / 3] = Stamp;
-          Queue.push_back(*c / 3);
+          visited[*c / 3] = stamp;
+          queue.push_back(*c / 3);
         }
       }
     }
@@ -588,38 +616,114 @@ Index Optimizer::BeginStitching(const std::uint8_t* featureEdges)
       }
     }
   }
-  Visited.assign(Topology.NumberOfTriangles(), 0);
   Stitching = true;
   return freed;
 }
 
-/// One relaxation sweep over the vertices (section 4.4.3); the mean 3D move.
-double Optimizer::Relax()
+/// Moves vertex v as its kind and the pass allow; `moved`: the 3D distance.
+void Optimizer::Move(Index v, double& moved)
 {
-  double total = 0.0;
-  for (Index v = 0; v < M.NumberOfVertices(); ++v)
+  if (Stitching)
   {
-    double moved = 0.0;
-    if (Stitching)
+    if (Moves[v] == Free)
     {
-      if (Moves[v] == Free)
-      {
-        MoveOnSurface(v, moved);
-      }
-      else if (Moves[v] == OnPath)
-      {
-        MoveOnPath(v, moved);
-      }
+      MoveOnSurface(v, moved);
     }
-    else if (R.Kind[v] == SampleKind::Interior)
-    {
-      MoveInterior(v, moved);
-    }
-    else if (R.Kind[v] == SampleKind::Boundary)
+    else if (Moves[v] == OnPath)
     {
       MoveOnPath(v, moved);
     }
-    total += moved;
+  }
+  else if (R.Kind[v] == SampleKind::Interior)
+  {
+    MoveInterior(v, moved);
+  }
+  else if (R.Kind[v] == SampleKind::Boundary)
+  {
+    MoveOnPath(v, moved);
+  }
+}
+
+/// The vertices by colour (greedy, in id order): no two neighbours share
+/// one, so the moves of a colour touch disjoint faces and run in parallel
+/// (Gauss-Seidel by colours: the same result for any thread count).
+void Optimizer::ColourVertices()
+{
+  const Index n = M.NumberOfVertices();
+  std::vector<int> colour(n, -1);
+  std::vector<std::uint64_t> used; // bit k: colour k taken by a neighbour (more than 64: first free beyond)
+  int colours = 0;
+  for (Index v = 0; v < n; ++v)
+  {
+    std::uint64_t taken = 0;
+    std::vector<int> above; // neighbours' colours beyond 63 (rare)
+    M.ForEachOutgoing(v, [&](Index h) {
+      const Index w = M.Head(h);
+      const Index u = M.Tail(HalfEdgeMesh::Prev(h)); // the previous neighbour, for boundary fans
+      for (const Index x : { w, u })
+      {
+        const int c = colour[x];
+        if (c >= 64)
+        {
+          above.push_back(c);
+        }
+        else if (c >= 0)
+        {
+          taken |= std::uint64_t(1) << c;
+        }
+      }
+    });
+    int c = 0;
+    while (c < 64 && (taken >> c & 1))
+    {
+      ++c;
+    }
+    while (c >= 64 && std::find(above.begin(), above.end(), c) != above.end())
+    {
+      ++c;
+    }
+    colour[v] = c;
+    colours = std::max(colours, c + 1);
+  }
+  ColourOffsets.assign(colours + 1, 0);
+  for (Index v = 0; v < n; ++v)
+  {
+    ++ColourOffsets[colour[v] + 1];
+  }
+  for (int c = 0; c < colours; ++c)
+  {
+    ColourOffsets[c + 1] += ColourOffsets[c];
+  }
+  ColourVerticesList.resize(n);
+  std::vector<std::int64_t> next(ColourOffsets.begin(), ColourOffsets.end() - 1);
+  for (Index v = 0; v < n; ++v)
+  {
+    ColourVerticesList[next[colour[v]]++] = v;
+  }
+}
+
+/// One relaxation sweep over the vertices (section 4.4.3), colour by
+/// colour; the mean 3D move.
+double Optimizer::Relax()
+{
+  ColourVertices();
+  std::vector<double> moved(M.NumberOfVertices(), 0.0);
+  for (std::size_t c = 0; c + 1 < ColourOffsets.size(); ++c)
+  {
+    ParallelFor(ColourOffsets[c + 1] - ColourOffsets[c], NumberOfThreads,
+      [&](std::int64_t begin, std::int64_t end) {
+        for (std::int64_t i = begin; i < end; ++i)
+        {
+          const Index v = ColourVerticesList[ColourOffsets[c] + i];
+          Move(v, moved[v]);
+        }
+      },
+      {}, 0, 256);
+  }
+  double total = 0.0;
+  for (double m : moved)
+  {
+    total += m;
   }
   return total / std::max<Index>(1, M.NumberOfVertices());
 }
@@ -635,6 +739,7 @@ RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& 
     return stats;
   }
   Optimizer optimizer(remesh, topology, points, atlas, samples, options.Importance);
+  optimizer.NumberOfThreads = options.NumberOfThreads;
   const int rounds = std::max(0, options.Iterations) + std::max(0, options.StitchingIterations);
   for (int i = 0; i < rounds; ++i)
   {

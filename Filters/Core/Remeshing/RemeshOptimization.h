@@ -19,7 +19,9 @@
 // and the ears along seams get repaired; only samples on the surface's
 // boundary and on feature edges stay on their paths, and corners on them
 // stay fixed.  Every stitching move and swap keeps the triangles within 60
-// degrees of their neighbourhood's normal (no fold).
+// degrees of their neighbourhood's normal (no fold).  The relaxation runs
+// colour by colour (no two neighbours share a colour), each colour's moves
+// in parallel: the same mesh for any thread count.
 #pragma once
 
 #include "Remeshing/Remesh.h"
@@ -38,6 +40,7 @@ struct RemeshOptimizationOptions
   /// One flag per edge of topology.Edges(): feature edges (sharp or marked)
   /// whose samples stay on their paths while stitching (null: none).
   const std::uint8_t* FeatureEdges = nullptr;
+  int NumberOfThreads = 0; ///< for the relaxation (by colours: the same result for any count)
 };
 
 struct RemeshOptimizationStatistics

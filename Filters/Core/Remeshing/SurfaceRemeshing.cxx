@@ -194,6 +194,7 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   RemeshOptimizationOptions optimization;
   optimization.Iterations = options.Iterations;
   optimization.StitchingIterations = options.StitchingIterations;
+  optimization.NumberOfThreads = options.NumberOfThreads;
   optimization.Importance = importance;
   const std::vector<std::uint8_t> features =
     options.FeatureAngle > 0.0 ? SharpEdges(topology, points, options.FeatureAngle) : std::vector<std::uint8_t>();
