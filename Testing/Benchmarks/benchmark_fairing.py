@@ -9,9 +9,7 @@ build/bin/beltrami-benchmark-cgal-smooth-shape, built when Debian's
 libcgal-dev is installed (a peer to compare with, not a dependency).
 Run:  source build/beltrami-env.sh && /usr/bin/python3 Testing/Benchmarks/benchmark_fairing.py"""
 import os
-import subprocess
 import sys
-import tempfile
 import time
 
 import numpy as np
@@ -19,7 +17,8 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersCore import vtkWindowedSincPolyDataFilter
 from vtkmodules.vtkFiltersModeling import vtkLoopSubdivisionFilter
 
-from beltrami import vtkImplicitFairing, vtkOFFReader, vtkOFFWriter
+import peers
+from beltrami import vtkImplicitFairing, vtkOFFReader
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
 from test_python import noisy_along_normals  # noqa: E402
@@ -39,18 +38,8 @@ def cgal_smooth(mesh, time_step, iterations=1):
     """(seconds, smoothed points) of CGAL's smooth_shape, or None when not built."""
     if not os.path.exists(CGAL):
         return None
-    with tempfile.TemporaryDirectory() as tmp:
-        src, dst = os.path.join(tmp, "in.off"), os.path.join(tmp, "out.off")
-        w = vtkOFFWriter()
-        w.SetInputData(mesh)
-        w.SetFileName(src)
-        w.Write()
-        out = subprocess.run([CGAL, src, repr(time_step), str(iterations), dst], capture_output=True,
-                             text=True, timeout=900).stdout
-        r = vtkOFFReader()
-        r.SetFileName(dst)
-        r.Update()
-        return float(out.split()[0]), vtk_to_numpy(r.GetOutput().GetPoints().GetData()).astype(float)
+    run, out = peers.run_on_off(CGAL, mesh, [repr(time_step), iterations])
+    return float(run.stdout.split()[0]), vtk_to_numpy(out.GetPoints().GetData()).astype(float)
 
 
 def first_and_best(make, repeats=3):

@@ -21,36 +21,21 @@ sampling (the thesis' interactive preview), triangulation, optimisation.
 --big adds the 1.2M-triangle bunny (bunny00 after two Loop subdivisions) to
 about 100k vertices."""
 import os
-import subprocess
 import sys
-import tempfile
 import time
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersCore import vtkCellCenters, vtkTriangleFilter
 from vtkmodules.vtkFiltersGeneral import vtkDistancePolyDataFilter
-from vtkmodules.vtkFiltersModeling import vtkLoopSubdivisionFilter
 
+import peers
 import timing  # noqa: F401 (the shared allocator settings)
-from beltrami import vtkOFFReader, vtkOFFWriter, vtkSurfaceRemeshing
+from beltrami import vtkSurfaceRemeshing
+from benchmark_parameterization import mesh
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-DATA = os.path.join(HERE, "..", "Data")
 CGAL = os.path.join(HERE, "..", "..", "build", "bin", "beltrami-benchmark-cgal-isotropic-remeshing")
-
-
-def read(path, levels=0):
-    reader = vtkOFFReader()
-    reader.SetFileName(path)
-    reader.Update()
-    if not levels:
-        return reader.GetOutput()
-    loop = vtkLoopSubdivisionFilter()
-    loop.SetInputConnection(reader.GetOutputPort())
-    loop.SetNumberOfSubdivisions(levels)
-    loop.Update()
-    return loop.GetOutput()
 
 
 def arrays(data):
@@ -113,18 +98,11 @@ def cgal(data, count, features):
         return None
     points, triangles = arrays(data)
     target = np.sqrt(2.0 * area(points, triangles) / (np.sqrt(3.0) * count))
-    with tempfile.TemporaryDirectory() as tmp:
-        path, out = os.path.join(tmp, "in.off"), os.path.join(tmp, "out.off")
-        w = vtkOFFWriter()
-        w.SetInputData(data)
-        w.SetFileName(path)
-        w.Write()
-        run = subprocess.run([CGAL, path, repr(target), "5", "60" if features else "0", out],
-                             capture_output=True, text=True, timeout=3600)
-        if run.returncode != 0:
-            print("  CGAL failed: " + run.stderr.strip())
-            return None
-        return float(run.stdout.split()[0]), read(out)
+    run, remesh = peers.run_on_off(CGAL, data, [repr(target), 5, 60 if features else 0], timeout=3600)
+    if remesh is None:
+        print("  CGAL failed: " + run.stderr.strip())
+        return None
+    return float(run.stdout.split()[0]), remesh
 
 
 def ours(data, count, features):
@@ -159,7 +137,7 @@ def main(argv):
     if not os.path.exists(CGAL):
         print("(CGAL comparison skipped: %s not built; apt install libcgal-dev and rebuild)" % CGAL)
     for name, levels, count, features in cases:
-        data = read(os.path.join(DATA, name), levels)
+        data = mesh(name, levels)
         bounds = np.array(data.GetBounds())
         diagonal = np.linalg.norm(bounds[1::2] - bounds[::2])
         print("%s%s (%d triangles) to %d vertices%s:" % (
