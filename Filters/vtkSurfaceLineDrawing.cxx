@@ -63,6 +63,7 @@ void vtkSurfaceLineDrawing::CopySettings(beltrami::LineDrawingOptions& o, vtkBel
   BeltramiCopySetting(this->RidgeThreshold, o.RidgeThreshold, direction);
   BeltramiCopySetting(this->CreaseAngle, o.CreaseAngle, direction);
   BeltramiCopySetting(this->DropBackFacing, o.DropBackFacing, direction);
+  BeltramiCopySetting(this->AvoidCreases, o.AvoidCreases, direction);
   BeltramiCopySetting(this->NumberOfThreads, o.NumberOfThreads, direction);
 }
 
@@ -216,6 +217,7 @@ void vtkSurfaceLineDrawing::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "RidgeThreshold: " << this->RidgeThreshold << "\n"
      << indent << "CreaseAngle: " << this->CreaseAngle << "\n"
      << indent << "DropBackFacing: " << this->DropBackFacing << "\n"
+     << indent << "AvoidCreases: " << this->AvoidCreases << "\n"
      << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n"
      << indent << "GeometryBuilds: " << this->GeometryBuilds << "\n";
 }

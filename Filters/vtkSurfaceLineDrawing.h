@@ -21,7 +21,9 @@
  *    minimum one kappa_2 at a minimum with -kappa_2 * FeatureSize >
  *    RidgeThreshold.
  *  - BOUNDARY: edges of one triangle; CREASE: edges whose triangles'
- *    normals differ by more than CreaseAngle degrees.
+ *    normals differ by more than CreaseAngle degrees.  With AvoidCreases
+ *    (default) the curvature lines (suggestive, ridges, valleys) are left
+ *    out of the triangles at a crease vertex.
  * Curvature is positive where the surface bends away from its normal (a
  * sphere with outward normals), the normals following the triangles'
  * orientation.  The curvature tensor is the thesis' (chapter 2,
@@ -129,6 +131,11 @@ public:
   vtkGetMacro(RidgeThreshold, double);
   vtkSetClampMacro(CreaseAngle, double, 0.0, 180.0);
   vtkGetMacro(CreaseAngle, double);
+  /// Leave suggestive contours and highlights, ridges and valleys out of the
+  /// triangles at a crease vertex (default on; see CreaseAngle).
+  vtkSetMacro(AvoidCreases, bool);
+  vtkGetMacro(AvoidCreases, bool);
+  vtkBooleanMacro(AvoidCreases, bool);
   vtkSetMacro(DropBackFacing, bool);
   vtkGetMacro(DropBackFacing, bool);
   vtkBooleanMacro(DropBackFacing, bool);
@@ -161,6 +168,7 @@ protected:
   double RidgeThreshold = 0.0;
   double CreaseAngle = 0.0;
   bool DropBackFacing = true;
+  bool AvoidCreases = true;
   int NumberOfThreads = 0;
   int GeometryBuilds = 0;
 

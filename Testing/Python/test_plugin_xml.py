@@ -17,7 +17,7 @@ PLUGIN = os.path.join(HERE, "..", "..", "ParaViewPlugin")
 # Commands that are not plain Set/Get pairs on the filter.
 SKIP_COMMANDS = {"SetInputArrayToProcess", "SetInputConnection", "AddInputConnection", "SetFileName",
                  "AddFixedPoint", "RemoveAllFixedPoints", "AddPointConstraint", "RemoveAllPointConstraints",
-                 "AddShortestPathLineConstraint", "AddBoundaryHandle"}
+                 "AddShortestPathLineConstraint", "AddBoundaryHandle", "AddTransferFunctionPoint"}
 # Where the panel's default differs from the filter's on purpose, and why.
 DIFFERENT_DEFAULT = {
     # The "Use ... array" switches: a Python user opts in by choosing the

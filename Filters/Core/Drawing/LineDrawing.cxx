@@ -265,6 +265,7 @@ void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology)
   const MeshTopology::EdgeTable& edges = topology.Edges();
   BoundaryEdges.clear();
   InteriorEdges.clear();
+  SharpestEdge.assign(NumberOfVertices(), 0.0f);
   const auto faceNormal = [&](Index f) {
     const Index* v = Triangles.data() + 3 * static_cast<std::int64_t>(f);
     const Vec3 a = Point(Points.data(), v[0]);
@@ -283,10 +284,19 @@ void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology)
       const double cosine = faceNormal(c0 / 3).dot(faceNormal(c1 / 3));
       if (std::isfinite(cosine))
       {
-        InteriorEdges.push_back({ a, b, c0 / 3, static_cast<float>(std::acos(std::clamp(cosine, -1.0, 1.0)) / Degree) });
+        const float angle = static_cast<float>(std::acos(std::clamp(cosine, -1.0, 1.0)) / Degree);
+        InteriorEdges.push_back({ a, b, c0 / 3, angle });
+        SharpestEdge[a] = std::max(SharpestEdge[a], angle);
+        SharpestEdge[b] = std::max(SharpestEdge[b], angle);
       }
     }
   }
+}
+
+bool LineDrawingGeometry::AtCrease(Index f, double angle) const
+{
+  const Index* v = Triangles.data() + 3 * static_cast<std::int64_t>(f);
+  return SharpestEdge[v[0]] > angle || SharpestEdge[v[1]] > angle || SharpestEdge[v[2]] > angle;
 }
 
 namespace
@@ -403,7 +413,7 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
         out[0].push_back(s);
       }
       Corners(geo.Triangles, f, kr, k);
-      if (!radial || !ZeroCrossing(f, v, k, n, s))
+      if (!radial || (options.AvoidCreases && geo.AtCrease(f, options.CreaseAngle)) || !ZeroCrossing(f, v, k, n, s))
       {
         return;
       }
@@ -438,6 +448,10 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
     std::vector<LineSegment> kept;
     for (LineSegment s : candidates)
     {
+      if (options.AvoidCreases && geo.AtCrease(s.Face, options.CreaseAngle))
+      {
+        continue;
+      }
       double test[3], front[3], k[3], nv[3];
       Corners(geo.Triangles, s.Face, valleys ? geo.K2.data() : geo.K1.data(), k);
       Corners(geo.Triangles, s.Face, ndotv, nv);

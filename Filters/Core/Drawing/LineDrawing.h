@@ -73,6 +73,12 @@ struct LineDrawingOptions
   /// than this (degrees; above VTK's 30 so that coarse organic meshes do
   /// not draw their tessellation).
   double CreaseAngle = 40.0;
+  /// Suggestive contours and highlights, ridges and valleys are left out of
+  /// the triangles at a crease vertex (an end of an edge sharper than
+  /// CreaseAngle): there the curvature estimates see the crease itself
+  /// (huge and arbitrary in direction), not the smooth surface on its two
+  /// sides, and CAD parts got suggestive contours along their creases.
+  bool AvoidCreases = true;
   /// Drop the pieces of every type but contours where n.v < 0.
   bool DropBackFacing = true;
   int NumberOfThreads = 0;
@@ -120,6 +126,10 @@ public:
     float Angle; ///< degrees
   };
   std::vector<InteriorEdge> InteriorEdges;
+  /// Per vertex: the largest Angle of its interior edges (0 without).
+  std::vector<float> SharpestEdge;
+  /// Whether face f has a vertex whose SharpestEdge exceeds `angle`.
+  bool AtCrease(Index f, double angle) const;
   /// The segment along edge a-b of `face`, its ends keyed by the vertices.
   LineSegment EdgeSegment(Index a, Index b, Index face) const;
 

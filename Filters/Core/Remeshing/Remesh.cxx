@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <unordered_map>
 
@@ -177,6 +178,136 @@ void FlipEars(const ChartPoints& points, std::vector<Index>& triangles)
   }
 }
 
+/// Triangles of two charts with the same three vertices: ears that FlipEars
+/// could not flip (their quadrilateral not convex in the plane) made on both
+/// sides of a seam by three consecutive samples a, m, b, m's only triangles.
+/// Each such pair is replaced by m inserted into the edge a-b: the other
+/// triangle on a-b in each chart is split at m (the triangle count stays,
+/// and the mesh is manifold).  The split triangles may be inverted in their
+/// chart's plane; the chart rounds of the optimisation then leave them (no
+/// move or swap passes its test there) and the stitching rounds, on the
+/// surface, repair them.  Pairs whose two other triangles share their third
+/// vertex are left (the join then reports the non-manifold mesh).
+void SplitDoubleEars(IndexArray& triangles, std::vector<int>& faceChart, std::vector<double>& cornerUV)
+{
+  const std::size_t faces = triangles.size() / 3;
+  std::vector<std::pair<std::array<Index, 3>, std::size_t>> sorted(faces);
+  for (std::size_t f = 0; f < faces; ++f)
+  {
+    std::array<Index, 3> k = { triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2] };
+    std::sort(k.begin(), k.end());
+    sorted[f] = { k, f };
+  }
+  std::sort(sorted.begin(), sorted.end());
+  std::unordered_map<Index, std::vector<std::size_t>> facesAt; // of the ears' vertices only
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  for (std::size_t i = 0; i + 1 < faces; ++i)
+  {
+    if (sorted[i].first == sorted[i + 1].first && (i + 2 == faces || sorted[i + 2].first != sorted[i].first))
+    {
+      pairs.push_back({ sorted[i].second, sorted[i + 1].second });
+      for (Index v : sorted[i].first)
+      {
+        facesAt[v];
+      }
+    }
+  }
+  if (pairs.empty())
+  {
+    return;
+  }
+  for (std::size_t f = 0; f < faces; ++f)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const auto at = facesAt.find(triangles[3 * f + k]);
+      if (at != facesAt.end())
+      {
+        at->second.push_back(f);
+      }
+    }
+  }
+  for (const auto& [ear1, ear2] : pairs)
+  {
+    const Index* e = &triangles[3 * ear1];
+    int middle = -1;
+    for (int k = 0; k < 3; ++k)
+    {
+      middle = facesAt[e[k]].size() == 2 ? (middle < 0 ? k : 3) : middle;
+    }
+    if (middle < 0 || middle == 3)
+    {
+      continue;
+    }
+    const Index m = e[middle], a = e[(middle + 1) % 3], b = e[(middle + 2) % 3];
+    // The other triangle on a-b in each ear's chart, and m's UV there.
+    std::size_t other[2] = { faces, faces };
+    double mUV[2][2];
+    const std::size_t ears[2] = { ear1, ear2 };
+    for (int side = 0; side < 2; ++side)
+    {
+      for (std::size_t f : facesAt[a])
+      {
+        const Index* t = &triangles[3 * f];
+        const bool hasB = t[0] == b || t[1] == b || t[2] == b;
+        if (f != ear1 && f != ear2 && hasB && faceChart[f] == faceChart[ears[side]])
+        {
+          other[side] = f;
+        }
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        if (triangles[3 * ears[side] + k] == m)
+        {
+          mUV[side][0] = cornerUV[2 * (3 * ears[side] + k)];
+          mUV[side][1] = cornerUV[2 * (3 * ears[side] + k) + 1];
+        }
+      }
+    }
+    const auto apex = [&](std::size_t f) {
+      Index x = -1;
+      for (int k = 0; k < 3; ++k)
+      {
+        x = triangles[3 * f + k] != a && triangles[3 * f + k] != b ? triangles[3 * f + k] : x;
+      }
+      return x;
+    };
+    if (other[0] == faces || other[1] == faces || apex(other[0]) == apex(other[1]))
+    {
+      continue;
+    }
+    for (int side = 0; side < 2; ++side)
+    {
+      // other = (p, q, x) with p -> q the edge a-b: (p, m, x) in its place,
+      // (m, q, x) in the ear's.
+      const std::size_t f = other[side], g = ears[side];
+      int k = 0;
+      while (triangles[3 * f + (k + 2) % 3] == a || triangles[3 * f + (k + 2) % 3] == b)
+      {
+        ++k; // k: the corner p, so that (k + 2) % 3 is x
+      }
+      const Index p = triangles[3 * f + k], q = triangles[3 * f + (k + 1) % 3], x = triangles[3 * f + (k + 2) % 3];
+      double uv[3][2];
+      for (int j = 0; j < 3; ++j)
+      {
+        uv[j][0] = cornerUV[2 * (3 * f + (k + j) % 3)];
+        uv[j][1] = cornerUV[2 * (3 * f + (k + j) % 3) + 1];
+      }
+      const Index first[3] = { p, m, x }, second[3] = { m, q, x };
+      const double* firstUV[3] = { uv[0], mUV[side], uv[2] };
+      const double* secondUV[3] = { mUV[side], uv[1], uv[2] };
+      for (int j = 0; j < 3; ++j)
+      {
+        triangles[3 * f + j] = first[j];
+        triangles[3 * g + j] = second[j];
+        std::copy(firstUV[j], firstUV[j] + 2, &cornerUV[2 * (3 * f + j)]);
+        std::copy(secondUV[j], secondUV[j] + 2, &cornerUV[2 * (3 * g + j)]);
+      }
+      faceChart[g] = faceChart[f];
+    }
+  }
+}
+
 ChartTriangles TriangulateChart(const MeshTopology& topology, const AtlasChart& chart, const SurfaceSamples& samples,
   const std::vector<int>& paths, const std::vector<Index>& interior)
 {
@@ -324,6 +455,7 @@ Remesh CreateRemesh(const MeshTopology& topology, const double* points, const At
       std::copy(moved.Weights, moved.Weights + 3, &out.Barycentric[3 * moved.Sample]);
     }
   }
+  SplitDoubleEars(triangles, faceChart, cornerUV);
   const MeshTopology topologyOut(n, std::move(triangles));
   std::vector<double> positions(3 * static_cast<std::size_t>(n));
   for (Index s = 0; s < n; ++s)

@@ -412,3 +412,32 @@ TEST(SurfaceRemeshing, MoreVerticesThanTheControlMapHoldsIsAClearError)
   EXPECT_NE(out.Error.find("cannot place"), std::string::npos) << out.Error;
   EXPECT_TRUE(out.Points.empty() && out.Triangles.empty());
 }
+
+TEST(SurfaceRemeshing, EarsOnBothSidesOfASeamAreSplit)
+{
+  // The elephant (genus 3) adapted to max |kappa_i| through a steep
+  // transfer function: at 3000 and 4000 vertices a seam got the same ear
+  // (three consecutive samples) in both of its charts, not flippable in
+  // either plane, and the join was not manifold (an error, no remesh).  The
+  // middle sample now goes into the ears' common edge.
+  const test::MeshWithAtlas loaded("elephant.off", RemeshAtlas(false));
+  ASSERT_EQ(loaded.Error, "");
+  ImportanceOptions transfer;
+  transfer.TransferFunction = { 0.0, 0.3, 3.0, 4.0 };
+  const std::vector<double> importance = ImportanceFromValues(loaded.Topology, loaded.Points(),
+    CurvatureValues(loaded.Topology, loaded.Points(), CurvatureMeasure::MaximumCurvature), transfer).Importance;
+  for (std::int64_t count : { 3000, 4000 })
+  {
+    const RemeshResult out = RemeshWith(loaded, count, importance.data());
+    ASSERT_EQ(out.Error, "") << count;
+    const MeshTopology topology = TopologyOf(out);
+    const TopologySummary& s = topology.Summary();
+    EXPECT_EQ(s.NumberOfUsedVertices, count);
+    EXPECT_EQ(s.EulerCharacteristic, loaded.Topology.Summary().EulerCharacteristic);
+    EXPECT_TRUE(s.IsManifold() && s.IsOriented());
+    const TriangleQuality q = MeasureTriangleQuality(topology, out.Points.data());
+    EXPECT_EQ(q.DegenerateTriangles, 0);
+    std::printf("elephant %lld, steep curvature transfer: worst angle %.2f, mean %.2f\n", static_cast<long long>(count),
+      q.MinimumAngle, q.MeanMinimumAngle);
+  }
+}
