@@ -178,17 +178,18 @@ void FlipEars(const ChartPoints& points, std::vector<Index>& triangles)
   }
 }
 
-/// Triangles of two charts with the same three vertices: ears that FlipEars
-/// could not flip (their quadrilateral not convex in the plane) made on both
-/// sides of a seam by three consecutive samples a, m, b, m's only triangles.
-/// Each such pair is replaced by m inserted into the edge a-b: the other
-/// triangle on a-b in each chart is split at m (the triangle count stays,
-/// and the mesh is manifold).  The split triangles may be inverted in their
-/// chart's plane; the chart rounds of the optimisation then leave them (no
-/// move or swap passes its test there) and the stitching rounds, on the
-/// surface, repair them.  Pairs whose two other triangles share their third
-/// vertex are left (the join then reports the non-manifold mesh).
-void SplitDoubleEars(IndexArray& triangles, std::vector<int>& faceChart, std::vector<double>& cornerUV)
+/// The triangles of the joined charts, their chart and their corners' UV.
+struct JoinedTriangles
+{
+  IndexArray Triangles;          ///< 3 per face
+  std::vector<int> FaceChart;    ///< per face
+  std::vector<double> CornerUV;  ///< 2 per corner
+};
+
+/// Pairs of faces with the same three vertices (only pairs: three or more
+/// are left), and the faces at each of their vertices.
+std::vector<std::array<std::size_t, 2>> DuplicateFaces(const IndexArray& triangles,
+  std::unordered_map<Index, std::vector<std::size_t>>& facesAt)
 {
   const std::size_t faces = triangles.size() / 3;
   std::vector<std::pair<std::array<Index, 3>, std::size_t>> sorted(faces);
@@ -199,11 +200,11 @@ void SplitDoubleEars(IndexArray& triangles, std::vector<int>& faceChart, std::ve
     sorted[f] = { k, f };
   }
   std::sort(sorted.begin(), sorted.end());
-  std::unordered_map<Index, std::vector<std::size_t>> facesAt; // of the ears' vertices only
-  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  std::vector<std::array<std::size_t, 2>> pairs;
   for (std::size_t i = 0; i + 1 < faces; ++i)
   {
-    if (sorted[i].first == sorted[i + 1].first && (i + 2 == faces || sorted[i + 2].first != sorted[i].first))
+    if (sorted[i].first == sorted[i + 1].first && (i + 2 == faces || sorted[i + 2].first != sorted[i].first) &&
+      (i == 0 || sorted[i - 1].first != sorted[i].first))
     {
       pairs.push_back({ sorted[i].second, sorted[i + 1].second });
       for (Index v : sorted[i].first)
@@ -212,11 +213,7 @@ void SplitDoubleEars(IndexArray& triangles, std::vector<int>& faceChart, std::ve
       }
     }
   }
-  if (pairs.empty())
-  {
-    return;
-  }
-  for (std::size_t f = 0; f < faces; ++f)
+  for (std::size_t f = 0; !pairs.empty() && f < faces; ++f)
   {
     for (int k = 0; k < 3; ++k)
     {
@@ -227,84 +224,104 @@ void SplitDoubleEars(IndexArray& triangles, std::vector<int>& faceChart, std::ve
       }
     }
   }
-  for (const auto& [ear1, ear2] : pairs)
+  return pairs;
+}
+
+/// Face `f` = (p, q, x), p -> q being the edge a-b, becomes (p, m, x) and
+/// face `g` becomes (m, q, x) in f's chart, m at `mUV` there.
+void SplitAt(JoinedTriangles& j, std::size_t f, std::size_t g, Index m, const double* mUV, Index a, Index b)
+{
+  int k = 0;
+  while (j.Triangles[3 * f + (k + 2) % 3] == a || j.Triangles[3 * f + (k + 2) % 3] == b)
   {
-    const Index* e = &triangles[3 * ear1];
-    int middle = -1;
+    ++k; // k: the corner p, (k + 2) % 3 the corner x
+  }
+  Index corner[3];
+  double uv[3][2];
+  for (int i = 0; i < 3; ++i)
+  {
+    corner[i] = j.Triangles[3 * f + (k + i) % 3];
+    uv[i][0] = j.CornerUV[2 * (3 * f + (k + i) % 3)];
+    uv[i][1] = j.CornerUV[2 * (3 * f + (k + i) % 3) + 1];
+  }
+  const Index first[3] = { corner[0], m, corner[2] }, second[3] = { m, corner[1], corner[2] };
+  const double* firstUV[3] = { uv[0], mUV, uv[2] };
+  const double* secondUV[3] = { mUV, uv[1], uv[2] };
+  for (int i = 0; i < 3; ++i)
+  {
+    j.Triangles[3 * f + i] = first[i];
+    j.Triangles[3 * g + i] = second[i];
+    std::copy(firstUV[i], firstUV[i] + 2, &j.CornerUV[2 * (3 * f + i)]);
+    std::copy(secondUV[i], secondUV[i] + 2, &j.CornerUV[2 * (3 * g + i)]);
+  }
+  j.FaceChart[g] = j.FaceChart[f];
+}
+
+/// Splits one double ear (see SplitDoubleEars); false if it is not one.
+bool SplitDoubleEar(JoinedTriangles& j, const std::array<std::size_t, 2>& ears,
+  std::unordered_map<Index, std::vector<std::size_t>>& facesAt)
+{
+  const Index* e = &j.Triangles[3 * ears[0]];
+  int middle = -1; // the corner whose only faces are the two ears
+  for (int k = 0; k < 3; ++k)
+  {
+    middle = facesAt[e[k]].size() == 2 ? (middle < 0 ? k : 3) : middle;
+  }
+  if (middle < 0 || middle == 3)
+  {
+    return false;
+  }
+  const Index m = e[middle], a = e[(middle + 1) % 3], b = e[(middle + 2) % 3];
+  std::size_t other[2] = { 0, 0 }; // the other face on a-b in each ear's chart
+  Index apex[2] = { -1, -1 };
+  double mUV[2][2];
+  for (int side = 0; side < 2; ++side)
+  {
+    for (std::size_t f : facesAt[a])
+    {
+      const Index* t = &j.Triangles[3 * f];
+      if (f != ears[0] && f != ears[1] && (t[0] == b || t[1] == b || t[2] == b) &&
+        j.FaceChart[f] == j.FaceChart[ears[side]])
+      {
+        other[side] = f;
+        apex[side] = t[0] != a && t[0] != b ? t[0] : (t[1] != a && t[1] != b ? t[1] : t[2]);
+      }
+    }
     for (int k = 0; k < 3; ++k)
     {
-      middle = facesAt[e[k]].size() == 2 ? (middle < 0 ? k : 3) : middle;
-    }
-    if (middle < 0 || middle == 3)
-    {
-      continue;
-    }
-    const Index m = e[middle], a = e[(middle + 1) % 3], b = e[(middle + 2) % 3];
-    // The other triangle on a-b in each ear's chart, and m's UV there.
-    std::size_t other[2] = { faces, faces };
-    double mUV[2][2];
-    const std::size_t ears[2] = { ear1, ear2 };
-    for (int side = 0; side < 2; ++side)
-    {
-      for (std::size_t f : facesAt[a])
+      if (j.Triangles[3 * ears[side] + k] == m)
       {
-        const Index* t = &triangles[3 * f];
-        const bool hasB = t[0] == b || t[1] == b || t[2] == b;
-        if (f != ear1 && f != ear2 && hasB && faceChart[f] == faceChart[ears[side]])
-        {
-          other[side] = f;
-        }
-      }
-      for (int k = 0; k < 3; ++k)
-      {
-        if (triangles[3 * ears[side] + k] == m)
-        {
-          mUV[side][0] = cornerUV[2 * (3 * ears[side] + k)];
-          mUV[side][1] = cornerUV[2 * (3 * ears[side] + k) + 1];
-        }
+        std::copy_n(&j.CornerUV[2 * (3 * ears[side] + k)], 2, mUV[side]);
       }
     }
-    const auto apex = [&](std::size_t f) {
-      Index x = -1;
-      for (int k = 0; k < 3; ++k)
-      {
-        x = triangles[3 * f + k] != a && triangles[3 * f + k] != b ? triangles[3 * f + k] : x;
-      }
-      return x;
-    };
-    if (other[0] == faces || other[1] == faces || apex(other[0]) == apex(other[1]))
-    {
-      continue;
-    }
-    for (int side = 0; side < 2; ++side)
-    {
-      // other = (p, q, x) with p -> q the edge a-b: (p, m, x) in its place,
-      // (m, q, x) in the ear's.
-      const std::size_t f = other[side], g = ears[side];
-      int k = 0;
-      while (triangles[3 * f + (k + 2) % 3] == a || triangles[3 * f + (k + 2) % 3] == b)
-      {
-        ++k; // k: the corner p, so that (k + 2) % 3 is x
-      }
-      const Index p = triangles[3 * f + k], q = triangles[3 * f + (k + 1) % 3], x = triangles[3 * f + (k + 2) % 3];
-      double uv[3][2];
-      for (int j = 0; j < 3; ++j)
-      {
-        uv[j][0] = cornerUV[2 * (3 * f + (k + j) % 3)];
-        uv[j][1] = cornerUV[2 * (3 * f + (k + j) % 3) + 1];
-      }
-      const Index first[3] = { p, m, x }, second[3] = { m, q, x };
-      const double* firstUV[3] = { uv[0], mUV[side], uv[2] };
-      const double* secondUV[3] = { mUV[side], uv[1], uv[2] };
-      for (int j = 0; j < 3; ++j)
-      {
-        triangles[3 * f + j] = first[j];
-        triangles[3 * g + j] = second[j];
-        std::copy(firstUV[j], firstUV[j] + 2, &cornerUV[2 * (3 * f + j)]);
-        std::copy(secondUV[j], secondUV[j] + 2, &cornerUV[2 * (3 * g + j)]);
-      }
-      faceChart[g] = faceChart[f];
-    }
+  }
+  if (apex[0] < 0 || apex[1] < 0 || apex[0] == apex[1])
+  {
+    return false;
+  }
+  for (int side = 0; side < 2; ++side)
+  {
+    SplitAt(j, other[side], ears[side], m, mUV[side], a, b);
+  }
+  return true;
+}
+
+/// Triangles of two charts with the same three vertices: ears that FlipEars
+/// could not flip (their quadrilateral not convex in the plane) made on both
+/// sides of a seam by three consecutive samples a, m, b, m's only triangles.
+/// Each such pair is replaced by m inserted into the edge a-b: the other
+/// triangle on a-b in each chart is split at m (the triangle count stays,
+/// and the mesh is manifold).  The split triangles may be inverted in their
+/// chart's plane; the chart rounds of the optimisation then leave them (no
+/// move or swap passes its test there) and the stitching rounds, on the
+/// surface, repair them.  Pairs whose two other triangles share their third
+/// vertex are left (the join then reports the non-manifold mesh).
+void SplitDoubleEars(JoinedTriangles& joined)
+{
+  std::unordered_map<Index, std::vector<std::size_t>> facesAt;
+  for (const std::array<std::size_t, 2>& ears : DuplicateFaces(joined.Triangles, facesAt))
+  {
+    SplitDoubleEar(joined, ears, facesAt);
   }
 }
 
@@ -436,9 +453,7 @@ Remesh CreateRemesh(const MeshTopology& topology, const double* points, const At
   out.Triangle = samples.Triangle;
   out.Barycentric = samples.Barycentric;
   out.Kind = samples.Kind;
-  IndexArray triangles;
-  std::vector<int> faceChart;
-  std::vector<double> cornerUV;
+  JoinedTriangles joined;
   for (std::size_t c = 0; c < charts; ++c)
   {
     if (!parts[c].Error.empty())
@@ -446,17 +461,17 @@ Remesh CreateRemesh(const MeshTopology& topology, const double* points, const At
       out.Error = "chart " + std::to_string(c) + ": " + parts[c].Error;
       return out;
     }
-    triangles.insert(triangles.end(), parts[c].Triangles.begin(), parts[c].Triangles.end());
-    faceChart.insert(faceChart.end(), parts[c].Triangles.size() / 3, static_cast<int>(c));
-    cornerUV.insert(cornerUV.end(), parts[c].UV.begin(), parts[c].UV.end());
+    joined.Triangles.insert(joined.Triangles.end(), parts[c].Triangles.begin(), parts[c].Triangles.end());
+    joined.FaceChart.insert(joined.FaceChart.end(), parts[c].Triangles.size() / 3, static_cast<int>(c));
+    joined.CornerUV.insert(joined.CornerUV.end(), parts[c].UV.begin(), parts[c].UV.end());
     for (const ChartTriangles::Moved& moved : parts[c].Moves)
     {
       out.Triangle[moved.Sample] = moved.Triangle;
       std::copy(moved.Weights, moved.Weights + 3, &out.Barycentric[3 * moved.Sample]);
     }
   }
-  SplitDoubleEars(triangles, faceChart, cornerUV);
-  const MeshTopology topologyOut(n, std::move(triangles));
+  SplitDoubleEars(joined);
+  const MeshTopology topologyOut(n, std::move(joined.Triangles));
   std::vector<double> positions(3 * static_cast<std::size_t>(n));
   for (Index s = 0; s < n; ++s)
   {
@@ -470,8 +485,8 @@ Remesh CreateRemesh(const MeshTopology& topology, const double* points, const At
       (out.Error.empty() ? topologyOut.Describe() : out.Error);
     return out;
   }
-  out.FaceChart = std::move(faceChart);
-  out.CornerUV = std::move(cornerUV);
+  out.FaceChart = std::move(joined.FaceChart);
+  out.CornerUV = std::move(joined.CornerUV);
   return out;
 }
 
