@@ -479,7 +479,8 @@ bool Optimizer::MoveOnPath(Index v, double& moved)
 
 /// The input triangle nearest to p among those reached from `start` through
 /// triangles less than `radius` from p (the ball a move of that length
-/// stays in), with the nearest point's weights in w.
+/// stays in), each crossed where p's nearest point in it lies (its edge or
+/// vertex), with the nearest point's weights in w.
 Index Optimizer::NearestOnSurface(const Vec3& p, Index start, double radius, double* w)
 {
   MoveBuffers& buffers = ThreadBuffers();
@@ -514,6 +515,12 @@ Index Optimizer::NearestOnSurface(const Vec3& p, Index start, double radius, dou
     }
     for (int k = 0; k < 3; ++k)
     {
+      // Only across the edge or vertex where p's nearest point in t lies:
+      // inside t (no weight 0) nothing nearer is reached through t.
+      if (!(weights[k] > 0.0) || (weights[0] > 0.0 && weights[1] > 0.0 && weights[2] > 0.0))
+      {
+        continue;
+      }
       const Index corner = Topology.CornerVertex(3 * t + k);
       for (const Index* c = Topology.CornersBegin(corner); c != Topology.CornersEnd(corner); ++c)
       {
