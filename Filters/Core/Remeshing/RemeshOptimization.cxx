@@ -123,6 +123,10 @@ public:
     {
       Valence[v] = M.Valence(v);
     }
+    for (Index v = 0; ImportanceValues && v < M.NumberOfVertices(); ++v)
+    {
+      VertexImportance.push_back(ImportanceAt(v));
+    }
     PathIndex.assign(M.NumberOfVertices(), -1);
     for (const SamplePath& path : samples.Paths)
     {
@@ -167,6 +171,7 @@ private:
   std::pair<double, double> Roundnesses(Index h) const;
   int Target(Index v) const { return M.IsBoundaryVertex(v) ? 4 : 6; }
   double Importance(Index f) const;
+  double ImportanceAt(Index v) const;
   double Weight(Index f) const;
   bool MoveInterior(Index v, double& moved);
   bool MoveOnPath(Index v, double& moved);
@@ -188,6 +193,7 @@ private:
   std::vector<ChartLocator> Locators;
   std::vector<Index> Valence;
   std::vector<Index> PathIndex; ///< per vertex: its index in its path's Samples
+  std::vector<double> VertexImportance; ///< per vertex: ImportanceAt (empty without an importance)
   bool Stitching = false;
   std::vector<std::uint8_t> Moves;     ///< per vertex while stitching: its Mobility
   std::unordered_set<std::uint64_t> KeptEdges; ///< EdgeKey of the remesh's edges along kept paths
@@ -306,22 +312,25 @@ std::int64_t Optimizer::SwapForShape()
   return swaps;
 }
 
-/// The mean importance of face f (1 without one).
+/// The mean importance of face f's vertices (1 without one).
 double Optimizer::Importance(Index f) const
 {
-  if (!ImportanceValues)
+  if (VertexImportance.empty())
   {
     return 1.0;
   }
+  return (VertexImportance[M.Tail(3 * f)] + VertexImportance[M.Tail(3 * f + 1)] + VertexImportance[M.Tail(3 * f + 2)]) /
+    3.0;
+}
+
+/// The importance at vertex v's place on the input (interpolated).
+double Optimizer::ImportanceAt(Index v) const
+{
   double importance = 0.0;
-  for (int k = 0; k < 3; ++k)
+  for (int j = 0; j < 3; ++j)
   {
-    const Index v = M.Tail(3 * f + k);
-    for (int j = 0; j < 3; ++j)
-    {
-      importance +=
-        R.Barycentric[3 * v + j] * std::max(0.0, ImportanceValues[Topology.CornerVertex(3 * R.Triangle[v] + j)]) / 3.0;
-    }
+    importance +=
+      R.Barycentric[3 * v + j] * std::max(0.0, ImportanceValues[Topology.CornerVertex(3 * R.Triangle[v] + j)]);
   }
   return importance;
 }
@@ -390,6 +399,10 @@ bool Optimizer::Place(Index v, Index triangle, const double* w, double& moved)
   M.SetPosition(v, x);
   R.Triangle[v] = triangle;
   std::copy(w, w + 3, &R.Barycentric[3 * v]);
+  if (!VertexImportance.empty())
+  {
+    VertexImportance[v] = ImportanceAt(v);
+  }
   return true;
 }
 
