@@ -316,21 +316,26 @@ check(remeshed.GetNumberOfPoints() == 4000 and remeshed.GetNumberOfCells() == sa
       and remeshed.GetFieldData().GetArray("RemeshMeanMinimumAngle").GetValue(0) > 48.0,
       "remesh of the elephant (genus 3) over %d partition(s): 4000 vertices, the same Euler characteristic" % partitions)
 # The edited transfer function and the gradation through the panel's
-# properties: a flat function gives the uniform remesh again, point for point.
+# properties: a flat function gives the uniform remesh again, point for
+# point; a steep one adapts it, and a gradation far wider than the elephant
+# evens the importance out again.
 uniform_points = vtk_to_numpy(remeshed.GetPoints().GetData()).copy()
+uniform_variation = remeshed.GetFieldData().GetArray("RemeshEdgeLengthVariation").GetValue(0)
 remesher.Importance = "Maximum curvature max|k|"
 remesher.TransferFunction = [0.0, 1.0, 5.0, 1.0]
-remesher.Gradation = 0.5
 remesher.UpdatePipeline()
 flat = servermanager.Fetch(remesher)
 check(flat.GetNumberOfPoints() == 4000 and np.allclose(vtk_to_numpy(flat.GetPoints().GetData()), uniform_points),
-      "a flat transfer function (with a gradation) remeshes as uniform")
+      "a flat transfer function remeshes as uniform")
 remesher.TransferFunction = [0.0, 0.3, 3.0, 4.0]
-remesher.Gradation = 0.0
 remesher.UpdatePipeline()
 adapted = servermanager.Fetch(remesher).GetFieldData().GetArray("RemeshEdgeLengthVariation").GetValue(0)
-check(adapted > 1.3 * remeshed.GetFieldData().GetArray("RemeshEdgeLengthVariation").GetValue(0),
-      "an edited transfer function adapts the remesh (edge-length variation %.3f)" % adapted)
+remesher.Gradation = 100.0
+remesher.UpdatePipeline()
+graded = servermanager.Fetch(remesher).GetFieldData().GetArray("RemeshEdgeLengthVariation").GetValue(0)
+check(adapted > 1.3 * uniform_variation and graded < 1.2 * uniform_variation,
+      "an edited transfer function adapts the remesh (edge-length variation %.3f -> %.3f), a wide gradation "
+      "evens it out (%.3f)" % (uniform_variation, adapted, graded))
 
 # Image denoising: the camera picture (8-bit greyscale) through the plugin.
 image = PNGSeriesReader(FileNames=[os.path.join(DATA, "camera.png")])

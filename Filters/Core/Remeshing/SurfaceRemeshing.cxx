@@ -84,6 +84,15 @@ double PiecewiseLinear(const std::vector<double>& pairs, double x)
 bool SmoothOverSurface(const MeshTopology& topology, const double* points, double width,
   std::vector<double>& importance, int numThreads)
 {
+  // Beyond the bounding-box diagonal the kernel is flat over the surface
+  // already (and the steps' systems would only get harder to solve).
+  Vec3 lo = Vec3::Constant(HUGE_VAL), hi = Vec3::Constant(-HUGE_VAL);
+  for (Index v = 0; v < topology.NumberOfVertices(); ++v)
+  {
+    lo = lo.cwiseMin(Point(points, v));
+    hi = hi.cwiseMax(Point(points, v));
+  }
+  width = std::min(width, (hi - lo).norm());
   GraphLaplacian laplacian;
   AssembleSurfaceLaplacian(topology, points, LaplacianWeights::Cotangent, laplacian, numThreads);
   // S = -M Laplace / 2 (Mesh/Laplacian), so (M + t S) u' = M u is an
@@ -93,7 +102,7 @@ bool SmoothOverSurface(const MeshTopology& topology, const double* points, doubl
   problem.Shift = laplacian.Mass.data();
   problem.Factor = 0.125 * width * width;
   problem.Tolerance = 1e-8;
-  problem.MaximumIterations = std::max<Index>(1000, topology.NumberOfVertices());
+  problem.MaximumIterations = 1000 + 10 * topology.NumberOfVertices(); // a safety bound, far above the need
   problem.NumberOfThreads = numThreads;
   problem.Scale = { std::max(1e-300, *std::max_element(importance.begin(), importance.end())) };
   std::vector<std::uint8_t> fixed(importance.size(), 0);
@@ -170,6 +179,12 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   const double* importance, const RemeshOptions& options)
 {
   RemeshResult out;
+  const Index n = topology.NumberOfVertices();
+  if (importance && n > 0 && importance[0] > 0.0 &&
+    std::all_of(importance, importance + n, [&](double value) { return value == importance[0]; }))
+  {
+    importance = nullptr; // a constant importance is the uniform density: the uniform remesh, exactly
+  }
   auto start = std::chrono::steady_clock::now();
   SamplingOptions sampling;
   sampling.NumberOfSamples = options.NumberOfVertices;

@@ -74,7 +74,9 @@ struct ImportanceOptions
   /// left out), constant beyond the first and the last.
   std::vector<double> TransferFunction;
   /// Smooth gradation: the importance low-pass filtered over the surface
-  /// with a kernel of this standard deviation (surface units; 0: none).
+  /// with a kernel of this standard deviation (surface units; 0: none;
+  /// widths beyond the bounding-box diagonal act as the diagonal, where the
+  /// kernel is flat over the surface already).
   double Gradation = 0.0;
   /// Minimum sampling: the importance is at least this (after the filter).
   double Minimum = 0.0;
