@@ -497,4 +497,12 @@ const MeshTopology::EdgeTable& MeshTopology::Edges() const
   return *EdgeData;
 }
 
+std::int64_t MeshTopology::EdgeTable::Find(Index a, Index b) const
+{
+  const Index* begin = Neighbors.data() + NeighborOffsets[a];
+  const Index* end = Neighbors.data() + NeighborOffsets[a + 1];
+  const Index* at = std::lower_bound(begin, end, b);
+  return at != end && *at == b ? NeighborEdges[at - Neighbors.data()] : -1;
+}
+
 } // namespace beltrami

@@ -127,6 +127,8 @@ public:
     IndexArray Neighbors;               ///< 1-ring vertices, ascending
     LargeVector<std::int64_t> NeighborEdges; ///< edge joining v and Neighbors[k]
     std::int64_t NumberOfEdges() const { return static_cast<std::int64_t>(FaceCount.size()); }
+    /// The edge joining vertices a and b (either order; -1: none).
+    std::int64_t Find(Index a, Index b) const;
   };
   const EdgeTable& Edges() const;
 

@@ -600,12 +600,6 @@ Index Optimizer::BeginStitching(const std::uint8_t* featureEdges)
       kept[edges.Vertices[2 * e]] = kept[edges.Vertices[2 * e + 1]] = 1;
     }
   }
-  const auto edgeOf = [&](Index a, Index b) -> std::int64_t {
-    const Index* begin = edges.Neighbors.data() + edges.NeighborOffsets[a];
-    const Index* end = edges.Neighbors.data() + edges.NeighborOffsets[a + 1];
-    const Index* at = std::lower_bound(begin, end, b);
-    return at != end && *at == b ? edges.NeighborEdges[edges.NeighborOffsets[a] + (at - begin)] : -1;
-  };
   Moves.assign(M.NumberOfVertices(), Free);
   Index freed = 0;
   for (Index v = 0; v < M.NumberOfVertices(); ++v)
@@ -621,7 +615,7 @@ Index Optimizer::BeginStitching(const std::uint8_t* featureEdges)
       const SamplePath& path = Samples.Paths[R.Path[v]];
       const std::size_t i = std::min<std::size_t>(path.Vertices.size() - 2,
         std::upper_bound(path.Arc.begin(), path.Arc.end(), R.Arc[v]) - path.Arc.begin() - 1);
-      const std::int64_t e = edgeOf(path.Vertices[i], path.Vertices[i + 1]);
+      const std::int64_t e = edges.Find(path.Vertices[i], path.Vertices[i + 1]);
       Moves[v] = e < 0 || isKept(e) ? OnPath : Free;
     }
     freed += R.Kind[v] != SampleKind::Interior && Moves[v] == Free;

@@ -27,15 +27,6 @@ struct BoundaryPaths
   std::vector<Index> Corners;
 };
 
-/// The edge joining vertices a and b (-1: none).
-std::int64_t EdgeOf(const MeshTopology::EdgeTable& edges, Index a, Index b)
-{
-  const Index* begin = edges.Neighbors.data() + edges.NeighborOffsets[a];
-  const Index* end = edges.Neighbors.data() + edges.NeighborOffsets[a + 1];
-  const Index* at = std::lower_bound(begin, end, b);
-  return at != end && *at == b ? edges.NeighborEdges[at - edges.Neighbors.data()] : -1;
-}
-
 BoundaryPaths ChartBoundaries(const MeshTopology& topology, const std::vector<int>& chartOfTriangle)
 {
   const MeshTopology::EdgeTable& edges = topology.Edges();
@@ -121,7 +112,7 @@ Index EdgePoint(const MeshTopology& topology, Index a, Index b, double t, double
   if (b != a)
   {
     const MeshTopology::EdgeTable& edges = topology.Edges();
-    const std::int64_t e = EdgeOf(edges, std::min(a, b), std::max(a, b));
+    const std::int64_t e = edges.Find(a, b);
     triangle = (edges.OppositeCorners[2 * e] >= 0 ? edges.OppositeCorners[2 * e] : edges.OppositeCorners[2 * e + 1]) / 3;
   }
   for (int k = 0; k < 3; ++k)
@@ -151,7 +142,7 @@ void SampleBoundaries(const MeshTopology& topology, const double* points, const 
     SamplePath path;
     path.Vertices = vertices;
     const MeshTopology::EdgeTable& edges = topology.Edges();
-    const std::int64_t first = EdgeOf(edges, std::min(vertices[0], vertices[1]), std::max(vertices[0], vertices[1]));
+    const std::int64_t first = edges.Find(vertices[0], vertices[1]);
     for (int side = 0, k = 0; side < 2; ++side)
     {
       const Index corner = edges.OppositeCorners[2 * first + side];
@@ -227,7 +218,7 @@ void ExcludeBoundaryBand(const MeshTopology& topology, const double* points, con
     for (std::size_t i = 0; i + 1 < path.size(); ++i)
     {
       const Index a = path[i], b = path[i + 1];
-      const std::int64_t e = EdgeOf(topology.Edges(), std::min(a, b), std::max(a, b));
+      const std::int64_t e = topology.Edges().Find(a, b);
       const double length3D = (Point(points, a) - Point(points, b)).norm();
       const double imp = importance ? 0.5 * (std::max(0.0, importance[a]) + std::max(0.0, importance[b])) : 1.0;
       const double spacing3D = density * imp > 0.0 ? 1.0 / std::sqrt(density * imp) : 0.0;
