@@ -210,7 +210,9 @@ class VolumeInvariants(unittest.TestCase):
         # path: the same flow.  The mesh path solves its semi-implicit steps
         # with the graph solver, the image path with the matrix-free one: the
         # same systems to the same tolerance (1e-4 of each step's update),
-        # not the same iterates (observed difference 5e-9).
+        # not the same iterates (observed difference 5e-9), and the image
+        # path evaluates its tetrahedra in single precision (5.5e-6 here;
+        # bounded like the core test, by 3e-4 of the change).
         from vtkmodules.vtkFiltersCore import vtkAppendFilter
         noisy = blobs(12) + np.random.default_rng(8).normal(0, SIGMA, (12, 12, 12))
         append = vtkAppendFilter()
@@ -221,8 +223,9 @@ class VolumeInvariants(unittest.TestCase):
         voxels = vtk_to_numpy(out.GetPointData().GetArray("v"))
         g = configured(vtkImageBeltramiDenoising(), image(noisy), **settings)
         pixels = vtk_to_numpy(g.GetOutput().GetPointData().GetArray("v"))
-        self.assertGreater(np.abs(voxels - noisy.ravel()).max(), 0.01)
-        self.assertLess(np.abs(voxels - pixels).max(), 1e-6)
+        change = np.abs(voxels - noisy.ravel()).max()
+        self.assertGreater(change, 0.01)
+        self.assertLess(np.abs(voxels - pixels).max(), 3e-4 * change)
         self.assertNotIn("ignored", self.log.GetOutput())
 
     def test_bad_input(self):

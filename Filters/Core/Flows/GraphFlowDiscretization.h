@@ -66,6 +66,11 @@ public:
 
   /// Weights, masses and speeds at state u (scaled data, Components per vertex).
   virtual void Update(const double* u) = 0;
+  /// Explicit steps fused with the evaluation (optional, FusesSteps()): the
+  /// figures of state u (Area, MaxRate) and, unless next is null, the step
+  /// next = u - dt Velocity(u), in one pass and without filling Velocity.
+  virtual bool FusesSteps() const { return false; }
+  virtual void FusedStep(const double* /*u*/, double /*dt*/, double* /*next*/) {}
   /// y = K x; ghosts: include the values the boundary rule derives from x
   /// outside the domain (images; false: those neighbours count as zero).
   virtual void Apply(const double* x, double* y, bool ghosts) = 0;

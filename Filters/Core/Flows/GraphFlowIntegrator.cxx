@@ -107,6 +107,14 @@ private:
   std::vector<double> Scratch, Y, B, Best; // risk: the data and b in noise space, the best state
 
   bool Start(const double* values);
+  /// Explicit fixed-size steps fused with the evaluation (the
+  /// discretization's FusedStep): a step then evaluates the state it steps
+  /// from, so the figures (Area, MaxRate) lag one step behind.
+  bool Fused = false;
+  /// The figures (and velocity) of a run's state.
+  void Evaluate(FlowRun& run);
+  /// One step of a run and, unfused, the evaluation of the new state.
+  void Advance(FlowRun& run, double dt);
   void Step(FlowRun& run, double dt);
   void ExplicitStep(FlowRun& run, double dt);
   void SemiImplicitStep(FlowRun& run, double dt);
@@ -200,24 +208,24 @@ bool FlowIntegrator::Start(const double* values)
     counted += Main.Disc->Counts(i);
   }
   Counted = (Split ? Split->Sum(counted) : counted) * NC;
-  bool finite = true;
-  for (std::size_t k = 0; k < Size && finite; ++k)
-  {
-    finite = std::isfinite(values[k]);
-  }
-  if (Anywhere(!finite))
+  const double nonFinite = ParallelSum(static_cast<std::int64_t>(Size), 1, Threads, [&](std::int64_t b, std::int64_t e, double* acc) {
+    for (std::int64_t k = b; k < e; ++k)
+    {
+      acc[0] += !std::isfinite(values[k]);
+    }
+  })[0];
+  if (Anywhere(nonFinite > 0.0))
   {
     Result.Error = "the data contain NaN or infinite values";
     return false;
   }
   // The noise, estimated in its own space, and the automatic settings.
-  Scratch.assign(values, values + Size);
   if (O.ToNoiseSpace)
   {
-    O.ToNoiseSpace(Scratch.data());
-    Y = Scratch;
+    Y.assign(values, values + Size);
+    O.ToNoiseSpace(Y.data());
   }
-  Result.EstimatedNoiseLevel = Main.Disc->EstimateNoise(Scratch.data());
+  Result.EstimatedNoiseLevel = Main.Disc->EstimateNoise(O.ToNoiseSpace ? Y.data() : values);
   Sigma = O.NoiseLevel > 0.0 ? O.NoiseLevel : Result.EstimatedNoiseLevel;
   // The automatic contrast scale is relative to the noise where the data
   // flow: in another space, the noise there is the estimate there, scaled
@@ -240,34 +248,43 @@ bool FlowIntegrator::Start(const double* values)
     Rhs.resize(Size);
     Shift.resize(N);
   }
-  for (std::size_t k = 0; k < Size; ++k)
-  {
-    U0[k] = Main.U[k] = Alpha * values[k];
-  }
+  ParallelFor(static_cast<std::int64_t>(Size), Threads, [&](std::int64_t b, std::int64_t e) {
+    for (std::int64_t k = b; k < e; ++k)
+    {
+      U0[k] = Main.U[k] = Alpha * values[k];
+    }
+  });
   if (Stop == GraphFlowStop::MinimumRisk && Sigma > 0.0)
   {
     // The probe: y + eps b in the noise's space, b = +-1.
     Main.Disc->ProbeSigns(B);
     const double eps = ProbeSize * Sigma;
-    Scratch.assign(Size, 0.0);
-    for (std::size_t k = 0; k < Size; ++k)
-    {
-      Scratch[k] = (O.ToNoiseSpace ? Y[k] : values[k]) + eps * B[k];
-    }
-    if (O.FromNoiseSpace)
-    {
-      O.FromNoiseSpace(Scratch.data());
-    }
     Windowed = Window.Make && !O.ToNoiseSpace && O.Integration == GraphFlowIntegration::Explicit;
     const std::size_t begin = Windowed ? static_cast<std::size_t>(Window.Begin) * NC : 0;
     const std::size_t end = Windowed ? static_cast<std::size_t>(Window.End) * NC : Size;
     Probe.Disc = Windowed ? Window.Make() : Make();
     Probe.U.resize(end - begin);
     Probe.Next.resize(end - begin);
-    for (std::size_t k = begin; k < end; ++k)
+    if (O.ToNoiseSpace)
     {
-      Probe.U[k - begin] = Alpha * Scratch[k];
+      Scratch.resize(Size);
+      for (std::size_t k = 0; k < Size; ++k)
+      {
+        Scratch[k] = Y[k] + eps * B[k];
+      }
+      if (O.FromNoiseSpace)
+      {
+        O.FromNoiseSpace(Scratch.data());
+      }
     }
+    const double* probe = O.ToNoiseSpace ? Scratch.data() : values;
+    const double shift = O.ToNoiseSpace ? 0.0 : eps;
+    ParallelFor(static_cast<std::int64_t>(end - begin), Threads, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t k = b; k < e; ++k)
+      {
+        Probe.U[k] = Alpha * (probe[begin + k] + shift * B[begin + k]);
+      }
+    });
     if (Windowed)
     {
       Reference.Disc = Window.Make();
@@ -276,6 +293,27 @@ bool FlowIntegrator::Start(const double* values)
     }
   }
   return true;
+}
+
+void FlowIntegrator::Evaluate(FlowRun& run)
+{
+  Fused ? run.Disc->FusedStep(run.U.data(), 0.0, nullptr) : run.Disc->Update(run.U.data());
+}
+
+void FlowIntegrator::Advance(FlowRun& run, double dt)
+{
+  if (!Fused)
+  {
+    Step(run, dt);
+    run.Disc->Update(run.U.data());
+    return;
+  }
+  run.Disc->FusedStep(run.U.data(), dt, run.Next.data());
+  run.U.swap(run.Next);
+  if (Split)
+  {
+    Split->UpdateGhosts(run.U.data(), NC);
+  }
 }
 
 void FlowIntegrator::Step(FlowRun& run, double dt)
@@ -517,16 +555,18 @@ void FlowIntegrator::Finish(double* values, const ProgressCallback& progress)
 {
   Result.RMSChange = ChangeOf(Main.U);
   const std::vector<std::uint8_t>& fixed = Main.Disc->Fixed;
-  for (Index i = 0; i < N; ++i)
-  {
-    if (!fixed[i]) // fixed values stay bit-exact (no round trip through alpha)
+  ParallelFor(N, Threads, [&](std::int64_t b, std::int64_t e) {
+    for (std::int64_t i = b; i < e; ++i)
     {
-      for (int k = 0; k < NC; ++k)
+      if (!fixed[i]) // fixed values stay bit-exact (no round trip through alpha)
       {
-        values[i * NC + k] = Main.U[i * NC + k] / Alpha;
+        for (int k = 0; k < NC; ++k)
+        {
+          values[i * NC + k] = Main.U[i * NC + k] / Alpha;
+        }
       }
     }
-  }
+  });
   if (progress)
   {
     progress(1.0);
@@ -541,7 +581,8 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
   }
   FlowDiscretization& disc = *Main.Disc;
   const bool explicitSteps = O.Integration == GraphFlowIntegration::Explicit;
-  disc.Update(Main.U.data());
+  Fused = explicitSteps && !O.AdaptiveTimeStep && disc.FusesSteps();
+  Evaluate(Main);
   if (Stop != GraphFlowStop::Iterations && !(Sigma > 0.0))
   {
     // No noise given or found (too small a domain, or clean data): nothing to remove.
@@ -552,10 +593,13 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
   const bool risk = Stop == GraphFlowStop::MinimumRisk;
   if (risk)
   {
-    Probe.Disc->Update(Probe.U.data());
-    if (Windowed)
+    if (!Fused) // (their first step's velocity)
     {
-      Reference.Disc->Update(Reference.U.data());
+      Probe.Disc->Update(Probe.U.data());
+      if (Windowed)
+      {
+        Reference.Disc->Update(Reference.U.data());
+      }
     }
     Result.InitialRisk = Result.FinalRisk = std::sqrt(std::max(0.0, Risk()));
   }
@@ -579,39 +623,51 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
       Result.Completed = false;
       break;
     }
-    const double stable = disc.MaxRate > 0.0 ? 1.0 / disc.MaxRate : HUGE_VAL;
-    Result.SmallestStableStep = std::min(Result.SmallestStableStep, stable);
-    if (explicitSteps && O.AdaptiveTimeStep)
+    // The stability of the step from the state's figures (fused: known
+    // once the step is taken; only counted there, the step is fixed).
+    const auto checkStability = [&]() {
+      const double stable = disc.MaxRate > 0.0 ? 1.0 / disc.MaxRate : HUGE_VAL;
+      Result.SmallestStableStep = std::min(Result.SmallestStableStep, stable);
+      if (explicitSteps && O.AdaptiveTimeStep)
+      {
+        dt = std::min(dt, 0.9 * stable);
+      }
+      else if (explicitSteps && dt > stable)
+      {
+        ++Result.UnstableSteps;
+      }
+    };
+    if (!Fused)
     {
-      dt = std::min(dt, 0.9 * stable);
+      checkStability();
     }
-    else if (explicitSteps && dt > stable)
-    {
-      ++Result.UnstableSteps;
-    }
-    Step(Main, dt);
     const double previousArea = disc.Area;
-    disc.Update(Main.U.data());
+    Advance(Main, dt);
+    if (Fused)
+    {
+      checkStability();
+    }
     ++Result.Iterations;
     Result.Time += dt;
     Result.LastTimeStep = dt;
     Result.FinalArea = disc.Area;
     if (risk)
     {
-      Step(Probe, dt);
-      Probe.Disc->Update(Probe.U.data());
+      Advance(Probe, dt);
       if (Windowed)
       {
-        Step(Reference, dt);
-        Reference.Disc->Update(Reference.U.data());
+        Advance(Reference, dt);
       }
       const double r = Risk();
       if (r < bestRisk)
       {
         bestRisk = r;
         bestTime = Result.Time;
-        bestIterations = Result.Iterations;
-        Best.assign(Main.U.begin(), Main.U.end());
+        bestIterations = Result.Iterations; // the state is Main.U: kept when the next step is not better
+      }
+      else if (bestIterations == Result.Iterations - 1)
+      {
+        Best.assign(Main.Next.begin(), Main.Next.end()); // the state before this step
       }
       // Past the minimum: the risk rose 1% above it, or the flow ran twice
       // as long as to the minimum without a lower one.
@@ -635,7 +691,7 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
         }
         Result.Time -= (1.0 - t) * dt;
         Result.LastTimeStep = t * dt;
-        disc.Update(Main.U.data());
+        Evaluate(Main);
         Result.FinalArea = disc.Area;
       }
     }
@@ -643,19 +699,25 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
   Result.StoppedByLimit = Stop != GraphFlowStop::Iterations && !ruleMet && Result.Completed;
   if (risk)
   {
-    // Back to the state of least risk.
-    if (Best.empty())
+    // Back to the state of least risk: the input, the last state, or the
+    // one kept.
+    if (bestIterations == 0)
     {
       Main.U = U0;
     }
-    else
+    else if (bestIterations < Result.Iterations)
     {
       std::copy(Best.begin(), Best.end(), Main.U.begin());
     }
     Result.Time = bestTime;
     Result.Iterations = bestIterations;
     Result.FinalRisk = std::sqrt(std::max(0.0, bestRisk));
-    disc.Update(Main.U.data());
+    Evaluate(Main);
+    Result.FinalArea = disc.Area;
+  }
+  else if (Fused && Result.Iterations > 0)
+  {
+    Evaluate(Main); // the figures of the last state
     Result.FinalArea = disc.Area;
   }
   Finish(values, progress);

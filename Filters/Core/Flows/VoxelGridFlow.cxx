@@ -17,19 +17,21 @@ namespace
 
 using namespace detail;
 
+using VoxelReal = float;
+
 /// The edges of a Kuhn-split cell: the 19 corner pairs (lower, upper) with
 /// lower's axes a subset of upper's (corner bit a = step along axis a), and
 /// per tetrahedron (path) the slot of each of its six edges.
 struct KuhnCell
 {
   static constexpr int Edges = 19;
-  int Lower[Edges], Upper[Edges];
-  int Corner[6][4]; // corners of path p: 0, one axis, two axes, 7
-  int Slot[6][6];   // edge slot of tetrahedron edge e of path p
+  int Lower[Edges]{}, Upper[Edges]{};
+  int Corner[6][4]{}; // corners of path p: 0, one axis, two axes, 7
+  int Slot[6][6]{};   // edge slot of tetrahedron edge e of path p
 
-  KuhnCell()
+  constexpr KuhnCell()
   {
-    int slot[8][8];
+    int slot[8][8]{};
     int e = 0;
     for (int upper = 1; upper < 8; ++upper)
     {
@@ -57,44 +59,177 @@ struct KuhnCell
   }
 };
 
-/// The six Kuhn tetrahedra of n cells of a row from their Gram matrices
-/// (gram[(6 p + q) n + j]: entry q = 11, 22, 33, 12, 13, 23 of path p) into
-/// the cells' 19 edge weights (edges[s n + j]) and 8 corner masses
-/// (masses[c n + j], a quarter of each tetrahedron's volume).  Degenerate
-/// tetrahedra add nothing.  Compiled like TriangleRow.
-CLONES void TetrahedronRow(std::int64_t n, const KuhnCell& cell, const double* __restrict gram,
-  double* __restrict edges, double* __restrict masses)
+constexpr KuhnCell Kuhn{};
+
+/// Tetrahedron (path) P of a cell: its Gram matrix from the differences d
+/// of the corners' values to corner 0's (NC each) and the base part, its
+/// edge weights added to the cell's edges and a quarter of its volume to
+/// its corners' masses (all indices constant: registers).
+template <int NC, int P, typename Real>
+BELTRAMI_ALWAYS_INLINE inline void AddKuhnTetrahedron(const Real (&d)[8][NC], const Real* base, Real (&edges)[KuhnCell::Edges], Real (&masses)[8])
 {
-  std::fill(edges, edges + KuhnCell::Edges * n, 0.0);
-  std::fill(masses, masses + 8 * n, 0.0);
-  for (int p = 0; p < 6; ++p)
+  constexpr int A = Kuhn.Corner[P][1], B = Kuhn.Corner[P][2];
+  Real aa = 0, bb = 0, cc = 0, ab = 0, ac = 0, bc = 0;
+  #pragma GCC unroll 32
+  for (int m = 0; m < NC; ++m)
   {
-    const double* g = gram + 6 * p * n;
-    double* w[6];
-    for (int k = 0; k < 6; ++k)
+    aa += d[A][m] * d[A][m];
+    bb += d[B][m] * d[B][m];
+    cc += d[7][m] * d[7][m];
+    ab += d[A][m] * d[B][m];
+    ac += d[A][m] * d[7][m];
+    bc += d[B][m] * d[7][m];
+  }
+  const BasicTetrahedronTerms<Real> t =
+    TetrahedronFromGram(base[0] + aa, base[1] + bb, base[2] + cc, base[3] + ab, base[4] + ac, base[5] + bc);
+  #pragma GCC unroll 32
+  for (int k = 0; k < 6; ++k)
+  {
+    edges[Kuhn.Slot[P][k]] += t.Weights[k];
+  }
+  const Real quarter = Real(0.25) * t.Volume;
+  #pragma GCC unroll 32
+  for (int v = 0; v < 4; ++v)
+  {
+    masses[Kuhn.Corner[P][v]] += quarter;
+  }
+}
+
+/// The six Kuhn tetrahedra of the n cells of a row (u[c]: the values at
+/// the cells' corner c, NC per voxel; base: the Gram matrices of the flat
+/// cell, entries 11, 22, 33, 12, 13, 23 per path) into the cells' 19 edge
+/// weights (edges[s n + i]) and 8 corner masses (masses[c n + i]).
+/// Degenerate tetrahedra add nothing.  Compiled like TriangleRow.
+template <int NC, typename Real>
+CLONES void KuhnCellRow(std::int64_t n, const double* __restrict u0, const double* __restrict u1,
+  const double* __restrict u2, const double* __restrict u3, const double* __restrict u4,
+  const double* __restrict u5, const double* __restrict u6, const double* __restrict u7,
+  const Real (*base)[6], Real* __restrict edges, Real* __restrict masses)
+{
+#pragma GCC ivdep // the 27 output rows do not overlap
+  for (std::int64_t i = 0; i < n; ++i)
+  {
+    Real d[8][NC];
+#pragma GCC unroll 8
+    for (int m = 0; m < NC; ++m)
     {
-      w[k] = edges + cell.Slot[p][k] * n;
+      const std::int64_t k = i * NC + m;
+      const double o = u0[k];
+      d[1][m] = Real(u1[k] - o);
+      d[2][m] = Real(u2[k] - o);
+      d[3][m] = Real(u3[k] - o);
+      d[4][m] = Real(u4[k] - o);
+      d[5][m] = Real(u5[k] - o);
+      d[6][m] = Real(u6[k] - o);
+      d[7][m] = Real(u7[k] - o);
     }
-    double* m[4];
-    for (int v = 0; v < 4; ++v)
+    Real e[KuhnCell::Edges] = {}, w[8] = {};
+    AddKuhnTetrahedron<NC, 0>(d, base[0], e, w);
+    AddKuhnTetrahedron<NC, 1>(d, base[1], e, w);
+    AddKuhnTetrahedron<NC, 2>(d, base[2], e, w);
+    AddKuhnTetrahedron<NC, 3>(d, base[3], e, w);
+    AddKuhnTetrahedron<NC, 4>(d, base[4], e, w);
+    AddKuhnTetrahedron<NC, 5>(d, base[5], e, w);
+    #pragma GCC unroll 32
+    for (int s = 0; s < KuhnCell::Edges; ++s)
     {
-      m[v] = masses + cell.Corner[p][v] * n;
+      edges[s * n + i] = e[s];
     }
-#pragma GCC ivdep // the slots of one tetrahedron are distinct rows
-    for (std::int64_t j = 0; j < n; ++j)
+    #pragma GCC unroll 32
+    for (int c = 0; c < 8; ++c)
     {
-      const TetrahedronTerms t =
-        TetrahedronFromGram(g[j], g[n + j], g[2 * n + j], g[3 * n + j], g[4 * n + j], g[5 * n + j]);
-      for (int k = 0; k < 6; ++k)
-      {
-        w[k][j] += t.Weights[k];
-      }
-      const double quarter = 0.25 * t.Volume;
-      for (int v = 0; v < 4; ++v)
-      {
-        m[v][j] += quarter;
-      }
+      masses[c * n + i] = w[c];
     }
+  }
+}
+
+/// to[i] += from[i], i < n (a cell row's sums into its plane buffers).
+template <typename Real>
+CLONES void AddRow(std::int64_t n, const Real* __restrict from, Real* __restrict to)
+{
+  for (std::int64_t i = 0; i < n; ++i)
+  {
+    to[i] += from[i];
+  }
+}
+
+/// What a row's evaluation writes: the velocities, the explicit step from
+/// state x, or nothing (the figures only).
+enum class RowOutput
+{
+  Velocity,
+  Step,
+  None
+};
+
+/// For the n voxels of a row, from their masses, speeds, fixed flags (set
+/// where the mass is lost: degenerate graph elements), K u and sums of
+/// positive weights: the velocity f (K u) with f = speed / mass (0 where
+/// fixed) into out, or the step out = x - dt f (K u), or nothing; and the
+/// row's largest rate f sum(positive) and its volume.
+template <int NC, typename Real, RowOutput Output>
+CLONES void VelocityRow(std::int64_t n, const Real* __restrict mass, const double* __restrict speed,
+  std::uint8_t* __restrict fixed, const double* __restrict ku, const double* __restrict positive,
+  const double* __restrict x, double dt, double* __restrict out, double& rate, double& area)
+{
+  double r = 0.0, a = 0.0;
+  for (std::int64_t i = 0; i < n; ++i)
+  {
+    const double m = mass[i];
+    const bool keep = fixed[i] || !(m > 0.0);
+    fixed[i] = keep;
+    const double f = keep ? 0.0 : speed[i] / m;
+    for (int c = 0; c < NC && Output != RowOutput::None; ++c)
+    {
+      const std::int64_t k = i * NC + c;
+      out[k] = Output == RowOutput::Velocity ? f * ku[k] : x[k] - dt * (f * ku[k]);
+    }
+    r = std::max(r, f * positive[i]);
+    a += m;
+  }
+  rate = r;
+  area = a;
+}
+
+/// (K x)_i, sum_j c_ij and sum_j max(c_ij, 0) for the n voxels of a row
+/// (x: the row's values; xu[d], xd[d]: the values of the neighbours at
+/// +Offset[d] and -Offset[d] of the row's first voxel, NC each; up[d],
+/// down[d]: the weights of those edges).  Edges that leave the grid have
+/// weight 0, so the wrapped neighbours of a row's ends, and rows of
+/// neighbours outside the grid (read from a row of zeros), add nothing.
+template <int NC, typename Real>
+CLONES void StiffnessRow(std::int64_t n, const double* __restrict x, const double* const* xu,
+  const double* const* xd, const Real* const* up, const Real* const* down, double* __restrict kx,
+  double* __restrict diagonal, double* __restrict positive)
+{
+  const double *u1 = xu[1], *u2 = xu[2], *u3 = xu[3], *u4 = xu[4], *u5 = xu[5], *u6 = xu[6], *u7 = xu[7];
+  const double *d1 = xd[1], *d2 = xd[2], *d3 = xd[3], *d4 = xd[4], *d5 = xd[5], *d6 = xd[6], *d7 = xd[7];
+  const Real *w1 = up[1], *w2 = up[2], *w3 = up[3], *w4 = up[4], *w5 = up[5], *w6 = up[6], *w7 = up[7];
+  const Real *v1 = down[1], *v2 = down[2], *v3 = down[3], *v4 = down[4], *v5 = down[5], *v6 = down[6],
+             *v7 = down[7];
+  for (std::int64_t i = 0; i < n; ++i)
+  {
+    const double c[14] = { w1[i], w2[i], w3[i], w4[i], w5[i], w6[i], w7[i], v1[i], v2[i], v3[i], v4[i], v5[i], v6[i],
+      v7[i] };
+    double dg = 0.0, ps = 0.0;
+#pragma GCC unroll 14
+    for (int e = 0; e < 14; ++e)
+    {
+      dg += c[e];
+      ps += std::max(c[e], 0.0);
+    }
+#pragma GCC unroll 8
+    for (int m = 0; m < NC; ++m)
+    {
+      const std::int64_t k = i * NC + m;
+      const double xi = x[k];
+      kx[k] = c[0] * (xi - u1[k]) + c[1] * (xi - u2[k]) + c[2] * (xi - u3[k]) + c[3] * (xi - u4[k]) +
+        c[4] * (xi - u5[k]) + c[5] * (xi - u6[k]) + c[6] * (xi - u7[k]) + c[7] * (xi - d1[k]) +
+        c[8] * (xi - d2[k]) + c[9] * (xi - d3[k]) + c[10] * (xi - d4[k]) + c[11] * (xi - d5[k]) +
+        c[12] * (xi - d6[k]) + c[13] * (xi - d7[k]);
+    }
+    diagonal[i] = dg;
+    positive[i] = ps;
   }
 }
 
@@ -107,26 +242,38 @@ CLONES void TetrahedronRow(std::int64_t n, const KuhnCell& cell, const double* _
 // weights per voxel - every Kuhn edge goes up in each coordinate, so the
 // edges of a voxel are those to its neighbours at +x, +y, +x+y, +z, +x+z,
 // +y+z, +x+y+z and back - and its volume into the lumped masses (1/4 to each
-// corner).  Cell planes of one parity are summed in parallel, then those of
-// the other: no two threads write the same voxel and the sums do not depend
-// on the thread count.
+// corner).
+//
+// One pass per step, streaming through the planes: the tetrahedra of cell
+// plane k add to the weights and masses of voxel planes k and k + 1, held
+// in three rolling plane buffers (k - 1, k, k + 1); after cell row (j, k) the
+// voxel row (j, k) is complete and its velocity is evaluated at once, so no
+// weight array of the volume's size is written or read (only the
+// semi-implicit steps keep one, for their solver).  The threads take
+// chunks of planes; each first evaluates the cell plane below its chunk.
+// Every weight is summed in the same order (cell planes k - 1 then k, rows
+// j - 1 then j) whatever the chunks: results do not depend on the thread
+// count.  Explicit steps write the next state in the same pass
+// (FusedStep), not a velocity.  Real: the precision of the tetrahedra and
+// weights, single (twice the lanes per instruction; 1e-4 of a step's change
+// in the worst case tested); the data, K u and the state stay in double.
 
-template <int NC>
+template <int NC, typename Real>
 class VoxelDiscretization final : public FlowDiscretization
 {
 public:
-  /// storeOperator: keep Mass, Speed, Diagonal and KU (the semi-implicit
-  /// solver's); explicit steps need the velocity only (4 doubles per voxel
-  /// less).
-  double EstimateNoise(const double* values) const override { return EstimateVolumeNoise(Grid, NC, values); }
-
+  /// storeOperator: keep Mass, Speed, Diagonal and KU and the weights (the
+  /// semi-implicit solver's); explicit steps need the velocity only.
   VoxelDiscretization(const VoxelGrid& grid, const std::uint8_t* fixed, double gamma, int threads, bool storeOperator)
     : Grid(grid)
+    , W(grid.Width)
+    , H(grid.Height)
+    , D(grid.Depth)
   {
     Gamma = gamma;
     Threads = threads;
     StoreOperator = storeOperator;
-    Size = static_cast<Index>(grid.Width * grid.Height * grid.Depth);
+    Size = static_cast<Index>(W * H * D);
     Components = NC;
     LengthScale = std::cbrt(grid.SpacingX * grid.SpacingY * grid.SpacingZ);
     AutomaticContrast = VolumeAutomaticContrast;
@@ -135,297 +282,338 @@ public:
       (1.0 / (grid.SpacingX * grid.SpacingX) + 1.0 / (grid.SpacingY * grid.SpacingY) +
         1.0 / (grid.SpacingZ * grid.SpacingZ));
     Allocate();
+    if (!StoreOperator)
+    {
+      LargeVector<double>().swap(Velocity); // explicit steps are fused (Velocity on demand)
+    }
     for (int d = 0; d < 8; ++d)
     {
-      Offset[d] = (d & 1) + grid.Width * (((d >> 1) & 1) + grid.Height * ((d >> 2) & 1));
+      Offset[d] = (d & 1) + W * (((d >> 1) & 1) + H * ((d >> 2) & 1));
     }
     const double spacing[3] = { grid.SpacingX, grid.SpacingY, grid.SpacingZ };
+    std::fill(CornerMass, CornerMass + 8, 0.0);
     for (int p = 0; p < 6; ++p)
     {
-      // Corners of path p: 0, Cell.Corner[p][1], Cell.Corner[p][2], 7.
+      // Corners of path p: 0, Kuhn.Corner[p][1], Kuhn.Corner[p][2], 7.
       double e[3][3];
       for (int s = 0; s < 3; ++s)
       {
         for (int a = 0; a < 3; ++a)
         {
-          e[s][a] = (Cell.Corner[p][s + 1] >> a & 1) * spacing[a];
+          e[s][a] = (Kuhn.Corner[p][s + 1] >> a & 1) * spacing[a];
         }
       }
       const auto dot = [](const double* x, const double* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
-      BaseGram[p][0] = dot(e[0], e[0]);
-      BaseGram[p][1] = dot(e[1], e[1]);
-      BaseGram[p][2] = dot(e[2], e[2]);
-      BaseGram[p][3] = dot(e[0], e[1]);
-      BaseGram[p][4] = dot(e[0], e[2]);
-      BaseGram[p][5] = dot(e[1], e[2]);
+      const double g[6] = { dot(e[0], e[0]), dot(e[1], e[1]), dot(e[2], e[2]), dot(e[0], e[1]), dot(e[0], e[2]),
+        dot(e[1], e[2]) };
+      std::copy(g, g + 6, BaseGram[p]);
+      const double quarter = 0.25 * TetrahedronFromGram(g[0], g[1], g[2], g[3], g[4], g[5]).Volume;
+      for (int v = 0; v < 4; ++v)
+      {
+        CornerMass[Kuhn.Corner[p][v]] += quarter;
+      }
     }
-    Weights.assign(7 * static_cast<std::size_t>(Size), 0.0);
-    GraphMass.assign(Size, 0.0);
-    const LargeVector<double> flat(static_cast<std::size_t>(Size) * NC, 0.0);
-    Accumulate(flat.data());
-    BaseMass = GraphMass;
-    Fixed.assign(Size, 0);
-    for (Index i = 0; i < Size; ++i)
+    // Weights of the volume (semi-implicit steps), each direction's array
+    // after a zero margin of a plane and a row (the "down" neighbours of the
+    // first plane and row are read there).
+    PlaneSize = W * H;
+    Margin = PlaneSize + W + 1;
+    if (StoreOperator)
     {
-      Fixed[i] = (fixed && fixed[i]) || !(BaseMass[i] > 0.0);
+      Weights.assign(7 * static_cast<std::size_t>(Margin + Size), Real(0));
+    }
+    Zeros.assign((W + 2) * NC, 0.0);
+    Fixed.assign(Size, 0);
+    for (Index i = 0; fixed && i < Size; ++i)
+    {
+      Fixed[i] = fixed[i] != 0;
     }
   }
 
+  double EstimateNoise(const double* values) const override { return EstimateVolumeNoise(Grid, NC, values); }
+
   void Update(const double* u) override
   {
-    Accumulate(u);
-    const std::int64_t rows = Grid.Height * Grid.Depth;
-    // Per row: the largest rate and the row's volume, summed in row order.
-    std::vector<double> rowRate(rows), rowArea(rows);
-    ParallelFor(rows, Threads, [&](std::int64_t b, std::int64_t e) {
-      const std::size_t width = static_cast<std::size_t>(Grid.Width);
-      ScratchLease buffer(Scratch, (StoreOperator ? 1 : NC + 2) * width);
-      double* positive = buffer.data();
-      for (std::int64_t r = b; r < e; ++r)
-      {
-        const std::int64_t first = r * Grid.Width;
-        // K u and the diagonal into the operator's arrays, or into scratch.
-        double* ku = StoreOperator ? KU.data() + first * NC : positive + width;
-        double* diagonal = StoreOperator ? Diagonal.data() + first : ku + NC * width;
-        StiffnessRow(u, r, ku, diagonal, positive);
-        double rate = 0.0, area = 0.0;
-        for (std::int64_t i = first; i < first + Grid.Width; ++i)
-        {
-          const double mass = GraphMass[i];
-          const double speed = mass > 0.0 ? SpeedOf(BaseMass[i] / mass) : 1.0;
-          if (StoreOperator)
-          {
-            Mass[i] = mass;
-            Speed[i] = speed;
-          }
-          if (!(mass > 0.0))
-          {
-            Fixed[i] = 1; // lost its measure (degenerate graph elements)
-          }
-          const double f = !Fixed[i] ? speed / mass : 0.0;
-          for (int k = 0; k < NC; ++k)
-          {
-            Velocity[i * NC + k] = f * ku[(i - first) * NC + k];
-          }
-          rate = std::max(rate, f * positive[i - first]);
-          area += mass;
-        }
-        rowRate[r] = rate;
-        rowArea[r] = area;
-      }
-    }, {}, 0, 4);
-    MaxRate = *std::max_element(rowRate.begin(), rowRate.end());
-    Area = std::accumulate(rowArea.begin(), rowArea.end(), 0.0); // in row order: thread-independent
+    Output = RowOutput::Velocity;
+    Sweep(u);
+  }
+
+  bool FusesSteps() const override { return !StoreOperator; }
+
+  void FusedStep(const double* u, double dt, double* next) override
+  {
+    Output = next ? RowOutput::Step : RowOutput::None;
+    StepSize = dt;
+    Next = next;
+    Sweep(u);
   }
 
   void Apply(const double* x, double* y, bool) override
   {
-    ParallelFor(Grid.Height * Grid.Depth, Threads, [&](std::int64_t b, std::int64_t e) {
-      ScratchLease buffer(Scratch, 2 * static_cast<std::size_t>(Grid.Width));
+    ParallelFor(H * D, Threads, [&](std::int64_t b, std::int64_t e) {
+      ScratchLease buffer(Scratch, 2 * static_cast<std::size_t>(W));
       for (std::int64_t r = b; r < e; ++r)
       {
-        StiffnessRow(x, r, y + r * Grid.Width * NC, buffer.data(), buffer.data() + Grid.Width);
+        const Real* up[8];
+        const Real* down[8];
+        const std::int64_t first = r * W;
+        for (int d = 1; d < 8; ++d)
+        {
+          up[d] = WeightsOf(d) + first;
+          down[d] = WeightsOf(d) + first - Offset[d];
+        }
+        RowStiffness(x, r % H, r / H, up, down, y + first * NC, buffer.data(), buffer.data() + W);
       }
     }, {}, 0, 4);
   }
 
 private:
-  /// (K x)_i, sum_j c_ij and sum_j max(c_ij, 0) for the voxels of row r
-  /// (= iz * Height + iy): Width values each (kx: Width * NC).  Interior
-  /// voxels in one loop without tests over the seven weight arrays (the
-  /// compiler vectorizes it), the others through Stiffness; the sums in
-  /// the same order either way.
-  void StiffnessRow(const double* x, std::int64_t r, double* __restrict kx, double* __restrict diagonal,
-    double* __restrict positive) const
+  static constexpr std::int64_t PlanesPerChunk = 16;
+
+  /// One pass over the volume (what Output says).
+  void Sweep(const double* u)
   {
-    const std::int64_t iy = r % Grid.Height, iz = r / Grid.Height, first = r * Grid.Width;
-    const bool inner = iy > 0 && iy + 1 < Grid.Height && iz > 0 && iz + 1 < Grid.Depth;
-    const std::int64_t from = inner ? 1 : Grid.Width, to = inner ? Grid.Width - 1 : Grid.Width;
-    for (std::int64_t ix = 0; ix < Grid.Width; ix = ix + 1 == from ? std::max(to, ix + 1) : ix + 1)
+    if (Output == RowOutput::Velocity && Velocity.size() != static_cast<std::size_t>(Size) * NC)
     {
-      Stiffness(x, first + ix, ix, iy, iz, kx + ix * NC, diagonal[ix], positive[ix]);
+      Velocity.assign(static_cast<std::size_t>(Size) * NC, 0.0);
     }
-    const double* w[8];
+    std::vector<double> rowRate(H * D), rowArea(H * D); // per row: in row order, thread-independent
+    const std::int64_t chunks = (D + PlanesPerChunk - 1) / PlanesPerChunk;
+    ParallelFor(chunks, Threads, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t c = b; c < e; ++c)
+      {
+        SweepPlanes(u, c * PlanesPerChunk, std::min(D, (c + 1) * PlanesPerChunk), rowRate.data(), rowArea.data());
+      }
+    }, {}, 0, 1);
+    MaxRate = *std::max_element(rowRate.begin(), rowRate.end());
+    Area = std::accumulate(rowArea.begin(), rowArea.end(), 0.0);
+  }
+
+  /// The plane buffers of one thread: for three planes (rolling, plane k in
+  /// slot k mod 3) the 7 weight arrays and the masses, each after a zero
+  /// margin of a row; then the rows' scratch.
+  struct Buffers
+  {
+    Real* Plane[3];  // per slot: 8 arrays of Stride values (7 weight directions, masses)
+    Real *Edges, *Masses;
+    double *KU, *Diagonal, *Positive, *Speed;
+  };
+  std::int64_t Stride() const { return W + 1 + PlaneSize; }
+  std::size_t BufferDoubles() const
+  {
+    const std::size_t reals = 3 * 8 * Stride() + (KuhnCell::Edges + 8) * W;
+    return (reals * sizeof(Real) + sizeof(double) - 1) / sizeof(double) + (NC + 3) * W;
+  }
+  Real* PlaneWeights(Buffers& b, std::int64_t k, int d) const { return b.Plane[k % 3] + d * Stride() + W + 1; }
+
+  /// Voxel planes [k0, k1): velocities (and the stored operator), per row the
+  /// largest rate and the volume.
+  void SweepPlanes(const double* u, std::int64_t k0, std::int64_t k1, double* rowRate, double* rowArea)
+  {
+    ScratchLease lease(Scratch, BufferDoubles());
+    Buffers b;
+    Real* r = reinterpret_cast<Real*>(lease.data());
+    for (int s = 0; s < 3; ++s, r += 8 * Stride())
+    {
+      b.Plane[s] = r;
+    }
+    b.Edges = r;
+    b.Masses = b.Edges + KuhnCell::Edges * W;
+    b.KU = lease.data() + (BufferDoubles() - (NC + 3) * W);
+    b.Diagonal = b.KU + NC * W;
+    b.Positive = b.Diagonal + W;
+    b.Speed = b.Positive + W;
+    std::fill(b.Speed, b.Speed + W, 1.0);
+    const auto clear = [&](std::int64_t k) { std::fill(b.Plane[(k + 3) % 3], b.Plane[(k + 3) % 3] + 8 * Stride(), Real(0)); };
+    clear(k0 - 1);
+    clear(k0);
+    if (k0 > 0)
+    {
+      for (std::int64_t j = 0; j + 1 < H; ++j)
+      {
+        CellRow(u, j, k0 - 1, b);
+      }
+    }
+    for (std::int64_t k = k0; k < k1; ++k)
+    {
+      if (k + 1 < D)
+      {
+        clear(k + 1);
+      }
+      for (std::int64_t j = 0; j < H; ++j)
+      {
+        if (j + 1 < H && k + 1 < D)
+        {
+          CellRow(u, j, k, b);
+        }
+        EmitRow(u, j, k, b, rowRate, rowArea);
+      }
+    }
+  }
+
+  /// The tetrahedra of cell row (j, k) into the plane buffers of k and k + 1.
+  void CellRow(const double* u, std::int64_t j, std::int64_t k, Buffers& b) const
+  {
+    const std::int64_t n = W - 1;
+    const double* u0 = u + (k * H + j) * W * NC;
+    KuhnCellRow<NC, Real>(n, u0, u0 + Offset[1] * NC, u0 + Offset[2] * NC, u0 + Offset[3] * NC, u0 + Offset[4] * NC,
+      u0 + Offset[5] * NC, u0 + Offset[6] * NC, u0 + Offset[7] * NC, BaseGram, b.Edges, b.Masses);
+    for (int c = 0; c < 8; ++c)
+    {
+      AddRow(n, b.Masses + c * n, PlaneWeights(b, k + (c >> 2), 7) + (j + (c >> 1 & 1)) * W + (c & 1));
+    }
+    for (int e = 0; e < KuhnCell::Edges; ++e)
+    {
+      const int lower = Kuhn.Lower[e], direction = Kuhn.Upper[e] & ~lower;
+      AddRow(n, b.Edges + e * n, PlaneWeights(b, k + (lower >> 2), direction - 1) + (j + (lower >> 1 & 1)) * W + (lower & 1));
+    }
+  }
+
+  /// Voxel row (j, k), complete in the plane buffers: its velocity, rate
+  /// and volume (and the stored operator).
+  void EmitRow(const double* u, std::int64_t j, std::int64_t k, Buffers& b, double* rowRate, double* rowArea)
+  {
+    const Real* up[8];
+    const Real* down[8];
     for (int d = 1; d < 8; ++d)
     {
-      w[d] = WeightsOf(d) + first;
+      up[d] = PlaneWeights(b, k, d - 1) + j * W;
+      down[d] = PlaneWeights(b, k - (d >> 2) + 3, d - 1) + (j - (d >> 1 & 1)) * W - (d & 1);
     }
-    const double* xr = x + first * NC;
-    for (std::int64_t ix = from; ix < to; ++ix)
+    const std::int64_t first = (k * H + j) * W;
+    double* ku = StoreOperator ? KU.data() + first * NC : b.KU;
+    double* diagonal = StoreOperator ? Diagonal.data() + first : b.Diagonal;
+    RowStiffness(u, j, k, up, down, ku, diagonal, b.Positive);
+    const Real* mass = PlaneWeights(b, k, 7) + j * W;
+    double* speed = StoreOperator ? Speed.data() + first : b.Speed; // (b.Speed: ones)
+    for (std::int64_t ix = 0; (StoreOperator || Gamma != 1.0) && ix < W; ++ix)
     {
-      double k[NC], dg = 0.0, ps = 0.0;
-      for (int m = 0; m < NC; ++m)
-      {
-        k[m] = 0.0;
-      }
-      const double* xi = xr + ix * NC;
+      const double m = mass[ix];
+      speed[ix] = m > 0.0 && Gamma != 1.0 ? SpeedOf(BaseMassAt(ix, j, k) / m) : 1.0;
+    }
+    for (std::int64_t ix = 0; StoreOperator && ix < W; ++ix)
+    {
+      Mass[first + ix] = mass[ix];
+    }
+    double rate = 0.0, area = 0.0;
+    std::uint8_t* fixed = Fixed.data() + first;
+    const double* x = u + first * NC;
+    switch (Output)
+    {
+      case RowOutput::Velocity:
+        VelocityRow<NC, Real, RowOutput::Velocity>(W, mass, speed, fixed, ku, b.Positive, x, 0.0,
+          Velocity.data() + first * NC, rate, area);
+        break;
+      case RowOutput::Step:
+        VelocityRow<NC, Real, RowOutput::Step>(W, mass, speed, fixed, ku, b.Positive, x, StepSize,
+          Next + first * NC, rate, area);
+        break;
+      case RowOutput::None:
+        VelocityRow<NC, Real, RowOutput::None>(W, mass, speed, fixed, ku, b.Positive, x, 0.0, nullptr, rate, area);
+        break;
+    }
+    rowRate[k * H + j] = rate;
+    rowArea[k * H + j] = area;
+    if (StoreOperator)
+    {
       for (int d = 1; d < 8; ++d)
       {
-        const std::int64_t o = Offset[d];
-        const double up = w[d][ix], down = w[d][ix - o];
-        for (int m = 0; m < NC; ++m)
-        {
-          k[m] += up * (xi[m] - xi[o * NC + m]);
-        }
-        dg += up;
-        ps += std::max(up, 0.0);
-        for (int m = 0; m < NC; ++m)
-        {
-          k[m] += down * (xi[m] - xi[-o * NC + m]);
-        }
-        dg += down;
-        ps += std::max(down, 0.0);
+        std::copy(up[d], up[d] + W, WeightsOf(d) + first);
       }
-      for (int m = 0; m < NC; ++m)
-      {
-        kx[ix * NC + m] = k[m];
-      }
-      diagonal[ix] = dg;
-      positive[ix] = ps;
     }
   }
 
-  /// (K x)_i, sum_j c_ij and sum_j max(c_ij, 0) over the 14 neighbours of
-  /// voxel i = (ix, iy, iz).
-  void Stiffness(const double* x, std::int64_t i, std::int64_t ix, std::int64_t iy, std::int64_t iz,
-    double* kx, double& diagonal, double& positive) const
+  /// (K x), sum_j c_ij and sum_j max(c_ij, 0) of voxel row (j, k) from its
+  /// weights: in one loop (StiffnessRow), neighbour rows outside the grid
+  /// read as zeros; the rows next to the volume's first and last row (whose
+  /// x neighbours at the ends are outside the memory) voxel by voxel.
+  void RowStiffness(const double* x, std::int64_t j, std::int64_t k, const Real* const* up,
+    const Real* const* down, double* kx, double* diagonal, double* positive) const
   {
-    for (int k = 0; k < NC; ++k)
-    {
-      kx[k] = 0.0;
-    }
-    diagonal = positive = 0.0;
-    const auto add = [&](double c, std::int64_t j) {
-      for (int k = 0; k < NC; ++k)
-      {
-        kx[k] += c * (x[i * NC + k] - x[j * NC + k]);
-      }
-      diagonal += c;
-      positive += std::max(c, 0.0);
-    };
-    const bool up[3] = { ix + 1 < Grid.Width, iy + 1 < Grid.Height, iz + 1 < Grid.Depth };
-    const bool down[3] = { ix > 0, iy > 0, iz > 0 };
-    if (up[0] && up[1] && up[2] && down[0] && down[1] && down[2])
-    {
-      for (int d = 1; d < 8; ++d) // inside: all 14 neighbours, no tests
-      {
-        add(WeightsOf(d)[i], i + Offset[d]);
-        add(WeightsOf(d)[i - Offset[d]], i - Offset[d]);
-      }
-      return;
-    }
+    const std::int64_t first = (k * H + j) * W;
+    const double* xu[8];
+    const double* xd[8];
+    bool inside = true; // all neighbours read within the memory
     for (int d = 1; d < 8; ++d)
     {
-      const bool dx = d & 1, dy = d & 2, dz = d & 4;
-      if ((!dx || up[0]) && (!dy || up[1]) && (!dz || up[2]))
+      const int dy = d >> 1 & 1, dz = d >> 2;
+      const std::int64_t u = first + Offset[d], l = first - Offset[d];
+      const bool hasUp = j + dy < H && k + dz < D, hasDown = j >= dy && k >= dz;
+      xu[d] = hasUp ? x + u * NC : Zeros.data() + NC;
+      xd[d] = hasDown ? x + l * NC : Zeros.data() + NC;
+      inside = inside && (!hasUp || u + W <= Size) && (!hasDown || l >= 0);
+    }
+    if (inside)
+    {
+      StiffnessRow<NC, Real>(W, x + first * NC, xu, xd, up, down, kx, diagonal, positive);
+      return;
+    }
+    for (std::int64_t ix = 0; ix < W; ++ix)
+    {
+      const std::int64_t i = first + ix;
+      double* ki = kx + ix * NC;
+      std::fill(ki, ki + NC, 0.0);
+      diagonal[ix] = positive[ix] = 0.0;
+      const auto add = [&](double c, std::int64_t n) {
+        for (int m = 0; m < NC; ++m)
+        {
+          ki[m] += c * (x[i * NC + m] - x[n * NC + m]);
+        }
+        diagonal[ix] += c;
+        positive[ix] += std::max(c, 0.0);
+      };
+      for (int d = 1; d < 8; ++d)
       {
-        add(WeightsOf(d)[i], i + Offset[d]);
-      }
-      if ((!dx || down[0]) && (!dy || down[1]) && (!dz || down[2]))
-      {
-        const std::int64_t j = i - Offset[d];
-        add(WeightsOf(d)[j], j);
+        const int dx = d & 1, dy = d >> 1 & 1, dz = d >> 2;
+        if (ix + dx < W && j + dy < H && k + dz < D)
+        {
+          add(up[d][ix], i + Offset[d]);
+        }
+        if (ix >= dx && j >= dy && k >= dz)
+        {
+          add(down[d][ix], i - Offset[d]);
+        }
       }
     }
   }
 
-  /// The edge weights and lumped masses of the graph at u.
-  void Accumulate(const double* u)
+  /// The lumped mass of voxel (ix, j, k) of the flat graph: the corner
+  /// masses of the cells it is a corner of.
+  double BaseMassAt(std::int64_t ix, std::int64_t j, std::int64_t k) const
   {
-    std::fill(Weights.begin(), Weights.end(), 0.0);
-    std::fill(GraphMass.begin(), GraphMass.end(), 0.0);
-    const std::int64_t planes = Grid.Depth - 1;
-    for (int parity = 0; parity < 2; ++parity)
+    double m = 0.0;
+    for (int c = 0; c < 8; ++c)
     {
-      ParallelFor((planes - parity + 1) / 2, Threads, [&](std::int64_t b, std::int64_t e) {
-        for (std::int64_t m = b; m < e; ++m)
-        {
-          AccumulatePlane(u, 2 * m + parity);
-        }
-      }, {}, 0, 1);
-    }
-  }
-
-  void AccumulatePlane(const double* u, std::int64_t k)
-  {
-    const std::int64_t n = Grid.Width - 1; // cells per row
-    ScratchLease buffer(Scratch, (36 + KuhnCell::Edges + 8) * static_cast<std::size_t>(n));
-    double* gram = buffer.data();
-    double* edges = gram + 36 * n;
-    double* masses = edges + KuhnCell::Edges * n;
-    for (std::int64_t j = 0; j + 1 < Grid.Height; ++j)
-    {
-      const std::int64_t first = (k * Grid.Height + j) * Grid.Width;
-      const double* u0 = u + first * NC;
-      for (int p = 0; p < 6; ++p)
+      const std::int64_t cx = ix - (c & 1), cy = j - (c >> 1 & 1), cz = k - (c >> 2);
+      if (cx >= 0 && cx + 1 < W && cy >= 0 && cy + 1 < H && cz >= 0 && cz + 1 < D)
       {
-        // Edge vectors a, b, c of path p: u(corner) - u(corner 0).
-        const double* ua = u0 + Offset[Cell.Corner[p][1]] * NC;
-        const double* ub = u0 + Offset[Cell.Corner[p][2]] * NC;
-        const double* uc = u0 + Offset[7] * NC;
-        double* __restrict g = gram + 6 * p * n;
-        const double* base = BaseGram[p];
-        for (std::int64_t i = 0; i < n; ++i)
-        {
-          double aa = 0, bb = 0, cc = 0, ab = 0, ac = 0, bc = 0;
-          for (int m = 0; m < NC; ++m)
-          {
-            const double o = u0[i * NC + m];
-            const double a = ua[i * NC + m] - o, b = ub[i * NC + m] - o, c = uc[i * NC + m] - o;
-            aa += a * a;
-            bb += b * b;
-            cc += c * c;
-            ab += a * b;
-            ac += a * c;
-            bc += b * c;
-          }
-          g[i] = base[0] + aa;
-          g[n + i] = base[1] + bb;
-          g[2 * n + i] = base[2] + cc;
-          g[3 * n + i] = base[3] + ab;
-          g[4 * n + i] = base[4] + ac;
-          g[5 * n + i] = base[5] + bc;
-        }
-      }
-      TetrahedronRow(n, Cell, gram, edges, masses);
-      for (int c = 0; c < 8; ++c)
-      {
-        double* __restrict to = &GraphMass[first + Offset[c]];
-        const double* from = masses + c * n;
-        for (std::int64_t i = 0; i < n; ++i)
-        {
-          to[i] += from[i];
-        }
-      }
-      for (int e = 0; e < KuhnCell::Edges; ++e)
-      {
-        const int direction = Cell.Upper[e] & ~Cell.Lower[e];
-        double* __restrict to = WeightsOf(direction) + first + Offset[Cell.Lower[e]];
-        const double* from = edges + e * n;
-        for (std::int64_t i = 0; i < n; ++i)
-        {
-          to[i] += from[i];
-        }
+        m += CornerMass[c];
       }
     }
+    return m;
   }
 
   VoxelGrid Grid;
+  std::int64_t W, H, D, PlaneSize = 0, Margin = 0;
   std::int64_t Offset[8];
-  KuhnCell Cell;
-  double BaseGram[6][6];
-  ScratchPool Scratch; // per-thread row buffers, kept between steps
-  /// The edge weights to the neighbour at +Offset[d], one array of Size
-  /// per direction d = 1..7.
-  LargeVector<double> Weights, GraphMass, BaseMass;
+  Real BaseGram[6][6];
+  double CornerMass[8];
+  ScratchPool Scratch; // per-thread buffers, kept between steps
+  /// Semi-implicit steps: the edge weights to the neighbour at +Offset[d],
+  /// one array per direction d = 1..7, each after Margin zeros.
+  LargeVector<Real> Weights;
+  std::vector<double> Zeros; // a row of values outside the grid (their weights are 0)
+  RowOutput Output = RowOutput::Velocity; // of the pass under way
+  double StepSize = 0.0;
+  double* Next = nullptr;
 
-  double* WeightsOf(int d)
+  const Real* WeightsOf(int d) const
   {
-    return Weights.data() + static_cast<std::size_t>(d - 1) * static_cast<std::size_t>(Size);
+    return Weights.data() + static_cast<std::size_t>(d - 1) * static_cast<std::size_t>(Margin + Size) + Margin;
   }
-  const double* WeightsOf(int d) const
+  Real* WeightsOf(int d)
   {
-    return Weights.data() + static_cast<std::size_t>(d - 1) * static_cast<std::size_t>(Size);
+    return Weights.data() + static_cast<std::size_t>(d - 1) * static_cast<std::size_t>(Margin + Size) + Margin;
   }
 };
 
@@ -456,7 +644,7 @@ GraphFlowResult RunVolumeGraphFlow(const VoxelGrid& grid, int components, double
     constexpr int NC = decltype(nc)::value;
     const bool store = options.Integration == GraphFlowIntegration::SemiImplicit;
     const auto make = [&]() {
-      return std::make_unique<VoxelDiscretization<NC>>(grid, fixed, options.EdgeContrast, options.NumberOfThreads, store);
+      return std::make_unique<VoxelDiscretization<NC, VoxelReal>>(grid, fixed, options.EdgeContrast, options.NumberOfThreads, store);
     };
     // A band of planes for the risk's probe (large volumes).
     const Index plane = static_cast<Index>(grid.Width * grid.Height);
@@ -464,7 +652,7 @@ GraphFlowResult RunVolumeGraphFlow(const VoxelGrid& grid, int components, double
       [&grid, fixed, &options, store, plane](Index first, Index count) -> std::unique_ptr<FlowDiscretization> {
         VoxelGrid band = grid;
         band.Depth = count;
-        return std::make_unique<VoxelDiscretization<NC>>(band, fixed ? fixed + static_cast<std::size_t>(first) * plane : nullptr,
+        return std::make_unique<VoxelDiscretization<NC, VoxelReal>>(band, fixed ? fixed + static_cast<std::size_t>(first) * plane : nullptr,
           options.EdgeContrast, options.NumberOfThreads, store);
       });
     return Integrate(make, values, options, progress, window);

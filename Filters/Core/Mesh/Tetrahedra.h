@@ -26,49 +26,59 @@
 #include <cstdint>
 #include <vector>
 
+/// Inlined into the vectorized loops that call it (also where they are
+/// compiled for several processors).
+#if defined(__GNUC__)
+#define BELTRAMI_ALWAYS_INLINE __attribute__((always_inline))
+#else
+#define BELTRAMI_ALWAYS_INLINE
+#endif
+
 namespace beltrami
 {
 
 /// The volume of a tetrahedron and the weights of its six edges (pairs of
 /// local vertices 01, 02, 03, 12, 13, 23) from four points in R^dimension.
-struct TetrahedronTerms
+/// Real: double, or float where the 3D image flow evaluates them.
+template <typename Real>
+struct BasicTetrahedronTerms
 {
-  double Volume = 0.0;
-  double Weights[6] = { 0, 0, 0, 0, 0, 0 };
+  Real Volume = 0;
+  Real Weights[6] = { 0, 0, 0, 0, 0, 0 };
   bool Degenerate = true; ///< no volume: weights left at 0
 };
+using TetrahedronTerms = BasicTetrahedronTerms<double>;
 TetrahedronTerms Tetrahedron(const double* p0, const double* p1, const double* p2,
   const double* p3, int dimension);
 
 /// The same from the Gram matrix of the edge vectors a = A - P, b = B - P,
 /// c = C - P (g11 = a.a, g12 = a.b, ...): what Tetrahedron() computes.
-/// Inline: the 3D image flow evaluates six per voxel and step.
-inline TetrahedronTerms TetrahedronFromGram(
-  double g11, double g22, double g33, double g12, double g13, double g23)
+/// Inline and without branches: the 3D image flow evaluates six per voxel
+/// and step in vectorized loops.
+template <typename Real>
+BELTRAMI_ALWAYS_INLINE inline BasicTetrahedronTerms<Real> TetrahedronFromGram(Real g11, Real g22, Real g33, Real g12, Real g13, Real g23)
 {
-  /// det G <= DegenerateVolume * (longest edge)^6: no volume.
-  constexpr double DegenerateVolume = 1e-24;
-  TetrahedronTerms t;
+  BasicTetrahedronTerms<Real> t;
   // Cofactors of the symmetric Gram matrix.
-  const double c11 = g22 * g33 - g23 * g23, c22 = g11 * g33 - g13 * g13, c33 = g11 * g22 - g12 * g12;
-  const double c12 = g13 * g23 - g12 * g33, c13 = g12 * g23 - g13 * g22, c23 = g12 * g13 - g11 * g23;
-  const double det = g11 * c11 + g12 * c12 + g13 * c13;
-  // The longest edge, for a scale-free degeneracy test.
-  const double l2 = std::max({ g11, g22, g33, g11 + g22 - 2 * g12, g11 + g33 - 2 * g13, g22 + g33 - 2 * g23 });
-  if (!(det > DegenerateVolume * l2 * l2 * l2))
-  {
-    return t; // also NaN
-  }
-  const double root = std::sqrt(det);
-  t.Volume = root / 6.0;
-  t.Degenerate = false;
-  const double inv = 1.0 / (6.0 * root); // 1 / (36 V)
-  t.Weights[0] = (c11 + c12 + c13) * inv; // P-A
-  t.Weights[1] = (c12 + c22 + c23) * inv; // P-B
-  t.Weights[2] = (c13 + c23 + c33) * inv; // P-C
-  t.Weights[3] = -c12 * inv;              // A-B
-  t.Weights[4] = -c13 * inv;              // A-C
-  t.Weights[5] = -c23 * inv;              // B-C
+  const Real c11 = g22 * g33 - g23 * g23, c22 = g11 * g33 - g13 * g13, c33 = g11 * g22 - g12 * g12;
+  const Real c12 = g13 * g23 - g12 * g33, c13 = g12 * g23 - g13 * g22, c23 = g12 * g13 - g11 * g23;
+  const Real det = g11 * c11 + g12 * c12 + g13 * c13;
+  // det G <= (1e-8 l)^3 with l the longest edge squared: no volume (a
+  // scale-free degeneracy test, also for NaN).
+  const Real l2 = std::max({ g11, g22, g33, g11 + g22 - 2 * g12, g11 + g33 - 2 * g13, g22 + g33 - 2 * g23 });
+  const Real small = Real(1e-8) * l2;
+  const bool solid = det > small * small * small;
+  const Real root = std::sqrt(solid ? det : Real(1));
+  const Real inv = Real(1) / (Real(6) * root); // 1 / (36 V)
+  t.Volume = solid ? root / Real(6) : Real(0);
+  t.Degenerate = !solid;
+  // (selects, not products with 0: NaN cofactors give no weights either)
+  t.Weights[0] = solid ? (c11 + c12 + c13) * inv : Real(0); // P-A
+  t.Weights[1] = solid ? (c12 + c22 + c23) * inv : Real(0); // P-B
+  t.Weights[2] = solid ? (c13 + c23 + c33) * inv : Real(0); // P-C
+  t.Weights[3] = solid ? -c12 * inv : Real(0);              // A-B
+  t.Weights[4] = solid ? -c13 * inv : Real(0);              // A-C
+  t.Weights[5] = solid ? -c23 * inv : Real(0);              // B-C
   return t;
 }
 
