@@ -61,14 +61,44 @@ struct KuhnCell
 
 constexpr KuhnCell Kuhn{};
 
+/// The flat cell's tetrahedra: per path the Gram matrix of its edge vectors
+/// (entries 11, 22, 33, 12, 13, 23) and the inverse squared lengths of its
+/// three steps (the path's axes in order); their common volume.
+template <typename Real>
+struct KuhnShapes
+{
+  Real Gram[6][6];
+  Real InverseSquares[6][3];
+  Real Volume;
+};
+
+/// Tetrahedron P's six edge weights into its cell's edges and a quarter of
+/// its volume into its corners' masses.
+template <int P, typename Real>
+BELTRAMI_ALWAYS_INLINE inline void AddToCell(const Real (&weights)[6], Real volume, Real (&edges)[KuhnCell::Edges], Real (&masses)[8])
+{
+  #pragma GCC unroll 32
+  for (int k = 0; k < 6; ++k)
+  {
+    edges[Kuhn.Slot[P][k]] += weights[k];
+  }
+  const Real quarter = Real(0.25) * volume;
+  #pragma GCC unroll 32
+  for (int v = 0; v < 4; ++v)
+  {
+    masses[Kuhn.Corner[P][v]] += quarter;
+  }
+}
+
 /// Tetrahedron (path) P of a cell: its Gram matrix from the differences d
 /// of the corners' values to corner 0's (NC each) and the base part, its
 /// edge weights added to the cell's edges and a quarter of its volume to
 /// its corners' masses (all indices constant: registers).
 template <int NC, int P, typename Real>
-BELTRAMI_ALWAYS_INLINE inline void AddKuhnTetrahedron(const Real (&d)[8][NC], const Real* base, Real (&edges)[KuhnCell::Edges], Real (&masses)[8])
+BELTRAMI_ALWAYS_INLINE inline void AddKuhnTetrahedron(const Real (&d)[8][NC], const KuhnShapes<Real>& shapes, Real (&edges)[KuhnCell::Edges], Real (&masses)[8])
 {
   constexpr int A = Kuhn.Corner[P][1], B = Kuhn.Corner[P][2];
+  const Real* base = shapes.Gram[P];
   Real aa = 0, bb = 0, cc = 0, ab = 0, ac = 0, bc = 0;
   #pragma GCC unroll 32
   for (int m = 0; m < NC; ++m)
@@ -82,29 +112,43 @@ BELTRAMI_ALWAYS_INLINE inline void AddKuhnTetrahedron(const Real (&d)[8][NC], co
   }
   const BasicTetrahedronTerms<Real> t =
     TetrahedronFromGram(base[0] + aa, base[1] + bb, base[2] + cc, base[3] + ab, base[4] + ac, base[5] + bc);
-  #pragma GCC unroll 32
-  for (int k = 0; k < 6; ++k)
-  {
-    edges[Kuhn.Slot[P][k]] += t.Weights[k];
-  }
-  const Real quarter = Real(0.25) * t.Volume;
-  #pragma GCC unroll 32
-  for (int v = 0; v < 4; ++v)
-  {
-    masses[Kuhn.Corner[P][v]] += quarter;
-  }
+  AddToCell<P>(t.Weights, t.Volume, edges, masses);
+}
+
+/// The same for scalar data in closed form.  On the tetrahedron 0, A, B, 7
+/// (steps of lengths ha, hb, hc along the path's axes ea, eb, ec) the
+/// barycentric gradients are -ea/ha, ea/ha - eb/hb, eb/hb - ec/hc, ec/hc:
+/// flat, only the pairs 01, 12, 23 meet (at -1/ha^2, -1/hb^2, -1/hc^2).  The
+/// graph's metric I + grad f grad f^T has the determinant R^2 = 1 +
+/// |grad f|^2 and the inverse I - grad f grad f^T / R^2, so the stiffness
+/// is V0 R (grad phi_i . grad phi_j - t_i t_j / R^2), t_i = grad phi_i .
+/// grad f, and the volume V0 R: what TetrahedronFromGram gives, in a third
+/// of the operations.  (Never degenerate: R >= 1; non-finite data are
+/// refused before the flow.)
+template <int P, typename Real>
+BELTRAMI_ALWAYS_INLINE inline void AddScalarKuhnTetrahedron(const Real (&d)[8][1], const KuhnShapes<Real>& shapes, Real (&edges)[KuhnCell::Edges], Real (&masses)[8])
+{
+  constexpr int A = Kuhn.Corner[P][1], B = Kuhn.Corner[P][2];
+  const Real* h = shapes.InverseSquares[P];
+  const Real da = d[A][0], db = d[B][0] - d[A][0], dc = d[7][0] - d[B][0]; // along the three steps
+  const Real ga = da * h[0], gb = db * h[1], gc = dc * h[2];
+  const Real r2 = Real(1) + da * ga + db * gb + dc * gc;
+  const Real vr = shapes.Volume / std::sqrt(r2); // V0 / R
+  const Real t0 = -ga, t1 = ga - gb, t2 = gb - gc, t3 = gc;
+  const Real weights[6] = { vr * (t0 * t1 + r2 * h[0]), vr * (t0 * t2), vr * (t0 * t3), vr * (t1 * t2 + r2 * h[1]),
+    vr * (t1 * t3), vr * (t2 * t3 + r2 * h[2]) };
+  AddToCell<P>(weights, vr * r2, edges, masses);
 }
 
 /// The six Kuhn tetrahedra of the n cells of a row (u[c]: the values at
-/// the cells' corner c, NC per voxel; base: the Gram matrices of the flat
-/// cell, entries 11, 22, 33, 12, 13, 23 per path) into the cells' 19 edge
-/// weights (edges[s n + i]) and 8 corner masses (masses[c n + i]).
-/// Degenerate tetrahedra add nothing.  Compiled like TriangleRow.
+/// the cells' corner c, NC per voxel; shapes: of the flat cell) into the
+/// cells' 19 edge weights (edges[s n + i]) and 8 corner masses (masses[c n
+/// + i]).  Degenerate tetrahedra add nothing.  Compiled like TriangleRow.
 template <int NC, typename Real>
 CLONES void KuhnCellRow(std::int64_t n, const double* __restrict u0, const double* __restrict u1,
   const double* __restrict u2, const double* __restrict u3, const double* __restrict u4,
   const double* __restrict u5, const double* __restrict u6, const double* __restrict u7,
-  const Real (*base)[6], Real* __restrict edges, Real* __restrict masses)
+  const KuhnShapes<Real>& shapes, Real* __restrict edges, Real* __restrict masses)
 {
 #pragma GCC ivdep // the 27 output rows do not overlap
   for (std::int64_t i = 0; i < n; ++i)
@@ -124,12 +168,24 @@ CLONES void KuhnCellRow(std::int64_t n, const double* __restrict u0, const doubl
       d[7][m] = Real(u7[k] - o);
     }
     Real e[KuhnCell::Edges] = {}, w[8] = {};
-    AddKuhnTetrahedron<NC, 0>(d, base[0], e, w);
-    AddKuhnTetrahedron<NC, 1>(d, base[1], e, w);
-    AddKuhnTetrahedron<NC, 2>(d, base[2], e, w);
-    AddKuhnTetrahedron<NC, 3>(d, base[3], e, w);
-    AddKuhnTetrahedron<NC, 4>(d, base[4], e, w);
-    AddKuhnTetrahedron<NC, 5>(d, base[5], e, w);
+    if constexpr (NC == 1)
+    {
+      AddScalarKuhnTetrahedron<0>(d, shapes, e, w);
+      AddScalarKuhnTetrahedron<1>(d, shapes, e, w);
+      AddScalarKuhnTetrahedron<2>(d, shapes, e, w);
+      AddScalarKuhnTetrahedron<3>(d, shapes, e, w);
+      AddScalarKuhnTetrahedron<4>(d, shapes, e, w);
+      AddScalarKuhnTetrahedron<5>(d, shapes, e, w);
+    }
+    else
+    {
+      AddKuhnTetrahedron<NC, 0>(d, shapes, e, w);
+      AddKuhnTetrahedron<NC, 1>(d, shapes, e, w);
+      AddKuhnTetrahedron<NC, 2>(d, shapes, e, w);
+      AddKuhnTetrahedron<NC, 3>(d, shapes, e, w);
+      AddKuhnTetrahedron<NC, 4>(d, shapes, e, w);
+      AddKuhnTetrahedron<NC, 5>(d, shapes, e, w);
+    }
     #pragma GCC unroll 32
     for (int s = 0; s < KuhnCell::Edges; ++s)
     {
@@ -292,6 +348,7 @@ public:
     }
     const double spacing[3] = { grid.SpacingX, grid.SpacingY, grid.SpacingZ };
     std::fill(CornerMass, CornerMass + 8, 0.0);
+    Shapes.Volume = static_cast<Real>(grid.SpacingX * grid.SpacingY * grid.SpacingZ / 6.0);
     for (int p = 0; p < 6; ++p)
     {
       // Corners of path p: 0, Kuhn.Corner[p][1], Kuhn.Corner[p][2], 7.
@@ -306,7 +363,11 @@ public:
       const auto dot = [](const double* x, const double* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
       const double g[6] = { dot(e[0], e[0]), dot(e[1], e[1]), dot(e[2], e[2]), dot(e[0], e[1]), dot(e[0], e[2]),
         dot(e[1], e[2]) };
-      std::copy(g, g + 6, BaseGram[p]);
+      std::copy(g, g + 6, Shapes.Gram[p]);
+      for (int s = 0; s < 3; ++s)
+      {
+        Shapes.InverseSquares[p][s] = static_cast<Real>(1.0 / (spacing[KuhnPaths[p][s]] * spacing[KuhnPaths[p][s]]));
+      }
       const double quarter = 0.25 * TetrahedronFromGram(g[0], g[1], g[2], g[3], g[4], g[5]).Volume;
       for (int v = 0; v < 4; ++v)
       {
@@ -457,7 +518,7 @@ private:
     const std::int64_t n = W - 1;
     const double* u0 = u + (k * H + j) * W * NC;
     KuhnCellRow<NC, Real>(n, u0, u0 + Offset[1] * NC, u0 + Offset[2] * NC, u0 + Offset[3] * NC, u0 + Offset[4] * NC,
-      u0 + Offset[5] * NC, u0 + Offset[6] * NC, u0 + Offset[7] * NC, BaseGram, b.Edges, b.Masses);
+      u0 + Offset[5] * NC, u0 + Offset[6] * NC, u0 + Offset[7] * NC, Shapes, b.Edges, b.Masses);
     for (int c = 0; c < 8; ++c)
     {
       AddRow(n, b.Masses + c * n, PlaneWeights(b, k + (c >> 2), 7) + (j + (c >> 1 & 1)) * W + (c & 1));
@@ -596,7 +657,7 @@ private:
   VoxelGrid Grid;
   std::int64_t W, H, D, PlaneSize = 0, Margin = 0;
   std::int64_t Offset[8];
-  Real BaseGram[6][6];
+  KuhnShapes<Real> Shapes; // of the flat cell
   double CornerMass[8];
   ScratchPool Scratch; // per-thread buffers, kept between steps
   /// Semi-implicit steps: the edge weights to the neighbour at +Offset[d],

@@ -250,7 +250,9 @@ TEST(Tetrahedra, VoxelFlowEqualsTheFlowOnTheKuhnMesh)
   // without a mesh: it must give the flow of RunTetrahedralGraphFlow on
   // GridTetrahedra (up to its single-precision tetrahedra and weights:
   // within 3e-4 of the data's change and 5e-5 of the graph's volume, where
-  // a wrong weight or mass changes them by percents), for scalars and
+  // a wrong weight or mass changes them by percents; scalars, in closed
+  // form without the Gram matrix's cancellations, within 1e-5 and 1e-7:
+  // measured 4e-7 and 7e-9), for scalars and
   // vectors, explicit and semi-implicit, anisotropic spacing, with a fixed
   // mask, and the same bits on any number of threads.
   const int nx = 9, ny = 7, nz = 6;
@@ -289,7 +291,7 @@ TEST(Tetrahedra, VoxelFlowEqualsTheFlowOnTheKuhnMesh)
       o.NumberOfThreads = 3;
       RunVolumeGraphFlow(voxels, nc, c.data(), fixed.data(), o);
       ASSERT_TRUE(ra.Error.empty() && rb.Error.empty()) << ra.Error << rb.Error;
-      EXPECT_NEAR(ra.FinalArea, rb.FinalArea, 5e-5 * ra.FinalArea);
+      EXPECT_NEAR(ra.FinalArea, rb.FinalArea, (nc == 1 ? 1e-7 : 5e-5) * ra.FinalArea);
       EXPECT_EQ(ra.UnstableSteps, rb.UnstableSteps);
       double difference = 0.0, change = 0.0;
       for (std::size_t k = 0; k < a.size(); ++k)
@@ -297,7 +299,7 @@ TEST(Tetrahedra, VoxelFlowEqualsTheFlowOnTheKuhnMesh)
         difference = std::max(difference, std::abs(a[k] - b[k]));
         change = std::max(change, std::abs(a[k] - f[k]));
       }
-      EXPECT_LT(difference, 3e-4 * change) << nc << " components";
+      EXPECT_LT(difference, (nc == 1 ? 1e-5 : 3e-4) * change) << nc << " components";
       EXPECT_GT(change, 0.01);
       EXPECT_EQ(b, c) << "thread count changed the result";
       EXPECT_EQ(b[17 * nc], f[17 * nc]);
