@@ -270,8 +270,9 @@ GraphFlowResult RunTetrahedralGraphFlow(const TetrahedralMesh& mesh, const doubl
   volume.Dimension = 3;
   volume.MaximumComponents = 6;
   volume.MeanEdgeLength = [&](const double* x) { return mesh.MeanEdgeLength(x); };
+  LargeVector<TetrahedronTerms> terms; // kept between the steps
   volume.Assemble = [&](const double* x, int dimension, GraphLaplacian& l) {
-    AssembleTetrahedralLaplacian(mesh, x, dimension, l, threads);
+    AssembleTetrahedralLaplacian(mesh, x, dimension, l, threads, &terms);
   };
   volume.MassScale = 1.0;
   return RunMeshFlow(volume, points, components, values, fixed, options, progress);

@@ -249,7 +249,7 @@ double TetrahedralMesh::MeanEdgeLength(const double* points) const
 }
 
 void AssembleTetrahedralLaplacian(const TetrahedralMesh& mesh, const double* points, int dimension,
-  GraphLaplacian& l, int numThreads)
+  GraphLaplacian& l, int numThreads, LargeVector<TetrahedronTerms>* kept)
 {
   const Index n = mesh.NumberOfVertices();
   l.NumberOfVertices = n;
@@ -264,7 +264,9 @@ void AssembleTetrahedralLaplacian(const TetrahedralMesh& mesh, const double* poi
   // the terms of its tetrahedra): no two threads write the same entry, and
   // the sums do not depend on the threads.
   const std::int64_t numTets = mesh.NumberOfTetrahedra();
-  LargeVector<TetrahedronTerms> terms(static_cast<std::size_t>(numTets));
+  LargeVector<TetrahedronTerms> local;
+  LargeVector<TetrahedronTerms>& terms = kept ? *kept : local;
+  terms.resize(static_cast<std::size_t>(numTets)); // (every entry written below)
   ParallelFor(numTets, numThreads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t t = begin; t < end; ++t)
     {

@@ -143,8 +143,10 @@ std::vector<Index> GridTetrahedra(Index nx, Index ny, Index nz);
 /// Assembles the volume Laplacian of the mesh embedded in R^dimension
 /// (`points`: dimension doubles per vertex, 3 to 9): c_ij summed over the
 /// tetrahedra of edge (i, j), mass = volume / 4 per tetrahedron.  Degenerate
-/// tetrahedra are skipped and counted in DegenerateTriangles.
+/// tetrahedra are skipped and counted in DegenerateTriangles.  `terms`
+/// (optional): where the tetrahedra's terms are kept, a buffer the caller
+/// keeps between assemblies (flows: no fresh memory per step).
 void AssembleTetrahedralLaplacian(const TetrahedralMesh& mesh, const double* points, int dimension,
-  GraphLaplacian& laplacian, int numThreads = 0);
+  GraphLaplacian& laplacian, int numThreads = 0, LargeVector<TetrahedronTerms>* terms = nullptr);
 
 } // namespace beltrami
