@@ -10,6 +10,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <numeric>
 
 namespace beltrami
 {
@@ -291,20 +292,43 @@ void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology)
       }
     }
   }
-}
-
-bool LineDrawingGeometry::AtCrease(Index f, double angle) const
-{
-  const Index* v = Triangles.data() + 3 * static_cast<std::int64_t>(f);
-  return SharpestEdge[v[0]] > angle || SharpestEdge[v[1]] > angle || SharpestEdge[v[2]] > angle;
+  SharpestFirst.resize(InteriorEdges.size());
+  std::iota(SharpestFirst.begin(), SharpestFirst.end(), Index(0));
+  std::stable_sort(SharpestFirst.begin(), SharpestFirst.end(),
+    [&](Index x, Index y) { return InteriorEdges[x].Angle > InteriorEdges[y].Angle; });
 }
 
 namespace
 {
 
-/// The per-vertex quantities of a view (see the header's conventions).
+/// Bits of a vertex's view fields (n.v and kappa_r): finite, >= 0.
+enum SignBits : std::uint8_t
+{
+  NdotVFinite = 1,
+  NdotVPositive = 2,
+  RadialFinite = 4,
+  RadialPositive = 8
+};
+
+/// The bits of a field's value (finite, and >= 0 as ZeroCrossing tests it).
+inline std::uint8_t SignOf(double value, std::uint8_t finite, std::uint8_t positive)
+{
+  return std::isfinite(value) ? static_cast<std::uint8_t>(finite | (value >= 0.0 ? positive : 0)) : 0;
+}
+
+/// Whether a field with these bits (finite, positive) can cross zero in a
+/// face whose corners' bits are and-ed in `all` and or-ed in `any`: all
+/// three finite, signs mixed (ZeroCrossing's early outs, from one byte per
+/// corner instead of the field's doubles).
+inline bool MayCross(std::uint8_t all, std::uint8_t any, std::uint8_t finite, std::uint8_t positive)
+{
+  return (all & finite) && (any & positive) && !(all & positive);
+}
+
+/// The per-vertex quantities of a view (see the header's conventions), and
+/// their SignBits.
 void ComputeViewFields(const LineDrawingGeometry& geo, const LineView& view, int numThreads, double* ndotv,
-  double* kr, double* drkr)
+  double* kr, double* drkr, std::uint8_t* signs)
 {
   const Vec3 parallel = -view.Direction.normalized();
   ParallelFor(geo.NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
@@ -314,6 +338,7 @@ void ComputeViewFields(const LineDrawingGeometry& geo, const LineView& view, int
       const Vec3 v = view.Perspective ? Vec3((view.Position - p).normalized()) : parallel;
       ndotv[i] = n.dot(v);
       kr[i] = drkr[i] = NaN;
+      signs[i] = SignOf(ndotv[i], NdotVFinite, NdotVPositive);
       const Vec3 w = v - ndotv[i] * n;
       const double sine = w.norm();
       if (!(sine > 1e-9))
@@ -321,7 +346,7 @@ void ComputeViewFields(const LineDrawingGeometry& geo, const LineView& view, int
         continue; // the radial direction is undefined where the surface faces the viewer
       }
       double r[2] = { w.dot(Point(geo.E1.data(), i)), w.dot(Point(geo.E2.data(), i)) };
-      const double length = std::hypot(r[0], r[1]);
+      const double length = std::sqrt(r[0] * r[0] + r[1] * r[1]); // (unit-sized: no hypot)
       r[0] /= length;
       r[1] /= length;
       const double k1 = geo.K1[i], k2 = geo.K2[i];
@@ -329,6 +354,7 @@ void ComputeViewFields(const LineDrawingGeometry& geo, const LineView& view, int
       const double tau = (k2 - k1) * r[0] * r[1];
       const double* c = geo.Derivatives.data() + 4 * static_cast<std::int64_t>(i);
       drkr[i] = EvaluateCubicForm(c, r, r, r) - 2.0 * (ndotv[i] / sine) * tau * tau;
+      signs[i] |= SignOf(kr[i], RadialFinite, RadialPositive);
     }
   });
 }
@@ -394,7 +420,8 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
     }
   }
   const double *ndotv = field[0], *kr = field[1], *drkr = field[2];
-  ComputeViewFields(geo, view, options.NumberOfThreads, field[0], field[1], field[2]);
+  std::vector<std::uint8_t> signs(n);
+  ComputeViewFields(geo, view, options.NumberOfThreads, field[0], field[1], field[2], signs.data());
 
   const bool* draw = options.Draw;
   const bool radial =
@@ -405,15 +432,22 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
   auto lists = CollectSegments(geo.NumberOfFaces(), options.NumberOfThreads, 3,
     [&](Index f, std::vector<LineSegment>* out) {
       const Index* v = geo.Triangles.data() + 3 * static_cast<std::int64_t>(f);
+      // Most faces cross neither zero set: one byte per corner tells.
+      const std::uint8_t all = signs[v[0]] & signs[v[1]] & signs[v[2]], any = signs[v[0]] | signs[v[1]] | signs[v[2]];
+      const bool contour = draw[int(LineType::Contour)] && MayCross(all, any, NdotVFinite, NdotVPositive);
+      if (!contour && !(radial && MayCross(all, any, RadialFinite, RadialPositive)))
+      {
+        return;
+      }
       double nv[3], k[3];
       Corners(geo.Triangles, f, ndotv, nv);
       LineSegment s;
-      if (draw[int(LineType::Contour)] && ZeroCrossing(f, v, nv, n, s))
+      if (contour && ZeroCrossing(f, v, nv, n, s))
       {
         out[0].push_back(s);
       }
       Corners(geo.Triangles, f, kr, k);
-      if (!radial || (options.AvoidCreases && geo.AtCrease(f, options.CreaseAngle)) || !ZeroCrossing(f, v, k, n, s))
+      if (!radial || !ZeroCrossing(f, v, k, n, s) || (options.AvoidCreases && geo.AtCrease(f, options.CreaseAngle)))
       {
         return;
       }
@@ -495,15 +529,19 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
   }
   if (draw[int(LineType::Crease)])
   {
+    std::vector<Index> sharp; // the edges sharper than the crease angle, in their order
+    for (std::size_t k = 0; k < geo.SharpestFirst.size() && geo.InteriorEdges[geo.SharpestFirst[k]].Angle > options.CreaseAngle; ++k)
+    {
+      sharp.push_back(geo.SharpestFirst[k]);
+    }
+    std::sort(sharp.begin(), sharp.end());
     std::vector<LineSegment> creases;
     std::vector<double> angles;
-    for (const LineDrawingGeometry::InteriorEdge& e : geo.InteriorEdges)
+    for (const Index i : sharp)
     {
-      if (e.Angle > options.CreaseAngle)
-      {
-        creases.push_back(geo.EdgeSegment(e.A, e.B, e.Face));
-        angles.push_back(e.Angle);
-      }
+      const LineDrawingGeometry::InteriorEdge& e = geo.InteriorEdges[i];
+      creases.push_back(geo.EdgeSegment(e.A, e.B, e.Face));
+      angles.push_back(e.Angle);
     }
     AddLines(geo, creases, LineType::Crease,
       [&](Index s, const Index*, double* c) { c[0] = c[1] = c[2] = angles[s]; }, lines);

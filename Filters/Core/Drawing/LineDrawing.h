@@ -126,10 +126,18 @@ public:
     float Angle; ///< degrees
   };
   std::vector<InteriorEdge> InteriorEdges;
+  /// InteriorEdges' indices by decreasing Angle: a view's creases are a
+  /// prefix (no scan of every edge per view).
+  std::vector<Index> SharpestFirst;
   /// Per vertex: the largest Angle of its interior edges (0 without).
   std::vector<float> SharpestEdge;
-  /// Whether face f has a vertex whose SharpestEdge exceeds `angle`.
-  bool AtCrease(Index f, double angle) const;
+  /// Whether face f has a vertex whose SharpestEdge exceeds `angle`
+  /// (inline: the per-view pass asks it of every candidate segment).
+  bool AtCrease(Index f, double angle) const
+  {
+    const Index* v = Triangles.data() + 3 * static_cast<std::int64_t>(f);
+    return SharpestEdge[v[0]] > angle || SharpestEdge[v[1]] > angle || SharpestEdge[v[2]] > angle;
+  }
   /// The segment along edge a-b of `face`, its ends keyed by the vertices.
   LineSegment EdgeSegment(Index a, Index b, Index face) const;
 

@@ -104,12 +104,6 @@ bool FitFace(const T* points, const CurvatureTensors& t, const Index* v, FaceDer
 
 } // namespace
 
-double EvaluateCubicForm(const double* c, const double* x, const double* y, const double* z)
-{
-  return c[0] * x[0] * y[0] * z[0] + c[1] * (x[0] * y[0] * z[1] + x[0] * y[1] * z[0] + x[1] * y[0] * z[0]) +
-    c[2] * (x[0] * y[1] * z[1] + x[1] * y[0] * z[1] + x[1] * y[1] * z[0]) + c[3] * x[1] * y[1] * z[1];
-}
-
 template <typename T>
 Index ComputeCurvatureDerivatives(const MeshTopology& topo, const T* points, const CurvatureTensors& t,
   double* derivatives, int numThreads)

@@ -33,7 +33,11 @@ struct CurvatureTensors
 
 /// The 4 components of a symmetric 3-tensor in 2D: C(x, y, z) =
 /// C111 x1y1z1 + C112 (x1y1z2 + x1y2z1 + x2y1z1) + C122 (...) + C222 x2y2z2.
-double EvaluateCubicForm(const double* c, const double* x, const double* y, const double* z);
+inline double EvaluateCubicForm(const double* c, const double* x, const double* y, const double* z)
+{
+  return c[0] * x[0] * y[0] * z[0] + c[1] * (x[0] * y[0] * z[1] + x[0] * y[1] * z[0] + x[1] * y[0] * z[0]) +
+    c[2] * (x[0] * y[1] * z[1] + x[1] * y[0] * z[1] + x[1] * y[1] * z[0]) + c[3] * x[1] * y[1] * z[1];
+}
 
 /// Per vertex, 4 values: C(e1,e1,e1), C(e1,e1,e2), C(e1,e2,e2), C(e2,e2,e2)
 /// in its principal frame, so D_e1 kappa_1 is the first and D_e2 kappa_2 the
