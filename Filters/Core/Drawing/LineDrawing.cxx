@@ -10,7 +10,6 @@
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <numeric>
 
 namespace beltrami
 {
@@ -170,6 +169,7 @@ template <typename T>
 void LineDrawingGeometry::Build(const MeshTopology& topology, const T* points, int numThreads)
 {
   const Index n = topology.NumberOfVertices();
+  Thresholded[0].Valid = Thresholded[1].Valid = false;
   Triangles.assign(topology.TriangleList().begin(), topology.TriangleList().end());
   Points.assign(points, points + 3 * static_cast<std::int64_t>(n));
   for (auto* field : { &Normals, &E1, &E2 })
@@ -292,10 +292,9 @@ void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology)
       }
     }
   }
-  SharpestFirst.resize(InteriorEdges.size());
-  std::iota(SharpestFirst.begin(), SharpestFirst.end(), Index(0));
-  std::stable_sort(SharpestFirst.begin(), SharpestFirst.end(),
-    [&](Index x, Index y) { return InteriorEdges[x].Angle > InteriorEdges[y].Angle; });
+  InteriorAngles.resize(InteriorEdges.size());
+  std::transform(InteriorEdges.begin(), InteriorEdges.end(), InteriorAngles.begin(),
+    [](const InteriorEdge& e) { return e.Angle; });
 }
 
 namespace
@@ -404,6 +403,41 @@ void AddLines(const LineDrawingGeometry& geo, const std::vector<LineSegment>& se
 
 } // namespace
 
+const std::vector<LineSegment>& LineDrawingGeometry::ThresholdedRidges(bool valleys, double size,
+  const LineDrawingOptions& options) const
+{
+  RidgeCache& cache = Thresholded[valleys ? 1 : 0];
+  if (cache.Valid && cache.Size == size && cache.Threshold == options.RidgeThreshold &&
+    cache.AvoidCreases == options.AvoidCreases && (!options.AvoidCreases || cache.CreaseAngle == options.CreaseAngle))
+  {
+    return cache.Kept;
+  }
+  cache.Kept.clear();
+  for (LineSegment s : valleys ? ValleyCandidates : RidgeCandidates)
+  {
+    if (options.AvoidCreases && AtCrease(s.Face, options.CreaseAngle))
+    {
+      continue;
+    }
+    double test[3], k[3];
+    Corners(Triangles, s.Face, valleys ? K2.data() : K1.data(), k);
+    for (int c = 0; c < 3; ++c)
+    {
+      test[c] = (valleys ? -k[c] : k[c]) * size - options.RidgeThreshold;
+    }
+    if (Clip(s, test))
+    {
+      cache.Kept.push_back(s);
+    }
+  }
+  cache.Valid = true;
+  cache.Size = size;
+  cache.Threshold = options.RidgeThreshold;
+  cache.AvoidCreases = options.AvoidCreases;
+  cache.CreaseAngle = options.CreaseAngle;
+  return cache.Kept;
+}
+
 LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const LineDrawingOptions& options,
   const ViewFields& fields)
 {
@@ -477,24 +511,20 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
       }
     });
 
-  // Ridges and valleys: the candidates clipped by the threshold and the view.
-  const auto clipRidges = [&](const std::vector<LineSegment>& candidates, bool valleys) {
+  // Ridges and valleys: the candidates past the threshold (kept by the
+  // geometry) clipped by the view.
+  const auto clipRidges = [&](bool valleys) {
+    const std::vector<LineSegment>& candidates = geo.ThresholdedRidges(valleys, size, options);
+    if (!options.DropBackFacing)
+    {
+      return candidates;
+    }
     std::vector<LineSegment> kept;
     for (LineSegment s : candidates)
     {
-      if (options.AvoidCreases && geo.AtCrease(s.Face, options.CreaseAngle))
-      {
-        continue;
-      }
-      double test[3], front[3], k[3], nv[3];
-      Corners(geo.Triangles, s.Face, valleys ? geo.K2.data() : geo.K1.data(), k);
+      double nv[3];
       Corners(geo.Triangles, s.Face, ndotv, nv);
-      for (int c = 0; c < 3; ++c)
-      {
-        test[c] = (valleys ? -k[c] : k[c]) * size - options.RidgeThreshold;
-        front[c] = options.DropBackFacing ? nv[c] : 1.0;
-      }
-      if (Clip(s, test) && Clip(s, front))
+      if (Clip(s, nv))
       {
         kept.push_back(s);
       }
@@ -517,11 +547,11 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
   AddLines(geo, lists[2], LineType::SuggestiveHighlight, vertexStrength(drkr, -scale), lines);
   if (draw[int(LineType::Ridge)])
   {
-    AddLines(geo, clipRidges(geo.RidgeCandidates, false), LineType::Ridge, vertexStrength(geo.K1.data(), size), lines);
+    AddLines(geo, clipRidges(false), LineType::Ridge, vertexStrength(geo.K1.data(), size), lines);
   }
   if (draw[int(LineType::Valley)])
   {
-    AddLines(geo, clipRidges(geo.ValleyCandidates, true), LineType::Valley, vertexStrength(geo.K2.data(), -size), lines);
+    AddLines(geo, clipRidges(true), LineType::Valley, vertexStrength(geo.K2.data(), -size), lines);
   }
   if (draw[int(LineType::Boundary)])
   {
@@ -529,19 +559,16 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
   }
   if (draw[int(LineType::Crease)])
   {
-    std::vector<Index> sharp; // the edges sharper than the crease angle, in their order
-    for (std::size_t k = 0; k < geo.SharpestFirst.size() && geo.InteriorEdges[geo.SharpestFirst[k]].Angle > options.CreaseAngle; ++k)
-    {
-      sharp.push_back(geo.SharpestFirst[k]);
-    }
-    std::sort(sharp.begin(), sharp.end());
     std::vector<LineSegment> creases;
     std::vector<double> angles;
-    for (const Index i : sharp)
+    for (std::size_t i = 0; i < geo.InteriorAngles.size(); ++i)
     {
-      const LineDrawingGeometry::InteriorEdge& e = geo.InteriorEdges[i];
-      creases.push_back(geo.EdgeSegment(e.A, e.B, e.Face));
-      angles.push_back(e.Angle);
+      if (geo.InteriorAngles[i] > options.CreaseAngle)
+      {
+        const LineDrawingGeometry::InteriorEdge& e = geo.InteriorEdges[i];
+        creases.push_back(geo.EdgeSegment(e.A, e.B, e.Face));
+        angles.push_back(e.Angle);
+      }
     }
     AddLines(geo, creases, LineType::Crease,
       [&](Index s, const Index*, double* c) { c[0] = c[1] = c[2] = angles[s]; }, lines);

@@ -126,9 +126,9 @@ public:
     float Angle; ///< degrees
   };
   std::vector<InteriorEdge> InteriorEdges;
-  /// InteriorEdges' indices by decreasing Angle: a view's creases are a
-  /// prefix (no scan of every edge per view).
-  std::vector<Index> SharpestFirst;
+  /// InteriorEdges' angles alone: a view scans them for its creases (a
+  /// quarter of the memory of the edges).
+  std::vector<float> InteriorAngles;
   /// Per vertex: the largest Angle of its interior edges (0 without).
   std::vector<float> SharpestEdge;
   /// Whether face f has a vertex whose SharpestEdge exceeds `angle`
@@ -141,10 +141,23 @@ public:
   /// The segment along edge a-b of `face`, its ends keyed by the vertices.
   LineSegment EdgeSegment(Index a, Index b, Index face) const;
 
+  /// The ridge (valleys: valley) candidates kept by the threshold at
+  /// `size` (the feature size) and the crease rule of `options`: the
+  /// view-independent part of their tests, kept for the next views while
+  /// those settings stay (not for concurrent calls on one geometry).
+  const std::vector<LineSegment>& ThresholdedRidges(bool valleys, double size, const LineDrawingOptions& options) const;
+
 private:
   double DefaultFeatureSize = 0.0;
   void FindRidges(bool valleys, int numThreads);
   void FindFeatureEdges(const MeshTopology& topology);
+  struct RidgeCache
+  {
+    bool Valid = false, AvoidCreases = false;
+    double Size = 0.0, Threshold = 0.0, CreaseAngle = 0.0;
+    std::vector<LineSegment> Kept;
+  };
+  mutable RidgeCache Thresholded[2]; // ridges, valleys
 };
 
 /// Per-vertex quantities of one view (outputs; null ones skipped).
