@@ -209,7 +209,7 @@ void LineDrawingGeometry::Build(const MeshTopology& topology, const T* points, i
   DefaultFeatureSize = (hi - lo).allFinite() ? 0.01 * (hi - lo).norm() : 0.0;
   FindRidges(false, numThreads);
   FindRidges(true, numThreads);
-  FindFeatureEdges(topology);
+  FindFeatureEdges(topology, numThreads);
 }
 
 template void LineDrawingGeometry::Build<float>(const MeshTopology&, const float*, int);
@@ -261,18 +261,36 @@ LineSegment LineDrawingGeometry::EdgeSegment(Index a, Index b, Index face) const
   return s;
 }
 
-void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology)
+void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int numThreads)
 {
   const MeshTopology::EdgeTable& edges = topology.Edges();
-  BoundaryEdges.clear();
-  InteriorEdges.clear();
-  SharpestEdge.assign(NumberOfVertices(), 0.0f);
+  const std::int64_t numEdges = edges.NumberOfEdges();
   const auto faceNormal = [&](Index f) {
     const Index* v = Triangles.data() + 3 * static_cast<std::int64_t>(f);
     const Vec3 a = Point(Points.data(), v[0]);
     return Vec3((Point(Points.data(), v[1]) - a).cross(Point(Points.data(), v[2]) - a).normalized());
   };
-  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
+  // The angle of every edge of two faces in parallel (NaN: none), then the
+  // lists in edge order.
+  std::vector<float> angles(static_cast<std::size_t>(numEdges), NaN);
+  ParallelFor(numEdges, numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t e = begin; e < end; ++e)
+    {
+      const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
+      if (edges.FaceCount[e] == 2 && c0 >= 0 && c1 >= 0)
+      {
+        const double cosine = faceNormal(c0 / 3).dot(faceNormal(c1 / 3));
+        if (std::isfinite(cosine))
+        {
+          angles[e] = static_cast<float>(std::acos(std::clamp(cosine, -1.0, 1.0)) / Degree);
+        }
+      }
+    }
+  });
+  BoundaryEdges.clear();
+  InteriorEdges.clear();
+  SharpestEdge.assign(NumberOfVertices(), 0.0f);
+  for (std::int64_t e = 0; e < numEdges; ++e)
   {
     const Index a = edges.Vertices[2 * e], b = edges.Vertices[2 * e + 1];
     const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
@@ -280,16 +298,11 @@ void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology)
     {
       BoundaryEdges.push_back(EdgeSegment(a, b, (c0 >= 0 ? c0 : c1) / 3));
     }
-    else if (edges.FaceCount[e] == 2 && c0 >= 0 && c1 >= 0)
+    else if (!std::isnan(angles[e]))
     {
-      const double cosine = faceNormal(c0 / 3).dot(faceNormal(c1 / 3));
-      if (std::isfinite(cosine))
-      {
-        const float angle = static_cast<float>(std::acos(std::clamp(cosine, -1.0, 1.0)) / Degree);
-        InteriorEdges.push_back({ a, b, c0 / 3, angle });
-        SharpestEdge[a] = std::max(SharpestEdge[a], angle);
-        SharpestEdge[b] = std::max(SharpestEdge[b], angle);
-      }
+      InteriorEdges.push_back({ a, b, c0 / 3, angles[e] });
+      SharpestEdge[a] = std::max(SharpestEdge[a], angles[e]);
+      SharpestEdge[b] = std::max(SharpestEdge[b], angles[e]);
     }
   }
   InteriorAngles.resize(InteriorEdges.size());

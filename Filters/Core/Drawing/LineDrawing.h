@@ -150,7 +150,7 @@ public:
 private:
   double DefaultFeatureSize = 0.0;
   void FindRidges(bool valleys, int numThreads);
-  void FindFeatureEdges(const MeshTopology& topology);
+  void FindFeatureEdges(const MeshTopology& topology, int numThreads);
   struct RidgeCache
   {
     bool Valid = false, AvoidCreases = false;

@@ -65,7 +65,7 @@ bool FitFace(const T* points, const CurvatureTensors& t, const Index* v, FaceDer
     const double k1 = t.Maximum[v[k]], k2 = t.Minimum[v[k]];
     const Vec3 e1 = RotateLike(Point(t.Direction1, v[k]), Point(t.Normals, v[k]), face.N);
     double c = e1.dot(face.U), s = e1.dot(V);
-    const double length = std::hypot(c, s);
+    const double length = std::sqrt(c * c + s * s); // (a unit vector's parts)
     if (!(length > 0.0) || !std::isfinite(k1) || !std::isfinite(k2))
     {
       return false;

@@ -56,7 +56,7 @@ struct EdgeSample
 /// from half-angle formulas (no atan2, cos, sin per vertex); (1, 0) if x = y = 0.
 Eigen::Vector2d HalfAngleDirection(double y, double x)
 {
-  const double r = std::hypot(x, y);
+  const double r = std::sqrt(x * x + y * y); // (curvature-sized: hypot's overflow guard costs, not needed)
   if (!(r > 0.0))
   {
     return { 1.0, 0.0 };
@@ -168,7 +168,7 @@ void FitTaubin(const std::vector<EdgeSample>& samples, const Vec3& n, const Vec3
   m12 /= wsum;
   m22 /= wsum;
   const double mean = 0.5 * (m11 + m22);
-  const double radius = std::hypot(0.5 * (m11 - m22), m12);
+  const double radius = std::sqrt(0.25 * (m11 - m22) * (m11 - m22) + m12 * m12);
   const double l1 = mean + radius, l2 = mean - radius;
   k1 = 3.0 * l1 - l2;
   k2 = 3.0 * l2 - l1;
