@@ -62,6 +62,7 @@ void vtkSurfaceLineDrawing::CopySettings(beltrami::LineDrawingOptions& o, vtkBel
   BeltramiCopySetting(this->SuggestiveContourAngle, o.SuggestiveAngle, direction);
   BeltramiCopySetting(this->RidgeThreshold, o.RidgeThreshold, direction);
   BeltramiCopySetting(this->CreaseAngle, o.CreaseAngle, direction);
+  BeltramiCopySetting(this->MinimumLineLength, o.MinimumLength, direction);
   BeltramiCopySetting(this->DropBackFacing, o.DropBackFacing, direction);
   BeltramiCopySetting(this->AvoidCreases, o.AvoidCreases, direction);
   BeltramiCopySetting(this->NumberOfThreads, o.NumberOfThreads, direction);
@@ -215,6 +216,7 @@ void vtkSurfaceLineDrawing::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "SuggestiveContourThreshold: " << this->SuggestiveContourThreshold << "\n"
      << indent << "SuggestiveContourAngle: " << this->SuggestiveContourAngle << "\n"
      << indent << "RidgeThreshold: " << this->RidgeThreshold << "\n"
+     << indent << "MinimumLineLength: " << this->MinimumLineLength << "\n"
      << indent << "CreaseAngle: " << this->CreaseAngle << "\n"
      << indent << "DropBackFacing: " << this->DropBackFacing << "\n"
      << indent << "AvoidCreases: " << this->AvoidCreases << "\n"

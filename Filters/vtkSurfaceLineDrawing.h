@@ -131,6 +131,11 @@ public:
   vtkGetMacro(RidgeThreshold, double);
   vtkSetClampMacro(CreaseAngle, double, 0.0, 180.0);
   vtkGetMacro(CreaseAngle, double);
+  /// Suggestive contours and highlights, ridges and valleys whose polylines
+  /// are shorter than this many FeatureSize are dropped (default 0: all
+  /// kept; 1-3 clean the short pieces the noise of raw scans draws).
+  vtkSetClampMacro(MinimumLineLength, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MinimumLineLength, double);
   /// Leave suggestive contours and highlights, ridges and valleys out of the
   /// triangles at a crease vertex (default on; see CreaseAngle).
   vtkSetMacro(AvoidCreases, bool);
@@ -167,6 +172,7 @@ protected:
   double SuggestiveContourAngle = 0.0;
   double RidgeThreshold = 0.0;
   double CreaseAngle = 0.0;
+  double MinimumLineLength = 0.0;
   bool DropBackFacing = true;
   bool AvoidCreases = true;
   int NumberOfThreads = 0;

@@ -196,9 +196,10 @@ LINE_COLOURS = ((0.0, 0.0, 0.0), (0.10, 0.25, 0.75), (0.95, 0.55, 0.05), (0.80, 
                 (0.10, 0.55, 0.20), (0.0, 0.0, 0.0), (0.35, 0.35, 0.35))
 
 
-def line_drawing(mesh_path, ridges=False, valleys=False, highlights=False):
+def line_drawing(mesh_path, ridges=False, valleys=False, highlights=False, minimum_length=0.0):
     """vtkSurfaceLineDrawing on an OFF mesh (contours, suggestive contours,
-    boundaries and creases; ridges, valleys and highlights on request);
+    boundaries and creases; ridges, valleys and highlights on request;
+    curvature lines shorter than minimum_length feature sizes dropped);
     returns the filter, not yet updated: its camera is set by
     render_line_drawing."""
     reader = vtkOFFReader()
@@ -208,6 +209,7 @@ def line_drawing(mesh_path, ridges=False, valleys=False, highlights=False):
     drawing.SetRidges(ridges)
     drawing.SetValleys(valleys)
     drawing.SetSuggestiveHighlights(highlights)
+    drawing.SetMinimumLineLength(minimum_length)
     return drawing
 
 

@@ -767,6 +767,18 @@ class LineDrawingFromPython(unittest.TestCase):
         f.Update()
         self.assertGreater(f.GetOutput().GetNumberOfCells(), 0)
         self.assertEqual(f.GetGeometryBuilds(), 1)
+        # A minimum length drops the short curvature lines (the scan's
+        # pieces) and keeps the contours, still without a new geometry.
+        def count(kind):
+            return int(np.sum(vtk_to_numpy(f.GetOutput().GetCellData().GetArray("LineType")) == kind))
+        before = [count(k) for k in (0, 1, 3)]
+        self.assertEqual(f.GetMinimumLineLength(), 0.0)
+        f.SetMinimumLineLength(2.0)
+        f.Update()
+        after = [count(k) for k in (0, 1, 3)]
+        self.assertEqual(after[0], before[0])
+        self.assertTrue(0 < after[1] < before[1] and 0 < after[2] < before[2], (before, after))
+        self.assertEqual(f.GetGeometryBuilds(), 1)
 
     def test_sphere_contour_is_one_closed_polyline(self):
         f = self.drawing(self.sphere())

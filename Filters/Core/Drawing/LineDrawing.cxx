@@ -373,15 +373,16 @@ void ComputeViewFields(const LineDrawingGeometry& geo, const LineView& view, int
 
 /// Turns segments into polylines with their points' positions, normals and
 /// strengths (strength(segment, corner values) gives a segment's corner
-/// strengths).
+/// strengths); polylines shorter than minimumLength are left out.
 template <typename Strength>
 void AddLines(const LineDrawingGeometry& geo, const std::vector<LineSegment>& segments, LineType type,
-  Strength&& strength, LineSet& lines)
+  Strength&& strength, LineSet& lines, double minimumLength = 0.0)
 {
   for (const SegmentChain& chain : ChainSegments(segments))
   {
+    const std::size_t firstValue = lines.PointStrength.size();
     const Index first = static_cast<Index>(lines.Points.size() / 3);
-    double sum = 0.0;
+    double sum = 0.0, length = 0.0;
     for (const ChainPoint& cp : chain.Points)
     {
       const LineSegment& s = segments[cp.Segment];
@@ -397,11 +398,29 @@ void AddLines(const LineDrawingGeometry& geo, const std::vector<LineSegment>& se
       strength(cp.Segment, v, corners);
       const double value = Interpolate(end, corners);
       n.normalize();
+      if (lines.PointStrength.size() > firstValue)
+      {
+        length += (p - Point(lines.Points.data(), static_cast<Index>(lines.PointStrength.size() - 1))).norm();
+      }
       lines.Points.insert(lines.Points.end(), p.data(), p.data() + 3);
       lines.Normals.insert(lines.Normals.end(), n.data(), n.data() + 3);
       lines.PointStrength.push_back(value);
       lines.Connectivity.push_back(static_cast<Index>(lines.PointStrength.size() - 1));
       sum += value;
+    }
+    if (chain.Closed && lines.PointStrength.size() > firstValue)
+    {
+      length += (Point(lines.Points.data(), first) -
+        Point(lines.Points.data(), static_cast<Index>(lines.PointStrength.size() - 1))).norm();
+    }
+    if (length < minimumLength)
+    {
+      // Too short: its points go again (they were appended above).
+      lines.Points.resize(3 * firstValue);
+      lines.Normals.resize(3 * firstValue);
+      lines.PointStrength.resize(firstValue);
+      lines.Connectivity.resize(static_cast<std::size_t>(lines.Offsets.back()));
+      continue;
     }
     if (chain.Closed)
     {
@@ -556,15 +575,16 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
     };
   };
   AddLines(geo, lists[0], LineType::Contour, one, lines);
-  AddLines(geo, lists[1], LineType::SuggestiveContour, vertexStrength(drkr, scale), lines);
-  AddLines(geo, lists[2], LineType::SuggestiveHighlight, vertexStrength(drkr, -scale), lines);
+  const double shortest = options.MinimumLength * size; // (curvature lines only)
+  AddLines(geo, lists[1], LineType::SuggestiveContour, vertexStrength(drkr, scale), lines, shortest);
+  AddLines(geo, lists[2], LineType::SuggestiveHighlight, vertexStrength(drkr, -scale), lines, shortest);
   if (draw[int(LineType::Ridge)])
   {
-    AddLines(geo, clipRidges(false), LineType::Ridge, vertexStrength(geo.K1.data(), size), lines);
+    AddLines(geo, clipRidges(false), LineType::Ridge, vertexStrength(geo.K1.data(), size), lines, shortest);
   }
   if (draw[int(LineType::Valley)])
   {
-    AddLines(geo, clipRidges(true), LineType::Valley, vertexStrength(geo.K2.data(), -size), lines);
+    AddLines(geo, clipRidges(true), LineType::Valley, vertexStrength(geo.K2.data(), -size), lines, shortest);
   }
   if (draw[int(LineType::Boundary)])
   {

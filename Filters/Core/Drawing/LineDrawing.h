@@ -81,6 +81,10 @@ struct LineDrawingOptions
   bool AvoidCreases = true;
   /// Drop the pieces of every type but contours where n.v < 0.
   bool DropBackFacing = true;
+  /// Suggestive contours and highlights, ridges and valleys whose polylines
+  /// are shorter than this many FeatureSize are dropped (0: all kept): on
+  /// raw scans the noise breaks them into short pieces.
+  double MinimumLength = 0.0;
   int NumberOfThreads = 0;
 };
 

@@ -361,3 +361,60 @@ TEST(LineDrawing, CadCreasesGetNoCurvatureLines)
   EXPECT_EQ(PointsOf(avoiding, LineType::Contour).size(), PointsOf(plain, LineType::Contour).size());
   EXPECT_EQ(PointsOf(avoiding, LineType::Crease).size(), PointsOf(plain, LineType::Crease).size());
 }
+
+TEST(LineDrawing, MinimumLengthDropsShortCurvatureLinesOfAScan)
+{
+  // bunny00, a raw scan, from the demo's front: its noise breaks the
+  // suggestive contours, ridges and valleys into short pieces.  With
+  // MinimumLength 2 every such polyline left is at least two feature sizes
+  // long (its length summed over its points, closed ones around), the
+  // short ones are gone, every long one stays, and contours
+  // and boundaries are untouched.
+  std::string error;
+  const Mesh m = test::ReadMesh("bunny00.off", error);
+  ASSERT_EQ(error, "");
+  const LineDrawingGeometry geo = Geometry(m);
+  LineDrawingOptions o;
+  o.Draw[int(LineType::Ridge)] = o.Draw[int(LineType::Valley)] = true;
+  const LineView view = Orthographic(-Vec3(0.0, 0.05, 1.0).normalized());
+  const LineSet all = DrawLines(geo, view, o);
+  o.MinimumLength = 2.0;
+  const LineSet kept = DrawLines(geo, view, o);
+  const double shortest = 2.0 * geo.AutomaticFeatureSize();
+  const auto lengths = [](const LineSet& lines, LineType type) {
+    std::vector<double> out;
+    for (Index l = 0; l < lines.NumberOfLines(); ++l)
+    {
+      if (lines.Type[l] != static_cast<std::uint8_t>(type))
+      {
+        continue;
+      }
+      double length = 0.0;
+      for (Index k = lines.Offsets[l] + 1; k < lines.Offsets[l + 1]; ++k)
+      {
+        length += (Point(lines.Points.data(), lines.Connectivity[k]) -
+          Point(lines.Points.data(), lines.Connectivity[k - 1])).norm();
+      }
+      out.push_back(length);
+    }
+    return out;
+  };
+  for (LineType type : { LineType::SuggestiveContour, LineType::Ridge, LineType::Valley })
+  {
+    const std::vector<double> before = lengths(all, type), after = lengths(kept, type);
+    const auto longEnough = std::count_if(before.begin(), before.end(), [&](double x) { return x >= shortest; });
+    std::printf("type %d: %zu polylines -> %zu (%ld of them at least 2 feature sizes long)\n", int(type),
+      before.size(), after.size(), static_cast<long>(longEnough));
+    EXPECT_EQ(static_cast<std::ptrdiff_t>(after.size()), longEnough) << int(type);
+    EXPECT_LT(after.size(), before.size() / 2) << int(type); // mostly short pieces on a scan
+    EXPECT_GT(after.size(), 0u) << int(type);
+    for (double x : after)
+    {
+      EXPECT_GE(x, shortest) << int(type);
+    }
+  }
+  for (LineType type : { LineType::Contour, LineType::Boundary })
+  {
+    EXPECT_EQ(PointsOf(kept, type), PointsOf(all, type)) << int(type);
+  }
+}
