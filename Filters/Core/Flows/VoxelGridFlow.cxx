@@ -90,33 +90,9 @@ BELTRAMI_ALWAYS_INLINE inline void AddToCell(const Real (&weights)[6], Real volu
   }
 }
 
-/// Tetrahedron (path) P of a cell: its Gram matrix from the differences d
-/// of the corners' values to corner 0's (NC each) and the base part, its
-/// edge weights added to the cell's edges and a quarter of its volume to
-/// its corners' masses (all indices constant: registers).
-template <int NC, int P, typename Real>
-BELTRAMI_ALWAYS_INLINE inline void AddKuhnTetrahedron(const Real (&d)[8][NC], const KuhnShapes<Real>& shapes, Real (&edges)[KuhnCell::Edges], Real (&masses)[8])
-{
-  constexpr int A = Kuhn.Corner[P][1], B = Kuhn.Corner[P][2];
-  const Real* base = shapes.Gram[P];
-  Real aa = 0, bb = 0, cc = 0, ab = 0, ac = 0, bc = 0;
-  #pragma GCC unroll 32
-  for (int m = 0; m < NC; ++m)
-  {
-    aa += d[A][m] * d[A][m];
-    bb += d[B][m] * d[B][m];
-    cc += d[7][m] * d[7][m];
-    ab += d[A][m] * d[B][m];
-    ac += d[A][m] * d[7][m];
-    bc += d[B][m] * d[7][m];
-  }
-  const BasicTetrahedronTerms<Real> t =
-    TetrahedronFromGram(base[0] + aa, base[1] + bb, base[2] + cc, base[3] + ab, base[4] + ac, base[5] + bc);
-  AddToCell<P>(t.Weights, t.Volume, edges, masses);
-}
-
-/// The same for scalar data in closed form.  On the tetrahedron 0, A, B, 7
-/// (steps of lengths ha, hb, hc along the path's axes ea, eb, ec) the
+/// Tetrahedron (path) P of a cell for scalar data, in closed form.  On the
+/// tetrahedron 0, A, B, 7 (steps of lengths ha, hb, hc along the path's
+/// axes ea, eb, ec) the
 /// barycentric gradients are -ea/ha, ea/ha - eb/hb, eb/hb - ec/hc, ec/hc:
 /// flat, only the pairs 01, 12, 23 meet (at -1/ha^2, -1/hb^2, -1/hc^2).  The
 /// graph's metric I + grad f grad f^T has the determinant R^2 = 1 +
@@ -138,6 +114,37 @@ BELTRAMI_ALWAYS_INLINE inline void AddScalarKuhnTetrahedron(const Real (&d)[8][1
   const Real weights[6] = { vr * (t0 * t1 + r2 * h[0]), vr * (t0 * t2), vr * (t0 * t3), vr * (t1 * t2 + r2 * h[1]),
     vr * (t1 * t3), vr * (t2 * t3 + r2 * h[2]) };
   AddToCell<P>(weights, vr * r2, edges, masses);
+}
+
+/// Tetrahedron (path) P of a cell: its Gram matrix from the differences d
+/// of the corners' values to corner 0's (NC each) and the base part, its
+/// edge weights added to the cell's edges and a quarter of its volume to
+/// its corners' masses (all indices constant: registers); scalars in the
+/// closed form above.
+template <int NC, int P, typename Real>
+BELTRAMI_ALWAYS_INLINE inline void AddKuhnTetrahedron(const Real (&d)[8][NC], const KuhnShapes<Real>& shapes, Real (&edges)[KuhnCell::Edges], Real (&masses)[8])
+{
+  if constexpr (NC == 1)
+  {
+    AddScalarKuhnTetrahedron<P>(d, shapes, edges, masses);
+    return;
+  }
+  constexpr int A = Kuhn.Corner[P][1], B = Kuhn.Corner[P][2];
+  const Real* base = shapes.Gram[P];
+  Real aa = 0, bb = 0, cc = 0, ab = 0, ac = 0, bc = 0;
+  #pragma GCC unroll 32
+  for (int m = 0; m < NC; ++m)
+  {
+    aa += d[A][m] * d[A][m];
+    bb += d[B][m] * d[B][m];
+    cc += d[7][m] * d[7][m];
+    ab += d[A][m] * d[B][m];
+    ac += d[A][m] * d[7][m];
+    bc += d[B][m] * d[7][m];
+  }
+  const BasicTetrahedronTerms<Real> t =
+    TetrahedronFromGram(base[0] + aa, base[1] + bb, base[2] + cc, base[3] + ab, base[4] + ac, base[5] + bc);
+  AddToCell<P>(t.Weights, t.Volume, edges, masses);
 }
 
 /// The six Kuhn tetrahedra of the n cells of a row (u[c]: the values at
@@ -168,24 +175,12 @@ CLONES void KuhnCellRow(std::int64_t n, const double* __restrict u0, const doubl
       d[7][m] = Real(u7[k] - o);
     }
     Real e[KuhnCell::Edges] = {}, w[8] = {};
-    if constexpr (NC == 1)
-    {
-      AddScalarKuhnTetrahedron<0>(d, shapes, e, w);
-      AddScalarKuhnTetrahedron<1>(d, shapes, e, w);
-      AddScalarKuhnTetrahedron<2>(d, shapes, e, w);
-      AddScalarKuhnTetrahedron<3>(d, shapes, e, w);
-      AddScalarKuhnTetrahedron<4>(d, shapes, e, w);
-      AddScalarKuhnTetrahedron<5>(d, shapes, e, w);
-    }
-    else
-    {
-      AddKuhnTetrahedron<NC, 0>(d, shapes, e, w);
-      AddKuhnTetrahedron<NC, 1>(d, shapes, e, w);
-      AddKuhnTetrahedron<NC, 2>(d, shapes, e, w);
-      AddKuhnTetrahedron<NC, 3>(d, shapes, e, w);
-      AddKuhnTetrahedron<NC, 4>(d, shapes, e, w);
-      AddKuhnTetrahedron<NC, 5>(d, shapes, e, w);
-    }
+    AddKuhnTetrahedron<NC, 0>(d, shapes, e, w);
+    AddKuhnTetrahedron<NC, 1>(d, shapes, e, w);
+    AddKuhnTetrahedron<NC, 2>(d, shapes, e, w);
+    AddKuhnTetrahedron<NC, 3>(d, shapes, e, w);
+    AddKuhnTetrahedron<NC, 4>(d, shapes, e, w);
+    AddKuhnTetrahedron<NC, 5>(d, shapes, e, w);
     #pragma GCC unroll 32
     for (int s = 0; s < KuhnCell::Edges; ++s)
     {
