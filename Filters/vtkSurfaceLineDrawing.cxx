@@ -83,7 +83,8 @@ vtkSmartPointer<vtkDoubleArray> NewArray(const char* name, int components, vtkId
   return vtkDoubleArray::SafeDownCast(vtkBeltramiSurface::NewArray(VTK_DOUBLE, name, components, tuples));
 }
 
-vtkSmartPointer<vtkDoubleArray> FromVector(const char* name, int components, const std::vector<double>& values)
+template <typename Vector>
+vtkSmartPointer<vtkDoubleArray> FromVector(const char* name, int components, const Vector& values)
 {
   auto array = NewArray(name, components, static_cast<vtkIdType>(values.size() / components));
   std::copy(values.begin(), values.end(), array->GetPointer(0));

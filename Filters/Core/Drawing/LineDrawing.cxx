@@ -97,7 +97,7 @@ bool Clip(LineSegment& s, const double* g)
 }
 
 /// The corner values of face f of a per-vertex field.
-void Corners(const std::vector<Index>& tri, Index f, const double* field, double* out)
+void Corners(const IndexArray& tri, Index f, const double* field, double* out)
 {
   for (int k = 0; k < 3; ++k)
   {
@@ -207,42 +207,47 @@ void LineDrawingGeometry::Build(const MeshTopology& topology, const T* points, i
     }
   }
   DefaultFeatureSize = (hi - lo).allFinite() ? 0.01 * (hi - lo).norm() : 0.0;
-  FindRidges(false, numThreads);
-  FindRidges(true, numThreads);
+  FindRidges(numThreads);
   FindFeatureEdges(topology, numThreads);
 }
 
 template void LineDrawingGeometry::Build<float>(const MeshTopology&, const float*, int);
 template void LineDrawingGeometry::Build<double>(const MeshTopology&, const double*, int);
 
-void LineDrawingGeometry::FindRidges(bool valleys, int numThreads)
+void LineDrawingGeometry::FindRidges(int numThreads)
 {
   // A valley is a ridge of -kappa_2 along e2: D_e2(-kappa_2) = -C(e2,e2,e2).
-  const std::vector<double>& direction = valleys ? E2 : E1;
-  const int component = valleys ? 3 : 0;
-  const double sign = valleys ? -1.0 : 1.0;
+  const double* directions[2] = { E1.data(), E2.data() };
   const Index n = NumberOfVertices();
-  auto lists = CollectSegments(NumberOfFaces(), numThreads, 1, [&](Index f, std::vector<LineSegment>* out) {
+  auto lists = CollectSegments(NumberOfFaces(), numThreads, 2, [&](Index f, std::vector<LineSegment>* out) {
     const Index* v = Triangles.data() + 3 * static_cast<std::int64_t>(f);
-    Vec3 e[3], p[3];
-    double g[3];
-    for (int k = 0; k < 3; ++k)
+    for (int valleys = 0; valleys < 2; ++valleys)
     {
-      e[k] = Point(direction.data(), v[k]);
-      p[k] = Point(Points.data(), v[k]);
-      // The principal directions are lines, not vectors: turned like the first corner's.
-      const double flip = k > 0 && e[k].dot(e[0]) < 0.0 ? -1.0 : 1.0;
-      e[k] *= flip;
-      g[k] = sign * flip * Derivatives[4 * static_cast<std::int64_t>(v[k]) + component];
-    }
-    LineSegment s;
-    // A maximum along e: the derivative decreases along e.
-    if (ZeroCrossing(f, v, g, n, s) && FaceGradient(p, g).dot(e[0] + e[1] + e[2]) < 0.0)
-    {
-      out[0].push_back(s);
+      Vec3 e[3];
+      double g[3];
+      for (int k = 0; k < 3; ++k)
+      {
+        e[k] = Point(directions[valleys], v[k]);
+        // The principal directions are lines, not vectors: turned like the first corner's.
+        const double flip = k > 0 && e[k].dot(e[0]) < 0.0 ? -1.0 : 1.0;
+        e[k] *= flip;
+        g[k] = (valleys ? -flip : flip) * Derivatives[4 * static_cast<std::int64_t>(v[k]) + 3 * valleys];
+      }
+      LineSegment s;
+      if (!ZeroCrossing(f, v, g, n, s))
+      {
+        continue;
+      }
+      const Vec3 p[3] = { Point(Points.data(), v[0]), Point(Points.data(), v[1]), Point(Points.data(), v[2]) };
+      // A maximum along e: the derivative decreases along e.
+      if (FaceGradient(p, g).dot(e[0] + e[1] + e[2]) < 0.0)
+      {
+        out[valleys].push_back(s);
+      }
     }
   });
-  (valleys ? ValleyCandidates : RidgeCandidates) = std::move(lists[0]);
+  RidgeCandidates = std::move(lists[0]);
+  ValleyCandidates = std::move(lists[1]);
 }
 
 LineSegment LineDrawingGeometry::EdgeSegment(Index a, Index b, Index face) const
@@ -265,14 +270,20 @@ void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int num
 {
   const MeshTopology::EdgeTable& edges = topology.Edges();
   const std::int64_t numEdges = edges.NumberOfEdges();
-  const auto faceNormal = [&](Index f) {
-    const Index* v = Triangles.data() + 3 * static_cast<std::int64_t>(f);
-    const Vec3 a = Point(Points.data(), v[0]);
-    return Vec3((Point(Points.data(), v[1]) - a).cross(Point(Points.data(), v[2]) - a).normalized());
-  };
-  // The angle of every edge of two faces in parallel (NaN: none), then the
-  // lists in edge order.
-  std::vector<float> angles(static_cast<std::size_t>(numEdges), NaN);
+  // The faces' unit normals, then the angle of every edge of two faces in
+  // parallel (NaN: none), then the lists in edge order.
+  LargeVector<double> normals(3 * static_cast<std::size_t>(NumberOfFaces()));
+  ParallelFor(NumberOfFaces(), numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t f = begin; f < end; ++f)
+    {
+      const Index* v = Triangles.data() + 3 * f;
+      const Vec3 a = Point(Points.data(), v[0]);
+      const Vec3 normal = (Point(Points.data(), v[1]) - a).cross(Point(Points.data(), v[2]) - a).normalized();
+      std::copy(normal.data(), normal.data() + 3, normals.data() + 3 * f);
+    }
+  });
+  const auto faceNormal = [&](Index f) { return Point(normals.data(), f); };
+  LargeVector<float> angles(static_cast<std::size_t>(numEdges), NaN);
   ParallelFor(numEdges, numThreads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t e = begin; e < end; ++e)
     {

@@ -114,9 +114,9 @@ public:
   Index NumberOfFaces() const { return static_cast<Index>(Triangles.size() / 3); }
   double AutomaticFeatureSize() const { return DefaultFeatureSize; }
 
-  std::vector<Index> Triangles; ///< the topology's kept triangles
-  std::vector<double> Points, Normals, K1, K2, E1, E2;
-  std::vector<double> Derivatives; ///< 4 per vertex: see ComputeCurvatureDerivatives
+  IndexArray Triangles; ///< the topology's kept triangles
+  LargeVector<double> Points, Normals, K1, K2, E1, E2;
+  LargeVector<double> Derivatives; ///< 4 per vertex: see ComputeCurvatureDerivatives
   /// Vertices of triangles whose curvature is undefined (boundary,
   /// non-manifold, NaN or degenerate 1-rings).
   Index UndefinedVertices = 0;
@@ -129,12 +129,12 @@ public:
     Index A, B, Face;
     float Angle; ///< degrees
   };
-  std::vector<InteriorEdge> InteriorEdges;
+  LargeVector<InteriorEdge> InteriorEdges;
   /// InteriorEdges' angles alone: a view scans them for its creases (a
   /// quarter of the memory of the edges).
-  std::vector<float> InteriorAngles;
+  LargeVector<float> InteriorAngles;
   /// Per vertex: the largest Angle of its interior edges (0 without).
-  std::vector<float> SharpestEdge;
+  LargeVector<float> SharpestEdge;
   /// Whether face f has a vertex whose SharpestEdge exceeds `angle`
   /// (inline: the per-view pass asks it of every candidate segment).
   bool AtCrease(Index f, double angle) const
@@ -153,7 +153,7 @@ public:
 
 private:
   double DefaultFeatureSize = 0.0;
-  void FindRidges(bool valleys, int numThreads);
+  void FindRidges(int numThreads);
   void FindFeatureEdges(const MeshTopology& topology, int numThreads);
   struct RidgeCache
   {
