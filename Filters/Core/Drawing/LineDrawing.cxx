@@ -3,6 +3,7 @@
 #include "Drawing/LineChaining.h"
 #include "Mesh/CurvatureDerivatives.h"
 #include "Mesh/Curvatures.h"
+#include "Support/Vectorization.h"
 
 #include <Eigen/Geometry>
 
@@ -348,37 +349,58 @@ inline bool MayCross(std::uint8_t all, std::uint8_t any, std::uint8_t finite, st
   return (all & finite) && (any & positive) && !(all & positive);
 }
 
-/// The per-vertex quantities of a view (see the header's conventions), and
-/// their SignBits.
+/// The per-vertex quantities of vertices [begin, end) of a view (see the
+/// header's conventions; Perspective: from the eye, else along `toward`,
+/// the unit vector to the viewer), and their SignBits.  Branch-free, so
+/// that it vectorizes: where the radial direction is undefined (the surface
+/// faces the viewer) kappa_r and its derivative are NaN.
+template <bool Perspective>
+CLONES void ViewFieldRange(std::int64_t begin, std::int64_t end, const double* __restrict points,
+  const double* __restrict normals, const double* __restrict e1, const double* __restrict e2,
+  const double* __restrict k1, const double* __restrict k2, const double* __restrict derivatives, const double* eye,
+  const double* toward, double* __restrict ndotv, double* __restrict kr, double* __restrict drkr,
+  std::uint8_t* __restrict signs)
+{
+  const double ex = eye[0], ey = eye[1], ez = eye[2], tx = toward[0], ty = toward[1], tz = toward[2];
+  for (std::int64_t i = 0; i < end - begin; ++i)
+  {
+    const std::int64_t j = 3 * (begin + i), k = begin + i; // (indices, not pointers: they vectorize)
+    const double dx = ex - points[j], dy = ey - points[j + 1], dz = ez - points[j + 2];
+    const double dd = dx * dx + dy * dy + dz * dz;
+    const double length = dd > 0.0 ? std::sqrt(dd) : 1.0;
+    const double vx = Perspective ? dx / length : tx, vy = Perspective ? dy / length : ty,
+                 vz = Perspective ? dz / length : tz;
+    const double nx = normals[j], ny = normals[j + 1], nz = normals[j + 2];
+    const double nv = nx * vx + ny * vy + nz * vz;
+    const double wx = vx - nv * nx, wy = vy - nv * ny, wz = vz - nv * nz;
+    const double sine = std::sqrt(wx * wx + wy * wy + wz * wz);
+    const double r1 = wx * e1[j] + wy * e1[j + 1] + wz * e1[j + 2], r2 = wx * e2[j] + wy * e2[j + 1] + wz * e2[j + 2];
+    const double rr = std::sqrt(r1 * r1 + r2 * r2); // (unit-sized: no hypot)
+    const double r[2] = { r1 / rr, r2 / rr };
+    const double radial = k1[k] * r[0] * r[0] + k2[k] * r[1] * r[1];
+    const double tau = (k2[k] - k1[k]) * r[0] * r[1];
+    const double c[4] = { derivatives[4 * k], derivatives[4 * k + 1], derivatives[4 * k + 2], derivatives[4 * k + 3] };
+    const double derivative = EvaluateCubicForm(c, r, r, r) - 2.0 * (nv / sine) * tau * tau;
+    // NaN where the radial direction is undefined (added, not selected:
+    // GCC 12 does not vectorize the select).
+    const double undefined = sine > 1e-9 ? 0.0 : NaN;
+    ndotv[k] = nv;
+    kr[k] = radial + undefined;
+    drkr[k] = derivative + undefined;
+    signs[k] =
+      static_cast<std::uint8_t>(SignOf(nv, NdotVFinite, NdotVPositive) | SignOf(kr[k], RadialFinite, RadialPositive));
+  }
+}
+
+/// The per-vertex quantities of a view, and their SignBits.
 void ComputeViewFields(const LineDrawingGeometry& geo, const LineView& view, int numThreads, double* ndotv,
   double* kr, double* drkr, std::uint8_t* signs)
 {
-  const Vec3 parallel = -view.Direction.normalized();
+  const Vec3 toward = -view.Direction.normalized();
   ParallelFor(geo.NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
-    for (Index i = static_cast<Index>(begin); i < end; ++i)
-    {
-      const Vec3 p = Point(geo.Points.data(), i), n = Point(geo.Normals.data(), i);
-      const Vec3 v = view.Perspective ? Vec3((view.Position - p).normalized()) : parallel;
-      ndotv[i] = n.dot(v);
-      kr[i] = drkr[i] = NaN;
-      signs[i] = SignOf(ndotv[i], NdotVFinite, NdotVPositive);
-      const Vec3 w = v - ndotv[i] * n;
-      const double sine = w.norm();
-      if (!(sine > 1e-9))
-      {
-        continue; // the radial direction is undefined where the surface faces the viewer
-      }
-      double r[2] = { w.dot(Point(geo.E1.data(), i)), w.dot(Point(geo.E2.data(), i)) };
-      const double length = std::sqrt(r[0] * r[0] + r[1] * r[1]); // (unit-sized: no hypot)
-      r[0] /= length;
-      r[1] /= length;
-      const double k1 = geo.K1[i], k2 = geo.K2[i];
-      kr[i] = k1 * r[0] * r[0] + k2 * r[1] * r[1];
-      const double tau = (k2 - k1) * r[0] * r[1];
-      const double* c = geo.Derivatives.data() + 4 * static_cast<std::int64_t>(i);
-      drkr[i] = EvaluateCubicForm(c, r, r, r) - 2.0 * (ndotv[i] / sine) * tau * tau;
-      signs[i] |= SignOf(kr[i], RadialFinite, RadialPositive);
-    }
+    (view.Perspective ? ViewFieldRange<true> : ViewFieldRange<false>)(begin, end, geo.Points.data(),
+      geo.Normals.data(), geo.E1.data(), geo.E2.data(), geo.K1.data(), geo.K2.data(), geo.Derivatives.data(),
+      view.Position.data(), toward.data(), ndotv, kr, drkr, signs);
   });
 }
 

@@ -7,6 +7,7 @@
 #include "Flows/GraphFlow.h"
 #include "Solvers/Partition.h"
 #include "Support/LargeBuffer.h"
+#include "Support/Vectorization.h"
 
 #include <algorithm>
 #include <cmath>
@@ -149,14 +150,6 @@ ProbeWindow GridProbeWindow(Index layers, Index layerSize, const GraphFlowOption
 /// The time loop shared by images, volumes and meshes (section 3.8.5).
 GraphFlowResult Integrate(const DiscretizationFactory& make, double* values, const GraphFlowOptions& o,
   const ProgressCallback& progress, const ProbeWindow& window = {});
-
-/// The row kernels are compiled twice, for AVX2/FMA processors and for any
-/// x86-64, and the processor picks at run time: the build stays portable.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
-#define CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#else
-#define CLONES
-#endif
 
 /// Buffers lent to the threads of a parallel loop and kept for the next loop
 /// (no allocation, zeroing or page faults per step).
