@@ -175,9 +175,12 @@ Index ComputeCurvatureDerivatives(const MeshTopology& topo, const T* points, con
   // their corners' terms there, and the vertices read theirs in order.
   LargeVector<Index> slot(3 * static_cast<std::size_t>(numFaces));
   ParallelFor(topo.NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
-    for (const Index* c = topo.CornersBegin(static_cast<Index>(begin)); c != topo.CornersEnd(static_cast<Index>(end - 1)); ++c)
+    for (Index i = static_cast<Index>(begin); i < end; ++i)
     {
-      slot[*c] = static_cast<Index>(c - firstCorner);
+      for (const Index* c = topo.CornersBegin(i); c != topo.CornersEnd(i); ++c)
+      {
+        slot[*c] = static_cast<Index>(c - firstCorner);
+      }
     }
   });
   LargeVector<CornerTerm> terms(slot.size());
