@@ -26,13 +26,22 @@
 
 vtkStandardNewMacro(vtkSurfaceRemeshing);
 
+/// What a re-run with other sampling settings reuses: the input's surface
+/// (topology with its edge table, points as doubles) and its curvatures
+/// while the input's geometry stays, and its atlas while the feature
+/// settings stay too.
 struct vtkSurfaceRemeshing::Kept
 {
-  beltrami::AtlasResult Atlas;
   const void* Input = nullptr;
   vtkMTimeType InputTime = 0;
+  vtkBeltramiSurface Surface;
+  std::vector<double> Storage; // the points as doubles, where they are not
+  const double* Points = nullptr;
+  std::unique_ptr<beltrami::AtlasResult> Atlas;
   bool SplitAtFeatures = false;
   double FeatureAngle = 0.0;
+  std::vector<double> Curvatures; // of the measure CurvatureImportance (-1: none yet)
+  int CurvatureImportance = -1;
 };
 
 vtkSurfaceRemeshing::vtkSurfaceRemeshing()
@@ -61,26 +70,44 @@ int vtkSurfaceRemeshing::RequestData(
     [this](vtkPolyData* input, vtkPolyData* output) { return this->Build(input, output); });
 }
 
-const beltrami::AtlasResult& vtkSurfaceRemeshing::Atlas(vtkPolyData* input, const void* topology, const double* points)
+int vtkSurfaceRemeshing::KeepSurface(vtkPolyData* input)
 {
   const vtkMTimeType time = std::max(input->GetMTime(), input->GetPoints() ? input->GetPoints()->GetMTime() : 0);
-  if (!this->Cache || this->Cache->Input != input || this->Cache->InputTime != time ||
-    this->Cache->SplitAtFeatures != this->SplitAtFeatures || this->Cache->FeatureAngle != this->FeatureAngle)
+  if (this->Cache && this->Cache->Input == input && this->Cache->InputTime == time)
+  {
+    return 1;
+  }
+  this->Cache.reset();
+  auto kept = std::make_unique<Kept>();
+  const vtkBeltramiSurface::Readiness ready =
+    kept->Surface.BuildWhole(this, input, this->NumberOfThreads, "the remesh");
+  if (ready != vtkBeltramiSurface::Readiness::Ready)
+  {
+    return ready == vtkBeltramiSurface::Readiness::Empty ? -1 : 0;
+  }
+  kept->Points = kept->Surface.PointsAsDouble(kept->Storage);
+  kept->Input = input;
+  kept->InputTime = time;
+  this->Cache = std::move(kept);
+  return 1;
+}
+
+const beltrami::AtlasResult& vtkSurfaceRemeshing::Atlas()
+{
+  Kept& kept = *this->Cache;
+  if (!kept.Atlas || kept.SplitAtFeatures != this->SplitAtFeatures || kept.FeatureAngle != this->FeatureAngle)
   {
     beltrami::AtlasOptions options = beltrami::RemeshingAtlasOptions();
     options.SplitAtFeatures = this->SplitAtFeatures;
     options.FeatureAngle = this->FeatureAngle;
     options.NumberOfThreads = this->NumberOfThreads;
-    this->Cache = std::make_unique<Kept>();
-    this->Cache->Atlas =
-      beltrami::BuildAtlas(*static_cast<const beltrami::MeshTopology*>(topology), points, options);
-    this->Cache->Input = input;
-    this->Cache->InputTime = time;
-    this->Cache->SplitAtFeatures = this->SplitAtFeatures;
-    this->Cache->FeatureAngle = this->FeatureAngle;
+    kept.Atlas = std::make_unique<beltrami::AtlasResult>(
+      beltrami::BuildAtlas(kept.Surface.Topology(), kept.Points, options));
+    kept.SplitAtFeatures = this->SplitAtFeatures;
+    kept.FeatureAngle = this->FeatureAngle;
     ++this->AtlasBuilds;
   }
-  return this->Cache->Atlas;
+  return *kept.Atlas;
 }
 
 namespace
@@ -197,15 +224,14 @@ void vtkSurfaceRemeshing::RemoveAllTransferFunctionPoints()
 int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
 {
   output->Initialize(); // a defined output: empty
-  vtkBeltramiSurface surface;
-  const vtkBeltramiSurface::Readiness ready = surface.BuildWhole(this, input, this->NumberOfThreads, "the remesh");
-  if (ready != vtkBeltramiSurface::Readiness::Ready)
+  const int surfaceKept = this->KeepSurface(input);
+  if (surfaceKept <= 0)
   {
-    return ready == vtkBeltramiSurface::Readiness::Empty ? 1 : 0;
+    return surfaceKept < 0 ? 1 : 0; // nothing to remesh (warned), or an error
   }
+  vtkBeltramiSurface& surface = this->Cache->Surface;
   const beltrami::MeshTopology& topology = surface.Topology();
-  std::vector<double> storage;
-  const double* points = surface.PointsAsDouble(storage);
+  const double* points = this->Cache->Points;
   std::vector<double> values;
   if (this->Importance == POINT_ARRAY)
   {
@@ -225,8 +251,14 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
   }
   else if (this->Importance != UNIFORM)
   {
-    values = beltrami::CurvatureValues(
-      topology, points, static_cast<beltrami::CurvatureMeasure>(this->Importance), this->NumberOfThreads);
+    Kept& kept = *this->Cache;
+    if (kept.CurvatureImportance != this->Importance)
+    {
+      kept.Curvatures = beltrami::CurvatureValues(
+        topology, points, static_cast<beltrami::CurvatureMeasure>(this->Importance), this->NumberOfThreads);
+      kept.CurvatureImportance = this->Importance;
+    }
+    values = kept.Curvatures;
   }
   std::vector<double> importance;
   if (!values.empty())
@@ -244,7 +276,7 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
     }
     importance = std::move(result.Importance);
   }
-  const beltrami::AtlasResult& atlas = this->Atlas(input, &topology, points);
+  const beltrami::AtlasResult& atlas = this->Atlas();
   if (!atlas.Error.empty())
   {
     vtkErrorMacro(<< "No atlas: " << atlas.Error << ". The output is empty.");

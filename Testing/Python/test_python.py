@@ -612,6 +612,13 @@ class RemeshingFromPython(unittest.TestCase):
             np.testing.assert_allclose(vtk_to_numpy(out.GetPointData().GetArray("Height")), z, atol=1e-9)
             self.assertGreater(out.GetFieldData().GetArray("RemeshMeanMinimumAngle").GetValue(0), 49.0)
         self.assertEqual(f.GetAtlasBuilds(), 1)  # only the sampling changed
+        # Moved points: the kept surface and atlas are built again from them.
+        xyz = vtk_to_numpy(reader.GetOutput().GetPoints().GetData())
+        xyz *= 2.0
+        reader.GetOutput().GetPoints().Modified()
+        f.Update()
+        self.assertEqual(f.GetAtlasBuilds(), 2)
+        self.assertAlmostEqual(f.GetOutput().GetBounds()[5], reader.GetOutput().GetBounds()[5], delta=1e-3)
         control = f.GetOutputDataObject(1).GetBlock(0)
         halftone = vtk_to_numpy(control.GetPointData().GetArray("Halftone"))
         kinds = vtk_to_numpy(f.GetOutput().GetPointData().GetArray("SampleKind"))
