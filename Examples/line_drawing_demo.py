@@ -27,8 +27,11 @@ NAMES = ("contours", "suggestive contours", "suggestive highlights", "ridges", "
 
 RUNS = (  # mesh, label, view direction, zoom, options
     ("bunny00.off", "front", (0.8, 0.2, 1), 1.2, dict(ridges=True, valleys=True)),
-    # The scan's short curvature lines dropped (MinimumLineLength 2 feature sizes).
-    ("bunny00.off", "front_long_lines", (0.8, 0.2, 1), 1.2, dict(ridges=True, valleys=True, minimum_length=2.0)),
+    # The scan's curvature lines joined where its noise breaks them
+    # (HysteresisRatio 0.5), and those shorter than 4 feature sizes dropped
+    # (MinimumLineLength).
+    ("bunny00.off", "front_long_lines", (0.8, 0.2, 1), 1.2,
+     dict(ridges=True, valleys=True, minimum_length=4.0, hysteresis=0.5)),
     ("fandisk.off", "front", (1, 0.6, 0.8), 0.9, {}),
 )
 

@@ -63,6 +63,7 @@ void vtkSurfaceLineDrawing::CopySettings(beltrami::LineDrawingOptions& o, vtkBel
   BeltramiCopySetting(this->RidgeThreshold, o.RidgeThreshold, direction);
   BeltramiCopySetting(this->CreaseAngle, o.CreaseAngle, direction);
   BeltramiCopySetting(this->MinimumLineLength, o.MinimumLength, direction);
+  BeltramiCopySetting(this->HysteresisRatio, o.HysteresisRatio, direction);
   BeltramiCopySetting(this->DropBackFacing, o.DropBackFacing, direction);
   BeltramiCopySetting(this->AvoidCreases, o.AvoidCreases, direction);
   BeltramiCopySetting(this->NumberOfThreads, o.NumberOfThreads, direction);
@@ -218,6 +219,7 @@ void vtkSurfaceLineDrawing::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "SuggestiveContourAngle: " << this->SuggestiveContourAngle << "\n"
      << indent << "RidgeThreshold: " << this->RidgeThreshold << "\n"
      << indent << "MinimumLineLength: " << this->MinimumLineLength << "\n"
+     << indent << "HysteresisRatio: " << this->HysteresisRatio << "\n"
      << indent << "CreaseAngle: " << this->CreaseAngle << "\n"
      << indent << "DropBackFacing: " << this->DropBackFacing << "\n"
      << indent << "AvoidCreases: " << this->AvoidCreases << "\n"

@@ -136,6 +136,14 @@ public:
   /// kept; 1-3 clean the short pieces the noise of raw scans draws).
   vtkSetClampMacro(MinimumLineLength, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(MinimumLineLength, double);
+  /// Hysteresis of the curvature lines' thresholds (default 1: none):
+  /// suggestive contours and highlights, ridges and valleys are traced down
+  /// to this fraction of their thresholds, and a polyline is kept where its
+  /// strength passes the full threshold somewhere, so the noise of a scan
+  /// no longer breaks a line wherever it dips below the threshold (0.5:
+  /// lines about 1.5-2.4x longer on average on the bunny scan).
+  vtkSetClampMacro(HysteresisRatio, double, 0.01, 1.0);
+  vtkGetMacro(HysteresisRatio, double);
   /// Leave suggestive contours and highlights, ridges and valleys out of the
   /// triangles at a crease vertex (default on; see CreaseAngle).
   vtkSetMacro(AvoidCreases, bool);
@@ -173,6 +181,7 @@ protected:
   double RidgeThreshold = 0.0;
   double CreaseAngle = 0.0;
   double MinimumLineLength = 0.0;
+  double HysteresisRatio = 1.0;
   bool DropBackFacing = true;
   bool AvoidCreases = true;
   int NumberOfThreads = 0;

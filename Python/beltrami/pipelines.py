@@ -196,10 +196,11 @@ LINE_COLOURS = ((0.0, 0.0, 0.0), (0.10, 0.25, 0.75), (0.95, 0.55, 0.05), (0.80, 
                 (0.10, 0.55, 0.20), (0.0, 0.0, 0.0), (0.35, 0.35, 0.35))
 
 
-def line_drawing(mesh_path, ridges=False, valleys=False, highlights=False, minimum_length=0.0):
+def line_drawing(mesh_path, ridges=False, valleys=False, highlights=False, minimum_length=0.0, hysteresis=1.0):
     """vtkSurfaceLineDrawing on an OFF mesh (contours, suggestive contours,
     boundaries and creases; ridges, valleys and highlights on request;
-    curvature lines shorter than minimum_length feature sizes dropped);
+    curvature lines shorter than minimum_length feature sizes dropped,
+    traced down to hysteresis times their thresholds where they pass them);
     returns the filter, not yet updated: its camera is set by
     render_line_drawing."""
     reader = vtkOFFReader()
@@ -210,6 +211,7 @@ def line_drawing(mesh_path, ridges=False, valleys=False, highlights=False, minim
     drawing.SetValleys(valleys)
     drawing.SetSuggestiveHighlights(highlights)
     drawing.SetMinimumLineLength(minimum_length)
+    drawing.SetHysteresisRatio(hysteresis)
     return drawing
 
 

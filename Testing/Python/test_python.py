@@ -785,6 +785,13 @@ class LineDrawingFromPython(unittest.TestCase):
         after = [count(k) for k in (0, 1, 3)]
         self.assertEqual(after[0], before[0])
         self.assertTrue(0 < after[1] < before[1] and 0 < after[2] < before[2], (before, after))
+        # Hysteresis joins broken pieces: more of them pass the length.
+        self.assertEqual(f.GetHysteresisRatio(), 1.0)
+        f.SetHysteresisRatio(0.5)
+        f.Update()
+        joined = [count(k) for k in (0, 1, 3)]
+        self.assertEqual(joined[0], before[0])
+        self.assertTrue(joined[1] > after[1] and joined[2] > after[2], (after, joined))
         self.assertEqual(f.GetGeometryBuilds(), 1)
 
     def test_sphere_contour_is_one_closed_polyline(self):

@@ -404,18 +404,34 @@ void ComputeViewFields(const LineDrawingGeometry& geo, const LineView& view, int
   });
 }
 
+/// The lower threshold's fraction of the full one (HysteresisRatio in
+/// (0, 1]; anything else: 1).
+double HysteresisFactor(const LineDrawingOptions& options)
+{
+  const double r = options.HysteresisRatio;
+  return r > 0.0 && r < 1.0 ? r : 1.0;
+}
+
+/// What a curvature line must reach to be kept: its length, and its
+/// largest point strength (the hysteresis' full threshold; -inf: any).
+struct LineFilter
+{
+  double MinimumLength = 0.0;
+  double MinimumPeak = -std::numeric_limits<double>::infinity();
+};
+
 /// Turns segments into polylines with their points' positions, normals and
 /// strengths (strength(segment, corner values) gives a segment's corner
-/// strengths); polylines shorter than minimumLength are left out.
+/// strengths); polylines that do not pass `filter` are left out.
 template <typename Strength>
 void AddLines(const LineDrawingGeometry& geo, const std::vector<LineSegment>& segments, LineType type,
-  Strength&& strength, LineSet& lines, double minimumLength = 0.0)
+  Strength&& strength, LineSet& lines, const LineFilter& filter = {})
 {
   for (const SegmentChain& chain : ChainSegments(segments))
   {
     const std::size_t firstValue = lines.PointStrength.size();
     const Index first = static_cast<Index>(lines.Points.size() / 3);
-    double sum = 0.0, length = 0.0;
+    double sum = 0.0, length = 0.0, peak = -std::numeric_limits<double>::infinity();
     for (const ChainPoint& cp : chain.Points)
     {
       const LineSegment& s = segments[cp.Segment];
@@ -440,15 +456,16 @@ void AddLines(const LineDrawingGeometry& geo, const std::vector<LineSegment>& se
       lines.PointStrength.push_back(value);
       lines.Connectivity.push_back(static_cast<Index>(lines.PointStrength.size() - 1));
       sum += value;
+      peak = std::max(peak, value);
     }
     if (chain.Closed && lines.PointStrength.size() > firstValue)
     {
       length += (Point(lines.Points.data(), first) -
         Point(lines.Points.data(), static_cast<Index>(lines.PointStrength.size() - 1))).norm();
     }
-    if (length < minimumLength)
+    if (length < filter.MinimumLength || !(peak >= filter.MinimumPeak))
     {
-      // Too short: its points go again (they were appended above).
+      // Too short or too weak: its points go again (they were appended above).
       lines.Points.resize(3 * firstValue);
       lines.Normals.resize(3 * firstValue);
       lines.PointStrength.resize(firstValue);
@@ -472,7 +489,8 @@ const std::vector<LineSegment>& LineDrawingGeometry::ThresholdedRidges(bool vall
   const LineDrawingOptions& options) const
 {
   RidgeCache& cache = Thresholded[valleys ? 1 : 0];
-  if (cache.Valid && cache.Size == size && cache.Threshold == options.RidgeThreshold &&
+  const double threshold = options.RidgeThreshold * HysteresisFactor(options); // (the lower one)
+  if (cache.Valid && cache.Size == size && cache.Threshold == threshold &&
     cache.AvoidCreases == options.AvoidCreases && (!options.AvoidCreases || cache.CreaseAngle == options.CreaseAngle))
   {
     return cache.Kept;
@@ -488,7 +506,7 @@ const std::vector<LineSegment>& LineDrawingGeometry::ThresholdedRidges(bool vall
     Corners(Triangles, s.Face, valleys ? K2.data() : K1.data(), k);
     for (int c = 0; c < 3; ++c)
     {
-      test[c] = (valleys ? -k[c] : k[c]) * size - options.RidgeThreshold;
+      test[c] = (valleys ? -k[c] : k[c]) * size - threshold;
     }
     if (Clip(s, test))
     {
@@ -497,7 +515,7 @@ const std::vector<LineSegment>& LineDrawingGeometry::ThresholdedRidges(bool vall
   }
   cache.Valid = true;
   cache.Size = size;
-  cache.Threshold = options.RidgeThreshold;
+  cache.Threshold = threshold;
   cache.AvoidCreases = options.AvoidCreases;
   cache.CreaseAngle = options.CreaseAngle;
   return cache.Kept;
@@ -526,6 +544,7 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
   const bool radial =
     draw[int(LineType::SuggestiveContour)] || draw[int(LineType::SuggestiveHighlight)];
   const double cosAngle = std::cos(options.SuggestiveAngle * Degree);
+  const double hysteresis = HysteresisFactor(options);
   const double scale = size * size;
   // Contours, suggestive contours, suggestive highlights.
   auto lists = CollectSegments(geo.NumberOfFaces(), options.NumberOfThreads, 3,
@@ -566,7 +585,7 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
         double test[3];
         for (int c = 0; c < 3; ++c)
         {
-          test[c] = (list == 1 ? d[c] : -d[c]) * scale - options.SuggestiveThreshold;
+          test[c] = (list == 1 ? d[c] : -d[c]) * scale - options.SuggestiveThreshold * hysteresis;
         }
         LineSegment piece = s;
         if (Clip(piece, test) && Clip(piece, facing) && Clip(piece, front))
@@ -608,16 +627,30 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
     };
   };
   AddLines(geo, lists[0], LineType::Contour, one, lines);
-  const double shortest = options.MinimumLength * size; // (curvature lines only)
-  AddLines(geo, lists[1], LineType::SuggestiveContour, vertexStrength(drkr, scale), lines, shortest);
-  AddLines(geo, lists[2], LineType::SuggestiveHighlight, vertexStrength(drkr, -scale), lines, shortest);
+  // The curvature lines: long enough, and past the full threshold somewhere
+  // where they were traced below it.
+  const auto curvatureLines = [&](double threshold) {
+    LineFilter filter;
+    filter.MinimumLength = options.MinimumLength * size;
+    if (hysteresis < 1.0)
+    {
+      filter.MinimumPeak = threshold;
+    }
+    return filter;
+  };
+  AddLines(geo, lists[1], LineType::SuggestiveContour, vertexStrength(drkr, scale), lines,
+    curvatureLines(options.SuggestiveThreshold));
+  AddLines(geo, lists[2], LineType::SuggestiveHighlight, vertexStrength(drkr, -scale), lines,
+    curvatureLines(options.SuggestiveThreshold));
   if (draw[int(LineType::Ridge)])
   {
-    AddLines(geo, clipRidges(false), LineType::Ridge, vertexStrength(geo.K1.data(), size), lines, shortest);
+    AddLines(geo, clipRidges(false), LineType::Ridge, vertexStrength(geo.K1.data(), size), lines,
+      curvatureLines(options.RidgeThreshold));
   }
   if (draw[int(LineType::Valley)])
   {
-    AddLines(geo, clipRidges(true), LineType::Valley, vertexStrength(geo.K2.data(), -size), lines, shortest);
+    AddLines(geo, clipRidges(true), LineType::Valley, vertexStrength(geo.K2.data(), -size), lines,
+      curvatureLines(options.RidgeThreshold));
   }
   if (draw[int(LineType::Boundary)])
   {

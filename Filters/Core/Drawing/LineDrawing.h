@@ -85,6 +85,12 @@ struct LineDrawingOptions
   /// are shorter than this many FeatureSize are dropped (0: all kept): on
   /// raw scans the noise breaks them into short pieces.
   double MinimumLength = 0.0;
+  /// Hysteresis of the curvature lines' thresholds (in (0, 1]; 1: none):
+  /// suggestive contours and highlights, ridges and valleys are traced
+  /// down to this fraction of their thresholds, and a polyline is kept if
+  /// its strength passes the full threshold somewhere (Canny's rule: on
+  /// scans the noise breaks a line wherever it dips below the threshold).
+  double HysteresisRatio = 1.0;
   int NumberOfThreads = 0;
 };
 
@@ -146,7 +152,8 @@ public:
   LineSegment EdgeSegment(Index a, Index b, Index face) const;
 
   /// The ridge (valleys: valley) candidates kept by the threshold at
-  /// `size` (the feature size) and the crease rule of `options`: the
+  /// `size` (the feature size; the lower threshold with hysteresis) and the
+  /// crease rule of `options`: the
   /// view-independent part of their tests, kept for the next views while
   /// those settings stay (not for concurrent calls on one geometry).
   const std::vector<LineSegment>& ThresholdedRidges(bool valleys, double size, const LineDrawingOptions& options) const;
@@ -158,7 +165,7 @@ private:
   struct RidgeCache
   {
     bool Valid = false, AvoidCreases = false;
-    double Size = 0.0, Threshold = 0.0, CreaseAngle = 0.0;
+    double Size = 0.0, Threshold = 0.0, CreaseAngle = 0.0; // (Threshold: the one applied)
     std::vector<LineSegment> Kept;
   };
   mutable RidgeCache Thresholded[2]; // ridges, valleys
