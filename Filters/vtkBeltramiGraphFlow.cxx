@@ -324,7 +324,8 @@ void vtkBeltramiGraphFlow::RequestImageExtent(vtkInformation* inInfo, vtkInforma
   inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext, 6);
 }
 
-std::vector<beltrami::Index> vtkBeltramiGraphFlow::Tetrahedra(vtkAlgorithm* owner, vtkUnstructuredGrid* input)
+std::vector<beltrami::Index> vtkBeltramiGraphFlow::Tetrahedra(
+  vtkAlgorithm* owner, vtkUnstructuredGrid* input, std::vector<beltrami::Index>* voxels)
 {
   // The tetrahedra, and voxels (VTK_VOXEL, e.g. the active voxels of a
   // sparse OpenVDB grid) split into their six Kuhn tetrahedra (as the 3D
@@ -353,6 +354,10 @@ std::vector<beltrami::Index> vtkBeltramiGraphFlow::Tetrahedra(vtkAlgorithm* owne
       }
       else if (type == VTK_VOXEL && n == 8)
       {
+        if (voxels)
+        {
+          voxels->insert(voxels->end(), ids, ids + 8);
+        }
         // VTK_VOXEL numbers its corners x + 2y + 4z, the corner bits of KuhnPaths.
         for (const auto& path : beltrami::KuhnPaths)
         {

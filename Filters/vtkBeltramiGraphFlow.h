@@ -157,8 +157,10 @@ public:
   /// voxels (VTK_VOXEL, e.g. the active voxels of a sparse OpenVDB grid)
   /// split into their six Kuhn tetrahedra (as the 3D image path:
   /// conforming, since all voxels share the axes).  Other cells are ignored
-  /// with a warning to `owner`.
-  static std::vector<beltrami::Index> Tetrahedra(vtkAlgorithm* owner, vtkUnstructuredGrid* input);
+  /// with a warning to `owner`.  voxels (optional): the voxels' 8 point ids
+  /// each, appended.
+  static std::vector<beltrami::Index> Tetrahedra(
+    vtkAlgorithm* owner, vtkUnstructuredGrid* input, std::vector<beltrami::Index>* voxels = nullptr);
 };
 
 #endif

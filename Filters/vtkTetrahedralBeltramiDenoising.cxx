@@ -82,7 +82,10 @@ int vtkTetrahedralBeltramiDenoising::Smooth(
     return 0;
   }
 
-  std::vector<beltrami::Index> tets = vtkBeltramiGraphFlow::Tetrahedra(this, input);
+  std::vector<beltrami::Index> voxels;
+  std::vector<beltrami::Index> tets = vtkBeltramiGraphFlow::Tetrahedra(this, input, &voxels);
+  // Voxels alone (the active voxels of a sparse grid): the voxel-cell kernel.
+  const bool voxelsOnly = !voxels.empty() && tets.size() == 3 * voxels.size();
   if (tets.empty())
   {
     vtkWarningMacro("The input has no tetrahedra or voxels: the data are left as they are.");
@@ -102,9 +105,10 @@ int vtkTetrahedralBeltramiDenoising::Smooth(
   }
   return vtkBeltramiGraphFlow::RunOnMesh(this, input, output, array, points.data(),
     this->UseFixedPointsArray, vtkBeltramiGraphFlow::Options(this), 6, this->LogEuclideanTensors,
-    [&mesh](const double* x, int nc, double* values, const std::uint8_t* fixed,
+    [&](const double* x, int nc, double* values, const std::uint8_t* fixed,
       const beltrami::GraphFlowOptions& options, const beltrami::ProgressCallback& progress) {
-      return beltrami::RunTetrahedralGraphFlow(mesh, x, nc, values, fixed, options, progress);
+      return beltrami::RunTetrahedralGraphFlow(
+        mesh, x, nc, values, fixed, options, progress, voxelsOnly ? &voxels : nullptr);
     });
 }
 

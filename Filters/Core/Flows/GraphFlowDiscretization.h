@@ -147,6 +147,26 @@ struct ProbeWindow
 ProbeWindow GridProbeWindow(Index layers, Index layerSize, const GraphFlowOptions& o,
   const std::function<std::unique_ptr<FlowDiscretization>(Index first, Index count)>& make);
 
+/// The probe's signs of a mesh's points (Size x Components): a hash of the
+/// component and of the point's position in units of lengthScale, to 1/1024
+/// of it, so that a point gets the same signs wherever it lies in the
+/// numbering (any split over processes) and at any scale.
+void PositionProbeSigns(Index size, int components, const double* points, double lengthScale, std::vector<double>& b);
+
+/// The discretization of the flow on voxel cells (8 point ids per cell in
+/// VTK_VOXEL order: corner bit a = a step along axis a) of one lattice, as
+/// the sparse active voxels of an OpenVDB grid: the dense 3D kernel's
+/// arithmetic (the six Kuhn tetrahedra of each cell in single precision,
+/// 7 weights per point to its neighbours up the axes) on the cells present,
+/// so the flow of the Kuhn tetrahedra of those cells, without a mesh's
+/// sparse matrix.  points: 3 per point (the flow's units); base: the Kuhn
+/// mesh's graph (the noise estimate's neighbours).  Null where the cells
+/// are not axis-aligned boxes of one spacing sharing their corners (then
+/// the mesh's own discretization runs).
+std::unique_ptr<FlowDiscretization> MakeVoxelCellDiscretization(Index size, const double* points, int components,
+  const std::vector<Index>& corners, const std::uint8_t* fixed, const std::int64_t* baseOffsets,
+  const Index* baseNeighbors, double gamma, int threads);
+
 /// The time loop shared by images, volumes and meshes (section 3.8.5).
 GraphFlowResult Integrate(const DiscretizationFactory& make, double* values, const GraphFlowOptions& o,
   const ProgressCallback& progress, const ProbeWindow& window = {});

@@ -43,6 +43,28 @@ std::string CheckOptions(const GraphFlowOptions& o, int components, int maximum,
   return {};
 }
 
+void PositionProbeSigns(Index size, int components, const double* points, double lengthScale, std::vector<double>& b)
+{
+  const auto mix = [](std::uint64_t x) { // splitmix64's finaliser
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+  };
+  b.resize(static_cast<std::size_t>(size) * components);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(size); ++i)
+  {
+    std::uint64_t h = 0x9E3779B97F4A7C15ull;
+    for (int a = 0; a < 3; ++a)
+    {
+      h = mix(h ^ static_cast<std::uint64_t>(std::llround(1024.0 * points[3 * i + a] / lengthScale)));
+    }
+    for (int k = 0; k < components; ++k)
+    {
+      b[i * components + k] = (mix(h + static_cast<std::uint64_t>(k)) >> 63) ? 1.0 : -1.0;
+    }
+  }
+}
+
 void FlowDiscretization::ProbeSigns(std::vector<double>& b) const
 {
   std::uint64_t state = 0x9E3779B97F4A7C15ull;

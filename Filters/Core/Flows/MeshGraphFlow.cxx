@@ -78,29 +78,7 @@ public:
 
   void ProbeSigns(std::vector<double>& b) const override
   {
-    // A hash of the component and of the point's position in units of the
-    // mean edge length, to 1/1024 of it: the same signs for a point wherever
-    // it lies in the numbering (any split over processes) and at any scale
-    // of the mesh (the serial numbers of a distributed run, the same run in
-    // edge-length and physical units).
-    const auto mix = [](std::uint64_t x) { // splitmix64's finaliser
-      x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-      x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-      return x ^ (x >> 31);
-    };
-    b.resize(static_cast<std::size_t>(Size) * Components);
-    for (std::size_t i = 0; i < static_cast<std::size_t>(Size); ++i)
-    {
-      std::uint64_t h = 0x9E3779B97F4A7C15ull;
-      for (int a = 0; a < 3; ++a)
-      {
-        h = mix(h ^ static_cast<std::uint64_t>(std::llround(1024.0 * Points[3 * i + a] / LengthScale)));
-      }
-      for (int k = 0; k < Components; ++k)
-      {
-        b[i * Components + k] = (mix(h + static_cast<std::uint64_t>(k)) >> 63) ? 1.0 : -1.0;
-      }
-    }
+    PositionProbeSigns(Size, Components, Points, LengthScale, b);
   }
 
   void Update(const double* u) override
@@ -189,6 +167,12 @@ struct MeshFlowInput
   MeshDiscretization::Assembler Assemble;
   double MassScale = 0.5;
   const Partition* Split = nullptr; ///< a surface split over processes (collective)
+  /// Optional: a faster discretization of the same flow for the mesh's
+  /// points (in the flow's units), base graph and settings; null where it
+  /// does not apply (then the mesh's own runs).
+  std::function<std::unique_ptr<FlowDiscretization>(const double* points, const GraphLaplacian& base,
+    const std::uint8_t* fixed, const GraphFlowOptions& options)>
+    Special;
 };
 
 /// The body of both mesh flows: the options checked, the points measured in
@@ -224,8 +208,18 @@ GraphFlowResult RunMeshFlow(const MeshFlowInput& mesh, const double* points, int
   }
   const double length = options.Units == LengthUnit::MeanEdgeLength ? 1.0 : mesh.MeanEdgeLength(points);
   const auto make = [&]() {
-    auto disc = std::make_unique<MeshDiscretization>(mesh.Vertices, scaled.data(), components, fixed,
-      mesh.Unusable, mesh.Assemble, mesh.MassScale, options.EdgeContrast, options.NumberOfThreads, mesh.Split);
+    std::unique_ptr<FlowDiscretization> disc;
+    if (mesh.Special)
+    {
+      GraphLaplacian base;
+      mesh.Assemble(scaled.data(), 3, base);
+      disc = mesh.Special(scaled.data(), base, fixed, options);
+    }
+    if (!disc)
+    {
+      disc = std::make_unique<MeshDiscretization>(mesh.Vertices, scaled.data(), components, fixed, mesh.Unusable,
+        mesh.Assemble, mesh.MassScale, options.EdgeContrast, options.NumberOfThreads, mesh.Split);
+    }
     disc->LengthScale = length;
     return disc;
   };
@@ -262,7 +256,7 @@ GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* 
 
 GraphFlowResult RunTetrahedralGraphFlow(const TetrahedralMesh& mesh, const double* points,
   int components, double* values, const std::uint8_t* fixed, const GraphFlowOptions& options,
-  const ProgressCallback& progress)
+  const ProgressCallback& progress, const std::vector<Index>* voxels)
 {
   const int threads = options.NumberOfThreads;
   MeshFlowInput volume;
@@ -275,6 +269,13 @@ GraphFlowResult RunTetrahedralGraphFlow(const TetrahedralMesh& mesh, const doubl
     AssembleTetrahedralLaplacian(mesh, x, dimension, l, threads, &terms);
   };
   volume.MassScale = 1.0;
+  if (voxels)
+  {
+    volume.Special = [&](const double* x, const GraphLaplacian& base, const std::uint8_t* f, const GraphFlowOptions& o) {
+      return MakeVoxelCellDiscretization(mesh.NumberOfVertices(), x, components, *voxels, f, base.Offsets,
+        base.Neighbors, o.EdgeContrast, o.NumberOfThreads);
+    };
+  }
   return RunMeshFlow(volume, points, components, values, fixed, options, progress);
 }
 
