@@ -914,10 +914,16 @@ public:
 
   void Apply(const double* x, double* y, bool) override
   {
-    ParallelFor(Size, Threads, [&](std::int64_t b, std::int64_t e) {
-      std::vector<double> diagonal(e - b), positive(e - b);
-      PointStiffness(x, b, e - b, y + b * NC, diagonal.data(), positive.data());
-    });
+    const std::int64_t blocks = (Size + PointsPerBlock - 1) / PointsPerBlock;
+    ParallelFor(blocks, Threads, [&](std::int64_t b, std::int64_t e) {
+      ScratchLease lease(Scratch, 2 * static_cast<std::size_t>(PointsPerBlock));
+      for (std::int64_t block = b; block < e; ++block)
+      {
+        const std::int64_t first = block * PointsPerBlock;
+        PointStiffness(x, first, std::min<std::int64_t>(PointsPerBlock, Size - first), y + first * NC, lease.data(),
+          lease.data() + PointsPerBlock);
+      }
+    }, {}, 0, 1);
   }
 
 private:
