@@ -160,12 +160,13 @@ void PositionProbeSigns(Index size, int components, const double* points, double
 /// 7 weights per point to its neighbours up the axes) on the cells present,
 /// so the flow of the Kuhn tetrahedra of those cells, without a mesh's
 /// sparse matrix.  points: 3 per point (the flow's units); base: the Kuhn
-/// mesh's graph (the noise estimate's neighbours).  Null where the cells
-/// are not axis-aligned boxes of one spacing sharing their corners (then
-/// the mesh's own discretization runs).
+/// mesh's graph (the noise estimate's neighbours); storeOperator: for
+/// semi-implicit steps (else explicit steps are fused).  Null where the
+/// cells are not axis-aligned boxes of one spacing sharing their corners
+/// (then the mesh's own discretization runs).
 std::unique_ptr<FlowDiscretization> MakeVoxelCellDiscretization(Index size, const double* points, int components,
   const std::vector<Index>& corners, const std::uint8_t* fixed, const std::int64_t* baseOffsets,
-  const Index* baseNeighbors, double gamma, int threads);
+  const Index* baseNeighbors, double gamma, int threads, bool storeOperator);
 
 /// The time loop shared by images, volumes and meshes (section 3.8.5).
 GraphFlowResult Integrate(const DiscretizationFactory& make, double* values, const GraphFlowOptions& o,

