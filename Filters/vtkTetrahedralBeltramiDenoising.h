@@ -27,7 +27,9 @@
  * with UseFixedPointsArray): non-zero = point kept.  VTK_TETRA cells are
  * used, and VTK_VOXEL cells split into their six Kuhn tetrahedra (the split
  * of the 3D image path; e.g. the active voxels of a sparse OpenVDB grid from
- * vtkOpenVDBActiveVoxelReader); other cells are reported and ignored
+ * vtkOpenVDBActiveVoxelReader; an input of voxels alone on one lattice runs
+ * on the dense 3D kernel's arithmetic, several times faster, to single-
+ * precision round-off); other cells are reported and ignored
  * (tetrahedralize first, e.g. with vtkDataSetTriangleFilter).  Points in no
  * tetrahedron with volume keep their values.  Field data: FlowIterations, FlowTime, FlowRMSChange,
  * FlowArea (the volume of the graph manifold, initial and final),
