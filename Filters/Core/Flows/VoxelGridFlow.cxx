@@ -72,6 +72,40 @@ struct KuhnShapes
   Real Volume;
 };
 
+/// The flat cell's tetrahedra for a spacing (3 values), and the lumped mass
+/// each corner of the cell gets from them.
+template <typename Real>
+void MakeKuhnShapes(const double* spacing, KuhnShapes<Real>& shapes, double (&cornerMass)[8])
+{
+  shapes.Volume = static_cast<Real>(spacing[0] * spacing[1] * spacing[2] / 6.0);
+  std::fill(cornerMass, cornerMass + 8, 0.0);
+  for (int p = 0; p < 6; ++p)
+  {
+    // Corners of path p: 0, Kuhn.Corner[p][1], Kuhn.Corner[p][2], 7.
+    double e[3][3];
+    for (int s = 0; s < 3; ++s)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        e[s][a] = (Kuhn.Corner[p][s + 1] >> a & 1) * spacing[a];
+      }
+    }
+    const auto dot = [](const double* x, const double* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
+    const double g[6] = { dot(e[0], e[0]), dot(e[1], e[1]), dot(e[2], e[2]), dot(e[0], e[1]), dot(e[0], e[2]),
+      dot(e[1], e[2]) };
+    std::copy(g, g + 6, shapes.Gram[p]);
+    for (int s = 0; s < 3; ++s)
+    {
+      shapes.InverseSquares[p][s] = static_cast<Real>(1.0 / (spacing[KuhnPaths[p][s]] * spacing[KuhnPaths[p][s]]));
+    }
+    const double quarter = 0.25 * TetrahedronFromGram(g[0], g[1], g[2], g[3], g[4], g[5]).Volume;
+    for (int v = 0; v < 4; ++v)
+    {
+      cornerMass[Kuhn.Corner[p][v]] += quarter;
+    }
+  }
+}
+
 /// Tetrahedron P's six edge weights into its cell's edges and a quarter of
 /// its volume into its corners' masses.
 template <int P, typename Real>
@@ -301,6 +335,36 @@ CLONES void StiffnessRow(std::int64_t n, const double* __restrict x, const doubl
   }
 }
 
+/// A discretization evaluated in one pass over the data (Sweep) that
+/// writes what Output says: the velocities, the explicit step (fused, where
+/// the operator is not kept), or only the figures.
+class SweepDiscretization : public FlowDiscretization
+{
+public:
+  void Update(const double* u) final
+  {
+    Output = RowOutput::Velocity;
+    Sweep(u);
+  }
+
+  bool FusesSteps() const final { return !StoreOperator; }
+
+  void FusedStep(const double* u, double dt, double* next) final
+  {
+    Output = next ? RowOutput::Step : RowOutput::None;
+    StepSize = dt;
+    Next = next;
+    Sweep(u);
+  }
+
+protected:
+  virtual void Sweep(const double* u) = 0;
+
+  RowOutput Output = RowOutput::Velocity; // of the pass under way
+  double StepSize = 0.0;
+  double* Next = nullptr; // the step's output
+};
+
 // ---------------------------------------------------------------------------
 // 3D images: the voxel grid split into Kuhn tetrahedra (six per cell: the
 // split of GridTetrahedra, section 2.8.2) without an explicit mesh.  Each
@@ -327,7 +391,7 @@ CLONES void StiffnessRow(std::int64_t n, const double* __restrict x, const doubl
 // in the worst case tested); the data, K u and the state stay in double.
 
 template <int NC, typename Real>
-class VoxelDiscretization final : public FlowDiscretization
+class VoxelDiscretization final : public SweepDiscretization
 {
 public:
   /// storeOperator: keep Mass, Speed, Diagonal and KU and the weights (the
@@ -359,33 +423,7 @@ public:
       Offset[d] = (d & 1) + W * (((d >> 1) & 1) + H * ((d >> 2) & 1));
     }
     const double spacing[3] = { grid.SpacingX, grid.SpacingY, grid.SpacingZ };
-    std::fill(CornerMass, CornerMass + 8, 0.0);
-    Shapes.Volume = static_cast<Real>(grid.SpacingX * grid.SpacingY * grid.SpacingZ / 6.0);
-    for (int p = 0; p < 6; ++p)
-    {
-      // Corners of path p: 0, Kuhn.Corner[p][1], Kuhn.Corner[p][2], 7.
-      double e[3][3];
-      for (int s = 0; s < 3; ++s)
-      {
-        for (int a = 0; a < 3; ++a)
-        {
-          e[s][a] = (Kuhn.Corner[p][s + 1] >> a & 1) * spacing[a];
-        }
-      }
-      const auto dot = [](const double* x, const double* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
-      const double g[6] = { dot(e[0], e[0]), dot(e[1], e[1]), dot(e[2], e[2]), dot(e[0], e[1]), dot(e[0], e[2]),
-        dot(e[1], e[2]) };
-      std::copy(g, g + 6, Shapes.Gram[p]);
-      for (int s = 0; s < 3; ++s)
-      {
-        Shapes.InverseSquares[p][s] = static_cast<Real>(1.0 / (spacing[KuhnPaths[p][s]] * spacing[KuhnPaths[p][s]]));
-      }
-      const double quarter = 0.25 * TetrahedronFromGram(g[0], g[1], g[2], g[3], g[4], g[5]).Volume;
-      for (int v = 0; v < 4; ++v)
-      {
-        CornerMass[Kuhn.Corner[p][v]] += quarter;
-      }
-    }
+    MakeKuhnShapes(spacing, Shapes, CornerMass);
     // Weights of the volume (semi-implicit steps), each direction's array
     // after a zero margin of a plane and a row (the "down" neighbours of the
     // first plane and row are read there).
@@ -404,22 +442,6 @@ public:
   }
 
   double EstimateNoise(const double* values) const override { return EstimateVolumeNoise(Grid, NC, values); }
-
-  void Update(const double* u) override
-  {
-    Output = RowOutput::Velocity;
-    Sweep(u);
-  }
-
-  bool FusesSteps() const override { return !StoreOperator; }
-
-  void FusedStep(const double* u, double dt, double* next) override
-  {
-    Output = next ? RowOutput::Step : RowOutput::None;
-    StepSize = dt;
-    Next = next;
-    Sweep(u);
-  }
 
   void Apply(const double* x, double* y, bool) override
   {
@@ -444,7 +466,7 @@ private:
   static constexpr std::int64_t PlanesPerChunk = 16;
 
   /// One pass over the volume (what Output says).
-  void Sweep(const double* u)
+  void Sweep(const double* u) override
   {
     if (Output == RowOutput::Velocity && Velocity.size() != static_cast<std::size_t>(Size) * NC)
     {
@@ -676,9 +698,6 @@ private:
   /// one array per direction d = 1..7, each after Margin zeros.
   LargeVector<Real> Weights;
   std::vector<double> Zeros; // a row of values outside the grid (their weights are 0)
-  RowOutput Output = RowOutput::Velocity; // of the pass under way
-  double StepSize = 0.0;
-  double* Next = nullptr;
 
   const Real* WeightsOf(int d) const
   {
@@ -745,7 +764,7 @@ CLONES void StencilRows(std::int64_t first, std::int64_t n, std::int64_t size, c
 }
 
 template <int NC, typename Real>
-class VoxelCellDiscretization final : public FlowDiscretization
+class VoxelCellDiscretization final : public SweepDiscretization
 {
 public:
   /// storeOperator: keep Mass, Speed, Diagonal and KU (the semi-implicit
@@ -779,7 +798,7 @@ public:
     {
       return false;
     }
-    MakeShapes(spacing);
+    MakeKuhnShapes(spacing, Shapes, CornerMass);
     // The points of the cells in lattice order (a cell's corner keys follow
     // from its corner 0's), and the caller's fixed flags in that order.
     std::vector<std::int64_t> pointKey(Size, -1);
@@ -858,22 +877,6 @@ public:
 
   void ProbeSigns(std::vector<double>& b) const override { PositionProbeSigns(Size, Components, Points, LengthScale, b); }
 
-  void Update(const double* u) override
-  {
-    Output = RowOutput::Velocity;
-    Sweep(u);
-  }
-
-  bool FusesSteps() const override { return !StoreOperator; }
-
-  void FusedStep(const double* u, double dt, double* next) override
-  {
-    Output = next ? RowOutput::Step : RowOutput::None;
-    StepSize = dt;
-    Next = next;
-    Sweep(u);
-  }
-
   void Apply(const double* x, double* y, bool) override
   {
     ApplyStencil(x, y);
@@ -881,7 +884,7 @@ public:
 
 private:
   /// One pass: what Output says, and the figures.
-  void Sweep(const double* u)
+  void Sweep(const double* u) override
   {
     Gather(u, State.data());
     AddCells();
@@ -1064,36 +1067,6 @@ private:
     ChunkStart.push_back(static_cast<std::int64_t>(Runs.size()));
   }
 
-  void MakeShapes(const double* spacing)
-  {
-    Shapes.Volume = static_cast<Real>(spacing[0] * spacing[1] * spacing[2] / 6.0);
-    std::fill(CornerMass, CornerMass + 8, 0.0);
-    for (int p = 0; p < 6; ++p)
-    {
-      double e[3][3];
-      for (int s = 0; s < 3; ++s)
-      {
-        for (int a = 0; a < 3; ++a)
-        {
-          e[s][a] = (Kuhn.Corner[p][s + 1] >> a & 1) * spacing[a];
-        }
-      }
-      const auto dot = [](const double* x, const double* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
-      const double g[6] = { dot(e[0], e[0]), dot(e[1], e[1]), dot(e[2], e[2]), dot(e[0], e[1]), dot(e[0], e[2]),
-        dot(e[1], e[2]) };
-      std::copy(g, g + 6, Shapes.Gram[p]);
-      for (int s = 0; s < 3; ++s)
-      {
-        Shapes.InverseSquares[p][s] = static_cast<Real>(1.0 / (spacing[KuhnPaths[p][s]] * spacing[KuhnPaths[p][s]]));
-      }
-      const double quarter = 0.25 * TetrahedronFromGram(g[0], g[1], g[2], g[3], g[4], g[5]).Volume;
-      for (int v = 0; v < 4; ++v)
-      {
-        CornerMass[Kuhn.Corner[p][v]] += quarter;
-      }
-    }
-  }
-
   /// The caller's values x in lattice order.
   void Gather(const double* x, double* out) const
   {
@@ -1237,9 +1210,6 @@ private:
   std::vector<double> BaseMass;
   std::vector<std::uint8_t> ActiveFixed;
   LargeVector<double> State;            // the state in lattice order
-  RowOutput Output = RowOutput::Velocity; // of the pass under way
-  double StepSize = 0.0;
-  double* Next = nullptr;
   LargeVector<Real> Weights, Masses;    // 7 x (Active + 1): per direction, each point's and a zero; Active
   KuhnShapes<Real> Shapes;
   double CornerMass[8];

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <limits>
+#include <numeric>
 
 using namespace beltrami;
 using test::Mesh;
@@ -63,6 +64,50 @@ std::vector<Vec3> PointsOf(const LineSet& lines, LineType type)
     }
   }
   return points;
+}
+
+/// The options of the scan tests: ridges and valleys drawn too.
+LineDrawingOptions CurvatureLines()
+{
+  LineDrawingOptions o;
+  o.Draw[int(LineType::Ridge)] = o.Draw[int(LineType::Valley)] = true;
+  return o;
+}
+
+/// The view-independent pass of bunny00 (a raw scan).
+LineDrawingGeometry ScanGeometry()
+{
+  std::string error;
+  const Mesh m = test::ReadMesh("bunny00.off", error);
+  EXPECT_EQ(error, "");
+  return Geometry(m);
+}
+
+/// The demo's front view of bunny00, orthographic.
+LineView ScanFront()
+{
+  return Orthographic(-Vec3(0.0, 0.05, 1.0).normalized());
+}
+
+/// The lengths of the polylines of one type (along their points).
+std::vector<double> PolylineLengths(const LineSet& lines, LineType type)
+{
+  std::vector<double> out;
+  for (Index l = 0; l < lines.NumberOfLines(); ++l)
+  {
+    if (lines.Type[l] != static_cast<std::uint8_t>(type))
+    {
+      continue;
+    }
+    double length = 0.0;
+    for (Index k = lines.Offsets[l] + 1; k < lines.Offsets[l + 1]; ++k)
+    {
+      length += (Point(lines.Points.data(), lines.Connectivity[k]) -
+        Point(lines.Points.data(), lines.Connectivity[k - 1])).norm();
+    }
+    out.push_back(length);
+  }
+  return out;
 }
 
 double Bump(double x, double y, double h, double s)
@@ -370,35 +415,14 @@ TEST(LineDrawing, MinimumLengthDropsShortCurvatureLinesOfAScan)
   // long (its length summed over its points, closed ones around), the
   // short ones are gone, every long one stays, and contours
   // and boundaries are untouched.
-  std::string error;
-  const Mesh m = test::ReadMesh("bunny00.off", error);
-  ASSERT_EQ(error, "");
-  const LineDrawingGeometry geo = Geometry(m);
-  LineDrawingOptions o;
-  o.Draw[int(LineType::Ridge)] = o.Draw[int(LineType::Valley)] = true;
-  const LineView view = Orthographic(-Vec3(0.0, 0.05, 1.0).normalized());
+  const LineDrawingGeometry geo = ScanGeometry();
+  LineDrawingOptions o = CurvatureLines();
+  const LineView view = ScanFront();
   const LineSet all = DrawLines(geo, view, o);
   o.MinimumLength = 2.0;
   const LineSet kept = DrawLines(geo, view, o);
   const double shortest = 2.0 * geo.AutomaticFeatureSize();
-  const auto lengths = [](const LineSet& lines, LineType type) {
-    std::vector<double> out;
-    for (Index l = 0; l < lines.NumberOfLines(); ++l)
-    {
-      if (lines.Type[l] != static_cast<std::uint8_t>(type))
-      {
-        continue;
-      }
-      double length = 0.0;
-      for (Index k = lines.Offsets[l] + 1; k < lines.Offsets[l + 1]; ++k)
-      {
-        length += (Point(lines.Points.data(), lines.Connectivity[k]) -
-          Point(lines.Points.data(), lines.Connectivity[k - 1])).norm();
-      }
-      out.push_back(length);
-    }
-    return out;
-  };
+  const auto lengths = PolylineLengths;
   for (LineType type : { LineType::SuggestiveContour, LineType::Ridge, LineType::Valley })
   {
     const std::vector<double> before = lengths(all, type), after = lengths(kept, type);
@@ -429,45 +453,30 @@ TEST(LineDrawing, HysteresisJoinsTheBrokenCurvatureLinesOfAScan)
   // at least 1.4x longer on average (measured: suggestive contours 1.5x,
   // ridges 2.4x, valleys 1.8x), since the noise no longer breaks them
   // wherever it dips below the threshold.
-  std::string error;
-  const Mesh m = test::ReadMesh("bunny00.off", error);
-  ASSERT_EQ(error, "");
-  const LineDrawingGeometry geo = Geometry(m);
-  LineDrawingOptions o;
-  o.Draw[int(LineType::Ridge)] = o.Draw[int(LineType::Valley)] = true;
-  const LineView view = Orthographic(-Vec3(0.0, 0.05, 1.0).normalized());
+  const LineDrawingGeometry geo = ScanGeometry();
+  LineDrawingOptions o = CurvatureLines();
+  const LineView view = ScanFront();
   const LineSet plain = DrawLines(geo, view, o);
   o.HysteresisRatio = 0.5;
   const LineSet joined = DrawLines(geo, view, o);
   const double size = geo.AutomaticFeatureSize();
   const auto summary = [&](const LineSet& lines, LineType type, double threshold, bool check) {
-    int count = 0;
-    double total = 0.0;
-    for (Index l = 0; l < lines.NumberOfLines(); ++l)
+    for (Index l = 0; check && l < lines.NumberOfLines(); ++l)
     {
-      if (lines.Type[l] != static_cast<std::uint8_t>(type))
-      {
-        continue;
-      }
-      ++count;
       double peak = -1e300, low = 1e300;
-      for (Index k = lines.Offsets[l]; k < lines.Offsets[l + 1]; ++k)
+      for (Index k = lines.Offsets[l]; lines.Type[l] == static_cast<std::uint8_t>(type) && k < lines.Offsets[l + 1]; ++k)
       {
         peak = std::max(peak, lines.PointStrength[lines.Connectivity[k]]);
         low = std::min(low, lines.PointStrength[lines.Connectivity[k]]);
-        if (k > lines.Offsets[l])
-        {
-          total += (Point(lines.Points.data(), lines.Connectivity[k]) -
-            Point(lines.Points.data(), lines.Connectivity[k - 1])).norm();
-        }
       }
-      if (check)
+      if (lines.Type[l] == static_cast<std::uint8_t>(type))
       {
         EXPECT_GE(peak, threshold) << int(type);
         EXPECT_GE(low, 0.5 * threshold - 1e-9) << int(type);
       }
     }
-    return std::make_pair(count, total);
+    const std::vector<double> lengths = PolylineLengths(lines, type);
+    return std::make_pair(static_cast<int>(lengths.size()), std::accumulate(lengths.begin(), lengths.end(), 0.0));
   };
   const double thresholds[3] = { o.SuggestiveThreshold, o.RidgeThreshold, o.RidgeThreshold };
   const LineType types[3] = { LineType::SuggestiveContour, LineType::Ridge, LineType::Valley };
