@@ -903,8 +903,9 @@ private:
   /// y = K x (the caller's numbering).
   void ApplyStencil(const double* x, double* y)
   {
-    std::vector<double> in(static_cast<std::size_t>(Active) * NC);
-    Gather(x, in.data());
+    Input.resize(static_cast<std::size_t>(Active) * NC); // (kept: the solver applies K every iteration)
+    const std::vector<double>& in = Input;
+    Gather(x, Input.data());
     std::fill(y, y + static_cast<std::size_t>(Size) * NC, 0.0); // (points in no cell: no edges)
     const std::int64_t blocks = (Active + PointsPerBlock - 1) / PointsPerBlock;
     ParallelFor(blocks, Threads, [&](std::int64_t b, std::int64_t e) {
@@ -1210,6 +1211,7 @@ private:
   std::vector<double> BaseMass;
   std::vector<std::uint8_t> ActiveFixed;
   LargeVector<double> State;            // the state in lattice order
+  std::vector<double> Input;            // Apply's x in lattice order
   LargeVector<Real> Weights, Masses;    // 7 x (Active + 1): per direction, each point's and a zero; Active
   KuhnShapes<Real> Shapes;
   double CornerMass[8];
