@@ -18,7 +18,8 @@
  * the shared boundary samples into one watertight mesh with the input's
  * topology, and optimised with the vertices kept (sections 4.4.2-4.4.4):
  * Iterations rounds of area/perimeter^2 and valence edge swaps and Lloyd
- * relaxation: the first fifth in the parameter planes, seam vertices
+ * relaxation (over-relaxed Lloyd steps, 1.8 times the way to the cell
+ * centroids; default 25): the first fifth in the parameter planes, seam vertices
  * sliding along the seams, the rest stitching the charts (section 4.4.4):
  * swaps across the seams and Lloyd relaxation on the surface in 3D, seam
  * vertices free, only the surface's boundary and the sharp edges (with
@@ -133,7 +134,7 @@ protected:
   std::vector<double> TransferFunction; ///< (x, importance) pairs
   bool SplitAtFeatures = false;
   double FeatureAngle = 60.0;
-  int Iterations = 50;
+  int Iterations = 25;
   int NumberOfThreads = 0;
   int AtlasBuilds = 0;
 

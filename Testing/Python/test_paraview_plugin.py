@@ -305,7 +305,7 @@ check(list(atlas.SeamLabelsArray)[-1] == "None" and sharp_cut.GetFieldData().Get
 # The remesher (chapter 4) on the split elephant: gathered on rank 0, which
 # holds the whole remesh with exactly the requested vertices.
 remesher = SurfaceRemeshing(Input=ExtractSurface(Input=RedistributeDataSet(Input=elephant_surface)))
-check(remesher.NumberOfVertices == 10000 and remesher.Importance == "Uniform" and remesher.Iterations == 50,
+check(remesher.NumberOfVertices == 10000 and remesher.Importance == "Uniform" and remesher.Iterations == 25,
       "remesher defaults")
 remesher.NumberOfVertices = 4000
 remesher.UpdatePipeline()

@@ -142,6 +142,7 @@ public:
   double Relax();
   Index BeginStitching(const std::uint8_t* featureEdges);
   int NumberOfThreads = 0;
+  double OverRelaxation = 1.0; ///< the first try of a move off a path, of the way to its target
 
 private:
   const double* UVAt(Index h) const { return &R.CornerUV[2 * h]; }
@@ -432,7 +433,7 @@ bool Optimizer::MoveInterior(Index v, double& moved)
     return false;
   }
   const double start[2] = { p[0], p[1] };
-  for (double step = 1.0; step > 0.1; step *= 0.5)
+  for (double step = OverRelaxation; step > 0.1; step *= 0.5)
   {
     const double uv[2] = { start[0] + step * (target[0] / sum - start[0]), start[1] + step * (target[1] / sum - start[1]) };
     double w[3];
@@ -572,7 +573,7 @@ bool Optimizer::MoveOnSurface(Index v, double& moved)
   normal.normalize();
   Vec3 shift = target / sum - x;
   shift -= shift.dot(normal) * normal;
-  for (double step = 1.0; step > 0.1; step *= 0.5)
+  for (double step = OverRelaxation; step > 0.1; step *= 0.5)
   {
     double w[3];
     const Index t = NearestOnSurface(x + step * shift, R.Triangle[v], step * shift.norm(), w);
@@ -754,6 +755,7 @@ RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& 
   }
   Optimizer optimizer(remesh, topology, points, atlas, samples, options.Importance);
   optimizer.NumberOfThreads = options.NumberOfThreads;
+  optimizer.OverRelaxation = std::max(1.0, options.OverRelaxation);
   const int rounds = std::max(0, options.Iterations) + std::max(0, options.StitchingIterations);
   for (int i = 0; i < rounds; ++i)
   {

@@ -10,7 +10,8 @@
 // area-dispersion weights of 4.4.3 in Lloyd's form, which measured better:
 // valence 6 at 80% against 75%), vertices on chart boundaries sliding along
 // their path by the tangential part of the same relaxation across the seam
-// (fig. 4.10), corners fixed; every move and swap keeps all triangles
+// (fig. 4.10), corners fixed; each move over-relaxed (past the
+// centroid, OverRelaxation) but along paths; every move and swap keeps all triangles
 // positively oriented in their chart's parameter plane.  Stitching rounds
 // (section 4.4.4) then free the seams: the same swaps over every edge and
 // Lloyd's step in 3D on the surface itself (each triangle's Voronoi part in
@@ -32,9 +33,14 @@ namespace beltrami
 struct RemeshOptimizationOptions
 {
   /// Chart rounds of (swaps, relaxation).
-  int Iterations = 10;
+  int Iterations = 5;
   /// Stitching rounds of (swaps, relaxation) after them.
-  int StitchingIterations = 40;
+  int StitchingIterations = 20;
+  /// Each relaxation move first tries this multiple of the way to its
+  /// centroid (over-relaxed Lloyd: 1.8 reaches in 25 rounds better meshes
+  /// than plain Lloyd, 1, in 50); moves along paths stay plain (over-relaxed,
+  /// they left triangles of 9.5-12.5 degrees at fandisk's sharp corners).
+  double OverRelaxation = 1.8;
   /// One value >= 0 per input vertex weighting the relaxation (null: uniform).
   const double* Importance = nullptr;
   /// One flag per edge of topology.Edges(): feature edges (sharp or marked)

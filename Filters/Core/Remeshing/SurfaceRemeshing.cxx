@@ -209,6 +209,7 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   RemeshOptimizationOptions optimization;
   optimization.Iterations = options.Iterations;
   optimization.StitchingIterations = options.StitchingIterations;
+  optimization.OverRelaxation = options.OverRelaxation;
   optimization.NumberOfThreads = options.NumberOfThreads;
   optimization.Importance = importance;
   const std::vector<std::uint8_t> features =

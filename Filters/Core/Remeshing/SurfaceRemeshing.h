@@ -19,8 +19,9 @@ struct RemeshOptions
 {
   std::int64_t NumberOfVertices = 10000;
   int Resolution = 0; ///< of the control map; 0: automatic (SamplingOptions)
-  int Iterations = 10;          ///< chart rounds of swaps and relaxation
-  int StitchingIterations = 40; ///< stitching rounds after them (RemeshOptimization)
+  int Iterations = 5;           ///< chart rounds of swaps and relaxation
+  int StitchingIterations = 20; ///< stitching rounds after them (RemeshOptimization)
+  double OverRelaxation = 1.8;  ///< of the relaxation's moves (RemeshOptimization)
   /// > 0: edges whose triangles' normals differ by more than this many
   /// degrees are features, kept while stitching (the atlas's FeatureAngle
   /// when it splits at features); 0: none.
