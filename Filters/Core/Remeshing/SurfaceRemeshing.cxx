@@ -186,7 +186,10 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
     importance = nullptr; // a constant importance is the uniform density: the uniform remesh, exactly
   }
   auto start = std::chrono::steady_clock::now();
+  const std::vector<std::uint8_t> features =
+    options.FeatureAngle > 0.0 ? SharpEdges(topology, points, options.FeatureAngle) : std::vector<std::uint8_t>();
   SamplingOptions sampling;
+  sampling.FeatureEdges = features.empty() ? nullptr : features.data();
   sampling.NumberOfSamples = options.NumberOfVertices;
   sampling.Resolution = options.Resolution;
   sampling.NumberOfThreads = options.NumberOfThreads;
@@ -212,8 +215,6 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   optimization.OverRelaxation = options.OverRelaxation;
   optimization.NumberOfThreads = options.NumberOfThreads;
   optimization.Importance = importance;
-  const std::vector<std::uint8_t> features =
-    options.FeatureAngle > 0.0 ? SharpEdges(topology, points, options.FeatureAngle) : std::vector<std::uint8_t>();
   optimization.FeatureEdges = features.empty() ? nullptr : features.data();
   out.Optimization = OptimizeRemesh(remesh, topology, points, atlas, out.Samples, optimization);
   out.OptimizationSeconds = SecondsSince(start);

@@ -19,24 +19,36 @@ namespace
 {
 
 /// The chart boundaries as paths of surface vertices between corners
-/// (vertices where other than two boundary edges meet; a closed loop
-/// without one starts and ends at its first vertex, made a corner).
+/// (vertices where other than two boundary edges meet, or where the path
+/// passes from a kept edge, a feature or the surface's boundary, to another
+/// edge; a closed loop without one starts and ends at its first vertex,
+/// made a corner).
 struct BoundaryPaths
 {
   std::vector<std::vector<Index>> Paths;
   std::vector<Index> Corners;
 };
 
-BoundaryPaths ChartBoundaries(const MeshTopology& topology, const std::vector<int>& chartOfTriangle)
+BoundaryPaths ChartBoundaries(
+  const MeshTopology& topology, const std::vector<int>& chartOfTriangle, const std::uint8_t* featureEdges)
 {
   const MeshTopology::EdgeTable& edges = topology.Edges();
   std::vector<std::uint8_t> boundary = EdgesBetweenLabels(topology, chartOfTriangle);
-  std::vector<int> valence(topology.NumberOfVertices(), 0);
+  std::vector<int> valence(topology.NumberOfVertices(), 0), kept(topology.NumberOfVertices(), 0);
   for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
   {
-    boundary[e] = boundary[e] || edges.OppositeCorners[2 * e + 1] < 0 || edges.OppositeCorners[2 * e] < 0;
-    valence[edges.Vertices[2 * e]] += boundary[e];
-    valence[edges.Vertices[2 * e + 1]] += boundary[e];
+    const bool open = edges.OppositeCorners[2 * e + 1] < 0 || edges.OppositeCorners[2 * e] < 0;
+    boundary[e] = boundary[e] || open;
+    const int keep = boundary[e] && (open || (featureEdges && featureEdges[e]));
+    for (int k = 0; k < 2; ++k)
+    {
+      valence[edges.Vertices[2 * e + k]] += boundary[e];
+      kept[edges.Vertices[2 * e + k]] += keep;
+    }
+  }
+  for (Index v = 0; v < topology.NumberOfVertices(); ++v)
+  {
+    valence[v] += valence[v] == 2 && kept[v] == 1; // a kept line's end inside a path: a corner
   }
   BoundaryPaths result;
   std::vector<std::uint8_t> done(boundary.size(), 0);
@@ -345,7 +357,7 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
   // boundary paths get (a band one spacing wide), so the whole count goes
   // by the map's mass.
   out.Density = options.NumberOfSamples / mass;
-  const BoundaryPaths boundaries = ChartBoundaries(topology, atlas.ChartOfTriangle);
+  const BoundaryPaths boundaries = ChartBoundaries(topology, atlas.ChartOfTriangle, options.FeatureEdges);
   SampleBoundaries(topology, points, importance, atlas.ChartOfTriangle, boundaries, out.Density, out);
   out.BoundarySamples = static_cast<std::int64_t>(out.Kind.size());
   if (out.BoundarySamples > options.NumberOfSamples)

@@ -27,6 +27,12 @@ struct SamplingOptions
   /// chart per sample (a mean density of 1/8, where error diffusion's
   /// blue noise is at its best).
   int Resolution = 0;
+  /// One flag per edge of topology.Edges(): feature edges (null: none).
+  /// Where a chart boundary passes from a feature edge (or the surface's
+  /// boundary) to another edge, as where a crease fades out along a seam,
+  /// the vertex is a corner (section 4.2.3's crease ends): it gets a sample,
+  /// so the remesh follows the crease to its end.
+  const std::uint8_t* FeatureEdges = nullptr;
   int NumberOfThreads = 0;
 };
 
