@@ -350,10 +350,16 @@ bool Optimizer::KeepsPlane(Index v, Index triangle, const double* w)
 {
   std::vector<std::pair<Index, std::array<double, 2>>>& corners = ThreadBuffers().Corners;
   corners.clear();
-  bool valid = true;
+  bool valid = true, located = false;
+  int chart = -1; // of the last position found (an interior vertex's faces are all in one chart)
+  std::array<double, 2> uv;
   M.ForEachOutgoing(v, [&](Index h) {
-    std::array<double, 2> uv;
-    valid = valid && ChartPosition(Topology, Atlas.Charts[R.FaceChart[h / 3]], triangle, w, uv.data()) &&
+    if (R.FaceChart[h / 3] != chart)
+    {
+      chart = R.FaceChart[h / 3];
+      located = ChartPosition(Topology, Atlas.Charts[chart], triangle, w, uv.data());
+    }
+    valid = valid && located &&
       Cross2(uv.data(), UVAt(HalfEdgeMesh::Next(h)), UVAt(HalfEdgeMesh::Prev(h))) >
         1e-3 * std::abs(Cross2(UVAt(h), UVAt(HalfEdgeMesh::Next(h)), UVAt(HalfEdgeMesh::Prev(h))));
     corners.push_back({ h, uv });
