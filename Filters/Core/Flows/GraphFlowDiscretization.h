@@ -106,8 +106,15 @@ protected:
     return Gamma == 0.0 ? 1.0 / e : std::pow(e, Gamma - 1.0);
   }
 
-  void Allocate()
+  /// Sets the sizes and settings every discretization has and allocates
+  /// the base's per-sample arrays.
+  void Allocate(Index size, int components, double gamma, int threads, bool storeOperator = true)
   {
+    Size = size;
+    Components = components;
+    Gamma = gamma;
+    Threads = threads;
+    StoreOperator = storeOperator;
     Velocity.assign(static_cast<std::size_t>(Size) * Components, 0.0);
     if (StoreOperator)
     {

@@ -44,11 +44,7 @@ public:
     , MassScale(massScale)
   {
     Split = split;
-    Gamma = gamma;
-    Threads = threads;
-    Size = size;
-    Components = components;
-    Allocate();
+    Allocate(size, components, gamma, threads);
     GraphLaplacian base;
     Assemble(points, 3, base);
     BaseMeasure.assign(base.Mass.begin(), base.Mass.end());

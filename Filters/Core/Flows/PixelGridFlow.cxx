@@ -121,13 +121,9 @@ public:
     : Grid(grid)
     , Boundary(boundary)
   {
-    Gamma = gamma;
-    Threads = threads;
-    StoreOperator = storeOperator;
+    Allocate(grid.Width * grid.Height, NC, gamma, threads, storeOperator);
     // 0.2 on unit grids (limit about 0.24), scaled with the spacing.
     AutomaticTimeStep = 0.2 * 2.0 / (1.0 / (grid.SpacingX * grid.SpacingX) + 1.0 / (grid.SpacingY * grid.SpacingY));
-    Size = grid.Width * grid.Height;
-    Components = NC;
     PW = grid.Width + 2;
     PH = grid.Height + 2;
     PlaneSize = static_cast<std::size_t>(PW) * PH;
@@ -136,7 +132,6 @@ public:
     {
       Weights.resize(static_cast<std::size_t>(Size) * 8);
     }
-    Allocate();
     Fixed.assign(Size, 0);
     // Area scale for the indicator's guard (B has units 1/length).
     Epsilon2 = 1e-18 / std::pow(std::min(grid.SpacingX, grid.SpacingY), 2);

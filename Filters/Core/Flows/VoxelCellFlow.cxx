@@ -79,12 +79,7 @@ public:
     , BaseOffsets(baseOffsets)
     , BaseNeighbors(baseNeighbors)
   {
-    Gamma = gamma;
-    Threads = threads;
-    Size = size;
-    Components = NC;
-    StoreOperator = storeOperator;
-    Allocate();
+    Allocate(size, NC, gamma, threads, storeOperator);
     Fixed.assign(Size, 0);
     for (Index i = 0; fixed && i < Size; ++i)
     {

@@ -92,18 +92,13 @@ public:
     , H(grid.Height)
     , D(grid.Depth)
   {
-    Gamma = gamma;
-    Threads = threads;
-    StoreOperator = storeOperator;
-    Size = static_cast<Index>(W * H * D);
-    Components = NC;
+    Allocate(static_cast<Index>(W * H * D), NC, gamma, threads, storeOperator);
     LengthScale = std::cbrt(grid.SpacingX * grid.SpacingY * grid.SpacingZ);
     AutomaticContrast = VolumeAutomaticContrast;
     // 0.1 on unit grids (limit about 0.12), scaled with the spacing.
     AutomaticTimeStep = 0.1 * 3.0 /
       (1.0 / (grid.SpacingX * grid.SpacingX) + 1.0 / (grid.SpacingY * grid.SpacingY) +
         1.0 / (grid.SpacingZ * grid.SpacingZ));
-    Allocate();
     if (!StoreOperator)
     {
       LargeVector<double>().swap(Velocity); // explicit steps are fused (Velocity on demand)
