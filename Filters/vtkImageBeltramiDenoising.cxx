@@ -94,7 +94,7 @@ void Store(T* dst, const int* outExt, const int* inExt, int nc, int used, double
 /// tensors in log coordinates when `LogTensor` (measured back as tensors).
 struct FlowValues
 {
-  beltrami::LargeVector<double> Values;
+  beltrami::UninitializedVector<double> Values; // (every value read from the array)
   int Used = 0;
   double Range = 1.0;
   bool Luv = false;

@@ -101,8 +101,8 @@ struct GraphFlowOptions
   /// it ended a run before its rule.
   int MaximumNumberOfIterations = 2000;
   /// MinimumRisk on grids of more than 2^21 samples with explicit steps: the
-  /// probe run covers a band of about 1/16 of the rows or planes (and a
-  /// reference run of it), not all of them; false: all (twice the work).
+  /// probe run covers a band of about 1/16 of the rows or planes, not all
+  /// of them; false: all (twice the work).
   bool WindowedRisk = true;
   /// The standard deviation of the noise (per component, data units): the
   /// stop of NoiseLevel and MinimumRisk.  0: estimated from the data.

@@ -59,7 +59,8 @@ public:
   /// The automatic contrast scale is AutomaticContrast * LengthScale / sigma
   /// (calibrated with the least-risk stop: 1.5 on images, 1.25 on volumes).
   double AutomaticContrast = SurfaceAutomaticContrast;
-  // Filled by Update(u):
+  // Filled by Update(u) (Velocity: allocated with the stored operator, else
+  // by the discretization that writes it):
   LargeVector<double> Velocity; ///< s_i (K u)_i / a_i, zero where fixed: du/dt = -Velocity
   LargeVector<double> Mass, Speed, Diagonal, KU; ///< a_i, s_i, sum_j c_ij, K u (with ghosts)
   double Area = 0.0;    ///< area of the graph surface
@@ -83,8 +84,9 @@ public:
   /// (Flows/NoiseEstimation); 0 where the domain is too small.
   virtual double EstimateNoise(const double* values) const = 0;
   /// The signs b = +-1 of the risk estimate's probe, one per value (Size x
-  /// Components): a fixed pseudo-random sequence (runs are reproducible).
-  virtual void ProbeSigns(std::vector<double>& b) const;
+  /// Components): a fixed pseudo-random sequence (runs are reproducible);
+  /// into b those of the values [begin, end) (a probe window's).
+  virtual void ProbeSigns(std::size_t begin, std::size_t end, std::vector<double>& b) const;
 
   /// Meshes split over processes (collective runs): the rows this process
   /// counts in sums and maxima are its own (Split->IsOwned), and the
@@ -115,9 +117,9 @@ protected:
     Gamma = gamma;
     Threads = threads;
     StoreOperator = storeOperator;
-    Velocity.assign(static_cast<std::size_t>(Size) * Components, 0.0);
     if (StoreOperator)
     {
+      Velocity.assign(static_cast<std::size_t>(Size) * Components, 0.0);
       Mass.assign(Size, 0.0);
       Speed.assign(Size, 1.0);
       Diagonal.assign(Size, 0.0);
@@ -136,10 +138,10 @@ using DiscretizationFactory = std::function<std::unique_ptr<FlowDiscretization>(
 
 /// Optional, for large grids with explicit steps: the risk estimate's probe
 /// runs on a window of the data (a band of whole rows or planes, so a
-/// contiguous range of vertices) instead of all of it, next to a reference
-/// run of the unperturbed window, and the divergence is counted on the
-/// window's inner part (a margin away from the window's own border, which
-/// the flow's few voxels of reach do not cross), scaled to the whole.
+/// contiguous range of vertices) instead of all of it, and the divergence
+/// is counted on the window's inner part against the main run there (a
+/// margin away from the window's own border, which the flow's few voxels
+/// of reach barely cross), scaled to the whole.
 struct ProbeWindow
 {
   DiscretizationFactory Make;         ///< the window's discretization (empty: no window)
@@ -154,11 +156,12 @@ struct ProbeWindow
 ProbeWindow GridProbeWindow(Index layers, Index layerSize, const GraphFlowOptions& o,
   const std::function<std::unique_ptr<FlowDiscretization>(Index first, Index count)>& make);
 
-/// The probe's signs of a mesh's points (Size x Components): a hash of the
+/// The probe's signs of a mesh's values [begin, end) (of Size x Components): a hash of the
 /// component and of the point's position in units of lengthScale, to 1/1024
 /// of it, so that a point gets the same signs wherever it lies in the
 /// numbering (any split over processes) and at any scale.
-void PositionProbeSigns(Index size, int components, const double* points, double lengthScale, std::vector<double>& b);
+void PositionProbeSigns(int components, const double* points, double lengthScale, std::size_t begin, std::size_t end,
+  std::vector<double>& b);
 
 /// The discretization of the flow on voxel cells (8 point ids per cell in
 /// VTK_VOXEL order: corner bit a = a step along axis a) of one lattice, as

@@ -43,35 +43,49 @@ std::string CheckOptions(const GraphFlowOptions& o, int components, int maximum,
   return {};
 }
 
-void PositionProbeSigns(Index size, int components, const double* points, double lengthScale, std::vector<double>& b)
+void PositionProbeSigns(int components, const double* points, double lengthScale, std::size_t begin, std::size_t end,
+  std::vector<double>& b)
 {
   const auto mix = [](std::uint64_t x) { // splitmix64's finaliser
     x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
     x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
     return x ^ (x >> 31);
   };
-  b.resize(static_cast<std::size_t>(size) * components);
-  for (std::size_t i = 0; i < static_cast<std::size_t>(size); ++i)
+  b.resize(end - begin);
+  for (std::size_t k = begin; k < end; ++k)
   {
+    const std::size_t i = k / static_cast<std::size_t>(components);
     std::uint64_t h = 0x9E3779B97F4A7C15ull;
     for (int a = 0; a < 3; ++a)
     {
       h = mix(h ^ static_cast<std::uint64_t>(std::llround(1024.0 * points[3 * i + a] / lengthScale)));
     }
-    for (int k = 0; k < components; ++k)
-    {
-      b[i * components + k] = (mix(h + static_cast<std::uint64_t>(k)) >> 63) ? 1.0 : -1.0;
-    }
+    b[k - begin] = (mix(h + static_cast<std::uint64_t>(k % components)) >> 63) ? 1.0 : -1.0;
   }
 }
 
-void FlowDiscretization::ProbeSigns(std::vector<double>& b) const
+void FlowDiscretization::ProbeSigns(std::size_t begin, std::size_t end, std::vector<double>& b) const
 {
-  std::uint64_t state = 0x9E3779B97F4A7C15ull;
-  b.resize(static_cast<std::size_t>(Size) * Components);
+  // A linear congruential sequence, the sign of value k from its state
+  // k + 1: the state at `begin` by jumping ahead (Brown 1994: the step's
+  // multiplier and increment composed by squaring).
+  constexpr std::uint64_t A = 6364136223846793005ull, C = 1442695040888963407ull;
+  std::uint64_t multiplier = 1, increment = 0, stepA = A, stepC = C;
+  for (std::uint64_t n = begin; n > 0; n >>= 1)
+  {
+    if (n & 1)
+    {
+      multiplier *= stepA;
+      increment = increment * stepA + stepC;
+    }
+    stepC *= stepA + 1;
+    stepA *= stepA;
+  }
+  std::uint64_t state = multiplier * 0x9E3779B97F4A7C15ull + increment;
+  b.resize(end - begin);
   for (double& sign : b)
   {
-    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    state = state * A + C;
     sign = (state >> 63) ? 1.0 : -1.0;
   }
 }
@@ -83,7 +97,7 @@ namespace
 struct FlowRun
 {
   std::unique_ptr<FlowDiscretization> Disc;
-  LargeVector<double> U, Next;
+  UninitializedVector<double> U, Next; // (every value written before it is read)
 };
 
 /// The size of the probe of the risk estimate, relative to the noise.
@@ -116,7 +130,7 @@ private:
   double Sigma = 0.0; // the noise level of the stops
   const int Threads;
   const GraphFlowStop Stop;
-  FlowRun Main, Probe, Reference; // Reference: the unperturbed window (windowed probe only)
+  FlowRun Main, Probe;
   bool Windowed = false;
   Index N = 0;
   int NC = 1;
@@ -124,9 +138,11 @@ private:
   const Partition* Split = nullptr; // meshes split over processes
   double Counted = 0.0;             // values counted over all processes (Size in serial)
   GraphFlowResult Result;
-  LargeVector<double> U0, Rhs, Shift, Diag;
+  UninitializedVector<double> U0;
+  LargeVector<double> Rhs, Shift, Diag;
   std::vector<Index> Order; // the graph solver's renumbering (meshes)
-  std::vector<double> Scratch, Y, B, Best; // risk: the data and b in noise space, the best state
+  std::vector<double> Scratch, Y, Best; // risk: the data in noise space, the best state
+  std::vector<double> B; // risk: b, of the values of the probe's window (windowed), else of all
 
   bool Start(const double* values);
   /// Explicit fixed-size steps fused with the evaluation (the
@@ -178,7 +194,7 @@ private:
   bool Anywhere(bool flag) const { return Split ? Split->Max(flag ? 1.0 : 0.0) > 0.0 : flag; }
 
   /// The state x in the noise's space (data units): a view of Scratch.
-  const double* InNoiseSpace(const LargeVector<double>& x)
+  const double* InNoiseSpace(const UninitializedVector<double>& x)
   {
     Scratch.resize(Size);
     ParallelFor(static_cast<std::int64_t>(Size), Threads, [&](std::int64_t b, std::int64_t e) {
@@ -195,7 +211,7 @@ private:
   }
 
   /// The RMS difference of x to the input, in the noise's space.
-  double ChangeOf(const LargeVector<double>& x)
+  double ChangeOf(const UninitializedVector<double>& x)
   {
     if (O.ToNoiseSpace)
     {
@@ -279,11 +295,11 @@ bool FlowIntegrator::Start(const double* values)
   if (Stop == GraphFlowStop::MinimumRisk && Sigma > 0.0)
   {
     // The probe: y + eps b in the noise's space, b = +-1.
-    Main.Disc->ProbeSigns(B);
     const double eps = ProbeSize * Sigma;
     Windowed = Window.Make && !O.ToNoiseSpace && O.Integration == GraphFlowIntegration::Explicit;
     const std::size_t begin = Windowed ? static_cast<std::size_t>(Window.Begin) * NC : 0;
     const std::size_t end = Windowed ? static_cast<std::size_t>(Window.End) * NC : Size;
+    Main.Disc->ProbeSigns(begin, end, B);
     Probe.Disc = Windowed ? Window.Make() : Make();
     Probe.U.resize(end - begin);
     Probe.Next.resize(end - begin);
@@ -304,15 +320,9 @@ bool FlowIntegrator::Start(const double* values)
     ParallelFor(static_cast<std::int64_t>(end - begin), Threads, [&](std::int64_t b, std::int64_t e) {
       for (std::int64_t k = b; k < e; ++k)
       {
-        Probe.U[k] = Alpha * (probe[begin + k] + shift * B[begin + k]);
+        Probe.U[k] = Alpha * (probe[begin + k] + shift * B[k]);
       }
     });
-    if (Windowed)
-    {
-      Reference.Disc = Window.Make();
-      Reference.U.assign(U0.begin() + begin, U0.begin() + end);
-      Reference.Next.resize(end - begin);
-    }
   }
   return true;
 }
@@ -484,14 +494,14 @@ void FlowIntegrator::AdaptStep(double previousArea, double& dt, double& previous
 
 double FlowIntegrator::NoiseLevelFraction()
 {
-  const LargeVector<double>& u = Main.U;
-  const LargeVector<double>& previous = Main.Next;
+  const UninitializedVector<double>& u = Main.U;
+  const UninitializedVector<double>& previous = Main.Next;
   if (O.ToNoiseSpace)
   {
     // Another space: the squared change taken as quadratic along the step,
     // through t = 0, 1/2 and 1.
     const double m0 = std::pow(ChangeOf(previous), 2), m1 = std::pow(ChangeOf(u), 2);
-    LargeVector<double> half(Size);
+    UninitializedVector<double> half(Size);
     for (std::size_t k = 0; k < Size; ++k)
     {
       half[k] = 0.5 * (previous[k] + u[k]);
@@ -542,7 +552,11 @@ double FlowIntegrator::Risk()
   else if (Windowed)
   {
     // The fit over everything, the divergence over the window's inner part
-    // (probe against the unperturbed window), scaled to the whole.
+    // (the probe against the main run there), scaled to the whole.  The
+    // window's own border makes its run differ from the main one a margin
+    // away (the flow's reach: a few voxels); that difference does not
+    // depend on the signs b, so it adds to the sum only a zero-mean term,
+    // far below the divergence's (no unperturbed run of the window needed).
     const std::int64_t begin = static_cast<std::int64_t>(Window.Begin) * NC;
     const std::int64_t first = static_cast<std::int64_t>(Window.InnerBegin) * NC;
     const std::int64_t last = static_cast<std::int64_t>(Window.InnerEnd) * NC;
@@ -555,7 +569,7 @@ double FlowIntegrator::Risk()
     divergence = ParallelSum(last - first, 1, Threads, [&](std::int64_t b, std::int64_t e, double* acc) {
       for (std::int64_t k = first + b; k < first + e; ++k)
       {
-        acc[0] += B[k] * (Probe.U[k - begin] - Reference.U[k - begin]);
+        acc[0] += B[k - begin] * (Probe.U[k - begin] - Main.U[k]);
       }
     })[0] / Alpha * static_cast<double>(Size) / static_cast<double>(last - first);
   }
@@ -577,7 +591,9 @@ void FlowIntegrator::Finish(double* values, const ProgressCallback& progress)
 {
   Result.RMSChange = ChangeOf(Main.U);
   const std::vector<std::uint8_t>& fixed = Main.Disc->Fixed;
-  ParallelFor(N, Threads, [&](std::int64_t b, std::int64_t e) {
+  // No step (none asked for, no noise, or the input the least-risk state):
+  // the data stay bit-exact, without a round trip through alpha.
+  ParallelFor(Result.Iterations > 0 ? N : 0, Threads, [&](std::int64_t b, std::int64_t e) {
     for (std::int64_t i = b; i < e; ++i)
     {
       if (!fixed[i]) // fixed values stay bit-exact (no round trip through alpha)
@@ -604,10 +620,20 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
   FlowDiscretization& disc = *Main.Disc;
   const bool explicitSteps = O.Integration == GraphFlowIntegration::Explicit;
   Fused = explicitSteps && !O.AdaptiveTimeStep && disc.FusesSteps();
-  Evaluate(Main);
+  // Fused steps evaluate the state they step from: the figures of the
+  // input come with the first step (one pass over the data less).
+  const bool evaluated = !Fused || Limit() == 0;
+  if (evaluated)
+  {
+    Evaluate(Main);
+  }
   if (Stop != GraphFlowStop::Iterations && !(Sigma > 0.0))
   {
     // No noise given or found (too small a domain, or clean data): nothing to remove.
+    if (!evaluated)
+    {
+      Evaluate(Main); // (the fixed values, kept bit-exact)
+    }
     Result.Completed = true;
     Finish(values, progress);
     return Result;
@@ -618,15 +644,12 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
     if (!Fused) // (their first step's velocity)
     {
       Probe.Disc->Update(Probe.U.data());
-      if (Windowed)
-      {
-        Reference.Disc->Update(Reference.U.data());
-      }
     }
     Result.InitialRisk = Result.FinalRisk = std::sqrt(std::max(0.0, Risk()));
   }
   double bestRisk = Result.InitialRisk * Result.InitialRisk, bestTime = 0.0;
   int bestIterations = 0;
+  double bestArea = disc.Area; // (fused: known once the step after the best is taken)
   Result.InitialArea = Result.FinalArea = disc.Area;
   Result.SmallestStableStep = disc.MaxRate > 0.0 ? 1.0 / disc.MaxRate : HUGE_VAL;
   double dt = O.TimeStep > 0.0 ? O.TimeStep : disc.AutomaticTimeStep;
@@ -673,13 +696,17 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
     Result.Time += dt;
     Result.LastTimeStep = dt;
     Result.FinalArea = disc.Area;
+    if (!evaluated && Result.Iterations == 1)
+    {
+      Result.InitialArea = disc.Area;
+    }
+    if (Fused && bestIterations == Result.Iterations - 1)
+    {
+      bestArea = disc.Area;
+    }
     if (risk)
     {
       Advance(Probe, dt);
-      if (Windowed)
-      {
-        Advance(Reference, dt);
-      }
       const double r = Risk();
       if (r < bestRisk)
       {
@@ -719,6 +746,12 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
     }
   }
   Result.StoppedByLimit = Stop != GraphFlowStop::Iterations && !ruleMet && Result.Completed;
+  if (!evaluated && Result.Iterations == 0) // (cancelled at once)
+  {
+    Evaluate(Main);
+    Result.InitialArea = Result.FinalArea = bestArea = disc.Area;
+    Result.SmallestStableStep = disc.MaxRate > 0.0 ? 1.0 / disc.MaxRate : HUGE_VAL;
+  }
   if (risk)
   {
     // Back to the state of least risk: the input, the last state, or the
@@ -731,11 +764,16 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
     {
       std::copy(Best.begin(), Best.end(), Main.U.begin());
     }
+    const bool known = Fused && bestIterations < Result.Iterations; // (the next step evaluated it)
     Result.Time = bestTime;
     Result.Iterations = bestIterations;
     Result.FinalRisk = std::sqrt(std::max(0.0, bestRisk));
-    Evaluate(Main);
-    Result.FinalArea = disc.Area;
+    if (!known)
+    {
+      Evaluate(Main);
+      bestArea = disc.Area;
+    }
+    Result.FinalArea = bestArea;
   }
   else if (Fused && Result.Iterations > 0)
   {

@@ -72,9 +72,9 @@ public:
       Size, BaseOffsets, BaseNeighbors, Points, Components, values, Fixed.data(), Split);
   }
 
-  void ProbeSigns(std::vector<double>& b) const override
+  void ProbeSigns(std::size_t begin, std::size_t end, std::vector<double>& b) const override
   {
-    PositionProbeSigns(Size, Components, Points, LengthScale, b);
+    PositionProbeSigns(Components, Points, LengthScale, begin, end, b);
   }
 
   void Update(const double* u) override

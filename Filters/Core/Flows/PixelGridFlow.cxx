@@ -122,6 +122,7 @@ public:
     , Boundary(boundary)
   {
     Allocate(grid.Width * grid.Height, NC, gamma, threads, storeOperator);
+    Velocity.resize(static_cast<std::size_t>(Size) * NC); // (every step writes it)
     // 0.2 on unit grids (limit about 0.24), scaled with the spacing.
     AutomaticTimeStep = 0.2 * 2.0 / (1.0 / (grid.SpacingX * grid.SpacingX) + 1.0 / (grid.SpacingY * grid.SpacingY));
     PW = grid.Width + 2;

@@ -140,7 +140,10 @@ public:
     return EstimateGraphNoise(Size, BaseOffsets, BaseNeighbors, Points, Components, values, Fixed.data(), nullptr);
   }
 
-  void ProbeSigns(std::vector<double>& b) const override { PositionProbeSigns(Size, Components, Points, LengthScale, b); }
+  void ProbeSigns(std::size_t begin, std::size_t end, std::vector<double>& b) const override
+  {
+    PositionProbeSigns(Components, Points, LengthScale, begin, end, b);
+  }
 
   void Apply(const double* x, double* y, bool) override
   {

@@ -55,6 +55,65 @@ CLONES void StiffnessRow(std::int64_t n, const double* __restrict x, const doubl
   }
 }
 
+/// The rows of the plane buffers a cell row's 27 sums (19 edges, then 8
+/// corner masses) go to: per target its array (edge direction - 1, or 7:
+/// the masses), the lower corner of its edges (the plane, row and x offset
+/// of the voxels) and the sums it gets at x offset 0 (First) and 1
+/// (Second, or -1): the edges and masses of corners a cell apart along x
+/// land in the same row, and are added in one pass (AddRowPair).
+struct KuhnRowTargets
+{
+  static constexpr int Count = 18;
+  int Array[Count]{}, Lower[Count]{}, First[Count]{}, Second[Count]{};
+
+  constexpr KuhnRowTargets()
+  {
+    int t = 0;
+    for (int e = 0; e < KuhnCell::Edges; ++e)
+    {
+      const int lower = Kuhn.Lower[e], direction = Kuhn.Upper[e] & ~lower;
+      if (lower & 1)
+      {
+        continue; // (the Second of the edge at lower - 1)
+      }
+      Array[t] = direction - 1;
+      Lower[t] = lower;
+      First[t] = e;
+      Second[t] = -1;
+      for (int f = e + 1; f < KuhnCell::Edges; ++f)
+      {
+        if (Kuhn.Lower[f] == (lower | 1) && (Kuhn.Upper[f] & ~Kuhn.Lower[f]) == direction)
+        {
+          Second[t] = f;
+        }
+      }
+      ++t;
+    }
+    for (int c = 0; c < 8; c += 2, ++t)
+    {
+      Array[t] = 7;
+      Lower[t] = c;
+      First[t] = KuhnCell::Edges + c;
+      Second[t] = KuhnCell::Edges + c + 1;
+    }
+  }
+};
+
+constexpr KuhnRowTargets RowTargets{};
+
+/// to[i] = (to[i] + a[i]) + b[i - 1], i <= n (a[n], b[-1]: none): two
+/// rows of sums a cell apart, in the order of two AddRow calls.
+template <typename Real>
+CLONES void AddRowPair(std::int64_t n, const Real* __restrict a, const Real* __restrict b, Real* __restrict to)
+{
+  to[0] += a[0];
+  for (std::int64_t i = 1; i < n; ++i)
+  {
+    to[i] = (to[i] + a[i]) + b[i - 1];
+  }
+  to[n] += b[n - 1];
+}
+
 // ---------------------------------------------------------------------------
 // 3D images: the voxel grid split into Kuhn tetrahedra (six per cell: the
 // split of GridTetrahedra, section 2.8.2) without an explicit mesh.  Each
@@ -99,10 +158,6 @@ public:
     AutomaticTimeStep = 0.1 * 3.0 /
       (1.0 / (grid.SpacingX * grid.SpacingX) + 1.0 / (grid.SpacingY * grid.SpacingY) +
         1.0 / (grid.SpacingZ * grid.SpacingZ));
-    if (!StoreOperator)
-    {
-      LargeVector<double>().swap(Velocity); // explicit steps are fused (Velocity on demand)
-    }
     for (int d = 0; d < 8; ++d)
     {
       Offset[d] = (d & 1) + W * (((d >> 1) & 1) + H * ((d >> 2) & 1));
@@ -153,10 +208,6 @@ private:
   /// One pass over the volume (what Output says).
   void Sweep(const double* u) override
   {
-    if (Output == RowOutput::Velocity && Velocity.size() != static_cast<std::size_t>(Size) * NC)
-    {
-      Velocity.assign(static_cast<std::size_t>(Size) * NC, 0.0);
-    }
     std::vector<double> rowRate(H * D), rowArea(H * D); // per row: in row order, thread-independent
     const std::int64_t chunks = (D + PlanesPerChunk - 1) / PlanesPerChunk;
     ParallelFor(chunks, Threads, [&](std::int64_t b, std::int64_t e) {
@@ -179,9 +230,11 @@ private:
     double *KU, *Diagonal, *Positive, *Speed;
   };
   std::int64_t Stride() const { return W + 1 + PlaneSize; }
+  /// The cells of a row rounded up to whole vectors (16 lanes).
+  std::int64_t PaddedCells() const { return (W - 1 + 15) / 16 * 16; }
   std::size_t BufferDoubles() const
   {
-    const std::size_t reals = 3 * 8 * Stride() + (KuhnCell::Edges + 8) * W;
+    const std::size_t reals = 3 * 8 * Stride() + (KuhnCell::Edges + 8) * PaddedCells();
     return (reals * sizeof(Real) + sizeof(double) - 1) / sizeof(double) + (NC + 3) * W;
   }
   Real* PlaneWeights(Buffers& b, std::int64_t k, int d) const { return b.Plane[k % 3] + d * Stride() + W + 1; }
@@ -198,15 +251,22 @@ private:
       b.Plane[s] = r;
     }
     b.Edges = r;
-    b.Masses = b.Edges + KuhnCell::Edges * W;
+    b.Masses = b.Edges + KuhnCell::Edges * PaddedCells();
     b.KU = lease.data() + (BufferDoubles() - (NC + 3) * W);
     b.Diagonal = b.KU + NC * W;
     b.Positive = b.Diagonal + W;
     b.Speed = b.Positive + W;
     std::fill(b.Speed, b.Speed + W, 1.0);
-    const auto clear = [&](std::int64_t k) { std::fill(b.Plane[(k + 3) % 3], b.Plane[(k + 3) % 3] + 8 * Stride(), Real(0)); };
-    clear(k0 - 1);
-    clear(k0);
+    // The slots zeroed once, margins included (never written); then each
+    // voxel row of plane k + 1 just before the cell row that first adds to
+    // it (cell row j adds to rows j and j + 1), while it is in the cache.
+    std::fill(b.Plane[0], b.Plane[0] + 3 * 8 * Stride(), Real(0));
+    const auto clearRow = [&](std::int64_t k, std::int64_t j) {
+      for (int d = 0; d < 8; ++d)
+      {
+        std::fill_n(PlaneWeights(b, k, d) + j * W, W, Real(0));
+      }
+    };
     if (k0 > 0)
     {
       for (std::int64_t j = 0; j + 1 < H; ++j)
@@ -216,14 +276,18 @@ private:
     }
     for (std::int64_t k = k0; k < k1; ++k)
     {
-      if (k + 1 < D)
-      {
-        clear(k + 1);
-      }
       for (std::int64_t j = 0; j < H; ++j)
       {
         if (j + 1 < H && k + 1 < D)
         {
+          if (k > k0) // (the slot of plane k - 2)
+          {
+            clearRow(k + 1, j + 1);
+            if (j == 0)
+            {
+              clearRow(k + 1, 0);
+            }
+          }
           CellRow(u, j, k, b);
         }
         EmitRow(u, j, k, b, rowRate, rowArea);
@@ -232,20 +296,31 @@ private:
   }
 
   /// The tetrahedra of cell row (j, k) into the plane buffers of k and k + 1.
+  /// The row's cells are evaluated in whole vectors where the reads past
+  /// its end stay within the data (all rows but the volume's last): the
+  /// lanes past the row are computed and dropped, instead of a scalar tail.
   void CellRow(const double* u, std::int64_t j, std::int64_t k, Buffers& b) const
   {
-    const std::int64_t n = W - 1;
-    const double* u0 = u + (k * H + j) * W * NC;
-    KuhnCellRow<NC, Real>(n, u0, u0 + Offset[1] * NC, u0 + Offset[2] * NC, u0 + Offset[3] * NC, u0 + Offset[4] * NC,
+    const std::int64_t n = W - 1, first = (k * H + j) * W;
+    const std::int64_t m = first + Offset[7] + PaddedCells() <= Size ? PaddedCells() : n; // (cells evaluated)
+    const double* u0 = u + first * NC;
+    KuhnCellRow<NC, Real>(m, u0, u0 + Offset[1] * NC, u0 + Offset[2] * NC, u0 + Offset[3] * NC, u0 + Offset[4] * NC,
       u0 + Offset[5] * NC, u0 + Offset[6] * NC, u0 + Offset[7] * NC, Shapes, b.Edges, b.Masses);
-    for (int c = 0; c < 8; ++c)
+    const auto sums = [&](int s) {
+      return s < KuhnCell::Edges ? b.Edges + s * m : b.Masses + (s - KuhnCell::Edges) * m;
+    };
+    for (int t = 0; t < KuhnRowTargets::Count; ++t)
     {
-      AddRow(n, b.Masses + c * n, PlaneWeights(b, k + (c >> 2), 7) + (j + (c >> 1 & 1)) * W + (c & 1));
-    }
-    for (int e = 0; e < KuhnCell::Edges; ++e)
-    {
-      const int lower = Kuhn.Lower[e], direction = Kuhn.Upper[e] & ~lower;
-      AddRow(n, b.Edges + e * n, PlaneWeights(b, k + (lower >> 2), direction - 1) + (j + (lower >> 1 & 1)) * W + (lower & 1));
+      const int lower = RowTargets.Lower[t];
+      Real* to = PlaneWeights(b, k + (lower >> 2), RowTargets.Array[t]) + (j + (lower >> 1 & 1)) * W;
+      if (RowTargets.Second[t] < 0)
+      {
+        AddRow(n, sums(RowTargets.First[t]), to);
+      }
+      else
+      {
+        AddRowPair(n, sums(RowTargets.First[t]), sums(RowTargets.Second[t]), to);
+      }
     }
   }
 

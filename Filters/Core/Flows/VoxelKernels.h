@@ -305,6 +305,8 @@ class SweepDiscretization : public FlowDiscretization
 public:
   void Update(const double* u) final
   {
+    // (Explicit steps are fused: the velocity is allocated only when asked for.)
+    Velocity.resize(static_cast<std::size_t>(Size) * Components);
     Output = RowOutput::Velocity;
     Sweep(u);
   }

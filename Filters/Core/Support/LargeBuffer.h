@@ -20,6 +20,7 @@
 #include <cstddef>
 #include <cstdlib>
 #include <new>
+#include <utility>
 #include <vector>
 
 
@@ -86,5 +87,38 @@ struct LargeBufferAllocator
 /// A std::vector for large arrays (see above).
 template <class T>
 using LargeVector = std::vector<T, LargeBufferAllocator<T>>;
+
+/// The same allocator, but resize() and the size constructor leave new
+/// elements of trivial types uninitialized (default-initialized): for
+/// buffers whose every element is written before it is read, so that a
+/// large one is not first zeroed by one thread and then written again.
+template <class T>
+struct UninitializedAllocator : LargeBufferAllocator<T>
+{
+  template <class U>
+  struct rebind
+  {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() = default;
+  template <class U>
+  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept
+  {
+  }
+  template <class U>
+  void construct(U* p) noexcept
+  {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args)
+  {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+/// A LargeVector whose new elements start uninitialized (see above).
+template <class T>
+using UninitializedVector = std::vector<T, UninitializedAllocator<T>>;
 
 } // namespace beltrami

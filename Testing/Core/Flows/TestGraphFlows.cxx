@@ -6,11 +6,13 @@
 
 #include "Flows/ColorSpace.h"
 #include "Flows/GraphFlow.h"
+#include "Flows/GraphFlowDiscretization.h"
 #include "Flows/NoiseEstimation.h"
 #include "Flows/TensorSpace.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -333,9 +335,9 @@ TEST(NoiseEstimation, WithinTenPercentOnASyntheticImageWithEdges)
 TEST(LeastRiskStop, AWindowedProbeStopsWhereTheFullProbeDoes)
 {
   // A volume of more than 2^21 voxels (96 x 96 x 256): the risk's probe runs
-  // on a band of 16 planes plus margins next to an unperturbed run of it, a
-  // quarter of the work of a probe over everything; the stop, the result and
-  // the estimated error stay those of the full probe.
+  // on a band of 16 planes plus margins, compared with the main run there,
+  // an eighth of the work of a probe over everything; the stop, the result
+  // and the estimated error stay those of the full probe.
   VoxelGrid grid;
   grid.Width = grid.Height = 96;
   grid.Depth = 256;
@@ -373,6 +375,75 @@ TEST(LeastRiskStop, AWindowedProbeStopsWhereTheFullProbeDoes)
   EXPECT_NEAR(psnr[1], psnr[0], 0.05);
   EXPECT_NEAR(results[1].FinalRisk, results[0].FinalRisk, 0.1 * results[0].FinalRisk);
   EXPECT_NEAR(results[1].InitialRisk, results[0].InitialRisk, 1e-9); // the noise level: SURE of the input
+}
+
+TEST(LeastRiskStop, FusedStepsReportTheFiguresOfTheStatesTheyStepFrom)
+{
+  // Explicit volume steps evaluate the state they step from: the input's
+  // area comes with the first step and the least-risk state's with the
+  // step after it (no pass of its own).  The figures are those of runs
+  // that evaluate the same states on their own, and a run of no step
+  // leaves the data bit-exact.
+  VoxelGrid grid;
+  grid.Width = grid.Height = grid.Depth = 40;
+  std::vector<double> noisy(40 * 40 * 40);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  for (std::size_t k = 0; k < noisy.size(); ++k)
+  {
+    noisy[k] = 0.5 + 0.3 * ((k % 40) < 20) + noise(rng);
+  }
+  std::vector<double> least = noisy, fixed = noisy, input = noisy;
+  GraphFlowOptions o;
+  const GraphFlowResult risk = RunVolumeGraphFlow(grid, 1, least.data(), nullptr, o);
+  ASSERT_EQ(risk.Error, "");
+  ASSERT_GT(risk.Iterations, 3);
+  o.Stop = GraphFlowStop::Iterations;
+  o.ContrastScale = risk.ContrastScale;
+  o.NumberOfIterations = risk.Iterations;
+  const GraphFlowResult steps = RunVolumeGraphFlow(grid, 1, fixed.data(), nullptr, o);
+  o.NumberOfIterations = 0;
+  const GraphFlowResult none = RunVolumeGraphFlow(grid, 1, input.data(), nullptr, o);
+  EXPECT_EQ(least, fixed);
+  EXPECT_EQ(input, noisy);
+  EXPECT_EQ(risk.InitialArea, none.InitialArea);
+  EXPECT_EQ(steps.InitialArea, none.InitialArea);
+  EXPECT_EQ(risk.FinalArea, steps.FinalArea);
+  EXPECT_LT(risk.FinalArea, 0.9 * risk.InitialArea);
+  EXPECT_EQ(risk.SmallestStableStep, std::min(steps.SmallestStableStep, risk.SmallestStableStep));
+}
+
+/// The base discretization's probe signs (a minimal discretization).
+struct SignsOnly final : detail::FlowDiscretization
+{
+  void Update(const double*) override {}
+  void Apply(const double*, double*, bool) override {}
+  double EstimateNoise(const double*) const override { return 0.0; }
+};
+
+TEST(LeastRiskStop, TheProbeSignsOfAWindowAreThoseOfTheWholeSequence)
+{
+  // A probe window's signs are the whole sequence's at its values (the
+  // state jumped ahead to the window's start), so a windowed probe sees
+  // the signs a full probe would.
+  SignsOnly d;
+  d.Size = 40000;
+  d.Components = 3;
+  std::vector<double> all, window;
+  d.ProbeSigns(0, 120000, all);
+  ASSERT_EQ(all.size(), 120000u);
+  double sum = 0.0;
+  for (double b : all)
+  {
+    ASSERT_TRUE(b == 1.0 || b == -1.0);
+    sum += b;
+  }
+  EXPECT_LT(std::abs(sum), 5.0 * std::sqrt(120000.0)); // balanced
+  for (std::size_t begin : { std::size_t(0), std::size_t(1), std::size_t(777), std::size_t(65536), std::size_t(99999) })
+  {
+    d.ProbeSigns(begin, begin + 20001, window);
+    EXPECT_TRUE(std::equal(window.begin(), window.end(), all.begin() + static_cast<std::ptrdiff_t>(begin))) << begin;
+  }
 }
 
 } // namespace

@@ -48,3 +48,24 @@ TEST(LargeBuffer, VectorsFromManyThreads)
     t.join();
   }
 }
+
+TEST(LargeBuffer, UninitializedVectorsSkipTheZeroFillOnly)
+{
+  // A large UninitializedVector gets a cached block as it was left (no
+  // zero fill); values given explicitly are still written.
+  constexpr std::size_t n = std::size_t(3) << 18; // 6 MiB of doubles
+  const double* block = nullptr;
+  {
+    LargeVector<double> filled(n, 7.0);
+    block = filled.data();
+  }
+  UninitializedVector<double> reused(n);
+  ASSERT_EQ(reused.data(), block); // (the cache's block)
+  EXPECT_EQ(reused[0], 7.0);
+  EXPECT_EQ(reused[n - 1], 7.0);
+  UninitializedVector<double> given(n, 2.5);
+  EXPECT_EQ(given[n / 2], 2.5);
+  given.resize(n + 10, -1.0);
+  EXPECT_EQ(given[n + 9], -1.0);
+  EXPECT_EQ(given[n - 1], 2.5);
+}
