@@ -112,6 +112,17 @@ CLONES void TriangleRow(std::int64_t n, const double* __restrict dots, double* _
 /// Rows per band of the image pass (one extra cell row computed per band).
 constexpr std::int64_t BandRows = 16;
 
+/// What a pixel row's evaluation writes: the velocity, the velocity and
+/// the operator (semi-implicit steps), the explicit step (fused), or only
+/// the figures.
+enum class PixelOutput
+{
+  Velocity,
+  Operator,
+  Step,
+  None
+};
+
 template <int NC>
 class GridDiscretization final : public FlowDiscretization
 {
@@ -122,7 +133,6 @@ public:
     , Boundary(boundary)
   {
     Allocate(grid.Width * grid.Height, NC, gamma, threads, storeOperator);
-    Velocity.resize(static_cast<std::size_t>(Size) * NC); // (every step writes it)
     // 0.2 on unit grids (limit about 0.24), scaled with the spacing.
     AutomaticTimeStep = 0.2 * 2.0 / (1.0 / (grid.SpacingX * grid.SpacingX) + 1.0 / (grid.SpacingY * grid.SpacingY));
     PW = grid.Width + 2;
@@ -144,6 +154,21 @@ public:
 
   void Update(const double* u) override
   {
+    Velocity.resize(static_cast<std::size_t>(Size) * NC); // (explicit steps are fused: on demand)
+    Sweep(u, StoreOperator ? PixelOutput::Operator : PixelOutput::Velocity, 0.0, nullptr);
+  }
+
+  bool FusesSteps() const override { return !StoreOperator; }
+
+  void FusedStep(const double* u, double dt, double* next) override
+  {
+    Sweep(u, next ? PixelOutput::Step : PixelOutput::None, dt, next);
+  }
+
+  /// One pass over the image: the rows' weights, masses and what `output`
+  /// says (the explicit step from u into next), and the figures.
+  void Sweep(const double* u, PixelOutput output, double dt, double* next)
+  {
     Pad(u, true);
     const Index w = Grid.Width, h = Grid.Height;
     RowArea.resize(h);
@@ -163,18 +188,7 @@ public:
         for (std::int64_t r = r0; r < r1; ++r)
         {
           CellRow(r + 1, lower, dots);
-          if (StoreOperator)
-          {
-            PixelRow<true, false>(r, upper, lower, sums);
-          }
-          else if (Gamma == 1.0)
-          {
-            PixelRow<false, true>(r, upper, lower, sums);
-          }
-          else
-          {
-            PixelRow<false, false>(r, upper, lower, sums);
-          }
+          Row(output, r, upper, lower, sums, dt, next);
           std::swap(upper, lower);
         }
       }
@@ -343,10 +357,32 @@ private:
   /// row r + 1): the weights of the 8 edges, the mass, K u, the indicator
   /// max(|B_bar| / |B|, 1/W) (GraphFlow.h), the velocity and the row's area
   /// and stability rate.
-  template <bool Store, bool UnitSpeed>
-  CLONES void PixelRow(std::int64_t r, const double* __restrict upper, const double* __restrict lower,
-    double* __restrict sums)
+  /// PixelRow compiled for each output (and unit speed, gamma = 1).
+  void Row(PixelOutput output, std::int64_t r, const double* upper, const double* lower, double* sums, double dt,
+    double* next)
   {
+    const bool unit = Gamma == 1.0;
+    switch (output)
+    {
+      case PixelOutput::Operator:
+        return PixelRow<PixelOutput::Operator, false>(r, upper, lower, sums, dt, next);
+      case PixelOutput::Velocity:
+        return unit ? PixelRow<PixelOutput::Velocity, true>(r, upper, lower, sums, dt, next)
+                    : PixelRow<PixelOutput::Velocity, false>(r, upper, lower, sums, dt, next);
+      case PixelOutput::Step:
+        return unit ? PixelRow<PixelOutput::Step, true>(r, upper, lower, sums, dt, next)
+                    : PixelRow<PixelOutput::Step, false>(r, upper, lower, sums, dt, next);
+      case PixelOutput::None:
+        return unit ? PixelRow<PixelOutput::None, true>(r, upper, lower, sums, dt, next)
+                    : PixelRow<PixelOutput::None, false>(r, upper, lower, sums, dt, next);
+    }
+  }
+
+  template <PixelOutput Output, bool UnitSpeed>
+  CLONES void PixelRow(std::int64_t r, const double* __restrict upper, const double* __restrict lower,
+    double* __restrict sums, double dt, double* __restrict next)
+  {
+    constexpr bool Store = Output == PixelOutput::Operator;
     const Index w = Grid.Width;
     const std::int64_t n = w + 1;
     const double sx = Grid.SpacingX, sy = Grid.SpacingY;
@@ -360,7 +396,9 @@ private:
       p2[k] = PaddedRow(k, r + 1);
     }
     const std::uint8_t* fixed = &Fixed[r * w];
-    double* __restrict velocity = &Velocity[r * w * NC];
+    double* __restrict out = Output == PixelOutput::Step ? next + r * w * NC
+      : Output == PixelOutput::None                     ? nullptr
+                                                        : Velocity.data() + r * w * NC;
     double* __restrict masses = sums;
     double* __restrict rates = sums + w;
 #pragma GCC ivdep // the slot arrays never overlap
@@ -399,9 +437,10 @@ private:
           BaseMass / mass));
       }
       const double f = (fixed[c] == 0) & (mass > 0.0) ? speed / mass : 0.0;
-      for (int k = 0; k < NC; ++k)
+      for (int k = 0; k < NC && Output != PixelOutput::None; ++k)
       {
-        velocity[c * NC + k] = f * ku[k];
+        // (the explicit step as FlowIntegrator::ExplicitStep takes it)
+        out[c * NC + k] = Output == PixelOutput::Step ? p1[k][c + 1] - dt * (f * ku[k]) : f * ku[k];
       }
       double positive = 0.0;
       for (int nb = 0; nb < 8; ++nb)
