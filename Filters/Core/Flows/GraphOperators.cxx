@@ -257,7 +257,7 @@ GraphOperatorReport ComputeImageGraphOperators(const PixelGrid& grid, int compon
   }
   const int threads = options.NumberOfThreads;
   ChooseContrast(options, SurfaceAutomaticContrast, std::sqrt(sx * sy),
-    [&]() { return EstimateImageNoise(grid, components, values); }, report);
+    [&]() { return EstimateImageNoise(grid, components, values, threads); }, report);
   const int n = 2 + components;
   const Writer writer(outputs, 2, components, report.ContrastScale, 2);
   const PaddedGrid padded(grid.Width, grid.Height, 1, components, values, options.Boundary, report.ContrastScale);
@@ -324,7 +324,7 @@ GraphOperatorReport ComputeVolumeGraphOperators(const VoxelGrid& grid, int compo
   }
   const int threads = options.NumberOfThreads;
   ChooseContrast(options, VolumeAutomaticContrast, std::cbrt(sx * sy * sz),
-    [&]() { return EstimateVolumeNoise(grid, components, values); }, report);
+    [&]() { return EstimateVolumeNoise(grid, components, values, threads); }, report);
   const int n = 3 + components;
   const Writer writer(outputs, 3, components, report.ContrastScale, 3);
   const PaddedGrid padded(grid.Width, grid.Height, grid.Depth, components, values, options.Boundary,

@@ -1,5 +1,7 @@
 #include "Flows/NoiseEstimation.h"
 
+#include "Support/Parallel.h"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -27,6 +29,24 @@ struct Samples
   std::vector<double> Response; ///< |high-pass response| / its noise gain
   std::vector<double> Gradient; ///< any measure that grows with the gradient
 };
+
+/// The samples of `rows` sampled rows of `width` each, in parallel and in
+/// the order of a serial loop: sample(row, x, response, gradient).
+template <typename Sample>
+void SampleRows(std::int64_t rows, std::int64_t width, int numThreads, Samples& s, Sample&& sample)
+{
+  s.Response.resize(static_cast<std::size_t>(rows * width));
+  s.Gradient.resize(s.Response.size());
+  ParallelFor(rows, numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t r = begin; r < end; ++r)
+    {
+      for (std::int64_t x = 0; x < width; ++x)
+      {
+        sample(r, x, s.Response[r * width + x], s.Gradient[r * width + x]);
+      }
+    }
+  }, {}, 0, 1);
+}
 
 /// The k-th smallest of `values` (0-based; of all processes' with `split`).
 double NthSmallest(std::vector<double>& values, std::int64_t k, const Partition* split)
@@ -82,7 +102,7 @@ double MeanOverComponents(int components, Component&& component, const Partition
 
 } // namespace
 
-double EstimateImageNoise(const PixelGrid& grid, int components, const double* values)
+double EstimateImageNoise(const PixelGrid& grid, int components, const double* values, int numThreads)
 {
   if (grid.Width < 3 || grid.Height < 3 || components < 1 || !values)
   {
@@ -94,24 +114,20 @@ double EstimateImageNoise(const PixelGrid& grid, int components, const double* v
     const auto at = [&](Index x, Index y) {
       return values[(static_cast<std::size_t>(y) * w + x) * components + comp];
     };
-    s.Response.reserve(static_cast<std::size_t>(w - 2) * ((h - 2) / stride + 1));
-    s.Gradient.reserve(s.Response.capacity());
-    for (Index y = 1; y + 1 < h; y += stride)
-    {
-      for (Index x = 1; x + 1 < w; ++x)
-      {
+    SampleRows((h - 2 + stride - 1) / stride, w - 2, numThreads, s,
+      [&](std::int64_t row, std::int64_t column, double& response, double& gradient) {
+        const Index y = static_cast<Index>(1 + row * stride), x = static_cast<Index>(1 + column);
         const double a = at(x - 1, y - 1), b = at(x, y - 1), c = at(x + 1, y - 1);
         const double d = at(x - 1, y), e = at(x, y), f = at(x + 1, y);
         const double g = at(x - 1, y + 1), i = at(x, y + 1), j = at(x + 1, y + 1);
-        s.Response.push_back(std::abs(a - 2 * b + c - 2 * d + 4 * e - 2 * f + g - 2 * i + j) / 6.0);
+        response = std::abs(a - 2 * b + c - 2 * d + 4 * e - 2 * f + g - 2 * i + j) / 6.0;
         const double gx = (c + 2 * f + j) - (a + 2 * d + g), gy = (g + 2 * i + j) - (a + 2 * b + c);
-        s.Gradient.push_back(gx * gx + gy * gy);
-      }
-    }
+        gradient = gx * gx + gy * gy;
+      });
   });
 }
 
-double EstimateVolumeNoise(const VoxelGrid& grid, int components, const double* values)
+double EstimateVolumeNoise(const VoxelGrid& grid, int components, const double* values, int numThreads)
 {
   if (grid.Width < 3 || grid.Height < 3 || grid.Depth < 3 || components < 1 || !values)
   {
@@ -126,13 +142,10 @@ double EstimateVolumeNoise(const VoxelGrid& grid, int components, const double* 
     const auto at = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
       return values[((z * h + y) * w + x) * components + comp];
     };
-    s.Response.reserve(static_cast<std::size_t>((w - 2) * (rows / stride + 1)));
-    s.Gradient.reserve(s.Response.capacity());
-    for (std::int64_t row = 0; row < rows; row += stride)
-    {
-      const std::int64_t y = 1 + row % (h - 2), z = 1 + row / (h - 2);
-      for (std::int64_t x = 1; x + 1 < w; ++x)
-      {
+    SampleRows((rows + stride - 1) / stride, w - 2, numThreads, s,
+      [&](std::int64_t sampled, std::int64_t column, double& response, double& gradient) {
+        const std::int64_t row = sampled * stride, x = 1 + column;
+        const std::int64_t y = 1 + row % (h - 2), z = 1 + row / (h - 2);
         double r = 0.0;
         for (int k = 0; k < 3; ++k)
         {
@@ -147,10 +160,9 @@ double EstimateVolumeNoise(const VoxelGrid& grid, int components, const double* 
         }
         const double gx = at(x + 1, y, z) - at(x - 1, y, z), gy = at(x, y + 1, z) - at(x, y - 1, z),
                      gz = at(x, y, z + 1) - at(x, y, z - 1);
-        s.Response.push_back(std::abs(r) / gain);
-        s.Gradient.push_back(gx * gx + gy * gy + gz * gz);
-      }
-    }
+        response = std::abs(r) / gain;
+        gradient = gx * gx + gy * gy + gz * gz;
+      });
   });
 }
 

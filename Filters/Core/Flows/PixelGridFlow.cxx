@@ -150,7 +150,7 @@ public:
     LengthScale = std::sqrt(grid.SpacingX * grid.SpacingY);
   }
 
-  double EstimateNoise(const double* values) const override { return EstimateImageNoise(Grid, NC, values); }
+  double EstimateNoise(const double* values) const override { return EstimateImageNoise(Grid, NC, values, Threads); }
 
   void Update(const double* u) override
   {

@@ -181,7 +181,7 @@ public:
     }
   }
 
-  double EstimateNoise(const double* values) const override { return EstimateVolumeNoise(Grid, NC, values); }
+  double EstimateNoise(const double* values) const override { return EstimateVolumeNoise(Grid, NC, values, Threads); }
 
   void Apply(const double* x, double* y, bool) override
   {
