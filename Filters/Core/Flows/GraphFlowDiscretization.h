@@ -73,6 +73,16 @@ public:
   /// next = u - dt Velocity(u), in one pass and without filling Velocity.
   virtual bool FusesSteps() const { return false; }
   virtual void FusedStep(const double* /*u*/, double /*dt*/, double* /*next*/) {}
+  /// A sum over the values of a fused step's result, taken in the same
+  /// pass (the risk estimate's terms, without a pass of their own): where
+  /// the discretization writes the step row by row in the values' order
+  /// (SumsRows()), a FusedStep with a next state and RowSum set calls
+  /// RowSum(first, count, next + first) for each row of `count` values
+  /// from value `first` and leaves the rows' sum, in row order, in StepSum.
+  using RowSumFunction = std::function<double(std::int64_t first, std::int64_t count, const double* next)>;
+  virtual bool SumsRows() const { return false; }
+  RowSumFunction RowSum;
+  double StepSum = 0.0;
   /// y = K x; ghosts: include the values the boundary rule derives from x
   /// outside the domain (images; false: those neighbours count as zero).
   virtual void Apply(const double* x, double* y, bool ghosts) = 0;

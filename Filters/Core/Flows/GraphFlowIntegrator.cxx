@@ -163,7 +163,13 @@ private:
   /// The fraction of the last step (Next -> U) at which the change reaches the noise level.
   double NoiseLevelFraction();
   /// The estimated mean squared error of the main run's state (SURE).
-  double Risk();
+  /// swept: the fused steps took its sums as they wrote the states
+  /// (SweepRiskSums); else a pass over the values.
+  double Risk(bool swept = false);
+  /// Lets the fused steps of the main and probe runs take the risk's sums
+  /// (the fit, the divergence) as they write their rows; false where they
+  /// cannot (then Risk reads the states).
+  bool SweepRiskSums();
   void Finish(double* values, const ProgressCallback& progress);
   int Limit() const { return O.Stop == GraphFlowStop::Iterations ? O.NumberOfIterations : O.MaximumNumberOfIterations; }
 
@@ -533,12 +539,50 @@ double FlowIntegrator::NoiseLevelFraction()
   return s[2] > 0.0 && disc2 >= 0.0 ? std::min(1.0, std::max(0.0, (-s[1] + std::sqrt(disc2)) / s[2])) : 1.0;
 }
 
-double FlowIntegrator::Risk()
+bool FlowIntegrator::SweepRiskSums()
+{
+  if (!Fused || O.ToNoiseSpace || Split || !Main.Disc->SumsRows() || !Probe.Disc->SumsRows())
+  {
+    return false;
+  }
+  const double* u0 = U0.data();
+  Main.Disc->RowSum = [u0](std::int64_t first, std::int64_t count, const double* next) {
+    double s = 0.0;
+    for (std::int64_t k = 0; k < count; ++k)
+    {
+      s += (next[k] - u0[first + k]) * (next[k] - u0[first + k]);
+    }
+    return s;
+  };
+  // The probe's rows are the window's (windowed): its inner part counts,
+  // against the main run's new state (the main run steps first).
+  const std::int64_t begin = Windowed ? static_cast<std::int64_t>(Window.Begin) * NC : 0;
+  const std::int64_t first = Windowed ? static_cast<std::int64_t>(Window.InnerBegin) * NC : 0;
+  const std::int64_t last = Windowed ? static_cast<std::int64_t>(Window.InnerEnd) * NC : static_cast<std::int64_t>(Size);
+  Probe.Disc->RowSum = [this, begin, first, last](std::int64_t row, std::int64_t count, const double* next) {
+    const std::int64_t k0 = begin + row;
+    double s = 0.0;
+    for (std::int64_t k = std::max(k0, first); k < std::min(k0 + count, last); ++k)
+    {
+      s += B[k - begin] * (next[k - k0] - Main.U[k]);
+    }
+    return s;
+  };
+  return true;
+}
+
+double FlowIntegrator::Risk(bool swept)
 {
   // SURE = |f(y) - y|^2 / M - sigma^2 + 2 sigma^2 div f / M, in the noise's
   // space, div f = b . (f(y + eps b) - f(y)) / eps.
   double fit = 0.0, divergence = 0.0;
-  if (O.ToNoiseSpace)
+  if (swept)
+  {
+    const double inner = Windowed ? static_cast<double>(Window.InnerEnd - Window.InnerBegin) * NC : static_cast<double>(Size);
+    fit = Main.Disc->StepSum / (Alpha * Alpha);
+    divergence = Probe.Disc->StepSum / Alpha * static_cast<double>(Size) / inner;
+  }
+  else if (O.ToNoiseSpace)
   {
     const double* main = InNoiseSpace(Main.U);
     const std::vector<double> f(main, main + Size);
@@ -647,6 +691,7 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
     }
     Result.InitialRisk = Result.FinalRisk = std::sqrt(std::max(0.0, Risk()));
   }
+  const bool swept = risk && SweepRiskSums();
   double bestRisk = Result.InitialRisk * Result.InitialRisk, bestTime = 0.0;
   int bestIterations = 0;
   double bestArea = disc.Area; // (fused: known once the step after the best is taken)
@@ -707,7 +752,7 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
     if (risk)
     {
       Advance(Probe, dt);
-      const double r = Risk();
+      const double r = Risk(swept);
       if (r < bestRisk)
       {
         bestRisk = r;

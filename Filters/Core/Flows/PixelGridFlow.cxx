@@ -159,6 +159,7 @@ public:
   }
 
   bool FusesSteps() const override { return !StoreOperator; }
+  bool SumsRows() const override { return true; }
 
   void FusedStep(const double* u, double dt, double* next) override
   {
@@ -173,6 +174,7 @@ public:
     const Index w = Grid.Width, h = Grid.Height;
     RowArea.resize(h);
     RowRate.resize(h);
+    RowSums.assign(output == PixelOutput::Step && RowSum ? h : 0, 0.0);
     const std::int64_t bands = (h + BandRows - 1) / BandRows;
     const std::size_t row = static_cast<std::size_t>(w + 1);
     ParallelFor(bands, Threads, [&](std::int64_t b0, std::int64_t b1) {
@@ -189,6 +191,11 @@ public:
         {
           CellRow(r + 1, lower, dots);
           Row(output, r, upper, lower, sums, dt, next);
+          if (!RowSums.empty())
+          {
+            const std::int64_t first = r * w * NC;
+            RowSums[r] = RowSum(first, w * NC, next + first);
+          }
           std::swap(upper, lower);
         }
       }
@@ -201,6 +208,7 @@ public:
     }
     Area = 0.5 * area;
     MaxRate = rate;
+    StepSum = std::accumulate(RowSums.begin(), RowSums.end(), 0.0);
   }
 
   void Apply(const double* x, double* y, bool ghosts) override
@@ -243,7 +251,7 @@ private:
   std::size_t PlaneSize = 0;
   LargeVector<double> Padded;  // NC planes of (H+2) x (W+2)
   LargeVector<double> Weights; // H x W x 8 (slots of Neighbor), semi-implicit only
-  std::vector<double> RowArea, RowRate;
+  std::vector<double> RowArea, RowRate, RowSums; // per row (RowSums: of RowSum, when asked for)
   ScratchPool Scratch; // per-thread row buffers of Update, kept between steps
   double Epsilon2 = 0.0;
   double BaseMass = 0.0; // a pixel's mass on flat data (both triangulations)

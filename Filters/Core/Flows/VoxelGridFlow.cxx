@@ -183,6 +183,8 @@ public:
 
   double EstimateNoise(const double* values) const override { return EstimateVolumeNoise(Grid, NC, values, Threads); }
 
+  bool SumsRows() const override { return true; }
+
   void Apply(const double* x, double* y, bool) override
   {
     ParallelFor(H * D, Threads, [&](std::int64_t b, std::int64_t e) {
@@ -208,16 +210,20 @@ private:
   /// One pass over the volume (what Output says).
   void Sweep(const double* u) override
   {
-    std::vector<double> rowRate(H * D), rowArea(H * D); // per row: in row order, thread-independent
+    // Per row, in row order (thread-independent sums): the largest rate,
+    // the volume and (steps with RowSum) the row's sum.
+    std::vector<double> rowRate(H * D), rowArea(H * D), rowSum(Output == RowOutput::Step && RowSum ? H * D : 0);
     const std::int64_t chunks = (D + PlanesPerChunk - 1) / PlanesPerChunk;
     ParallelFor(chunks, Threads, [&](std::int64_t b, std::int64_t e) {
       for (std::int64_t c = b; c < e; ++c)
       {
-        SweepPlanes(u, c * PlanesPerChunk, std::min(D, (c + 1) * PlanesPerChunk), rowRate.data(), rowArea.data());
+        SweepPlanes(u, c * PlanesPerChunk, std::min(D, (c + 1) * PlanesPerChunk), rowRate.data(), rowArea.data(),
+          rowSum.empty() ? nullptr : rowSum.data());
       }
     }, {}, 0, 1);
     MaxRate = *std::max_element(rowRate.begin(), rowRate.end());
     Area = std::accumulate(rowArea.begin(), rowArea.end(), 0.0);
+    StepSum = std::accumulate(rowSum.begin(), rowSum.end(), 0.0);
   }
 
   /// The plane buffers of one thread: for three planes (rolling, plane k in
@@ -240,8 +246,8 @@ private:
   Real* PlaneWeights(Buffers& b, std::int64_t k, int d) const { return b.Plane[k % 3] + d * Stride() + W + 1; }
 
   /// Voxel planes [k0, k1): velocities (and the stored operator), per row the
-  /// largest rate and the volume.
-  void SweepPlanes(const double* u, std::int64_t k0, std::int64_t k1, double* rowRate, double* rowArea)
+  /// largest rate, the volume and (non-null rowSum) RowSum of its step.
+  void SweepPlanes(const double* u, std::int64_t k0, std::int64_t k1, double* rowRate, double* rowArea, double* rowSum)
   {
     ScratchLease lease(Scratch, BufferDoubles());
     Buffers b;
@@ -290,7 +296,7 @@ private:
           }
           CellRow(u, j, k, b);
         }
-        EmitRow(u, j, k, b, rowRate, rowArea);
+        EmitRow(u, j, k, b, rowRate, rowArea, rowSum);
       }
     }
   }
@@ -326,7 +332,8 @@ private:
 
   /// Voxel row (j, k), complete in the plane buffers: its velocity, rate
   /// and volume (and the stored operator).
-  void EmitRow(const double* u, std::int64_t j, std::int64_t k, Buffers& b, double* rowRate, double* rowArea)
+  void EmitRow(const double* u, std::int64_t j, std::int64_t k, Buffers& b, double* rowRate, double* rowArea,
+    double* rowSum)
   {
     const Real* up[8];
     const Real* down[8];
@@ -369,6 +376,10 @@ private:
     }
     rowRate[k * H + j] = rate;
     rowArea[k * H + j] = area;
+    if (rowSum)
+    {
+      rowSum[k * H + j] = RowSum(first * NC, W * NC, Next + first * NC);
+    }
     if (StoreOperator)
     {
       for (int d = 1; d < 8; ++d)
