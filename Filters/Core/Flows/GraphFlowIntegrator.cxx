@@ -138,10 +138,15 @@ private:
   const Partition* Split = nullptr; // meshes split over processes
   double Counted = 0.0;             // values counted over all processes (Size in serial)
   GraphFlowResult Result;
-  UninitializedVector<double> U0;
+  /// The input (the caller's values, unchanged until Finish writes the
+  /// result): the flow's start is U0(k) = Alpha * Input[k], recomputed
+  /// where needed rather than kept in an array of its own.
+  const double* Input = nullptr;
+  double U0(std::int64_t k) const { return Alpha * Input[k]; }
   LargeVector<double> Rhs, Shift, Diag;
   std::vector<Index> Order; // the graph solver's renumbering (meshes)
-  std::vector<double> Scratch, Y, Best; // risk: the data in noise space, the best state
+  std::vector<double> Scratch, Y; // the data in noise space
+  UninitializedVector<double> Best; // risk: the best state, when the flow has gone past it
   std::vector<double> B; // risk: b, of the values of the probe's window (windowed), else of all
 
   bool Start(const double* values);
@@ -229,7 +234,7 @@ private:
       }
       return std::sqrt(sum / static_cast<double>(Size));
     }
-    const double s = SumOverValues(1, [&](std::int64_t k, double* acc) { acc[0] += (x[k] - U0[k]) * (x[k] - U0[k]); })[0];
+    const double s = SumOverValues(1, [&](std::int64_t k, double* acc) { acc[0] += (x[k] - U0(k)) * (x[k] - U0(k)); })[0];
     return std::sqrt(s / Counted) / Alpha;
   }
 };
@@ -284,7 +289,7 @@ bool FlowIntegrator::Start(const double* values)
                                 : 1.0;
   Result.NoiseLevel = Sigma;
   Result.ContrastScale = Alpha;
-  U0.resize(Size);
+  Input = values;
   Main.U.resize(Size);
   Main.Next.resize(Size);
   if (O.Integration == GraphFlowIntegration::SemiImplicit)
@@ -295,7 +300,7 @@ bool FlowIntegrator::Start(const double* values)
   ParallelFor(static_cast<std::int64_t>(Size), Threads, [&](std::int64_t b, std::int64_t e) {
     for (std::int64_t k = b; k < e; ++k)
     {
-      U0[k] = Main.U[k] = Alpha * values[k];
+      Main.U[k] = U0(k);
     }
   });
   if (Stop == GraphFlowStop::MinimumRisk && Sigma > 0.0)
@@ -529,7 +534,7 @@ double FlowIntegrator::NoiseLevelFraction()
   }
   // The RMS change: |a + t d|^2 = target along the step.
   std::vector<double> s = SumOverValues(3, [&](std::int64_t k, double* acc) {
-    const double a = previous[k] - U0[k], d = u[k] - previous[k];
+    const double a = previous[k] - U0(k), d = u[k] - previous[k];
     acc[0] += a * a;
     acc[1] += a * d;
     acc[2] += d * d;
@@ -539,20 +544,38 @@ double FlowIntegrator::NoiseLevelFraction()
   return s[2] > 0.0 && disc2 >= 0.0 ? std::min(1.0, std::max(0.0, (-s[1] + std::sqrt(disc2)) / s[2])) : 1.0;
 }
 
+/// The sum of term(k), k in [begin, end), in 8 interleaved partial sums
+/// (so that the loop vectorizes), added in a fixed order.
+template <typename Term>
+double LaneSum(std::int64_t begin, std::int64_t end, Term&& term)
+{
+  constexpr int Lanes = 8;
+  double lanes[Lanes] = {};
+  std::int64_t k = begin;
+  for (; k + Lanes <= end; k += Lanes)
+  {
+    for (int l = 0; l < Lanes; ++l)
+    {
+      lanes[l] += term(k + l);
+    }
+  }
+  for (; k < end; ++k)
+  {
+    lanes[0] += term(k);
+  }
+  return std::accumulate(lanes, lanes + Lanes, 0.0);
+}
+
 bool FlowIntegrator::SweepRiskSums()
 {
   if (!Fused || O.ToNoiseSpace || Split || !Main.Disc->SumsRows() || !Probe.Disc->SumsRows())
   {
     return false;
   }
-  const double* u0 = U0.data();
-  Main.Disc->RowSum = [u0](std::int64_t first, std::int64_t count, const double* next) {
-    double s = 0.0;
-    for (std::int64_t k = 0; k < count; ++k)
-    {
-      s += (next[k] - u0[first + k]) * (next[k] - u0[first + k]);
-    }
-    return s;
+  Main.Disc->RowSum = [this](std::int64_t first, std::int64_t count, const double* next) {
+    const double* start = Input + first;
+    const double alpha = Alpha;
+    return LaneSum(0, count, [&](std::int64_t k) { return (next[k] - alpha * start[k]) * (next[k] - alpha * start[k]); });
   };
   // The probe's rows are the window's (windowed): its inner part counts,
   // against the main run's new state (the main run steps first).
@@ -561,12 +584,10 @@ bool FlowIntegrator::SweepRiskSums()
   const std::int64_t last = Windowed ? static_cast<std::int64_t>(Window.InnerEnd) * NC : static_cast<std::int64_t>(Size);
   Probe.Disc->RowSum = [this, begin, first, last](std::int64_t row, std::int64_t count, const double* next) {
     const std::int64_t k0 = begin + row;
-    double s = 0.0;
-    for (std::int64_t k = std::max(k0, first); k < std::min(k0 + count, last); ++k)
-    {
-      s += B[k - begin] * (next[k - k0] - Main.U[k]);
-    }
-    return s;
+    const double* b = B.data() - begin;
+    const double* u = Main.U.data();
+    return LaneSum(std::max(k0, first), std::min(k0 + count, last),
+      [&](std::int64_t k) { return b[k] * (next[k - k0] - u[k]); });
   };
   return true;
 }
@@ -607,7 +628,7 @@ double FlowIntegrator::Risk(bool swept)
     fit = ParallelSum(static_cast<std::int64_t>(Size), 1, Threads, [&](std::int64_t b, std::int64_t e, double* acc) {
       for (std::int64_t k = b; k < e; ++k)
       {
-        acc[0] += (Main.U[k] - U0[k]) * (Main.U[k] - U0[k]);
+        acc[0] += (Main.U[k] - U0(k)) * (Main.U[k] - U0(k));
       }
     })[0] / (Alpha * Alpha);
     divergence = ParallelSum(last - first, 1, Threads, [&](std::int64_t b, std::int64_t e, double* acc) {
@@ -620,7 +641,7 @@ double FlowIntegrator::Risk(bool swept)
   else
   {
     const std::vector<double> s = SumOverValues(2, [&](std::int64_t k, double* acc) {
-      const double d = Main.U[k] - U0[k];
+      const double d = Main.U[k] - U0(k);
       acc[0] += d * d;
       acc[1] += B[k] * (Probe.U[k] - Main.U[k]);
     });
@@ -803,7 +824,12 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
     // one kept.
     if (bestIterations == 0)
     {
-      Main.U = U0;
+      ParallelFor(static_cast<std::int64_t>(Size), Threads, [&](std::int64_t b, std::int64_t e) {
+        for (std::int64_t k = b; k < e; ++k)
+        {
+          Main.U[k] = U0(k);
+        }
+      });
     }
     else if (bestIterations < Result.Iterations)
     {
