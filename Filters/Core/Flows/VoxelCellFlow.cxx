@@ -347,6 +347,23 @@ private:
         Lower[k] = Lower[k] < 0 ? a : Lower[k];
       }
     }
+    // Runs of points whose every neighbour index and weight index goes on
+    // by one (a missing down edge's weight: the same 0), from the point
+    // before: their stencil is the grid's rows (StiffnessRow, no gathers).
+    Continues.assign(Active, 0);
+    for (Index a = 1; a < Active; ++a)
+    {
+      bool runs = true;
+      for (int d = 0; d < 7 && runs; ++d)
+      {
+        const std::size_t k = static_cast<std::size_t>(d) * Active + a;
+        const Index zero = static_cast<Index>(d * (static_cast<std::int64_t>(Active) + 1) + Active);
+        runs = Upper[k] == Upper[k - 1] + 1 && Lower[k] == Lower[k - 1] + 1 &&
+          (LowerWeight[k] == LowerWeight[k - 1] + 1 || (LowerWeight[k] == zero && LowerWeight[k - 1] == zero));
+      }
+      Continues[a] = runs;
+    }
+    ZeroWeights.assign(PointsPerBlock, Real(0));
     return true;
   }
 
@@ -457,12 +474,55 @@ private:
   }
 
   /// (K x), sum_j c_ij and sum_j max(c_ij, 0) of points [first, first + n)
-  /// (lattice order; x too).
+  /// (lattice order; x too; n <= PointsPerBlock): runs of points whose
+  /// neighbours are runs (Continues) as the grid's rows, the others
+  /// through the stencil's indices.
   void PointStiffness(const double* x, std::int64_t first, std::int64_t n, double* kx, double* diagonal,
     double* positive) const
   {
-    StencilRows<NC, Real>(first, n, Active, x, Upper.data(), Lower.data(), LowerWeight.data(), Weights.data(), kx,
-      diagonal, positive);
+    constexpr std::int64_t ShortestRun = 16; // (the points between runs: in one gathering loop)
+    const std::int64_t end = first + n;
+    const auto gather = [&](std::int64_t s, std::int64_t e) {
+      const std::int64_t o = s - first;
+      StencilRows<NC, Real>(s, e - s, Active, x, Upper.data(), Lower.data(), LowerWeight.data(), Weights.data(),
+        kx + o * NC, diagonal + o, positive + o);
+    };
+    std::int64_t done = first;
+    for (std::int64_t s = first, e = first + 1; s < end; s = e, e = s + 1)
+    {
+      while (e < end && Continues[e])
+      {
+        ++e;
+      }
+      if (e - s < ShortestRun)
+      {
+        continue;
+      }
+      if (done < s)
+      {
+        gather(done, s);
+      }
+      done = e;
+      const std::int64_t o = s - first;
+      const double* xu[8];
+      const double* xd[8];
+      const Real* up[8];
+      const Real* down[8];
+      for (int d = 0; d < 7; ++d)
+      {
+        const std::size_t k = static_cast<std::size_t>(d) * Active + s;
+        const std::int64_t zero = d * (static_cast<std::int64_t>(Active) + 1) + Active;
+        xu[d + 1] = x + static_cast<std::int64_t>(Upper[k]) * NC;
+        xd[d + 1] = x + static_cast<std::int64_t>(Lower[k]) * NC;
+        up[d + 1] = Weights.data() + d * (static_cast<std::int64_t>(Active) + 1) + s;
+        down[d + 1] = LowerWeight[k] == zero ? ZeroWeights.data() : Weights.data() + LowerWeight[k];
+      }
+      StiffnessRow<NC, Real>(e - s, x + s * NC, xu, xd, up, down, kx + o * NC, diagonal + o, positive + o);
+    }
+    if (done < end)
+    {
+      gather(done, end);
+    }
   }
 
   /// Block `block` of the points (lattice order): K u, the velocity, the
@@ -525,6 +585,8 @@ private:
   std::int64_t LongestRun = 1;
   std::vector<std::int64_t> ChunkStart; // first run of each chunk of PlanesPerChunk cell planes
   std::vector<Index> Upper, Lower, LowerWeight; // 7 x Active (direction-major): see StencilRows
+  std::vector<std::uint8_t> Continues;          // per point: its stencil goes on from the point before's
+  std::vector<Real> ZeroWeights;                // the missing down edges' weights of a run
   std::vector<double> BaseMass;
   std::vector<std::uint8_t> ActiveFixed;
   LargeVector<double> State;            // the state in lattice order

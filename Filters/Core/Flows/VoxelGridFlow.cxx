@@ -13,48 +13,6 @@ namespace beltrami
 namespace
 {
 
-/// (K x)_i, sum_j c_ij and sum_j max(c_ij, 0) for the n voxels of a row
-/// (x: the row's values; xu[d], xd[d]: the values of the neighbours at
-/// +Offset[d] and -Offset[d] of the row's first voxel, NC each; up[d],
-/// down[d]: the weights of those edges).  Edges that leave the grid have
-/// weight 0, so the wrapped neighbours of a row's ends, and rows of
-/// neighbours outside the grid (read from a row of zeros), add nothing.
-template <int NC, typename Real>
-CLONES void StiffnessRow(std::int64_t n, const double* __restrict x, const double* const* xu,
-  const double* const* xd, const Real* const* up, const Real* const* down, double* __restrict kx,
-  double* __restrict diagonal, double* __restrict positive)
-{
-  const double *u1 = xu[1], *u2 = xu[2], *u3 = xu[3], *u4 = xu[4], *u5 = xu[5], *u6 = xu[6], *u7 = xu[7];
-  const double *d1 = xd[1], *d2 = xd[2], *d3 = xd[3], *d4 = xd[4], *d5 = xd[5], *d6 = xd[6], *d7 = xd[7];
-  const Real *w1 = up[1], *w2 = up[2], *w3 = up[3], *w4 = up[4], *w5 = up[5], *w6 = up[6], *w7 = up[7];
-  const Real *v1 = down[1], *v2 = down[2], *v3 = down[3], *v4 = down[4], *v5 = down[5], *v6 = down[6],
-             *v7 = down[7];
-  for (std::int64_t i = 0; i < n; ++i)
-  {
-    const double c[14] = { w1[i], w2[i], w3[i], w4[i], w5[i], w6[i], w7[i], v1[i], v2[i], v3[i], v4[i], v5[i], v6[i],
-      v7[i] };
-    double dg = 0.0, ps = 0.0;
-#pragma GCC unroll 14
-    for (int e = 0; e < 14; ++e)
-    {
-      dg += c[e];
-      ps += std::max(c[e], 0.0);
-    }
-#pragma GCC unroll 8
-    for (int m = 0; m < NC; ++m)
-    {
-      const std::int64_t k = i * NC + m;
-      const double xi = x[k];
-      kx[k] = c[0] * (xi - u1[k]) + c[1] * (xi - u2[k]) + c[2] * (xi - u3[k]) + c[3] * (xi - u4[k]) +
-        c[4] * (xi - u5[k]) + c[5] * (xi - u6[k]) + c[6] * (xi - u7[k]) + c[7] * (xi - d1[k]) +
-        c[8] * (xi - d2[k]) + c[9] * (xi - d3[k]) + c[10] * (xi - d4[k]) + c[11] * (xi - d5[k]) +
-        c[12] * (xi - d6[k]) + c[13] * (xi - d7[k]);
-    }
-    diagonal[i] = dg;
-    positive[i] = ps;
-  }
-}
-
 /// The rows of the plane buffers a cell row's 27 sums (19 edges, then 8
 /// corner masses) go to: per target its array (edge direction - 1, or 7:
 /// the masses), the lower corner of its edges (the plane, row and x offset
