@@ -8,6 +8,7 @@
 #include "Flows/TensorSpace.h"
 #include "Flows/GraphFlow.h"
 #include "Support/LargeBuffer.h"
+#include "Support/Parallel.h"
 
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>
@@ -41,15 +42,17 @@ namespace
 
 /// Copies `count` tuples of the first `used` of `nc` components into doubles, scaled.
 template <typename T>
-void Extract(const T* src, vtkIdType count, int nc, int used, double scale, double* dst)
+void Extract(const T* src, vtkIdType count, int nc, int used, double scale, double* dst, int threads)
 {
-  for (vtkIdType i = 0; i < count; ++i)
-  {
-    for (int k = 0; k < used; ++k)
+  beltrami::ParallelFor(count, threads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t i = begin; i < end; ++i)
     {
-      dst[i * used + k] = scale * static_cast<double>(src[i * nc + k]);
+      for (int k = 0; k < used; ++k)
+      {
+        dst[i * used + k] = scale * static_cast<double>(src[i * nc + k]);
+      }
     }
-  }
+  });
 }
 
 template <typename T>
@@ -65,17 +68,19 @@ T ToValue(double v)
 
 /// Writes the output extent of the result (components >= used: copied from
 /// the input, e.g. an RGBA alpha), un-normalised, rounded for integers.
+/// Rows in parallel where only the smoothed components are written (the
+/// others are read through the input array's GetComponent, on one thread).
 template <typename T>
 void Store(T* dst, const int* outExt, const int* inExt, int nc, int used, double range,
-  const double* values, vtkDataArray* input)
+  const double* values, vtkDataArray* input, int threads)
 {
-  vtkIdType o = 0;
-  int ijk[3];
-  for (ijk[2] = outExt[4]; ijk[2] <= outExt[5]; ++ijk[2])
-  {
-    for (ijk[1] = outExt[2]; ijk[1] <= outExt[3]; ++ijk[1])
+  const std::int64_t width = outExt[1] - outExt[0] + 1, height = outExt[3] - outExt[2] + 1;
+  const std::int64_t rows = height * (outExt[5] - outExt[4] + 1);
+  beltrami::ParallelFor(rows, used < nc ? 1 : threads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t r = begin; r < end; ++r)
     {
-      for (ijk[0] = outExt[0]; ijk[0] <= outExt[1]; ++ijk[0], ++o)
+      int ijk[3] = { outExt[0], outExt[2] + static_cast<int>(r % height), outExt[4] + static_cast<int>(r / height) };
+      for (vtkIdType o = r * width; o < (r + 1) * width; ++o, ++ijk[0])
       {
         const vtkIdType i = vtkBeltramiGraphFlow::ExtentIndex(inExt, ijk);
         for (int k = 0; k < nc; ++k)
@@ -85,7 +90,7 @@ void Store(T* dst, const int* outExt, const int* inExt, int nc, int used, double
         }
       }
     }
-  }
+  }, {}, 0, 16);
 }
 
 /// The values the core smooths: `Used` components per pixel; colours
@@ -148,7 +153,7 @@ bool ReadValues(vtkImageBeltramiDenoising* self, vtkDataArray* array, vtkIdType 
     switch (array->GetDataType())
     {
       vtkTemplateMacro(Extract(static_cast<const VTK_TT*>(array->GetVoidPointer(0)), count, nc, v.Used,
-        1.0 / v.Range, v.Values.data()));
+        1.0 / v.Range, v.Values.data(), self->GetNumberOfThreads()));
       default:
         vtkErrorWithObjectMacro(self, "Unsupported array type " << array->GetDataTypeAsString() << ".");
         return false;
@@ -223,14 +228,12 @@ void WriteOutput(vtkImageBeltramiDenoising* self, vtkImageData* input, vtkImageD
   int outExt[6];
   output->GetExtent(outExt);
   const int nc = array->GetNumberOfComponents();
-  vtkSmartPointer<vtkDataArray> smoothed = vtk::TakeSmartPointer(vtkDataArray::CreateDataArray(array->GetDataType()));
-  smoothed->SetName(array->GetName());
-  smoothed->SetNumberOfComponents(nc);
-  smoothed->SetNumberOfTuples(output->GetNumberOfPoints());
+  vtkSmartPointer<vtkDataArray> smoothed =
+    vtkBeltramiSurface::NewArray(array->GetDataType(), array->GetName(), nc, output->GetNumberOfPoints());
   switch (smoothed->GetDataType())
   {
     vtkTemplateMacro(Store(static_cast<VTK_TT*>(smoothed->GetVoidPointer(0)), outExt, inExt, nc, v.Used,
-      v.Range, v.Values.data(), array));
+      v.Range, v.Values.data(), array, self->GetNumberOfThreads()));
   }
   vtkBeltramiGraphFlow::ReplaceArray(input, output, array, smoothed);
   vtkBeltramiGraphFlow::AddReport(output->GetFieldData(), result);
