@@ -694,11 +694,8 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
   }
   if (Stop != GraphFlowStop::Iterations && !(Sigma > 0.0))
   {
-    // No noise given or found (too small a domain, or clean data): nothing to remove.
-    if (!evaluated)
-    {
-      Evaluate(Main); // (the fixed values, kept bit-exact)
-    }
+    // No noise given or found (too small a domain, or clean data): nothing
+    // to remove (Finish leaves the data as they are).
     Result.Completed = true;
     Finish(values, progress);
     return Result;
