@@ -361,10 +361,6 @@ private:
     TriangleRow(n, dots, out);
   }
 
-  /// Pixel row r from the cell rows above (upper, row r) and below (lower,
-  /// row r + 1): the weights of the 8 edges, the mass, K u, the indicator
-  /// max(|B_bar| / |B|, 1/W) (GraphFlow.h), the velocity and the row's area
-  /// and stability rate.
   /// PixelRow compiled for each output (and unit speed, gamma = 1).
   void Row(PixelOutput output, std::int64_t r, const double* upper, const double* lower, double* sums, double dt,
     double* next)
@@ -386,6 +382,11 @@ private:
     }
   }
 
+  /// Pixel row r from the cell rows above (upper, row r) and below (lower,
+  /// row r + 1): the weights of the 8 edges, the mass, K u, the indicator
+  /// max(|B_bar| / |B|, 1/W) (GraphFlow.h), what Output says (the
+  /// velocity, the operator, or the step from the state into next) and the
+  /// row's area and stability rate.
   template <PixelOutput Output, bool UnitSpeed>
   CLONES void PixelRow(std::int64_t r, const double* __restrict upper, const double* __restrict lower,
     double* __restrict sums, double dt, double* __restrict next)
