@@ -306,6 +306,40 @@ std::vector<double> ExpectSameFlow(const std::vector<double>& f, int nc, const F
   return b;
 }
 
+/// The points of an nx x ny x nz lattice of the given spacing from `origin`
+/// (x fastest).
+std::vector<double> LatticePoints(int nx, int ny, int nz, const double (&spacing)[3], const double (&origin)[3])
+{
+  std::vector<double> points;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        points.insert(points.end(), { origin[0] + i * spacing[0], origin[1] + j * spacing[1], origin[2] + k * spacing[2] });
+  return points;
+}
+
+/// Appends the voxel cell (i, j, k) of an nx x ny lattice (8 point ids,
+/// corner bit a = a step along axis a).
+void AddVoxelCell(std::vector<Index>& cells, int nx, int ny, int i, int j, int k)
+{
+  for (int c = 0; c < 8; ++c)
+    cells.push_back((i + (c & 1)) + nx * ((j + (c >> 1 & 1)) + ny * (k + (c >> 2))));
+}
+
+/// The Kuhn tetrahedra (6 per cell, 4 ids each) of voxel cells.
+std::vector<Index> KuhnTetrahedraOf(const std::vector<Index>& cells)
+{
+  std::vector<Index> tets;
+  for (std::size_t c = 0; c < cells.size(); c += 8)
+    for (const auto& path : KuhnPaths)
+    {
+      const int first = 1 << path[0], second = first | (1 << path[1]);
+      for (const int corner : { 0, first, second, 7 })
+        tets.push_back(cells[c + corner]);
+    }
+  return tets;
+}
+
 } // namespace
 
 TEST(Tetrahedra, VoxelFlowEqualsTheFlowOnTheKuhnMesh)
@@ -321,11 +355,7 @@ TEST(Tetrahedra, VoxelFlowEqualsTheFlowOnTheKuhnMesh)
   // mask, and the same bits on any number of threads.
   const int nx = 9, ny = 7, nz = 6;
   const double sx = 1.0, sy = 1.3, sz = 0.8;
-  std::vector<double> points;
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i)
-        points.insert(points.end(), { i * sx, j * sy, k * sz });
+  const std::vector<double> points = LatticePoints(nx, ny, nz, { sx, sy, sz }, { 0.0, 0.0, 0.0 });
   const TetrahedralMesh mesh(nx * ny * nz, GridTetrahedra(nx, ny, nz));
   const VoxelGrid voxels{ nx, ny, nz, sx, sy, sz };
   std::mt19937 rng(11);
@@ -366,26 +396,14 @@ TEST(Tetrahedra, AWholeLatticeOfVoxelCellsRunsTheGridsFlow)
   // bits on 1 and 3 threads.
   const int nx = 40, ny = 6, nz = 5;
   const double sx = 1.0, sy = 1.3, sz = 0.8;
-  std::vector<double> points;
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i)
-        points.insert(points.end(), { i * sx, j * sy, k * sz });
-  std::vector<Index> cells, tets;
+  const std::vector<double> points = LatticePoints(nx, ny, nz, { sx, sy, sz }, { 0.0, 0.0, 0.0 });
+  std::vector<Index> cells;
   for (int k = 0; k + 1 < nz; ++k)
     for (int j = 0; j + 1 < ny; ++j)
       for (int i = 0; i + 1 < nx; ++i)
-        for (int c = 0; c < 8; ++c)
-          cells.push_back((i + (c & 1)) + nx * ((j + (c >> 1 & 1)) + ny * (k + (c >> 2))));
-  for (std::size_t c = 0; c < cells.size(); c += 8)
-    for (const auto& path : KuhnPaths)
-    {
-      const int first = 1 << path[0], second = first | (1 << path[1]);
-      for (const int corner : { 0, first, second, 7 })
-        tets.push_back(cells[c + corner]);
-    }
+        AddVoxelCell(cells, nx, ny, i, j, k);
   const Index n = nx * ny * nz;
-  const TetrahedralMesh mesh(n, tets);
+  const TetrahedralMesh mesh(n, KuhnTetrahedraOf(cells));
   const VoxelGrid grid{ nx, ny, nz, sx, sy, sz };
   std::mt19937 rng(8);
   std::normal_distribution<double> noise(0.0, 0.1);
@@ -426,25 +444,17 @@ TEST(Tetrahedra, SparseVoxelCellsRunTheDenseKernelsFlow)
   // threads; points of no cell keep their values; cells that are not one
   // lattice (a moved corner) fall back to the generic path, bit for bit.
   const int nx = 10, ny = 8, nz = 7;
-  const double s[3] = { 1.0, 1.3, 0.8 };
-  std::vector<double> points;
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i)
-        points.insert(points.end(), { 2.0 + i * s[0], -1.0 + j * s[1], 0.5 + k * s[2] });
+  const std::vector<double> points = LatticePoints(nx, ny, nz, { 1.0, 1.3, 0.8 }, { 2.0, -1.0, 0.5 });
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  std::vector<Index> cells, tets;
+  std::vector<Index> cells;
   for (int k = 0; k + 1 < nz; ++k)
     for (int j = 0; j + 1 < ny; ++j)
       for (int i = 0; i + 1 < nx; ++i)
       {
         if (uniform(rng) < 0.2 || (i > 5 && j > 4)) // holes, and a block of points in no cell
           continue;
-        Index corner[8];
-        for (int c = 0; c < 8; ++c)
-          corner[c] = (i + (c & 1)) + nx * ((j + (c >> 1 & 1)) + ny * (k + (c >> 2)));
-        cells.insert(cells.end(), corner, corner + 8);
+        AddVoxelCell(cells, nx, ny, i, j, k);
       }
   // Shuffled cells: the kernel sorts them itself.
   std::vector<int> order(cells.size() / 8);
@@ -454,15 +464,8 @@ TEST(Tetrahedra, SparseVoxelCellsRunTheDenseKernelsFlow)
   for (int c : order)
     shuffled.insert(shuffled.end(), cells.begin() + 8 * c, cells.begin() + 8 * c + 8);
   cells = shuffled;
-  for (std::size_t c = 0; c < cells.size(); c += 8)
-    for (const auto& path : KuhnPaths)
-    {
-      const int first = 1 << path[0], second = first | (1 << path[1]);
-      for (const int corner : { 0, first, second, 7 })
-        tets.push_back(cells[c + corner]);
-    }
   const Index n = nx * ny * nz;
-  const TetrahedralMesh mesh(n, tets);
+  const TetrahedralMesh mesh(n, KuhnTetrahedraOf(cells));
   std::normal_distribution<double> noise(0.0, 0.1);
   std::vector<std::uint8_t> fixed(n, 0);
   fixed[23] = 1;
