@@ -342,7 +342,7 @@ private:
       for (Index a = 0; a < Active; ++a)
       {
         const std::size_t k = static_cast<std::size_t>(d) * Active + a;
-        LowerWeight[k] = static_cast<Index>(d * (static_cast<std::int64_t>(Active) + 1) + (Lower[k] < 0 ? Active : Lower[k]));
+        LowerWeight[k] = static_cast<Index>(WeightIndex(d, Lower[k] < 0 ? Active : Lower[k]));
         Upper[k] = Upper[k] < 0 ? a : Upper[k];
         Lower[k] = Lower[k] < 0 ? a : Lower[k];
       }
@@ -357,7 +357,7 @@ private:
       for (int d = 0; d < 7 && runs; ++d)
       {
         const std::size_t k = static_cast<std::size_t>(d) * Active + a;
-        const Index zero = static_cast<Index>(d * (static_cast<std::int64_t>(Active) + 1) + Active);
+        const Index zero = static_cast<Index>(WeightIndex(d, Active));
         runs = Upper[k] == Upper[k - 1] + 1 && Lower[k] == Lower[k - 1] + 1 &&
           (LowerWeight[k] == LowerWeight[k - 1] + 1 || (LowerWeight[k] == zero && LowerWeight[k - 1] == zero));
       }
@@ -469,7 +469,7 @@ private:
     for (int e = 0; e < KuhnCell::Edges; ++e)
     {
       const int d = (Kuhn.Upper[e] & ~Kuhn.Lower[e]) - 1;
-      add(edges + e * n, Weights.data() + d * (Active + 1) + v[Kuhn.Lower[e]]);
+      add(edges + e * n, Weights.data() + WeightIndex(d, v[Kuhn.Lower[e]]));
     }
   }
 
@@ -511,10 +511,10 @@ private:
       for (int d = 0; d < 7; ++d)
       {
         const std::size_t k = static_cast<std::size_t>(d) * Active + s;
-        const std::int64_t zero = d * (static_cast<std::int64_t>(Active) + 1) + Active;
+        const std::int64_t zero = WeightIndex(d, Active);
         xu[d + 1] = x + static_cast<std::int64_t>(Upper[k]) * NC;
         xd[d + 1] = x + static_cast<std::int64_t>(Lower[k]) * NC;
-        up[d + 1] = Weights.data() + d * (static_cast<std::int64_t>(Active) + 1) + s;
+        up[d + 1] = Weights.data() + WeightIndex(d, s);
         down[d + 1] = LowerWeight[k] == zero ? ZeroWeights.data() : Weights.data() + LowerWeight[k];
       }
       StiffnessRow<NC, Real>(e - s, x + s * NC, xu, xd, up, down, kx + o * NC, diagonal + o, positive + o);
@@ -585,6 +585,9 @@ private:
   std::int64_t LongestRun = 1;
   std::vector<std::int64_t> ChunkStart; // first run of each chunk of PlanesPerChunk cell planes
   std::vector<Index> Upper, Lower, LowerWeight; // 7 x Active (direction-major): see StencilRows
+  /// The slot in Weights of point a's edge up direction d (a = Active: the
+  /// 0 that missing down edges read).
+  std::int64_t WeightIndex(int d, std::int64_t a) const { return d * (static_cast<std::int64_t>(Active) + 1) + a; }
   std::vector<std::uint8_t> Continues;          // per point: its stencil goes on from the point before's
   std::vector<Real> ZeroWeights;                // the missing down edges' weights of a run
   std::vector<double> BaseMass;
