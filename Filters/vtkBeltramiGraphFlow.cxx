@@ -1,5 +1,6 @@
 #include "vtkBeltramiGraphFlow.h"
 
+#include "vtkBeltramiPieces.h"
 #include "vtkBeltramiSurface.h"
 
 #include "Flows/TensorSpace.h"
@@ -10,6 +11,7 @@
 
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
+#include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
 
@@ -116,17 +118,17 @@ std::string vtkBeltramiGraphFlow::RunWarnings(
 }
 
 void vtkBeltramiGraphFlow::ToLogEuclidean(vtkAlgorithm* owner, const char* name, double* values, vtkIdType count,
-  int numThreads, beltrami::GraphFlowOptions& options)
+  int numThreads, beltrami::GraphFlowOptions& options, const beltrami::Partition* split)
 {
-  const std::int64_t raised = beltrami::SymmetricTensorsToLog(values, count, 6, 1e-6, numThreads);
-  if (raised)
+  const std::int64_t raised = beltrami::SymmetricTensorsToLog(values, count, 6, 1e-6, numThreads, split);
+  if (raised && (!split || split->Rank() == 0)) // (a split run's count is global)
   {
     vtkWarningWithObjectMacro(owner, << raised << " tensors of '" << name << "' are not positive definite (or "
       "have eigenvalues below 1e-6 of the field's largest): those eigenvalues were raised to that floor.");
   }
   options.ToNoiseSpace = [count, numThreads](double* x) { beltrami::LogToSymmetricTensors(x, count, 6, numThreads); };
-  options.FromNoiseSpace = [count, numThreads](double* x) {
-    beltrami::SymmetricTensorsToLog(x, count, 6, 1e-6, numThreads);
+  options.FromNoiseSpace = [count, numThreads, split](double* x) {
+    beltrami::SymmetricTensorsToLog(x, count, 6, 1e-6, numThreads, split);
   };
 }
 
@@ -170,7 +172,7 @@ bool vtkBeltramiGraphFlow::ReadMeshInput(vtkAlgorithm* owner, vtkDataSet* input,
 
 int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkDataSet* output,
   vtkDataArray* array, const double* points, bool useMask, const beltrami::GraphFlowOptions& meshOptions,
-  int maxComponents, bool logEuclidean, const MeshFlow& flow, const vtkBeltramiSurface* split)
+  int maxComponents, bool logEuclidean, const MeshFlow& flow, const vtkBeltramiPieces* split)
 {
   std::vector<double> values;
   std::vector<std::uint8_t> fixed;
@@ -195,10 +197,12 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
   }
   const vtkIdType numPoints = input->GetNumberOfPoints();
   beltrami::GraphFlowOptions options = meshOptions;
-  if (logEuclidean && !empty)
+  std::vector<double> logInput; // log-Euclidean: the input's log coordinates
+  if (logEuclidean) // (every row of a split piece: its ghost rows too)
   {
-    ToLogEuclidean(owner, array->GetName() ? array->GetName() : "", values.data(), numPoints,
-      options.NumberOfThreads, options);
+    ToLogEuclidean(owner, empty ? "" : array->GetName() ? array->GetName() : "", values.data(),
+      static_cast<vtkIdType>(values.size() / 6), options.NumberOfThreads, options, split ? split->Split() : nullptr);
+    logInput.assign(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(numPoints) * nc);
   }
   owner->UpdateProgress(0.0);
   const beltrami::GraphFlowResult result = flow(points, nc, values.data(),
@@ -222,13 +226,39 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
   }
   if (logEuclidean)
   {
+    // The tensors the flow kept (fixed points, points in no cell): exactly
+    // the input's, not through the round trip of log and exp.
+    std::vector<std::uint8_t> kept(static_cast<std::size_t>(numPoints));
+    for (vtkIdType i = 0; i < numPoints; ++i)
+    {
+      kept[i] = std::equal(logInput.begin() + 6 * i, logInput.begin() + 6 * (i + 1), values.begin() + 6 * i);
+    }
     beltrami::LogToSymmetricTensors(values.data(), numPoints, 6, options.NumberOfThreads);
+    for (vtkIdType i = 0; i < numPoints; ++i)
+    {
+      for (int k = 0; kept[i] && k < 6; ++k)
+      {
+        values[6 * i + k] = array->GetComponent(i, k);
+      }
+    }
   }
   vtkSmartPointer<vtkDataArray> smoothed = vtkBeltramiSurface::NewArray(VTK_DOUBLE, array->GetName(), nc, numPoints);
   std::copy(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(numPoints) * nc,
     vtkDoubleArray::SafeDownCast(smoothed)->GetPointer(0));
   ReplaceArray(input, output, array, smoothed);
   AddReport(output->GetFieldData(), result);
+  if (const beltrami::Partition* rows = split ? split->Split() : nullptr)
+  {
+    vtkNew<vtkIdTypeArray> distribution;
+    distribution->SetName("FlowDistribution");
+    for (const std::int64_t count :
+      { std::int64_t(rows->OwnedRows()), std::int64_t(rows->Rows() - rows->OwnedRows()), split->NumberOfCells(),
+        rows->SentPerUpdate() })
+    {
+      distribution->InsertNextValue(count);
+    }
+    output->GetFieldData()->AddArray(distribution);
+  }
   return 1;
 }
 

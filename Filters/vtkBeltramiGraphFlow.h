@@ -21,7 +21,7 @@
 #include <vtkIndent.h>
 
 class vtkAlgorithm;
-class vtkBeltramiSurface;
+class vtkBeltramiPieces;
 class vtkDataArray;
 class vtkDataSet;
 class vtkFieldData;
@@ -111,13 +111,16 @@ public:
   /// mesh in the options' Units), and writes the smoothed array (double,
   /// same name) and the report.  Returns the value for RequestData; errors
   /// and warnings go to the owner, and on error the output stays the input.
-  /// split (optional): a surface of a distributed run (Execute's
-  /// Needs::Distributed); with Split(), every rank calls this (an empty
-  /// piece too), the errors are agreed and the values and mask get one entry
-  /// per topology point (the ghosts' from their owners) before `flow`.
+  /// split (optional): the pieces of a distributed run (vtkBeltramiPieces:
+  /// a surface's from Execute's Needs::Distributed, or tetrahedra); with
+  /// Split(), every rank calls this (an empty piece too), the errors are
+  /// agreed, the values and mask get one entry per point of the piece with
+  /// its rings (the ghosts' from their owners) before `flow`, and the
+  /// report gets FlowDistribution (this rank's owned points, ghost points,
+  /// cells, values sent per exchange).
   static int RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkDataSet* output, vtkDataArray* array,
     const double* points, bool useMask, const beltrami::GraphFlowOptions& options, int maxComponents,
-    bool logEuclidean, const MeshFlow& flow, const vtkBeltramiSurface* split = nullptr);
+    bool logEuclidean, const MeshFlow& flow, const vtkBeltramiPieces* split = nullptr);
   /// RunOnMesh's input checks: the mask (input array 1, when useMask) and the
   /// array's values (1 to maxComponents, 6 for log-Euclidean); false after
   /// an error on `owner`.
@@ -129,8 +132,10 @@ public:
   /// `name`, for tensors not positive definite: their eigenvalues raised to
   /// 1e-6 of the field's largest), and `options` measuring the noise and the
   /// error on the tensors.  LogToSymmetricTensors maps the result back.
+  /// split (optional, collective): `values` are the rows of a split piece
+  /// with its rings (the floor and the warning's count over all ranks).
   static void ToLogEuclidean(vtkAlgorithm* owner, const char* name, double* values, vtkIdType count,
-    int numThreads, beltrami::GraphFlowOptions& options);
+    int numThreads, beltrami::GraphFlowOptions& options, const beltrami::Partition* split = nullptr);
 
   /// A vtkImageData as the core sees it: a 2D image (in any of the XY, XZ
   /// and YZ planes: the VTK axes of its grid's x and y) or a 3D image.

@@ -4,7 +4,7 @@
 // are float or double.  In distributed runs it counts the ranks that hold
 // data, exchanges the triangles around the pieces' common points where a
 // filter needs 1-rings, agrees on the owner of every point where a filter
-// solves over the ranks (vtkBeltramiSurfacePartition.cxx), or gathers split
+// solves over the ranks (both through vtkBeltramiPieces), or gathers split
 // data on rank 0 (vtkBeltramiGather) for the filters that need the whole
 // surface on one process.  Not wrapped: an
 // implementation helper of the module.
@@ -12,6 +12,7 @@
 #define vtkBeltramiSurface_h
 
 #include "BeltramiFiltersModule.h" // export macro
+#include "vtkBeltramiPieces.h"       // the pieces of split runs
 
 #include "Mesh/MeshTopology.h"
 #include "Solvers/Partition.h"
@@ -110,12 +111,12 @@ public:
   bool IsGathered() const { return Gathered; }
   /// Needs::Distributed on split data: the topology's points over the ranks
   /// (the piece's points, then the ghost points); null otherwise.
-  const beltrami::Partition* Split() const { return SplitRows.get(); }
+  const beltrami::Partition* Split() const { return Rings.Split(); }
+  /// The pieces of a split run (vtkBeltramiPieces: Split, AllAgree).
+  const vtkBeltramiPieces& SplitPieces() const { return Rings; }
   /// Whether `ok` holds on every rank of a split run (collective there:
-  /// every rank calls it); `ok` itself otherwise.  A distributed filter
-  /// checks its input with it before its collective work, so that a rank's
-  /// error stops all ranks instead of leaving them waiting.
-  bool AllAgree(bool ok) const;
+  /// every rank calls it); `ok` itself otherwise (vtkBeltramiPieces).
+  bool AllAgree(bool ok) const { return Rings.AllAgree(ok); }
   /// Points of the input piece (the output's points).
   vtkIdType NumberOfInputPoints() const;
   /// Points of the topology: the input's, then the ghost points of the
@@ -134,10 +135,6 @@ public:
   /// this is collective there: every rank must call it.  Otherwise
   /// (streaming pieces one by one) the number of pieces.
   static int PiecesHoldingData(vtkInformation* outInfo, vtkDataSet* input);
-  /// Every rank's `mine` appended in rank order (collective: every rank
-  /// calls it); rank r's values at [offsets[r], offsets[r + 1]).
-  static std::vector<double> AllGather(
-    vtkMultiProcessController* controller, const std::vector<double>& mine, std::vector<vtkIdType>& offsets);
   /// True when the request on `outInfo` is one piece per rank of the global
   /// controller, this rank's own (pvbatch, pvserver): the ranks can talk.
   static bool OnePiecePerRank(vtkInformation* outInfo);
@@ -216,25 +213,18 @@ private:
   /// The general path of Build: any polygons (triangulated) and strips.
   void BuildTriangles(vtkPolyData* input, beltrami::IndexArray& triangles);
 
-  /// Execute's one-ring exchange (collective): builds the piece's topology,
-  /// every piece sends the triangles at its edge vertices to all ranks, and
-  /// each keeps those that touch its own points (coincident points joined
-  /// as vtkBeltramiGather joins them), so that every point of the piece gets
-  /// its whole star, also where three or more pieces meet.  The topology is
-  /// then rebuilt with those triangles (TriangleCell -1) and their other
-  /// points (after the piece's).  Returns true when the topology is built
-  /// (with or without a ring), false when Build is still to be called (the
-  /// pieces came with ghost cells, or the piece could not be built).
+  /// Execute's one-ring exchange (collective): builds the piece's topology
+  /// and grows it by the other pieces' triangles around its points
+  /// (vtkBeltramiPieces::AddRings, at its boundary and non-manifold
+  /// vertices), so that every point of the piece gets its whole star, also
+  /// where three or more pieces meet.  The topology is then rebuilt with
+  /// those triangles (TriangleCell -1) and their other points (after the
+  /// piece's).  Returns true when the topology is built (with or without a
+  /// ring), false when Build is still to be called (the pieces came with
+  /// ghost cells, or the piece could not be built).
   bool ExchangeOneRings(int numberOfThreads);
-  /// Its stages: whether the pieces lack the rings (collective: some piece
-  /// holds points, none has ghost cells); the triangles this piece offers
-  /// (at its boundary and non-manifold vertices, into `edgeVertices`), as
-  /// corner coordinates; the other pieces' triangles that touch this piece
-  /// joined to it; and the topology rebuilt with them (the first `kept`
+  /// The topology rebuilt with the triangles of the rings (the first `kept`
   /// triangles are the piece's own; `ghostPoints` after the piece's points).
-  bool RingsAreMissing(vtkMultiProcessController* controller) const;
-  std::vector<double> EdgeTriangles(std::vector<beltrami::Index>& edgeVertices);
-  bool AddRing(const std::vector<beltrami::Index>& edgeVertices, const std::vector<double>& offers, int numberOfThreads);
   bool Rebuild(beltrami::IndexArray triangles, const std::vector<double>& ghostPoints, std::size_t kept,
     int numberOfThreads);
   /// Execute's start on InputData and OutputData: the pass-through, the
@@ -242,13 +232,8 @@ private:
   /// RequestData's value when there is nothing for `run` to do, else -1.
   int Start(vtkAlgorithm* owner, int numberOfThreads, bool built);
 
-  /// Needs::Distributed, after ExchangeOneRings (collective): the owner of
-  /// every point of the topology (a point that pieces share belongs to the
-  /// lowest rank holding it) and its row there, matched by coordinates
-  /// (vtkBeltramiGather::CoincidentPoints) among the points the ranks offer.
-  /// False (with ErrorText) when MPI's communicator is not at hand or a
-  /// point has no owner.
-  bool BuildPartition(vtkMultiProcessController* controller);
+  /// The coordinates of topology point i (for vtkBeltramiPieces).
+  void PointAt(beltrami::Index i, double* x) const;
 
   /// Execute with Needs::Distributed: the split run, or -1 when the data
   /// are not split over ranks that can solve together (then WholeSurface).
@@ -256,11 +241,8 @@ private:
     vtkInformation* outInfo, int numberOfThreads, const std::function<bool(vtkBeltramiSurface&)>& run);
 
   std::unique_ptr<beltrami::MeshTopology> Mesh;
-  std::unique_ptr<beltrami::Partition> SplitRows;
-  std::vector<beltrami::Index> EdgeVertices;  // ExchangeOneRings: the piece's boundary and non-manifold points
-  std::vector<beltrami::Index> OfferedPoints; // and the corners of the triangles it offered
+  vtkBeltramiPieces Rings; // ExchangeOneRings, and the split of ExecuteDistributed's run
   bool Gathered = false;
-  bool Collective = false; // ExecuteDistributed's run: every rank takes part
   vtkPolyData* InputData = nullptr;
   vtkPolyData* OutputData = nullptr;
   int Pieces = 1;  // UPDATE_NUMBER_OF_PIECES of the request

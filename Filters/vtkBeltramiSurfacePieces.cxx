@@ -45,23 +45,6 @@ int RequestedPieces(vtkInformation* outInfo)
 
 } // namespace
 
-std::vector<double> vtkBeltramiSurface::AllGather(
-  vtkMultiProcessController* controller, const std::vector<double>& mine, std::vector<vtkIdType>& offsets)
-{
-  const int ranks = controller->GetNumberOfProcesses();
-  std::vector<vtkIdType> lengths(static_cast<std::size_t>(ranks), 0);
-  offsets.assign(ranks + 1, 0);
-  const vtkIdType length = static_cast<vtkIdType>(mine.size());
-  controller->AllGather(&length, lengths.data(), 1);
-  for (int r = 0; r < ranks; ++r)
-  {
-    offsets[r + 1] = offsets[r] + lengths[r];
-  }
-  std::vector<double> all(static_cast<std::size_t>(offsets[ranks]));
-  controller->AllGatherV(mine.data(), all.data(), length, lengths.data(), offsets.data());
-  return all;
-}
-
 bool vtkBeltramiSurface::OnePiecePerRank(vtkInformation* outInfo)
 {
   const int pieces = RequestedPieces(outInfo);
@@ -111,146 +94,36 @@ bool vtkBeltramiSurface::ExchangeOneRings(int numberOfThreads)
 {
   // Called on every rank when the pieces are the ranks and several hold
   // points (PiecesHoldingData communicated): the decisions are collective.
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  if (!RingsAreMissing(controller))
+  if (!vtkBeltramiPieces::RingsAreMissing(InputData))
   {
     return false; // the pieces came with ghost cells, or none holds points
   }
-  std::vector<Index>& edgeVertices = EdgeVertices; // this piece's boundary and non-manifold vertices
   const bool built = InputData && InputData->GetNumberOfPoints() > 0 && Build(InputData, numberOfThreads);
-  const std::vector<double> offer = built ? EdgeTriangles(edgeVertices) : std::vector<double>();
-  const int ranks = controller->GetNumberOfProcesses();
-  std::vector<vtkIdType> offsets;
-  std::vector<double> offers = AllGather(controller, offer, offsets);
-  if (edgeVertices.empty() || offsets[ranks] == static_cast<vtkIdType>(offer.size()))
+  const Index n = built ? Mesh->NumberOfVertices() : 0;
+  std::vector<std::uint8_t> edge(static_cast<std::size_t>(n)); // boundary and non-manifold vertices
+  for (Index v = 0; v < n; ++v)
   {
-    return built; // nothing to join (this piece has no edge, or no other piece offers)
+    edge[v] = (Mesh->VertexFlags(v) & (beltrami::VertexBoundary | beltrami::VertexNonManifold)) != 0;
   }
-  // The other pieces' offers, without this one's.
-  const int rank = controller->GetLocalProcessId();
-  offers.erase(offers.begin() + offsets[rank], offers.begin() + offsets[rank + 1]);
-  return AddRing(edgeVertices, offers, numberOfThreads);
-}
-
-bool vtkBeltramiSurface::RingsAreMissing(vtkMultiProcessController* controller) const
-{
-  const bool hasPoints = InputData && InputData->GetNumberOfPoints() > 0;
-  bool hasGhosts = false; // duplicate cells (a ghost array of zeros is no ghost layer)
-  if (vtkUnsignedCharArray* ghosts = InputData ? InputData->GetCellGhostArray() : nullptr)
+  std::vector<Index> triangles;
+  if (built)
   {
-    const unsigned char* flags = ghosts->GetPointer(0);
-    hasGhosts = std::any_of(flags, flags + ghosts->GetNumberOfValues(),
-      [](unsigned char f) { return (f & vtkDataSetAttributes::DUPLICATECELL) != 0; });
+    triangles.assign(Mesh->TriangleList().begin(), Mesh->TriangleList().end());
   }
-  int local[2] = { hasPoints && !hasGhosts ? 1 : 0, hasGhosts ? 1 : 0 };
-  int global[2] = { 0, 0 };
-  controller->AllReduce(local, global, 2, vtkCommunicator::SUM_OP);
-  return global[0] > 0 && global[1] == 0;
-}
-
-std::vector<double> vtkBeltramiSurface::EdgeTriangles(std::vector<Index>& edgeVertices)
-{
-  // Every triangle at a vertex on the edge of the piece (a boundary or
-  // non-manifold vertex of its own topology), as its corners' coordinates.
-  // A point that pieces share is on the edge of each of them, so every
-  // piece gets the whole star of its shared points - also from a piece that
-  // touches it at that point only.
-  const beltrami::MeshTopology& topo = *Mesh;
-  std::vector<double> offer;
-  std::vector<std::uint8_t> offered(static_cast<std::size_t>(topo.NumberOfTriangles()), 0);
-  for (Index v = 0; v < topo.NumberOfVertices(); ++v)
-  {
-    if (topo.VertexFlags(v) & (beltrami::VertexBoundary | beltrami::VertexNonManifold))
-    {
-      edgeVertices.push_back(v);
-      for (const Index* c = topo.CornersBegin(v); c != topo.CornersEnd(v); ++c)
-      {
-        offered[*c / 3] = 1;
-      }
-    }
-  }
-  std::vector<std::uint8_t> corner(static_cast<std::size_t>(topo.NumberOfVertices()), 0);
-  for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
-  {
-    for (int k = 0; offered[t] && k < 3; ++k)
-    {
-      double x[3];
-      InputData->GetPoint(topo.CornerVertex(3 * t + k), x);
-      offer.insert(offer.end(), x, x + 3);
-      corner[topo.CornerVertex(3 * t + k)] = 1;
-    }
-  }
-  OfferedPoints.clear();
-  for (Index v = 0; v < topo.NumberOfVertices(); ++v)
-  {
-    if (corner[v])
-    {
-      OfferedPoints.push_back(v);
-    }
-  }
-  return offer;
-}
-
-bool vtkBeltramiSurface::AddRing(
-  const std::vector<Index>& edgeVertices, const std::vector<double>& offers, int numberOfThreads)
-{
-  // Join: this piece's edge vertices, then the other pieces' corners, with
-  // their copies of common points merged (as vtkBeltramiGather does).
-  const vtkIdType own = static_cast<vtkIdType>(edgeVertices.size());
-  const vtkIdType corners = static_cast<vtkIdType>(offers.size() / 3);
-  vtkNew<vtkPoints> joined;
-  joined->SetDataTypeToDouble();
-  joined->SetNumberOfPoints(own + corners);
-  vtkBoundingBox box;
-  for (vtkIdType i = 0; i < own; ++i)
-  {
-    double x[3];
-    InputData->GetPoint(edgeVertices[i], x);
-    joined->SetPoint(i, x);
-    box.AddPoint(x);
-  }
-  for (vtkIdType corner = 0; corner < corners; ++corner)
-  {
-    double x[3] = { offers[3 * corner], offers[3 * corner + 1], offers[3 * corner + 2] };
-    joined->SetPoint(own + corner, x);
-    box.AddPoint(x);
-  }
-  const std::vector<vtkIdType> merged =
-    vtkBeltramiGather::CoincidentPoints(joined, 1e-12 * box.GetDiagonalLength());
-  // Per representative: the piece's point it stands for, or a new ghost point
-  // (numbered after the piece's points).
-  std::vector<vtkIdType> pointOf(static_cast<std::size_t>(own + corners), -1);
-  for (vtkIdType i = 0; i < own; ++i)
-  {
-    pointOf[merged[i]] = edgeVertices[i];
-  }
-  const Index n = Mesh->NumberOfVertices();
-  beltrami::IndexArray triangles(Mesh->TriangleList());
   const std::size_t kept = triangles.size() / 3;
-  std::vector<double> ghostPoints;
-  for (vtkIdType t = 0; t < corners / 3; ++t)
+  if (!Rings.AddRings(3, n, [this](Index i, double* x) { PointAt(i, x); }, edge, triangles)) // collective
   {
-    const vtkIdType* m = merged.data() + own + 3 * t;
-    if (pointOf[m[0]] < 0 && pointOf[m[1]] < 0 && pointOf[m[2]] < 0)
-    {
-      continue; // not at this piece
-    }
-    for (int k = 0; k < 3; ++k)
-    {
-      if (pointOf[m[k]] < 0)
-      {
-        pointOf[m[k]] = n + static_cast<vtkIdType>(ghostPoints.size() / 3);
-        const double* x = joined->GetPoint(m[k]);
-        ghostPoints.insert(ghostPoints.end(), x, x + 3);
-      }
-      triangles.push_back(static_cast<Index>(pointOf[m[k]]));
-    }
+    return built; // no other piece's triangle touches this one
   }
-  if (triangles.size() / 3 == kept)
+  return Rebuild(beltrami::IndexArray(triangles.begin(), triangles.end()), Rings.GhostPoints(), kept, numberOfThreads);
+}
+
+void vtkBeltramiSurface::PointAt(Index i, double* x) const
+{
+  for (int k = 0; k < 3; ++k)
   {
-    return true; // the other pieces' edges do not touch this one
+    x[k] = Floats ? Floats[3 * static_cast<std::size_t>(i) + k] : Doubles[3 * static_cast<std::size_t>(i) + k];
   }
-  return Rebuild(std::move(triangles), ghostPoints, kept, numberOfThreads);
 }
 
 bool vtkBeltramiSurface::Rebuild(
@@ -323,8 +196,7 @@ int vtkBeltramiSurface::Start(vtkAlgorithm* owner, int numberOfThreads, bool bui
 int vtkBeltramiSurface::ExecuteDistributed(vtkAlgorithm* owner, vtkPolyData* input, vtkPolyData* output,
   vtkInformation* outInfo, int numberOfThreads, const std::function<bool(vtkBeltramiSurface&)>& run)
 {
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  if (!OnePiecePerRank(outInfo) || !vtkMPICommunicator::SafeDownCast(controller->GetCommunicator()))
+  if (!vtkBeltramiPieces::CanSolveTogether(outInfo))
   {
     return -1; // the ranks cannot solve together
   }
@@ -333,8 +205,8 @@ int vtkBeltramiSurface::ExecuteDistributed(vtkAlgorithm* owner, vtkPolyData* inp
   surface.OutputData = output;
   surface.Pieces = RequestedPieces(outInfo);
   surface.Holding = PiecesHoldingData(outInfo, input);  // collective
-  surface.Collective = true;
-  if (surface.Holding <= 1 || !surface.RingsAreMissing(controller)) // collective
+  surface.Rings.SetCollective(true);
+  if (surface.Holding <= 1 || !vtkBeltramiPieces::RingsAreMissing(input)) // collective
   {
     return -1; // whole on one rank (serial), or pieces that came with ghost cells (gathered)
   }
@@ -364,23 +236,15 @@ int vtkBeltramiSurface::ExecuteDistributed(vtkAlgorithm* owner, vtkPolyData* inp
   {
     surface.Mesh = std::make_unique<beltrami::MeshTopology>(0, beltrami::IndexArray());
   }
-  if (!surface.AllAgree(surface.BuildPartition(controller)))
+  const Index rows = surface.Mesh->NumberOfVertices();
+  const Index pieceRows = std::min<Index>(rows, input ? static_cast<Index>(input->GetNumberOfPoints()) : 0);
+  if (!surface.AllAgree(surface.Rings.BuildPartition(
+        rows, pieceRows, [&surface](Index i, double* x) { surface.PointAt(i, x); }, surface.ErrorText)))
   {
     vtkErrorWithObjectMacro(owner, "Cannot split the solve over the ranks: " << surface.Error());
     return 0;
   }
   return run(surface) ? 1 : 0;
-}
-
-bool vtkBeltramiSurface::AllAgree(bool ok) const
-{
-  if (!Collective)
-  {
-    return ok;
-  }
-  int local = ok ? 1 : 0, all = 0;
-  vtkMultiProcessController::GetGlobalController()->AllReduce(&local, &all, 1, vtkCommunicator::MIN_OP);
-  return all == 1;
 }
 
 int vtkBeltramiSurface::RunOnWholeSurface(vtkAlgorithm* owner, vtkInformationVector** inputVector,

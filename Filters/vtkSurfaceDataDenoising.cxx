@@ -72,7 +72,7 @@ int vtkSurfaceDataDenoising::RequestData(
         const beltrami::GraphFlowOptions& options, const beltrami::ProgressCallback& progress) {
         return beltrami::RunSurfaceGraphFlow(topo, x, nc, values, fixed, options, progress, split);
       },
-      &surface) != 0;
+      &surface.SplitPieces()) != 0;
   };
   return vtkBeltramiSurface::Execute(this, inputVector, outputVector, this->NumberOfThreads,
     vtkBeltramiSurface::Needs::Distributed, smooth);

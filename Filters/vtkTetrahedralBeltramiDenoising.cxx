@@ -3,6 +3,7 @@
 
 #include "vtkBeltramiGather.h"
 #include "vtkBeltramiGraphFlow.h"
+#include "vtkBeltramiPieces.h"
 #include "vtkBeltramiSurface.h"
 
 #include "Flows/GraphFlow.h"
@@ -19,7 +20,9 @@
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
 
+#include <algorithm>
 #include <limits>
+#include <string>
 #include <vector>
 
 BELTRAMI_SAME_ENUM(vtkTetrahedralBeltramiDenoising::EXPLICIT, beltrami::GraphFlowIntegration::Explicit);
@@ -43,14 +46,41 @@ int vtkTetrahedralBeltramiDenoising::RequestData(
 {
   vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0]);
   vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
   // The flow couples all points (semi-implicit steps, noise-level stop,
-  // mean edge length): data split over the ranks are smoothed whole on
-  // rank 0, as in a serial run, and every rank gets its points' values.
-  return vtkBeltramiGather::RunWhole(outputVector->GetInformationObject(0), input, output,
-    vtkBeltramiGather::Results::ToEveryPiece, [this](vtkPointSet* in, vtkPointSet* out, int holding) {
+  // mean edge length).  Data split over ranks that can solve together
+  // (pvbatch, pvserver; pieces without ghost cells) are smoothed over the
+  // ranks, each rank its piece and the tetrahedra around it; pieces with
+  // ghost cells are gathered and smoothed whole on rank 0, as in a serial
+  // run, and every rank gets its points' values.
+  // (Every rank takes the same branch: the counts are collective.)
+  if (vtkBeltramiPieces::CanSolveTogether(outInfo) &&
+    vtkBeltramiSurface::PiecesHoldingData(outInfo, input) > 1 && vtkBeltramiPieces::RingsAreMissing(input))
+  {
+    return this->SmoothSplit(input, output);
+  }
+  return vtkBeltramiGather::RunWhole(outInfo, input, output, vtkBeltramiGather::Results::ToEveryPiece,
+    [this](vtkPointSet* in, vtkPointSet* out, int holding) {
       return this->Smooth(vtkUnstructuredGrid::SafeDownCast(in), vtkUnstructuredGrid::SafeDownCast(out), holding);
     });
 }
+
+namespace
+{
+
+/// The points of `input` as 3 doubles each.
+std::vector<double> PointsOf(vtkUnstructuredGrid* input)
+{
+  const vtkIdType numPoints = input->GetNumberOfPoints();
+  std::vector<double> points(3 * static_cast<std::size_t>(numPoints));
+  for (vtkIdType i = 0; i < numPoints; ++i)
+  {
+    input->GetPoint(i, &points[3 * i]);
+  }
+  return points;
+}
+
+} // namespace
 
 int vtkTetrahedralBeltramiDenoising::Smooth(
   vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, int holding)
@@ -66,22 +96,14 @@ int vtkTetrahedralBeltramiDenoising::Smooth(
   {
     return 1;
   }
-  if (numPoints >= std::numeric_limits<beltrami::Index>::max())
+  if (!this->FitsIndex(numPoints))
   {
-    vtkErrorMacro("Too many points (" << numPoints << "). The output is the input.");
     return 0;
   }
   if (holding > 1) // pieces streamed one by one: no gathering
   {
     vtkBeltramiSurface::WarnDistributed(this, holding, "a free boundary where pieces meet");
   }
-  int association = -1;
-  vtkDataArray* array = this->GetInputArrayToProcess(SMOOTHED_ARRAY, input, association);
-  if (!vtkBeltramiGraphFlow::IsPointArray(this, array, association))
-  {
-    return 0;
-  }
-
   std::vector<beltrami::Index> voxels;
   std::vector<beltrami::Index> tets = vtkBeltramiGraphFlow::Tetrahedra(this, input, &voxels);
   // Voxels alone (the active voxels of a sparse grid): the voxel-cell kernel.
@@ -93,23 +115,104 @@ int vtkTetrahedralBeltramiDenoising::Smooth(
   }
   const beltrami::TetrahedralMesh mesh(static_cast<beltrami::Index>(numPoints), std::move(tets),
     this->NumberOfThreads);
+  this->WarnDropped(mesh);
+  const std::vector<double> points = PointsOf(input);
+  return this->Run(input, output, points.data(), mesh, voxelsOnly ? &voxels : nullptr, nullptr);
+}
+
+int vtkTetrahedralBeltramiDenoising::SmoothSplit(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output)
+{
+  vtkNew<vtkUnstructuredGrid> none, discarded; // a missing input or output: an empty piece
+  input = input ? input : none.Get();
+  output = output ? output : discarded.Get();
+  output->ShallowCopy(input); // a defined output: the input
+  vtkBeltramiPieces pieces;
+  pieces.SetCollective(true);
+  const vtkIdType numPoints = input->GetNumberOfPoints();
+  if (!pieces.AllAgree(this->FitsIndex(numPoints)))
+  {
+    return 0;
+  }
+  // The piece, and its edge: its points on faces of one tetrahedron.
+  const beltrami::Index n = static_cast<beltrami::Index>(numPoints);
+  std::vector<beltrami::Index> tets = n > 0 ? vtkBeltramiGraphFlow::Tetrahedra(this, input) : std::vector<beltrami::Index>();
+  std::vector<std::uint8_t> edge;
+  double own = 0.0;
+  {
+    const beltrami::TetrahedralMesh piece(n, std::move(tets), this->NumberOfThreads);
+    this->WarnDropped(piece);
+    edge = piece.BoundaryVertices();
+    for (beltrami::Index v = 0; v < n; ++v)
+    {
+      edge[v] = edge[v] && piece.IncidentBegin(v) != piece.IncidentEnd(v); // (not points in no tetrahedron)
+    }
+    tets = piece.TetrahedronList();
+    own = piece.NumberOfTetrahedra();
+  }
+  // Grown by the other pieces' tetrahedra around its points, and split.
+  std::vector<double> points = PointsOf(input);
+  const auto at = [&points](beltrami::Index i, double* x) { std::copy_n(&points[3 * static_cast<std::size_t>(i)], 3, x); };
+  pieces.AddRings(4, n, at, edge, tets, vtkBeltramiPieces::Stars::Owned); // collective
+  points.insert(points.end(), pieces.GhostPoints().begin(), pieces.GhostPoints().end());
+  const beltrami::Index rows = static_cast<beltrami::Index>(points.size() / 3);
+  const beltrami::TetrahedralMesh mesh(rows, std::move(tets), this->NumberOfThreads);
+  std::string error;
+  if (!pieces.AllAgree(pieces.BuildPartition(rows, n, at, error)))
+  {
+    vtkErrorMacro("Cannot split the solve over the ranks: "
+      << (error.empty() ? "another rank failed (see its error)" : error) << ". The output is the input.");
+    return 0;
+  }
+  if (pieces.Split()->Sum(own) == 0.0)
+  {
+    if (pieces.Split()->Rank() == 0)
+    {
+      vtkWarningMacro("The input has no tetrahedra or voxels: the data are left as they are.");
+    }
+    return 1;
+  }
+  return this->Run(input, output, points.data(), mesh, nullptr, &pieces);
+}
+
+int vtkTetrahedralBeltramiDenoising::Run(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output,
+  const double* points, const beltrami::TetrahedralMesh& mesh, const std::vector<beltrami::Index>* voxels,
+  const vtkBeltramiPieces* pieces)
+{
+  int association = -1;
+  vtkDataArray* array = this->GetInputArrayToProcess(SMOOTHED_ARRAY, input, association);
+  const bool empty = pieces && input->GetNumberOfPoints() == 0; // (it may lack the arrays)
+  const bool ok = empty || vtkBeltramiGraphFlow::IsPointArray(this, array, association);
+  if (pieces ? !pieces->AllAgree(ok) : !ok)
+  {
+    return 0;
+  }
+  const beltrami::Partition* split = pieces ? pieces->Split() : nullptr;
+  return vtkBeltramiGraphFlow::RunOnMesh(this, input, output, array, points, this->UseFixedPointsArray,
+    vtkBeltramiGraphFlow::Options(this), 6, this->LogEuclideanTensors,
+    [&](const double* x, int nc, double* values, const std::uint8_t* fixed,
+      const beltrami::GraphFlowOptions& options, const beltrami::ProgressCallback& progress) {
+      return beltrami::RunTetrahedralGraphFlow(mesh, x, nc, values, fixed, options, progress, voxels, split);
+    },
+    pieces);
+}
+
+bool vtkTetrahedralBeltramiDenoising::FitsIndex(vtkIdType numPoints)
+{
+  if (numPoints >= std::numeric_limits<beltrami::Index>::max())
+  {
+    vtkErrorMacro("Too many points (" << numPoints << "). The output is the input.");
+    return false;
+  }
+  return true;
+}
+
+void vtkTetrahedralBeltramiDenoising::WarnDropped(const beltrami::TetrahedralMesh& mesh)
+{
   if (mesh.NumberOfDroppedTetrahedra() > 0)
   {
     vtkWarningMacro(<< mesh.NumberOfDroppedTetrahedra()
                     << " tetrahedra with repeated or invalid point ids are ignored.");
   }
-  std::vector<double> points(3 * static_cast<std::size_t>(numPoints));
-  for (vtkIdType i = 0; i < numPoints; ++i)
-  {
-    input->GetPoint(i, &points[3 * i]);
-  }
-  return vtkBeltramiGraphFlow::RunOnMesh(this, input, output, array, points.data(),
-    this->UseFixedPointsArray, vtkBeltramiGraphFlow::Options(this), 6, this->LogEuclideanTensors,
-    [&](const double* x, int nc, double* values, const std::uint8_t* fixed,
-      const beltrami::GraphFlowOptions& options, const beltrami::ProgressCallback& progress) {
-      return beltrami::RunTetrahedralGraphFlow(
-        mesh, x, nc, values, fixed, options, progress, voxelsOnly ? &voxels : nullptr);
-    });
 }
 
 void vtkTetrahedralBeltramiDenoising::PrintSelf(ostream& os, vtkIndent indent)

@@ -34,11 +34,17 @@
  * tetrahedron with volume keep their values.  Field data: FlowIterations, FlowTime, FlowRMSChange,
  * FlowArea (the volume of the graph manifold, initial and final),
  * FlowSolverIterations.
- * Distributed runs (pvbatch, pvserver): the flow couples all points, so
- * data split over several ranks are gathered on rank 0 (vtkBeltramiGather),
- * smoothed there as one mesh, and every rank gets the values of its own
- * points: the numbers of a serial run (to the solver's tolerance), with the
- * memory and time of one process.
+ * Distributed runs (pvbatch, pvserver): the flow couples all points.  Data
+ * split over several ranks are smoothed where they are: each rank grows its
+ * piece by the other pieces' tetrahedra around the points it owns
+ * (vtkBeltramiPieces), and the noise estimate, the mean edge length, the
+ * stops' sums and the semi-implicit solves run over all ranks - the numbers
+ * of a serial run to the solver's tolerance, no rank holding more than its
+ * piece and a ring (field data FlowDistribution: owned points, ghost
+ * points, tetrahedra, values sent per exchange; log-Euclidean tensors
+ * too).  Pieces that come with ghost cells are gathered on rank 0
+ * (vtkBeltramiGather), smoothed there as one mesh, and every rank gets the
+ * values of its own points.
  */
 #ifndef vtkTetrahedralBeltramiDenoising_h
 #define vtkTetrahedralBeltramiDenoising_h
@@ -46,6 +52,15 @@
 #include "BeltramiFiltersModule.h" // export macro
 #include "vtkBeltramiGraphFlowSettings.h" // the shared settings
 #include "vtkUnstructuredGridAlgorithm.h"
+
+#include <cstdint> // for Run
+#include <vector>  // for Run
+
+class vtkBeltramiPieces;
+namespace beltrami
+{
+class TetrahedralMesh;
+}
 
 class BELTRAMIFILTERS_EXPORT vtkTetrahedralBeltramiDenoising : public vtkUnstructuredGridAlgorithm
 {
@@ -83,6 +98,20 @@ private:
   /// many pieces hold points (more than 1: a streamed piece, smoothed on its
   /// own).
   int Smooth(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, int holding);
+  /// Smooths this rank's piece of data split over the ranks, solving with
+  /// the others (collective: every rank calls it, an empty piece's too).
+  int SmoothSplit(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output);
+  /// Their common end: the array checked and the flow run on `mesh` (the
+  /// input's points, then a split piece's ghost points, at `points`);
+  /// voxels: the voxel cells (beltrami::Index ids) of an input of voxels
+  /// alone; pieces: the split.
+  int Run(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, const double* points,
+    const beltrami::TetrahedralMesh& mesh, const std::vector<std::int32_t>* voxels,
+    const vtkBeltramiPieces* pieces);
+  /// An error (false) when `numPoints` do not fit the core's indices.
+  bool FitsIndex(vtkIdType numPoints);
+  /// The warning about tetrahedra the mesh dropped (bad point ids).
+  void WarnDropped(const beltrami::TetrahedralMesh& mesh);
 };
 
 #endif

@@ -507,8 +507,8 @@ if partitions == 1:
     after = vtk_to_numpy(smoothed_volume.GetPointData().GetArray("RTData"))
     check(after.shape == before.shape and np.std(after) < np.std(before), "tetrahedral denoising smooths")
 # The elephant's tetrahedra (meshed on the rank that read the surface) split
-# over the ranks: with MPI gathered on rank 0 and smoothed whole, the values
-# of a serial run at every point.
+# over the ranks: with MPI smoothed over the ranks (each its piece), the
+# values of a serial run at every point.
 from beltrami import vtkOFFReader, vtkTetGenTetrahedralizer, vtkTetrahedralBeltramiDenoising  # noqa: E402
 elephant_elevation = Elevation(Input=filled)
 elephant_elevation.LowPoint = [0.0, 0.0, -0.5]

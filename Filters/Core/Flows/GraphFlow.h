@@ -111,6 +111,8 @@ struct GraphFlowOptions
   /// lives in (colours flowed in L*u*v*, noise in RGB): converts values
   /// (data units, Components per vertex, in place) into the noise's space,
   /// and back.  The change and the risk are measured in the noise's space.
+  /// On a mesh split over processes they convert every row of the piece
+  /// with its rings (ghost rows too).
   std::function<void(double* values)> ToNoiseSpace, FromNoiseSpace;
   GridBoundary Boundary = GridBoundary::Linear; ///< images only
   double SolverTolerance = 1e-4;                ///< semi-implicit: CG residual reduction
@@ -181,8 +183,7 @@ GraphFlowResult RunImageGraphFlow(const PixelGrid& grid, int components, double*
 /// its own, values and fixed flags of ghost rows their owners'); every
 /// process, one with an empty piece too, calls it; the mean edge length, the
 /// noise estimate, the sums of the stops and the semi-implicit solves run
-/// over all of them: the serial numbers up to the solver's tolerance.  Not
-/// with ToNoiseSpace.
+/// over all of them: the serial numbers up to the solver's tolerance.
 GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* points,
   int components, double* values, const std::uint8_t* fixed, const GraphFlowOptions& options,
   const ProgressCallback& progress = {}, const Partition* split = nullptr);
@@ -219,9 +220,13 @@ class TetrahedralMesh;
 /// point ids each, VTK_VOXEL corner order, as vtkBeltramiGraphFlow splits
 /// them) - then the cells run on the dense 3D kernel's arithmetic (single
 /// precision tetrahedra, a 14-neighbour stencil), the same flow several
-/// times faster, wherever they form one lattice.
+/// times faster, wherever they form one lattice.  split (optional,
+/// collective): the mesh split over processes, as for RunSurfaceGraphFlow
+/// (each process its rows and the tetrahedra around them; then voxels are
+/// not used: the general tetrahedra run).
 GraphFlowResult RunTetrahedralGraphFlow(const TetrahedralMesh& mesh, const double* points,
   int components, double* values, const std::uint8_t* fixed, const GraphFlowOptions& options,
-  const ProgressCallback& progress = {}, const std::vector<Index>* voxels = nullptr);
+  const ProgressCallback& progress = {}, const std::vector<Index>* voxels = nullptr,
+  const Partition* split = nullptr);
 
 } // namespace beltrami

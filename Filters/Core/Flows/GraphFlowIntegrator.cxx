@@ -227,12 +227,8 @@ private:
     if (O.ToNoiseSpace)
     {
       const double* f = InNoiseSpace(x);
-      double sum = 0.0;
-      for (std::size_t k = 0; k < Size; ++k)
-      {
-        sum += (f[k] - Y[k]) * (f[k] - Y[k]);
-      }
-      return std::sqrt(sum / static_cast<double>(Size));
+      const double sum = SumOverValues(1, [&](std::int64_t k, double* acc) { acc[0] += (f[k] - Y[k]) * (f[k] - Y[k]); })[0];
+      return std::sqrt(sum / Counted);
     }
     const double s = SumOverValues(1, [&](std::int64_t k, double* acc) { acc[0] += (x[k] - U0(k)) * (x[k] - U0(k)); })[0];
     return std::sqrt(s / Counted) / Alpha;
@@ -246,11 +242,6 @@ bool FlowIntegrator::Start(const double* values)
   NC = Main.Disc->Components;
   Size = static_cast<std::size_t>(N) * NC;
   Split = Main.Disc->Split;
-  if (Split && O.ToNoiseSpace)
-  {
-    Result.Error = "data flowed in another space than their noise's are not smoothed over processes";
-    return false;
-  }
   double counted = 0.0;
   for (Index i = 0; i < N; ++i)
   {
@@ -608,11 +599,12 @@ double FlowIntegrator::Risk(bool swept)
     const double* main = InNoiseSpace(Main.U);
     const std::vector<double> f(main, main + Size);
     const double* p = InNoiseSpace(Probe.U);
-    for (std::size_t k = 0; k < Size; ++k)
-    {
-      fit += (f[k] - Y[k]) * (f[k] - Y[k]);
-      divergence += B[k] * (p[k] - f[k]);
-    }
+    const std::vector<double> sums = SumOverValues(2, [&](std::int64_t k, double* acc) {
+      acc[0] += (f[k] - Y[k]) * (f[k] - Y[k]);
+      acc[1] += B[k] * (p[k] - f[k]);
+    });
+    fit = sums[0];
+    divergence = sums[1];
   }
   else if (Windowed)
   {

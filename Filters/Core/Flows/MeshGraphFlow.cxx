@@ -162,7 +162,7 @@ struct MeshFlowInput
   std::function<double(const double* points)> MeanEdgeLength;
   MeshDiscretization::Assembler Assemble;
   double MassScale = 0.5;
-  const Partition* Split = nullptr; ///< a surface split over processes (collective)
+  const Partition* Split = nullptr; ///< a mesh split over processes (collective)
   /// Optional: a faster discretization of the same flow for the mesh's
   /// points (in the flow's units) and settings; null where it does not
   /// apply (then the mesh's own runs).
@@ -246,20 +246,21 @@ GraphFlowResult RunSurfaceGraphFlow(const MeshTopology& topology, const double* 
 
 GraphFlowResult RunTetrahedralGraphFlow(const TetrahedralMesh& mesh, const double* points,
   int components, double* values, const std::uint8_t* fixed, const GraphFlowOptions& options,
-  const ProgressCallback& progress, const std::vector<Index>* voxels)
+  const ProgressCallback& progress, const std::vector<Index>* voxels, const Partition* split)
 {
   const int threads = options.NumberOfThreads;
   MeshFlowInput volume;
   volume.Vertices = mesh.NumberOfVertices();
   volume.Dimension = 3;
   volume.MaximumComponents = 6;
-  volume.MeanEdgeLength = [&](const double* x) { return mesh.MeanEdgeLength(x); };
+  volume.Split = split;
+  volume.MeanEdgeLength = [&](const double* x) { return mesh.MeanEdgeLength(x, split); };
   LargeVector<TetrahedronTerms> terms; // kept between the steps
   volume.Assemble = [&](const double* x, int dimension, GraphLaplacian& l) {
     AssembleTetrahedralLaplacian(mesh, x, dimension, l, threads, &terms);
   };
   volume.MassScale = 1.0;
-  if (voxels)
+  if (voxels && !split)
   {
     volume.Special = [&](const double* x, const std::uint8_t* f, const GraphFlowOptions& o) {
       return MakeVoxelCellDiscretization(mesh.NumberOfVertices(), x, components, *voxels, f,

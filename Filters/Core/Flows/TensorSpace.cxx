@@ -1,5 +1,7 @@
 #include "Flows/TensorSpace.h"
 
+#include "Solvers/Partition.h"
+
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -46,7 +48,8 @@ void ApplyToEigenvalues(double* v, double in, double out, F&& f)
 
 } // namespace
 
-std::int64_t SymmetricTensorsToLog(double* values, std::int64_t count, int stride, double floor, int numThreads)
+std::int64_t SymmetricTensorsToLog(
+  double* values, std::int64_t count, int stride, double floor, int numThreads, const Partition* split)
 {
   double largest = 0.0;
   for (std::int64_t i = 0; i < count; ++i)
@@ -55,6 +58,7 @@ std::int64_t SymmetricTensorsToLog(double* values, std::int64_t count, int strid
     es.compute(Matrix(values + i * stride, 1.0), Eigen::EigenvaluesOnly);
     largest = std::max(largest, es.eigenvalues().maxCoeff());
   }
+  largest = split ? split->Max(largest) : largest;
   const double lowest = largest > 0.0 ? floor * largest : 1.0;
   std::atomic<std::int64_t> raised{ 0 };
   ParallelFor(count, numThreads, [&](std::int64_t b, std::int64_t e) {
@@ -66,11 +70,11 @@ std::int64_t SymmetricTensorsToLog(double* values, std::int64_t count, int strid
         low = low || !(l >= lowest);
         return std::log(l >= lowest ? l : lowest);
       });
-      local += low;
+      local += low && (!split || split->IsOwned(static_cast<Index>(i)));
     }
     raised += local;
   });
-  return raised;
+  return split ? static_cast<std::int64_t>(split->Sum(static_cast<double>(raised))) : raised.load();
 }
 
 void LogToSymmetricTensors(double* values, std::int64_t count, int stride, int numThreads)

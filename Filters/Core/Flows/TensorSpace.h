@@ -17,12 +17,17 @@
 namespace beltrami
 {
 
+class Partition;
+
 /// In place: `count` tensors, the 6 values of every `stride` values, to log
 /// coordinates.  Eigenvalues below `floor` times the largest eigenvalue of
 /// the field (not positive definite, or nearly) are raised to it; returns
-/// how many tensors were (0: all positive definite enough).
-std::int64_t SymmetricTensorsToLog(
-  double* values, std::int64_t count, int stride, double floor = 1e-6, int numThreads = 0);
+/// how many tensors were (0: all positive definite enough).  split
+/// (optional, collective): the tensors are the rows of a piece of a mesh
+/// split over processes (ghost rows too): the largest eigenvalue and the
+/// count are those of the whole field.
+std::int64_t SymmetricTensorsToLog(double* values, std::int64_t count, int stride, double floor = 1e-6,
+  int numThreads = 0, const Partition* split = nullptr);
 /// The inverse of SymmetricTensorsToLog: the matrix exponential.
 void LogToSymmetricTensors(double* values, std::int64_t count, int stride, int numThreads = 0);
 

@@ -121,7 +121,7 @@ double MeanEdgeLength(const MeshTopology& topo, const double* x, const Partition
   {
     const Index a = e.Vertices[2 * k], b = e.Vertices[2 * k + 1];
     const double length = (Point(x, a) - Point(x, b)).norm();
-    if (std::isfinite(length) && (!split || split->IsOwned(split->GlobalRow(a) < split->GlobalRow(b) ? a : b)))
+    if (std::isfinite(length) && (!split || split->CountsEdge(a, b)))
     {
       sums[0] += length;
       sums[1] += 1.0;

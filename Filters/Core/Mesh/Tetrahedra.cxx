@@ -1,5 +1,7 @@
 #include "Mesh/Tetrahedra.h"
 
+#include "Solvers/Partition.h"
+
 #include "Support/LargeBuffer.h"
 
 #include <algorithm>
@@ -226,26 +228,29 @@ std::vector<std::uint8_t> TetrahedralMesh::BoundaryVertices() const
   return boundary;
 }
 
-double TetrahedralMesh::MeanEdgeLength(const double* points) const
+double TetrahedralMesh::MeanEdgeLength(const double* points, const Partition* split) const
 {
-  double sum = 0.0;
-  std::int64_t count = 0;
+  double sums[2] = { 0.0, 0.0 }; // lengths, edges
   for (Index v = 0; v < NumVertices; ++v)
   {
     for (std::int64_t k = Offsets[v]; k < Offsets[v + 1]; ++k)
     {
       const Index w = NeighborList[k];
-      if (w > v)
+      if (w > v && (!split || split->CountsEdge(v, w)))
       {
         const double* a = points + 3 * static_cast<std::int64_t>(v);
         const double* b = points + 3 * static_cast<std::int64_t>(w);
-        sum += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+        sums[0] += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
           (a[2] - b[2]) * (a[2] - b[2]));
-        ++count;
+        sums[1] += 1.0;
       }
     }
   }
-  return count ? sum / static_cast<double>(count) : 0.0;
+  if (split)
+  {
+    split->Sum(sums, 2);
+  }
+  return sums[1] > 0.0 ? sums[0] / sums[1] : 0.0;
 }
 
 void AssembleTetrahedralLaplacian(const TetrahedralMesh& mesh, const double* points, int dimension,

@@ -37,6 +37,8 @@
 namespace beltrami
 {
 
+class Partition;
+
 /// The volume of a tetrahedron and the weights of its six edges (pairs of
 /// local vertices 01, 02, 03, 12, 13, 23) from four points in R^dimension.
 /// Real: double, or float where the 3D image flow evaluates them.
@@ -116,8 +118,10 @@ public:
   /// no tetrahedron, else 0.
   std::vector<std::uint8_t> BoundaryVertices() const;
 
-  /// Mean edge length at `points` (3 doubles per vertex).
-  double MeanEdgeLength(const double* points) const;
+  /// Mean edge length at `points` (3 doubles per vertex).  split
+  /// (optional, collective): the mesh is a piece with its rings of a mesh
+  /// split over processes; the mean over the whole mesh.
+  double MeanEdgeLength(const double* points, const Partition* split = nullptr) const;
 
 private:
   Index NumVertices = 0;

@@ -45,6 +45,11 @@ public:
   std::int64_t TotalRows() const { return Total; }
   int Rank() const { return RankId; }
   int Size() const { return Processes; }
+  /// Whether this process counts the edge (a, b) of local rows in a sum
+  /// over the edges of a mesh: each edge once, at the owner of its end with
+  /// the lower global row (which holds the whole star of that end, so the
+  /// edge too).
+  bool CountsEdge(Index a, Index b) const { return IsOwned(Global[a] < Global[b] ? a : b); }
   /// The MPI_Comm (a pointer to it) the rows are split over.
   const void* Communicator() const;
   /// Values this process sends per column in one UpdateGhosts (its owned

@@ -5,7 +5,9 @@
 // The distributed conjugate gradient (Jacobi, and multigrid with one
 // BoomerAMG hierarchy over the processes) must give every process' rows of
 // the serial solution, which each process also computes whole.
+#include "Flows/GraphFlow.h"
 #include "Flows/NoiseEstimation.h"
+#include "Mesh/Tetrahedra.h"
 #include "Solvers/ConjugateGradient.h"
 #include "Solvers/GraphSolvers.h"
 #include "Solvers/Partition.h"
@@ -17,7 +19,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <stdexcept>
+#include <tuple>
 #include <vector>
 
 using namespace beltrami;
@@ -319,6 +323,189 @@ TEST(Partition, DistributedNoiseEstimateIsTheSerialOne)
     localPoints.data(), 2, localValues.data(), nullptr, &split);
   EXPECT_GT(serial, 0.0);
   EXPECT_EQ(distributed, serial);
+}
+
+namespace
+{
+
+/// A tetrahedral lattice (Kuhn split of an n^3 grid of points, moved off
+/// the grid) cut into slabs of cells along z, one per owning process (with
+/// 3 processes the last holds nothing).  A point belongs to the lowest
+/// process whose slab holds it; a process holds its slab and the
+/// tetrahedra around the points it owns (as vtkBeltramiPieces' Owned
+/// stars), its points in ascending global order.
+struct Lattice
+{
+  static constexpr Index N = 9;
+  std::vector<Index> Tets = GridTetrahedra(N, N, N);
+  int Owners = 1;
+
+  explicit Lattice(int size)
+    : Owners(size >= 3 ? size - 1 : size)
+  {
+  }
+  static void Point(Index i, double* x)
+  {
+    const double c[3] = { double(i % N), double(i / N % N), double(i / (N * N)) };
+    for (int a = 0; a < 3; ++a)
+    {
+      x[a] = c[a] + 0.2 * std::sin(1.3 * c[(a + 1) % 3] + 0.7 * c[(a + 2) % 3] + a);
+    }
+  }
+  int SlabOf(std::size_t tet) const
+  {
+    const std::size_t layer = tet / (6 * (N - 1) * (N - 1));
+    return static_cast<int>(layer * Owners / (N - 1));
+  }
+  int OwnerOf(Index point) const
+  {
+    const Index z = point / (N * N);
+    for (int p = 0; p < Owners; ++p)
+    {
+      const Index first = static_cast<Index>((N - 1) * p / Owners), last = static_cast<Index>((N - 1) * (p + 1) / Owners);
+      if (z >= first && z <= last)
+      {
+        return p;
+      }
+    }
+    return -1;
+  }
+  /// Process p's tetrahedra (global point ids).
+  std::vector<Index> TetsOf(int p) const
+  {
+    std::vector<Index> mine;
+    for (std::size_t t = 0; t < Tets.size() / 4; ++t)
+    {
+      const Index* c = &Tets[4 * t];
+      if (SlabOf(t) == p || std::any_of(c, c + 4, [&](Index v) { return OwnerOf(v) == p; }))
+      {
+        mine.insert(mine.end(), c, c + 4);
+      }
+    }
+    return mine;
+  }
+  std::vector<Index> PointsOf(int p) const
+  {
+    const std::vector<Index> tets = TetsOf(p);
+    const std::set<Index> points(tets.begin(), tets.end());
+    return { points.begin(), points.end() };
+  }
+};
+
+/// Data flowed as the cube roots of `count` values, their noise measured
+/// on the values: the options' ToNoiseSpace and FromNoiseSpace.
+void FlowAsCubeRoots(GraphFlowOptions& o, std::size_t count)
+{
+  o.ToNoiseSpace = [count](double* x) { std::transform(x, x + count, x, [](double v) { return v * v * v; }); };
+  o.FromNoiseSpace = [count](double* x) { std::transform(x, x + count, x, [](double v) { return std::cbrt(v); }); };
+}
+
+} // namespace
+
+TEST(Partition, DistributedTetrahedralFlowIsTheSerialOne)
+{
+  // The 3-manifold flow of 2-component data on the lattice split over the
+  // processes against the serial run on the whole lattice: the defaults
+  // (semi-implicit, least-risk stop, noise estimated) to the solver
+  // tolerance, explicit steps to round-off, and data flowed in another
+  // space than their noise's (ToNoiseSpace, as log-Euclidean tensors).
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const MPI_Comm world = MPI_COMM_WORLD;
+  const Lattice lattice(size);
+  const Index n = Lattice::N * Lattice::N * Lattice::N;
+  const auto valueOf = [](Index i, double* f) {
+    double x[3];
+    Lattice::Point(i, x);
+    f[0] = (x[0] > 4.0 ? 1.0 : 0.0) + 0.1 * std::sqrt(3.0) * (2.0 * std::fmod(i * 0.7548776662, 1.0) - 1.0);
+    f[1] = 0.1 * x[1] + 0.05 * std::sqrt(3.0) * (2.0 * std::fmod(i * 0.5698402910, 1.0) - 1.0);
+  };
+  // This process' piece, and the owner and row there of each of its points.
+  const std::vector<Index> global = lattice.PointsOf(rank);
+  std::map<Index, Index> local;
+  for (std::size_t l = 0; l < global.size(); ++l)
+  {
+    local[global[l]] = static_cast<Index>(l);
+  }
+  std::vector<Index> tets = lattice.TetsOf(rank);
+  for (Index& v : tets)
+  {
+    v = local.at(v);
+  }
+  std::vector<int> ownerRank;
+  std::vector<Index> ownerRow;
+  std::vector<double> points(3 * global.size()), values(2 * global.size());
+  for (std::size_t l = 0; l < global.size(); ++l)
+  {
+    ownerRank.push_back(lattice.OwnerOf(global[l]));
+    const std::vector<Index> there = lattice.PointsOf(ownerRank.back());
+    ownerRow.push_back(static_cast<Index>(std::lower_bound(there.begin(), there.end(), global[l]) - there.begin()));
+    Lattice::Point(global[l], &points[3 * l]);
+    valueOf(global[l], &values[2 * l]);
+  }
+  const Partition split(&world, static_cast<Index>(global.size()), ownerRank.data(), ownerRow.data());
+  const TetrahedralMesh piece(static_cast<Index>(global.size()), tets, 1);
+  std::vector<double> allPoints(3 * static_cast<std::size_t>(n)), allValues(2 * static_cast<std::size_t>(n));
+  for (Index i = 0; i < n; ++i)
+  {
+    Lattice::Point(i, &allPoints[3 * i]);
+    valueOf(i, &allValues[2 * i]);
+  }
+  const TetrahedralMesh whole(n, lattice.Tets, 1);
+  EXPECT_NEAR(piece.MeanEdgeLength(points.data(), &split), whole.MeanEdgeLength(allPoints.data()), 1e-14);
+
+  GraphFlowOptions defaults = GraphFlowOptions::ForMeshes();
+  defaults.NumberOfThreads = 1;
+  GraphFlowOptions explicitSteps = defaults;
+  explicitSteps.Integration = GraphFlowIntegration::Explicit;
+  explicitSteps.AdaptiveTimeStep = true;
+  explicitSteps.Stop = GraphFlowStop::Iterations;
+  explicitSteps.NumberOfIterations = 30;
+  // (The third case flows the cube roots of the data, the noise measured
+  // on the data: ToNoiseSpace, as log-Euclidean tensors.)
+  for (const auto& [options, tolerance, cubeRoots] :
+    { std::tuple{ defaults, 1e-6, false }, { explicitSteps, 1e-11, false }, { defaults, 1e-6, true } })
+  {
+    std::vector<double> serial = allValues, distributed = values;
+    GraphFlowOptions wholeOptions = options, pieceOptions = options;
+    if (cubeRoots)
+    {
+      for (std::vector<double>* data : { &serial, &distributed })
+      {
+        std::transform(data->begin(), data->end(), data->begin(), [](double v) { return std::cbrt(v); });
+      }
+      FlowAsCubeRoots(wholeOptions, serial.size());
+      FlowAsCubeRoots(pieceOptions, distributed.size());
+    }
+    const GraphFlowResult a = RunTetrahedralGraphFlow(whole, allPoints.data(), 2, serial.data(), nullptr, wholeOptions);
+    const GraphFlowResult b =
+      RunTetrahedralGraphFlow(piece, points.data(), 2, distributed.data(), nullptr, pieceOptions, {}, nullptr, &split);
+    ASSERT_TRUE(a.Error.empty() && b.Error.empty()) << a.Error << b.Error;
+    EXPECT_GT(a.Iterations, 2);
+    EXPECT_EQ(a.Iterations, b.Iterations);
+    EXPECT_NEAR(a.EstimatedNoiseLevel, b.EstimatedNoiseLevel, 1e-15);
+    EXPECT_NEAR(a.FinalRisk, b.FinalRisk, 1e-6 * a.InitialRisk + 1e-15);
+    double moved = 0.0, difference = 0.0;
+    for (Index i = 0; i < n; ++i)
+    {
+      for (int k = 0; k < 2; ++k)
+      {
+        double f[2];
+        valueOf(i, f);
+        moved = std::max(moved, std::abs(serial[2 * i + k] - (cubeRoots ? std::cbrt(f[k]) : f[k])));
+      }
+    }
+    for (std::size_t l = 0; l < global.size(); ++l)
+    {
+      for (int k = 0; split.IsOwned(static_cast<Index>(l)) && k < 2; ++k)
+      {
+        difference = std::max(difference, std::abs(distributed[2 * l + k] - serial[2 * global[l] + k]));
+      }
+    }
+    EXPECT_GT(moved, 0.01);
+    EXPECT_LE(difference, tolerance * moved) << "a distributed run of " << a.Iterations << " steps";
+  }
 }
 
 int main(int argc, char** argv)

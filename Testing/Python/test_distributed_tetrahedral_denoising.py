@@ -1,0 +1,210 @@
+"""TetrahedralBeltramiDenoising on tetrahedra split over the ranks of pvbatch
+(issue 28): each rank smooths the point data of its own piece, with the
+tetrahedra of the other pieces around its points (exchanged, not gathered);
+the noise estimate (an exact median over the ranks), the mean edge length,
+the stops' sums and the semi-implicit solves run over all ranks, and the
+results equal the serial ones (plain VTK on the whole mesh) to the solver
+tolerance, with the same number of steps.  Run by ctest with 1, 2, 3 and 4
+ranks (mpirun --oversubscribe).
+
+Checked on the real elephant filled by TetGen and cut anywhere by
+RedistributeDataSet (points where three or more pieces meet from 3 ranks
+on), with noisy point data (noise from the coordinates, so every layout has
+the same): the defaults (semi-implicit steps, least-risk stop, noise
+estimated), adaptive explicit steps, a 3-component array, log-Euclidean
+tensors,
+a fixed-points array, a rank with an empty piece, NaN values in a piece
+(an error on every rank, the output the input), and the counts each rank
+reports: with 4 ranks no rank holds more than a third of the points or
+tetrahedra."""
+import builtins  # (ParaView's programmable filters put numpy_interface's all, max, sum... in __main__)
+import os
+import sys
+import tempfile
+
+from paraview.simple import *  # noqa: F401,F403
+from paraview import servermanager
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkIOXML import vtkXMLPUnstructuredGridReader
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from configure import check  # noqa: E402
+
+DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
+
+LoadPlugin(os.environ["BELTRAMI_PLUGIN"], ns=globals())
+from beltrami import vtkTetrahedralBeltramiDenoising  # noqa: E402
+
+ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
+filled = TetGenTetrahedralize(Input=OpenDataFile(os.path.join(DATA, "elephant.off")), MaximumVolume=1e-6)
+whole = servermanager.Fetch(filled)
+check(whole.GetNumberOfCells() > 8000, "the elephant's tetrahedra (%d)" % whole.GetNumberOfCells())
+# A smooth function plus noise of about 0.05 from the coordinates, a vector
+# of it, and a mask.
+NOISE = ("0.0866*(2*(1e4*abs(sin(12.9898e3*coordsX + 78.233e3*coordsY + 37.719e3*coordsZ))"
+         " - floor(1e4*abs(sin(12.9898e3*coordsX + 78.233e3*coordsY + 37.719e3*coordsZ)))) - 1)")
+NOISY = "sin(12*coordsX)*cos(9*coordsY) + " + NOISE
+VECTOR = "(cos(8*coordsZ) + %s)*iHat + coordsY*jHat + (%s)*kHat" % (NOISE, NOISY)
+MASK = "coordsY > 0.3"
+
+
+# Noisy diffusion-like tensors (XX, YY, ZZ, XY, YZ, XZ; positive definite).
+TENSORS = """
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+out = self.GetOutput()
+out.ShallowCopy(self.GetInput())
+p = vtk_to_numpy(out.GetPoints().GetData()).astype(float) if out.GetNumberOfPoints() else np.zeros((0, 3))
+x, y, z = p.T
+h = 1e4 * np.abs(np.sin(12.9898e3 * x + 78.233e3 * y + 37.719e3 * z))
+noise = 0.15 * (2 * (h - np.floor(h)) - 1)
+t = np.stack([2 + np.sin(8 * x) + noise, 1.5 + 0.5 * np.cos(6 * y), 1 + 0.3 * noise,
+              0.3 * np.sin(5 * z), 0.2 + 0.1 * noise, 0.1 * np.cos(4 * x)], axis=1)
+a = numpy_to_vtk(np.ascontiguousarray(t), deep=1)
+a.SetName("t")
+out.GetPointData().AddArray(a)
+"""
+
+
+def with_data(source, nan=False, tensors=False):
+    f = Calculator(Input=source, ResultArrayName="f", Function=NOISY)
+    v = Calculator(Input=f, ResultArrayName="v", Function=VECTOR)
+    data = Calculator(Input=v, ResultArrayName="mask", Function=MASK, ResultArrayType="Unsigned Char")
+    if tensors:
+        data = ProgrammableFilter(Input=data, Script=TENSORS)
+    if not nan:
+        return data
+    spoiled = ProgrammableFilter(Input=data)  # f NaN where x > 0.3 (in whichever pieces hold those points)
+    spoiled.Script = """
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+out = self.GetOutput()
+out.DeepCopy(self.GetInput())
+if out.GetNumberOfPoints():
+    f = vtk_to_numpy(out.GetPointData().GetArray("f"))
+    f[vtk_to_numpy(out.GetPoints().GetData())[:, 0] > 0.3] = np.nan
+"""
+    return spoiled
+
+
+def serial(grid, array, settings):
+    """The filter on the whole mesh in plain VTK (a serial run)."""
+    f = vtkTetrahedralBeltramiDenoising()
+    f.SetInputData(grid)
+    f.SetInputArrayToProcess(0, 0, 0, 0, array)
+    f.SetInputArrayToProcess(1, 0, 0, 0, "mask")
+    for name, value in settings.items():
+        getattr(f, "Set" + name)(value)
+    f.Update()
+    return f.GetOutput()
+
+
+def fetch_pieces(proxy):
+    """Every rank's piece of `proxy`'s output, appended (servermanager.Fetch
+    gives rank 0's piece of an unstructured grid only)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "pieces.pvtu")
+        SaveData(path, proxy=proxy)
+        reader = vtkXMLPUnstructuredGridReader()
+        reader.SetFileName(path)
+        reader.Update()
+        return reader.GetOutput()
+
+
+def report(grid, name):
+    a = grid.GetFieldData().GetArray(name)
+    return [a.GetValue(k) for k in range(a.GetNumberOfTuples())]
+
+
+def split_smoothing(partitions=0, nan=False, array="f", panel=None):
+    """The proxy on the redistributed elephant (its `panel` settings, by the
+    panel's names)."""
+    redistributed = RedistributeDataSet(Input=filled)
+    redistributed.NumberOfPartitions = partitions
+    smoothed = TetrahedralBeltramiDenoising(Input=with_data(redistributed, nan, tensors=array == "t"))
+    smoothed.ArrayToSmooth = ["POINTS", array]
+    smoothed.FixedPointsArray = ["POINTS", "mask"]
+    smoothed.UseFixedPointsArray = 1
+    for name, value in (panel or {}).items():
+        setattr(smoothed, name, value)
+    smoothed.UpdatePipeline()
+    return smoothed
+
+
+def split_run(label, tolerance, partitions=0, array="f", panel=None, **settings):
+    """The split run against the serial VTK filter (`settings`)."""
+    smoothed = split_smoothing(partitions, array=array, panel=panel)
+    result = fetch_pieces(smoothed)
+    noisy = servermanager.Fetch(with_data(filled, tensors=array == "t"))
+    reference = serial(noisy, array, dict(settings, UseFixedPointsArray=1))
+    index = {tuple(x): i for i, x in enumerate(vtk_to_numpy(noisy.GetPoints().GetData()))}
+    ids = np.array([index.get(tuple(x), -1) for x in vtk_to_numpy(result.GetPoints().GetData())])
+    check(ids.min() >= 0 and len(set(ids)) == noisy.GetNumberOfPoints(), "%s: the pieces cover the mesh (%d unmatched, %d of %d points)"
+          % (label, (ids < 0).sum(), len(set(ids)), noisy.GetNumberOfPoints()))
+    ours = vtk_to_numpy(result.GetPointData().GetArray(array))
+    theirs = vtk_to_numpy(reference.GetPointData().GetArray(array))[ids]
+    before = vtk_to_numpy(noisy.GetPointData().GetArray(array))
+    difference = np.abs(ours - theirs).max()
+    moved = np.abs(vtk_to_numpy(reference.GetPointData().GetArray(array)) - before).max()
+    check(moved > 0.01, "%s: the serial run smoothed the data (largest change %.3g)" % (label, moved))
+    check(difference <= tolerance * moved,
+          "%s over %d rank(s) equals the serial result: difference %.3g <= %.0e x %.3g"
+          % (label, ranks, difference, tolerance, moved))
+    for name in ("FlowIterations", "EstimatedNoiseLevel", "FlowNoiseLevel", "FlowContrastScale"):
+        a, b = report(result, name), report(reference, name)
+        check(np.allclose(a, b, rtol=1e-9, atol=0), "%s: %s %s as serial %s" % (label, name, a, b))
+    if settings.get("StoppingRule", 2) == 2:
+        a, b = report(result, "FlowEstimatedError"), report(reference, "FlowEstimatedError")
+        check(np.allclose(a, b, rtol=1e-6), "%s: estimated error %s as serial %s" % (label, a, b))
+    kept = vtk_to_numpy(noisy.GetPointData().GetArray("mask"))[ids] != 0
+    check(np.array_equal(ours[kept], before[ids][kept]), "%s: fixed points kept" % label)
+    return smoothed
+
+
+smoothed = split_run("defaults", 1e-6)
+# (Adaptive explicit steps: TetGen's tetrahedra allow about 0.002 h^2, and
+# beyond the stability limit the serial run itself depends on the order of
+# its sums.)
+split_run("adaptive explicit steps", 1e-9, panel={"Integration": "Explicit", "AdaptiveTimeStep": 1,
+                                                  "StoppingRule": "Fixed Number Of Iterations", "NumberOfIterations": 100},
+          Integration=vtkTetrahedralBeltramiDenoising.EXPLICIT, AdaptiveTimeStep=1, StoppingRule=0, NumberOfIterations=100)
+split_run("a vector", 1e-6, array="v")
+split_run("log-Euclidean tensors", 1e-6, array="t", panel={"LogEuclideanTensors": 1}, LogEuclideanTensors=1)
+if ranks > 1:
+    split_run("defaults, an empty rank", 1e-6, partitions=ranks - 1)
+
+# What each rank holds: its own points, the ghost points of the rings, its
+# tetrahedra (field data FlowDistribution, one row per rank).
+COUNTS = """
+from vtkmodules.vtkCommonCore import vtkIdTypeArray, vtkPoints
+d = self.GetInput().GetFieldData().GetArray("FlowDistribution")
+out = self.GetOutput()
+p = vtkPoints()
+p.InsertNextPoint(0.0, 0.0, 0.0)
+out.SetPoints(p)
+for k, name in enumerate(("Owned", "Ghosts", "Cells")):
+    a = vtkIdTypeArray()
+    a.SetName(name)
+    a.InsertNextValue(d.GetValue(k) if d else -1)
+    out.GetPointData().AddArray(a)
+"""
+counts = ProgrammableFilter(Input=smoothed, OutputDataSetType="vtkPolyData")
+counts.Script = COUNTS
+table = servermanager.Fetch(counts).GetPointData()
+owned, ghosts, cells = (vtk_to_numpy(table.GetArray(n)) for n in ("Owned", "Ghosts", "Cells"))
+if ranks > 1:
+    check((owned >= 0).all() and owned.sum() == whole.GetNumberOfPoints(),
+          "each point owned by one rank (%s)" % owned)
+    check(ranks != 4 or ((owned + ghosts).max() <= whole.GetNumberOfPoints() / 3
+                         and cells.max() <= whole.GetNumberOfCells() / 3),
+          "no rank holds more than a third: points %s of %d, tetrahedra %s of %d"
+          % (owned + ghosts, whole.GetNumberOfPoints(), cells, whole.GetNumberOfCells()))
+
+# NaN values in a piece: an error on every rank (no hang), the output the
+# input there (no report of a run).
+bad = split_smoothing(nan=True)
+check(bad.GetDataInformation().GetNumberOfPoints() == bad.Input.GetDataInformation().GetNumberOfPoints()
+      and "FlowIterations" not in bad.FieldData.keys() and "f" in bad.PointData.keys(),
+      "NaN values in a piece: no run on any rank, the output the input")
+print("distributed tetrahedral denoising test passed")
