@@ -88,6 +88,19 @@ void vtkBeltramiGraphFlow::AddReport(vtkFieldData* fd, const beltrami::GraphFlow
   }
 }
 
+void vtkBeltramiGraphFlow::AddDistribution(vtkFieldData* fd, const vtkBeltramiPieces& pieces)
+{
+  const beltrami::Partition* rows = pieces.Split();
+  vtkNew<vtkIdTypeArray> distribution;
+  distribution->SetName("FlowDistribution");
+  for (const std::int64_t count : { std::int64_t(rows->OwnedRows()), std::int64_t(rows->Rows() - rows->OwnedRows()),
+         pieces.NumberOfCells(), rows->SentPerUpdate() })
+  {
+    distribution->InsertNextValue(count);
+  }
+  fd->AddArray(distribution);
+}
+
 std::string vtkBeltramiGraphFlow::RunWarnings(
   const beltrami::GraphFlowOptions& o, const beltrami::GraphFlowResult& r)
 {
@@ -247,17 +260,9 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
     vtkDoubleArray::SafeDownCast(smoothed)->GetPointer(0));
   ReplaceArray(input, output, array, smoothed);
   AddReport(output->GetFieldData(), result);
-  if (const beltrami::Partition* rows = split ? split->Split() : nullptr)
+  if (split && split->Split())
   {
-    vtkNew<vtkIdTypeArray> distribution;
-    distribution->SetName("FlowDistribution");
-    for (const std::int64_t count :
-      { std::int64_t(rows->OwnedRows()), std::int64_t(rows->Rows() - rows->OwnedRows()), split->NumberOfCells(),
-        rows->SentPerUpdate() })
-    {
-      distribution->InsertNextValue(count);
-    }
-    output->GetFieldData()->AddArray(distribution);
+    AddDistribution(output->GetFieldData(), *split);
   }
   return 1;
 }

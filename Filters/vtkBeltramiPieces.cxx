@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 using beltrami::Index;
 
@@ -350,6 +351,79 @@ bool vtkBeltramiPieces::BuildPartition(Index rows, Index pieceRows, const Coordi
       ownerRank[foreign[q]] = offeredRank[o];
       ownerRow[foreign[q]] = static_cast<Index>(owned[4 * o + 3]);
     }
+  }
+  vtkMPICommunicator* communicator = vtkMPICommunicator::SafeDownCast(controller->GetCommunicator());
+  try
+  {
+    Rows = std::make_unique<beltrami::Partition>(
+      communicator->GetMPIComm()->GetHandle(), rows, ownerRank.data(), ownerRow.data());
+  }
+  catch (const std::exception& e)
+  {
+    error = e.what();
+    Rows.reset();
+    return false;
+  }
+  return true;
+}
+
+bool vtkBeltramiPieces::BuildGridPartition(const int* inExt, const int* outExt, std::string& error)
+{
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const int ranks = controller->GetNumberOfProcesses();
+  int mine[12];
+  std::copy(outExt, outExt + 6, mine);
+  std::copy(inExt, inExt + 6, mine + 6);
+  std::vector<int> all(12 * static_cast<std::size_t>(ranks));
+  controller->AllGather(mine, all.data(), 12);
+  const auto empty = [](const int* e) { return e[1] < e[0] || e[3] < e[2] || e[5] < e[4]; };
+  const auto size = [&](const int* e, int a) { return empty(e) ? 0 : e[2 * a + 1] - e[2 * a] + 1; };
+  const Index rows = static_cast<Index>(std::int64_t(size(inExt, 0)) * size(inExt, 1) * size(inExt, 2));
+  Cells = 1; // the cells of the extent (pixels or voxels)
+  for (int a = 0; a < 3; ++a)
+  {
+    Cells *= size(inExt, a) > 1 ? size(inExt, a) - 1 : size(inExt, a);
+  }
+  std::vector<int> ownerRank;
+  std::vector<Index> ownerRow;
+  ownerRank.reserve(rows);
+  ownerRow.reserve(rows);
+  std::vector<int> holders; // per row of samples: the ranks whose piece holds the row
+  for (int k = inExt[4]; rows > 0 && error.empty() && k <= inExt[5]; ++k)
+  {
+    for (int j = inExt[2]; error.empty() && j <= inExt[3]; ++j)
+    {
+      holders.clear();
+      for (int r = 0; r < ranks; ++r)
+      {
+        const int* e = &all[12 * r];
+        if (!empty(e) && j >= e[2] && j <= e[3] && k >= e[4] && k <= e[5])
+        {
+          holders.push_back(r); // (in rank order: the first that holds a sample owns it)
+        }
+      }
+      for (int i = inExt[0]; i <= inExt[1]; ++i)
+      {
+        const auto owner = std::find_if(holders.begin(), holders.end(), [&](int r) {
+          return i >= all[12 * r] && i <= all[12 * r + 1];
+        });
+        if (owner == holders.end())
+        {
+          error = "the sample (" + std::to_string(i) + ", " + std::to_string(j) + ", " + std::to_string(k) +
+            ") of this rank's input is in no rank's piece";
+          break;
+        }
+        const int* in = &all[12 * *owner + 6];
+        ownerRank.push_back(*owner);
+        ownerRow.push_back(static_cast<Index>(
+          (std::int64_t(k - in[4]) * size(in, 1) + (j - in[2])) * size(in, 0) + (i - in[0])));
+      }
+    }
+  }
+  if (!AllAgree(error.empty()))
+  {
+    error = error.empty() ? "another rank's input has samples in no rank's piece" : error;
+    return false;
   }
   vtkMPICommunicator* communicator = vtkMPICommunicator::SafeDownCast(controller->GetCommunicator());
   try

@@ -75,6 +75,12 @@ public:
   /// and AllAgree collective.  False (with `error`) when a point has no
   /// owner.
   bool BuildPartition(beltrami::Index rows, beltrami::Index pieceRows, const Coordinates& point, std::string& error);
+  /// The same for structured pieces (images; collective): this rank holds
+  /// the samples of extent `inExt` (its piece `outExt` and a ring around
+  /// it); a sample belongs to the lowest rank whose piece holds it, at its
+  /// index in that rank's `inExt`.  Every rank's extents are gathered.
+  /// False (with `error`) when a sample of `inExt` is in no rank's piece.
+  bool BuildGridPartition(const int* inExt, const int* outExt, std::string& error);
   /// The points of the piece with its rings over the ranks; null before
   /// BuildPartition (or when it failed).
   const beltrami::Partition* Split() const { return Rows.get(); }

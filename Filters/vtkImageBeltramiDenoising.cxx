@@ -2,6 +2,7 @@
 #include "vtkBeltramiSettings.h"
 
 #include "vtkBeltramiGraphFlow.h"
+#include "vtkBeltramiPieces.h"
 #include "vtkBeltramiSurface.h"
 
 #include "Flows/ColorSpace.h"
@@ -179,7 +180,8 @@ bool ReadValues(vtkImageBeltramiDenoising* self, vtkDataArray* array, vtkIdType 
 /// Runs the flow on the values: the pixel grid of a 2D image, or the voxels
 /// of a 3D image (ImageGrid::Volume).
 beltrami::GraphFlowResult RunFlow(vtkImageBeltramiDenoising* self, vtkImageData* input,
-  const vtkBeltramiGraphFlow::ImageGrid& grid, const std::vector<std::uint8_t>& fixed, FlowValues& v)
+  const vtkBeltramiGraphFlow::ImageGrid& grid, const std::vector<std::uint8_t>& fixed, FlowValues& v,
+  const beltrami::GridPiece* piece)
 {
   beltrami::GraphFlowOptions options = vtkBeltramiGraphFlow::Options(self);
   options.Boundary = static_cast<beltrami::GridBoundary>(self->GetBoundaryHandling());
@@ -193,7 +195,7 @@ beltrami::GraphFlowResult RunFlow(vtkImageBeltramiDenoising* self, vtkImageData*
   if (v.LogTensor)
   {
     vtkBeltramiGraphFlow::ToLogEuclidean(self, v.Name.c_str(), v.Values.data(), count, self->GetNumberOfThreads(),
-      options);
+      options, piece ? piece->Split : nullptr);
   }
   self->UpdateProgress(0.0);
   const beltrami::ProgressCallback progress = [self](double fraction) {
@@ -202,10 +204,10 @@ beltrami::GraphFlowResult RunFlow(vtkImageBeltramiDenoising* self, vtkImageData*
   };
   const std::uint8_t* mask = fixed.empty() ? nullptr : fixed.data();
   const beltrami::GraphFlowResult result = grid.Volume
-    ? beltrami::RunVolumeGraphFlow(grid.Voxels, v.Used, v.Values.data(), mask, options, progress)
-    : beltrami::RunImageGraphFlow(grid.Pixels, v.Used, v.Values.data(), mask, options, progress);
+    ? beltrami::RunVolumeGraphFlow(grid.Voxels, v.Used, v.Values.data(), mask, options, progress, piece)
+    : beltrami::RunImageGraphFlow(grid.Pixels, v.Used, v.Values.data(), mask, options, progress, piece);
   const std::string warning = vtkBeltramiGraphFlow::RunWarnings(options, result);
-  if (!warning.empty() && result.Error.empty() && result.Completed)
+  if (!warning.empty() && result.Error.empty() && result.Completed && (!piece || piece->Split->Rank() == 0))
   {
     vtkWarningWithObjectMacro(self, << warning);
   }
@@ -239,6 +241,75 @@ void WriteOutput(vtkImageBeltramiDenoising* self, vtkImageData* input, vtkImageD
   vtkBeltramiGraphFlow::AddReport(output->GetFieldData(), result);
 }
 
+/// RequestData's checks and reads of the input (its extents `inExt`, and
+/// `outExt` to produce; `array`: input array 0): the mask and the values;
+/// false after an error.
+bool ReadInput(vtkImageBeltramiDenoising* self, vtkImageData* input, const int* inExt, const int* outExt,
+  const vtkBeltramiGraphFlow::ImageGrid& grid, vtkDataArray* array, int association,
+  std::vector<std::uint8_t>& fixed, FlowValues& v)
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    if (outExt[2 * a] < inExt[2 * a] || outExt[2 * a + 1] > inExt[2 * a + 1])
+    {
+      vtkErrorWithObjectMacro(self, "The input extent does not cover the requested extent: the output is the input.");
+      return false;
+    }
+  }
+  if (grid.Volume && input->GetNumberOfPoints() > std::numeric_limits<beltrami::Index>::max() / 8)
+  {
+    vtkErrorWithObjectMacro(self, "The 3D image has " << input->GetNumberOfPoints() << " voxels: too many for one piece of the "
+                                      << "tetrahedral flow; stream it in pieces. The output is the input.");
+    return false;
+  }
+  if (!vtkBeltramiGraphFlow::IsPointArray(self, array, association))
+  {
+    return false;
+  }
+  std::string error;
+  fixed = self->GetUseFixedPointsArray()
+    ? vtkBeltramiSurface::SelectedPointMask(
+        self, input, vtkImageBeltramiDenoising::FIXED_POINTS_ARRAY, "fixed-pixel mask", error)
+    : std::vector<std::uint8_t>();
+  if (!error.empty())
+  {
+    vtkErrorWithObjectMacro(self, << error << " The output is the input.");
+    return false;
+  }
+  return ReadValues(self, array, input->GetNumberOfPoints(), v);
+}
+
+/// A run split over the ranks (collective): the owners of the samples
+/// (vtkBeltramiPieces::BuildGridPartition), the piece of the whole extent,
+/// and the settings of the values agreed (an empty piece has no array to
+/// read them from).  False after an error.
+bool SplitGrid(vtkImageBeltramiDenoising* self, vtkBeltramiPieces& pieces,
+  const vtkBeltramiGraphFlow::ImageGrid& grid, const int* whole, const int* inExt, const int* outExt, bool empty,
+  FlowValues& v, beltrami::GridPiece& piece)
+{
+  std::string error;
+  const int none[6] = { 0, -1, 0, -1, 0, -1 };
+  if (!pieces.BuildGridPartition(empty ? none : inExt, empty ? none : outExt, error)) // collective
+  {
+    vtkErrorWithObjectMacro(self, "Cannot split the flow over the ranks: " << error << ". The output is the input.");
+    return false;
+  }
+  piece.Split = pieces.Split();
+  const int axes[3] = { grid.Volume ? 0 : grid.Axis0, grid.Volume ? 1 : grid.Axis1, 2 };
+  for (int a = 0; a < (grid.Volume ? 3 : 2); ++a)
+  {
+    piece.Whole[a] = whole[2 * axes[a] + 1] - whole[2 * axes[a]] + 1;
+    piece.Origin[a] = empty ? 0 : inExt[2 * axes[a]] - whole[2 * axes[a]];
+  }
+  // What an empty piece cannot read from its array: the others' settings.
+  const beltrami::Partition* rows = piece.Split;
+  v.Used = static_cast<int>(rows->Max(v.Used));
+  v.Range = rows->Max(v.Range);
+  v.Luv = rows->Max(v.Luv ? 1.0 : 0.0) > 0.0;
+  v.LogTensor = rows->Max(v.LogTensor ? 1.0 : 0.0) > 0.0;
+  return true;
+}
+
 } // namespace
 
 vtkImageBeltramiDenoising::vtkImageBeltramiDenoising()
@@ -268,9 +339,20 @@ int vtkImageBeltramiDenoising::RequestInformation(
 int vtkImageBeltramiDenoising::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  // One ring of neighbours per explicit step, or everything.
-  vtkBeltramiGraphFlow::RequestImageExtent(inputVector[0]->GetInformationObject(0),
-    outputVector->GetInformationObject(0), this->IsLocal() ? this->NumberOfIterations : -1);
+  // One ring of neighbours per explicit step; or, where the flow needs the
+  // whole image and it is split over ranks that can solve together (the
+  // whole image asked for, one piece per rank, as in pvbatch and
+  // pvserver), one ring around each rank's piece (the ranks then solve
+  // together: SolveOverRanks); else everything.
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  int whole[6], ext[6];
+  inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+  outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext);
+  this->SolveOverRanks =
+    !this->IsLocal() && vtkBeltramiPieces::CanSolveTogether(outInfo) && std::equal(ext, ext + 6, whole);
+  vtkBeltramiGraphFlow::RequestImageExtent(
+    inInfo, outInfo, this->IsLocal() ? this->NumberOfIterations : this->SolveOverRanks ? 1 : -1);
   return 1;
 }
 
@@ -279,7 +361,11 @@ int vtkImageBeltramiDenoising::RequestData(
 {
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkImageData* output = vtkImageData::GetData(outputVector);
-  if (!input || !output)
+  // A run split over the ranks: every rank goes through the same collective
+  // steps (an empty piece too), and agrees on errors before them.
+  vtkBeltramiPieces pieces;
+  pieces.SetCollective(this->SolveOverRanks);
+  if (!pieces.AllAgree(input && output))
   {
     vtkErrorMacro("Input and output must be vtkImageData.");
     return 0;
@@ -294,57 +380,44 @@ int vtkImageBeltramiDenoising::RequestData(
   {
     output->Crop(outExt);
   }
-  if (input->GetNumberOfPoints() == 0 || output->GetNumberOfPoints() == 0)
+  const bool empty = input->GetNumberOfPoints() == 0 || output->GetNumberOfPoints() == 0;
+  if (empty && !this->SolveOverRanks)
   {
     return 1; // empty image or piece: nothing to smooth
   }
-  output->GetExtent(outExt);
-  for (int a = 0; a < 3; ++a)
+  if (!empty)
   {
-    if (outExt[2 * a] < inExt[2 * a] || outExt[2 * a + 1] > inExt[2 * a + 1])
-    {
-      vtkErrorMacro("The input extent does not cover the requested extent: the output is the input.");
-      return 0;
-    }
-  }
-  const vtkBeltramiGraphFlow::ImageGrid grid = vtkBeltramiGraphFlow::GridOf(input, whole, inExt);
-  if (grid.Volume && input->GetNumberOfPoints() > std::numeric_limits<beltrami::Index>::max() / 8)
-  {
-    vtkErrorMacro("The 3D image has " << input->GetNumberOfPoints() << " voxels: too many for one piece of the "
-                                      << "tetrahedral flow; stream it in pieces. The output is the input.");
-    return 0;
-  }
-  int association = -1;
-  vtkDataArray* array = this->GetInputArrayToProcess(SMOOTHED_ARRAY, inputVector, association);
-  if (!vtkBeltramiGraphFlow::IsPointArray(this, array, association))
-  {
-    return 0;
-  }
-  std::string error;
-  const std::vector<std::uint8_t> fixed = this->UseFixedPointsArray
-    ? vtkBeltramiSurface::SelectedPointMask(this, input, FIXED_POINTS_ARRAY, "fixed-pixel mask", error)
-    : std::vector<std::uint8_t>();
-  if (!error.empty())
-  {
-    vtkErrorMacro(<< error << " The output is the input.");
-    return 0;
+    output->GetExtent(outExt);
   }
   FlowValues v;
-  if (!ReadValues(this, array, input->GetNumberOfPoints(), v))
+  std::vector<std::uint8_t> fixed;
+  int association = -1;
+  vtkDataArray* array = empty ? nullptr : this->GetInputArrayToProcess(SMOOTHED_ARRAY, inputVector, association);
+  const vtkBeltramiGraphFlow::ImageGrid grid = vtkBeltramiGraphFlow::GridOf(input, whole, inExt);
+  if (!pieces.AllAgree(empty || ReadInput(this, input, inExt, outExt, grid, array, association, fixed, v)))
   {
     return 0;
   }
-  const beltrami::GraphFlowResult result = RunFlow(this, input, grid, fixed, v);
+  beltrami::GridPiece piece;
+  if (this->SolveOverRanks && !SplitGrid(this, pieces, grid, whole, inExt, outExt, empty, v, piece))
+  {
+    return 0;
+  }
+  const beltrami::GraphFlowResult result = RunFlow(this, input, grid, fixed, v, piece.Split ? &piece : nullptr);
   if (!result.Error.empty())
   {
     vtkErrorMacro(<< result.Error << ". The output is the input.");
     return 0;
   }
-  if (!result.Completed)
+  if (!result.Completed || empty)
   {
-    return 1; // aborted: the output is the input
+    return 1; // aborted, or an empty piece: the output is the input
   }
   WriteOutput(this, input, output, array, inExt, v, result);
+  if (piece.Split)
+  {
+    vtkBeltramiGraphFlow::AddDistribution(output->GetFieldData(), pieces);
+  }
   return 1;
 }
 

@@ -101,7 +101,14 @@
  * asks for NumberOfIterations ghost pixels around the requested extent and
  * the result of any piece equals that of the whole image, bit for bit;
  * otherwise (automatic settings, adaptive step, semi-implicit, the
- * rule-based stops: global quantities) it asks for the whole extent.  The work is threaded
+ * rule-based stops: global quantities) it asks for the whole extent - except
+ * where the image is split over the ranks of a distributed run (pvbatch,
+ * pvserver: one piece per rank, the whole image asked for): there each rank
+ * asks for its piece and a ring of one sample, and the ranks solve together
+ * (beltrami::GridPiece: the noise estimate an exact median over the ranks,
+ * the stops' sums and the semi-implicit solves over all of them; the
+ * numbers of a serial run; field data FlowDistribution: owned and ring
+ * samples, cells, values sent per exchange).  The work is threaded
  * (NumberOfThreads, 0 = all) with results independent of the thread count.
  * Field data: FlowIterations (steps to the result), FlowTime, FlowRMSChange,
  * FlowArea (initial and final area of the image surface),
@@ -172,6 +179,9 @@ protected:
   vtkBeltramiGraphFlowMembersMacro();
   int ColorSpace = AUTOMATIC;
   int BoundaryHandling;
+  /// Set by RequestUpdateExtent: the image is split over ranks that solve
+  /// together, each on its piece and a ring of one sample.
+  bool SolveOverRanks = false;
 
 private:
   vtkImageBeltramiDenoising(const vtkImageBeltramiDenoising&) = delete;

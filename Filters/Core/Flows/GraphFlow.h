@@ -169,11 +169,30 @@ struct PixelGrid
   double SpacingY = 1.0;
 };
 
+/// A piece of a grid split over processes (ParaView's ranks): the grid
+/// given to a flow is the box of the whole grid from sample Origin (x, y,
+/// z; 2D grids: z 0, Whole[2] 1) - the samples this process owns and a
+/// ring of one sample around them wherever the whole grid goes on, all in
+/// the grid's order - and Split says which it owns and who owns the others
+/// (Solvers/Partition; the values and mask of the ring are their owners').
+/// Every process calls the flow with its piece, an empty one too
+/// (collective); the noise estimate (an exact median over the processes),
+/// the figures, the stops' sums and the semi-implicit solves run over all
+/// of them, and each process's samples of the result are those of a serial
+/// run on the whole grid to round-off and the solver's tolerance.
+struct GridPiece
+{
+  std::int64_t Whole[3] = { 1, 1, 1 };
+  std::int64_t Origin[3] = { 0, 0, 0 };
+  const Partition* Split = nullptr;
+};
+
 /// Runs the flow on `components` (1 to 6) interleaved values per pixel,
-/// in place.  fixed (optional): non-zero = pixel kept as it is.
+/// in place.  fixed (optional): non-zero = pixel kept as it is.  piece
+/// (optional): the grid is a piece of a grid split over processes.
 GraphFlowResult RunImageGraphFlow(const PixelGrid& grid, int components, double* values,
   const std::uint8_t* fixed, const GraphFlowOptions& options,
-  const ProgressCallback& progress = {});
+  const ProgressCallback& progress = {}, const GridPiece* piece = nullptr);
 
 /// Runs the flow on point data over a triangle mesh: points are 3 doubles per
 /// vertex, `components` (1 to 5) interleaved values per vertex, in place.
@@ -207,7 +226,8 @@ struct VoxelGrid
 /// RunTetrahedralGraphFlow on GridTetrahedra, at a fraction of the time and
 /// memory.  Every dimension must be at least 2 (else nothing is done).
 GraphFlowResult RunVolumeGraphFlow(const VoxelGrid& grid, int components, double* values,
-  const std::uint8_t* fixed, const GraphFlowOptions& options, const ProgressCallback& progress = {});
+  const std::uint8_t* fixed, const GraphFlowOptions& options, const ProgressCallback& progress = {},
+  const GridPiece* piece = nullptr);
 
 class TetrahedralMesh;
 

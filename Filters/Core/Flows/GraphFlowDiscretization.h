@@ -173,6 +173,13 @@ ProbeWindow GridProbeWindow(Index layers, Index layerSize, const GraphFlowOption
 void PositionProbeSigns(int components, const double* points, double lengthScale, std::size_t begin, std::size_t end,
   std::vector<double>& b);
 
+/// The probe's signs of a piece of a split grid of w x h x d samples
+/// (GridPiece): those of its values in the whole grid's numbering
+/// (FlowDiscretization::ProbeSigns of the whole grid), so that every
+/// layout probes with the serial signs.
+void GridPieceProbeSigns(const FlowDiscretization& disc, const GridPiece& piece, std::int64_t w, std::int64_t h,
+  std::int64_t d, std::vector<double>& b);
+
 /// The discretization of the flow on voxel cells (8 point ids per cell in
 /// VTK_VOXEL order: corner bit a = a step along axis a) of one lattice, as
 /// the sparse active voxels of an OpenVDB grid: the dense 3D kernel's

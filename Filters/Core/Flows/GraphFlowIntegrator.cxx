@@ -64,6 +64,21 @@ void PositionProbeSigns(int components, const double* points, double lengthScale
   }
 }
 
+void GridPieceProbeSigns(const FlowDiscretization& disc, const GridPiece& piece, std::int64_t w, std::int64_t h,
+  std::int64_t d, std::vector<double>& b)
+{
+  const std::size_t nc = static_cast<std::size_t>(disc.Components), row = static_cast<std::size_t>(w) * nc;
+  b.resize(static_cast<std::size_t>(w * h * d) * nc);
+  std::vector<double> signs;
+  for (std::int64_t r = 0; r < h * d; ++r)
+  {
+    const std::int64_t y = r % h + piece.Origin[1], z = r / h + piece.Origin[2];
+    const std::size_t first = static_cast<std::size_t>((z * piece.Whole[1] + y) * piece.Whole[0] + piece.Origin[0]) * nc;
+    disc.FlowDiscretization::ProbeSigns(first, first + row, signs);
+    std::copy(signs.begin(), signs.end(), b.begin() + static_cast<std::ptrdiff_t>(r * row));
+  }
+}
+
 void FlowDiscretization::ProbeSigns(std::size_t begin, std::size_t end, std::vector<double>& b) const
 {
   // A linear congruential sequence, the sign of value k from its state

@@ -102,68 +102,136 @@ double MeanOverComponents(int components, Component&& component, const Partition
 
 } // namespace
 
-double EstimateImageNoise(const PixelGrid& grid, int components, const double* values, int numThreads)
+namespace
 {
-  if (grid.Width < 3 || grid.Height < 3 || components < 1 || !values)
+
+/// The samples of a piece of a split grid (GridPiece): the samples it owns
+/// inside the whole grid (a margin of 1), on the rows (y, z) the whole grid
+/// samples at `stride` (its interior rows numbered y fastest), in any order
+/// (the estimate takes order statistics); sample(x, y, z, response,
+/// gradient) at local coordinates.
+template <typename Sample>
+void SamplePiece(const GridPiece& piece, std::int64_t w, std::int64_t h, std::int64_t d, std::int64_t stride,
+  Samples& s, Sample&& sample)
+{
+  const std::int64_t* whole = piece.Whole;
+  const std::int64_t* origin = piece.Origin;
+  const bool volume = whole[2] > 1;
+  const auto inside = [&](std::int64_t local, int a) {
+    const std::int64_t g = local + origin[a];
+    return g >= 1 && g <= whole[a] - 2;
+  };
+  for (std::int64_t z = 0; z < d; ++z)
+  {
+    for (std::int64_t y = 0; y < h; ++y)
+    {
+      const std::int64_t row = (y + origin[1] - 1) + (volume ? (z + origin[2] - 1) * (whole[1] - 2) : 0);
+      if (!inside(y, 1) || (volume && !inside(z, 2)) || row % stride != 0)
+      {
+        continue;
+      }
+      for (std::int64_t x = 0; x < w; ++x)
+      {
+        if (inside(x, 0) && piece.Split->IsOwned(static_cast<Index>((z * h + y) * w + x)))
+        {
+          double response = 0.0, gradient = 0.0;
+          sample(x, y, z, response, gradient);
+          s.Response.push_back(response);
+          s.Gradient.push_back(gradient);
+        }
+      }
+    }
+  }
+}
+
+} // namespace
+
+double EstimateImageNoise(
+  const PixelGrid& grid, int components, const double* values, int numThreads, const GridPiece* piece)
+{
+  const bool split = piece && piece->Split; // (every process joins, an empty piece too)
+  const std::int64_t W = split ? piece->Whole[0] : grid.Width, H = split ? piece->Whole[1] : grid.Height;
+  if (W < 3 || H < 3 || components < 1 || (!values && !split))
   {
     return 0.0;
   }
   const Index w = grid.Width, h = grid.Height;
-  const std::int64_t stride = StrideFor(static_cast<double>(w - 2) * (h - 2)); // rows
+  const std::int64_t stride = StrideFor(static_cast<double>(W - 2) * (H - 2)); // rows
   return MeanOverComponents(components, [&](int comp, Samples& s) {
     const auto at = [&](Index x, Index y) {
       return values[(static_cast<std::size_t>(y) * w + x) * components + comp];
     };
+    const auto sample = [&](Index x, Index y, double& response, double& gradient) {
+      const double a = at(x - 1, y - 1), b = at(x, y - 1), c = at(x + 1, y - 1);
+      const double d = at(x - 1, y), e = at(x, y), f = at(x + 1, y);
+      const double g = at(x - 1, y + 1), i = at(x, y + 1), j = at(x + 1, y + 1);
+      response = std::abs(a - 2 * b + c - 2 * d + 4 * e - 2 * f + g - 2 * i + j) / 6.0;
+      const double gx = (c + 2 * f + j) - (a + 2 * d + g), gy = (g + 2 * i + j) - (a + 2 * b + c);
+      gradient = gx * gx + gy * gy;
+    };
+    if (split)
+    {
+      SamplePiece(*piece, w, h, 1, stride, s,
+        [&](std::int64_t x, std::int64_t y, std::int64_t, double& response, double& gradient) {
+          sample(static_cast<Index>(x), static_cast<Index>(y), response, gradient);
+        });
+      return;
+    }
     SampleRows((h - 2 + stride - 1) / stride, w - 2, numThreads, s,
       [&](std::int64_t row, std::int64_t column, double& response, double& gradient) {
-        const Index y = static_cast<Index>(1 + row * stride), x = static_cast<Index>(1 + column);
-        const double a = at(x - 1, y - 1), b = at(x, y - 1), c = at(x + 1, y - 1);
-        const double d = at(x - 1, y), e = at(x, y), f = at(x + 1, y);
-        const double g = at(x - 1, y + 1), i = at(x, y + 1), j = at(x + 1, y + 1);
-        response = std::abs(a - 2 * b + c - 2 * d + 4 * e - 2 * f + g - 2 * i + j) / 6.0;
-        const double gx = (c + 2 * f + j) - (a + 2 * d + g), gy = (g + 2 * i + j) - (a + 2 * b + c);
-        gradient = gx * gx + gy * gy;
+        sample(static_cast<Index>(1 + column), static_cast<Index>(1 + row * stride), response, gradient);
       });
-  });
+  }, split ? piece->Split : nullptr);
 }
 
-double EstimateVolumeNoise(const VoxelGrid& grid, int components, const double* values, int numThreads)
+double EstimateVolumeNoise(
+  const VoxelGrid& grid, int components, const double* values, int numThreads, const GridPiece* piece)
 {
-  if (grid.Width < 3 || grid.Height < 3 || grid.Depth < 3 || components < 1 || !values)
+  const bool split = piece && piece->Split; // (every process joins, an empty piece too)
+  const std::int64_t W = split ? piece->Whole[0] : grid.Width, H = split ? piece->Whole[1] : grid.Height,
+                     D = split ? piece->Whole[2] : grid.Depth;
+  if (W < 3 || H < 3 || D < 3 || components < 1 || (!values && !split))
   {
     return 0.0;
   }
   const std::int64_t w = grid.Width, h = grid.Height, d = grid.Depth;
   const double gain = std::sqrt(216.0);
   const double line[3] = { 1.0, -2.0, 1.0 };
-  const std::int64_t rows = (h - 2) * (d - 2);
-  const std::int64_t stride = StrideFor(static_cast<double>(w - 2) * rows); // rows (y, z)
+  const std::int64_t rows = (H - 2) * (D - 2);
+  const std::int64_t stride = StrideFor(static_cast<double>(W - 2) * rows); // rows (y, z)
   return MeanOverComponents(components, [&](int comp, Samples& s) {
     const auto at = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
       return values[((z * h + y) * w + x) * components + comp];
     };
-    SampleRows((rows + stride - 1) / stride, w - 2, numThreads, s,
-      [&](std::int64_t sampled, std::int64_t column, double& response, double& gradient) {
-        const std::int64_t row = sampled * stride, x = 1 + column;
-        const std::int64_t y = 1 + row % (h - 2), z = 1 + row / (h - 2);
-        double r = 0.0;
-        for (int k = 0; k < 3; ++k)
+    const auto sample = [&](std::int64_t x, std::int64_t y, std::int64_t z, double& response, double& gradient) {
+      double r = 0.0;
+      for (int k = 0; k < 3; ++k)
+      {
+        for (int j = 0; j < 3; ++j)
         {
-          for (int j = 0; j < 3; ++j)
+          const double c = line[k] * line[j];
+          for (int i = 0; i < 3; ++i)
           {
-            const double c = line[k] * line[j];
-            for (int i = 0; i < 3; ++i)
-            {
-              r += c * line[i] * at(x + i - 1, y + j - 1, z + k - 1);
-            }
+            r += c * line[i] * at(x + i - 1, y + j - 1, z + k - 1);
           }
         }
-        const double gx = at(x + 1, y, z) - at(x - 1, y, z), gy = at(x, y + 1, z) - at(x, y - 1, z),
-                     gz = at(x, y, z + 1) - at(x, y, z - 1);
-        response = std::abs(r) / gain;
-        gradient = gx * gx + gy * gy + gz * gz;
+      }
+      const double gx = at(x + 1, y, z) - at(x - 1, y, z), gy = at(x, y + 1, z) - at(x, y - 1, z),
+                   gz = at(x, y, z + 1) - at(x, y, z - 1);
+      response = std::abs(r) / gain;
+      gradient = gx * gx + gy * gy + gz * gz;
+    };
+    if (split)
+    {
+      SamplePiece(*piece, w, h, d, stride, s, sample);
+      return;
+    }
+    SampleRows((rows + stride - 1) / stride, w - 2, numThreads, s,
+      [&](std::int64_t sampled, std::int64_t column, double& response, double& gradient) {
+        const std::int64_t row = sampled * stride;
+        sample(1 + column, 1 + row % (h - 2), 1 + row / (h - 2), response, gradient);
       });
-  });
+  }, split ? piece->Split : nullptr);
 }
 
 double EstimateGraphNoise(Index size, const std::int64_t* offsets, const Index* neighbors, const double* points,

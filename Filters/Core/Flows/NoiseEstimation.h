@@ -34,11 +34,15 @@ namespace beltrami
 /// The noise level (standard deviation, in the units of the values) of an
 /// image of `components` interleaved values per pixel: the mean over the
 /// components.  0 for images smaller than 3 x 3 pixels.  The samples are
-/// computed on numThreads threads (0: all), with the same result.
-double EstimateImageNoise(const PixelGrid& grid, int components, const double* values, int numThreads = 0);
+/// computed on numThreads threads (0: all), with the same result.  piece
+/// (optional, collective): `grid` is a piece of a grid split over processes
+/// (GridPiece); the estimate of the whole grid, the same on every process.
+double EstimateImageNoise(const PixelGrid& grid, int components, const double* values, int numThreads = 0,
+  const GridPiece* piece = nullptr);
 
 /// The same for a 3D image (0 below 3 x 3 x 3 voxels).
-double EstimateVolumeNoise(const VoxelGrid& grid, int components, const double* values, int numThreads = 0);
+double EstimateVolumeNoise(const VoxelGrid& grid, int components, const double* values, int numThreads = 0,
+  const GridPiece* piece = nullptr);
 
 /// The same for point data on a graph of `size` vertices (neighbours of i:
 /// neighbors[offsets[i] .. offsets[i + 1]), points 3 doubles per vertex).

@@ -127,11 +127,17 @@ template <int NC>
 class GridDiscretization final : public FlowDiscretization
 {
 public:
+  /// piece (optional): the grid is a piece of a split grid (GridPiece).
   GridDiscretization(const PixelGrid& grid, GridBoundary boundary, double gamma, int threads,
-    bool storeOperator)
+    bool storeOperator, const GridPiece* piece = nullptr)
     : Grid(grid)
     , Boundary(boundary)
   {
+    if (piece && piece->Split)
+    {
+      Piece = *piece;
+      Split = piece->Split;
+    }
     Allocate(grid.Width * grid.Height, NC, gamma, threads, storeOperator);
     // 0.2 on unit grids (limit about 0.24), scaled with the spacing.
     AutomaticTimeStep = 0.2 * 2.0 / (1.0 / (grid.SpacingX * grid.SpacingX) + 1.0 / (grid.SpacingY * grid.SpacingY));
@@ -150,7 +156,16 @@ public:
     LengthScale = std::sqrt(grid.SpacingX * grid.SpacingY);
   }
 
-  double EstimateNoise(const double* values) const override { return EstimateImageNoise(Grid, NC, values, Threads); }
+  double EstimateNoise(const double* values) const override
+  {
+    return EstimateImageNoise(Grid, NC, values, Threads, Split ? &Piece : nullptr);
+  }
+
+  void ProbeSigns(std::size_t begin, std::size_t end, std::vector<double>& b) const override
+  {
+    Split ? GridPieceProbeSigns(*this, Piece, Grid.Width, Grid.Height, 1, b)
+          : FlowDiscretization::ProbeSigns(begin, end, b);
+  }
 
   void Update(const double* u) override
   {
@@ -170,6 +185,13 @@ public:
   /// says (the explicit step from u into next), and the figures.
   void Sweep(const double* u, PixelOutput output, double dt, double* next)
   {
+    if (Size == 0) // (an empty piece of a split grid)
+    {
+      Area = Split ? 0.5 * Split->Sum(0.0) : 0.0;
+      MaxRate = Split ? Split->Max(0.0) : 0.0;
+      StepSum = 0.0;
+      return;
+    }
     Pad(u, true);
     const Index w = Grid.Width, h = Grid.Height;
     RowArea.resize(h);
@@ -206,13 +228,17 @@ public:
       area += RowArea[r];
       rate = std::max(rate, RowRate[r]);
     }
-    Area = 0.5 * area;
-    MaxRate = rate;
+    Area = 0.5 * (Split ? Split->Sum(area) : area);
+    MaxRate = Split ? Split->Max(rate) : rate;
     StepSum = std::accumulate(RowSums.begin(), RowSums.end(), 0.0);
   }
 
   void Apply(const double* x, double* y, bool ghosts) override
   {
+    if (Size == 0)
+    {
+      return;
+    }
     Pad(x, ghosts);
     const Index w = Grid.Width;
     ParallelFor(Grid.Height, Threads, [&](std::int64_t r0, std::int64_t r1) {
@@ -246,6 +272,7 @@ public:
 
 private:
   PixelGrid Grid;
+  GridPiece Piece; // with Split: the piece of a split grid
   GridBoundary Boundary;
   Index PW = 0, PH = 0;
   std::size_t PlaneSize = 0;
@@ -479,8 +506,9 @@ private:
     double area = 0.0, rate = 0.0; // in order (not vectorized): sums are reproducible
     for (Index c = 0; c < w; ++c)
     {
-      area += masses[c];
-      rate = std::max(rate, rates[c]);
+      const bool counts = !Split || Split->IsOwned(static_cast<Index>(r * w + c)); // (a split grid: its own)
+      area += counts ? masses[c] : 0.0;
+      rate = std::max(rate, counts ? rates[c] : 0.0);
     }
     RowArea[r] = area;
     RowRate[r] = rate;
@@ -489,14 +517,14 @@ private:
 
 template <int NC>
 GraphFlowResult RunGrid(const PixelGrid& grid, double* values, const std::uint8_t* fixed,
-  const GraphFlowOptions& o, const ProgressCallback& progress)
+  const GraphFlowOptions& o, const ProgressCallback& progress, const GridPiece* piece)
 {
   // The grid (or a band of its rows, from row `first`).
   const auto band = [&](Index first, Index rows) -> std::unique_ptr<FlowDiscretization> {
     PixelGrid g = grid;
     g.Height = rows;
     auto disc = std::make_unique<GridDiscretization<NC>>(
-      g, o.Boundary, o.EdgeContrast, o.NumberOfThreads, o.Integration == GraphFlowIntegration::SemiImplicit);
+      g, o.Boundary, o.EdgeContrast, o.NumberOfThreads, o.Integration == GraphFlowIntegration::SemiImplicit, piece);
     if (fixed)
     {
       const std::uint8_t* from = fixed + static_cast<std::size_t>(first) * grid.Width;
@@ -504,6 +532,10 @@ GraphFlowResult RunGrid(const PixelGrid& grid, double* values, const std::uint8_
     }
     return disc;
   };
+  if (piece && piece->Split)
+  {
+    return Integrate([&]() { return band(0, grid.Height); }, values, o, progress); // (the probe on every piece)
+  }
   return Integrate([&]() { return band(0, grid.Height); }, values, o, progress,
     GridProbeWindow(grid.Height, grid.Width, o, band)); // a band of rows for the risk's probe (large images)
 }
@@ -511,8 +543,10 @@ GraphFlowResult RunGrid(const PixelGrid& grid, double* values, const std::uint8_
 } // namespace
 
 GraphFlowResult RunImageGraphFlow(const PixelGrid& grid, int components, double* values,
-  const std::uint8_t* fixed, const GraphFlowOptions& options, const ProgressCallback& progress)
+  const std::uint8_t* fixed, const GraphFlowOptions& options, const ProgressCallback& progress,
+  const GridPiece* piece)
 {
+  const bool split = piece && piece->Split; // (every process runs, an empty piece too)
   GraphFlowResult result;
   result.Error = CheckOptions(options, components, 6, "images");
   if (result.Error.empty() &&
@@ -521,12 +555,12 @@ GraphFlowResult RunImageGraphFlow(const PixelGrid& grid, int components, double*
   {
     result.Error = "the pixel spacing must be positive and finite";
   }
-  if (!result.Error.empty() || grid.Width <= 0 || grid.Height <= 0)
+  if (!result.Error.empty() || (!split && (grid.Width <= 0 || grid.Height <= 0)))
   {
     return result;
   }
   return WithCount<6>(components, [&](auto nc) { // kernels compiled per component count
-    return RunGrid<decltype(nc)::value>(grid, values, fixed, options, progress);
+    return RunGrid<decltype(nc)::value>(grid, values, fixed, options, progress, piece);
   });
 }
 

@@ -103,12 +103,19 @@ class VoxelDiscretization final : public SweepDiscretization
 public:
   /// storeOperator: keep Mass, Speed, Diagonal and KU and the weights (the
   /// semi-implicit solver's); explicit steps need the velocity only.
-  VoxelDiscretization(const VoxelGrid& grid, const std::uint8_t* fixed, double gamma, int threads, bool storeOperator)
+  /// piece (optional): the grid is a piece of a split grid (GridPiece).
+  VoxelDiscretization(const VoxelGrid& grid, const std::uint8_t* fixed, double gamma, int threads, bool storeOperator,
+    const GridPiece* piece = nullptr)
     : Grid(grid)
     , W(grid.Width)
     , H(grid.Height)
     , D(grid.Depth)
   {
+    if (piece && piece->Split)
+    {
+      Piece = *piece;
+      Split = piece->Split;
+    }
     Allocate(static_cast<Index>(W * H * D), NC, gamma, threads, storeOperator);
     LengthScale = std::cbrt(grid.SpacingX * grid.SpacingY * grid.SpacingZ);
     AutomaticContrast = VolumeAutomaticContrast;
@@ -139,7 +146,15 @@ public:
     }
   }
 
-  double EstimateNoise(const double* values) const override { return EstimateVolumeNoise(Grid, NC, values, Threads); }
+  double EstimateNoise(const double* values) const override
+  {
+    return EstimateVolumeNoise(Grid, NC, values, Threads, Split ? &Piece : nullptr);
+  }
+
+  void ProbeSigns(std::size_t begin, std::size_t end, std::vector<double>& b) const override
+  {
+    Split ? GridPieceProbeSigns(*this, Piece, W, H, D, b) : FlowDiscretization::ProbeSigns(begin, end, b);
+  }
 
   bool SumsRows() const override { return true; }
 
@@ -179,9 +194,14 @@ private:
           rowSum.empty() ? nullptr : rowSum.data());
       }
     }, {}, 0, 1);
-    MaxRate = *std::max_element(rowRate.begin(), rowRate.end());
+    MaxRate = rowRate.empty() ? 0.0 : *std::max_element(rowRate.begin(), rowRate.end());
     Area = std::accumulate(rowArea.begin(), rowArea.end(), 0.0);
     StepSum = std::accumulate(rowSum.begin(), rowSum.end(), 0.0);
+    if (Split)
+    {
+      MaxRate = Split->Max(MaxRate);
+      Area = Split->Sum(Area);
+    }
   }
 
   /// The plane buffers of one thread: for three planes (rolling, plane k in
@@ -332,6 +352,10 @@ private:
         VelocityRow<NC, Real, RowOutput::None>(W, mass, speed, fixed, ku, b.Positive, x, 0.0, nullptr, rate, area);
         break;
     }
+    if (Split) // a piece of a split grid: the figures of the voxels it owns
+    {
+      OwnedFigures(first, mass, b.Positive, rate, area);
+    }
     rowRate[k * H + j] = rate;
     rowArea[k * H + j] = area;
     if (rowSum)
@@ -401,6 +425,21 @@ private:
     }
   }
 
+  /// The largest rate and the volume of the owned voxels of the row from
+  /// voxel `first` (rates: VelocityRow's per voxel).
+  void OwnedFigures(std::int64_t first, const Real* mass, const double* rates, double& rate, double& area) const
+  {
+    rate = area = 0.0;
+    for (std::int64_t ix = 0; ix < W; ++ix)
+    {
+      if (Split->IsOwned(static_cast<Index>(first + ix)))
+      {
+        rate = std::max(rate, rates[ix]);
+        area += mass[ix];
+      }
+    }
+  }
+
   /// The lumped mass of voxel (ix, j, k) of the flat graph: the corner
   /// masses of the cells it is a corner of.
   double BaseMassAt(std::int64_t ix, std::int64_t j, std::int64_t k) const
@@ -418,6 +457,7 @@ private:
   }
 
   VoxelGrid Grid;
+  GridPiece Piece; // with Split: the piece of a split grid
   std::int64_t W, H, D, PlaneSize = 0, Margin = 0;
   std::int64_t Offset[8];
   KuhnShapes<Real> Shapes; // of the flat cell
@@ -441,8 +481,10 @@ private:
 } // namespace
 
 GraphFlowResult RunVolumeGraphFlow(const VoxelGrid& grid, int components, double* values,
-  const std::uint8_t* fixed, const GraphFlowOptions& options, const ProgressCallback& progress)
+  const std::uint8_t* fixed, const GraphFlowOptions& options, const ProgressCallback& progress,
+  const GridPiece* piece)
 {
+  const bool split = piece && piece->Split; // (every process runs, an empty piece too)
   GraphFlowResult result;
   result.Error = CheckOptions(options, components, 6, "volumes");
   const double spacing[3] = { grid.SpacingX, grid.SpacingY, grid.SpacingZ };
@@ -457,7 +499,7 @@ GraphFlowResult RunVolumeGraphFlow(const VoxelGrid& grid, int components, double
   {
     result.Error = "volumes of more than 2^31 voxels are not supported";
   }
-  if (!result.Error.empty() || grid.Width < 2 || grid.Height < 2 || grid.Depth < 2)
+  if (!result.Error.empty() || (!split && (grid.Width < 2 || grid.Height < 2 || grid.Depth < 2)))
   {
     return result;
   }
@@ -465,8 +507,13 @@ GraphFlowResult RunVolumeGraphFlow(const VoxelGrid& grid, int components, double
     constexpr int NC = decltype(nc)::value;
     const bool store = options.Integration == GraphFlowIntegration::SemiImplicit;
     const auto make = [&]() {
-      return std::make_unique<VoxelDiscretization<NC, VoxelReal>>(grid, fixed, options.EdgeContrast, options.NumberOfThreads, store);
+      return std::make_unique<VoxelDiscretization<NC, VoxelReal>>(
+        grid, fixed, options.EdgeContrast, options.NumberOfThreads, store, piece);
     };
+    if (split)
+    {
+      return Integrate(make, values, options, progress); // (no probe band: the probe runs on every piece)
+    }
     // A band of planes for the risk's probe (large volumes).
     const Index plane = static_cast<Index>(grid.Width * grid.Height);
     const ProbeWindow window = GridProbeWindow(static_cast<Index>(grid.Depth), plane, options,

@@ -508,6 +508,185 @@ TEST(Partition, DistributedTetrahedralFlowIsTheSerialOne)
   }
 }
 
+namespace
+{
+
+/// A grid of whole[0] x whole[1] x whole[2] samples split along `axis` into
+/// slabs of sample planes, one per owning process, neighbours sharing their
+/// boundary plane (as VTK's piece extents; with 3 processes the last holds
+/// nothing); a process's piece is its slab and a ring of one sample where
+/// the grid goes on, and a sample belongs to the lowest process whose slab
+/// holds it.
+struct GridSplit
+{
+  std::int64_t Whole[3];
+  int Axis = 0, Owners = 1;
+
+  GridSplit(std::int64_t x, std::int64_t y, std::int64_t z, int axis, int size)
+    : Whole{ x, y, z }
+    , Axis(axis)
+    , Owners(size >= 3 ? size - 1 : size)
+  {
+  }
+  /// The slab of process p: planes [first, last] along Axis (empty: last < first).
+  std::pair<std::int64_t, std::int64_t> Slab(int p) const
+  {
+    if (p >= Owners)
+    {
+      return { 0, -1 };
+    }
+    const std::int64_t cells = Whole[Axis] - 1;
+    return { cells * p / Owners, cells * (p + 1) / Owners };
+  }
+  /// The box of process p's piece: first sample and size per axis.
+  void Box(int p, std::int64_t* origin, std::int64_t* size) const
+  {
+    const auto [first, last] = Slab(p);
+    for (int a = 0; a < 3; ++a)
+    {
+      origin[a] = a != Axis ? 0 : std::max<std::int64_t>(0, first - 1);
+      size[a] = a != Axis ? Whole[a] : (last < first ? 0 : std::min(Whole[a] - 1, last + 1) - origin[a] + 1);
+    }
+    if (last < first)
+    {
+      size[0] = size[1] = size[2] = 0;
+    }
+  }
+  int OwnerOf(std::int64_t plane) const
+  {
+    for (int p = 0; p < Owners; ++p)
+    {
+      if (plane >= Slab(p).first && plane <= Slab(p).second)
+      {
+        return p;
+      }
+    }
+    return -1;
+  }
+  /// This process's piece (origin, size) and its owners and rows there.
+  void Piece(int rank, std::int64_t* origin, std::int64_t* size, std::vector<int>& ownerRank,
+    std::vector<Index>& ownerRow) const
+  {
+    Box(rank, origin, size);
+    for (std::int64_t z = 0; z < size[2]; ++z)
+    {
+      for (std::int64_t y = 0; y < size[1]; ++y)
+      {
+        for (std::int64_t x = 0; x < size[0]; ++x)
+        {
+          const std::int64_t g[3] = { x + origin[0], y + origin[1], z + origin[2] };
+          const int owner = OwnerOf(g[Axis]);
+          std::int64_t o[3], n[3];
+          Box(owner, o, n);
+          ownerRank.push_back(owner);
+          ownerRow.push_back(static_cast<Index>(((g[2] - o[2]) * n[1] + g[1] - o[1]) * n[0] + g[0] - o[0]));
+        }
+      }
+    }
+  }
+};
+
+/// Noisy data with a jump: 2 components per sample of the whole grid.
+void GridValue(const std::int64_t* whole, std::int64_t x, std::int64_t y, std::int64_t z, double* f)
+{
+  const std::int64_t i = (z * whole[1] + y) * whole[0] + x;
+  f[0] = (x + 0.5 * y > 0.6 * whole[0] ? 1.0 : 0.0) + 0.1 * std::sqrt(3.0) * (2.0 * std::fmod(i * 0.7548776662, 1.0) - 1.0);
+  f[1] = 0.05 * z + 0.05 * std::sqrt(3.0) * (2.0 * std::fmod(i * 0.5698402910, 1.0) - 1.0);
+}
+
+} // namespace
+
+TEST(Partition, DistributedGridFlowsAreTheSerialOnes)
+{
+  // The image flow (split along y) and the volume flow (split along x, so
+  // that rows are cut) on 2-component data, against serial runs on the
+  // whole grid: the defaults (explicit steps, least-risk stop, noise
+  // estimated), semi-implicit steps and the noise-level stop.
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const MPI_Comm world = MPI_COMM_WORLD;
+  GraphFlowOptions semi;
+  semi.Integration = GraphFlowIntegration::SemiImplicit;
+  GraphFlowOptions noiseLevel;
+  noiseLevel.Stop = GraphFlowStop::NoiseLevel;
+  for (const bool volume : { false, true })
+  {
+    const GridSplit grid = volume ? GridSplit(23, 17, 12, 0, size) : GridSplit(37, 41, 1, 1, size);
+    GridPiece piece;
+    std::int64_t n[3];
+    std::vector<int> ownerRank;
+    std::vector<Index> ownerRow;
+    grid.Piece(rank, piece.Origin, n, ownerRank, ownerRow);
+    std::copy(grid.Whole, grid.Whole + 3, piece.Whole);
+    const Partition split(&world, static_cast<Index>(ownerRank.size()), ownerRank.data(), ownerRow.data());
+    piece.Split = &split;
+    const auto valuesOf = [&](const std::int64_t* origin, const std::int64_t* box) {
+      std::vector<double> v;
+      for (std::int64_t z = 0; z < box[2]; ++z)
+      {
+        for (std::int64_t y = 0; y < box[1]; ++y)
+        {
+          for (std::int64_t x = 0; x < box[0]; ++x)
+          {
+            double f[2];
+            GridValue(grid.Whole, x + origin[0], y + origin[1], z + origin[2], f);
+            v.insert(v.end(), f, f + 2);
+          }
+        }
+      }
+      return v;
+    };
+    const std::int64_t zero[3] = { 0, 0, 0 };
+    const std::vector<double> input = valuesOf(zero, grid.Whole);
+    for (const auto& [options, tolerance] :
+      { std::pair{ GraphFlowOptions{}, 1e-9 }, { semi, 1e-6 }, { noiseLevel, 1e-9 } })
+    {
+      GraphFlowOptions o = options;
+      o.NumberOfThreads = 1;
+      std::vector<double> serial = input, distributed = valuesOf(piece.Origin, n);
+      const auto run = [&](double* values, const std::int64_t* box, const GridPiece* p) {
+        if (volume)
+        {
+          VoxelGrid g;
+          g.Width = box[0], g.Height = box[1], g.Depth = box[2];
+          return RunVolumeGraphFlow(g, 2, values, nullptr, o, {}, p);
+        }
+        PixelGrid g;
+        g.Width = static_cast<Index>(box[0]), g.Height = static_cast<Index>(box[1]);
+        return RunImageGraphFlow(g, 2, values, nullptr, o, {}, p);
+      };
+      const GraphFlowResult a = run(serial.data(), grid.Whole, nullptr);
+      const GraphFlowResult b = run(distributed.data(), n, &piece);
+      ASSERT_TRUE(a.Error.empty() && b.Error.empty()) << a.Error << b.Error;
+      EXPECT_GT(a.Iterations, 2);
+      EXPECT_EQ(a.Iterations, b.Iterations);
+      EXPECT_EQ(a.EstimatedNoiseLevel, b.EstimatedNoiseLevel);
+      EXPECT_NEAR(a.FinalArea, b.FinalArea, 1e-12 * a.FinalArea);
+      EXPECT_NEAR(a.FinalRisk, b.FinalRisk, 1e-6 * a.InitialRisk + 1e-15);
+      double moved = 0.0, difference = 0.0;
+      for (std::size_t k = 0; k < serial.size(); ++k)
+      {
+        moved = std::max(moved, std::abs(serial[k] - input[k]));
+      }
+      for (std::int64_t l = 0; l < n[0] * n[1] * n[2]; ++l)
+      {
+        const std::int64_t x = l % n[0] + piece.Origin[0], y = l / n[0] % n[1] + piece.Origin[1],
+                           z = l / (n[0] * n[1]) + piece.Origin[2];
+        const std::int64_t g = (z * grid.Whole[1] + y) * grid.Whole[0] + x;
+        for (int k = 0; k < 2; ++k)
+        {
+          difference = std::max(difference, std::abs(distributed[2 * l + k] - serial[2 * g + k]));
+        }
+      }
+      EXPECT_GT(moved, 0.05);
+      EXPECT_LE(difference, tolerance * moved)
+        << (volume ? "volume" : "image") << ", " << a.Iterations << " steps, integration "
+        << static_cast<int>(o.Integration);
+    }
+  }
+}
+
 int main(int argc, char** argv)
 {
   MPI_Init(&argc, &argv);
