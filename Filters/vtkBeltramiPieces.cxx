@@ -352,19 +352,7 @@ bool vtkBeltramiPieces::BuildPartition(Index rows, Index pieceRows, const Coordi
       ownerRow[foreign[q]] = static_cast<Index>(owned[4 * o + 3]);
     }
   }
-  vtkMPICommunicator* communicator = vtkMPICommunicator::SafeDownCast(controller->GetCommunicator());
-  try
-  {
-    Rows = std::make_unique<beltrami::Partition>(
-      communicator->GetMPIComm()->GetHandle(), rows, ownerRank.data(), ownerRow.data());
-  }
-  catch (const std::exception& e)
-  {
-    error = e.what();
-    Rows.reset();
-    return false;
-  }
-  return true;
+  return MakeRows(rows, ownerRank, ownerRow, error);
 }
 
 bool vtkBeltramiPieces::BuildGridPartition(const int* inExt, const int* outExt, std::string& error)
@@ -425,7 +413,14 @@ bool vtkBeltramiPieces::BuildGridPartition(const int* inExt, const int* outExt, 
     error = error.empty() ? "another rank's input has samples in no rank's piece" : error;
     return false;
   }
-  vtkMPICommunicator* communicator = vtkMPICommunicator::SafeDownCast(controller->GetCommunicator());
+  return MakeRows(rows, ownerRank, ownerRow, error);
+}
+
+bool vtkBeltramiPieces::MakeRows(
+  Index rows, const std::vector<int>& ownerRank, const std::vector<Index>& ownerRow, std::string& error)
+{
+  vtkMPICommunicator* communicator =
+    vtkMPICommunicator::SafeDownCast(vtkMultiProcessController::GetGlobalController()->GetCommunicator());
   try
   {
     Rows = std::make_unique<beltrami::Partition>(

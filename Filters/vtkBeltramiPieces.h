@@ -112,6 +112,11 @@ private:
   void FindSharedPoints(
     beltrami::Index numberOfPoints, const Coordinates& point, const std::vector<std::uint8_t>& edge);
 
+  /// Split() from the owner of each row (collective: throws nowhere; false
+  /// with `error` where some rank names a row its owner does not own).
+  bool MakeRows(beltrami::Index rows, const std::vector<int>& ownerRank, const std::vector<beltrami::Index>& ownerRow,
+    std::string& error);
+
   std::vector<beltrami::Index> EdgePoints;    // the piece's points that other pieces hold too
   std::vector<int> EdgeOwners;                // and their owners
   std::vector<beltrami::Index> OfferedPoints; // and the corners of the cells it offered

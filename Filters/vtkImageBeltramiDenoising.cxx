@@ -14,6 +14,8 @@
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>
 #include <vtkDoubleArray.h>
+#include <vtkExtentTranslator.h>
+#include <vtkInformationIntegerRequestKey.h>
 #include <vtkFieldData.h>
 #include <vtkImageData.h>
 #include <vtkInformation.h>
@@ -351,6 +353,22 @@ int vtkImageBeltramiDenoising::RequestUpdateExtent(
   outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext);
   this->SolveOverRanks =
     !this->IsLocal() && vtkBeltramiPieces::CanSolveTogether(outInfo) && std::equal(ext, ext + 6, whole);
+  if (this->SolveOverRanks)
+  {
+    // Slabs of whole rows where the image is deep enough (16 cells a piece
+    // along z, else y): the kernels go row by row, and a row cut in parts
+    // pays its fixed cost per part.
+    const int pieces = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES());
+    for (const int axis : { vtkExtentTranslator::Z_SLAB_MODE, vtkExtentTranslator::Y_SLAB_MODE })
+    {
+      if (whole[2 * axis + 1] - whole[2 * axis] >= 16 * pieces)
+      {
+        vtkInformationIntegerKey* mode = vtkExtentTranslator::UPDATE_SPLIT_MODE();
+        outInfo->Set(mode, axis);
+        break;
+      }
+    }
+  }
   vtkBeltramiGraphFlow::RequestImageExtent(
     inInfo, outInfo, this->IsLocal() ? this->NumberOfIterations : this->SolveOverRanks ? 1 : -1);
   return 1;

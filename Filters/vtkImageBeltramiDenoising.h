@@ -104,11 +104,14 @@
  * rule-based stops: global quantities) it asks for the whole extent - except
  * where the image is split over the ranks of a distributed run (pvbatch,
  * pvserver: one piece per rank, the whole image asked for): there each rank
- * asks for its piece and a ring of one sample, and the ranks solve together
+ * asks for its piece (slabs of whole rows where the image is deep enough)
+ * and a ring of one sample, and the ranks solve together
  * (beltrami::GridPiece: the noise estimate an exact median over the ranks,
  * the stops' sums and the semi-implicit solves over all of them; the
  * numbers of a serial run; field data FlowDistribution: owned and ring
- * samples, cells, values sent per exchange).  The work is threaded
+ * samples, cells, values sent per exchange; above 2^21 samples the
+ * least-risk probe runs on the whole split image, where a serial run probes
+ * a band, so the stop may differ by a step).  The work is threaded
  * (NumberOfThreads, 0 = all) with results independent of the thread count.
  * Field data: FlowIterations (steps to the result), FlowTime, FlowRMSChange,
  * FlowArea (initial and final area of the image surface),

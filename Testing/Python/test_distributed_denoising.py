@@ -19,7 +19,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from configure import check  # noqa: E402
+from configure import check, check_split_flow  # noqa: E402
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -51,11 +51,6 @@ def serial(polydata, settings):
     return f.GetOutput()
 
 
-def report(polydata, name):
-    a = polydata.GetFieldData().GetArray(name)
-    return [a.GetValue(k) for k in range(a.GetNumberOfTuples())]
-
-
 def split_run(label, tolerance, partitions=0, panel=None, **settings):
     """The proxy on the redistributed bunny (its `panel` settings, by the
     panel's names) against the serial VTK filter (`settings`)."""
@@ -71,26 +66,7 @@ def split_run(label, tolerance, partitions=0, panel=None, **settings):
     result = servermanager.Fetch(smoothed)
     whole = servermanager.Fetch(with_data(bunny))
     reference = serial(whole, dict(settings, UseFixedPointsArray=1))
-    index = {tuple(x): i for i, x in enumerate(vtk_to_numpy(whole.GetPoints().GetData()))}
-    ids = np.array([index.get(tuple(x), -1) for x in vtk_to_numpy(result.GetPoints().GetData())])
-    check(ids.min() >= 0 and len(set(ids)) == whole.GetNumberOfPoints(), "%s: the pieces cover the surface" % label)
-    ours = vtk_to_numpy(result.GetPointData().GetArray("f"))
-    theirs = vtk_to_numpy(reference.GetPointData().GetArray("f"))[ids]
-    noisy = vtk_to_numpy(whole.GetPointData().GetArray("f"))
-    difference = np.abs(ours - theirs).max()
-    moved = np.abs(vtk_to_numpy(reference.GetPointData().GetArray("f")) - noisy).max()
-    check(moved > 0.01, "%s: the serial run smoothed the data (largest change %.3g)" % (label, moved))
-    check(difference <= tolerance * moved,
-          "%s over %d rank(s) equals the serial result: difference %.3g <= %.0e x %.3g"
-          % (label, ranks, difference, tolerance, moved))
-    for name in ("FlowIterations", "EstimatedNoiseLevel", "FlowNoiseLevel", "FlowContrastScale"):
-        a, b = report(result, name), report(reference, name)
-        check(np.allclose(a, b, rtol=1e-9, atol=0), "%s: %s %s as serial %s" % (label, name, a, b))
-    if settings.get("StoppingRule", 2) == 2:
-        a, b = report(result, "FlowEstimatedError"), report(reference, "FlowEstimatedError")
-        check(np.allclose(a, b, rtol=1e-6), "%s: estimated error %s as serial %s" % (label, a, b))
-    kept = vtk_to_numpy(whole.GetPointData().GetArray("mask"))[ids] != 0
-    check(np.array_equal(ours[kept], noisy[ids][kept]), "%s: fixed points kept" % label)
+    check_split_flow(label, ranks, result, whole, reference, "f", tolerance, settings.get("StoppingRule", 2) == 2)
     return result
 
 

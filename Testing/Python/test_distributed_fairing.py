@@ -22,7 +22,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from configure import check  # noqa: E402
+from configure import check, rank_rows  # noqa: E402
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -176,23 +176,7 @@ for partitions in ([0, ranks - 1] if ranks > 1 else [0]):
 
 # What each rank holds: its own points, the ghost points of the rings, its
 # triangles (field data FairingDistribution, one row per rank).
-COUNTS = """
-from vtkmodules.vtkCommonCore import vtkIdTypeArray, vtkPoints
-d = self.GetInput().GetFieldData().GetArray("FairingDistribution")
-out = self.GetOutput()
-p = vtkPoints()
-p.InsertNextPoint(0.0, 0.0, 0.0)
-out.SetPoints(p)
-for k, name in enumerate(("Owned", "Ghosts", "Triangles")):
-    a = vtkIdTypeArray()
-    a.SetName(name)
-    a.InsertNextValue(d.GetValue(k) if d else -1)
-    out.GetPointData().AddArray(a)
-"""
-counts = ProgrammableFilter(Input=faired, OutputDataSetType="vtkPolyData")
-counts.Script = COUNTS
-table = servermanager.Fetch(counts).GetPointData()
-owned, ghosts, triangles = (vtk_to_numpy(table.GetArray(n)) for n in ("Owned", "Ghosts", "Triangles"))
+owned, ghosts, triangles = rank_rows(faired, "FairingDistribution", ("Owned", "Ghosts", "Triangles"))
 if ranks > 1:
     check((owned >= 0).all() and owned.sum() == whole_bunny.GetNumberOfPoints(),
           "each point owned by one rank (%s)" % owned)
@@ -306,9 +290,7 @@ if ranks > 1:
     ids = matched(pieces, whole_field)
     difference = np.abs(points(result) - points(reference)[ids]).max()
     moved = np.abs(points(reference) - points(whole_field)).max()
-    counts = ProgrammableFilter(Input=lone, OutputDataSetType="vtkPolyData")
-    counts.Script = COUNTS
-    owned = vtk_to_numpy(servermanager.Fetch(counts).GetPointData().GetArray("Owned"))
+    owned, = rank_rows(lone, "FairingDistribution", ("Owned",))
     check(owned[builtins.min(2, ranks - 1)] == 0 and difference <= 1e-3 * moved,
           "a rank that owns no point (owned %s): the serial result (difference %.3g, move %.3g)"
           % (owned, difference, moved))

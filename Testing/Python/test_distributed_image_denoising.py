@@ -13,20 +13,18 @@ Checked on a real MRI volume (128 x 128 x 10, float) and the camera
 photograph (512 x 512, 8 bits) and coffee (400 x 600 RGB): the defaults,
 semi-implicit steps, the noise-level stop, colours, and the counts each rank
 reports (with 4 ranks no rank holds more than a third of the samples)."""
-import builtins  # (ParaView's programmable filters put numpy_interface's all, max, sum... in __main__)
 import os
 import sys
-import tempfile
 
 from paraview.simple import *  # noqa: F401,F403
 from paraview import servermanager
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkIOImage import vtkPNGReader
-from vtkmodules.vtkIOXML import vtkXMLImageDataReader, vtkXMLPImageDataReader
+from vtkmodules.vtkIOXML import vtkXMLImageDataReader
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from configure import check  # noqa: E402
+from configure import check, fetch_pieces, rank_rows, report  # noqa: E402
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -42,22 +40,6 @@ def whole_image(name):
     reader.SetFileName(os.path.join(DATA, name))
     reader.Update()
     return reader.GetOutput()
-
-
-def fetch_pieces(proxy):
-    """Every rank's piece of `proxy`'s output, joined (a .pvti written and read)."""
-    with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "pieces.pvti")
-        SaveData(path, proxy=proxy)
-        reader = vtkXMLPImageDataReader()
-        reader.SetFileName(path)
-        reader.Update()
-        return reader.GetOutput()
-
-
-def report(image, name):
-    a = image.GetFieldData().GetArray(name)
-    return [a.GetValue(k) for k in range(a.GetNumberOfTuples())]
 
 
 def values(image):
@@ -114,28 +96,10 @@ split_run("camera.png", "camera, semi-implicit, noise-level stop", 0, levels=200
           Integration=vtkImageBeltramiDenoising.SEMI_IMPLICIT, StoppingRule=1)
 split_run("coffee.png", "coffee (RGB), defaults", 0, levels=200)
 
-# What each rank holds: its own samples, the ring, its cells (field data
+# What each rank holds: its own samples and the ring (field data
 # FlowDistribution, one row per rank).
-COUNTS = """
-from vtkmodules.vtkCommonCore import vtkIdTypeArray, vtkPoints
-d = self.GetInput().GetFieldData().GetArray("FlowDistribution")
-out = self.GetOutput()
-p = vtkPoints()
-p.InsertNextPoint(0.0, 0.0, 0.0)
-out.SetPoints(p)
-for k, name in enumerate(("Owned", "Ghosts")):
-    a = vtkIdTypeArray()
-    a.SetName(name)
-    a.InsertNextValue(d.GetValue(k) if d else -1)
-    out.GetPointData().AddArray(a)
-"""
-
-
 def check_counts(proxy, samples, label):
-    counts = ProgrammableFilter(Input=proxy, OutputDataSetType="vtkPolyData")
-    counts.Script = COUNTS
-    table = servermanager.Fetch(counts).GetPointData()
-    owned, ghosts = (vtk_to_numpy(table.GetArray(n)) for n in ("Owned", "Ghosts"))
+    owned, ghosts = rank_rows(proxy, "FlowDistribution", ("Owned", "Ghosts"))
     if ranks > 1:
         check((owned >= 0).all() and owned.sum() == samples, "%s: each sample owned by one rank (%s)" % (label, owned))
         check(ranks != 4 or (owned + ghosts).max() <= samples / 3,

@@ -17,19 +17,14 @@ a fixed-points array, a rank with an empty piece, NaN values in a piece
 (an error on every rank, the output the input), and the counts each rank
 reports: with 4 ranks no rank holds more than a third of the points or
 tetrahedra."""
-import builtins  # (ParaView's programmable filters put numpy_interface's all, max, sum... in __main__)
 import os
 import sys
-import tempfile
 
 from paraview.simple import *  # noqa: F401,F403
 from paraview import servermanager
-from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkIOXML import vtkXMLPUnstructuredGridReader
-import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from configure import check  # noqa: E402
+from configure import check, check_split_flow, fetch_pieces, rank_rows  # noqa: E402
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -100,23 +95,6 @@ def serial(grid, array, settings):
     return f.GetOutput()
 
 
-def fetch_pieces(proxy):
-    """Every rank's piece of `proxy`'s output, appended (servermanager.Fetch
-    gives rank 0's piece of an unstructured grid only)."""
-    with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "pieces.pvtu")
-        SaveData(path, proxy=proxy)
-        reader = vtkXMLPUnstructuredGridReader()
-        reader.SetFileName(path)
-        reader.Update()
-        return reader.GetOutput()
-
-
-def report(grid, name):
-    a = grid.GetFieldData().GetArray(name)
-    return [a.GetValue(k) for k in range(a.GetNumberOfTuples())]
-
-
 def split_smoothing(partitions=0, nan=False, array="f", panel=None):
     """The proxy on the redistributed elephant (its `panel` settings, by the
     panel's names)."""
@@ -138,27 +116,7 @@ def split_run(label, tolerance, partitions=0, array="f", panel=None, **settings)
     result = fetch_pieces(smoothed)
     noisy = servermanager.Fetch(with_data(filled, tensors=array == "t"))
     reference = serial(noisy, array, dict(settings, UseFixedPointsArray=1))
-    index = {tuple(x): i for i, x in enumerate(vtk_to_numpy(noisy.GetPoints().GetData()))}
-    ids = np.array([index.get(tuple(x), -1) for x in vtk_to_numpy(result.GetPoints().GetData())])
-    check(ids.min() >= 0 and len(set(ids)) == noisy.GetNumberOfPoints(), "%s: the pieces cover the mesh (%d unmatched, %d of %d points)"
-          % (label, (ids < 0).sum(), len(set(ids)), noisy.GetNumberOfPoints()))
-    ours = vtk_to_numpy(result.GetPointData().GetArray(array))
-    theirs = vtk_to_numpy(reference.GetPointData().GetArray(array))[ids]
-    before = vtk_to_numpy(noisy.GetPointData().GetArray(array))
-    difference = np.abs(ours - theirs).max()
-    moved = np.abs(vtk_to_numpy(reference.GetPointData().GetArray(array)) - before).max()
-    check(moved > 0.01, "%s: the serial run smoothed the data (largest change %.3g)" % (label, moved))
-    check(difference <= tolerance * moved,
-          "%s over %d rank(s) equals the serial result: difference %.3g <= %.0e x %.3g"
-          % (label, ranks, difference, tolerance, moved))
-    for name in ("FlowIterations", "EstimatedNoiseLevel", "FlowNoiseLevel", "FlowContrastScale"):
-        a, b = report(result, name), report(reference, name)
-        check(np.allclose(a, b, rtol=1e-9, atol=0), "%s: %s %s as serial %s" % (label, name, a, b))
-    if settings.get("StoppingRule", 2) == 2:
-        a, b = report(result, "FlowEstimatedError"), report(reference, "FlowEstimatedError")
-        check(np.allclose(a, b, rtol=1e-6), "%s: estimated error %s as serial %s" % (label, a, b))
-    kept = vtk_to_numpy(noisy.GetPointData().GetArray("mask"))[ids] != 0
-    check(np.array_equal(ours[kept], before[ids][kept]), "%s: fixed points kept" % label)
+    check_split_flow(label, ranks, result, noisy, reference, array, tolerance, settings.get("StoppingRule", 2) == 2)
     return smoothed
 
 
@@ -176,23 +134,7 @@ if ranks > 1:
 
 # What each rank holds: its own points, the ghost points of the rings, its
 # tetrahedra (field data FlowDistribution, one row per rank).
-COUNTS = """
-from vtkmodules.vtkCommonCore import vtkIdTypeArray, vtkPoints
-d = self.GetInput().GetFieldData().GetArray("FlowDistribution")
-out = self.GetOutput()
-p = vtkPoints()
-p.InsertNextPoint(0.0, 0.0, 0.0)
-out.SetPoints(p)
-for k, name in enumerate(("Owned", "Ghosts", "Cells")):
-    a = vtkIdTypeArray()
-    a.SetName(name)
-    a.InsertNextValue(d.GetValue(k) if d else -1)
-    out.GetPointData().AddArray(a)
-"""
-counts = ProgrammableFilter(Input=smoothed, OutputDataSetType="vtkPolyData")
-counts.Script = COUNTS
-table = servermanager.Fetch(counts).GetPointData()
-owned, ghosts, cells = (vtk_to_numpy(table.GetArray(n)) for n in ("Owned", "Ghosts", "Cells"))
+owned, ghosts, cells = rank_rows(smoothed, "FlowDistribution", ("Owned", "Ghosts", "Cells"))
 if ranks > 1:
     check((owned >= 0).all() and owned.sum() == whole.GetNumberOfPoints(),
           "each point owned by one rank (%s)" % owned)

@@ -78,7 +78,8 @@ public:
   /// the discretization writes the step row by row in the values' order
   /// (SumsRows()), a FusedStep with a next state and RowSum set calls
   /// RowSum(first, count, next + first) for each row of `count` values
-  /// from value `first` and leaves the rows' sum, in row order, in StepSum.
+  /// from value `first` and leaves the rows' sum, in row order, in StepSum
+  /// (a split grid: for the runs of samples it owns in each row).
   using RowSumFunction = std::function<double(std::int64_t first, std::int64_t count, const double* next)>;
   virtual bool SumsRows() const { return false; }
   RowSumFunction RowSum;
@@ -172,6 +173,52 @@ ProbeWindow GridProbeWindow(Index layers, Index layerSize, const GraphFlowOption
 /// numbering (any split over processes) and at any scale.
 void PositionProbeSigns(int components, const double* points, double lengthScale, std::size_t begin, std::size_t end,
   std::vector<double>& b);
+
+/// The samples a piece of a split grid owns (Split->IsOwned), row by row:
+/// per row of `width` samples its runs of owned samples [begin, end)
+/// (usually one: pieces are boxes), so that the figures and sums of a
+/// row's owned samples are loops over ranges.
+class OwnedRuns
+{
+public:
+  OwnedRuns() = default;
+  OwnedRuns(const Partition& split, std::int64_t rows, std::int64_t width)
+  {
+    Offsets.assign(1, 0);
+    for (std::int64_t r = 0; r < rows; ++r)
+    {
+      for (std::int64_t x = 0; x < width; ++x)
+      {
+        const bool owned = split.IsOwned(static_cast<Index>(r * width + x));
+        const bool open = Bounds.size() > 2 * static_cast<std::size_t>(Offsets.back()) &&
+          Bounds.back() == x; // the last run of this row ends here
+        if (owned && open)
+        {
+          ++Bounds.back();
+        }
+        else if (owned)
+        {
+          Bounds.push_back(x);
+          Bounds.push_back(x + 1);
+        }
+      }
+      Offsets.push_back(static_cast<std::int64_t>(Bounds.size() / 2));
+    }
+  }
+  /// f(begin, end) for each run of row r.
+  template <typename F>
+  void ForEach(std::int64_t r, F&& f) const
+  {
+    for (std::int64_t k = Offsets[r]; k < Offsets[r + 1]; ++k)
+    {
+      f(Bounds[2 * k], Bounds[2 * k + 1]);
+    }
+  }
+
+private:
+  std::vector<std::int64_t> Offsets; // per row: its runs [Offsets[r], Offsets[r + 1])
+  std::vector<std::int64_t> Bounds;  // per run: begin, end
+};
 
 /// The probe's signs of a piece of a split grid of w x h x d samples
 /// (GridPiece): those of its values in the whole grid's numbering

@@ -574,10 +574,12 @@ double LaneSum(std::int64_t begin, std::int64_t end, Term&& term)
 
 bool FlowIntegrator::SweepRiskSums()
 {
-  if (!Fused || O.ToNoiseSpace || Split || !Main.Disc->SumsRows() || !Probe.Disc->SumsRows())
+  if (!Fused || O.ToNoiseSpace || !Main.Disc->SumsRows() || !Probe.Disc->SumsRows())
   {
     return false;
   }
+  // (A split grid's discretization calls them on the samples it owns; Risk
+  // sums over the processes.)
   Main.Disc->RowSum = [this](std::int64_t first, std::int64_t count, const double* next) {
     const double* start = Input + first;
     const double alpha = Alpha;
@@ -605,9 +607,16 @@ double FlowIntegrator::Risk(bool swept)
   double fit = 0.0, divergence = 0.0;
   if (swept)
   {
-    const double inner = Windowed ? static_cast<double>(Window.InnerEnd - Window.InnerBegin) * NC : static_cast<double>(Size);
-    fit = Main.Disc->StepSum / (Alpha * Alpha);
-    divergence = Probe.Disc->StepSum / Alpha * static_cast<double>(Size) / inner;
+    // (the window's inner part scaled to the whole; an empty piece of a
+    // split grid has no window and no values)
+    const double scale = Windowed ? static_cast<double>(Size) / (static_cast<double>(Window.InnerEnd - Window.InnerBegin) * NC) : 1.0;
+    double sums[2] = { Main.Disc->StepSum, Probe.Disc->StepSum };
+    if (Split)
+    {
+      Split->Sum(sums, 2);
+    }
+    fit = sums[0] / (Alpha * Alpha);
+    divergence = sums[1] / Alpha * scale;
   }
   else if (O.ToNoiseSpace)
   {

@@ -137,6 +137,7 @@ public:
     {
       Piece = *piece;
       Split = piece->Split;
+      Owned = OwnedRuns(*Split, grid.Height, grid.Width);
     }
     Allocate(grid.Width * grid.Height, NC, gamma, threads, storeOperator);
     // 0.2 on unit grids (limit about 0.24), scaled with the spacing.
@@ -215,8 +216,7 @@ public:
           Row(output, r, upper, lower, sums, dt, next);
           if (!RowSums.empty())
           {
-            const std::int64_t first = r * w * NC;
-            RowSums[r] = RowSum(first, w * NC, next + first);
+            RowSums[r] = StepRowSum(r, next);
           }
           std::swap(upper, lower);
         }
@@ -273,6 +273,7 @@ public:
 private:
   PixelGrid Grid;
   GridPiece Piece; // with Split: the piece of a split grid
+  OwnedRuns Owned; // and its pixels, row by row
   GridBoundary Boundary;
   Index PW = 0, PH = 0;
   std::size_t PlaneSize = 0;
@@ -282,6 +283,19 @@ private:
   ScratchPool Scratch; // per-thread row buffers of Update, kept between steps
   double Epsilon2 = 0.0;
   double BaseMass = 0.0; // a pixel's mass on flat data (both triangulations)
+
+  /// RowSum of pixel row r of the step into next (a split grid: of its
+  /// runs of owned pixels).
+  double StepRowSum(std::int64_t r, const double* next) const
+  {
+    double sum = 0.0;
+    const auto add = [&](std::int64_t begin, std::int64_t end) {
+      const std::int64_t first = (r * Grid.Width + begin) * NC;
+      sum += RowSum(first, (end - begin) * NC, next + first);
+    };
+    Split ? Owned.ForEach(r, add) : add(0, Grid.Width);
+    return sum;
+  }
 
   /// Component k of pixel (r, c), -1 <= r <= H, -1 <= c <= W, of the padded copy.
   double PaddedAt(int k, std::int64_t r, std::int64_t c) const
@@ -504,12 +518,14 @@ private:
       }
     }
     double area = 0.0, rate = 0.0; // in order (not vectorized): sums are reproducible
-    for (Index c = 0; c < w; ++c)
-    {
-      const bool counts = !Split || Split->IsOwned(static_cast<Index>(r * w + c)); // (a split grid: its own)
-      area += counts ? masses[c] : 0.0;
-      rate = std::max(rate, counts ? rates[c] : 0.0);
-    }
+    const auto add = [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t c = begin; c < end; ++c)
+      {
+        area += masses[c];
+        rate = std::max(rate, rates[c]);
+      }
+    };
+    Split ? Owned.ForEach(r, add) : add(0, w); // (a split grid: the pixels it owns)
     RowArea[r] = area;
     RowRate[r] = rate;
   }

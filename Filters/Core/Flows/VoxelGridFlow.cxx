@@ -115,6 +115,7 @@ public:
     {
       Piece = *piece;
       Split = piece->Split;
+      Owned = OwnedRuns(*Split, H * D, W);
     }
     Allocate(static_cast<Index>(W * H * D), NC, gamma, threads, storeOperator);
     LengthScale = std::cbrt(grid.SpacingX * grid.SpacingY * grid.SpacingZ);
@@ -354,13 +355,21 @@ private:
     }
     if (Split) // a piece of a split grid: the figures of the voxels it owns
     {
-      OwnedFigures(first, mass, b.Positive, rate, area);
+      OwnedFigures(k * H + j, mass, b.Positive, rate, area);
     }
     rowRate[k * H + j] = rate;
     rowArea[k * H + j] = area;
-    if (rowSum)
+    if (rowSum && !Split)
     {
       rowSum[k * H + j] = RowSum(first * NC, W * NC, Next + first * NC);
+    }
+    else if (rowSum)
+    {
+      double sum = 0.0;
+      Owned.ForEach(k * H + j, [&](std::int64_t begin, std::int64_t end) {
+        sum += RowSum((first + begin) * NC, (end - begin) * NC, Next + (first + begin) * NC);
+      });
+      rowSum[k * H + j] = sum;
     }
     if (StoreOperator)
     {
@@ -425,19 +434,18 @@ private:
     }
   }
 
-  /// The largest rate and the volume of the owned voxels of the row from
-  /// voxel `first` (rates: VelocityRow's per voxel).
-  void OwnedFigures(std::int64_t first, const Real* mass, const double* rates, double& rate, double& area) const
+  /// The largest rate and the volume of the owned voxels of voxel row r
+  /// (rates: VelocityRow's per voxel).
+  void OwnedFigures(std::int64_t r, const Real* mass, const double* rates, double& rate, double& area) const
   {
     rate = area = 0.0;
-    for (std::int64_t ix = 0; ix < W; ++ix)
-    {
-      if (Split->IsOwned(static_cast<Index>(first + ix)))
+    Owned.ForEach(r, [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t ix = begin; ix < end; ++ix)
       {
         rate = std::max(rate, rates[ix]);
         area += mass[ix];
       }
-    }
+    });
   }
 
   /// The lumped mass of voxel (ix, j, k) of the flat graph: the corner
@@ -458,6 +466,7 @@ private:
 
   VoxelGrid Grid;
   GridPiece Piece; // with Split: the piece of a split grid
+  OwnedRuns Owned; // and its voxels, row by row
   std::int64_t W, H, D, PlaneSize = 0, Margin = 0;
   std::int64_t Offset[8];
   KuhnShapes<Real> Shapes; // of the flat cell
