@@ -58,7 +58,7 @@ def worker(volume_file, mesh_file):
 def prepare(tmp):
     """The noisy volume and the noisy elephant tetrahedra, as files."""
     import numpy as np
-    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkCommonDataModel import vtkImageData
     from vtkmodules.vtkIOXML import vtkXMLImageDataWriter, vtkXMLUnstructuredGridWriter
     from beltrami import vtkOFFReader, vtkTetGenTetrahedralizer
@@ -68,13 +68,7 @@ def prepare(tmp):
     noisy = clean + np.random.default_rng(1).normal(0.0, 0.1, clean.shape).astype(np.float32)
     image = vtkImageData()
     image.SetDimensions(n, n, n)
-    a = numpy_to_vtk(noisy.ravel(), deep=1)
-    a.SetName("f")
-    image.GetPointData().SetScalars(a)
-    writer = vtkXMLImageDataWriter()
-    writer.SetInputData(image)
-    writer.SetFileName(os.path.join(tmp, "volume.vti"))
-    writer.Write()
+    write_with_data(image, noisy.ravel(), vtkXMLImageDataWriter(), os.path.join(tmp, "volume.vti"))
     reader = vtkOFFReader()
     reader.SetFileName(os.path.join(DATA, "elephant.off"))
     tetgen = vtkTetGenTetrahedralizer()
@@ -84,14 +78,19 @@ def prepare(tmp):
     grid = tetgen.GetOutput()
     p = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
     f = np.sin(12 * p[:, 0]) * np.cos(9 * p[:, 1]) + np.random.default_rng(2).normal(0.0, 0.05, len(p))
-    a = numpy_to_vtk(f, deep=1)
-    a.SetName("f")
-    grid.GetPointData().AddArray(a)
-    writer = vtkXMLUnstructuredGridWriter()
-    writer.SetInputData(grid)
-    writer.SetFileName(os.path.join(tmp, "elephant.vtu"))
-    writer.Write()
+    write_with_data(grid, f, vtkXMLUnstructuredGridWriter(), os.path.join(tmp, "elephant.vtu"))
     return grid.GetNumberOfCells()
+
+
+def write_with_data(data, values, writer, path):
+    """`data` with the point array f = `values` (its scalars) written by `writer` to `path`."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    a = numpy_to_vtk(values, deep=1)
+    a.SetName("f")
+    data.GetPointData().SetScalars(a)
+    writer.SetInputData(data)
+    writer.SetFileName(path)
+    writer.Write()
 
 
 def driver():
