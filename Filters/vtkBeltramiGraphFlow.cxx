@@ -88,19 +88,6 @@ void vtkBeltramiGraphFlow::AddReport(vtkFieldData* fd, const beltrami::GraphFlow
   }
 }
 
-void vtkBeltramiGraphFlow::AddDistribution(vtkFieldData* fd, const vtkBeltramiPieces& pieces)
-{
-  const beltrami::Partition* rows = pieces.Split();
-  vtkNew<vtkIdTypeArray> distribution;
-  distribution->SetName("FlowDistribution");
-  for (const std::int64_t count : { std::int64_t(rows->OwnedRows()), std::int64_t(rows->Rows() - rows->OwnedRows()),
-         pieces.NumberOfCells(), rows->SentPerUpdate() })
-  {
-    distribution->InsertNextValue(count);
-  }
-  fd->AddArray(distribution);
-}
-
 std::string vtkBeltramiGraphFlow::RunWarnings(
   const beltrami::GraphFlowOptions& o, const beltrami::GraphFlowResult& r)
 {
@@ -262,7 +249,7 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
   AddReport(output->GetFieldData(), result);
   if (split && split->Split())
   {
-    AddDistribution(output->GetFieldData(), *split);
+    split->AddDistribution(output->GetFieldData(), "FlowDistribution");
   }
   return 1;
 }

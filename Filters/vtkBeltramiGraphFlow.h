@@ -94,11 +94,6 @@ public:
   /// FlowEstimatedError (estimated RMS error to the clean data: input, result).
   static void AddReport(vtkFieldData* fd, const beltrami::GraphFlowResult& result);
 
-  /// Field array FlowDistribution of a run split over the ranks (`pieces`):
-  /// this rank's owned points, ghost points, cells (its piece's with the
-  /// rings) and values sent per exchange of the ghosts.
-  static void AddDistribution(vtkFieldData* fd, const vtkBeltramiPieces& pieces);
-
   /// Warnings for explicit steps beyond the stability limit and for a
   /// rule-based stop cut short by the iteration limit (empty if none).
   static std::string RunWarnings(

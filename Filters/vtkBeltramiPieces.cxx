@@ -7,6 +7,8 @@
 #include <vtkCommunicator.h>
 #include <vtkDataSet.h>
 #include <vtkDataSetAttributes.h>
+#include <vtkFieldData.h>
+#include <vtkIdTypeArray.h>
 #include <vtkMPI.h>
 #include <vtkMPICommunicator.h>
 #include <vtkMultiProcessController.h>
@@ -444,4 +446,17 @@ bool vtkBeltramiPieces::AllAgree(bool ok) const
   int local = ok ? 1 : 0, all = 0;
   vtkMultiProcessController::GetGlobalController()->AllReduce(&local, &all, 1, vtkCommunicator::MIN_OP);
   return all == 1;
+}
+
+void vtkBeltramiPieces::AddDistribution(vtkFieldData* fd, const char* name) const
+{
+  const beltrami::Partition* rows = Split();
+  vtkNew<vtkIdTypeArray> distribution;
+  distribution->SetName(name);
+  for (const std::int64_t count : { std::int64_t(rows->OwnedRows()), std::int64_t(rows->Rows() - rows->OwnedRows()),
+         NumberOfCells(), rows->SentPerUpdate() })
+  {
+    distribution->InsertNextValue(count);
+  }
+  fd->AddArray(distribution);
 }

@@ -23,6 +23,7 @@
 #include <vector>
 
 class vtkDataSet;
+class vtkFieldData;
 class vtkInformation;
 class vtkMultiProcessController;
 
@@ -67,6 +68,10 @@ public:
   const std::vector<double>& GhostPoints() const { return Ghosts; }
   /// The cells of the piece with its rings (AddRings' result).
   std::int64_t NumberOfCells() const { return Cells; }
+  /// After BuildPartition: the field array `name` of a run split over the
+  /// ranks, added to `fd`: this rank's owned points, ghost points, cells
+  /// (its piece's with the rings) and values sent per exchange of the ghosts.
+  void AddDistribution(vtkFieldData* fd, const char* name) const;
 
   /// After AddRings (collective): the owner of each of the `rows` points of
   /// the piece with its rings (its first `pieceRows` are the piece's own):

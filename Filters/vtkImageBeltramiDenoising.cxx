@@ -434,7 +434,7 @@ int vtkImageBeltramiDenoising::RequestData(
   WriteOutput(this, input, output, array, inExt, v, result);
   if (piece.Split)
   {
-    vtkBeltramiGraphFlow::AddDistribution(output->GetFieldData(), pieces);
+    pieces.AddDistribution(output->GetFieldData(), "FlowDistribution");
   }
   return 1;
 }

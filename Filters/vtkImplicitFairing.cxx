@@ -315,15 +315,9 @@ void vtkImplicitFairing::WriteOutput(
     gain->InsertNextValue(report.LargestGain);
     fd->AddArray(gain);
   }
-  if (const beltrami::Partition* split = surface.Split())
+  if (surface.Split())
   {
-    vtkNew<vtkIdTypeArray> rows;
-    rows->SetName("FairingDistribution");
-    rows->InsertNextValue(split->OwnedRows());
-    rows->InsertNextValue(split->Rows() - split->OwnedRows());
-    rows->InsertNextValue(surface.Topology().NumberOfTriangles());
-    rows->InsertNextValue(split->SentPerUpdate());
-    fd->AddArray(rows);
+    surface.SplitPieces().AddDistribution(fd, "FairingDistribution");
   }
   output->SetFieldData(fd);
 

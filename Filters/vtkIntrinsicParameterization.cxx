@@ -301,11 +301,14 @@ int vtkIntrinsicParameterization::RequestData(
   this->OptimalMix = -1.0;
   this->MeanAngleDistortion = this->MeanAreaDistortion = this->MeanEdgeDistortion = 0.0;
   this->NumberOfFlippedTriangles = 0;
-  // A parameterization is one solve over the whole surface: data split over
-  // the ranks of a distributed run are gathered on rank 0 (vtkBeltramiGather)
-  // and every rank gets the results for its own points and cells.
+  // A parameterization is one solve over the whole surface.  Data split over
+  // the ranks of a distributed run are solved over the ranks, each rank
+  // holding its own piece (vtkBeltramiSurface::Needs::Distributed); the
+  // options that need the whole surface (DistributedParameterizationLimitation,
+  // constraint targets) gather the pieces on rank 0 (vtkBeltramiGather), and
+  // every rank gets the results for its own points and cells.
   const auto parameterize = [this](vtkBeltramiSurface& surface) {
-    if (surface.PiecesWithData() > 1) // pieces streamed one by one: no gathering
+    if (!surface.Split() && surface.PiecesWithData() > 1) // pieces streamed one by one: no gathering
     {
       vtkWarningMacro("A parameterization needs the whole surface: this piece of " << surface.PiecesWithData()
         << " streamed pieces is passed through. Update the whole data set.");
@@ -319,8 +322,17 @@ int vtkIntrinsicParameterization::RequestData(
     }
     return this->Parameterize(surface) != 0;
   };
+  beltrami::ParameterizationOptions options;
+  this->CopySettings(options, vtkBeltramiCopy::ToCore);
+  options.Constraints = this->Internal->Constraints;
+  options.Lines = this->Internal->Lines;
+  options.KeepBoundaryBasis = options.KeepBoundaryBasis || !this->Internal->Handles.empty();
+  vtkInformation* targets = this->GetInputArrayInformation(1);
+  const char* target = targets && targets->Has(vtkDataObject::FIELD_NAME()) ? targets->Get(vtkDataObject::FIELD_NAME()) : nullptr;
+  const bool distributes = beltrami::DistributedParameterizationLimitation(options).empty() &&
+    (!target || !*target || std::string(target) == "None");
   return vtkBeltramiSurface::Execute(this, inputVector, outputVector, this->NumberOfThreads,
-    vtkBeltramiSurface::Needs::WholeSurface, parameterize,
+    distributes ? vtkBeltramiSurface::Needs::Distributed : vtkBeltramiSurface::Needs::WholeSurface, parameterize,
     [this](vtkPolyData* output) { this->ReadReport(output->GetFieldData()); });
 }
 
@@ -328,7 +340,7 @@ int vtkIntrinsicParameterization::Parameterize(vtkBeltramiSurface& surface)
 {
   const beltrami::MeshTopology& topo = surface.Topology();
   std::string notDisk;
-  if (this->AtlasForNonDisks && !beltrami::CheckDiskTopology(topo, notDisk))
+  if (this->AtlasForNonDisks && !surface.Split() && !beltrami::CheckDiskTopology(topo, notDisk))
   {
     if (!this->Internal->Handles.empty())
     {
@@ -352,7 +364,8 @@ int vtkIntrinsicParameterization::Parameterize(vtkBeltramiSurface& surface)
   this->UpdateProgress(0.9);
   std::vector<double> converted; // float points: one copy in double
   const beltrami::DistortionReport distortion =
-    beltrami::MeasureDistortion(topo, surface.PointsAsDouble(converted), result.UV.data(), this->NumberOfThreads);
+    beltrami::MeasureDistortion(
+      topo, surface.PointsAsDouble(converted), result.UV.data(), this->NumberOfThreads, surface.Split());
   this->WriteMap(surface, result);
   this->WriteDistortion(surface, distortion, result);
   this->UpdateProgress(1.0);
@@ -373,7 +386,15 @@ bool vtkIntrinsicParameterization::Solve(vtkBeltramiSurface& surface, beltrami::
   }
   this->UpdateProgress(0.0);
   std::vector<double> converted;
-  result = beltrami::Parameterize(surface.Topology(), surface.PointsAsDouble(converted), options);
+  try // the split solve needs MPI and hypre: failures there are errors, not crashes
+  {
+    result = surface.Split() ? this->SolveSplit(surface, options, given)
+                             : beltrami::Parameterize(surface.Topology(), surface.PointsAsDouble(converted), options);
+  }
+  catch (const std::exception& e)
+  {
+    result.Error = e.what();
+  }
   ++this->NumberOfSolves;
   if (!result.Error.empty())
   {
@@ -490,6 +511,33 @@ bool vtkIntrinsicParameterization::ReadInputArrays(
   return true;
 }
 
+beltrami::ParameterizationResult vtkIntrinsicParameterization::SolveSplit(
+  vtkBeltramiSurface& surface, beltrami::ParameterizationOptions& options, std::vector<double>& given)
+{
+  // One row per topology point (the core gives the ghost rows their owners' values).
+  const std::size_t rows = static_cast<std::size_t>(surface.NumberOfTopologyPoints());
+  if (options.GivenUV)
+  {
+    given.resize(2 * rows, 0.0);
+    options.GivenUV = given.data();
+  }
+  std::vector<std::int64_t> ids; // the pieces' global point ids, where they have them
+  vtkDataArray* globalIds = surface.Input()->GetPointData()->GetGlobalIds();
+  if (globalIds && globalIds->GetNumberOfComponents() == 1)
+  {
+    ids.assign(rows, 0);
+    for (vtkIdType i = 0; i < globalIds->GetNumberOfTuples(); ++i)
+    {
+      ids[i] = static_cast<std::int64_t>(globalIds->GetComponent(i, 0));
+    }
+  }
+  const beltrami::Partition& split = *surface.Split();
+  const bool everyRankHasIds = split.Sum(ids.empty() && surface.NumberOfInputPoints() > 0 ? 1.0 : 0.0) == 0.0;
+  std::vector<double> converted;
+  return beltrami::Parameterize(surface.Topology(), surface.PointsAsDouble(converted), options, split,
+    everyRankHasIds && !ids.empty() ? ids.data() : nullptr);
+}
+
 void vtkIntrinsicParameterization::WriteMap(
   vtkBeltramiSurface& surface, const beltrami::ParameterizationResult& result)
 {
@@ -499,7 +547,7 @@ void vtkIntrinsicParameterization::WriteMap(
   // fresh pages for the UVs and the three cell arrays cost about as much as
   // the distortion measure itself (179k vertices: ~40 ms every run).
   vtkSmartPointer<vtkDataArray> uv = vtkBeltramiSurface::NewArray(VTK_DOUBLE, "UV", 2, numPoints);
-  std::copy(result.UV.begin(), result.UV.end(), static_cast<double*>(uv->GetVoidPointer(0)));
+  std::copy_n(result.UV.begin(), 2 * numPoints, static_cast<double*>(uv->GetVoidPointer(0))); // (split: the piece's rows)
   output->GetPointData()->AddArray(uv);
   output->GetPointData()->SetTCoords(uv);
   if (this->OutputFlattenedMesh)
@@ -541,7 +589,11 @@ void vtkIntrinsicParameterization::WriteDistortion(vtkBeltramiSurface& surface,
   std::vector<int> count(numCells, 0);
   for (std::size_t t = 0; t < kept.size(); ++t)
   {
-    ++count[surface.TriangleCell(kept[t])];
+    const vtkIdType cell = surface.TriangleCell(kept[t]);
+    if (cell >= 0) // (-1: another piece's triangle of a split run)
+    {
+      ++count[cell];
+    }
   }
   for (int a = 0; a < 3; ++a)
   {
@@ -552,7 +604,10 @@ void vtkIntrinsicParameterization::WriteDistortion(vtkBeltramiSurface& surface,
     for (std::size_t t = 0; t < kept.size(); ++t)
     {
       const vtkIdType cell = surface.TriangleCell(kept[t]);
-      out[cell] += value[t] / count[cell];
+      if (cell >= 0)
+      {
+        out[cell] += value[t] / count[cell];
+      }
     }
     for (vtkIdType c = 0; c < numCells; ++c)
     {
@@ -577,6 +632,11 @@ void vtkIntrinsicParameterization::WriteDistortion(vtkBeltramiSurface& surface,
   {
     fd->AddArray(NamedValue("OptimalMix", result.OptimalMix));
   }
+  if (surface.Split())
+  {
+    fd->AddArray(NamedValue("ParameterizationIterations", result.Iterations));
+    surface.SplitPieces().AddDistribution(fd, "ParameterizationDistribution");
+  }
   if (!result.BoundaryEnergies.empty())
   {
     vtkNew<vtkDoubleArray> energies;
@@ -588,7 +648,7 @@ void vtkIntrinsicParameterization::WriteDistortion(vtkBeltramiSurface& surface,
     fd->AddArray(energies);
   }
   output->SetFieldData(fd);
-  if (distortion.FlippedTriangles)
+  if (distortion.FlippedTriangles && (!surface.Split() || surface.Split()->Rank() == 0)) // (split: one report)
   {
     vtkWarningMacro(<< distortion.FlippedTriangles
                     << " triangles are flipped in the parameterization (obtuse triangles give negative "

@@ -272,6 +272,10 @@ private:
   /// The parameterization of the surface into `result` (after ReadInputArrays);
   /// false after an error.  Keeps the basis and, with handles, the result.
   bool Solve(vtkBeltramiSurface& surface, beltrami::ParameterizationResult& result);
+  /// Solve's split run: the ranks solve together (given: input array 0's
+  /// values, grown to the topology's rows).
+  beltrami::ParameterizationResult SolveSplit(
+    vtkBeltramiSurface& surface, beltrami::ParameterizationOptions& options, std::vector<double>& given);
   /// Whether the kept basis and map serve this update (only the handles changed).
   bool CanReuseSolve(vtkBeltramiSurface& surface);
   /// Modification times of what a solve reads from the input.

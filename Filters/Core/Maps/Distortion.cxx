@@ -111,16 +111,34 @@ double DistortionEnergyValue(const MeshTopology& topo, const double* points, con
 }
 
 DistortionReport MeasureDistortion(
-  const MeshTopology& topo, const double* points, const double* uv, int numThreads)
+  const MeshTopology& topo, const double* points, const double* uv, int numThreads, const Partition* split)
 {
   const int threads = ResolveThreadCount(numThreads);
   const Index nt = topo.NumberOfTriangles();
+  // Split: the sums over the triangles this process counts, over all processes.
+  std::vector<std::uint8_t> counted(nt, 1);
+  for (Index t = 0; split && t < nt; ++t)
+  {
+    counted[t] = split->CountsTriangle(topo.CornerVertex(3 * t), topo.CornerVertex(3 * t + 1), topo.CornerVertex(3 * t + 2));
+  }
   DistortionReport r;
   r.AngleDistortion.assign(nt, 0.0);
   r.AreaDistortion.assign(nt, 0.0);
   r.EdgeDistortion.assign(nt, 0.0);
-  const double a3 = TotalArea3D(topo, points, threads);
-  const double a2 = TotalArea2D(topo, uv, threads);
+  double areas[2] = { 0.0, 0.0 }; // 3D, signed 2D
+  for (Index t = 0; t < nt; ++t)
+  {
+    if (counted[t])
+    {
+      areas[0] += Area3D(topo, points, t);
+      areas[1] += SignedArea2D(topo, uv, t);
+    }
+  }
+  if (split)
+  {
+    split->Sum(areas, 2);
+  }
+  const double a3 = areas[0], a2 = areas[1];
   const double s = a2 != 0.0 && a3 > 0.0 ? std::sqrt(std::abs(a2) / a3) : 1.0;
   std::vector<std::uint8_t> degenerate(nt, 0), flipped(nt, 0);
   ParallelFor(nt, threads, [&](std::int64_t begin, std::int64_t end) {
@@ -154,29 +172,38 @@ DistortionReport MeasureDistortion(
       r.AreaDistortion[t] = ratio > 0.0 ? std::log(ratio) : -50.0;
     }
   });
-  Index used = 0;
+  // sums: used, degenerate, flipped, angle, area, edge; largest: angle, area, edge
+  double sums[6] = { 0, 0, 0, 0, 0, 0 }, largest[3] = { 0, 0, 0 };
   for (Index t = 0; t < nt; ++t)
   {
-    if (degenerate[t])
+    if (!counted[t] || degenerate[t])
     {
-      ++r.DegenerateTriangles;
+      sums[1] += counted[t];
       continue;
     }
-    ++used;
-    r.FlippedTriangles += flipped[t];
-    r.MeanAngle += r.AngleDistortion[t];
-    r.MaxAngle = std::max(r.MaxAngle, r.AngleDistortion[t]);
-    r.MeanArea += std::abs(r.AreaDistortion[t]);
-    r.MaxArea = std::max(r.MaxArea, std::abs(r.AreaDistortion[t]));
-    r.MeanEdge += r.EdgeDistortion[t];
-    r.MaxEdge = std::max(r.MaxEdge, r.EdgeDistortion[t]);
+    const double values[3] = { r.AngleDistortion[t], std::abs(r.AreaDistortion[t]), r.EdgeDistortion[t] };
+    sums[0] += 1.0;
+    sums[2] += flipped[t];
+    for (int k = 0; k < 3; ++k)
+    {
+      sums[3 + k] += values[k];
+      largest[k] = std::max(largest[k], values[k]);
+    }
   }
-  if (used)
+  if (split)
   {
-    r.MeanAngle /= used;
-    r.MeanArea /= used;
-    r.MeanEdge /= used;
+    split->Sum(sums, 6);
+    split->Max(largest, 3);
   }
+  const double used = std::max(sums[0], 1.0);
+  r.DegenerateTriangles = static_cast<Index>(sums[1]);
+  r.FlippedTriangles = static_cast<Index>(sums[2]);
+  r.MeanAngle = sums[3] / used;
+  r.MeanArea = sums[4] / used;
+  r.MeanEdge = sums[5] / used;
+  r.MaxAngle = largest[0];
+  r.MaxArea = largest[1];
+  r.MaxEdge = largest[2];
   return r;
 }
 

@@ -8,6 +8,7 @@
 
 #include "Mesh/Geometry.h"
 #include "Mesh/MeshTopology.h"
+#include "Solvers/Partition.h"
 
 #include <vector>
 
@@ -34,9 +35,12 @@ struct DistortionReport
   Index DegenerateTriangles = 0;       ///< zero 3D area: left out of everything
 };
 
-/// Distortion of the map `uv` (2 per vertex) against the surface.
-DistortionReport MeasureDistortion(
-  const MeshTopology& topology, const double* points, const double* uv, int numThreads = 0);
+/// Distortion of the map `uv` (2 per vertex) against the surface.  With
+/// `split` (collective): the per-triangle values of every local triangle,
+/// and the report's figures over the whole surface split over the processes
+/// (each triangle counted once, Partition::CountsTriangle).
+DistortionReport MeasureDistortion(const MeshTopology& topology, const double* points, const double* uv,
+  int numThreads = 0, const Partition* split = nullptr);
 
 /// The energies of section 5.5 for the map `uv` scaled by `scale`
 /// (u -> scale * u), and their gradients (2 per vertex) if `gradient` is not null.

@@ -26,6 +26,7 @@
 #include "Mesh/MeshTopology.h"
 
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -33,6 +34,8 @@
 
 namespace beltrami
 {
+
+class Partition;
 
 /// A surface point (a vertex, or a point of a triangle given by barycentric
 /// weights) to be mapped onto a target (section 5.4.1).
@@ -90,6 +93,11 @@ struct ParameterizationOptions
   double MaximumBasisBytes = 1024.0 * 1024.0 * 1024.0;
 
   int NumberOfThreads = 0;
+
+  /// Split over processes (Parameterize with a Partition): the residual
+  /// reduction of the multigrid-preconditioned conjugate gradients (the
+  /// serial path solves directly).
+  double SplitTolerance = 1e-10;
 };
 
 /// The impulse responses b_i of section 5.4.2: the map for any placement of
@@ -140,6 +148,10 @@ struct ParameterizationResult
   std::vector<double> BoundaryEnergies; ///< energy before/after each descent step
   Index DegenerateTriangles = 0;
   std::unique_ptr<BoundaryBasis> Basis; ///< when KeepBoundaryBasis
+  /// Split over processes: the global rows (Partition::GlobalRow) of the
+  /// outer loop, and the iterations of the solve.
+  std::vector<std::int64_t> OuterRows;
+  int Iterations = 0;
 };
 
 /// Says whether the mesh can be parameterized (one connected, manifold,
@@ -156,5 +168,30 @@ std::string AppendLineConstraint(const MeshTopology& topology, const double* poi
 /// Computes the parameterization of the mesh at `points` (3 per vertex).
 ParameterizationResult Parameterize(
   const MeshTopology& topology, const double* points, const ParameterizationOptions& options);
+
+/// Why the options cannot be solved over processes (Parameterize with a
+/// Partition): the feature they need, or empty when they can.  The split
+/// solve covers the conformal energy (DCP) with the outer loop fixed on a
+/// circle or square (corners at the quarters), or every loop at given
+/// positions; the natural boundary, the authalic energy and its mix, point
+/// and line constraints, and the boundary basis need the whole surface.
+std::string DistributedParameterizationLimitation(const ParameterizationOptions& options);
+
+/// The parameterization of a surface split over MPI processes (collective:
+/// every process of `split` calls it, an empty piece's too).  `topology`
+/// holds the process's piece with the whole star of every point it owns
+/// (ghost rows after them); `points` and GivenUV one row per topology
+/// point.  Each process assembles the conformal rows of its owned points,
+/// and the conjugate gradients preconditioned by multigrid (hypre's
+/// BoomerAMG, spanning the processes) solve to SplitTolerance; only the
+/// boundary is gathered on every process.  The outer loop starts at its
+/// point of the lowest `pointIds` (optional, one per topology point: ids
+/// that a serial run would have, so that it starts where the serial run's
+/// loop does, at its lowest point id), else at its lexicographically first
+/// point (x, then y, then z).  On return UV holds every topology row (ghosts
+/// their owners' values); the checks and errors are those of the serial
+/// path, agreed over the processes.
+ParameterizationResult Parameterize(const MeshTopology& topology, const double* points,
+  const ParameterizationOptions& options, const Partition& split, const std::int64_t* pointIds = nullptr);
 
 } // namespace beltrami

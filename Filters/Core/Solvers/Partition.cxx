@@ -163,6 +163,17 @@ void Partition::Max(double* values, int count) const
   MPI_Allreduce(MPI_IN_PLACE, values, count, MPI_DOUBLE, MPI_MAX, Plan->Comm);
 }
 
+std::vector<double> Partition::AllGather(const std::vector<double>& values) const
+{
+  std::vector<int> counts(static_cast<std::size_t>(Processes));
+  const int mine = static_cast<int>(values.size());
+  MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, Plan->Comm);
+  const std::vector<int> offsets = OffsetsOf(counts);
+  std::vector<double> all(static_cast<std::size_t>(offsets.back() + counts.back()));
+  MPI_Allgatherv(values.data(), mine, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, Plan->Comm);
+  return all;
+}
+
 double Partition::NthSmallest(const std::vector<double>& values, std::int64_t k) const
 {
   // Non-negative doubles order as their bit patterns: the pattern of the

@@ -50,6 +50,13 @@ public:
   /// the lower global row (which holds the whole star of that end, so the
   /// edge too).
   bool CountsEdge(Index a, Index b) const { return IsOwned(Global[a] < Global[b] ? a : b); }
+  /// The same for a triangle (a, b, c): counted once, at the owner of its
+  /// corner with the lowest global row.
+  bool CountsTriangle(Index a, Index b, Index c) const
+  {
+    const Index low = Global[a] < Global[b] ? a : b;
+    return IsOwned(Global[low] < Global[c] ? low : c);
+  }
   /// The MPI_Comm (a pointer to it) the rows are split over.
   const void* Communicator() const;
   /// Values this process sends per column in one UpdateGhosts (its owned
@@ -79,6 +86,10 @@ public:
     Max(&value, 1);
     return value;
   }
+  /// The values of every process, concatenated in the order of the ranks
+  /// (the same on every process): for data much smaller than the rows,
+  /// e.g. the boundary of a surface.
+  std::vector<double> AllGather(const std::vector<double>& values) const;
   /// The k-th smallest (0-based) of the values of all processes together,
   /// exactly (what std::nth_element gives on all of them); the values must
   /// not be negative, k below their total count.
