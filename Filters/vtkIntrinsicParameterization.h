@@ -46,15 +46,31 @@
  * AreaDistortion (log of the normalised 2D/3D area ratio) and EdgeDistortion
  * (mean |log| of the normalised edge-length ratios); field arrays with their
  * means and maxima, FlippedTriangles, and OptimalMix / BoundaryEnergy when
- * used.  A parameterization needs the whole surface.  Distributed runs
- * (pvbatch, pvserver): a surface that a reader delivers whole to one rank
- * (e.g. an OFF file) is parameterized there as in a serial run; a surface
- * split over several ranks is gathered on rank 0 (points shared by pieces
- * merged, ghost cells left out), parameterized there, and every rank gets
- * the UVs, points and distortion of its own points and cells: the serial
- * numbers, with the memory and time of one process.  The boundary basis
- * (KeepBoundaryBasis) then lives on rank 0.  Pieces streamed one by one in
- * one process pass through with a warning.
+ * used.  Distributed runs (pvbatch, pvserver): a surface that a reader
+ * delivers whole to one rank (e.g. an OFF file) is parameterized there as in
+ * a serial run.  A surface split over several ranks (without ghost cells) is
+ * parameterized where it lies: the ranks exchange the triangles around their
+ * common points, agree on each point's owner, check together that the whole
+ * is a disk, gather only its boundary, and solve the conformal system
+ * together (conjugate gradients preconditioned by hypre's BoomerAMG over the
+ * ranks, to a residual reduction of 1e-10): the serial map to about 1e-10,
+ * no rank holding more than its piece and a ring (field arrays
+ * ParameterizationIterations and ParameterizationDistribution: each rank's
+ * owned points, ghost points, triangles, values sent per exchange).  The
+ * outer loop starts where a serial run's does, at its lowest point id, when
+ * the pieces carry global point ids (vtkPointData::GetGlobalIds); without
+ * them at its lexicographically first point (the serial map turned on the
+ * circle, or its square's corners moved along the boundary).  Options the
+ * split solve does not cover (beltrami::DistributedParameterizationLimitation:
+ * the authalic energy and the optimal mix, NATURAL, point and line
+ * constraints, a constraint target array, boundary optimisation, the kept
+ * basis and handles) and pieces with
+ * ghost cells gather the pieces on rank 0 (points shared by pieces merged,
+ * ghost cells left out); it parameterizes the whole surface there and every
+ * rank gets the UVs, points and distortion of its own points and cells: the
+ * serial numbers, with the memory and time of one process.  The boundary
+ * basis then lives on rank 0.  Pieces streamed one by one in one process
+ * pass through with a warning.
  */
 #ifndef vtkIntrinsicParameterization_h
 #define vtkIntrinsicParameterization_h

@@ -109,3 +109,72 @@ def check_split_flow(label, ranks, result, whole, reference, array, tolerance, l
         check(np.allclose(a, b, rtol=1e-6), "%s: estimated error %s as serial %s" % (label, a, b))
     kept = vtk_to_numpy(whole.GetPointData().GetArray("mask"))[ids] != 0
     check(np.array_equal(ours[kept], before[ids][kept]), "%s: fixed points kept" % label)
+
+
+# A height field (a disk) cut so that one rank's piece is a single triangle
+# whose corners all belong to lower ranks' pieces (and, on 4 ranks, the last
+# piece empty): a piece that owns no point.
+LONE_TRIANGLE_GRID = """
+import numpy as np
+from vtkmodules.vtkCommonCore import vtkPoints
+from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+def height_field(piece, pieces):
+    n = 24
+    u, v = np.meshgrid(np.linspace(0.0, 1.0, n), np.linspace(0.0, 1.0, n), indexing="ij")
+    z = 0.1 * np.sin(6.0 * u) * np.cos(5.0 * v) + 0.02 * np.sin(37.0 * u * v)
+    xyz = np.column_stack([u.ravel(), v.ravel(), z.ravel()])
+    cells, centres = [], []
+    for i in range(n - 1):
+        for j in range(n - 1):
+            a, b, c, d = i * n + j, (i + 1) * n + j, (i + 1) * n + j + 1, i * n + j + 1
+            for t in ((a, b, c), (a, c, d)):
+                cells.append(t)
+                centres.append(xyz[list(t)].mean(0))
+    lone = (n // 2) * 2 * (n - 1) + 2 * (n // 2)  # a triangle inside, next to the cut x = 0.5
+    owner = [0 if (k != lone and c[0] < 0.5) or pieces == 1 else 1 if k != lone else 2 for k, c in enumerate(centres)]
+    if pieces == 2:
+        owner = [0 if k != lone else 1 for k in range(len(cells))]
+    keep = [k for k in range(len(cells)) if owner[k] == piece]
+    used = sorted({p for k in keep for p in cells[k]})
+    index = {p: m for m, p in enumerate(used)}
+    out = vtkPolyData()
+    pts = vtkPoints()
+    pts.SetDataTypeToDouble()
+    for p in used:
+        pts.InsertNextPoint(*xyz[p])
+    polys = vtkCellArray()
+    for k in keep:
+        polys.InsertNextCell(3, [index[p] for p in cells[k]])
+    out.SetPoints(pts)
+    out.SetPolys(polys)
+    return out
+"""
+
+
+def lone_triangle_source():
+    """A pvbatch programmable source of that height field that honours piece
+    requests (each rank makes its own piece)."""
+    from paraview.simple import ProgrammableSource
+    source = ProgrammableSource(OutputDataSetType="vtkPolyData")
+    source.ScriptRequestInformation = """
+from vtkmodules.vtkCommonExecutionModel import vtkAlgorithm
+self.GetOutputInformation(0).Set(vtkAlgorithm.CAN_HANDLE_PIECE_REQUEST(), 1)
+"""
+    source.Script = LONE_TRIANGLE_GRID + """
+from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline as sddp
+info = self.GetOutputInformation(0)
+piece, pieces = info.Get(sddp.UPDATE_PIECE_NUMBER()), info.Get(sddp.UPDATE_NUMBER_OF_PIECES())
+self.GetOutput().ShallowCopy(height_field(piece, pieces))
+"""
+    return source
+
+
+def lone_triangle_whole():
+    """The whole height field as one poly data (for the serial run)."""
+    from vtkmodules.vtkFiltersCore import vtkCleanPolyData
+    namespace = {}
+    exec(LONE_TRIANGLE_GRID, namespace)
+    clean = vtkCleanPolyData()
+    clean.SetInputData(namespace["height_field"](0, 1))
+    clean.Update()
+    return clean.GetOutput()

@@ -22,7 +22,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from configure import check, rank_rows  # noqa: E402
+from configure import check, lone_triangle_source, lone_triangle_whole, rank_rows  # noqa: E402
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -225,67 +225,14 @@ def with_nan(source):
 
 
 split_run(bunny, "bunny with a NaN point", 1e-4, move_of, prepare=with_nan)
-# A piece that owns no point: a height field cut so that one rank's piece is
-# a single triangle whose corners all belong to lower ranks' pieces (and, on
-# 4 ranks, the last piece empty).  Made per rank by a programmable source
-# that honours piece requests; the serial run smooths the whole field.
-GRID = """
-import numpy as np
-from vtkmodules.vtkCommonCore import vtkPoints
-from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
-def height_field(piece, pieces):
-    n = 24
-    u, v = np.meshgrid(np.linspace(0.0, 1.0, n), np.linspace(0.0, 1.0, n), indexing="ij")
-    z = 0.1 * np.sin(6.0 * u) * np.cos(5.0 * v) + 0.02 * np.sin(37.0 * u * v)
-    xyz = np.column_stack([u.ravel(), v.ravel(), z.ravel()])
-    cells, centres = [], []
-    for i in range(n - 1):
-        for j in range(n - 1):
-            a, b, c, d = i * n + j, (i + 1) * n + j, (i + 1) * n + j + 1, i * n + j + 1
-            for t in ((a, b, c), (a, c, d)):
-                cells.append(t)
-                centres.append(xyz[list(t)].mean(0))
-    lone = (n // 2) * 2 * (n - 1) + 2 * (n // 2)  # a triangle inside, next to the cut x = 0.5
-    owner = [0 if (k != lone and c[0] < 0.5) or pieces == 1 else 1 if k != lone else 2 for k, c in enumerate(centres)]
-    if pieces == 2:
-        owner = [0 if k != lone else 1 for k in range(len(cells))]
-    keep = [k for k in range(len(cells)) if owner[k] == piece]
-    used = sorted({p for k in keep for p in cells[k]})
-    index = {p: m for m, p in enumerate(used)}
-    out = vtkPolyData()
-    pts = vtkPoints()
-    pts.SetDataTypeToDouble()
-    for p in used:
-        pts.InsertNextPoint(*xyz[p])
-    polys = vtkCellArray()
-    for k in keep:
-        polys.InsertNextCell(3, [index[p] for p in cells[k]])
-    out.SetPoints(pts)
-    out.SetPolys(polys)
-    return out
-"""
-lone_source = ProgrammableSource(OutputDataSetType="vtkPolyData")
-lone_source.ScriptRequestInformation = """
-from vtkmodules.vtkCommonExecutionModel import vtkAlgorithm
-self.GetOutputInformation(0).Set(vtkAlgorithm.CAN_HANDLE_PIECE_REQUEST(), 1)
-"""
-lone_source.Script = GRID + """
-from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline as sddp
-info = self.GetOutputInformation(0)
-piece, pieces = info.Get(sddp.UPDATE_PIECE_NUMBER()), info.Get(sddp.UPDATE_NUMBER_OF_PIECES())
-self.GetOutput().ShallowCopy(height_field(piece, pieces))
-"""
+# A piece that owns no point (configure.lone_triangle_source); the serial
+# run smooths the whole field.
 if ranks > 1:
+    lone_source = lone_triangle_source()
     lone = ImplicitFairing(Input=lone_source)
     lone.UpdatePipeline()
     pieces, result = servermanager.Fetch(lone_source), servermanager.Fetch(lone)
-    namespace = {}
-    exec(GRID, namespace)
-    from vtkmodules.vtkFiltersCore import vtkCleanPolyData
-    clean = vtkCleanPolyData()
-    clean.SetInputData(namespace["height_field"](0, 1))
-    clean.Update()
-    whole_field = clean.GetOutput()
+    whole_field = lone_triangle_whole()
     reference = serial(whole_field)
     ids = matched(pieces, whole_field)
     difference = np.abs(points(result) - points(reference)[ids]).max()

@@ -7,6 +7,7 @@
 // the serial solution, which each process also computes whole.
 #include "Flows/GraphFlow.h"
 #include "Flows/NoiseEstimation.h"
+#include "Maps/Parameterization.h"
 #include "Mesh/Tetrahedra.h"
 #include "Solvers/ConjugateGradient.h"
 #include "Solvers/GraphSolvers.h"
@@ -18,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -28,6 +30,15 @@ using namespace beltrami;
 
 namespace
 {
+
+/// This process's rank and the number of processes (MPI_COMM_WORLD).
+std::pair<int, int> RankAndSize()
+{
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return { rank, size };
+}
 
 /// D + t K on an n x n grid graph (4 neighbours, weights varying over the
 /// grid), row-major, and a right-hand side; rows of the first column fixed.
@@ -174,9 +185,7 @@ ConjugateGradientResult SolveGeneric(
 
 TEST(Partition, DistributedSolvesGiveTheSerialSolution)
 {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const auto [rank, size] = RankAndSize();
   const MPI_Comm world = MPI_COMM_WORLD;
   const Grid g(40);
   const Piece piece(g, rank, size);
@@ -249,9 +258,7 @@ TEST(Partition, InconsistentOwnershipThrowsOnEveryProcess)
 
 TEST(Partition, NthSmallestIsTheOrderStatisticOfAllProcesses)
 {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const auto [rank, size] = RankAndSize();
   const MPI_Comm world = MPI_COMM_WORLD;
   // All values (ties, zeros of both signs, subnormals, huge ones), dealt
   // out unevenly: process p takes every value whose index is p mod (size + 1),
@@ -288,9 +295,7 @@ TEST(Partition, DistributedNoiseEstimateIsTheSerialOne)
 {
   // Point data on the grid graph (the grid's points at (c, r, 0)): smooth
   // data plus pseudo-random noise of 0.05; every process its block.
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const auto [rank, size] = RankAndSize();
   const MPI_Comm world = MPI_COMM_WORLD;
   const Grid g(60);
   const Piece piece(g, rank, size);
@@ -328,38 +333,65 @@ TEST(Partition, DistributedNoiseEstimateIsTheSerialOne)
 namespace
 {
 
-/// A tetrahedral lattice (Kuhn split of an n^3 grid of points, moved off
-/// the grid) cut into slabs of cells along z, one per owning process (with
-/// 3 processes the last holds nothing).  A point belongs to the lowest
-/// process whose slab holds it; a process holds its slab and the
-/// tetrahedra around the points it owns (as vtkBeltramiPieces' Owned
-/// stars), its points in ascending global order.
+/// A lattice of cells cut into slabs along its last axis, one per owning
+/// process (with 3 processes the last holds nothing): the Kuhn tetrahedra
+/// of a 9^3 grid of points moved off the grid (Dimension 3), or the
+/// triangles of a 17^2 height field, a disk (Dimension 2).  A point belongs
+/// to the lowest process whose slab holds it; a process holds its slab and
+/// the cells around the points it owns (as vtkBeltramiPieces' Owned stars),
+/// its points in ascending global order.
 struct Lattice
 {
-  static constexpr Index N = 9;
-  std::vector<Index> Tets = GridTetrahedra(N, N, N);
+  int Dimension = 3;
+  Index N = 9;
+  std::vector<Index> Cells;
   int Owners = 1;
 
-  explicit Lattice(int size)
-    : Owners(size >= 3 ? size - 1 : size)
+  explicit Lattice(int size, int dimension = 3)
+    : Dimension(dimension)
+    , N(dimension == 3 ? 9 : 17)
+    , Owners(size >= 3 ? size - 1 : size)
   {
+    if (dimension == 3)
+    {
+      Cells = GridTetrahedra(N, N, N);
+      return;
+    }
+    for (Index j = 0; j + 1 < N; ++j)
+    {
+      for (Index i = 0; i + 1 < N; ++i)
+      {
+        const Index a = j * N + i;
+        Cells.insert(Cells.end(), { a, a + 1, a + N + 1, a, a + N + 1, a + N });
+      }
+    }
   }
-  static void Point(Index i, double* x)
+  int Corners() const { return Dimension + 1; }
+  Index PointsPerLayer() const { return Dimension == 3 ? N * N : N; }
+  Index NumberOfPoints() const { return PointsPerLayer() * N; }
+  void Point(Index i, double* x) const
   {
+    if (Dimension == 2)
+    {
+      x[0] = double(i % N) / (N - 1);
+      x[1] = double(i / N) / (N - 1);
+      x[2] = 0.1 * std::sin(6.0 * x[0]) * std::cos(5.0 * x[1]);
+      return;
+    }
     const double c[3] = { double(i % N), double(i / N % N), double(i / (N * N)) };
     for (int a = 0; a < 3; ++a)
     {
       x[a] = c[a] + 0.2 * std::sin(1.3 * c[(a + 1) % 3] + 0.7 * c[(a + 2) % 3] + a);
     }
   }
-  int SlabOf(std::size_t tet) const
+  int SlabOf(std::size_t cell) const
   {
-    const std::size_t layer = tet / (6 * (N - 1) * (N - 1));
-    return static_cast<int>(layer * Owners / (N - 1));
+    const std::size_t perLayer = Dimension == 3 ? 6 * (N - 1) * (N - 1) : 2 * (N - 1);
+    return static_cast<int>(cell / perLayer * Owners / (N - 1));
   }
   int OwnerOf(Index point) const
   {
-    const Index z = point / (N * N);
+    const Index z = point / PointsPerLayer();
     for (int p = 0; p < Owners; ++p)
     {
       const Index first = static_cast<Index>((N - 1) * p / Owners), last = static_cast<Index>((N - 1) * (p + 1) / Owners);
@@ -370,26 +402,60 @@ struct Lattice
     }
     return -1;
   }
-  /// Process p's tetrahedra (global point ids).
-  std::vector<Index> TetsOf(int p) const
+  /// Process p's cells (global point ids).
+  std::vector<Index> CellsOf(int p) const
   {
     std::vector<Index> mine;
-    for (std::size_t t = 0; t < Tets.size() / 4; ++t)
+    const int k = Corners();
+    for (std::size_t t = 0; t < Cells.size() / k; ++t)
     {
-      const Index* c = &Tets[4 * t];
-      if (SlabOf(t) == p || std::any_of(c, c + 4, [&](Index v) { return OwnerOf(v) == p; }))
+      const Index* c = &Cells[k * t];
+      if (SlabOf(t) == p || std::any_of(c, c + k, [&](Index v) { return OwnerOf(v) == p; }))
       {
-        mine.insert(mine.end(), c, c + 4);
+        mine.insert(mine.end(), c, c + k);
       }
     }
     return mine;
   }
   std::vector<Index> PointsOf(int p) const
   {
-    const std::vector<Index> tets = TetsOf(p);
-    const std::set<Index> points(tets.begin(), tets.end());
+    const std::vector<Index> cells = CellsOf(p);
+    const std::set<Index> points(cells.begin(), cells.end());
     return { points.begin(), points.end() };
   }
+};
+
+/// Process `rank`'s piece of a lattice: its points (global ids, coordinates),
+/// its cells over local ids, and the owner and row there of each point.
+struct LatticePiece
+{
+  std::vector<Index> Global, Cells, OwnerRow;
+  std::vector<int> OwnerRank;
+  std::vector<double> Points;
+
+  LatticePiece(const Lattice& lattice, int rank)
+    : Global(lattice.PointsOf(rank))
+    , Cells(lattice.CellsOf(rank))
+    , Points(3 * Global.size())
+  {
+    std::map<Index, Index> local;
+    for (std::size_t l = 0; l < Global.size(); ++l)
+    {
+      local[Global[l]] = static_cast<Index>(l);
+    }
+    for (Index& v : Cells)
+    {
+      v = local.at(v);
+    }
+    for (std::size_t l = 0; l < Global.size(); ++l)
+    {
+      OwnerRank.push_back(lattice.OwnerOf(Global[l]));
+      const std::vector<Index> there = lattice.PointsOf(OwnerRank.back());
+      OwnerRow.push_back(static_cast<Index>(std::lower_bound(there.begin(), there.end(), Global[l]) - there.begin()));
+      lattice.Point(Global[l], &Points[3 * l]);
+    }
+  }
+  Index Rows() const { return static_cast<Index>(Global.size()); }
 };
 
 /// Data flowed as the cube roots of `count` values, their noise measured
@@ -409,50 +475,34 @@ TEST(Partition, DistributedTetrahedralFlowIsTheSerialOne)
   // (semi-implicit, least-risk stop, noise estimated) to the solver
   // tolerance, explicit steps to round-off, and data flowed in another
   // space than their noise's (ToNoiseSpace, as log-Euclidean tensors).
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const auto [rank, size] = RankAndSize();
   const MPI_Comm world = MPI_COMM_WORLD;
   const Lattice lattice(size);
-  const Index n = Lattice::N * Lattice::N * Lattice::N;
-  const auto valueOf = [](Index i, double* f) {
+  const Index n = lattice.NumberOfPoints();
+  const auto valueOf = [&lattice](Index i, double* f) {
     double x[3];
-    Lattice::Point(i, x);
+    lattice.Point(i, x);
     f[0] = (x[0] > 4.0 ? 1.0 : 0.0) + 0.1 * std::sqrt(3.0) * (2.0 * std::fmod(i * 0.7548776662, 1.0) - 1.0);
     f[1] = 0.1 * x[1] + 0.05 * std::sqrt(3.0) * (2.0 * std::fmod(i * 0.5698402910, 1.0) - 1.0);
   };
   // This process' piece, and the owner and row there of each of its points.
-  const std::vector<Index> global = lattice.PointsOf(rank);
-  std::map<Index, Index> local;
+  const LatticePiece mine(lattice, rank);
+  const std::vector<Index>& global = mine.Global;
+  const std::vector<double>& points = mine.Points;
+  std::vector<double> values(2 * global.size());
   for (std::size_t l = 0; l < global.size(); ++l)
   {
-    local[global[l]] = static_cast<Index>(l);
-  }
-  std::vector<Index> tets = lattice.TetsOf(rank);
-  for (Index& v : tets)
-  {
-    v = local.at(v);
-  }
-  std::vector<int> ownerRank;
-  std::vector<Index> ownerRow;
-  std::vector<double> points(3 * global.size()), values(2 * global.size());
-  for (std::size_t l = 0; l < global.size(); ++l)
-  {
-    ownerRank.push_back(lattice.OwnerOf(global[l]));
-    const std::vector<Index> there = lattice.PointsOf(ownerRank.back());
-    ownerRow.push_back(static_cast<Index>(std::lower_bound(there.begin(), there.end(), global[l]) - there.begin()));
-    Lattice::Point(global[l], &points[3 * l]);
     valueOf(global[l], &values[2 * l]);
   }
-  const Partition split(&world, static_cast<Index>(global.size()), ownerRank.data(), ownerRow.data());
-  const TetrahedralMesh piece(static_cast<Index>(global.size()), tets, 1);
+  const Partition split(&world, mine.Rows(), mine.OwnerRank.data(), mine.OwnerRow.data());
+  const TetrahedralMesh piece(mine.Rows(), mine.Cells, 1);
   std::vector<double> allPoints(3 * static_cast<std::size_t>(n)), allValues(2 * static_cast<std::size_t>(n));
   for (Index i = 0; i < n; ++i)
   {
-    Lattice::Point(i, &allPoints[3 * i]);
+    lattice.Point(i, &allPoints[3 * i]);
     valueOf(i, &allValues[2 * i]);
   }
-  const TetrahedralMesh whole(n, lattice.Tets, 1);
+  const TetrahedralMesh whole(n, lattice.Cells, 1);
   EXPECT_NEAR(piece.MeanEdgeLength(points.data(), &split), whole.MeanEdgeLength(allPoints.data()), 1e-14);
 
   GraphFlowOptions defaults = GraphFlowOptions::ForMeshes();
@@ -602,9 +652,7 @@ TEST(Partition, DistributedGridFlowsAreTheSerialOnes)
   // that rows are cut) on 2-component data, against serial runs on the
   // whole grid: the defaults (explicit steps, least-risk stop, noise
   // estimated), semi-implicit steps and the noise-level stop.
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const auto [rank, size] = RankAndSize();
   const MPI_Comm world = MPI_COMM_WORLD;
   GraphFlowOptions semi;
   semi.Integration = GraphFlowIntegration::SemiImplicit;
@@ -696,4 +744,58 @@ int main(int argc, char** argv)
   MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   MPI_Finalize();
   return any;
+}
+
+TEST(Partition, DistributedParameterizationIsTheSerialOne)
+{
+  // The conformal map of a height-field disk split over the processes (the
+  // last of 3 holding nothing) against the serial direct solve on the whole
+  // disk: circle and square boundaries (the outer loop starting at the
+  // lowest point id, as in serial), the distortion figures over the
+  // processes; a NaN point in one piece: the same error on every process.
+  const auto [rank, size] = RankAndSize();
+  const MPI_Comm world = MPI_COMM_WORLD;
+  const Lattice lattice(size, 2);
+  const LatticePiece mine(lattice, rank);
+  const Partition split(&world, mine.Rows(), mine.OwnerRank.data(), mine.OwnerRow.data());
+  const MeshTopology piece(mine.Rows(), IndexArray(mine.Cells.begin(), mine.Cells.end()), 1);
+  const Index n = lattice.NumberOfPoints();
+  std::vector<double> all(3 * static_cast<std::size_t>(n));
+  for (Index i = 0; i < n; ++i)
+  {
+    lattice.Point(i, &all[3 * i]);
+  }
+  const MeshTopology whole(n, IndexArray(lattice.Cells.begin(), lattice.Cells.end()), 1);
+  const std::vector<std::int64_t> ids(mine.Global.begin(), mine.Global.end());
+  for (const ParameterizationBoundary boundary : { ParameterizationBoundary::Circle, ParameterizationBoundary::Square })
+  {
+    ParameterizationOptions o;
+    o.Boundary = boundary;
+    o.NumberOfThreads = 1;
+    const ParameterizationResult a = Parameterize(whole, all.data(), o);
+    const ParameterizationResult b = Parameterize(piece, mine.Points.data(), o, split, ids.data());
+    ASSERT_TRUE(a.Error.empty() && b.Error.empty()) << a.Error << b.Error;
+    double difference = 0.0;
+    for (std::size_t l = 0; l < mine.Global.size(); ++l) // owned and ghost rows
+    {
+      for (int k = 0; k < 2; ++k)
+      {
+        difference = std::max(difference, std::abs(b.UV[2 * l + k] - a.UV[2 * mine.Global[l] + k]));
+      }
+    }
+    EXPECT_LE(difference, 1e-9) << "in " << b.Iterations << " iterations";
+    EXPECT_EQ(b.OuterRows.size(), a.OuterBoundary.size());
+    const DistortionReport da = MeasureDistortion(whole, all.data(), a.UV.data(), 1);
+    const DistortionReport db = MeasureDistortion(piece, mine.Points.data(), b.UV.data(), 1, &split);
+    EXPECT_NEAR(da.MeanAngle, db.MeanAngle, 1e-8 * da.MeanAngle);
+    EXPECT_NEAR(da.MaxEdge, db.MaxEdge, 1e-8 * da.MaxEdge);
+    EXPECT_EQ(da.FlippedTriangles, db.FlippedTriangles);
+  }
+  std::vector<double> bad = mine.Points;
+  if (rank == 0 && !bad.empty())
+  {
+    bad[0] = std::numeric_limits<double>::quiet_NaN();
+  }
+  const ParameterizationResult c = Parameterize(piece, bad.data(), ParameterizationOptions{}, split, ids.data());
+  EXPECT_NE(c.Error.find("non-finite"), std::string::npos) << c.Error;
 }
