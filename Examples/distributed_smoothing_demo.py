@@ -9,7 +9,10 @@ difference to a serial run, and writes noisy | denoised
 (<out>/bunny00_distributed_denoised.png).  Last, denoises a real MRI volume
 at the defaults, each rank reading its piece and a ring, prints the
 difference to a serial run and writes the middle slice noisy | denoised
-(<out>/mri_distributed_denoised.png).
+(<out>/mri_distributed_denoised.png).  And parameterizes the mushroom (a
+disk) split over the ranks, the conformal system solved over them, prints the
+iterations and the difference to a serial run and writes its checkerboard
+(<out>/mushroom_distributed_checkerboard.png).
 
 Run:  mpirun -np 2 pvbatch Examples/distributed_smoothing_demo.py [mesh.off] [out_dir]
 (as root add --allow-run-as-root --oversubscribe; xvfb-run -a in front
@@ -26,8 +29,9 @@ from vtkmodules.vtkCommonCore import vtkLookupTable
 from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
 from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
 
-from beltrami import vtkImplicitFairing, vtkOFFReader, vtkSurfaceDataDenoising
-from beltrami.pipelines import capture, framed_renderer, noisy_along_normals, rms_distance, snapshot, write_vtp
+from beltrami import vtkImplicitFairing, vtkIntrinsicParameterization, vtkOFFReader, vtkSurfaceDataDenoising
+from beltrami.pipelines import (capture, framed_renderer, noisy_along_normals, render_checkerboard, rms_distance,
+                                snapshot, write_vtp)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_MESH = os.path.join(HERE, "..", "Testing", "Data", "bunny00.off")
@@ -119,7 +123,42 @@ out.GetPointData().AddArray(owned)
     denoise(reader.GetOutput(), os.path.join(out_dir, name + "_distributed_denoised.png"))
     denoise_volume(os.path.join(HERE, "..", "Testing", "Data", "mri_s0_10slices.vti"),
                    os.path.join(out_dir, "mri_distributed_denoised.png"))
+    parameterize(os.path.join(HERE, "..", "Testing", "Data", "mushroom.off"),
+                 os.path.join(out_dir, "mushroom_distributed_checkerboard.png"))
     return 0
+
+
+def parameterize(path, png):
+    """The disk at `path` split over the ranks (with global point ids, so the
+    outer loop starts where a serial run's does) and parameterized at the
+    defaults over them, against serial."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonCore import VTK_ID_TYPE
+    reader = vtkOFFReader()
+    reader.SetFileName(path)
+    reader.Update()
+    mesh = reader.GetOutput()
+    ids = numpy_to_vtk(np.arange(mesh.GetNumberOfPoints()), deep=1, array_type=VTK_ID_TYPE)
+    ids.SetName("Ids")
+    mesh.GetPointData().SetGlobalIds(ids)
+    serial = vtkIntrinsicParameterization()
+    serial.SetInputData(mesh)
+    serial.Update()
+    with tempfile.TemporaryDirectory() as tmp:
+        mapped = simple.IntrinsicParameterization(Input=split_over_ranks(mesh, os.path.join(tmp, "disk.vtp")))
+        result = servermanager.Fetch(mapped)
+    index = {tuple(x): i for i, x in enumerate(vtk_to_numpy(mesh.GetPoints().GetData()))}
+    at = np.array([index[tuple(x)] for x in vtk_to_numpy(result.GetPoints().GetData())])
+    ours = vtk_to_numpy(result.GetPointData().GetArray("UV"))
+    theirs = vtk_to_numpy(serial.GetOutput().GetPointData().GetArray("UV"))[at]
+    iterations = result.GetFieldData().GetArray("ParameterizationIterations")
+    print("conformal map of %s split over the ranks: %s; mean angle distortion %.3f deg (serial %.3f); largest "
+          "difference to the serial map %.1e" % (
+              os.path.basename(path), "%d CG iterations over the ranks" % iterations.GetValue(0) if iterations
+              else "one rank: the serial solve", result.GetFieldData().GetArray("MeanAngleDistortion").GetValue(0),
+              serial.GetMeanAngleDistortion(), np.abs(ours - theirs).max()))
+    render_checkerboard(result, png)
+    print("wrote %s" % png)
 
 
 def denoise(mesh, png):

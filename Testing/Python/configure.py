@@ -178,3 +178,21 @@ def lone_triangle_whole():
     clean.SetInputData(namespace["height_field"](0, 1))
     clean.Update()
     return clean.GetOutput()
+
+
+def moved_points(source, change):
+    """`source` with its points changed by `change` (Python code on p, the
+    piece's n x 3 points) on every rank's piece (and in the serial run)."""
+    from paraview.simple import ProgrammableFilter
+    f = ProgrammableFilter(Input=source)
+    f.Script = """
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+out = self.GetOutput()
+out.DeepCopy(self.GetInput())
+if out.GetNumberOfPoints():
+    p = vtk_to_numpy(out.GetPoints().GetData())
+    %s
+    out.GetPoints().Modified()
+""" % change
+    return f

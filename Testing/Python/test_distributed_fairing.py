@@ -22,7 +22,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from configure import check, lone_triangle_source, lone_triangle_whole, rank_rows  # noqa: E402
+from configure import check, lone_triangle_source, lone_triangle_whole, moved_points, rank_rows  # noqa: E402
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -115,23 +115,6 @@ faired, result, reference, shared = split_run(bunny, "bunny, defaults, tolerance
                                                SolverTolerance=1e-10)
 check(ranks < 3 or shared > 0, "bunny: points where three pieces meet")
 split_run(bunny, "bunny, defaults", 1e-4, move_of)
-
-
-def moved_points(source, change):
-    """`source` with its points changed by `change` (Python code on p, the
-    piece's n x 3 points) on every rank's piece (and in the serial run)."""
-    f = ProgrammableFilter(Input=source)
-    f.Script = """
-import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
-out = self.GetOutput()
-out.DeepCopy(self.GetInput())
-if out.GetNumberOfPoints():
-    p = vtk_to_numpy(out.GetPoints().GetData())
-    %s
-    out.GetPoints().Modified()
-""" % change
-    return f
 
 
 # A noisy scan (uniform noise of up to 0.3% of the diagonal): points of tiny

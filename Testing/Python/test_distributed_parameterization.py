@@ -28,7 +28,7 @@ from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from configure import check, lone_triangle_source, lone_triangle_whole, rank_rows  # noqa: E402
+from configure import check, lone_triangle_source, lone_triangle_whole, moved_points, rank_rows  # noqa: E402
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -225,21 +225,6 @@ if ranks > 1:
 
 
 # Bad input: an error on every rank, no map, no hang.
-def moved_points(source, change):
-    f = ProgrammableFilter(Input=source)
-    f.Script = """
-import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
-out = self.GetOutput()
-out.DeepCopy(self.GetInput())
-if out.GetNumberOfPoints():
-    p = vtk_to_numpy(out.GetPoints().GetData())
-    %s
-    out.GetPoints().Modified()
-""" % change
-    return f
-
-
 # (The NaN made after RedistributeDataSet, whose k-d tree does not take one.)
 bunny = OpenDataFile(os.path.join(DATA, "bunny00.off"))
 nan = "p[(p == np.array(%r)).all(axis=1)] = np.nan" % (points(whole)[3000].tolist(),)
