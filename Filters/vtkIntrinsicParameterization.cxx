@@ -380,7 +380,7 @@ bool vtkIntrinsicParameterization::Solve(vtkBeltramiSurface& surface, beltrami::
   this->CopySettings(options, vtkBeltramiCopy::ToCore);
   options.KeepBoundaryBasis = options.KeepBoundaryBasis || !in.Handles.empty();
   std::vector<double> given;
-  if (!this->ReadInputArrays(surface, options, given))
+  if (!surface.AllAgree(this->ReadInputArrays(surface, options, given))) // (split: every rank stops, none waits)
   {
     return false;
   }
@@ -479,7 +479,7 @@ bool vtkIntrinsicParameterization::ReadInputArrays(
     vtkErrorMacro(<< error);
     return false;
   }
-  if (this->Boundary == GIVEN)
+  if (this->Boundary == GIVEN && !(surface.Split() && numPoints == 0)) // (an empty piece of a split run: none)
   {
     if (!givenArray)
     {

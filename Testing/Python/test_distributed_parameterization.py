@@ -171,8 +171,8 @@ if out.GetNumberOfPoints():
     return f
 
 
-split_run(saved(servermanager.Fetch(with_given(peaks)), "given"), "three peaks, given boundary", Boundary=2,
-          given="given")
+given_peaks = saved(servermanager.Fetch(with_given(peaks)), "given")
+split_run(given_peaks, "three peaks, given boundary", Boundary=2, given="given")
 
 # A disk with a hole: the triangles near the centre removed (two boundary loops, the hole free).
 p, tri = points(loop.GetOutput()), vtk_to_numpy(loop.GetOutput().GetPolys().GetConnectivityArray()).reshape(-1, 3)
@@ -208,6 +208,8 @@ if ranks > 1:
 # A rank with an empty piece; an option that gathers (the authalic energy).
 if ranks > 1:
     split_run(peaks, "three peaks on %d of %d ranks" % (ranks - 1, ranks), partitions=ranks - 1)
+    split_run(given_peaks, "three peaks, given boundary, on %d of %d ranks" % (ranks - 1, ranks),
+              partitions=ranks - 1, Boundary=2, given="given")
 split_run(peaks, "three peaks, authalic mix (gathered)", AuthalicWeight=0.5)
 
 # A piece that owns no point (configure.lone_triangle_source).

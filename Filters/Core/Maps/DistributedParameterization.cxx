@@ -275,14 +275,14 @@ std::string FixSplitBoundary(const MeshTopology& topo, const Partition& split, c
       onLoop[boundary.Rows[k]] = k;
     }
   }
-  std::vector<double> givenUV;
+  std::vector<double> givenUV(given ? 2 * static_cast<std::size_t>(n) : 0, 0.0);
+  if (given && split.Sum(n > 0 && !options.GivenUV ? 1.0 : 0.0) > 0.0) // (agreed: no process waits)
+  {
+    return "Given boundary positions were requested but none were supplied.";
+  }
   if (given)
   {
-    if (!options.GivenUV)
-    {
-      return "Given boundary positions were requested but none were supplied.";
-    }
-    givenUV.assign(options.GivenUV, options.GivenUV + 2 * static_cast<std::size_t>(n));
+    std::copy_n(options.GivenUV ? options.GivenUV : givenUV.data(), givenUV.size(), givenUV.begin());
     split.UpdateGhosts(givenUV.data(), 2);
   }
   double nonFinite = 0.0;
