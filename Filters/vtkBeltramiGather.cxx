@@ -496,7 +496,7 @@ vtkIdType vtkBeltramiGather::JoinPoints(
       all->SetPoint(first[r] + k, pieces[r]->GetPoint(k));
     }
   }
-  const std::vector<vtkIdType> merged = CoincidentPoints(all, 1e-12 * box.GetDiagonalLength());
+  const std::vector<vtkIdType> merged = CoincidentPoints(all, box.IsValid() ? 1e-12 * box.GetDiagonalLength() : 0.0);
   std::vector<vtkIdType> wholeId(static_cast<std::size_t>(total), -1);
   vtkIdType count = 0;
   for (vtkIdType i = 0; i < total; ++i)

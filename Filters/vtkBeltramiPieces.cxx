@@ -43,7 +43,8 @@ std::vector<vtkIdType> MatchPoints(const std::vector<double>& first, const std::
     joined->SetPoint(i, x);
     box.AddPoint(x);
   }
-  return vtkBeltramiGather::CoincidentPoints(joined, 1e-12 * box.GetDiagonalLength());
+  // (No points at all, e.g. pieces that touch nowhere: an empty box.)
+  return vtkBeltramiGather::CoincidentPoints(joined, box.IsValid() ? 1e-12 * box.GetDiagonalLength() : 0.0);
 }
 
 /// Every rank's `mine` (`width` values per point, the first 3 its

@@ -151,22 +151,41 @@ def height_field(piece, pieces):
 """
 
 
-def lone_triangle_source():
-    """A pvbatch programmable source of that height field that honours piece
-    requests (each rank makes its own piece)."""
+def piecewise_source(code):
+    """A pvbatch programmable source that honours piece requests: `code`
+    defines make(piece, pieces), each rank's piece as a vtkPolyData (each
+    rank makes its own)."""
     from paraview.simple import ProgrammableSource
     source = ProgrammableSource(OutputDataSetType="vtkPolyData")
     source.ScriptRequestInformation = """
 from vtkmodules.vtkCommonExecutionModel import vtkAlgorithm
 self.GetOutputInformation(0).Set(vtkAlgorithm.CAN_HANDLE_PIECE_REQUEST(), 1)
 """
-    source.Script = LONE_TRIANGLE_GRID + """
+    source.Script = code + """
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline as sddp
 info = self.GetOutputInformation(0)
-piece, pieces = info.Get(sddp.UPDATE_PIECE_NUMBER()), info.Get(sddp.UPDATE_NUMBER_OF_PIECES())
-self.GetOutput().ShallowCopy(height_field(piece, pieces))
+self.GetOutput().ShallowCopy(make(info.Get(sddp.UPDATE_PIECE_NUMBER()), info.Get(sddp.UPDATE_NUMBER_OF_PIECES())))
 """
     return source
+
+
+def lone_triangle_source():
+    """The height field above, each rank making its own piece."""
+    return piecewise_source(LONE_TRIANGLE_GRID + "\nmake = height_field\n")
+
+
+# Pieces that touch nowhere: each rank's piece a sphere of its own, side by
+# side (the whole: as many spheres as pieces).
+DISJOINT_SPHERES = """
+def make(piece, pieces):
+    from vtkmodules.vtkFiltersSources import vtkSphereSource
+    s = vtkSphereSource()
+    s.SetThetaResolution(30)
+    s.SetPhiResolution(20)
+    s.SetCenter(3.0 * piece, 0.0, 0.0)
+    s.Update()
+    return s.GetOutput()
+"""
 
 
 def lone_triangle_whole():

@@ -28,7 +28,8 @@ from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from configure import check, lone_triangle_source, lone_triangle_whole, moved_points, rank_rows  # noqa: E402
+from configure import (DISJOINT_SPHERES, check, lone_triangle_source, lone_triangle_whole, moved_points,  # noqa: E402
+                       piecewise_source, rank_rows)
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -230,8 +231,9 @@ if ranks > 1:
 # (The NaN made after RedistributeDataSet, whose k-d tree does not take one.)
 bunny = OpenDataFile(os.path.join(DATA, "bunny00.off"))
 nan = "p[(p == np.array(%r)).all(axis=1)] = np.nan" % (points(whole)[3000].tolist(),)
-for label, source, change in (("a closed surface", bunny, None), ("a NaN point", peaks, nan)):
-    split = ExtractSurface(Input=RedistributeDataSet(Input=source))
+for label, source, change in (("a closed surface", bunny, None), ("a NaN point", peaks, nan),
+                              ("pieces that touch nowhere", None, None)):
+    split = ExtractSurface(Input=RedistributeDataSet(Input=source)) if source else piecewise_source(DISJOINT_SPHERES)
     mapped = IntrinsicParameterization(Input=moved_points(split, change) if change else split)
     mapped.UpdatePipeline()
     check(uv_of(servermanager.Fetch(mapped)) is None, "%s: an error, no map" % label)
