@@ -22,7 +22,9 @@
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <string>
 
 namespace
@@ -267,6 +269,17 @@ std::vector<std::vector<vtkIdType>> AppendCells(const std::vector<vtkSmartPointe
       ids[j] = pointIds[r][local[j]];
     }
   };
+  // A cell that several pieces hold (copied to every piece it touches, not
+  // marked as a ghost: RedistributeDataSet's "Assign to all regions", also
+  // within a rank that holds two of its regions) is joined once; its copies
+  // get the results of the first.
+  std::map<std::pair<int, std::vector<vtkIdType>>, std::pair<std::size_t, std::size_t>> first;
+  const auto copyOf = [&](int kind, std::size_t r) -> const std::pair<std::size_t, std::size_t>* {
+    std::vector<vtkIdType> key(ids);
+    std::sort(key.begin(), key.end());
+    const auto found = first.emplace(std::make_pair(kind, std::move(key)), std::make_pair(r, placed[r].size()));
+    return found.second ? nullptr : &found.first->second;
+  };
   if (auto* grid = vtkUnstructuredGrid::SafeDownCast(whole))
   {
     grid->Allocate(1024);
@@ -278,7 +291,9 @@ std::vector<std::vector<vtkIdType>> AppendCells(const std::vector<vtkSmartPointe
       {
         piece->GetCellPoints(cell, local);
         map(r, local->GetNumberOfIds(), local->GetPointer(0));
-        placed[r].push_back(grid->InsertNextCell(piece->GetCellType(cell), local->GetNumberOfIds(), ids.data()));
+        const auto* copy = copyOf(piece->GetCellType(cell), r);
+        placed[r].push_back(copy ? placed[copy->first][copy->second]
+                                 : grid->InsertNextCell(piece->GetCellType(cell), local->GetNumberOfIds(), ids.data()));
       }
     }
     return placed;
@@ -298,8 +313,14 @@ std::vector<std::vector<vtkIdType>> AppendCells(const std::vector<vtkSmartPointe
         const vtkIdType* local = nullptr;
         it->GetCurrentCell(n, local);
         map(r, n, local);
-        kindAndIndex[r].emplace_back(c, cells[c]->GetNumberOfCells());
-        cells[c]->InsertNextCell(n, ids.data());
+        const auto* copy = copyOf(c, r);
+        placed[r].push_back(0); // (counts the piece's cells for copyOf; the whole ids follow below)
+        kindAndIndex[r].push_back(copy ? kindAndIndex[copy->first][copy->second]
+                                       : std::make_pair(c, cells[c]->GetNumberOfCells()));
+        if (!copy)
+        {
+          cells[c]->InsertNextCell(n, ids.data());
+        }
       }
     }
   }
@@ -313,6 +334,7 @@ std::vector<std::vector<vtkIdType>> AppendCells(const std::vector<vtkSmartPointe
   offset[3] = offset[2] + cells[2]->GetNumberOfCells();
   for (std::size_t r = 0; r < pieces.size(); ++r)
   {
+    placed[r].clear();
     for (const auto& kind : kindAndIndex[r])
     {
       placed[r].push_back(offset[kind.first] + kind.second);

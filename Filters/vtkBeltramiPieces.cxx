@@ -17,7 +17,9 @@
 #include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
+#include <array>
 #include <limits>
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -188,12 +190,39 @@ bool vtkBeltramiPieces::AddRings(int corners, Index numberOfPoints, const Coordi
   }
   const std::size_t offered = offers.size() / (3 * corners);
   const std::size_t kept = cells.size();
+  // A cell held already (one that several pieces hold, CellsOfOtherPieces)
+  // or offered twice is joined once: cells as the sorted classes of their
+  // corners (the piece's cells whose corners are all edge points).
+  std::vector<vtkIdType> classOf(static_cast<std::size_t>(numberOfPoints), -1);
+  for (std::size_t i = 0; i < numOwn; ++i)
+  {
+    classOf[EdgePoints[i]] = merged[i];
+  }
+  std::set<std::array<vtkIdType, 4>> held;
+  const auto keyOf = [corners](const auto& at) {
+    std::array<vtkIdType, 4> key = { -1, -1, -1, -1 };
+    for (int k = 0; k < corners; ++k)
+    {
+      key[k] = at(k);
+    }
+    std::sort(key.begin(), key.begin() + corners);
+    return key;
+  };
+  for (std::size_t c = 0; c < numCells; ++c)
+  {
+    const Index* ids = cells.data() + c * corners;
+    if (std::all_of(ids, ids + corners, [&](Index v) { return classOf[v] >= 0; }))
+    {
+      held.insert(keyOf([&](int k) { return classOf[ids[k]]; }));
+    }
+  }
   for (std::size_t c = 0; c < offered; ++c)
   {
     const vtkIdType* m = merged.data() + numOwn + c * corners;
-    if (std::none_of(m, m + corners, [&](vtkIdType k) { return needed[k] != 0; }))
+    if (std::none_of(m, m + corners, [&](vtkIdType k) { return needed[k] != 0; }) ||
+      !held.insert(keyOf([m](int k) { return m[k]; })).second)
     {
-      continue; // not at a point of this piece whose star it needs
+      continue; // not at a point of this piece whose star it needs, or held already
     }
     for (int k = 0; k < corners; ++k)
     {
@@ -242,8 +271,7 @@ void vtkBeltramiPieces::FindSharedPoints(
   }
 }
 
-std::vector<Index> vtkBeltramiPieces::SharedCandidates(
-  Index numberOfPoints, const Coordinates& point, const std::vector<std::uint8_t>& edge) const
+std::vector<vtkBoundingBox> vtkBeltramiPieces::OtherBoxes(Index numberOfPoints, const Coordinates& point)
 {
   // The pieces' bounding boxes (an empty piece's is invalid), grown by far
   // more than the tolerance of the matching of common points.
@@ -283,6 +311,13 @@ std::vector<Index> vtkBeltramiPieces::SharedCandidates(
   {
     b.Inflate(margin);
   }
+  return others;
+}
+
+std::vector<Index> vtkBeltramiPieces::SharedCandidates(
+  Index numberOfPoints, const Coordinates& point, const std::vector<std::uint8_t>& edge) const
+{
+  const std::vector<vtkBoundingBox> others = OtherBoxes(numberOfPoints, point);
   std::vector<Index> candidates;
   for (Index v = 0; v < numberOfPoints; ++v)
   {
@@ -294,6 +329,100 @@ std::vector<Index> vtkBeltramiPieces::SharedCandidates(
     }
   }
   return candidates;
+}
+
+void vtkBeltramiPieces::RepeatedCells(int corners, const std::vector<Index>& cells, std::vector<std::uint8_t>& repeated,
+  const std::function<bool(Index)>& suspect)
+{
+  std::vector<std::pair<std::array<Index, 4>, std::size_t>> keys;
+  for (std::size_t c = 0; c < cells.size() / corners; ++c)
+  {
+    std::array<Index, 4> key = { -1, -1, -1, -1 };
+    std::copy_n(cells.begin() + c * corners, corners, key.begin());
+    if (!suspect || std::all_of(key.begin(), key.begin() + corners, suspect))
+    {
+      std::sort(key.begin(), key.begin() + corners);
+      keys.emplace_back(key, c);
+    }
+  }
+  std::sort(keys.begin(), keys.end());
+  for (std::size_t k = 1; k < keys.size(); ++k)
+  {
+    if (keys[k].first == keys[k - 1].first)
+    {
+      repeated[keys[k].second] = 1; // (the first of equal ones stays)
+    }
+  }
+}
+
+std::vector<std::uint8_t> vtkBeltramiPieces::CellsOfOtherPieces(int corners, Index numberOfPoints,
+  const Coordinates& point, const std::vector<std::uint8_t>& edge, const std::vector<Index>& cells) const
+{
+  // Candidates: cells at the edge of the piece with every corner in another
+  // piece's box (a cell copied to two pieces reaches beyond the cut in both,
+  // so it has a corner at the edge of each).  Key: the centroid of the
+  // corners in sorted order (matched), then the sorted corners (compared).
+  const std::vector<vtkBoundingBox> others = OtherBoxes(numberOfPoints, point);
+  const int width = 3 + 3 * corners;
+  std::vector<double> keys, centroids;
+  std::vector<std::size_t> which;
+  const std::size_t numCells = cells.size() / corners;
+  for (std::size_t c = 0; c < numCells; ++c)
+  {
+    std::vector<std::array<double, 3>> x(corners);
+    bool atEdge = false, inside = true;
+    for (int k = 0; k < corners; ++k)
+    {
+      point(cells[c * corners + k], x[k].data());
+      atEdge = atEdge || edge[cells[c * corners + k]];
+      inside = inside &&
+        std::any_of(others.begin(), others.end(), [&](const vtkBoundingBox& b) { return b.ContainsPoint(x[k].data()); });
+    }
+    if (!atEdge || !inside)
+    {
+      continue;
+    }
+    std::sort(x.begin(), x.end());
+    double centroid[3] = { 0.0, 0.0, 0.0 };
+    for (int k = 0; k < corners; ++k)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        centroid[a] += x[k][a] / corners;
+      }
+    }
+    keys.insert(keys.end(), centroid, centroid + 3);
+    centroids.insert(centroids.end(), centroid, centroid + 3);
+    for (const auto& corner : x)
+    {
+      keys.insert(keys.end(), corner.begin(), corner.end());
+    }
+    which.push_back(c);
+  }
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const int rank = controller->GetLocalProcessId();
+  std::vector<int> holder;
+  const std::vector<double> all = GatherPoints(controller, keys, width, holder);
+  const std::vector<vtkIdType> classes = MatchPoints(centroids, all, width);
+  const vtkIdType queries = static_cast<vtkIdType>(which.size());
+  std::vector<std::vector<vtkIdType>> elsewhere(classes.size()); // per class: the other ranks' cells in it
+  for (vtkIdType j = 0; j < static_cast<vtkIdType>(holder.size()); ++j)
+  {
+    if (holder[j] != rank)
+    {
+      elsewhere[classes[queries + j]].push_back(j);
+    }
+  }
+  std::vector<std::uint8_t> copies(numCells, 0);
+  for (vtkIdType q = 0; q < queries; ++q)
+  {
+    const double* mine = keys.data() + width * q + 3;
+    for (const vtkIdType j : elsewhere[classes[q]])
+    {
+      copies[which[q]] |= std::equal(mine, mine + 3 * corners, all.data() + width * j + 3);
+    }
+  }
+  return copies;
 }
 
 bool vtkBeltramiPieces::BuildPartition(Index rows, Index pieceRows, const Coordinates& point, std::string& error)

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+class vtkBoundingBox;
 class vtkDataSet;
 class vtkFieldData;
 class vtkInformation;
@@ -64,6 +65,21 @@ public:
   };
   bool AddRings(int corners, beltrami::Index numberOfPoints, const Coordinates& point,
     const std::vector<std::uint8_t>& edge, std::vector<beltrami::Index>& cells, Stars stars = Stars::All);
+  /// Cells that other pieces hold too (collective): readers and filters
+  /// that copy the cells on a cut to every piece they touch without marking
+  /// them as ghost cells (RedistributeDataSet's "Assign to all regions").
+  /// Of the piece's `cells` (`corners` point ids each), flags those with a
+  /// corner at the edge of the piece (`edge`, as for AddRings) and the same
+  /// corner coordinates as a cell of another rank's piece.  Their corners are
+  /// then edge points too (shared: owned by the lowest rank holding them),
+  /// and AddRings joins a cell the piece holds already only once.
+  std::vector<std::uint8_t> CellsOfOtherPieces(int corners, beltrami::Index numberOfPoints, const Coordinates& point,
+    const std::vector<std::uint8_t>& edge, const std::vector<beltrami::Index>& cells) const;
+  /// Flags in `repeated` (one per cell, sized by the caller) the cells with
+  /// the same corners as an earlier cell of `cells`; only cells whose every
+  /// corner is `suspect` are compared (none given: all).
+  static void RepeatedCells(int corners, const std::vector<beltrami::Index>& cells, std::vector<std::uint8_t>& repeated,
+    const std::function<bool(beltrami::Index)>& suspect = {});
   /// AddRings' ghost points: 3 coordinates each.
   const std::vector<double>& GhostPoints() const { return Ghosts; }
   /// The cells of the piece with its rings (AddRings' result).
@@ -108,6 +124,8 @@ private:
   /// another piece's bounding box (collective: the boxes are gathered).
   /// Only they are offered and matched, so that the pieces' own boundaries
   /// (the surface of a volume mesh) travel nowhere.
+  /// The other pieces' bounding boxes, slightly grown (collective).
+  static std::vector<vtkBoundingBox> OtherBoxes(beltrami::Index numberOfPoints, const Coordinates& point);
   std::vector<beltrami::Index> SharedCandidates(
     beltrami::Index numberOfPoints, const Coordinates& point, const std::vector<std::uint8_t>& edge) const;
 

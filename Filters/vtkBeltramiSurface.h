@@ -222,7 +222,14 @@ private:
   /// piece's).  Returns true when the topology is built (with or without a
   /// ring), false when Build is still to be called (the pieces came with
   /// ghost cells, or the piece could not be built).
+  /// Pieces that overlap (cells copied, unmarked, to several pieces): a
+  /// triangle repeated within the piece is kept once, the corners of those
+  /// other pieces hold too are shared points, and a ring triangle the piece
+  /// holds already is not joined again (vtkBeltramiPieces::CellsOfOtherPieces).
   bool ExchangeOneRings(int numberOfThreads);
+  /// The topology rebuilt without the triangles flagged in `drop` (one per
+  /// triangle of the topology; TriangleCell kept for the others).
+  bool DropTriangles(const std::vector<std::uint8_t>& drop, int numberOfThreads);
   /// The topology rebuilt with the triangles of the rings (the first `kept`
   /// triangles are the piece's own; `ghostPoints` after the piece's points).
   bool Rebuild(beltrami::IndexArray triangles, const std::vector<double>& ghostPoints, std::size_t kept,

@@ -24,6 +24,7 @@
 #include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -98,8 +99,21 @@ bool vtkBeltramiSurface::ExchangeOneRings(int numberOfThreads)
   {
     return false; // the pieces came with ghost cells, or none holds points
   }
-  const bool built = InputData && InputData->GetNumberOfPoints() > 0 && Build(InputData, numberOfThreads);
+  bool built = InputData && InputData->GetNumberOfPoints() > 0 && Build(InputData, numberOfThreads);
+  // Copies within the piece (two of RedistributeDataSet's regions on one
+  // rank): one is kept.
+  std::vector<std::uint8_t> repeated(built ? static_cast<std::size_t>(Mesh->NumberOfTriangles()) : 0, 0);
+  if (built)
+  {
+    vtkBeltramiPieces::RepeatedCells(3, std::vector<Index>(Mesh->TriangleList().begin(), Mesh->TriangleList().end()),
+      repeated, [this](Index v) { return (Mesh->VertexFlags(v) & beltrami::VertexDuplicateFace) != 0; });
+  }
+  if (std::find(repeated.begin(), repeated.end(), 1) != repeated.end())
+  {
+    built = DropTriangles(repeated, numberOfThreads); // (false: Error() says why; AddRings still collective)
+  }
   const Index n = built ? Mesh->NumberOfVertices() : 0;
+  const auto point = [this](Index i, double* x) { PointAt(i, x); };
   std::vector<std::uint8_t> edge(static_cast<std::size_t>(n)); // boundary and non-manifold vertices
   for (Index v = 0; v < n; ++v)
   {
@@ -110,8 +124,17 @@ bool vtkBeltramiSurface::ExchangeOneRings(int numberOfThreads)
   {
     triangles.assign(Mesh->TriangleList().begin(), Mesh->TriangleList().end());
   }
+  // Copies other pieces hold too (collective): their corners are shared.
+  const std::vector<std::uint8_t> copies = Rings.CellsOfOtherPieces(3, n, point, edge, triangles);
+  for (std::size_t t = 0; t < copies.size(); ++t)
+  {
+    for (int k = 0; copies[t] && k < 3; ++k)
+    {
+      edge[triangles[3 * t + k]] = 1;
+    }
+  }
   const std::size_t kept = triangles.size() / 3;
-  if (!Rings.AddRings(3, n, [this](Index i, double* x) { PointAt(i, x); }, edge, triangles)) // collective
+  if (!Rings.AddRings(3, n, point, edge, triangles)) // collective
   {
     return built; // no other piece's triangle touches this one
   }
@@ -124,6 +147,34 @@ void vtkBeltramiSurface::PointAt(Index i, double* x) const
   {
     x[k] = Floats ? Floats[3 * static_cast<std::size_t>(i) + k] : Doubles[3 * static_cast<std::size_t>(i) + k];
   }
+}
+
+bool vtkBeltramiSurface::DropTriangles(const std::vector<std::uint8_t>& drop, int numberOfThreads)
+{
+  const beltrami::IndexArray& all = Mesh->TriangleList();
+  const beltrami::IndexArray& original = Mesh->OriginalTriangleIds();
+  beltrami::IndexArray triangles;
+  std::vector<vtkIdType> cells;
+  for (std::size_t t = 0; t < drop.size(); ++t)
+  {
+    if (!drop[t])
+    {
+      triangles.insert(triangles.end(), all.begin() + 3 * t, all.begin() + 3 * t + 3);
+      cells.push_back(TriangleCell(original[t]));
+    }
+  }
+  try
+  {
+    Mesh = std::make_unique<beltrami::MeshTopology>(Mesh->NumberOfVertices(), std::move(triangles), numberOfThreads);
+  }
+  catch (const std::exception& e)
+  {
+    ErrorText = e.what();
+    Mesh.reset();
+    return false;
+  }
+  CellOfTriangle = std::move(cells);
+  return true;
 }
 
 bool vtkBeltramiSurface::Rebuild(

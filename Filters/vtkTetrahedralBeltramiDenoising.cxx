@@ -136,10 +136,21 @@ int vtkTetrahedralBeltramiDenoising::SmoothSplit(vtkUnstructuredGrid* input, vtk
   // The piece, and its edge: its points on faces of one tetrahedron.
   const beltrami::Index n = static_cast<beltrami::Index>(numPoints);
   std::vector<beltrami::Index> tets = n > 0 ? vtkBeltramiGraphFlow::Tetrahedra(this, input) : std::vector<beltrami::Index>();
+  // Copies within the piece (two of RedistributeDataSet's regions on one rank): one is kept.
+  std::vector<std::uint8_t> repeated(tets.size() / 4, 0);
+  vtkBeltramiPieces::RepeatedCells(4, tets, repeated);
+  std::vector<beltrami::Index> unique;
+  for (std::size_t t = 0; t < repeated.size(); ++t)
+  {
+    if (!repeated[t])
+    {
+      unique.insert(unique.end(), tets.begin() + 4 * t, tets.begin() + 4 * t + 4);
+    }
+  }
   std::vector<std::uint8_t> edge;
   double own = 0.0;
   {
-    const beltrami::TetrahedralMesh piece(n, std::move(tets), this->NumberOfThreads);
+    const beltrami::TetrahedralMesh piece(n, std::move(unique), this->NumberOfThreads);
     this->WarnDropped(piece);
     edge = piece.BoundaryVertices();
     for (beltrami::Index v = 0; v < n; ++v)
@@ -149,9 +160,19 @@ int vtkTetrahedralBeltramiDenoising::SmoothSplit(vtkUnstructuredGrid* input, vtk
     tets = piece.TetrahedronList();
     own = piece.NumberOfTetrahedra();
   }
-  // Grown by the other pieces' tetrahedra around its points, and split.
   std::vector<double> points = PointsOf(input);
   const auto at = [&points](beltrami::Index i, double* x) { std::copy_n(&points[3 * static_cast<std::size_t>(i)], 3, x); };
+  // Tetrahedra other pieces hold too (copied, unmarked, to every piece they
+  // touch): their corners are shared (collective).
+  const std::vector<std::uint8_t> copies = pieces.CellsOfOtherPieces(4, n, at, edge, tets);
+  for (std::size_t t = 0; t < copies.size(); ++t)
+  {
+    for (int k = 0; copies[t] && k < 4; ++k)
+    {
+      edge[tets[4 * t + k]] = 1;
+    }
+  }
+  // Grown by the other pieces' tetrahedra around its points, and split.
   pieces.AddRings(4, n, at, edge, tets, vtkBeltramiPieces::Stars::Owned); // collective
   points.insert(points.end(), pieces.GhostPoints().begin(), pieces.GhostPoints().end());
   const beltrami::Index rows = static_cast<beltrami::Index>(points.size() / 3);

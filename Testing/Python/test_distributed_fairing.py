@@ -66,13 +66,15 @@ def matched(pieces, whole):
     return ids
 
 
-def split_run(source, label, tolerance, relative, prepare=None, partitions=0, **settings):
+def split_run(source, label, tolerance, relative, prepare=None, partitions=0, mode=None, **settings):
     """The filter on `source` redistributed over the ranks against the serial
     run; the largest difference must be below `tolerance` times `relative`
     (the serial move, or the size of the surface).  Returns the fetched
     pieces' result and the serial one."""
     redistributed = RedistributeDataSet(Input=source)
     redistributed.NumberOfPartitions = partitions
+    if mode:
+        redistributed.BoundaryMode = mode
     unprepared = split = ExtractSurface(Input=redistributed)
     if prepare:
         split = prepare(split)
@@ -116,6 +118,10 @@ faired, result, reference, shared = split_run(bunny, "bunny, defaults, tolerance
                                                SolverTolerance=1e-10)
 check(ranks < 3 or shared > 0, "bunny: points where three pieces meet")
 split_run(bunny, "bunny, defaults", 1e-4, move_of)
+# Pieces that overlap: RedistributeDataSet's "Assign to all regions" copies
+# the cells on a cut to every piece they touch, unmarked (from 3 ranks on,
+# also twice into a rank that holds two of its regions); each is kept once.
+split_run(bunny, "bunny, overlapping pieces", 1e-9, extent_of, mode="Assign to all regions", SolverTolerance=1e-10)
 
 
 # A noisy scan (uniform noise of up to 0.3% of the diagonal): points of tiny

@@ -99,7 +99,7 @@ def matched(pieces, whole):
     return ids
 
 
-def split_run(source, label, ids=True, partitions=0, turned=False, squeezed=False, **settings):
+def split_run(source, label, ids=True, partitions=0, turned=False, squeezed=False, mode=None, **settings):
     """The filter on `source` redistributed over the ranks against the serial
     run: the UVs within 1e-8 (the map lies in the unit square; the solver's
     tolerance is 1e-10 of the residual), or, with `turned`, within 1e-8 of
@@ -109,6 +109,8 @@ def split_run(source, label, ids=True, partitions=0, turned=False, squeezed=Fals
     proxy, the fetched pieces and the number of points in 3+ pieces."""
     redistributed = RedistributeDataSet(Input=with_ids(source) if ids else source)
     redistributed.NumberOfPartitions = partitions
+    if mode:
+        redistributed.BoundaryMode = mode
     split = ExtractSurface(Input=redistributed)
     given = settings.pop("given", None)
     mapped = IntrinsicParameterization(Input=split, **settings)
@@ -212,6 +214,12 @@ if ranks > 1:
     split_run(given_peaks, "three peaks, given boundary, on %d of %d ranks" % (ranks - 1, ranks),
               partitions=ranks - 1, Boundary=2, given="given")
 split_run(peaks, "three peaks, authalic mix (gathered)", AuthalicWeight=0.5)
+# Pieces that overlap (RedistributeDataSet's "Assign to all regions": the
+# cells on a cut copied, unmarked, to every piece they touch): each cell
+# counted once, split or gathered.
+split_run(peaks, "three peaks, overlapping pieces", mode="Assign to all regions")
+split_run(peaks, "three peaks, overlapping pieces, authalic mix (gathered)", mode="Assign to all regions",
+          AuthalicWeight=0.5)
 
 # A piece that owns no point (configure.lone_triangle_source).
 if ranks > 1:

@@ -95,11 +95,13 @@ def serial(grid, array, settings):
     return f.GetOutput()
 
 
-def split_smoothing(partitions=0, nan=False, array="f", panel=None):
+def split_smoothing(partitions=0, nan=False, array="f", panel=None, mode=None):
     """The proxy on the redistributed elephant (its `panel` settings, by the
     panel's names)."""
     redistributed = RedistributeDataSet(Input=filled)
     redistributed.NumberOfPartitions = partitions
+    if mode:
+        redistributed.BoundaryMode = mode
     smoothed = TetrahedralBeltramiDenoising(Input=with_data(redistributed, nan, tensors=array == "t"))
     smoothed.ArrayToSmooth = ["POINTS", array]
     smoothed.FixedPointsArray = ["POINTS", "mask"]
@@ -110,9 +112,9 @@ def split_smoothing(partitions=0, nan=False, array="f", panel=None):
     return smoothed
 
 
-def split_run(label, tolerance, partitions=0, array="f", panel=None, **settings):
+def split_run(label, tolerance, partitions=0, array="f", panel=None, mode=None, **settings):
     """The split run against the serial VTK filter (`settings`)."""
-    smoothed = split_smoothing(partitions, array=array, panel=panel)
+    smoothed = split_smoothing(partitions, array=array, panel=panel, mode=mode)
     result = fetch_pieces(smoothed)
     noisy = servermanager.Fetch(with_data(filled, tensors=array == "t"))
     reference = serial(noisy, array, dict(settings, UseFixedPointsArray=1))
@@ -131,6 +133,9 @@ split_run("a vector", 1e-6, array="v")
 split_run("log-Euclidean tensors", 1e-6, array="t", panel={"LogEuclideanTensors": 1}, LogEuclideanTensors=1)
 if ranks > 1:
     split_run("defaults, an empty rank", 1e-6, partitions=ranks - 1)
+# Overlapping pieces (RedistributeDataSet's "Assign to all regions": the
+# tetrahedra on a cut copied, unmarked, to every piece they touch).
+split_run("defaults, overlapping pieces", 1e-6, mode="Assign to all regions")
 
 # What each rank holds: its own points, the ghost points of the rings, its
 # tetrahedra (field data FlowDistribution, one row per rank).

@@ -154,6 +154,14 @@ redistributed.UpdatePipeline()
 shared = check_equal_to_serial(servermanager.Fetch(redistributed), data, "redistributed bunny")
 check(partitions < 3 or shared > 0, "redistributed bunny: points where three pieces meet")
 check_piece_arrays(redistributed, "redistributed bunny")
+# Pieces that overlap: RedistributeDataSet's "Assign to all regions" copies
+# the cells on a cut, unmarked, to every piece they touch (with 3 ranks, two
+# regions into one rank); each is joined once (before: 696 points NaN).
+overlapping = RedistributeDataSet(Input=reader)
+overlapping.BoundaryMode = "Assign to all regions"
+overlap_curvatures = DiscreteCurvatures(Input=ExtractSurface(Input=overlapping))
+overlap_curvatures.UpdatePipeline()
+check_equal_to_serial(servermanager.Fetch(overlap_curvatures), data, "overlapping pieces of the bunny")
 # Beltrami Operators on point data over the redistributed bunny: each rank its
 # piece (1-rings exchanged), the automatic contrast's noise estimate (a median
 # over all ranks) and mean edge length taken over the ranks: the serial numbers.

@@ -56,6 +56,10 @@ public:
     {
       Fixed[i] = (fixed && fixed[i]) || (unusable && unusable[i]) || !(BaseMeasure[i] > 0.0);
     }
+    if (Split) // a ghost row is fixed where its owner's is (here its star may be partial)
+    {
+      Split->UpdateGhosts(Fixed);
+    }
     // The base coordinates of the embedding, once; Update writes the data.
     const int dim = 3 + components;
     Embedded.resize(static_cast<std::size_t>(Size) * dim);
@@ -100,9 +104,9 @@ public:
         }
         Positive[i] = p;
         Speed[i] = Laplacian.Mass[i] > 0.0 ? SpeedOf(BaseMeasure[i] / Laplacian.Mass[i]) : 1.0;
-        if (!(Mass[i] > 0.0))
+        if (!(Mass[i] > 0.0) && (!Split || Split->IsOwned(static_cast<Index>(i))))
         {
-          Fixed[i] = 1; // lost its measure (degenerate graph elements)
+          Fixed[i] = 1; // lost its measure (degenerate graph elements; a ghost row's star may be partial here)
         }
       }
     });

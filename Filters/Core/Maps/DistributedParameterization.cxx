@@ -298,6 +298,7 @@ std::string FixSplitBoundary(const MeshTopology& topo, const Partition& split, c
       nonFinite += split.IsOwned(v) && !(std::isfinite(at[0]) && std::isfinite(at[1]));
     }
   }
+  split.UpdateGhosts(fixed); // (a ghost row is fixed where its owner's is: here its star may be partial)
   outer.clear();
   for (Index k : longest)
   {
