@@ -230,6 +230,9 @@ private:
   /// The topology rebuilt without the triangles flagged in `drop` (one per
   /// triangle of the topology; TriangleCell kept for the others).
   bool DropTriangles(const std::vector<std::uint8_t>& drop, int numberOfThreads);
+  /// The topology of `triangles` over `points` (TriangleCell: `cells`);
+  /// false (with Error()) when it cannot be built.
+  bool Remake(beltrami::Index points, beltrami::IndexArray triangles, std::vector<vtkIdType> cells, int numberOfThreads);
   /// The topology rebuilt with the triangles of the rings (the first `kept`
   /// triangles are the piece's own; `ghostPoints` after the piece's points).
   bool Rebuild(beltrami::IndexArray triangles, const std::vector<double>& ghostPoints, std::size_t kept,

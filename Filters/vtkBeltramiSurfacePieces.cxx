@@ -163,9 +163,15 @@ bool vtkBeltramiSurface::DropTriangles(const std::vector<std::uint8_t>& drop, in
       cells.push_back(TriangleCell(original[t]));
     }
   }
+  return Remake(Mesh->NumberOfVertices(), std::move(triangles), std::move(cells), numberOfThreads);
+}
+
+bool vtkBeltramiSurface::Remake(
+  Index points, beltrami::IndexArray triangles, std::vector<vtkIdType> cells, int numberOfThreads)
+{
   try
   {
-    Mesh = std::make_unique<beltrami::MeshTopology>(Mesh->NumberOfVertices(), std::move(triangles), numberOfThreads);
+    Mesh = std::make_unique<beltrami::MeshTopology>(points, std::move(triangles), numberOfThreads);
   }
   catch (const std::exception& e)
   {
@@ -206,18 +212,7 @@ bool vtkBeltramiSurface::Rebuild(
   {
     cells[t] = TriangleCell(original[t]);
   }
-  try
-  {
-    Mesh = std::make_unique<beltrami::MeshTopology>(total, std::move(triangles), numberOfThreads);
-  }
-  catch (const std::exception& e)
-  {
-    ErrorText = e.what();
-    Mesh.reset();
-    return false;
-  }
-  CellOfTriangle = std::move(cells);
-  return true;
+  return Remake(total, std::move(triangles), std::move(cells), numberOfThreads);
 }
 
 int vtkBeltramiSurface::Start(vtkAlgorithm* owner, int numberOfThreads, bool built)

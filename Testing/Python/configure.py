@@ -215,3 +215,24 @@ if out.GetNumberOfPoints():
     out.GetPoints().Modified()
 """ % change
     return f
+
+
+def with_point_arrays(source, arrays):
+    """`source` with point arrays computed on every rank's piece (and in a
+    serial run) from its n x 3 points p: `arrays` maps each name to a numpy
+    expression in p (np is numpy)."""
+    from paraview.simple import ProgrammableFilter
+    f = ProgrammableFilter(Input=source)
+    f.Script = """
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+out = self.GetOutput()
+out.ShallowCopy(self.GetInput())
+if out.GetNumberOfPoints():
+    p = vtk_to_numpy(out.GetPoints().GetData()).astype(float)
+    for name, expression in %r.items():
+        a = numpy_to_vtk(np.ascontiguousarray(eval(expression)), deep=1)
+        a.SetName(name)
+        out.GetPointData().AddArray(a)
+""" % (arrays,)
+    return f

@@ -23,7 +23,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from configure import (DISJOINT_SPHERES, check, lone_triangle_source, lone_triangle_whole, moved_points,  # noqa: E402
-                       piecewise_source, rank_rows)
+                       piecewise_source, rank_rows, with_point_arrays)
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -178,22 +178,8 @@ if ranks > 1:
 # Options that keep working distributed: fixed points and smoothing weights
 # (point arrays), order 1 with the area invariant.
 def with_masks(source):
-    f = ProgrammableFilter(Input=source)
-    f.Script = """
-import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-out = self.GetOutput()
-out.ShallowCopy(self.GetInput())
-if out.GetNumberOfPoints():
-    p = vtk_to_numpy(out.GetPoints().GetData()).astype(float)
-    fixed = numpy_to_vtk((p[:, 1] > 0.15).astype(np.uint8), deep=1)
-    fixed.SetName("fixed")
-    weight = numpy_to_vtk(np.clip(10.0 * (p[:, 0] + 0.05), 0.0, 1.0), deep=1)
-    weight.SetName("weight")
-    out.GetPointData().AddArray(fixed)
-    out.GetPointData().AddArray(weight)
-"""
-    return f
+    return with_point_arrays(source, {"fixed": "(p[:, 1] > 0.15).astype(np.uint8)",
+                                      "weight": "np.clip(10.0 * (p[:, 0] + 0.05), 0.0, 1.0)"})
 
 
 split_run(bunny, "bunny with fixed points and weights", 1e-3, move_of, prepare=with_masks, NumberOfIterations=2,

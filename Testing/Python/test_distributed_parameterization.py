@@ -29,7 +29,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from configure import (DISJOINT_SPHERES, check, lone_triangle_source, lone_triangle_whole, moved_points,  # noqa: E402
-                       piecewise_source, rank_rows)
+                       piecewise_source, rank_rows, with_point_arrays)
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -158,23 +158,8 @@ split_run(peaks, "three peaks, square, uniform spacing", Boundary=1, BoundarySpa
 split_run(peaks, "three peaks without global ids", ids=False, turned=True)
 
 
-def with_given(source):
-    f = ProgrammableFilter(Input=source)
-    f.Script = """
-import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-out = self.GetOutput()
-out.ShallowCopy(self.GetInput())
-if out.GetNumberOfPoints():
-    p = vtk_to_numpy(out.GetPoints().GetData()).astype(float)
-    given = numpy_to_vtk(np.column_stack([p[:, 0] + 0.1 * p[:, 1] ** 2, p[:, 1]]), deep=1)
-    given.SetName("given")
-    out.GetPointData().AddArray(given)
-"""
-    return f
-
-
-given_peaks = saved(servermanager.Fetch(with_given(peaks)), "given")
+given_peaks = saved(servermanager.Fetch(with_point_arrays(peaks, {"given": "np.column_stack([p[:, 0] + 0.1 * p[:, 1] ** 2, p[:, 1]])"})),
+                    "given")
 split_run(given_peaks, "three peaks, given boundary", Boundary=2, given="given")
 
 # A disk with a hole: the triangles near the centre removed (two boundary loops, the hole free).
