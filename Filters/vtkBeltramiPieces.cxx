@@ -369,20 +369,24 @@ std::vector<std::uint8_t> vtkBeltramiPieces::CellsOfOtherPieces(int corners, Ind
   const std::size_t numCells = cells.size() / corners;
   for (std::size_t c = 0; c < numCells; ++c)
   {
-    std::vector<std::array<double, 3>> x(corners);
-    bool atEdge = false, inside = true;
+    const Index* ids = cells.data() + c * corners;
+    if (std::none_of(ids, ids + corners, [&edge](Index v) { return edge[v] != 0; }))
+    {
+      continue; // (most cells: nothing to look up)
+    }
+    std::array<std::array<double, 3>, 4> x; // (corners <= 4: triangles, tetrahedra)
+    bool inside = true;
     for (int k = 0; k < corners; ++k)
     {
-      point(cells[c * corners + k], x[k].data());
-      atEdge = atEdge || edge[cells[c * corners + k]];
+      point(ids[k], x[k].data());
       inside = inside &&
         std::any_of(others.begin(), others.end(), [&](const vtkBoundingBox& b) { return b.ContainsPoint(x[k].data()); });
     }
-    if (!atEdge || !inside)
+    if (!inside)
     {
       continue;
     }
-    std::sort(x.begin(), x.end());
+    std::sort(x.begin(), x.begin() + corners);
     double centroid[3] = { 0.0, 0.0, 0.0 };
     for (int k = 0; k < corners; ++k)
     {
@@ -393,9 +397,9 @@ std::vector<std::uint8_t> vtkBeltramiPieces::CellsOfOtherPieces(int corners, Ind
     }
     keys.insert(keys.end(), centroid, centroid + 3);
     centroids.insert(centroids.end(), centroid, centroid + 3);
-    for (const auto& corner : x)
+    for (int k = 0; k < corners; ++k)
     {
-      keys.insert(keys.end(), corner.begin(), corner.end());
+      keys.insert(keys.end(), x[k].begin(), x[k].end());
     }
     which.push_back(c);
   }
