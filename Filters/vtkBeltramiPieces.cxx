@@ -190,7 +190,7 @@ bool vtkBeltramiPieces::AddRings(int corners, Index numberOfPoints, const Coordi
   }
   const std::size_t offered = offers.size() / (3 * corners);
   const std::size_t kept = cells.size();
-  // A cell held already (one that several pieces hold, CellsOfOtherPieces)
+  // A cell held already (one that several pieces hold, ShareCopiedCells)
   // or offered twice is joined once: cells as the sorted classes of their
   // corners (the piece's cells whose corners are all edge points).
   std::vector<vtkIdType> classOf(static_cast<std::size_t>(numberOfPoints), -1);
@@ -355,8 +355,8 @@ void vtkBeltramiPieces::RepeatedCells(int corners, const std::vector<Index>& cel
   }
 }
 
-std::vector<std::uint8_t> vtkBeltramiPieces::CellsOfOtherPieces(int corners, Index numberOfPoints,
-  const Coordinates& point, const std::vector<std::uint8_t>& edge, const std::vector<Index>& cells) const
+void vtkBeltramiPieces::ShareCopiedCells(int corners, Index numberOfPoints, const Coordinates& point,
+  const std::vector<Index>& cells, std::vector<std::uint8_t>& edge) const
 {
   // Candidates: cells at the edge of the piece with every corner in another
   // piece's box (a cell copied to two pieces reaches beyond the cut in both,
@@ -417,16 +417,19 @@ std::vector<std::uint8_t> vtkBeltramiPieces::CellsOfOtherPieces(int corners, Ind
       elsewhere[classes[queries + j]].push_back(j);
     }
   }
-  std::vector<std::uint8_t> copies(numCells, 0);
   for (vtkIdType q = 0; q < queries; ++q)
   {
     const double* mine = keys.data() + width * q + 3;
-    for (const vtkIdType j : elsewhere[classes[q]])
+    const auto& there = elsewhere[classes[q]];
+    if (std::any_of(there.begin(), there.end(),
+          [&](vtkIdType j) { return std::equal(mine, mine + 3 * corners, all.data() + width * j + 3); }))
     {
-      copies[which[q]] |= std::equal(mine, mine + 3 * corners, all.data() + width * j + 3);
+      for (int k = 0; k < corners; ++k)
+      {
+        edge[cells[which[q] * corners + k]] = 1;
+      }
     }
   }
-  return copies;
 }
 
 bool vtkBeltramiPieces::BuildPartition(Index rows, Index pieceRows, const Coordinates& point, std::string& error)

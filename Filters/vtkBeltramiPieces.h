@@ -68,13 +68,13 @@ public:
   /// Cells that other pieces hold too (collective): readers and filters
   /// that copy the cells on a cut to every piece they touch without marking
   /// them as ghost cells (RedistributeDataSet's "Assign to all regions").
-  /// Of the piece's `cells` (`corners` point ids each), flags those with a
-  /// corner at the edge of the piece (`edge`, as for AddRings) and the same
-  /// corner coordinates as a cell of another rank's piece.  Their corners are
-  /// then edge points too (shared: owned by the lowest rank holding them),
-  /// and AddRings joins a cell the piece holds already only once.
-  std::vector<std::uint8_t> CellsOfOtherPieces(int corners, beltrami::Index numberOfPoints, const Coordinates& point,
-    const std::vector<std::uint8_t>& edge, const std::vector<beltrami::Index>& cells) const;
+  /// Of the piece's `cells` (`corners` point ids each), those with a corner
+  /// at the edge of the piece (`edge`, as for AddRings) and the same corner
+  /// coordinates as a cell of another rank's piece get all their corners
+  /// flagged in `edge` (shared: owned by the lowest rank holding them);
+  /// AddRings then joins a cell the piece holds already only once.
+  void ShareCopiedCells(int corners, beltrami::Index numberOfPoints, const Coordinates& point,
+    const std::vector<beltrami::Index>& cells, std::vector<std::uint8_t>& edge) const;
   /// Flags in `repeated` (one per cell, sized by the caller) the cells with
   /// the same corners as an earlier cell of `cells`; only cells whose every
   /// corner is `suspect` are compared (none given: all).

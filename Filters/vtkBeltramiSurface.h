@@ -225,7 +225,7 @@ private:
   /// Pieces that overlap (cells copied, unmarked, to several pieces): a
   /// triangle repeated within the piece is kept once, the corners of those
   /// other pieces hold too are shared points, and a ring triangle the piece
-  /// holds already is not joined again (vtkBeltramiPieces::CellsOfOtherPieces).
+  /// holds already is not joined again (vtkBeltramiPieces::ShareCopiedCells).
   bool ExchangeOneRings(int numberOfThreads);
   /// The topology rebuilt without the triangles flagged in `drop` (one per
   /// triangle of the topology; TriangleCell kept for the others).

@@ -103,7 +103,7 @@ bool vtkBeltramiSurface::ExchangeOneRings(int numberOfThreads)
   // Copies within the piece (two of RedistributeDataSet's regions on one
   // rank): one is kept.
   std::vector<std::uint8_t> repeated(built ? static_cast<std::size_t>(Mesh->NumberOfTriangles()) : 0, 0);
-  if (built)
+  if (built && Mesh->Summary().NumberOfDuplicateTriangles > 0)
   {
     vtkBeltramiPieces::RepeatedCells(3, std::vector<Index>(Mesh->TriangleList().begin(), Mesh->TriangleList().end()),
       repeated, [this](Index v) { return (Mesh->VertexFlags(v) & beltrami::VertexDuplicateFace) != 0; });
@@ -124,15 +124,7 @@ bool vtkBeltramiSurface::ExchangeOneRings(int numberOfThreads)
   {
     triangles.assign(Mesh->TriangleList().begin(), Mesh->TriangleList().end());
   }
-  // Copies other pieces hold too (collective): their corners are shared.
-  const std::vector<std::uint8_t> copies = Rings.CellsOfOtherPieces(3, n, point, edge, triangles);
-  for (std::size_t t = 0; t < copies.size(); ++t)
-  {
-    for (int k = 0; copies[t] && k < 3; ++k)
-    {
-      edge[triangles[3 * t + k]] = 1;
-    }
-  }
+  Rings.ShareCopiedCells(3, n, point, triangles, edge); // (collective)
   const std::size_t kept = triangles.size() / 3;
   if (!Rings.AddRings(3, n, point, edge, triangles)) // collective
   {

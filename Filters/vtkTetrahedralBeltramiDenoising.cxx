@@ -162,16 +162,7 @@ int vtkTetrahedralBeltramiDenoising::SmoothSplit(vtkUnstructuredGrid* input, vtk
   }
   std::vector<double> points = PointsOf(input);
   const auto at = [&points](beltrami::Index i, double* x) { std::copy_n(&points[3 * static_cast<std::size_t>(i)], 3, x); };
-  // Tetrahedra other pieces hold too (copied, unmarked, to every piece they
-  // touch): their corners are shared (collective).
-  const std::vector<std::uint8_t> copies = pieces.CellsOfOtherPieces(4, n, at, edge, tets);
-  for (std::size_t t = 0; t < copies.size(); ++t)
-  {
-    for (int k = 0; copies[t] && k < 4; ++k)
-    {
-      edge[tets[4 * t + k]] = 1;
-    }
-  }
+  pieces.ShareCopiedCells(4, n, at, tets, edge); // tetrahedra other pieces hold too (collective)
   // Grown by the other pieces' tetrahedra around its points, and split.
   pieces.AddRings(4, n, at, edge, tets, vtkBeltramiPieces::Stars::Owned); // collective
   points.insert(points.end(), pieces.GhostPoints().begin(), pieces.GhostPoints().end());
