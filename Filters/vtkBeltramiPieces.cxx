@@ -562,7 +562,7 @@ bool vtkBeltramiPieces::MakeRows(
     vtkMPICommunicator::SafeDownCast(vtkMultiProcessController::GetGlobalController()->GetCommunicator());
   try
   {
-    Rows = std::make_unique<beltrami::Partition>(
+    Rows = std::make_shared<beltrami::Partition>(
       communicator->GetMPIComm()->GetHandle(), rows, ownerRank.data(), ownerRow.data());
   }
   catch (const std::exception& e)

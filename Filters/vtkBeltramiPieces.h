@@ -105,6 +105,9 @@ public:
   /// The points of the piece with its rings over the ranks; null before
   /// BuildPartition (or when it failed).
   const beltrami::Partition* Split() const { return Rows.get(); }
+  /// The same, shared: for a filter that keeps it beyond the run (the line
+  /// drawing's geometry, drawn again for each view).
+  std::shared_ptr<const beltrami::Partition> SharedSplit() const { return Rows; }
 
   /// Marks the run collective (every rank takes part): AllAgree talks.
   void SetCollective(bool collective) { Collective = collective; }
@@ -145,7 +148,7 @@ private:
   std::vector<beltrami::Index> OfferedPoints; // and the corners of the cells it offered
   std::vector<double> Ghosts;
   std::int64_t Cells = 0;
-  std::unique_ptr<beltrami::Partition> Rows;
+  std::shared_ptr<beltrami::Partition> Rows;
   bool Collective = false;
 };
 

@@ -107,6 +107,12 @@ public:
   /// distributed runs.  Returns RequestData's value.
   static int RunOnWholeSurface(vtkAlgorithm* owner, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector, const std::function<int(vtkPolyData*, vtkPolyData*)>& run);
+  /// Execute with Needs::Distributed: the split run (collective; `output`
+  /// gets the input piece, `outInfo` is its request), or -1 when the data are
+  /// not split over ranks that can solve together (then WholeSurface).
+  /// Public for the filters whose surface is not output 0 (the line drawing).
+  static int ExecuteDistributed(vtkAlgorithm* owner, vtkPolyData* input, vtkPolyData* output,
+    vtkInformation* outInfo, int numberOfThreads, const std::function<bool(vtkBeltramiSurface&)>& run);
   /// True when Execute runs on the whole surface gathered from the ranks.
   bool IsGathered() const { return Gathered; }
   /// Needs::Distributed on split data: the topology's points over the ranks
@@ -245,10 +251,6 @@ private:
   /// The coordinates of topology point i (for vtkBeltramiPieces).
   void PointAt(beltrami::Index i, double* x) const;
 
-  /// Execute with Needs::Distributed: the split run, or -1 when the data
-  /// are not split over ranks that can solve together (then WholeSurface).
-  static int ExecuteDistributed(vtkAlgorithm* owner, vtkPolyData* input, vtkPolyData* output,
-    vtkInformation* outInfo, int numberOfThreads, const std::function<bool(vtkBeltramiSurface&)>& run);
 
   std::unique_ptr<beltrami::MeshTopology> Mesh;
   vtkBeltramiPieces Rings; // ExchangeOneRings, and the split of ExecuteDistributed's run

@@ -1,13 +1,17 @@
 #include "vtkSurfaceLineDrawing.h"
 
+#include "vtkBeltramiPieces.h"
 #include "vtkBeltramiSettings.h"
 #include "vtkBeltramiSurface.h"
+
+#include "Solvers/Partition.h"
 
 #include "Drawing/LineDrawing.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
 #include <vtkNew.h>
@@ -35,6 +39,9 @@ struct vtkSurfaceLineDrawing::Kept
   beltrami::LineDrawingGeometry Geometry;
   /// Its derivatives as the surface output's array, made once (not per view).
   vtkSmartPointer<vtkDoubleArray> Derivatives;
+  vtkIdType InputPoints = 0; ///< the input's (a split piece's topology has ghost points after them)
+  /// Split runs: the field array LineDrawingDistribution.
+  vtkSmartPointer<vtkFieldData> Distribution;
   const void* Input = nullptr;
   vtkMTimeType InputTime = 0;
 };
@@ -72,8 +79,41 @@ void vtkSurfaceLineDrawing::CopySettings(beltrami::LineDrawingOptions& o, vtkBel
 int vtkSurfaceLineDrawing::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  if (vtkBeltramiPieces::CanSolveTogether(outputVector->GetInformationObject(0)))
+  {
+    const int done = this->DrawSplit(inputVector, outputVector);
+    if (done >= 0)
+    {
+      return done;
+    }
+  }
   return vtkBeltramiSurface::RunOnWholeSurface(this, inputVector, outputVector,
     [this](vtkPolyData* input, vtkPolyData* output) { return this->Draw(input, output); });
+}
+
+int vtkSurfaceLineDrawing::DrawSplit(vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* lines = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* surface = vtkPolyData::GetData(outputVector, 1);
+  vtkBeltramiPieces ranks;
+  ranks.SetCollective(true);
+  if (!ranks.AllAgree(lines && surface))
+  {
+    vtkErrorMacro("Missing poly data outputs on some rank.");
+    return 0;
+  }
+  lines->Initialize(); // a defined output: empty
+  if (ranks.AllAgree(this->Cache && this->Cache->Geometry.Split && this->Keeps(input)))
+  {
+    surface->ShallowCopy(input);
+    return this->DrawView(lines, surface); // a new view of the kept pieces
+  }
+  return vtkBeltramiSurface::ExecuteDistributed(this, input, surface, outputVector->GetInformationObject(0),
+    this->NumberOfThreads, [&](vtkBeltramiSurface& pieces) {
+      this->KeepGeometry(pieces, input, true);
+      return this->DrawView(lines, surface) != 0;
+    });
 }
 
 namespace
@@ -124,11 +164,17 @@ void WriteLines(const beltrami::LineSet& lines, vtkPolyData* output)
 
 } // namespace
 
+bool vtkSurfaceLineDrawing::Keeps(vtkPolyData* input) const
+{
+  const vtkMTimeType time =
+    input ? std::max(input->GetMTime(), input->GetPoints() ? input->GetPoints()->GetMTime() : 0) : 0;
+  return this->Cache && this->Cache->Input == input && this->Cache->InputTime == time;
+}
+
 int vtkSurfaceLineDrawing::UpdateGeometry(vtkPolyData* input, bool& ready)
 {
-  const vtkMTimeType time = std::max(input->GetMTime(), input->GetPoints() ? input->GetPoints()->GetMTime() : 0);
   ready = true;
-  if (this->Cache && this->Cache->Input == input && this->Cache->InputTime == time)
+  if (this->Keeps(input) && !this->Cache->Geometry.Split)
   {
     return 1;
   }
@@ -141,22 +187,41 @@ int vtkSurfaceLineDrawing::UpdateGeometry(vtkPolyData* input, bool& ready)
     ready = false;
     return readiness == vtkBeltramiSurface::Readiness::Empty ? 1 : 0;
   }
+  this->KeepGeometry(surface, input, false);
+  return 1;
+}
+
+void vtkSurfaceLineDrawing::KeepGeometry(const vtkBeltramiSurface& surface, vtkPolyData* input, bool split)
+{
+  this->Cache.reset();
   auto kept = std::make_unique<Kept>();
-  surface.Dispatch([&](const auto* points) { kept->Geometry.Build(surface.Topology(), points, this->NumberOfThreads); });
-  kept->Derivatives = FromVector("CurvatureDerivative", 4, kept->Geometry.Derivatives);
-  kept->Input = input;
-  kept->InputTime = time;
-  ++this->GeometryBuilds;
-  if (kept->Geometry.UndefinedVertices > 0)
+  const auto partition = split ? surface.SplitPieces().SharedSplit() : nullptr;
+  surface.Dispatch([&](const auto* points) {
+    kept->Geometry.Build(surface.Topology(), points, this->NumberOfThreads, partition);
+  });
+  kept->InputPoints = input ? input->GetNumberOfPoints() : 0;
+  const auto& derivatives = kept->Geometry.Derivatives;
+  kept->Derivatives = NewArray("CurvatureDerivative", 4, kept->InputPoints);
+  std::copy(derivatives.begin(), derivatives.begin() + 4 * kept->InputPoints, kept->Derivatives->GetPointer(0));
+  if (partition)
   {
-    const std::string defects = surface.TopologyWarning();
-    vtkWarningMacro(<< kept->Geometry.UndefinedVertices
-                    << " points have no curvature (boundary, non-manifold, NaN or degenerate 1-rings"
+    kept->Distribution = vtkSmartPointer<vtkFieldData>::New();
+    surface.SplitPieces().AddDistribution(kept->Distribution, "LineDrawingDistribution");
+  }
+  kept->Input = input;
+  kept->InputTime = input ? std::max(input->GetMTime(), input->GetPoints() ? input->GetPoints()->GetMTime() : 0) : 0;
+  ++this->GeometryBuilds;
+  const beltrami::Index undefined = kept->Geometry.UndefinedVertices; // (over all ranks)
+  if (undefined > 0 && (!partition || partition->Rank() == 0))
+  {
+    // (A split piece's topology has cut stars at the edge of its ring: not
+    // a defect of the user's surface.)
+    const std::string defects = partition ? std::string() : surface.TopologyWarning();
+    vtkWarningMacro(<< undefined << " points have no curvature (boundary, non-manifold, NaN or degenerate 1-rings"
                     << (defects.empty() ? std::string() : ": " + defects)
                     << "): suggestive contours, highlights, ridges and valleys stop at their triangles.");
   }
   this->Cache = std::move(kept);
-  return 1;
 }
 
 int vtkSurfaceLineDrawing::Draw(vtkPolyData* input, vtkPolyData* output)
@@ -169,10 +234,11 @@ int vtkSurfaceLineDrawing::Draw(vtkPolyData* input, vtkPolyData* output)
   {
     return 0; // error reported
   }
-  if (!ready)
-  {
-    return 1; // nothing to draw (warned)
-  }
+  return ready ? this->DrawView(output, surface) : 1; // (not ready: nothing to draw, warned)
+}
+
+int vtkSurfaceLineDrawing::DrawView(vtkPolyData* output, vtkPolyData* surface)
+{
   const beltrami::LineDrawingGeometry& geometry = this->Cache->Geometry;
   beltrami::LineDrawingOptions options;
   this->CopySettings(options, vtkBeltramiCopy::ToCore);
@@ -182,7 +248,7 @@ int vtkSurfaceLineDrawing::Draw(vtkPolyData* input, vtkPolyData* output)
   view.Direction = beltrami::Vec3(this->ViewDirection[0], this->ViewDirection[1], this->ViewDirection[2]);
   if (!view.Perspective && !(view.Direction.norm() > 0.0))
   {
-    vtkErrorMacro("ViewDirection is zero: no view. The output is empty.");
+    vtkErrorMacro("ViewDirection is zero: no view. The output is empty."); // (on every rank alike)
     return 0;
   }
   const vtkIdType n = geometry.NumberOfVertices();
@@ -193,9 +259,15 @@ int vtkSurfaceLineDrawing::Draw(vtkPolyData* input, vtkPolyData* output)
   WriteLines(beltrami::DrawLines(geometry, view, options, fields), output);
   vtkPointData* pd = surface->GetPointData();
   pd->AddArray(this->Cache->Derivatives);
-  pd->AddArray(ndotv);
-  pd->AddArray(kr);
-  pd->AddArray(drkr);
+  for (vtkDoubleArray* array : { ndotv.Get(), kr.Get(), drkr.Get() })
+  {
+    array->SetNumberOfTuples(this->Cache->InputPoints); // (split: drops the ghost points' values)
+    pd->AddArray(array);
+  }
+  if (this->Cache->Distribution)
+  {
+    surface->GetFieldData()->AddArray(this->Cache->Distribution->GetAbstractArray(0));
+  }
   return 1;
 }
 

@@ -56,8 +56,19 @@
  *
  * Boundary, non-manifold and degenerate vertices have no curvature: the
  * lines that need it stop at their triangles, with a warning; contours,
- * boundaries and creases are drawn everywhere.  Split data in distributed
- * runs are gathered on rank 0, which holds the drawing.
+ * boundaries and creases are drawn everywhere.
+ *
+ * Distributed runs (pvbatch, pvserver): a surface split over the ranks is
+ * drawn where it lies.  The ranks exchange the triangles around their
+ * common points (so that every point of a piece has its whole 1-ring),
+ * each computes the curvatures and their derivatives of its piece and
+ * takes its neighbours' values for the ring, and finds the segments of the
+ * triangles and edges it owns; only the segments travel, to rank 0, which
+ * chains them and holds the polylines (the serial drawing up to the order
+ * of the lines).  Output 1 is each rank's piece with its arrays; field
+ * array LineDrawingDistribution: the rank's owned points, ghost points,
+ * triangles with the ring, values sent per exchange.  Pieces that come with
+ * ghost cells are gathered on rank 0.
  */
 #ifndef vtkSurfaceLineDrawing_h
 #define vtkSurfaceLineDrawing_h
@@ -68,6 +79,7 @@
 #include <memory> // for the kept geometry
 
 enum class vtkBeltramiCopy;
+class vtkBeltramiSurface;
 namespace beltrami
 {
 struct LineDrawingOptions;
@@ -192,10 +204,22 @@ private:
   void operator=(const vtkSurfaceLineDrawing&) = delete;
 
   void CopySettings(beltrami::LineDrawingOptions& options, vtkBeltramiCopy direction);
+  /// The drawing of the whole surface (serial, or gathered on rank 0).
   int Draw(vtkPolyData* input, vtkPolyData* output);
+  /// The drawing of a surface split over the ranks, each on its piece
+  /// (collective); -1 when the data are not split (then Draw).
+  int DrawSplit(vtkInformationVector** inputVector, vtkInformationVector* outputVector);
   /// Builds the view-independent pass unless the kept one is for `input`;
   /// false (output empty) when there is nothing to draw or an error.
   int UpdateGeometry(vtkPolyData* input, bool& ready);
+  /// Whether the kept view-independent pass is the one of `input`.
+  bool Keeps(vtkPolyData* input) const;
+  /// Builds the view-independent pass of `surface` (the topology of `input`;
+  /// split: over the ranks, collective) and keeps it.
+  void KeepGeometry(const vtkBeltramiSurface& surface, vtkPolyData* input, bool split);
+  /// The per-view pass on the kept geometry: the polylines into `lines`, the
+  /// per-view arrays onto `surface` (collective in split runs).
+  int DrawView(vtkPolyData* lines, vtkPolyData* surface);
 
   struct Kept;
   std::unique_ptr<Kept> Cache;

@@ -10,22 +10,19 @@ namespace
 {
 
 /// partner[2 s + e]: the end (2 s' + e') that end e of segment s joins, or -1.
-std::vector<std::int64_t> JoinEnds(const std::vector<LineSegment>& segments)
+std::vector<std::int64_t> JoinEnds(const std::vector<std::int64_t>& keys)
 {
   std::vector<std::pair<std::int64_t, std::int64_t>> ends; // (key, end id)
-  ends.reserve(2 * segments.size());
-  for (std::size_t s = 0; s < segments.size(); ++s)
+  ends.reserve(keys.size());
+  for (std::size_t e = 0; e < keys.size(); ++e)
   {
-    for (int e = 0; e < 2; ++e)
+    if (keys[e] >= 0)
     {
-      if (segments[s].End[e].Key >= 0)
-      {
-        ends.emplace_back(segments[s].End[e].Key, static_cast<std::int64_t>(2 * s + e));
-      }
+      ends.emplace_back(keys[e], static_cast<std::int64_t>(e));
     }
   }
   std::sort(ends.begin(), ends.end());
-  std::vector<std::int64_t> partner(2 * segments.size(), -1);
+  std::vector<std::int64_t> partner(keys.size(), -1);
   for (std::size_t k = 0; k < ends.size();)
   {
     std::size_t next = k;
@@ -46,10 +43,11 @@ std::vector<std::int64_t> JoinEnds(const std::vector<LineSegment>& segments)
 
 } // namespace
 
-std::vector<SegmentChain> ChainSegments(const std::vector<LineSegment>& segments)
+std::vector<SegmentChain> ChainSegments(const std::vector<std::int64_t>& keys)
 {
-  const std::vector<std::int64_t> partner = JoinEnds(segments);
-  std::vector<std::uint8_t> used(segments.size(), 0);
+  const std::vector<std::int64_t> partner = JoinEnds(keys);
+  const std::size_t numSegments = keys.size() / 2;
+  std::vector<std::uint8_t> used(numSegments, 0);
   std::vector<SegmentChain> chains;
   // Walks from end `start` of segment s along the joined ends.
   const auto walk = [&](Index s, int start) {
@@ -75,7 +73,7 @@ std::vector<SegmentChain> ChainSegments(const std::vector<LineSegment>& segments
     }
     chains.push_back(std::move(chain));
   };
-  for (std::size_t s = 0; s < segments.size(); ++s)
+  for (std::size_t s = 0; s < numSegments; ++s)
   {
     for (int e = 0; e < 2 && !used[s]; ++e)
     {
@@ -85,7 +83,7 @@ std::vector<SegmentChain> ChainSegments(const std::vector<LineSegment>& segments
       }
     }
   }
-  for (std::size_t s = 0; s < segments.size(); ++s)
+  for (std::size_t s = 0; s < numSegments; ++s)
   {
     if (!used[s])
     {

@@ -27,6 +27,7 @@ struct SegmentChain
 /// three or more ends (a junction) ends its chain there.  Open chains come
 /// first, in the order of their first segment, then the closed loops; the
 /// result does not depend on anything but the segments and their order.
-std::vector<SegmentChain> ChainSegments(const std::vector<LineSegment>& segments);
+/// `keys`: the two ends' Keys of each segment.
+std::vector<SegmentChain> ChainSegments(const std::vector<std::int64_t>& keys);
 
 } // namespace beltrami

@@ -3,12 +3,14 @@
 #include "Drawing/LineChaining.h"
 #include "Mesh/CurvatureDerivatives.h"
 #include "Mesh/Curvatures.h"
+#include "Solvers/Partition.h"
 #include "Support/Vectorization.h"
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
 
@@ -24,22 +26,25 @@ constexpr double Degree = M_PI / 180.0;
 /// order whatever the thread count.
 constexpr std::int64_t FacesPerBlock = 4096;
 
-std::int64_t EdgeKey(Index a, Index b, Index numVertices)
+/// The keys of segment ends on edge a-b and on vertex v: the same on every
+/// process of a split run (from the vertices' global rows).
+std::int64_t EdgeKey(const LineDrawingGeometry& geo, Index a, Index b)
 {
-  return static_cast<std::int64_t>(std::min(a, b)) * numVertices + std::max(a, b);
+  const std::int64_t i = geo.KeyId(a), j = geo.KeyId(b);
+  return std::min(i, j) * geo.NumberOfKeyIds() + std::max(i, j);
 }
 
-std::int64_t VertexKey(Index v, Index numVertices)
+std::int64_t VertexKey(const LineDrawingGeometry& geo, Index v)
 {
-  return static_cast<std::int64_t>(numVertices) * numVertices + v;
+  return geo.NumberOfKeyIds() * geo.NumberOfKeyIds() + geo.KeyId(v);
 }
 
 /// The zero set of the linear function with values f at the corners of
-/// face `face` (vertices v): its two ends on the face's edges.  The point on
-/// an edge is computed from the edge's lower vertex id, so that both faces of
-/// the edge find the same point.  False if f has no sign change (f >= 0
-/// counts as positive) or a value is not finite.
-bool ZeroCrossing(Index face, const Index* v, const double* f, Index numVertices, LineSegment& s)
+/// face `face` (vertices v of `geo`): its two ends on the face's edges.  The
+/// point on an edge is computed from the edge's lower vertex id (KeyId), so
+/// that both faces of the edge find the same point.  False if f has no sign
+/// change (f >= 0 counts as positive) or a value is not finite.
+bool ZeroCrossing(const LineDrawingGeometry& geo, Index face, const Index* v, const double* f, LineSegment& s)
 {
   if (!std::isfinite(f[0]) || !std::isfinite(f[1]) || !std::isfinite(f[2]))
   {
@@ -57,10 +62,10 @@ bool ZeroCrossing(Index face, const Index* v, const double* f, Index numVertices
     const int b = (a + 1) % 3;
     if (positive[a] != positive[b])
     {
-      const int lo = v[a] < v[b] ? a : b, hi = a + b - lo;
+      const int lo = geo.KeyId(v[a]) < geo.KeyId(v[b]) ? a : b, hi = a + b - lo;
       const double t = f[lo] / (f[lo] - f[hi]);
       LineEnd& end = s.End[found++];
-      end.Key = EdgeKey(v[a], v[b], numVertices);
+      end.Key = EdgeKey(geo, v[a], v[b]);
       end.W[0] = end.W[1] = end.W[2] = 0.0;
       end.W[lo] = 1.0 - t;
       end.W[hi] = t;
@@ -167,11 +172,29 @@ Vec3 FaceGradient(const Vec3* p, const double* g)
 } // namespace
 
 template <typename T>
-void LineDrawingGeometry::Build(const MeshTopology& topology, const T* points, int numThreads)
+void LineDrawingGeometry::Build(
+  const MeshTopology& topology, const T* points, int numThreads, std::shared_ptr<const Partition> split)
 {
   const Index n = topology.NumberOfVertices();
   Thresholded[0].Valid = Thresholded[1].Valid = false;
   Triangles.assign(topology.TriangleList().begin(), topology.TriangleList().end());
+  Split = std::move(split);
+  GlobalIds.clear();
+  DrawnFaces.clear();
+  if (Split)
+  {
+    GlobalIds.resize(n);
+    for (Index i = 0; i < n; ++i)
+    {
+      GlobalIds[i] = Split->GlobalRow(i);
+    }
+    KeyIds = Split->TotalRows();
+    DrawnFaces.resize(Triangles.size() / 3);
+    for (std::size_t f = 0; f < DrawnFaces.size(); ++f)
+    {
+      DrawnFaces[f] = Split->CountsTriangle(Triangles[3 * f], Triangles[3 * f + 1], Triangles[3 * f + 2]);
+    }
+  }
   Points.assign(points, points + 3 * static_cast<std::int64_t>(n));
   for (auto* field : { &Normals, &E1, &E2 })
   {
@@ -188,38 +211,68 @@ void LineDrawingGeometry::Build(const MeshTopology& topology, const T* points, i
   out.PrincipalDirection1 = E1.data();
   out.PrincipalDirection2 = E2.data();
   ComputeCurvatures(topology, Points.data(), options, out);
-  UndefinedVertices = 0;
-  for (Index i = 0; i < n; ++i)
-  {
-    UndefinedVertices += topology.Valence(i) > 0 && !std::isfinite(K1[i]);
-  }
+  ShareCurvatures(topology);
   Derivatives.assign(4 * static_cast<std::size_t>(n), NaN);
   const CurvatureTensors tensors{ Normals.data(), K1.data(), K2.data(), E1.data(), E2.data() };
   ComputeCurvatureDerivatives(topology, Points.data(), tensors, Derivatives.data(), numThreads);
+  if (Split)
+  {
+    Split->UpdateGhosts(Derivatives.data(), 4);
+  }
 
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  double box[6]; // -lo, hi
+  std::fill(box, box + 6, -std::numeric_limits<double>::infinity());
   for (Index i = 0; i < n; ++i)
   {
     const Vec3 p = Point(Points.data(), i);
     if (p.allFinite() && topology.Valence(i) > 0)
     {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
+      for (int k = 0; k < 3; ++k)
+      {
+        box[k] = std::max(box[k], -p[k]);
+        box[k + 3] = std::max(box[k + 3], p[k]);
+      }
     }
   }
-  DefaultFeatureSize = (hi - lo).allFinite() ? 0.01 * (hi - lo).norm() : 0.0;
+  if (Split)
+  {
+    Split->Max(box, 6);
+  }
+  const Vec3 extent(box[3] + box[0], box[4] + box[1], box[5] + box[2]);
+  DefaultFeatureSize = extent.allFinite() ? 0.01 * extent.norm() : 0.0;
   FindRidges(numThreads);
   FindFeatureEdges(topology, numThreads);
 }
 
-template void LineDrawingGeometry::Build<float>(const MeshTopology&, const float*, int);
-template void LineDrawingGeometry::Build<double>(const MeshTopology&, const double*, int);
+template void LineDrawingGeometry::Build<float>(
+  const MeshTopology&, const float*, int, std::shared_ptr<const Partition>);
+template void LineDrawingGeometry::Build<double>(
+  const MeshTopology&, const double*, int, std::shared_ptr<const Partition>);
+
+void LineDrawingGeometry::ShareCurvatures(const MeshTopology& topology)
+{
+  const Index n = NumberOfVertices();
+  if (Split)
+  {
+    // A ghost point's star is cut at the edge of the ring: its owner's values.
+    Split->UpdateGhosts(Normals.data(), 3);
+    Split->UpdateGhosts(E1.data(), 3);
+    Split->UpdateGhosts(E2.data(), 3);
+    Split->UpdateGhosts(K1.data(), 1);
+    Split->UpdateGhosts(K2.data(), 1);
+  }
+  double undefined = 0.0;
+  for (Index i = 0; i < n; ++i)
+  {
+    undefined += (!Split || Split->IsOwned(i)) && topology.Valence(i) > 0 && !std::isfinite(K1[i]);
+  }
+  UndefinedVertices = static_cast<Index>(Split ? Split->Sum(undefined) : undefined);
+}
 
 void LineDrawingGeometry::FindRidges(int numThreads)
 {
   // A valley is a ridge of -kappa_2 along e2: D_e2(-kappa_2) = -C(e2,e2,e2).
   const double* directions[2] = { E1.data(), E2.data() };
-  const Index n = NumberOfVertices();
   auto lists = CollectSegments(NumberOfFaces(), numThreads, 2, [&](Index f, std::vector<LineSegment>* out) {
     const Index* v = Triangles.data() + 3 * static_cast<std::int64_t>(f);
     for (int valleys = 0; valleys < 2; ++valleys)
@@ -235,7 +288,7 @@ void LineDrawingGeometry::FindRidges(int numThreads)
         g[k] = (valleys ? -flip : flip) * Derivatives[4 * static_cast<std::int64_t>(v[k]) + 3 * valleys];
       }
       LineSegment s;
-      if (!ZeroCrossing(f, v, g, n, s))
+      if (!Draws(f) || !ZeroCrossing(*this, f, v, g, s))
       {
         continue;
       }
@@ -258,7 +311,7 @@ LineSegment LineDrawingGeometry::EdgeSegment(Index a, Index b, Index face) const
   for (int end = 0; end < 2; ++end)
   {
     const Index vertex = end == 0 ? a : b;
-    s.End[end].Key = VertexKey(vertex, NumberOfVertices());
+    s.End[end].Key = VertexKey(*this, vertex);
     for (int k = 0; k < 3; ++k)
     {
       s.End[end].W[k] = Triangles[3 * static_cast<std::int64_t>(face) + k] == vertex ? 1.0 : 0.0;
@@ -306,16 +359,28 @@ void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int num
   {
     const Index a = edges.Vertices[2 * e], b = edges.Vertices[2 * e + 1];
     const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
-    if (edges.FaceCount[e] == 1)
+    // Split: each edge drawn once, where the whole star of an end is (so
+    // that a cut through the ring is no boundary).
+    const bool drawn = !Split || Split->CountsEdge(a, b);
+    if (edges.FaceCount[e] == 1 && drawn)
     {
       BoundaryEdges.push_back(EdgeSegment(a, b, (c0 >= 0 ? c0 : c1) / 3));
     }
-    else if (!std::isnan(angles[e]))
+    else if (edges.FaceCount[e] != 1 && !std::isnan(angles[e]))
     {
-      InteriorEdges.push_back({ a, b, c0 / 3, angles[e] });
+      if (drawn)
+      {
+        InteriorEdges.push_back({ a, b, c0 / 3, angles[e] });
+      }
       SharpestEdge[a] = std::max(SharpestEdge[a], angles[e]);
       SharpestEdge[b] = std::max(SharpestEdge[b], angles[e]);
     }
+  }
+  if (Split)
+  {
+    std::vector<double> sharpest(SharpestEdge.begin(), SharpestEdge.end());
+    Split->UpdateGhosts(sharpest.data(), 1); // (a ghost's star is cut)
+    std::copy(sharpest.begin(), sharpest.end(), SharpestEdge.begin());
   }
   InteriorAngles.resize(InteriorEdges.size());
   std::transform(InteriorEdges.begin(), InteriorEdges.end(), InteriorAngles.begin(),
@@ -420,39 +485,58 @@ struct LineFilter
   double MinimumPeak = -std::numeric_limits<double>::infinity();
 };
 
-/// Turns segments into polylines with their points' positions, normals and
-/// strengths (strength(segment, corner values) gives a segment's corner
-/// strengths); polylines that do not pass `filter` are left out.
+/// Appends `segments` of `type` to `out` with their ends resolved (see
+/// ViewSegments; strength(segment, corners, values) gives a segment's
+/// corner strengths).
 template <typename Strength>
-void AddLines(const LineDrawingGeometry& geo, const std::vector<LineSegment>& segments, LineType type,
-  Strength&& strength, LineSet& lines, const LineFilter& filter = {})
+void Resolve(const LineDrawingGeometry& geo, const std::vector<LineSegment>& segments, LineType type,
+  Strength&& strength, ViewSegments& out)
 {
-  for (const SegmentChain& chain : ChainSegments(segments))
+  std::vector<std::int64_t>& keys = out.Keys[static_cast<int>(type)];
+  std::vector<double>& ends = out.Ends[static_cast<int>(type)];
+  for (std::size_t i = 0; i < segments.size(); ++i)
   {
-    const std::size_t firstValue = lines.PointStrength.size();
-    const Index first = static_cast<Index>(lines.Points.size() / 3);
-    double sum = 0.0, length = 0.0, peak = -std::numeric_limits<double>::infinity();
-    for (const ChainPoint& cp : chain.Points)
+    const LineSegment& s = segments[i];
+    const Index* v = geo.Triangles.data() + 3 * static_cast<std::int64_t>(s.Face);
+    double corners[3];
+    strength(static_cast<Index>(i), v, corners);
+    for (const LineEnd& end : s.End)
     {
-      const LineSegment& s = segments[cp.Segment];
-      const LineEnd& end = s.End[cp.End];
-      const Index* v = geo.Triangles.data() + 3 * static_cast<std::int64_t>(s.Face);
       Vec3 p = Vec3::Zero(), n = Vec3::Zero();
       for (int k = 0; k < 3; ++k)
       {
         p += end.W[k] * Point(geo.Points.data(), v[k]);
         n += end.W[k] * Point(geo.Normals.data(), v[k]);
       }
-      double corners[3];
-      strength(cp.Segment, v, corners);
-      const double value = Interpolate(end, corners);
       n.normalize();
+      keys.push_back(end.Key);
+      ends.insert(ends.end(), { p[0], p[1], p[2], n[0], n[1], n[2], Interpolate(end, corners) });
+    }
+  }
+}
+
+/// Turns the segments of `type` into polylines with their points'
+/// positions, normals and strengths; polylines that do not pass `filter`
+/// are left out.
+void AddLines(const ViewSegments& segments, LineType type, LineSet& lines, const LineFilter& filter = {})
+{
+  const std::vector<double>& ends = segments.Ends[static_cast<int>(type)];
+  for (const SegmentChain& chain : ChainSegments(segments.Keys[static_cast<int>(type)]))
+  {
+    const std::size_t firstValue = lines.PointStrength.size();
+    const Index first = static_cast<Index>(lines.Points.size() / 3);
+    double sum = 0.0, length = 0.0, peak = -std::numeric_limits<double>::infinity();
+    for (const ChainPoint& cp : chain.Points)
+    {
+      const double* end = ends.data() + ViewSegments::ValuesPerEnd * (2 * static_cast<std::int64_t>(cp.Segment) + cp.End);
+      const Vec3 p(end[0], end[1], end[2]);
+      const double value = end[6];
       if (lines.PointStrength.size() > firstValue)
       {
         length += (p - Point(lines.Points.data(), static_cast<Index>(lines.PointStrength.size() - 1))).norm();
       }
-      lines.Points.insert(lines.Points.end(), p.data(), p.data() + 3);
-      lines.Normals.insert(lines.Normals.end(), n.data(), n.data() + 3);
+      lines.Points.insert(lines.Points.end(), end, end + 3);
+      lines.Normals.insert(lines.Normals.end(), end + 3, end + 6);
       lines.PointStrength.push_back(value);
       lines.Connectivity.push_back(static_cast<Index>(lines.PointStrength.size() - 1));
       sum += value;
@@ -481,6 +565,12 @@ void AddLines(const LineDrawingGeometry& geo, const std::vector<LineSegment>& se
     lines.Closed.push_back(chain.Closed);
     lines.Strength.push_back(sum / chain.Points.size());
   }
+}
+
+/// The feature size of a drawing: the option's, else the automatic one.
+double FeatureSizeOf(const LineDrawingGeometry& geo, const LineDrawingOptions& options)
+{
+  return options.FeatureSize > 0.0 ? options.FeatureSize : geo.AutomaticFeatureSize();
 }
 
 } // namespace
@@ -521,11 +611,11 @@ const std::vector<LineSegment>& LineDrawingGeometry::ThresholdedRidges(bool vall
   return cache.Kept;
 }
 
-LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const LineDrawingOptions& options,
-  const ViewFields& fields)
+ViewSegments CollectViewSegments(const LineDrawingGeometry& geo, const LineView& view,
+  const LineDrawingOptions& options, const ViewFields& fields)
 {
   const Index n = geo.NumberOfVertices();
-  const double size = options.FeatureSize > 0.0 ? options.FeatureSize : geo.AutomaticFeatureSize();
+  const double size = FeatureSizeOf(geo, options);
   std::vector<double> own[3];
   double* field[3] = { fields.NdotV, fields.RadialCurvature, fields.RadialCurvatureDerivative };
   for (int k = 0; k < 3; ++k)
@@ -550,6 +640,10 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
   auto lists = CollectSegments(geo.NumberOfFaces(), options.NumberOfThreads, 3,
     [&](Index f, std::vector<LineSegment>* out) {
       const Index* v = geo.Triangles.data() + 3 * static_cast<std::int64_t>(f);
+      if (!geo.Draws(f))
+      {
+        return;
+      }
       // Most faces cross neither zero set: one byte per corner tells.
       const std::uint8_t all = signs[v[0]] & signs[v[1]] & signs[v[2]], any = signs[v[0]] | signs[v[1]] | signs[v[2]];
       const bool contour = draw[int(LineType::Contour)] && MayCross(all, any, NdotVFinite, NdotVPositive);
@@ -560,12 +654,12 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
       double nv[3], k[3];
       Corners(geo.Triangles, f, ndotv, nv);
       LineSegment s;
-      if (contour && ZeroCrossing(f, v, nv, n, s))
+      if (contour && ZeroCrossing(geo, f, v, nv, s))
       {
         out[0].push_back(s);
       }
       Corners(geo.Triangles, f, kr, k);
-      if (!radial || !ZeroCrossing(f, v, k, n, s) || (options.AvoidCreases && geo.AtCrease(f, options.CreaseAngle)))
+      if (!radial || !ZeroCrossing(geo, f, v, k, s) || (options.AvoidCreases && geo.AtCrease(f, options.CreaseAngle)))
       {
         return;
       }
@@ -616,7 +710,7 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
     return kept;
   };
 
-  LineSet lines;
+  ViewSegments segments;
   const auto one = [](Index, const Index*, double* c) { c[0] = c[1] = c[2] = 1.0; };
   const auto vertexStrength = [](const double* values, double factor) {
     return [=](Index, const Index* v, double* c) {
@@ -626,35 +720,20 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
       }
     };
   };
-  AddLines(geo, lists[0], LineType::Contour, one, lines);
-  // The curvature lines: long enough, and past the full threshold somewhere
-  // where they were traced below it.
-  const auto curvatureLines = [&](double threshold) {
-    LineFilter filter;
-    filter.MinimumLength = options.MinimumLength * size;
-    if (hysteresis < 1.0)
-    {
-      filter.MinimumPeak = threshold;
-    }
-    return filter;
-  };
-  AddLines(geo, lists[1], LineType::SuggestiveContour, vertexStrength(drkr, scale), lines,
-    curvatureLines(options.SuggestiveThreshold));
-  AddLines(geo, lists[2], LineType::SuggestiveHighlight, vertexStrength(drkr, -scale), lines,
-    curvatureLines(options.SuggestiveThreshold));
+  Resolve(geo, lists[0], LineType::Contour, one, segments);
+  Resolve(geo, lists[1], LineType::SuggestiveContour, vertexStrength(drkr, scale), segments);
+  Resolve(geo, lists[2], LineType::SuggestiveHighlight, vertexStrength(drkr, -scale), segments);
   if (draw[int(LineType::Ridge)])
   {
-    AddLines(geo, clipRidges(false), LineType::Ridge, vertexStrength(geo.K1.data(), size), lines,
-      curvatureLines(options.RidgeThreshold));
+    Resolve(geo, clipRidges(false), LineType::Ridge, vertexStrength(geo.K1.data(), size), segments);
   }
   if (draw[int(LineType::Valley)])
   {
-    AddLines(geo, clipRidges(true), LineType::Valley, vertexStrength(geo.K2.data(), -size), lines,
-      curvatureLines(options.RidgeThreshold));
+    Resolve(geo, clipRidges(true), LineType::Valley, vertexStrength(geo.K2.data(), -size), segments);
   }
   if (draw[int(LineType::Boundary)])
   {
-    AddLines(geo, geo.BoundaryEdges, LineType::Boundary, one, lines);
+    Resolve(geo, geo.BoundaryEdges, LineType::Boundary, one, segments);
   }
   if (draw[int(LineType::Crease)])
   {
@@ -669,10 +748,86 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
         angles.push_back(e.Angle);
       }
     }
-    AddLines(geo, creases, LineType::Crease,
-      [&](Index s, const Index*, double* c) { c[0] = c[1] = c[2] = angles[s]; }, lines);
+    Resolve(geo, creases, LineType::Crease,
+      [&](Index s, const Index*, double* c) { c[0] = c[1] = c[2] = angles[s]; }, segments);
   }
+  return segments;
+}
+
+ViewSegments GatherViewSegments(const ViewSegments& mine, const Partition& split)
+{
+  // Per process and line type: the count, the keys (their bits), the ends.
+  constexpr int perSegment = 2 * ViewSegments::ValuesPerEnd;
+  std::vector<double> packed;
+  for (int type = 0; type < NumberOfLineTypes; ++type)
+  {
+    packed.push_back(static_cast<double>(mine.Keys[type].size() / 2));
+    for (const std::int64_t key : mine.Keys[type])
+    {
+      double bits;
+      std::memcpy(&bits, &key, sizeof bits);
+      packed.push_back(bits);
+    }
+    packed.insert(packed.end(), mine.Ends[type].begin(), mine.Ends[type].end());
+  }
+  const std::vector<double> all = split.AllGather(packed);
+  ViewSegments segments;
+  for (std::size_t at = 0; at < all.size();)
+  {
+    for (int type = 0; type < NumberOfLineTypes; ++type)
+    {
+      const std::size_t count = static_cast<std::size_t>(all[at++]);
+      for (std::size_t k = 0; k < 2 * count; ++k)
+      {
+        std::int64_t key;
+        std::memcpy(&key, &all[at++], sizeof key);
+        segments.Keys[type].push_back(key);
+      }
+      segments.Ends[type].insert(segments.Ends[type].end(), all.begin() + at, all.begin() + at + perSegment * count);
+      at += perSegment * count;
+    }
+  }
+  return segments;
+}
+
+LineSet ChainViewSegments(const ViewSegments& segments, const LineDrawingOptions& options, double size)
+{
+  // The curvature lines: long enough, and past the full threshold somewhere
+  // where they were traced below it.
+  const double hysteresis = HysteresisFactor(options);
+  const auto curvatureLines = [&](double threshold) {
+    LineFilter filter;
+    filter.MinimumLength = options.MinimumLength * size;
+    if (hysteresis < 1.0)
+    {
+      filter.MinimumPeak = threshold;
+    }
+    return filter;
+  };
+  LineSet lines;
+  AddLines(segments, LineType::Contour, lines);
+  AddLines(segments, LineType::SuggestiveContour, lines, curvatureLines(options.SuggestiveThreshold));
+  AddLines(segments, LineType::SuggestiveHighlight, lines, curvatureLines(options.SuggestiveThreshold));
+  AddLines(segments, LineType::Ridge, lines, curvatureLines(options.RidgeThreshold));
+  AddLines(segments, LineType::Valley, lines, curvatureLines(options.RidgeThreshold));
+  AddLines(segments, LineType::Boundary, lines);
+  AddLines(segments, LineType::Crease, lines);
   return lines;
+}
+
+LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const LineDrawingOptions& options,
+  const ViewFields& fields)
+{
+  ViewSegments segments = CollectViewSegments(geo, view, options, fields);
+  if (geo.Split)
+  {
+    segments = GatherViewSegments(segments, *geo.Split); // (collective)
+    if (geo.Split->Rank() != 0)
+    {
+      return LineSet();
+    }
+  }
+  return ChainViewSegments(segments, options, FeatureSizeOf(geo, options));
 }
 
 } // namespace beltrami

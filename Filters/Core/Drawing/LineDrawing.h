@@ -28,10 +28,13 @@
 #include "Mesh/MeshTopology.h"
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace beltrami
 {
+
+class Partition;
 
 enum class LineType : std::uint8_t
 {
@@ -113,8 +116,15 @@ class LineDrawingGeometry
 {
 public:
   /// Builds everything from a topology and its points (3 per vertex).
+  /// Split over processes (`split`: the topology's points, a piece and the
+  /// whole stars of its points, as the curvatures need; collective), the
+  /// ghost points take their owners' curvatures and derivatives, the feature
+  /// size is the whole surface's, and each face, boundary and crease edge is
+  /// drawn by one process (Partition::CountsTriangle, CountsEdge): DrawLines
+  /// then gathers the segments and chains them on process 0.
   template <typename T>
-  void Build(const MeshTopology& topology, const T* points, int numThreads = 0);
+  void Build(const MeshTopology& topology, const T* points, int numThreads = 0,
+    std::shared_ptr<const Partition> split = nullptr);
 
   Index NumberOfVertices() const { return static_cast<Index>(K1.size()); }
   Index NumberOfFaces() const { return static_cast<Index>(Triangles.size() / 3); }
@@ -124,8 +134,17 @@ public:
   LargeVector<double> Points, Normals, K1, K2, E1, E2;
   LargeVector<double> Derivatives; ///< 4 per vertex: see ComputeCurvatureDerivatives
   /// Vertices of triangles whose curvature is undefined (boundary,
-  /// non-manifold, NaN or degenerate 1-rings).
+  /// non-manifold, NaN or degenerate 1-rings; over all processes).
   Index UndefinedVertices = 0;
+  /// Split runs: the points over the processes, and per face whether this
+  /// process draws it (empty: not split, every face).
+  std::shared_ptr<const Partition> Split;
+  std::vector<std::uint8_t> DrawnFaces;
+  bool Draws(Index f) const { return DrawnFaces.empty() || DrawnFaces[f] != 0; }
+  /// The id of vertex v in the keys of segment ends (split: its global row).
+  std::int64_t KeyId(Index v) const { return Split ? GlobalIds[v] : v; }
+  /// How many ids KeyId gives (the points of the whole surface).
+  std::int64_t NumberOfKeyIds() const { return Split ? KeyIds : NumberOfVertices(); }
   /// Candidates, before thresholds and the view: ridges and valleys (with
   /// the maximum / minimum test passed), boundary edges.
   std::vector<LineSegment> RidgeCandidates, ValleyCandidates, BoundaryEdges;
@@ -160,6 +179,11 @@ public:
 
 private:
   double DefaultFeatureSize = 0.0;
+  LargeVector<std::int64_t> GlobalIds; // split runs: the global row of each vertex
+  std::int64_t KeyIds = 0;
+  /// Split runs: ghost rows of the curvatures (and their count of undefined
+  /// vertices) made the owners'.
+  void ShareCurvatures(const MeshTopology& topology);
   void FindRidges(int numThreads);
   void FindFeatureEdges(const MeshTopology& topology, int numThreads);
   struct RidgeCache
@@ -192,8 +216,26 @@ struct LineSet
   Index NumberOfLines() const { return static_cast<Index>(Type.size()); }
 };
 
-/// The per-view pass.
+/// One view's segments with their ends resolved, so that they chain on any
+/// process: per line type, 2 keys (LineEnd::Key) and 2 x ValuesPerEnd values
+/// (position, unit normal, the tested strength) per segment.
+struct ViewSegments
+{
+  static constexpr int ValuesPerEnd = 7;
+  std::vector<std::int64_t> Keys[NumberOfLineTypes];
+  std::vector<double> Ends[NumberOfLineTypes];
+};
+
+/// The per-view pass: the segments of this process' faces and edges
+/// (CollectViewSegments), gathered on process 0 in split runs
+/// (GatherViewSegments: collective; the others return no lines), chained
+/// and filtered (ChainViewSegments).
 LineSet DrawLines(const LineDrawingGeometry& geometry, const LineView& view,
   const LineDrawingOptions& options, const ViewFields& fields = {});
+ViewSegments CollectViewSegments(const LineDrawingGeometry& geometry, const LineView& view,
+  const LineDrawingOptions& options, const ViewFields& fields = {});
+ViewSegments GatherViewSegments(const ViewSegments& mine, const Partition& split);
+/// `size`: the feature size the segments were found with.
+LineSet ChainViewSegments(const ViewSegments& segments, const LineDrawingOptions& options, double size);
 
 } // namespace beltrami

@@ -4,7 +4,10 @@
 // process holds its block and the ghost copies of the block's neighbours.
 // The distributed conjugate gradient (Jacobi, and multigrid with one
 // BoomerAMG hierarchy over the processes) must give every process' rows of
-// the serial solution, which each process also computes whole.
+// the serial solution, which each process also computes whole.  The
+// algorithms that run over the processes (flows, the parameterization, the
+// line drawing) are checked the same way against their serial runs.
+#include "Drawing/LineDrawing.h"
 #include "Flows/GraphFlow.h"
 #include "Flows/NoiseEstimation.h"
 #include "Maps/Parameterization.h"
@@ -18,9 +21,11 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <set>
 #include <stdexcept>
 #include <tuple>
@@ -347,9 +352,10 @@ struct Lattice
   std::vector<Index> Cells;
   int Owners = 1;
 
-  explicit Lattice(int size, int dimension = 3)
+  /// `n` points a side (0: 9 in 3D, 17 in 2D).
+  explicit Lattice(int size, int dimension = 3, Index n = 0)
     : Dimension(dimension)
-    , N(dimension == 3 ? 9 : 17)
+    , N(n > 0 ? n : dimension == 3 ? 9 : 17)
     , Owners(size >= 3 ? size - 1 : size)
   {
     if (dimension == 3)
@@ -798,4 +804,91 @@ TEST(Partition, DistributedParameterizationIsTheSerialOne)
   }
   const ParameterizationResult c = Parameterize(piece, bad.data(), ParameterizationOptions{}, split, ids.data());
   EXPECT_NE(c.Error.find("non-finite"), std::string::npos) << c.Error;
+}
+
+TEST(Partition, DistributedLineDrawingIsTheSerialOne)
+{
+  // The line drawing of a height field split over the processes (the last
+  // of 3 holding nothing) against the serial one of the whole field: the
+  // curvature derivatives of every row (owned and ghost), and on process 0
+  // (which chains the gathered segments) the same polylines of every type,
+  // with the hysteresis and minimum length that need whole lines.
+  const auto [rank, size] = RankAndSize();
+  const MPI_Comm world = MPI_COMM_WORLD;
+  const Lattice lattice(size, 2, 49);
+  const LatticePiece mine(lattice, rank);
+  const auto split = std::make_shared<Partition>(&world, mine.Rows(), mine.OwnerRank.data(), mine.OwnerRow.data());
+  const MeshTopology piece(mine.Rows(), IndexArray(mine.Cells.begin(), mine.Cells.end()), 1);
+  const Index n = lattice.NumberOfPoints();
+  std::vector<double> all(3 * static_cast<std::size_t>(n));
+  for (Index i = 0; i < n; ++i)
+  {
+    lattice.Point(i, &all[3 * i]);
+  }
+  const MeshTopology whole(n, IndexArray(lattice.Cells.begin(), lattice.Cells.end()), 1);
+  LineDrawingGeometry a, b;
+  a.Build(whole, all.data(), 1);
+  b.Build(piece, mine.Points.data(), 1, split);
+  EXPECT_EQ(a.UndefinedVertices, b.UndefinedVertices); // (the boundary, over the processes)
+  EXPECT_DOUBLE_EQ(a.AutomaticFeatureSize(), b.AutomaticFeatureSize());
+  double difference = 0.0;
+  for (std::size_t l = 0; l < mine.Global.size(); ++l)
+  {
+    for (int k = 0; k < 4; ++k)
+    {
+      const double x = a.Derivatives[4 * mine.Global[l] + k], y = b.Derivatives[4 * l + k];
+      EXPECT_EQ(std::isfinite(x), std::isfinite(y));
+      difference = std::isfinite(x) ? std::max(difference, std::abs(x - y)) : difference;
+    }
+  }
+  EXPECT_LE(difference, 1e-10);
+  LineDrawingOptions o;
+  std::fill(o.Draw, o.Draw + NumberOfLineTypes, true);
+  o.FeatureSize = 0.3; // (the field's curvatures reach about 4)
+  o.HysteresisRatio = 0.5;
+  o.MinimumLength = 0.5;
+  o.NumberOfThreads = 1;
+  LineView view;
+  view.Position = Vec3(0.5, -1.5, 1.2);
+  const LineSet serial = DrawLines(a, view, o), ours = DrawLines(b, view, o);
+  if (rank != 0)
+  {
+    EXPECT_EQ(ours.NumberOfLines(), 0);
+    return;
+  }
+  // Per type: the lines' count, their points (each within 1e-12 of one of
+  // the other's) and strengths.
+  for (int type = 0; type < NumberOfLineTypes; ++type)
+  {
+    std::vector<Index> mineLines, theirLines;
+    const auto pointsOf = [type](const LineSet& lines, std::vector<Index>& count) {
+      std::vector<std::array<double, 4>> out; // x, y, z, strength
+      for (Index l = 0; l < lines.NumberOfLines(); ++l)
+      {
+        if (lines.Type[l] == type)
+        {
+          count.push_back(l);
+          for (Index k = lines.Offsets[l]; k < lines.Offsets[l + 1]; ++k)
+          {
+            const Index p = lines.Connectivity[k];
+            out.push_back({ lines.Points[3 * p], lines.Points[3 * p + 1], lines.Points[3 * p + 2], lines.PointStrength[p] });
+          }
+        }
+      }
+      std::sort(out.begin(), out.end());
+      return out;
+    };
+    const auto x = pointsOf(ours, mineLines), y = pointsOf(serial, theirLines);
+    std::printf("type %d: %zu lines, %zu points\n", type, theirLines.size(), y.size());
+    EXPECT_EQ(mineLines.size(), theirLines.size()) << "type " << type;
+    ASSERT_EQ(x.size(), y.size()) << "type " << type;
+    for (std::size_t k = 0; k < x.size(); ++k)
+    {
+      for (int c = 0; c < 4; ++c)
+      {
+        EXPECT_NEAR(x[k][c], y[k][c], 1e-9) << "type " << type;
+      }
+    }
+  }
+  EXPECT_GT(serial.NumberOfLines(), 10);
 }
