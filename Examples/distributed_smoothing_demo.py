@@ -12,7 +12,10 @@ difference to a serial run and writes the middle slice noisy | denoised
 (<out>/mri_distributed_denoised.png).  And parameterizes the mushroom (a
 disk) split over the ranks, the conformal system solved over them, prints the
 iterations and the difference to a serial run and writes its checkerboard
-(<out>/mushroom_distributed_checkerboard.png).
+(<out>/mushroom_distributed_checkerboard.png).  And draws the split bunny
+(contours, suggestive contours, ridges, valleys), each rank on its piece and
+rank 0 chaining the segments, prints the line counts against a serial run and
+writes the drawing (<out>/bunny00_distributed_line_drawing.png).
 
 Run:  mpirun -np 2 pvbatch Examples/distributed_smoothing_demo.py [mesh.off] [out_dir]
 (as root add --allow-run-as-root --oversubscribe; xvfb-run -a in front
@@ -29,9 +32,10 @@ from vtkmodules.vtkCommonCore import vtkLookupTable
 from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
 from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
 
-from beltrami import vtkImplicitFairing, vtkIntrinsicParameterization, vtkOFFReader, vtkSurfaceDataDenoising
-from beltrami.pipelines import (capture, framed_renderer, noisy_along_normals, render_checkerboard, rms_distance,
-                                snapshot, write_vtp)
+from beltrami import (vtkImplicitFairing, vtkIntrinsicParameterization, vtkOFFReader, vtkSurfaceDataDenoising,
+                      vtkSurfaceLineDrawing)
+from beltrami.pipelines import (capture, framed_renderer, line_type_actor, noisy_along_normals, render_checkerboard,
+                                rms_distance, snapshot, white_surface_actor, write_vtp)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_MESH = os.path.join(HERE, "..", "Testing", "Data", "bunny00.off")
@@ -125,7 +129,34 @@ out.GetPointData().AddArray(owned)
                    os.path.join(out_dir, "mri_distributed_denoised.png"))
     parameterize(os.path.join(HERE, "..", "Testing", "Data", "mushroom.off"),
                  os.path.join(out_dir, "mushroom_distributed_checkerboard.png"))
+    draw_lines(reader.GetOutput(), os.path.join(out_dir, name + "_distributed_line_drawing.png"))
     return 0
+
+
+def draw_lines(mesh, png):
+    """The mesh split over the ranks drawn from a camera (each rank finds the
+    segments of its piece, rank 0 chains them), against a serial drawing."""
+    renderer = framed_renderer([white_surface_actor(mesh)], (0, 1, 0), (0.8, 0.2, 1), 1.2)
+    settings = dict(Ridges=1, Valleys=1, CameraPosition=list(renderer.GetActiveCamera().GetPosition()))
+    serial = vtkSurfaceLineDrawing()
+    serial.SetInputData(mesh)
+    for key, value in settings.items():
+        getattr(serial, "Set" + key)(value)
+    serial.Update()
+    with tempfile.TemporaryDirectory() as tmp:
+        drawing = simple.SurfaceLineDrawing(Input=split_over_ranks(mesh, os.path.join(tmp, "drawn.vtp")), **settings)
+        lines = servermanager.Fetch(drawing)
+        split = servermanager.Fetch(drawing, idx=1).GetFieldData().GetArray("LineDrawingDistribution") is not None
+
+    def counts(polydata):
+        return np.bincount(vtk_to_numpy(polydata.GetCellData().GetArray("LineType")), minlength=5)[:5].tolist()
+    print("line drawing of the mesh %s: contours, suggestive contours, highlights, ridges, valleys: %s polylines, "
+          "%d points (serial %s, %d points)" % ("split over the ranks" if split else "on one rank (serial)",
+                                               counts(lines), lines.GetNumberOfPoints(), counts(serial.GetOutput()),
+                                               serial.GetOutput().GetNumberOfPoints()))
+    renderer.AddActor(line_type_actor(lines))
+    capture(renderer, png, (800, 800))
+    print("wrote %s" % png)
 
 
 def parameterize(path, png):

@@ -222,14 +222,14 @@ def follow(drawing, camera):
     drawing.SetParallelProjection(bool(camera.GetParallelProjection()))
 
 
-def render_line_drawing(drawing, png_path, size=(800, 800), view_up=(0, 1, 0), direction=(0, 0, 1), zoom=1.0,
-                        line_width=2.0):
-    """The drawing's lines over its surface in white, for a camera looking
-    from `direction`: the drawing is updated for that camera first.
-    Returns (image, seconds of the drawing's update)."""
-    drawing.GetInputAlgorithm().Update()
+def white_surface_actor(source):
+    """A white surface (poly data, or an algorithm's output port) drawn
+    behind lines on it (polygon offset)."""
     surface_mapper = vtkPolyDataMapper()
-    surface_mapper.SetInputConnection(drawing.GetInputConnection(0, 0))
+    if hasattr(source, "GetNumberOfCells"):
+        surface_mapper.SetInputData(source)
+    else:
+        surface_mapper.SetInputConnection(source)
     surface_mapper.ScalarVisibilityOff()
     surface_mapper.SetResolveCoincidentTopologyToPolygonOffset()
     surface_mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(2.0, 2.0)
@@ -238,28 +238,42 @@ def render_line_drawing(drawing, png_path, size=(800, 800), view_up=(0, 1, 0), d
     surface.GetProperty().SetColor(1.0, 1.0, 1.0)
     surface.GetProperty().SetAmbient(0.35)
     surface.GetProperty().SetDiffuse(0.65)
-    renderer = framed_renderer([surface], view_up, direction, zoom)
-    follow(drawing, renderer.GetActiveCamera())
-    start = time.perf_counter()
-    drawing.Update()
-    elapsed = time.perf_counter() - start
+    return surface
+
+
+def line_type_actor(lines, line_width=2.0):
+    """The polylines of a line drawing coloured by their LineType."""
     colours = vtkLookupTable()
     colours.SetNumberOfTableValues(len(LINE_COLOURS))
     for i, rgb in enumerate(LINE_COLOURS):
         colours.SetTableValue(i, *rgb, 1.0)
     colours.SetTableRange(0, len(LINE_COLOURS) - 1)
     lines_mapper = vtkPolyDataMapper()
-    lines_mapper.SetInputData(drawing.GetOutput())
+    lines_mapper.SetInputData(lines)
     lines_mapper.SetScalarModeToUseCellFieldData()
     lines_mapper.SelectColorArray("LineType")
     lines_mapper.SetLookupTable(colours)
     lines_mapper.SetColorModeToMapScalars()
     lines_mapper.SetScalarRange(0, len(LINE_COLOURS) - 1)
-    lines = vtkActor()
-    lines.SetMapper(lines_mapper)
-    lines.GetProperty().SetLineWidth(line_width)
-    lines.GetProperty().LightingOff()
-    renderer.AddActor(lines)
+    actor = vtkActor()
+    actor.SetMapper(lines_mapper)
+    actor.GetProperty().SetLineWidth(line_width)
+    actor.GetProperty().LightingOff()
+    return actor
+
+
+def render_line_drawing(drawing, png_path, size=(800, 800), view_up=(0, 1, 0), direction=(0, 0, 1), zoom=1.0,
+                        line_width=2.0):
+    """The drawing's lines over its surface in white, for a camera looking
+    from `direction`: the drawing is updated for that camera first.
+    Returns (image, seconds of the drawing's update)."""
+    drawing.GetInputAlgorithm().Update()
+    renderer = framed_renderer([white_surface_actor(drawing.GetInputConnection(0, 0))], view_up, direction, zoom)
+    follow(drawing, renderer.GetActiveCamera())
+    start = time.perf_counter()
+    drawing.Update()
+    elapsed = time.perf_counter() - start
+    renderer.AddActor(line_type_actor(drawing.GetOutput(), line_width))
     return capture(renderer, png_path, size), elapsed
 
 
