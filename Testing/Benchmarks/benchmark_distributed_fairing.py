@@ -30,16 +30,26 @@ def wanted(case):
     return ONLY is None or (ONLY == "denoising") == (case == "data denoising")
 
 
-def worker(mesh_file, noise):
-    from paraview.simple import XMLPolyDataReader, RedistributeDataSet, ExtractSurface, ProgrammableFilter
+def split_mesh(mesh_file):
+    """A pvbatch worker's start: the plugin loaded, the number of ranks, and
+    the mesh file read on rank 0 and cut into one piece per rank (whole on
+    one rank: the serial code path), updated."""
+    from paraview.simple import XMLPolyDataReader, RedistributeDataSet, ExtractSurface
     from paraview import servermanager, simple
-    from vtkmodules.util.numpy_support import vtk_to_numpy
     if not hasattr(simple, "ImplicitFairing"):  # (loaded at start where PV_PLUGIN_PATH names its folder)
         simple.LoadPlugin(os.environ["BELTRAMI_PLUGIN"])
     ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
     source = XMLPolyDataReader(FileName=[mesh_file])
     split = ExtractSurface(Input=RedistributeDataSet(Input=source)) if ranks > 1 else source
     split.UpdatePipeline()
+    return ranks, split
+
+
+def worker(mesh_file, noise):
+    from paraview.simple import ProgrammableFilter
+    from paraview import servermanager, simple
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    ranks, split = split_mesh(mesh_file)
     for name, preconditioner in NOISES[noise]:
         if not wanted(name):
             continue

@@ -21,17 +21,12 @@ CAMERAS = ((0.0, 0.02, 0.4), (0.4, 0.1, 0.0), (-0.3, 0.2, -0.2), (0.1, 0.3, 0.3)
 
 
 def worker(mesh_file):
-    from paraview.simple import XMLPolyDataReader, RedistributeDataSet, ExtractSurface
-    from paraview import servermanager, simple
-    sys.path.insert(0, os.path.join(os.path.dirname(HERE), "..", "Python"))
+    from paraview import simple
+    sys.path[:0] = [os.path.dirname(HERE), os.path.join(os.path.dirname(HERE), "..", "Python")]
+    from benchmark_distributed_fairing import split_mesh
     from configure import rank_rows
     import beltrami  # noqa: F401 (the filter's wrapping, for GetGeometryBuilds)
-    if not hasattr(simple, "SurfaceLineDrawing"):  # (loaded at start where PV_PLUGIN_PATH names its folder)
-        simple.LoadPlugin(os.environ["BELTRAMI_PLUGIN"])
-    ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
-    source = XMLPolyDataReader(FileName=[mesh_file])
-    split = ExtractSurface(Input=RedistributeDataSet(Input=source)) if ranks > 1 else source
-    split.UpdatePipeline()
+    ranks, split = split_mesh(mesh_file)
     drawing = simple.SurfaceLineDrawing(Input=split, NumberOfThreads=1, Ridges=1, Valleys=1,
                                         CameraPosition=CAMERAS[0])
     start = time.perf_counter()
@@ -52,24 +47,15 @@ def worker(mesh_file):
 
 
 def driver():
-    from vtkmodules.vtkFiltersModeling import vtkLoopSubdivisionFilter
-    from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
-    from beltrami import vtkOFFReader
-    reader = vtkOFFReader()
-    reader.SetFileName(os.path.join(os.path.dirname(HERE), "..", "Data", "bunny00.off"))
-    loop = vtkLoopSubdivisionFilter()
-    loop.SetInputConnection(reader.GetOutputPort())
-    loop.SetNumberOfSubdivisions(2)
-    loop.Update()
-    mesh = loop.GetOutput()
-    print("Bunny: %d points, %d triangles; one thread per rank" % (mesh.GetNumberOfPoints(), mesh.GetNumberOfCells()))
+    sys.path.insert(0, os.path.dirname(HERE))
+    from benchmark_parameterization import mesh  # (bundled meshes, Loop-subdivided)
+    from beltrami.pipelines import write_vtp
+    bunny = mesh("bunny00.off", 2)
+    print("Bunny: %d points, %d triangles; one thread per rank" % (bunny.GetNumberOfPoints(), bunny.GetNumberOfCells()))
     print("%5s %22s %16s %9s %14s" % ("ranks", "first update (s)", "new camera (ms)", "polylines", "points/rank"))
     with tempfile.TemporaryDirectory() as tmp:
         mesh_file = os.path.join(tmp, "bunny.vtp")
-        w = vtkXMLPolyDataWriter()
-        w.SetInputData(mesh)
-        w.SetFileName(mesh_file)
-        w.Write()
+        write_vtp(bunny, mesh_file)
         base = None
         for ranks in (1, 2, 4):
             out = subprocess.run(["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks),

@@ -373,6 +373,16 @@ struct Lattice
     }
   }
   int Corners() const { return Dimension + 1; }
+  /// The whole lattice's points, 3 coordinates each (the serial runs').
+  std::vector<double> AllPoints() const
+  {
+    std::vector<double> all(3 * static_cast<std::size_t>(NumberOfPoints()));
+    for (Index i = 0; i < NumberOfPoints(); ++i)
+    {
+      Point(i, &all[3 * i]);
+    }
+    return all;
+  }
   Index PointsPerLayer() const { return Dimension == 3 ? N * N : N; }
   Index NumberOfPoints() const { return PointsPerLayer() * N; }
   void Point(Index i, double* x) const
@@ -765,13 +775,8 @@ TEST(Partition, DistributedParameterizationIsTheSerialOne)
   const LatticePiece mine(lattice, rank);
   const Partition split(&world, mine.Rows(), mine.OwnerRank.data(), mine.OwnerRow.data());
   const MeshTopology piece(mine.Rows(), IndexArray(mine.Cells.begin(), mine.Cells.end()), 1);
-  const Index n = lattice.NumberOfPoints();
-  std::vector<double> all(3 * static_cast<std::size_t>(n));
-  for (Index i = 0; i < n; ++i)
-  {
-    lattice.Point(i, &all[3 * i]);
-  }
-  const MeshTopology whole(n, IndexArray(lattice.Cells.begin(), lattice.Cells.end()), 1);
+  const std::vector<double> all = lattice.AllPoints();
+  const MeshTopology whole(lattice.NumberOfPoints(), IndexArray(lattice.Cells.begin(), lattice.Cells.end()), 1);
   const std::vector<std::int64_t> ids(mine.Global.begin(), mine.Global.end());
   for (const ParameterizationBoundary boundary : { ParameterizationBoundary::Circle, ParameterizationBoundary::Square })
   {
@@ -819,13 +824,8 @@ TEST(Partition, DistributedLineDrawingIsTheSerialOne)
   const LatticePiece mine(lattice, rank);
   const auto split = std::make_shared<Partition>(&world, mine.Rows(), mine.OwnerRank.data(), mine.OwnerRow.data());
   const MeshTopology piece(mine.Rows(), IndexArray(mine.Cells.begin(), mine.Cells.end()), 1);
-  const Index n = lattice.NumberOfPoints();
-  std::vector<double> all(3 * static_cast<std::size_t>(n));
-  for (Index i = 0; i < n; ++i)
-  {
-    lattice.Point(i, &all[3 * i]);
-  }
-  const MeshTopology whole(n, IndexArray(lattice.Cells.begin(), lattice.Cells.end()), 1);
+  const std::vector<double> all = lattice.AllPoints();
+  const MeshTopology whole(lattice.NumberOfPoints(), IndexArray(lattice.Cells.begin(), lattice.Cells.end()), 1);
   LineDrawingGeometry a, b;
   a.Build(whole, all.data(), 1);
   b.Build(piece, mine.Points.data(), 1, split);
