@@ -403,3 +403,70 @@ std::vector<beltrami::Index> vtkBeltramiGraphFlow::Tetrahedra(
   }
   return tets;
 }
+
+std::vector<double> vtkBeltramiGraphFlow::PointsOf(vtkDataSet* input)
+{
+  const vtkIdType numPoints = input->GetNumberOfPoints();
+  std::vector<double> points(3 * static_cast<std::size_t>(numPoints));
+  for (vtkIdType i = 0; i < numPoints; ++i)
+  {
+    input->GetPoint(i, &points[3 * i]);
+  }
+  return points;
+}
+
+void vtkBeltramiGraphFlow::WarnDropped(vtkAlgorithm* owner, const beltrami::TetrahedralMesh& mesh)
+{
+  if (mesh.NumberOfDroppedTetrahedra() > 0)
+  {
+    vtkWarningWithObjectMacro(owner, << mesh.NumberOfDroppedTetrahedra()
+                                     << " tetrahedra with repeated or invalid point ids are ignored.");
+  }
+}
+
+bool vtkBeltramiGraphFlow::SplitTetrahedra(vtkAlgorithm* owner, vtkUnstructuredGrid* input,
+  vtkBeltramiPieces& pieces, bool allStars, int numberOfThreads, SplitMesh& split)
+{
+  // The piece, and its edge: its points on faces of one tetrahedron.
+  const beltrami::Index n = static_cast<beltrami::Index>(input->GetNumberOfPoints());
+  std::vector<beltrami::Index> tets = n > 0 ? Tetrahedra(owner, input) : std::vector<beltrami::Index>();
+  // Copies within the piece (two of RedistributeDataSet's regions on one rank): one is kept.
+  std::vector<std::uint8_t> repeated(tets.size() / 4, 0);
+  vtkBeltramiPieces::RepeatedCells(4, tets, repeated);
+  std::vector<beltrami::Index> unique;
+  for (std::size_t t = 0; t < repeated.size(); ++t)
+  {
+    if (!repeated[t])
+    {
+      unique.insert(unique.end(), tets.begin() + 4 * t, tets.begin() + 4 * t + 4);
+    }
+  }
+  std::vector<std::uint8_t> edge;
+  {
+    const beltrami::TetrahedralMesh piece(n, std::move(unique), numberOfThreads);
+    WarnDropped(owner, piece);
+    edge = piece.BoundaryVertices();
+    for (beltrami::Index v = 0; v < n; ++v)
+    {
+      edge[v] = edge[v] && piece.IncidentBegin(v) != piece.IncidentEnd(v); // (not points in no tetrahedron)
+    }
+    tets = piece.TetrahedronList();
+    split.OwnTetrahedra = piece.NumberOfTetrahedra();
+  }
+  std::vector<double>& points = split.Points;
+  points = PointsOf(input);
+  const auto at = [&points](beltrami::Index i, double* x) { std::copy_n(&points[3 * static_cast<std::size_t>(i)], 3, x); };
+  pieces.ShareCopiedCells(4, n, at, tets, edge); // tetrahedra other pieces hold too (collective)
+  pieces.AddRings(4, n, at, edge, tets, allStars ? vtkBeltramiPieces::Stars::All : vtkBeltramiPieces::Stars::Owned);
+  points.insert(points.end(), pieces.GhostPoints().begin(), pieces.GhostPoints().end());
+  const beltrami::Index rows = static_cast<beltrami::Index>(points.size() / 3);
+  split.Mesh = std::make_unique<beltrami::TetrahedralMesh>(rows, std::move(tets), numberOfThreads);
+  std::string error;
+  if (!pieces.AllAgree(pieces.BuildPartition(rows, n, at, error)))
+  {
+    vtkErrorWithObjectMacro(owner, "Cannot split the solve over the ranks: "
+        << (error.empty() ? "another rank failed (see its error)" : error) << ". The output is the input.");
+    return false;
+  }
+  return true;
+}

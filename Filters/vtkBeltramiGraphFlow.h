@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -28,6 +29,10 @@ class vtkFieldData;
 class vtkImageData;
 class vtkInformation;
 class vtkUnstructuredGrid;
+namespace beltrami
+{
+class TetrahedralMesh;
+}
 
 class BELTRAMIFILTERS_EXPORT vtkBeltramiGraphFlow
 {
@@ -166,6 +171,26 @@ public:
   /// each, appended.
   static std::vector<beltrami::Index> Tetrahedra(
     vtkAlgorithm* owner, vtkUnstructuredGrid* input, std::vector<beltrami::Index>* voxels = nullptr);
+
+  /// A tetrahedral piece of a run split over the ranks, grown by the other
+  /// pieces' tetrahedra around its points (collective: every rank calls
+  /// it, an empty piece's too): its tetrahedra (a copy within the piece kept
+  /// once, copies other pieces hold too joined once), those of the rings
+  /// around the points `stars` names (vtkBeltramiPieces::AddRings), the
+  /// points (the piece's, then the ghost points) and `pieces`' partition.
+  /// False (an error on `owner`, on every rank) where it cannot be split.
+  struct SplitMesh
+  {
+    std::vector<double> Points;                     ///< 3 per point
+    std::unique_ptr<beltrami::TetrahedralMesh> Mesh; ///< the piece with its rings
+    double OwnTetrahedra = 0.0;                     ///< the piece's own (not the rings')
+  };
+  static bool SplitTetrahedra(vtkAlgorithm* owner, vtkUnstructuredGrid* input, vtkBeltramiPieces& pieces,
+    bool allStars, int numberOfThreads, SplitMesh& split);
+  /// The warning about tetrahedra with repeated or invalid point ids.
+  static void WarnDropped(vtkAlgorithm* owner, const beltrami::TetrahedralMesh& mesh);
+  /// The points of `input` as 3 doubles each.
+  static std::vector<double> PointsOf(vtkDataSet* input);
 };
 
 #endif

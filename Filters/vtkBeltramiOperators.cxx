@@ -3,6 +3,7 @@
 
 #include "vtkBeltramiGather.h"
 #include "vtkBeltramiGraphFlow.h"
+#include "vtkBeltramiPieces.h"
 #include "vtkBeltramiSurface.h"
 
 #include "Flows/GraphOperators.h"
@@ -218,7 +219,8 @@ int vtkBeltramiOperators::RequestData(
   {
     // Local operators (1-rings), and the automatic contrast scale's noise
     // estimate and mean edge length taken over the ranks: split surfaces
-    // stay distributed (pieces with ghost cells are gathered on rank 0).
+    // stay distributed (pieces with ghost cells are gathered on rank 0),
+    // and so do split tetrahedra below.
     return vtkBeltramiSurface::Execute(this, inputVector, outputVector, this->NumberOfThreads,
       vtkBeltramiSurface::Needs::Distributed,
       [this](vtkBeltramiSurface& surface) { return this->RunSurface(surface); });
@@ -230,10 +232,64 @@ int vtkBeltramiOperators::RequestData(
     vtkErrorMacro("The input must be vtkImageData, vtkPolyData or vtkUnstructuredGrid.");
     return 0;
   }
+  // The same for tetrahedra split over ranks that can talk (pieces without
+  // ghost cells; every rank takes the same branch: the counts are collective).
+  if (vtkBeltramiPieces::CanSolveTogether(outInfo) &&
+    vtkBeltramiSurface::PiecesHoldingData(outInfo, input) > 1 && vtkBeltramiPieces::RingsAreMissing(input))
+  {
+    return this->RunMeshSplit(input, output);
+  }
   return vtkBeltramiGather::RunWhole(outInfo, input, output, vtkBeltramiGather::Results::ToEveryPiece,
     [this](vtkPointSet* in, vtkPointSet* out, int holding) {
       return this->RunMesh(in, out, vtkUnstructuredGrid::SafeDownCast(in), holding);
     });
+}
+
+int vtkBeltramiOperators::RunMeshSplit(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output)
+{
+  output->ShallowCopy(input); // a defined output: the input
+  vtkBeltramiPieces pieces;
+  pieces.SetCollective(true);
+  vtkBeltramiGraphFlow::SplitMesh mesh; // every point of the piece with its whole star
+  if (!vtkBeltramiGraphFlow::SplitTetrahedra(this, input, pieces, true, this->NumberOfThreads, mesh))
+  {
+    return 0;
+  }
+  const beltrami::Partition* split = pieces.Split();
+  if (split->Sum(mesh.OwnTetrahedra) == 0.0)
+  {
+    if (split->Rank() == 0)
+    {
+      vtkWarningMacro("The input has no tetrahedra or voxels: no operators.");
+    }
+    return 1;
+  }
+  std::vector<double> values;
+  int nc = 0, association = -1;
+  const bool empty = input->GetNumberOfPoints() == 0; // (it may lack the arrays)
+  vtkDataArray* array = empty ? nullptr : this->GetInputArrayToProcess(DATA_ARRAY, input, association);
+  if (!pieces.AllAgree(empty || ReadData(this, array, association, input, 6, values, nc)))
+  {
+    return 0;
+  }
+  nc = static_cast<int>(split->Max(nc));
+  values.resize(static_cast<std::size_t>(split->Rows()) * nc);
+  split->UpdateGhosts(values.data(), nc);
+  beltrami::GraphOperatorOptions o;
+  this->CopySettings(o, vtkBeltramiCopy::ToCore);
+  Maps maps;
+  const beltrami::GraphOperatorOutputs out = maps.Allocate(this, split->Rows(), 3, nc, false);
+  const beltrami::GraphOperatorReport r =
+    beltrami::ComputeTetrahedralGraphOperators(*mesh.Mesh, mesh.Points.data(), nc, values.data(), o, out, split);
+  if (!r.Error.empty())
+  {
+    vtkErrorMacro(<< r.Error << ". The output is the input.");
+    return 0;
+  }
+  const int axes[3] = { 0, 1, 2 };
+  maps.AddTo(output, [](vtkIdType i) { return i; }, axes); // (the piece's points: the ring's are dropped)
+  AddReport(output->GetFieldData(), r);
+  return 1;
 }
 
 bool vtkBeltramiOperators::RunSurface(vtkBeltramiSurface& surface)

@@ -47,13 +47,13 @@
  * are computed per piece with one ring of neighbours (the serial numbers);
  * with the automatic ContrastScale every rank reads the whole image (the
  * noise estimate is a median over all of it) and keeps its piece.  Surfaces
- * split over ranks stay distributed: the ranks exchange the triangles at
- * the edges of their pieces (1-rings), and the automatic contrast's mean
- * edge length and noise estimate (an exact median over the ranks) are taken
- * over all ranks: the serial numbers, no rank holding more than its piece
- * and one ring (pieces that come with ghost cells are gathered on rank 0).
- * Tetrahedral meshes split over ranks are gathered on rank 0
- * (vtkBeltramiGather) and every rank gets the values of its own points.
+ * and tetrahedral meshes split over ranks stay distributed: the ranks
+ * exchange the triangles (tetrahedra) at the edges of their pieces
+ * (1-rings), and the automatic contrast's mean edge length and noise
+ * estimate (an exact median over the ranks) are taken over all ranks: the
+ * serial numbers, no rank holding more than its piece and one ring.  Pieces
+ * that come with ghost cells are gathered on rank 0 (vtkBeltramiGather),
+ * and every rank gets the values of its own points.
  */
 #ifndef vtkBeltramiOperators_h
 #define vtkBeltramiOperators_h
@@ -160,6 +160,9 @@ private:
   void CopySettings(beltrami::GraphOperatorOptions& options, vtkBeltramiCopy direction);
   int RunImage(vtkImageData* input, vtkImageData* output, const int* whole, const int* outExt);
   int RunMesh(vtkDataSet* input, vtkDataSet* output, vtkUnstructuredGrid* volume, int holding);
+  /// Tetrahedra split over the ranks, each rank on its piece and the
+  /// tetrahedra around its points (collective).
+  int RunMeshSplit(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output);
   /// A surface, serial or split over the ranks (each rank its piece; collective).
   bool RunSurface(vtkBeltramiSurface& surface);
 };

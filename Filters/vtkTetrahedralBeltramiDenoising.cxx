@@ -65,23 +65,6 @@ int vtkTetrahedralBeltramiDenoising::RequestData(
     });
 }
 
-namespace
-{
-
-/// The points of `input` as 3 doubles each.
-std::vector<double> PointsOf(vtkUnstructuredGrid* input)
-{
-  const vtkIdType numPoints = input->GetNumberOfPoints();
-  std::vector<double> points(3 * static_cast<std::size_t>(numPoints));
-  for (vtkIdType i = 0; i < numPoints; ++i)
-  {
-    input->GetPoint(i, &points[3 * i]);
-  }
-  return points;
-}
-
-} // namespace
-
 int vtkTetrahedralBeltramiDenoising::Smooth(
   vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, int holding)
 {
@@ -115,8 +98,8 @@ int vtkTetrahedralBeltramiDenoising::Smooth(
   }
   const beltrami::TetrahedralMesh mesh(static_cast<beltrami::Index>(numPoints), std::move(tets),
     this->NumberOfThreads);
-  this->WarnDropped(mesh);
-  const std::vector<double> points = PointsOf(input);
+  vtkBeltramiGraphFlow::WarnDropped(this, mesh);
+  const std::vector<double> points = vtkBeltramiGraphFlow::PointsOf(input);
   return this->Run(input, output, points.data(), mesh, voxelsOnly ? &voxels : nullptr, nullptr);
 }
 
@@ -128,53 +111,16 @@ int vtkTetrahedralBeltramiDenoising::SmoothSplit(vtkUnstructuredGrid* input, vtk
   output->ShallowCopy(input); // a defined output: the input
   vtkBeltramiPieces pieces;
   pieces.SetCollective(true);
-  const vtkIdType numPoints = input->GetNumberOfPoints();
-  if (!pieces.AllAgree(this->FitsIndex(numPoints)))
+  if (!pieces.AllAgree(this->FitsIndex(input->GetNumberOfPoints())))
   {
     return 0;
   }
-  // The piece, and its edge: its points on faces of one tetrahedron.
-  const beltrami::Index n = static_cast<beltrami::Index>(numPoints);
-  std::vector<beltrami::Index> tets = n > 0 ? vtkBeltramiGraphFlow::Tetrahedra(this, input) : std::vector<beltrami::Index>();
-  // Copies within the piece (two of RedistributeDataSet's regions on one rank): one is kept.
-  std::vector<std::uint8_t> repeated(tets.size() / 4, 0);
-  vtkBeltramiPieces::RepeatedCells(4, tets, repeated);
-  std::vector<beltrami::Index> unique;
-  for (std::size_t t = 0; t < repeated.size(); ++t)
+  vtkBeltramiGraphFlow::SplitMesh split;
+  if (!vtkBeltramiGraphFlow::SplitTetrahedra(this, input, pieces, false, this->NumberOfThreads, split))
   {
-    if (!repeated[t])
-    {
-      unique.insert(unique.end(), tets.begin() + 4 * t, tets.begin() + 4 * t + 4);
-    }
-  }
-  std::vector<std::uint8_t> edge;
-  double own = 0.0;
-  {
-    const beltrami::TetrahedralMesh piece(n, std::move(unique), this->NumberOfThreads);
-    this->WarnDropped(piece);
-    edge = piece.BoundaryVertices();
-    for (beltrami::Index v = 0; v < n; ++v)
-    {
-      edge[v] = edge[v] && piece.IncidentBegin(v) != piece.IncidentEnd(v); // (not points in no tetrahedron)
-    }
-    tets = piece.TetrahedronList();
-    own = piece.NumberOfTetrahedra();
-  }
-  std::vector<double> points = PointsOf(input);
-  const auto at = [&points](beltrami::Index i, double* x) { std::copy_n(&points[3 * static_cast<std::size_t>(i)], 3, x); };
-  pieces.ShareCopiedCells(4, n, at, tets, edge); // tetrahedra other pieces hold too (collective)
-  // Grown by the other pieces' tetrahedra around its points, and split.
-  pieces.AddRings(4, n, at, edge, tets, vtkBeltramiPieces::Stars::Owned); // collective
-  points.insert(points.end(), pieces.GhostPoints().begin(), pieces.GhostPoints().end());
-  const beltrami::Index rows = static_cast<beltrami::Index>(points.size() / 3);
-  const beltrami::TetrahedralMesh mesh(rows, std::move(tets), this->NumberOfThreads);
-  std::string error;
-  if (!pieces.AllAgree(pieces.BuildPartition(rows, n, at, error)))
-  {
-    vtkErrorMacro("Cannot split the solve over the ranks: "
-      << (error.empty() ? "another rank failed (see its error)" : error) << ". The output is the input.");
     return 0;
   }
+  const double own = split.OwnTetrahedra;
   if (pieces.Split()->Sum(own) == 0.0)
   {
     if (pieces.Split()->Rank() == 0)
@@ -183,7 +129,7 @@ int vtkTetrahedralBeltramiDenoising::SmoothSplit(vtkUnstructuredGrid* input, vtk
     }
     return 1;
   }
-  return this->Run(input, output, points.data(), mesh, nullptr, &pieces);
+  return this->Run(input, output, split.Points.data(), *split.Mesh, nullptr, &pieces);
 }
 
 int vtkTetrahedralBeltramiDenoising::Run(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output,
@@ -216,15 +162,6 @@ bool vtkTetrahedralBeltramiDenoising::FitsIndex(vtkIdType numPoints)
     return false;
   }
   return true;
-}
-
-void vtkTetrahedralBeltramiDenoising::WarnDropped(const beltrami::TetrahedralMesh& mesh)
-{
-  if (mesh.NumberOfDroppedTetrahedra() > 0)
-  {
-    vtkWarningMacro(<< mesh.NumberOfDroppedTetrahedra()
-                    << " tetrahedra with repeated or invalid point ids are ignored.");
-  }
 }
 
 void vtkTetrahedralBeltramiDenoising::PrintSelf(ostream& os, vtkIndent indent)

@@ -110,8 +110,6 @@ private:
     const vtkBeltramiPieces* pieces);
   /// An error (false) when `numPoints` do not fit the core's indices.
   bool FitsIndex(vtkIdType numPoints);
-  /// The warning about tetrahedra the mesh dropped (bad point ids).
-  void WarnDropped(const beltrami::TetrahedralMesh& mesh);
 };
 
 #endif

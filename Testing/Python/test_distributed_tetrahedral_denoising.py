@@ -16,7 +16,10 @@ tensors,
 a fixed-points array, a rank with an empty piece, NaN values in a piece
 (an error on every rank, the output the input), and the counts each rank
 reports: with 4 ranks no rank holds more than a third of the points or
-tetrahedra."""
+tetrahedra.  And BeltramiOperators of the same point data on the split
+tetrahedra (computed where they are, the automatic contrast scale's noise
+estimate and mean edge length over the ranks): every array on every piece
+as in serial, also with overlapping pieces and an empty rank."""
 import os
 import sys
 
@@ -24,12 +27,12 @@ from paraview.simple import *  # noqa: F401,F403
 from paraview import servermanager
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from configure import check, check_split_flow, fetch_pieces, rank_rows  # noqa: E402
+from configure import check, check_split_flow, fetch_pieces, rank_rows, report  # noqa: E402
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
 LoadPlugin(os.environ["BELTRAMI_PLUGIN"], ns=globals())
-from beltrami import vtkTetrahedralBeltramiDenoising  # noqa: E402
+from beltrami import vtkBeltramiOperators, vtkTetrahedralBeltramiDenoising  # noqa: E402
 
 ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
 filled = TetGenTetrahedralize(Input=OpenDataFile(os.path.join(DATA, "elephant.off")), MaximumVolume=1e-6)
@@ -136,6 +139,47 @@ if ranks > 1:
 # Overlapping pieces (RedistributeDataSet's "Assign to all regions": the
 # tetrahedra on a cut copied, unmarked, to every piece they touch).
 split_run("defaults, overlapping pieces", 1e-6, mode="Assign to all regions")
+
+
+def split_operators(label, partitions=0, mode=None, array="f"):
+    """BeltramiOperators of `array` on the redistributed elephant against the serial VTK filter."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    redistributed = RedistributeDataSet(Input=filled)
+    redistributed.NumberOfPartitions = partitions
+    if mode:
+        redistributed.BoundaryMode = mode
+    operators = BeltramiOperators(Input=with_data(redistributed))
+    operators.DataArray = ["POINTS", array]
+    result = fetch_pieces(operators)
+    noisy = servermanager.Fetch(with_data(filled))
+    f = vtkBeltramiOperators()
+    f.SetInputData(noisy)
+    f.SetInputArrayToProcess(0, 0, 0, 0, array)
+    f.Update()
+    reference = f.GetOutput()
+    index = {tuple(x): i for i, x in enumerate(vtk_to_numpy(noisy.GetPoints().GetData()))}
+    ids = np.array([index.get(tuple(x), -1) for x in vtk_to_numpy(result.GetPoints().GetData())])
+    check(ids.min() >= 0 and len(set(ids)) == noisy.GetNumberOfPoints(), "operators, %s: the pieces cover the input" % label)
+    for name in ("MeanCurvatureNormal", "BeltramiOperator", "MeanCurvature", "EdgeIndicator"):
+        ours = vtk_to_numpy(result.GetPointData().GetArray(name))
+        theirs = vtk_to_numpy(reference.GetPointData().GetArray(name))[ids]
+        same = np.isfinite(ours) == np.isfinite(theirs)
+        both = np.isfinite(ours) & np.isfinite(theirs)
+        scale = np.abs(theirs[both]).max()
+        difference = np.abs(ours[both] - theirs[both]).max()
+        check(same.all() and difference <= 1e-9 * scale and both.sum() > 0.5 * theirs.size,
+              "operators, %s over %d rank(s): %s as serial (difference %.2g of %.3g)" % (label, ranks, name, difference, scale))
+    for name in ("GraphContrastScale", "EstimatedNoiseLevel", "GraphUndefinedPoints"):
+        a, b = report(result, name), report(reference, name)
+        check(np.allclose(a, b, rtol=1e-12, atol=0), "operators, %s: %s %s as serial %s" % (label, name, a, b))
+
+
+split_operators("defaults")
+split_operators("a vector", array="v")
+split_operators("overlapping pieces", mode="Assign to all regions")
+if ranks > 1:
+    split_operators("an empty rank", partitions=ranks - 1)
 
 # What each rank holds: its own points, the ghost points of the rings, its
 # tetrahedra (field data FlowDistribution, one row per rank).

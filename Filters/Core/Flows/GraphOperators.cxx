@@ -433,20 +433,25 @@ GraphOperatorReport ComputeSurfaceGraphOperators(const MeshTopology& topology, c
 }
 
 GraphOperatorReport ComputeTetrahedralGraphOperators(const TetrahedralMesh& mesh, const double* points,
-  int components, const double* values, const GraphOperatorOptions& options, const GraphOperatorOutputs& outputs)
+  int components, const double* values, const GraphOperatorOptions& options, const GraphOperatorOutputs& outputs,
+  const Partition* split)
 {
   GraphOperatorReport report;
   const Index size = mesh.NumberOfVertices();
-  const std::vector<std::uint8_t> boundary = mesh.BoundaryVertices();
+  const std::vector<std::uint8_t> boundary = mesh.BoundaryVertices(); // (split: the rings' rims too)
   const std::vector<double> embedded = StartMesh(size, points, components, values, options, 6,
-    [&]() { return mesh.MeanEdgeLength(points); },
+    [&]() { return mesh.MeanEdgeLength(points, split); },
     [&]() {
       return EstimateGraphNoise(size, mesh.NeighborOffsets().data(), mesh.Neighbors().data(), points, components,
-        values, boundary.data());
+        values, boundary.data(), split);
     },
-    report);
-  if (embedded.empty())
+    report, split != nullptr);
+  if (embedded.empty() || !report.Error.empty())
   {
+    if (split && report.Error.empty())
+    {
+      report.UndefinedVertices = static_cast<Index>(split->Sum(0.0)); // the other processes' sum
+    }
     return report;
   }
   const int threads = options.NumberOfThreads, n = 3 + components;
@@ -457,13 +462,14 @@ GraphOperatorReport ComputeTetrahedralGraphOperators(const TetrahedralMesh& mesh
   std::vector<double> kx(embedded.size()), k(n);
   graph.ApplyStiffness(embedded.data(), kx.data(), n, threads);
   const Writer writer(outputs, 3, components, alpha, 3);
+  double undefined = 0.0; // (split: at owned rows)
   for (Index i = 0; i < size; ++i)
   {
     const double mass = graph.Mass[i];
     if (boundary[i] || !(mass > 0.0) || !(base.Mass[i] > 0.0))
     {
       writer.Undefined(i);
-      ++report.UndefinedVertices;
+      undefined += !split || split->IsOwned(i);
       continue;
     }
     for (int a = 0; a < n; ++a)
@@ -472,6 +478,7 @@ GraphOperatorReport ComputeTetrahedralGraphOperators(const TetrahedralMesh& mesh
     }
     writer.Defined(i, k.data(), std::numeric_limits<double>::quiet_NaN(), base.Mass[i] / mass);
   }
+  report.UndefinedVertices = static_cast<Index>(split ? split->Sum(undefined) : undefined);
   return report;
 }
 

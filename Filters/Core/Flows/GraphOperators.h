@@ -87,8 +87,11 @@ GraphOperatorReport ComputeSurfaceGraphOperators(const MeshTopology& topology, c
 
 class TetrahedralMesh;
 
-/// Point data over a tetrahedral mesh (components 1 to 6); no Gaussian curvature.
+/// Point data over a tetrahedral mesh (components 1 to 6); no Gaussian
+/// curvature.  split (optional, collective): a mesh split over processes
+/// (each holding the 1-rings of its rows' points), as for surfaces.
 GraphOperatorReport ComputeTetrahedralGraphOperators(const TetrahedralMesh& mesh, const double* points,
-  int components, const double* values, const GraphOperatorOptions& options, const GraphOperatorOutputs& outputs);
+  int components, const double* values, const GraphOperatorOptions& options, const GraphOperatorOutputs& outputs,
+  const Partition* split = nullptr);
 
 } // namespace beltrami
