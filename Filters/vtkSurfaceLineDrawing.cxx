@@ -164,11 +164,20 @@ void WriteLines(const beltrami::LineSet& lines, vtkPolyData* output)
 
 } // namespace
 
+namespace
+{
+
+/// When `input` (its cells or its points) last changed.
+vtkMTimeType ChangeTime(vtkPolyData* input)
+{
+  return input ? std::max(input->GetMTime(), input->GetPoints() ? input->GetPoints()->GetMTime() : 0) : 0;
+}
+
+} // namespace
+
 bool vtkSurfaceLineDrawing::Keeps(vtkPolyData* input) const
 {
-  const vtkMTimeType time =
-    input ? std::max(input->GetMTime(), input->GetPoints() ? input->GetPoints()->GetMTime() : 0) : 0;
-  return this->Cache && this->Cache->Input == input && this->Cache->InputTime == time;
+  return this->Cache && this->Cache->Input == input && this->Cache->InputTime == ChangeTime(input);
 }
 
 int vtkSurfaceLineDrawing::UpdateGeometry(vtkPolyData* input, bool& ready)
@@ -209,7 +218,7 @@ void vtkSurfaceLineDrawing::KeepGeometry(const vtkBeltramiSurface& surface, vtkP
     surface.SplitPieces().AddDistribution(kept->Distribution, "LineDrawingDistribution");
   }
   kept->Input = input;
-  kept->InputTime = input ? std::max(input->GetMTime(), input->GetPoints() ? input->GetPoints()->GetMTime() : 0) : 0;
+  kept->InputTime = ChangeTime(input);
   ++this->GeometryBuilds;
   const beltrami::Index undefined = kept->Geometry.UndefinedVertices; // (over all ranks)
   if (undefined > 0 && (!partition || partition->Rank() == 0))
