@@ -611,33 +611,22 @@ const std::vector<LineSegment>& LineDrawingGeometry::ThresholdedRidges(bool vall
   return cache.Kept;
 }
 
-ViewSegments CollectViewSegments(const LineDrawingGeometry& geo, const LineView& view,
-  const LineDrawingOptions& options, const ViewFields& fields)
+namespace
 {
-  const Index n = geo.NumberOfVertices();
-  const double size = FeatureSizeOf(geo, options);
-  std::vector<double> own[3];
-  double* field[3] = { fields.NdotV, fields.RadialCurvature, fields.RadialCurvatureDerivative };
-  for (int k = 0; k < 3; ++k)
-  {
-    if (!field[k])
-    {
-      own[k].resize(n);
-      field[k] = own[k].data();
-    }
-  }
-  const double *ndotv = field[0], *kr = field[1], *drkr = field[2];
-  std::vector<std::uint8_t> signs(n);
-  ComputeViewFields(geo, view, options.NumberOfThreads, field[0], field[1], field[2], signs.data());
 
+/// The segments of the faces this process draws (LineDrawingGeometry::Draws)
+/// for a view's fields and their SignBits: contours, suggestive contours,
+/// suggestive highlights (three lists, in face order).
+std::vector<std::vector<LineSegment>> FaceSegments(const LineDrawingGeometry& geo, const LineDrawingOptions& options,
+  double size, const double* ndotv, const double* kr, const double* drkr, const std::vector<std::uint8_t>& signs)
+{
   const bool* draw = options.Draw;
   const bool radial =
     draw[int(LineType::SuggestiveContour)] || draw[int(LineType::SuggestiveHighlight)];
   const double cosAngle = std::cos(options.SuggestiveAngle * Degree);
   const double hysteresis = HysteresisFactor(options);
   const double scale = size * size;
-  // Contours, suggestive contours, suggestive highlights.
-  auto lists = CollectSegments(geo.NumberOfFaces(), options.NumberOfThreads, 3,
+  return CollectSegments(geo.NumberOfFaces(), options.NumberOfThreads, 3,
     [&](Index f, std::vector<LineSegment>* out) {
       const Index* v = geo.Triangles.data() + 3 * static_cast<std::int64_t>(f);
       if (!geo.Draws(f))
@@ -689,27 +678,73 @@ ViewSegments CollectViewSegments(const LineDrawingGeometry& geo, const LineView&
       }
     });
 
-  // Ridges and valleys: the candidates past the threshold (kept by the
-  // geometry) clipped by the view.
-  const auto clipRidges = [&](bool valleys) {
-    const std::vector<LineSegment>& candidates = geo.ThresholdedRidges(valleys, size, options);
-    if (!options.DropBackFacing)
-    {
-      return candidates;
-    }
-    std::vector<LineSegment> kept;
-    for (LineSegment s : candidates)
-    {
-      double nv[3];
-      Corners(geo.Triangles, s.Face, ndotv, nv);
-      if (Clip(s, nv))
-      {
-        kept.push_back(s);
-      }
-    }
-    return kept;
-  };
+}
 
+/// Ridges (valleys: valleys): the candidates past the threshold (kept by
+/// the geometry) clipped by the view.
+std::vector<LineSegment> ClipRidges(
+  const LineDrawingGeometry& geo, const LineDrawingOptions& options, double size, const double* ndotv, bool valleys)
+{
+  const std::vector<LineSegment>& candidates = geo.ThresholdedRidges(valleys, size, options);
+  if (!options.DropBackFacing)
+  {
+    return candidates;
+  }
+  std::vector<LineSegment> kept;
+  for (LineSegment s : candidates)
+  {
+    double nv[3];
+    Corners(geo.Triangles, s.Face, ndotv, nv);
+    if (Clip(s, nv))
+    {
+      kept.push_back(s);
+    }
+  }
+  return kept;
+}
+
+/// Appends the edges sharper than the crease angle that this process draws.
+void ResolveCreases(const LineDrawingGeometry& geo, const LineDrawingOptions& options, ViewSegments& segments)
+{
+  std::vector<LineSegment> creases;
+  std::vector<double> angles;
+  for (std::size_t i = 0; i < geo.InteriorAngles.size(); ++i)
+  {
+    if (geo.InteriorAngles[i] > options.CreaseAngle)
+    {
+      const LineDrawingGeometry::InteriorEdge& e = geo.InteriorEdges[i];
+      creases.push_back(geo.EdgeSegment(e.A, e.B, e.Face));
+      angles.push_back(e.Angle);
+    }
+  }
+  Resolve(geo, creases, LineType::Crease,
+    [&](Index s, const Index*, double* c) { c[0] = c[1] = c[2] = angles[s]; }, segments);
+}
+
+} // namespace
+
+ViewSegments CollectViewSegments(const LineDrawingGeometry& geo, const LineView& view,
+  const LineDrawingOptions& options, const ViewFields& fields)
+{
+  const Index n = geo.NumberOfVertices();
+  const double size = FeatureSizeOf(geo, options);
+  std::vector<double> own[3];
+  double* field[3] = { fields.NdotV, fields.RadialCurvature, fields.RadialCurvatureDerivative };
+  for (int k = 0; k < 3; ++k)
+  {
+    if (!field[k])
+    {
+      own[k].resize(n);
+      field[k] = own[k].data();
+    }
+  }
+  const double *ndotv = field[0], *kr = field[1], *drkr = field[2];
+  std::vector<std::uint8_t> signs(n);
+  ComputeViewFields(geo, view, options.NumberOfThreads, field[0], field[1], field[2], signs.data());
+
+  const bool* draw = options.Draw;
+  const double scale = size * size;
+  const auto lists = FaceSegments(geo, options, size, ndotv, kr, drkr, signs);
   ViewSegments segments;
   const auto one = [](Index, const Index*, double* c) { c[0] = c[1] = c[2] = 1.0; };
   const auto vertexStrength = [](const double* values, double factor) {
@@ -725,11 +760,13 @@ ViewSegments CollectViewSegments(const LineDrawingGeometry& geo, const LineView&
   Resolve(geo, lists[2], LineType::SuggestiveHighlight, vertexStrength(drkr, -scale), segments);
   if (draw[int(LineType::Ridge)])
   {
-    Resolve(geo, clipRidges(false), LineType::Ridge, vertexStrength(geo.K1.data(), size), segments);
+    Resolve(geo, ClipRidges(geo, options, size, ndotv, false), LineType::Ridge, vertexStrength(geo.K1.data(), size),
+      segments);
   }
   if (draw[int(LineType::Valley)])
   {
-    Resolve(geo, clipRidges(true), LineType::Valley, vertexStrength(geo.K2.data(), -size), segments);
+    Resolve(geo, ClipRidges(geo, options, size, ndotv, true), LineType::Valley,
+      vertexStrength(geo.K2.data(), -size), segments);
   }
   if (draw[int(LineType::Boundary)])
   {
@@ -737,19 +774,7 @@ ViewSegments CollectViewSegments(const LineDrawingGeometry& geo, const LineView&
   }
   if (draw[int(LineType::Crease)])
   {
-    std::vector<LineSegment> creases;
-    std::vector<double> angles;
-    for (std::size_t i = 0; i < geo.InteriorAngles.size(); ++i)
-    {
-      if (geo.InteriorAngles[i] > options.CreaseAngle)
-      {
-        const LineDrawingGeometry::InteriorEdge& e = geo.InteriorEdges[i];
-        creases.push_back(geo.EdgeSegment(e.A, e.B, e.Face));
-        angles.push_back(e.Angle);
-      }
-    }
-    Resolve(geo, creases, LineType::Crease,
-      [&](Index s, const Index*, double* c) { c[0] = c[1] = c[2] = angles[s]; }, segments);
+    ResolveCreases(geo, options, segments);
   }
   return segments;
 }
