@@ -101,9 +101,10 @@ int vtkImplicitFairing::RequestData(
   // Implicit steps and the invariants couple all points.  Data split over
   // the ranks of a distributed run are solved over the ranks, each rank
   // holding its own piece (vtkBeltramiSurface::Needs::Distributed); the
-  // options that the distributed run does not cover, and fixed point ids
-  // (which name points of one data set), gather the pieces on rank 0
-  // (vtkBeltramiGather) and smooth the whole surface there.
+  // options that the distributed run does not cover (feature curves,
+  // virtual vertices: beltrami::DistributedFairingLimitation), and fixed
+  // point ids (which name points of one data set), gather the pieces on
+  // rank 0 (vtkBeltramiGather) and smooth the whole surface there.
   const auto fair = [this](vtkBeltramiSurface& surface) {
     if (surface.IsGathered() && !this->FixedPointIds.empty())
     {
@@ -124,9 +125,7 @@ int vtkImplicitFairing::RequestData(
   };
   beltrami::FairingOptions options;
   this->CopySettings(options, vtkBeltramiCopy::ToCore);
-  const bool distributes = this->FixedPointIds.empty() &&
-    beltrami::DistributedFairingLimitation(options, this->UseAxisDirectionsArray || this->UsePlaneNormalsArray)
-      .empty();
+  const bool distributes = this->FixedPointIds.empty() && beltrami::DistributedFairingLimitation(options).empty();
   return vtkBeltramiSurface::Execute(this, inputVector, outputVector, this->NumberOfThreads,
     distributes ? vtkBeltramiSurface::Needs::Distributed : vtkBeltramiSurface::Needs::WholeSurface, fair, received);
 }
@@ -161,6 +160,13 @@ int vtkImplicitFairing::Fair(vtkBeltramiSurface& surface)
   if (!weights.empty())
   {
     weights.resize(rows, 1.0);
+  }
+  for (std::vector<double>* directions : { &axes, &normals })
+  {
+    if (!directions->empty())
+    {
+      directions->resize(3 * rows, 0.0);
+    }
   }
   beltrami::FairingConstraints constraints;
   constraints.Fixed = fixed.empty() ? nullptr : fixed.data();

@@ -7,7 +7,10 @@ Checked: the real bunny cut anywhere by RedistributeDataSet (points where
 three or more pieces meet from 3 ranks on), with the default options (order
 2 curvature flow, operator mollification, exact volume) at a tight and at the
 default tolerance; fixed points and smoothing weights; order 1 with the
-area invariant; an open surface (boundary fixed); a rank with an empty piece;
+area invariant; an open surface (boundary fixed); explicit and Taubin steps,
+anisotropy, the sampling regularisation, boundaries smoothed as curves, the
+height-field and revolution volumes, axis and plane constraints (each run
+where the pieces are); a rank with an empty piece;
 a piece that owns no point; a NaN point in one piece; a noisy scan (within
 1e-4 of the diagonal); multigrid over the ranks (the serial iteration
 counts); and the counts each rank reports: with 4 ranks no rank holds more
@@ -40,7 +43,8 @@ def points(polydata):
     return vtk_to_numpy(polydata.GetPoints().GetData()).astype(float)
 
 
-ARRAYS = {"FixedPointsArray": (0, "UseFixedPointsArray"), "SmoothingWeightsArray": (1, "UseSmoothingWeightsArray")}
+ARRAYS = {"FixedPointsArray": (0, "UseFixedPointsArray"), "SmoothingWeightsArray": (1, "UseSmoothingWeightsArray"),
+          "AxisDirectionsArray": (2, "UseAxisDirectionsArray"), "PlaneNormalsArray": (3, "UsePlaneNormalsArray")}
 
 
 def serial(polydata, **settings):
@@ -188,7 +192,49 @@ split_run(bunny, "bunny with fixed points and weights", 1e-3, move_of, prepare=w
 split_run(bunny, "bunny, order 1, area kept", 1e-3, move_of, Order=1, Invariant=3, TimeStep=2.0)
 
 # An open surface: its boundary fixed, no invariant.
-split_run(OpenDataFile(os.path.join(DATA, "mushroom.off")), "mushroom (open)", 1e-3, move_of)
+mushroom = OpenDataFile(os.path.join(DATA, "mushroom.off"))
+split_run(mushroom, "mushroom (open)", 1e-3, move_of)
+
+
+# Every option but two (feature curves, virtual vertices: they need whole
+# curves or loops) runs over the ranks: explicit and Taubin steps (a ghost
+# update after each power of the operator), anisotropic weights (each point's
+# by its owner), the sampling regularisation, boundaries smoothed as curves
+# (the boundary edges at owned points), the height-field and revolution
+# volumes (summed over the ranks), axis and plane constraints (the projected
+# solve over the ranks).  The serial numbers up to round-off and the solver
+# tolerance, and no gathering: every rank reports its own piece.
+def distributed_option(source, label, relative=extent_of, prepare=None, partitions=0, **settings):
+    faired = split_run(source, label, 1e-9, relative, prepare=prepare, partitions=partitions, **settings)[0]
+    owned, = rank_rows(faired, "FairingDistribution", ("Owned",))
+    # (One partition over several ranks: one rank holds the whole surface and runs it as in serial.)
+    check(ranks == 1 or partitions == 1 or (owned >= 0).all(),
+          "%s: run where the pieces are (owned points %s)" % (label, owned))
+
+
+def with_directions(source):
+    return with_point_arrays(source, {
+        "axis": "np.where((p[:, 1] > 0.15)[:, None], np.array([[0.0, 0.3, 1.0]]), 0.0)",
+        "normal": "np.where((p[:, 0] < -0.03)[:, None], np.array([[1.0, 0.2, 0.0]]), 0.0)"})
+
+
+distributed_option(bunny, "bunny, explicit umbrella", Integration=1, Operator=0, TimeStep=0.5, NumberOfIterations=3)
+distributed_option(bunny, "bunny, explicit umbrella squared", Integration=1, Operator=0, TimeStep=0.1,
+                   NumberOfIterations=2)
+distributed_option(bunny, "bunny, Taubin", Integration=2, Operator=0, NumberOfIterations=4)
+distributed_option(bunny, "bunny, anisotropic", Anisotropic=1, SolverTolerance=1e-12)
+distributed_option(bunny, "bunny, sampling regularisation", Operator=3, Order=1, SolverTolerance=1e-12)
+distributed_option(bunny, "bunny, volume of revolution", Invariant=5, ReferencePlaneNormal=[0.0, 1.0, 0.0],
+                   SolverTolerance=1e-12)
+distributed_option(mushroom, "mushroom, boundary smoothed as a curve", BoundaryHandling=1, SolverTolerance=1e-12)
+distributed_option(mushroom, "mushroom, height-field volume", Invariant=4, SolverTolerance=1e-12)
+if ranks > 1:  # the same with a rank that holds nothing (no hang: it takes part in every collective step)
+    distributed_option(mushroom, "mushroom on %d of %d ranks, curve boundary, anisotropic, explicit"
+                       % (ranks - 1, ranks), partitions=ranks - 1, BoundaryHandling=1, Anisotropic=1,
+                       Integration=1, Operator=0, TimeStep=0.3, NumberOfIterations=2, SolverTolerance=1e-12)
+distributed_option(bunny, "bunny, axis and plane constraints", prepare=with_directions, NumberOfIterations=2,
+                   SolverTolerance=1e-12, UseAxisDirectionsArray=1, AxisDirectionsArray=["POINTS", "axis"],
+                   UsePlaneNormalsArray=1, PlaneNormalsArray=["POINTS", "normal"])
 
 # A rank with an empty piece (fewer partitions than ranks).
 if ranks > 1:

@@ -208,14 +208,24 @@ VertexRoles ClassifyVertices(const MeshTopology& topo, const double* x, const Fa
     report.UnusableVertices += unusable && !(flags & VertexIsolated) && (!split || split->IsOwned(i));
     r.Fixed[i] = user || unusable || (r.Boundary[i] && opt.Boundary == FairingBoundary::Fixed);
   }
-  r.Moves = ReadMotions(cons, r.Fixed);
-  r.HardConstraints = r.HardConstraints || r.Moves.Any;
   if (split)
   {
     // A ghost's star is not all here: it takes its owner's roles.
     split->UpdateGhosts(r.Fixed);
     split->UpdateGhosts(r.Boundary);
     split->UpdateGhosts(r.Weight);
+  }
+  r.Moves = ReadMotions(cons, r.Fixed);
+  if (split)
+  {
+    split->UpdateGhosts(r.Moves.Kind);
+    static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3: 3 packed doubles");
+    split->UpdateGhosts(reinterpret_cast<double*>(r.Moves.Direction.data()), 3);
+    r.Moves.Any = split->Max(r.Moves.Any ? 1.0 : 0.0) > 0.0;
+  }
+  r.HardConstraints = r.HardConstraints || r.Moves.Any;
+  if (split)
+  {
     r.HardConstraints = split->Max(r.HardConstraints ? 1.0 : 0.0) > 0.0;
   }
   return r;
@@ -227,7 +237,6 @@ VertexRoles ClassifyVertices(const MeshTopology& topo, const double* x, const Fa
 InvariantState ChooseInvariant(const MeshTopology& topo, const double* x, const FairingOptions& opt,
   const VertexRoles& roles, const DistributedSurface& pieces, std::ostringstream& warn, FairingReport& report)
 {
-  const Index n = topo.NumberOfVertices();
   const TopologySummary& info = topo.Summary();
   InvariantState inv;
   inv.Kind = opt.Invariant;
@@ -255,22 +264,17 @@ InvariantState ChooseInvariant(const MeshTopology& topo, const double* x, const 
     }
     inv.PlaneNormal.normalize();
     // The reference plane passes through the mean of the boundary (of all points if closed).
-    Vec3 sum = Vec3::Zero();
-    Index count = 0;
-    for (Index i = 0; i < n; ++i)
-    {
-      if (roles.Boundary[i] && Point(x, i).allFinite())
-      {
-        sum += Point(x, i);
-        ++count;
-      }
-    }
-    inv.PlaneOrigin = count ? Vec3(sum / count) : VertexCentroid(topo, x);
+    const auto [onBoundary, count] = MeanPoint(topo, x, pieces.Split, [&](Index i) { return roles.Boundary[i] != 0; });
+    inv.PlaneOrigin = count > 0.0
+      ? onBoundary
+      : MeanPoint(topo, x, pieces.Split, [&](Index i) { return topo.Valence(i) > 0; }).first;
   }
   if (inv.Kind == FairingInvariant::RevolutionVolume)
   {
     // The axis passes through the area centroid (on the axis of a surface of revolution).
-    AreaAndCentroid(topo, x, opt.NumberOfThreads, &inv.PlaneOrigin);
+    InvariantState area = inv;
+    area.Kind = FairingInvariant::Area;
+    MeasureInvariant(area, topo, x, opt.NumberOfThreads, &inv.PlaneOrigin);
   }
   if (roles.HardConstraints && inv.Kind != FairingInvariant::None)
   {
@@ -314,15 +318,15 @@ std::vector<double> MollifiedOperatorPoints(const MeshTopology& topo, const doub
 /// squared (L_umbrella ~ h^2/4 Laplace, L_K ~ Laplace/2), at most 1 so that
 /// it stays a local relaxation.
 void RegulariseSampling(const MeshTopology& topo, double* x, const std::vector<std::uint8_t>& fixed,
-  const std::vector<double>& weight, const Motions& moves, const FairingOptions& opt)
+  const std::vector<double>& weight, const Motions& moves, const FairingOptions& opt, const Partition* split)
 {
   const std::vector<double> before(x, x + 3 * static_cast<std::size_t>(topo.NumberOfVertices()));
   const int threads = opt.NumberOfThreads;
   GraphLaplacian U;
-  AssembleSurfaceLaplacian(topo, x, LaplacianWeights::Umbrella, U, threads);
-  const double h = MeanEdgeLength(topo, x);
+  Assemble(topo, x, LaplacianWeights::Umbrella, U, threads, split);
+  const double h = MeanEdgeLength(topo, x, split);
   const double relax = std::min(1.0, 2.0 * opt.TimeStep / (h * h));
-  const Stage tangential{ U, fixed, weight };
+  const Stage tangential{ U, fixed, weight, nullptr, nullptr, split };
   std::vector<double> v = Velocity(tangential, Powers::Single(1), x, threads);
   for (double& vk : v)
   {
@@ -330,6 +334,10 @@ void RegulariseSampling(const MeshTopology& topo, double* x, const std::vector<s
   }
   MoveAlongNormals(topo, x, v.data(), Keep::Tangential, threads);
   moves.KeepAllowed(before, x);
+  if (split)
+  {
+    split->UpdateGhosts(x, 3); // the ghosts' normals are not all here
+  }
 }
 
 /// The curve-smoothing pass along the detected feature edges (directions
@@ -402,6 +410,27 @@ void FinishReport(const MeshTopology& topo, const VertexRoles& roles, const Fair
   report.Warning = warn.str();
 }
 
+/// Section 3.5.2's boundary curves: the graph of the boundary edges (one
+/// face; distributed, those at an owned point, whose star is all here, so
+/// that a cut through the ring is no boundary).  Whether any process has
+/// one (distributed: every process then takes part in the curve steps).
+bool BoundaryCurves(const MeshTopology& topo, const Partition* split, CurveGraph& curves)
+{
+  const MeshTopology::EdgeTable& edges = topo.Edges();
+  std::vector<std::vector<Index>> chains;
+  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
+  {
+    const Index a = edges.Vertices[2 * e], b = edges.Vertices[2 * e + 1];
+    if (edges.FaceCount[e] == 1 && (!split || split->IsOwned(a) || split->IsOwned(b)))
+    {
+      chains.push_back({ a, b });
+    }
+  }
+  curves.Build(topo.NumberOfVertices(), {}, chains);
+  const double any = chains.empty() ? 0.0 : 1.0;
+  return (split ? split->Max(any) : any) > 0.0;
+}
+
 FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const FairingOptions& opt,
   const FairingConstraints& cons, const ProgressCallback& progress, const DistributedSurface& pieces)
 {
@@ -415,10 +444,9 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
   std::ostringstream warn;
   const InvariantState inv = ChooseInvariant(topo, x, opt, roles, pieces, warn, report);
 
-  const std::vector<std::vector<Index>> loops =
-    opt.Boundary == FairingBoundary::SmoothCurve ? topo.BoundaryLoops() : std::vector<std::vector<Index>>{};
   CurveGraph boundaryCurves;
-  boundaryCurves.Build(n, loops, {});
+  const bool smoothsBoundary = opt.Boundary == FairingBoundary::SmoothCurve &&
+    BoundaryCurves(topo, split, boundaryCurves);
   GraphLaplacian L, curveL, first;
   // The solver's renumbering of the surface graph, the same for every step.
   std::vector<Index> order;
@@ -458,21 +486,31 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
             [&] { return localOrder(); }, split)
         : std::vector<double>(x, x + 3 * static_cast<std::size_t>(n));
       const std::vector<double> a = AnisotropicWeights(topo, mollified.data(), opt,
-        opt.SmoothFeatureCurves ? &along : nullptr, report.FeatureVertices);
+        opt.SmoothFeatureCurves ? &along : nullptr, report.FeatureVertices, split);
       for (Index i = 0; i < n; ++i)
       {
         omega[i] *= a[i];
       }
+      if (split)
+      {
+        split->UpdateGhosts(omega); // the ghosts' curvatures are not all here
+      }
     }
     // Boundary loops first (they do not depend on the interior), then the
     // interior with the new boundary as fixed values (section 3.5.2).
-    if (!loops.empty())
+    if (smoothsBoundary)
     {
       AssembleCurveLaplacian(boundaryCurves, x, WeightsOf(opt.Operator), curveL);
-      Stage curve{ curveL, fixed, weight, nullptr, &roles.Moves };
+      Stage curve{ curveL, fixed, weight, nullptr, &roles.Moves, split };
       for (Index i = 0; i < n; ++i)
       {
         curve.Fixed[i] = fixed[i] || boundaryCurves.Offsets[i + 1] - boundaryCurves.Offsets[i] < 2;
+      }
+      if (split)
+      {
+        // The ghosts' curve neighbours are not all here: their owners' masses and roles.
+        split->UpdateGhosts(curveL.Mass.data(), 1);
+        split->UpdateGhosts(curve.Fixed);
       }
       defined = Integrate(curve, opt, x, report);
     }
@@ -501,7 +539,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     defined = defined && Integrate(surface, opt, x, report);
     if (opt.Operator == FairingOperator::CurvatureFlowAndSampling)
     {
-      RegulariseSampling(topo, x, surface.Fixed, weight, roles.Moves, opt);
+      RegulariseSampling(topo, x, surface.Fixed, weight, roles.Moves, opt, split);
     }
     if (opt.Anisotropic && opt.SmoothFeatureCurves)
     {
@@ -542,29 +580,17 @@ bool CheckOrderWeights(const FairingOptions& opt)
 
 } // namespace
 
-std::string DistributedFairingLimitation(const FairingOptions& opt, bool axisOrPlaneConstraints)
+std::string DistributedFairingLimitation(const FairingOptions& opt)
 {
-  if (opt.Integration != FairingIntegration::Implicit)
+  if (opt.Anisotropic && opt.SmoothFeatureCurves)
   {
-    return "explicit and Taubin integration";
+    return "the feature curves of anisotropic smoothing";
   }
-  if (opt.Anisotropic)
+  if (opt.Boundary == FairingBoundary::VirtualVertex)
   {
-    return "anisotropic smoothing";
+    return "boundaries closed by a virtual vertex";
   }
-  if (opt.Operator == FairingOperator::CurvatureFlowAndSampling)
-  {
-    return "the sampling regularisation";
-  }
-  if (opt.Boundary != FairingBoundary::Fixed)
-  {
-    return "boundaries other than fixed";
-  }
-  if (opt.Invariant == FairingInvariant::HeightFieldVolume || opt.Invariant == FairingInvariant::RevolutionVolume)
-  {
-    return "the height-field and revolution volumes";
-  }
-  return axisOrPlaneConstraints ? "axis and plane constraints" : "";
+  return "";
 }
 
 FairingReport FairSurface(const MeshTopology& topo, double* points, const FairingOptions& options,
@@ -572,7 +598,7 @@ FairingReport FairSurface(const MeshTopology& topo, double* points, const Fairin
 {
   if (split)
   {
-    const std::string limit = DistributedFairingLimitation(options, cons.AxisDirections || cons.PlaneNormals);
+    const std::string limit = DistributedFairingLimitation(options);
     if (!limit.empty())
     {
       FairingReport failed;

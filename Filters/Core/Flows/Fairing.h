@@ -191,8 +191,9 @@ FairingReport FairSurface(const MeshTopology& topology, double* points,
   const ProgressCallback& progress = {}, const Partition* split = nullptr);
 
 /// Empty when FairSurface runs `options` distributed, else what it cannot
-/// run that way (e.g. "anisotropic smoothing"): the caller then gathers the
-/// surface on one process.
-std::string DistributedFairingLimitation(const FairingOptions& options, bool axisOrPlaneConstraints);
+/// run that way (the feature curves of anisotropic smoothing, which are
+/// chained over the whole surface; virtual vertices, one per whole boundary
+/// loop): the caller then gathers the surface on one process.
+std::string DistributedFairingLimitation(const FairingOptions& options);
 
 } // namespace beltrami

@@ -12,7 +12,7 @@ namespace beltrami::detail
 /// edges, clamped below.  `along` receives, for edge vertices, the principal
 /// direction of the smaller curvature (along the edge); zero elsewhere.
 std::vector<double> AnisotropicWeights(const MeshTopology& topo, const double* x,
-  const FairingOptions& opt, std::vector<Vec3>* along, Index& featureVertices)
+  const FairingOptions& opt, std::vector<Vec3>* along, Index& featureVertices, const Partition* split)
 {
   const Index n = topo.NumberOfVertices();
   std::vector<double> kH(n), k1(n), k2(n), e1, e2;
@@ -41,7 +41,7 @@ std::vector<double> AnisotropicWeights(const MeshTopology& topo, const double* x
     {
       continue; // noise (or undefined): isotropic
     }
-    ++featureVertices;
+    featureVertices += !split || split->IsOwned(i);
     if (a1 > T && a2 > T && k1[i] * k2[i] > 0.0)
     {
       w[i] = 0.0; // corner
@@ -59,6 +59,10 @@ std::vector<double> AnisotropicWeights(const MeshTopology& topo, const double* x
     {
       (*along)[i] = LoadPoint<3>(firstIsSmall ? e1.data() : e2.data(), 3, i);
     }
+  }
+  if (split)
+  {
+    featureVertices = static_cast<Index>(split->Sum(static_cast<double>(featureVertices)));
   }
   return w;
 }

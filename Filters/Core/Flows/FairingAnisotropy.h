@@ -5,6 +5,7 @@
 
 #include "Flows/Fairing.h"
 #include "Mesh/Geometry.h"
+#include "Solvers/Partition.h"
 
 #include <vector>
 
@@ -14,8 +15,10 @@ namespace beltrami::detail
 /// Section 3.7.1: w = 1 in noisy regions, 0 at corners, kappa_min / kappa_H on
 /// edges, clamped below.  `along` receives, for edge vertices, the principal
 /// direction of the smaller curvature (along the edge); zero elsewhere.
+/// Distributed (`split`): the weights of the owned points (the ghosts' are
+/// their owners' business), `featureVertices` counted over all processes.
 std::vector<double> AnisotropicWeights(const MeshTopology& topo, const double* x,
-  const FairingOptions& opt, std::vector<Vec3>* along, Index& featureVertices);
+  const FairingOptions& opt, std::vector<Vec3>* along, Index& featureVertices, const Partition* split = nullptr);
 
 /// Feature curves for the curve-smoothing pass: edges between edge vertices
 /// that run along both vertices' edge directions (within 30 degrees); only

@@ -3,6 +3,8 @@
 #include "Mesh/MeshMeasures.h"
 
 #include <cmath>
+#include <functional>
+#include <utility>
 
 namespace beltrami::detail
 {
@@ -27,20 +29,7 @@ void Rescale(double* x, Index n, const Vec3& center, double s)
 double MeasureDistributed(const InvariantState& s, const MeshTopology& topo, const double* x, int threads,
   Vec3* center)
 {
-  double sums[4] = { 0.0, 0.0, 0.0, 0.0 };
-  for (Index i = 0; i < topo.NumberOfVertices(); ++i)
-  {
-    if (s.Split->IsOwned(i) && topo.Valence(i) > 0 && Point(x, i).allFinite())
-    {
-      sums[0] += 1.0;
-      for (int c = 0; c < 3; ++c)
-      {
-        sums[1 + c] += x[3 * i + c];
-      }
-    }
-  }
-  s.Split->Sum(sums, 4);
-  const Vec3 origin = sums[0] > 0.0 ? Vec3(Vec3(sums[1], sums[2], sums[3]) / sums[0]) : Vec3::Zero();
+  const Vec3 origin = MeanPoint(topo, x, s.Split, [&](Index i) { return topo.Valence(i) > 0; }).first;
   Vec3 share;
   const double amount = s.Kind == FairingInvariant::Volume
     ? VolumeAndCentroid(*s.Counted, x, threads, &share, &origin)
@@ -56,12 +45,42 @@ double MeasureDistributed(const InvariantState& s, const MeshTopology& topo, con
 
 } // namespace
 
+std::pair<Vec3, double> MeanPoint(
+  const MeshTopology& topo, const double* x, const Partition* split, const std::function<bool(Index)>& use)
+{
+  double sums[4] = { 0.0, 0.0, 0.0, 0.0 };
+  for (Index i = 0; i < topo.NumberOfVertices(); ++i)
+  {
+    if ((!split || split->IsOwned(i)) && use(i) && Point(x, i).allFinite())
+    {
+      sums[0] += 1.0;
+      for (int c = 0; c < 3; ++c)
+      {
+        sums[1 + c] += x[3 * i + c];
+      }
+    }
+  }
+  if (split)
+  {
+    split->Sum(sums, 4);
+  }
+  return { sums[0] > 0.0 ? Vec3(Vec3(sums[1], sums[2], sums[3]) / sums[0]) : Vec3::Zero(), sums[0] };
+}
+
 double MeasureInvariant(const InvariantState& s, const MeshTopology& topo, const double* x, int threads,
   Vec3* center)
 {
   if (s.Split && (s.Kind == FairingInvariant::Volume || s.Kind == FairingInvariant::Area))
   {
     return MeasureDistributed(s, topo, x, threads, center);
+  }
+  if (s.Split && s.Kind == FairingInvariant::HeightFieldVolume)
+  {
+    return s.Split->Sum(HeightVolume(*s.Counted, x, s.PlaneOrigin, s.PlaneNormal, threads));
+  }
+  if (s.Split && s.Kind == FairingInvariant::RevolutionVolume)
+  {
+    return s.Split->Sum(RevolutionVolume(*s.Counted, x, s.PlaneOrigin, s.PlaneNormal, threads));
   }
   switch (s.Kind)
   {

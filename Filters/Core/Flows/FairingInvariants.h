@@ -7,6 +7,9 @@
 #include "Flows/Fairing.h"
 #include "Solvers/Partition.h"
 
+#include <functional>
+#include <utility>
+
 namespace beltrami::detail
 {
 
@@ -22,6 +25,11 @@ struct InvariantState
   const MeshTopology* Counted = nullptr;
   const Partition* Split = nullptr;
 };
+
+/// The mean of the points of x that `use` selects (finite ones only) and
+/// their count; distributed, over the owned points of all processes.
+std::pair<Vec3, double> MeanPoint(
+  const MeshTopology& topo, const double* x, const Partition* split, const std::function<bool(Index)>& use);
 
 /// The invariant's value on x; `center` (optional): the centre the scaling
 /// uses (the volume or area centroid).

@@ -95,6 +95,10 @@ std::vector<double> Velocity(const Stage& st, const Powers& p, const double* x, 
         next[3 * i + c] = st.Fixed[i] ? 0.0 : -next[3 * i + c];
       }
     }
+    if (st.Split)
+    {
+      st.Split->UpdateGhosts(next.data(), 3); // the ghosts' rows of L are incomplete here
+    }
     u.swap(next);
     for (std::size_t j = 0; j < size; ++j)
     {
@@ -167,32 +171,32 @@ struct StepSystem
 /// Witkin's filtered conjugate gradient): the correction d solves
 /// P A P d = P (b - A x), P the per-vertex projector on the allowed
 /// directions, by one conjugate gradient over all 3n values (P couples a
-/// vertex's coordinates); a vertex's three Jacobi values are equal, so the
-/// preconditioner commutes with P.
+/// vertex's coordinates: the columns as one vector); a vertex's three
+/// Jacobi values are equal, so the preconditioner commutes with P.
 ConjugateGradientResult SolveProjected(const Stage& st, const std::function<void(const double*, double*)>& apply,
   const std::vector<double>& diag, const StepSystem& sys, const FairingOptions& opt, const std::vector<double>& b,
   double* x)
 {
-  const std::size_t size = 3 * static_cast<std::size_t>(st.L.NumberOfVertices);
-  std::vector<double> rhs(size), d(size, 0.0), projected(size), diag3(size);
-  std::vector<std::uint8_t> fixed3(size);
+  const Index n = st.L.NumberOfVertices;
+  const std::size_t size = 3 * static_cast<std::size_t>(n);
+  std::vector<double> rhs(size), d(size, 0.0), projected(size);
   apply(x, rhs.data());
   for (std::size_t k = 0; k < size; ++k)
   {
     rhs[k] = b[k] - rhs[k];
-    diag3[k] = diag[k / 3];
-    fixed3[k] = sys.Fixed[k / 3];
   }
   st.Moves->Project(rhs.data());
   ConjugateGradientProblem pb;
-  pb.Rows = static_cast<Index>(size);
-  pb.Columns = 1;
-  pb.Diagonal = diag3.data();
-  pb.Fixed = fixed3.data();
-  pb.Scale = { Eigen::Vector3d(sys.Scale[0], sys.Scale[1], sys.Scale[2]).norm() };
+  pb.Rows = n;
+  pb.Columns = 3;
+  pb.CoupledColumns = true;
+  pb.Diagonal = diag.data();
+  pb.Fixed = sys.Fixed.data();
+  pb.Scale.assign(3, Eigen::Vector3d(sys.Scale[0], sys.Scale[1], sys.Scale[2]).norm());
   pb.Tolerance = opt.SolverTolerance;
   pb.MaximumIterations = opt.MaximumSolverIterations;
   pb.NumberOfThreads = opt.NumberOfThreads;
+  pb.Split = st.Split;
   pb.Apply = [&](const double* in, double* out) {
     std::copy(in, in + size, projected.begin());
     st.Moves->Project(projected.data());
@@ -429,7 +433,7 @@ bool ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, Fairing
   {
     anyNegative = anyNegative || (!sys.Fixed[i] && st.Omega[i] < 0.0);
   }
-  if (anyNegative)
+  if (st.Split ? st.Split->Max(anyNegative ? 1.0 : 0.0) > 0.0 : anyNegative) // (distributed: all or none)
   {
     const std::vector<double> v = Velocity(st, p, x, opt.NumberOfThreads);
     for (Index i = 0; i < n; ++i)

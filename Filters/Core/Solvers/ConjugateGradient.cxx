@@ -32,6 +32,16 @@ ConjugateGradientResult Solve(const ConjugateGradientProblem& pb, const double* 
     {
       split->Sum(sums.data(), static_cast<int>(sums.size()));
     }
+    for (std::size_t first = 0; pb.CoupledColumns && first < sums.size(); first += nc)
+    {
+      // Each group of nc (r.z, r.r or p.q per column): their sum in every column.
+      double all = 0.0;
+      for (int c = 0; c < nc; ++c)
+      {
+        all += sums[first + c];
+      }
+      std::fill(sums.begin() + first, sums.begin() + first + nc, all);
+    }
     return sums;
   };
   const auto refresh = [&](double* v) {

@@ -58,6 +58,11 @@ struct ConjugateGradientProblem
   /// products are summed over the processes, and on return the ghost rows
   /// of x hold their owners' results.
   const Partition* Split = nullptr;
+  /// The columns as one vector (one step length and direction for all of
+  /// them, from inner products summed over the columns): for an operator
+  /// that couples a row's values, e.g. section 3.2.7's projections.  Then
+  /// every column's Scale should be the whole solution's size.
+  bool CoupledColumns = false;
 };
 
 /// Solves A x = b; x holds the initial guess (and the fixed values) on entry.
