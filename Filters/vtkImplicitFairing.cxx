@@ -101,8 +101,8 @@ int vtkImplicitFairing::RequestData(
   // Implicit steps and the invariants couple all points.  Data split over
   // the ranks of a distributed run are solved over the ranks, each rank
   // holding its own piece (vtkBeltramiSurface::Needs::Distributed); the
-  // options that the distributed run does not cover (feature curves,
-  // virtual vertices: beltrami::DistributedFairingLimitation), and fixed
+  // options that the distributed run does not cover (virtual vertices:
+  // beltrami::DistributedFairingLimitation), and fixed
   // point ids (which name points of one data set), gather the pieces on
   // rank 0 (vtkBeltramiGather) and smooth the whole surface there.
   const auto fair = [this](vtkBeltramiSurface& surface) {

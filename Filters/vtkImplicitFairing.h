@@ -109,12 +109,12 @@
  * the points whose values it sends to other ranks per ghost update (two
  * updates of 3 values per point in each Jacobi iteration of an order-2 solve).
  * Every option runs so (explicit and Taubin steps with a ghost update after
- * each power of the operator, anisotropic weights by each point's owner,
- * boundaries smoothed as curves from the boundary edges at owned points,
- * the invariants and axis and plane constraints over the ranks) except the
- * feature curves of anisotropic smoothing and boundaries closed by a
- * virtual vertex (whole curves or loops); they and fixed point ids (which
- * name points of one data set) gather the pieces on rank 0 instead (vtkBeltramiGather), smoothed there
+ * each power of the operator, anisotropic weights and feature curves by
+ * each point's owner, boundaries smoothed as curves from the boundary edges
+ * at owned points, the invariants and axis and plane constraints over the
+ * ranks) except boundaries closed by a virtual vertex (one vertex joined to
+ * a whole loop); it and fixed point ids (which name points of one data set)
+ * gather the pieces on rank 0 instead (vtkBeltramiGather), smoothed there
  * as one surface: the numbers of a serial run, with the memory and time of
  * one process.  So do pieces that come with ghost cells.
  */

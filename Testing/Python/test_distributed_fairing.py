@@ -9,8 +9,9 @@ three or more pieces meet from 3 ranks on), with the default options (order
 default tolerance; fixed points and smoothing weights; order 1 with the
 area invariant; an open surface (boundary fixed); explicit and Taubin steps,
 anisotropy, the sampling regularisation, boundaries smoothed as curves, the
-height-field and revolution volumes, axis and plane constraints (each run
-where the pieces are); a rank with an empty piece;
+height-field and revolution volumes, axis and plane constraints, the
+feature curves of anisotropic smoothing on fandisk (each run where the
+pieces are); a rank with an empty piece;
 a piece that owns no point; a NaN point in one piece; a noisy scan (within
 1e-4 of the diagonal); multigrid over the ranks (the serial iteration
 counts); and the counts each rank reports: with 4 ranks no rank holds more
@@ -196,10 +197,10 @@ mushroom = OpenDataFile(os.path.join(DATA, "mushroom.off"))
 split_run(mushroom, "mushroom (open)", 1e-3, move_of)
 
 
-# Every option but two (feature curves, virtual vertices: they need whole
-# curves or loops) runs over the ranks: explicit and Taubin steps (a ghost
-# update after each power of the operator), anisotropic weights (each point's
-# by its owner), the sampling regularisation, boundaries smoothed as curves
+# Every option but virtual vertices (one vertex joined to a whole boundary
+# loop) runs over the ranks: explicit and Taubin steps (a ghost update after
+# each power of the operator), anisotropic weights and feature curves (each
+# point's by its owner), the sampling regularisation, boundaries smoothed as curves
 # (the boundary edges at owned points), the height-field and revolution
 # volumes (summed over the ranks), axis and plane constraints (the projected
 # solve over the ranks).  The serial numbers up to round-off and the solver
@@ -223,6 +224,9 @@ distributed_option(bunny, "bunny, explicit umbrella squared", Integration=1, Ope
                    NumberOfIterations=2)
 distributed_option(bunny, "bunny, Taubin", Integration=2, Operator=0, NumberOfIterations=4)
 distributed_option(bunny, "bunny, anisotropic", Anisotropic=1, SolverTolerance=1e-12)
+fandisk = OpenDataFile(os.path.join(DATA, "fandisk.off"))
+distributed_option(fandisk, "fandisk, anisotropic with feature curves", Anisotropic=1, SmoothFeatureCurves=1,
+                   SolverTolerance=1e-12)
 distributed_option(bunny, "bunny, sampling regularisation", Operator=3, Order=1, SolverTolerance=1e-12)
 distributed_option(bunny, "bunny, volume of revolution", Invariant=5, ReferencePlaneNormal=[0.0, 1.0, 0.0],
                    SolverTolerance=1e-12)

@@ -340,10 +340,21 @@ void RegulariseSampling(const MeshTopology& topo, double* x, const std::vector<s
   }
 }
 
+/// Distributed, a curve stage's ghost rows take their owners' masses and
+/// roles (their curve neighbours are not all here).
+void ShareCurveRows(const Partition* split, GraphLaplacian& curveL, std::vector<std::uint8_t>& fixed)
+{
+  if (split)
+  {
+    split->UpdateGhosts(curveL.Mass.data(), 1);
+    split->UpdateGhosts(fixed);
+  }
+}
+
 /// The curve-smoothing pass along the detected feature edges (directions
 /// `along` from the anisotropic weights).
 bool SmoothFeatures(const MeshTopology& topo, double* x, const std::vector<Vec3>& along, const VertexRoles& roles,
-  const FairingOptions& opt, GraphLaplacian& curveL, FairingReport& report)
+  const FairingOptions& opt, GraphLaplacian& curveL, FairingReport& report, const Partition* split)
 {
   const Index n = topo.NumberOfVertices();
   std::vector<std::vector<Index>> chains;
@@ -352,11 +363,12 @@ bool SmoothFeatures(const MeshTopology& topo, double* x, const std::vector<Vec3>
   CurveGraph features;
   features.Build(n, {}, chains);
   AssembleCurveLaplacian(features, x, LaplacianWeights::InverseEdgeLength, curveL);
-  Stage curve{ curveL, roles.Fixed, roles.Weight, nullptr, &roles.Moves };
+  Stage curve{ curveL, roles.Fixed, roles.Weight, nullptr, &roles.Moves, split };
   for (Index i = 0; i < n; ++i)
   {
     curve.Fixed[i] = roles.Fixed[i] || roles.Boundary[i] || !onCurve[i];
   }
+  ShareCurveRows(split, curveL, curve.Fixed);
   return Integrate(curve, opt, x, report);
 }
 
@@ -494,6 +506,10 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
       if (split)
       {
         split->UpdateGhosts(omega); // the ghosts' curvatures are not all here
+        if (opt.SmoothFeatureCurves) // (every process, an empty piece's too)
+        {
+          split->UpdateGhosts(reinterpret_cast<double*>(along.data()), 3);
+        }
       }
     }
     // Boundary loops first (they do not depend on the interior), then the
@@ -506,12 +522,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
       {
         curve.Fixed[i] = fixed[i] || boundaryCurves.Offsets[i + 1] - boundaryCurves.Offsets[i] < 2;
       }
-      if (split)
-      {
-        // The ghosts' curve neighbours are not all here: their owners' masses and roles.
-        split->UpdateGhosts(curveL.Mass.data(), 1);
-        split->UpdateGhosts(curve.Fixed);
-      }
+      ShareCurveRows(split, curveL, curve.Fixed);
       defined = Integrate(curve, opt, x, report);
     }
     // The operator's geometry: the current positions (the thesis'
@@ -543,7 +554,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     }
     if (opt.Anisotropic && opt.SmoothFeatureCurves)
     {
-      defined = defined && SmoothFeatures(topo, x, along, roles, opt, curveL, report);
+      defined = defined && SmoothFeatures(topo, x, along, roles, opt, curveL, report, split);
     }
     if (!defined)
     {
@@ -582,10 +593,6 @@ bool CheckOrderWeights(const FairingOptions& opt)
 
 std::string DistributedFairingLimitation(const FairingOptions& opt)
 {
-  if (opt.Anisotropic && opt.SmoothFeatureCurves)
-  {
-    return "the feature curves of anisotropic smoothing";
-  }
   if (opt.Boundary == FairingBoundary::VirtualVertex)
   {
     return "boundaries closed by a virtual vertex";

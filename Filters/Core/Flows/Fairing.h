@@ -191,9 +191,8 @@ FairingReport FairSurface(const MeshTopology& topology, double* points,
   const ProgressCallback& progress = {}, const Partition* split = nullptr);
 
 /// Empty when FairSurface runs `options` distributed, else what it cannot
-/// run that way (the feature curves of anisotropic smoothing, which are
-/// chained over the whole surface; virtual vertices, one per whole boundary
-/// loop): the caller then gathers the surface on one process.
+/// run that way (virtual vertices: one per whole boundary loop, joined to
+/// all its points): the caller then gathers the surface on one process.
 std::string DistributedFairingLimitation(const FairingOptions& options);
 
 } // namespace beltrami

@@ -22,7 +22,10 @@ std::vector<double> AnisotropicWeights(const MeshTopology& topo, const double* x
 
 /// Feature curves for the curve-smoothing pass: edges between edge vertices
 /// that run along both vertices' edge directions (within 30 degrees); only
-/// vertices with exactly two such edges are smoothed.
+/// vertices with exactly two such edges are smoothed.  Distributed (`along`
+/// of the ghosts their owners'), the chains at the owned points are whole:
+/// a ghost's missing edges only change whether a ghost is on a curve, and
+/// its row is its owner's.
 void FeatureChains(const MeshTopology& topo, const double* x, const std::vector<Vec3>& along,
   std::vector<std::vector<Index>>& chains, std::vector<std::uint8_t>& onCurve);
 
