@@ -795,7 +795,7 @@ ViewSegments GatherViewSegments(const ViewSegments& mine, const Partition& split
     }
     packed.insert(packed.end(), mine.Ends[type].begin(), mine.Ends[type].end());
   }
-  const std::vector<double> all = split.AllGather(packed);
+  const std::vector<double> all = split.GatherOnFirst(packed); // (the others return no lines)
   ViewSegments segments;
   for (std::size_t at = 0; at < all.size();)
   {

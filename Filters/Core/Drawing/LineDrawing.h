@@ -234,6 +234,7 @@ LineSet DrawLines(const LineDrawingGeometry& geometry, const LineView& view,
   const LineDrawingOptions& options, const ViewFields& fields = {});
 ViewSegments CollectViewSegments(const LineDrawingGeometry& geometry, const LineView& view,
   const LineDrawingOptions& options, const ViewFields& fields = {});
+/// Every process' segments on process 0 (collective); the others get none.
 ViewSegments GatherViewSegments(const ViewSegments& mine, const Partition& split);
 /// `size`: the feature size the segments were found with.
 LineSet ChainViewSegments(const ViewSegments& segments, const LineDrawingOptions& options, double size);

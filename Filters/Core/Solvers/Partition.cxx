@@ -174,6 +174,17 @@ std::vector<double> Partition::AllGather(const std::vector<double>& values) cons
   return all;
 }
 
+std::vector<double> Partition::GatherOnFirst(const std::vector<double>& values) const
+{
+  std::vector<int> counts(static_cast<std::size_t>(Processes));
+  const int mine = static_cast<int>(values.size());
+  MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, Plan->Comm);
+  const std::vector<int> offsets = OffsetsOf(counts);
+  std::vector<double> all(RankId == 0 ? static_cast<std::size_t>(offsets.back() + counts.back()) : 0);
+  MPI_Gatherv(values.data(), mine, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, 0, Plan->Comm);
+  return all;
+}
+
 double Partition::NthSmallest(const std::vector<double>& values, std::int64_t k) const
 {
   // Non-negative doubles order as their bit patterns: the pattern of the

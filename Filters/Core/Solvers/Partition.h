@@ -90,6 +90,9 @@ public:
   /// (the same on every process): for data much smaller than the rows,
   /// e.g. the boundary of a surface.
   std::vector<double> AllGather(const std::vector<double>& values) const;
+  /// The same on process 0 only (the others get nothing): for results that
+  /// one process finishes, e.g. the segments of a line drawing it chains.
+  std::vector<double> GatherOnFirst(const std::vector<double>& values) const;
   /// The k-th smallest (0-based) of the values of all processes together,
   /// exactly (what std::nth_element gives on all of them); the values must
   /// not be negative, k below their total count.
