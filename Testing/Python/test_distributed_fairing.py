@@ -206,6 +206,8 @@ split_run(mushroom, "mushroom (open)", 1e-3, move_of)
 # solve over the ranks).  The serial numbers up to round-off and the solver
 # tolerance, and no gathering: every rank reports its own piece.
 def distributed_option(source, label, relative=extent_of, prepare=None, partitions=0, **settings):
+    if ranks == 1:
+        return  # (one rank runs the serial path: nothing split to compare)
     faired = split_run(source, label, 1e-9, relative, prepare=prepare, partitions=partitions, **settings)[0]
     owned, = rank_rows(faired, "FairingDistribution", ("Owned",))
     # (One partition over several ranks: one rank holds the whole surface and runs it as in serial.)
