@@ -691,6 +691,7 @@ std::vector<LineSegment> ClipRidges(
     return candidates;
   }
   std::vector<LineSegment> kept;
+  kept.reserve(candidates.size());
   for (LineSegment s : candidates)
   {
     double nv[3];
