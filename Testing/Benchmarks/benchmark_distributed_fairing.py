@@ -5,7 +5,9 @@ of pvbatch (RedistributeDataSet), with the Jacobi preconditioner and (on the
 lighter noise only: on the heavier one a serial multigrid step takes over 10
 minutes, see the README) the multigrid one; and vtkSurfaceDataDenoising at
 its defaults on point data over the same mesh (f = sin(40 x) cos(30 y) plus
-Gaussian noise of 0.15; noise estimated, least-risk stop):
+Gaussian noise of 0.15; noise estimated, least-risk stop), and two fairing
+options that run split since session 39 (anisotropic smoothing with its
+feature curves; ten Taubin lambda|mu steps), on the lighter noise:
 wall time of the filter, solver iterations, the largest share of points and
 triangles a rank holds, and the values each rank sends per ghost update.
 One thread per rank, so 2 ranks use the 2 cores of the CI machines and 4
@@ -13,7 +15,8 @@ ranks are oversubscribed (2 per core): read the 4-rank times as such.  The
 1-rank run is the serial code path (the data are whole on one rank).
 Run:  source build/beltrami-env.sh && /usr/bin/python3 Testing/Benchmarks/benchmark_distributed_fairing.py
 (it starts `mpirun ... pvbatch` itself; a worker prints one JSON line per case).
-`--only denoising` (or `fairing`) runs one filter's cases."""
+`--only denoising` (or `fairing`, or `options`) runs one group of cases
+(without --only: all but `options`)."""
 import json
 import os
 import subprocess
@@ -22,12 +25,18 @@ import tempfile
 import time
 
 HERE = os.path.abspath(__file__)
-NOISES = {0.003: (("Jacobi", 0), ("data denoising", None)), 0.00075: (("Jacobi", 0), ("multigrid", 1))}
+# Per noise: (case, the fairing's settings; None: data denoising).
+NOISES = {0.003: (("Jacobi", {"Preconditioner": 0}), ("data denoising", None)),
+          0.00075: (("Jacobi", {"Preconditioner": 0}), ("multigrid", {"Preconditioner": 1}),
+                    ("anisotropic", {"Anisotropic": 1, "SmoothFeatureCurves": 1}),
+                    ("Taubin x10", {"Integration": 2, "Operator": 0, "NumberOfIterations": 10}))}
+GROUPS = {"data denoising": "denoising", "anisotropic": "options", "Taubin x10": "options"}
 ONLY = sys.argv[sys.argv.index("--only") + 1] if "--only" in sys.argv else None
 
 
 def wanted(case):
-    return ONLY is None or (ONLY == "denoising") == (case == "data denoising")
+    group = GROUPS.get(case, "fairing")
+    return group == ONLY if ONLY else group != "options"
 
 
 def split_mesh(mesh_file):
@@ -50,14 +59,14 @@ def worker(mesh_file, noise):
     from paraview import servermanager, simple
     from vtkmodules.util.numpy_support import vtk_to_numpy
     ranks, split = split_mesh(mesh_file)
-    for name, preconditioner in NOISES[noise]:
+    for name, settings in NOISES[noise]:
         if not wanted(name):
             continue
-        if preconditioner is None:
+        if settings is None:
             faired = simple.SurfaceDataDenoising(Input=split, NumberOfThreads=1)
             faired.ArrayToSmooth = ["POINTS", "f"]
         else:
-            faired = simple.ImplicitFairing(Input=split, NumberOfThreads=1, Preconditioner=preconditioner)
+            faired = simple.ImplicitFairing(Input=split, NumberOfThreads=1, **settings)
         start = time.perf_counter()
         faired.UpdatePipeline()
         seconds = time.perf_counter() - start
