@@ -13,6 +13,7 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <utility>
 
 namespace beltrami
 {
@@ -111,9 +112,10 @@ void Corners(const IndexArray& tri, Index f, const double* field, double* out)
   }
 }
 
-/// Runs body(face, lists) over all faces, in blocks that each fill their
-/// own `count` lists of segments; returns the `count` lists with the
-/// blocks' segments in face order (the same for any thread count).
+/// Runs body(face, lists) over all faces (or other items: ridge
+/// candidates), in blocks that each fill their own `count` lists of
+/// segments; returns the `count` lists with the blocks' segments in face
+/// order (the same for any thread count).
 template <typename Body>
 std::vector<std::vector<LineSegment>> CollectSegments(Index numFaces, int numThreads, int count, Body&& body)
 {
@@ -490,29 +492,38 @@ struct LineFilter
 /// corner strengths).
 template <typename Strength>
 void Resolve(const LineDrawingGeometry& geo, const std::vector<LineSegment>& segments, LineType type,
-  Strength&& strength, ViewSegments& out)
+  Strength&& strength, ViewSegments& out, int threads)
 {
   std::vector<std::int64_t>& keys = out.Keys[static_cast<int>(type)];
   std::vector<double>& ends = out.Ends[static_cast<int>(type)];
-  for (std::size_t i = 0; i < segments.size(); ++i)
-  {
-    const LineSegment& s = segments[i];
-    const Index* v = geo.Triangles.data() + 3 * static_cast<std::int64_t>(s.Face);
-    double corners[3];
-    strength(static_cast<Index>(i), v, corners);
-    for (const LineEnd& end : s.End)
+  const std::size_t first = keys.size(); // (in place, in parallel: each segment its own slots)
+  keys.resize(first + 2 * segments.size());
+  ends.resize(ViewSegments::ValuesPerEnd * keys.size());
+  ParallelFor(static_cast<std::int64_t>(segments.size()), threads, [&](std::int64_t begin, std::int64_t last) {
+    for (std::int64_t i = begin; i < last; ++i)
     {
-      Vec3 p = Vec3::Zero(), n = Vec3::Zero();
-      for (int k = 0; k < 3; ++k)
+      const LineSegment& s = segments[i];
+      const Index* v = geo.Triangles.data() + 3 * static_cast<std::int64_t>(s.Face);
+      double corners[3];
+      strength(static_cast<Index>(i), v, corners);
+      for (int e = 0; e < 2; ++e)
       {
-        p += end.W[k] * Point(geo.Points.data(), v[k]);
-        n += end.W[k] * Point(geo.Normals.data(), v[k]);
+        const LineEnd& end = s.End[e];
+        Vec3 p = Vec3::Zero(), n = Vec3::Zero();
+        for (int k = 0; k < 3; ++k)
+        {
+          p += end.W[k] * Point(geo.Points.data(), v[k]);
+          n += end.W[k] * Point(geo.Normals.data(), v[k]);
+        }
+        n.normalize();
+        const std::size_t at = first + 2 * static_cast<std::size_t>(i) + e;
+        keys[at] = end.Key;
+        const double values[ViewSegments::ValuesPerEnd] = { p[0], p[1], p[2], n[0], n[1], n[2],
+          Interpolate(end, corners) };
+        std::copy(values, values + ViewSegments::ValuesPerEnd, ends.begin() + ViewSegments::ValuesPerEnd * at);
       }
-      n.normalize();
-      keys.push_back(end.Key);
-      ends.insert(ends.end(), { p[0], p[1], p[2], n[0], n[1], n[2], Interpolate(end, corners) });
     }
-  }
+  });
 }
 
 /// Turns the segments of `type` into polylines with their points'
@@ -690,18 +701,17 @@ std::vector<LineSegment> ClipRidges(
   {
     return candidates;
   }
-  std::vector<LineSegment> kept;
-  kept.reserve(candidates.size());
-  for (LineSegment s : candidates)
-  {
-    double nv[3];
-    Corners(geo.Triangles, s.Face, ndotv, nv);
-    if (Clip(s, nv))
-    {
-      kept.push_back(s);
-    }
-  }
-  return kept;
+  // (The blocks of CollectSegments over the candidates: in parallel, in their order.)
+  return std::move(CollectSegments(static_cast<Index>(candidates.size()), options.NumberOfThreads, 1,
+    [&](Index i, std::vector<LineSegment>* out) {
+      LineSegment s = candidates[i];
+      double nv[3];
+      Corners(geo.Triangles, s.Face, ndotv, nv);
+      if (Clip(s, nv))
+      {
+        out[0].push_back(s);
+      }
+    })[0]);
 }
 
 /// Appends the edges sharper than the crease angle that this process draws.
@@ -719,7 +729,7 @@ void ResolveCreases(const LineDrawingGeometry& geo, const LineDrawingOptions& op
     }
   }
   Resolve(geo, creases, LineType::Crease,
-    [&](Index s, const Index*, double* c) { c[0] = c[1] = c[2] = angles[s]; }, segments);
+    [&](Index s, const Index*, double* c) { c[0] = c[1] = c[2] = angles[s]; }, segments, options.NumberOfThreads);
 }
 
 } // namespace
@@ -756,22 +766,23 @@ ViewSegments CollectViewSegments(const LineDrawingGeometry& geo, const LineView&
       }
     };
   };
-  Resolve(geo, lists[0], LineType::Contour, one, segments);
-  Resolve(geo, lists[1], LineType::SuggestiveContour, vertexStrength(drkr, scale), segments);
-  Resolve(geo, lists[2], LineType::SuggestiveHighlight, vertexStrength(drkr, -scale), segments);
+  const int threads = options.NumberOfThreads;
+  Resolve(geo, lists[0], LineType::Contour, one, segments, threads);
+  Resolve(geo, lists[1], LineType::SuggestiveContour, vertexStrength(drkr, scale), segments, threads);
+  Resolve(geo, lists[2], LineType::SuggestiveHighlight, vertexStrength(drkr, -scale), segments, threads);
   if (draw[int(LineType::Ridge)])
   {
     Resolve(geo, ClipRidges(geo, options, size, ndotv, false), LineType::Ridge, vertexStrength(geo.K1.data(), size),
-      segments);
+      segments, threads);
   }
   if (draw[int(LineType::Valley)])
   {
     Resolve(geo, ClipRidges(geo, options, size, ndotv, true), LineType::Valley,
-      vertexStrength(geo.K2.data(), -size), segments);
+      vertexStrength(geo.K2.data(), -size), segments, threads);
   }
   if (draw[int(LineType::Boundary)])
   {
-    Resolve(geo, geo.BoundaryEdges, LineType::Boundary, one, segments);
+    Resolve(geo, geo.BoundaryEdges, LineType::Boundary, one, segments, threads);
   }
   if (draw[int(LineType::Crease)])
   {
