@@ -153,6 +153,63 @@ void ExpectSolved(const FlowSystem& s, int nc, double tolerance, const std::vect
 
 } // namespace
 
+TEST(Solvers, CoupledColumnsSolveAnOperatorThatMixesThem)
+{
+  // A = L (x) I + I (x) C: a shifted path Laplacian on each of 3 columns,
+  // plus a coupling of a row's values (C symmetric positive definite), so
+  // that one CG over all 3n values is the right method; rows 0 and n-1
+  // fixed.  With CoupledColumns the solve meets the tolerance on the whole
+  // vector and the fixed rows keep their values.
+  const Index n = 200;
+  const double C[3][3] = { { 1.0, 0.6, 0.3 }, { 0.6, 1.0, 0.6 }, { 0.3, 0.6, 1.0 } };
+  const auto apply = [&](const double* x, double* y) {
+    for (Index i = 0; i < n; ++i)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        double v = 2.1 * x[3 * i + c];
+        v -= i > 0 ? x[3 * (i - 1) + c] : 0.0;
+        v -= i + 1 < n ? x[3 * (i + 1) + c] : 0.0;
+        for (int d = 0; d < 3; ++d)
+        {
+          v += C[c][d] * x[3 * i + d];
+        }
+        y[3 * i + c] = v;
+      }
+    }
+  };
+  std::vector<double> b(3 * n), x(3 * n, 0.0), diag(n, 3.1);
+  std::vector<std::uint8_t> fixed(n, 0);
+  fixed[0] = fixed[n - 1] = 1;
+  for (Index i = 0; i < 3 * n; ++i)
+  {
+    b[i] = std::sin(0.37 * i) + 0.2 * std::cos(1.3 * i);
+  }
+  x[0] = 1.0, x[3 * n - 1] = -2.0;
+  ConjugateGradientProblem pb;
+  pb.Rows = n;
+  pb.Columns = 3;
+  pb.CoupledColumns = true;
+  pb.Apply = apply;
+  pb.Diagonal = diag.data();
+  pb.Fixed = fixed.data();
+  pb.Scale.assign(3, 1.0);
+  pb.Tolerance = 1e-10;
+  const ConjugateGradientResult r = SolveConjugateGradient(pb, b.data(), x.data());
+  EXPECT_TRUE(r.Converged);
+  std::vector<double> ax(3 * n);
+  apply(x.data(), ax.data());
+  double residual = 0.0, norm = 0.0;
+  for (Index i = 3; i < 3 * (n - 1); ++i) // the free rows
+  {
+    residual += (ax[i] - b[i]) * (ax[i] - b[i]);
+    norm += b[i] * b[i];
+  }
+  EXPECT_LT(std::sqrt(residual / norm), 1e-9) << r.Iterations << " iterations";
+  EXPECT_EQ(x[0], 1.0);
+  EXPECT_EQ(x[3 * n - 1], -2.0);
+}
+
 TEST(Solvers, LocalityOrderIsAPermutationOverComponents)
 {
   // Two separate triangles, an isolated vertex, and a path.
