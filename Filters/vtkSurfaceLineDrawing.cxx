@@ -42,6 +42,10 @@ struct vtkSurfaceLineDrawing::Kept
   vtkIdType InputPoints = 0; ///< the input's (a split piece's topology has ghost points after them)
   /// Split runs: the field array LineDrawingDistribution.
   vtkSmartPointer<vtkFieldData> Distribution;
+  /// The last view's NdotV, RadialCurvature, RadialCurvatureDerivative: the
+  /// next view writes over them when nothing else holds them any more (no
+  /// fresh pages for 24 bytes per point at every camera change).
+  vtkSmartPointer<vtkDoubleArray> ViewArrays[3];
   const void* Input = nullptr;
   vtkMTimeType InputTime = 0;
 };
@@ -261,14 +265,23 @@ int vtkSurfaceLineDrawing::DrawView(vtkPolyData* output, vtkPolyData* surface)
     return 0;
   }
   const vtkIdType n = geometry.NumberOfVertices();
-  auto ndotv = NewArray("NdotV", 1, n);
-  auto kr = NewArray("RadialCurvature", 1, n);
-  auto drkr = NewArray("RadialCurvatureDerivative", 1, n);
-  const beltrami::ViewFields fields{ ndotv->GetPointer(0), kr->GetPointer(0), drkr->GetPointer(0) };
-  WriteLines(beltrami::DrawLines(geometry, view, options, fields), output);
+  const char* names[3] = { "NdotV", "RadialCurvature", "RadialCurvatureDerivative" };
+  double* values[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    vtkSmartPointer<vtkDoubleArray>& array = this->Cache->ViewArrays[k];
+    if (!array || array->GetReferenceCount() > 1) // (held downstream: a new one)
+    {
+      array = NewArray(names[k], 1, n);
+    }
+    array->SetNumberOfTuples(n); // (every value is written)
+    array->Modified();
+    values[k] = array->GetPointer(0);
+  }
+  WriteLines(beltrami::DrawLines(geometry, view, options, { values[0], values[1], values[2] }), output);
   vtkPointData* pd = surface->GetPointData();
   pd->AddArray(this->Cache->Derivatives);
-  for (vtkDoubleArray* array : { ndotv.Get(), kr.Get(), drkr.Get() })
+  for (vtkDoubleArray* array : this->Cache->ViewArrays)
   {
     array->SetNumberOfTuples(this->Cache->InputPoints); // (split: drops the ghost points' values)
     pd->AddArray(array);

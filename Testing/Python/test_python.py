@@ -740,7 +740,7 @@ class LineDrawingFromPython(unittest.TestCase):
         f = self.drawing(reader)
         f.SetRidges(True)
         cameras = ((0.0, 0.02, 0.4), (0.4, 0.1, 0.0), (-0.3, 0.2, -0.2))
-        counts = []
+        counts, addresses = [], []
         for camera in cameras:
             f.SetCameraPosition(camera)
             f.Update()
@@ -764,8 +764,18 @@ class LineDrawingFromPython(unittest.TestCase):
             surface = f.GetOutputDataObject(1)
             self.assertEqual(surface.GetNumberOfPoints(), 37706)
             self.assertEqual(surface.GetPointData().GetArray("CurvatureDerivative").GetNumberOfComponents(), 4)
+            # The per-view arrays are a fresh filter's for this camera, written
+            # over the last view's (nothing else holds them): no new memory.
+            fresh = self.drawing(reader)
+            fresh.SetRidges(True)
+            fresh.SetCameraPosition(camera)
+            fresh.Update()
             for name in ("NdotV", "RadialCurvature", "RadialCurvatureDerivative"):
-                self.assertIsNotNone(surface.GetPointData().GetArray(name))
+                ours = vtk_to_numpy(surface.GetPointData().GetArray(name)).copy()
+                theirs = vtk_to_numpy(fresh.GetOutputDataObject(1).GetPointData().GetArray(name)).copy()
+                np.testing.assert_array_equal(ours, theirs, name)
+            addresses.append(surface.GetPointData().GetArray("NdotV").__this__)  # (no reference kept)
+        self.assertEqual(len(set(addresses)), 1, "the per-view arrays reused")
         self.assertEqual(f.GetGeometryBuilds(), 1)
         self.assertEqual(len(set(counts)), len(cameras), "each camera its own drawing")
         # Parallel projection: the view direction is what counts.
