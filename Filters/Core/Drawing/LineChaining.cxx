@@ -12,8 +12,8 @@ namespace
 /// (key, id) pairs with keys >= 0 and ids ascending sorted by key, ties in
 /// id order (what std::sort gives them): a least-significant-digit radix
 /// sort, 11 bits a pass, as many passes as the largest key needs (the keys
-/// are vertex and edge numbers: two or three passes, about 10x faster than
-/// std::sort on a view's 100k ends).
+/// are vertex and edge numbers: two or three passes; with std::sort the
+/// per-view pass of the 1.2M-triangle bunny took about 8% longer).
 void SortByKey(std::vector<std::pair<std::int64_t, std::int64_t>>& items)
 {
   constexpr int bits = 11, buckets = 1 << bits;
