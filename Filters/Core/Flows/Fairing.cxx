@@ -222,12 +222,9 @@ VertexRoles ClassifyVertices(const MeshTopology& topo, const double* x, const Fa
     static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3: 3 packed doubles");
     split->UpdateGhosts(reinterpret_cast<double*>(r.Moves.Direction.data()), 3);
     r.Moves.Any = split->Max(r.Moves.Any ? 1.0 : 0.0) > 0.0;
-  }
-  r.HardConstraints = r.HardConstraints || r.Moves.Any;
-  if (split)
-  {
     r.HardConstraints = split->Max(r.HardConstraints ? 1.0 : 0.0) > 0.0;
   }
+  r.HardConstraints = r.HardConstraints || r.Moves.Any;
   return r;
 }
 
