@@ -38,77 +38,98 @@ Vec3 RotateLike(const Vec3& x, const Vec3& from, const Vec3& to)
 /// factors; false where a pivot is not positive (or not finite).
 inline bool SolveTridiagonal(const double (&diagonal)[4], double off, const double (&r)[4], double (&x)[4])
 {
-  double pivot[4], factor[4], z[4];
-  pivot[0] = diagonal[0];
+  double inverse[4], factor[4], z[4];
+  bool positive = diagonal[0] > 0.0;
+  inverse[0] = 1.0 / diagonal[0];
   z[0] = r[0];
   for (int k = 1; k < 4; ++k)
   {
-    factor[k] = off / pivot[k - 1];
-    pivot[k] = diagonal[k] - factor[k] * off;
+    factor[k] = off * inverse[k - 1];
+    const double pivot = diagonal[k] - factor[k] * off;
+    positive = positive && pivot > 0.0;
+    inverse[k] = 1.0 / pivot;
     z[k] = r[k] - factor[k] * z[k - 1];
   }
-  x[3] = z[3] / pivot[3];
+  x[3] = z[3] * inverse[3];
   for (int k = 2; k >= 0; --k)
   {
-    x[k] = z[k] / pivot[k] - factor[k + 1] * x[k + 1];
+    x[k] = z[k] * inverse[k] - factor[k + 1] * x[k + 1];
   }
-  bool positive = true;
   for (int k = 0; k < 4; ++k)
   {
-    positive = positive && pivot[k] > 0.0 && std::isfinite(x[k]);
+    positive = positive && std::isfinite(x[k]);
   }
   return positive;
 }
 
 /// A face's tensor C in its frame (U, N x U); per corner the mixed area
-/// (figure 2.3; 0 where degenerate), the weight of its vertex's average,
-/// and the vertex's e1 turned into the face's plane, in that frame.
+/// (figure 2.3), the weight of its vertex's average, and the vertex's e1
+/// turned into the face's plane, in that frame.
 struct FaceDerivative
 {
   double C[4];
-  Vec3 U, N;
   double MixedArea[3];
   double Cos[3], Sin[3];
 };
 
+/// What a face reads of each of its vertices, side by side: position,
+/// normal, e1, kappa_1, kappa_2 (from five arrays read at random, the
+/// cache misses were most of the faces' time).
+constexpr int FrameSize = 11;
+enum FramePart
+{
+  FramePoint = 0,
+  FrameNormal = 3,
+  FrameDirection = 6,
+  FrameMaximum = 9,
+  FrameMinimum = 10
+};
+
+/// The faces ahead whose vertex frames the face loop asks for: it waited
+/// on those random reads for half of its time.
+constexpr std::int64_t PrefetchDistance = 8;
+
 /// Rusinkiewicz's per-face fit: false where a vertex tensor is undefined
 /// or the face is degenerate.
-template <typename T>
-bool FitFace(const T* points, const CurvatureTensors& t, const Index* v, Index f, FaceDerivative& face)
+bool FitFace(const double* frames, const Index* v, FaceDerivative& face)
 {
   Vec3 p[3];
   for (int k = 0; k < 3; ++k)
   {
-    p[k] = LoadPoint<3>(points, 3, v[k]);
+    p[k] = LoadPoint<3>(frames, FrameSize, v[k]);
   }
-  const Vec3 normal = (p[1] - p[0]).cross(p[2] - p[0]);
-  const double longest =
-    std::max({ (p[1] - p[0]).squaredNorm(), (p[2] - p[1]).squaredNorm(), (p[0] - p[2]).squaredNorm() });
-  if (!(normal.norm() > DegenerateTolerance * longest))
+  const Vec3 edge[3] = { p[1] - p[0], p[2] - p[1], p[0] - p[2] }; // edge k: from corner k to k + 1
+  const double squared[3] = { edge[0].squaredNorm(), edge[1].squaredNorm(), edge[2].squaredNorm() };
+  const Vec3 normal = edge[0].cross(-edge[2]);
+  const double twiceArea = normal.norm();
+  if (!(twiceArea > DegenerateTolerance * std::max({ squared[0], squared[1], squared[2] })))
   {
     return false;
   }
+  // The corners' mixed areas with one square root for the three (the
+  // corner geometry of the 1-ring loops takes one each).
+  const double inverseTwiceArea = 1.0 / twiceArea;
   for (int k = 0; k < 3; ++k)
   {
-    // As ForEachRingCorner gives corner k: (x_k, its next, its previous).
-    face.MixedArea[k] = MakeCornerGeometry<3>(points, 3, p[k], 3 * f + k, v[(k + 1) % 3], v[(k + 2) % 3]).MixedArea;
+    const double aa = squared[k], bb = squared[(k + 2) % 3], ab = -edge[k].dot(edge[(k + 2) % 3]);
+    face.MixedArea[k] =
+      CornerMixedArea(aa, bb, ab, twiceArea, (aa - ab) * inverseTwiceArea, (bb - ab) * inverseTwiceArea);
   }
-  face.N = normal.normalized();
-  face.U = (p[1] - p[0]).normalized();
-  const Vec3 V = face.N.cross(face.U);
+  const Vec3 N = normal * inverseTwiceArea;
+  const Vec3 U = edge[0] / std::sqrt(squared[0]);
+  const Vec3 V = N.cross(U);
   double tensor[3][3]; // entries 11, 12, 22 of each vertex's tensor in the face frame
   for (int k = 0; k < 3; ++k)
   {
-    const double k1 = t.Maximum[v[k]], k2 = t.Minimum[v[k]];
-    const Vec3 e1 = RotateLike(Point(t.Direction1, v[k]), Point(t.Normals, v[k]), face.N);
-    face.Cos[k] = e1.dot(face.U);
-    face.Sin[k] = e1.dot(V);
-    const double length = std::sqrt(face.Cos[k] * face.Cos[k] + face.Sin[k] * face.Sin[k]); // (about 1)
-    if (!(length > 0.0) || !std::isfinite(k1) || !std::isfinite(k2))
+    const double* frame = frames + FrameSize * static_cast<std::int64_t>(v[k]);
+    const double k1 = frame[FrameMaximum], k2 = frame[FrameMinimum];
+    // (A rotation keeps e1 a unit vector, now in the face's plane.)
+    const Vec3 e1 = RotateLike(Vec3(frame + FrameDirection), Vec3(frame + FrameNormal), N);
+    const double c = face.Cos[k] = e1.dot(U), s = face.Sin[k] = e1.dot(V);
+    if (!(c * c + s * s > 0.5) || !std::isfinite(k1) || !std::isfinite(k2))
     {
       return false;
     }
-    const double c = face.Cos[k] / length, s = face.Sin[k] / length;
     tensor[k][0] = k1 * c * c + k2 * s * s;
     tensor[k][1] = (k1 - k2) * c * s;
     tensor[k][2] = k1 * s * s + k2 * c * c;
@@ -120,8 +141,7 @@ bool FitFace(const T* points, const CurvatureTensors& t, const Index* v, Index f
   for (int a = 0; a < 3; ++a)
   {
     const int b = (a + 1) % 3;
-    const Vec3 d = p[b] - p[a];
-    const double du = d.dot(face.U), dv = d.dot(V);
+    const double du = edge[a].dot(U), dv = edge[a].dot(V);
     const double t0 = tensor[b][0] - tensor[a][0], t1 = tensor[b][1] - tensor[a][1], t2 = tensor[b][2] - tensor[a][2];
     uu += du * du;
     uv += du * dv;
@@ -148,7 +168,9 @@ struct CornerTerm
 /// normal to the vertex's is the inverse of the one FitFace turned e1 by,
 /// so in the face frame turned into the vertex's plane (R U, R V) e1 has
 /// the parts e1 . R U = R^-1 e1 . U = Cos[k] and Sin[k], and e2 = n x e1
-/// the parts -Sin[k], Cos[k].
+/// the parts -Sin[k], Cos[k]: the four values are C(a,a,a), C(a,a,b),
+/// C(a,b,b), C(b,b,b) of EvaluateCubicForm with a = (c, s), b = (-s, c),
+/// expanded.
 CornerTerm TermOf(const FaceDerivative& face, int k)
 {
   const double area = face.MixedArea[k];
@@ -156,10 +178,12 @@ CornerTerm TermOf(const FaceDerivative& face, int k)
   {
     return CornerTerm{};
   }
-  const double a[2] = { face.Cos[k], face.Sin[k] }, b[2] = { -face.Sin[k], face.Cos[k] };
-  const double* c = face.C;
-  return CornerTerm{ { area * EvaluateCubicForm(c, a, a, a), area * EvaluateCubicForm(c, a, a, b),
-                       area * EvaluateCubicForm(c, a, b, b), area * EvaluateCubicForm(c, b, b, b) },
+  const double c = face.Cos[k], s = face.Sin[k], cc = c * c, cs = c * s, ss = s * s;
+  const double* C = face.C;
+  return CornerTerm{ { area * (c * (C[0] * cc + 3.0 * C[2] * ss) + s * (3.0 * C[1] * cc + C[3] * ss)),
+                       area * (c * (C[1] * (cc - 2.0 * ss) + C[3] * ss) + s * (C[2] * (2.0 * cc - ss) - C[0] * cc)),
+                       area * (c * (C[2] * (cc - 2.0 * ss) + C[3] * cs) + s * (C[1] * (ss - 2.0 * cc) + C[0] * cs)),
+                       area * (c * (C[3] * cc - 3.0 * C[2] * cs) + s * (3.0 * C[1] * cs - C[0] * ss)) },
     area };
 }
 
@@ -170,30 +194,44 @@ Index ComputeCurvatureDerivatives(const MeshTopology& topo, const T* points, con
   double* derivatives, int numThreads)
 {
   const Index numFaces = topo.NumberOfTriangles();
-  const Index* firstCorner = topo.CornersBegin(0);
-  // Each corner's slot in its vertex's list of corners: the faces write
-  // their corners' terms there, and the vertices read theirs in order.
-  LargeVector<Index> slot(3 * static_cast<std::size_t>(numFaces));
+  LargeVector<double> frames(FrameSize * static_cast<std::size_t>(topo.NumberOfVertices()));
   ParallelFor(topo.NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
-    for (Index i = static_cast<Index>(begin); i < end; ++i)
+    for (std::int64_t i = begin; i < end; ++i)
     {
-      for (const Index* c = topo.CornersBegin(i); c != topo.CornersEnd(i); ++c)
+      double* frame = frames.data() + FrameSize * i;
+      for (int k = 0; k < 3; ++k)
       {
-        slot[*c] = static_cast<Index>(c - firstCorner);
+        frame[FramePoint + k] = static_cast<double>(points[3 * i + k]);
+        frame[FrameNormal + k] = t.Normals[3 * i + k];
+        frame[FrameDirection + k] = t.Direction1[3 * i + k];
       }
+      frame[FrameMaximum] = t.Maximum[i];
+      frame[FrameMinimum] = t.Minimum[i];
     }
   });
-  LargeVector<CornerTerm> terms(slot.size());
+  // Each corner's term in corner order (written in sequence: writing them
+  // into their vertices' order took a third more time), read by the
+  // vertices through their corner lists.
+  LargeVector<CornerTerm> terms(3 * static_cast<std::size_t>(numFaces));
   const IndexArray& tri = topo.TriangleList();
   ParallelFor(numFaces, numThreads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t f = begin; f < end; ++f)
     {
       const Index* v = tri.data() + 3 * f;
+      if (f + PrefetchDistance < end)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          const double* frame = frames.data() + FrameSize * static_cast<std::int64_t>(v[3 * PrefetchDistance + k]);
+          __builtin_prefetch(frame);
+          __builtin_prefetch(frame + FrameSize - 1);
+        }
+      }
       FaceDerivative face;
-      const bool fitted = FitFace(points, t, v, static_cast<Index>(f), face);
+      const bool fitted = FitFace(frames.data(), v, face);
       for (int k = 0; k < 3; ++k)
       {
-        terms[slot[3 * f + k]] = fitted ? TermOf(face, k) : CornerTerm{};
+        terms[3 * f + k] = fitted ? TermOf(face, k) : CornerTerm{};
       }
     }
   });
@@ -202,14 +240,21 @@ Index ComputeCurvatureDerivatives(const MeshTopology& topo, const T* points, con
     Index missing = 0;
     for (Index i = static_cast<Index>(begin); i < end; ++i)
     {
+      if (i + PrefetchDistance < end) // (the corners' terms are random reads)
+      {
+        for (const Index* c = topo.CornersBegin(i + PrefetchDistance); c != topo.CornersEnd(i + PrefetchDistance); ++c)
+        {
+          __builtin_prefetch(terms.data() + *c);
+        }
+      }
       double sum[4] = { 0, 0, 0, 0 }, weight = 0.0;
-      for (std::int64_t s = topo.CornersBegin(i) - firstCorner; s < topo.CornersEnd(i) - firstCorner; ++s)
+      for (const Index* c = topo.CornersBegin(i); c != topo.CornersEnd(i); ++c)
       {
         for (int k = 0; k < 4; ++k)
         {
-          sum[k] += terms[s].Weighted[k];
+          sum[k] += terms[*c].Weighted[k];
         }
-        weight += terms[s].Area;
+        weight += terms[*c].Area;
       }
       double* out = derivatives + 4 * static_cast<std::int64_t>(i);
       for (int k = 0; k < 4; ++k)

@@ -393,6 +393,57 @@ std::string MeshTopology::Describe() const
   return os.str();
 }
 
+void MeshTopology::VertexEdges(Index v, std::vector<VertexEdge>& edges) const
+{
+  edges.clear();
+  const Index* pairs = RingPairsBegin(v);
+  const Index* corners = CornersBegin(v);
+  const Index valence = Valence(v);
+  bool fan = Flags[v] == VertexRegular;
+  // One consistently oriented fan: the neighbour after corner a is the one
+  // before exactly one other corner b, and a, b are the edge's triangles.
+  for (Index a = 0; fan && a < valence; ++a)
+  {
+    Index b = 0;
+    while (b < valence && pairs[2 * b + 1] != pairs[2 * a])
+    {
+      ++b;
+    }
+    fan = b < valence;
+    if (fan)
+    {
+      const Index leaving = Prev(corners[a]), entering = Next(corners[b]);
+      edges.push_back(leaving < entering ? VertexEdge{ pairs[2 * a], { leaving, entering }, { a, b }, 2 }
+                                         : VertexEdge{ pairs[2 * a], { entering, leaving }, { b, a }, 2 });
+    }
+  }
+  if (fan)
+  {
+    std::sort(edges.begin(), edges.end(),
+      [](const VertexEdge& x, const VertexEdge& y) { return x.Neighbor < y.Neighbor; });
+    return;
+  }
+  edges.clear();
+  thread_local std::vector<RingEntry> ring;
+  GatherRing(*this, v, ring);
+  for (std::size_t g = 0; g < ring.size();)
+  {
+    std::size_t h = g;
+    while (h < ring.size() && ring[h].Neighbor == ring[g].Neighbor)
+    {
+      ++h;
+    }
+    VertexEdge edge{ ring[g].Neighbor, { -1, -1 }, { -1, -1 }, static_cast<int>(std::min<std::size_t>(h - g, 255)) };
+    for (std::size_t k = 0; k < std::min<std::size_t>(h - g, 2); ++k)
+    {
+      edge.Opposite[k] = OppositeCorner(ring[g + k]);
+      edge.Local[k] = ring[g + k].LocalFace;
+    }
+    edges.push_back(edge);
+    g = h;
+  }
+}
+
 const MeshTopology::EdgeTable& MeshTopology::Edges() const
 {
   std::call_once(EdgesOnce, [this]() {
@@ -402,21 +453,13 @@ const MeshTopology::EdgeTable& MeshTopology::Edges() const
     table->NeighborOffsets.assign(nv + 1, 0);
     // Pass 1: count neighbours and owned edges (neighbour id > v) per vertex.
     ParallelFor(NumVertices, NumThreads, [&](std::int64_t begin, std::int64_t end) {
-      std::vector<RingEntry> ring;
+      std::vector<VertexEdge> edges;
       for (Index v = static_cast<Index>(begin); v < end; ++v)
       {
-        GatherRing(*this, v, ring);
-        std::int64_t neighbors = 0, owned = 0;
-        for (std::size_t g = 0; g < ring.size(); ++g)
-        {
-          if (g == 0 || ring[g].Neighbor != ring[g - 1].Neighbor)
-          {
-            ++neighbors;
-            owned += ring[g].Neighbor > v;
-          }
-        }
-        table->NeighborOffsets[v + 1] = neighbors;
-        ownedOffsets[v + 1] = owned;
+        VertexEdges(v, edges);
+        table->NeighborOffsets[v + 1] = static_cast<std::int64_t>(edges.size());
+        ownedOffsets[v + 1] = std::count_if(
+          edges.begin(), edges.end(), [v](const VertexEdge& e) { return e.Neighbor > v; });
       }
     });
     std::partial_sum(table->NeighborOffsets.begin(), table->NeighborOffsets.end(),
@@ -424,41 +467,33 @@ const MeshTopology::EdgeTable& MeshTopology::Edges() const
     std::partial_sum(ownedOffsets.begin(), ownedOffsets.end(), ownedOffsets.begin());
     const std::int64_t numEdges = ownedOffsets[nv];
     table->Vertices.resize(2 * numEdges);
-    table->OppositeCorners.assign(2 * numEdges, -1);
+    table->OppositeCorners.resize(2 * numEdges);
     table->FaceCount.resize(numEdges);
     table->Neighbors.resize(table->NeighborOffsets[nv]);
-    table->NeighborEdges.assign(table->NeighborOffsets[nv], -1);
+    table->NeighborEdges.resize(table->NeighborOffsets[nv]);
     // Pass 2: fill owned edges and the neighbour lists.
     ParallelFor(NumVertices, NumThreads, [&](std::int64_t begin, std::int64_t end) {
-      std::vector<RingEntry> ring;
+      std::vector<VertexEdge> edges;
       for (Index v = static_cast<Index>(begin); v < end; ++v)
       {
-        GatherRing(*this, v, ring);
+        VertexEdges(v, edges);
         std::int64_t slot = table->NeighborOffsets[v];
         std::int64_t edge = ownedOffsets[v];
-        for (std::size_t g = 0; g < ring.size();)
+        for (const VertexEdge& e : edges)
         {
-          std::size_t h = g;
-          while (h < ring.size() && ring[h].Neighbor == ring[g].Neighbor)
-          {
-            ++h;
-          }
-          const Index n = ring[g].Neighbor;
-          table->Neighbors[slot] = n;
-          if (n > v)
+          table->Neighbors[slot] = e.Neighbor;
+          table->NeighborEdges[slot] = -1;
+          if (e.Neighbor > v)
           {
             table->NeighborEdges[slot] = edge;
             table->Vertices[2 * edge] = v;
-            table->Vertices[2 * edge + 1] = n;
-            table->FaceCount[edge] = static_cast<std::uint8_t>(std::min<std::size_t>(h - g, 255));
-            for (std::size_t k = 0; k < std::min<std::size_t>(h - g, 2); ++k)
-            {
-              table->OppositeCorners[2 * edge + k] = OppositeCorner(ring[g + k]);
-            }
+            table->Vertices[2 * edge + 1] = e.Neighbor;
+            table->FaceCount[edge] = static_cast<std::uint8_t>(e.Faces);
+            table->OppositeCorners[2 * edge] = e.Opposite[0];
+            table->OppositeCorners[2 * edge + 1] = e.Opposite[1];
             ++edge;
           }
           ++slot;
-          g = h;
         }
       }
     });

@@ -117,6 +117,22 @@ public:
   /// loops, defects), e.g. for error messages.
   std::string Describe() const;
 
+  /// One undirected edge at a vertex (VertexEdges): the vertex at its other
+  /// end, the number of triangles using it (saturating at 255), the corners
+  /// opposite it in the first two of those triangles (ascending; -1 if
+  /// absent) and those triangles' positions in the vertex's list of corners
+  /// (CornersBegin).
+  struct VertexEdge
+  {
+    Index Neighbor;
+    Index Opposite[2];
+    Index Local[2];
+    int Faces;
+  };
+  /// The edges at v, ascending by neighbour, into `edges` (the caller's
+  /// workspace); thread-safe, and without sorting at regular vertices.
+  void VertexEdges(Index v, std::vector<VertexEdge>& edges) const;
+
   // ---- Edges (built on first use) ----
   struct EdgeTable
   {

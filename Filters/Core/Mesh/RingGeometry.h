@@ -39,6 +39,20 @@ struct CornerGeometry
   bool Degenerate;    ///< zero area (cotangents and areas left out)
 };
 
+/// The part of A_Mixed(x_i) in a non-degenerate triangle (x_i, x_j, x_k)
+/// (figure 2.3), from |x_j - x_i|^2, |x_k - x_i|^2, their dot product and
+/// the cotangents at x_j and x_k.
+inline double CornerMixedArea(double aa, double bb, double ab, double twiceArea, double cotJ, double cotK)
+{
+  if (ab >= 0.0 && aa - ab >= 0.0 && bb - ab >= 0.0)
+  {
+    // Non-obtuse: Voronoi region, (|PR|^2 cot Q + |PQ|^2 cot R) / 8 (section 2.4.3).
+    return (bb * cotJ + aa * cotK) / 8.0;
+  }
+  // Obtuse triangle: area/2 if the obtuse angle is at x_i, else area/4.
+  return ab < 0.0 ? twiceArea / 4.0 : twiceArea / 8.0;
+}
+
 /// Computes the geometry of corner c of vertex i in triangle (x_i, x_j, x_k).
 template <int N, typename T>
 inline CornerGeometry<N> MakeCornerGeometry(
@@ -69,16 +83,7 @@ inline CornerGeometry<N> MakeCornerGeometry(
   const double inverseTwiceArea = 1.0 / g.TwiceArea;
   g.CotJ = dotJ * inverseTwiceArea;
   g.CotK = dotK * inverseTwiceArea;
-  if (g.AB >= 0.0 && dotJ >= 0.0 && dotK >= 0.0)
-  {
-    // Non-obtuse: Voronoi region, (|PR|^2 cot Q + |PQ|^2 cot R) / 8 (section 2.4.3).
-    g.MixedArea = (g.BB * g.CotJ + g.AA * g.CotK) / 8.0;
-  }
-  else
-  {
-    // Obtuse triangle: area/2 if the obtuse angle is at x_i, else area/4.
-    g.MixedArea = g.AB < 0.0 ? g.TwiceArea / 4.0 : g.TwiceArea / 8.0;
-  }
+  g.MixedArea = CornerMixedArea(g.AA, g.BB, g.AB, g.TwiceArea, g.CotJ, g.CotK);
   return g;
 }
 
