@@ -113,15 +113,14 @@ void Corners(const IndexArray& tri, Index f, const double* field, double* out)
 }
 
 /// Runs body(face, lists) over all faces (or other items: ridge
-/// candidates), in blocks that each fill their own `count` lists of
-/// segments; returns the `count` lists with the blocks' segments in face
-/// order (the same for any thread count).
-template <typename Body>
-std::vector<std::vector<LineSegment>> CollectSegments(Index numFaces, int numThreads, int count, Body&& body)
+/// candidates, vertices), in blocks that each fill their own `count` lists
+/// (of segments by default); returns the `count` lists with the blocks'
+/// items in face order (the same for any thread count).
+template <typename Item = LineSegment, typename Body>
+std::vector<std::vector<Item>> CollectSegments(Index numFaces, int numThreads, int count, Body&& body)
 {
   const std::int64_t blocks = (numFaces + FacesPerBlock - 1) / FacesPerBlock;
-  std::vector<std::vector<std::vector<LineSegment>>> perBlock(
-    blocks, std::vector<std::vector<LineSegment>>(count));
+  std::vector<std::vector<std::vector<Item>>> perBlock(blocks, std::vector<std::vector<Item>>(count));
   ParallelFor(
     blocks, numThreads,
     [&](std::int64_t begin, std::int64_t end) {
@@ -135,7 +134,7 @@ std::vector<std::vector<LineSegment>> CollectSegments(Index numFaces, int numThr
       }
     },
     {}, 0, 1);
-  std::vector<std::vector<LineSegment>> lists(count);
+  std::vector<std::vector<Item>> lists(count);
   for (int l = 0; l < count; ++l)
   {
     std::size_t total = 0;
@@ -274,20 +273,42 @@ void LineDrawingGeometry::ShareCurvatures(const MeshTopology& topology)
 void LineDrawingGeometry::FindRidges(int numThreads)
 {
   // A valley is a ridge of -kappa_2 along e2: D_e2(-kappa_2) = -C(e2,e2,e2).
-  const double* directions[2] = { E1.data(), E2.data() };
+  // What the faces read of a vertex, in one cache line (from three arrays
+  // read at random, the cache misses were most of the faces' time): e1,
+  // D_e1 kappa_1, e2, D_e2 kappa_2.
+  constexpr int Stride = 8;
+  LargeVector<double> frames(Stride * static_cast<std::size_t>(NumberOfVertices()));
+  ParallelFor(NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t i = begin; i < end; ++i)
+    {
+      double* frame = frames.data() + Stride * i;
+      std::copy(E1.data() + 3 * i, E1.data() + 3 * i + 3, frame);
+      frame[3] = Derivatives[4 * i];
+      std::copy(E2.data() + 3 * i, E2.data() + 3 * i + 3, frame + 4);
+      frame[7] = Derivatives[4 * i + 3];
+    }
+  });
   auto lists = CollectSegments(NumberOfFaces(), numThreads, 2, [&](Index f, std::vector<LineSegment>* out) {
     const Index* v = Triangles.data() + 3 * static_cast<std::int64_t>(f);
+    if (f + 8 < NumberOfFaces()) // (the frames of the faces ahead: random reads)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        __builtin_prefetch(frames.data() + Stride * static_cast<std::int64_t>(v[24 + k]));
+      }
+    }
     for (int valleys = 0; valleys < 2; ++valleys)
     {
       Vec3 e[3];
       double g[3];
       for (int k = 0; k < 3; ++k)
       {
-        e[k] = Point(directions[valleys], v[k]);
+        const double* frame = frames.data() + Stride * static_cast<std::int64_t>(v[k]) + 4 * valleys;
+        e[k] = Vec3(frame);
         // The principal directions are lines, not vectors: turned like the first corner's.
         const double flip = k > 0 && e[k].dot(e[0]) < 0.0 ? -1.0 : 1.0;
         e[k] *= flip;
-        g[k] = (valleys ? -flip : flip) * Derivatives[4 * static_cast<std::int64_t>(v[k]) + 3 * valleys];
+        g[k] = (valleys ? -flip : flip) * frame[3];
       }
       LineSegment s;
       if (!Draws(f) || !ZeroCrossing(*this, f, v, g, s))
@@ -304,6 +325,11 @@ void LineDrawingGeometry::FindRidges(int numThreads)
   });
   RidgeCandidates = std::move(lists[0]);
   ValleyCandidates = std::move(lists[1]);
+}
+
+float LineDrawingGeometry::CreaseCosine(double angle)
+{
+  return static_cast<float>(std::cos(angle * Degree));
 }
 
 LineSegment LineDrawingGeometry::EdgeSegment(Index a, Index b, Index face) const
@@ -324,69 +350,65 @@ LineSegment LineDrawingGeometry::EdgeSegment(Index a, Index b, Index face) const
 
 void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int numThreads)
 {
-  const MeshTopology::EdgeTable& edges = topology.Edges();
-  const std::int64_t numEdges = edges.NumberOfEdges();
-  // The faces' unit normals, then the angle of every edge of two faces in
-  // parallel (NaN: none), then the lists in edge order.
-  LargeVector<double> normals(3 * static_cast<std::size_t>(NumberOfFaces()));
-  ParallelFor(NumberOfFaces(), numThreads, [&](std::int64_t begin, std::int64_t end) {
-    for (std::int64_t f = begin; f < end; ++f)
-    {
-      const Index* v = Triangles.data() + 3 * f;
-      const Vec3 a = Point(Points.data(), v[0]);
-      const Vec3 normal = (Point(Points.data(), v[1]) - a).cross(Point(Points.data(), v[2]) - a).normalized();
-      std::copy(normal.data(), normal.data() + 3, normals.data() + 3 * f);
-    }
-  });
-  const auto faceNormal = [&](Index f) { return Point(normals.data(), f); };
-  LargeVector<float> angles(static_cast<std::size_t>(numEdges), NaN);
-  ParallelFor(numEdges, numThreads, [&](std::int64_t begin, std::int64_t end) {
-    for (std::int64_t e = begin; e < end; ++e)
-    {
-      const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
-      if (edges.FaceCount[e] == 2 && c0 >= 0 && c1 >= 0)
+  // Per vertex its edges (MeshTopology::VertexEdges: the edge table took
+  // longer to build than this whole pass), with the unit normals of its
+  // triangles: the cosine of each edge of two triangles, the sharpest, and
+  // the edges to larger ids drawn here, in (vertex, neighbour) order: list 0
+  // the boundary edges, list 1 the others.
+  SharpestCosine.resize(NumberOfVertices());
+  auto lists = CollectSegments<InteriorEdge>(NumberOfVertices(), numThreads, 2,
+    [&](Index a, std::vector<InteriorEdge>* out) {
+      thread_local std::vector<MeshTopology::VertexEdge> edges;
+      thread_local std::vector<Vec3> normals;
+      topology.VertexEdges(a, edges);
+      const Index* pair = topology.RingPairsBegin(a);
+      const Vec3 p = Point(Points.data(), a);
+      normals.resize(topology.Valence(a));
+      for (std::size_t k = 0; k < normals.size(); ++k)
       {
-        const double cosine = faceNormal(c0 / 3).dot(faceNormal(c1 / 3));
+        normals[k] = (Point(Points.data(), pair[2 * k]) - p).cross(Point(Points.data(), pair[2 * k + 1]) - p).normalized();
+      }
+      double lowest = 1.0; // the smallest cosine of a's edges of two triangles
+      for (const MeshTopology::VertexEdge& e : edges)
+      {
+        // Split: each edge drawn once, where the whole star of an end is
+        // (so that a cut through the ring is no boundary).
+        const bool drawn = e.Neighbor > a && (!Split || Split->CountsEdge(a, e.Neighbor));
+        if (e.Faces == 1)
+        {
+          if (drawn)
+          {
+            out[0].push_back({ a, e.Neighbor, e.Opposite[0] / 3, 1.0f });
+          }
+          continue;
+        }
+        const double cosine = e.Faces == 2 && e.Local[1] >= 0 ? normals[e.Local[0]].dot(normals[e.Local[1]]) : NaN;
         if (std::isfinite(cosine))
         {
-          angles[e] = static_cast<float>(std::acos(std::clamp(cosine, -1.0, 1.0)) / Degree);
+          lowest = std::min(lowest, cosine);
+          if (drawn)
+          {
+            out[1].push_back({ a, e.Neighbor, e.Opposite[0] / 3, static_cast<float>(cosine) });
+          }
         }
       }
-    }
-  });
-  BoundaryEdges.clear();
-  InteriorEdges.clear();
-  SharpestEdge.assign(NumberOfVertices(), 0.0f);
-  for (std::int64_t e = 0; e < numEdges; ++e)
-  {
-    const Index a = edges.Vertices[2 * e], b = edges.Vertices[2 * e + 1];
-    const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
-    // Split: each edge drawn once, where the whole star of an end is (so
-    // that a cut through the ring is no boundary).
-    const bool drawn = !Split || Split->CountsEdge(a, b);
-    if (edges.FaceCount[e] == 1 && drawn)
-    {
-      BoundaryEdges.push_back(EdgeSegment(a, b, (c0 >= 0 ? c0 : c1) / 3));
-    }
-    else if (edges.FaceCount[e] != 1 && !std::isnan(angles[e]))
-    {
-      if (drawn)
-      {
-        InteriorEdges.push_back({ a, b, c0 / 3, angles[e] });
-      }
-      SharpestEdge[a] = std::max(SharpestEdge[a], angles[e]);
-      SharpestEdge[b] = std::max(SharpestEdge[b], angles[e]);
-    }
-  }
+      SharpestCosine[a] = static_cast<float>(lowest);
+    });
   if (Split)
   {
-    std::vector<double> sharpest(SharpestEdge.begin(), SharpestEdge.end());
+    std::vector<double> sharpest(SharpestCosine.begin(), SharpestCosine.end());
     Split->UpdateGhosts(sharpest.data(), 1); // (a ghost's star is cut)
-    std::copy(sharpest.begin(), sharpest.end(), SharpestEdge.begin());
+    std::copy(sharpest.begin(), sharpest.end(), SharpestCosine.begin());
   }
-  InteriorAngles.resize(InteriorEdges.size());
-  std::transform(InteriorEdges.begin(), InteriorEdges.end(), InteriorAngles.begin(),
-    [](const InteriorEdge& e) { return e.Angle; });
+  BoundaryEdges.clear();
+  for (const InteriorEdge& e : lists[0])
+  {
+    BoundaryEdges.push_back(EdgeSegment(e.A, e.B, e.Face));
+  }
+  InteriorEdges.assign(lists[1].begin(), lists[1].end());
+  InteriorCosines.resize(InteriorEdges.size());
+  std::transform(InteriorEdges.begin(), InteriorEdges.end(), InteriorCosines.begin(),
+    [](const InteriorEdge& e) { return e.Cosine; });
 }
 
 namespace
@@ -597,9 +619,10 @@ const std::vector<LineSegment>& LineDrawingGeometry::ThresholdedRidges(bool vall
     return cache.Kept;
   }
   cache.Kept.clear();
+  const float creaseCosine = CreaseCosine(options.CreaseAngle);
   for (LineSegment s : valleys ? ValleyCandidates : RidgeCandidates)
   {
-    if (options.AvoidCreases && AtCrease(s.Face, options.CreaseAngle))
+    if (options.AvoidCreases && AtCrease(s.Face, creaseCosine))
     {
       continue;
     }
@@ -635,6 +658,7 @@ std::vector<std::vector<LineSegment>> FaceSegments(const LineDrawingGeometry& ge
   const bool radial =
     draw[int(LineType::SuggestiveContour)] || draw[int(LineType::SuggestiveHighlight)];
   const double cosAngle = std::cos(options.SuggestiveAngle * Degree);
+  const float creaseCosine = LineDrawingGeometry::CreaseCosine(options.CreaseAngle);
   const double hysteresis = HysteresisFactor(options);
   const double scale = size * size;
   return CollectSegments(geo.NumberOfFaces(), options.NumberOfThreads, 3,
@@ -659,7 +683,7 @@ std::vector<std::vector<LineSegment>> FaceSegments(const LineDrawingGeometry& ge
         out[0].push_back(s);
       }
       Corners(geo.Triangles, f, kr, k);
-      if (!radial || !ZeroCrossing(geo, f, v, k, s) || (options.AvoidCreases && geo.AtCrease(f, options.CreaseAngle)))
+      if (!radial || !ZeroCrossing(geo, f, v, k, s) || (options.AvoidCreases && geo.AtCrease(f, creaseCosine)))
       {
         return;
       }
@@ -719,13 +743,14 @@ void ResolveCreases(const LineDrawingGeometry& geo, const LineDrawingOptions& op
 {
   std::vector<LineSegment> creases;
   std::vector<double> angles;
-  for (std::size_t i = 0; i < geo.InteriorAngles.size(); ++i)
+  const float creaseCosine = LineDrawingGeometry::CreaseCosine(options.CreaseAngle);
+  for (std::size_t i = 0; i < geo.InteriorCosines.size(); ++i)
   {
-    if (geo.InteriorAngles[i] > options.CreaseAngle)
+    if (geo.InteriorCosines[i] < creaseCosine)
     {
       const LineDrawingGeometry::InteriorEdge& e = geo.InteriorEdges[i];
       creases.push_back(geo.EdgeSegment(e.A, e.B, e.Face));
-      angles.push_back(e.Angle);
+      angles.push_back(std::acos(std::clamp(static_cast<double>(e.Cosine), -1.0, 1.0)) / Degree);
     }
   }
   Resolve(geo, creases, LineType::Crease,

@@ -148,24 +148,31 @@ public:
   /// Candidates, before thresholds and the view: ridges and valleys (with
   /// the maximum / minimum test passed), boundary edges.
   std::vector<LineSegment> RidgeCandidates, ValleyCandidates, BoundaryEdges;
-  /// The edges of two triangles, with the angle between their normals.
+  /// The edges of two triangles, with the cosine of the angle between their
+  /// normals (cosines, not angles: the view compares them with the crease
+  /// angle's, and an arc cosine per edge was a fifth of finding them).
   struct InteriorEdge
   {
     Index A, B, Face;
-    float Angle; ///< degrees
+    float Cosine;
   };
   LargeVector<InteriorEdge> InteriorEdges;
-  /// InteriorEdges' angles alone: a view scans them for its creases (a
+  /// InteriorEdges' cosines alone: a view scans them for its creases (a
   /// quarter of the memory of the edges).
-  LargeVector<float> InteriorAngles;
-  /// Per vertex: the largest Angle of its interior edges (0 without).
-  LargeVector<float> SharpestEdge;
-  /// Whether face f has a vertex whose SharpestEdge exceeds `angle`
-  /// (inline: the per-view pass asks it of every candidate segment).
-  bool AtCrease(Index f, double angle) const
+  LargeVector<float> InteriorCosines;
+  /// Per vertex: the smallest Cosine of its interior edges (1 without).
+  LargeVector<float> SharpestCosine;
+  /// The cosine of a crease angle (degrees): edges whose Cosine is below
+  /// it are creases.
+  static float CreaseCosine(double angle);
+  /// Whether face f has a vertex with an edge sharper than the crease angle
+  /// of `creaseCosine` (inline: the per-view pass asks it of every
+  /// candidate segment).
+  bool AtCrease(Index f, float creaseCosine) const
   {
     const Index* v = Triangles.data() + 3 * static_cast<std::int64_t>(f);
-    return SharpestEdge[v[0]] > angle || SharpestEdge[v[1]] > angle || SharpestEdge[v[2]] > angle;
+    return SharpestCosine[v[0]] < creaseCosine || SharpestCosine[v[1]] < creaseCosine ||
+      SharpestCosine[v[2]] < creaseCosine;
   }
   /// The segment along edge a-b of `face`, its ends keyed by the vertices.
   LineSegment EdgeSegment(Index a, Index b, Index face) const;
