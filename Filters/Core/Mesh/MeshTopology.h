@@ -130,7 +130,8 @@ public:
     int Faces;
   };
   /// The edges at v, ascending by neighbour, into `edges` (the caller's
-  /// workspace); thread-safe, and without sorting at regular vertices.
+  /// workspace); thread-safe.  At regular vertices read off the fan (a sort
+  /// of its few edges), elsewhere from the sorted half-edges.
   void VertexEdges(Index v, std::vector<VertexEdge>& edges) const;
 
   // ---- Edges (built on first use) ----

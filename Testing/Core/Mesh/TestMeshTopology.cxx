@@ -66,6 +66,63 @@ TEST(MeshTopology, EdgeTableIsConsistent)
   }
 }
 
+// A vertex's edges as VertexEdges gives them (read off the fan at regular
+// vertices, from the sorted half-edges elsewhere) against a count over its
+// triangles: on a cylinder (boundary vertices) and meshes with a
+// non-manifold edge and an inconsistent orientation.
+TEST(MeshTopology, VertexEdgesAgreeWithTheirTriangles)
+{
+  const test::Mesh cylinder = test::Cylinder(1, 1, 9, 4);
+  const MeshTopology topologies[] = { cylinder.Topology(), MeshTopology(5, { 0, 1, 2, 1, 0, 3, 0, 1, 4, 2, 1, 3 }),
+    MeshTopology(4, { 0, 1, 2, 1, 2, 3, 0, 2, 3 }) };
+  for (const MeshTopology& topo : topologies)
+  {
+    std::vector<MeshTopology::VertexEdge> edges;
+    for (Index v = 0; v < topo.NumberOfVertices(); ++v)
+    {
+      topo.VertexEdges(v, edges);
+      std::set<Index> neighbors; // v's neighbours, counted from its triangles
+      for (const Index* c = topo.CornersBegin(v); c != topo.CornersEnd(v); ++c)
+      {
+        neighbors.insert(topo.CornerVertex(MeshTopology::Next(*c)));
+        neighbors.insert(topo.CornerVertex(MeshTopology::Prev(*c)));
+      }
+      ASSERT_EQ(edges.size(), neighbors.size()) << "vertex " << v;
+      auto expected = neighbors.begin();
+      for (const MeshTopology::VertexEdge& e : edges)
+      {
+        EXPECT_EQ(e.Neighbor, *expected++); // ascending
+        int faces = 0;
+        for (const Index* c = topo.CornersBegin(v); c != topo.CornersEnd(v); ++c)
+        {
+          faces += topo.CornerVertex(MeshTopology::Next(*c)) == e.Neighbor ||
+            topo.CornerVertex(MeshTopology::Prev(*c)) == e.Neighbor;
+        }
+        EXPECT_EQ(e.Faces, faces);
+        for (int k = 0; k < 2; ++k)
+        {
+          if (k >= faces)
+          {
+            EXPECT_EQ(e.Opposite[k], -1);
+            continue;
+          }
+          // The opposite corner is the third vertex of a triangle of the
+          // edge, Local its place among v's corners.
+          const Index c = e.Opposite[k];
+          EXPECT_TRUE(topo.CornerVertex(c) != v && topo.CornerVertex(c) != e.Neighbor);
+          const Index corner = topo.CornersBegin(v)[e.Local[k]];
+          EXPECT_EQ(corner / 3, c / 3);
+          EXPECT_TRUE(topo.CornerVertex(MeshTopology::Next(c)) == v || topo.CornerVertex(MeshTopology::Prev(c)) == v);
+        }
+        if (faces >= 2)
+        {
+          EXPECT_LT(e.Opposite[0], e.Opposite[1]);
+        }
+      }
+    }
+  }
+}
+
 TEST(MeshTopology, BoundaryLoopsOfAnAnnulus)
 {
   const test::Mesh m = test::Cylinder(1, 1, 16, 5);
