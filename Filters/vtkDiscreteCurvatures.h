@@ -34,7 +34,8 @@
  * Polygons and triangle strips are triangulated internally; the output keeps
  * the input's cells and arrays.  Float and double points are read in place;
  * all computation is in double.  The work runs on NumberOfThreads threads
- * (0: all cores, or BELTRAMI_NUM_THREADS), reports progress and honours
+ * (0: all cores, shared among the processes of an MPI job on the node, or
+ * BELTRAMI_NUM_THREADS), reports progress and honours
  * AbortExecute.  In a distributed pipeline (pvbatch, pvserver: one piece
  * per rank) every point of a piece gets its full 1-ring: pieces that come
  * with ghost cells use them; otherwise the ranks exchange the triangles

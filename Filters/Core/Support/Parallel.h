@@ -24,7 +24,8 @@ using ProgressCallback = std::function<bool(double fraction)>;
 
 /// Number of threads used when a caller asks for 0 ("all"): the value of the
 /// environment variable BELTRAMI_NUM_THREADS if set, else the hardware
-/// concurrency.
+/// concurrency divided among the processes of an MPI job on this node (as
+/// Open MPI's or MPICH's launcher tells them; at least 1).
 int DefaultThreadCount();
 
 /// Resolves a requested count (<= 0 means DefaultThreadCount()).

@@ -1,6 +1,6 @@
 // The parallel loops of the core (Filters/Core/Support/Parallel): every
 // index once, sums independent of the thread count, cancellation, the
-// compile-time count dispatch.
+// compile-time count dispatch, the default thread count.
 #include "Support/Parallel.h"
 
 #include <gtest/gtest.h>
@@ -8,6 +8,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
+#include <string>
+#include <thread>
 #include <type_traits>
 #include <vector>
 
@@ -99,4 +102,43 @@ TEST(Parallel, WithCountDispatchesToTheClampedCount)
   EXPECT_EQ(ResolveThreadCount(3), 3);
   EXPECT_EQ(ResolveThreadCount(0), DefaultThreadCount());
   EXPECT_GE(DefaultThreadCount(), 1);
+}
+
+// "All cores" in an MPI job: the node's cores shared among the job's
+// processes there, as the launcher tells them; BELTRAMI_NUM_THREADS wins.
+TEST(Parallel, DefaultThreadsAreSharedAmongAnMpiJobsProcesses)
+{
+  const char* names[] = { "BELTRAMI_NUM_THREADS", "OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS" };
+  std::string saved[3];
+  bool had[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    const char* value = std::getenv(names[k]);
+    had[k] = value != nullptr;
+    saved[k] = value ? value : "";
+    unsetenv(names[k]);
+  }
+  const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  EXPECT_EQ(DefaultThreadCount(), cores);
+  setenv("OMPI_COMM_WORLD_LOCAL_SIZE", "2", 1);
+  EXPECT_EQ(DefaultThreadCount(), std::max(1, cores / 2));
+  setenv("OMPI_COMM_WORLD_LOCAL_SIZE", "100000", 1); // more processes than cores: one thread each
+  EXPECT_EQ(DefaultThreadCount(), 1);
+  unsetenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  setenv("MPI_LOCALNRANKS", "100000", 1);
+  EXPECT_EQ(DefaultThreadCount(), 1);
+  setenv("BELTRAMI_NUM_THREADS", "3", 1);
+  EXPECT_EQ(DefaultThreadCount(), 3);
+  EXPECT_EQ(ResolveThreadCount(0), 3);
+  for (int k = 0; k < 3; ++k)
+  {
+    if (had[k])
+    {
+      setenv(names[k], saved[k].c_str(), 1);
+    }
+    else
+    {
+      unsetenv(names[k]);
+    }
+  }
 }
