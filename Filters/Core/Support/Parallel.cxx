@@ -106,9 +106,19 @@ private:
       {
         return true;
       }
-      if (k % 64 == 0 && std::chrono::steady_clock::now() - start > SpinTime)
+      if (k % 64 == 0)
       {
-        return false;
+        if (std::chrono::steady_clock::now() - start > SpinTime)
+        {
+          return false;
+        }
+        // Gives the core away when another thread waits for it: with more
+        // threads than cores (two processes at once, MPI processes on one
+        // node) a spinning thread otherwise holds the core that the thread
+        // it waits for needs.  Two 2-thread runs of the distributed
+        // denoising test at once on 2 cores: 26 s -> 17 s, each alone as
+        // before.
+        std::this_thread::yield();
       }
 #if defined(__x86_64__) || defined(__i386__)
       __builtin_ia32_pause();
