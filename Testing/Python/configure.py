@@ -55,6 +55,16 @@ def fetch_pieces(proxy):
         return reader.GetOutput()
 
 
+def empty_rank_partitions(ranks):
+    """A partition count for RedistributeDataSet that leaves a rank empty:
+    it cuts into a power of two of pieces (3 asked on 4 ranks gave 4
+    non-empty pieces), so the largest power of two below `ranks`."""
+    count = 1
+    while 2 * count < ranks:
+        count *= 2
+    return count
+
+
 def rank_rows(proxy, array, names):
     """Per rank of a pvbatch run, the first len(names) values of the field
     array `array` of the proxy's output (-1 where it has none): a numpy

@@ -19,7 +19,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from configure import check, check_split_flow  # noqa: E402
+from configure import check, check_split_flow, empty_rank_partitions  # noqa: E402
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -76,7 +76,7 @@ split_run("defaults", 1e-6)
 split_run("explicit steps, noise-level stop", 1e-9, panel={"Integration": "Explicit", "StoppingRule": "Noise Level"},
           Integration=vtkSurfaceDataDenoising.EXPLICIT, StoppingRule=1)
 if ranks > 1:
-    split_run("defaults, an empty rank", 1e-6, partitions=ranks - 1)
+    split_run("defaults, an empty rank", 1e-6, partitions=empty_rank_partitions(ranks))
 # Overlapping pieces (the cells on a cut copied, unmarked, to every piece they
 # touch): each cell and point counted once, so the same noise estimate.
 split_run("defaults, overlapping pieces", 1e-6, mode="Assign to all regions")

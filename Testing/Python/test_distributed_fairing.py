@@ -26,8 +26,8 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from configure import (DISJOINT_SPHERES, check, lone_triangle_source, lone_triangle_whole, moved_points,  # noqa: E402
-                       piecewise_source, rank_rows, with_point_arrays)
+from configure import (DISJOINT_SPHERES, check, empty_rank_partitions, lone_triangle_source,  # noqa: E402
+                       lone_triangle_whole, moved_points, piecewise_source, rank_rows, with_point_arrays)
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -162,7 +162,7 @@ check(abs(enclosed_volume(result) / enclosed_volume(whole_bunny) - 1) < 1e-9,
 
 # Algebraic multigrid over the ranks (one BoomerAMG hierarchy spanning them):
 # the serial result and the serial iteration counts, an empty rank included.
-for partitions in ([0, ranks - 1] if ranks > 1 else [0]):
+for partitions in ([0, empty_rank_partitions(ranks)] if ranks > 1 else [0]):
     _, result, reference, _ = split_run(bunny, "bunny, multigrid, %d partitions" % (partitions or ranks), 1e-9, extent_of,
                                         partitions=partitions, Preconditioner=1, SolverTolerance=1e-10)
     ours, theirs = iterations(result), iterations(reference)
@@ -236,7 +236,8 @@ distributed_option(mushroom, "mushroom, boundary smoothed as a curve", BoundaryH
 distributed_option(mushroom, "mushroom, height-field volume", Invariant=4, SolverTolerance=1e-12)
 if ranks > 1:  # the same with a rank that holds nothing (no hang: it takes part in every collective step)
     distributed_option(mushroom, "mushroom on %d of %d ranks, curve boundary, anisotropic, explicit"
-                       % (ranks - 1, ranks), partitions=ranks - 1, BoundaryHandling=1, Anisotropic=1,
+                       % (empty_rank_partitions(ranks), ranks), partitions=empty_rank_partitions(ranks),
+                       BoundaryHandling=1, Anisotropic=1,
                        Integration=1, Operator=0, TimeStep=0.3, NumberOfIterations=2, SolverTolerance=1e-12)
 distributed_option(bunny, "bunny, axis and plane constraints", prepare=with_directions, NumberOfIterations=2,
                    SolverTolerance=1e-12, UseAxisDirectionsArray=1, AxisDirectionsArray=["POINTS", "axis"],
@@ -244,7 +245,12 @@ distributed_option(bunny, "bunny, axis and plane constraints", prepare=with_dire
 
 # A rank with an empty piece (fewer partitions than ranks).
 if ranks > 1:
-    split_run(bunny, "bunny on %d of %d ranks" % (ranks - 1, ranks), 1e-4, move_of, partitions=ranks - 1)
+    parts = empty_rank_partitions(ranks)
+    emptied = split_run(bunny, "bunny on %d of %d ranks" % (parts, ranks), 1e-4, move_of, partitions=parts)[0]
+    owned, = rank_rows(emptied, "FairingDistribution", ("Owned",))
+    # (One partition: one rank holds the whole surface and runs it as in serial, no rows.)
+    check(parts == 1 or (owned == 0).any(), "bunny on %d of %d ranks: a rank holds nothing (owned %s)"
+          % (parts, ranks, owned))
 
 
 # A NaN point (in whichever piece holds it): kept as it is, the rest smoothed as in serial.

@@ -29,7 +29,8 @@ from vtkmodules.vtkCommonCore import vtkPoints
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from configure import DISJOINT_SPHERES, check, configured, moved_points, piecewise_source, rank_rows  # noqa: E402
+from configure import (DISJOINT_SPHERES, check, configured, empty_rank_partitions, moved_points,  # noqa: E402
+                       piecewise_source, rank_rows)
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 LoadPlugin(os.environ["BELTRAMI_PLUGIN"], ns=globals())
@@ -165,7 +166,8 @@ if ranks > 1:
                          and triangles.max() <= whole.GetNumberOfCells() / 3),
           "no rank holds more than a third: points %s of %d, triangles %s of %d"
           % (owned + ghosts, whole.GetNumberOfPoints(), triangles, whole.GetNumberOfCells()))
-    run("bunny00.off", "bunny on %d of %d ranks" % (ranks - 1, ranks), bunny_cameras[:1], partitions=ranks - 1)
+    run("bunny00.off", "bunny on %d of %d ranks" % (empty_rank_partitions(ranks), ranks), bunny_cameras[:1],
+        partitions=empty_rank_partitions(ranks))
 
 # A NaN point (made after RedistributeDataSet, whose k-d tree does not take
 # one): no hang, a defined output: the lines elsewhere (the NaN's triangles

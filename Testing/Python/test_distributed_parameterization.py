@@ -28,8 +28,8 @@ from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from configure import (DISJOINT_SPHERES, check, lone_triangle_source, lone_triangle_whole, moved_points,  # noqa: E402
-                       piecewise_source, rank_rows, with_point_arrays)
+from configure import (DISJOINT_SPHERES, check, empty_rank_partitions, lone_triangle_source,  # noqa: E402
+                       lone_triangle_whole, moved_points, piecewise_source, rank_rows, with_point_arrays)
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -195,9 +195,10 @@ if ranks > 1:
 
 # A rank with an empty piece; an option that gathers (the authalic energy).
 if ranks > 1:
-    split_run(peaks, "three peaks on %d of %d ranks" % (ranks - 1, ranks), partitions=ranks - 1)
-    split_run(given_peaks, "three peaks, given boundary, on %d of %d ranks" % (ranks - 1, ranks),
-              partitions=ranks - 1, Boundary=2, given="given")
+    parts = empty_rank_partitions(ranks)
+    split_run(peaks, "three peaks on %d of %d ranks" % (parts, ranks), partitions=parts)
+    split_run(given_peaks, "three peaks, given boundary, on %d of %d ranks" % (parts, ranks),
+              partitions=parts, Boundary=2, given="given")
 split_run(peaks, "three peaks, authalic mix (gathered)", AuthalicWeight=0.5)
 # Pieces that overlap (RedistributeDataSet's "Assign to all regions": the
 # cells on a cut copied, unmarked, to every piece they touch): each cell

@@ -27,7 +27,7 @@ from paraview.simple import *  # noqa: F401,F403
 from paraview import servermanager
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from configure import check, check_split_flow, fetch_pieces, rank_rows, report  # noqa: E402
+from configure import check, check_split_flow, empty_rank_partitions, fetch_pieces, rank_rows, report  # noqa: E402
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 
@@ -135,7 +135,7 @@ split_run("adaptive explicit steps", 1e-9, panel={"Integration": "Explicit", "Ad
 split_run("a vector", 1e-6, array="v")
 split_run("log-Euclidean tensors", 1e-6, array="t", panel={"LogEuclideanTensors": 1}, LogEuclideanTensors=1)
 if ranks > 1:
-    split_run("defaults, an empty rank", 1e-6, partitions=ranks - 1)
+    split_run("defaults, an empty rank", 1e-6, partitions=empty_rank_partitions(ranks))
 # Overlapping pieces (RedistributeDataSet's "Assign to all regions": the
 # tetrahedra on a cut copied, unmarked, to every piece they touch).
 split_run("defaults, overlapping pieces", 1e-6, mode="Assign to all regions")
@@ -179,7 +179,7 @@ split_operators("defaults")
 split_operators("a vector", array="v")
 split_operators("overlapping pieces", mode="Assign to all regions")
 if ranks > 1:
-    split_operators("an empty rank", partitions=ranks - 1)
+    split_operators("an empty rank", partitions=empty_rank_partitions(ranks))
 
 # What each rank holds: its own points, the ghost points of the rings, its
 # tetrahedra (field data FlowDistribution, one row per rank).
