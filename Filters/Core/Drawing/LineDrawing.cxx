@@ -277,6 +277,7 @@ void LineDrawingGeometry::FindRidges(int numThreads)
   // read at random, the cache misses were most of the faces' time): e1,
   // D_e1 kappa_1, e2, D_e2 kappa_2.
   constexpr int Stride = 8;
+  constexpr Index Ahead = 8; // (faces whose frames are asked for ahead: random reads)
   LargeVector<double> frames(Stride * static_cast<std::size_t>(NumberOfVertices()));
   ParallelFor(NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t i = begin; i < end; ++i)
@@ -290,11 +291,11 @@ void LineDrawingGeometry::FindRidges(int numThreads)
   });
   auto lists = CollectSegments(NumberOfFaces(), numThreads, 2, [&](Index f, std::vector<LineSegment>* out) {
     const Index* v = Triangles.data() + 3 * static_cast<std::int64_t>(f);
-    if (f + 8 < NumberOfFaces()) // (the frames of the faces ahead: random reads)
+    if (f + Ahead < NumberOfFaces())
     {
       for (int k = 0; k < 3; ++k)
       {
-        __builtin_prefetch(frames.data() + Stride * static_cast<std::int64_t>(v[24 + k]));
+        __builtin_prefetch(frames.data() + Stride * static_cast<std::int64_t>(v[3 * Ahead + k]));
       }
     }
     for (int valleys = 0; valleys < 2; ++valleys)
