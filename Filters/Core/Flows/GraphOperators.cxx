@@ -398,7 +398,7 @@ GraphOperatorReport ComputeSurfaceGraphOperators(const MeshTopology& topology, c
   const std::vector<double> embedded = StartMesh(size, points, components, values, options, 5,
     [&]() { return MeanEdgeLength(topology, points, split); },
     [&]() {
-      const auto& edges = topology.Edges();
+      const auto& edges = topology.Graph();
       return EstimateGraphNoise(size, edges.NeighborOffsets.data(), edges.Neighbors.data(), points, components,
         values, unusable.data(), split);
     },

@@ -131,7 +131,7 @@ std::string AppendLineConstraint(const MeshTopology& topo, const double* points,
     return "the target segment needs two distinct, finite end points";
   }
   const Index n = topo.NumberOfVertices();
-  const auto& edges = topo.Edges();
+  const auto& edges = topo.Graph();
   const auto joined = [&](Index a, Index b) {
     return std::binary_search(edges.Neighbors.data() + edges.NeighborOffsets[a],
       edges.Neighbors.data() + edges.NeighborOffsets[a + 1], b);

@@ -73,7 +73,7 @@ RowMatrix VertexSystem(const MeshTopology& topo, const double* points, double la
 RowMatrix NaturalSystem(const MeshTopology& topo, const double* points, int threads,
   const std::vector<Index>& boundaryPrev, Index& degenerate)
 {
-  const MeshTopology::EdgeTable& edges = topo.Edges();
+  const MeshTopology::VertexGraph& edges = topo.Graph();
   const Index n = topo.NumberOfVertices();
   GraphLaplacian s;
   AssembleSurfaceLaplacian(topo, points, LaplacianWeights::Cotangent, s, threads);

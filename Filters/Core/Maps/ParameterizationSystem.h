@@ -97,7 +97,7 @@ struct ConstraintRow
 /// The fill-reducing elimination order of the mesh vertices.
 inline std::vector<Index> VertexOrder(const MeshTopology& topo, const double* points, int threads)
 {
-  const MeshTopology::EdgeTable& edges = topo.Edges();
+  const MeshTopology::VertexGraph& edges = topo.Graph();
   return NestedDissectionOrder(
     topo.NumberOfVertices(), edges.NeighborOffsets.data(), edges.Neighbors.data(), points, threads);
 }

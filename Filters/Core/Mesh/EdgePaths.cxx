@@ -18,7 +18,7 @@ std::vector<Index> ShortestEdgePath(const MeshTopology& topology, const double* 
   {
     return {};
   }
-  const MeshTopology::EdgeTable& edges = topology.Edges();
+  const MeshTopology::VertexGraph& edges = topology.Graph();
   std::vector<double> distance(n, std::numeric_limits<double>::infinity());
   std::vector<Index> previous(n, -1);
   using Entry = std::pair<double, Index>;

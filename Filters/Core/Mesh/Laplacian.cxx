@@ -60,7 +60,7 @@ template <int N>
 void AssembleSurface(const MeshTopology& topo, const double* points,
   LaplacianWeights weights, GraphLaplacian& l, int numThreads)
 {
-  const MeshTopology::EdgeTable& edges = topo.Edges();
+  const MeshTopology::VertexGraph& edges = topo.Graph();
   const Index n = topo.NumberOfVertices();
   Resize(l, n, edges.NeighborOffsets.data(), edges.Neighbors.data());
   std::atomic<Index> degenerate{ 0 };

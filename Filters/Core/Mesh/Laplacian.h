@@ -18,7 +18,7 @@
 //     with g_ij, d_ij the angles at x_j of the two triangles on edge (i, j)
 //     (appendix A.6).  These are NOT symmetric (c_ij != c_ji): each CSR row
 //     holds the weights of its own vertex, and the mass is left at 0.
-// The graph is the vertex-neighbour CSR of MeshTopology::Edges() (or of a set
+// The graph is the vertex-neighbour CSR of MeshTopology::Graph() (or of a set
 // of curves), with the weights stored per CSR entry for fast products.
 #pragma once
 

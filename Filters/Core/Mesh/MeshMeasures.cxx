@@ -115,21 +115,27 @@ double RevolutionVolume(const MeshTopology& topo, const double* points, const Ve
 
 double MeanEdgeLength(const MeshTopology& topo, const double* x, const Partition* split)
 {
-  const MeshTopology::EdgeTable& e = topo.Edges();
-  double sums[2] = { 0.0, 0.0 }; // lengths, edges
-  for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
-  {
-    const Index a = e.Vertices[2 * k], b = e.Vertices[2 * k + 1];
-    const double length = (Point(x, a) - Point(x, b)).norm();
-    if (std::isfinite(length) && (!split || split->CountsEdge(a, b)))
-    {
-      sums[0] += length;
-      sums[1] += 1.0;
-    }
-  }
+  // Each edge once, at its lower vertex.
+  const MeshTopology::VertexGraph& graph = topo.Graph();
+  std::vector<double> sums = ParallelSum(topo.NumberOfVertices(), 2, topo.NumberOfThreads(),
+    [&](std::int64_t begin, std::int64_t end, double* acc) { // lengths, edges
+      for (Index a = static_cast<Index>(begin); a < end; ++a)
+      {
+        for (std::int64_t k = graph.NeighborOffsets[a]; k < graph.NeighborOffsets[a + 1]; ++k)
+        {
+          const Index b = graph.Neighbors[k];
+          const double length = b > a ? (Point(x, a) - Point(x, b)).norm() : 0.0;
+          if (b > a && std::isfinite(length) && (!split || split->CountsEdge(a, b)))
+          {
+            acc[0] += length;
+            acc[1] += 1.0;
+          }
+        }
+      }
+    });
   if (split)
   {
-    split->Sum(sums, 2);
+    split->Sum(sums.data(), 2);
   }
   return sums[1] > 0.0 ? sums[0] / sums[1] : 0.0;
 }

@@ -444,44 +444,67 @@ void MeshTopology::VertexEdges(Index v, std::vector<VertexEdge>& edges) const
   }
 }
 
-const MeshTopology::EdgeTable& MeshTopology::Edges() const
+const MeshTopology::VertexGraph& MeshTopology::Graph() const
 {
-  std::call_once(EdgesOnce, [this]() {
-    auto table = std::make_unique<EdgeTable>();
-    const std::size_t nv = static_cast<std::size_t>(NumVertices);
-    LargeVector<std::int64_t> ownedOffsets(nv + 1, 0);
-    table->NeighborOffsets.assign(nv + 1, 0);
-    // Pass 1: count neighbours and owned edges (neighbour id > v) per vertex.
+  std::call_once(GraphOnce, [this]() {
+    auto graph = std::make_unique<VertexGraph>();
+    graph->NeighborOffsets.assign(static_cast<std::size_t>(NumVertices) + 1, 0);
     ParallelFor(NumVertices, NumThreads, [&](std::int64_t begin, std::int64_t end) {
       std::vector<VertexEdge> edges;
       for (Index v = static_cast<Index>(begin); v < end; ++v)
       {
         VertexEdges(v, edges);
-        table->NeighborOffsets[v + 1] = static_cast<std::int64_t>(edges.size());
-        ownedOffsets[v + 1] = std::count_if(
-          edges.begin(), edges.end(), [v](const VertexEdge& e) { return e.Neighbor > v; });
+        graph->NeighborOffsets[v + 1] = static_cast<std::int64_t>(edges.size());
       }
     });
-    std::partial_sum(table->NeighborOffsets.begin(), table->NeighborOffsets.end(),
-      table->NeighborOffsets.begin());
+    std::partial_sum(graph->NeighborOffsets.begin(), graph->NeighborOffsets.end(), graph->NeighborOffsets.begin());
+    graph->Neighbors.resize(graph->NeighborOffsets[NumVertices]);
+    ParallelFor(NumVertices, NumThreads, [&](std::int64_t begin, std::int64_t end) {
+      std::vector<VertexEdge> edges;
+      for (Index v = static_cast<Index>(begin); v < end; ++v)
+      {
+        VertexEdges(v, edges);
+        std::transform(edges.begin(), edges.end(), graph->Neighbors.begin() + graph->NeighborOffsets[v],
+          [](const VertexEdge& e) { return e.Neighbor; });
+      }
+    });
+    GraphData = std::move(graph);
+  });
+  return *GraphData;
+}
+
+const MeshTopology::EdgeTable& MeshTopology::Edges() const
+{
+  std::call_once(EdgesOnce, [this]() {
+    auto table = std::make_unique<EdgeTable>(Graph());
+    const std::size_t nv = static_cast<std::size_t>(NumVertices);
+    const auto& offsets = table->NeighborOffsets;
+    const auto& neighbors = table->Neighbors;
+    // The edges a vertex owns: those to a neighbour of a larger id.
+    LargeVector<std::int64_t> ownedOffsets(nv + 1, 0);
+    ParallelFor(NumVertices, NumThreads, [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t v = begin; v < end; ++v)
+      {
+        ownedOffsets[v + 1] = std::count_if(neighbors.begin() + offsets[v], neighbors.begin() + offsets[v + 1],
+          [v](Index u) { return u > v; });
+      }
+    });
     std::partial_sum(ownedOffsets.begin(), ownedOffsets.end(), ownedOffsets.begin());
     const std::int64_t numEdges = ownedOffsets[nv];
     table->Vertices.resize(2 * numEdges);
     table->OppositeCorners.resize(2 * numEdges);
     table->FaceCount.resize(numEdges);
-    table->Neighbors.resize(table->NeighborOffsets[nv]);
-    table->NeighborEdges.resize(table->NeighborOffsets[nv]);
-    // Pass 2: fill owned edges and the neighbour lists.
+    table->NeighborEdges.resize(offsets[nv]);
+    // The owned edges and the edge ids of the neighbour lists' larger ids.
     ParallelFor(NumVertices, NumThreads, [&](std::int64_t begin, std::int64_t end) {
       std::vector<VertexEdge> edges;
       for (Index v = static_cast<Index>(begin); v < end; ++v)
       {
         VertexEdges(v, edges);
-        std::int64_t slot = table->NeighborOffsets[v];
+        std::int64_t slot = offsets[v];
         std::int64_t edge = ownedOffsets[v];
         for (const VertexEdge& e : edges)
         {
-          table->Neighbors[slot] = e.Neighbor;
           table->NeighborEdges[slot] = -1;
           if (e.Neighbor > v)
           {
@@ -497,7 +520,7 @@ const MeshTopology::EdgeTable& MeshTopology::Edges() const
         }
       }
     });
-    // Pass 3: edge ids for neighbours with a smaller id (owned by the neighbour).
+    // The edge ids of the smaller neighbours (edges the neighbour owns).
     ParallelFor(NumVertices, NumThreads, [&](std::int64_t begin, std::int64_t end) {
       for (Index v = static_cast<Index>(begin); v < end; ++v)
       {

@@ -134,20 +134,36 @@ public:
   /// of its few edges), elsewhere from the sorted half-edges.
   void VertexEdges(Index v, std::vector<VertexEdge>& edges) const;
 
-  // ---- Edges (built on first use) ----
+  // ---- Neighbours and edges (built on first use) ----
+  /// The 1-ring of every vertex, ascending (CSR): the graph of the
+  /// Laplacians, without the edge table's other arrays (which on a
+  /// 19M-triangle mesh take another 1 GB).
+  struct VertexGraph
+  {
+    LargeVector<std::int64_t> NeighborOffsets; ///< size V+1
+    IndexArray Neighbors;
+  };
+  const VertexGraph& Graph() const;
   struct EdgeTable
   {
+    explicit EdgeTable(const VertexGraph& graph)
+      : NeighborOffsets(graph.NeighborOffsets)
+      , Neighbors(graph.Neighbors)
+    {
+    }
     IndexArray Vertices;                ///< 2 per edge, first < second
     IndexArray OppositeCorners;         ///< 2 per edge: corners opposite the edge, -1 if absent
     LargeVector<std::uint8_t> FaceCount;///< triangles using the edge (saturates at 255)
-    LargeVector<std::int64_t> NeighborOffsets; ///< CSR per vertex, size V+1
-    IndexArray Neighbors;               ///< 1-ring vertices, ascending
+    const LargeVector<std::int64_t>& NeighborOffsets; ///< Graph()'s: CSR per vertex, size V+1
+    const IndexArray& Neighbors;        ///< Graph()'s: 1-ring vertices, ascending
     LargeVector<std::int64_t> NeighborEdges; ///< edge joining v and Neighbors[k]
     std::int64_t NumberOfEdges() const { return static_cast<std::int64_t>(FaceCount.size()); }
     /// The edge joining vertices a and b (either order; -1: none).
     std::int64_t Find(Index a, Index b) const;
   };
   const EdgeTable& Edges() const;
+  /// The thread count given at construction (resolved).
+  int NumberOfThreads() const { return NumThreads; }
 
 private:
   void Classify();
@@ -164,7 +180,8 @@ private:
   IndexArray BoundaryNextVertex;
   TopologySummary Info;
 
-  mutable std::once_flag EdgesOnce;
+  mutable std::once_flag GraphOnce, EdgesOnce;
+  mutable std::unique_ptr<VertexGraph> GraphData;
   mutable std::unique_ptr<EdgeTable> EdgeData;
 };
 
