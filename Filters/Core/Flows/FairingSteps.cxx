@@ -309,11 +309,11 @@ ConjugateGradientResult SolveStep(
   {
     return SolvePolynomial(st, p, dt, sys, opt, b, x);
   }
+  sl.Order = st.Order; // the graph solvers' renumbering, if known
   if (p.Pure(1))
   {
     // A graph Laplacian plus a diagonal: the fast solver (renumbered rows,
     // single-precision corrections of a double-precision residual).
-    sl.Order = st.Order;
     return SolveShiftedLaplacian(sl, b.data(), x);
   }
   ConjugateGradientResult r;

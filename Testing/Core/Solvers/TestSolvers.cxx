@@ -800,6 +800,14 @@ TEST(Solvers, SquaredLaplacianMatchesTheGeneralSolver)
         SolveSquaredLaplacian(pb, b.data(), y.data());
         ASSERT_EQ(y, x) << threads << " threads";
       }
+      // The rows renumbered in a given order (here the reverse one, not a
+      // locality order) solve the same system, in the caller's numbering.
+      std::vector<Index> reversed(n);
+      std::iota(reversed.rbegin(), reversed.rend(), 0);
+      pb.Order = reversed.data();
+      std::vector<double> z = x0;
+      EXPECT_TRUE(SolveSquaredLaplacian(pb, b.data(), z.data()).Converged);
+      ExpectSolved(s, nc, tolerance, x0, exact, z, r0, residual(z), m == Preconditioning::Jacobi ? 100.0 : 300.0);
     }
   }
   // Columns beyond 4, no shift: refused.
