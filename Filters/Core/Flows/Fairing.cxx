@@ -160,11 +160,16 @@ struct VertexRoles
 };
 
 /// Reads the axis and plane constraints (a non-zero finite direction; the
-/// axis first) of the vertices that are not fixed.
-Motions ReadMotions(const FairingConstraints& cons, const std::vector<std::uint8_t>& fixed)
+/// axis first) of the vertices that are not fixed.  Without any (and not
+/// distributed, where every process exchanges them), no arrays.
+Motions ReadMotions(const FairingConstraints& cons, const std::vector<std::uint8_t>& fixed, bool distributed)
 {
   const Index n = static_cast<Index>(fixed.size());
   Motions m;
+  if (!cons.AxisDirections && !cons.PlaneNormals && !distributed)
+  {
+    return m;
+  }
   m.Kind.assign(n, Motions::Free);
   m.Direction.assign(n, Vec3::Zero());
   for (Index i = 0; i < n && (cons.AxisDirections || cons.PlaneNormals); ++i)
@@ -215,7 +220,7 @@ VertexRoles ClassifyVertices(const MeshTopology& topo, const double* x, const Fa
     split->UpdateGhosts(r.Boundary);
     split->UpdateGhosts(r.Weight);
   }
-  r.Moves = ReadMotions(cons, r.Fixed);
+  r.Moves = ReadMotions(cons, r.Fixed, split != nullptr);
   if (split)
   {
     split->UpdateGhosts(r.Moves.Kind);
@@ -523,14 +528,15 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
       defined = Integrate(curve, opt, x, report);
     }
     // The operator's geometry: the current positions (the thesis'
-    // linearisation, sections 3.4.3/3.5.3), or a mollified copy.
-    std::vector<double> regular;
+    // linearisation, sections 3.4.3/3.5.3), or a mollified copy (freed
+    // before the solve).
     if (step > 0 && opt.KeepFirstOperator)
     {
       L = first; // section 3.4.3: relative to the input mesh
     }
     else
     {
+      std::vector<double> regular;
       if (opt.OperatorMollification > 0.0 && opt.Operator != FairingOperator::Umbrella)
       {
         regular = MollifiedOperatorPoints(topo, x, held, weight, opt, split);
@@ -542,7 +548,8 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
       }
     }
     report.DegenerateTriangles = std::max(report.DegenerateTriangles, L.DegenerateTriangles);
-    const bool solves = opt.Integration == FairingIntegration::Implicit && Powers::Of(opt).Pure(1);
+    const Powers powers = Powers::Of(opt);
+    const bool solves = opt.Integration == FairingIntegration::Implicit && (powers.Pure(1) || powers.Pure(2));
     const Stage surface{ L, held, omega, solves && !split ? localOrder() : nullptr, &roles.Moves, split };
     defined = defined && Integrate(surface, opt, x, report);
     if (opt.Operator == FairingOperator::CurvatureFlowAndSampling)

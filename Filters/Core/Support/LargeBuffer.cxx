@@ -109,7 +109,7 @@ void FreeLargeBlock(void* block)
     {
       release.push_back(block); // not ours (SuiteSparse's hooks pass small malloc blocks here)
     }
-    else if (known->second > cache.Limit)
+    else if (known->second > cache.Limit / 16)
     {
       cache.Sizes.erase(known);
       release.push_back(block);

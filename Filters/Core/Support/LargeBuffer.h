@@ -14,7 +14,11 @@
 // parameter in ParaView, the next time step, the next solver call) finds
 // its buffers already faulted in.  On this project's virtual machines first
 // touching fresh memory costs about 1 ms per MiB, more than computing the
-// curvatures of the 1.2M-triangle benchmark mesh into it.
+// curvatures of the 1.2M-triangle benchmark mesh into it.  Blocks larger
+// than 1/16 of the cache (64 MiB by default) go back to the system: on big
+// meshes the cache would otherwise add up to its whole size to the peak
+// (the 19M-triangle fairing step), and there each pass over such a block
+// takes longer than faulting it in.
 #pragma once
 
 #include <cstddef>
