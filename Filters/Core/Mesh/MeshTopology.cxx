@@ -453,6 +453,11 @@ const MeshTopology::VertexGraph& MeshTopology::Graph() const
       std::vector<VertexEdge> edges;
       for (Index v = static_cast<Index>(begin); v < end; ++v)
       {
+        if (Flags[v] == VertexRegular) // a closed manifold fan: as many neighbours as triangles
+        {
+          graph->NeighborOffsets[v + 1] = Valence(v);
+          continue;
+        }
         VertexEdges(v, edges);
         graph->NeighborOffsets[v + 1] = static_cast<std::int64_t>(edges.size());
       }

@@ -193,6 +193,7 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   sampling.NumberOfSamples = options.NumberOfVertices;
   sampling.Resolution = options.Resolution;
   sampling.NumberOfThreads = options.NumberOfThreads;
+  sampling.Cache = options.Cache;
   out.Samples = SampleSurface(topology, points, atlas, importance, sampling);
   out.SamplingSeconds = SecondsSince(start);
   if (!out.Samples.Error.empty())

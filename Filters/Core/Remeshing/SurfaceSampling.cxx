@@ -267,15 +267,36 @@ void ExcludeBoundaryBand(const MeshTopology& topology, const double* points, con
   }
 }
 
-/// The control map at n^2 texels: expected samples per texel at unit
-/// density (the area map times the importance, NaN outside the charts);
-/// returns its sum.
-double BuildControlMap(const AtlasChart& packed, const double* points, const double* importance, int n, int threads,
-  ChartRaster& raster, std::vector<double>& map)
+/// The charts rasterized at n^2 texels with their area map, from the cache
+/// when it has them.
+const SamplingCache::Raster& RasterAt(const AtlasChart& packed, const double* points, int n, int threads,
+  SamplingCache& cache)
 {
-  RasterizeChart(packed, n, raster, threads);
-  std::vector<double> ratio(raster.Face.size()), weight(raster.Face.size(), 1.0);
-  AreaMap(raster, packed, points, ratio.data());
+  const auto kept = cache.Rasters.find(n);
+  if (kept != cache.Rasters.end())
+  {
+    return kept->second;
+  }
+  if (cache.Rasters.size() >= 4)
+  {
+    cache.Rasters.erase(cache.Rasters.begin());
+  }
+  SamplingCache::Raster& r = cache.Rasters[n];
+  RasterizeChart(packed, n, r.Charts, threads);
+  r.AreaRatio.resize(r.Charts.Face.size());
+  AreaMap(r.Charts, packed, points, r.AreaRatio.data());
+  return r;
+}
+
+/// The control map on a raster: expected samples per texel at unit density
+/// (the area map times the importance, NaN outside the charts); returns its
+/// sum.
+double BuildControlMap(const SamplingCache::Raster& r, const AtlasChart& packed, const double* importance,
+  int threads, std::vector<double>& map)
+{
+  const ChartRaster& raster = r.Charts;
+  const double n = raster.Resolution;
+  std::vector<double> weight(raster.Face.size(), 1.0);
   if (importance)
   {
     InterpolateOnRaster(raster, packed, importance, 1, weight.data(), false, threads);
@@ -284,7 +305,7 @@ double BuildControlMap(const AtlasChart& packed, const double* points, const dou
   map.resize(raster.Face.size());
   for (std::size_t p = 0; p < raster.Face.size(); ++p)
   {
-    const double d = raster.Face[p] >= 0 ? ratio[p] * std::max(0.0, weight[p]) / (double(n) * n) : 0.0;
+    const double d = raster.Face[p] >= 0 ? r.AreaRatio[p] * std::max(0.0, weight[p]) / (n * n) : 0.0;
     map[p] = raster.Face[p] >= 0 ? d : std::numeric_limits<double>::quiet_NaN();
     mass += d;
   }
@@ -331,9 +352,15 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
   int n = options.Resolution > 0
     ? options.Resolution
     : std::clamp(static_cast<int>(std::ceil(std::sqrt(8.0 * options.NumberOfSamples / packing))), 32, 8192);
-  const AtlasChart packed = PackedAtlas(atlas);
-  ChartRaster raster;
-  double mass = BuildControlMap(packed, points, importance, n, options.NumberOfThreads, raster, out.ControlMap);
+  SamplingCache local;
+  SamplingCache& cache = options.Cache ? *options.Cache : local;
+  if (!cache.Packed)
+  {
+    cache.Packed = std::make_unique<AtlasChart>(PackedAtlas(atlas));
+  }
+  const AtlasChart& packed = *cache.Packed;
+  const SamplingCache::Raster* kept = &RasterAt(packed, points, n, options.NumberOfThreads, cache);
+  double mass = BuildControlMap(*kept, packed, importance, options.NumberOfThreads, out.ControlMap);
   if (options.Resolution <= 0 && mass > 0.0)
   {
     // Where the charts' maps shrink the surface most, a texel would need
@@ -344,9 +371,11 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
     if (finer > n)
     {
       n = finer;
-      mass = BuildControlMap(packed, points, importance, n, options.NumberOfThreads, raster, out.ControlMap);
+      kept = &RasterAt(packed, points, n, options.NumberOfThreads, cache);
+      mass = BuildControlMap(*kept, packed, importance, options.NumberOfThreads, out.ControlMap);
     }
   }
+  const ChartRaster& raster = kept->Charts;
   out.Resolution = n;
   if (!(mass > 0.0))
   {

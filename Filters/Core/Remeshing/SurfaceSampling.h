@@ -12,13 +12,38 @@
 #pragma once
 
 #include "Maps/Atlas.h"
+#include "Maps/GeometryImages.h"
 
 #include <cstdint>
+#include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace beltrami
 {
+
+/// What SampleSurface may keep between calls on the same surface and atlas
+/// (interactive use): the packed atlas and, per control-map resolution, the
+/// charts rasterized with their area map (the last four resolutions).  A new
+/// sample count, importance or transfer function then skips the
+/// rasterization.  The caller empties it when the surface or the atlas
+/// changes.
+struct SamplingCache
+{
+  struct Raster
+  {
+    ChartRaster Charts;
+    std::vector<double> AreaRatio; ///< AreaMap per texel
+  };
+  std::unique_ptr<AtlasChart> Packed;
+  std::map<int, Raster> Rasters;
+  void Clear()
+  {
+    Packed.reset();
+    Rasters.clear();
+  }
+};
 
 struct SamplingOptions
 {
@@ -34,6 +59,7 @@ struct SamplingOptions
   /// so the remesh follows the crease to its end.
   const std::uint8_t* FeatureEdges = nullptr;
   int NumberOfThreads = 0;
+  SamplingCache* Cache = nullptr; ///< optional: kept between calls by the caller
 };
 
 enum class SampleKind : std::uint8_t

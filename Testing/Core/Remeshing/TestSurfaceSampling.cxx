@@ -97,6 +97,43 @@ TEST(SurfaceSampling, ExactCountsOnClosedOpenAndHigherGenusSurfaces)
   }
 }
 
+TEST(SurfaceSampling, KeptRastersGiveTheSameSamples)
+{
+  // Interactive use: a cache kept over calls with other counts and another
+  // importance gives the samples of a fresh call (each call rasterizes at
+  // one or two resolutions: the first guess, then a finer one where the
+  // maps shrink the surface most).
+  const test::MeshWithAtlas loaded("bunny00.off");
+  ASSERT_EQ(loaded.Error, "");
+  const double* points = loaded.Surface.Points.data();
+  std::vector<double> importance(loaded.Surface.Points.size() / 3);
+  for (std::size_t v = 0; v < importance.size(); ++v)
+  {
+    importance[v] = 1.0 + points[3 * v + 1] * points[3 * v + 1]; // some variation
+  }
+  SamplingCache cache;
+  std::vector<int> resolutions;
+  for (std::int64_t count : { 5000, 4999, 10000, 5000 })
+  {
+    for (const double* imp : { static_cast<const double*>(nullptr), static_cast<const double*>(importance.data()) })
+    {
+      SamplingOptions options;
+      options.NumberOfSamples = count;
+      const SurfaceSamples fresh = SampleSurface(loaded.Topology, points, loaded.Atlas, imp, options);
+      options.Cache = &cache;
+      const SurfaceSamples kept = SampleSurface(loaded.Topology, points, loaded.Atlas, imp, options);
+      ASSERT_EQ(fresh.Error, "");
+      EXPECT_EQ(kept.Resolution, fresh.Resolution) << count;
+      EXPECT_EQ(kept.Triangle, fresh.Triangle) << count;
+      EXPECT_EQ(kept.Barycentric, fresh.Barycentric) << count;
+      resolutions.push_back(fresh.Resolution);
+    }
+  }
+  ASSERT_TRUE(cache.Packed);
+  EXPECT_EQ(cache.Rasters.count(resolutions.back()), 1u);
+  EXPECT_LE(cache.Rasters.size(), 4u); // the last four resolutions at most
+}
+
 TEST(SurfaceSampling, DensityFollowsTheImportance)
 {
   const test::MeshWithAtlas loaded("bunny00.off", RemeshingAtlasOptions());
