@@ -38,7 +38,7 @@ struct vtkSurfaceRemeshing::Kept
   std::vector<double> Storage; // the points as doubles, where they are not
   const double* Points = nullptr;
   std::unique_ptr<beltrami::AtlasResult> Atlas;
-  beltrami::SamplingCache Sampling; // of this surface and atlas
+  beltrami::RemeshCache Remeshing; // of this surface and atlas
   bool SplitAtFeatures = false;
   double FeatureAngle = 0.0;
   std::vector<double> Curvatures; // of the measure CurvatureImportance (-1: none yet)
@@ -104,7 +104,7 @@ const beltrami::AtlasResult& vtkSurfaceRemeshing::Atlas()
     options.NumberOfThreads = this->NumberOfThreads;
     kept.Atlas = std::make_unique<beltrami::AtlasResult>(
       beltrami::BuildAtlas(kept.Surface.Topology(), kept.Points, options));
-    kept.Sampling.Clear();
+    kept.Remeshing.Clear();
     kept.SplitAtFeatures = this->SplitAtFeatures;
     kept.FeatureAngle = this->FeatureAngle;
     ++this->AtlasBuilds;
@@ -292,7 +292,7 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
   options.StitchingIterations = this->Iterations - options.Iterations;
   options.FeatureAngle = this->SplitAtFeatures ? this->FeatureAngle : 0.0;
   options.NumberOfThreads = this->NumberOfThreads;
-  options.Cache = &this->Cache->Sampling;
+  options.Cache = &this->Cache->Remeshing;
   const beltrami::RemeshResult remesh =
     beltrami::RemeshSurface(topology, points, atlas, importance.empty() ? nullptr : importance.data(), options);
   if (!remesh.Error.empty())

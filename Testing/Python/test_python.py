@@ -612,6 +612,13 @@ class RemeshingFromPython(unittest.TestCase):
             np.testing.assert_allclose(vtk_to_numpy(out.GetPointData().GetArray("Height")), z, atol=1e-9)
             self.assertGreater(out.GetFieldData().GetArray("RemeshMeanMinimumAngle").GetValue(0), 49.0)
         self.assertEqual(f.GetAtlasBuilds(), 1)  # only the sampling changed
+        # The kept atlas, control-map rasters and chart locators give a fresh filter's remesh.
+        fresh = vtkSurfaceRemeshing()
+        fresh.SetInputData(reader.GetOutput())
+        fresh.SetNumberOfVertices(1234)
+        fresh.Update()
+        np.testing.assert_array_equal(vtk_to_numpy(fresh.GetOutput().GetPoints().GetData()),
+                                      vtk_to_numpy(f.GetOutput().GetPoints().GetData()))
         # Moved points: the kept surface and atlas are built again from them.
         xyz = vtk_to_numpy(reader.GetOutput().GetPoints().GetData())
         xyz *= 2.0

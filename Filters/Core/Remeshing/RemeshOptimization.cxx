@@ -110,14 +110,10 @@ class Optimizer
 {
 public:
   Optimizer(Remesh& remesh, const MeshTopology& topology, const double* points, const AtlasResult& atlas,
-    const SurfaceSamples& samples, const double* importance)
+    const SurfaceSamples& samples, const double* importance, RemeshCache* cache)
     : R(remesh), M(remesh.Mesh), Topology(topology), Points(points), Atlas(atlas), Samples(samples),
-      ImportanceValues(importance)
+      ImportanceValues(importance), Locators((cache ? *cache : LocalCache).Locators(atlas))
   {
-    for (const AtlasChart& chart : atlas.Charts)
-    {
-      Locators.emplace_back(chart);
-    }
     Valence.resize(M.NumberOfVertices());
     for (Index v = 0; v < M.NumberOfVertices(); ++v)
     {
@@ -191,7 +187,8 @@ private:
   const AtlasResult& Atlas;
   const SurfaceSamples& Samples;
   const double* ImportanceValues;
-  std::vector<ChartLocator> Locators;
+  RemeshCache LocalCache; ///< where the caller keeps none
+  const std::vector<ChartLocator>& Locators;
   std::vector<Index> Valence;
   std::vector<Index> PathIndex; ///< per vertex: its index in its path's Samples
   std::vector<double> VertexImportance; ///< per vertex: ImportanceAt (empty without an importance)
@@ -759,7 +756,7 @@ RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& 
   {
     return stats;
   }
-  Optimizer optimizer(remesh, topology, points, atlas, samples, options.Importance);
+  Optimizer optimizer(remesh, topology, points, atlas, samples, options.Importance, options.Cache);
   optimizer.NumberOfThreads = options.NumberOfThreads;
   optimizer.OverRelaxation = std::max(1.0, options.OverRelaxation);
   const int rounds = std::max(0, options.Iterations) + std::max(0, options.StitchingIterations);

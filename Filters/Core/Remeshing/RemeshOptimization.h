@@ -47,6 +47,7 @@ struct RemeshOptimizationOptions
   /// whose samples stay on their paths while stitching (null: none).
   const std::uint8_t* FeatureEdges = nullptr;
   int NumberOfThreads = 0; ///< for the relaxation (by colours: the same result for any count)
+  RemeshCache* Cache = nullptr; ///< optional: the charts' locators kept between calls
 };
 
 struct RemeshOptimizationStatistics

@@ -217,6 +217,7 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   optimization.NumberOfThreads = options.NumberOfThreads;
   optimization.Importance = importance;
   optimization.FeatureEdges = features.empty() ? nullptr : features.data();
+  optimization.Cache = options.Cache;
   out.Optimization = OptimizeRemesh(remesh, topology, points, atlas, out.Samples, optimization);
   out.OptimizationSeconds = SecondsSince(start);
   out.Points = remesh.Mesh.Points();

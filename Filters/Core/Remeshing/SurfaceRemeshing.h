@@ -27,7 +27,7 @@ struct RemeshOptions
   /// when it splits at features); 0: none.
   double FeatureAngle = 0.0;
   int NumberOfThreads = 0;
-  SamplingCache* Cache = nullptr; ///< optional: the sampling's rasters kept between calls (SamplingCache)
+  RemeshCache* Cache = nullptr; ///< optional: kept between calls on the same surface and atlas (RemeshCache)
 };
 
 struct RemeshResult

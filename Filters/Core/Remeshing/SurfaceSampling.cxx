@@ -269,8 +269,8 @@ void ExcludeBoundaryBand(const MeshTopology& topology, const double* points, con
 
 /// The charts rasterized at n^2 texels with their area map, from the cache
 /// when it has them.
-const SamplingCache::Raster& RasterAt(const AtlasChart& packed, const double* points, int n, int threads,
-  SamplingCache& cache)
+const RemeshCache::Raster& RasterAt(const AtlasChart& packed, const double* points, int n, int threads,
+  RemeshCache& cache)
 {
   const auto kept = cache.Rasters.find(n);
   if (kept != cache.Rasters.end())
@@ -281,7 +281,7 @@ const SamplingCache::Raster& RasterAt(const AtlasChart& packed, const double* po
   {
     cache.Rasters.erase(cache.Rasters.begin());
   }
-  SamplingCache::Raster& r = cache.Rasters[n];
+  RemeshCache::Raster& r = cache.Rasters[n];
   RasterizeChart(packed, n, r.Charts, threads);
   r.AreaRatio.resize(r.Charts.Face.size());
   AreaMap(r.Charts, packed, points, r.AreaRatio.data());
@@ -291,7 +291,7 @@ const SamplingCache::Raster& RasterAt(const AtlasChart& packed, const double* po
 /// The control map on a raster: expected samples per texel at unit density
 /// (the area map times the importance, NaN outside the charts); returns its
 /// sum.
-double BuildControlMap(const SamplingCache::Raster& r, const AtlasChart& packed, const double* importance,
+double BuildControlMap(const RemeshCache::Raster& r, const AtlasChart& packed, const double* importance,
   int threads, std::vector<double>& map)
 {
   const ChartRaster& raster = r.Charts;
@@ -328,6 +328,20 @@ double Quantile(const std::vector<double>& values, double q)
 
 } // namespace
 
+const std::vector<ChartLocator>& RemeshCache::Locators(const AtlasResult& atlas)
+{
+  if (ChartLocators.size() != atlas.Charts.size())
+  {
+    ChartLocators.clear();
+    ChartLocators.reserve(atlas.Charts.size());
+    for (const AtlasChart& chart : atlas.Charts)
+    {
+      ChartLocators.emplace_back(chart);
+    }
+  }
+  return ChartLocators;
+}
+
 Index LocateOnPath(const MeshTopology& topology, const SamplePath& path, double arc, double barycentric[3])
 {
   const std::size_t last = path.Vertices.size() - 1;
@@ -352,14 +366,14 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
   int n = options.Resolution > 0
     ? options.Resolution
     : std::clamp(static_cast<int>(std::ceil(std::sqrt(8.0 * options.NumberOfSamples / packing))), 32, 8192);
-  SamplingCache local;
-  SamplingCache& cache = options.Cache ? *options.Cache : local;
+  RemeshCache local;
+  RemeshCache& cache = options.Cache ? *options.Cache : local;
   if (!cache.Packed)
   {
     cache.Packed = std::make_unique<AtlasChart>(PackedAtlas(atlas));
   }
   const AtlasChart& packed = *cache.Packed;
-  const SamplingCache::Raster* kept = &RasterAt(packed, points, n, options.NumberOfThreads, cache);
+  const RemeshCache::Raster* kept = &RasterAt(packed, points, n, options.NumberOfThreads, cache);
   double mass = BuildControlMap(*kept, packed, importance, options.NumberOfThreads, out.ControlMap);
   if (options.Resolution <= 0 && mass > 0.0)
   {

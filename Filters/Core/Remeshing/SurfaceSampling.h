@@ -23,13 +23,14 @@
 namespace beltrami
 {
 
-/// What SampleSurface may keep between calls on the same surface and atlas
-/// (interactive use): the packed atlas and, per control-map resolution, the
-/// charts rasterized with their area map (the last four resolutions).  A new
-/// sample count, importance or transfer function then skips the
-/// rasterization.  The caller empties it when the surface or the atlas
-/// changes.
-struct SamplingCache
+/// What the remesher may keep between calls on the same surface and atlas
+/// (interactive use): for the sampling, the packed atlas and, per
+/// control-map resolution, the charts rasterized with their area map (the
+/// last four resolutions); for the optimisation, the charts' locators.  A
+/// new sample count, importance or transfer function then skips the
+/// rasterization and the locators' set-up.  The caller empties it when the
+/// surface or the atlas changes.
+struct RemeshCache
 {
   struct Raster
   {
@@ -38,11 +39,17 @@ struct SamplingCache
   };
   std::unique_ptr<AtlasChart> Packed;
   std::map<int, Raster> Rasters;
+  /// One per chart of `atlas` (built on first use).
+  const std::vector<ChartLocator>& Locators(const AtlasResult& atlas);
   void Clear()
   {
     Packed.reset();
     Rasters.clear();
+    ChartLocators.clear();
   }
+
+private:
+  std::vector<ChartLocator> ChartLocators;
 };
 
 struct SamplingOptions
@@ -59,7 +66,7 @@ struct SamplingOptions
   /// so the remesh follows the crease to its end.
   const std::uint8_t* FeatureEdges = nullptr;
   int NumberOfThreads = 0;
-  SamplingCache* Cache = nullptr; ///< optional: kept between calls by the caller
+  RemeshCache* Cache = nullptr; ///< optional: kept between calls by the caller
 };
 
 enum class SampleKind : std::uint8_t

@@ -111,7 +111,7 @@ TEST(SurfaceSampling, KeptRastersGiveTheSameSamples)
   {
     importance[v] = 1.0 + points[3 * v + 1] * points[3 * v + 1]; // some variation
   }
-  SamplingCache cache;
+  RemeshCache cache;
   std::vector<int> resolutions;
   for (std::int64_t count : { 5000, 4999, 10000, 5000 })
   {
