@@ -277,7 +277,7 @@ const RemeshCache::Raster& RasterAt(const AtlasChart& packed, const double* poin
   {
     return kept->second;
   }
-  if (cache.Rasters.size() >= 4)
+  if (cache.Rasters.size() >= 2)
   {
     cache.Rasters.erase(cache.Rasters.begin());
   }

@@ -25,10 +25,11 @@ namespace beltrami
 
 /// What the remesher may keep between calls on the same surface and atlas
 /// (interactive use): for the sampling, the packed atlas and, per
-/// control-map resolution, the charts rasterized with their area map (the
-/// last four resolutions); for the optimisation, the charts' locators.  A
-/// new sample count, importance or transfer function then skips the
-/// rasterization and the locators' set-up.  The caller empties it when the
+/// control-map resolution, the charts rasterized with their area map (two
+/// resolutions: a count's first guess and its finer map; 36 bytes a texel);
+/// for the optimisation, the charts' locators.  A new sample count,
+/// importance or transfer function then skips the rasterization and the
+/// locators' set-up.  The caller empties it when the
 /// surface or the atlas changes.
 struct RemeshCache
 {
