@@ -268,20 +268,32 @@ void ExcludeBoundaryBand(const MeshTopology& topology, const double* points, con
 }
 
 /// The charts rasterized at n^2 texels with their area map, from the cache
-/// when it has them.
+/// when it has them.  The cache keeps the last used: at most four rasters,
+/// and beyond 256 MiB only the last two.
 const RemeshCache::Raster& RasterAt(const AtlasChart& packed, const double* points, int n, int threads,
   RemeshCache& cache)
 {
   const auto kept = cache.Rasters.find(n);
   if (kept != cache.Rasters.end())
   {
+    kept->second.LastUse = ++cache.Clock;
     return kept->second;
   }
-  if (cache.Rasters.size() >= 2)
+  const auto bytes = [&]() {
+    std::size_t total = 0;
+    for (const auto& [size, r] : cache.Rasters)
+    {
+      total += r.Charts.Face.size() * (sizeof(Index) + 4 * sizeof(double));
+    }
+    return total;
+  };
+  while (cache.Rasters.size() >= 4 || (cache.Rasters.size() >= 2 && bytes() > (std::size_t(256) << 20)))
   {
-    cache.Rasters.erase(cache.Rasters.begin());
+    cache.Rasters.erase(std::min_element(cache.Rasters.begin(), cache.Rasters.end(),
+      [](const auto& a, const auto& b) { return a.second.LastUse < b.second.LastUse; }));
   }
   RemeshCache::Raster& r = cache.Rasters[n];
+  r.LastUse = ++cache.Clock;
   RasterizeChart(packed, n, r.Charts, threads);
   r.AreaRatio.resize(r.Charts.Face.size());
   AreaMap(r.Charts, packed, points, r.AreaRatio.data());

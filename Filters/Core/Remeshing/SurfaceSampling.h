@@ -25,9 +25,9 @@ namespace beltrami
 
 /// What the remesher may keep between calls on the same surface and atlas
 /// (interactive use): for the sampling, the packed atlas and, per
-/// control-map resolution, the charts rasterized with their area map (two
-/// resolutions: a count's first guess and its finer map; 36 bytes a texel);
-/// for the optimisation, the charts' locators.  A new sample count,
+/// control-map resolution, the charts rasterized with their area map (the
+/// last four used, the last two beyond 256 MiB; 36 bytes a texel: at 10k
+/// samples 3-13 MB each); for the optimisation, the charts' locators.  A new sample count,
 /// importance or transfer function then skips the rasterization and the
 /// locators' set-up.  The caller empties it when the
 /// surface or the atlas changes.
@@ -37,7 +37,9 @@ struct RemeshCache
   {
     ChartRaster Charts;
     std::vector<double> AreaRatio; ///< AreaMap per texel
+    std::uint64_t LastUse = 0;
   };
+  std::uint64_t Clock = 0; ///< counts the rasters' uses
   std::unique_ptr<AtlasChart> Packed;
   std::map<int, Raster> Rasters;
   /// One per chart of `atlas` (built on first use).

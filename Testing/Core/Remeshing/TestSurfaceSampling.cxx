@@ -131,7 +131,7 @@ TEST(SurfaceSampling, KeptRastersGiveTheSameSamples)
   }
   ASSERT_TRUE(cache.Packed);
   EXPECT_EQ(cache.Rasters.count(resolutions.back()), 1u);
-  EXPECT_LE(cache.Rasters.size(), 2u); // the last two resolutions at most
+  EXPECT_LE(cache.Rasters.size(), 4u); // the last four resolutions at most
 }
 
 TEST(SurfaceSampling, DensityFollowsTheImportance)
