@@ -27,9 +27,9 @@ namespace beltrami
 /// (interactive use): for the sampling, the packed atlas and, per
 /// control-map resolution, the charts rasterized with their area map (the
 /// last four used, the last two beyond 256 MiB; 36 bytes a texel: at 10k
-/// samples 3-13 MB each); for the optimisation, the charts' locators.  A new sample count,
-/// importance or transfer function then skips the rasterization and the
-/// locators' set-up.  The caller empties it when the
+/// samples 3-13 MB each); for the optimisation, the charts' locators.  A new
+/// sample count, importance or transfer function then skips the
+/// rasterization and the locators' set-up.  The caller empties it when the
 /// surface or the atlas changes.
 struct RemeshCache
 {
