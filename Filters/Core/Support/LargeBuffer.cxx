@@ -60,6 +60,7 @@ void* AllocateLargeBlock(std::size_t bytes)
 {
   const std::size_t rounded = (std::max<std::size_t>(bytes, 1) + HugePage - 1) / HugePage * HugePage;
   BlockCache& cache = Cache();
+  std::vector<void*> release;
   {
     std::lock_guard<std::mutex> lock(cache.Mutex);
     for (auto it = cache.Free.rbegin(); it != cache.Free.rend(); ++it)
@@ -72,6 +73,20 @@ void* AllocateLargeBlock(std::size_t bytes)
         return block;
       }
     }
+    // A miss: cached blocks (oldest first) make room for the new one.
+    std::size_t freed = 0, evict = 0;
+    for (; evict < cache.Free.size() && freed < rounded; ++evict)
+    {
+      freed += cache.Free[evict].second;
+      cache.Sizes.erase(cache.Free[evict].first);
+      release.push_back(cache.Free[evict].first);
+    }
+    cache.FreeBytes -= freed;
+    cache.Free.erase(cache.Free.begin(), cache.Free.begin() + evict);
+  }
+  for (void* b : release)
+  {
+    std::free(b);
   }
   void* block = std::aligned_alloc(HugePage, rounded);
   if (!block)
@@ -109,7 +124,7 @@ void FreeLargeBlock(void* block)
     {
       release.push_back(block); // not ours (SuiteSparse's hooks pass small malloc blocks here)
     }
-    else if (known->second > cache.Limit / 16)
+    else if (known->second > cache.Limit)
     {
       cache.Sizes.erase(known);
       release.push_back(block);

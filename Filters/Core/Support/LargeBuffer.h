@@ -14,11 +14,11 @@
 // parameter in ParaView, the next time step, the next solver call) finds
 // its buffers already faulted in.  On this project's virtual machines first
 // touching fresh memory costs about 1 ms per MiB, more than computing the
-// curvatures of the 1.2M-triangle benchmark mesh into it.  Blocks larger
-// than 1/16 of the cache (64 MiB by default) go back to the system: on big
-// meshes the cache would otherwise add up to its whole size to the peak
-// (the 19M-triangle fairing step), and there each pass over such a block
-// takes longer than faulting it in.
+// curvatures of the 1.2M-triangle benchmark mesh into it.  An allocation
+// that finds no block of its size first returns cached blocks (oldest
+// first) of at least its size to the system: the cache gives way to new
+// blocks instead of adding to them (on the 19M-triangle fairing step it had
+// held up to its whole size at the peak).
 #pragma once
 
 #include <cstddef>
