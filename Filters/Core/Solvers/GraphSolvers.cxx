@@ -27,6 +27,51 @@ struct SinglePrecisionSystem
   LargeVector<std::uint8_t> Free;
 };
 
+/// The locality order of pb's rows: pb.Order, or computed into `computed`.
+const Index* OrderOf(const ShiftedLaplacianProblem& pb, std::vector<Index>& computed)
+{
+  if (pb.Order)
+  {
+    return pb.Order;
+  }
+  computed = LocalityOrder(pb.Rows, pb.Offsets, pb.Neighbors);
+  return computed.data();
+}
+
+/// pb's graph renumbered by `order` (row i is the caller's row order[i]):
+/// offsets, neighbours and each entry's value(k) (k: the caller's entry);
+/// rows with keep(v) false get no entries.  Returns the new position of
+/// each of the caller's rows.
+template <typename T, typename Keep, typename ValueOf>
+std::vector<Index> RenumberEntries(const ShiftedLaplacianProblem& pb, const Index* order, Keep&& keep,
+  ValueOf&& value, LargeVector<std::int64_t>& offsets, LargeVector<Index>& neighbors, LargeVector<T>& values)
+{
+  const std::int64_t n = pb.Rows;
+  std::vector<Index> position(static_cast<std::size_t>(n));
+  offsets.resize(static_cast<std::size_t>(n) + 1);
+  offsets[0] = 0;
+  for (std::int64_t i = 0; i < n; ++i)
+  {
+    const Index v = order[i];
+    position[v] = static_cast<Index>(i);
+    offsets[i + 1] = offsets[i] + (keep(v) ? pb.Offsets[v + 1] - pb.Offsets[v] : 0);
+  }
+  neighbors.resize(static_cast<std::size_t>(offsets[n]));
+  values.resize(static_cast<std::size_t>(offsets[n]));
+  ParallelForStatic(n, pb.NumberOfThreads, [&](std::int64_t s, std::int64_t e) {
+    for (std::int64_t i = s; i < e; ++i)
+    {
+      const Index v = order[i];
+      for (std::int64_t k = pb.Offsets[v], o = offsets[i]; keep(v) && k < pb.Offsets[v + 1]; ++k, ++o)
+      {
+        neighbors[o] = position[pb.Neighbors[k]];
+        values[o] = value(k);
+      }
+    }
+  });
+  return position;
+}
+
 /// The correction: A dx = r (r in the renumbered order, W per row; inactive
 /// columns are left at 0) until the residual of every active column is below
 /// target[c].  Returns the iterations.
@@ -148,12 +193,7 @@ ConjugateGradientResult SolveShifted(const ShiftedLaplacianProblem& pb, const do
   const int nc = pb.Columns;
   const int threads = pb.NumberOfThreads;
   std::vector<Index> computed;
-  const Index* order = pb.Order;
-  if (!order)
-  {
-    computed = LocalityOrder(pb.Rows, pb.Offsets, pb.Neighbors);
-    order = computed.data();
-  }
+  const Index* order = OrderOf(pb, computed);
   const auto diagonalOf = [&](std::int64_t i) {
     return (pb.Shift ? pb.Shift[i] : 0.0) + pb.Factor * pb.Diagonal[i];
   };
@@ -165,20 +205,8 @@ ConjugateGradientResult SolveShifted(const ShiftedLaplacianProblem& pb, const do
   // The renumbered single-precision system.
   SinglePrecisionSystem A;
   A.Rows = n;
-  A.Offsets.resize(static_cast<std::size_t>(n) + 1);
-  A.Offsets[0] = 0;
-  for (std::int64_t i = 0; i < n; ++i)
-  {
-    const Index v = order[i];
-    A.Offsets[i + 1] = A.Offsets[i] + (isFree(v) ? pb.Offsets[v + 1] - pb.Offsets[v] : 0);
-  }
-  std::vector<Index> position(static_cast<std::size_t>(n));
-  for (std::int64_t i = 0; i < n; ++i)
-  {
-    position[order[i]] = static_cast<Index>(i);
-  }
-  A.Neighbors.resize(static_cast<std::size_t>(A.Offsets[n]));
-  A.Weights.resize(static_cast<std::size_t>(A.Offsets[n]));
+  const std::vector<Index> position = RenumberEntries(pb, order, isFree,
+    [&](std::int64_t k) { return static_cast<float>(pb.Factor * pb.Weights[k]); }, A.Offsets, A.Neighbors, A.Weights);
   A.Diagonal.resize(n);
   A.InverseDiagonal.resize(n);
   A.Free.resize(n);
@@ -191,12 +219,6 @@ ConjugateGradientResult SolveShifted(const ShiftedLaplacianProblem& pb, const do
       const double d = free ? diagonalOf(v) : 1.0;
       A.Diagonal[i] = static_cast<float>(d);
       A.InverseDiagonal[i] = static_cast<float>(1.0 / d);
-      std::int64_t o = A.Offsets[i];
-      for (std::int64_t k = pb.Offsets[v]; free && k < pb.Offsets[v + 1]; ++k, ++o)
-      {
-        A.Neighbors[o] = position[pb.Neighbors[k]];
-        A.Weights[o] = static_cast<float>(pb.Factor * pb.Weights[k]);
-      }
     }
   });
 
@@ -360,21 +382,9 @@ private:
   {
     const std::int64_t n = pb.Rows;
     const int nc = pb.Columns;
-    if (!pb.Order)
-    {
-      Computed = LocalityOrder(pb.Rows, pb.Offsets, pb.Neighbors);
-    }
-    Order = pb.Order ? pb.Order : Computed.data();
-    std::vector<Index> position(static_cast<std::size_t>(n));
-    Offsets.resize(static_cast<std::size_t>(n) + 1);
-    Offsets[0] = 0;
-    for (std::int64_t i = 0; i < n; ++i)
-    {
-      position[Order[i]] = static_cast<Index>(i);
-      Offsets[i + 1] = Offsets[i] + pb.Offsets[Order[i] + 1] - pb.Offsets[Order[i]];
-    }
-    Neighbors.resize(static_cast<std::size_t>(Offsets[n]));
-    Weights.resize(static_cast<std::size_t>(Offsets[n]));
+    Order = OrderOf(pb, Computed);
+    RenumberEntries(pb, Order, [](Index) { return true; }, [&](std::int64_t k) { return pb.Weights[k]; }, Offsets,
+      Neighbors, Weights);
     Diagonal.resize(n);
     Shift.resize(n);
     Fixed.resize(pb.Fixed ? n : 0);
@@ -383,11 +393,6 @@ private:
       for (std::int64_t i = s; i < e; ++i)
       {
         const std::int64_t v = Order[i];
-        for (std::int64_t k = pb.Offsets[v], o = Offsets[i]; k < pb.Offsets[v + 1]; ++k, ++o)
-        {
-          Neighbors[o] = position[pb.Neighbors[k]];
-          Weights[o] = pb.Weights[k];
-        }
         Diagonal[i] = pb.Diagonal[v];
         Shift[i] = pb.Shift[v];
         if (pb.Fixed)
