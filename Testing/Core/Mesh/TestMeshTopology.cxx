@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 using namespace beltrami;
@@ -88,6 +89,11 @@ TEST(MeshTopology, VertexEdgesAgreeWithTheirTriangles)
         neighbors.insert(topo.CornerVertex(MeshTopology::Prev(*c)));
       }
       ASSERT_EQ(edges.size(), neighbors.size()) << "vertex " << v;
+      // The 1-ring graph holds the same neighbours (a regular vertex's
+      // count is taken from its valence).
+      const MeshTopology::VertexGraph& graph = topo.Graph();
+      ASSERT_EQ(graph.NeighborOffsets[v + 1] - graph.NeighborOffsets[v], static_cast<std::int64_t>(neighbors.size()));
+      EXPECT_TRUE(std::equal(neighbors.begin(), neighbors.end(), graph.Neighbors.begin() + graph.NeighborOffsets[v]));
       auto expected = neighbors.begin();
       for (const MeshTopology::VertexEdge& e : edges)
       {
