@@ -124,8 +124,12 @@ double MeanEdgeLength(const MeshTopology& topo, const double* x, const Partition
         for (std::int64_t k = graph.NeighborOffsets[a]; k < graph.NeighborOffsets[a + 1]; ++k)
         {
           const Index b = graph.Neighbors[k];
-          const double length = b > a ? (Point(x, a) - Point(x, b)).norm() : 0.0;
-          if (b > a && std::isfinite(length) && (!split || split->CountsEdge(a, b)))
+          if (b <= a)
+          {
+            continue;
+          }
+          const double length = (Point(x, a) - Point(x, b)).norm();
+          if (std::isfinite(length) && (!split || split->CountsEdge(a, b)))
           {
             acc[0] += length;
             acc[1] += 1.0;

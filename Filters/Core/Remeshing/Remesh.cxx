@@ -325,8 +325,8 @@ void SplitDoubleEars(JoinedTriangles& joined)
   }
 }
 
-ChartTriangles TriangulateChart(const MeshTopology& topology, const AtlasChart& chart, const SurfaceSamples& samples,
-  const std::vector<int>& paths, const std::vector<Index>& interior)
+ChartTriangles TriangulateChart(const MeshTopology& topology, const AtlasChart& chart, const ChartLocator& locator,
+  const SurfaceSamples& samples, const std::vector<int>& paths, const std::vector<Index>& interior)
 {
   ChartTriangles out;
   ChartPoints points = GatherChart(topology, chart, samples, paths, interior, out.Error);
@@ -343,7 +343,6 @@ ChartTriangles TriangulateChart(const MeshTopology& topology, const AtlasChart& 
     {
       out.Error = "the boundary samples of a chart do not enclose a domain";
     }
-    const ChartLocator locator(chart);
     for (Index u : cdt.Unused)
     {
       ChartTriangles::Moved moved;
@@ -411,8 +410,10 @@ Vec3 SurfacePoint(const MeshTopology& topology, const double* points, Index tria
 }
 
 Remesh CreateRemesh(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
-  const SurfaceSamples& samples, int numThreads)
+  const SurfaceSamples& samples, int numThreads, RemeshCache* cache)
 {
+  RemeshCache local;
+  const std::vector<ChartLocator>& locators = (cache ? *cache : local).Locators(atlas);
   Remesh out;
   const Index n = static_cast<Index>(samples.Kind.size());
   const std::size_t charts = atlas.Charts.size();
@@ -447,7 +448,7 @@ Remesh CreateRemesh(const MeshTopology& topology, const double* points, const At
   ParallelFor(static_cast<std::int64_t>(charts), numThreads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t c = begin; c < end; ++c)
     {
-      parts[c] = TriangulateChart(topology, atlas.Charts[c], samples, paths[c], interior[c]);
+      parts[c] = TriangulateChart(topology, atlas.Charts[c], locators[c], samples, paths[c], interior[c]);
     }
   }, {}, 0, 1);
   out.Triangle = samples.Triangle;

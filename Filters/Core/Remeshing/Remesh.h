@@ -46,8 +46,9 @@ Vec3 SurfacePoint(const MeshTopology& topology, const double* points, Index tria
 /// its boundary as constraints (Remeshing/ConstrainedDelaunay), joined along
 /// the shared boundary samples into one mesh: watertight, with the input's
 /// topology.  An interior sample that falls outside its chart's polygon of
-/// boundary samples is moved to the nearest triangle inside.
+/// boundary samples is moved to the nearest triangle inside (located by
+/// the charts' locators of `cache`, built there when it has none).
 Remesh CreateRemesh(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
-  const SurfaceSamples& samples, int numThreads = 0);
+  const SurfaceSamples& samples, int numThreads = 0, RemeshCache* cache = nullptr);
 
 } // namespace beltrami

@@ -193,7 +193,9 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   sampling.NumberOfSamples = options.NumberOfVertices;
   sampling.Resolution = options.Resolution;
   sampling.NumberOfThreads = options.NumberOfThreads;
-  sampling.Cache = options.Cache;
+  RemeshCache local; // one run's locators shared by its stages, where the caller keeps none
+  RemeshCache* cache = options.Cache ? options.Cache : &local;
+  sampling.Cache = cache;
   out.Samples = SampleSurface(topology, points, atlas, importance, sampling);
   out.SamplingSeconds = SecondsSince(start);
   if (!out.Samples.Error.empty())
@@ -202,7 +204,7 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
     return out;
   }
   start = std::chrono::steady_clock::now();
-  Remesh remesh = CreateRemesh(topology, points, atlas, out.Samples, options.NumberOfThreads);
+  Remesh remesh = CreateRemesh(topology, points, atlas, out.Samples, options.NumberOfThreads, cache);
   out.TriangulationSeconds = SecondsSince(start);
   if (!remesh.Error.empty())
   {
@@ -217,7 +219,7 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   optimization.NumberOfThreads = options.NumberOfThreads;
   optimization.Importance = importance;
   optimization.FeatureEdges = features.empty() ? nullptr : features.data();
-  optimization.Cache = options.Cache;
+  optimization.Cache = cache;
   out.Optimization = OptimizeRemesh(remesh, topology, points, atlas, out.Samples, optimization);
   out.OptimizationSeconds = SecondsSince(start);
   out.Points = remesh.Mesh.Points();
