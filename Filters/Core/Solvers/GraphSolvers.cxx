@@ -1,12 +1,12 @@
 #include "Solvers/GraphSolvers.h"
 
+#include "Solvers/GraphSolversDetail.h"
 #include "Solvers/Partition.h"
 #include "Solvers/SparseGraph.h"
 #include "Support/LargeBuffer.h"
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
 #include <stdexcept>
 
 namespace beltrami
@@ -26,51 +26,6 @@ struct SinglePrecisionSystem
   LargeVector<float> Weights, Diagonal, InverseDiagonal;
   LargeVector<std::uint8_t> Free;
 };
-
-/// The locality order of pb's rows: pb.Order, or computed into `computed`.
-const Index* OrderOf(const ShiftedLaplacianProblem& pb, std::vector<Index>& computed)
-{
-  if (pb.Order)
-  {
-    return pb.Order;
-  }
-  computed = LocalityOrder(pb.Rows, pb.Offsets, pb.Neighbors);
-  return computed.data();
-}
-
-/// pb's graph renumbered by `order` (row i is the caller's row order[i]):
-/// offsets, neighbours and each entry's value(k) (k: the caller's entry);
-/// rows with keep(v) false get no entries.  Returns the new position of
-/// each of the caller's rows.
-template <typename T, typename Keep, typename ValueOf>
-std::vector<Index> RenumberEntries(const ShiftedLaplacianProblem& pb, const Index* order, Keep&& keep,
-  ValueOf&& value, LargeVector<std::int64_t>& offsets, LargeVector<Index>& neighbors, LargeVector<T>& values)
-{
-  const std::int64_t n = pb.Rows;
-  std::vector<Index> position(static_cast<std::size_t>(n));
-  offsets.resize(static_cast<std::size_t>(n) + 1);
-  offsets[0] = 0;
-  for (std::int64_t i = 0; i < n; ++i)
-  {
-    const Index v = order[i];
-    position[v] = static_cast<Index>(i);
-    offsets[i + 1] = offsets[i] + (keep(v) ? pb.Offsets[v + 1] - pb.Offsets[v] : 0);
-  }
-  neighbors.resize(static_cast<std::size_t>(offsets[n]));
-  values.resize(static_cast<std::size_t>(offsets[n]));
-  ParallelForStatic(n, pb.NumberOfThreads, [&](std::int64_t s, std::int64_t e) {
-    for (std::int64_t i = s; i < e; ++i)
-    {
-      const Index v = order[i];
-      for (std::int64_t k = pb.Offsets[v], o = offsets[i]; keep(v) && k < pb.Offsets[v + 1]; ++k, ++o)
-      {
-        neighbors[o] = position[pb.Neighbors[k]];
-        values[o] = value(k);
-      }
-    }
-  });
-  return position;
-}
 
 /// The correction: A dx = r (r in the renumbered order, W per row; inactive
 /// columns are left at 0) until the residual of every active column is below
@@ -193,7 +148,7 @@ ConjugateGradientResult SolveShifted(const ShiftedLaplacianProblem& pb, const do
   const int nc = pb.Columns;
   const int threads = pb.NumberOfThreads;
   std::vector<Index> computed;
-  const Index* order = OrderOf(pb, computed);
+  const Index* order = detail::OrderOf(pb, computed);
   const auto diagonalOf = [&](std::int64_t i) {
     return (pb.Shift ? pb.Shift[i] : 0.0) + pb.Factor * pb.Diagonal[i];
   };
@@ -205,7 +160,7 @@ ConjugateGradientResult SolveShifted(const ShiftedLaplacianProblem& pb, const do
   // The renumbered single-precision system.
   SinglePrecisionSystem A;
   A.Rows = n;
-  const std::vector<Index> position = RenumberEntries(pb, order, isFree,
+  const std::vector<Index> position = detail::RenumberEntries(pb, order, isFree,
     [&](std::int64_t k) { return static_cast<float>(pb.Factor * pb.Weights[k]); }, A.Offsets, A.Neighbors, A.Weights);
   A.Diagonal.resize(n);
   A.InverseDiagonal.resize(n);
@@ -314,405 +269,6 @@ ConjugateGradientResult SolveShifted(const ShiftedLaplacianProblem& pb, const do
     norms = residual();
   }
 }
-
-} // namespace
-
-namespace
-{
-
-/// y = K x for W values per row, all rows.
-template <int W>
-void StiffnessProduct(const ShiftedLaplacianProblem& pb, const double* x, double* y)
-{
-  ApplyGraphStiffness(pb.Rows, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, x, y, W, pb.NumberOfThreads);
-}
-
-/// a b without the checks of std::complex's operator* for infinities
-/// (a library call per product unless -fcx-limited-range).
-inline std::complex<double> Times(std::complex<double> a, std::complex<double> b)
-{
-  return { a.real() * b.real() - a.imag() * b.imag(), a.real() * b.imag() + a.imag() * b.real() };
-}
-
-/// The rows a SquaredSolver works on: the caller's (distributed), or a copy
-/// renumbered in LocalityOrder (pb.Order, or computed), whose products find
-/// a row's neighbours near in memory: one default fairing step on the bunny
-/// Loop-subdivided three times (4.8M triangles) took 27-33 s in the mesh's
-/// order and 18-22 s renumbered.  X: the solution in the working order (the
-/// caller's x when not renumbered); B: the caller's right-hand side, whose
-/// row for working row i is Row(i).
-class SquaredSystem
-{
-public:
-  SquaredSystem(const ShiftedLaplacianProblem& pb, const double* b, double* x)
-    : Problem(pb)
-    , B(b)
-    , X(x)
-  {
-    if (!pb.Split && pb.Rows > 0)
-    {
-      Renumber(pb, x);
-    }
-  }
-
-  /// The caller's row of working row i.
-  std::int64_t Row(std::int64_t i) const { return Order ? Order[i] : i; }
-
-  /// The working solution into the caller's x.
-  void Return(double* x) const
-  {
-    const int nc = Problem.Columns;
-    if (Order)
-    {
-      ParallelForStatic(Problem.Rows, Problem.NumberOfThreads, [&](std::int64_t s, std::int64_t e) {
-        for (std::int64_t i = s; i < e; ++i)
-        {
-          std::copy_n(X + i * nc, nc, x + static_cast<std::int64_t>(Order[i]) * nc);
-        }
-      });
-    }
-  }
-
-  ShiftedLaplacianProblem Problem; ///< the working rows
-  const double* B;
-  double* X;
-
-private:
-  void Renumber(const ShiftedLaplacianProblem& pb, const double* x)
-  {
-    const std::int64_t n = pb.Rows;
-    const int nc = pb.Columns;
-    Order = OrderOf(pb, Computed);
-    RenumberEntries(pb, Order, [](Index) { return true; }, [&](std::int64_t k) { return pb.Weights[k]; }, Offsets,
-      Neighbors, Weights);
-    Diagonal.resize(n);
-    Shift.resize(n);
-    Fixed.resize(pb.Fixed ? n : 0);
-    Solution.resize(n * nc);
-    ParallelForStatic(n, pb.NumberOfThreads, [&](std::int64_t s, std::int64_t e) {
-      for (std::int64_t i = s; i < e; ++i)
-      {
-        const std::int64_t v = Order[i];
-        Diagonal[i] = pb.Diagonal[v];
-        Shift[i] = pb.Shift[v];
-        if (pb.Fixed)
-        {
-          Fixed[i] = pb.Fixed[v];
-        }
-        std::copy_n(x + v * nc, nc, Solution.data() + i * nc);
-      }
-    });
-    Problem.Offsets = Offsets.data();
-    Problem.Neighbors = Neighbors.data();
-    Problem.Weights = Weights.data();
-    Problem.Diagonal = Diagonal.data();
-    Problem.Shift = Shift.data();
-    Problem.Fixed = pb.Fixed ? Fixed.data() : nullptr;
-    Problem.Order = nullptr;
-    X = Solution.data();
-  }
-
-  std::vector<Index> Computed;
-  const Index* Order = nullptr; ///< working row i is the caller's row Order[i]
-  LargeVector<std::int64_t> Offsets;
-  LargeVector<Index> Neighbors;
-  LargeVector<double> Weights, Diagonal, Shift, Solution;
-  LargeVector<std::uint8_t> Fixed;
-};
-
-/// The solve of SolveSquaredLaplacian for NC columns: one COCG run on
-/// (D + i a K_ff) dz = res (res: the initial real residual); x = x0 + Re dz,
-/// accumulated into x as it goes (only Re dz is ever needed).
-/// The real residual of Re dz is the complex one amplified (by up to
-/// ~ a ||K|| / D), so the complex residual is first asked for two orders of
-/// magnitude more than the real one needs; where that was not enough, the
-/// same run goes on with a tighter target (no restart).  Vectors: the
-/// complex R, P and Q = A P (Q also the scratch of the real residual), and
-/// the Jacobi inverses; Z = M^-1 R is formed where it is used.
-template <int NC>
-class SquaredSolver
-{
-public:
-  using Complex = std::complex<double>;
-  static constexpr int W = 2 * NC; // complex vectors: per row NC real parts, then NC imaginary parts
-
-  SquaredSolver(const ShiftedLaplacianProblem& pb, const double* b, double* x)
-    : System(pb, b, x)
-    , Pb(System.Problem)
-    , B(System.B)
-    , X(System.X)
-    , Xout(x)
-    , N(pb.Rows)
-    , Threads(pb.NumberOfThreads)
-    , T(pb.Factor)
-    , A(std::sqrt(pb.Factor))
-    , Size(static_cast<std::size_t>(pb.Rows) * NC)
-    , R(2 * Size)
-    , P(2 * Size)
-    , KP(2 * Size)
-    , Inverse(static_cast<std::size_t>(pb.Rows))
-  {
-    ParallelForStatic(N, Threads, [&](std::int64_t s, std::int64_t e) { // Jacobi: 1 / (D_i + i a K_ii)
-      for (std::int64_t i = s; i < e; ++i)
-      {
-        Inverse[i] = IsFree(i) ? 1.0 / Complex(Pb.Shift[i], A * Pb.Diagonal[i]) : Complex(0.0);
-      }
-    });
-  }
-
-  ConjugateGradientResult Run()
-  {
-    Iterate();
-    System.Return(Xout);
-    return Result;
-  }
-
-private:
-  void Iterate()
-  {
-    Norms = RealResidual(true);
-    for (int c = 0; c < NC; ++c)
-    {
-      Initial[c] = std::sqrt(std::max(0.0, Norms[c]));
-      Threshold[c] = std::max(Pb.Tolerance * Initial[c], ResidualRoundOff * Pb.Scale[c]);
-    }
-    double needed = Check();
-    if (Result.Converged)
-    {
-      return;
-    }
-    Start();
-    double target = 0.01 * needed, lastRelative = Result.RelativeResidual;
-    while (Result.Iterations < Pb.MaximumIterations)
-    {
-      Complex alpha[NC], beta[NC];
-      ApplyOperator(alpha);
-      const bool reached = Advance(alpha, beta, target);
-      if (reached || Stalled || Result.Iterations >= Pb.MaximumIterations)
-      {
-        Norms = RealResidual(false);
-        needed = Check();
-        if (Result.Converged || Stalled || !(Result.RelativeResidual < 0.5 * lastRelative))
-        {
-          return; // not converged: no progress left in this run, the caller decides
-        }
-        lastRelative = Result.RelativeResidual;
-        target *= std::max(1e-4, 0.1 * needed);
-      }
-      NewDirection(beta);
-    }
-  }
-
-  /// Distributed (Pb.Split): only the owned rows are unknowns; the ghost
-  /// rows of an operand are refreshed before each product, sums are summed
-  /// over the processes.
-  bool IsFree(std::int64_t i) const { return IsHeld(i) ? false : !Pb.Split || Pb.Split->IsOwned(static_cast<Index>(i)); }
-  bool IsHeld(std::int64_t i) const { return Pb.Fixed && Pb.Fixed[i]; }
-  std::vector<double> Total(std::vector<double> sums) const
-  {
-    if (Pb.Split)
-    {
-      Pb.Split->Sum(sums.data(), static_cast<int>(sums.size()));
-    }
-    return sums;
-  }
-  void Refresh(double* v, int columns) const
-  {
-    if (Pb.Split)
-    {
-      Pb.Split->UpdateGhosts(v, columns);
-    }
-  }
-
-  /// b - A x on the free rows, also into R (real parts; imaginary parts 0)
-  /// when `start`; returns the column norms.  The products use KP as scratch.
-  std::vector<double> RealResidual(bool start)
-  {
-    double* kx = KP.data();
-    double* nkx = KP.data() + Size;
-    Refresh(X, NC);
-    StiffnessProduct<NC>(Pb, X, kx);
-    ParallelForStatic(N, Threads, [&](std::int64_t s, std::int64_t e) {
-      for (std::int64_t i = s; i < e; ++i)
-      {
-        const double f = IsHeld(i) ? 0.0 : 1.0 / Pb.Shift[i];
-        for (int c = 0; c < NC; ++c)
-        {
-          nkx[i * NC + c] = f * kx[i * NC + c];
-        }
-      }
-    });
-    Refresh(nkx, NC); // the ghosts' rows of K x are not all here
-    StiffnessProduct<NC>(Pb, nkx, kx);
-    return Total(ParallelSum(N, NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
-      for (std::int64_t i = s; i < e; ++i)
-      {
-        const bool f = IsFree(i);
-        for (int c = 0; c < NC; ++c)
-        {
-          const std::int64_t k = i * NC + c;
-          const double res = f ? B[System.Row(i) * NC + c] - Pb.Shift[i] * X[k] - T * kx[k] : 0.0;
-          if (start)
-          {
-            R[i * W + c] = res;
-            R[i * W + NC + c] = 0.0;
-          }
-          acc[c] += res * res;
-        }
-      }
-    }));
-  }
-
-  /// Whether every column is below its threshold (Result.Converged) and the
-  /// fraction of the current real residual the columns still above it need
-  /// (the smallest over those columns).
-  double Check()
-  {
-    bool done = true;
-    double relative = 0.0, needed = 1.0;
-    for (int c = 0; c < NC; ++c)
-    {
-      const double norm = std::sqrt(std::max(0.0, Norms[c]));
-      if (Initial[c] > 0.0)
-      {
-        relative = std::max(relative, norm / Initial[c]);
-      }
-      if (norm > Threshold[c])
-      {
-        done = false;
-        needed = std::min(needed, Threshold[c] / norm);
-      }
-    }
-    Result.RelativeResidual = relative;
-    Result.Converged = done;
-    return needed;
-  }
-
-  /// The COCG start from the real residual in R: P = M^-1 R.
-  void Start()
-  {
-    const std::vector<double> sums = Total(ParallelSum(N, 3 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
-      for (std::int64_t i = s; i < e; ++i)
-      {
-        for (int c = 0; c < NC; ++c)
-        {
-          const double r = R[i * W + c];
-          const Complex z = Times(Inverse[i], r);
-          P[i * W + c] = z.real();
-          P[i * W + NC + c] = z.imag();
-          acc[2 * c] += r * z.real(); // rho = r^T z, unconjugated
-          acc[2 * c + 1] += r * z.imag();
-          acc[2 * NC + c] += r * r;
-        }
-      }
-    }));
-    for (int c = 0; c < NC; ++c)
-    {
-      Rho[c] = Complex(sums[2 * c], sums[2 * c + 1]);
-      StartNorm[c] = std::sqrt(sums[2 * NC + c]);
-    }
-  }
-
-  /// q = D p + i a K p (into KP) and alpha = rho / p^T q.
-  void ApplyOperator(Complex* alpha)
-  {
-    Refresh(P.data(), W);
-    StiffnessProduct<W>(Pb, P.data(), KP.data());
-    const std::vector<double> pq = Total(ParallelSum(N, 2 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
-      for (std::int64_t i = s; i < e; ++i)
-      {
-        const bool f = IsFree(i);
-        for (int c = 0; c < NC; ++c)
-        {
-          const std::int64_t re = i * W + c, im = re + NC;
-          const Complex p(P[re], P[im]);
-          const Complex q = f ? Pb.Shift[i] * p + Complex(-A * KP[im], A * KP[re]) : Complex(0.0);
-          KP[re] = q.real();
-          KP[im] = q.imag();
-          const Complex product = Times(p, q);
-          acc[2 * c] += f ? product.real() : 0.0;
-          acc[2 * c + 1] += f ? product.imag() : 0.0;
-        }
-      }
-    }));
-    for (int c = 0; c < NC; ++c)
-    {
-      const Complex d(pq[2 * c], pq[2 * c + 1]);
-      alpha[c] = std::abs(d) > 0.0 ? Rho[c] / d : Complex(0.0);
-    }
-  }
-
-  /// x += Re(alpha P) on the free rows, R -= alpha Q, the new rho (with
-  /// Z = M^-1 R) and beta; true when every column's complex residual
-  /// reached `target` of its start.
-  bool Advance(const Complex* alpha, Complex* beta, double target)
-  {
-    const std::vector<double> sums = Total(ParallelSum(N, 3 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
-      for (std::int64_t i = s; i < e; ++i)
-      {
-        const bool f = IsFree(i);
-        for (int c = 0; c < NC; ++c)
-        {
-          const std::int64_t re = i * W + c, im = re + NC;
-          X[i * NC + c] += f ? alpha[c].real() * P[re] - alpha[c].imag() * P[im] : 0.0;
-          const Complex r = Complex(R[re], R[im]) - Times(alpha[c], Complex(KP[re], KP[im]));
-          R[re] = r.real();
-          R[im] = r.imag();
-          const Complex rz = Times(r, Times(Inverse[i], r));
-          acc[2 * c] += f ? rz.real() : 0.0;
-          acc[2 * c + 1] += f ? rz.imag() : 0.0;
-          acc[2 * NC + c] += f ? std::norm(r) : 0.0;
-        }
-      }
-    }));
-    ++Result.Iterations;
-    bool reached = true;
-    for (int c = 0; c < NC; ++c)
-    {
-      const Complex rhoNew(sums[2 * c], sums[2 * c + 1]);
-      const double current = std::sqrt(sums[2 * NC + c]);
-      reached = reached && current <= target * StartNorm[c];
-      Stalled = Stalled || (current > 0.0 && !(std::abs(Rho[c]) > 0.0));
-      beta[c] = std::abs(Rho[c]) > 0.0 ? rhoNew / Rho[c] : Complex(0.0);
-      Rho[c] = rhoNew;
-    }
-    return reached;
-  }
-
-  /// P = M^-1 R + beta P.
-  void NewDirection(const Complex* beta)
-  {
-    ParallelForStatic(N, Threads, [&](std::int64_t s, std::int64_t e) {
-      for (std::int64_t i = s; i < e; ++i)
-      {
-        for (int c = 0; c < NC; ++c)
-        {
-          const std::int64_t re = i * W + c, im = re + NC;
-          const Complex p = Times(Inverse[i], Complex(R[re], R[im])) + Times(beta[c], Complex(P[re], P[im]));
-          P[re] = p.real();
-          P[im] = p.imag();
-        }
-      }
-    });
-  }
-
-  SquaredSystem System;
-  const ShiftedLaplacianProblem& Pb;
-  const double* B;
-  double* X;
-  double* Xout;
-  const std::int64_t N;
-  const int Threads;
-  const double T, A;
-  const std::size_t Size;
-  LargeVector<double> R, P, KP;
-  LargeVector<Complex> Inverse;
-  ConjugateGradientResult Result;
-  std::vector<double> Norms;
-  double Initial[NC] = {}, Threshold[NC] = {}, StartNorm[NC] = {};
-  Complex Rho[NC];
-  bool Stalled = false;
-};
 
 /// The rows the multigrid solves leave alone: fixed, or (as SolveShifted)
 /// without a positive finite diagonal D_ii + t K_ii (and, for the squared
@@ -848,7 +404,7 @@ ConjugateGradientResult SolveSquaredLaplacian(const ShiftedLaplacianProblem& pb,
   {
     return SolveSquaredMultigrid(pb, b, x);
   }
-  return WithCount<4>(nc, [&](auto k) { return SquaredSolver<decltype(k)::value>(pb, b, x).Run(); });
+  return detail::SolveSquaredJacobi(pb, b, x);
 }
 
 ConjugateGradientResult SolveShiftedLaplacian(
