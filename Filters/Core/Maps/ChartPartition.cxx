@@ -2,17 +2,18 @@
 #include "Maps/ChartPartitionDetail.h"
 
 #include "Mesh/Geometry.h"
+#include "Support/Parallel.h"
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <functional>
 #include <limits>
 #include <numeric>
-#include <queue>
 
 namespace beltrami
 {
@@ -27,39 +28,49 @@ DualGraph::DualGraph(const MeshTopology& topology, const double* points, const s
   Distances.assign(3 * static_cast<std::size_t>(nt), 0.0);
   Areas.resize(nt);
   std::vector<Vec3> centroid(nt);
-  for (Index t = 0; t < nt; ++t)
-  {
-    const Vec3 a = Point(points, tri[3 * t]), b = Point(points, tri[3 * t + 1]), c = Point(points, tri[3 * t + 2]);
-    centroid[t] = (a + b + c) / 3.0;
-    Areas[t] = 0.5 * (b - a).cross(c - a).norm();
-  }
-  const MeshTopology::EdgeTable& edges = topology.Edges();
-  const auto link = [&](Index from, Index to) {
-    for (int k = 0; k < 3; ++k)
+  ParallelFor(nt, topology.NumberOfThreads(), [&](std::int64_t begin, std::int64_t end) {
+    for (Index t = static_cast<Index>(begin); t < end; ++t)
     {
-      if (Neighbors[3 * from + k] < 0)
+      const Vec3 a = Point(points, tri[3 * t]), b = Point(points, tri[3 * t + 1]), c = Point(points, tri[3 * t + 2]);
+      centroid[t] = (a + b + c) / 3.0;
+      Areas[t] = 0.5 * (b - a).cross(c - a).norm();
+    }
+  });
+  // Each triangle's neighbours across its interior, uncut edges, in the
+  // order of the edges' ids.
+  const MeshTopology::EdgeTable& edges = topology.Edges();
+  ParallelFor(nt, topology.NumberOfThreads(), [&](std::int64_t begin, std::int64_t end) {
+    for (Index t = static_cast<Index>(begin); t < end; ++t)
+    {
+      std::array<std::int64_t, 3> own;
+      for (int k = 0; k < 3; ++k)
       {
-        Neighbors[3 * from + k] = to;
-        Distances[3 * from + k] = (centroid[from] - centroid[to]).norm();
-        return;
+        own[k] = edges.Find(tri[3 * t + k], tri[3 * t + (k + 1) % 3]);
+      }
+      std::sort(own.begin(), own.end());
+      int slot = 0;
+      for (const std::int64_t e : own)
+      {
+        const Index c0 = e < 0 ? -1 : edges.OppositeCorners[2 * e], c1 = e < 0 ? -1 : edges.OppositeCorners[2 * e + 1];
+        if (e < 0 || edges.FaceCount[e] != 2 || c0 < 0 || c1 < 0 || (cut && (*cut)[e]))
+        {
+          continue;
+        }
+        const Index to = c0 / 3 == t ? c1 / 3 : c0 / 3;
+        Neighbors[3 * t + slot] = to;
+        Distances[3 * t + slot] = (centroid[t] - centroid[to]).norm();
+        ++slot;
       }
     }
-  };
-  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
+  });
+  for (std::int64_t e = 0; cut && e < edges.NumberOfEdges(); ++e)
   {
     const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
-    if (edges.FaceCount[e] != 2 || c0 < 0 || c1 < 0)
-    {
-      continue;
-    }
-    if (cut && (*cut)[e])
+    if ((*cut)[e] && edges.FaceCount[e] == 2 && c0 >= 0 && c1 >= 0)
     {
       Cuts.emplace_back(c0 / 3, c1 / 3);
       Cuts.emplace_back(c1 / 3, c0 / 3);
-      continue;
     }
-    link(c0 / 3, c1 / 3);
-    link(c1 / 3, c0 / 3);
   }
   std::sort(Cuts.begin(), Cuts.end());
 }
@@ -131,6 +142,64 @@ bool AnyAcrossCut(const DualGraph& graph, Index t, Predicate&& pred)
   return false;
 }
 
+/// A monotone priority queue of (key, value) pairs (a radix heap): every
+/// key pushed is at least the key last popped.  Entries are kept in 33
+/// buckets by the highest bit in which their key differs from that key;
+/// a pop empties the first non-empty bucket into the lower ones.  Bucket 0
+/// (the keys equal to the last) is a binary heap, so entries come out in
+/// the order of (key, value), as from a plain priority queue.
+class RadixHeap
+{
+public:
+  bool Empty() const { return Size == 0; }
+
+  void Push(std::uint32_t key, std::uint32_t value)
+  {
+    const std::uint64_t entry = (static_cast<std::uint64_t>(key) << 32) | value;
+    const int b = BucketOf(key);
+    Buckets[b].push_back(entry);
+    if (b == 0)
+    {
+      std::push_heap(Buckets[0].begin(), Buckets[0].end(), std::greater<>());
+    }
+    ++Size;
+  }
+
+  /// The entry of the smallest key (of the smallest value among those).
+  std::pair<std::uint32_t, std::uint32_t> Pop()
+  {
+    std::vector<std::uint64_t>& first = Buckets[0];
+    if (first.empty())
+    {
+      int i = 1;
+      while (Buckets[i].empty())
+      {
+        ++i;
+      }
+      std::vector<std::uint64_t>& from = Buckets[i];
+      Last = static_cast<std::uint32_t>(*std::min_element(from.begin(), from.end()) >> 32);
+      for (const std::uint64_t entry : from)
+      {
+        Buckets[BucketOf(static_cast<std::uint32_t>(entry >> 32))].push_back(entry);
+      }
+      from.clear();
+      std::make_heap(first.begin(), first.end(), std::greater<>());
+    }
+    std::pop_heap(first.begin(), first.end(), std::greater<>());
+    const std::uint64_t entry = first.back();
+    first.pop_back();
+    --Size;
+    return { static_cast<std::uint32_t>(entry >> 32), static_cast<std::uint32_t>(entry) };
+  }
+
+private:
+  std::vector<std::uint64_t> Buckets[33];
+  std::uint32_t Last = 0;
+  std::size_t Size = 0;
+
+  int BucketOf(std::uint32_t key) const { return key == Last ? 0 : 32 - __builtin_clz(key ^ Last); }
+};
+
 } // namespace
 
 bool detail::IsChart(const DualGraph& graph, const ChartMesh& chart)
@@ -157,17 +226,18 @@ void detail::NearestWithin(const DualGraph& graph, const std::vector<Index>& reg
   {
     label->assign(size, -1);
   }
-  // The queue holds 64-bit keys: the distance rounded to float (its bits
-  // order like the values) above the local id.  The distances themselves
-  // stay double: an entry popped a rounding early is corrected later, so
-  // the result is the exact shortest distance.
-  const auto key = [](double d, Index local) {
+  // Keys are the distances rounded to float (their bits order like the
+  // values; rounding is monotone, so a key pushed is never below the key
+  // last popped: a radix heap serves).  The distances themselves stay
+  // double: an entry popped a rounding early is corrected later, so the
+  // result is the exact shortest distance.
+  const auto key = [](double d) {
     const float f = static_cast<float>(d);
     std::uint32_t bits;
     std::memcpy(&bits, &f, sizeof bits);
-    return (static_cast<std::uint64_t>(bits) << 32) | static_cast<std::uint32_t>(local);
+    return bits;
   };
-  std::priority_queue<std::uint64_t, std::vector<std::uint64_t>, std::greater<std::uint64_t>> queue;
+  RadixHeap queue;
   for (std::size_t k = 0; k < sources.size(); ++k)
   {
     distance[sources[k]] = 0.0;
@@ -175,14 +245,13 @@ void detail::NearestWithin(const DualGraph& graph, const std::vector<Index>& reg
     {
       (*label)[sources[k]] = static_cast<int>(k);
     }
-    queue.push(key(0.0, sources[k]));
+    queue.Push(0, static_cast<std::uint32_t>(sources[k]));
   }
-  while (!queue.empty())
+  while (!queue.Empty())
   {
-    const std::uint64_t top = queue.top();
-    queue.pop();
-    const Index local = static_cast<Index>(top & 0xffffffffu);
-    if (top > key(distance[local], local))
+    const auto [top, value] = queue.Pop();
+    const Index local = static_cast<Index>(value);
+    if (top > key(distance[local]))
     {
       continue; // stale
     }
@@ -200,7 +269,7 @@ void detail::NearestWithin(const DualGraph& graph, const std::vector<Index>& reg
         {
           (*label)[m] = (*label)[local];
         }
-        queue.push(key(nd, m));
+        queue.Push(key(nd), static_cast<std::uint32_t>(m));
       }
     }
   }

@@ -101,9 +101,10 @@ bool SplitIntoDisks(const MeshTopology& topology, const DualGraph& graph, std::v
 /// split again at the median of its area along a level line of d_a - d_b
 /// (the distances from the union's two most distant triangles), so both
 /// halves carry the same area and the seam is smooth; kept only where both
-/// halves are disks.  At most `rounds` rounds, each chart once per round.
+/// halves are disks.  At most `rounds` rounds, each chart once per round
+/// (disjoint pairs in parallel).
 void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph, std::vector<ChartMesh>& charts,
-  double ratio = 1.5, int rounds = 8);
+  double ratio = 1.5, int rounds = 8, int numThreads = 0);
 
 /// Splits every chart larger than `maximumArea` (SplitRegion, then into
 /// disks, boundaries smoothed) until none is; a single triangle larger than

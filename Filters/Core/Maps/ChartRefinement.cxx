@@ -36,10 +36,12 @@ double RegionArea(const DualGraph& graph, const std::vector<Index>& region)
 /// again so that both halves carry the same area, along a level line of
 /// d_a - d_b (d_a, d_b: the distances along the union from its two most
 /// distant triangles; the line is a smooth seam between them).  True (the pair replaced) when both halves are disks.
-/// localOf: all -1 (scratch, left all -1).
-bool RebalancePair(const MeshTopology& topology, const DualGraph& graph, ChartMesh& first, ChartMesh& second,
-  std::vector<Index>& localOf)
+bool RebalancePair(const MeshTopology& topology, const DualGraph& graph, ChartMesh& first, ChartMesh& second)
 {
+  // The thread's triangle -> local id map (all -1 between uses: the pairs
+  // of other threads must not show through it).
+  thread_local std::vector<Index> localOf;
+  localOf.resize(graph.NumberOfTriangles(), -1);
   std::vector<Index> both = first.Triangles;
   both.insert(both.end(), second.Triangles.begin(), second.Triangles.end());
   for (std::size_t k = 0; k < both.size(); ++k)
@@ -94,9 +96,8 @@ bool RebalancePair(const MeshTopology& topology, const DualGraph& graph, ChartMe
 } // namespace
 
 void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph, std::vector<ChartMesh>& charts,
-  double ratio, int rounds)
+  double ratio, int rounds, int numThreads)
 {
-  std::vector<Index> localOf(graph.NumberOfTriangles(), -1);
   for (int round = 0; round < rounds; ++round)
   {
     std::vector<int> chartOf(graph.NumberOfTriangles(), -1);
@@ -130,15 +131,42 @@ void BalanceChartAreas(const MeshTopology& topology, const DualGraph& graph, std
     }
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    // In waves: the pairs that no earlier pair still open shares a chart
+    // with are rebalanced in parallel.  A pair meets its charts as the
+    // serial loop would (only earlier pairs with one of them change them),
+    // so the outcome is that loop's for any thread count.
     std::vector<std::uint8_t> done(charts.size(), 0);
     bool changed = false;
-    for (const auto& [r, c, d] : pairs)
+    while (!pairs.empty())
     {
-      if (!done[c] && !done[d] && RebalancePair(topology, graph, charts[c], charts[d], localOf))
+      std::vector<std::uint8_t> busy = done;
+      std::vector<std::tuple<double, int, int>> wave, later;
+      for (const auto& pair : pairs)
       {
-        done[c] = done[d] = 1;
-        changed = true;
+        const auto& [r, c, d] = pair;
+        if (!done[c] && !done[d])
+        {
+          (busy[c] || busy[d] ? later : wave).push_back(pair);
+          busy[c] = busy[d] = 1;
+        }
       }
+      std::vector<std::uint8_t> rebalanced(wave.size(), 0);
+      ParallelFor(static_cast<std::int64_t>(wave.size()), numThreads, [&](std::int64_t begin, std::int64_t end) {
+        for (std::int64_t k = begin; k < end; ++k)
+        {
+          const auto& [r, c, d] = wave[k];
+          rebalanced[k] = RebalancePair(topology, graph, charts[c], charts[d]);
+        }
+      }, {}, 0, 1);
+      for (std::size_t k = 0; k < wave.size(); ++k)
+      {
+        if (rebalanced[k])
+        {
+          done[std::get<1>(wave[k])] = done[std::get<2>(wave[k])] = 1;
+          changed = true;
+        }
+      }
+      pairs = std::move(later);
     }
     if (!changed)
     {
@@ -358,7 +386,7 @@ bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, i
   }
   if (balance)
   {
-    BalanceChartAreas(topology, graph, charts);
+    BalanceChartAreas(topology, graph, charts, 1.5, 8, numThreads);
     if (!SmoothCharts(topology, graph, charts, error, numThreads))
     {
       return false;

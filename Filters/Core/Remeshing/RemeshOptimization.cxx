@@ -1,6 +1,7 @@
 #include "Remeshing/RemeshOptimization.h"
 
 #include "Maps/GeometryImages.h"
+#include "Support/Parallel.h"
 
 #include <Eigen/Geometry>
 
@@ -135,6 +136,8 @@ public:
 
   std::int64_t SwapForValence();
   std::int64_t SwapForShape();
+  template <typename Wanted, typename Accept>
+  std::int64_t SwapWhere(Wanted&& wanted, Accept&& accept);
   double Relax();
   Index BeginStitching(const std::uint8_t* featureEdges);
   int NumberOfThreads = 0;
@@ -254,60 +257,84 @@ std::pair<double, double> Optimizer::Roundnesses(Index h) const
   return { std::min(Roundness(a, b, c), Roundness(b, a, d)), std::min(Roundness(c, a, d), Roundness(d, b, c)) };
 }
 
-/// Swaps edges (Swappable) wherever that lowers the sum of squared
-/// deviations of the four valences from their targets (section 4.4.2)
-/// without halving the smaller area/perimeter^2 ratio of the two triangles
-/// (else the shape swaps and these would undo each other round after round,
-/// and a sliver could be left by the last one).
-std::int64_t Optimizer::SwapForValence()
+/// One sweep of swaps over the edges in order: an edge is swapped where
+/// it is Swappable, wanted(h) holds (a test of its two faces and their
+/// vertices' valences) and then accept(h).  Swappable and wanted are
+/// evaluated for every edge at once (in parallel) on the mesh before the
+/// sweep, and again for an edge when its turn comes if a swap of this sweep
+/// replaced one of its faces or changed a valence there: the swaps of the
+/// plain serial sweep, for any thread count.
+template <typename Wanted, typename Accept>
+std::int64_t Optimizer::SwapWhere(Wanted&& wanted, Accept&& accept)
 {
+  const Index halfEdges = M.NumberOfHalfEdges();
+  std::vector<std::uint8_t> first(halfEdges, 0);
+  ParallelFor(halfEdges, NumberOfThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (Index h = static_cast<Index>(begin); h < end; ++h)
+    {
+      first[h] = M.Twin(h) > h && Swappable(h) && wanted(h);
+    }
+  }, {}, 0, 4096);
+  // A swap changes its two faces and the valences of their four vertices:
+  // every face around those is marked (an edge's two faces hold its quad).
+  std::vector<std::uint8_t> changed(M.NumberOfFaces(), 0);
   std::int64_t swaps = 0;
-  for (Index h = 0; h < M.NumberOfHalfEdges(); ++h)
+  for (Index h = 0; h < halfEdges; ++h)
   {
-    if (!Swappable(h) || M.Twin(h) < h)
+    const Index t = M.Twin(h);
+    if (t < h || !(first[h] || changed[h / 3] || changed[t / 3]))
     {
       continue;
     }
+    if ((changed[h / 3] || changed[t / 3] ? Swappable(h) && wanted(h) : true) && accept(h))
+    {
+      const Index quad[4] = { M.Tail(h), M.Head(h), M.Tail(HalfEdgeMesh::Prev(h)), M.Tail(HalfEdgeMesh::Prev(t)) };
+      Flip(h);
+      for (const Index v : quad)
+      {
+        M.ForEachOutgoing(v, [&](Index g) { changed[g / 3] = 1; });
+      }
+      ++swaps;
+    }
+  }
+  return swaps;
+}
+
+/// Swaps edges wherever that lowers the sum of squared deviations of the
+/// four valences from their targets (section 4.4.2) without halving the
+/// smaller area/perimeter^2 ratio of the two triangles (else the shape
+/// swaps and these would undo each other round after round, and a sliver
+/// could be left by the last one).
+std::int64_t Optimizer::SwapForValence()
+{
+  const auto fewerDeviations = [&](Index h) {
     const Index a = M.Tail(h), b = M.Head(h);
     const Index c = M.Tail(HalfEdgeMesh::Prev(h)), d = M.Tail(HalfEdgeMesh::Prev(M.Twin(h)));
     const auto dev = [&](Index v, int change) {
       const double x = Valence[v] + change - Target(v);
       return x * x;
     };
-    const double before = dev(a, 0) + dev(b, 0) + dev(c, 0) + dev(d, 0);
-    const double after = dev(a, -1) + dev(b, -1) + dev(c, 1) + dev(d, 1);
-    if (after < before && CanSwap(h))
+    return dev(a, -1) + dev(b, -1) + dev(c, 1) + dev(d, 1) < dev(a, 0) + dev(b, 0) + dev(c, 0) + dev(d, 0);
+  };
+  return SwapWhere(fewerDeviations, [&](Index h) {
+    if (!CanSwap(h))
     {
-      const auto [roundBefore, roundAfter] = Roundnesses(h);
-      if (roundAfter >= 0.5 * roundBefore)
-      {
-        Flip(h);
-        ++swaps;
-      }
+      return false;
     }
-  }
-  return swaps;
+    const auto [roundBefore, roundAfter] = Roundnesses(h);
+    return roundAfter >= 0.5 * roundBefore;
+  });
 }
 
-/// Swaps edges (Swappable) wherever that raises the smaller
-/// area/perimeter^2 ratio of the two triangles (in 3D).
+/// Swaps edges wherever that raises the smaller area/perimeter^2 ratio of
+/// the two triangles (in 3D).
 std::int64_t Optimizer::SwapForShape()
 {
-  std::int64_t swaps = 0;
-  for (Index h = 0; h < M.NumberOfHalfEdges(); ++h)
-  {
-    if (!Swappable(h) || M.Twin(h) < h)
-    {
-      continue;
-    }
+  const auto rounder = [&](Index h) {
     const auto [before, after] = Roundnesses(h);
-    if (after > before * 1.01 && CanSwap(h))
-    {
-      Flip(h);
-      ++swaps;
-    }
-  }
-  return swaps;
+    return after > before * 1.01;
+  };
+  return SwapWhere(rounder, [&](Index h) { return CanSwap(h); });
 }
 
 /// The mean importance of face f's vertices (1 without one).
@@ -563,7 +590,7 @@ bool Optimizer::MoveOnSurface(Index v, double& moved)
   const Vec3 x = M.Position(v);
   M.ForEachOutgoing(v, [&](Index h) {
     const Vec3 a = M.Position(M.Head(h)), b = M.Position(M.Tail(HalfEdgeMesh::Prev(h)));
-    Vec3 c;
+    Vec3 c = Vec3::Zero();
     const double w = VoronoiPart3D(x, a, b, c) * Importance(h / 3);
     target += w * c;
     sum += w;
