@@ -39,6 +39,9 @@ DualGraph::DualGraph(const MeshTopology& topology, const double* points, const s
   // Each triangle's neighbours across its interior, uncut edges, in the
   // order of the edges' ids.
   const MeshTopology::EdgeTable& edges = topology.Edges();
+  const auto joinsTwo = [&](std::int64_t e) { // an edge between two triangles
+    return e >= 0 && edges.FaceCount[e] == 2 && edges.OppositeCorners[2 * e] >= 0 && edges.OppositeCorners[2 * e + 1] >= 0;
+  };
   ParallelFor(nt, topology.NumberOfThreads(), [&](std::int64_t begin, std::int64_t end) {
     for (Index t = static_cast<Index>(begin); t < end; ++t)
     {
@@ -51,11 +54,11 @@ DualGraph::DualGraph(const MeshTopology& topology, const double* points, const s
       int slot = 0;
       for (const std::int64_t e : own)
       {
-        const Index c0 = e < 0 ? -1 : edges.OppositeCorners[2 * e], c1 = e < 0 ? -1 : edges.OppositeCorners[2 * e + 1];
-        if (e < 0 || edges.FaceCount[e] != 2 || c0 < 0 || c1 < 0 || (cut && (*cut)[e]))
+        if (!joinsTwo(e) || (cut && (*cut)[e]))
         {
           continue;
         }
+        const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
         const Index to = c0 / 3 == t ? c1 / 3 : c0 / 3;
         Neighbors[3 * t + slot] = to;
         Distances[3 * t + slot] = (centroid[t] - centroid[to]).norm();
@@ -65,9 +68,9 @@ DualGraph::DualGraph(const MeshTopology& topology, const double* points, const s
   });
   for (std::int64_t e = 0; cut && e < edges.NumberOfEdges(); ++e)
   {
-    const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
-    if ((*cut)[e] && edges.FaceCount[e] == 2 && c0 >= 0 && c1 >= 0)
+    if ((*cut)[e] && joinsTwo(e))
     {
+      const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
       Cuts.emplace_back(c0 / 3, c1 / 3);
       Cuts.emplace_back(c1 / 3, c0 / 3);
     }
