@@ -31,6 +31,13 @@ double Roundness(const Vec3& a, const Vec3& b, const Vec3& c)
   return perimeter > 0.0 ? area / (perimeter * perimeter) * (36.0 / std::sqrt(3.0)) : 0.0;
 }
 
+/// The cosine of the smallest angle of a 3D triangle.
+double LargestCosine(const Vec3& a, const Vec3& b, const Vec3& c)
+{
+  const Vec3 ab = (b - a).normalized(), bc = (c - b).normalized(), ca = (a - c).normalized();
+  return std::max({ -ab.dot(ca), -bc.dot(ab), -ca.dot(bc) });
+}
+
 /// The part of the plane triangle (p, a, b) nearer to p than to a and b
 /// (p's Voronoi region in it; in an obtuse triangle the circumcentre is
 /// replaced by the middle of the longest edge, the mixed area of thesis
@@ -136,6 +143,7 @@ public:
 
   std::int64_t SwapForValence();
   std::int64_t SwapForShape();
+  std::int64_t SwapSlivers();
   template <typename Wanted, typename Accept>
   std::int64_t SwapWhere(Wanted&& wanted, Accept&& accept);
   double Relax();
@@ -335,6 +343,27 @@ std::int64_t Optimizer::SwapForShape()
     return after > before * 1.01;
   };
   return SwapWhere(rounder, [&](Index h) { return CanSwap(h); });
+}
+
+/// Swaps the edges of triangles with an angle below 30 degrees wherever
+/// that raises the smaller area/perimeter^2 ratio: after the last
+/// relaxation, which can leave such a triangle (a vertex slid along a
+/// path) where a swap mends it, without undoing the valence swaps
+/// elsewhere.
+std::int64_t Optimizer::SwapSlivers()
+{
+  const double cos30 = 0.5 * std::sqrt(3.0);
+  const auto mends = [&](Index h) {
+    const Vec3 a = M.Position(M.Tail(h)), b = M.Position(M.Head(h));
+    const Vec3 c = M.Position(M.Tail(HalfEdgeMesh::Prev(h))), d = M.Position(M.Tail(HalfEdgeMesh::Prev(M.Twin(h))));
+    if (std::max(LargestCosine(a, b, c), LargestCosine(b, a, d)) <= cos30)
+    {
+      return false;
+    }
+    const auto [before, after] = Roundnesses(h);
+    return after > before * 1.01;
+  };
+  return SwapWhere(mends, [&](Index h) { return CanSwap(h); });
 }
 
 /// The mean importance of face f's vertices (1 without one).
@@ -796,6 +825,10 @@ RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& 
     stats.ShapeSwaps += optimizer.SwapForShape();
     stats.ValenceSwaps += optimizer.SwapForValence();
     stats.MeanDisplacement = optimizer.Relax();
+  }
+  if (rounds > 0)
+  {
+    stats.ShapeSwaps += optimizer.SwapSlivers();
   }
   return stats;
 }
