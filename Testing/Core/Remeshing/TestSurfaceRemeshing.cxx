@@ -363,7 +363,7 @@ TEST(SurfaceRemeshing, SharpEdgesOfACadPartAreReproduced)
   // 161, the chart boundary goes on as a plain seam), so the remesh passes
   // through them: every end and middle of an input sharp edge measured
   // within 0.102% of the diagonal of the remesh at 10k vertices and 0.146%
-  // at 5k on an Intel Xeon, 0.121-0.123% and 0.152-0.161% on an AMD EPYC
+  // at 5k on an Intel Xeon, 0.111-0.123% and 0.152-0.161% on an AMD EPYC
   // (the floating-point rounding of its BLAS and libm moves the charts'
   // maps, and with them the samples; the issue asks for 0.1%, not met).
   // The worst points are now on the
