@@ -13,9 +13,11 @@ namespace
 {
 
 /// At most about this many samples are used (rows, planes or vertices taken
-/// at a regular stride beyond): the median of millions is as good, and big
-/// volumes need neither the time nor the memory of all.
-constexpr std::int64_t SampleBudget = std::int64_t(1) << 22;
+/// at a regular stride beyond): the median of the kept half of 2^18 samples
+/// has a relative standard error of about 1.17 / sqrt(2^17) = 0.3%, far
+/// below the estimator's bias on real data, and an image of a megapixel in
+/// colour spent 45 ms (half its flow's set-up) selecting from all.
+constexpr std::int64_t SampleBudget = std::int64_t(1) << 18;
 
 /// The stride that keeps `count` samples within the budget.
 std::int64_t StrideFor(double count)

@@ -44,64 +44,73 @@ enum CellSlot
   Top = 0, Bottom, Left, Right, DiagAC, DiagBD, MassA, MassB, MassC, MassD, CellSlots
 };
 
+/// The cells' triangles are evaluated in single precision (from the
+/// differences of the double values), as the 3D flow's tetrahedra are:
+/// twice the vector width; K u stays in double.
+using PixelReal = float;
+
 struct TriangleTerms
 {
-  double CotP, CotQ, CotR; // cotangents at P, Q, R
-  double MassP, MassQ, MassR;
+  PixelReal CotP, CotQ, CotR; // cotangents at P, Q, R
+  PixelReal MassP, MassQ, MassR;
 };
 
-/// Triangle P, Q, R from |Q-P|^2, |R-P|^2 and (Q-P).(R-P) (never degenerate
-/// here: the base part alone has area sx sy / 2).  Branch-free (selects).
-inline TriangleTerms Triangle(double uu, double vv, double uv)
+/// Triangle P, Q, R from |Q-P|^2, |R-P|^2, (Q-P).(R-P) and its squared
+/// twice-area `area2` (a sum of squared minors, CellRow: no cancellation,
+/// at least (sx sy)^2).  Branch-free (selects).
+inline TriangleTerms Triangle(PixelReal uu, PixelReal vv, PixelReal uv, PixelReal area2)
 {
+  using R = PixelReal;
   TriangleTerms t;
-  const double twiceArea = std::sqrt(std::max(uu * vv - uv * uv, 0.0));
-  const double inv = 1.0 / twiceArea;
-  const double dotQ = uu - uv, dotR = vv - uv; // (P-Q).(R-Q), (P-R).(Q-R)
+  const R twiceArea = std::sqrt(area2);
+  const R inv = R(1) / twiceArea;
+  const R dotQ = uu - uv, dotR = vv - uv; // (P-Q).(R-Q), (P-R).(Q-R)
   t.CotP = uv * inv;
   t.CotQ = dotQ * inv;
   t.CotR = dotR * inv;
-  const bool acute = (uv >= 0.0) & (dotQ >= 0.0) & (dotR >= 0.0); // no short circuit: no branch
-  const double ww = uu + vv - 2.0 * uv;
-  const double half = 0.25 * twiceArea, quarter = 0.125 * twiceArea;
-  const double vP = (uu * t.CotR + vv * t.CotQ) * 0.125;
-  const double vQ = (uu * t.CotR + ww * t.CotP) * 0.125;
-  const double vR = (vv * t.CotQ + ww * t.CotP) * 0.125;
-  t.MassP = acute ? vP : (uv < 0.0 ? half : quarter);
-  t.MassQ = acute ? vQ : (dotQ < 0.0 ? half : quarter);
-  t.MassR = acute ? vR : (dotR < 0.0 ? half : quarter);
+  const bool acute = (uv >= R(0)) & (dotQ >= R(0)) & (dotR >= R(0)); // no short circuit: no branch
+  const R ww = uu + vv - R(2) * uv;
+  const R half = R(0.25) * twiceArea, quarter = R(0.125) * twiceArea;
+  const R vP = (uu * t.CotR + vv * t.CotQ) * R(0.125);
+  const R vQ = (uu * t.CotR + ww * t.CotP) * R(0.125);
+  const R vR = (vv * t.CotQ + ww * t.CotP) * R(0.125);
+  t.MassP = acute ? vP : (uv < R(0) ? half : quarter);
+  t.MassQ = acute ? vQ : (dotQ < R(0) ? half : quarter);
+  t.MassR = acute ? vR : (dotR < R(0) ? half : quarter);
   return t;
 }
 
-/// Dot products of the edge vectors of a cell (corners a, b, c, d).
+/// Dot products of the edge vectors of a cell (corners a, b, c, d) and
+/// the squared twice-areas of its four triangles.
 enum CellDot
 {
-  AB_AB = 0, AC_AC, AD_AD, BC_BC, BD_BD, AB_AC, AC_AD, AB_AD, BC_BD, CellDots
+  AB_AB = 0, AC_AC, AD_AD, BC_BC, BD_BD, AB_AC, AC_AD, AB_AD, BC_BD, AREA_ABC, AREA_ACD, AREA_ABD, AREA_BCD, CellDots
 };
 
 /// The four triangles (abc, acd, abd, bcd) of n cells from their dot
 /// products (CellDots arrays of n values) into CellSlots arrays of n values.
 /// The same for any number of components, so compiled once.
-CLONES void TriangleRow(std::int64_t n, const double* __restrict dots, double* __restrict out)
+CLONES void TriangleRow(std::int64_t n, const PixelReal* __restrict dots, PixelReal* __restrict out)
 {
+  using R = PixelReal;
 #pragma GCC ivdep // the slot arrays never overlap
   for (std::int64_t j = 0; j < n; ++j)
   {
-    const double abab = dots[AB_AB * n + j], acac = dots[AC_AC * n + j];
-    const double adad = dots[AD_AD * n + j], bcbc = dots[BC_BC * n + j];
-    const double bdbd = dots[BD_BD * n + j], abac = dots[AB_AC * n + j];
-    const double acad = dots[AC_AD * n + j], abad = dots[AB_AD * n + j];
-    const double bcbd = dots[BC_BD * n + j];
-    const TriangleTerms abc = Triangle(abab, acac, abac); // P=a, Q=b, R=c
-    const TriangleTerms acd = Triangle(acac, adad, acad); // P=a, Q=c, R=d
-    const TriangleTerms abd = Triangle(abab, adad, abad); // P=a, Q=b, R=d
-    const TriangleTerms bcd = Triangle(bcbc, bdbd, bcbd); // P=b, Q=c, R=d
-    out[Top * n + j] = 0.5 * (abc.CotR + abd.CotR);
-    out[Bottom * n + j] = 0.5 * (acd.CotP + bcd.CotP);
-    out[Left * n + j] = 0.5 * (acd.CotQ + abd.CotQ);
-    out[Right * n + j] = 0.5 * (abc.CotP + bcd.CotR);
-    out[DiagAC * n + j] = 0.5 * (abc.CotQ + acd.CotR);
-    out[DiagBD * n + j] = 0.5 * (abd.CotP + bcd.CotQ);
+    const R abab = dots[AB_AB * n + j], acac = dots[AC_AC * n + j];
+    const R adad = dots[AD_AD * n + j], bcbc = dots[BC_BC * n + j];
+    const R bdbd = dots[BD_BD * n + j], abac = dots[AB_AC * n + j];
+    const R acad = dots[AC_AD * n + j], abad = dots[AB_AD * n + j];
+    const R bcbd = dots[BC_BD * n + j];
+    const TriangleTerms abc = Triangle(abab, acac, abac, dots[AREA_ABC * n + j]); // P=a, Q=b, R=c
+    const TriangleTerms acd = Triangle(acac, adad, acad, dots[AREA_ACD * n + j]); // P=a, Q=c, R=d
+    const TriangleTerms abd = Triangle(abab, adad, abad, dots[AREA_ABD * n + j]); // P=a, Q=b, R=d
+    const TriangleTerms bcd = Triangle(bcbc, bdbd, bcbd, dots[AREA_BCD * n + j]); // P=b, Q=c, R=d
+    out[Top * n + j] = R(0.5) * (abc.CotR + abd.CotR);
+    out[Bottom * n + j] = R(0.5) * (acd.CotP + bcd.CotP);
+    out[Left * n + j] = R(0.5) * (acd.CotQ + abd.CotQ);
+    out[Right * n + j] = R(0.5) * (abc.CotP + bcd.CotR);
+    out[DiagAC * n + j] = R(0.5) * (abc.CotQ + acd.CotR);
+    out[DiagBD * n + j] = R(0.5) * (abd.CotP + bcd.CotQ);
     out[MassA * n + j] = abc.MassP + acd.MassP + abd.MassP;
     out[MassB * n + j] = abc.MassQ + abd.MassQ + bcd.MassP;
     out[MassC * n + j] = abc.MassR + acd.MassQ + bcd.MassQ;
@@ -145,7 +154,10 @@ public:
     PW = grid.Width + 2;
     PH = grid.Height + 2;
     PlaneSize = static_cast<std::size_t>(PW) * PH;
-    Padded.resize(PlaneSize * NC);
+    if (StoreOperator) // (Apply's copy; a sweep pads rows as it goes)
+    {
+      Padded.resize(PlaneSize * NC);
+    }
     if (StoreOperator)
     {
       Weights.resize(static_cast<std::size_t>(Size) * 8);
@@ -193,7 +205,6 @@ public:
       StepSum = 0.0;
       return;
     }
-    Pad(u, true);
     const Index w = Grid.Width, h = Grid.Height;
     RowArea.resize(h);
     RowRate.resize(h);
@@ -201,19 +212,25 @@ public:
     const std::int64_t bands = (h + BandRows - 1) / BandRows;
     const std::size_t row = static_cast<std::size_t>(w + 1);
     ParallelFor(bands, Threads, [&](std::int64_t b0, std::int64_t b1) {
-      ScratchLease buffer(Scratch, (2 * CellSlots + CellDots + 2) * row);
-      double* upper = buffer.data();
-      double* lower = upper + CellSlots * row;
-      double* dots = lower + CellSlots * row;
-      double* sums = dots + CellDots * row; // per pixel of a row: mass, rate
+      const std::size_t reals = (2 * CellSlots + CellDots) * row;
+      const std::size_t ring = 3 * NC * static_cast<std::size_t>(PW);
+      ScratchLease buffer(Scratch, 2 * row + ring + (reals * sizeof(PixelReal) + sizeof(double) - 1) / sizeof(double));
+      double* sums = buffer.data(); // per pixel of a row: mass, rate
+      PaddedRows rows(sums + 2 * row, PW); // padded pixel rows r - 1 .. r + 1
+      PixelReal* upper = reinterpret_cast<PixelReal*>(sums + 2 * row + ring);
+      PixelReal* lower = upper + CellSlots * row;
+      PixelReal* dots = lower + CellSlots * row;
       for (std::int64_t band = b0; band < b1; ++band)
       {
         const std::int64_t r0 = band * BandRows, r1 = std::min<std::int64_t>(h, r0 + BandRows);
-        CellRow(r0, upper, dots);
+        PadRow(u, r0 - 1, true, rows.At(r0 - 1));
+        PadRow(u, r0, true, rows.At(r0));
+        CellRow(rows.At(r0 - 1), rows.At(r0), upper, dots);
         for (std::int64_t r = r0; r < r1; ++r)
         {
-          CellRow(r + 1, lower, dots);
-          Row(output, r, upper, lower, sums, dt, next);
+          PadRow(u, r + 1, true, rows.At(r + 1));
+          CellRow(rows.At(r), rows.At(r + 1), lower, dots);
+          Row(output, r, rows, upper, lower, sums, dt, next);
           if (!RowSums.empty())
           {
             RowSums[r] = StepRowSum(r, next);
@@ -303,123 +320,237 @@ private:
     return Padded[k * PlaneSize + (r + 1) * PW + (c + 1)];
   }
 
-  /// Row r (-1 <= r <= H) of plane k of the padded copy, at column -1.
-  const double* PaddedRow(int k, std::int64_t r) const
+  /// The planes of padded pixel rows (column -1 first, W + 2 values): a
+  /// ring of three in a thread's buffer, row r in slot (r + 1) mod 3.
+  struct PaddedRows
   {
-    return &Padded[k * PlaneSize + (r + 1) * PW];
-  }
-
-  /// Copies x (interleaved) into the padded planes; the border ring gets the
-  /// boundary rule (ghosts) or zeros.
-  void Pad(const double* x, bool ghosts)
-  {
-    const Index w = Grid.Width, h = Grid.Height;
-    ParallelFor(h, Threads, [&](std::int64_t r0, std::int64_t r1) {
-      for (std::int64_t r = r0; r < r1; ++r)
+    PaddedRows(double* buffer, std::int64_t width)
+    {
+      for (int slot = 0; slot < 3; ++slot)
       {
-        const double* src = x + r * w * NC;
         for (int k = 0; k < NC; ++k)
         {
-          double* dst = &Padded[k * PlaneSize + (r + 1) * PW + 1];
-          for (Index c = 0; c < w; ++c)
-          {
-            dst[c] = src[c * NC + k];
-          }
+          Planes[slot][k] = buffer + (slot * NC + k) * width;
         }
       }
+    }
+    double* const* At(std::int64_t r) { return Planes[(r + 1) % 3]; }
+    double* Planes[3][NC];
+  };
+
+  /// Copies x (interleaved) into the padded planes (the semi-implicit
+  /// operator's copy).
+  void Pad(const double* x, bool ghosts)
+  {
+    ParallelFor(Grid.Height + 2, Threads, [&](std::int64_t r0, std::int64_t r1) {
+      for (std::int64_t r = r0 - 1; r < r1 - 1; ++r)
+      {
+        double* planes[NC];
+        for (int k = 0; k < NC; ++k)
+        {
+          planes[k] = &Padded[k * PlaneSize + (r + 1) * PW];
+        }
+        PadRow(x, r, ghosts, planes);
+      }
     }, {}, 0, 64);
+  }
+
+  /// Row r (-1 <= r <= H) of x (interleaved), columns -1 .. W, into one
+  /// plane per component; outside the image the boundary rule's values
+  /// (ghosts) or zeros.
+  void PadRow(const double* x, std::int64_t r, bool ghosts, double* const* planes) const
+  {
+    const Index w = Grid.Width, h = Grid.Height;
     const auto clampIndex = [](std::int64_t v, std::int64_t n) {
       return std::min<std::int64_t>(std::max<std::int64_t>(v, 0), n - 1);
     };
-    const auto ghost = [&](std::int64_t r, std::int64_t c) {
-      const std::int64_t br = clampIndex(r, h), bc = clampIndex(c, w);
-      const std::int64_t rr = clampIndex(2 * br - r, h), rc = clampIndex(2 * bc - c, w);
-      const double* base = x + (br * w + bc) * NC;
-      const double* mirror = x + (rr * w + rc) * NC;
-      for (int k = 0; k < NC; ++k)
-      {
-        Padded[k * PlaneSize + (r + 1) * PW + (c + 1)] =
-          !ghosts ? 0.0 : Boundary == GridBoundary::Reflect ? mirror[k] : 2.0 * base[k] - mirror[k];
-      }
+    const std::int64_t br = clampIndex(r, h), rr = clampIndex(2 * br - r, h);
+    const bool reflect = Boundary == GridBoundary::Reflect;
+    const auto ghost = [&](std::int64_t c, int k) {
+      const std::int64_t bc = clampIndex(c, w), rc = clampIndex(2 * bc - c, w);
+      const double base = x[(br * w + bc) * NC + k], mirror = x[(rr * w + rc) * NC + k];
+      return !ghosts ? 0.0 : reflect ? mirror : 2.0 * base - mirror;
     };
-    for (std::int64_t c = -1; c <= w; ++c)
+    if (br == r)
     {
-      ghost(-1, c);
-      ghost(h, c);
+      DeinterleaveRow(w, x + r * w * NC, planes);
     }
-    for (std::int64_t r = 0; r < h; ++r)
+    else
     {
-      ghost(r, -1);
-      ghost(r, w);
+      for (Index c = 0; c < w; ++c)
+      {
+        for (int k = 0; k < NC; ++k)
+        {
+          planes[k][c + 1] = ghost(c, k);
+        }
+      }
+    }
+    for (int k = 0; k < NC; ++k)
+    {
+      planes[k][0] = ghost(-1, k);
+      planes[k][w + 1] = ghost(w, k);
     }
   }
 
-  /// The four triangles of the cells of row q (between pixel rows q - 1 and
-  /// q), columns -1 .. W-1, into out (CellSlots arrays of W + 1 values;
-  /// `dots` is scratch of CellDots arrays): the dot products of the edge
-  /// vectors, then the triangles.
-  CLONES void CellRow(std::int64_t q, double* __restrict out, double* __restrict dots) const
+  /// planes[k][1 + c] = from[c NC + k], c < w.
+  CLONES static void DeinterleaveRow(Index w, const double* __restrict from, double* const* planes)
   {
-    const std::int64_t n = Grid.Width + 1;
-    const double sx2 = Grid.SpacingX * Grid.SpacingX, sy2 = Grid.SpacingY * Grid.SpacingY;
-    const double* top[NC];
-    const double* bottom[NC];
+    if (NC == 1)
+    {
+      std::copy(from, from + w, planes[0] + 1);
+      return;
+    }
+    double* __restrict to[NC];
     for (int k = 0; k < NC; ++k)
     {
-      top[k] = PaddedRow(k, q - 1);
-      bottom[k] = PaddedRow(k, q);
+      to[k] = planes[k] + 1;
     }
+    for (Index c = 0; c < w; ++c)
+    {
+#pragma GCC unroll 8
+      for (int k = 0; k < NC; ++k)
+      {
+        to[k][c] = from[c * NC + k];
+      }
+    }
+  }
+
+  /// The four triangles of the cells between the padded pixel rows `top`
+  /// and `bottom` (planes), columns -1 .. W-1, into out (CellSlots arrays of W + 1 values;
+  /// `dots` is scratch of CellDots arrays): the dot products of the edge
+  /// vectors and the triangles' squared twice-areas, then the triangles.
+  /// The areas are sums of squared 2x2 minors of two edge vectors
+  /// (Lagrange's identity), not |u|^2 |v|^2 - (u.v)^2, which cancels in
+  /// single precision across steep edges.
+  CLONES void CellRow(const double* const* top, const double* const* bottom, PixelReal* __restrict out,
+    PixelReal* __restrict dots) const
+  {
+    using R = PixelReal;
+    const std::int64_t n = Grid.Width + 1;
+    const R sx2 = static_cast<R>(Grid.SpacingX * Grid.SpacingX), sy2 = static_cast<R>(Grid.SpacingY * Grid.SpacingY);
 #pragma GCC ivdep // the slot arrays never overlap
     for (std::int64_t j = 0; j < n; ++j)
     {
-      // Full R^(2+n) dot products: base part + data part.
-      double abab = sx2, acac = sx2 + sy2, adad = sy2, bcbc = sy2, bdbd = sx2 + sy2;
-      double abac = sx2, acad = sy2, abad = 0.0, bcbd = sy2;
+      // The data parts of the edge vectors (double differences, then single).
+      R ab[NC], ac[NC], ad[NC], bc[NC], bd[NC], dc[NC];
+#pragma GCC unroll 8
       for (int k = 0; k < NC; ++k)
       {
         const double a = top[k][j], b = top[k][j + 1], d = bottom[k][j], c = bottom[k][j + 1];
-        const double ab = b - a, ac = c - a, ad = d - a, bc = c - b, bd = d - b;
-        abab += ab * ab;
-        acac += ac * ac;
-        adad += ad * ad;
-        bcbc += bc * bc;
-        bdbd += bd * bd;
-        abac += ab * ac;
-        acad += ac * ad;
-        abad += ab * ad;
-        bcbd += bc * bd;
+        ab[k] = static_cast<R>(b - a);
+        ac[k] = static_cast<R>(c - a);
+        ad[k] = static_cast<R>(d - a);
+        bc[k] = static_cast<R>(c - b);
+        bd[k] = static_cast<R>(d - b);
+        dc[k] = static_cast<R>(c - d);
       }
-      dots[AB_AB * n + j] = abab;
+      // Full R^(2+n) dot products: base part + data part.
+      R nab = 0, nad = 0, nbc = 0, ndc = 0, acac = sx2 + sy2, bdbd = sx2 + sy2;
+      R abac = sx2, acad = sy2, abad = 0, bcbd = sy2;
+#pragma GCC unroll 8
+      for (int k = 0; k < NC; ++k)
+      {
+        nab += ab[k] * ab[k];
+        nad += ad[k] * ad[k];
+        nbc += bc[k] * bc[k];
+        ndc += dc[k] * dc[k];
+        acac += ac[k] * ac[k];
+        bdbd += bd[k] * bd[k];
+        abac += ab[k] * ac[k];
+        acad += ac[k] * ad[k];
+        abad += ab[k] * ad[k];
+        bcbd += bc[k] * bd[k];
+      }
+      // Each triangle has an x edge (ab or dc) and a y edge (ad or bc).
+      const R base = sx2 * sy2;
+      dots[AB_AB * n + j] = sx2 + nab;
       dots[AC_AC * n + j] = acac;
-      dots[AD_AD * n + j] = adad;
-      dots[BC_BC * n + j] = bcbc;
+      dots[AD_AD * n + j] = sy2 + nad;
+      dots[BC_BC * n + j] = sy2 + nbc;
       dots[BD_BD * n + j] = bdbd;
       dots[AB_AC * n + j] = abac;
       dots[AC_AD * n + j] = acad;
       dots[AB_AD * n + j] = abad;
       dots[BC_BD * n + j] = bcbd;
+      dots[AREA_ABC * n + j] = base + sy2 * nab + sx2 * nbc + DataMinors(ab, bc);
+      dots[AREA_ACD * n + j] = base + sy2 * ndc + sx2 * nad + DataMinors(dc, ad);
+      dots[AREA_ABD * n + j] = base + sy2 * nab + sx2 * nad + DataMinors(ab, ad);
+      dots[AREA_BCD * n + j] = base + sy2 * ndc + sx2 * nbc + DataMinors(dc, bc);
     }
     TriangleRow(n, dots, out);
   }
 
+  /// The sum of the squared 2x2 minors of two edge vectors' data parts
+  /// (zero for one component).
+  static PixelReal DataMinors(const PixelReal (&x)[NC], const PixelReal (&y)[NC])
+  {
+    PixelReal sum = 0;
+#pragma GCC unroll 8
+    for (int k = 0; k < NC; ++k)
+    {
+#pragma GCC unroll 8
+      for (int l = k + 1; l < NC; ++l)
+      {
+        const PixelReal m = x[k] * y[l] - x[l] * y[k];
+        sum += m * m;
+      }
+    }
+    return sum;
+  }
+
   /// PixelRow compiled for each output (and unit speed, gamma = 1).
-  void Row(PixelOutput output, std::int64_t r, const double* upper, const double* lower, double* sums, double dt,
+  void Row(PixelOutput output, std::int64_t r, PaddedRows& rows, const PixelReal* upper, const PixelReal* lower, double* sums, double dt,
     double* next)
   {
     const bool unit = Gamma == 1.0;
     switch (output)
     {
       case PixelOutput::Operator:
-        return PixelRow<PixelOutput::Operator, false>(r, upper, lower, sums, dt, next);
+        return PixelRow<PixelOutput::Operator, false>(r, rows, upper, lower, sums, dt, next);
       case PixelOutput::Velocity:
-        return unit ? PixelRow<PixelOutput::Velocity, true>(r, upper, lower, sums, dt, next)
-                    : PixelRow<PixelOutput::Velocity, false>(r, upper, lower, sums, dt, next);
+        return unit ? PixelRow<PixelOutput::Velocity, true>(r, rows, upper, lower, sums, dt, next)
+                    : PixelRow<PixelOutput::Velocity, false>(r, rows, upper, lower, sums, dt, next);
       case PixelOutput::Step:
-        return unit ? PixelRow<PixelOutput::Step, true>(r, upper, lower, sums, dt, next)
-                    : PixelRow<PixelOutput::Step, false>(r, upper, lower, sums, dt, next);
+        return unit ? PixelRow<PixelOutput::Step, true>(r, rows, upper, lower, sums, dt, next)
+                    : PixelRow<PixelOutput::Step, false>(r, rows, upper, lower, sums, dt, next);
       case PixelOutput::None:
-        return unit ? PixelRow<PixelOutput::None, true>(r, upper, lower, sums, dt, next)
-                    : PixelRow<PixelOutput::None, false>(r, upper, lower, sums, dt, next);
+        return unit ? PixelRow<PixelOutput::None, true>(r, rows, upper, lower, sums, dt, next)
+                    : PixelRow<PixelOutput::None, false>(r, rows, upper, lower, sums, dt, next);
+    }
+  }
+
+  /// Pixels per chunk of a row's evaluation (PixelRow).
+  static constexpr Index PixelChunk = 256;
+
+  /// The 8 edge weights (slots of Neighbor), the mass and the sum of the
+  /// positive weights of m pixels from the cell rows above (upper) and
+  /// below (lower) them, both from the pixels' first column, in arrays of n.
+  CLONES static void EdgeWeights(Index m, const PixelReal* __restrict upper, const PixelReal* __restrict lower,
+    std::int64_t n, double (&weights)[8][PixelChunk], double* __restrict mass, double* __restrict positive)
+  {
+    using R = PixelReal;
+#pragma GCC ivdep // the slot arrays never overlap
+    for (Index c = 0; c < m; ++c)
+    {
+      // Cells with this pixel as corner a (lower, c + 1), b (lower, c),
+      // c (upper, c) and d (upper, c + 1).
+      R wn[8];
+      wn[E] = lower[Top * n + c + 1] + upper[Bottom * n + c + 1];
+      wn[W] = lower[Top * n + c] + upper[Bottom * n + c];
+      wn[S] = lower[Left * n + c + 1] + lower[Right * n + c];
+      wn[N] = upper[Left * n + c + 1] + upper[Right * n + c];
+      wn[SE] = lower[DiagAC * n + c + 1];
+      wn[NW] = upper[DiagAC * n + c];
+      wn[SW] = lower[DiagBD * n + c];
+      wn[NE] = upper[DiagBD * n + c + 1];
+      mass[c] = lower[MassA * n + c + 1] + lower[MassB * n + c] + upper[MassC * n + c] + upper[MassD * n + c + 1];
+      R sum = 0;
+      for (int nb = 0; nb < 8; ++nb)
+      {
+        weights[nb][c] = wn[nb];
+        sum += std::max(wn[nb], R(0));
+      }
+      positive[c] = sum;
     }
   }
 
@@ -429,8 +560,8 @@ private:
   /// velocity, the operator, or the step from the state into next) and the
   /// row's area and stability rate.
   template <PixelOutput Output, bool UnitSpeed>
-  CLONES void PixelRow(std::int64_t r, const double* __restrict upper, const double* __restrict lower,
-    double* __restrict sums, double dt, double* __restrict next)
+  CLONES void PixelRow(std::int64_t r, PaddedRows& rows, const PixelReal* __restrict upper,
+    const PixelReal* __restrict lower, double* __restrict sums, double dt, double* __restrict next)
   {
     constexpr bool Store = Output == PixelOutput::Operator;
     const Index w = Grid.Width;
@@ -441,9 +572,9 @@ private:
     const double* p2[NC];
     for (int k = 0; k < NC; ++k)
     {
-      p0[k] = PaddedRow(k, r - 1);
-      p1[k] = PaddedRow(k, r);
-      p2[k] = PaddedRow(k, r + 1);
+      p0[k] = rows.At(r - 1)[k];
+      p1[k] = rows.At(r)[k];
+      p2[k] = rows.At(r + 1)[k];
     }
     const std::uint8_t* fixed = &Fixed[r * w];
     double* __restrict out = Output == PixelOutput::Step ? next + r * w * NC
@@ -451,83 +582,107 @@ private:
                                                         : Velocity.data() + r * w * NC;
     double* __restrict masses = sums;
     double* __restrict rates = sums + w;
-#pragma GCC ivdep // the slot arrays never overlap
-    for (Index c = 0; c < w; ++c)
+    // In chunks of pixels: their edge weights, masses and positive weight
+    // sums in single precision into double arrays, then K u and the rest in
+    // double (one loop of mixed widths spilled half its vectors).
+    alignas(64) double weights[8][PixelChunk], chunkMass[PixelChunk], chunkPositive[PixelChunk];
+    for (Index c0 = 0; c0 < w; c0 += PixelChunk)
     {
-      // Cells with this pixel as corner a (lower, c + 1), b (lower, c),
-      // c (upper, c) and d (upper, c + 1).
-      double wn[8];
-      wn[E] = lower[Top * n + c + 1] + upper[Bottom * n + c + 1];
-      wn[W] = lower[Top * n + c] + upper[Bottom * n + c];
-      wn[S] = lower[Left * n + c + 1] + lower[Right * n + c];
-      wn[N] = upper[Left * n + c + 1] + upper[Right * n + c];
-      wn[SE] = lower[DiagAC * n + c + 1];
-      wn[NW] = upper[DiagAC * n + c];
-      wn[SW] = lower[DiagBD * n + c];
-      wn[NE] = upper[DiagBD * n + c + 1];
-      const double mass =
-        lower[MassA * n + c + 1] + lower[MassB * n + c] + upper[MassC * n + c] + upper[MassD * n + c + 1];
-      double ku[NC];
-      double data2 = 0.0;
-      for (int k = 0; k < NC; ++k)
+      const Index m = std::min<Index>(PixelChunk, w - c0);
+      EdgeWeights(m, upper + c0, lower + c0, n, weights, chunkMass, chunkPositive);
+#pragma GCC ivdep // the slot arrays never overlap
+      for (Index c = c0; c < c0 + m; ++c)
       {
-        const double ui = p1[k][c + 1];
-        ku[k] = wn[E] * (ui - p1[k][c + 2]) + wn[W] * (ui - p1[k][c]) + wn[S] * (ui - p2[k][c + 1]) +
-          wn[N] * (ui - p0[k][c + 1]) + wn[SE] * (ui - p2[k][c + 2]) + wn[NW] * (ui - p0[k][c]) +
-          wn[SW] * (ui - p2[k][c]) + wn[NE] * (ui - p0[k][c + 2]);
-        data2 += ku[k] * ku[k];
-      }
-      double speed = 1.0;
-      if (!UnitSpeed)
-      {
-        const double bx = sx * (wn[E] - wn[W] + wn[SE] - wn[NW] - wn[SW] + wn[NE]);
-        const double by = sy * (wn[S] - wn[N] + wn[SE] - wn[NW] + wn[SW] - wn[NE]);
-        const double guard = Epsilon2 * mass * mass;
-        speed = SpeedOf(std::max(std::sqrt((data2 + guard) / (data2 + bx * bx + by * by + guard)),
-          BaseMass / mass));
-      }
-      const double f = (fixed[c] == 0) & (mass > 0.0) ? speed / mass : 0.0;
-      for (int k = 0; k < NC && Output != PixelOutput::None; ++k)
-      {
-        // (the explicit step as FlowIntegrator::ExplicitStep takes it)
-        out[c * NC + k] = Output == PixelOutput::Step ? p1[k][c + 1] - dt * (f * ku[k]) : f * ku[k];
-      }
-      double positive = 0.0;
-      for (int nb = 0; nb < 8; ++nb)
-      {
-        positive += std::max(wn[nb], 0.0);
-      }
-      masses[c] = mass;
-      rates[c] = f * positive;
-      if (Store)
-      {
-        const std::int64_t i = r * w + c;
-        double diag = 0.0;
+        const Index l = c - c0;
+        double wn[8];
         for (int nb = 0; nb < 8; ++nb)
         {
-          Weights[i * 8 + nb] = wn[nb];
-          diag += wn[nb];
+          wn[nb] = weights[nb][l];
         }
-        Mass[i] = mass;
-        Diagonal[i] = diag;
-        Speed[i] = speed;
+        const double mass = chunkMass[l];
+        double ku[NC];
+        double data2 = 0.0;
         for (int k = 0; k < NC; ++k)
         {
-          KU[i * NC + k] = ku[k];
+          const double ui = p1[k][c + 1];
+          ku[k] = wn[E] * (ui - p1[k][c + 2]) + wn[W] * (ui - p1[k][c]) + wn[S] * (ui - p2[k][c + 1]) +
+            wn[N] * (ui - p0[k][c + 1]) + wn[SE] * (ui - p2[k][c + 2]) + wn[NW] * (ui - p0[k][c]) +
+            wn[SW] * (ui - p2[k][c]) + wn[NE] * (ui - p0[k][c + 2]);
+          data2 += ku[k] * ku[k];
+        }
+        double speed = 1.0;
+        if (!UnitSpeed)
+        {
+          const double bx = sx * (wn[E] - wn[W] + wn[SE] - wn[NW] - wn[SW] + wn[NE]);
+          const double by = sy * (wn[S] - wn[N] + wn[SE] - wn[NW] + wn[SW] - wn[NE]);
+          const double guard = Epsilon2 * mass * mass;
+          speed = SpeedOf(std::max(std::sqrt((data2 + guard) / (data2 + bx * bx + by * by + guard)),
+            BaseMass / mass));
+        }
+        const double f = (fixed[c] == 0) & (mass > 0.0) ? speed / mass : 0.0;
+        for (int k = 0; k < NC && Output != PixelOutput::None; ++k)
+        {
+          // (the explicit step as FlowIntegrator::ExplicitStep takes it)
+          out[c * NC + k] = Output == PixelOutput::Step ? p1[k][c + 1] - dt * (f * ku[k]) : f * ku[k];
+        }
+        masses[c] = mass;
+        rates[c] = f * chunkPositive[l];
+        if (Store)
+        {
+          const std::int64_t i = r * w + c;
+          double diag = 0.0;
+          for (int nb = 0; nb < 8; ++nb)
+          {
+            Weights[i * 8 + nb] = wn[nb];
+            diag += wn[nb];
+          }
+          Mass[i] = mass;
+          Diagonal[i] = diag;
+          Speed[i] = speed;
+          for (int k = 0; k < NC; ++k)
+          {
+            KU[i * NC + k] = ku[k];
+          }
         }
       }
     }
-    double area = 0.0, rate = 0.0; // in order (not vectorized): sums are reproducible
+    double area = 0.0, rate = 0.0;
     const auto add = [&](std::int64_t begin, std::int64_t end) {
-      for (std::int64_t c = begin; c < end; ++c)
-      {
-        area += masses[c];
-        rate = std::max(rate, rates[c]);
-      }
+      area += MassAndRate(end - begin, masses + begin, rates + begin, rate);
     };
     Split ? Owned.ForEach(r, add) : add(0, w); // (a split grid: the pixels it owns)
     RowArea[r] = area;
     RowRate[r] = rate;
+  }
+
+  /// The sum of n masses and the largest of n rates (into rate): eight
+  /// partial sums in a fixed order (one vector, not a chain of n dependent
+  /// additions), so the sum is the same for any thread count.
+  CLONES static double MassAndRate(std::int64_t n, const double* __restrict masses, const double* __restrict rates,
+    double& rate)
+  {
+    double sum[8] = {}, top[8] = {};
+    std::int64_t c = 0;
+    for (; c + 8 <= n; c += 8)
+    {
+      for (int l = 0; l < 8; ++l)
+      {
+        sum[l] += masses[c + l];
+        top[l] = std::max(top[l], rates[c + l]);
+      }
+    }
+    for (int l = 0; c + l < n; ++l)
+    {
+      sum[l] += masses[c + l];
+      top[l] = std::max(top[l], rates[c + l]);
+    }
+    double total = 0.0;
+    for (int l = 0; l < 8; ++l)
+    {
+      total += sum[l];
+      rate = std::max(rate, top[l]);
+    }
+    return total;
   }
 };
 
