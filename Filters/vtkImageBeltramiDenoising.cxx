@@ -79,6 +79,16 @@ void Store(T* dst, const int* outExt, const int* inExt, int nc, int used, double
 {
   const std::int64_t width = outExt[1] - outExt[0] + 1, height = outExt[3] - outExt[2] + 1;
   const std::int64_t rows = height * (outExt[5] - outExt[4] + 1);
+  if (used == nc && std::equal(outExt, outExt + 6, inExt)) // every value smoothed, same extent: in order
+  {
+    beltrami::ParallelFor(rows * width * nc, threads, [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t j = begin; j < end; ++j)
+      {
+        dst[j] = ToValue<T>(range * values[j]);
+      }
+    });
+    return;
+  }
   beltrami::ParallelFor(rows, used < nc ? 1 : threads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t r = begin; r < end; ++r)
     {
