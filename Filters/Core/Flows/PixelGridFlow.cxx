@@ -119,7 +119,7 @@ CLONES void TriangleRow(std::int64_t n, const PixelReal* __restrict dots, PixelR
 }
 
 /// Rows per band of the image pass (one extra cell row computed per band).
-constexpr std::int64_t BandRows = 16;
+constexpr std::int64_t BandRows = 32;
 
 /// What a pixel row's evaluation writes: the velocity, the velocity and
 /// the operator (semi-implicit steps), the explicit step (fused), or only
