@@ -22,11 +22,13 @@ using namespace detail;
 // R^(2+n).  Cotangents and mixed areas (section 2.4.3) of the four triangles
 // of every cell come from dot products of the edge vectors (section 2.8.1).
 //
-// One Update is one pass over the image in bands of rows: per band, a row of
-// cells (their four triangles) is computed into a small buffer, then the row
-// of pixels between it and the previous cell row; no per-cell or per-pixel
-// weights are stored unless the semi-implicit solver needs them.  The loops
-// over a row have no branches, so the compiler vectorizes them.
+// One Update is one pass over the image in bands of rows: per band, each
+// pixel row is copied into planes with its border (a ring of three rows), a
+// row of cells (their four triangles, in single precision) is computed into
+// a small buffer, then the row of pixels between it and the previous cell
+// row; no per-cell or per-pixel weights are stored unless the semi-implicit
+// solver needs them.  The loops over a row have no branches, so the
+// compiler vectorizes them.
 
 /// The 8 neighbours of a pixel: offsets and slots of the per-pixel weights.
 enum Neighbor
@@ -154,12 +156,9 @@ public:
     PW = grid.Width + 2;
     PH = grid.Height + 2;
     PlaneSize = static_cast<std::size_t>(PW) * PH;
-    if (StoreOperator) // (Apply's copy; a sweep pads rows as it goes)
+    if (StoreOperator) // (Padded: Apply's copy; a sweep pads its rows as it reaches them)
     {
       Padded.resize(PlaneSize * NC);
-    }
-    if (StoreOperator)
-    {
       Weights.resize(static_cast<std::size_t>(Size) * 8);
     }
     Fixed.assign(Size, 0);
@@ -416,9 +415,10 @@ private:
   }
 
   /// The four triangles of the cells between the padded pixel rows `top`
-  /// and `bottom` (planes), columns -1 .. W-1, into out (CellSlots arrays of W + 1 values;
-  /// `dots` is scratch of CellDots arrays): the dot products of the edge
-  /// vectors and the triangles' squared twice-areas, then the triangles.
+  /// and `bottom` (planes), columns -1 .. W-1, into out (CellSlots arrays
+  /// of W + 1 values; `dots` is scratch of CellDots arrays): the dot
+  /// products of the edge vectors and the triangles' squared twice-areas,
+  /// then the triangles.
   /// The areas are sums of squared 2x2 minors of two edge vectors
   /// (Lagrange's identity), not |u|^2 |v|^2 - (u.v)^2, which cancels in
   /// single precision across steep edges.
