@@ -629,20 +629,7 @@ private:
         rates[c] = f * chunkPositive[l];
         if (Store)
         {
-          const std::int64_t i = r * w + c;
-          double diag = 0.0;
-          for (int nb = 0; nb < 8; ++nb)
-          {
-            Weights[i * 8 + nb] = wn[nb];
-            diag += wn[nb];
-          }
-          Mass[i] = mass;
-          Diagonal[i] = diag;
-          Speed[i] = speed;
-          for (int k = 0; k < NC; ++k)
-          {
-            KU[i * NC + k] = ku[k];
-          }
+          StoreOperatorAt(r * w + c, wn, mass, speed, ku);
         }
       }
     }
@@ -653,6 +640,25 @@ private:
     Split ? Owned.ForEach(r, add) : add(0, w); // (a split grid: the pixels it owns)
     RowArea[r] = area;
     RowRate[r] = rate;
+  }
+
+  /// Pixel i's part of the semi-implicit operator: its weights, mass,
+  /// diagonal, speed and K u.
+  void StoreOperatorAt(std::int64_t i, const double (&wn)[8], double mass, double speed, const double (&ku)[NC])
+  {
+    double diag = 0.0;
+    for (int nb = 0; nb < 8; ++nb)
+    {
+      Weights[i * 8 + nb] = wn[nb];
+      diag += wn[nb];
+    }
+    Mass[i] = mass;
+    Diagonal[i] = diag;
+    Speed[i] = speed;
+    for (int k = 0; k < NC; ++k)
+    {
+      KU[i * NC + k] = ku[k];
+    }
   }
 
   /// The sum of n masses and the largest of n rates (into rate): eight
