@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -114,10 +115,12 @@ void Corners(const IndexArray& tri, Index f, const double* field, double* out)
 
 /// Runs body(face, lists) over all faces (or other items: ridge
 /// candidates, vertices), in blocks that each fill their own `count` lists
-/// (of segments by default); returns the `count` lists with the blocks'
-/// items in face order (the same for any thread count).
+/// (of segments by default; `expected`: the items each block's lists are
+/// given room for, per list); returns the `count` lists with the blocks' items in
+/// face order (the same for any thread count).
 template <typename Item = LineSegment, typename Body>
-std::vector<std::vector<Item>> CollectSegments(Index numFaces, int numThreads, int count, Body&& body)
+std::vector<LargeVector<Item>> CollectSegments(
+  Index numFaces, int numThreads, int count, Body&& body, std::array<std::size_t, 3> expected = {})
 {
   const std::int64_t blocks = (numFaces + FacesPerBlock - 1) / FacesPerBlock;
   std::vector<std::vector<std::vector<Item>>> perBlock(blocks, std::vector<std::vector<Item>>(count));
@@ -126,6 +129,10 @@ std::vector<std::vector<Item>> CollectSegments(Index numFaces, int numThreads, i
     [&](std::int64_t begin, std::int64_t end) {
       for (std::int64_t b = begin; b < end; ++b)
       {
+        for (int l = 0; l < count; ++l)
+        {
+          perBlock[b][l].reserve(expected[l]);
+        }
         const Index last = static_cast<Index>(std::min<std::int64_t>(numFaces, (b + 1) * FacesPerBlock));
         for (Index f = static_cast<Index>(b * FacesPerBlock); f < last; ++f)
         {
@@ -134,7 +141,7 @@ std::vector<std::vector<Item>> CollectSegments(Index numFaces, int numThreads, i
       }
     },
     {}, 0, 1);
-  std::vector<std::vector<Item>> lists(count);
+  std::vector<LargeVector<Item>> lists(count);
   for (int l = 0; l < count; ++l)
   {
     std::size_t total = 0;
@@ -196,13 +203,16 @@ void LineDrawingGeometry::Build(
       DrawnFaces[f] = Split->CountsTriangle(Triangles[3 * f], Triangles[3 * f + 1], Triangles[3 * f + 2]);
     }
   }
-  Points.assign(points, points + 3 * static_cast<std::int64_t>(n));
-  for (auto* field : { &Normals, &E1, &E2 })
+  // (ComputeCurvatures writes every vertex of its outputs.)
+  for (auto* field : { &Points, &Normals, &E1, &E2 })
   {
-    field->assign(3 * static_cast<std::size_t>(n), NaN);
+    field->resize(3 * static_cast<std::size_t>(n));
   }
-  K1.assign(n, NaN);
-  K2.assign(n, NaN);
+  K1.resize(n);
+  K2.resize(n);
+  ParallelFor(3 * static_cast<std::int64_t>(n), numThreads, [&](std::int64_t begin, std::int64_t end) {
+    std::copy(points + begin, points + end, Points.data() + begin);
+  });
   CurvatureOptions options;
   options.NumberOfThreads = numThreads;
   CurvatureOutputs out;
@@ -213,7 +223,7 @@ void LineDrawingGeometry::Build(
   out.PrincipalDirection2 = E2.data();
   ComputeCurvatures(topology, Points.data(), options, out);
   ShareCurvatures(topology);
-  Derivatives.assign(4 * static_cast<std::size_t>(n), NaN);
+  Derivatives.resize(4 * static_cast<std::size_t>(n)); // (every vertex written)
   const CurvatureTensors tensors{ Normals.data(), K1.data(), K2.data(), E1.data(), E2.data() };
   ComputeCurvatureDerivatives(topology, Points.data(), tensors, Derivatives.data(), numThreads);
   if (Split)
@@ -296,6 +306,7 @@ void LineDrawingGeometry::FindRidges(int numThreads)
       for (int k = 0; k < 3; ++k)
       {
         __builtin_prefetch(frames.data() + Stride * static_cast<std::int64_t>(v[3 * Ahead + k]));
+        __builtin_prefetch(Points.data() + 3 * static_cast<std::int64_t>(v[3 * Ahead + k]));
       }
     }
     for (int valleys = 0; valleys < 2; ++valleys)
@@ -323,7 +334,8 @@ void LineDrawingGeometry::FindRidges(int numThreads)
         out[valleys].push_back(s);
       }
     }
-  });
+  },
+    { FacesPerBlock / 4, FacesPerBlock / 4, 0 }); // (about a sixth of the faces on a scan)
   RidgeCandidates = std::move(lists[0]);
   ValleyCandidates = std::move(lists[1]);
 }
@@ -351,24 +363,39 @@ LineSegment LineDrawingGeometry::EdgeSegment(Index a, Index b, Index face) const
 
 void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int numThreads)
 {
-  // Per vertex its edges (MeshTopology::VertexEdges: the edge table took
-  // longer to build than this whole pass), with the unit normals of its
-  // triangles: the cosine of each edge of two triangles, the sharpest, and
-  // the edges to larger ids drawn here, in (vertex, neighbour) order: list 0
-  // the boundary edges, list 1 the others.
+  // The unit normals of the faces (each is in three stars), then per vertex
+  // its edges (MeshTopology::VertexEdges: the edge table took longer to
+  // build than this whole pass): the cosine of each edge of two triangles,
+  // the sharpest, and the edges to larger ids drawn here, in (vertex,
+  // neighbour) order: list 0 the boundary edges, list 1 the others (about
+  // three per vertex on a closed surface).
   SharpestCosine.resize(NumberOfVertices());
+  UninitializedVector<float> normals(Triangles.size()); // (3 per face; random reads: the smaller the better)
+  ParallelFor(NumberOfFaces(), numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t f = begin; f < end; ++f)
+    {
+      const Index* v = Triangles.data() + 3 * f;
+      const Vec3 p = Point(Points.data(), v[0]);
+      Eigen::Map<Eigen::Vector3f>(normals.data() + 3 * f) =
+        (Point(Points.data(), v[1]) - p).cross(Point(Points.data(), v[2]) - p).normalized().cast<float>();
+    }
+  });
   auto lists = CollectSegments<InteriorEdge>(NumberOfVertices(), numThreads, 2,
     [&](Index a, std::vector<InteriorEdge>* out) {
       thread_local std::vector<MeshTopology::VertexEdge> edges;
-      thread_local std::vector<Vec3> normals;
-      topology.VertexEdges(a, edges);
-      const Index* pair = topology.RingPairsBegin(a);
-      const Vec3 p = Point(Points.data(), a);
-      normals.resize(topology.Valence(a));
-      for (std::size_t k = 0; k < normals.size(); ++k)
+      constexpr Index Ahead = 8; // (the faces of a star are spread over the face list)
+      if (a + Ahead < NumberOfVertices())
       {
-        normals[k] = (Point(Points.data(), pair[2 * k]) - p).cross(Point(Points.data(), pair[2 * k + 1]) - p).normalized();
+        for (const Index* c = topology.CornersBegin(a + Ahead); c != topology.CornersEnd(a + Ahead); ++c)
+        {
+          __builtin_prefetch(normals.data() + 3 * static_cast<std::int64_t>(*c / 3));
+        }
       }
+      topology.VertexEdges(a, edges);
+      const Index* corners = topology.CornersBegin(a);
+      const auto normal = [&](Index local) {
+        return Eigen::Vector3f(normals.data() + 3 * static_cast<std::int64_t>(corners[local] / 3));
+      };
       double lowest = 1.0; // the smallest cosine of a's edges of two triangles
       for (const MeshTopology::VertexEdge& e : edges)
       {
@@ -383,7 +410,7 @@ void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int num
           }
           continue;
         }
-        const double cosine = e.Faces == 2 && e.Local[1] >= 0 ? normals[e.Local[0]].dot(normals[e.Local[1]]) : NaN;
+        const double cosine = e.Faces == 2 && e.Local[1] >= 0 ? static_cast<double>(normal(e.Local[0]).dot(normal(e.Local[1]))) : NaN;
         if (std::isfinite(cosine))
         {
           lowest = std::min(lowest, cosine);
@@ -394,7 +421,8 @@ void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int num
         }
       }
       SharpestCosine[a] = static_cast<float>(lowest);
-    });
+    },
+    { 0, 3 * FacesPerBlock, 0 });
   if (Split)
   {
     std::vector<double> sharpest(SharpestCosine.begin(), SharpestCosine.end());
@@ -406,7 +434,7 @@ void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int num
   {
     BoundaryEdges.push_back(EdgeSegment(e.A, e.B, e.Face));
   }
-  InteriorEdges.assign(lists[1].begin(), lists[1].end());
+  InteriorEdges = std::move(lists[1]);
   InteriorCosines.resize(InteriorEdges.size());
   std::transform(InteriorEdges.begin(), InteriorEdges.end(), InteriorCosines.begin(),
     [](const InteriorEdge& e) { return e.Cosine; });
@@ -514,7 +542,7 @@ struct LineFilter
 /// ViewSegments; strength(segment, corners, values) gives a segment's
 /// corner strengths).
 template <typename Strength>
-void Resolve(const LineDrawingGeometry& geo, const std::vector<LineSegment>& segments, LineType type,
+void Resolve(const LineDrawingGeometry& geo, const SegmentList& segments, LineType type,
   Strength&& strength, ViewSegments& out, int threads)
 {
   std::vector<std::int64_t>& keys = out.Keys[static_cast<int>(type)];
@@ -609,7 +637,7 @@ double FeatureSizeOf(const LineDrawingGeometry& geo, const LineDrawingOptions& o
 
 } // namespace
 
-const std::vector<LineSegment>& LineDrawingGeometry::ThresholdedRidges(bool valleys, double size,
+const SegmentList& LineDrawingGeometry::ThresholdedRidges(bool valleys, double size,
   const LineDrawingOptions& options) const
 {
   RidgeCache& cache = Thresholded[valleys ? 1 : 0];
@@ -652,7 +680,7 @@ namespace
 /// The segments of the faces this process draws (LineDrawingGeometry::Draws)
 /// for a view's fields and their SignBits: contours, suggestive contours,
 /// suggestive highlights (three lists, in face order).
-std::vector<std::vector<LineSegment>> FaceSegments(const LineDrawingGeometry& geo, const LineDrawingOptions& options,
+std::vector<SegmentList> FaceSegments(const LineDrawingGeometry& geo, const LineDrawingOptions& options,
   double size, const double* ndotv, const double* kr, const double* drkr, const std::vector<std::uint8_t>& signs)
 {
   const bool* draw = options.Draw;
@@ -718,10 +746,10 @@ std::vector<std::vector<LineSegment>> FaceSegments(const LineDrawingGeometry& ge
 
 /// Ridges (valleys: valleys): the candidates past the threshold (kept by
 /// the geometry) clipped by the view.
-std::vector<LineSegment> ClipRidges(
+SegmentList ClipRidges(
   const LineDrawingGeometry& geo, const LineDrawingOptions& options, double size, const double* ndotv, bool valleys)
 {
-  const std::vector<LineSegment>& candidates = geo.ThresholdedRidges(valleys, size, options);
+  const SegmentList& candidates = geo.ThresholdedRidges(valleys, size, options);
   if (!options.DropBackFacing)
   {
     return candidates;
@@ -742,7 +770,7 @@ std::vector<LineSegment> ClipRidges(
 /// Appends the edges sharper than the crease angle that this process draws.
 void ResolveCreases(const LineDrawingGeometry& geo, const LineDrawingOptions& options, ViewSegments& segments)
 {
-  std::vector<LineSegment> creases;
+  SegmentList creases;
   std::vector<double> angles;
   const float creaseCosine = LineDrawingGeometry::CreaseCosine(options.CreaseAngle);
   for (std::size_t i = 0; i < geo.InteriorCosines.size(); ++i)

@@ -110,6 +110,8 @@ struct LineSegment
   Index Face = 0;
   LineEnd End[2];
 };
+/// The segments of a whole surface (a large array: see LargeBuffer.h).
+using SegmentList = LargeVector<LineSegment>;
 
 /// The view-independent pass, kept while only the view or thresholds change.
 class LineDrawingGeometry
@@ -131,8 +133,9 @@ public:
   double AutomaticFeatureSize() const { return DefaultFeatureSize; }
 
   IndexArray Triangles; ///< the topology's kept triangles
-  LargeVector<double> Points, Normals, K1, K2, E1, E2;
-  LargeVector<double> Derivatives; ///< 4 per vertex: see ComputeCurvatureDerivatives
+  /// (Each written whole by the pass that makes it: no zeros written first.)
+  UninitializedVector<double> Points, Normals, K1, K2, E1, E2;
+  UninitializedVector<double> Derivatives; ///< 4 per vertex: see ComputeCurvatureDerivatives
   /// Vertices of triangles whose curvature is undefined (boundary,
   /// non-manifold, NaN or degenerate 1-rings; over all processes).
   Index UndefinedVertices = 0;
@@ -147,7 +150,7 @@ public:
   std::int64_t NumberOfKeyIds() const { return Split ? KeyIds : NumberOfVertices(); }
   /// Candidates, before thresholds and the view: ridges and valleys (with
   /// the maximum / minimum test passed), boundary edges.
-  std::vector<LineSegment> RidgeCandidates, ValleyCandidates, BoundaryEdges;
+  SegmentList RidgeCandidates, ValleyCandidates, BoundaryEdges;
   /// The edges of two triangles, with the cosine of the angle between their
   /// normals (cosines, not angles: the view compares them with the crease
   /// angle's, and an arc cosine per edge was a fifth of finding them).
@@ -182,7 +185,7 @@ public:
   /// crease rule of `options`: the
   /// view-independent part of their tests, kept for the next views while
   /// those settings stay (not for concurrent calls on one geometry).
-  const std::vector<LineSegment>& ThresholdedRidges(bool valleys, double size, const LineDrawingOptions& options) const;
+  const SegmentList& ThresholdedRidges(bool valleys, double size, const LineDrawingOptions& options) const;
 
 private:
   double DefaultFeatureSize = 0.0;
@@ -197,7 +200,7 @@ private:
   {
     bool Valid = false, AvoidCreases = false;
     double Size = 0.0, Threshold = 0.0, CreaseAngle = 0.0; // (Threshold: the one applied)
-    std::vector<LineSegment> Kept;
+    SegmentList Kept;
   };
   mutable RidgeCache Thresholded[2]; // ridges, valleys
 };

@@ -1,12 +1,17 @@
 #include "Mesh/CurvatureDerivatives.h"
 
+// The face fit's vector helpers are inlined into its clones (Vectorization.h):
+// GCC's note on passing 32-byte vectors without AVX does not apply.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 #include "Mesh/Geometry.h"
 #include "Mesh/RingGeometry.h"
 
 #include "Support/LargeBuffer.h"
+#include "Support/Vectorization.h"
 
-#include <Eigen/Geometry>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -20,33 +25,65 @@ namespace
 
 constexpr double NaN = std::numeric_limits<double>::quiet_NaN();
 
+/// The per-face fit runs on Lanes faces at once, in GCC's vector types
+/// (one lane a face; the fit has no branches: a face whose fit is not
+/// defined is computed all the same and masked at the end).  Left to the
+/// auto-vectorizer, the loop over the lanes of this fit did not vectorize.
+constexpr int Lanes = 4;
+using Real = double __attribute__((vector_size(8 * Lanes)));
+using Mask = std::int64_t __attribute__((vector_size(8 * Lanes))); ///< a comparison of Reals: 0 or -1
+
+inline Real Sqrt(const Real& x)
+{
+  Real r;
+  for (int l = 0; l < Lanes; ++l)
+  {
+    r[l] = std::sqrt(x[l]);
+  }
+  return r;
+}
+inline Real Max(const Real& a, const Real& b) { return a > b ? a : b; }
+/// Finite, as a comparison (NaN fails it).
+inline Mask Finite(const Real& x) { return (x < 0.0 ? -x : x) <= std::numeric_limits<double>::max(); }
+
+struct V3
+{
+  Real X, Y, Z;
+};
+inline V3 operator+(const V3& a, const V3& b) { return { a.X + b.X, a.Y + b.Y, a.Z + b.Z }; }
+inline V3 operator-(const V3& a, const V3& b) { return { a.X - b.X, a.Y - b.Y, a.Z - b.Z }; }
+inline V3 operator*(const Real& s, const V3& a) { return { s * a.X, s * a.Y, s * a.Z }; }
+inline Real Dot(const V3& a, const V3& b) { return a.X * b.X + a.Y * b.Y + a.Z * b.Z; }
+inline V3 Cross(const V3& a, const V3& b)
+{
+  return { a.Y * b.Z - a.Z * b.Y, a.Z * b.X - a.X * b.Z, a.X * b.Y - a.Y * b.X };
+}
+
 /// x turned by the smallest rotation that takes the unit vector `from` to
 /// the unit vector `to` (Rodrigues); reversed when they are opposite.
-Vec3 RotateLike(const Vec3& x, const Vec3& from, const Vec3& to)
+inline V3 RotateLike(const V3& x, const V3& from, const V3& to)
 {
-  const double c = from.dot(to);
-  if (c <= -1.0 + 1e-12)
-  {
-    return -x;
-  }
-  const Vec3 k = from.cross(to);
-  return c * x + k.cross(x) + (k.dot(x) / (1.0 + c)) * k;
+  const Real c = Dot(from, to);
+  const V3 k = Cross(from, to);
+  const V3 turned = c * x + Cross(k, x) + (Dot(k, x) / (1.0 + c)) * k;
+  const Mask opposite = c <= -1.0 + 1e-12;
+  return { opposite ? -x.X : turned.X, opposite ? -x.Y : turned.Y, opposite ? -x.Z : turned.Z };
 }
 
 /// Solves the symmetric positive definite tridiagonal system with the
 /// given diagonal and constant off-diagonal (4 unknowns) by its LDL^T
-/// factors; false where a pivot is not positive (or not finite).
-inline bool SolveTridiagonal(const double (&diagonal)[4], double off, const double (&r)[4], double (&x)[4])
+/// factors; the mask of the lanes whose pivots are positive (and finite).
+inline Mask SolveTridiagonal(const Real (&diagonal)[4], const Real& off, const Real (&r)[4], Real (&x)[4])
 {
-  double inverse[4], factor[4], z[4];
-  bool positive = diagonal[0] > 0.0;
+  Real inverse[4], factor[4], z[4];
+  Mask positive = diagonal[0] > 0.0;
   inverse[0] = 1.0 / diagonal[0];
   z[0] = r[0];
   for (int k = 1; k < 4; ++k)
   {
     factor[k] = off * inverse[k - 1];
-    const double pivot = diagonal[k] - factor[k] * off;
-    positive = positive && pivot > 0.0;
+    const Real pivot = diagonal[k] - factor[k] * off;
+    positive &= pivot > 0.0;
     inverse[k] = 1.0 / pivot;
     z[k] = r[k] - factor[k] * z[k - 1];
   }
@@ -57,20 +94,10 @@ inline bool SolveTridiagonal(const double (&diagonal)[4], double off, const doub
   }
   for (int k = 0; k < 4; ++k)
   {
-    positive = positive && std::isfinite(x[k]);
+    positive &= Finite(x[k]);
   }
   return positive;
 }
-
-/// A face's tensor C in its frame (U, N x U); per corner the mixed area
-/// (figure 2.3), the weight of its vertex's average, and the vertex's e1
-/// turned into the face's plane, in that frame.
-struct FaceDerivative
-{
-  double C[4];
-  double MixedArea[3];
-  double Cos[3], Sin[3];
-};
 
 /// What a face reads of each of its vertices, side by side: position,
 /// normal, e1, kappa_1, kappa_2 (from five arrays read at random, the
@@ -89,60 +116,74 @@ enum FramePart
 /// on those random reads for half of its time.
 constexpr std::int64_t PrefetchDistance = 8;
 
-/// Rusinkiewicz's per-face fit: false where a vertex tensor is undefined
-/// or the face is degenerate.
-bool FitFace(const double* frames, const Index* v, FaceDerivative& face)
+/// A corner's part of its vertex's average: the face's tensor in the
+/// vertex's principal frame times the corner's mixed area, and that area
+/// (zeros where the area or the vertex's frame is not defined).  Kept in
+/// single precision (relative 6e-8, summed in double): the array of all
+/// corners is the largest of the line drawing's view-independent pass.
+struct CornerTerm
 {
-  Vec3 p[3];
+  float Weighted[4];
+  float Area;
+};
+
+/// Rusinkiewicz's per-face fit of Lanes faces (`frames`: [corner][value] of
+/// FramePart, a lane a face), then each corner's term ([corner][value]:
+/// CornerTerm's five).  Per face: the vertex tensors in the face frame (U,
+/// N x U), e1 turned into the face's plane by the smallest rotation; along
+/// edge a -> b with components (du, dv) the tensor's change is
+/// [[C111 du + C112 dv, C112 du + C122 dv], [., C122 du + C222 dv]], and
+/// the normal equations of these 9 equations in C are tridiagonal.  Per
+/// corner k the face frame turned into the vertex's plane (the inverse of
+/// the turn of e1) has e1 = (c, s) and e2 = (-s, c): the term is C(a,a,a),
+/// C(a,a,b), C(a,b,b), C(b,b,b) of EvaluateCubicForm with a = (c, s),
+/// b = (-s, c), expanded, times the corner's mixed area (figure 2.3).
+/// Zero terms where a vertex tensor is undefined or the face is degenerate.
+CLONES void FitFaces(const Real (&frames)[3][FrameSize], Real (&terms)[3][5])
+{
+  V3 p[3], n[3], e1[3];
   for (int k = 0; k < 3; ++k)
   {
-    p[k] = LoadPoint<3>(frames, FrameSize, v[k]);
+    const Real* f = frames[k];
+    p[k] = { f[FramePoint], f[FramePoint + 1], f[FramePoint + 2] };
+    n[k] = { f[FrameNormal], f[FrameNormal + 1], f[FrameNormal + 2] };
+    e1[k] = { f[FrameDirection], f[FrameDirection + 1], f[FrameDirection + 2] };
   }
-  const Vec3 edge[3] = { p[1] - p[0], p[2] - p[1], p[0] - p[2] }; // edge k: from corner k to k + 1
-  const double squared[3] = { edge[0].squaredNorm(), edge[1].squaredNorm(), edge[2].squaredNorm() };
-  const Vec3 normal = edge[0].cross(-edge[2]);
-  const double twiceArea = normal.norm();
-  if (!(twiceArea > DegenerateTolerance * std::max({ squared[0], squared[1], squared[2] })))
-  {
-    return false;
-  }
+  const V3 edge[3] = { p[1] - p[0], p[2] - p[1], p[0] - p[2] }; // edge k: from corner k to k + 1
+  const Real squared[3] = { Dot(edge[0], edge[0]), Dot(edge[1], edge[1]), Dot(edge[2], edge[2]) };
+  const V3 normal = Cross(edge[0], p[2] - p[0]);
+  const Real twiceArea = Sqrt(Dot(normal, normal));
+  Mask fitted = twiceArea > DegenerateTolerance * Max(squared[0], Max(squared[1], squared[2]));
   // The corners' mixed areas with one square root for the three (the
   // corner geometry of the 1-ring loops takes one each).
-  const double inverseTwiceArea = 1.0 / twiceArea;
+  const Real inverseTwiceArea = 1.0 / twiceArea;
+  Real mixedArea[3];
   for (int k = 0; k < 3; ++k)
   {
-    const double aa = squared[k], bb = squared[(k + 2) % 3], ab = -edge[k].dot(edge[(k + 2) % 3]);
-    face.MixedArea[k] =
+    const Real aa = squared[k], bb = squared[(k + 2) % 3], ab = -Dot(edge[k], edge[(k + 2) % 3]);
+    mixedArea[k] =
       CornerMixedArea(aa, bb, ab, twiceArea, (aa - ab) * inverseTwiceArea, (bb - ab) * inverseTwiceArea);
   }
-  const Vec3 N = normal * inverseTwiceArea;
-  const Vec3 U = edge[0] / std::sqrt(squared[0]);
-  const Vec3 V = N.cross(U);
-  double tensor[3][3]; // entries 11, 12, 22 of each vertex's tensor in the face frame
+  const V3 N = inverseTwiceArea * normal;
+  const V3 U = (1.0 / Sqrt(squared[0])) * edge[0];
+  const V3 V = Cross(N, U);
+  Real cosine[3], sine[3], tensor[3][3]; // entries 11, 12, 22 of each vertex's tensor in the face frame
   for (int k = 0; k < 3; ++k)
   {
-    const double* frame = frames + FrameSize * static_cast<std::int64_t>(v[k]);
-    const double k1 = frame[FrameMaximum], k2 = frame[FrameMinimum];
-    // (A rotation keeps e1 a unit vector, now in the face's plane.)
-    const Vec3 e1 = RotateLike(Vec3(frame + FrameDirection), Vec3(frame + FrameNormal), N);
-    const double c = face.Cos[k] = e1.dot(U), s = face.Sin[k] = e1.dot(V);
-    if (!(c * c + s * s > 0.5) || !std::isfinite(k1) || !std::isfinite(k2))
-    {
-      return false;
-    }
+    const Real k1 = frames[k][FrameMaximum], k2 = frames[k][FrameMinimum];
+    const V3 turned = RotateLike(e1[k], n[k], N); // (a unit vector, now in the face's plane)
+    const Real c = cosine[k] = Dot(turned, U), s = sine[k] = Dot(turned, V);
+    fitted &= (c * c + s * s > 0.5) & Finite(k1) & Finite(k2);
     tensor[k][0] = k1 * c * c + k2 * s * s;
     tensor[k][1] = (k1 - k2) * c * s;
     tensor[k][2] = k1 * s * s + k2 * c * c;
   }
-  // Along edge a -> b with components (du, dv): the tensor's change is
-  // [[C111 du + C112 dv, C112 du + C122 dv], [., C122 du + C222 dv]]; the
-  // normal equations of these 9 equations in C are tridiagonal.
-  double uu = 0.0, uv = 0.0, vv = 0.0, r[4] = { 0.0, 0.0, 0.0, 0.0 };
+  Real uu = {}, uv = {}, vv = {}, r[4] = {};
   for (int a = 0; a < 3; ++a)
   {
     const int b = (a + 1) % 3;
-    const double du = edge[a].dot(U), dv = edge[a].dot(V);
-    const double t0 = tensor[b][0] - tensor[a][0], t1 = tensor[b][1] - tensor[a][1], t2 = tensor[b][2] - tensor[a][2];
+    const Real du = Dot(edge[a], U), dv = Dot(edge[a], V);
+    const Real t0 = tensor[b][0] - tensor[a][0], t1 = tensor[b][1] - tensor[a][1], t2 = tensor[b][2] - tensor[a][2];
     uu += du * du;
     uv += du * dv;
     vv += dv * dv;
@@ -151,40 +192,22 @@ bool FitFace(const double* frames, const Index* v, FaceDerivative& face)
     r[2] += dv * t1 + du * t2;
     r[3] += dv * t2;
   }
-  const double diagonal[4] = { uu, uu + vv, uu + vv, vv };
-  return SolveTridiagonal(diagonal, uv, r, face.C);
-}
-
-/// A corner's part of its vertex's average: the face's tensor in the
-/// vertex's principal frame times the corner's mixed area, and that area
-/// (zeros where the area or the vertex's frame is not defined).
-struct CornerTerm
-{
-  double Weighted[4];
-  double Area;
-};
-
-/// The term of corner k of a fitted face.  The turn R from the face's
-/// normal to the vertex's is the inverse of the one FitFace turned e1 by,
-/// so in the face frame turned into the vertex's plane (R U, R V) e1 has
-/// the parts e1 . R U = R^-1 e1 . U = Cos[k] and Sin[k], and e2 = n x e1
-/// the parts -Sin[k], Cos[k]: the four values are C(a,a,a), C(a,a,b),
-/// C(a,b,b), C(b,b,b) of EvaluateCubicForm with a = (c, s), b = (-s, c),
-/// expanded.
-CornerTerm TermOf(const FaceDerivative& face, int k)
-{
-  const double area = face.MixedArea[k];
-  if (!(area > 0.0))
+  const Real diagonal[4] = { uu, uu + vv, uu + vv, vv };
+  Real C[4];
+  fitted &= SolveTridiagonal(diagonal, uv, r, C);
+  for (int k = 0; k < 3; ++k)
   {
-    return CornerTerm{};
+    const Mask defined = fitted & (mixedArea[k] > 0.0);
+    const Real zero = {};
+    const Real area = defined ? mixedArea[k] : zero;
+    const Real c = defined ? cosine[k] : zero, s = defined ? sine[k] : zero, cc = c * c, cs = c * s, ss = s * s;
+    const Real w[4] = { defined ? C[0] : zero, defined ? C[1] : zero, defined ? C[2] : zero, defined ? C[3] : zero };
+    terms[k][0] = area * (c * (w[0] * cc + 3.0 * w[2] * ss) + s * (3.0 * w[1] * cc + w[3] * ss));
+    terms[k][1] = area * (c * (w[1] * (cc - 2.0 * ss) + w[3] * ss) + s * (w[2] * (2.0 * cc - ss) - w[0] * cc));
+    terms[k][2] = area * (c * (w[2] * (cc - 2.0 * ss) + w[3] * cs) + s * (w[1] * (ss - 2.0 * cc) + w[0] * cs));
+    terms[k][3] = area * (c * (w[3] * cc - 3.0 * w[2] * cs) + s * (3.0 * w[1] * cs - w[0] * ss));
+    terms[k][4] = area;
   }
-  const double c = face.Cos[k], s = face.Sin[k], cc = c * c, cs = c * s, ss = s * s;
-  const double* C = face.C;
-  return CornerTerm{ { area * (c * (C[0] * cc + 3.0 * C[2] * ss) + s * (3.0 * C[1] * cc + C[3] * ss)),
-                       area * (c * (C[1] * (cc - 2.0 * ss) + C[3] * ss) + s * (C[2] * (2.0 * cc - ss) - C[0] * cc)),
-                       area * (c * (C[2] * (cc - 2.0 * ss) + C[3] * cs) + s * (C[1] * (ss - 2.0 * cc) + C[0] * cs)),
-                       area * (c * (C[3] * cc - 3.0 * C[2] * cs) + s * (3.0 * C[1] * cs - C[0] * ss)) },
-    area };
 }
 
 } // namespace
@@ -212,26 +235,43 @@ Index ComputeCurvatureDerivatives(const MeshTopology& topo, const T* points, con
   // Each corner's term in corner order (written in sequence: writing them
   // into their vertices' order took a third more time), read by the
   // vertices through their corner lists.
-  LargeVector<CornerTerm> terms(3 * static_cast<std::size_t>(numFaces));
+  UninitializedVector<CornerTerm> terms(3 * static_cast<std::size_t>(numFaces)); // (each written once)
   const IndexArray& tri = topo.TriangleList();
   ParallelFor(numFaces, numThreads, [&](std::int64_t begin, std::int64_t end) {
-    for (std::int64_t f = begin; f < end; ++f)
+    Real batch[3][FrameSize], fitted[3][5];
+    for (std::int64_t first = begin; first < end; first += Lanes)
     {
-      const Index* v = tri.data() + 3 * f;
-      if (f + PrefetchDistance < end)
+      const int count = static_cast<int>(std::min<std::int64_t>(Lanes, end - first));
+      for (int l = 0; l < Lanes; ++l)
+      {
+        const std::int64_t f = first + std::min(l, count - 1); // (spare lanes repeat the last face)
+        for (int k = 0; k < 3 && f + PrefetchDistance < end; ++k)
+        {
+          const double* ahead = frames.data() + FrameSize * static_cast<std::int64_t>(tri[3 * (f + PrefetchDistance) + k]);
+          __builtin_prefetch(ahead);
+          __builtin_prefetch(ahead + FrameSize - 1);
+        }
+        for (int k = 0; k < 3; ++k)
+        {
+          const double* frame = frames.data() + FrameSize * static_cast<std::int64_t>(tri[3 * f + k]);
+          for (int j = 0; j < FrameSize; ++j)
+          {
+            batch[k][j][l] = frame[j];
+          }
+        }
+      }
+      FitFaces(batch, fitted);
+      for (int l = 0; l < count; ++l)
       {
         for (int k = 0; k < 3; ++k)
         {
-          const double* frame = frames.data() + FrameSize * static_cast<std::int64_t>(v[3 * PrefetchDistance + k]);
-          __builtin_prefetch(frame);
-          __builtin_prefetch(frame + FrameSize - 1);
+          CornerTerm& term = terms[3 * (first + l) + k];
+          for (int j = 0; j < 4; ++j)
+          {
+            term.Weighted[j] = static_cast<float>(fitted[k][j][l]);
+          }
+          term.Area = static_cast<float>(fitted[k][4][l]);
         }
-      }
-      FaceDerivative face;
-      const bool fitted = FitFace(frames.data(), v, face);
-      for (int k = 0; k < 3; ++k)
-      {
-        terms[3 * f + k] = fitted ? TermOf(face, k) : CornerTerm{};
       }
     }
   });

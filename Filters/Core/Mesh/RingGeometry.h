@@ -41,16 +41,16 @@ struct CornerGeometry
 
 /// The part of A_Mixed(x_i) in a non-degenerate triangle (x_i, x_j, x_k)
 /// (figure 2.3), from |x_j - x_i|^2, |x_k - x_i|^2, their dot product and
-/// the cotangents at x_j and x_k.
-inline double CornerMixedArea(double aa, double bb, double ab, double twiceArea, double cotJ, double cotK)
+/// the cotangents at x_j and x_k.  T: double, or a GCC vector of doubles
+/// (one triangle a lane: CurvatureDerivatives' face fit).
+template <typename T>
+inline T CornerMixedArea(const T& aa, const T& bb, const T& ab, const T& twiceArea, const T& cotJ, const T& cotK)
 {
-  if (ab >= 0.0 && aa - ab >= 0.0 && bb - ab >= 0.0)
-  {
-    // Non-obtuse: Voronoi region, (|PR|^2 cot Q + |PQ|^2 cot R) / 8 (section 2.4.3).
-    return (bb * cotJ + aa * cotK) / 8.0;
-  }
+  // Non-obtuse: Voronoi region, (|PR|^2 cot Q + |PQ|^2 cot R) / 8 (section 2.4.3).
   // Obtuse triangle: area/2 if the obtuse angle is at x_i, else area/4.
-  return ab < 0.0 ? twiceArea / 4.0 : twiceArea / 8.0;
+  const auto nonObtuse = (ab >= 0.0) & (aa - ab >= 0.0) & (bb - ab >= 0.0);
+  const T obtuse = ab < 0.0 ? twiceArea / 4.0 : twiceArea / 8.0;
+  return nonObtuse ? (bb * cotJ + aa * cotK) / 8.0 : obtuse;
 }
 
 /// Computes the geometry of corner c of vertex i in triangle (x_i, x_j, x_k).
