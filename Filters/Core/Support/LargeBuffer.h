@@ -10,7 +10,8 @@
 // Freed large blocks are kept in a bounded process-wide cache (default: the
 // smaller of 1 GiB and 1/16 of the physical memory; environment variable
 // BELTRAMI_LARGE_BUFFER_CACHE_MB, 0 disables it) and handed out again for an
-// allocation of the same rounded size: a filter that runs again (a changed
+// allocation of the same rounded size (or, when there is none, of up to
+// twice its size, the smallest such block): a filter that runs again (a changed
 // parameter in ParaView, the next time step, the next solver call) finds
 // its buffers already faulted in.  On this project's virtual machines first
 // touching fresh memory costs about 1 ms per MiB, more than computing the
@@ -39,6 +40,9 @@ void* AllocateLargeBlock(std::size_t bytes);
 /// Usable as a C free function (VTK arrays that own such a block); a block
 /// that AllocateLargeBlock did not hand out is passed to std::free.
 void FreeLargeBlock(void* block);
+/// Returns every cached block to the system (the cache starts empty again).
+void ReleaseLargeBlockCache();
+
 /// The usable size of a block of AllocateLargeBlock, 0 for any other pointer.
 std::size_t LargeBlockSize(const void* block);
 

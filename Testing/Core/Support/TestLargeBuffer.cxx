@@ -12,6 +12,7 @@ using namespace beltrami;
 TEST(LargeBuffer, BlocksAreAlignedAndReused)
 {
   constexpr std::size_t MiB = std::size_t(1) << 20;
+  ReleaseLargeBlockCache(); // (the blocks earlier tests left)
   void* a = AllocateLargeBlock(5 * MiB);
   ASSERT_NE(a, nullptr);
   EXPECT_EQ(reinterpret_cast<std::uintptr_t>(a) % (2 * MiB), 0u);
@@ -25,6 +26,30 @@ TEST(LargeBuffer, BlocksAreAlignedAndReused)
   FreeLargeBlock(b);
   FreeLargeBlock(c);
   FreeLargeBlock(nullptr); // allowed, like free(nullptr)
+}
+
+TEST(LargeBuffer, ASmallerRequestTakesTheSmallestBlockUpToTwiceItsSize)
+{
+  constexpr std::size_t MiB = std::size_t(1) << 20;
+  ReleaseLargeBlockCache(); // (the blocks earlier tests left)
+  void* six = AllocateLargeBlock(6 * MiB);
+  void* ten = AllocateLargeBlock(10 * MiB);
+  void* twenty = AllocateLargeBlock(20 * MiB);
+  FreeLargeBlock(twenty);
+  FreeLargeBlock(ten);
+  FreeLargeBlock(six);
+  void* five = AllocateLargeBlock(5 * MiB); // rounded to 6: the same size first
+  EXPECT_EQ(five, six);
+  void* four = AllocateLargeBlock(4 * MiB + 1); // 6 MiB: none left; 10 and 20 MiB: the smaller
+  EXPECT_EQ(four, ten);
+  EXPECT_EQ(LargeBlockSize(four), 10 * MiB);
+  static_cast<char*>(four)[10 * MiB - 1] = 1;
+  void* two = AllocateLargeBlock(2 * MiB); // 20 MiB is more than twice: a block of 2 MiB
+  EXPECT_EQ(LargeBlockSize(two), 2 * MiB);
+  for (void* block : { five, four, two })
+  {
+    FreeLargeBlock(block);
+  }
 }
 
 TEST(LargeBuffer, VectorsFromManyThreads)
