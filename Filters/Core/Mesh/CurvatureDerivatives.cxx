@@ -10,7 +10,6 @@
 #include "Support/LargeBuffer.h"
 #include "Support/Vectorization.h"
 
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
