@@ -283,20 +283,22 @@ void LineDrawingGeometry::ShareCurvatures(const MeshTopology& topology)
 void LineDrawingGeometry::FindRidges(int numThreads)
 {
   // A valley is a ridge of -kappa_2 along e2: D_e2(-kappa_2) = -C(e2,e2,e2).
-  // What the faces read of a vertex, in one cache line (from three arrays
-  // read at random, the cache misses were most of the faces' time): e1,
-  // D_e1 kappa_1, e2, D_e2 kappa_2.
+  // What the faces read of a vertex, side by side in single precision (from
+  // three arrays read at random, the cache misses were most of the faces'
+  // time; 32 bytes, two vertices a cache line): e1, D_e1 kappa_1, e2,
+  // D_e2 kappa_2.  (Single precision moves a crossing by about 1e-7 of its
+  // edge.)
   constexpr int Stride = 8;
   constexpr Index Ahead = 8; // (faces whose frames are asked for ahead: random reads)
-  LargeVector<double> frames(Stride * static_cast<std::size_t>(NumberOfVertices()));
+  UninitializedVector<float> frames(Stride * static_cast<std::size_t>(NumberOfVertices())); // (written whole)
   ParallelFor(NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t i = begin; i < end; ++i)
     {
-      double* frame = frames.data() + Stride * i;
+      float* frame = frames.data() + Stride * i;
       std::copy(E1.data() + 3 * i, E1.data() + 3 * i + 3, frame);
-      frame[3] = Derivatives[4 * i];
+      frame[3] = static_cast<float>(Derivatives[4 * i]);
       std::copy(E2.data() + 3 * i, E2.data() + 3 * i + 3, frame + 4);
-      frame[7] = Derivatives[4 * i + 3];
+      frame[7] = static_cast<float>(Derivatives[4 * i + 3]);
     }
   });
   auto lists = CollectSegments(NumberOfFaces(), numThreads, 2, [&](Index f, std::vector<LineSegment>* out) {
@@ -315,8 +317,8 @@ void LineDrawingGeometry::FindRidges(int numThreads)
       double g[3];
       for (int k = 0; k < 3; ++k)
       {
-        const double* frame = frames.data() + Stride * static_cast<std::int64_t>(v[k]) + 4 * valleys;
-        e[k] = Vec3(frame);
+        const float* frame = frames.data() + Stride * static_cast<std::int64_t>(v[k]) + 4 * valleys;
+        e[k] = Vec3(frame[0], frame[1], frame[2]);
         // The principal directions are lines, not vectors: turned like the first corner's.
         const double flip = k > 0 && e[k].dot(e[0]) < 0.0 ? -1.0 : 1.0;
         e[k] *= flip;

@@ -216,7 +216,7 @@ Index ComputeCurvatureDerivatives(const MeshTopology& topo, const T* points, con
   double* derivatives, int numThreads)
 {
   const Index numFaces = topo.NumberOfTriangles();
-  LargeVector<double> frames(FrameSize * static_cast<std::size_t>(topo.NumberOfVertices()));
+  UninitializedVector<double> frames(FrameSize * static_cast<std::size_t>(topo.NumberOfVertices())); // (written whole)
   ParallelFor(topo.NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t i = begin; i < end; ++i)
     {
@@ -241,22 +241,26 @@ Index ComputeCurvatureDerivatives(const MeshTopology& topo, const T* points, con
     for (std::int64_t first = begin; first < end; first += Lanes)
     {
       const int count = static_cast<int>(std::min<std::int64_t>(Lanes, end - first));
-      for (int l = 0; l < Lanes; ++l)
+      for (int l = 0; l < Lanes && first + l + PrefetchDistance < end; ++l)
       {
-        const std::int64_t f = first + std::min(l, count - 1); // (spare lanes repeat the last face)
-        for (int k = 0; k < 3 && f + PrefetchDistance < end; ++k)
+        for (int k = 0; k < 3; ++k)
         {
-          const double* ahead = frames.data() + FrameSize * static_cast<std::int64_t>(tri[3 * (f + PrefetchDistance) + k]);
+          const double* ahead = frames.data() + FrameSize * static_cast<std::int64_t>(tri[3 * (first + l + PrefetchDistance) + k]);
           __builtin_prefetch(ahead);
           __builtin_prefetch(ahead + FrameSize - 1);
         }
-        for (int k = 0; k < 3; ++k)
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        const double* f[Lanes]; // (spare lanes repeat the last face)
+        for (int l = 0; l < Lanes; ++l)
         {
-          const double* frame = frames.data() + FrameSize * static_cast<std::int64_t>(tri[3 * f + k]);
-          for (int j = 0; j < FrameSize; ++j)
-          {
-            batch[k][j][l] = frame[j];
-          }
+          f[l] = frames.data() + FrameSize * static_cast<std::int64_t>(tri[3 * (first + std::min(l, count - 1)) + k]);
+        }
+        static_assert(Lanes == 4, "one value of each lane's face below");
+        for (int j = 0; j < FrameSize; ++j)
+        {
+          batch[k][j] = Real{ f[0][j], f[1][j], f[2][j], f[3][j] }; // (built in registers: no lane-wise stores)
         }
       }
       FitFaces(batch, fitted);
