@@ -115,9 +115,9 @@ void Corners(const IndexArray& tri, Index f, const double* field, double* out)
 
 /// Runs body(face, lists) over all faces (or other items: ridge
 /// candidates, vertices), in blocks that each fill their own `count` lists
-/// (of segments by default; `expected`: the items each block's lists are
-/// given room for, per list); returns the `count` lists with the blocks' items in
-/// face order (the same for any thread count).
+/// (of segments by default; at most three lists; `expected`: the room each
+/// block's lists are given, per list); returns the `count` lists with the
+/// blocks' items in face order (the same for any thread count).
 template <typename Item = LineSegment, typename Body>
 std::vector<LargeVector<Item>> CollectSegments(
   Index numFaces, int numThreads, int count, Body&& body, std::array<std::size_t, 3> expected = {})
@@ -363,16 +363,9 @@ LineSegment LineDrawingGeometry::EdgeSegment(Index a, Index b, Index face) const
   return s;
 }
 
-void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int numThreads)
+UninitializedVector<float> LineDrawingGeometry::UnitFaceNormals(int numThreads) const
 {
-  // The unit normals of the faces (each is in three stars), then per vertex
-  // its edges (MeshTopology::VertexEdges: the edge table took longer to
-  // build than this whole pass): the cosine of each edge of two triangles,
-  // the sharpest, and the edges to larger ids drawn here, in (vertex,
-  // neighbour) order: list 0 the boundary edges, list 1 the others (about
-  // three per vertex on a closed surface).
-  SharpestCosine.resize(NumberOfVertices());
-  UninitializedVector<float> normals(Triangles.size()); // (3 per face; random reads: the smaller the better)
+  UninitializedVector<float> normals(Triangles.size()); // (3 per face; read at random: the smaller the better)
   ParallelFor(NumberOfFaces(), numThreads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t f = begin; f < end; ++f)
     {
@@ -382,6 +375,19 @@ void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int num
         (Point(Points.data(), v[1]) - p).cross(Point(Points.data(), v[2]) - p).normalized().cast<float>();
     }
   });
+  return normals;
+}
+
+void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int numThreads)
+{
+  // The unit normals of the faces (each is in three stars), then per vertex
+  // its edges (MeshTopology::VertexEdges: the edge table took longer to
+  // build than this whole pass): the cosine of each edge of two triangles,
+  // the sharpest, and the edges to larger ids drawn here, in (vertex,
+  // neighbour) order: list 0 the boundary edges, list 1 the others (about
+  // three per vertex on a closed surface).
+  SharpestCosine.resize(NumberOfVertices());
+  const UninitializedVector<float> normals = UnitFaceNormals(numThreads);
   auto lists = CollectSegments<InteriorEdge>(NumberOfVertices(), numThreads, 2,
     [&](Index a, std::vector<InteriorEdge>* out) {
       thread_local std::vector<MeshTopology::VertexEdge> edges;
@@ -412,7 +418,8 @@ void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int num
           }
           continue;
         }
-        const double cosine = e.Faces == 2 && e.Local[1] >= 0 ? static_cast<double>(normal(e.Local[0]).dot(normal(e.Local[1]))) : NaN;
+        const double cosine =
+          e.Faces == 2 && e.Local[1] >= 0 ? static_cast<double>(normal(e.Local[0]).dot(normal(e.Local[1]))) : NaN;
         if (std::isfinite(cosine))
         {
           lowest = std::min(lowest, cosine);

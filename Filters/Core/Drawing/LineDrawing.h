@@ -196,6 +196,9 @@ private:
   void ShareCurvatures(const MeshTopology& topology);
   void FindRidges(int numThreads);
   void FindFeatureEdges(const MeshTopology& topology, int numThreads);
+  /// The unit normal of each face, 3 per face (single precision: the creases'
+  /// cosines are).
+  UninitializedVector<float> UnitFaceNormals(int numThreads) const;
   struct RidgeCache
   {
     bool Valid = false, AvoidCreases = false;

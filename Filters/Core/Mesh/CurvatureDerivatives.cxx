@@ -245,7 +245,8 @@ Index ComputeCurvatureDerivatives(const MeshTopology& topo, const T* points, con
       {
         for (int k = 0; k < 3; ++k)
         {
-          const double* ahead = frames.data() + FrameSize * static_cast<std::int64_t>(tri[3 * (first + l + PrefetchDistance) + k]);
+          const Index vertex = tri[3 * (first + l + PrefetchDistance) + k];
+          const double* ahead = frames.data() + FrameSize * static_cast<std::int64_t>(vertex);
           __builtin_prefetch(ahead);
           __builtin_prefetch(ahead + FrameSize - 1);
         }
