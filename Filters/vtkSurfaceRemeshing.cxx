@@ -291,6 +291,7 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
   options.Iterations = this->Iterations / 5;
   options.StitchingIterations = this->Iterations - options.Iterations;
   options.FeatureAngle = this->SplitAtFeatures ? this->FeatureAngle : 0.0;
+  options.MaximumLineSag = this->MaximumLineSag;
   options.NumberOfThreads = this->NumberOfThreads;
   options.Cache = &this->Cache->Remeshing;
   const beltrami::RemeshResult remesh =
@@ -317,6 +318,7 @@ void vtkSurfaceRemeshing::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "TransferFunctionPoints: " << this->GetNumberOfTransferFunctionPoints() << "\n"
      << indent << "SplitAtFeatures: " << this->SplitAtFeatures << "\n"
      << indent << "FeatureAngle: " << this->FeatureAngle << "\n"
+     << indent << "MaximumLineSag: " << this->MaximumLineSag << "\n"
      << indent << "Iterations: " << this->Iterations << "\n"
      << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

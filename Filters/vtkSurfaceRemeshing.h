@@ -10,8 +10,9 @@
  * the packed atlas times an importance per vertex (section 4.3.1).  Exactly
  * NumberOfVertices samples are spread over it: the chart boundaries (seams,
  * the surface's boundary, sharp edges) by 1D error diffusion with the
- * square-root law, the rest by Ostromoukhov's variable-coefficient error
- * diffusion (section 4.3.2).  They are triangulated chart by chart in the
+ * square-root law (the surface's boundary and sharp edges more densely where
+ * they bend, MaximumLineSag), the rest by Ostromoukhov's variable-coefficient
+ * error diffusion (section 4.3.2).  They are triangulated chart by chart in the
  * parameter plane (CGAL's constrained Delaunay triangulation with exact
  * predicates, the boundary samples as constraints; section 4.4.1), lifted
  * to 3D through the input triangles (barycentric coordinates), joined along
@@ -111,6 +112,12 @@ public:
   vtkBooleanMacro(SplitAtFeatures, bool);
   vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
   vtkGetMacro(FeatureAngle, double);
+  /// Where a sharp edge line or the surface's boundary bends, it gets more
+  /// samples: the chord between two of them departs from the line by at
+  /// most this fraction of the remesh's spacing there (0: the density's
+  /// spacing everywhere).  Default 0.025.
+  vtkSetClampMacro(MaximumLineSag, double, 0.0, 1.0);
+  vtkGetMacro(MaximumLineSag, double);
   vtkSetClampMacro(Iterations, int, 0, VTK_INT_MAX);
   vtkGetMacro(Iterations, int);
   vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
@@ -134,6 +141,7 @@ protected:
   std::vector<double> TransferFunction; ///< (x, importance) pairs
   bool SplitAtFeatures = false;
   double FeatureAngle = 60.0;
+  double MaximumLineSag = 0.025;
   int Iterations = 25;
   int NumberOfThreads = 0;
   int AtlasBuilds = 0;

@@ -535,7 +535,11 @@ bool Optimizer::MoveOnPath(Index v, double& moved)
   {
     return false;
   }
-  const double shift = (target / sum - M.Position(v)).dot(tangent.normalized());
+  // Where a kept line takes more samples than the density (at its bends),
+  // the move goes as much nearer to the denser side as a 1D relaxation in
+  // its refinement would (nothing where the refinement is 1).
+  const std::optional<double> refined = RefinedMiddle(path, lo, hi);
+  const double shift = refined ? *refined - arc : (target / sum - M.Position(v)).dot(tangent.normalized());
   for (double step = 1.0; step > 0.1; step *= 0.5)
   {
     const double next = std::clamp(arc + step * shift, lo + 0.1 * (arc - lo), hi - 0.1 * (hi - arc));

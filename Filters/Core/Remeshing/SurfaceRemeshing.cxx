@@ -192,6 +192,7 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   sampling.FeatureEdges = features.empty() ? nullptr : features.data();
   sampling.NumberOfSamples = options.NumberOfVertices;
   sampling.Resolution = options.Resolution;
+  sampling.MaximumLineSag = options.MaximumLineSag;
   sampling.NumberOfThreads = options.NumberOfThreads;
   RemeshCache local; // one run's locators shared by its stages, where the caller keeps none
   RemeshCache* cache = options.Cache ? options.Cache : &local;

@@ -26,6 +26,9 @@ struct RemeshOptions
   /// degrees are features, kept while stitching (the atlas's FeatureAngle
   /// when it splits at features); 0: none.
   double FeatureAngle = 0.0;
+  /// Feature lines and the surface's boundary sampled more densely where
+  /// they bend (SamplingOptions::MaximumLineSag).
+  double MaximumLineSag = 0.025;
   int NumberOfThreads = 0;
   RemeshCache* Cache = nullptr; ///< optional: kept between calls on the same surface and atlas (RemeshCache)
 };

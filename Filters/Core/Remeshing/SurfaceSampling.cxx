@@ -135,11 +135,49 @@ Index EdgePoint(const MeshTopology& topology, Index a, Index b, double t, double
   return triangle;
 }
 
+/// Whether the path runs along the surface's boundary or a feature (a kept
+/// line: its samples stay on it), not along a plain seam between charts.
+bool IsKeptLine(const MeshTopology& topology, const std::vector<Index>& path, const std::uint8_t* featureEdges)
+{
+  const MeshTopology::EdgeTable& edges = topology.Edges();
+  const std::int64_t e = edges.Find(path[0], path[1]);
+  return edges.OppositeCorners[2 * e] < 0 || edges.OppositeCorners[2 * e + 1] < 0 || (featureEdges && featureEdges[e]);
+}
+
+/// A kept line's curvature at each of its vertices: the angle it turns
+/// there over half the length of its two edges (a closed loop's first
+/// vertex turns between its last edge and its first; 0 at a path's ends).
+std::vector<double> LineCurvature(const double* points, const std::vector<Index>& path)
+{
+  std::vector<double> curvature(path.size(), 0.0);
+  const bool loop = path.front() == path.back();
+  const std::size_t n = path.size();
+  for (std::size_t i = 0; i < n && n > 2; ++i)
+  {
+    if ((i == 0 || i + 1 == n) && !loop)
+    {
+      continue;
+    }
+    const std::size_t before = i == 0 ? n - 2 : i - 1, after = i + 1 == n ? 1 : i + 1;
+    const Vec3 in = Point(points, path[i]) - Point(points, path[before]);
+    const Vec3 out = Point(points, path[after]) - Point(points, path[i]);
+    const double lengths = in.norm() + out.norm();
+    curvature[i] = lengths > 0.0 ? std::atan2(in.cross(out).norm(), in.dot(out)) / (0.5 * lengths) : 0.0;
+  }
+  return curvature;
+}
+
 /// The corners, then samples along every path at the spacing of the density
 /// (1D error diffusion: samples where the integral of sqrt(density) passes
-/// even fractions of it; a closed loop keeps at least three samples).
+/// even fractions of it; a closed loop keeps at least three samples).  Kept
+/// lines (features, the surface's boundary) take more samples where they
+/// bend: a chord between samples s apart on a line of curvature k departs
+/// from it by s^2 k / 8, at most maxSag (0: no bound) times the spacing
+/// 1 / lambda of the density, so at least sqrt(k lambda / (8 maxSag))
+/// samples per length.
 void SampleBoundaries(const MeshTopology& topology, const double* points, const double* importance,
-  const std::vector<int>& chartOfTriangle, const BoundaryPaths& boundaries, double density, SurfaceSamples& out)
+  const std::vector<int>& chartOfTriangle, const BoundaryPaths& boundaries, double density,
+  const std::uint8_t* featureEdges, double maxSag, SurfaceSamples& out)
 {
   const auto lambda = [&](Index v) { return std::sqrt(density * (importance ? std::max(0.0, importance[v]) : 1.0)); };
   std::vector<Index> cornerSample(topology.NumberOfVertices(), -1);
@@ -163,11 +201,26 @@ void SampleBoundaries(const MeshTopology& topology, const double* points, const 
     }
     path.Arc.assign(vertices.size(), 0.0);
     std::vector<double> cumulative(vertices.size(), 0.0);
+    const std::vector<double> curvature = maxSag > 0.0 && IsKeptLine(topology, vertices, featureEdges)
+      ? LineCurvature(points, vertices)
+      : std::vector<double>(vertices.size(), 0.0);
+    const auto along = [&](std::size_t i) {
+      const double l = lambda(vertices[i]);
+      return std::max(l, std::sqrt(curvature[i] * l / (8.0 * maxSag)));
+    };
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+    {
+      if (along(i) > lambda(vertices[i]))
+      {
+        path.Refinement.resize(vertices.size(), 1.0);
+        path.Refinement[i] = along(i) / lambda(vertices[i]);
+      }
+    }
     for (std::size_t i = 1; i < vertices.size(); ++i)
     {
       const double length = (Point(points, vertices[i]) - Point(points, vertices[i - 1])).norm();
       path.Arc[i] = path.Arc[i - 1] + length;
-      cumulative[i] = cumulative[i - 1] + 0.5 * (lambda(vertices[i]) + lambda(vertices[i - 1])) * length;
+      cumulative[i] = cumulative[i - 1] + 0.5 * (along(i) + along(i - 1)) * length;
     }
     const double total = cumulative.back();
     const bool loop = vertices.front() == vertices.back();
@@ -365,6 +418,53 @@ Index LocateOnPath(const MeshTopology& topology, const SamplePath& path, double 
   return EdgePoint(topology, path.Vertices[node], path.Vertices[node + 1], t, barycentric);
 }
 
+std::optional<double> RefinedMiddle(const SamplePath& path, double lo, double hi)
+{
+  if (path.Refinement.empty() || !(hi > lo))
+  {
+    return std::nullopt;
+  }
+  // The refinement, linear on each edge, at the ends and at the vertices
+  // between them; the integral by the trapezoid rule.
+  const auto at = [&](double arc) {
+    const std::size_t last = path.Arc.size() - 1;
+    std::size_t i = static_cast<std::size_t>(std::upper_bound(path.Arc.begin(), path.Arc.end(), arc) - path.Arc.begin());
+    i = std::clamp<std::size_t>(i, 1, last) - 1;
+    const double span = path.Arc[i + 1] - path.Arc[i];
+    const double t = span > 0.0 ? std::clamp((arc - path.Arc[i]) / span, 0.0, 1.0) : 0.0;
+    return (1.0 - t) * path.Refinement[i] + t * path.Refinement[i + 1];
+  };
+  std::vector<double> arcs = { lo };
+  for (std::size_t i = 0; i < path.Arc.size(); ++i)
+  {
+    if (path.Arc[i] > lo && path.Arc[i] < hi)
+    {
+      arcs.push_back(path.Arc[i]);
+    }
+  }
+  arcs.push_back(hi);
+  if (std::all_of(arcs.begin(), arcs.end(), [&](double arc) { return at(arc) == 1.0; }))
+  {
+    return std::nullopt;
+  }
+  std::vector<double> integral(arcs.size(), 0.0);
+  for (std::size_t k = 1; k < arcs.size(); ++k)
+  {
+    integral[k] = integral[k - 1] + 0.5 * (at(arcs[k - 1]) + at(arcs[k])) * (arcs[k] - arcs[k - 1]);
+  }
+  const double half = 0.5 * integral.back();
+  std::size_t k = 1;
+  while (k + 1 < arcs.size() && integral[k] < half)
+  {
+    ++k;
+  }
+  // In the piece, the refinement a + slope t integrates to a u + slope u^2 / 2.
+  const double a = at(arcs[k - 1]), slope = (at(arcs[k]) - a) / std::max(arcs[k] - arcs[k - 1], 1e-300);
+  const double rest = half - integral[k - 1];
+  const double u = std::abs(slope) * rest > 1e-12 * a * a ? (std::sqrt(a * a + 2.0 * slope * rest) - a) / slope : rest / a;
+  return std::clamp(arcs[k - 1] + u, lo, hi);
+}
+
 SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
   const double* importance, const SamplingOptions& options)
 {
@@ -413,7 +513,8 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
   // by the map's mass.
   out.Density = options.NumberOfSamples / mass;
   const BoundaryPaths boundaries = ChartBoundaries(topology, atlas.ChartOfTriangle, options.FeatureEdges);
-  SampleBoundaries(topology, points, importance, atlas.ChartOfTriangle, boundaries, out.Density, out);
+  SampleBoundaries(topology, points, importance, atlas.ChartOfTriangle, boundaries, out.Density, options.FeatureEdges,
+    options.MaximumLineSag, out);
   out.BoundarySamples = static_cast<std::int64_t>(out.Kind.size());
   if (out.BoundarySamples > options.NumberOfSamples)
   {

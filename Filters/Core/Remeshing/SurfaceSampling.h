@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,13 @@ struct SamplingOptions
   /// the vertex is a corner (section 4.2.3's crease ends): it gets a sample,
   /// so the remesh follows the crease to its end.
   const std::uint8_t* FeatureEdges = nullptr;
+  /// The most the chord between two samples of a feature line or of the
+  /// surface's boundary may depart from the line where it bends, as a
+  /// fraction of the spacing of the density there (0: no bound): where the
+  /// density's spacing would depart more, the line gets more samples (the
+  /// rest of the surface correspondingly fewer), so the remesh does not
+  /// cut its bends.
+  double MaximumLineSag = 0.025;
   int NumberOfThreads = 0;
   RemeshCache* Cache = nullptr; ///< optional: kept between calls by the caller
 };
@@ -87,6 +95,10 @@ struct SamplePath
   std::vector<double> Arc;         ///< 3D arc length at each vertex (Arc[0] = 0)
   std::vector<Index> Samples;      ///< sample ids in order, the corner samples at both ends
   std::vector<double> SampleArc;   ///< arc length of each sample
+  /// Per vertex: how many times more samples per length a kept line takes
+  /// there than the density asks, where it turns (SamplingOptions::
+  /// MaximumLineTurn; empty: 1 everywhere).
+  std::vector<double> Refinement;
   int Charts[2] = { -1, -1 };      ///< the charts on its two sides (-1: none, on the surface's boundary)
 };
 
@@ -109,6 +121,11 @@ struct SurfaceSamples
 /// The point at arc length `arc` along `path`: a surface triangle with the
 /// path's edge there and the barycentric weights of its corners.
 Index LocateOnPath(const MeshTopology& topology, const SamplePath& path, double arc, double barycentric[3]);
+
+/// The arc length between lo and hi that halves the integral of the path's
+/// Refinement over [lo, hi]: where a sample between neighbours at lo and hi
+/// goes to keep the line's refined spacing (none where it is 1 throughout).
+std::optional<double> RefinedMiddle(const SamplePath& path, double lo, double hi);
 
 /// `importance`: one value >= 0 per surface vertex (null: uniform).
 SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,

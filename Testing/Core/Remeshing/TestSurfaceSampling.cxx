@@ -205,3 +205,22 @@ TEST(SurfaceSampling, TooFewSamplesForTheBoundariesIsAnError)
   const std::vector<double> zero(mesh.NumberOfVertices(), 0.0);
   EXPECT_NE(SampleSurface(topology, mesh.Points.data(), atlas, zero.data()).Error, "");
 }
+
+TEST(SurfaceSampling, RefinedMiddleHalvesTheRefinementsIntegral)
+{
+  // A path of two unit edges, its refinement 1, 1, 3 at its vertices: the
+  // integral over [0, 2] is 3, half of it reached at 1 + u where
+  // u + u^2 = 1/2 (the refinement 1 + 2t on the second edge).
+  SamplePath path;
+  path.Vertices = { 0, 1, 2 };
+  path.Arc = { 0.0, 1.0, 2.0 };
+  EXPECT_FALSE(RefinedMiddle(path, 0.0, 2.0).has_value()) << "no refinement: the faces' rule";
+  path.Refinement = { 1.0, 1.0, 3.0 };
+  ASSERT_TRUE(RefinedMiddle(path, 0.0, 2.0).has_value());
+  EXPECT_NEAR(*RefinedMiddle(path, 0.0, 2.0), 1.0 + 0.5 * (std::sqrt(3.0) - 1.0), 1e-12);
+  EXPECT_FALSE(RefinedMiddle(path, 0.2, 0.8).has_value()) << "refinement 1 between the ends";
+  path.Refinement = { 1.0, 1.0, 1.0 };
+  EXPECT_FALSE(RefinedMiddle(path, 0.0, 2.0).has_value());
+  path.Refinement = { 2.0, 2.0, 2.0 };
+  EXPECT_NEAR(*RefinedMiddle(path, 0.5, 1.5), 1.0, 1e-12) << "a constant refinement: the middle";
+}
