@@ -4,8 +4,9 @@ Images: camera (512 x 512), camera and astronaut upsampled to 1024 x 1024 (1 meg
 greyscale and colour).  Our settings are the documented ones for the noise level (alpha =
 1.5 / sigma, noise-level stop); VTK's filter and TV get the best of a sweep chosen with the
 clean image (an oracle we do not use).  Times are the best of 3 runs of each method.
-The last line per image is the issue's "equal PSNR" comparison: the fewest steps of our flow
-(a fixed number, chosen with the clean image like TV's weight) that reach TV's best PSNR.
+The last lines per image are the issue's "equal PSNR" comparison: the fewest steps of our flow
+(a fixed number, chosen with the clean image like TV's weight) that reach TV's best PSNR, at
+the documented contrast scale and at the contrast scale where that is fastest.
 Run on demand:  source build/beltrami-env.sh && /usr/bin/python3 Testing/Benchmarks/benchmark_denoising.py
 (scikit-image: apt install python3-skimage; skipped when missing)."""
 import os
@@ -68,22 +69,51 @@ def run(label, clean):
         print("  %-52s %6.2f dB %7.3f s %6.2f Mpix/s  time / ours (2 threads) %.2f"
               % (name, p, t, mpix / t, t / ours))
     if denoise_tv_chambolle is not None:
-        tv_psnr, tv_time = rows[-1][1:]
-        peak = (0.0, 0)
-        for steps in range(2, 80, 2):
-            out, t = timed(lambda: denoise(noisy, ContrastScale=1.5 / SIGMA, StoppingRule=0, NumberOfIterations=steps,
-                                           NumberOfThreads=2, **colour)[0])
-            p = psnr(out, clean)
-            if p >= tv_psnr:
-                print("  equal PSNR: our flow reaches TV's %.2f dB in %d steps (%.2f dB), %.3f s: TV takes %.1fx as long"
-                      % (tv_psnr, steps, p, t, tv_time / t))
-                break
-            if p < peak[0]:
-                print("  equal PSNR: our flow does not reach TV's %.2f dB (at most %.2f dB, %d steps)"
-                      % (tv_psnr, peak[0], peak[1]))
-                break
-            peak = (p, steps)
+        equal_psnr(noisy, clean, colour, *rows[-1][1:])
 
+
+def fewest_steps(noisy, clean, colour, contrast, target):
+    """The fewest fixed steps of our flow at this contrast scale that reach the
+    target PSNR (None if its PSNR peaks below it), and the flow's peak so far."""
+    peak = (0.0, 0)
+    for steps in range(1, 80):
+        out = denoise(noisy, ContrastScale=contrast, StoppingRule=0, NumberOfIterations=steps,
+                      NumberOfThreads=2, **colour)[0]
+        p = psnr(out, clean)
+        if p >= target:
+            return steps, p, peak
+        if p < peak[0]:
+            return None, p, peak
+        peak = (p, steps)
+    return None, p, peak
+
+
+def equal_psnr(noisy, clean, colour, tv_psnr, tv_time):
+    """The issue's "equal PSNR" comparison: the fewest fixed steps of our flow
+    (chosen with the clean image, like TV's weight) reaching TV's best PSNR,
+    at the documented contrast scale 1.5 / sigma and at the contrast scale
+    c / sigma (c in 0.6 .. 1.5) where that takes the least time (also chosen
+    with the clean image: both methods at their oracle settings)."""
+    found = []
+    for c in (1.5, 1.25, 1.0, 0.9, 0.8, 0.7, 0.6):
+        steps, p, peak = fewest_steps(noisy, clean, colour, c / SIGMA, tv_psnr)
+        if steps is None:
+            if c == 1.5:
+                print("  equal PSNR: our flow at the documented contrast 1.5/sigma does not reach TV's %.2f dB "
+                      "(at most %.2f dB, %d steps)" % (tv_psnr, peak[0], peak[1]))
+            continue
+        _, t = timed(lambda: denoise(noisy, ContrastScale=c / SIGMA, StoppingRule=0, NumberOfIterations=steps,
+                                     NumberOfThreads=2, **colour)[0])
+        found.append((t, c, steps, p))
+        if c == 1.5:
+            print("  equal PSNR, documented contrast 1.5/sigma: our flow reaches TV's %.2f dB in %d steps (%.2f dB), "
+                  "%.3f s: TV takes %.1fx as long" % (tv_psnr, steps, p, t, tv_time / t))
+    if found:
+        t, c, steps, p = min(found)
+        print("  equal PSNR, fastest contrast scale (%.2g/sigma): %d steps (%.2f dB), %.3f s: TV takes %.1fx as long"
+              % (c, steps, p, t, tv_time / t))
+    else:
+        print("  equal PSNR: our flow reaches TV's %.2f dB at no contrast scale tried" % tv_psnr)
 
 camera = load_png("camera")[..., :1] / 255.0
 run("camera", camera)
