@@ -26,7 +26,7 @@
  *    (eq. 3.17): 1 where the data are flat, small on edges.
  *
  * ContrastScale alpha maps data units to lengths; 0 (default) chooses it as
- * the denoising filters do at their defaults: 1.5 h / sigma (1.25 on 3D
+ * the denoising filters do at their defaults: 1.5 h / sigma (1.0 on 3D
  * images), h the spacing's geometric mean or the mesh's mean edge length,
  * sigma the NoiseLevel (0, default: estimated from the data,
  * Flows/NoiseEstimation; alpha = 1 where no noise is found, e.g. synthetic

@@ -24,7 +24,7 @@
  *  - ContrastScale alpha (section 3.8.4): data units -> spacing units.
  *    Large alpha approaches total-variation denoising, small alpha linear
  *    diffusion.  0 (default): automatic, c h / sigma with h the geometric
- *    mean of the spacing, sigma the noise level and c = 1.5 (1.25 on 3D
+ *    mean of the spacing, sigma the noise level and c = 1.5 (1.0 on 3D
  *    volumes), calibrated with the least-error stop on camera, coffee,
  *    astronaut and two MRI volumes (within 0.2 dB of the best c there).
  *  - EdgeContrast gamma (eq. 3.19): 1 Beltrami flow (default), 0 El-Fallah-
@@ -43,8 +43,9 @@
  *    squared error to the unknown clean data, by Monte-Carlo SURE (Ramani,
  *    Blu and Unser 2008: a second run on the data plus 1% of the noise
  *    times random signs gives the divergence of the flow; twice the work);
- *    the flow runs until the estimate has risen 1% above its least value, or
- *    for twice the time to it, and returns the state of least estimate.  On
+ *    the flow runs until the estimate rises above its least value (one
+ *    fixed probe: the estimate is smooth from step to step), or for twice
+ *    the time to it, and returns the state of least estimate.  On
  *    grids of more than 2^21 samples with explicit steps the second run
  *    covers a band of 1/16 of the planes (rows) plus margins, compared with
  *    the main run there: at 256^3 a sixth of the work of a second run over

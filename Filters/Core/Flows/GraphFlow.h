@@ -78,7 +78,7 @@ struct GraphFlowOptions
   /// alpha: data units -> embedding units (section 3.8.4).  0 (default):
   /// automatic, c h / sigma with h the base's length unit (the spacing's
   /// geometric mean on images, Units on meshes), sigma the noise level and c
-  /// calibrated with the least-risk stop (1.5; 1.25 on volumes).
+  /// calibrated with the least-risk stop (1.5; 1.0 on volumes).
   double ContrastScale = 0.0;
   double EdgeContrast = 1.0;  ///< gamma of eq. 3.19 (1: Beltrami flow)
   GraphFlowIntegration Integration = GraphFlowIntegration::Explicit;

@@ -34,7 +34,7 @@ constexpr double MinimumIndicator = 1e-3;
 /// The constant c of the automatic contrast scale c h / sigma, calibrated
 /// with the least-risk stop: images and meshes, and voxel grids.
 constexpr double SurfaceAutomaticContrast = 1.5;
-constexpr double VolumeAutomaticContrast = 1.25;
+constexpr double VolumeAutomaticContrast = 1.0;
 
 /// A discretization of the graph surface: the symmetric stiffness K (with
 /// (K u)_i = sum_j c_ij (u_i - u_j)), the lumped mass a_i and the speed
@@ -57,7 +57,7 @@ public:
   /// the geometric mean of the spacing (images), the mesh's length unit.
   double LengthScale = 1.0;
   /// The automatic contrast scale is AutomaticContrast * LengthScale / sigma
-  /// (calibrated with the least-risk stop: 1.5 on images, 1.25 on volumes).
+  /// (calibrated with the least-risk stop: 1.5 on images, 1.0 on volumes).
   double AutomaticContrast = SurfaceAutomaticContrast;
   // Filled by Update(u) (Velocity: allocated with the stored operator, else
   // by the discretization that writes it):

@@ -787,19 +787,21 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
     {
       Advance(Probe, dt);
       const double r = Risk(swept);
+      // Past the minimum: the risk rose above it (the estimate of one
+      // fixed probe is smooth from step to step), or the flow ran twice as
+      // long as to the minimum without a lower one.
+      const bool rose = r > bestRisk;
       if (r < bestRisk)
       {
         bestRisk = r;
         bestTime = Result.Time;
         bestIterations = Result.Iterations; // the state is Main.U: kept when the next step is not better
       }
-      else if (bestIterations == Result.Iterations - 1)
+      ruleMet = rose || Result.Time > 2.0 * bestTime + 2.0 * dt;
+      if (r >= bestRisk && bestIterations == Result.Iterations - 1 && !ruleMet)
       {
         Best.assign(Main.Next.begin(), Main.Next.end()); // the state before this step
       }
-      // Past the minimum: the risk rose 1% above it, or the flow ran twice
-      // as long as to the minimum without a lower one.
-      ruleMet = r > bestRisk + 0.01 * std::abs(bestRisk) || Result.Time > 2.0 * bestTime + 2.0 * dt;
     }
     if (O.AdaptiveTimeStep)
     {
@@ -843,6 +845,10 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
           Main.U[k] = U0(k);
         }
       });
+    }
+    else if (bestIterations == Result.Iterations - 1 && ruleMet)
+    {
+      std::swap(Main.U, Main.Next); // the state before the last step (not kept in Best)
     }
     else if (bestIterations < Result.Iterations)
     {
