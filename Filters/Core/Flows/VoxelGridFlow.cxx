@@ -72,6 +72,18 @@ CLONES void AddRowPair(std::int64_t n, const Real* __restrict a, const Real* __r
   to[n] += b[n - 1];
 }
 
+/// AddRowPair into a row of zeros, without reading it.
+template <typename Real>
+CLONES void StoreRowPair(std::int64_t n, const Real* __restrict a, const Real* __restrict b, Real* __restrict to)
+{
+  to[0] = a[0];
+  for (std::int64_t i = 1; i < n; ++i)
+  {
+    to[i] = a[i] + b[i - 1];
+  }
+  to[n] = b[n - 1];
+}
+
 // ---------------------------------------------------------------------------
 // 3D images: the voxel grid split into Kuhn tetrahedra (six per cell: the
 // split of GridTetrahedra, section 2.8.2) without an explicit mesh.  Each
@@ -213,6 +225,11 @@ private:
     Real* Plane[3];  // per slot: 8 arrays of Stride values (7 weight directions, masses)
     Real *Edges, *Masses;
     double *KU, *Diagonal, *Positive, *Speed;
+    /// Per slot, array and voxel row: the plane whose sums the row holds
+    /// (-1: none yet).  A row's first sum is stored, the others added, so
+    /// rows are never cleared; one that gets no sum reads as zeros.
+    std::vector<std::int64_t> Holds;
+    std::int64_t& HoldsAt(std::int64_t k, int d, std::int64_t j, std::int64_t h) { return Holds[((k % 3) * 8 + d) * h + j]; }
   };
   std::int64_t Stride() const { return W + 1 + PlaneSize; }
   /// The cells of a row rounded up to whole vectors (16 lanes).
@@ -242,16 +259,12 @@ private:
     b.Positive = b.Diagonal + W;
     b.Speed = b.Positive + W;
     std::fill(b.Speed, b.Speed + W, 1.0);
-    // The slots zeroed once, margins included (never written); then each
-    // voxel row of plane k + 1 just before the cell row that first adds to
-    // it (cell row j adds to rows j and j + 1), while it is in the cache.
+    // The slots zeroed once, margins included (never written; nor is the
+    // last value of a row of the arrays of directions along x, which the
+    // rows after it read as their x neighbour's); the rows' first sums are
+    // stored (Holds).
     std::fill(b.Plane[0], b.Plane[0] + 3 * 8 * Stride(), Real(0));
-    const auto clearRow = [&](std::int64_t k, std::int64_t j) {
-      for (int d = 0; d < 8; ++d)
-      {
-        std::fill_n(PlaneWeights(b, k, d) + j * W, W, Real(0));
-      }
-    };
+    b.Holds.assign(3 * 8 * H, -1);
     if (k0 > 0)
     {
       for (std::int64_t j = 0; j + 1 < H; ++j)
@@ -265,14 +278,6 @@ private:
       {
         if (j + 1 < H && k + 1 < D)
         {
-          if (k > k0) // (the slot of plane k - 2)
-          {
-            clearRow(k + 1, j + 1);
-            if (j == 0)
-            {
-              clearRow(k + 1, 0);
-            }
-          }
           CellRow(u, j, k, b);
         }
         EmitRow(u, j, k, b, rowRate, rowArea, rowSum);
@@ -296,15 +301,19 @@ private:
     };
     for (int t = 0; t < KuhnRowTargets::Count; ++t)
     {
-      const int lower = RowTargets.Lower[t];
-      Real* to = PlaneWeights(b, k + (lower >> 2), RowTargets.Array[t]) + (j + (lower >> 1 & 1)) * W;
+      const int lower = RowTargets.Lower[t], d = RowTargets.Array[t];
+      const std::int64_t plane = k + (lower >> 2), row = j + (lower >> 1 & 1);
+      Real* to = PlaneWeights(b, plane, d) + row * W;
+      std::int64_t& holds = b.HoldsAt(plane, d, row, H);
+      const bool first = holds != plane;
+      holds = plane;
       if (RowTargets.Second[t] < 0)
       {
-        AddRow(n, sums(RowTargets.First[t]), to);
+        first ? static_cast<void>(std::copy_n(sums(RowTargets.First[t]), n, to)) : AddRow(n, sums(RowTargets.First[t]), to);
       }
       else
       {
-        AddRowPair(n, sums(RowTargets.First[t]), sums(RowTargets.Second[t]), to);
+        (first ? StoreRowPair<Real> : AddRowPair<Real>)(n, sums(RowTargets.First[t]), sums(RowTargets.Second[t]), to);
       }
     }
   }
@@ -316,8 +325,21 @@ private:
   {
     const Real* up[8];
     const Real* down[8];
+    // Rows that got no sum (at the volume's faces) read as zeros.
+    const auto complete = [&](std::int64_t plane, int d, std::int64_t row) {
+      if (plane >= 0 && row >= 0 && b.HoldsAt(plane, d, row, H) != plane)
+      {
+        std::fill_n(PlaneWeights(b, plane, d) + row * W, W, Real(0));
+        b.HoldsAt(plane, d, row, H) = plane;
+      }
+    };
+    for (int d = 0; d < 8; ++d)
+    {
+      complete(k, d, j);
+    }
     for (int d = 1; d < 8; ++d)
     {
+      complete(k - (d >> 2), d - 1, j - (d >> 1 & 1));
       up[d] = PlaneWeights(b, k, d - 1) + j * W;
       down[d] = PlaneWeights(b, k - (d >> 2) + 3, d - 1) + (j - (d >> 1 & 1)) * W - (d & 1);
     }
