@@ -11,6 +11,7 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <utility>
 
 namespace beltrami
 {
@@ -407,14 +408,26 @@ const std::vector<ChartLocator>& RemeshCache::Locators(const AtlasResult& atlas)
   return ChartLocators;
 }
 
-Index LocateOnPath(const MeshTopology& topology, const SamplePath& path, double arc, double barycentric[3])
+namespace
+{
+
+/// The path's edge (its first vertex's index) at arc length `arc` and the
+/// fraction of the way along it.
+std::pair<std::size_t, double> EdgeAtArc(const SamplePath& path, double arc)
 {
   const std::size_t last = path.Vertices.size() - 1;
   std::size_t node = static_cast<std::size_t>(
     std::upper_bound(path.Arc.begin(), path.Arc.end(), arc) - path.Arc.begin());
   node = std::clamp<std::size_t>(node, 1, last) - 1;
   const double span = path.Arc[node + 1] - path.Arc[node];
-  const double t = span > 0.0 ? std::clamp((arc - path.Arc[node]) / span, 0.0, 1.0) : 0.0;
+  return { node, span > 0.0 ? std::clamp((arc - path.Arc[node]) / span, 0.0, 1.0) : 0.0 };
+}
+
+} // namespace
+
+Index LocateOnPath(const MeshTopology& topology, const SamplePath& path, double arc, double barycentric[3])
+{
+  const auto [node, t] = EdgeAtArc(path, arc);
   return EdgePoint(topology, path.Vertices[node], path.Vertices[node + 1], t, barycentric);
 }
 
@@ -427,11 +440,7 @@ std::optional<double> RefinedMiddle(const SamplePath& path, double lo, double hi
   // The refinement, linear on each edge, at the ends and at the vertices
   // between them; the integral by the trapezoid rule.
   const auto at = [&](double arc) {
-    const std::size_t last = path.Arc.size() - 1;
-    std::size_t i = static_cast<std::size_t>(std::upper_bound(path.Arc.begin(), path.Arc.end(), arc) - path.Arc.begin());
-    i = std::clamp<std::size_t>(i, 1, last) - 1;
-    const double span = path.Arc[i + 1] - path.Arc[i];
-    const double t = span > 0.0 ? std::clamp((arc - path.Arc[i]) / span, 0.0, 1.0) : 0.0;
+    const auto [i, t] = EdgeAtArc(path, arc);
     return (1.0 - t) * path.Refinement[i] + t * path.Refinement[i + 1];
   };
   std::vector<double> arcs = { lo };
