@@ -43,9 +43,8 @@
  *    squared error to the unknown clean data, by Monte-Carlo SURE (Ramani,
  *    Blu and Unser 2008: a second run on the data plus 1% of the noise
  *    times random signs gives the divergence of the flow; twice the work);
- *    the flow runs until the estimate rises above its least value (one
- *    fixed probe: the estimate is smooth from step to step), or for twice
- *    the time to it, and returns the state of least estimate.  On
+ *    the flow runs until the estimate has risen 0.1% above its least value,
+ *    or for twice the time to it, and returns the state of least estimate.  On
  *    grids of more than 2^21 samples with explicit steps the second run
  *    covers a band of 1/16 of the planes (rows) plus margins, compared with
  *    the main run there: at 256^3 a sixth of the work of a second run over
