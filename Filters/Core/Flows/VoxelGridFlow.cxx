@@ -307,13 +307,14 @@ private:
       std::int64_t& holds = b.HoldsAt(plane, d, row, H);
       const bool first = holds != plane;
       holds = plane;
+      const Real* a = sums(RowTargets.First[t]);
       if (RowTargets.Second[t] < 0)
       {
-        first ? static_cast<void>(std::copy_n(sums(RowTargets.First[t]), n, to)) : AddRow(n, sums(RowTargets.First[t]), to);
+        first ? static_cast<void>(std::copy_n(a, n, to)) : AddRow(n, a, to);
       }
       else
       {
-        (first ? StoreRowPair<Real> : AddRowPair<Real>)(n, sums(RowTargets.First[t]), sums(RowTargets.Second[t]), to);
+        (first ? StoreRowPair<Real> : AddRowPair<Real>)(n, a, sums(RowTargets.Second[t]), to);
       }
     }
   }

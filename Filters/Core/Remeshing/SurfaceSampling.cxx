@@ -30,6 +30,19 @@ struct BoundaryPaths
   std::vector<Index> Corners;
 };
 
+/// Whether edge e lies on the surface's boundary.
+bool IsOpenEdge(const MeshTopology::EdgeTable& edges, std::int64_t e)
+{
+  return edges.OppositeCorners[2 * e] < 0 || edges.OppositeCorners[2 * e + 1] < 0;
+}
+
+/// Whether a chart boundary along edge e is kept as a line (its samples
+/// stay on it): the surface's boundary or a feature, not a plain seam.
+bool IsKeptEdge(const MeshTopology::EdgeTable& edges, std::int64_t e, const std::uint8_t* featureEdges)
+{
+  return IsOpenEdge(edges, e) || (featureEdges && featureEdges[e]);
+}
+
 BoundaryPaths ChartBoundaries(
   const MeshTopology& topology, const std::vector<int>& chartOfTriangle, const std::uint8_t* featureEdges)
 {
@@ -38,9 +51,8 @@ BoundaryPaths ChartBoundaries(
   std::vector<int> valence(topology.NumberOfVertices(), 0), kept(topology.NumberOfVertices(), 0);
   for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
   {
-    const bool open = edges.OppositeCorners[2 * e + 1] < 0 || edges.OppositeCorners[2 * e] < 0;
-    boundary[e] = boundary[e] || open;
-    const int keep = boundary[e] && (open || (featureEdges && featureEdges[e]));
+    boundary[e] = boundary[e] || IsOpenEdge(edges, e);
+    const int keep = boundary[e] && IsKeptEdge(edges, e, featureEdges);
     for (int k = 0; k < 2; ++k)
     {
       valence[edges.Vertices[2 * e + k]] += boundary[e];
@@ -136,15 +148,6 @@ Index EdgePoint(const MeshTopology& topology, Index a, Index b, double t, double
   return triangle;
 }
 
-/// Whether the path runs along the surface's boundary or a feature (a kept
-/// line: its samples stay on it), not along a plain seam between charts.
-bool IsKeptLine(const MeshTopology& topology, const std::vector<Index>& path, const std::uint8_t* featureEdges)
-{
-  const MeshTopology::EdgeTable& edges = topology.Edges();
-  const std::int64_t e = edges.Find(path[0], path[1]);
-  return edges.OppositeCorners[2 * e] < 0 || edges.OppositeCorners[2 * e + 1] < 0 || (featureEdges && featureEdges[e]);
-}
-
 /// A kept line's curvature at each of its vertices: the angle it turns
 /// there over half the length of its two edges (a closed loop's first
 /// vertex turns between its last edge and its first; 0 at a path's ends).
@@ -202,7 +205,7 @@ void SampleBoundaries(const MeshTopology& topology, const double* points, const 
     }
     path.Arc.assign(vertices.size(), 0.0);
     std::vector<double> cumulative(vertices.size(), 0.0);
-    const std::vector<double> curvature = maxSag > 0.0 && IsKeptLine(topology, vertices, featureEdges)
+    const std::vector<double> curvature = maxSag > 0.0 && IsKeptEdge(edges, first, featureEdges)
       ? LineCurvature(points, vertices)
       : std::vector<double>(vertices.size(), 0.0);
     const auto along = [&](std::size_t i) {
