@@ -292,6 +292,7 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
   options.StitchingIterations = this->Iterations - options.Iterations;
   options.FeatureAngle = this->SplitAtFeatures ? this->FeatureAngle : 0.0;
   options.MaximumLineSag = this->MaximumLineSag;
+  options.MaximumSurfaceSag = this->MaximumSurfaceSag;
   options.NumberOfThreads = this->NumberOfThreads;
   options.Cache = &this->Cache->Remeshing;
   const beltrami::RemeshResult remesh =
@@ -319,6 +320,7 @@ void vtkSurfaceRemeshing::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "SplitAtFeatures: " << this->SplitAtFeatures << "\n"
      << indent << "FeatureAngle: " << this->FeatureAngle << "\n"
      << indent << "MaximumLineSag: " << this->MaximumLineSag << "\n"
+     << indent << "MaximumSurfaceSag: " << this->MaximumSurfaceSag << "\n"
      << indent << "Iterations: " << this->Iterations << "\n"
      << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

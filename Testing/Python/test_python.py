@@ -673,6 +673,25 @@ class RemeshingFromPython(unittest.TestCase):
         self.assertLess(graded, 1.2 * flat)
         self.assertEqual(f.GetAtlasBuilds(), 1)  # only the sampling changed
 
+    def test_surface_sag_raises_the_density_where_the_surface_bends(self):
+        # The bunny at 2000 vertices is curved tighter than their spacing in
+        # many places: MaximumSurfaceSag (default 0.1) puts more vertices
+        # there, so the edges vary more than in the plain uniform remesh.
+        _, f = self.remesher("bunny00.off")
+        self.assertEqual((f.GetMaximumSurfaceSag(), f.GetMaximumLineSag()), (0.1, 0.025))
+        f.SetNumberOfVertices(2000)
+
+        def variation():
+            f.Update()
+            self.assertEqual(f.GetOutput().GetNumberOfPoints(), 2000)
+            return f.GetOutput().GetFieldData().GetArray("RemeshEdgeLengthVariation").GetValue(0)
+        raised = variation()
+        f.SetMaximumSurfaceSag(0.0)
+        plain = variation()
+        self.assertGreater(raised, 1.15 * plain)
+        self.assertLess(raised, 0.15)
+        self.assertEqual(f.GetAtlasBuilds(), 1)
+
     def test_bad_requests_are_errors_not_crashes(self):
         _, f = self.remesher()
         f.SetNumberOfVertices(10)  # fewer than the chart boundaries need

@@ -29,6 +29,13 @@ struct RemeshOptions
   /// Feature lines and the surface's boundary sampled more densely where
   /// they bend (SamplingOptions::MaximumLineSag).
   double MaximumLineSag = 0.025;
+  /// The same bound for the surface (0: none): where a triangle of the
+  /// density's spacing s would depart from the surface by more than this
+  /// fraction of s (about s^2 kappa / 8, kappa the larger principal
+  /// curvature), the importance is raised so that it departs by this much
+  /// (RaiseImportanceForSag).  A uniform remesh stays uniform wherever the
+  /// spacing follows the surface.
+  double MaximumSurfaceSag = 0.1;
   int NumberOfThreads = 0;
   RemeshCache* Cache = nullptr; ///< optional: kept between calls on the same surface and atlas (RemeshCache)
 };
@@ -102,6 +109,21 @@ struct ImportanceResult
 /// importance's integral over the surface.
 ImportanceResult ImportanceFromValues(const MeshTopology& topology, const double* points,
   const std::vector<double>& values, const ImportanceOptions& options, int numThreads = 0);
+
+/// The importance (null: uniform) raised where the surface bends tighter
+/// than `count` samples can follow within `sag` of their spacing: at a
+/// vertex of larger principal curvature kappa and density spacing s (from
+/// the count and the importance's integral over the surface), by the factor
+/// kappa s / (8 sag) where it is above 1.  The factors are spread over the
+/// spacing at importance 1 (one implicit heat step of that variance, solved
+/// to 1e-2), so that the density rises smoothly around tight bends.  `maximumCurvature`:
+/// max |kappa_i| per vertex (CurvatureValues; non-finite values count as
+/// 0), and 0 on `featureEdges` (one flag per edge of topology.Edges(); may
+/// be null): kept lines, whose bends MaximumLineSag bounds.  Empty where no
+/// vertex needs more samples (the importance stands).
+std::vector<double> RaiseImportanceForSag(const MeshTopology& topology, const double* points,
+  const double* importance, const std::vector<double>& maximumCurvature, const std::uint8_t* featureEdges,
+  std::int64_t count, double sag, int numThreads = 0);
 
 /// `importance`: one value >= 0 per input vertex (null: uniform).
 RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,

@@ -25,13 +25,14 @@ namespace beltrami
 {
 
 /// What the remesher may keep between calls on the same surface and atlas
-/// (interactive use): for the sampling, the packed atlas and, per
-/// control-map resolution, the charts rasterized with their area map (the
-/// last four used, the last two beyond 256 MiB; 36 bytes a texel: at 10k
-/// samples 3-13 MB each); for the optimisation, the charts' locators.  A new
-/// sample count, importance or transfer function then skips the
-/// rasterization and the locators' set-up.  The caller empties it when the
-/// surface or the atlas changes.
+/// (interactive use): the surface's curvature (for MaximumSurfaceSag); for
+/// the sampling, the packed atlas and, per control-map resolution, the
+/// charts rasterized with their area map (the last four used, the last two
+/// beyond 256 MiB; 36 bytes a texel: at 10k samples 3-13 MB each); for the
+/// optimisation, the charts' locators.  A new sample count, importance or
+/// transfer function then skips the curvature, the rasterization and the
+/// locators' set-up.  The caller empties it when the surface or the atlas
+/// changes.
 struct RemeshCache
 {
   struct Raster
@@ -43,12 +44,14 @@ struct RemeshCache
   std::uint64_t Clock = 0; ///< counts the rasters' uses
   std::unique_ptr<AtlasChart> Packed;
   std::map<int, Raster> Rasters;
+  std::vector<double> MaximumCurvature; ///< max |kappa_i| per surface vertex (empty: not yet)
   /// One per chart of `atlas` (built on first use).
   const std::vector<ChartLocator>& Locators(const AtlasResult& atlas);
   void Clear()
   {
     Packed.reset();
     Rasters.clear();
+    MaximumCurvature.clear();
     ChartLocators.clear();
   }
 
