@@ -564,7 +564,10 @@ private:
       {
         std::copy(velocity + k * NC, velocity + (k + 1) * NC, out + i * NC);
       }
-      Fixed[i] = ActiveFixed[first + k];
+      if (Fixed[i] != ActiveFixed[first + k]) // (a write only where it changes: the flags of
+      {                                       // 64 points share a cache line between the threads)
+        Fixed[i] = ActiveFixed[first + k];
+      }
       if (StoreOperator)
       {
         std::copy(ku + k * NC, ku + (k + 1) * NC, KU.data() + i * NC);
