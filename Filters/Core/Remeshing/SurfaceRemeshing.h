@@ -116,11 +116,12 @@ ImportanceResult ImportanceFromValues(const MeshTopology& topology, const double
 /// the count and the importance's integral over the surface), by the factor
 /// kappa s / (8 sag) where it is above 1.  The factors are spread over the
 /// spacing at importance 1 (one implicit heat step of that variance, solved
-/// to 1e-2), so that the density rises smoothly around tight bends.  `maximumCurvature`:
-/// max |kappa_i| per vertex (CurvatureValues; non-finite values count as
-/// 0), and 0 on `featureEdges` (one flag per edge of topology.Edges(); may
-/// be null): kept lines, whose bends MaximumLineSag bounds.  Empty where no
-/// vertex needs more samples (the importance stands).
+/// to 1e-2), so that the density rises smoothly around tight bends.
+/// `maximumCurvature`: max |kappa_i| per vertex (CurvatureValues;
+/// non-finite values count as 0), taken as 0 on `featureEdges` (one flag
+/// per edge of topology.Edges(); may be null): kept lines, whose bends
+/// MaximumLineSag bounds.  Empty where no vertex needs more samples (the
+/// importance stands).
 std::vector<double> RaiseImportanceForSag(const MeshTopology& topology, const double* points,
   const double* importance, const std::vector<double>& maximumCurvature, const std::uint8_t* featureEdges,
   std::int64_t count, double sag, int numThreads = 0);
