@@ -215,6 +215,7 @@ std::vector<double> RaiseImportanceForSag(const MeshTopology& topology, const do
       onFeature[topology.Edges().Vertices[2 * e]] = onFeature[topology.Edges().Vertices[2 * e + 1]] = 1;
     }
   }
+  const MeshTopology::VertexGraph& graph = topology.Graph();
   std::vector<double> factor(n, 1.0);
   bool raised = false;
   for (std::size_t v = 0; v < n; ++v)
@@ -223,6 +224,18 @@ std::vector<double> RaiseImportanceForSag(const MeshTopology& topology, const do
     const double kappa = counts ? maximumCurvature[v] : 0.0;
     const double spacing = at(v) > 0.0 ? 1.0 / std::sqrt(density * at(v)) : 0.0;
     factor[v] = std::max(1.0, kappa * spacing / (8.0 * sag));
+    if (factor[v] > 1.0)
+    {
+      // No finer than the input's own edges there: the remesh lies on the
+      // input, whose facets are flat, and at a spike's long edges the
+      // curvature is the tip's, which no spacing follows.
+      double longest = 0.0;
+      for (std::int64_t k = graph.NeighborOffsets[v]; k < graph.NeighborOffsets[v + 1]; ++k)
+      {
+        longest = std::max(longest, (Point(points, static_cast<Index>(v)) - Point(points, graph.Neighbors[k])).norm());
+      }
+      factor[v] = longest > 0.0 ? std::max(1.0, std::min(factor[v], spacing * spacing / (longest * longest))) : 1.0;
+    }
     raised = raised || factor[v] > 1.0;
   }
   if (!raised)

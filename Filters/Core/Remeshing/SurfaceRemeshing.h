@@ -114,7 +114,8 @@ ImportanceResult ImportanceFromValues(const MeshTopology& topology, const double
 /// than `count` samples can follow within `sag` of their spacing: at a
 /// vertex of larger principal curvature kappa and density spacing s (from
 /// the count and the importance's integral over the surface), by the factor
-/// kappa s / (8 sag) where it is above 1.  The factors are spread over the
+/// kappa s / (8 sag) where it is above 1, but to no finer spacing than the
+/// vertex's longest input edge.  The factors are spread over the
 /// spacing at importance 1 (one implicit heat step of that variance, solved
 /// to 1e-2), so that the density rises smoothly around tight bends.
 /// `maximumCurvature`: max |kappa_i| per vertex (CurvatureValues;
