@@ -46,7 +46,7 @@ public:
 
   Index Size = 0;
   int Components = 1;
-  std::vector<std::uint8_t> Fixed; ///< non-zero: value kept
+  LargeVector<std::uint8_t> Fixed; ///< non-zero: value kept
   /// Set before the first Update: the semi-implicit solver needs the operator
   /// (Mass, Speed, Diagonal, KU and Apply); the explicit one only Velocity.
   bool StoreOperator = true;
@@ -97,7 +97,7 @@ public:
   /// The signs b = +-1 of the risk estimate's probe, one per value (Size x
   /// Components): a fixed pseudo-random sequence (runs are reproducible);
   /// into b those of the values [begin, end) (a probe window's).
-  virtual void ProbeSigns(std::size_t begin, std::size_t end, std::vector<double>& b) const;
+  virtual void ProbeSigns(std::size_t begin, std::size_t end, UninitializedVector<double>& b) const;
 
   /// Meshes split over processes (collective runs): the rows this process
   /// counts in sums and maxima are its own (Split->IsOwned), and the
@@ -172,7 +172,7 @@ ProbeWindow GridProbeWindow(Index layers, Index layerSize, const GraphFlowOption
 /// of it, so that a point gets the same signs wherever it lies in the
 /// numbering (any split over processes) and at any scale.
 void PositionProbeSigns(int components, const double* points, double lengthScale, std::size_t begin, std::size_t end,
-  std::vector<double>& b);
+  UninitializedVector<double>& b);
 
 /// The samples a piece of a split grid owns (Split->IsOwned), row by row:
 /// per row of `width` samples its runs of owned samples [begin, end)
@@ -225,7 +225,7 @@ private:
 /// (FlowDiscretization::ProbeSigns of the whole grid), so that every
 /// layout probes with the serial signs.
 void GridPieceProbeSigns(const FlowDiscretization& disc, const GridPiece& piece, std::int64_t w, std::int64_t h,
-  std::int64_t d, std::vector<double>& b);
+  std::int64_t d, UninitializedVector<double>& b);
 
 /// The discretization of the flow on voxel cells (8 point ids per cell in
 /// VTK_VOXEL order: corner bit a = a step along axis a) of one lattice, as

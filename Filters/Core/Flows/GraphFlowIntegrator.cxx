@@ -44,7 +44,7 @@ std::string CheckOptions(const GraphFlowOptions& o, int components, int maximum,
 }
 
 void PositionProbeSigns(int components, const double* points, double lengthScale, std::size_t begin, std::size_t end,
-  std::vector<double>& b)
+  UninitializedVector<double>& b)
 {
   const auto mix = [](std::uint64_t x) { // splitmix64's finaliser
     x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
@@ -65,11 +65,11 @@ void PositionProbeSigns(int components, const double* points, double lengthScale
 }
 
 void GridPieceProbeSigns(const FlowDiscretization& disc, const GridPiece& piece, std::int64_t w, std::int64_t h,
-  std::int64_t d, std::vector<double>& b)
+  std::int64_t d, UninitializedVector<double>& b)
 {
   const std::size_t nc = static_cast<std::size_t>(disc.Components), row = static_cast<std::size_t>(w) * nc;
   b.resize(static_cast<std::size_t>(w * h * d) * nc);
-  std::vector<double> signs;
+  UninitializedVector<double> signs;
   for (std::int64_t r = 0; r < h * d; ++r)
   {
     const std::int64_t y = r % h + piece.Origin[1], z = r / h + piece.Origin[2];
@@ -79,7 +79,7 @@ void GridPieceProbeSigns(const FlowDiscretization& disc, const GridPiece& piece,
   }
 }
 
-void FlowDiscretization::ProbeSigns(std::size_t begin, std::size_t end, std::vector<double>& b) const
+void FlowDiscretization::ProbeSigns(std::size_t begin, std::size_t end, UninitializedVector<double>& b) const
 {
   // A linear congruential sequence, the sign of value k from its state
   // k + 1: the state at `begin` by jumping ahead (Brown 1994: the step's
@@ -162,7 +162,7 @@ private:
   std::vector<Index> Order; // the graph solver's renumbering (meshes)
   std::vector<double> Scratch, Y; // the data in noise space
   UninitializedVector<double> Best; // risk: the best state, when the flow has gone past it
-  std::vector<double> B; // risk: b, of the values of the probe's window (windowed), else of all
+  UninitializedVector<double> B; // risk: b, of the values of the probe's window (windowed), else of all
 
   bool Start(const double* values);
   /// Explicit fixed-size steps fused with the evaluation (the
@@ -583,6 +583,12 @@ bool FlowIntegrator::SweepRiskSums()
   Main.Disc->RowSum = [this](std::int64_t first, std::int64_t count, const double* next) {
     const double* start = Input + first;
     const double alpha = Alpha;
+    // The next row's data asked for ahead (rows come in order; a row's
+    // sum stalled on them).
+    for (std::int64_t k = count; k < 2 * count && first + k < static_cast<std::int64_t>(Size); k += 8)
+    {
+      __builtin_prefetch(start + k);
+    }
     return LaneSum(0, count, [&](std::int64_t k) { return (next[k] - alpha * start[k]) * (next[k] - alpha * start[k]); });
   };
   // The probe's rows are the window's (windowed): its inner part counts,
@@ -671,7 +677,7 @@ double FlowIntegrator::Risk(bool swept)
 void FlowIntegrator::Finish(double* values, const ProgressCallback& progress)
 {
   Result.RMSChange = ChangeOf(Main.U);
-  const std::vector<std::uint8_t>& fixed = Main.Disc->Fixed;
+  const LargeVector<std::uint8_t>& fixed = Main.Disc->Fixed;
   // No step (none asked for, no noise, or the input the least-risk state):
   // the data stay bit-exact, without a round trip through alpha.
   ParallelFor(Result.Iterations > 0 ? N : 0, Threads, [&](std::int64_t b, std::int64_t e) {

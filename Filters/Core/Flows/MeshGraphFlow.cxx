@@ -76,7 +76,7 @@ public:
       Size, BaseOffsets, BaseNeighbors, Points, Components, values, Fixed.data(), Split);
   }
 
-  void ProbeSigns(std::size_t begin, std::size_t end, std::vector<double>& b) const override
+  void ProbeSigns(std::size_t begin, std::size_t end, UninitializedVector<double>& b) const override
   {
     PositionProbeSigns(Components, Points, LengthScale, begin, end, b);
   }

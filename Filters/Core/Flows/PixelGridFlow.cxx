@@ -173,7 +173,7 @@ public:
     return EstimateImageNoise(Grid, NC, values, Threads, Split ? &Piece : nullptr);
   }
 
-  void ProbeSigns(std::size_t begin, std::size_t end, std::vector<double>& b) const override
+  void ProbeSigns(std::size_t begin, std::size_t end, UninitializedVector<double>& b) const override
   {
     Split ? GridPieceProbeSigns(*this, Piece, Grid.Width, Grid.Height, 1, b)
           : FlowDiscretization::ProbeSigns(begin, end, b);

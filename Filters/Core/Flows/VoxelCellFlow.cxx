@@ -140,7 +140,7 @@ public:
     return EstimateGraphNoise(Size, BaseOffsets, BaseNeighbors, Points, Components, values, Fixed.data(), nullptr);
   }
 
-  void ProbeSigns(std::size_t begin, std::size_t end, std::vector<double>& b) const override
+  void ProbeSigns(std::size_t begin, std::size_t end, UninitializedVector<double>& b) const override
   {
     PositionProbeSigns(Components, Points, LengthScale, begin, end, b);
   }
@@ -535,6 +535,7 @@ private:
     double* diagonal = velocity + NC * PointsPerBlock;
     double* positive = diagonal + PointsPerBlock;
     double* speed = positive + PointsPerBlock;
+    double* rates = speed + PointsPerBlock;
     PointStiffness(State.data(), first, n, ku, diagonal, positive);
     const Real* mass = Masses.data() + first;
     for (std::int64_t k = 0; k < n; ++k)
@@ -547,13 +548,15 @@ private:
     switch (Output)
     {
       case RowOutput::Velocity:
-        VelocityRow<NC, Real, RowOutput::Velocity>(n, mass, speed, fixed, ku, positive, x, 0.0, velocity, rate, area);
+        VelocityRow<NC, Real, RowOutput::Velocity>(n, mass, speed, fixed, ku, positive, x, 0.0, velocity, rates, rate,
+          area);
         break;
       case RowOutput::Step:
-        VelocityRow<NC, Real, RowOutput::Step>(n, mass, speed, fixed, ku, positive, x, StepSize, velocity, rate, area);
+        VelocityRow<NC, Real, RowOutput::Step>(n, mass, speed, fixed, ku, positive, x, StepSize, velocity, rates, rate,
+          area);
         break;
       case RowOutput::None:
-        VelocityRow<NC, Real, RowOutput::None>(n, mass, speed, fixed, ku, positive, x, 0.0, nullptr, rate, area);
+        VelocityRow<NC, Real, RowOutput::None>(n, mass, speed, fixed, ku, positive, x, 0.0, nullptr, rates, rate, area);
         break;
     }
     double* out = Output == RowOutput::Velocity ? Velocity.data() : Next; // (the step, or nothing)

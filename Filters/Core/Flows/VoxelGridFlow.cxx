@@ -164,7 +164,7 @@ public:
     return EstimateVolumeNoise(Grid, NC, values, Threads, Split ? &Piece : nullptr);
   }
 
-  void ProbeSigns(std::size_t begin, std::size_t end, std::vector<double>& b) const override
+  void ProbeSigns(std::size_t begin, std::size_t end, UninitializedVector<double>& b) const override
   {
     Split ? GridPieceProbeSigns(*this, Piece, W, H, D, b) : FlowDiscretization::ProbeSigns(begin, end, b);
   }
@@ -185,20 +185,27 @@ public:
           up[d] = WeightsOf(d) + first;
           down[d] = WeightsOf(d) + first - Offset[d];
         }
-        RowStiffness(x, r % H, r / H, up, down, y + first * NC, buffer.data(), buffer.data() + W);
+        RowStiffness(x, r % H, r / H, up, down, y + first * NC, nullptr, buffer.data());
       }
     }, {}, 0, 4);
   }
 
 private:
   static constexpr std::int64_t PlanesPerChunk = 16;
+  std::vector<double> RowFigures[3]; // Sweep's per row: rates, volumes, sums
 
   /// One pass over the volume (what Output says).
   void Sweep(const double* u) override
   {
     // Per row, in row order (thread-independent sums): the largest rate,
-    // the volume and (steps with RowSum) the row's sum.
-    std::vector<double> rowRate(H * D), rowArea(H * D), rowSum(Output == RowOutput::Step && RowSum ? H * D : 0);
+    // the volume and (steps with RowSum) the row's sum (kept between
+    // sweeps: fresh memory each step cost page faults).
+    std::vector<double>& rowRate = RowFigures[0];
+    std::vector<double>& rowArea = RowFigures[1];
+    std::vector<double>& rowSum = RowFigures[2];
+    rowRate.resize(H * D);
+    rowArea.resize(H * D);
+    rowSum.resize(Output == RowOutput::Step && RowSum ? H * D : 0);
     const std::int64_t chunks = (D + PlanesPerChunk - 1) / PlanesPerChunk;
     ParallelFor(chunks, Threads, [&](std::int64_t b, std::int64_t e) {
       for (std::int64_t c = b; c < e; ++c)
@@ -224,7 +231,7 @@ private:
   {
     Real* Plane[3];  // per slot: 8 arrays of Stride values (7 weight directions, masses)
     Real *Edges, *Masses;
-    double *KU, *Diagonal, *Positive, *Speed;
+    double *KU, *Positive, *Speed, *Rates;
     /// Per slot, array and voxel row: the plane whose sums the row holds
     /// (-1: none yet).  A row's first sum is stored, the others added, so
     /// rows are never cleared; one that gets no sum reads as zeros.
@@ -255,9 +262,9 @@ private:
     b.Edges = r;
     b.Masses = b.Edges + KuhnCell::Edges * PaddedCells();
     b.KU = lease.data() + (BufferDoubles() - (NC + 3) * W);
-    b.Diagonal = b.KU + NC * W;
-    b.Positive = b.Diagonal + W;
+    b.Positive = b.KU + NC * W;
     b.Speed = b.Positive + W;
+    b.Rates = b.Speed + W;
     std::fill(b.Speed, b.Speed + W, 1.0);
     // The slots zeroed once, margins included (never written; nor is the
     // last value of a row of the arrays of directions along x, which the
@@ -345,8 +352,12 @@ private:
       down[d] = PlaneWeights(b, k - (d >> 2) + 3, d - 1) + (j - (d >> 1 & 1)) * W - (d & 1);
     }
     const std::int64_t first = (k * H + j) * W;
+    for (std::int64_t ix = 0; ix < W; ix += 64)
+    {
+      __builtin_prefetch(Fixed.data() + first + ix, 1); // (read after K u: no stall on a flag array of the volume's size)
+    }
     double* ku = StoreOperator ? KU.data() + first * NC : b.KU;
-    double* diagonal = StoreOperator ? Diagonal.data() + first : b.Diagonal;
+    double* diagonal = StoreOperator ? Diagonal.data() + first : nullptr;
     RowStiffness(u, j, k, up, down, ku, diagonal, b.Positive);
     const Real* mass = PlaneWeights(b, k, 7) + j * W;
     double* speed = StoreOperator ? Speed.data() + first : b.Speed; // (b.Speed: ones)
@@ -366,19 +377,20 @@ private:
     {
       case RowOutput::Velocity:
         VelocityRow<NC, Real, RowOutput::Velocity>(W, mass, speed, fixed, ku, b.Positive, x, 0.0,
-          Velocity.data() + first * NC, rate, area);
+          Velocity.data() + first * NC, b.Rates, rate, area);
         break;
       case RowOutput::Step:
         VelocityRow<NC, Real, RowOutput::Step>(W, mass, speed, fixed, ku, b.Positive, x, StepSize,
-          Next + first * NC, rate, area);
+          Next + first * NC, b.Rates, rate, area);
         break;
       case RowOutput::None:
-        VelocityRow<NC, Real, RowOutput::None>(W, mass, speed, fixed, ku, b.Positive, x, 0.0, nullptr, rate, area);
+        VelocityRow<NC, Real, RowOutput::None>(W, mass, speed, fixed, ku, b.Positive, x, 0.0, nullptr, b.Rates, rate,
+          area);
         break;
     }
     if (Split) // a piece of a split grid: the figures of the voxels it owns
     {
-      OwnedFigures(k * H + j, mass, b.Positive, rate, area);
+      OwnedFigures(k * H + j, mass, b.Rates, rate, area);
     }
     rowRate[k * H + j] = rate;
     rowArea[k * H + j] = area;
@@ -403,7 +415,7 @@ private:
     }
   }
 
-  /// (K x), sum_j c_ij and sum_j max(c_ij, 0) of voxel row (j, k) from its
+  /// (K x), sum_j c_ij (diagonal not null) and sum_j max(c_ij, 0) of voxel row (j, k) from its
   /// weights: in one loop (StiffnessRow), neighbour rows outside the grid
   /// read as zeros; the rows next to the volume's first and last row (whose
   /// x neighbours at the ends are outside the memory) voxel by voxel.
@@ -433,14 +445,14 @@ private:
       const std::int64_t i = first + ix;
       double* ki = kx + ix * NC;
       std::fill(ki, ki + NC, 0.0);
-      diagonal[ix] = positive[ix] = 0.0;
+      double dg = 0.0, ps = 0.0;
       const auto add = [&](double c, std::int64_t n) {
         for (int m = 0; m < NC; ++m)
         {
           ki[m] += c * (x[i * NC + m] - x[n * NC + m]);
         }
-        diagonal[ix] += c;
-        positive[ix] += std::max(c, 0.0);
+        dg += c;
+        ps += std::max(c, 0.0);
       };
       for (int d = 1; d < 8; ++d)
       {
@@ -454,6 +466,11 @@ private:
           add(down[d][ix], i - Offset[d]);
         }
       }
+      if (diagonal)
+      {
+        diagonal[ix] = dg;
+      }
+      positive[ix] = ps;
     }
   }
 

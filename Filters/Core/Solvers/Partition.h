@@ -66,8 +66,8 @@ public:
   /// The ghost rows of `values` (`columns` interleaved per row) set to their
   /// owners' values.
   void UpdateGhosts(double* values, int columns) const;
-  template <typename T>
-  void UpdateGhosts(std::vector<T>& values) const
+  template <typename T, class Allocator>
+  void UpdateGhosts(std::vector<T, Allocator>& values) const
   {
     std::vector<double> v(values.begin(), values.end());
     UpdateGhosts(v.data(), 1);

@@ -556,7 +556,7 @@ TEST(LeastRiskStop, TheProbeSignsOfAWindowAreThoseOfTheWholeSequence)
   SignsOnly d;
   d.Size = 40000;
   d.Components = 3;
-  std::vector<double> all, window;
+  UninitializedVector<double> all, window;
   d.ProbeSigns(0, 120000, all);
   ASSERT_EQ(all.size(), 120000u);
   double sum = 0.0;
