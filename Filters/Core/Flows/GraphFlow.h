@@ -100,9 +100,10 @@ struct GraphFlowOptions
   /// above what the rules need; GraphFlowResult::StoppedByLimit tells when
   /// it ended a run before its rule.
   int MaximumNumberOfIterations = 2000;
-  /// MinimumRisk on grids of more than 2^21 samples with explicit steps: the
-  /// probe run covers a band of about 1/16 of the rows or planes, not all
-  /// of them; false: all (twice the work).
+  /// MinimumRisk on grids of more than 2^21 values (samples x components)
+  /// with explicit steps: the probe run covers a band of about 1/8 of an
+  /// image's rows or 1/16 of a volume's planes, not all of them; false: all
+  /// (twice the work).
   bool WindowedRisk = true;
   /// The standard deviation of the noise (per component, data units): the
   /// stop of NoiseLevel and MinimumRisk.  0: estimated from the data.

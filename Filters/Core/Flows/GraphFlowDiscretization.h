@@ -161,10 +161,11 @@ struct ProbeWindow
 };
 
 /// The window of a grid of `layers` layers (rows, planes) of `layerSize`
-/// vertices for `o`, or none (small grids, other stops, semi-implicit steps,
-/// a noise space); `make(first, count)` makes the discretization of `count`
-/// layers from layer `first`.
-ProbeWindow GridProbeWindow(Index layers, Index layerSize, const GraphFlowOptions& o,
+/// vertices of `components` values for `o`: an inner band of 1/`fraction`
+/// of the layers (at least 16) and margins, or none (grids of at most 2^21
+/// values, other stops, semi-implicit steps, a noise space); `make(first,
+/// count)` makes the discretization of `count` layers from layer `first`.
+ProbeWindow GridProbeWindow(Index layers, Index layerSize, int components, Index fraction, const GraphFlowOptions& o,
   const std::function<std::unique_ptr<FlowDiscretization>(Index first, Index count)>& make);
 
 /// The probe's signs of a mesh's values [begin, end) (of Size x Components): a hash of the

@@ -882,14 +882,14 @@ GraphFlowResult FlowIntegrator::Run(double* values, const ProgressCallback& prog
 
 } // namespace
 
-ProbeWindow GridProbeWindow(Index layers, Index layerSize, const GraphFlowOptions& o,
+ProbeWindow GridProbeWindow(Index layers, Index layerSize, int components, Index fraction, const GraphFlowOptions& o,
   const std::function<std::unique_ptr<FlowDiscretization>(Index first, Index count)>& make)
 {
   ProbeWindow w;
   constexpr Index Margin = 8; // layers: the flow's reach (a few of them) and more
-  const Index inner = std::max<Index>(16, layers / 16);
+  const Index inner = std::max<Index>(16, layers / fraction);
   if (!o.WindowedRisk || o.Stop != GraphFlowStop::MinimumRisk || o.Integration != GraphFlowIntegration::Explicit ||
-    o.ToNoiseSpace || static_cast<double>(layers) * layerSize <= double(1 << 21) || inner + 2 * Margin >= layers / 2)
+    o.ToNoiseSpace || static_cast<double>(layers) * layerSize * components <= double(1 << 21) || inner + 2 * Margin >= layers / 2)
   {
     return w;
   }

@@ -714,7 +714,11 @@ GraphFlowResult RunGrid(const PixelGrid& grid, double* values, const std::uint8_
     return Integrate([&]() { return band(0, grid.Height); }, values, o, progress); // (the probe on every piece)
   }
   return Integrate([&]() { return band(0, grid.Height); }, values, o, progress,
-    GridProbeWindow(grid.Height, grid.Width, o, band)); // a band of rows for the risk's probe (large images)
+    // A band of 1/8 of the rows for the risk's probe (images of more than
+    // 2^21 values): an image's rows differ more than a volume's planes; with
+    // 1/16 a noisy astronaut at 1024 x 1024 RGB stopped 3 steps late, 0.12 dB
+    // below the whole image's probe (1/8: 0.07 dB, at half the time).
+    GridProbeWindow(grid.Height, grid.Width, NC, 8, o, band));
 }
 
 } // namespace

@@ -565,7 +565,7 @@ GraphFlowResult RunVolumeGraphFlow(const VoxelGrid& grid, int components, double
     }
     // A band of planes for the risk's probe (large volumes).
     const Index plane = static_cast<Index>(grid.Width * grid.Height);
-    const ProbeWindow window = GridProbeWindow(static_cast<Index>(grid.Depth), plane, options,
+    const ProbeWindow window = GridProbeWindow(static_cast<Index>(grid.Depth), plane, NC, 16, options,
       [&grid, fixed, &options, store, plane](Index first, Index count) -> std::unique_ptr<FlowDiscretization> {
         VoxelGrid band = grid;
         band.Depth = count;
