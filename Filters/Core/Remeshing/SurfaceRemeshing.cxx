@@ -185,15 +185,19 @@ ImportanceResult ImportanceFromValues(const MeshTopology& topology, const double
 
 std::vector<double> RaiseImportanceForSag(const MeshTopology& topology, const double* points,
   const double* importance, const std::vector<double>& maximumCurvature, const std::uint8_t* featureEdges,
-  std::int64_t count, double sag, int numThreads)
+  std::int64_t count, double sag, int numThreads, const GraphLaplacian* surfaceLaplacian)
 {
   const std::size_t n = static_cast<std::size_t>(topology.NumberOfVertices());
   if (!(sag > 0.0) || count <= 0 || maximumCurvature.size() != n)
   {
     return {};
   }
-  GraphLaplacian laplacian;
-  AssembleSurfaceLaplacian(topology, points, LaplacianWeights::Cotangent, laplacian, numThreads);
+  GraphLaplacian assembled;
+  if (!surfaceLaplacian)
+  {
+    AssembleSurfaceLaplacian(topology, points, LaplacianWeights::Cotangent, assembled, numThreads);
+  }
+  const GraphLaplacian& laplacian = surfaceLaplacian ? *surfaceLaplacian : assembled;
   const auto at = [&](std::size_t v) { return importance ? importance[v] : 1.0; };
   double integral = 0.0; // of the importance over the surface
   for (std::size_t v = 0; v < n; ++v)
@@ -279,10 +283,12 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
     {
       cache->MaximumCurvature =
         CurvatureValues(topology, points, CurvatureMeasure::MaximumCurvature, options.NumberOfThreads);
+      AssembleSurfaceLaplacian(
+        topology, points, LaplacianWeights::Cotangent, cache->SurfaceLaplacian, options.NumberOfThreads);
     }
     raised = RaiseImportanceForSag(topology, points, importance, cache->MaximumCurvature,
       features.empty() ? nullptr : features.data(), options.NumberOfVertices, options.MaximumSurfaceSag,
-      options.NumberOfThreads);
+      options.NumberOfThreads, &cache->SurfaceLaplacian);
     importance = raised.empty() ? importance : raised.data();
   }
   SamplingOptions sampling;

@@ -122,10 +122,11 @@ ImportanceResult ImportanceFromValues(const MeshTopology& topology, const double
 /// non-finite values count as 0), taken as 0 on `featureEdges` (one flag
 /// per edge of topology.Edges(); may be null): kept lines, whose bends
 /// MaximumLineSag bounds.  Empty where no vertex needs more samples (the
-/// importance stands).
+/// importance stands).  surfaceLaplacian (optional): the surface's
+/// cotangent Laplacian, assembled here where null.
 std::vector<double> RaiseImportanceForSag(const MeshTopology& topology, const double* points,
   const double* importance, const std::vector<double>& maximumCurvature, const std::uint8_t* featureEdges,
-  std::int64_t count, double sag, int numThreads = 0);
+  std::int64_t count, double sag, int numThreads = 0, const GraphLaplacian* surfaceLaplacian = nullptr);
 
 /// `importance`: one value >= 0 per input vertex (null: uniform).
 RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,

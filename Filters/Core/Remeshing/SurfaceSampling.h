@@ -13,6 +13,7 @@
 
 #include "Maps/Atlas.h"
 #include "Maps/GeometryImages.h"
+#include "Mesh/Laplacian.h"
 
 #include <cstdint>
 #include <map>
@@ -45,6 +46,7 @@ struct RemeshCache
   std::unique_ptr<AtlasChart> Packed;
   std::map<int, Raster> Rasters;
   std::vector<double> MaximumCurvature; ///< max |kappa_i| per surface vertex (empty: not yet)
+  GraphLaplacian SurfaceLaplacian;      ///< the surface's cotangent Laplacian, with MaximumCurvature
   /// One per chart of `atlas` (built on first use).
   const std::vector<ChartLocator>& Locators(const AtlasResult& atlas);
   void Clear()
@@ -52,6 +54,7 @@ struct RemeshCache
     Packed.reset();
     Rasters.clear();
     MaximumCurvature.clear();
+    SurfaceLaplacian = GraphLaplacian();
     ChartLocators.clear();
   }
 
