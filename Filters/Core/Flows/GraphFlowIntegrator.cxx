@@ -889,7 +889,8 @@ ProbeWindow GridProbeWindow(Index layers, Index layerSize, int components, Index
   constexpr Index Margin = 8; // layers: the flow's reach (a few of them) and more
   const Index inner = std::max<Index>(16, layers / fraction);
   if (!o.WindowedRisk || o.Stop != GraphFlowStop::MinimumRisk || o.Integration != GraphFlowIntegration::Explicit ||
-    o.ToNoiseSpace || static_cast<double>(layers) * layerSize * components <= double(1 << 21) || inner + 2 * Margin >= layers / 2)
+    o.ToNoiseSpace || static_cast<double>(layers) * layerSize * components <= double(1 << 21) ||
+    inner + 2 * Margin >= layers / 2)
   {
     return w;
   }

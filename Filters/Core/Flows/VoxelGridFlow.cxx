@@ -174,7 +174,7 @@ public:
   void Apply(const double* x, double* y, bool) override
   {
     ParallelFor(H * D, Threads, [&](std::int64_t b, std::int64_t e) {
-      ScratchLease buffer(Scratch, 2 * static_cast<std::size_t>(W));
+      ScratchLease buffer(Scratch, static_cast<std::size_t>(W)); // (the sums of positive weights)
       for (std::int64_t r = b; r < e; ++r)
       {
         const Real* up[8];
@@ -352,9 +352,11 @@ private:
       down[d] = PlaneWeights(b, k - (d >> 2) + 3, d - 1) + (j - (d >> 1 & 1)) * W - (d & 1);
     }
     const std::int64_t first = (k * H + j) * W;
+    // The row's fixed flags asked for now, read after K u (VelocityRow
+    // stalled on this array of the volume's size).
     for (std::int64_t ix = 0; ix < W; ix += 64)
     {
-      __builtin_prefetch(Fixed.data() + first + ix, 1); // (read after K u: no stall on a flag array of the volume's size)
+      __builtin_prefetch(Fixed.data() + first + ix, 1);
     }
     double* ku = StoreOperator ? KU.data() + first * NC : b.KU;
     double* diagonal = StoreOperator ? Diagonal.data() + first : nullptr;
