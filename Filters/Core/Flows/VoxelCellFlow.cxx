@@ -27,7 +27,8 @@ namespace
 // thread count); then per point K u from its 14 neighbours and the
 // velocity as the grid's rows, scattered back to the caller's numbering.
 
-/// (K x)_i, sum_j c_ij and sum_j max(c_ij, 0) for points i in [first,
+/// (K x)_i, sum_j c_ij (where diagonal is not null) and sum_j max(c_ij, 0)
+/// (in the weights' precision, as StiffnessRow) for points i in [first,
 /// first + n) of voxel cells: per direction d and point (7 arrays of
 /// size each) the neighbour up and down (the point itself where there is
 /// no edge) and the index of the down edge's weight in `weights` (7 arrays of size + 1:
@@ -35,35 +36,60 @@ namespace
 /// missing down edges read).  Without branches, so that it vectorizes
 /// (with the indices direction by direction: GCC 12 does not vectorize
 /// groups of 7).
-template <int NC, typename Real>
-CLONES void StencilRows(std::int64_t first, std::int64_t n, std::int64_t size, const double* __restrict x,
-  const Index* __restrict upper, const Index* __restrict lower, const Index* __restrict lowerWeight,
-  const Real* __restrict weights, double* __restrict kx, double* __restrict diagonal, double* __restrict positive)
+template <int NC, typename Real, bool WithDiagonal>
+BELTRAMI_ALWAYS_INLINE inline void StencilLoop(std::int64_t first, std::int64_t n, std::int64_t size,
+  const double* __restrict x, const Index* __restrict upper, const Index* __restrict lower,
+  const Index* __restrict lowerWeight, const Real* __restrict weights, double* __restrict kx,
+  double* __restrict diagonal, double* __restrict positive)
 {
   for (std::int64_t i = first; i < first + n; ++i)
   {
-    double dg = 0.0, ps = 0.0, sum[NC] = {};
+    double dg = 0.0, sum[NC] = {};
+    Real ps = 0;
 #pragma GCC unroll 7
     for (int d = 0; d < 7; ++d)
     {
       const std::int64_t u = upper[d * size + i], l = lower[d * size + i];
-      const double cu = weights[d * (size + 1) + i], cl = weights[lowerWeight[d * size + i]];
+      const Real wu = weights[d * (size + 1) + i], wl = weights[lowerWeight[d * size + i]];
+      const double cu = wu, cl = wl;
 #pragma GCC unroll 8
       for (int m = 0; m < NC; ++m)
       {
         const double xi = x[i * NC + m];
         sum[m] += cu * (xi - x[u * NC + m]) + cl * (xi - x[l * NC + m]);
       }
-      dg += cu + cl;
-      ps += std::max(cu, 0.0) + std::max(cl, 0.0);
+      if constexpr (WithDiagonal)
+      {
+        dg += cu + cl;
+      }
+      ps += std::max(wu, Real(0)) + std::max(wl, Real(0));
     }
 #pragma GCC unroll 8
     for (int m = 0; m < NC; ++m)
     {
       kx[(i - first) * NC + m] = sum[m];
     }
-    diagonal[i - first] = dg;
+    if constexpr (WithDiagonal)
+    {
+      diagonal[i - first] = dg;
+    }
     positive[i - first] = ps;
+  }
+}
+
+/// StencilLoop, without the diagonal where it is null.
+template <int NC, typename Real>
+CLONES void StencilRows(std::int64_t first, std::int64_t n, std::int64_t size, const double* __restrict x,
+  const Index* __restrict upper, const Index* __restrict lower, const Index* __restrict lowerWeight,
+  const Real* __restrict weights, double* __restrict kx, double* __restrict diagonal, double* __restrict positive)
+{
+  if (diagonal)
+  {
+    StencilLoop<NC, Real, true>(first, n, size, x, upper, lower, lowerWeight, weights, kx, diagonal, positive);
+  }
+  else
+  {
+    StencilLoop<NC, Real, false>(first, n, size, x, upper, lower, lowerWeight, weights, kx, nullptr, positive);
   }
 }
 
@@ -176,12 +202,12 @@ private:
     std::fill(y, y + static_cast<std::size_t>(Size) * NC, 0.0); // (points in no cell: no edges)
     const std::int64_t blocks = (Active + PointsPerBlock - 1) / PointsPerBlock;
     ParallelFor(blocks, Threads, [&](std::int64_t b, std::int64_t e) {
-      ScratchLease lease(Scratch, static_cast<std::size_t>(NC + 2) * PointsPerBlock);
+      ScratchLease lease(Scratch, static_cast<std::size_t>(NC + 1) * PointsPerBlock);
       for (std::int64_t block = b; block < e; ++block)
       {
         const std::int64_t first = block * PointsPerBlock, n = std::min<std::int64_t>(PointsPerBlock, Active - first);
         double* kx = lease.data();
-        PointStiffness(Input.data(), first, n, kx, kx + NC * PointsPerBlock, kx + (NC + 1) * PointsPerBlock);
+        PointStiffness(Input.data(), first, n, kx, nullptr, kx + NC * PointsPerBlock);
         for (std::int64_t k = 0; k < n; ++k)
         {
           std::copy(kx + k * NC, kx + (k + 1) * NC, y + static_cast<std::size_t>(Perm[first + k]) * NC);
@@ -473,8 +499,8 @@ private:
     }
   }
 
-  /// (K x), sum_j c_ij and sum_j max(c_ij, 0) of points [first, first + n)
-  /// (lattice order; x too; n <= PointsPerBlock): runs of points whose
+  /// (K x), sum_j c_ij (diagonal not null) and sum_j max(c_ij, 0) of points
+  /// [first, first + n) (lattice order; x too; n <= PointsPerBlock): runs of points whose
   /// neighbours are runs (Continues) as the grid's rows, the others
   /// through the stencil's indices.
   void PointStiffness(const double* x, std::int64_t first, std::int64_t n, double* kx, double* diagonal,
@@ -485,7 +511,7 @@ private:
     const auto gather = [&](std::int64_t s, std::int64_t e) {
       const std::int64_t o = s - first;
       StencilRows<NC, Real>(s, e - s, Active, x, Upper.data(), Lower.data(), LowerWeight.data(), Weights.data(),
-        kx + o * NC, diagonal + o, positive + o);
+        kx + o * NC, diagonal ? diagonal + o : nullptr, positive + o);
     };
     std::int64_t done = first;
     for (std::int64_t s = first, e = first + 1; s < end; s = e, e = s + 1)
@@ -517,7 +543,8 @@ private:
         up[d + 1] = Weights.data() + WeightIndex(d, s);
         down[d + 1] = LowerWeight[k] == zero ? ZeroWeights.data() : Weights.data() + LowerWeight[k];
       }
-      StiffnessRow<NC, Real>(e - s, x + s * NC, xu, xd, up, down, kx + o * NC, diagonal + o, positive + o);
+      StiffnessRow<NC, Real>(
+        e - s, x + s * NC, xu, xd, up, down, kx + o * NC, diagonal ? diagonal + o : nullptr, positive + o);
     }
     if (done < end)
     {
@@ -536,7 +563,7 @@ private:
     double* positive = diagonal + PointsPerBlock;
     double* speed = positive + PointsPerBlock;
     double* rates = speed + PointsPerBlock;
-    PointStiffness(State.data(), first, n, ku, diagonal, positive);
+    PointStiffness(State.data(), first, n, ku, StoreOperator ? diagonal : nullptr, positive);
     const Real* mass = Masses.data() + first;
     for (std::int64_t k = 0; k < n; ++k)
     {
