@@ -1,6 +1,7 @@
 #include "Support/LargeBuffer.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdlib>
 #include <mutex>
 #include <string>
@@ -38,11 +39,21 @@ std::size_t DefaultCacheLimit()
   return limit;
 }
 
+/// A block of whole huge pages.  On Linux it is made of pieces, each within
+/// one kernel mapping (mremap moves pages only within one): the block's own
+/// fresh mapping and the pages moved into it from cached blocks.
+struct Block
+{
+  char* Address = nullptr;
+  std::size_t Size = 0;
+  std::vector<std::size_t> Pieces; ///< lengths, in address order
+};
+
 struct BlockCache
 {
   std::mutex Mutex;
-  std::unordered_map<void*, std::size_t> Sizes; // every block handed out or cached
-  std::vector<std::pair<void*, std::size_t>> Free; // cached, oldest first
+  std::unordered_map<void*, Block> Used; // handed out
+  std::vector<Block> Free;               // cached, oldest first
   std::size_t FreeBytes = 0;
   std::size_t Limit = DefaultCacheLimit();
 };
@@ -54,136 +65,189 @@ BlockCache& Cache()
   return *cache;
 }
 
+#if defined(__linux__)
+
+/// A fresh 2 MiB-aligned anonymous mapping of `bytes`, marked for huge pages.
+char* MapFresh(std::size_t bytes)
+{
+  void* mapped = mmap(nullptr, bytes + HugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (mapped == MAP_FAILED)
+  {
+    throw std::bad_alloc();
+  }
+  char* raw = static_cast<char*>(mapped);
+  char* aligned = raw + (HugePage - reinterpret_cast<std::uintptr_t>(raw) % HugePage) % HugePage;
+  if (aligned > raw)
+  {
+    munmap(raw, aligned - raw);
+  }
+  munmap(aligned + bytes, raw + bytes + HugePage - aligned - bytes);
+  madvise(aligned, bytes, MADV_HUGEPAGE); // a hint: failure changes nothing
+  return aligned;
+}
+
+void Unmap(const Block& block)
+{
+  munmap(block.Address, block.Size);
+}
+
+/// Moves the first `bytes` of the cached block `from` (its first piece at
+/// most) to `to`; false if the kernel refused.  The pages keep their
+/// contents: nothing is faulted in or zeroed again.
+bool MoveFront(Block& from, std::size_t bytes, char* to)
+{
+  bytes = std::min(bytes, from.Pieces.front());
+  if (mremap(from.Address, bytes, bytes, MREMAP_MAYMOVE | MREMAP_FIXED, to) == MAP_FAILED)
+  {
+    return false;
+  }
+  from.Address += bytes;
+  from.Size -= bytes;
+  from.Pieces.front() -= bytes;
+  if (from.Pieces.front() == 0)
+  {
+    from.Pieces.erase(from.Pieces.begin());
+  }
+  return true;
+}
+
+/// A new block of `bytes` whose pages are, as far as the cache has them,
+/// pages of cached blocks (oldest first) moved into it: a request of a new
+/// size reuses memory earlier passes faulted in, and the process's memory
+/// grows only by what the cache cannot cover.  Called with the lock held.
+Block AssembleBlock(BlockCache& cache, std::size_t bytes)
+{
+  Block block{ MapFresh(bytes), bytes, {} };
+  std::size_t filled = 0;
+  while (filled < bytes && !cache.Free.empty())
+  {
+    Block& source = cache.Free.front();
+    const std::size_t piece = std::min(bytes - filled, source.Pieces.front());
+    if (!MoveFront(source, piece, block.Address + filled))
+    {
+      break; // the rest is fresh memory
+    }
+    block.Pieces.push_back(piece);
+    filled += piece;
+    cache.FreeBytes -= piece;
+    if (source.Size == 0)
+    {
+      cache.Free.erase(cache.Free.begin());
+    }
+  }
+  if (filled < bytes)
+  {
+    block.Pieces.push_back(bytes - filled);
+  }
+  return block;
+}
+
+#else
+
+char* MapFresh(std::size_t bytes)
+{
+  void* block = std::aligned_alloc(HugePage, bytes);
+  if (!block)
+  {
+    throw std::bad_alloc();
+  }
+  return static_cast<char*>(block);
+}
+
+void Unmap(const Block& block)
+{
+  std::free(block.Address);
+}
+
+/// Without page moves: cached blocks (oldest first) make room for a new one.
+Block AssembleBlock(BlockCache& cache, std::size_t bytes)
+{
+  std::size_t freed = 0;
+  while (freed < bytes && !cache.Free.empty())
+  {
+    freed += cache.Free.front().Size;
+    cache.FreeBytes -= cache.Free.front().Size;
+    Unmap(cache.Free.front());
+    cache.Free.erase(cache.Free.begin());
+  }
+  return Block{ MapFresh(bytes), bytes, { bytes } };
+}
+
+#endif
+
 } // namespace
 
 void* AllocateLargeBlock(std::size_t bytes)
 {
   const std::size_t rounded = (std::max<std::size_t>(bytes, 1) + HugePage - 1) / HugePage * HugePage;
   BlockCache& cache = Cache();
-  std::vector<void*> release;
-  {
-    std::lock_guard<std::mutex> lock(cache.Mutex);
-    for (auto it = cache.Free.rbegin(); it != cache.Free.rend(); ++it)
-    {
-      if (it->second == rounded)
-      {
-        void* block = it->first;
-        cache.FreeBytes -= rounded;
-        cache.Free.erase(std::next(it).base());
-        return block;
-      }
-    }
-    // No block of its size: the smallest of those up to twice its size, so
-    // that the temporaries of one pass reuse the memory the pass before
-    // faulted in (the line drawing's first run faulted in 90 MB less).
-    auto best = cache.Free.end();
-    for (auto it = cache.Free.begin(); it != cache.Free.end(); ++it)
-    {
-      if (it->second > rounded && it->second <= 2 * rounded && (best == cache.Free.end() || it->second < best->second))
-      {
-        best = it;
-      }
-    }
-    if (best != cache.Free.end())
-    {
-      void* block = best->first;
-      cache.FreeBytes -= best->second;
-      cache.Free.erase(best);
-      return block;
-    }
-    // A miss: cached blocks (oldest first) make room for the new one.
-    std::size_t freed = 0, evict = 0;
-    for (; evict < cache.Free.size() && freed < rounded; ++evict)
-    {
-      freed += cache.Free[evict].second;
-      cache.Sizes.erase(cache.Free[evict].first);
-      release.push_back(cache.Free[evict].first);
-    }
-    cache.FreeBytes -= freed;
-    cache.Free.erase(cache.Free.begin(), cache.Free.begin() + evict);
-  }
-  for (void* b : release)
-  {
-    std::free(b);
-  }
-  void* block = std::aligned_alloc(HugePage, rounded);
-  if (!block)
-  {
-    throw std::bad_alloc();
-  }
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  madvise(block, rounded, MADV_HUGEPAGE); // a hint: failure changes nothing
-#endif
   std::lock_guard<std::mutex> lock(cache.Mutex);
-  cache.Sizes[block] = rounded;
-  return block;
+  Block block;
+  const auto same = std::find_if(
+    cache.Free.rbegin(), cache.Free.rend(), [rounded](const Block& b) { return b.Size == rounded; });
+  if (same != cache.Free.rend())
+  {
+    block = std::move(*same);
+    cache.Free.erase(std::next(same).base());
+    cache.FreeBytes -= rounded;
+  }
+  else
+  {
+    block = AssembleBlock(cache, rounded);
+  }
+  void* address = block.Address;
+  cache.Used.emplace(address, std::move(block));
+  return address;
 }
 
 void ReleaseLargeBlockCache()
 {
   BlockCache& cache = Cache();
-  std::vector<std::pair<void*, std::size_t>> release;
+  std::lock_guard<std::mutex> lock(cache.Mutex);
+  for (const Block& block : cache.Free)
   {
-    std::lock_guard<std::mutex> lock(cache.Mutex);
-    release.swap(cache.Free);
-    for (const auto& block : release)
-    {
-      cache.Sizes.erase(block.first);
-    }
-    cache.FreeBytes = 0;
+    Unmap(block);
   }
-  for (const auto& block : release)
-  {
-    std::free(block.first);
-  }
+  cache.Free.clear();
+  cache.FreeBytes = 0;
 }
 
 std::size_t LargeBlockSize(const void* block)
 {
   BlockCache& cache = Cache();
   std::lock_guard<std::mutex> lock(cache.Mutex);
-  const auto known = cache.Sizes.find(const_cast<void*>(block));
-  return known == cache.Sizes.end() ? 0 : known->second;
+  const auto known = cache.Used.find(const_cast<void*>(block));
+  return known == cache.Used.end() ? 0 : known->second.Size;
 }
 
-void FreeLargeBlock(void* block)
+void FreeLargeBlock(void* address)
 {
-  if (!block)
+  if (!address)
   {
     return;
   }
   BlockCache& cache = Cache();
-  std::vector<void*> release;
+  std::lock_guard<std::mutex> lock(cache.Mutex);
+  const auto known = cache.Used.find(address);
+  if (known == cache.Used.end())
   {
-    std::lock_guard<std::mutex> lock(cache.Mutex);
-    const auto known = cache.Sizes.find(block);
-    if (known == cache.Sizes.end())
-    {
-      release.push_back(block); // not ours (SuiteSparse's hooks pass small malloc blocks here)
-    }
-    else if (known->second > cache.Limit)
-    {
-      cache.Sizes.erase(known);
-      release.push_back(block);
-    }
-    else
-    {
-      cache.Free.emplace_back(block, known->second);
-      cache.FreeBytes += known->second;
-      std::size_t evict = 0;
-      while (cache.FreeBytes > cache.Limit)
-      {
-        cache.FreeBytes -= cache.Free[evict].second;
-        cache.Sizes.erase(cache.Free[evict].first);
-        release.push_back(cache.Free[evict].first);
-        ++evict;
-      }
-      cache.Free.erase(cache.Free.begin(), cache.Free.begin() + evict);
-    }
+    std::free(address); // not ours (SuiteSparse's hooks pass small malloc blocks here)
+    return;
   }
-  for (void* b : release)
+  Block block = std::move(known->second);
+  cache.Used.erase(known);
+  if (block.Size > cache.Limit)
   {
-    std::free(b);
+    Unmap(block);
+    return;
+  }
+  cache.FreeBytes += block.Size;
+  cache.Free.push_back(std::move(block));
+  while (cache.FreeBytes > cache.Limit)
+  {
+    cache.FreeBytes -= cache.Free.front().Size;
+    Unmap(cache.Free.front());
+    cache.Free.erase(cache.Free.begin());
   }
 }
 

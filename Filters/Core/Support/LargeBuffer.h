@@ -10,16 +10,19 @@
 // Freed large blocks are kept in a bounded process-wide cache (default: the
 // smaller of 1 GiB and 1/16 of the physical memory; environment variable
 // BELTRAMI_LARGE_BUFFER_CACHE_MB, 0 disables it) and handed out again for an
-// allocation of the same rounded size (or, when there is none, of up to
-// twice its size, the smallest such block): a filter that runs again (a changed
+// allocation of the same rounded size: a filter that runs again (a changed
 // parameter in ParaView, the next time step, the next solver call) finds
 // its buffers already faulted in.  On this project's virtual machines first
-// touching fresh memory costs about 1 ms per MiB, more than computing the
-// curvatures of the 1.2M-triangle benchmark mesh into it.  An allocation
-// that finds no block of its size first returns cached blocks (oldest
-// first) of at least its size to the system: the cache gives way to new
-// blocks instead of adding to them (on the 19M-triangle fairing step it had
-// held up to its whole size at the peak).
+// touching fresh memory costs about 1-2 ms per MiB, more than computing the
+// curvatures of the 1.2M-triangle benchmark mesh into it.  On Linux an
+// allocation of a size the cache does not hold is made of cached blocks'
+// pages (oldest first), moved into it by the kernel (mremap: page tables
+// only, the pages are neither zeroed nor copied), and of fresh pages only
+// for what the cache cannot cover.  So the cache gives way to new blocks
+// instead of adding to them (on the 19M-triangle fairing step it had held
+// up to its whole size at the peak), and passes that allocate other sizes
+// in turn (the line drawing's re-runs) fault nothing in.  Elsewhere a new
+// size returns cached blocks (oldest first) to the system to make room.
 #pragma once
 
 #include <cstddef>

@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <thread>
 #include <vector>
 
@@ -28,25 +30,45 @@ TEST(LargeBuffer, BlocksAreAlignedAndReused)
   FreeLargeBlock(nullptr); // allowed, like free(nullptr)
 }
 
-TEST(LargeBuffer, ASmallerRequestTakesTheSmallestBlockUpToTwiceItsSize)
+/// Whether every byte of [block + from, block + to) is `value`.
+bool Holds(void* block, std::size_t from, std::size_t to, char value)
 {
+  const char* bytes = static_cast<const char*>(block);
+  return std::all_of(bytes + from, bytes + to, [value](char b) { return b == value; });
+}
+
+TEST(LargeBuffer, ARequestOfANewSizeTakesTheCachedPagesWithTheirContents)
+{
+#if !defined(__linux__)
+  GTEST_SKIP() << "pages are moved between blocks on Linux only";
+#endif
+  // A block of a size the cache does not hold is made of cached blocks'
+  // pages (oldest first), moved with what they hold (so not faulted in and
+  // zeroed again); only what the cache cannot cover is fresh (zero).
   constexpr std::size_t MiB = std::size_t(1) << 20;
   ReleaseLargeBlockCache(); // (the blocks earlier tests left)
+  void* four = AllocateLargeBlock(4 * MiB);
   void* six = AllocateLargeBlock(6 * MiB);
-  void* ten = AllocateLargeBlock(10 * MiB);
-  void* twenty = AllocateLargeBlock(20 * MiB);
-  FreeLargeBlock(twenty);
-  FreeLargeBlock(ten);
+  std::memset(four, 1, 4 * MiB);
+  std::memset(six, 2, 6 * MiB);
+  FreeLargeBlock(four);
   FreeLargeBlock(six);
-  void* five = AllocateLargeBlock(5 * MiB); // rounded to 6: the same size first
-  EXPECT_EQ(five, six);
-  void* four = AllocateLargeBlock(4 * MiB + 1); // 6 MiB: none left; 10 and 20 MiB: the smaller
-  EXPECT_EQ(four, ten);
-  EXPECT_EQ(LargeBlockSize(four), 10 * MiB);
-  static_cast<char*>(four)[10 * MiB - 1] = 1;
-  void* two = AllocateLargeBlock(2 * MiB); // 20 MiB is more than twice: a block of 2 MiB
-  EXPECT_EQ(LargeBlockSize(two), 2 * MiB);
-  for (void* block : { five, four, two })
+  void* eight = AllocateLargeBlock(8 * MiB); // all of 4, then 4 of the 6
+  ASSERT_EQ(LargeBlockSize(eight), 8 * MiB);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(eight) % (2 * MiB), 0u);
+  EXPECT_TRUE(Holds(eight, 0, 4 * MiB, 1));
+  EXPECT_TRUE(Holds(eight, 4 * MiB, 8 * MiB, 2));
+  void* rest = AllocateLargeBlock(2 * MiB); // what is left of the 6: its size exactly
+  EXPECT_EQ(rest, static_cast<char*>(six) + 4 * MiB);
+  EXPECT_TRUE(Holds(rest, 0, 2 * MiB, 2));
+  // A block made of pieces is moved piece by piece; beyond the cache, fresh pages.
+  std::memset(eight, 3, 8 * MiB);
+  FreeLargeBlock(eight);
+  void* twelve = AllocateLargeBlock(12 * MiB);
+  EXPECT_TRUE(Holds(twelve, 0, 8 * MiB, 3));
+  EXPECT_TRUE(Holds(twelve, 8 * MiB, 12 * MiB, 0));
+  static_cast<char*>(twelve)[12 * MiB - 1] = 1; // the whole block is usable
+  for (void* block : { rest, twelve })
   {
     FreeLargeBlock(block);
   }
