@@ -37,10 +37,11 @@
  * (Python/beltrami_paraview.py) keeps them equal to a view's camera, in the
  * GUI's Python shell and in pvpython.
  *
- * The view-independent part (curvatures, their derivatives, ridge, valley
- * and feature-edge candidates) is kept while the input does not change: a
- * new camera or threshold re-runs only the per-view pass
- * (GetGeometryBuilds() counts the other).  With DropBackFacing (default)
+ * The view-independent part (curvatures, their derivatives, feature-edge
+ * candidates; the ridge and valley candidates when ridges or valleys are
+ * first drawn) is kept while the input does not change: a new camera or
+ * threshold re-runs only the per-view pass (GetGeometryBuilds() counts the
+ * other).  With DropBackFacing (default)
  * the pieces of suggestive contours, highlights, ridges and valleys where
  * n.v < 0 are dropped (hidden lines are the renderer's depth test).
  *

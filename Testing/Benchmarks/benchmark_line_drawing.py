@@ -1,9 +1,11 @@
 """Line drawings (vtkSurfaceLineDrawing, issue 27) on the 1.2M-triangle
 Loop-subdivided bunny (on demand, not a test): the view-independent pass
-(curvatures, their derivatives, ridge and feature-edge candidates) against
-our curvature filter alone (vtkDiscreteCurvatures, the part every drawing
-needs), and one per-view pass (a new camera: contours, suggestive
-contours, ridges, chaining), on 1 and 2 threads, best of three.
+(curvatures, their derivatives, feature edges; with ridges on, the ridge
+and valley candidates too) against our curvature filter alone
+(vtkDiscreteCurvatures, the part every drawing needs), and one per-view
+pass (a new camera: contours, suggestive contours, boundaries, creases, and
+ridges when on, chaining), at the filter's defaults and with ridges, on 1
+and 2 threads, best of three.
 
     source build/beltrami-env.sh
     /usr/bin/python3 Testing/Benchmarks/benchmark_line_drawing.py [levels]
@@ -16,6 +18,28 @@ import beltrami
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from benchmark_parameterization import mesh  # noqa: E402  (bundled meshes, Loop-subdivided)
 from timing import timed  # noqa: E402
+
+
+def drawing_passes(data, threads, ridges, cameras):
+    """(view-independent pass, per-view pass, the drawing) of vtkSurfaceLineDrawing
+    at its defaults, ridges added when `ridges`."""
+    drawing = beltrami.vtkSurfaceLineDrawing()
+    drawing.SetInputData(data)
+    drawing.SetRidges(ridges)
+    drawing.SetNumberOfThreads(threads)
+
+    def whole_run():
+        data.Modified()  # a new input: both passes
+        drawing.Update()
+    _, whole = timed(whole_run)
+    state = {"camera": 0}
+
+    def view_run():
+        state["camera"] += 1
+        drawing.SetCameraPosition(cameras[state["camera"] % len(cameras)])
+        drawing.Update()
+    _, per_view = timed(view_run, repeats=len(cameras))
+    return whole - per_view, per_view, drawing
 
 
 def main(argv):
@@ -33,28 +57,14 @@ def main(argv):
             curvatures.Modified()
             curvatures.Update()
         _, curvature_time = timed(curvature_run)
-
-        drawing = beltrami.vtkSurfaceLineDrawing()
-        drawing.SetInputData(data)
-        drawing.SetRidges(True)
-        drawing.SetNumberOfThreads(threads)
-
-        def whole_run():
-            data.Modified()  # a new input: both passes
-            drawing.Update()
-        _, whole = timed(whole_run)
-        state = {"camera": 0}
-
-        def view_run():
-            state["camera"] += 1
-            drawing.SetCameraPosition(cameras[state["camera"] % len(cameras)])
-            drawing.Update()
-        _, per_view = timed(view_run, repeats=len(cameras))
-        lines = drawing.GetOutput()
-        print("%d thread(s): curvature filter %.3f s; line drawing: view-independent pass %.3f s (%.2fx the "
-              "curvature filter), per-view pass %.1f ms (%d polylines, %d points); view-independent builds %d"
-              % (threads, curvature_time, whole - per_view, (whole - per_view) / curvature_time, 1000 * per_view,
-                 lines.GetNumberOfCells(), lines.GetNumberOfPoints(), drawing.GetGeometryBuilds()))
+        print("%d thread(s): curvature filter %.3f s" % (threads, curvature_time))
+        for ridges, what in ((False, "defaults"), (True, "with ridges")):
+            independent, per_view, drawing = drawing_passes(data, threads, ridges, cameras)
+            lines = drawing.GetOutput()
+            print("  line drawing, %s: view-independent pass %.3f s (%.2fx the curvature filter), per-view pass "
+                  "%.1f ms (%d polylines, %d points); view-independent builds %d"
+                  % (what, independent, independent / curvature_time, 1000 * per_view,
+                     lines.GetNumberOfCells(), lines.GetNumberOfPoints(), drawing.GetGeometryBuilds()))
     return 0
 
 

@@ -829,6 +829,25 @@ class LineDrawingFromPython(unittest.TestCase):
         self.assertEqual(joined[0], before[0])
         self.assertTrue(joined[1] > after[1] and joined[2] > after[2], (after, joined))
         self.assertEqual(f.GetGeometryBuilds(), 1)
+        # Valleys drawn for the first time: their candidates are found then
+        # (a drawing without them does not pay for them), still without a
+        # new geometry, and the lines are a fresh filter's.
+        f.SetValleys(True)
+        f.Update()
+        self.assertEqual(f.GetGeometryBuilds(), 1)
+        fresh = self.drawing(reader)
+        fresh.SetRidges(True)
+        fresh.SetValleys(True)
+        fresh.SetParallelProjection(True)
+        fresh.SetViewDirection(0, 0, -1)
+        fresh.SetMinimumLineLength(2.0)
+        fresh.SetHysteresisRatio(0.5)
+        fresh.Update()
+        valleys = [vtk_to_numpy(d.GetOutput().GetCellData().GetArray("LineType")) == 4 for d in (f, fresh)]
+        self.assertGreater(int(np.sum(valleys[0])), 0)
+        self.assertEqual(int(np.sum(valleys[0])), int(np.sum(valleys[1])))
+        np.testing.assert_array_equal(vtk_to_numpy(f.GetOutput().GetPoints().GetData()),
+                                      vtk_to_numpy(fresh.GetOutput().GetPoints().GetData()))
 
     def test_sphere_contour_is_one_closed_polyline(self):
         f = self.drawing(self.sphere())

@@ -251,7 +251,10 @@ void LineDrawingGeometry::Build(
   }
   const Vec3 extent(box[3] + box[0], box[4] + box[1], box[5] + box[2]);
   DefaultFeatureSize = extent.allFinite() ? 0.01 * extent.norm() : 0.0;
-  FindRidges(numThreads);
+  Threads = numThreads;
+  RidgesFound = false; // (found when first drawn: RidgeCandidates)
+  Ridges[0] = SegmentList();
+  Ridges[1] = SegmentList();
   FindFeatureEdges(topology, numThreads);
 }
 
@@ -280,8 +283,19 @@ void LineDrawingGeometry::ShareCurvatures(const MeshTopology& topology)
   UndefinedVertices = static_cast<Index>(Split ? Split->Sum(undefined) : undefined);
 }
 
-void LineDrawingGeometry::FindRidges(int numThreads)
+const SegmentList& LineDrawingGeometry::RidgeCandidates(bool valleys) const
 {
+  if (!RidgesFound)
+  {
+    FindRidges();
+    RidgesFound = true;
+  }
+  return Ridges[valleys ? 1 : 0];
+}
+
+void LineDrawingGeometry::FindRidges() const
+{
+  const int numThreads = Threads;
   // A valley is a ridge of -kappa_2 along e2: D_e2(-kappa_2) = -C(e2,e2,e2).
   // What the faces read of a vertex, side by side in single precision (from
   // three arrays read at random, the cache misses were most of the faces'
@@ -338,8 +352,8 @@ void LineDrawingGeometry::FindRidges(int numThreads)
     }
   },
     { FacesPerBlock / 4, FacesPerBlock / 4, 0 }); // (about a sixth of the faces on a scan)
-  RidgeCandidates = std::move(lists[0]);
-  ValleyCandidates = std::move(lists[1]);
+  Ridges[0] = std::move(lists[0]);
+  Ridges[1] = std::move(lists[1]);
 }
 
 float LineDrawingGeometry::CreaseCosine(double angle)
@@ -658,7 +672,7 @@ const SegmentList& LineDrawingGeometry::ThresholdedRidges(bool valleys, double s
   }
   cache.Kept.clear();
   const float creaseCosine = CreaseCosine(options.CreaseAngle);
-  for (LineSegment s : valleys ? ValleyCandidates : RidgeCandidates)
+  for (LineSegment s : RidgeCandidates(valleys))
   {
     if (options.AvoidCreases && AtCrease(s.Face, creaseCosine))
     {

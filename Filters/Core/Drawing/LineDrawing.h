@@ -6,8 +6,8 @@
 // Two passes:
 //  - LineDrawingGeometry::Build, view independent and kept between views:
 //    the curvature tensors of chapter 2 (ComputeCurvatures), their
-//    derivatives (ComputeCurvatureDerivatives), the ridge and valley
-//    candidates, the boundary and crease edges;
+//    derivatives (ComputeCurvatureDerivatives), the boundary and crease
+//    edges; the ridge and valley candidates when first asked for;
 //  - DrawLines, per view: n.v, the radial curvature kappa_r and its
 //    derivative D_r kappa_r at the vertices, their zero sets on the faces
 //    (interpolated inside the triangles, not along mesh edges), the tests
@@ -148,9 +148,9 @@ public:
   std::int64_t KeyId(Index v) const { return Split ? GlobalIds[v] : v; }
   /// How many ids KeyId gives (the points of the whole surface).
   std::int64_t NumberOfKeyIds() const { return Split ? KeyIds : NumberOfVertices(); }
-  /// Candidates, before thresholds and the view: ridges and valleys (with
-  /// the maximum / minimum test passed), boundary edges.
-  SegmentList RidgeCandidates, ValleyCandidates, BoundaryEdges;
+  /// Candidates, before thresholds and the view: boundary edges (ridges and
+  /// valleys: RidgeCandidates).
+  SegmentList BoundaryEdges;
   /// The edges of two triangles, with the cosine of the angle between their
   /// normals (cosines, not angles: the view compares them with the crease
   /// angle's, and an arc cosine per edge was a fifth of finding them).
@@ -186,6 +186,11 @@ public:
   /// view-independent part of their tests, kept for the next views while
   /// those settings stay (not for concurrent calls on one geometry).
   const SegmentList& ThresholdedRidges(bool valleys, double size, const LineDrawingOptions& options) const;
+  /// The ridge (valleys: valley) candidates, with the maximum (minimum)
+  /// test passed, before thresholds: found on the first call after Build
+  /// (drawings without ridges and valleys, the default, do not pay for
+  /// them), then kept (not for concurrent calls on one geometry).
+  const SegmentList& RidgeCandidates(bool valleys) const;
 
 private:
   double DefaultFeatureSize = 0.0;
@@ -194,7 +199,10 @@ private:
   /// Split runs: ghost rows of the curvatures (and their count of undefined
   /// vertices) made the owners'.
   void ShareCurvatures(const MeshTopology& topology);
-  void FindRidges(int numThreads);
+  void FindRidges() const;
+  int Threads = 0;                           // Build's thread count, for FindRidges
+  mutable bool RidgesFound = false;          // FindRidges ran since Build
+  mutable SegmentList Ridges[2];             // ridges, valleys (RidgeCandidates)
   void FindFeatureEdges(const MeshTopology& topology, int numThreads);
   /// The unit normal of each face, 3 per face (single precision: the creases'
   /// cosines are).
