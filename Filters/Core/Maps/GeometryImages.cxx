@@ -21,23 +21,42 @@ inline double Cross2(const double* a, const double* b, const double* c)
   return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
 }
 
-/// Barycentric coordinates of p in the chart triangle t; true when p is
-/// inside or on its boundary (a relative tolerance of 1e-12 for round-off).
-bool Barycentric(const AtlasChart& chart, Index t, const double* p, double* w)
+/// The raster pixel (column or row) of coordinate u at resolution n: -1
+/// below the first pixel's centre, clamped to n - 1 above.
+inline int RasterPixel(double u, int n)
 {
-  const double* a = &chart.UV[2 * chart.Corners[3 * t]];
-  const double* b = &chart.UV[2 * chart.Corners[3 * t + 1]];
-  const double* c = &chart.UV[2 * chart.Corners[3 * t + 2]];
-  const double area = Cross2(a, b, c);
-  if (!(area > 0.0))
-  {
-    return false;
-  }
+  return std::clamp(static_cast<int>(std::floor(u * n - 0.5)), -1, n - 1);
+}
+
+/// Barycentric coordinates of p in the triangle (a, b, c) of twice the
+/// signed area `area` (positive); true when p is inside or on its boundary
+/// (a relative tolerance of 1e-12 for round-off).
+inline bool BarycentricIn(const double* a, const double* b, const double* c, double area, const double* p, double* w)
+{
   w[0] = Cross2(p, b, c) / area;
   w[1] = Cross2(a, p, c) / area;
   w[2] = 1.0 - w[0] - w[1];
   const double eps = -1e-12;
   return w[0] >= eps && w[1] >= eps && w[2] >= eps;
+}
+
+/// The corners' UVs of chart triangle t.
+inline void TriangleUV(const AtlasChart& chart, Index t, const double* (&uv)[3])
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    uv[k] = &chart.UV[2 * chart.Corners[3 * static_cast<std::size_t>(t) + k]];
+  }
+}
+
+/// Barycentric coordinates of p in the chart triangle t (BarycentricIn);
+/// false for a triangle without positive area.
+bool Barycentric(const AtlasChart& chart, Index t, const double* p, double* w)
+{
+  const double* uv[3];
+  TriangleUV(chart, t, uv);
+  const double area = Cross2(uv[0], uv[1], uv[2]);
+  return area > 0.0 && BarycentricIn(uv[0], uv[1], uv[2], area, p, w);
 }
 
 } // namespace
@@ -200,6 +219,103 @@ ChartRaster RasterizeChart(const AtlasChart& chart, int resolution, int numThrea
   return raster;
 }
 
+namespace
+{
+
+/// The triangles that reach each raster row (CSR, in triangle order, so
+/// that a pixel on a shared edge goes to the first triangle whatever the
+/// thread count): rows [first, last] of its v range, one more for round-off.
+void RowsOfTriangles(const AtlasChart& chart, int n, std::vector<std::int64_t>& offsets, std::vector<Index>& items)
+{
+  const Index triangles = static_cast<Index>(chart.Corners.size() / 3);
+  std::vector<int> span(2 * static_cast<std::size_t>(triangles));
+  offsets.assign(static_cast<std::size_t>(n) + 2, 0);
+  for (Index t = 0; t < triangles; ++t)
+  {
+    const double* uv[3];
+    TriangleUV(chart, t, uv);
+    const double lo = std::min({ uv[0][1], uv[1][1], uv[2][1] }), hi = std::max({ uv[0][1], uv[1][1], uv[2][1] });
+    int* rows = &span[2 * static_cast<std::size_t>(t)];
+    rows[0] = std::max(0, RasterPixel(lo, n));
+    rows[1] = std::min(n - 1, RasterPixel(hi, n) + 1);
+    for (int j = rows[0]; j <= rows[1]; ++j)
+    {
+      ++offsets[j + 2];
+    }
+  }
+  for (std::size_t j = 2; j < offsets.size(); ++j)
+  {
+    offsets[j] += offsets[j - 1];
+  }
+  items.resize(offsets.back());
+  for (Index t = 0; t < triangles; ++t) // (offsets[j + 1]: where row j's next item goes)
+  {
+    for (int j = span[2 * static_cast<std::size_t>(t)]; j <= span[2 * static_cast<std::size_t>(t) + 1]; ++j)
+    {
+      items[offsets[j + 1]++] = t;
+    }
+  }
+  offsets.pop_back(); // row j: [offsets[j], offsets[j + 1])
+}
+
+/// Raster row j (centre line v = (j + 0.5) / n): each of its triangles'
+/// pixels not taken by an earlier triangle whose centres lie inside it.
+void RasterizeRow(const AtlasChart& chart, int n, std::int64_t j, const Index* begin, const Index* end,
+  ChartRaster& raster)
+{
+  const double y = (static_cast<double>(j) + 0.5) / n;
+  for (const Index* item = begin; item != end; ++item)
+  {
+    const double* uv[3];
+    TriangleUV(chart, *item, uv);
+    const double area = Cross2(uv[0], uv[1], uv[2]);
+    if (!(area > 0.0))
+    {
+      continue; // (no pixel is inside it)
+    }
+    // The triangle's span on the row's centre line (the pixels a scanline
+    // meets; one more on each side for round-off: the barycentric test
+    // decides).
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double* p = uv[k];
+      const double* q = uv[(k + 1) % 3];
+      if ((p[1] - y) * (q[1] - y) <= 0.0)
+      {
+        const double u = p[1] == q[1] ? p[0] : p[0] + (y - p[1]) * (q[0] - p[0]) / (q[1] - p[1]);
+        lo = std::min({ lo, u, p[1] == q[1] ? q[0] : u });
+        hi = std::max({ hi, u, p[1] == q[1] ? q[0] : u });
+      }
+    }
+    if (!(lo <= hi))
+    {
+      continue; // the row's centre line misses the triangle
+    }
+    // Pixels clearly outside (by more than the test's tolerance and its
+    // round-off) are skipped without the test's divisions: most pixels
+    // tried are outside, and the divisions were most of the time.
+    const double outside = -2e-12 * area;
+    for (int i = std::max(0, RasterPixel(lo, n) - 1); i <= std::min(n - 1, RasterPixel(hi, n) + 2); ++i)
+    {
+      const std::size_t p = static_cast<std::size_t>(j) * n + i;
+      const double centre[2] = { (i + 0.5) / n, y };
+      if (raster.Face[p] >= 0 || Cross2(centre, uv[1], uv[2]) < outside || Cross2(uv[0], centre, uv[2]) < outside)
+      {
+        continue;
+      }
+      double w[3];
+      if (BarycentricIn(uv[0], uv[1], uv[2], area, centre, w))
+      {
+        raster.Face[p] = *item;
+        std::copy(w, w + 3, &raster.Barycentric[3 * p]);
+      }
+    }
+  }
+}
+
+} // namespace
+
 void RasterizeChart(const AtlasChart& chart, int resolution, ChartRaster& raster, int numThreads)
 {
   const int n = std::max(1, resolution);
@@ -207,63 +323,14 @@ void RasterizeChart(const AtlasChart& chart, int resolution, ChartRaster& raster
   const std::size_t pixels = static_cast<std::size_t>(n) * n;
   raster.Face.assign(pixels, -1);
   raster.Barycentric.assign(3 * pixels, 0.0);
-  // The triangles that reach each row, in triangle order (so that a pixel on
-  // a shared edge goes to the first triangle whatever the thread count).
-  const Index triangles = static_cast<Index>(chart.Corners.size() / 3);
-  std::vector<std::vector<Index>> rows(n);
-  const auto pixelOf = [n](double u) { return std::clamp(static_cast<int>(std::floor(u * n - 0.5)), -1, n - 1); };
-  for (Index t = 0; t < triangles; ++t)
-  {
-    double lo = HUGE_VAL, hi = -HUGE_VAL;
-    for (int k = 0; k < 3; ++k)
-    {
-      const double v = chart.UV[2 * chart.Corners[3 * t + k] + 1];
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
-    }
-    for (int j = std::max(0, pixelOf(lo)); j <= std::min(n - 1, pixelOf(hi) + 1); ++j)
-    {
-      rows[j].push_back(t);
-    }
-  }
+  std::vector<std::int64_t> offsets;
+  std::vector<Index> items;
+  RowsOfTriangles(chart, n, offsets, items);
   ParallelFor(n, numThreads,
     [&](std::int64_t begin, std::int64_t end) {
       for (std::int64_t j = begin; j < end; ++j)
       {
-        const double y = (static_cast<double>(j) + 0.5) / n;
-        for (Index t : rows[j])
-        {
-          // The triangle's span on the row's centre line (the pixels a
-          // scanline meets; one more on each side for round-off: the
-          // barycentric test decides).
-          double lo = HUGE_VAL, hi = -HUGE_VAL;
-          for (int k = 0; k < 3; ++k)
-          {
-            const double* p = &chart.UV[2 * chart.Corners[3 * t + k]];
-            const double* q = &chart.UV[2 * chart.Corners[3 * t + (k + 1) % 3]];
-            if ((p[1] - y) * (q[1] - y) <= 0.0)
-            {
-              const double u = p[1] == q[1] ? p[0] : p[0] + (y - p[1]) * (q[0] - p[0]) / (q[1] - p[1]);
-              lo = std::min({ lo, u, p[1] == q[1] ? q[0] : u });
-              hi = std::max({ hi, u, p[1] == q[1] ? q[0] : u });
-            }
-          }
-          if (!(lo <= hi))
-          {
-            continue; // the row's centre line misses the triangle
-          }
-          for (int i = std::max(0, pixelOf(lo) - 1); i <= std::min(n - 1, pixelOf(hi) + 2); ++i)
-          {
-            const std::size_t p = static_cast<std::size_t>(j) * n + i;
-            const double centre[2] = { (i + 0.5) / n, y };
-            double w[3];
-            if (raster.Face[p] < 0 && Barycentric(chart, t, centre, w))
-            {
-              raster.Face[p] = t;
-              std::copy(w, w + 3, &raster.Barycentric[3 * p]);
-            }
-          }
-        }
+        RasterizeRow(chart, n, j, items.data() + offsets[j], items.data() + offsets[j + 1], raster);
       }
     },
     {}, 0, 1);
