@@ -28,13 +28,14 @@ inline int RasterPixel(double u, int n)
   return std::clamp(static_cast<int>(std::floor(u * n - 0.5)), -1, n - 1);
 }
 
-/// Barycentric coordinates of p in the triangle (a, b, c) of twice the
-/// signed area `area` (positive); true when p is inside or on its boundary
-/// (a relative tolerance of 1e-12 for round-off).
-inline bool BarycentricIn(const double* a, const double* b, const double* c, double area, const double* p, double* w)
+/// Barycentric coordinates of a point p in a triangle (a, b, c) of twice
+/// the signed area `area` (positive), from Cross2(p, b, c) and
+/// Cross2(a, p, c); true when p is inside or on its boundary (a relative
+/// tolerance of 1e-12 for round-off).
+inline bool BarycentricFromCrosses(double pbc, double apc, double area, double* w)
 {
-  w[0] = Cross2(p, b, c) / area;
-  w[1] = Cross2(a, p, c) / area;
+  w[0] = pbc / area;
+  w[1] = apc / area;
   w[2] = 1.0 - w[0] - w[1];
   const double eps = -1e-12;
   return w[0] >= eps && w[1] >= eps && w[2] >= eps;
@@ -49,14 +50,14 @@ inline void TriangleUV(const AtlasChart& chart, Index t, const double* (&uv)[3])
   }
 }
 
-/// Barycentric coordinates of p in the chart triangle t (BarycentricIn);
-/// false for a triangle without positive area.
+/// Barycentric coordinates of p in the chart triangle t
+/// (BarycentricFromCrosses); false for a triangle without positive area.
 bool Barycentric(const AtlasChart& chart, Index t, const double* p, double* w)
 {
   const double* uv[3];
   TriangleUV(chart, t, uv);
   const double area = Cross2(uv[0], uv[1], uv[2]);
-  return area > 0.0 && BarycentricIn(uv[0], uv[1], uv[2], area, p, w);
+  return area > 0.0 && BarycentricFromCrosses(Cross2(p, uv[1], uv[2]), Cross2(uv[0], p, uv[2]), area, w);
 }
 
 } // namespace
@@ -300,12 +301,13 @@ void RasterizeRow(const AtlasChart& chart, int n, std::int64_t j, const Index* b
     {
       const std::size_t p = static_cast<std::size_t>(j) * n + i;
       const double centre[2] = { (i + 0.5) / n, y };
-      if (raster.Face[p] >= 0 || Cross2(centre, uv[1], uv[2]) < outside || Cross2(uv[0], centre, uv[2]) < outside)
+      if (raster.Face[p] >= 0)
       {
         continue;
       }
+      const double pbc = Cross2(centre, uv[1], uv[2]), apc = Cross2(uv[0], centre, uv[2]);
       double w[3];
-      if (BarycentricIn(uv[0], uv[1], uv[2], area, centre, w))
+      if (pbc >= outside && apc >= outside && BarycentricFromCrosses(pbc, apc, area, w))
       {
         raster.Face[p] = *item;
         std::copy(w, w + 3, &raster.Barycentric[3 * p]);

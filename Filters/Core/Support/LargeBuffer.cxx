@@ -65,6 +65,19 @@ BlockCache& Cache()
   return *cache;
 }
 
+/// Returns a block to the system (munmap, or free without page moves).
+void Unmap(const Block& block);
+
+/// Returns the oldest cached block to the system; its size.
+std::size_t DropOldest(BlockCache& cache)
+{
+  const std::size_t size = cache.Free.front().Size;
+  cache.FreeBytes -= size;
+  Unmap(cache.Free.front());
+  cache.Free.erase(cache.Free.begin());
+  return size;
+}
+
 #if defined(__linux__)
 
 /// A fresh 2 MiB-aligned anonymous mapping of `bytes`, marked for huge pages.
@@ -91,12 +104,11 @@ void Unmap(const Block& block)
   munmap(block.Address, block.Size);
 }
 
-/// Moves the first `bytes` of the cached block `from` (its first piece at
-/// most) to `to`; false if the kernel refused.  The pages keep their
+/// Moves the first `bytes` (at most its first piece) of the cached block
+/// `from` to `to`; false if the kernel refused.  The pages keep their
 /// contents: nothing is faulted in or zeroed again.
 bool MoveFront(Block& from, std::size_t bytes, char* to)
 {
-  bytes = std::min(bytes, from.Pieces.front());
   if (mremap(from.Address, bytes, bytes, MREMAP_MAYMOVE | MREMAP_FIXED, to) == MAP_FAILED)
   {
     return false;
@@ -165,10 +177,7 @@ Block AssembleBlock(BlockCache& cache, std::size_t bytes)
   std::size_t freed = 0;
   while (freed < bytes && !cache.Free.empty())
   {
-    freed += cache.Free.front().Size;
-    cache.FreeBytes -= cache.Free.front().Size;
-    Unmap(cache.Free.front());
-    cache.Free.erase(cache.Free.begin());
+    freed += DropOldest(cache);
   }
   return Block{ MapFresh(bytes), bytes, { bytes } };
 }
@@ -204,12 +213,10 @@ void ReleaseLargeBlockCache()
 {
   BlockCache& cache = Cache();
   std::lock_guard<std::mutex> lock(cache.Mutex);
-  for (const Block& block : cache.Free)
+  while (!cache.Free.empty())
   {
-    Unmap(block);
+    DropOldest(cache);
   }
-  cache.Free.clear();
-  cache.FreeBytes = 0;
 }
 
 std::size_t LargeBlockSize(const void* block)
@@ -245,9 +252,7 @@ void FreeLargeBlock(void* address)
   cache.Free.push_back(std::move(block));
   while (cache.FreeBytes > cache.Limit)
   {
-    cache.FreeBytes -= cache.Free.front().Size;
-    Unmap(cache.Free.front());
-    cache.Free.erase(cache.Free.begin());
+    DropOldest(cache);
   }
 }
 
