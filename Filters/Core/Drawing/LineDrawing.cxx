@@ -3,6 +3,7 @@
 #include "Drawing/LineChaining.h"
 #include "Mesh/CurvatureDerivatives.h"
 #include "Mesh/Curvatures.h"
+#include "Mesh/RingGeometry.h"
 #include "Solvers/Partition.h"
 #include "Support/Vectorization.h"
 
@@ -184,7 +185,7 @@ void LineDrawingGeometry::Build(
   const MeshTopology& topology, const T* points, int numThreads, std::shared_ptr<const Partition> split)
 {
   const Index n = topology.NumberOfVertices();
-  Thresholded[0].Valid = Thresholded[1].Valid = false;
+  Thresholded[0].Valid = Thresholded[1].Valid = CreaseEdges.Valid = false;
   Triangles.assign(topology.TriangleList().begin(), topology.TriangleList().end());
   Split = std::move(split);
   GlobalIds.clear();
@@ -210,6 +211,7 @@ void LineDrawingGeometry::Build(
   }
   K1.resize(n);
   K2.resize(n);
+  SharpestCosine.resize(n);
   ParallelFor(3 * static_cast<std::int64_t>(n), numThreads, [&](std::int64_t begin, std::int64_t end) {
     std::copy(points + begin, points + end, Points.data() + begin);
   });
@@ -221,7 +223,8 @@ void LineDrawingGeometry::Build(
   out.MinimumCurvature = K2.data();
   out.PrincipalDirection1 = E1.data();
   out.PrincipalDirection2 = E2.data();
-  ComputeCurvatures(topology, Points.data(), options, out);
+  out.SharpestEdgeCosine = SharpestCosine.data(); // (the regular vertices': FindFeatureEdges does the others)
+  ComputeCurvatures(topology, points, options, out);
   ShareCurvatures(topology);
   Derivatives.resize(4 * static_cast<std::size_t>(n)); // (every vertex written)
   const CurvatureTensors tensors{ Normals.data(), K1.data(), K2.data(), E1.data(), E2.data() };
@@ -377,75 +380,51 @@ LineSegment LineDrawingGeometry::EdgeSegment(Index a, Index b, Index face) const
   return s;
 }
 
-UninitializedVector<float> LineDrawingGeometry::UnitFaceNormals(int numThreads) const
+Vec3 LineDrawingGeometry::FaceCross(Index f, Index a) const
 {
-  UninitializedVector<float> normals(Triangles.size()); // (3 per face; read at random: the smaller the better)
-  ParallelFor(NumberOfFaces(), numThreads, [&](std::int64_t begin, std::int64_t end) {
-    for (std::int64_t f = begin; f < end; ++f)
-    {
-      const Index* v = Triangles.data() + 3 * f;
-      const Vec3 p = Point(Points.data(), v[0]);
-      Eigen::Map<Eigen::Vector3f>(normals.data() + 3 * f) =
-        (Point(Points.data(), v[1]) - p).cross(Point(Points.data(), v[2]) - p).normalized().cast<float>();
-    }
-  });
-  return normals;
+  const Index* v = Triangles.data() + 3 * static_cast<std::int64_t>(f);
+  const int k = v[0] == a ? 0 : (v[1] == a ? 1 : 2);
+  const Vec3 p = Point(Points.data(), a);
+  return (Point(Points.data(), v[(k + 1) % 3]) - p).cross(Point(Points.data(), v[(k + 2) % 3]) - p);
 }
 
 void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int numThreads)
 {
-  // The unit normals of the faces (each is in three stars), then per vertex
-  // its edges (MeshTopology::VertexEdges: the edge table took longer to
-  // build than this whole pass): the cosine of each edge of two triangles,
-  // the sharpest, and the edges to larger ids drawn here, in (vertex,
-  // neighbour) order: list 0 the boundary edges, list 1 the others (about
-  // three per vertex on a closed surface).
-  SharpestCosine.resize(NumberOfVertices());
-  const UninitializedVector<float> normals = UnitFaceNormals(numThreads);
-  auto lists = CollectSegments<InteriorEdge>(NumberOfVertices(), numThreads, 2,
-    [&](Index a, std::vector<InteriorEdge>* out) {
-      thread_local std::vector<MeshTopology::VertexEdge> edges;
-      constexpr Index Ahead = 8; // (the faces of a star are spread over the face list)
-      if (a + Ahead < NumberOfVertices())
-      {
-        for (const Index* c = topology.CornersBegin(a + Ahead); c != topology.CornersEnd(a + Ahead); ++c)
-        {
-          __builtin_prefetch(normals.data() + 3 * static_cast<std::int64_t>(*c / 3));
-        }
-      }
-      topology.VertexEdges(a, edges);
-      const Index* corners = topology.CornersBegin(a);
-      const auto normal = [&](Index local) {
-        return Eigen::Vector3f(normals.data() + 3 * static_cast<std::int64_t>(corners[local] / 3));
-      };
-      double lowest = 1.0; // the smallest cosine of a's edges of two triangles
-      for (const MeshTopology::VertexEdge& e : edges)
+  // SharpestCosine has the values of the vertices with a regular fan
+  // (ComputeCurvatures); here the others' from their edges
+  // (MeshTopology::VertexEdges), and the boundary edges to larger ids drawn
+  // here, in (vertex, neighbour) order.
+  struct Edge
+  {
+    Index A, B, Face;
+  };
+  const auto boundary = CollectSegments<Edge>(NumberOfVertices(), numThreads, 1, [&](Index a, std::vector<Edge>* out) {
+    if (topology.VertexFlags(a) == VertexRegular)
+    {
+      return;
+    }
+    thread_local std::vector<MeshTopology::VertexEdge> edges;
+    topology.VertexEdges(a, edges);
+    double lowest = 1.0;
+    for (const MeshTopology::VertexEdge& e : edges)
+    {
+      if (e.Faces == 1)
       {
         // Split: each edge drawn once, where the whole star of an end is
         // (so that a cut through the ring is no boundary).
-        const bool drawn = e.Neighbor > a && (!Split || Split->CountsEdge(a, e.Neighbor));
-        if (e.Faces == 1)
+        if (e.Neighbor > a && (!Split || Split->CountsEdge(a, e.Neighbor)))
         {
-          if (drawn)
-          {
-            out[0].push_back({ a, e.Neighbor, e.Opposite[0] / 3, 1.0f });
-          }
-          continue;
-        }
-        const double cosine =
-          e.Faces == 2 && e.Local[1] >= 0 ? static_cast<double>(normal(e.Local[0]).dot(normal(e.Local[1]))) : NaN;
-        if (std::isfinite(cosine))
-        {
-          lowest = std::min(lowest, cosine);
-          if (drawn)
-          {
-            out[1].push_back({ a, e.Neighbor, e.Opposite[0] / 3, static_cast<float>(cosine) });
-          }
+          out[0].push_back({ a, e.Neighbor, e.Opposite[0] / 3 });
         }
       }
-      SharpestCosine[a] = static_cast<float>(lowest);
-    },
-    { 0, 3 * FacesPerBlock, 0 });
+      else if (e.Faces == 2)
+      {
+        const double cosine = NormalCosine(FaceCross(e.Opposite[0] / 3, a), FaceCross(e.Opposite[1] / 3, a));
+        lowest = cosine < lowest ? cosine : lowest; // (NaN: left out)
+      }
+    }
+    SharpestCosine[a] = static_cast<float>(lowest);
+  })[0];
   if (Split)
   {
     std::vector<double> sharpest(SharpestCosine.begin(), SharpestCosine.end());
@@ -453,14 +432,63 @@ void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int num
     std::copy(sharpest.begin(), sharpest.end(), SharpestCosine.begin());
   }
   BoundaryEdges.clear();
-  for (const InteriorEdge& e : lists[0])
+  for (const Edge& e : boundary)
   {
     BoundaryEdges.push_back(EdgeSegment(e.A, e.B, e.Face));
   }
-  InteriorEdges = std::move(lists[1]);
-  InteriorCosines.resize(InteriorEdges.size());
-  std::transform(InteriorEdges.begin(), InteriorEdges.end(), InteriorCosines.begin(),
-    [](const InteriorEdge& e) { return e.Cosine; });
+}
+
+const LineDrawingGeometry::CreaseList& LineDrawingGeometry::Creases(double angle) const
+{
+  const float creaseCosine = CreaseCosine(angle);
+  if (CreaseEdges.Valid && CreaseEdges.Cosine == creaseCosine)
+  {
+    return CreaseEdges;
+  }
+  // The edges (a < b) of the faces whose lower end a has an edge sharper
+  // than the angle (few: a scan of the faces, no edge table), then those
+  // of two faces, sorted, tested.
+  struct Edge
+  {
+    Index A, B, Face;
+    bool operator<(const Edge& o) const { return A != o.A ? A < o.A : (B != o.B ? B < o.B : Face < o.Face); }
+  };
+  auto candidates = CollectSegments<Edge>(NumberOfFaces(), Threads, 1, [&](Index f, std::vector<Edge>* out) {
+    const Index* v = Triangles.data() + 3 * static_cast<std::int64_t>(f);
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index a = std::min(v[k], v[(k + 1) % 3]), b = std::max(v[k], v[(k + 1) % 3]);
+      if (SharpestCosine[a] < creaseCosine)
+      {
+        out[0].push_back({ a, b, f });
+      }
+    }
+  })[0];
+  std::sort(candidates.begin(), candidates.end());
+  CreaseEdges.Edges.clear();
+  CreaseEdges.Angles.clear();
+  for (std::size_t g = 0; g < candidates.size();)
+  {
+    const Edge& e = candidates[g];
+    std::size_t h = g + 1;
+    while (h < candidates.size() && candidates[h].A == e.A && candidates[h].B == e.B)
+    {
+      ++h;
+    }
+    if (h - g == 2 && (!Split || Split->CountsEdge(e.A, e.B)))
+    {
+      const double cosine = NormalCosine(FaceCross(e.Face, e.A), FaceCross(candidates[g + 1].Face, e.A));
+      if (static_cast<float>(cosine) < creaseCosine)
+      {
+        CreaseEdges.Edges.push_back(EdgeSegment(e.A, e.B, e.Face));
+        CreaseEdges.Angles.push_back(std::acos(std::clamp(cosine, -1.0, 1.0)) / Degree);
+      }
+    }
+    g = h;
+  }
+  CreaseEdges.Cosine = creaseCosine;
+  CreaseEdges.Valid = true;
+  return CreaseEdges;
 }
 
 namespace
@@ -793,20 +821,10 @@ SegmentList ClipRidges(
 /// Appends the edges sharper than the crease angle that this process draws.
 void ResolveCreases(const LineDrawingGeometry& geo, const LineDrawingOptions& options, ViewSegments& segments)
 {
-  SegmentList creases;
-  std::vector<double> angles;
-  const float creaseCosine = LineDrawingGeometry::CreaseCosine(options.CreaseAngle);
-  for (std::size_t i = 0; i < geo.InteriorCosines.size(); ++i)
-  {
-    if (geo.InteriorCosines[i] < creaseCosine)
-    {
-      const LineDrawingGeometry::InteriorEdge& e = geo.InteriorEdges[i];
-      creases.push_back(geo.EdgeSegment(e.A, e.B, e.Face));
-      angles.push_back(std::acos(std::clamp(static_cast<double>(e.Cosine), -1.0, 1.0)) / Degree);
-    }
-  }
-  Resolve(geo, creases, LineType::Crease,
-    [&](Index s, const Index*, double* c) { c[0] = c[1] = c[2] = angles[s]; }, segments, options.NumberOfThreads);
+  const LineDrawingGeometry::CreaseList& creases = geo.Creases(options.CreaseAngle);
+  Resolve(geo, creases.Edges, LineType::Crease,
+    [&](Index s, const Index*, double* c) { c[0] = c[1] = c[2] = creases.Angles[s]; }, segments,
+    options.NumberOfThreads);
 }
 
 } // namespace

@@ -6,8 +6,9 @@
 // Two passes:
 //  - LineDrawingGeometry::Build, view independent and kept between views:
 //    the curvature tensors of chapter 2 (ComputeCurvatures), their
-//    derivatives (ComputeCurvatureDerivatives), the boundary and crease
-//    edges; the ridge and valley candidates when first asked for;
+//    derivatives (ComputeCurvatureDerivatives), the boundary edges and
+//    each vertex's sharpest edge; the crease edges of a crease angle and
+//    the ridge and valley candidates when first asked for;
 //  - DrawLines, per view: n.v, the radial curvature kappa_r and its
 //    derivative D_r kappa_r at the vertices, their zero sets on the faces
 //    (interpolated inside the triangles, not along mesh edges), the tests
@@ -151,23 +152,26 @@ public:
   /// Candidates, before thresholds and the view: boundary edges (ridges and
   /// valleys: RidgeCandidates).
   SegmentList BoundaryEdges;
-  /// The edges of two triangles, with the cosine of the angle between their
-  /// normals (cosines, not angles: the view compares them with the crease
-  /// angle's, and an arc cosine per edge was a fifth of finding them).
-  struct InteriorEdge
-  {
-    Index A, B, Face;
-    float Cosine;
-  };
-  LargeVector<InteriorEdge> InteriorEdges;
-  /// InteriorEdges' cosines alone: a view scans them for its creases (a
-  /// quarter of the memory of the edges).
-  LargeVector<float> InteriorCosines;
-  /// Per vertex: the smallest Cosine of its interior edges (1 without).
+  /// Per vertex: the smallest cosine of the angle between the normals of
+  /// two of its triangles that share an edge (1 without such edges;
+  /// NormalCosine, in single precision).
   LargeVector<float> SharpestCosine;
-  /// The cosine of a crease angle (degrees): edges whose Cosine is below
+  /// The cosine of a crease angle (degrees): edges whose cosine is below
   /// it are creases.
   static float CreaseCosine(double angle);
+  /// The edges of two triangles sharper than the crease angle (degrees)
+  /// that this process draws, in (vertex, neighbour) order, and their
+  /// angles (degrees): found on the first call for an angle from the
+  /// vertices' SharpestCosine, then kept (not for concurrent calls on one
+  /// geometry).
+  struct CreaseList
+  {
+    bool Valid = false;
+    float Cosine = 0.0f;
+    SegmentList Edges;
+    std::vector<double> Angles;
+  };
+  const CreaseList& Creases(double angle) const;
   /// Whether face f has a vertex with an edge sharper than the crease angle
   /// of `creaseCosine` (inline: the per-view pass asks it of every
   /// candidate segment).
@@ -204,9 +208,10 @@ private:
   mutable bool RidgesFound = false;          // FindRidges ran since Build
   mutable SegmentList Ridges[2];             // ridges, valleys (RidgeCandidates)
   void FindFeatureEdges(const MeshTopology& topology, int numThreads);
-  /// The unit normal of each face, 3 per face (single precision: the creases'
-  /// cosines are).
-  UninitializedVector<float> UnitFaceNormals(int numThreads) const;
+  /// A x B of face f at its vertex a (A, B: its edges from a to the next
+  /// and the previous vertex), as the 1-ring loops compute it.
+  Vec3 FaceCross(Index f, Index a) const;
+  mutable CreaseList CreaseEdges; // Creases' last angle
   struct RidgeCache
   {
     bool Valid = false, AvoidCreases = false;

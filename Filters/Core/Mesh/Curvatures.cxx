@@ -175,6 +175,22 @@ void FitTaubin(const std::vector<EdgeSample>& samples, const Vec3& n, const Vec3
   psi = HalfAngleDirection(2.0 * m12, m11 - m22);
 }
 
+/// The smallest NormalCosine of the edges at a regular vertex (`pairs`: its
+/// RingPairsBegin) from its corners' cross products, in its corners'
+/// order; 1 if none is defined.
+float SharpestCosine(const Index* pairs, const std::vector<Vec3>& crosses)
+{
+  const Index valence = static_cast<Index>(crosses.size());
+  double lowest = 1.0;
+  for (Index a = 0; a < valence; ++a)
+  {
+    const Index b = MeshTopology::CornerAcross(pairs, valence, a); // (< valence in a regular fan)
+    const double cosine = b < valence ? NormalCosine(crosses[a], crosses[b]) : 1.0;
+    lowest = cosine < lowest ? cosine : lowest; // (NaN: left out)
+  }
+  return static_cast<float>(lowest);
+}
+
 template <typename T>
 struct CurvatureKernel
 {
@@ -204,6 +220,7 @@ struct CurvatureKernel
   void Run(std::int64_t begin, std::int64_t end)
   {
     std::vector<EdgeSample> samples;
+    std::vector<Vec3> crosses; // (SharpestEdgeCosine: each corner's A x B)
     Index nUndefined = 0, nDegenerate = 0, nNonFinite = 0;
     for (Index i = static_cast<Index>(begin); i < end; ++i)
     {
@@ -217,11 +234,17 @@ struct CurvatureKernel
       // Two samples per corner, written in place (push_back was 6% of the run).
       samples.resize(WantDirections ? 2 * static_cast<std::size_t>(Topo.Valence(i)) : 0);
       EdgeSample* sample = samples.data();
+      crosses.resize(Out.SharpestEdgeCosine && status == VertexRegular ? Topo.Valence(i) : 0);
+      Vec3* corner = crosses.data();
       ForEachRingCorner<3>(Topo, Points, 3, i, xi, [&](const CornerGeometry<3>& g) {
         sums.Add(g);
         finite = finite && g.A.allFinite() && g.B.allFinite();
         const Vec3 cross = g.A.cross(g.B);
         faceSum += cross;
+        if (!crosses.empty())
+        {
+          *corner++ = cross;
+        }
         if (!g.Degenerate)
         {
           switch (Options.Weighting)
@@ -246,6 +269,11 @@ struct CurvatureKernel
           *sample++ = { g.B, g.BB, g.CotJ, 0.5 * g.TwiceArea };
         }
       });
+      if (Out.SharpestEdgeCosine)
+      {
+        Out.SharpestEdgeCosine[i] =
+          crosses.empty() ? std::numeric_limits<float>::quiet_NaN() : SharpestCosine(Topo.RingPairsBegin(i), crosses);
+      }
 
       if (status & VertexIsolated)
       {

@@ -54,6 +54,12 @@ struct CurvatureOutputs
   double* PrincipalDirection2 = nullptr; ///< 3 per vertex, unit, n x e1
   double* Normals = nullptr;             ///< 3 per vertex, unit
   std::uint8_t* Status = nullptr;        ///< VertexFlag bits per vertex
+  /// Per vertex whose triangles form one closed, consistently oriented fan
+  /// (VertexRegular): the smallest NormalCosine of two of its triangles
+  /// that share an edge (1 if none is defined); NaN at the other vertices.
+  /// (The line drawing's creases: read off the 1-ring loop, which has the
+  /// triangles' normals at hand.)
+  float* SharpestEdgeCosine = nullptr;
 };
 
 struct CurvatureReport

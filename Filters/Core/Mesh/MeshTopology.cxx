@@ -404,11 +404,7 @@ void MeshTopology::VertexEdges(Index v, std::vector<VertexEdge>& edges) const
   // before exactly one other corner b, and a, b are the edge's triangles.
   for (Index a = 0; fan && a < valence; ++a)
   {
-    Index b = 0;
-    while (b < valence && pairs[2 * b + 1] != pairs[2 * a])
-    {
-      ++b;
-    }
+    const Index b = CornerAcross(pairs, valence, a);
     fan = b < valence;
     if (fan)
     {

@@ -129,6 +129,19 @@ public:
     Index Local[2];
     int Faces;
   };
+  /// In a consistently oriented fan (pairs: RingPairsBegin(v), `valence`
+  /// corners), the position of the corner across the edge that leaves
+  /// corner a towards its next vertex: the corner whose previous vertex
+  /// that is; `valence` if none.
+  static Index CornerAcross(const Index* pairs, Index valence, Index a)
+  {
+    Index b = 0;
+    while (b < valence && pairs[2 * b + 1] != pairs[2 * a])
+    {
+      ++b;
+    }
+    return b;
+  }
   /// The edges at v, ascending by neighbour, into `edges` (the caller's
   /// workspace); thread-safe.  At regular vertices read off the fan (a sort
   /// of its few edges), elsewhere from the sorted half-edges.

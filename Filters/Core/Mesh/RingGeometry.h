@@ -53,6 +53,14 @@ inline T CornerMixedArea(const T& aa, const T& bb, const T& ab, const T& twiceAr
   return nonObtuse ? (bb * cotJ + aa * cotK) / 8.0 : obtuse;
 }
 
+/// The cosine of the angle between the normals of two triangles given as
+/// cross products of their edges (twice their areas times their unit
+/// normals); NaN where one is zero or not finite.
+inline double NormalCosine(const Vec3& a, const Vec3& b)
+{
+  return a.dot(b) / std::sqrt(a.squaredNorm() * b.squaredNorm());
+}
+
 /// Computes the geometry of corner c of vertex i in triangle (x_i, x_j, x_k).
 template <int N, typename T>
 inline CornerGeometry<N> MakeCornerGeometry(

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <map>
 
 using namespace beltrami;
 using test::Mesh;
@@ -431,6 +432,76 @@ TEST(Curvatures, ThreadCountDoesNotChangeResults)
   EXPECT_EQ(a.H, b.H);
   EXPECT_EQ(a.E1, b.E1);
   EXPECT_EQ(a.Status, b.Status);
+}
+
+// The crease measure of the line drawing, read off the 1-ring loop: at each
+// vertex of a closed, consistently oriented fan the smallest cosine between
+// the normals of two triangles that share an edge there, as a brute-force
+// edge map gives it; NaN at boundary vertices (the caller's to fill).
+TEST(Curvatures, SharpestEdgeCosineOfRegularFans)
+{
+  const Mesh meshes[] = { test::OctahedronSphere(0), test::CubeSurface(4), test::Torus(1, 0.3, 30, 12, 0.4, 2),
+    test::FlatIrregular(12, 5) }; // (the last one has a boundary)
+  for (const Mesh& m : meshes)
+  {
+    const bool open = &m == &meshes[3];
+    std::map<std::pair<Index, Index>, std::vector<Eigen::Vector3d>> edges; // the normals of each edge's faces
+    for (std::size_t t = 0; t < m.Triangles.size(); t += 3)
+    {
+      const Eigen::Vector3d a = m.Point(m.Triangles[t]);
+      const Eigen::Vector3d n = (m.Point(m.Triangles[t + 1]) - a).cross(m.Point(m.Triangles[t + 2]) - a).normalized();
+      for (int k = 0; k < 3; ++k)
+      {
+        const Index i = m.Triangles[t + k], j = m.Triangles[t + (k + 1) % 3];
+        edges[{ std::min(i, j), std::max(i, j) }].push_back(n);
+      }
+    }
+    std::vector<double> expected(m.NumberOfVertices(), 1.0);
+    std::vector<bool> boundary(m.NumberOfVertices(), false);
+    for (const auto& [ends, normals] : edges)
+    {
+      for (Index v : { ends.first, ends.second })
+      {
+        if (normals.size() == 2)
+        {
+          expected[v] = std::min(expected[v], normals[0].dot(normals[1]));
+        }
+        else
+        {
+          boundary[v] = true;
+        }
+      }
+    }
+    const MeshTopology topo = m.Topology();
+    std::vector<float> sharpest(m.NumberOfVertices(), -2.0f);
+    CurvatureOutputs out;
+    out.SharpestEdgeCosine = sharpest.data();
+    ComputeCurvatures(topo, m.Points.data(), {}, out);
+    int boundaryVertices = 0;
+    for (Index i = 0; i < m.NumberOfVertices(); ++i)
+    {
+      boundaryVertices += boundary[i];
+      if (boundary[i])
+      {
+        EXPECT_TRUE(std::isnan(sharpest[i])) << i;
+      }
+      else
+      {
+        EXPECT_NEAR(sharpest[i], expected[i], 1e-6) << i;
+      }
+    }
+    EXPECT_EQ(boundaryVertices > 0, open);
+  }
+  // The octahedron's edges: cosine 1/3, known without the map.
+  const Mesh octahedron = test::OctahedronSphere(0);
+  std::vector<float> sharpest(octahedron.NumberOfVertices());
+  CurvatureOutputs out;
+  out.SharpestEdgeCosine = sharpest.data();
+  ComputeCurvatures(octahedron.Topology(), octahedron.Points.data(), {}, out);
+  for (float c : sharpest)
+  {
+    EXPECT_NEAR(c, 1.0 / 3.0, 1e-7);
+  }
 }
 
 TEST(Curvatures, FloatAndDoublePointsAgree)
