@@ -1,14 +1,13 @@
 #include "Mesh/CurvatureDerivatives.h"
 
-// The face fit's vector helpers are inlined into its clones (Vectorization.h):
-// GCC's note on passing 32-byte vectors without AVX does not apply.
-#pragma GCC diagnostic ignored "-Wpsabi"
+#pragma GCC diagnostic ignored "-Wpsabi" // (lanes::Real in RingGeometry.h's templates: see Support/LaneVectors.h)
 
 #include "Mesh/Geometry.h"
 #include "Mesh/RingGeometry.h"
 
 #include "Support/LargeBuffer.h"
 #include "Support/Vectorization.h"
+#include "Support/LaneVectors.h"
 
 #include <algorithm>
 #include <atomic>
@@ -24,39 +23,18 @@ namespace
 
 constexpr double NaN = std::numeric_limits<double>::quiet_NaN();
 
-/// The per-face fit runs on Lanes faces at once, in GCC's vector types
-/// (one lane a face; the fit has no branches: a face whose fit is not
-/// defined is computed all the same and masked at the end).  Left to the
-/// auto-vectorizer, the loop over the lanes of this fit did not vectorize.
-constexpr int Lanes = 4;
-using Real = double __attribute__((vector_size(8 * Lanes)));
-using Mask = std::int64_t __attribute__((vector_size(8 * Lanes))); ///< a comparison of Reals: 0 or -1
-
-inline Real Sqrt(const Real& x)
-{
-  Real r;
-  for (int l = 0; l < Lanes; ++l)
-  {
-    r[l] = std::sqrt(x[l]);
-  }
-  return r;
-}
-inline Real Max(const Real& a, const Real& b) { return a > b ? a : b; }
-/// Finite, as a comparison (NaN fails it).
-inline Mask Finite(const Real& x) { return (x < 0.0 ? -x : x) <= std::numeric_limits<double>::max(); }
-
-struct V3
-{
-  Real X, Y, Z;
-};
-inline V3 operator+(const V3& a, const V3& b) { return { a.X + b.X, a.Y + b.Y, a.Z + b.Z }; }
-inline V3 operator-(const V3& a, const V3& b) { return { a.X - b.X, a.Y - b.Y, a.Z - b.Z }; }
-inline V3 operator*(const Real& s, const V3& a) { return { s * a.X, s * a.Y, s * a.Z }; }
-inline Real Dot(const V3& a, const V3& b) { return a.X * b.X + a.Y * b.Y + a.Z * b.Z; }
-inline V3 Cross(const V3& a, const V3& b)
-{
-  return { a.Y * b.Z - a.Z * b.Y, a.Z * b.X - a.X * b.Z, a.X * b.Y - a.Y * b.X };
-}
+/// The per-face fit runs on Lanes faces at once (one lane a face; the fit
+/// has no branches: a face whose fit is not defined is computed all the
+/// same and masked at the end).
+constexpr int Lanes = lanes::Width;
+using lanes::Real;
+using lanes::Mask;
+using lanes::V3;
+using lanes::Sqrt;
+using lanes::Max;
+using lanes::Finite;
+using lanes::Dot;
+using lanes::Cross;
 
 /// x turned by the smallest rotation that takes the unit vector `from` to
 /// the unit vector `to` (Rodrigues); reversed when they are opposite.

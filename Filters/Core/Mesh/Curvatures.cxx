@@ -1,6 +1,11 @@
 #include "Mesh/Curvatures.h"
 
+#pragma GCC diagnostic ignored "-Wpsabi" // (lanes::Real in RingGeometry.h's templates: see Support/LaneVectors.h)
+
 #include "Mesh/RingGeometry.h"
+
+#include "Support/LaneVectors.h"
+#include "Support/Vectorization.h"
 
 #include <Eigen/Geometry>
 
@@ -175,20 +180,157 @@ void FitTaubin(const std::vector<EdgeSample>& samples, const Vec3& n, const Vec3
   psi = HalfAngleDirection(2.0 * m12, m11 - m22);
 }
 
-/// The smallest NormalCosine of the edges at a regular vertex (`pairs`: its
-/// RingPairsBegin) from its corners' cross products, in its corners'
-/// order; 1 if none is defined.
-float SharpestCosine(const Index* pairs, const std::vector<Vec3>& crosses)
+/// At a regular vertex (`pairs`: its RingPairsBegin), the position of the
+/// corner across each corner's leaving edge (MeshTopology::CornerAcross)
+/// into `across`; false if one is missing (not a regular fan).
+bool FanPartners(const Index* pairs, Index valence, std::vector<Index>& across)
 {
-  const Index valence = static_cast<Index>(crosses.size());
-  double lowest = 1.0;
+  across.resize(valence);
   for (Index a = 0; a < valence; ++a)
   {
-    const Index b = MeshTopology::CornerAcross(pairs, valence, a); // (< valence in a regular fan)
-    const double cosine = b < valence ? NormalCosine(crosses[a], crosses[b]) : 1.0;
+    across[a] = MeshTopology::CornerAcross(pairs, valence, a);
+    if (across[a] == valence)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+/// One vertex's 1-ring, a corner a lane: the edges A = x_j - x_i and
+/// B = x_k - x_i of each corner and what MakeCornerGeometry and
+/// RingSums::Add make of them, computed lanes::Width corners at a time by
+/// ComputeRingCorners (corner by corner, that was most of the kernel's
+/// time).  Field f of corner c: (*this)(f, c).
+struct RingBatch
+{
+  enum Field
+  {
+    Ax, Ay, Az, Bx, By, Bz, // the inputs
+    AA, BB, AB, TwiceArea,
+    CotJ, CotK, MixedArea, // (0 in degenerate triangles)
+    Degenerate,            // 1 or 0
+    Px, Py, Pz,            // CotK A + CotJ B: the corner's part of -CotangentSum
+    Cx, Cy, Cz,            // A x B
+    Finite,                // 1 where A and B are finite
+    Fields
+  };
+  Index Stride = 0; // values per field: the corners in whole vectors
+  std::vector<double> Data;
+
+  double operator()(int f, Index c) const { return Data[f * Stride + c]; }
+  Vec3 Get(int f, Index c) const { return { Data[f * Stride + c], Data[(f + 1) * Stride + c], Data[(f + 2) * Stride + c] }; }
+
+  template <typename T>
+  void Gather(const T* points, const Index* pairs, Index valence, const Vec3& xi)
+  {
+    Stride = (valence + lanes::Width - 1) / lanes::Width * lanes::Width;
+    Data.resize(Fields * static_cast<std::size_t>(Stride));
+    for (Index c = 0; c < Stride; ++c)
+    {
+      const Index k = std::min(c, valence - 1); // (spare lanes repeat the last corner)
+      const Vec3 a = LoadPoint<3>(points, 3, pairs[2 * k]) - xi, b = LoadPoint<3>(points, 3, pairs[2 * k + 1]) - xi;
+      for (int d = 0; d < 3; ++d)
+      {
+        Data[(Ax + d) * Stride + c] = a[d];
+        Data[(Bx + d) * Stride + c] = b[d];
+      }
+    }
+  }
+};
+
+/// RingBatch's fields from its inputs (`data`, `stride`: RingBatch's),
+/// as MakeCornerGeometry computes them, lanes::Width corners at once, with
+/// the same roundings: no fused multiply-adds, which the AVX2 clones would
+/// otherwise contract (on flat CAD faces the old sums cancel exactly; with
+/// fused ones a rounding residue picked the principal directions there,
+/// and those changed with the order of a vertex's triangles, so that split
+/// and whole surfaces drew different lines).
+#pragma GCC push_options
+#pragma GCC optimize("fp-contract=off")
+CLONES void ComputeRingCorners(double* data, Index stride)
+{
+  using namespace lanes;
+  using F = RingBatch::Field;
+  const Real zero{};
+  for (Index v = 0; v < stride; v += Width)
+  {
+    const auto in = [&](F f) { return Load(data + f * stride + v); };
+    const auto out = [&](F f, const Real& x) { lanes::Store(data + f * stride + v, x); };
+    const V3 a{ in(F::Ax), in(F::Ay), in(F::Az) }, b{ in(F::Bx), in(F::By), in(F::Bz) };
+    const Real aa = Dot(a, a), bb = Dot(b, b), ab = Dot(a, b);
+    const Real square = aa * bb - ab * ab;
+    const Real twiceArea = Sqrt(square > 0.0 ? square : zero); // (NaN: 0, as std::max(0.0, NaN))
+    const Real ee = aa + bb - 2.0 * ab;
+    // Written so that NaN also counts as degenerate.
+    const Mask defined = twiceArea > DegenerateTolerance * Max(ee, Max(aa, bb));
+    const Real inverse = 1.0 / twiceArea;
+    const Real cotJ = defined ? (aa - ab) * inverse : zero, cotK = defined ? (bb - ab) * inverse : zero;
+    const Real mixed = CornerMixedArea(aa, bb, ab, twiceArea, cotJ, cotK);
+    const V3 p = cotK * a + cotJ * b;
+    const V3 cross = Cross(a, b);
+    out(F::AA, aa);
+    out(F::BB, bb);
+    out(F::AB, ab);
+    out(F::TwiceArea, twiceArea);
+    out(F::CotJ, cotJ);
+    out(F::CotK, cotK);
+    out(F::MixedArea, defined ? mixed : zero);
+    out(F::Degenerate, defined ? zero : zero + 1.0);
+    out(F::Px, p.X);
+    out(F::Py, p.Y);
+    out(F::Pz, p.Z);
+    out(F::Cx, cross.X);
+    out(F::Cy, cross.Y);
+    out(F::Cz, cross.Z);
+    const Mask finite = Finite(a.X) & Finite(a.Y) & Finite(a.Z) & Finite(b.X) & Finite(b.Y) & Finite(b.Z);
+    out(F::Finite, finite ? zero + 1.0 : zero);
+  }
+}
+#pragma GCC pop_options
+
+/// The smallest NormalCosine of the edges at a regular vertex, from its
+/// corners' cross products in `ring` and FanPartners; 1 if none is defined.
+float SharpestCosine(const RingBatch& ring, const std::vector<Index>& across)
+{
+  double lowest = 1.0;
+  for (std::size_t a = 0; a < across.size(); ++a)
+  {
+    const double cosine = NormalCosine(ring.Get(RingBatch::Cx, a), ring.Get(RingBatch::Cx, across[a]));
     lowest = cosine < lowest ? cosine : lowest; // (NaN: left out)
   }
   return static_cast<float>(lowest);
+}
+
+/// The samples of the direction fits into `samples`: two per corner, its A
+/// with the cotangent at x_k and its B with the one at x_j (each triangle
+/// contributes its half of an edge's weight).  At a regular vertex
+/// (`across`: FanPartners, empty elsewhere) and `merge`, one per edge
+/// instead: corner a's A and the B of corner across[a] are the same
+/// vector, and one sample with the sum of both triangles' clamped
+/// cotangents is the same to the Meyer fit (linear in the weights), with
+/// half the projections.
+void EdgeSamples(const RingBatch& ring, Index valence, const std::vector<Index>& across, bool merge,
+  std::vector<EdgeSample>& samples)
+{
+  using F = RingBatch::Field;
+  if (merge && !across.empty())
+  {
+    samples.resize(valence);
+    for (Index a = 0; a < valence; ++a)
+    {
+      const double cot = std::max(MinimumFitCotangent, ring(F::CotK, a)) +
+        std::max(MinimumFitCotangent, ring(F::CotJ, across[a]));
+      samples[a] = { ring.Get(F::Ax, a), ring(F::AA, a), cot, 0.5 * ring(F::TwiceArea, a) };
+    }
+    return;
+  }
+  samples.resize(2 * static_cast<std::size_t>(valence));
+  for (Index c = 0; c < valence; ++c)
+  {
+    samples[2 * c] = { ring.Get(F::Ax, c), ring(F::AA, c), ring(F::CotK, c), 0.5 * ring(F::TwiceArea, c) };
+    samples[2 * c + 1] = { ring.Get(F::Bx, c), ring(F::BB, c), ring(F::CotJ, c), 0.5 * ring(F::TwiceArea, c) };
+  }
 }
 
 template <typename T>
@@ -220,7 +362,8 @@ struct CurvatureKernel
   void Run(std::int64_t begin, std::int64_t end)
   {
     std::vector<EdgeSample> samples;
-    std::vector<Vec3> crosses; // (SharpestEdgeCosine: each corner's A x B)
+    std::vector<Index> across; // (regular vertices: FanPartners)
+    RingBatch ring;
     Index nUndefined = 0, nDegenerate = 0, nNonFinite = 0;
     for (Index i = static_cast<Index>(begin); i < end; ++i)
     {
@@ -231,48 +374,54 @@ struct CurvatureKernel
       Vec3 faceSum = Vec3::Zero(); // sum of 2*area*face normal: orientation reference
       Vec3 weighted = Vec3::Zero();
       bool finite = xi.allFinite();
-      // Two samples per corner, written in place (push_back was 6% of the run).
-      samples.resize(WantDirections ? 2 * static_cast<std::size_t>(Topo.Valence(i)) : 0);
-      EdgeSample* sample = samples.data();
-      crosses.resize(Out.SharpestEdgeCosine && status == VertexRegular ? Topo.Valence(i) : 0);
-      Vec3* corner = crosses.data();
-      ForEachRingCorner<3>(Topo, Points, 3, i, xi, [&](const CornerGeometry<3>& g) {
-        sums.Add(g);
-        finite = finite && g.A.allFinite() && g.B.allFinite();
-        const Vec3 cross = g.A.cross(g.B);
+      const Index valence = Topo.Valence(i);
+      if (valence > 0)
+      {
+        ring.Gather(Points, Topo.RingPairsBegin(i), valence, xi);
+        ComputeRingCorners(ring.Data.data(), ring.Stride);
+      }
+      using F = RingBatch::Field;
+      for (Index c = 0; c < valence; ++c)
+      {
+        // RingSums::Add, from the batch.
+        sums.CotangentSum -= ring.Get(F::Px, c);
+        sums.MixedArea += ring(F::MixedArea, c);
+        const double twiceArea = ring(F::TwiceArea, c);
+        sums.AddAngle(ring(F::AB, c), twiceArea);
+        const bool degenerate = ring(F::Degenerate, c) != 0.0;
+        sums.Degenerate += degenerate;
+        finite = finite && ring(F::Finite, c) != 0.0;
+        const Vec3 cross = ring.Get(F::Cx, c);
         faceSum += cross;
-        if (!crosses.empty())
-        {
-          *corner++ = cross;
-        }
-        if (!g.Degenerate)
+        if (!degenerate)
         {
           switch (Options.Weighting)
           {
             case NormalWeighting::Uniform:
-              weighted += cross / g.TwiceArea;
+              weighted += cross / twiceArea;
               break;
             case NormalWeighting::Angle:
-              weighted += g.Angle() * cross / g.TwiceArea;
+              weighted += std::atan2(twiceArea, ring(F::AB, c)) * cross / twiceArea;
               break;
             case NormalWeighting::Max1999:
-              weighted += cross / (g.AA * g.BB);
+              weighted += cross / (ring(F::AA, c) * ring(F::BB, c));
               break;
             case NormalWeighting::Area:                // faceSum is the area-weighted sum
             case NormalWeighting::MeanCurvatureNormal: // its fallback is faceSum too
               break;
           }
         }
-        if (WantDirections)
-        {
-          *sample++ = { g.A, g.AA, g.CotK, 0.5 * g.TwiceArea };
-          *sample++ = { g.B, g.BB, g.CotJ, 0.5 * g.TwiceArea };
-        }
-      });
+      }
+      across.clear();
+      if ((WantDirections || Out.SharpestEdgeCosine) && status == VertexRegular &&
+        !FanPartners(Topo.RingPairsBegin(i), valence, across))
+      {
+        across.clear();
+      }
       if (Out.SharpestEdgeCosine)
       {
         Out.SharpestEdgeCosine[i] =
-          crosses.empty() ? std::numeric_limits<float>::quiet_NaN() : SharpestCosine(Topo.RingPairsBegin(i), crosses);
+          across.empty() ? std::numeric_limits<float>::quiet_NaN() : SharpestCosine(ring, across);
       }
 
       if (status & VertexIsolated)
@@ -351,11 +500,13 @@ struct CurvatureKernel
         k2 = kH - std::sqrt(delta);                     // eq. 2.11
         if (WantDirections)
         {
+          EdgeSamples(ring, valence, across, true, samples);
           psi = FitMeyerDirection(samples, kH, n, u, v);
         }
       }
       else
       {
+        EdgeSamples(ring, valence, across, false, samples);
         FitTaubin(samples, n, u, v, k1, k2, psi);
         kH = 0.5 * (k1 + k2);
         kG = k1 * k2;
