@@ -15,6 +15,7 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <mutex>
 #include <utility>
 
 namespace beltrami
@@ -212,8 +213,32 @@ void LineDrawingGeometry::Build(
   K1.resize(n);
   K2.resize(n);
   SharpestCosine.resize(n);
-  ParallelFor(3 * static_cast<std::int64_t>(n), numThreads, [&](std::int64_t begin, std::int64_t end) {
-    std::copy(points + begin, points + end, Points.data() + begin);
+  // The points in double precision, and the bounding box of the used ones
+  // (for the feature size) in the same pass.
+  double box[6]; // -lo, hi
+  std::fill(box, box + 6, -std::numeric_limits<double>::infinity());
+  std::mutex boxMerge;
+  ParallelFor(n, numThreads, [&](std::int64_t begin, std::int64_t end) {
+    double part[6];
+    std::fill(part, part + 6, -std::numeric_limits<double>::infinity());
+    for (std::int64_t i = begin; i < end; ++i)
+    {
+      std::copy(points + 3 * i, points + 3 * i + 3, Points.data() + 3 * i);
+      const Vec3 p = Point(Points.data(), static_cast<Index>(i));
+      if (p.allFinite() && topology.Valence(static_cast<Index>(i)) > 0)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          part[k] = std::max(part[k], -p[k]);
+          part[k + 3] = std::max(part[k + 3], p[k]);
+        }
+      }
+    }
+    const std::lock_guard<std::mutex> lock(boxMerge);
+    for (int k = 0; k < 6; ++k)
+    {
+      box[k] = std::max(box[k], part[k]);
+    }
   });
   CurvatureOptions options;
   options.NumberOfThreads = numThreads;
@@ -234,20 +259,6 @@ void LineDrawingGeometry::Build(
     Split->UpdateGhosts(Derivatives.data(), 4);
   }
 
-  double box[6]; // -lo, hi
-  std::fill(box, box + 6, -std::numeric_limits<double>::infinity());
-  for (Index i = 0; i < n; ++i)
-  {
-    const Vec3 p = Point(Points.data(), i);
-    if (p.allFinite() && topology.Valence(i) > 0)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        box[k] = std::max(box[k], -p[k]);
-        box[k + 3] = std::max(box[k + 3], p[k]);
-      }
-    }
-  }
   if (Split)
   {
     Split->Max(box, 6);

@@ -212,6 +212,7 @@ struct RingBatch
     Degenerate,            // 1 or 0
     Px, Py, Pz,            // CotK A + CotJ B: the corner's part of -CotangentSum
     Cx, Cy, Cz,            // A x B
+    InverseCross,          // InverseCrossNorm of A x B
     Finite,                // 1 where A and B are finite
     Fields
   };
@@ -283,6 +284,7 @@ CLONES void ComputeRingCorners(double* data, Index stride)
     out(F::Cx, cross.X);
     out(F::Cy, cross.Y);
     out(F::Cz, cross.Z);
+    out(F::InverseCross, 1.0 / Sqrt(cross.X * cross.X + cross.Y * cross.Y + cross.Z * cross.Z)); // (InverseCrossNorm)
     const Mask finite = Finite(a.X) & Finite(a.Y) & Finite(a.Z) & Finite(b.X) & Finite(b.Y) & Finite(b.Z);
     out(F::Finite, finite ? zero + 1.0 : zero);
   }
@@ -296,7 +298,9 @@ float SharpestCosine(const RingBatch& ring, const std::vector<Index>& across)
   double lowest = 1.0;
   for (std::size_t a = 0; a < across.size(); ++a)
   {
-    const double cosine = NormalCosine(ring.Get(RingBatch::Cx, a), ring.Get(RingBatch::Cx, across[a]));
+    const Index b = across[a];
+    const double cosine =
+      NormalCosine(ring.Get(RingBatch::Cx, a), ring(RingBatch::InverseCross, a), ring.Get(RingBatch::Cx, b), ring(RingBatch::InverseCross, b));
     lowest = cosine < lowest ? cosine : lowest; // (NaN: left out)
   }
   return static_cast<float>(lowest);

@@ -53,12 +53,28 @@ inline T CornerMixedArea(const T& aa, const T& bb, const T& ab, const T& twiceAr
   return nonObtuse ? (bb * cotJ + aa * cotK) / 8.0 : obtuse;
 }
 
+/// 1 / |c| for a triangle's cross product c (twice its area times its unit
+/// normal), summed in this order (the 1-ring batch of the curvature kernel
+/// computes the same per lane: the same values).
+inline double InverseCrossNorm(double x, double y, double z)
+{
+  return 1.0 / std::sqrt(x * x + y * y + z * z);
+}
+inline double InverseCrossNorm(const Vec3& c)
+{
+  return InverseCrossNorm(c[0], c[1], c[2]);
+}
+
 /// The cosine of the angle between the normals of two triangles given as
-/// cross products of their edges (twice their areas times their unit
-/// normals); NaN where one is zero or not finite.
+/// cross products of their edges and their InverseCrossNorm; NaN where one
+/// is zero or not finite.
+inline double NormalCosine(const Vec3& a, double inverseA, const Vec3& b, double inverseB)
+{
+  return (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) * inverseA * inverseB;
+}
 inline double NormalCosine(const Vec3& a, const Vec3& b)
 {
-  return a.dot(b) / std::sqrt(a.squaredNorm() * b.squaredNorm());
+  return NormalCosine(a, InverseCrossNorm(a), b, InverseCrossNorm(b));
 }
 
 /// Computes the geometry of corner c of vertex i in triangle (x_i, x_j, x_k).
