@@ -457,8 +457,17 @@ const LineDrawingGeometry::CreaseList& LineDrawingGeometry::Creases(double angle
     return CreaseEdges;
   }
   // The edges (a < b) of the faces whose lower end a has an edge sharper
-  // than the angle (few: a scan of the faces, no edge table), then those
-  // of two faces, sorted, tested.
+  // than the angle (few: a scan of the faces, no edge table; none on most
+  // smooth surfaces, found by a scan of the vertices), then those of two
+  // faces, sorted, tested.
+  CreaseEdges.Edges.clear();
+  CreaseEdges.Angles.clear();
+  CreaseEdges.Cosine = creaseCosine;
+  CreaseEdges.Valid = true;
+  if (std::none_of(SharpestCosine.begin(), SharpestCosine.end(), [&](float c) { return c < creaseCosine; }))
+  {
+    return CreaseEdges;
+  }
   struct Edge
   {
     Index A, B, Face;
@@ -476,8 +485,6 @@ const LineDrawingGeometry::CreaseList& LineDrawingGeometry::Creases(double angle
     }
   })[0];
   std::sort(candidates.begin(), candidates.end());
-  CreaseEdges.Edges.clear();
-  CreaseEdges.Angles.clear();
   for (std::size_t g = 0; g < candidates.size();)
   {
     const Edge& e = candidates[g];
@@ -497,8 +504,6 @@ const LineDrawingGeometry::CreaseList& LineDrawingGeometry::Creases(double angle
     }
     g = h;
   }
-  CreaseEdges.Cosine = creaseCosine;
-  CreaseEdges.Valid = true;
   return CreaseEdges;
 }
 
