@@ -179,6 +179,37 @@ Vec3 FaceGradient(const Vec3* p, const double* g)
   return gradient / nn;
 }
 
+/// The points in double precision into `copy`, and in the same pass the
+/// bounding box of the used ones (finite, in a triangle) into box: -lo, hi.
+template <typename T>
+void CopyPoints(const MeshTopology& topology, const T* points, int numThreads, double* copy, double* box)
+{
+  std::fill(box, box + 6, -std::numeric_limits<double>::infinity());
+  std::mutex merge;
+  ParallelFor(topology.NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
+    double part[6];
+    std::fill(part, part + 6, -std::numeric_limits<double>::infinity());
+    for (std::int64_t i = begin; i < end; ++i)
+    {
+      std::copy(points + 3 * i, points + 3 * i + 3, copy + 3 * i);
+      const Vec3 p = Point(copy, static_cast<Index>(i));
+      if (p.allFinite() && topology.Valence(static_cast<Index>(i)) > 0)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          part[k] = std::max(part[k], -p[k]);
+          part[k + 3] = std::max(part[k + 3], p[k]);
+        }
+      }
+    }
+    const std::lock_guard<std::mutex> lock(merge);
+    for (int k = 0; k < 6; ++k)
+    {
+      box[k] = std::max(box[k], part[k]);
+    }
+  });
+}
+
 } // namespace
 
 template <typename T>
@@ -213,33 +244,8 @@ void LineDrawingGeometry::Build(
   K1.resize(n);
   K2.resize(n);
   SharpestCosine.resize(n);
-  // The points in double precision, and the bounding box of the used ones
-  // (for the feature size) in the same pass.
-  double box[6]; // -lo, hi
-  std::fill(box, box + 6, -std::numeric_limits<double>::infinity());
-  std::mutex boxMerge;
-  ParallelFor(n, numThreads, [&](std::int64_t begin, std::int64_t end) {
-    double part[6];
-    std::fill(part, part + 6, -std::numeric_limits<double>::infinity());
-    for (std::int64_t i = begin; i < end; ++i)
-    {
-      std::copy(points + 3 * i, points + 3 * i + 3, Points.data() + 3 * i);
-      const Vec3 p = Point(Points.data(), static_cast<Index>(i));
-      if (p.allFinite() && topology.Valence(static_cast<Index>(i)) > 0)
-      {
-        for (int k = 0; k < 3; ++k)
-        {
-          part[k] = std::max(part[k], -p[k]);
-          part[k + 3] = std::max(part[k + 3], p[k]);
-        }
-      }
-    }
-    const std::lock_guard<std::mutex> lock(boxMerge);
-    for (int k = 0; k < 6; ++k)
-    {
-      box[k] = std::max(box[k], part[k]);
-    }
-  });
+  double box[6]; // -lo, hi of the used points (for the feature size)
+  CopyPoints(topology, points, numThreads, Points.data(), box);
   CurvatureOptions options;
   options.NumberOfThreads = numThreads;
   CurvatureOutputs out;
