@@ -77,6 +77,7 @@ void AssembleSurface(const MeshTopology& topo, const double* points,
       const auto entry = [&](Index j) {
         return std::lower_bound(l.Neighbors + first, l.Neighbors + last, j) - l.Neighbors;
       };
+      PrefetchRing(topo, points, N, i);
       const VecN<N> xi = LoadPoint<N>(points, N, i);
       double mass = 0.0;
       ForEachRingCorner<N>(topo, points, N, i, xi, [&](const CornerGeometry<N>& g) {

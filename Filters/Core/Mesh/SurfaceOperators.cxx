@@ -20,6 +20,7 @@ bool BeltramiN(const MeshTopology& topo, const T* points, int stride, double* be
     [&](std::int64_t begin, std::int64_t end) {
       for (Index i = static_cast<Index>(begin); i < end; ++i)
       {
+        PrefetchRing(topo, points, stride, i);
         const VecN<N> xi = LoadPoint<N>(points, stride, i);
         RingSums<N> sums;
         ForEachRingCorner<N>(
