@@ -310,7 +310,6 @@ void RasterizeRow(const AtlasChart& chart, int n, std::int64_t j, const Index* b
       if (pbc >= outside && apc >= outside && BarycentricFromCrosses(pbc, apc, area, w))
       {
         raster.Face[p] = *item;
-        std::copy(w, w + 3, &raster.Barycentric[3 * p]);
       }
     }
   }
@@ -324,7 +323,6 @@ void RasterizeChart(const AtlasChart& chart, int resolution, ChartRaster& raster
   raster.Resolution = n;
   const std::size_t pixels = static_cast<std::size_t>(n) * n;
   raster.Face.assign(pixels, -1);
-  raster.Barycentric.assign(3 * pixels, 0.0);
   std::vector<std::int64_t> offsets;
   std::vector<Index> items;
   RowsOfTriangles(chart, n, offsets, items);
@@ -338,6 +336,18 @@ void RasterizeChart(const AtlasChart& chart, int resolution, ChartRaster& raster
     {}, 0, 1);
 }
 
+void PixelBarycentric(const AtlasChart& chart, const ChartRaster& raster, std::size_t p, double* w)
+{
+  const int n = raster.Resolution;
+  const std::int64_t j = static_cast<std::int64_t>(p / n);
+  const int i = static_cast<int>(p % n);
+  const double y = (static_cast<double>(j) + 0.5) / n;
+  const double centre[2] = { (i + 0.5) / n, y }; // as RasterizeRow's
+  const double* uv[3];
+  TriangleUV(chart, raster.Face[p], uv);
+  BarycentricFromCrosses(Cross2(centre, uv[1], uv[2]), Cross2(uv[0], centre, uv[2]), Cross2(uv[0], uv[1], uv[2]), w);
+}
+
 void InterpolateOnRaster(const ChartRaster& raster, const AtlasChart& chart, const double* values, int components,
   double* out, bool chartValues, int numThreads)
 {
@@ -346,6 +356,11 @@ void InterpolateOnRaster(const ChartRaster& raster, const AtlasChart& chart, con
     for (std::int64_t p = begin; p < end; ++p)
     {
       const Index t = raster.Face[p];
+      double w[3];
+      if (t >= 0)
+      {
+        PixelBarycentric(chart, raster, static_cast<std::size_t>(p), w);
+      }
       for (int c = 0; c < components; ++c)
       {
         double v = std::numeric_limits<double>::quiet_NaN();
@@ -356,7 +371,7 @@ void InterpolateOnRaster(const ChartRaster& raster, const AtlasChart& chart, con
           {
             const Index corner = chart.Corners[3 * t + k];
             const std::size_t vertex = static_cast<std::size_t>(chartValues ? corner : chart.Vertices[corner]);
-            v += raster.Barycentric[3 * p + k] * values[vertex * components + c];
+            v += w[k] * values[vertex * components + c];
           }
         }
         out[p * components + c] = v;

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "Maps/Atlas.h"
+#include "Support/LargeBuffer.h"
 
 #include <cstdint>
 #include <vector>
@@ -21,9 +22,14 @@ namespace beltrami
 struct ChartRaster
 {
   int Resolution = 0;
-  std::vector<Index> Face;          ///< chart triangle index per pixel, -1 outside the chart
-  std::vector<double> Barycentric;  ///< 3 per pixel (weights of the triangle's corners)
+  LargeVector<Index> Face;          ///< chart triangle index per pixel, -1 outside the chart
 };
+
+/// The weights of pixel p's centre in its triangle (raster.Face[p] >= 0), as
+/// RasterizeChart found them (the same arithmetic: the same bits).  Not
+/// stored per pixel: 24 bytes a pixel of fresh memory cost the remesher's
+/// previews more than computing them again where they are read.
+void PixelBarycentric(const AtlasChart& chart, const ChartRaster& raster, std::size_t p, double* w);
 
 /// The whole atlas as one chart of [0, 1]^2: every chart's triangles (chart
 /// after chart, so Triangles is not ascending) at their packed positions

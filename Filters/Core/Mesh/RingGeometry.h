@@ -12,6 +12,7 @@
 
 #include "Mesh/Geometry.h"
 #include "Mesh/MeshTopology.h"
+#include "Support/Vectorization.h"
 
 #include <algorithm>
 #include <cmath>
@@ -123,11 +124,7 @@ inline void PrefetchRing(const MeshTopology& topo, const T* points, int stride, 
     const Index v = i + Distance;
     for (const Index* p = topo.RingPairsBegin(v); p != topo.RingPairsBegin(v + 1); ++p)
     {
-      const T* ahead = points + static_cast<std::int64_t>(stride) * *p;
-      __builtin_prefetch(ahead);
-      // GCC's vectorizer drops prefetches from the loops it vectorizes, and
-      // it did this one: an empty statement it cannot vectorize keeps them.
-      asm volatile("" : : "r"(ahead));
+      PrefetchKept(points + static_cast<std::int64_t>(stride) * *p);
     }
   }
 }

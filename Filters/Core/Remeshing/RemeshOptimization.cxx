@@ -2,6 +2,7 @@
 
 #include "Maps/GeometryImages.h"
 #include "Support/Parallel.h"
+#include "Support/Vectorization.h"
 
 #include <Eigen/Geometry>
 
@@ -190,6 +191,7 @@ private:
   bool Place(Index v, Index triangle, const double* w, double& moved);
   void Move(Index v, double& moved);
   void ColourVertices();
+  void Prefetch(Index v) const;
 
   Remesh& R;
   HalfEdgeMesh& M;
@@ -780,6 +782,25 @@ void Optimizer::ColourVertices()
   }
 }
 
+/// Asks for what moving v reads: its neighbours' positions and importance,
+/// its input triangle's corners.
+void Optimizer::Prefetch(Index v) const
+{
+  M.ForEachOutgoing(v, [&](Index h) {
+    const Index w = M.Head(h);
+    PrefetchKept(M.Points().data() + 3 * static_cast<std::int64_t>(w));
+    if (!VertexImportance.empty())
+    {
+      PrefetchKept(&VertexImportance[w]);
+    }
+  });
+  const Index t = R.Triangle[v];
+  for (int k = 0; k < 3; ++k)
+  {
+    PrefetchKept(Points + 3 * static_cast<std::int64_t>(Topology.CornerVertex(3 * t + k)));
+  }
+}
+
 /// One relaxation sweep over the vertices (section 4.4.3), colour by
 /// colour; the mean 3D move.
 double Optimizer::Relax()
@@ -792,6 +813,10 @@ double Optimizer::Relax()
       [&](std::int64_t begin, std::int64_t end) {
         for (std::int64_t i = begin; i < end; ++i)
         {
+          if (i + 4 < end)
+          {
+            Prefetch(ColourVerticesList[ColourOffsets[c] + i + 4]);
+          }
           const Index v = ColourVerticesList[ColourOffsets[c] + i];
           Move(v, moved[v]);
         }

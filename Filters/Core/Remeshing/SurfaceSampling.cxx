@@ -340,7 +340,7 @@ const RemeshCache::Raster& RasterAt(const AtlasChart& packed, const double* poin
     std::size_t total = 0;
     for (const auto& [size, r] : cache.Rasters)
     {
-      total += r.Charts.Face.size() * (sizeof(Index) + 4 * sizeof(double));
+      total += r.Charts.Face.size() * (sizeof(Index) + sizeof(double));
     }
     return total;
   };
@@ -361,11 +361,11 @@ const RemeshCache::Raster& RasterAt(const AtlasChart& packed, const double* poin
 /// (the area map times the importance, NaN outside the charts); returns its
 /// sum.
 double BuildControlMap(const RemeshCache::Raster& r, const AtlasChart& packed, const double* importance,
-  int threads, std::vector<double>& map)
+  int threads, LargeVector<double>& map)
 {
   const ChartRaster& raster = r.Charts;
   const double n = raster.Resolution;
-  std::vector<double> weight(raster.Face.size(), 1.0);
+  LargeVector<double> weight(raster.Face.size(), 1.0);
   if (importance)
   {
     InterpolateOnRaster(raster, packed, importance, 1, weight.data(), false, threads);
@@ -382,9 +382,9 @@ double BuildControlMap(const RemeshCache::Raster& r, const AtlasChart& packed, c
 }
 
 /// The q-quantile of the finite values.
-double Quantile(const std::vector<double>& values, double q)
+double Quantile(const LargeVector<double>& values, double q)
 {
-  std::vector<double> finite;
+  LargeVector<double> finite;
   std::copy_if(values.begin(), values.end(), std::back_inserter(finite), [](double v) { return std::isfinite(v); });
   if (finite.empty())
   {
@@ -553,7 +553,9 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
     if (halftone.Samples[p])
     {
       const Index triangle = packed.Triangles[raster.Face[p]];
-      AddSample(topology, points, triangle, &raster.Barycentric[3 * p], SampleKind::Interior,
+      double w[3];
+      PixelBarycentric(packed, raster, p, w);
+      AddSample(topology, points, triangle, w, SampleKind::Interior,
         atlas.ChartOfTriangle[triangle], out);
     }
   }

@@ -29,7 +29,7 @@ namespace beltrami
 /// (interactive use): the surface's curvature (for MaximumSurfaceSag); for
 /// the sampling, the packed atlas and, per control-map resolution, the
 /// charts rasterized with their area map (the last four used, the last two
-/// beyond 256 MiB; 36 bytes a texel: at 10k samples 3-13 MB each); for the
+/// beyond 256 MiB; 12 bytes a texel: at 10k samples 1-4 MB each); for the
 /// optimisation, the charts' locators.  A new sample count, importance or
 /// transfer function then skips the curvature, the rasterization and the
 /// locators' set-up.  The caller empties it when the surface or the atlas
@@ -39,7 +39,7 @@ struct RemeshCache
   struct Raster
   {
     ChartRaster Charts;
-    std::vector<double> AreaRatio; ///< AreaMap per texel
+    LargeVector<double> AreaRatio; ///< AreaMap per texel
     std::uint64_t LastUse = 0;
   };
   std::uint64_t Clock = 0; ///< counts the rasters' uses
@@ -120,7 +120,7 @@ struct SurfaceSamples
   double Density = 0.0;            ///< samples per unit area where the importance is 1
   std::int64_t BoundarySamples = 0;///< samples on chart boundaries (corners included)
   std::vector<SamplePath> Paths;   ///< the chart boundaries with their samples
-  std::vector<double> ControlMap;  ///< expected samples per texel (Resolution^2, NaN outside the charts)
+  LargeVector<double> ControlMap;  ///< expected samples per texel (Resolution^2, NaN outside the charts)
   std::vector<std::uint8_t> Halftone; ///< 1 per texel holding an interior sample
 };
 
