@@ -96,21 +96,37 @@ ChartMesh ExtractChart(const MeshTopology& topology, std::vector<Index> triangle
   std::sort(triangles.begin(), triangles.end());
   chart.Triangles = std::move(triangles);
   const IndexArray& tri = topology.TriangleList();
+  // The thread's surface vertex -> chart vertex map (all -1 between uses:
+  // charts are extracted on several threads at once).
+  thread_local std::vector<Index> localOf;
+  localOf.resize(topology.NumberOfVertices(), -1);
   for (Index t : chart.Triangles)
   {
-    chart.Vertices.insert(chart.Vertices.end(), { tri[3 * t], tri[3 * t + 1], tri[3 * t + 2] });
+    for (int c = 0; c < 3; ++c)
+    {
+      if (localOf[tri[3 * t + c]] < 0)
+      {
+        localOf[tri[3 * t + c]] = 0;
+        chart.Vertices.push_back(tri[3 * t + c]);
+      }
+    }
   }
   std::sort(chart.Vertices.begin(), chart.Vertices.end());
-  chart.Vertices.erase(std::unique(chart.Vertices.begin(), chart.Vertices.end()), chart.Vertices.end());
+  for (std::size_t k = 0; k < chart.Vertices.size(); ++k)
+  {
+    localOf[chart.Vertices[k]] = static_cast<Index>(k);
+  }
   chart.Corners.resize(3 * chart.Triangles.size());
   for (std::size_t k = 0; k < chart.Triangles.size(); ++k)
   {
     for (int c = 0; c < 3; ++c)
     {
-      const Index v = tri[3 * chart.Triangles[k] + c];
-      chart.Corners[3 * k + c] = static_cast<Index>(
-        std::lower_bound(chart.Vertices.begin(), chart.Vertices.end(), v) - chart.Vertices.begin());
+      chart.Corners[3 * k + c] = localOf[tri[3 * chart.Triangles[k] + c]];
     }
+  }
+  for (const Index v : chart.Vertices)
+  {
+    localOf[v] = -1;
   }
   chart.Topology = std::make_shared<const MeshTopology>(static_cast<Index>(chart.Vertices.size()), chart.Corners, 1);
   return chart;
