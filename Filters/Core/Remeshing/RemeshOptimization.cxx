@@ -187,8 +187,9 @@ private:
   bool MoveOnSurface(Index v, double& moved);
   Index NearestOnSurface(const Vec3& p, Index start, double radius, double* w);
   bool KeepsPlane(Index v, Index triangle, const double* w);
-  bool KeepsSurface(Index v, const Vec3& x) const;
-  bool Place(Index v, Index triangle, const double* w, double& moved);
+  Vec3 FanNormal(Index v) const;
+  bool KeepsSurface(Index v, const Vec3& x, const Vec3& normal) const;
+  bool Place(Index v, Index triangle, const double* w, double& moved, const Vec3* normal = nullptr);
   void Move(Index v, double& moved);
   void ColourVertices();
   void Prefetch(Index v) const;
@@ -422,16 +423,22 @@ bool Optimizer::KeepsPlane(Index v, Index triangle, const double* w)
   return valid;
 }
 
-/// Every face around v stays within 60 degrees of the normal of v's faces
-/// (area-weighted, before the move) with v at x: no fold.
-bool Optimizer::KeepsSurface(Index v, const Vec3& x) const
+/// The unit normal of v's faces (area-weighted; not finite where they have
+/// no area).
+Vec3 Optimizer::FanNormal(Index v) const
 {
   Vec3 normal = Vec3::Zero();
+  const Vec3 x = M.Position(v);
   M.ForEachOutgoing(v, [&](Index h) {
-    const Vec3 a = M.Position(M.Tail(h)), b = M.Position(M.Head(h)), c = M.Position(M.Tail(HalfEdgeMesh::Prev(h)));
-    normal += (b - a).cross(c - a);
+    normal += (M.Position(M.Head(h)) - x).cross(M.Position(M.Tail(HalfEdgeMesh::Prev(h))) - x);
   });
-  normal.normalize();
+  return normal.normalized();
+}
+
+/// Every face around v stays within 60 degrees of `normal` (FanNormal(v)
+/// before the move) with v at x: no fold.
+bool Optimizer::KeepsSurface(Index v, const Vec3& x, const Vec3& normal) const
+{
   bool valid = normal.allFinite();
   M.ForEachOutgoing(v, [&](Index h) {
     const Vec3 n = (M.Position(M.Head(h)) - x).cross(M.Position(M.Tail(HalfEdgeMesh::Prev(h))) - x);
@@ -441,14 +448,14 @@ bool Optimizer::KeepsSurface(Index v, const Vec3& x) const
 }
 
 /// Moves vertex v to (triangle, w) of the input if no face around it flips
-/// (in its chart, or on the surface while stitching); `moved` gets the 3D
-/// distance.
-bool Optimizer::Place(Index v, Index triangle, const double* w, double& moved)
+/// (in its chart, or on the surface while stitching: `normal` is v's
+/// FanNormal where the caller has it); `moved` gets the 3D distance.
+bool Optimizer::Place(Index v, Index triangle, const double* w, double& moved, const Vec3* normal)
 {
   const Vec3 x = SurfacePoint(Topology, Points, triangle, w);
   std::vector<std::pair<Index, std::array<double, 2>>>& corners = ThreadBuffers().Corners;
   corners.clear();
-  if (Stitching ? !KeepsSurface(v, x) : !KeepsPlane(v, triangle, w))
+  if (Stitching ? !KeepsSurface(v, x, normal ? *normal : FanNormal(v)) : !KeepsPlane(v, triangle, w))
   {
     return false;
   }
@@ -642,7 +649,7 @@ bool Optimizer::MoveOnSurface(Index v, double& moved)
   {
     double w[3];
     const Index t = NearestOnSurface(x + step * shift, R.Triangle[v], step * shift.norm(), w);
-    if (t >= 0 && Place(v, t, w, moved))
+    if (t >= 0 && Place(v, t, w, moved, &normal)) // (normal: FanNormal(v), the same sums)
     {
       return true;
     }
