@@ -366,42 +366,66 @@ void SpreadSeeds(const DualGraph& graph, const std::vector<Index>& members, int 
 }
 
 /// One Lloyd-like relaxation: every region's new seed is its triangle
-/// farthest from the region's boundary (its centre along the surface).
-std::vector<Index> CentreSeeds(const DualGraph& graph, const std::vector<int>& label, std::size_t regions)
+/// farthest from the region's boundary (its centre along the surface; the
+/// first such triangle in id order).  Each region's distances come from a
+/// Dijkstra within it, from its boundary triangles (those with a neighbour
+/// in another region, a cut or the surface's boundary), the regions on
+/// separate threads.  That is the one Dijkstra from every boundary triangle
+/// over the whole surface, to the bit: a shortest path into a region
+/// enters it through one of its boundary triangles, which are sources.
+std::vector<Index> CentreSeeds(const DualGraph& graph, const std::vector<int>& label, std::size_t regions,
+  int numThreads)
 {
-  std::vector<Index> boundary;
+  std::vector<std::vector<Index>> members(regions); // ascending ids
   for (Index t = 0; t < graph.NumberOfTriangles(); ++t)
   {
-    for (int k = 0; k < 3; ++k)
-    {
-      const Index n = graph.Neighbors[3 * t + k];
-      if (n < 0 || label[n] != label[t])
-      {
-        boundary.push_back(t);
-        break;
-      }
-    }
-  }
-  std::vector<double> inward;
-  if (!boundary.empty())
-  {
-    GrowRegions(graph, boundary, &inward);
+    members[label[t]].push_back(t);
   }
   std::vector<Index> centre(regions, -1);
-  for (Index t = 0; t < graph.NumberOfTriangles(); ++t)
-  {
-    Index& c = centre[label[t]];
-    if (c < 0 || (!inward.empty() && inward[t] > inward[c]))
+  ParallelFor(static_cast<std::int64_t>(regions), numThreads, [&](std::int64_t begin, std::int64_t end) {
+    thread_local std::vector<Index> localOf; // all -1 between uses (as in RebalancePair)
+    localOf.resize(graph.NumberOfTriangles(), -1);
+    std::vector<Index> sources;
+    std::vector<double> inward;
+    for (std::int64_t r = begin; r < end; ++r)
     {
-      c = t;
+      const std::vector<Index>& region = members[r];
+      sources.clear();
+      for (std::size_t k = 0; k < region.size(); ++k)
+      {
+        localOf[region[k]] = static_cast<Index>(k);
+        for (int j = 0; j < 3; ++j)
+        {
+          const Index n = graph.Neighbors[3 * region[k] + j];
+          if (n < 0 || label[n] != static_cast<int>(r))
+          {
+            sources.push_back(static_cast<Index>(k));
+            break;
+          }
+        }
+      }
+      if (!sources.empty())
+      {
+        NearestWithin(graph, region, localOf, sources, inward, nullptr);
+      }
+      std::size_t best = 0;
+      for (std::size_t k = 1; k < region.size() && !sources.empty(); ++k)
+      {
+        best = inward[k] > inward[best] ? k : best;
+      }
+      centre[r] = region.empty() ? -1 : region[best];
+      for (const Index t : region)
+      {
+        localOf[t] = -1;
+      }
     }
-  }
+  }, {}, 0, 1);
   return centre;
 }
 
 } // namespace
 
-std::vector<Index> ChooseSeeds(const DualGraph& graph, int count, std::vector<int>* label)
+std::vector<Index> ChooseSeeds(const DualGraph& graph, int count, std::vector<int>* label, int numThreads)
 {
   const std::vector<std::vector<Index>> components = Components(graph);
   const double total = std::accumulate(graph.Areas.begin(), graph.Areas.end(), 0.0);
@@ -417,7 +441,7 @@ std::vector<Index> ChooseSeeds(const DualGraph& graph, int count, std::vector<in
       std::max(1, static_cast<int>(std::lround(count * (total > 0.0 ? area / total : 0.0)))), seeds);
   }
   std::vector<int> regions = GrowRegions(graph, seeds);
-  seeds = CentreSeeds(graph, regions, seeds.size());
+  seeds = CentreSeeds(graph, regions, seeds.size(), numThreads);
   regions = GrowRegions(graph, seeds);
   if (label)
   {

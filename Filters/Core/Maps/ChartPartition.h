@@ -69,7 +69,8 @@ std::vector<std::uint8_t> EdgesBetweenLabels(const MeshTopology& topology, const
 /// dual graph, the rest shared by area), spread by area and moved once to
 /// the centres of their regions; `label` (optional): each triangle's
 /// nearest seed (GrowRegions' result).
-std::vector<Index> ChooseSeeds(const DualGraph& graph, int count, std::vector<int>* label = nullptr);
+std::vector<Index> ChooseSeeds(
+  const DualGraph& graph, int count, std::vector<int>* label = nullptr, int numThreads = 0);
 
 /// label[t] = the index (in `seeds`) of the nearest seed along the dual
 /// graph (one multi-source Dijkstra); -1 where no seed reaches.  distance:

@@ -369,7 +369,7 @@ bool PartitionIntoCharts(const MeshTopology& topology, const DualGraph& graph, i
     return false;
   }
   std::vector<int> label;
-  const std::vector<Index> seeds = ChooseSeeds(graph, count, &label);
+  const std::vector<Index> seeds = ChooseSeeds(graph, count, &label, numThreads);
   SmoothRegionBoundaries(graph, label);
   std::vector<std::vector<Index>> regions(seeds.size());
   for (Index t = 0; t < graph.NumberOfTriangles(); ++t)
