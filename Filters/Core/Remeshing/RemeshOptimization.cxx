@@ -569,6 +569,14 @@ bool Optimizer::MoveOnPath(Index v, double& moved)
 /// vertex), with the nearest point's weights in w.
 Index Optimizer::NearestOnSurface(const Vec3& p, Index start, double radius, double* w)
 {
+  // Most moves stay inside their triangle: nothing nearer is reached
+  // through it (as below), so no search.
+  const double d0 = ClosestPointOnTriangle(p, Point(Points, Topology.CornerVertex(3 * start)),
+    Point(Points, Topology.CornerVertex(3 * start + 1)), Point(Points, Topology.CornerVertex(3 * start + 2)), w);
+  if (w[0] > 0.0 && w[1] > 0.0 && w[2] > 0.0 && d0 < HUGE_VAL)
+  {
+    return start;
+  }
   MoveBuffers& buffers = ThreadBuffers();
   std::vector<Index>& queue = buffers.Queue;
   std::vector<std::uint32_t>& visited = buffers.Visited;
