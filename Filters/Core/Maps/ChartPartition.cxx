@@ -27,7 +27,7 @@ DualGraph::DualGraph(const MeshTopology& topology, const double* points, const s
   Neighbors.assign(3 * static_cast<std::size_t>(nt), -1);
   Distances.assign(3 * static_cast<std::size_t>(nt), 0.0);
   Areas.resize(nt);
-  std::vector<Vec3> centroid(nt);
+  LargeVector<Vec3> centroid(nt);
   ParallelFor(nt, topology.NumberOfThreads(), [&](std::int64_t begin, std::int64_t end) {
     for (Index t = static_cast<Index>(begin); t < end; ++t)
     {

@@ -13,6 +13,7 @@
 #pragma once
 
 #include "Mesh/MeshTopology.h"
+#include "Support/LargeBuffer.h"
 
 #include <cstdint>
 #include <memory>
@@ -30,9 +31,9 @@ namespace beltrami
 /// and chart has them on its boundary.
 struct DualGraph
 {
-  std::vector<Index> Neighbors;   ///< 3 per triangle
-  std::vector<double> Distances;  ///< 3 per triangle
-  std::vector<double> Areas;      ///< 3D area per triangle
+  LargeVector<Index> Neighbors;   ///< 3 per triangle
+  LargeVector<double> Distances;  ///< 3 per triangle
+  LargeVector<double> Areas;      ///< 3D area per triangle
   std::vector<std::pair<Index, Index>> Cuts; ///< the triangle pairs across cut edges, both ways, sorted
 
   /// cut (optional): 1 per edge of topology.Edges() that charts must not cross.
