@@ -305,7 +305,7 @@ vtkSmartPointer<vtkImageData> ChartMaps(const beltrami::AtlasChart& chart, int n
     faces->SetValue(static_cast<vtkIdType>(p), raster.Face[p] < 0 ? -1 : triangleCell[chart.Triangles[raster.Face[p]]]);
   }
   image->GetPointData()->AddArray(faces);
-  beltrami::AreaMap(raster, chart, points, AddMap(image, "AreaRatio", 1));
+  beltrami::AreaMap(raster, chart, points, AddMap(image, "AreaRatio", 1), numThreads);
   for (const MapField& f : fields)
   {
     beltrami::InterpolateOnRaster(

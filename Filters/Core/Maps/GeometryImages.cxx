@@ -380,23 +380,27 @@ void InterpolateOnRaster(const ChartRaster& raster, const AtlasChart& chart, con
   });
 }
 
-void AreaMap(const ChartRaster& raster, const AtlasChart& chart, const double* points, double* out)
+void AreaMap(const ChartRaster& raster, const AtlasChart& chart, const double* points, double* out, int numThreads)
 {
   const Index triangles = static_cast<Index>(chart.Corners.size() / 3);
-  std::vector<double> ratio(triangles);
-  for (Index t = 0; t < triangles; ++t)
-  {
-    const Index* c = &chart.Corners[3 * t];
-    const Vec3 a = Point(points, chart.Vertices[c[0]]), b = Point(points, chart.Vertices[c[1]]),
-               d = Point(points, chart.Vertices[c[2]]);
-    const double area3D = 0.5 * (b - a).cross(d - a).norm();
-    const double area2D = 0.5 * Cross2(&chart.UV[2 * c[0]], &chart.UV[2 * c[1]], &chart.UV[2 * c[2]]);
-    ratio[t] = area2D > 0.0 ? area3D / area2D : 0.0;
-  }
-  for (std::size_t p = 0; p < raster.Face.size(); ++p)
-  {
-    out[p] = raster.Face[p] >= 0 ? ratio[raster.Face[p]] : std::numeric_limits<double>::quiet_NaN();
-  }
+  LargeVector<double> ratio(triangles);
+  ParallelFor(triangles, numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (Index t = static_cast<Index>(begin); t < end; ++t)
+    {
+      const Index* c = &chart.Corners[3 * t];
+      const Vec3 a = Point(points, chart.Vertices[c[0]]), b = Point(points, chart.Vertices[c[1]]),
+                 d = Point(points, chart.Vertices[c[2]]);
+      const double area3D = 0.5 * (b - a).cross(d - a).norm();
+      const double area2D = 0.5 * Cross2(&chart.UV[2 * c[0]], &chart.UV[2 * c[1]], &chart.UV[2 * c[2]]);
+      ratio[t] = area2D > 0.0 ? area3D / area2D : 0.0;
+    }
+  });
+  ParallelFor(static_cast<std::int64_t>(raster.Face.size()), numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t p = begin; p < end; ++p)
+    {
+      out[p] = raster.Face[p] >= 0 ? ratio[raster.Face[p]] : std::numeric_limits<double>::quiet_NaN();
+    }
+  });
 }
 
 } // namespace beltrami

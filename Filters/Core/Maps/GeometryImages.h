@@ -81,7 +81,8 @@ void InterpolateOnRaster(const ChartRaster& raster, const AtlasChart& chart, con
 
 /// The area map into `out`: per pixel the 3D area of its triangle over the
 /// triangle's area in the chart's square (NaN outside).  Summed over the
-/// pixels and multiplied by the pixel area 1/n^2 it gives the chart's 3D area.
-void AreaMap(const ChartRaster& raster, const AtlasChart& chart, const double* points, double* out);
+/// pixels and multiplied by the pixel area 1/n^2 it gives the chart's 3D area
+/// (threads: 0 all).
+void AreaMap(const ChartRaster& raster, const AtlasChart& chart, const double* points, double* out, int numThreads = 0);
 
 } // namespace beltrami

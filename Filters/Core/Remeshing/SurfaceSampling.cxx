@@ -353,7 +353,7 @@ const RemeshCache::Raster& RasterAt(const AtlasChart& packed, const double* poin
   r.LastUse = ++cache.Clock;
   RasterizeChart(packed, n, r.Charts, threads);
   r.AreaRatio.resize(r.Charts.Face.size());
-  AreaMap(r.Charts, packed, points, r.AreaRatio.data());
+  AreaMap(r.Charts, packed, points, r.AreaRatio.data(), threads);
   return r;
 }
 
