@@ -55,7 +55,7 @@ bool BoundaryIsSimple(const MeshTopology& topology, const std::vector<double>& u
 /// Maps the chart `mesh` onto its own square by DCP into `chart` (its
 /// triangles and vertices moved there); false (mesh kept) when the map
 /// fails or flips a triangle.
-bool MapChart(ChartMesh& mesh, const double* points, ParameterizationBoundary boundary, AtlasChart& chart)
+bool MapChart(ChartMesh& mesh, const double* points, const AtlasOptions& atlasOptions, AtlasChart& chart)
 {
   std::vector<double> local(3 * mesh.Vertices.size());
   for (std::size_t v = 0; v < mesh.Vertices.size(); ++v)
@@ -68,7 +68,7 @@ bool MapChart(ChartMesh& mesh, const double* points, ParameterizationBoundary bo
   // points of a triangle on one side) or a natural boundary overlaps itself,
   // the circle, which never puts three points on a line; else the chart is split.
   ParameterizationResult map;
-  for (const ParameterizationBoundary shape : { boundary, ParameterizationBoundary::Circle })
+  for (const ParameterizationBoundary shape : { atlasOptions.ChartBoundary, ParameterizationBoundary::Circle })
   {
     ParameterizationOptions options;
     options.Boundary = shape;
@@ -87,7 +87,9 @@ bool MapChart(ChartMesh& mesh, const double* points, ParameterizationBoundary bo
   {
     return false;
   }
-  const DistortionReport distortion = MeasureDistortion(chartTopology, local.data(), map.UV.data(), 1);
+  const DistortionReport distortion = atlasOptions.MeasureDistortion
+    ? MeasureDistortion(chartTopology, local.data(), map.UV.data(), 1)
+    : DistortionReport();
   chart.Triangles = std::move(mesh.Triangles);
   chart.Vertices = std::move(mesh.Vertices);
   chart.Corners = std::move(mesh.Corners);
@@ -222,7 +224,7 @@ bool MapAllCharts(const MeshTopology& topology, const double* points, const Dual
       [&](std::int64_t begin, std::int64_t end) {
         for (std::int64_t k = begin; k < end; ++k)
         {
-          mapped[k] = MapChart(regions[k], points, options.ChartBoundary, round[k]) ? 1 : 0;
+          mapped[k] = MapChart(regions[k], points, options, round[k]) ? 1 : 0;
         }
       },
       progress, 0, 1);

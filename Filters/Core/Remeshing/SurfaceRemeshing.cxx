@@ -27,6 +27,7 @@ AtlasOptions RemeshingAtlasOptions()
   AtlasOptions options;
   options.ChartBoundary = ParameterizationBoundary::Natural;
   options.BalanceAreas = true;
+  options.MeasureDistortion = false;
   return options;
 }
 
