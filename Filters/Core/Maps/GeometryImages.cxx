@@ -41,6 +41,14 @@ inline bool BarycentricFromCrosses(double pbc, double apc, double area, double* 
   return w[0] >= eps && w[1] >= eps && w[2] >= eps;
 }
 
+/// The centre of pixel column (or row) i of a raster n pixels a side, in
+/// [0, 1]: the one place that says where a pixel samples (RasterizeRow
+/// and PixelBarycentric must agree to the bit).
+inline double PixelCentre(std::int64_t i, int n)
+{
+  return (static_cast<double>(i) + 0.5) / n;
+}
+
 /// The corners' UVs of chart triangle t.
 inline void TriangleUV(const AtlasChart& chart, Index t, const double* (&uv)[3])
 {
@@ -264,7 +272,7 @@ void RowsOfTriangles(const AtlasChart& chart, int n, std::vector<std::int64_t>& 
 void RasterizeRow(const AtlasChart& chart, int n, std::int64_t j, const Index* begin, const Index* end,
   ChartRaster& raster)
 {
-  const double y = (static_cast<double>(j) + 0.5) / n;
+  const double y = PixelCentre(j, n);
   for (const Index* item = begin; item != end; ++item)
   {
     const double* uv[3];
@@ -300,7 +308,7 @@ void RasterizeRow(const AtlasChart& chart, int n, std::int64_t j, const Index* b
     for (int i = std::max(0, RasterPixel(lo, n) - 1); i <= std::min(n - 1, RasterPixel(hi, n) + 2); ++i)
     {
       const std::size_t p = static_cast<std::size_t>(j) * n + i;
-      const double centre[2] = { (i + 0.5) / n, y };
+      const double centre[2] = { PixelCentre(i, n), y };
       if (raster.Face[p] >= 0)
       {
         continue;
@@ -339,10 +347,8 @@ void RasterizeChart(const AtlasChart& chart, int resolution, ChartRaster& raster
 void PixelBarycentric(const AtlasChart& chart, const ChartRaster& raster, std::size_t p, double* w)
 {
   const int n = raster.Resolution;
-  const std::int64_t j = static_cast<std::int64_t>(p / n);
-  const int i = static_cast<int>(p % n);
-  const double y = (static_cast<double>(j) + 0.5) / n;
-  const double centre[2] = { (i + 0.5) / n, y }; // as RasterizeRow's
+  const double centre[2] = { PixelCentre(static_cast<std::int64_t>(p % n), n),
+    PixelCentre(static_cast<std::int64_t>(p / n), n) };
   const double* uv[3];
   TriangleUV(chart, raster.Face[p], uv);
   BarycentricFromCrosses(Cross2(centre, uv[1], uv[2]), Cross2(uv[0], centre, uv[2]), Cross2(uv[0], uv[1], uv[2]), w);
