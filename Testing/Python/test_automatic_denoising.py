@@ -155,6 +155,40 @@ class NoiseEstimates(unittest.TestCase):
 
 
 class Defaults(unittest.TestCase):
+    def test_flat_backgrounds_neither_hide_the_noise_nor_stop_the_defaults(self):
+        # A skull-stripped-like MRI volume (noise only where the clean volume is
+        # above 5% of its maximum, exactly 0 elsewhere: 74-76% of the voxels)
+        # and 8-bit photographs, noisy, rounded and clipped, with a black
+        # border (26% of the pixels).  The flat samples made the estimate 0
+        # (the defaults then left the data as they were); now it is that of the
+        # samples away from them.
+        for name in ("mri_piesno", "mri_s0_10slices"):
+            clean, spacing = load_volume(name)
+            inside = clean > 0.05 * clean.max()
+            for sigma in (0.05, 0.1):
+                noisy = np.where(inside, clean + np.random.default_rng(5).normal(0, sigma, clean.shape), 0.0)
+                out, fd = denoise(noisy, spacing)
+                estimate = fd.GetArray("EstimatedNoiseLevel").GetValue(0)
+                masked = np.where(inside, clean, 0.0)
+                before, after = (10 * np.log10(1 / np.mean((a - masked)[inside] ** 2)) for a in (noisy, out))
+                print("%s masked (%.0f%% flat), sigma %.2f: estimated %.4f, %.2f -> %.2f dB inside"
+                      % (name, 100 * (1 - inside.mean()), sigma, estimate, before, after))
+                self.assertLess(abs(estimate / sigma - 1), 0.1)
+                self.assertGreater(after, before + 4.0)
+        for name in ("camera", "coffee"):
+            clean8 = pipelines.read_png(os.path.join(DATA, name + ".png"))
+            clean8 = clean8[..., :1] if name == "camera" else clean8[..., :3]
+            noisy8 = pipelines.noisy_version(clean8, sigma=0.05)
+            framed8 = noisy8.copy()
+            framed8[:80] = 0
+            framed8[:, :60] = 0
+            estimates = [pipelines.denoise(a)[1].GetArray("EstimatedNoiseLevel").GetValue(0) / (255.0 if name == "camera" else 1.0)
+                         for a in (noisy8, framed8)]
+            print("%s 8-bit, sigma 0.05: estimated %.4f, with a black border %.4f" % (name, *estimates))
+            self.assertLess(abs(estimates[1] / estimates[0] - 1), 0.05)  # (other samples: 2-4% apart)
+            for estimate in estimates:
+                self.assertLess(abs(estimate / 0.05 - 1), 0.1)
+
     def test_camera_at_sigma_0_1_with_no_setting(self):
         clean = load_png("camera")
         noisy = clean + np.random.default_rng(1234).normal(0, 0.1, clean.shape)
