@@ -115,8 +115,8 @@ struct FlowValues
   beltrami::UninitializedVector<double> Values; // (every value read from the array)
   /// Where the output array can hold the values as the core smooths them
   /// (doubles, every component smoothed, the input's extent): that array,
-  /// smoothed in place, without a copy of the values and a pass to store
-  /// them (at 256^3, 134 MB of memory less to fault in).
+  /// smoothed in place, without an array of the values besides it and a
+  /// pass to store them.
   vtkSmartPointer<vtkDataArray> Output;
   double* Data = nullptr; // the values: Output's, else Values'
   int Used = 0;
