@@ -355,10 +355,14 @@ double EstimateGraphNoise(Index size, const std::int64_t* offsets, const Index* 
       {
         continue;
       }
+      const double value = values[static_cast<std::size_t>(i) * components + comp];
       double mean = 0.0, centre[3] = { 0.0, 0.0, 0.0 };
+      int equal = 0; // neighbours with the same value (Samples::Flat)
       for (std::int64_t k = b; k < e; ++k)
       {
-        mean += values[static_cast<std::size_t>(neighbors[k]) * components + comp];
+        const double neighbour = values[static_cast<std::size_t>(neighbors[k]) * components + comp];
+        mean += neighbour;
+        equal += neighbour == value;
         for (int a = 0; a < 3; ++a)
         {
           centre[a] += points[3 * static_cast<std::size_t>(neighbors[k]) + a];
@@ -376,13 +380,7 @@ double EstimateGraphNoise(Index size, const std::int64_t* offsets, const Index* 
           spread += dx * dx;
         }
       }
-      const double value = values[static_cast<std::size_t>(i) * components + comp];
       const double r = value - mean;
-      int equal = 0;
-      for (std::int64_t k = b; k < e; ++k)
-      {
-        equal += values[static_cast<std::size_t>(neighbors[k]) * components + comp] == value;
-      }
       s.Response.push_back(std::abs(r) / std::sqrt(1.0 + 1.0 / n));
       s.Gradient.push_back(
         spread > 0.0 ? (moment[0] * moment[0] + moment[1] * moment[1] + moment[2] * moment[2]) / (spread * spread)
