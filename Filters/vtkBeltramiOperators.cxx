@@ -215,6 +215,8 @@ int vtkBeltramiOperators::RequestData(
     outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), outExt);
     return output ? this->RunImage(image, output, whole, outExt) : 0;
   }
+  vtkBeltramiSurface::WarnNonFinitePoints(
+    this, vtkDataSet::GetData(inputVector[0]), "the operators at them and next to them are not finite.");
   if (vtkPolyData::GetData(inputVector[0]))
   {
     // Local operators (1-rings), and the automatic contrast scale's noise

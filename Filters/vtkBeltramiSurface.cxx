@@ -9,6 +9,7 @@
 #include <vtkMath.h>
 #include <vtkNew.h>
 #include <vtkPoints.h>
+#include <vtkPointSet.h>
 #include <vtkPolyData.h>
 #include <vtkPolygon.h>
 
@@ -130,6 +131,24 @@ bool ValidCell(vtkIdType n, const vtkIdType* ids, vtkIdType numPoints)
 
 } // namespace
 
+vtkIdType vtkBeltramiSurface::WarnNonFinitePoints(vtkAlgorithm* owner, vtkDataSet* input, const char* consequence)
+{
+  vtkPointSet* set = vtkPointSet::SafeDownCast(input);
+  vtkDataArray* data = set && set->GetPoints() ? set->GetPoints()->GetData() : nullptr;
+  vtkIdType count = 0;
+  for (vtkIdType i = 0; data && i < data->GetNumberOfTuples(); ++i)
+  {
+    double p[3];
+    data->GetTuple(i, p);
+    count += !(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]));
+  }
+  if (count > 0)
+  {
+    vtkWarningWithObjectMacro(owner, << count << " points have NaN or infinite coordinates: " << consequence);
+  }
+  return count;
+}
+
 vtkBeltramiSurface::Readiness vtkBeltramiSurface::BuildWhole(
   vtkAlgorithm* owner, vtkPolyData* input, int numberOfThreads, const char* product)
 {
@@ -147,6 +166,11 @@ vtkBeltramiSurface::Readiness vtkBeltramiSurface::BuildWhole(
   {
     vtkWarningWithObjectMacro(owner, << "Input has no polygons or triangle strips: " << product << " is empty.");
     return Readiness::Empty;
+  }
+  if (this->InvalidCells > 0)
+  {
+    vtkWarningWithObjectMacro(owner, << this->InvalidCells << " cells with point ids out of range are left out of "
+                                     << product << ".");
   }
   return Readiness::Ready;
 }

@@ -187,6 +187,11 @@ public:
   static std::vector<std::uint8_t> SelectedPointMask(
     vtkAlgorithm* owner, vtkDataSet* input, int idx, const char* what, std::string& error);
 
+  /// Warns on `owner` when points of `input` have NaN or infinite
+  /// coordinates: "N points have NaN or infinite coordinates: " followed by
+  /// `consequence`.  Returns that count.
+  static vtkIdType WarnNonFinitePoints(vtkAlgorithm* owner, vtkDataSet* input, const char* consequence);
+
   /// The points as 3 doubles each: the input's own array when it is double,
   /// else a converted copy kept in `storage`.
   const double* PointsAsDouble(std::vector<double>& storage) const;

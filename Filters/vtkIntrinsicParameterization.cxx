@@ -339,6 +339,11 @@ int vtkIntrinsicParameterization::RequestData(
 int vtkIntrinsicParameterization::Parameterize(vtkBeltramiSurface& surface)
 {
   const beltrami::MeshTopology& topo = surface.Topology();
+  if (surface.NumberOfInvalidCells() > 0)
+  {
+    vtkWarningMacro(<< surface.NumberOfInvalidCells()
+                    << " cells with point ids out of range are left out of the parameterization.");
+  }
   std::string notDisk;
   if (this->AtlasForNonDisks && !surface.Split() && !beltrami::CheckDiskTopology(topo, notDisk))
   {
@@ -366,6 +371,12 @@ int vtkIntrinsicParameterization::Parameterize(vtkBeltramiSurface& surface)
   const beltrami::DistortionReport distortion =
     beltrami::MeasureDistortion(
       topo, surface.PointsAsDouble(converted), result.UV.data(), this->NumberOfThreads, surface.Split());
+  if (distortion.FlippedTriangles > 0 && this->CanUseAtlasInstead(surface))
+  {
+    return this->ParameterizeThroughAtlas(surface,
+      "The map of this surface flipped " + std::to_string(distortion.FlippedTriangles) +
+        " triangles (the conformal weights are negative at obtuse triangles; holes are free).");
+  }
   this->WriteMap(surface, result);
   this->WriteDistortion(surface, distortion, result);
   this->UpdateProgress(1.0);
@@ -420,6 +431,20 @@ bool vtkIntrinsicParameterization::Solve(vtkBeltramiSurface& surface, beltrami::
   in.SolvedStamp = this->InputStamp(surface);
   in.SolvedSettings = in.SolveSettings.GetMTime();
   return true;
+}
+
+bool vtkIntrinsicParameterization::CanUseAtlasInstead(const vtkBeltramiSurface& surface) const
+{
+  // The atlas splits a chart whose map flips, so it never flips; it has no
+  // place for what pins a single map (constraints, handles, given UV).
+  const Internals& in = *this->Internal;
+  vtkInformation* targets = const_cast<vtkIntrinsicParameterization*>(this)->GetInputArrayInformation(1);
+  const char* target =
+    targets && targets->Has(vtkDataObject::FIELD_NAME()) ? targets->Get(vtkDataObject::FIELD_NAME()) : nullptr;
+  const bool noTargets = !target || !*target || std::string(target) == "None";
+  return this->AtlasForNonDisks && noTargets && !surface.Split() && !surface.IsGathered() && this->Boundary != GIVEN &&
+    in.Constraints.empty() && in.Lines.empty() && in.Handles.empty() && !this->KeepBoundaryBasis &&
+    this->BoundaryOptimizationSteps == 0 && !this->OptimizeMix;
 }
 
 int vtkIntrinsicParameterization::ParameterizeThroughAtlas(vtkBeltramiSurface& surface, const std::string& why)

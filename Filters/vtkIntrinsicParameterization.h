@@ -181,12 +181,17 @@ public:
 
   ///@{
   /// Closed, higher-genus or multi-component input (no disk): with
-  /// AtlasForNonDisks (default off: an error) it is parameterized through an
+  /// AtlasForNonDisks (default on; off: an error) it is parameterized through an
   /// atlas (vtkSurfaceAtlas, thesis section 4.2: disk-like charts, each by
   /// DCP on its square (Boundary SQUARE), circle (CIRCLE) or free (NATURAL),
   /// packed into [0,1]^2); the output is then the surface cut along the
   /// chart seams, with UV, ChartId and vtkOriginalPointIds, and a warning
-  /// says so.  Not in distributed runs (use Surface Atlas there).
+  /// says so.  A disk still gets one map, unless that map flips triangles
+  /// (DCP's weights are negative at obtuse triangles, and holes are free):
+  /// then, where nothing pins the single map (no constraints, handles,
+  /// GIVEN boundary, boundary optimisation, optimal mix or kept basis), the
+  /// atlas, which never flips, is used instead, with a warning.  Not in
+  /// distributed runs (use Surface Atlas there).
   vtkSetMacro(AtlasForNonDisks, bool);
   vtkGetMacro(AtlasForNonDisks, bool);
   vtkBooleanMacro(AtlasForNonDisks, bool);
@@ -258,7 +263,7 @@ protected:
   bool KeepBoundaryBasis;
   int NumberOfThreads;
   bool OutputFlattenedMesh = false;
-  bool AtlasForNonDisks = false;
+  bool AtlasForNonDisks = true;
 
   double OptimalMix = -1.0;
   double MeanAngleDistortion = 0.0;
@@ -273,6 +278,8 @@ private:
 
   /// The map of the surface Execute built (RequestData's value).
   int Parameterize(vtkBeltramiSurface& surface);
+  /// Whether the atlas may replace a single map that flips (see AtlasForNonDisks).
+  bool CanUseAtlasInstead(const vtkBeltramiSurface& surface) const;
   /// The atlas path for input that is not a disk (AtlasForNonDisks).
   int ParameterizeThroughAtlas(vtkBeltramiSurface& surface, const std::string& why);
   /// The given boundary (input array 0, into `given`) and the constraint

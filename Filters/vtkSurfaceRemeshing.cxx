@@ -4,6 +4,7 @@
 
 #include "Maps/Atlas.h"
 #include "Mesh/MeshMeasures.h"
+#include "Mesh/SurfaceDistance.h"
 #include "Remeshing/SurfaceRemeshing.h"
 
 #include <vtkCellArray.h>
@@ -176,6 +177,7 @@ void WriteRemesh(vtkPolyData* input, const beltrami::MeshTopology& topology, con
   AddField(output, "RemeshFractionValence6", { q.FractionValence6 });
   AddField(output, "RemeshEdgeLengthVariation", { q.EdgeLengthVariation });
   AddField(output, "RemeshCharts", { static_cast<double>(charts) });
+  AddField(output, "RemeshDeviation", { r.DeviationToInput, r.DeviationFromInput });
   AddField(output, "RemeshSeconds", { r.SamplingSeconds, r.TriangulationSeconds, r.OptimizationSeconds });
 }
 
@@ -302,6 +304,17 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
     vtkErrorMacro(<< "Cannot remesh with " << this->NumberOfVertices << " vertices: " << remesh.Error
                   << ". The output is empty.");
     return 0;
+  }
+  const double diagonal = beltrami::UsedBoundingBoxDiagonal(
+    points, topology.TriangleList().data(), static_cast<std::size_t>(topology.NumberOfTriangles()));
+  if (remesh.DeviationFromInput * diagonal > remesh.Spacing)
+  {
+    const beltrami::Vec3& p = remesh.FarthestInputPoint;
+    vtkWarningMacro(<< "The remesh with " << this->NumberOfVertices << " vertices leaves parts of the input "
+                    << "farther from it than its spacing (" << remesh.Spacing << "): the input point ("
+                    << p[0] << ", " << p[1] << ", " << p[2] << ") is " << remesh.DeviationFromInput * diagonal
+                    << " away (" << 100.0 * remesh.DeviationFromInput
+                    << "% of the diagonal; field array RemeshDeviation).");
   }
   WriteRemesh(input, topology, remesh, atlas.Charts.size(), output);
   WriteControlMap(remesh.Samples, vtkMultiBlockDataSet::SafeDownCast(this->GetOutputDataObject(1)));

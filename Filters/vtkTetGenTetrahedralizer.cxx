@@ -4,6 +4,7 @@
 #include "vtkBeltramiSurface.h"
 
 #include "Mesh/HarmonicExtension.h"
+#include "Mesh/MeshMeasures.h"
 #include "Support/HelperProcess.h"
 #include "Mesh/Tetrahedra.h"
 
@@ -271,13 +272,11 @@ int vtkTetGenTetrahedralizer::Mesh(
   }
   std::vector<double> storage;
   const double* points = surface.PointsAsDouble(storage);
-  for (vtkIdType k = 0; k < 3 * numPoints; ++k)
+  const std::string coordinates = beltrami::CoordinateRangeProblem(topo, points);
+  if (!coordinates.empty())
   {
-    if (!std::isfinite(points[k]))
-    {
-      vtkErrorMacro("The input has NaN or infinite point coordinates. The output is empty.");
-      return 0;
-    }
+    vtkErrorMacro(<< coordinates << ". The output is empty.");
+    return 0;
   }
   if (numPoints > std::numeric_limits<int>::max() / 4)
   {

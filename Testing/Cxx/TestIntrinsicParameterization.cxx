@@ -1,6 +1,6 @@
 // vtkIntrinsicParameterization (the parameterization family): a real
 // disk-like mesh on a circle and with natural boundaries, a point
-// constraint, closed input refused.
+// constraint, closed input through an atlas (refused with the atlas off).
 #include "TestHelpers.h"
 
 #include "vtkIntrinsicParameterization.h"
@@ -127,10 +127,11 @@ TEST(IntrinsicParameterization, NaturalBoundaryAndAPointConstraint)
   EXPECT_NEAR(c->GetComponent(1000, 1), 0.45, 1e-9);
 }
 
-TEST(IntrinsicParameterization, ClosedInputIsAClearError)
+TEST(IntrinsicParameterization, ClosedInputIsAClearErrorWithoutTheAtlas)
 {
   vtkNew<vtkSphereSource> sphere;
   vtkNew<vtkIntrinsicParameterization> f;
+  f->AtlasForNonDisksOff();
   vtkNew<MessageCollector> messages;
   messages->Watch(f);
   f->SetInputConnection(sphere->GetOutputPort());
@@ -140,14 +141,14 @@ TEST(IntrinsicParameterization, ClosedInputIsAClearError)
   EXPECT_EQ(f->GetOutput()->GetPointData()->GetArray("UV"), nullptr);
 }
 
-TEST(IntrinsicParameterization, ClosedInputThroughAnAtlasWhenAsked)
+TEST(IntrinsicParameterization, ClosedInputThroughAnAtlasByDefault)
 {
   vtkNew<vtkSphereSource> sphere;
   sphere->SetThetaResolution(32);
   sphere->SetPhiResolution(32);
   sphere->Update();
   vtkNew<vtkIntrinsicParameterization> f;
-  f->AtlasForNonDisksOn();
+  EXPECT_TRUE(f->GetAtlasForNonDisks());
   f->SetBoundary(vtkIntrinsicParameterization::NATURAL);
   vtkNew<MessageCollector> messages;
   messages->Watch(f);

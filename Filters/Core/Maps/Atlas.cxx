@@ -7,6 +7,8 @@
 #include "Solvers/DenseBlocks.h"
 #include "Support/Parallel.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -52,6 +54,38 @@ bool BoundaryIsSimple(const MeshTopology& topology, const std::vector<double>& u
   return true;
 }
 
+/// Whether more than `share` of the chart's 3D area is squeezed by `uv` to
+/// an eighth or less of the chart's mean area scale (3D area per map area).
+bool TooSqueezed(const MeshTopology& chart, const double* points, const double* uv, double share)
+{
+  if (!(share > 0.0) || chart.NumberOfTriangles() < 2)
+  {
+    return false;
+  }
+  std::vector<double> area3D(chart.NumberOfTriangles()), area2D(chart.NumberOfTriangles());
+  double total3D = 0.0, total2D = 0.0;
+  for (Index t = 0; t < chart.NumberOfTriangles(); ++t)
+  {
+    const Index a = chart.CornerVertex(3 * t), b = chart.CornerVertex(3 * t + 1), c = chart.CornerVertex(3 * t + 2);
+    area3D[t] = 0.5 * (Point(points, b) - Point(points, a)).cross(Point(points, c) - Point(points, a)).norm();
+    area2D[t] = 0.5 * std::abs((uv[2 * b] - uv[2 * a]) * (uv[2 * c + 1] - uv[2 * a + 1]) -
+                  (uv[2 * b + 1] - uv[2 * a + 1]) * (uv[2 * c] - uv[2 * a]));
+    total3D += area3D[t];
+    total2D += area2D[t];
+  }
+  if (!(total3D > 0.0) || !(total2D > 0.0))
+  {
+    return false;
+  }
+  const double mean = total3D / total2D;
+  double squeezed = 0.0;
+  for (Index t = 0; t < chart.NumberOfTriangles(); ++t)
+  {
+    squeezed += area3D[t] > 8.0 * mean * area2D[t] ? area3D[t] : 0.0;
+  }
+  return squeezed > share * total3D;
+}
+
 /// Maps the chart `mesh` onto its own square by DCP into `chart` (its
 /// triangles and vertices moved there); false (mesh kept) when the map
 /// fails or flips a triangle.
@@ -83,7 +117,7 @@ bool MapChart(ChartMesh& mesh, const double* points, const AtlasOptions& atlasOp
     }
     map.UV.clear();
   }
-  if (map.UV.empty())
+  if (map.UV.empty() || TooSqueezed(chartTopology, local.data(), map.UV.data(), atlasOptions.MaximumSqueezedShare))
   {
     return false;
   }
@@ -276,13 +310,10 @@ AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const
     result.Error = "The surface has no triangles";
     return result;
   }
-  for (std::int64_t k = 0; k < 3 * static_cast<std::int64_t>(topology.NumberOfVertices()); ++k)
+  result.Error = CoordinateRangeProblem(topology, points);
+  if (!result.Error.empty())
   {
-    if (!std::isfinite(points[k]))
-    {
-      result.Error = "The surface has NaN or infinite point coordinates";
-      return result;
-    }
+    return result;
   }
   if (!options.SeamLabels.empty() && options.SeamLabels.size() != static_cast<std::size_t>(nt))
   {

@@ -53,6 +53,13 @@ struct AtlasOptions
   /// The margin between packed charts, in texels of a TextureSize^2 texture.
   int TextureSize = 1024;
   double MarginTexels = 2.0;
+  /// Split a chart when more than this share of its 3D area is squeezed
+  /// by its map to an eighth of the chart's mean area scale or less (0: never).  A
+  /// conformal map shrinks protrusions (limbs, horns, a cactus's arms)
+  /// exponentially; an image of the charts at one texel density then holds
+  /// too few texels there for their samples (the remesher's control map),
+  /// and those parts are lost.
+  double MaximumSqueezedShare = 0.0;
   /// Each chart's mean angle and area distortion (AtlasChart); the remesher
   /// does without (a tenth of the charts' mapping time).
   bool MeasureDistortion = true;
@@ -81,7 +88,7 @@ struct AtlasResult
   std::string Warning; ///< non-fatal remarks
   std::vector<int> ChartOfTriangle; ///< per surface triangle
   std::vector<AtlasChart> Charts;
-  int SplitsForFlips = 0;           ///< charts split because their map flipped a triangle
+  int SplitsForFlips = 0;           ///< charts split because their map flipped a triangle (or squeezed too much of it: MaximumSqueezedShare)
   std::int64_t CutEdges = 0;        ///< seam and feature edges kept as chart boundaries
   double PackingEfficiency = 0.0;   ///< area of the packed charts' maps / area of [0, 1]^2
 };

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace beltrami
@@ -235,6 +236,46 @@ double VolumeAbovePlane(const MeshTopology& topo, const double* points, const do
   Vec3 nn(normal[0], normal[1], normal[2]);
   nn.normalize();
   return HeightVolume(topo, points, Vec3(origin[0], origin[1], origin[2]), nn, numThreads);
+}
+
+std::string CoordinateRangeProblem(const MeshTopology& topology, const double* points)
+{
+  constexpr double largest = 1e75, smallest = 1e-75;
+  Vec3 lo = Vec3::Constant(HUGE_VAL), hi = Vec3::Constant(-HUGE_VAL);
+  for (Index v = 0; v < topology.NumberOfVertices(); ++v)
+  {
+    if (topology.Valence(v) == 0)
+    {
+      continue;
+    }
+    const Vec3 p = Point(points, v);
+    if (!p.allFinite())
+    {
+      return "The surface has NaN or infinite point coordinates (point " + std::to_string(v) + ")";
+    }
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  if (!(lo[0] <= hi[0]))
+  {
+    return {};
+  }
+  const double magnitude = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+  const double extent = (hi - lo).maxCoeff();
+  if (extent == 0.0)
+  {
+    return "The surface's points all coincide";
+  }
+  if (magnitude > largest || extent < smallest)
+  {
+    char text[200];
+    std::snprintf(text, sizeof text,
+      "The surface's coordinates reach %.3g with a bounding box of %.3g: beyond 1e%d (or a box below 1e-%d) the "
+      "products of coordinates that areas and angles need overflow; scale the input (vtkTransformFilter)",
+      magnitude, extent, 75, 75);
+    return text;
+  }
+  return {};
 }
 
 } // namespace beltrami

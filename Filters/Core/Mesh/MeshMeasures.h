@@ -10,6 +10,7 @@
 #include "Solvers/Partition.h"
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace beltrami
@@ -29,6 +30,12 @@ enum class LengthUnit : int
 /// and the volume between the surface and the plane through `origin` with unit
 /// normal `normal` (the surface projected on the plane times its height).
 double EnclosedVolume(const MeshTopology& topology, const double* points, int numThreads = 0);
+/// Empty where the coordinates of the vertices used by triangles are finite
+/// and within the range whose products the geometry can form (magnitudes
+/// and a bounding box within 1e-75 to 1e75 units: areas and cotangents
+/// multiply four coordinates), and not all equal; else a sentence that
+/// says what is wrong.
+std::string CoordinateRangeProblem(const MeshTopology& topology, const double* points);
 /// Mean length of the edges (the natural unit of time steps: lambda*dt ~ h^2);
 /// edges at NaN or infinite points are left out (0 when none is left).
 /// split (optional, collective): a surface split over processes, each edge

@@ -3,6 +3,7 @@
 #include "Mesh/Curvatures.h"
 #include "Mesh/Laplacian.h"
 #include "Mesh/MeshMeasures.h"
+#include "Mesh/SurfaceDistance.h"
 #include "Solvers/SparseGraph.h"
 
 #include <algorithm>
@@ -27,6 +28,7 @@ AtlasOptions RemeshingAtlasOptions()
   AtlasOptions options;
   options.ChartBoundary = ParameterizationBoundary::Natural;
   options.BalanceAreas = true;
+  options.MaximumSqueezedShare = 0.3;
   options.MeasureDistortion = false;
   return options;
 }
@@ -262,6 +264,50 @@ std::vector<double> RaiseImportanceForSag(const MeshTopology& topology, const do
   return raised ? factor : std::vector<double>();
 }
 
+namespace
+{
+
+/// "a -> b" where the remesh's count differs from the input's.
+void CompareCount(const char* what, std::int64_t input, std::int64_t remesh, std::string& differences)
+{
+  if (input != remesh)
+  {
+    differences += (differences.empty() ? "" : ", ") + std::string(what) + " " + std::to_string(input) + " -> " +
+      std::to_string(remesh);
+  }
+}
+
+} // namespace
+
+void CheckFidelity(const MeshTopology& topology, const double* points, const RemeshOptions& options, RemeshResult& out)
+{
+  const MeshTopology remesh(static_cast<Index>(out.Points.size() / 3),
+    IndexArray(out.Triangles.begin(), out.Triangles.end()), options.NumberOfThreads);
+  const TopologySummary &a = topology.Summary(), &b = remesh.Summary();
+  std::string differences;
+  CompareCount("Euler characteristic", a.EulerCharacteristic, b.EulerCharacteristic, differences);
+  CompareCount("components", topology.CountComponents(), remesh.CountComponents(), differences);
+  CompareCount("boundary loops", a.NumberOfBoundaryLoops, b.NumberOfBoundaryLoops, differences);
+  if (!b.IsManifold() || !b.IsOriented() || remesh.NumberOfDroppedTriangles() > 0)
+  {
+    differences += (differences.empty() ? "" : ", ") + std::string("not a manifold, oriented mesh");
+  }
+  const double diagonal = UsedBoundingBoxDiagonal(points, topology.TriangleList().data(), topology.NumberOfTriangles());
+  const SurfaceDeviation deviation = MeasureDeviation(points, topology.TriangleList().data(),
+    topology.NumberOfTriangles(), DeviationSamples::Vertices, out.Points.data(), out.Triangles.data(),
+    out.Triangles.size() / 3, DeviationSamples::Centres, options.NumberOfThreads);
+  const double scale = diagonal > 0.0 ? diagonal : 1.0;
+  out.DeviationFromInput = deviation.FirstToSecond / scale;
+  out.DeviationToInput = deviation.SecondToFirst / scale;
+  out.FarthestInputPoint = deviation.FarthestOfFirst;
+  out.Spacing = std::sqrt(2.0 * SurfaceArea(topology, points, options.NumberOfThreads) /
+    (std::sqrt(3.0) * static_cast<double>(std::max<std::int64_t>(1, options.NumberOfVertices))));
+  if (!differences.empty())
+  {
+    out.Error = "the remesh does not keep the input's topology (" + differences + ")";
+  }
+}
+
 RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
   const double* importance, const RemeshOptions& options)
 {
@@ -329,6 +375,7 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   out.Triangles = remesh.Mesh.Triangles();
   out.SourceTriangle = std::move(remesh.Triangle);
   out.SourceBarycentric = std::move(remesh.Barycentric);
+  CheckFidelity(topology, points, options, out);
   return out;
 }
 

@@ -49,6 +49,14 @@ struct RemeshResult
   std::vector<double> SourceBarycentric; ///< 3 per vertex
   SurfaceSamples Samples;            ///< the control map and the halftone
   RemeshOptimizationStatistics Optimization;
+  /// The remesh's fidelity, over the input's bounding-box diagonal: the
+  /// largest distance of its triangle centres from the input, and of the
+  /// input's vertices from it (where a part is lost or bridged), with that
+  /// input vertex; and the spacing of the requested count (of equilateral
+  /// triangles covering the input).
+  double DeviationToInput = 0.0, DeviationFromInput = 0.0;
+  Vec3 FarthestInputPoint = Vec3::Zero();
+  double Spacing = 0.0;
   double SamplingSeconds = 0.0, TriangulationSeconds = 0.0, OptimizationSeconds = 0.0;
 };
 
@@ -59,7 +67,10 @@ struct RemeshResult
 /// angle and 1.6% of the triangles below 30 deg, against 51.0 and 0.4%), and
 /// area-balanced charts (long thin charts such as the bunny's ears are
 /// squeezed by their maps beyond what the control map can sample: the
-/// Hausdorff distance of bunny00 at 10k vertices 1.3% -> 0.8%).
+/// Hausdorff distance of bunny00 at 10k vertices 1.3% -> 0.8%), and charts
+/// split where a third of them or more is squeezed eightfold
+/// (AtlasOptions::MaximumSqueezedShare 0.3: the arms of a cactus, the legs
+/// and horns of a cow, whose samples the control map could not hold).
 AtlasOptions RemeshingAtlasOptions();
 
 /// What a curvature-adapted remesh follows (thesis 4.3.1's curvature maps).
@@ -127,6 +138,13 @@ ImportanceResult ImportanceFromValues(const MeshTopology& topology, const double
 std::vector<double> RaiseImportanceForSag(const MeshTopology& topology, const double* points,
   const double* importance, const std::vector<double>& maximumCurvature, const std::uint8_t* featureEdges,
   std::int64_t count, double sag, int numThreads = 0, const GraphLaplacian* surfaceLaplacian = nullptr);
+
+/// The remesh's fidelity into `out` (its Deviation* and Spacing), and its
+/// Error where its topology is not the input's (Euler characteristic,
+/// components, boundary loops, a manifold oriented mesh): a thin part
+/// bridged or cut off, or a component lost.  RemeshSurface calls it.
+void CheckFidelity(const MeshTopology& topology, const double* points, const RemeshOptions& options,
+  RemeshResult& out);
 
 /// `importance`: one value >= 0 per input vertex (null: uniform).
 RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,

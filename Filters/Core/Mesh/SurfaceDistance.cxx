@@ -1,0 +1,273 @@
+#include "Mesh/SurfaceDistance.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+
+namespace beltrami
+{
+
+namespace
+{
+
+bool Finite(const Vec3& p)
+{
+  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+}
+
+/// The bounding box of the finite vertices used by the triangles.
+void UsedBounds(const double* points, const Index* triangles, std::size_t count, Vec3& lo, Vec3& hi)
+{
+  lo = Vec3::Constant(HUGE_VAL);
+  hi = Vec3::Constant(-HUGE_VAL);
+  for (std::size_t c = 0; c < 3 * count; ++c)
+  {
+    const Vec3 p = Point(points, triangles[c]);
+    if (Finite(p))
+    {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  }
+}
+
+} // namespace
+
+double UsedBoundingBoxDiagonal(const double* points, const Index* triangles, std::size_t numberOfTriangles)
+{
+  Vec3 lo, hi;
+  UsedBounds(points, triangles, numberOfTriangles, lo, hi);
+  return lo[0] <= hi[0] ? (hi - lo).norm() : 0.0;
+}
+
+TriangleGrid::TriangleGrid(const double* points, const Index* triangles, std::size_t numberOfTriangles)
+  : Points(points)
+  , Triangles(triangles)
+{
+  Vec3 lo, hi;
+  UsedBounds(points, triangles, numberOfTriangles, lo, hi);
+  if (!(lo[0] <= hi[0]))
+  {
+    return; // no finite vertex: no cells, every distance infinite
+  }
+  double area = 0.0;
+  for (std::size_t t = 0; t < numberOfTriangles; ++t)
+  {
+    const Vec3 a = Point(points, triangles[3 * t]);
+    const double twice = (Point(points, triangles[3 * t + 1]) - a).cross(Point(points, triangles[3 * t + 2]) - a).norm();
+    area += std::isfinite(twice) ? 0.5 * twice : 0.0;
+  }
+  const Vec3 extent = hi - lo;
+  const double n = static_cast<double>(std::max<std::size_t>(1, numberOfTriangles));
+  // About two triangles of mean area a cell; no more cells than 8 a triangle
+  // (a surface of slivers or one of a few large triangles).
+  Cell = 1.5 * std::sqrt(area / n);
+  const double volumeCell = std::cbrt((extent[0] + 1e-300) * (extent[1] + 1e-300) * (extent[2] + 1e-300) / (8.0 * n));
+  Cell = std::max(Cell, volumeCell);
+  Cell = std::max(Cell, 1e-9 * extent.maxCoeff());
+  if (!(Cell > 0.0) || !std::isfinite(Cell) || !std::isfinite(extent.maxCoeff() / Cell))
+  {
+    Cell = extent.maxCoeff() > 0.0 && std::isfinite(extent.maxCoeff()) ? extent.maxCoeff() : 1.0;
+  }
+  Origin = lo;
+  for (int d = 0; d < 3; ++d)
+  {
+    const double cells = std::floor(extent[d] / Cell) + 1.0;
+    Dims[d] = std::isfinite(cells) ? static_cast<long>(std::min(cells, 1e6)) : 1;
+  }
+  Offsets.assign(static_cast<std::size_t>(Dims[0] * Dims[1] * Dims[2]) + 1, 0);
+  // Two passes over the triangles' bounding boxes: count, then fill.
+  for (int pass = 0; pass < 2; ++pass)
+  {
+    std::vector<std::size_t> next;
+    if (pass == 1)
+    {
+      for (std::size_t c = 1; c < Offsets.size(); ++c)
+      {
+        Offsets[c] += Offsets[c - 1];
+      }
+      Items.resize(Offsets.back());
+      next.assign(Offsets.begin(), Offsets.end() - 1);
+    }
+    for (std::size_t t = 0; t < numberOfTriangles; ++t)
+    {
+      long a[3], b[3];
+      for (int d = 0; d < 3; ++d)
+      {
+        a[d] = Dims[d];
+        b[d] = -1;
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        const Vec3 p = Point(points, triangles[3 * t + k]);
+        for (int d = 0; d < 3 && Finite(p); ++d)
+        {
+          a[d] = std::min(a[d], CellIndex(p, d));
+          b[d] = std::max(b[d], CellIndex(p, d));
+        }
+      }
+      for (long x = a[0]; x <= b[0]; ++x)
+        for (long y = a[1]; y <= b[1]; ++y)
+          for (long z = a[2]; z <= b[2]; ++z)
+          {
+            const std::size_t cell = static_cast<std::size_t>((x * Dims[1] + y) * Dims[2] + z);
+            if (pass == 0)
+            {
+              ++Offsets[cell + 1];
+            }
+            else
+            {
+              Items[next[cell]++] = static_cast<Index>(t);
+            }
+          }
+    }
+  }
+}
+
+long TriangleGrid::CellIndex(const Vec3& p, int axis) const
+{
+  const double x = std::floor((p[axis] - Origin[axis]) / Cell);
+  if (!(x > 0.0))
+  {
+    return 0; // below the grid, or not a number
+  }
+  return x >= static_cast<double>(Dims[axis] - 1) ? Dims[axis] - 1 : static_cast<long>(x);
+}
+
+double TriangleGrid::TriangleDistance2(Index t, const Vec3& p) const
+{
+  double w[3];
+  return ClosestPointOnTriangle(p, Point(Points, Triangles[3 * t]), Point(Points, Triangles[3 * t + 1]),
+    Point(Points, Triangles[3 * t + 2]), w);
+}
+
+double TriangleGrid::Distance(const Vec3& p) const
+{
+  if (Items.empty() || !Finite(p))
+  {
+    return HUGE_VAL;
+  }
+  const long c[3] = { CellIndex(p, 0), CellIndex(p, 1), CellIndex(p, 2) };
+  const long rings = std::max({ Dims[0], Dims[1], Dims[2] });
+  double best = HUGE_VAL;
+  for (long r = 0; r <= rings; ++r)
+  {
+    // The cells at Chebyshev distance r from p's cell (clipped to the grid).
+    const long x0 = std::max(0L, c[0] - r), x1 = std::min(Dims[0] - 1, c[0] + r);
+    const long y0 = std::max(0L, c[1] - r), y1 = std::min(Dims[1] - 1, c[1] + r);
+    const long z0 = std::max(0L, c[2] - r), z1 = std::min(Dims[2] - 1, c[2] + r);
+    const auto visit = [&](long x, long y, long z) {
+      const std::size_t cell = static_cast<std::size_t>((x * Dims[1] + y) * Dims[2] + z);
+      for (std::size_t k = Offsets[cell]; k < Offsets[cell + 1]; ++k)
+      {
+        best = std::min(best, TriangleDistance2(Items[k], p));
+      }
+    };
+    for (long x = x0; x <= x1; ++x)
+      for (long y = y0; y <= y1; ++y)
+      {
+        if (std::abs(x - c[0]) == r || std::abs(y - c[1]) == r)
+        {
+          for (long z = z0; z <= z1; ++z)
+          {
+            visit(x, y, z); // a face of the shell
+          }
+          continue;
+        }
+        if (c[2] - r >= 0)
+        {
+          visit(x, y, c[2] - r); // inside the shell's x-y square: its two ends in z
+        }
+        if (c[2] + r < Dims[2])
+        {
+          visit(x, y, c[2] + r);
+        }
+      }
+    // Cells farther out are at least r cells away from p (p's projection
+    // on the grid lies in its cell, and the projection does not lengthen).
+    const double reach = static_cast<double>(r) * Cell;
+    if (best <= reach * reach)
+    {
+      break;
+    }
+  }
+  return std::sqrt(best);
+}
+
+namespace
+{
+
+/// The largest distance from the samples of `from` (its used vertices,
+/// its triangle centres, or both) to `to`, and the sample where it is.
+double FarthestFrom(const double* points, const Index* triangles, std::size_t count, DeviationSamples samples,
+  const TriangleGrid& to, int numThreads, Vec3& where)
+{
+  const bool centres = samples != DeviationSamples::Vertices, vertices = samples != DeviationSamples::Centres;
+  Index numberOfVertices = 0;
+  for (std::size_t c = 0; vertices && c < 3 * count; ++c)
+  {
+    numberOfVertices = std::max(numberOfVertices, triangles[c] + 1);
+  }
+  std::vector<std::uint8_t> used(static_cast<std::size_t>(numberOfVertices), 0);
+  for (std::size_t c = 0; vertices && c < 3 * count; ++c)
+  {
+    used[triangles[c]] = 1;
+  }
+  const std::int64_t first = centres ? static_cast<std::int64_t>(count) : 0; // the vertices' samples after the centres
+  const auto sample = [&](std::int64_t k, Vec3& p) {
+    if (k < first)
+    {
+      p = (Point(points, triangles[3 * k]) + Point(points, triangles[3 * k + 1]) + Point(points, triangles[3 * k + 2])) /
+        3.0;
+      return true;
+    }
+    p = Point(points, static_cast<Index>(k - first));
+    return used[k - first] != 0;
+  };
+  const std::vector<double> partials = ParallelPartials(first + numberOfVertices, 2, numThreads,
+    [&](std::int64_t begin, std::int64_t end, double* partial) {
+      partial[1] = -1.0;
+      for (std::int64_t k = begin; k < end; ++k)
+      {
+        Vec3 p;
+        if (sample(k, p) && Finite(p))
+        {
+          const double d = to.Distance(p);
+          if (partial[1] < 0.0 || d > partial[0])
+          {
+            partial[0] = d;
+            partial[1] = static_cast<double>(k);
+          }
+        }
+      }
+    });
+  double worst = 0.0;
+  for (std::size_t c = 0; c + 1 < partials.size(); c += 2)
+  {
+    if (partials[c + 1] >= 0.0 && partials[c] > worst)
+    {
+      worst = partials[c];
+      sample(static_cast<std::int64_t>(partials[c + 1]), where);
+    }
+  }
+  return worst;
+}
+
+} // namespace
+
+SurfaceDeviation MeasureDeviation(const double* firstPoints, const Index* firstTriangles, std::size_t firstCount,
+  DeviationSamples firstSamples, const double* secondPoints, const Index* secondTriangles, std::size_t secondCount,
+  DeviationSamples secondSamples, int numThreads)
+{
+  SurfaceDeviation out;
+  const TriangleGrid first(firstPoints, firstTriangles, firstCount);
+  const TriangleGrid second(secondPoints, secondTriangles, secondCount);
+  out.FirstToSecond =
+    FarthestFrom(firstPoints, firstTriangles, firstCount, firstSamples, second, numThreads, out.FarthestOfFirst);
+  out.SecondToFirst =
+    FarthestFrom(secondPoints, secondTriangles, secondCount, secondSamples, first, numThreads, out.FarthestOfSecond);
+  return out;
+}
+
+} // namespace beltrami

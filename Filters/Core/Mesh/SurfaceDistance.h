@@ -1,0 +1,64 @@
+// Beltrami core: distances from points to a triangle surface through a
+// uniform grid of its triangles, and the two-sided deviation of one
+// surface from another (a Hausdorff distance estimated at every vertex and
+// triangle centre of each): what the remesher reports of its own fidelity.
+#pragma once
+
+#include "Mesh/Geometry.h"
+
+#include <cstddef>
+#include <vector>
+
+namespace beltrami
+{
+
+/// The triangles of a surface in a uniform grid of about two triangles a
+/// cell (their bounding boxes' cells), for nearest-point queries.
+class TriangleGrid
+{
+public:
+  /// `points`: 3 per vertex; `triangles`: 3 vertex ids each.
+  TriangleGrid(const double* points, const Index* triangles, std::size_t numberOfTriangles);
+  /// The distance from p to the nearest triangle (infinity when there is
+  /// none, or p is not finite).
+  double Distance(const Vec3& p) const;
+
+private:
+  const double* Points;
+  const Index* Triangles;
+  Vec3 Origin = Vec3::Zero();
+  double Cell = 1.0;
+  long Dims[3] = { 0, 0, 0 };
+  std::vector<std::size_t> Offsets; ///< per cell into Items (CSR)
+  std::vector<Index> Items;         ///< triangle ids
+  long CellIndex(const Vec3& p, int axis) const;
+  double TriangleDistance2(Index t, const Vec3& p) const;
+};
+
+/// Where a surface's distance to another is measured.
+enum class DeviationSamples
+{
+  Vertices, ///< its used vertices (a surface whose vertices lie on the other: 0)
+  Centres,  ///< its triangles' centres (where a triangle spanning a gap is far)
+  Both
+};
+
+/// How far two surfaces are apart, each way: the largest distance from a
+/// sample of one to the other (absolute units).
+struct SurfaceDeviation
+{
+  double FirstToSecond = 0.0;
+  double SecondToFirst = 0.0;
+  Vec3 FarthestOfFirst = Vec3::Zero();  ///< the point of the first farthest from the second
+  Vec3 FarthestOfSecond = Vec3::Zero(); ///< and the other way
+};
+
+SurfaceDeviation MeasureDeviation(const double* firstPoints, const Index* firstTriangles, std::size_t firstCount,
+  DeviationSamples firstSamples, const double* secondPoints, const Index* secondTriangles, std::size_t secondCount,
+  DeviationSamples secondSamples, int numThreads = 0);
+
+/// The length of the bounding-box diagonal of the vertices used by the
+/// triangles (finite ones).
+double UsedBoundingBoxDiagonal(const double* points, const Index* triangles, std::size_t numberOfTriangles);
+
+} // namespace beltrami

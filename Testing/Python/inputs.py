@@ -1,0 +1,534 @@
+"""The inputs every filter is tried on, shared by the corpus sweep, the
+hostile-input runs and the remeshing checks: the real meshes (every OFF file
+of the shared corpus and of Testing/Data), shapes generated to break a
+filter (thin spikes and limbs, tiny components, thin plates, huge and tiny
+coordinates), hostile data sets (non-finite coordinates, non-manifold and
+non-orientable surfaces, soups, degenerate images and grids), and the
+measures the checks read (topology, manifoldness, two-sided deviation)."""
+import glob
+import math
+import os
+
+import numpy as np
+from vtkmodules.util.misc import calldata_type
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.util.vtkConstants import VTK_STRING
+from vtkmodules.vtkCommonCore import reference, vtkCommand, vtkIdTypeArray, vtkPoints
+from vtkmodules.vtkCommonDataModel import (VTK_HEXAHEDRON, VTK_POLYHEDRON, VTK_TETRA, VTK_TRIANGLE, VTK_WEDGE,
+                                           vtkCellArray, vtkImageData, vtkPolyData, vtkStaticCellLocator,
+                                           vtkUnstructuredGrid)
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = os.path.normpath(os.path.join(HERE, "..", "Data"))
+SHARED_MESHES = os.path.normpath(os.path.join(HERE, "..", "..", "..", "shared", "data", "meshes"))
+
+
+# ---------------------------------------------------------------- real meshes
+
+def corpus_paths():
+    """Every real mesh: the shared corpus (where it exists, as in CI) and the
+    meshes of Testing/Data, one path per file name (the shared copy first)."""
+    paths = {}
+    for folder in (SHARED_MESHES, DATA):
+        for path in sorted(glob.glob(os.path.join(folder, "*.off"))):
+            paths.setdefault(os.path.basename(path), path)
+    return [paths[name] for name in sorted(paths)]
+
+
+def read_off(path):
+    from beltrami import vtkOFFReader
+    reader = vtkOFFReader()
+    reader.SetFileName(path)
+    reader.Update()
+    out = vtkPolyData()
+    out.DeepCopy(reader.GetOutput())
+    return out
+
+
+# ------------------------------------------------------ arrays <-> poly data
+
+def polydata(points, triangles):
+    """A vtkPolyData of points (n x 3) and triangles (m x 3, any ids: bad
+    ids are the caller's intent)."""
+    points = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 3)
+    triangles = np.ascontiguousarray(triangles, dtype=np.int64).reshape(-1, 3)
+    out = vtkPolyData()
+    p = vtkPoints()
+    p.SetDataTypeToDouble()
+    p.SetData(numpy_to_vtk(points, deep=True))
+    out.SetPoints(p)
+    cells = vtkCellArray()
+    offsets = numpy_to_vtk(np.arange(0, 3 * len(triangles) + 1, 3, dtype=np.int64), deep=True,
+                           array_type=vtkIdTypeArray().GetDataType())
+    connectivity = numpy_to_vtk(triangles.ravel(), deep=True, array_type=vtkIdTypeArray().GetDataType())
+    cells.SetData(offsets, connectivity)
+    out.SetPolys(cells)
+    return out
+
+
+def arrays_of(mesh):
+    """(points n x 3, triangles m x 3) of a poly data's polygons (triangulated)."""
+    points = vtk_to_numpy(mesh.GetPoints().GetData()).astype(np.float64) if mesh.GetPoints() else np.zeros((0, 3))
+    polys = mesh.GetPolys()
+    if polys is None or polys.GetNumberOfCells() == 0:
+        return points, np.zeros((0, 3), dtype=np.int64)
+    offsets = vtk_to_numpy(polys.GetOffsetsArray()).astype(np.int64)
+    connectivity = vtk_to_numpy(polys.GetConnectivityArray()).astype(np.int64)
+    if np.all(np.diff(offsets) == 3):
+        return points, connectivity.reshape(-1, 3)
+    # Polygons: fans, n - 2 triangles each, as the filters triangulate them
+    # at the least (vtkTriangleFilter drops the degenerate ones, which
+    # opens closed surfaces).
+    triangles = [(connectivity[a], connectivity[a + k], connectivity[a + k + 1])
+                 for a, b in zip(offsets[:-1], offsets[1:]) for k in range(1, b - a - 1)]
+    return points, np.array(triangles, dtype=np.int64).reshape(-1, 3)
+
+
+def with_scalars(mesh, name="Scalars"):
+    """mesh with a point array (a smooth function of the position plus a
+    little deterministic noise): what the data filters smooth."""
+    n = mesh.GetNumberOfPoints()
+    values = np.zeros(n)
+    if n:
+        p = vtk_to_numpy(mesh.GetPoints().GetData()).astype(np.float64)
+        with np.errstate(all="ignore"):
+            values = np.sin(p[:, 0]) + 0.05 * np.cos(37.0 * np.arange(n))
+    array = numpy_to_vtk(values, deep=True)
+    array.SetName(name)
+    mesh.GetPointData().AddArray(array)
+    mesh.GetPointData().SetActiveScalars(name)
+    return mesh
+
+
+# ---------------------------------------------------------- generated shapes
+
+def sphere(n=24, radius=1.0, center=(0.0, 0.0, 0.0)):
+    """A closed UV sphere (poles shared): 2 + (n - 1) * 2n points."""
+    rings, sectors = n, 2 * n
+    pts = [(0.0, 0.0, radius)]
+    for i in range(1, rings):
+        t = math.pi * i / rings
+        for j in range(sectors):
+            f = 2.0 * math.pi * j / sectors
+            pts.append((radius * math.sin(t) * math.cos(f), radius * math.sin(t) * math.sin(f), radius * math.cos(t)))
+    pts.append((0.0, 0.0, -radius))
+    south = len(pts) - 1
+    tris = []
+    ring = lambda i, j: 1 + (i - 1) * sectors + (j % sectors)  # noqa: E731
+    for j in range(sectors):
+        tris.append((0, ring(1, j), ring(1, j + 1)))
+        tris.append((south, ring(rings - 1, j + 1), ring(rings - 1, j)))
+    for i in range(1, rings - 1):
+        for j in range(sectors):
+            a, b, c, d = ring(i, j), ring(i, j + 1), ring(i + 1, j), ring(i + 1, j + 1)
+            tris += [(a, c, b), (b, c, d)]
+    return np.array(pts) + np.asarray(center), np.array(tris)
+
+
+def torus(n=32, m=16, major=1.0, minor=0.3, center=(0.0, 0.0, 0.0)):
+    pts, tris = [], []
+    for i in range(n):
+        u = 2.0 * math.pi * i / n
+        for j in range(m):
+            v = 2.0 * math.pi * j / m
+            pts.append(((major + minor * math.cos(v)) * math.cos(u), (major + minor * math.cos(v)) * math.sin(u),
+                        minor * math.sin(v)))
+    at = lambda i, j: (i % n) * m + (j % m)  # noqa: E731
+    for i in range(n):
+        for j in range(m):
+            tris += [(at(i, j), at(i + 1, j), at(i + 1, j + 1)), (at(i, j), at(i + 1, j + 1), at(i, j + 1))]
+    return np.array(pts) + np.asarray(center), np.array(tris)
+
+
+def merge(*parts):
+    points, triangles, offset = [], [], 0
+    for p, t in parts:
+        points.append(np.asarray(p, dtype=np.float64))
+        triangles.append(np.asarray(t, dtype=np.int64) + offset)
+        offset += len(p)
+    return np.vstack(points), np.vstack(triangles)
+
+
+def displaced_sphere(n, radius_of):
+    """A sphere whose radius in direction d is radius_of(d) (d: unit rows):
+    spikes, limbs and necks as star-shaped surfaces, so always manifold."""
+    p, t = sphere(n)
+    d = p / np.linalg.norm(p, axis=1)[:, None]
+    return d * radius_of(d)[:, None], t
+
+
+def spiky_sphere(n=48, spikes=6, length=1.5, width=0.08):
+    """A sphere with long thin spikes (tips a few triangles wide)."""
+    axes = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1], [1, 1, 1], [-1, 1, -1]],
+                    dtype=float)[:spikes]
+    axes /= np.linalg.norm(axes, axis=1)[:, None]
+
+    def radius(d):
+        r = np.ones(len(d))
+        for a in axes:
+            angle = np.arccos(np.clip(d @ a, -1.0, 1.0))
+            r += length * np.exp(-(angle / width) ** 2)
+        return r
+    return displaced_sphere(n, radius)
+
+
+def comb(fingers=5, length=2.0, n=40):
+    """A ball with thin fingers along one side (a hand, a comb)."""
+    axes = []
+    for k in range(fingers):
+        f = -0.6 + 1.2 * k / max(1, fingers - 1)
+        axes.append((math.sin(f), math.cos(f), 0.0))
+    axes = np.array(axes)
+
+    def radius(d):
+        r = np.ones(len(d))
+        for a in axes:
+            angle = np.arccos(np.clip(d @ a, -1.0, 1.0))
+            r += length * np.exp(-(angle / 0.07) ** 4)
+        return r
+    return displaced_sphere(n, radius)
+
+
+def dumbbell(n=40, centre=1.5, neck=0.08):
+    """Two unit balls joined by a thin tube: a surface of revolution about
+    x (one surface, genus 0)."""
+    p, t = sphere(n)
+    x = p[:, 2]  # the sphere's axis becomes the dumbbell's
+    s = x * (centre + 1.0)
+    ball = np.sqrt(np.maximum(0.0, 1.0 - (np.abs(s) - centre) ** 2))
+    rho = np.where(np.abs(s) >= centre, ball, np.maximum(neck, ball))
+    ring = np.sqrt(np.maximum(1e-300, 1.0 - x * x))
+    scale = np.where(ring > 0, rho / ring, 0.0)
+    return np.stack([s, p[:, 0] * scale, p[:, 1] * scale], axis=1), t
+
+
+def torus_with_thin_handle(n=48):
+    """A torus whose tube is thin along a quarter of the ring (genus 1)."""
+    p, t = torus(n=n, m=16, major=1.0, minor=0.3)
+    u = np.arctan2(p[:, 1], p[:, 0])
+    ring = np.stack([np.cos(u), np.sin(u), np.zeros_like(u)], axis=1)
+    offset = p - ring
+    thin = np.where(np.abs(u) < math.pi / 4, 0.15, 1.0)
+    return ring + offset * thin[:, None], t
+
+
+def sphere_with_speck(n=24, speck=1e-4, distance=5.0):
+    """A unit sphere and a far-away speck (a sphere of radius `speck`)."""
+    return merge(sphere(n), sphere(4, radius=speck, center=(distance, 0.0, 0.0)))
+
+
+def thin_plate(thickness=0.002, n=20):
+    """A closed box 2 x 2 x thickness: thinner than any spacing (its faces
+    made consistent by orient_consistently)."""
+    g = np.linspace(-1.0, 1.0, n + 1)
+    x, y = np.meshgrid(g, g, indexing="ij")
+    top = np.stack([x.ravel(), y.ravel(), np.full(x.size, thickness / 2)], axis=1)
+    bottom = top * [1, 1, -1]
+    at = lambda i, j: i * (n + 1) + j  # noqa: E731
+    tris = []
+    for i in range(n):
+        for j in range(n):
+            a, b, c, d = at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)
+            tris += [(a, b, d), (a, d, c)]
+    tris += [tuple(np.array(f) + (n + 1) ** 2) for f in tris]
+    border = [(i, 0) for i in range(n)] + [(n, j) for j in range(n)] + \
+        [(i, n) for i in range(n, 0, -1)] + [(0, j) for j in range(n, 0, -1)]
+    for k in range(len(border)):
+        ta, tb = at(*border[k]), at(*border[(k + 1) % len(border)])
+        ba, bb = ta + (n + 1) ** 2, tb + (n + 1) ** 2
+        tris += [(ta, ba, bb), (ta, bb, tb)]
+    return np.vstack([top, bottom]), np.array(tris)
+
+
+def orient_consistently(points, triangles):
+    """Flips faces so that the plate's faces agree (by breadth-first walk)."""
+    from collections import defaultdict, deque
+    edges = defaultdict(list)
+    for f, (a, b, c) in enumerate(triangles):
+        for u, v in ((a, b), (b, c), (c, a)):
+            edges[(min(u, v), max(u, v))].append(f)
+    tris = [list(t) for t in triangles]
+    seen = [False] * len(tris)
+    for start in range(len(tris)):
+        if seen[start]:
+            continue
+        seen[start] = True
+        queue = deque([start])
+        while queue:
+            f = queue.popleft()
+            a, b, c = tris[f]
+            for u, v in ((a, b), (b, c), (c, a)):
+                for g in edges[(min(u, v), max(u, v))]:
+                    if g == f or seen[g]:
+                        continue
+                    x, y, z = tris[g]
+                    if (u, v) in ((x, y), (y, z), (z, x)):  # same direction: flip g
+                        tris[g] = [x, z, y]
+                    seen[g] = True
+                    queue.append(g)
+    return points, np.array(tris)
+
+
+def hard_shapes():
+    """name -> (points, triangles): the shapes made to break a remesher."""
+    shapes = {
+        "spiky-sphere": spiky_sphere(),
+        "comb": comb(),
+        "dumbbell": dumbbell(),
+        "torus-thin-handle": torus_with_thin_handle(),
+        "sphere-with-speck": sphere_with_speck(),
+        "thin-plate": orient_consistently(*thin_plate()),
+    }
+    p, t = sphere(24)
+    shapes["huge-sphere"] = (p * 1e12 + 3e12, t)
+    shapes["tiny-sphere"] = (p * 1e-12 + 1e-11, t)
+    return shapes
+
+
+# ------------------------------------------------------------ hostile inputs
+
+def _mobius(n=24):
+    pts, tris = [], []
+    for i in range(n):
+        u = 2.0 * math.pi * i / n
+        for s in (-0.3, 0.3):
+            pts.append(((1 + s * math.cos(u / 2)) * math.cos(u), (1 + s * math.cos(u / 2)) * math.sin(u),
+                        s * math.sin(u / 2)))
+    for i in range(n):
+        a, b = 2 * i, 2 * i + 1
+        c, d = (2 * (i + 1), 2 * (i + 1) + 1) if i + 1 < n else (1, 0)  # the half twist
+        tris += [(a, c, b), (b, c, d)]
+    return np.array(pts), np.array(tris)
+
+
+def hostile_surfaces():
+    """name -> vtkPolyData, each a way a real surface goes wrong."""
+    p, t = sphere(12)
+    cases = {}
+    cases["empty"] = vtkPolyData()
+    only_points = polydata(p, np.zeros((0, 3)))
+    cases["points-only"] = only_points
+    cases["one-triangle"] = polydata([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    for name, value in (("nan", np.nan), ("inf", np.inf)):
+        q = p.copy()
+        q[5, 1] = value
+        cases[name + "-coordinate"] = polydata(q, t)
+    cases["1e300-two-triangles"] = polydata([[0, 0, 0], [1e300, 0, 0], [0, 1e300, 0], [1e300, 1e300, 0]],
+                                            [[0, 1, 2], [1, 3, 2]])
+    cases["1e300-sphere"] = polydata(p * 1e300, t)
+    cases["1e-300-sphere"] = polydata(p * 1e-300, t)
+    cases["1e6-offset-sphere"] = polydata(p * 1e-3 + 1e6, t)
+    cases["all-points-equal"] = polydata(np.zeros_like(p), t)
+    line = np.zeros((10, 3))
+    line[:, 0] = np.arange(10)
+    cases["collinear"] = polydata(line, [[k, k + 1, k + 2] for k in range(8)])
+    cases["non-manifold-fan"] = polydata([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1]],
+                                         [[0, 1, 2], [1, 0, 3], [0, 1, 4]])
+    cases["bowtie"] = polydata([[0, 0, 0], [1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0]],
+                               [[0, 1, 2], [0, 3, 4]])
+    cases["mobius"] = polydata(*_mobius())
+    flipped = t.copy()
+    flipped[::2] = flipped[::2, ::-1]
+    cases["half-flipped-sphere"] = polydata(p, flipped)
+    cases["tiny-far-component"] = polydata(*sphere_with_speck(12))
+    soup = p[t].reshape(-1, 3)
+    cases["unwelded-soup"] = polydata(soup, np.arange(len(soup)).reshape(-1, 3))
+    repeated = t.copy()
+    repeated[3] = (repeated[3][0], repeated[3][0], repeated[3][1])
+    cases["repeated-indices"] = polydata(p, repeated)
+    rng = np.random.default_rng(7)
+    cases["random-soup"] = polydata(rng.random((60, 3)), rng.integers(0, 60, (80, 3)))
+    bad = t.copy()
+    bad[0, 0] = len(p) + 10
+    cases["index-out-of-range"] = polydata(p, bad)
+    for mesh in cases.values():
+        with_scalars(mesh)
+    return cases
+
+
+def image(dims, values=None, spacing=(1.0, 1.0, 1.0)):
+    img = vtkImageData()
+    img.SetDimensions(*dims)
+    img.SetSpacing(*spacing)
+    n = int(np.prod(dims))
+    if values is None:
+        values = np.sin(np.arange(n) * 0.37) + 0.1 * np.cos(np.arange(n) * 3.1)
+    array = numpy_to_vtk(np.asarray(values, dtype=np.float64).ravel(), deep=True)
+    array.SetName("Scalars")
+    img.GetPointData().SetScalars(array)
+    return img
+
+
+def hostile_images():
+    cases = {"image-0-samples": vtkImageData(), "image-1-sample": image((1, 1, 1)),
+             "image-3-samples": image((3, 1, 1))}
+    v = np.sin(np.arange(64 * 64) * 0.1)
+    v[100] = np.nan
+    cases["image-nan-value"] = image((64, 64, 1), v)
+    v = np.sin(np.arange(64 * 64) * 0.1)
+    v[100] = np.inf
+    cases["image-inf-value"] = image((64, 64, 1), v)
+    cases["image-constant"] = image((32, 32, 1), np.ones(32 * 32))
+    cases["volume-2x2x2"] = image((2, 2, 2))
+    cases["image-huge-values"] = image((32, 32, 1), 1e300 * np.sin(np.arange(32 * 32)))
+    return cases
+
+
+def grid(points, cells):
+    """A vtkUnstructuredGrid of points and (cell type, ids) pairs."""
+    out = vtkUnstructuredGrid()
+    p = vtkPoints()
+    p.SetDataTypeToDouble()
+    p.SetData(numpy_to_vtk(np.ascontiguousarray(points, dtype=np.float64), deep=True))
+    out.SetPoints(p)
+    out.Allocate(len(cells))
+    for kind, ids in cells:
+        out.InsertNextCell(kind, len(ids), list(ids))
+    n = len(points)
+    array = numpy_to_vtk(np.sin(np.arange(n, dtype=np.float64)), deep=True)
+    array.SetName("Scalars")
+    out.GetPointData().SetScalars(array)
+    return out
+
+
+def hostile_grids():
+    cube = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]],
+                    dtype=float)
+    points = np.vstack([cube, cube + [1, 0, 0]])
+    mixed = [(VTK_HEXAHEDRON, range(8)), (VTK_TETRA, (8, 9, 10, 12)), (VTK_WEDGE, (1, 9, 10, 5, 13, 14)),
+             (VTK_TRIANGLE, (0, 1, 2))]
+    nan_points = points.copy()
+    nan_points[3, 2] = np.nan
+    cases = {"grid-empty": vtkUnstructuredGrid(), "grid-mixed-cells": grid(points, mixed),
+             "grid-unknown-cell": grid(points, [(VTK_TETRA, (0, 1, 3, 4)), (VTK_POLYHEDRON, ())]),
+             "grid-nan-point": grid(nan_points, [(VTK_TETRA, (0, 1, 3, 4)), (VTK_TETRA, (1, 2, 3, 6))]),
+             "grid-degenerate-tets": grid(np.zeros((4, 3)), [(VTK_TETRA, (0, 1, 2, 3))])}
+    return cases
+
+
+# -------------------------------------------------------------- measurements
+
+def edge_counts(triangles):
+    """(unique edges as (a, b) with a < b, how many faces each has)."""
+    if len(triangles) == 0:
+        return np.zeros((0, 2), dtype=np.int64), np.zeros(0, dtype=np.int64)
+    e = np.sort(np.vstack([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1)
+    unique, counts = np.unique(e, axis=0, return_counts=True)
+    return unique, counts
+
+
+def components(n, edges):
+    parent = np.arange(n)
+
+    def find(x):
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+    for a, b in edges:
+        ra, rb = find(a), find(b)
+        if ra != rb:
+            parent[ra] = rb
+    return np.array([find(x) for x in range(n)])
+
+
+def topology(points, triangles):
+    """Euler characteristic, components, boundary loops, and whether every
+    edge has one or two faces and every vertex one fan (manifold) with
+    consistent orientation (each directed edge at most once)."""
+    used = np.unique(triangles) if len(triangles) else np.zeros(0, dtype=np.int64)
+    edges, counts = edge_counts(triangles)
+    v, e, f = len(used), len(edges), len(triangles)
+    label = components(len(points), edges) if len(points) else np.zeros(0, dtype=np.int64)
+    comps = len(np.unique(label[used])) if len(used) else 0
+    boundary = edges[counts == 1]
+    loops = len(np.unique(components(len(points), boundary)[np.unique(boundary)])) if len(boundary) else 0
+    directed = np.vstack([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]) if f else \
+        np.zeros((0, 2), dtype=np.int64)
+    oriented = len(np.unique(directed, axis=0)) == len(directed)
+    manifold_edges = bool(np.all(counts <= 2))
+    return {"euler": v - e + f, "components": comps, "loops": loops,
+            "manifold": manifold_edges and vertex_fans_are_disks(triangles, len(points)), "oriented": oriented}
+
+
+def vertex_fans_are_disks(triangles, n):
+    """Every vertex's faces form one fan (no bowtie)."""
+    from collections import defaultdict
+    around = defaultdict(list)
+    for f, t in enumerate(triangles):
+        for k in range(3):
+            around[t[k]].append(f)
+    for vertex, faces in around.items():
+        # Faces around `vertex` linked by the edges through it.
+        link = defaultdict(list)
+        for f in faces:
+            others = [x for x in triangles[f] if x != vertex]
+            for x in others:
+                link[x].append(f)
+        parent = {f: f for f in faces}
+
+        def find(x):
+            while parent[x] != x:
+                x = parent[x]
+            return x
+        for fs in link.values():
+            for g in fs[1:]:
+                parent[find(g)] = find(fs[0])
+        if len({find(f) for f in faces}) > 1:
+            return False
+    return True
+
+
+def diagonal(points):
+    return float(np.linalg.norm(points.max(0) - points.min(0))) if len(points) else 0.0
+
+
+def distances_to(mesh, query):
+    """Distance of each query point (k x 3) to the surface `mesh`."""
+    locator = vtkStaticCellLocator()
+    locator.SetDataSet(mesh)
+    locator.BuildLocator()
+    closest = [0.0, 0.0, 0.0]
+    cell, sub, dist2 = reference(0), reference(0), reference(0.0)
+    out = np.empty(len(query))
+    for i, q in enumerate(query):
+        locator.FindClosestPoint(q, closest, cell, sub, dist2)
+        out[i] = math.sqrt(float(dist2))
+    return out
+
+
+def surface_samples(points, triangles):
+    """The vertices, edge midpoints and centroids of a mesh: where a
+    deviation from it is measured (a two-sided Hausdorff estimate)."""
+    t = triangles
+    mids = (points[t[:, [0, 1, 2]]] + points[t[:, [1, 2, 0]]]) / 2
+    return np.vstack([points[np.unique(t)], mids.reshape(-1, 3), points[t].mean(axis=1)])
+
+
+def hausdorff(a_mesh, b_mesh):
+    """(a to b, b to a) as fractions of a's bounding-box diagonal."""
+    pa, ta = arrays_of(a_mesh)
+    pb, tb = arrays_of(b_mesh)
+    d = diagonal(pa)
+    ab = distances_to(b_mesh, surface_samples(pa, ta)).max() if len(ta) else 0.0
+    ba = distances_to(a_mesh, surface_samples(pb, tb)).max() if len(tb) else 0.0
+    return ab / d, ba / d
+
+
+class Messages:
+    """Collects the errors and warnings a VTK object reports (its
+    ErrorEvent and WarningEvent) instead of printing them."""
+
+    def __init__(self, *objects):
+        self.errors, self.warnings = [], []
+        for o in objects:
+            o.AddObserver(vtkCommand.ErrorEvent, self._error)
+            o.AddObserver(vtkCommand.WarningEvent, self._warning)
+
+    @calldata_type(VTK_STRING)
+    def _error(self, obj, event, data=None):
+        self.errors.append(str(data) if data is not None else event)
+
+    @calldata_type(VTK_STRING)
+    def _warning(self, obj, event, data=None):
+        self.warnings.append(str(data) if data is not None else event)

@@ -1,0 +1,268 @@
+"""Every mesh filter at its defaults over every real mesh (inputs.corpus_paths:
+the shared corpus and Testing/Data) and the shapes made to break them
+(inputs.hard_shapes: thin spikes, fingers, a thin neck and handle, a speck,
+a thin plate, huge and tiny coordinates), each checked by what the filter
+promises:
+
+  curvatures            finite values at interior vertices; Gauss-Bonnet on
+                        closed meshes (sum K A = 2 pi chi)
+  operators             finite values at interior vertices
+  fairing               finite points; the enclosed volume kept (closed meshes)
+  surface-data-denoising finite values, the array's range not widened
+  parameterization      (AtlasForNonDisks) no flipped UV triangle, UV in [0, 1]^2
+  atlas                 no flipped UV triangle, UV in [0, 1]^2
+  remeshing             the exact count; Euler characteristic, components and
+                        boundary loops kept; manifold and oriented
+  line-drawing          the lines on the surface
+  tetgen                (closed meshes) positive tetrahedra filling the volume
+
+Prints one row per mesh and filter and "N passed, M failed".
+
+    test_corpus_sweep.py [FILTER ...]   (no name: every filter)
+"""
+import math
+import os
+import sys
+import time
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import inputs  # noqa: E402
+import beltrami as b  # noqa: E402
+
+
+def point_array(data, name):
+    a = data.GetPointData().GetArray(name)
+    return None if a is None else vtk_to_numpy(a)
+
+
+def volume(mesh):
+    """The enclosed volume of the polygons (fans: inputs.arrays_of)."""
+    p, t = inputs.arrays_of(mesh)
+    a, b_, c = p[t[:, 0]], p[t[:, 1]], p[t[:, 2]]
+    return float(np.einsum("ij,ij->i", a, np.cross(b_, c)).sum() / 6.0)
+
+
+def has_polygons(mesh):
+    """Whether some cell is a polygon of more than three points (then the
+    filters' triangulation of a non-planar polygon may differ from a fan)."""
+    polys = mesh.GetPolys()
+    return polys is not None and polys.GetNumberOfCells() > 0 and \
+        not np.all(np.diff(vtk_to_numpy(polys.GetOffsetsArray())) == 3)
+
+
+def interior(mesh):
+    """A mask of the vertices away from the boundary."""
+    p, t = inputs.arrays_of(mesh)
+    edges, counts = inputs.edge_counts(t)
+    mask = np.ones(len(p), dtype=bool)
+    mask[np.unique(edges[counts != 2])] = False
+    return mask
+
+
+def check_curvatures(mesh, out, top):
+    inner = interior(mesh)
+    for name in ("MeanCurvature", "GaussianCurvature", "MaximumCurvature", "MinimumCurvature"):
+        values = point_array(out, name)
+        if values is None or not np.isfinite(values[inner]).all():
+            return "non-finite %s at interior vertices" % name
+    if top["loops"] == 0:
+        g, a = point_array(out, "GaussianCurvature"), point_array(out, "MixedArea")
+        total = float(np.nansum(g * a))
+        if abs(total - 2 * math.pi * top["euler"]) > 1e-6 * max(1.0, abs(total)):
+            return "Gauss-Bonnet: %.9g, not 2 pi x %d" % (total, top["euler"])
+    return None
+
+
+def check_operators(mesh, out, top):
+    inner = interior(mesh)
+    for k in range(out.GetPointData().GetNumberOfArrays()):
+        name = out.GetPointData().GetArrayName(k)
+        if name == "Scalars":
+            continue
+        values = point_array(out, name)
+        if values.dtype.kind == "f" and not np.isfinite(values[inner]).all():
+            return "non-finite %s at interior vertices" % name
+    return None
+
+
+def check_fairing(mesh, out, top):
+    p = vtk_to_numpy(out.GetPoints().GetData())
+    if not np.isfinite(p).all():
+        return "non-finite points"
+    if top["loops"] == 0 and top["manifold"]:
+        before, after = volume(mesh), volume(out)
+        # (The filter keeps the volume of its own triangulation; fans of
+        # non-planar polygons smoothed enclose a little more or less.)
+        if abs(after - before) > (1e-2 if has_polygons(mesh) else 1e-6) * abs(before):
+            return "volume %.9g -> %.9g" % (before, after)
+    return None
+
+
+def check_data_denoising(mesh, out, top):
+    before, after = point_array(mesh, "Scalars"), point_array(out, "Scalars")
+    if after is None or not np.isfinite(after).all():
+        return "non-finite values"
+    # The flow's maximum principle holds for the continuous flow; the
+    # cotangent weights of obtuse triangles are negative, so the discrete
+    # flow may overshoot a little there.
+    span = before.max() - before.min()
+    over = max(before.min() - after.min(), after.max() - before.max(), 0.0)
+    if over > 0.01 * span:
+        return "range widened by %.3g of the data's range" % (over / span)
+    return None
+
+
+def check_uv(mesh, out, top):
+    uv = point_array(out, "UV")
+    if uv is None:
+        tc = out.GetPointData().GetTCoords()
+        uv = None if tc is None else vtk_to_numpy(tc)
+    if uv is None:
+        return "no UV"
+    if not np.isfinite(uv).all() or uv.min() < -1e-9 or uv.max() > 1 + 1e-9:
+        return "UV outside [0, 1]^2"
+    _, t = inputs.arrays_of(out)
+    a, bb, c = uv[t[:, 0]], uv[t[:, 1]], uv[t[:, 2]]
+    area = (bb[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (bb[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    flipped = int((area < 0).sum())
+    if flipped:
+        return "%d of %d UV triangles flipped" % (flipped, len(t))
+    return None
+
+
+def check_remesh(mesh, out, top, count=2000, warned=()):
+    p, t = inputs.arrays_of(out)
+    if len(p) != count:
+        return "%d vertices, not %d" % (len(p), count)
+    got = inputs.topology(p, t)
+    for key in ("euler", "components", "loops"):
+        if got[key] != top[key]:
+            return "%s %s -> %s" % (key, top[key], got[key])
+    if not (got["manifold"] and got["oriented"]):
+        return "not manifold and oriented"
+    # The deviation the filter reports (input vertices to the remesh, the
+    # remesh's triangle centres to the input) is the one measured here.
+    pin, tin = inputs.arrays_of(mesh)
+    diag = inputs.diagonal(pin[np.unique(tin)])
+    reported = [out.GetFieldData().GetArray("RemeshDeviation").GetValue(k) for k in range(2)]
+    from_input = inputs.distances_to(out, pin[np.unique(tin)]).max() / diag
+    to_input = inputs.distances_to(mesh, p[t].mean(axis=1)).max() / diag
+    tolerance = 1e-3 if has_polygons(mesh) else 1e-6  # (non-planar polygons: other triangulations)
+    for what, said, measured in (("to", reported[0], to_input), ("from", reported[1], from_input)):
+        if abs(said - measured) > 1e-9 + tolerance * measured:
+            return "reported deviation %s the input %.6g, measured %.6g" % (what, said, measured)
+    print("    deviation %.3f%% / %.3f%% of the diagonal" % (100 * to_input, 100 * from_input))
+    return None
+
+
+def check_lines(mesh, out, top):
+    lines = out
+    if lines.GetNumberOfPoints() == 0:
+        return None
+    d = inputs.distances_to(mesh, vtk_to_numpy(lines.GetPoints().GetData()))
+    diag = inputs.diagonal(inputs.arrays_of(mesh)[0])
+    if d.max() > 1e-6 * diag:
+        return "a line point %.3g of the diagonal off the surface" % (d.max() / diag)
+    return None
+
+
+def check_tetgen(mesh, out, top):
+    from vtkmodules.vtkFiltersVerdict import vtkMeshQuality
+    q = vtkMeshQuality()
+    q.SetInputData(out)
+    q.SetTetQualityMeasureToVolume()
+    q.Update()
+    v = vtk_to_numpy(q.GetOutput().GetCellData().GetArray("Quality"))
+    if len(v) == 0 or v.min() <= 0:
+        return "no tetrahedra, or one of non-positive volume"
+    enclosed = volume(mesh)
+    if abs(v.sum() - abs(enclosed)) > (1e-3 if has_polygons(mesh) else 1e-6) * abs(enclosed):
+        return "tetrahedra %.9g, enclosed %.9g" % (v.sum(), enclosed)
+    return None
+
+
+def remesher():
+    f = b.vtkSurfaceRemeshing()
+    f.SetNumberOfVertices(2000)
+    return f
+
+
+def parameterization():
+    f = b.vtkIntrinsicParameterization()
+    f.SetAtlasForNonDisks(True)
+    return f
+
+
+# name -> (make, check, which meshes ("all" or "closed"), the errors that
+# are the filter's defined answer rather than a failure: a remesh the
+# remesher cannot make yet (it says why, with an empty output, rather than
+# return a damaged mesh), a surface that intersects itself for TetGen).
+FILTERS = {
+    "curvatures": (b.vtkDiscreteCurvatures, check_curvatures, "all", None),
+    "operators": (b.vtkBeltramiOperators, check_operators, "all", None),
+    "fairing": (b.vtkImplicitFairing, check_fairing, "all", None),
+    "surface-data-denoising": (b.vtkSurfaceDataDenoising, check_data_denoising, "all", None),
+    "parameterization": (parameterization, check_uv, "all", None),
+    "atlas": (b.vtkSurfaceAtlas, check_uv, "all", None),
+    "remeshing": (remesher, check_remesh, "all", "Cannot remesh with"),
+    "line-drawing": (b.vtkSurfaceLineDrawing, check_lines, "all", None),
+    "tetgen": (b.vtkTetGenTetrahedralizer, check_tetgen, "closed", "The surface intersects itself"),
+}
+
+
+def last_line(message):
+    """The text of a VTK message (its last non-empty line)."""
+    lines = [x.strip() for x in message.splitlines() if x.strip()]
+    return lines[-1] if lines else ""
+
+
+def sweep(name, meshes):
+    make, check, which, refusal = FILTERS[name]
+    passed = failed = refused = 0
+    for path, mesh, top in meshes:
+        if which == "closed" and (top["loops"] or not top["manifold"]):
+            continue
+        f = make()
+        said = inputs.Messages(f, f.GetExecutive())
+        f.SetInputData(mesh)
+        start = time.perf_counter()
+        f.Update()
+        seconds = time.perf_counter() - start
+        out = f.GetOutputDataObject(0)
+        first = last_line(said.errors[0]) if said.errors else ""
+        if refusal and said.errors and refusal in first:
+            refused += 1
+            status = "refused: " + first[:200]
+        else:
+            problem = first[:200] if said.errors else check(mesh, out, top)
+            failed += problem is not None
+            passed += problem is None
+            status = "ok" if problem is None else "FAILED: " + problem
+        warned = last_line(said.warnings[0])[:120] if said.warnings else ""
+        print("%-22s %-30s %7.2f s  %s%s" % (name, os.path.basename(path), seconds, status,
+                                            "  (warned: %s)" % warned if warned else ""), flush=True)
+    return passed, failed, refused
+
+
+def main(names):
+    meshes = []
+    for path in inputs.corpus_paths():
+        mesh = inputs.with_scalars(inputs.read_off(path))
+        p, t = inputs.arrays_of(mesh)
+        meshes.append((path, mesh, inputs.topology(p, t)))
+    for name, (p, t) in inputs.hard_shapes().items():
+        meshes.append((name, inputs.with_scalars(inputs.polydata(p, t)), inputs.topology(p, t)))
+    passed = failed = refused = 0
+    for name in names or list(FILTERS):
+        p, f, r = sweep(name, meshes)
+        passed, failed, refused = passed + p, failed + f, refused + r
+    print("%d passed, %d failed" % (passed, failed) + (" (%d refused with a clear error)" % refused if refused else ""))
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
