@@ -113,15 +113,22 @@ BoundaryPaths ChartBoundaries(
   return result;
 }
 
-/// A sample in `triangle` at barycentric weights w (of its corners).
-void AddSample(const MeshTopology& topology, const double* points, Index triangle, const double* w, SampleKind kind,
-  int chart, SurfaceSamples& out)
+/// The surface point in `triangle` at barycentric weights w (of its corners).
+Vec3 SurfacePointAt(const MeshTopology& topology, const double* points, Index triangle, const double* w)
 {
   Vec3 x = Vec3::Zero();
   for (int k = 0; k < 3; ++k)
   {
     x += w[k] * Point(points, topology.CornerVertex(3 * triangle + k));
   }
+  return x;
+}
+
+/// A sample in `triangle` at barycentric weights w (of its corners).
+void AddSample(const MeshTopology& topology, const double* points, Index triangle, const double* w, SampleKind kind,
+  int chart, SurfaceSamples& out)
+{
+  const Vec3 x = SurfacePointAt(topology, points, triangle, w);
   out.Triangle.push_back(triangle);
   out.Barycentric.insert(out.Barycentric.end(), w, w + 3);
   out.Positions.insert(out.Positions.end(), { x.x(), x.y(), x.z() });
@@ -251,6 +258,78 @@ void SampleBoundaries(const MeshTopology& topology, const double* points, const 
     path.SampleArc.push_back(path.Arc.back());
     out.Paths.push_back(std::move(path));
   }
+}
+
+/// A chart far smaller than the spacing gets no interior sample; where its
+/// neighbour across its boundary gets none either, both triangulate the
+/// same few boundary samples into the same triangles (a speck of a scan, a
+/// thin limb's tip).  Every chart without one gets one interior sample, at
+/// the centre of its largest triangle, taken from the chart with the most
+/// (its last one): the count stays, and a component too small for the
+/// spacing is kept as a closed mesh of a few vertices.
+void GiveEveryChartAnInteriorSample(
+  const MeshTopology& topology, const double* points, const AtlasResult& atlas, SurfaceSamples& out)
+{
+  std::vector<std::int64_t> count(atlas.Charts.size(), 0), last(atlas.Charts.size(), -1);
+  for (std::size_t s = 0; s < out.Kind.size(); ++s)
+  {
+    if (out.Kind[s] == SampleKind::Interior)
+    {
+      ++count[out.Chart[s]];
+      last[out.Chart[s]] = static_cast<std::int64_t>(s);
+    }
+  }
+  for (std::size_t c = 0; c < atlas.Charts.size(); ++c)
+  {
+    const std::size_t donor = static_cast<std::size_t>(std::max_element(count.begin(), count.end()) - count.begin());
+    if (count[c] > 0 || count[donor] < 2)
+    {
+      continue;
+    }
+    Index largest = atlas.Charts[c].Triangles.front();
+    double area = -1.0;
+    for (Index t : atlas.Charts[c].Triangles)
+    {
+      const Vec3 a = Point(points, topology.CornerVertex(3 * t));
+      const double twice = (Point(points, topology.CornerVertex(3 * t + 1)) - a)
+                             .cross(Point(points, topology.CornerVertex(3 * t + 2)) - a)
+                             .norm();
+      if (twice > area)
+      {
+        area = twice;
+        largest = t;
+      }
+    }
+    // The donor's last sample takes the new one's place (interior samples
+    // follow the boundary samples, whose ids the paths hold).
+    const std::size_t s = static_cast<std::size_t>(last[donor]);
+    const double w[3] = { 1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0 };
+    const Vec3 x = SurfacePointAt(topology, points, largest, w);
+    out.Triangle[s] = largest;
+    std::copy(w, w + 3, &out.Barycentric[3 * s]);
+    std::copy(x.data(), x.data() + 3, &out.Positions[3 * s]);
+    out.Chart[s] = static_cast<int>(c);
+    --count[donor];
+    ++count[c];
+    last[donor] = -1;
+    for (std::size_t k = s; k-- > 0 && last[donor] < 0;) // the donor's new last sample
+    {
+      last[donor] = out.Kind[k] == SampleKind::Interior && out.Chart[k] == static_cast<int>(donor)
+        ? static_cast<std::int64_t>(k) : -1;
+    }
+    last[c] = static_cast<std::int64_t>(s);
+  }
+}
+
+/// Drops every sample and path of `out` (to sample the boundaries again).
+void ClearSamples(SurfaceSamples& out)
+{
+  out.Triangle.clear();
+  out.Barycentric.clear();
+  out.Positions.clear();
+  out.Kind.clear();
+  out.Chart.clear();
+  out.Paths.clear();
 }
 
 /// Marks the texels (of an n x n image, coordinates in texels) whose centre
@@ -527,6 +606,15 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
   const BoundaryPaths boundaries = ChartBoundaries(topology, atlas.ChartOfTriangle, options.FeatureEdges);
   SampleBoundaries(topology, points, importance, atlas.ChartOfTriangle, boundaries, out.Density, options.FeatureEdges,
     options.MaximumLineSag, out);
+  if (options.MaximumLineSag > 0.0 && static_cast<std::int64_t>(out.Kind.size()) > options.NumberOfSamples)
+  {
+    // Lines that bend at every vertex (the jagged rims of a scan's many
+    // holes) would take more than the count: the density's spacing along
+    // them instead.
+    ClearSamples(out);
+    SampleBoundaries(topology, points, importance, atlas.ChartOfTriangle, boundaries, out.Density,
+      options.FeatureEdges, 0.0, out);
+  }
   out.BoundarySamples = static_cast<std::int64_t>(out.Kind.size());
   if (out.BoundarySamples > options.NumberOfSamples)
   {
@@ -560,6 +648,7 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
     }
   }
   out.Halftone = std::move(halftone.Samples);
+  GiveEveryChartAnInteriorSample(topology, points, atlas, out);
   return out;
 }
 
