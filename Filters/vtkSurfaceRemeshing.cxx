@@ -178,7 +178,8 @@ void WriteRemesh(vtkPolyData* input, const beltrami::MeshTopology& topology, con
   AddField(output, "RemeshEdgeLengthVariation", { q.EdgeLengthVariation });
   AddField(output, "RemeshCharts", { static_cast<double>(charts) });
   AddField(output, "RemeshDeviation", { r.DeviationToInput, r.DeviationFromInput });
-  AddField(output, "RemeshSeconds", { r.SamplingSeconds, r.TriangulationSeconds, r.OptimizationSeconds });
+  AddField(output, "RemeshSeconds",
+    { r.SamplingSeconds, r.TriangulationSeconds, r.OptimizationSeconds, r.FidelitySeconds });
 }
 
 /// The control map and the halftone as one image (output 1).

@@ -49,8 +49,13 @@
  * SampleKind (0 inside a chart, 1 on a chart boundary, 2 at a corner of the
  * chart boundaries), field arrays RemeshMeanMinimumAngle,
  * RemeshMinimumAngle, RemeshFractionBelow30, RemeshFractionValence6,
- * RemeshEdgeLengthVariation (degrees and fractions), RemeshCharts and
- * RemeshSeconds (sampling, triangulation, optimisation).  Output 1: a
+ * RemeshEdgeLengthVariation (degrees and fractions), RemeshCharts,
+ * RemeshDeviation (the remesh's fidelity, measured after every run, as
+ * fractions of the input's bounding-box diagonal: the largest distance of
+ * its triangle centres from the input, and of the input's vertices from
+ * it; a warning names the input point where a part is left farther than
+ * the remesh's spacing, a limb or tip lost) and RemeshSeconds (sampling,
+ * triangulation, optimisation, the fidelity's measurement).  Output 1: a
  * vtkMultiBlockDataSet with the control map as an image (block
  * "ControlMap": point arrays ControlMap, expected samples per texel, NaN
  * outside the charts, and Halftone, 1 where an interior sample is).
@@ -61,8 +66,13 @@
  * re-runs the control map, sampling, triangulation and optimisation only
  * (with Iterations 0, a preview of a uniform 10k remesh of the bunny in
  * about 0.1 s).  Non-manifold or inconsistently
- * oriented input, NaN points, empty input and counts the chart boundaries
- * cannot hold are reported as errors with an empty output.  The remesher
+ * oriented input, NaN points, coordinates beyond 1e75 (or a bounding box
+ * below 1e-75), empty input and counts the chart boundaries cannot hold are
+ * reported as errors with an empty output, and so is a remesh whose
+ * topology (Euler characteristic, components, boundary loops) is not the
+ * input's: a filter that cannot keep a part says so rather than return a
+ * mesh without it.  Charts far smaller than the spacing (a speck of a
+ * scan) keep one interior sample each, so their components stay closed.  The remesher
  * needs the whole surface: split data are gathered on rank 0, which holds
  * the remesh.
  */

@@ -41,7 +41,8 @@ double UsedBoundingBoxDiagonal(const double* points, const Index* triangles, std
   return lo[0] <= hi[0] ? (hi - lo).norm() : 0.0;
 }
 
-TriangleGrid::TriangleGrid(const double* points, const Index* triangles, std::size_t numberOfTriangles)
+TriangleGrid::TriangleGrid(
+  const double* points, const Index* triangles, std::size_t numberOfTriangles, int numThreads)
   : Points(points)
   , Triangles(triangles)
 {
@@ -60,10 +61,11 @@ TriangleGrid::TriangleGrid(const double* points, const Index* triangles, std::si
   }
   const Vec3 extent = hi - lo;
   const double n = static_cast<double>(std::max<std::size_t>(1, numberOfTriangles));
-  // About two triangles of mean area a cell; no more cells than 8 a triangle
-  // (a surface of slivers or one of a few large triangles).
+  // About two triangles of mean area a cell; no more cells than two a
+  // triangle (a surface in a box: most cells are empty; slivers; a few
+  // large triangles).
   Cell = 1.5 * std::sqrt(area / n);
-  const double volumeCell = std::cbrt((extent[0] + 1e-300) * (extent[1] + 1e-300) * (extent[2] + 1e-300) / (8.0 * n));
+  const double volumeCell = std::cbrt((extent[0] + 1e-300) * (extent[1] + 1e-300) * (extent[2] + 1e-300) / (2.0 * n));
   Cell = std::max(Cell, volumeCell);
   Cell = std::max(Cell, 1e-9 * extent.maxCoeff());
   if (!(Cell > 0.0) || !std::isfinite(Cell) || !std::isfinite(extent.maxCoeff() / Cell))
@@ -77,10 +79,32 @@ TriangleGrid::TriangleGrid(const double* points, const Index* triangles, std::si
     Dims[d] = std::isfinite(cells) ? static_cast<long>(std::min(cells, 1e6)) : 1;
   }
   Offsets.assign(static_cast<std::size_t>(Dims[0] * Dims[1] * Dims[2]) + 1, 0);
-  // Two passes over the triangles' bounding boxes: count, then fill.
+  // Each triangle's box of cells (on the threads), then a counting sort of
+  // (cell, triangle): count, start of each cell, fill (Offsets[c] runs to
+  // the end of cell c), shift back.
+  std::vector<std::int32_t> boxes(6 * numberOfTriangles);
+  ParallelFor(static_cast<std::int64_t>(numberOfTriangles), numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t t = begin; t < end; ++t)
+    {
+      std::int32_t* box = &boxes[6 * t];
+      for (int d = 0; d < 3; ++d)
+      {
+        box[d] = static_cast<std::int32_t>(Dims[d]);
+        box[3 + d] = -1;
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        const Vec3 p = Point(points, triangles[3 * t + k]);
+        for (int d = 0; d < 3 && Finite(p); ++d)
+        {
+          box[d] = std::min(box[d], static_cast<std::int32_t>(CellIndex(p, d)));
+          box[3 + d] = std::max(box[3 + d], static_cast<std::int32_t>(CellIndex(p, d)));
+        }
+      }
+    }
+  });
   for (int pass = 0; pass < 2; ++pass)
   {
-    std::vector<std::size_t> next;
     if (pass == 1)
     {
       for (std::size_t c = 1; c < Offsets.size(); ++c)
@@ -88,28 +112,13 @@ TriangleGrid::TriangleGrid(const double* points, const Index* triangles, std::si
         Offsets[c] += Offsets[c - 1];
       }
       Items.resize(Offsets.back());
-      next.assign(Offsets.begin(), Offsets.end() - 1);
     }
     for (std::size_t t = 0; t < numberOfTriangles; ++t)
     {
-      long a[3], b[3];
-      for (int d = 0; d < 3; ++d)
-      {
-        a[d] = Dims[d];
-        b[d] = -1;
-      }
-      for (int k = 0; k < 3; ++k)
-      {
-        const Vec3 p = Point(points, triangles[3 * t + k]);
-        for (int d = 0; d < 3 && Finite(p); ++d)
-        {
-          a[d] = std::min(a[d], CellIndex(p, d));
-          b[d] = std::max(b[d], CellIndex(p, d));
-        }
-      }
-      for (long x = a[0]; x <= b[0]; ++x)
-        for (long y = a[1]; y <= b[1]; ++y)
-          for (long z = a[2]; z <= b[2]; ++z)
+      const std::int32_t* box = &boxes[6 * t];
+      for (long x = box[0]; x <= box[3]; ++x)
+        for (long y = box[1]; y <= box[4]; ++y)
+          for (long z = box[2]; z <= box[5]; ++z)
           {
             const std::size_t cell = static_cast<std::size_t>((x * Dims[1] + y) * Dims[2] + z);
             if (pass == 0)
@@ -118,11 +127,16 @@ TriangleGrid::TriangleGrid(const double* points, const Index* triangles, std::si
             }
             else
             {
-              Items[next[cell]++] = static_cast<Index>(t);
+              Items[Offsets[cell]++] = static_cast<Index>(t);
             }
           }
     }
   }
+  for (std::size_t c = Offsets.size() - 1; c > 0; --c)
+  {
+    Offsets[c] = Offsets[c - 1];
+  }
+  Offsets[0] = 0;
 }
 
 long TriangleGrid::CellIndex(const Vec3& p, int axis) const
@@ -133,6 +147,19 @@ long TriangleGrid::CellIndex(const Vec3& p, int axis) const
     return 0; // below the grid, or not a number
   }
   return x >= static_cast<double>(Dims[axis] - 1) ? Dims[axis] - 1 : static_cast<long>(x);
+}
+
+double TriangleGrid::BoxDistance2(const Vec3& p, long x, long y, long z) const
+{
+  const long cell[3] = { x, y, z };
+  double d2 = 0.0;
+  for (int d = 0; d < 3; ++d)
+  {
+    const double lo = Origin[d] + static_cast<double>(cell[d]) * Cell, hi = lo + Cell;
+    const double out = p[d] < lo ? lo - p[d] : (p[d] > hi ? p[d] - hi : 0.0);
+    d2 += out * out;
+  }
+  return d2;
 }
 
 double TriangleGrid::TriangleDistance2(Index t, const Vec3& p) const
@@ -159,6 +186,10 @@ double TriangleGrid::Distance(const Vec3& p) const
     const long z0 = std::max(0L, c[2] - r), z1 = std::min(Dims[2] - 1, c[2] + r);
     const auto visit = [&](long x, long y, long z) {
       const std::size_t cell = static_cast<std::size_t>((x * Dims[1] + y) * Dims[2] + z);
+      if (Offsets[cell] == Offsets[cell + 1] || BoxDistance2(p, x, y, z) >= best)
+      {
+        return; // empty, or no nearer than the nearest triangle so far
+      }
       for (std::size_t k = Offsets[cell]; k < Offsets[cell + 1]; ++k)
       {
         best = std::min(best, TriangleDistance2(Items[k], p));
@@ -184,10 +215,22 @@ double TriangleGrid::Distance(const Vec3& p) const
           visit(x, y, c[2] + r);
         }
       }
-    // Cells farther out are at least r cells away from p (p's projection
-    // on the grid lies in its cell, and the projection does not lengthen).
-    const double reach = static_cast<double>(r) * Cell;
-    if (best <= reach * reach)
+    // The cells not visited yet lie beyond the faces of the block of cells
+    // visited (on the sides where the grid goes on): no nearer than p's
+    // distance to those faces.
+    double reach = HUGE_VAL;
+    for (int d = 0; d < 3; ++d)
+    {
+      if (c[d] - r > 0)
+      {
+        reach = std::min(reach, p[d] - (Origin[d] + static_cast<double>(c[d] - r) * Cell));
+      }
+      if (c[d] + r < Dims[d] - 1)
+      {
+        reach = std::min(reach, Origin[d] + static_cast<double>(c[d] + r + 1) * Cell - p[d]);
+      }
+    }
+    if (reach == HUGE_VAL || (reach > 0.0 && best <= reach * reach))
     {
       break;
     }
@@ -261,8 +304,8 @@ SurfaceDeviation MeasureDeviation(const double* firstPoints, const Index* firstT
   DeviationSamples secondSamples, int numThreads)
 {
   SurfaceDeviation out;
-  const TriangleGrid first(firstPoints, firstTriangles, firstCount);
-  const TriangleGrid second(secondPoints, secondTriangles, secondCount);
+  const TriangleGrid first(firstPoints, firstTriangles, firstCount, numThreads);
+  const TriangleGrid second(secondPoints, secondTriangles, secondCount, numThreads);
   out.FirstToSecond =
     FarthestFrom(firstPoints, firstTriangles, firstCount, firstSamples, second, numThreads, out.FarthestOfFirst);
   out.SecondToFirst =

@@ -7,6 +7,7 @@
 #include "Mesh/Geometry.h"
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace beltrami
@@ -18,7 +19,7 @@ class TriangleGrid
 {
 public:
   /// `points`: 3 per vertex; `triangles`: 3 vertex ids each.
-  TriangleGrid(const double* points, const Index* triangles, std::size_t numberOfTriangles);
+  TriangleGrid(const double* points, const Index* triangles, std::size_t numberOfTriangles, int numThreads = 0);
   /// The distance from p to the nearest triangle (infinity when there is
   /// none, or p is not finite).
   double Distance(const Vec3& p) const;
@@ -29,10 +30,12 @@ private:
   Vec3 Origin = Vec3::Zero();
   double Cell = 1.0;
   long Dims[3] = { 0, 0, 0 };
-  std::vector<std::size_t> Offsets; ///< per cell into Items (CSR)
+  std::vector<std::uint32_t> Offsets; ///< per cell into Items (CSR)
   std::vector<Index> Items;         ///< triangle ids
   long CellIndex(const Vec3& p, int axis) const;
   double TriangleDistance2(Index t, const Vec3& p) const;
+  /// The squared distance from p to the box of cell (x, y, z).
+  double BoxDistance2(const Vec3& p, long x, long y, long z) const;
 };
 
 /// Where a surface's distance to another is measured.

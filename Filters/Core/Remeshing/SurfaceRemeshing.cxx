@@ -375,7 +375,9 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   out.Triangles = remesh.Mesh.Triangles();
   out.SourceTriangle = std::move(remesh.Triangle);
   out.SourceBarycentric = std::move(remesh.Barycentric);
+  start = std::chrono::steady_clock::now();
   CheckFidelity(topology, points, options, out);
+  out.FidelitySeconds = SecondsSince(start);
   return out;
 }
 

@@ -57,7 +57,7 @@ struct RemeshResult
   double DeviationToInput = 0.0, DeviationFromInput = 0.0;
   Vec3 FarthestInputPoint = Vec3::Zero();
   double Spacing = 0.0;
-  double SamplingSeconds = 0.0, TriangulationSeconds = 0.0, OptimizationSeconds = 0.0;
+  double SamplingSeconds = 0.0, TriangulationSeconds = 0.0, OptimizationSeconds = 0.0, FidelitySeconds = 0.0;
 };
 
 /// The atlas the remesher wants (thesis sections 4.2.2 and 4.2.4): natural
