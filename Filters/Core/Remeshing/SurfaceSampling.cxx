@@ -11,6 +11,7 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <utility>
 
 namespace beltrami
@@ -198,6 +199,15 @@ void SampleBoundaries(const MeshTopology& topology, const double* points, const 
     cornerSample[c] = static_cast<Index>(out.Kind.size());
     AddSample(topology, points, EdgePoint(topology, c, c, 0.0, w), w, SampleKind::Corner, -1, out);
   }
+  // Two paths between the same two corners (around a limb thinner than the
+  // spacing) would both be the one segment between them: each gets at
+  // least one sample between its ends, or the charts on both sides meet
+  // along a doubled edge.
+  std::map<std::pair<Index, Index>, int> parallel;
+  for (const std::vector<Index>& vertices : boundaries.Paths)
+  {
+    ++parallel[std::minmax(vertices.front(), vertices.back())];
+  }
   for (const std::vector<Index>& vertices : boundaries.Paths)
   {
     SamplePath path;
@@ -235,7 +245,8 @@ void SampleBoundaries(const MeshTopology& topology, const double* points, const 
     }
     const double total = cumulative.back();
     const bool loop = vertices.front() == vertices.back();
-    const std::int64_t inside = std::max<std::int64_t>(loop ? 2 : 0, std::llround(total) - 1);
+    const std::int64_t fewest = loop ? 2 : (parallel[std::minmax(vertices.front(), vertices.back())] > 1 ? 1 : 0);
+    const std::int64_t inside = std::max<std::int64_t>(fewest, std::llround(total) - 1);
     path.Samples.push_back(cornerSample[vertices.front()]);
     path.SampleArc.push_back(0.0);
     std::size_t node = 0;
