@@ -47,7 +47,10 @@
  * Output 0: the remesh (triangles), the input's point arrays interpolated at
  * its vertices (barycentric in the input triangle under each), point array
  * SampleKind (0 inside a chart, 1 on a chart boundary, 2 at a corner of the
- * chart boundaries), field arrays RemeshMeanMinimumAngle,
+ * chart boundaries, 3 pinned at a tip: an input vertex whose angle defect
+ * exceeds 2 radians, a cone narrower than about 43 degrees - a spike's,
+ * horn's or finger's tip - takes its chart's nearest interior sample, which
+ * the relaxation leaves there), field arrays RemeshMeanMinimumAngle,
  * RemeshMinimumAngle, RemeshFractionBelow30, RemeshFractionValence6,
  * RemeshEdgeLengthVariation (degrees and fractions), RemeshCharts,
  * RemeshDeviation (the remesh's fidelity, measured after every run, as

@@ -470,7 +470,7 @@ Remesh CreateRemesh(const MeshTopology& topology, const double* points, const At
   }
   for (Index s = 0; s < n; ++s)
   {
-    if (samples.Kind[s] == SampleKind::Interior)
+    if (samples.Kind[s] == SampleKind::Interior || samples.Kind[s] == SampleKind::Tip)
     {
       interior[samples.Chart[s]].push_back(s);
     }

@@ -685,7 +685,11 @@ Index Optimizer::BeginStitching(const std::uint8_t* featureEdges)
   Index freed = 0;
   for (Index v = 0; v < M.NumberOfVertices(); ++v)
   {
-    if (R.Kind[v] == SampleKind::Corner)
+    if (R.Kind[v] == SampleKind::Tip)
+    {
+      Moves[v] = Fixed;
+    }
+    else if (R.Kind[v] == SampleKind::Corner)
     {
       const double* w = &R.Barycentric[3 * v];
       const int k = static_cast<int>(std::max_element(w, w + 3) - w);
@@ -699,7 +703,7 @@ Index Optimizer::BeginStitching(const std::uint8_t* featureEdges)
       const std::int64_t e = edges.Find(path.Vertices[i], path.Vertices[i + 1]);
       Moves[v] = e < 0 || isKept(e) ? OnPath : Free;
     }
-    freed += R.Kind[v] != SampleKind::Interior && Moves[v] == Free;
+    freed += R.Kind[v] != SampleKind::Interior && R.Kind[v] != SampleKind::Tip && Moves[v] == Free;
   }
   for (const SamplePath& path : Samples.Paths)
   {

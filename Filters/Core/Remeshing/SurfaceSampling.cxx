@@ -332,6 +332,62 @@ void GiveEveryChartAnInteriorSample(
   }
 }
 
+/// The angle defect of interior vertex v: 2 pi minus its corners' angles.
+double AngleDefect(const MeshTopology& topology, const double* points, Index v)
+{
+  double sum = 0.0;
+  const Index* pairs = topology.RingPairsBegin(v);
+  for (Index k = 0; k < topology.Valence(v); ++k)
+  {
+    const Vec3 p = Point(points, v), a = Point(points, pairs[2 * k]) - p, b = Point(points, pairs[2 * k + 1]) - p;
+    sum += std::atan2(a.cross(b).norm(), a.dot(b));
+  }
+  return 2.0 * M_PI - sum;
+}
+
+/// Every interior vertex of a chart (all its triangles in the chart) with
+/// an angle defect above `threshold` takes the nearest interior sample of
+/// its chart, exactly at the vertex, as a Tip (SamplingOptions::TipAngleDefect).
+void PinTips(const MeshTopology& topology, const double* points, const AtlasResult& atlas, double threshold,
+  SurfaceSamples& out)
+{
+  for (Index v = 0; threshold > 0.0 && v < topology.NumberOfVertices(); ++v)
+  {
+    if (!topology.IsInterior(v) || topology.Valence(v) == 0 || !(AngleDefect(topology, points, v) > threshold))
+    {
+      continue;
+    }
+    const Index corner = *topology.CornersBegin(v);
+    const int chart = atlas.ChartOfTriangle[corner / 3];
+    if (!std::all_of(topology.CornersBegin(v), topology.CornersEnd(v),
+          [&](Index c) { return atlas.ChartOfTriangle[c / 3] == chart; }))
+    {
+      continue; // on a chart boundary: a corner or path sample is near
+    }
+    const Vec3 x = Point(points, v);
+    std::size_t nearest = out.Kind.size();
+    double best = HUGE_VAL;
+    for (std::size_t s = 0; s < out.Kind.size(); ++s)
+    {
+      const double d = (Point(out.Positions.data(), static_cast<Index>(s)) - x).squaredNorm();
+      if (out.Kind[s] == SampleKind::Interior && out.Chart[s] == chart && d < best)
+      {
+        best = d;
+        nearest = s;
+      }
+    }
+    if (nearest == out.Kind.size())
+    {
+      continue; // no interior sample left in the chart
+    }
+    const double w[3] = { corner % 3 == 0 ? 1.0 : 0.0, corner % 3 == 1 ? 1.0 : 0.0, corner % 3 == 2 ? 1.0 : 0.0 };
+    out.Triangle[nearest] = corner / 3;
+    std::copy(w, w + 3, &out.Barycentric[3 * nearest]);
+    std::copy(x.data(), x.data() + 3, &out.Positions[3 * nearest]);
+    out.Kind[nearest] = SampleKind::Tip;
+  }
+}
+
 /// Drops every sample and path of `out` (to sample the boundaries again).
 void ClearSamples(SurfaceSamples& out)
 {
@@ -660,6 +716,7 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
   }
   out.Halftone = std::move(halftone.Samples);
   GiveEveryChartAnInteriorSample(topology, points, atlas, out);
+  PinTips(topology, points, atlas, options.TipAngleDefect, out);
   return out;
 }
 
