@@ -23,6 +23,16 @@ DATA = os.path.normpath(os.path.join(HERE, "..", "Data"))
 SHARED_MESHES = os.path.normpath(os.path.join(HERE, "..", "..", "..", "shared", "data", "meshes"))
 
 
+def filter_with(cls, **settings):
+    """A maker of `cls` filters with Set<Key>(value) for every setting."""
+    def make():
+        f = cls()
+        for key, value in settings.items():
+            getattr(f, "Set" + key)(value)
+        return f
+    return make
+
+
 # ---------------------------------------------------------------- real meshes
 
 def corpus_paths():

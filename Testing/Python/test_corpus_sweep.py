@@ -9,7 +9,7 @@ promises:
   operators             finite values at interior vertices
   fairing               finite points; the enclosed volume kept (closed meshes)
   surface-data-denoising finite values, the array's range not widened
-  parameterization      (AtlasForNonDisks) no flipped UV triangle, UV in [0, 1]^2
+  parameterization      no flipped UV triangle, UV in [0, 1]^2
   atlas                 no flipped UV triangle, UV in [0, 1]^2
   remeshing             the exact count; Euler characteristic, components and
                         boundary loops kept; manifold and oriented
@@ -185,18 +185,6 @@ def check_tetgen(mesh, out, top):
     return None
 
 
-def remesher():
-    f = b.vtkSurfaceRemeshing()
-    f.SetNumberOfVertices(2000)
-    return f
-
-
-def parameterization():
-    f = b.vtkIntrinsicParameterization()
-    f.SetAtlasForNonDisks(True)
-    return f
-
-
 # name -> (make, check, which meshes ("all" or "closed"), the errors that
 # are the filter's defined answer rather than a failure: a remesh the
 # remesher cannot make yet (it says why, with an empty output, rather than
@@ -206,9 +194,10 @@ FILTERS = {
     "operators": (b.vtkBeltramiOperators, check_operators, "all", None),
     "fairing": (b.vtkImplicitFairing, check_fairing, "all", None),
     "surface-data-denoising": (b.vtkSurfaceDataDenoising, check_data_denoising, "all", None),
-    "parameterization": (parameterization, check_uv, "all", None),
+    "parameterization": (b.vtkIntrinsicParameterization, check_uv, "all", None),
     "atlas": (b.vtkSurfaceAtlas, check_uv, "all", None),
-    "remeshing": (remesher, check_remesh, "all", "Cannot remesh with"),
+    "remeshing": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=2000), check_remesh, "all",
+                  "Cannot remesh with"),
     "line-drawing": (b.vtkSurfaceLineDrawing, check_lines, "all", None),
     "tetgen": (b.vtkTetGenTetrahedralizer, check_tetgen, "closed", "The surface intersects itself"),
 }

@@ -30,24 +30,15 @@ MUST_SPEAK = {"nan-coordinate", "inf-coordinate", "index-out-of-range", "image-n
 def filters():
     """name -> (make(), the input kinds it takes)."""
     import beltrami as b
-
-    def remesher():
-        f = b.vtkSurfaceRemeshing()
-        f.SetNumberOfVertices(300)
-        return f
-
-    def parameterization():
-        f = b.vtkIntrinsicParameterization()
-        f.SetAtlasForNonDisks(True)
-        return f
+    import inputs
     return {
         "curvatures": (b.vtkDiscreteCurvatures, ("surface",)),
         "operators": (b.vtkBeltramiOperators, ("surface", "image", "grid")),
         "fairing": (b.vtkImplicitFairing, ("surface",)),
         "surface-data-denoising": (b.vtkSurfaceDataDenoising, ("surface",)),
-        "parameterization": (parameterization, ("surface",)),
+        "parameterization": (b.vtkIntrinsicParameterization, ("surface",)),
         "atlas": (b.vtkSurfaceAtlas, ("surface",)),
-        "remeshing": (remesher, ("surface",)),
+        "remeshing": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=300), ("surface",)),
         "line-drawing": (b.vtkSurfaceLineDrawing, ("surface",)),
         "tetgen": (b.vtkTetGenTetrahedralizer, ("surface",)),
         "image-denoising": (b.vtkImageBeltramiDenoising, ("image",)),
