@@ -351,6 +351,14 @@ double AngleDefect(const MeshTopology& topology, const double* points, Index v)
 void PinTips(const MeshTopology& topology, const double* points, const AtlasResult& atlas, double threshold,
   SurfaceSamples& out)
 {
+  std::vector<std::vector<std::size_t>> interior(threshold > 0.0 ? atlas.Charts.size() : 0); // per chart
+  for (std::size_t s = 0; s < out.Kind.size() && !interior.empty(); ++s)
+  {
+    if (out.Kind[s] == SampleKind::Interior)
+    {
+      interior[out.Chart[s]].push_back(s);
+    }
+  }
   for (Index v = 0; threshold > 0.0 && v < topology.NumberOfVertices(); ++v)
   {
     if (!topology.IsInterior(v) || topology.Valence(v) == 0 || !(AngleDefect(topology, points, v) > threshold))
@@ -367,10 +375,10 @@ void PinTips(const MeshTopology& topology, const double* points, const AtlasResu
     const Vec3 x = Point(points, v);
     std::size_t nearest = out.Kind.size();
     double best = HUGE_VAL;
-    for (std::size_t s = 0; s < out.Kind.size(); ++s)
+    for (std::size_t s : interior[chart])
     {
       const double d = (Point(out.Positions.data(), static_cast<Index>(s)) - x).squaredNorm();
-      if (out.Kind[s] == SampleKind::Interior && out.Chart[s] == chart && d < best)
+      if (out.Kind[s] == SampleKind::Interior && d < best)
       {
         best = d;
         nearest = s;
