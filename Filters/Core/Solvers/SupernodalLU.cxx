@@ -637,6 +637,10 @@ void SupernodalLU::SolveUpper(Eigen::MatrixXd& b) const
 
 void SupernodalLU::Solve(Eigen::MatrixXd& b) const
 {
+  if (b.cols() == 0 || b.rows() == 0)
+  {
+    return; // nothing to solve (Eigen's triangular solves would bind a reference to no data)
+  }
   SolveLower(b);
   SolveUpper(b);
 }
