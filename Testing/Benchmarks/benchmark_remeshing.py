@@ -157,7 +157,7 @@ def corpus_table(counts):
             start = time.perf_counter()
             f.Update()
             rows.append(("ours", time.perf_counter() - start, f.GetOutput()))
-            peer = cgal(data, count, False)
+            peer = cgal(inputs.polydata(*inputs.arrays_of(data)), count, False)  # (triangles: CGAL's input)
             if peer:
                 rows.append(("CGAL", peer[0], peer[1]))
             for who, seconds, remesh in rows:
