@@ -4,7 +4,6 @@
 
 #include "Maps/Atlas.h"
 #include "Mesh/MeshMeasures.h"
-#include "Mesh/SurfaceDistance.h"
 #include "Remeshing/SurfaceRemeshing.h"
 
 #include <vtkCellArray.h>
@@ -306,8 +305,7 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
                   << ". The output is empty.");
     return 0;
   }
-  const double diagonal = beltrami::UsedBoundingBoxDiagonal(
-    points, topology.TriangleList().data(), static_cast<std::size_t>(topology.NumberOfTriangles()));
+  const double diagonal = remesh.Diagonal;
   if (remesh.DeviationFromInput * diagonal > remesh.Spacing)
   {
     const beltrami::Vec3& p = remesh.FarthestInputPoint;

@@ -297,6 +297,7 @@ void CheckFidelity(const MeshTopology& topology, const double* points, const Rem
     topology.NumberOfTriangles(), DeviationSamples::Vertices, out.Points.data(), out.Triangles.data(),
     out.Triangles.size() / 3, DeviationSamples::Centres, options.NumberOfThreads);
   const double scale = diagonal > 0.0 ? diagonal : 1.0;
+  out.Diagonal = diagonal;
   out.DeviationFromInput = deviation.FirstToSecond / scale;
   out.DeviationToInput = deviation.SecondToFirst / scale;
   out.FarthestInputPoint = deviation.FarthestOfFirst;

@@ -56,7 +56,7 @@ struct RemeshResult
   /// triangles covering the input).
   double DeviationToInput = 0.0, DeviationFromInput = 0.0;
   Vec3 FarthestInputPoint = Vec3::Zero();
-  double Spacing = 0.0;
+  double Spacing = 0.0, Diagonal = 0.0; ///< of the input (its bounding box)
   double SamplingSeconds = 0.0, TriangulationSeconds = 0.0, OptimizationSeconds = 0.0, FidelitySeconds = 0.0;
 };
 
