@@ -1,5 +1,7 @@
 #include "vtkBeltramiSurface.h"
 
+#include "Mesh/SurfaceRepair.h"
+
 #include <vtkAlgorithm.h>
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
@@ -8,6 +10,7 @@
 #include <vtkIdList.h>
 #include <vtkMath.h>
 #include <vtkNew.h>
+#include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPointSet.h>
 #include <vtkPolyData.h>
@@ -162,6 +165,10 @@ vtkBeltramiSurface::Readiness vtkBeltramiSurface::BuildWhole(
     vtkErrorWithObjectMacro(owner, << "Cannot process the input surface: " << this->Error());
     return Readiness::Failed;
   }
+  if (!RepairText.empty())
+  {
+    vtkWarningWithObjectMacro(owner, << RepairText);
+  }
   if (this->Topology().NumberOfTriangles() == 0)
   {
     vtkWarningWithObjectMacro(owner, << "Input has no polygons or triangle strips: " << product << " is empty.");
@@ -183,6 +190,8 @@ bool vtkBeltramiSurface::Build(vtkPolyData* input, int numberOfThreads)
   Floats = nullptr;
   Doubles = nullptr;
   ErrorText.clear();
+  Merge.clear();
+  RepairText.clear();
   IgnoredCells = 0;
   InvalidCells = 0;
   InputCells = input ? input->GetNumberOfCells() : 0;
@@ -234,6 +243,10 @@ bool vtkBeltramiSurface::Build(vtkPolyData* input, int numberOfThreads)
   {
     Mesh = std::make_unique<beltrami::MeshTopology>(
       static_cast<Index>(numPoints), std::move(triangles), numberOfThreads);
+    if (Holding <= 1 || Gathered) // a piece of split data is not the whole surface
+    {
+      Repair(numberOfThreads);
+    }
   }
   catch (const std::exception& e)
   {
@@ -241,6 +254,107 @@ bool vtkBeltramiSurface::Build(vtkPolyData* input, int numberOfThreads)
     return false;
   }
   return true;
+}
+
+void vtkBeltramiSurface::Repair(int numberOfThreads)
+{
+  std::ostringstream said;
+  const auto also = [&said]() -> std::ostream& { return said << (said.tellp() > 0 ? "; " : ""); };
+  std::vector<vtkIdType> cells(static_cast<std::size_t>(Mesh->NumberOfTriangles()));
+  for (Index t = 0; t < Mesh->NumberOfTriangles(); ++t)
+  {
+    cells[t] = TriangleCell(Mesh->OriginalTriangleIds()[t]);
+  }
+  // The repaired topology replaces Mesh; `cells` follows its triangles.
+  const auto adopt = [&](std::unique_ptr<beltrami::MeshTopology> repaired) {
+    std::vector<vtkIdType> kept(static_cast<std::size_t>(repaired->NumberOfTriangles()));
+    for (Index t = 0; t < repaired->NumberOfTriangles(); ++t)
+    {
+      kept[t] = cells[repaired->OriginalTriangleIds()[t]];
+    }
+    cells = std::move(kept);
+    Mesh = std::move(repaired);
+  };
+  const beltrami::TopologySummary before = Mesh->Summary();
+  Index merged = 0;
+  std::vector<Index> merge = before.NumberOfBoundaryEdges == 0 ? std::vector<Index>()
+    : Dispatch([&](const auto* x) { return beltrami::CoincidentBoundaryPoints(*Mesh, x, merged); });
+  if (!merge.empty())
+  {
+    auto welded = std::make_unique<beltrami::MeshTopology>(
+      Mesh->NumberOfVertices(), beltrami::MergePoints(Mesh->TriangleList(), merge), numberOfThreads);
+    const beltrami::TopologySummary& after = welded->Summary();
+    // Kept only where it joins edges without making the surface non-manifold
+    // (two sheets that touch at a point, a triangle and its copy).
+    if (after.NumberOfBoundaryEdges < before.NumberOfBoundaryEdges &&
+      after.NumberOfNonManifoldEdges <= before.NumberOfNonManifoldEdges &&
+      after.NumberOfNonManifoldVertices <= before.NumberOfNonManifoldVertices &&
+      after.NumberOfDuplicateTriangles <= before.NumberOfDuplicateTriangles)
+    {
+      adopt(std::move(welded));
+      Merge = std::move(merge);
+      also() << merged << " coincident points were merged (an unwelded surface)";
+    }
+  }
+  if (Mesh->Summary().NumberOfInconsistentEdges > 0)
+  {
+    std::vector<double> storage;
+    beltrami::IndexArray triangles;
+    const beltrami::OrientationRepair turned = beltrami::OrientConsistently(*Mesh, PointsAsDouble(storage), triangles);
+    if (turned.Changed())
+    {
+      adopt(std::make_unique<beltrami::MeshTopology>(Mesh->NumberOfVertices(), std::move(triangles), numberOfThreads));
+      also() << turned.FlippedTriangles << " triangles were turned to orient the surface consistently";
+    }
+    if (turned.NonOrientableComponents > 0)
+    {
+      also() << turned.NonOrientableComponents
+             << (turned.NonOrientableComponents == 1 ? " component is" : " components are")
+             << " not orientable (as a Moebius strip) and left as it is";
+    }
+  }
+  if (said.tellp() > 0)
+  {
+    CellOfTriangle = std::move(cells);
+    RepairText = "The input surface was repaired: " + said.str() + ".";
+  }
+}
+
+void vtkBeltramiSurface::SpreadToMergedPoints() const
+{
+  if (Merge.empty() || !InputData || !OutputData || OutputData->GetNumberOfPoints() != InputData->GetNumberOfPoints())
+  {
+    return;
+  }
+  std::vector<vtkDataArray*> targets;
+  vtkPointData* out = OutputData->GetPointData();
+  for (int a = 0; a < out->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* array = out->GetArray(a);
+    bool passed = false;
+    for (int b = 0; array && b < InputData->GetPointData()->GetNumberOfArrays(); ++b)
+    {
+      passed = passed || InputData->GetPointData()->GetAbstractArray(b) == array;
+    }
+    if (array && !passed)
+    {
+      targets.push_back(array);
+    }
+  }
+  if (OutputData->GetPoints() && OutputData->GetPoints() != InputData->GetPoints())
+  {
+    targets.push_back(OutputData->GetPoints()->GetData());
+  }
+  for (vtkDataArray* array : targets)
+  {
+    for (std::size_t p = 0; p < Merge.size(); ++p)
+    {
+      if (Merge[p] != static_cast<Index>(p))
+      {
+        array->SetTuple(static_cast<vtkIdType>(p), Merge[p], array);
+      }
+    }
+  }
 }
 
 void vtkBeltramiSurface::BuildTriangles(vtkPolyData* input, beltrami::IndexArray& triangles)
@@ -323,16 +437,20 @@ std::string vtkBeltramiSurface::TopologyWarning() const
     return {};
   }
   const beltrami::TopologySummary& s = Mesh->Summary();
-  if (s.IsManifold() && s.IsOriented() && Mesh->NumberOfDroppedTriangles() == 0 &&
-    s.NumberOfIsolatedVertices == 0 && InvalidCells == 0)
+  // (The points merged into others are unused on purpose: RepairWarning.)
+  const Index mergedAway = static_cast<Index>(
+    std::count_if(Merge.begin(), Merge.end(), [&, p = Index(0)](Index into) mutable { return into != p++; }));
+  const Index isolated = s.NumberOfIsolatedVertices - mergedAway;
+  if (s.IsManifold() && s.IsOriented() && Mesh->NumberOfDroppedTriangles() == 0 && isolated == 0 &&
+    InvalidCells == 0)
   {
     return {};
   }
   std::ostringstream os;
   os << "Input surface has defects: " << Mesh->Describe();
-  if (s.NumberOfIsolatedVertices)
+  if (isolated)
   {
-    os << ", " << s.NumberOfIsolatedVertices << " points used by no triangle";
+    os << ", " << isolated << " points used by no triangle";
   }
   if (InvalidCells)
   {

@@ -220,6 +220,21 @@ public:
   /// Warnings about defects that the topology found (empty if none).
   std::string TopologyWarning() const;
 
+  /// What Build repaired on a whole surface (serial, or gathered on one
+  /// rank; a piece of split data is left as it is): exactly coincident
+  /// boundary points merged (an unwelded triangle soup) and triangles turned
+  /// to a consistent orientation (SurfaceRepair.h).  Empty when nothing was
+  /// repaired; a sentence for a warning otherwise.
+  const std::string& RepairWarning() const { return RepairText; }
+  /// For every input point, the one it was merged into (itself when kept);
+  /// empty when no point was merged.  The merged-away points are used by no
+  /// triangle of Topology().
+  const std::vector<beltrami::Index>& MergedPoints() const { return Merge; }
+  /// After a filter has written its point results on Output(): the arrays it
+  /// added (those not passed through from the input) and its new points get,
+  /// at every merged-away point, the values of the point it was merged into.
+  void SpreadToMergedPoints() const;
+
 private:
   /// The general path of Build: any polygons (triangulated) and strips.
   void BuildTriangles(vtkPolyData* input, beltrami::IndexArray& triangles);
@@ -255,6 +270,15 @@ private:
 
   /// The coordinates of topology point i (for vtkBeltramiPieces).
   void PointAt(beltrami::Index i, double* x) const;
+  /// run(*this), then SpreadToMergedPoints; RequestData's value.
+  int RunAndSpread(const std::function<bool(vtkBeltramiSurface&)>& run)
+  {
+    const bool ran = run(*this);
+    SpreadToMergedPoints();
+    return ran ? 1 : 0;
+  }
+  /// Build's repairs of a whole surface (RepairWarning).
+  void Repair(int numberOfThreads);
 
 
   std::unique_ptr<beltrami::MeshTopology> Mesh;
@@ -273,6 +297,8 @@ private:
   vtkIdType IgnoredCells = 0;
   vtkIdType InvalidCells = 0;
   std::string ErrorText;
+  std::vector<beltrami::Index> Merge; // MergedPoints
+  std::string RepairText;
 };
 
 #endif

@@ -228,6 +228,10 @@ int vtkBeltramiSurface::Start(vtkAlgorithm* owner, int numberOfThreads, bool bui
     vtkErrorWithObjectMacro(owner, "Cannot process the input surface: " << Error());
     return 0;
   }
+  if (!RepairText.empty())
+  {
+    vtkWarningWithObjectMacro(owner, << RepairText);
+  }
   return -1;
 }
 
@@ -335,7 +339,7 @@ int vtkBeltramiSurface::Execute(vtkAlgorithm* owner, vtkInformationVector** inpu
     const bool built = needs == Needs::OneRings && surface.Holding > 1 && OnePiecePerRank(outInfo) &&
       surface.ExchangeOneRings(numberOfThreads); // collective too
     const int done = surface.Start(owner, numberOfThreads, built);
-    return done >= 0 ? done : (run(surface) ? 1 : 0);
+    return done >= 0 ? done : surface.RunAndSpread(run);
   }
   vtkNew<vtkPolyData> empty; // (a missing input: an empty piece)
   vtkPointSet* piece = input ? static_cast<vtkPointSet*>(input) : empty.Get();
@@ -350,7 +354,7 @@ int vtkBeltramiSurface::Execute(vtkAlgorithm* owner, vtkInformationVector** inpu
       surface.Pieces = surface.Gathered ? 1 : requested;
       surface.Holding = holding;
       const int started = surface.Start(owner, numberOfThreads, false);
-      return started >= 0 ? started : (run(surface) ? 1 : 0);
+      return started >= 0 ? started : surface.RunAndSpread(run);
     });
   if (!ran && received && output)
   {

@@ -173,6 +173,46 @@ bool RunTetGen(vtkAlgorithm* self, const std::string& switches, vtkIdType numPoi
   return true;
 }
 
+/// RunTetGen on a surface whose coincident points were merged (`merge`:
+/// vtkBeltramiSurface::MergedPoints, not empty): TetGen refuses coincident
+/// points, so the merged-away ones are left out of its input and come back
+/// unused at their places, the input's points first as always.
+bool RunTetGenMerged(vtkAlgorithm* self, const std::string& switches, vtkIdType numPoints, const double* points,
+  const beltrami::IndexArray& triangles, const std::vector<beltrami::Index>& merge, std::vector<double>& outputPoints,
+  std::vector<std::int32_t>& tets)
+{
+  std::vector<beltrami::Index> compact(static_cast<std::size_t>(numPoints), -1), original;
+  std::vector<double> kept;
+  for (vtkIdType p = 0; p < numPoints; ++p)
+  {
+    if (merge[p] == p)
+    {
+      compact[p] = static_cast<beltrami::Index>(original.size());
+      original.push_back(static_cast<beltrami::Index>(p));
+      kept.insert(kept.end(), points + 3 * p, points + 3 * p + 3);
+    }
+  }
+  beltrami::IndexArray renumbered(triangles.size());
+  for (std::size_t k = 0; k < triangles.size(); ++k)
+  {
+    renumbered[k] = compact[triangles[k]];
+  }
+  std::vector<double> meshed;
+  if (!RunTetGen(self, switches, static_cast<vtkIdType>(original.size()), kept.data(), renumbered, meshed, tets))
+  {
+    return false;
+  }
+  const std::size_t added = meshed.size() - kept.size(); // TetGen's own points (3 values each)
+  outputPoints.assign(points, points + 3 * numPoints);
+  outputPoints.insert(outputPoints.end(), meshed.end() - static_cast<std::ptrdiff_t>(added), meshed.end());
+  const auto keptCount = static_cast<std::int32_t>(original.size());
+  for (std::int32_t& v : tets)
+  {
+    v = v < keptCount ? original[v] : static_cast<std::int32_t>(numPoints) + (v - keptCount);
+  }
+  return true;
+}
+
 } // namespace
 
 std::string vtkTetGenTetrahedralizer::GetSwitches() const
@@ -252,6 +292,10 @@ int vtkTetGenTetrahedralizer::Mesh(
     vtkErrorMacro(<< surface.Error() << " The output is empty.");
     return 0;
   }
+  if (!surface.RepairWarning().empty())
+  {
+    vtkWarningMacro(<< surface.RepairWarning());
+  }
   const beltrami::MeshTopology& topo = surface.Topology();
   const beltrami::TopologySummary& info = topo.Summary();
   if (topo.NumberOfTriangles() == 0)
@@ -288,7 +332,10 @@ int vtkTetGenTetrahedralizer::Mesh(
   std::vector<double> outputPoints;
   std::vector<std::int32_t> tets;
   this->UpdateProgress(0.0);
-  if (!RunTetGen(this, switches, numPoints, points, topo.TriangleList(), outputPoints, tets))
+  if (!(surface.MergedPoints().empty()
+          ? RunTetGen(this, switches, numPoints, points, topo.TriangleList(), outputPoints, tets)
+          : RunTetGenMerged(
+              this, switches, numPoints, points, topo.TriangleList(), surface.MergedPoints(), outputPoints, tets)))
   {
     return 0;
   }

@@ -279,7 +279,8 @@ TEST(BadInput, TopologicalDefectsAreFlaggedNotFatal)
     { "non-manifold vertex", { 3, 0, 0, 3, 1, 0 }, { { 0, 6, 7 } }, "non-manifold vertices", 0, 2 },
     { "isolated point", { 5, 5, 5 }, {}, "used by no triangle", 6, 16 },
     { "duplicate triangle", {}, { { 0, 2, 4 } }, "duplicate triangles", 0, 8 },
-    { "inconsistent orientation", {}, {}, "inconsistent orientation", 0, 4 },
+    // (Repaired: the triangle is turned back, and its points are regular.)
+    { "inconsistent orientation", {}, {}, "triangles were turned to orient the surface consistently", -1, 0 },
     { "bad point ids", {}, { { 0, 1, 99 }, { -4, 1, 2 } }, "out of range", -1, 0 },
   };
   for (const Case& c : cases)

@@ -24,7 +24,11 @@ CASE_SECONDS = 90  # a hang is a case that takes longer (the slowest real case t
 # The inputs that no filter can process as they are: each must be refused
 # or repaired with a word to the user (error or warning).
 MUST_SPEAK = {"nan-coordinate", "inf-coordinate", "index-out-of-range", "image-nan-value", "image-inf-value",
-              "grid-nan-point"}
+              "grid-nan-point", "mobius"}
+# The inputs every surface filter repairs (coincident points merged,
+# triangles turned to one orientation) and then processes: each must say
+# what it repaired, and none may refuse.
+REPAIRED = {"half-flipped-sphere", "unwelded-soup"}
 
 
 def filters():
@@ -115,6 +119,8 @@ def run_case(make, name, data):
             return False, "non-finite output coordinates; " + summary
     if name in MUST_SPEAK and not spoke:
         return False, "said nothing about an input it cannot process as it is"
+    if name in REPAIRED and (said.errors or not any("was repaired" in w for w in said.warnings)):
+        return False, "did not repair and process a repairable input; " + summary
     return True, summary
 
 

@@ -1,0 +1,198 @@
+#include "Mesh/SurfaceRepair.h"
+
+#include "Mesh/Geometry.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <numeric>
+
+namespace beltrami
+{
+
+template <typename T>
+std::vector<Index> CoincidentBoundaryPoints(const MeshTopology& topology, const T* points, Index& merged)
+{
+  merged = 0;
+  std::vector<Index> candidates;
+  for (Index v = 0; v < topology.NumberOfVertices(); ++v)
+  {
+    if ((topology.VertexFlags(v) & VertexBoundary) != 0)
+    {
+      candidates.push_back(v);
+    }
+  }
+  const auto at = [points](Index v) {
+    const T* x = points + 3 * static_cast<std::size_t>(v);
+    return std::array<T, 3>{ x[0], x[1], x[2] };
+  };
+  // Sorted by coordinates, then id: equal points are neighbours, the lowest id first.
+  std::sort(candidates.begin(), candidates.end(), [&at](Index a, Index b) {
+    const auto pa = at(a), pb = at(b);
+    return pa != pb ? pa < pb : a < b;
+  });
+  std::vector<Index> merge;
+  for (std::size_t k = 1; k < candidates.size(); ++k)
+  {
+    std::size_t first = k - 1;
+    while (k < candidates.size() && at(candidates[k]) == at(candidates[first]))
+    {
+      if (merge.empty())
+      {
+        merge.resize(static_cast<std::size_t>(topology.NumberOfVertices()));
+        std::iota(merge.begin(), merge.end(), Index(0));
+      }
+      merge[candidates[k]] = candidates[first];
+      ++merged;
+      ++k;
+    }
+  }
+  return merge;
+}
+
+template std::vector<Index> CoincidentBoundaryPoints<float>(const MeshTopology&, const float*, Index&);
+template std::vector<Index> CoincidentBoundaryPoints<double>(const MeshTopology&, const double*, Index&);
+
+IndexArray MergePoints(const IndexArray& triangles, const std::vector<Index>& merge)
+{
+  IndexArray merged(triangles.size());
+  for (std::size_t k = 0; k < triangles.size(); ++k)
+  {
+    merged[k] = merge[triangles[k]];
+  }
+  return merged;
+}
+
+namespace
+{
+
+/// Union-find over the triangles that also keeps, for every triangle, whether
+/// its orientation is opposite to that of its set's root.
+class OrientationSets
+{
+public:
+  explicit OrientationSets(Index n)
+    : Parent(n)
+    , Parity(n, 0)
+    , Broken(n, 0)
+    , Open(n, 0)
+  {
+    std::iota(Parent.begin(), Parent.end(), Index(0));
+  }
+  /// The root of t; `parity` gets t's orientation relative to it (1: opposite).
+  Index Find(Index t, std::uint8_t& parity)
+  {
+    parity = 0;
+    Index root = t;
+    while (Parent[root] != root)
+    {
+      parity ^= Parity[root];
+      root = Parent[root];
+    }
+    // Path compression: every triangle on the way points at the root.
+    std::uint8_t p = parity;
+    while (Parent[t] != root)
+    {
+      const Index next = Parent[t];
+      const std::uint8_t step = Parity[t];
+      Parent[t] = root;
+      Parity[t] = p;
+      p ^= step;
+      t = next;
+    }
+    return root;
+  }
+  /// Joins a and b, whose orientations must differ when `opposite`.
+  void Join(Index a, Index b, std::uint8_t opposite)
+  {
+    std::uint8_t pa, pb;
+    const Index ra = Find(a, pa), rb = Find(b, pb);
+    if (ra == rb)
+    {
+      Broken[ra] |= static_cast<std::uint8_t>((pa ^ pb) != opposite);
+      return;
+    }
+    Parent[rb] = ra;
+    Parity[rb] = pa ^ pb ^ opposite;
+    Broken[ra] |= Broken[rb];
+    Open[ra] |= Open[rb];
+  }
+  void MarkOpen(Index t)
+  {
+    std::uint8_t p;
+    Open[Find(t, p)] = 1;
+  }
+  bool IsBroken(Index root) const { return Broken[root] != 0; }
+  bool IsOpen(Index root) const { return Open[root] != 0; }
+
+private:
+  std::vector<Index> Parent;
+  std::vector<std::uint8_t> Parity, Broken, Open;
+};
+
+} // namespace
+
+OrientationRepair OrientConsistently(const MeshTopology& topology, const double* points, IndexArray& triangles)
+{
+  triangles = topology.TriangleList();
+  OrientationRepair repair;
+  const Index n = topology.NumberOfTriangles();
+  const MeshTopology::EdgeTable& edges = topology.Edges();
+  OrientationSets sets(n);
+  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
+  {
+    const Index c1 = edges.OppositeCorners[2 * e], c2 = edges.OppositeCorners[2 * e + 1];
+    if (edges.FaceCount[e] != 2)
+    {
+      sets.MarkOpen(c1 / 3); // a boundary or non-manifold edge: no enclosed volume
+      continue;
+    }
+    // Agreeing neighbours run along their common edge in opposite directions.
+    const bool agree =
+      topology.CornerVertex(MeshTopology::Next(c1)) == topology.CornerVertex(MeshTopology::Prev(c2));
+    sets.Join(c1 / 3, c2 / 3, agree ? 0 : 1);
+  }
+  // Per root: triangles agreeing with it, disagreeing, and the enclosed volume
+  // as they would be turned to agree with it.
+  std::vector<std::uint8_t> parity(n);
+  std::vector<Index> root(n);
+  std::vector<Index> same(n, 0), opposite(n, 0);
+  std::vector<double> volume(n, 0.0);
+  for (Index t = 0; t < n; ++t)
+  {
+    root[t] = sets.Find(t, parity[t]);
+    ++(parity[t] ? opposite : same)[root[t]];
+    if (points && !sets.IsOpen(root[t]) && !sets.IsBroken(root[t]))
+    {
+      const Vec3 o = Point(points, triangles[3 * static_cast<std::size_t>(root[t])]);
+      const Index* v = triangles.data() + 3 * static_cast<std::size_t>(t);
+      const double six = (Point(points, v[0]) - o).dot((Point(points, v[1]) - o).cross(Point(points, v[2]) - o));
+      volume[root[t]] += parity[t] ? -six : six;
+    }
+  }
+  for (Index t = 0; t < n; ++t)
+  {
+    const Index r = root[t];
+    if (sets.IsBroken(r))
+    {
+      repair.NonOrientableComponents += r == t;
+      continue;
+    }
+    if (opposite[r] == 0)
+    {
+      continue; // a component that was consistent already stays as it is
+    }
+    // The root's orientation is kept when it faces out (closed) or is the majority's.
+    const bool closedByVolume = points && !sets.IsOpen(r) && volume[r] != 0.0;
+    const bool keepRoot = closedByVolume ? volume[r] > 0.0 : same[r] >= opposite[r];
+    if (parity[t] == (keepRoot ? 1 : 0))
+    {
+      std::swap(triangles[3 * static_cast<std::size_t>(t) + 1], triangles[3 * static_cast<std::size_t>(t) + 2]);
+      ++repair.FlippedTriangles;
+    }
+  }
+  return repair;
+}
+
+} // namespace beltrami

@@ -1,0 +1,48 @@
+// Beltrami core: the repairs of a triangle surface that a user expects a
+// geometry toolkit to make by itself (as VTK's normals and clean filters
+// do), each reported so that the filter can say what it changed:
+//   - coincident points merged: an unwelded triangle soup (STL files, meshes
+//     split along texture seams) becomes one connected surface;
+//   - orientation made consistent: every component's triangles are turned to
+//     agree with their neighbours across each manifold edge, closed
+//     components facing outwards (positive enclosed volume), open ones
+//     keeping the orientation of most of their triangles.
+// Both work on a triangle list and leave the caller to rebuild the topology.
+#pragma once
+
+#include "Mesh/MeshTopology.h"
+
+#include <vector>
+
+namespace beltrami
+{
+
+/// For every point, the point it is merged into (itself when kept): the
+/// boundary points of `topology` whose coordinates (3 per point) are exactly
+/// equal map to the lowest id among them.  Points inside the surface are
+/// never merged (a surface that touches itself stays as it is).  Empty when
+/// nothing is merged.  `merged` gets the number of points merged away.
+template <typename T>
+std::vector<Index> CoincidentBoundaryPoints(const MeshTopology& topology, const T* points, Index& merged);
+
+/// `triangles` with every vertex id replaced by merge[id] (merge as above).
+IndexArray MergePoints(const IndexArray& triangles, const std::vector<Index>& merge);
+
+/// What OrientConsistently did.
+struct OrientationRepair
+{
+  Index FlippedTriangles = 0;
+  Index NonOrientableComponents = 0; ///< components left as they were (e.g. a Moebius strip)
+  bool Changed() const { return FlippedTriangles > 0; }
+};
+
+/// Turns triangles of `topology` (their order kept: vertices 1 and 2 swapped)
+/// so that neighbours across every edge of two triangles agree.  Per
+/// component: closed ones (no boundary edge) end with a positive enclosed
+/// volume when `points` (3 doubles per point) are given, the others keep the
+/// orientation of the majority of their triangles.  Components that cannot
+/// be oriented are left as they are and counted.  `triangles` is the
+/// topology's triangle list with the flips applied.
+OrientationRepair OrientConsistently(const MeshTopology& topology, const double* points, IndexArray& triangles);
+
+} // namespace beltrami

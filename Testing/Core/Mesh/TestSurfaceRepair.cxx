@@ -1,0 +1,146 @@
+// The repairs of a surface: coincident points merged, orientation made consistent.
+#include "TestMeshes.h"
+
+#include "Mesh/MeshMeasures.h"
+#include "Mesh/SurfaceRepair.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace beltrami;
+
+namespace
+{
+
+MeshTopology TopologyOf(Index points, const IndexArray& triangles)
+{
+  return MeshTopology(points, triangles);
+}
+
+/// The sphere's triangles, each with its own three points (an STL soup).
+test::Mesh Soup(const test::Mesh& m)
+{
+  test::Mesh soup;
+  for (Index v : m.Triangles)
+  {
+    soup.Triangles.push_back(static_cast<Index>(soup.Points.size() / 3));
+    soup.Points.insert(soup.Points.end(), m.Points.begin() + 3 * v, m.Points.begin() + 3 * v + 3);
+  }
+  return soup;
+}
+
+} // namespace
+
+TEST(SurfaceRepair, SoupIsWeldedIntoTheClosedSphere)
+{
+  const test::Mesh sphere = test::OctahedronSphere(2);
+  const test::Mesh soup = Soup(sphere);
+  const MeshTopology apart = soup.Topology();
+  ASSERT_EQ(apart.CountComponents(), apart.NumberOfTriangles());
+  Index merged = 0;
+  const std::vector<Index> merge = CoincidentBoundaryPoints(apart, soup.Points.data(), merged);
+  ASSERT_EQ(merge.size(), soup.Points.size() / 3);
+  EXPECT_EQ(merged, soup.NumberOfVertices() - sphere.NumberOfVertices());
+  const MeshTopology welded = TopologyOf(soup.NumberOfVertices(), MergePoints(apart.TriangleList(), merge));
+  EXPECT_TRUE(welded.Summary().IsClosed() && welded.Summary().IsManifold() && welded.Summary().IsOriented());
+  EXPECT_EQ(welded.Summary().EulerCharacteristic, 2);
+  EXPECT_EQ(welded.CountComponents(), 1);
+  for (std::size_t p = 0; p < merge.size(); ++p) // every point merged into the lowest of its place
+  {
+    EXPECT_LE(merge[p], static_cast<Index>(p));
+    EXPECT_EQ(merge[merge[p]], merge[p]);
+  }
+}
+
+TEST(SurfaceRepair, InteriorPointsAreNeverMerged)
+{
+  // Two closed spheres that touch where a point of each coincides: nothing to weld.
+  test::Mesh twice = test::OctahedronSphere(1);
+  const Index n = twice.NumberOfVertices();
+  const std::size_t t = twice.Triangles.size();
+  for (Index v = 0; v < n; ++v)
+  {
+    twice.Points.push_back(twice.Points[3 * v] + 2.0);
+    twice.Points.push_back(twice.Points[3 * v + 1]);
+    twice.Points.push_back(twice.Points[3 * v + 2]);
+  }
+  for (std::size_t k = 0; k < t; ++k)
+  {
+    twice.Triangles.push_back(twice.Triangles[k] + n);
+  }
+  Index merged = 0;
+  EXPECT_TRUE(CoincidentBoundaryPoints(twice.Topology(), twice.Points.data(), merged).empty());
+  EXPECT_EQ(merged, 0);
+}
+
+TEST(SurfaceRepair, HalfFlippedSphereFacesOutwards)
+{
+  for (const bool inside : { false, true })
+  {
+    test::Mesh m = test::OctahedronSphere(3);
+    std::mt19937 random(7);
+    for (std::size_t t = 0; t < m.Triangles.size(); t += 3)
+    {
+      if (inside || random() % 2) // every triangle turned: consistent, facing in (left as it is)
+      {
+        std::swap(m.Triangles[t + 1], m.Triangles[t + 2]);
+      }
+    }
+    const MeshTopology before = m.Topology();
+    IndexArray triangles;
+    const OrientationRepair repair = OrientConsistently(before, m.Points.data(), triangles);
+    const MeshTopology after = TopologyOf(m.NumberOfVertices(), triangles);
+    EXPECT_TRUE(after.Summary().IsOriented());
+    EXPECT_EQ(repair.NonOrientableComponents, 0);
+    const double volume = EnclosedVolume(after, m.Points.data());
+    if (inside)
+    {
+      EXPECT_FALSE(repair.Changed()); // a consistent component is left alone
+      EXPECT_LT(volume, 0.0);
+    }
+    else
+    {
+      EXPECT_GT(repair.FlippedTriangles, 0);
+      EXPECT_NEAR(volume, EnclosedVolume(test::OctahedronSphere(3).Topology(), m.Points.data()), 1e-12);
+      EXPECT_GT(volume, 4.0);
+    }
+  }
+}
+
+TEST(SurfaceRepair, OpenSurfaceKeepsItsMajorityAndMoebiusIsLeft)
+{
+  test::Mesh disk = test::FlatIrregular(8, 3);
+  std::swap(disk.Triangles[1], disk.Triangles[2]); // one triangle against the rest
+  IndexArray triangles;
+  const MeshTopology before = disk.Topology();
+  ASSERT_FALSE(before.Summary().IsOriented());
+  const OrientationRepair repair = OrientConsistently(before, disk.Points.data(), triangles);
+  EXPECT_EQ(repair.FlippedTriangles, 1);
+  EXPECT_EQ(triangles[0], disk.Triangles[0]);
+  EXPECT_EQ(triangles[1], disk.Triangles[2]); // the odd one turned back
+  EXPECT_TRUE(TopologyOf(disk.NumberOfVertices(), triangles).Summary().IsOriented());
+
+  // A Moebius strip: a band of 2n triangles closed with a half twist.
+  test::Mesh band;
+  const int n = 12;
+  for (int k = 0; k < n; ++k)
+  {
+    const double a = 2.0 * M_PI * k / n;
+    for (const double s : { -0.3, 0.3 })
+    {
+      const double w = s * std::cos(a / 2.0);
+      band.Points.insert(band.Points.end(), { (1.0 + w) * std::cos(a), (1.0 + w) * std::sin(a), s * std::sin(a / 2.0) });
+    }
+  }
+  for (int k = 0; k < n; ++k)
+  {
+    const Index a = 2 * k, b = 2 * k + 1;
+    const Index c = k + 1 < n ? 2 * k + 2 : 1, d = k + 1 < n ? 2 * k + 3 : 0; // the twist swaps the sides
+    band.Triangles.insert(band.Triangles.end(), { a, c, b, b, c, d });
+  }
+  const MeshTopology strip = band.Topology();
+  const OrientationRepair none = OrientConsistently(strip, band.Points.data(), triangles);
+  EXPECT_EQ(none.NonOrientableComponents, 1);
+  EXPECT_FALSE(none.Changed());
+}
