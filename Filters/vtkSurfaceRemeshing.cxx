@@ -10,6 +10,7 @@
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkIdList.h>
+#include <vtkIdTypeArray.h>
 #include <vtkImageData.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
@@ -21,6 +22,7 @@
 #include <vtkPolyData.h>
 #include <vtkUnsignedCharArray.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -297,19 +299,43 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
   options.MaximumSurfaceSag = this->MaximumSurfaceSag;
   options.NumberOfThreads = this->NumberOfThreads;
   options.Cache = &this->Cache->Remeshing;
-  const beltrami::RemeshResult remesh =
-    beltrami::RemeshSurface(topology, points, atlas, importance.empty() ? nullptr : importance.data(), options);
+  const double* weights = importance.empty() ? nullptr : importance.data();
+  if (this->MaximumDeviation <= 0.0 && this->NumberOfVertices < 3)
+  {
+    vtkErrorMacro(<< "NumberOfVertices " << this->NumberOfVertices << ": a remesh needs at least 3 vertices, or a "
+                  << "MaximumDeviation to choose the count. The output is empty.");
+    return 0;
+  }
+  beltrami::DeviationRemeshResult driven;
+  if (this->MaximumDeviation > 0.0)
+  {
+    driven = beltrami::RemeshToDeviation(
+      topology, points, atlas, weights, options, this->MaximumDeviation, this->MaximumDeviationRounds);
+  }
+  else
+  {
+    driven.Remesh = beltrami::RemeshSurface(topology, points, atlas, weights, options);
+  }
+  const beltrami::RemeshResult& remesh = driven.Remesh;
+  const std::int64_t count = driven.Counts.empty() ? this->NumberOfVertices : driven.Counts.back();
   if (!remesh.Error.empty())
   {
-    vtkErrorMacro(<< "Cannot remesh with " << this->NumberOfVertices << " vertices: " << remesh.Error
-                  << ". The output is empty.");
+    vtkErrorMacro(<< "Cannot remesh with " << count << " vertices: " << remesh.Error << ". The output is empty.");
     return 0;
   }
   const double diagonal = remesh.Diagonal;
-  if (remesh.DeviationFromInput * diagonal > remesh.Spacing)
+  const double deviation = std::max(remesh.DeviationFromInput, remesh.DeviationToInput);
+  if (this->MaximumDeviation > 0.0 && !driven.Met)
+  {
+    vtkWarningMacro(<< "The remesh with " << count << " vertices is " << 100.0 * deviation
+                    << "% of the diagonal from the input after " << driven.Rounds << " remeshes, more than the "
+                    << "MaximumDeviation of " << 100.0 * this->MaximumDeviation << "% (MaximumDeviationRounds "
+                    << this->MaximumDeviationRounds << ").");
+  }
+  else if (this->MaximumDeviation <= 0.0 && remesh.DeviationFromInput * diagonal > remesh.Spacing)
   {
     const beltrami::Vec3& p = remesh.FarthestInputPoint;
-    vtkWarningMacro(<< "The remesh with " << this->NumberOfVertices << " vertices leaves parts of the input "
+    vtkWarningMacro(<< "The remesh with " << count << " vertices leaves parts of the input "
                     << "farther from it than its spacing (" << remesh.Spacing << "): the input point ("
                     << p[0] << ", " << p[1] << ", " << p[2] << ") is " << remesh.DeviationFromInput * diagonal
                     << " away (" << 100.0 * remesh.DeviationFromInput
@@ -317,6 +343,16 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
   }
   WriteRemesh(input, topology, remesh, atlas.Charts.size(), output);
   WriteControlMap(remesh.Samples, vtkMultiBlockDataSet::SafeDownCast(this->GetOutputDataObject(1)));
+  if (!driven.Counts.empty())
+  {
+    vtkNew<vtkIdTypeArray> rounds;
+    rounds->SetName("RemeshRounds");
+    for (const std::int64_t c : driven.Counts)
+    {
+      rounds->InsertNextValue(static_cast<vtkIdType>(c));
+    }
+    output->GetFieldData()->AddArray(rounds);
+  }
   return 1;
 }
 
@@ -324,6 +360,8 @@ void vtkSurfaceRemeshing::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "NumberOfVertices: " << this->NumberOfVertices << "\n"
+     << indent << "MaximumDeviation: " << this->MaximumDeviation << "\n"
+     << indent << "MaximumDeviationRounds: " << this->MaximumDeviationRounds << "\n"
      << indent << "Importance: " << this->Importance << "\n"
      << indent << "Gamma: " << this->Gamma << "\n"
      << indent << "MinimumImportance: " << this->MinimumImportance << "\n"

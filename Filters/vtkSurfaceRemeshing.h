@@ -58,7 +58,11 @@
  * its triangle centres from the input, and of the input's vertices from
  * it; a warning names the input point where a part is left farther than
  * the remesh's spacing, a limb or tip lost) and RemeshSeconds (sampling,
- * triangulation, optimisation, the fidelity's measurement).  Output 1: a
+ * triangulation, optimisation, the fidelity's measurement).  The
+ * error-driven mode (MaximumDeviation > 0, as MMG's -hausd) remeshes until
+ * both deviations are within that fraction of the diagonal, raising the
+ * density where the input is left farther (field array RemeshRounds: the
+ * count of each remesh).  Output 1: a
  * vtkMultiBlockDataSet with the control map as an image (block
  * "ControlMap": point arrays ControlMap, expected samples per texel, NaN
  * outside the charts, and Halftone, 1 where an interior sample is).
@@ -68,8 +72,9 @@
  * Gamma, MinimumImportance, the transfer function, Gradation or Iterations
  * re-runs the control map, sampling, triangulation and optimisation only
  * (with Iterations 0, a preview of a uniform 10k remesh of the bunny in
- * about 0.1 s).  Non-manifold or inconsistently
- * oriented input, NaN points, coordinates beyond 1e75 (or a bounding box
+ * about 0.1 s).  Inconsistently oriented input is oriented and an unwelded
+ * one (coincident points) welded first, with a warning.  Non-manifold or
+ * non-orientable input, NaN points, coordinates beyond 1e75 (or a bounding box
  * below 1e-75), empty input and counts the chart boundaries cannot hold are
  * reported as errors with an empty output, and so is a remesh whose
  * topology (Euler characteristic, components, boundary loops) is not the
@@ -110,8 +115,21 @@ public:
     POINT_ARRAY = 5
   };
 
-  vtkSetClampMacro(NumberOfVertices, vtkIdType, 3, VTK_ID_MAX);
+  /// The remesh's vertex count (default 10000); with MaximumDeviation, the
+  /// least count, 0 for as few as the deviation takes.
+  vtkSetClampMacro(NumberOfVertices, vtkIdType, 0, VTK_ID_MAX);
   vtkGetMacro(NumberOfVertices, vtkIdType);
+  /// The error-driven mode (> 0; default 0: off): the remesh's two-sided
+  /// deviation from the input (field array RemeshDeviation) at most this
+  /// fraction of the input's bounding-box diagonal.  The density is raised
+  /// where the input is left farther, and the count with it, remesh after
+  /// remesh (at most MaximumDeviationRounds; a warning says where the bound
+  /// was not met).  NumberOfVertices is then the least count (0: as few as
+  /// it takes, estimated from the curvature first).
+  vtkSetClampMacro(MaximumDeviation, double, 0.0, 1.0);
+  vtkGetMacro(MaximumDeviation, double);
+  vtkSetClampMacro(MaximumDeviationRounds, int, 1, 100);
+  vtkGetMacro(MaximumDeviationRounds, int);
   vtkSetClampMacro(Importance, int, UNIFORM, POINT_ARRAY);
   vtkGetMacro(Importance, int);
   vtkSetClampMacro(Gamma, double, 0.0, 10.0);
@@ -161,6 +179,8 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   vtkIdType NumberOfVertices = 10000;
+  double MaximumDeviation = 0.0;
+  int MaximumDeviationRounds = 8;
   int Importance = UNIFORM;
   double Gamma = 1.0;
   double MinimumImportance = 0.05;

@@ -3,7 +3,7 @@
 isotropic_remeshing, in the same run, on the same meshes and vertex counts.
 
     source build/beltrami-env.sh
-    /usr/bin/python3 Testing/Benchmarks/benchmark_remeshing.py [--big | --corpus]
+    /usr/bin/python3 Testing/Benchmarks/benchmark_remeshing.py [--big | --corpus | --deviation D]
 
 CGAL runs through build/bin/beltrami-benchmark-cgal-isotropic-remeshing
 (built when Debian's libcgal-dev is installed): 5 iterations, the target edge
@@ -21,7 +21,13 @@ sampling (the thesis' interactive preview), triangulation, optimisation.
 --big adds the 1.2M-triangle bunny (bunny00 after two Loop subdivisions) to
 about 100k vertices.  --corpus instead writes one Markdown table of every real
 mesh and every generated hard shape at 2,000 and 10,000 vertices, ours and
-CGAL's side by side (Hausdorff both ways)."""
+CGAL's side by side (Hausdorff both ways).  --deviation D (a fraction of the
+diagonal, e.g. 0.005) writes the table of the vertex counts that keep every
+mesh within D both ways: the error-driven mode (MaximumDeviation D, the count
+left to it), and the smallest count found for the uniform mode, the
+curvature-adapted mode (max |k|, gamma 0.5) and CGAL (six tries each, the
+count scaled by the deviation's ratio to D after each); sharp edges kept on
+the CAD parts."""
 import os
 import sys
 import time
@@ -171,7 +177,84 @@ def corpus_table(counts):
             sys.stdout.flush()
 
 
+def smallest_count(run, bound, start, tries=6):
+    """(vertices, deviation %) of the fewest vertices found within `bound`
+    (%) by run(count) -> (vertices, deviation %), over `tries` counts: each
+    the last scaled by the deviation's ratio to the bound (it falls about
+    as 1/count); None when none met it."""
+    best, count = None, start
+    for _ in range(tries):
+        vertices, deviation = run(int(count))
+        if deviation is not None and deviation <= bound and (best is None or vertices < best[0]):
+            best = (vertices, deviation)
+        ratio = deviation / bound if deviation else 4.0
+        count = max(10, count * (min(4.0, 1.1 * ratio) if ratio > 1 else max(0.7, 1.05 * ratio)))
+    return best
+
+
+def deviation_table(bound):
+    """The counts each mode and CGAL need to keep every mesh within `bound`
+    (fraction of the diagonal) both ways: one Markdown table."""
+    sys.path.insert(0, os.path.join(HERE, "..", "Python"))
+    import inputs
+    from test_corpus_sweep import CAD
+    meshes = [(os.path.basename(p), inputs.read_off(p)) for p in inputs.corpus_paths()]
+    meshes += [(name, inputs.polydata(*shape)) for name, shape in inputs.hard_shapes().items()]
+    percent = 100.0 * bound
+    print("| mesh | error-driven: vertices | deviation % | rounds | seconds | uniform | curvature (max k, 0.5) "
+          "| CGAL |")
+    print("|---|---|---|---|---|---|---|---|")
+
+    def measure(remesh, data, diagonal):
+        if remesh.GetNumberOfPoints() == 0:
+            return remesh.GetNumberOfPoints(), None
+        q = quality(remesh, data, diagonal)
+        return q["vertices"], max(q["to_input"], q["from_input"])
+
+    for name, data in meshes:
+        bounds = np.array(data.GetBounds())
+        diagonal = np.linalg.norm(bounds[1::2] - bounds[::2])
+        features = name in CAD
+
+        def remesher(**settings):
+            f = vtkSurfaceRemeshing()
+            f.SetInputData(data)
+            f.SetSplitAtFeatures(features)
+            f.GlobalWarningDisplayOff()
+            for key, value in settings.items():
+                getattr(f, "Set" + key)(value)
+            return f
+
+        f = remesher(NumberOfVertices=0, MaximumDeviation=bound)
+        start = time.perf_counter()
+        f.Update()
+        seconds = time.perf_counter() - start
+        vertices, deviation = measure(f.GetOutput(), data, diagonal)
+        rounds = f.GetOutput().GetFieldData().GetArray("RemeshRounds")
+        driven = "refused | | | %.2f" % seconds if deviation is None else "%d | %.3f | %d | %.2f" % (
+            vertices, deviation, rounds.GetNumberOfTuples(), seconds)
+        cells = []
+        for mode in ({}, {"Importance": vtkSurfaceRemeshing.MAXIMUM_CURVATURE, "Gamma": 0.5}):
+            def run(count, mode=mode):
+                g = remesher(NumberOfVertices=count, **mode)
+                g.Update()
+                return measure(g.GetOutput(), data, diagonal)
+            cells.append(smallest_count(run, percent, max(vertices, 100)))
+        cgal_input = inputs.polydata(*inputs.arrays_of(data))
+
+        def run_cgal(count):
+            peer = cgal(cgal_input, count, features)
+            return measure(peer[1], data, diagonal) if peer else (0, None)
+        cells.append(smallest_count(run_cgal, percent, max(vertices, 100)) if os.path.exists(CGAL) else None)
+        print("| %s | %s | %s |" % (name, driven, " | ".join(
+            "%d (%.3f%%)" % cell if cell else "not met" for cell in cells)))
+        sys.stdout.flush()
+
+
 def main(argv):
+    if "--deviation" in argv:
+        deviation_table(float(argv[argv.index("--deviation") + 1]))
+        return 0
     if "--corpus" in argv:
         corpus_table([2000, 10000])
         return 0

@@ -12,7 +12,11 @@ promises:
   parameterization      no flipped UV triangle, UV in [0, 1]^2
   atlas                 no flipped UV triangle, UV in [0, 1]^2
   remeshing             the exact count; Euler characteristic, components and
-                        boundary loops kept; manifold and oriented
+                        boundary loops kept; manifold and oriented; the
+                        deviation it reports the one measured
+  remeshing-deviation   the error-driven mode (MaximumDeviation 0.5% of the
+                        diagonal, the count left to it): as remeshing, and
+                        both deviations within the bound
   line-drawing          the lines on the surface
   tetgen                (closed meshes) positive tetrahedra filling the volume
 
@@ -134,18 +138,18 @@ def check_uv(mesh, out, top):
     return None
 
 
-def check_remesh(mesh, out, top, count=2000, warned=()):
+def remesh_problem(mesh, out, top):
+    """(what is wrong or None, deviation to the input, from the input) of a
+    remesh: the input's topology, manifold and oriented, and the deviation
+    the filter reports (the remesh's triangle centres to the input, the
+    input's vertices to the remesh) the one measured here."""
     p, t = inputs.arrays_of(out)
-    if len(p) != count:
-        return "%d vertices, not %d" % (len(p), count)
     got = inputs.topology(p, t)
     for key in ("euler", "components", "loops"):
         if got[key] != top[key]:
-            return "%s %s -> %s" % (key, top[key], got[key])
+            return "%s %s -> %s" % (key, top[key], got[key]), None, None
     if not (got["manifold"] and got["oriented"]):
-        return "not manifold and oriented"
-    # The deviation the filter reports (input vertices to the remesh, the
-    # remesh's triangle centres to the input) is the one measured here.
+        return "not manifold and oriented", None, None
     pin, tin = inputs.arrays_of(mesh)
     diag = inputs.diagonal(pin[np.unique(tin)])
     reported = [out.GetFieldData().GetArray("RemeshDeviation").GetValue(k) for k in range(2)]
@@ -154,8 +158,35 @@ def check_remesh(mesh, out, top, count=2000, warned=()):
     tolerance = 1e-3 if has_polygons(mesh) else 1e-6  # (non-planar polygons: other triangulations)
     for what, said, measured in (("to", reported[0], to_input), ("from", reported[1], from_input)):
         if abs(said - measured) > 1e-9 + tolerance * measured:
-            return "reported deviation %s the input %.6g, measured %.6g" % (what, said, measured)
-    print("    deviation %.3f%% / %.3f%% of the diagonal" % (100 * to_input, 100 * from_input))
+            return "reported deviation %s the input %.6g, measured %.6g" % (what, said, measured), None, None
+    return None, to_input, from_input
+
+
+def check_remesh(mesh, out, top, count=2000):
+    if out.GetNumberOfPoints() != count:
+        return "%d vertices, not %d" % (out.GetNumberOfPoints(), count)
+    problem, to_input, from_input = remesh_problem(mesh, out, top)
+    if problem is None:
+        print("    deviation %.3f%% / %.3f%% of the diagonal" % (100 * to_input, 100 * from_input))
+    return problem
+
+
+DEVIATION = 0.005  # the error-driven sweep's bound (fraction of the diagonal)
+# The CAD parts: their sharp edges kept (SplitAtFeatures), as a user remeshing them would.
+CAD = {"cube.off", "fandisk.off", "fandisk_large.off", "mech-holes-shark.off", "cylinder_locally_refined.off",
+       "thin-plate"}
+
+
+def check_deviation(mesh, out, top):
+    problem, to_input, from_input = remesh_problem(mesh, out, top)
+    if problem is not None:
+        return problem
+    rounds = out.GetFieldData().GetArray("RemeshRounds")
+    counts = [rounds.GetValue(k) for k in range(rounds.GetNumberOfTuples())]
+    print("    deviation %.3f%% / %.3f%% of the diagonal with %d vertices (rounds: %s)"
+          % (100 * to_input, 100 * from_input, out.GetNumberOfPoints(), " ".join(map(str, counts))))
+    if max(to_input, from_input) > DEVIATION * (1 + 1e-9):
+        return "deviation %.4f%% above the requested %.4f%%" % (100 * max(to_input, from_input), 100 * DEVIATION)
     return None
 
 
@@ -198,6 +229,9 @@ FILTERS = {
     "atlas": (b.vtkSurfaceAtlas, check_uv, "all", None),
     "remeshing": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=2000), check_remesh, "all",
                   "Cannot remesh with"),
+    "remeshing-deviation": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=0,
+                                               MaximumDeviation=DEVIATION), check_deviation, "all",
+                            "Cannot remesh with"),
     "line-drawing": (b.vtkSurfaceLineDrawing, check_lines, "all", None),
     "tetgen": (b.vtkTetGenTetrahedralizer, check_tetgen, "closed", "The surface intersects itself"),
 }
@@ -216,6 +250,8 @@ def sweep(name, meshes):
         if which == "closed" and (top["loops"] or not top["manifold"]):
             continue
         f = make()
+        if name == "remeshing-deviation" and os.path.basename(path) in CAD:
+            f.SetSplitAtFeatures(True)
         said = inputs.Messages(f, f.GetExecutive())
         f.SetInputData(mesh)
         start = time.perf_counter()

@@ -277,6 +277,95 @@ void CompareCount(const char* what, std::int64_t input, std::int64_t remesh, std
   }
 }
 
+/// The surface's largest principal curvatures and cotangent Laplacian in
+/// `cache` (computed once per surface).
+void KeepCurvatures(const MeshTopology& topology, const double* points, int numThreads, RemeshCache& cache)
+{
+  if (cache.MaximumCurvature.size() != static_cast<std::size_t>(topology.NumberOfVertices()))
+  {
+    cache.MaximumCurvature = CurvatureValues(topology, points, CurvatureMeasure::MaximumCurvature, numThreads);
+    AssembleSurfaceLaplacian(topology, points, LaplacianWeights::Cotangent, cache.SurfaceLaplacian, numThreads);
+  }
+}
+
+/// The vertex count whose equilateral triangles keep within `bound` of a
+/// surface of largest principal curvatures `kappa` (per vertex, areas
+/// `mass`): a triangle of spacing s has its centre about kappa s^2 / 6 from
+/// the surface, and s^2 = 6 bound / kappa holds 2 / (sqrt(3) s^2) vertices a
+/// unit area; with a margin of 1.3 for the remesh's uneven edges.
+std::int64_t CountForDeviation(const LargeVector<double>& mass, const std::vector<double>& kappa, double bound)
+{
+  double needed = 0.0;
+  for (std::size_t v = 0; v < kappa.size(); ++v)
+  {
+    const double k = std::isfinite(kappa[v]) ? kappa[v] : 0.0;
+    needed += mass[v] * 1.3 * 2.0 * k / (std::sqrt(3.0) * 6.0 * bound);
+  }
+  return static_cast<std::int64_t>(std::ceil(needed));
+}
+
+/// `values` replaced by their largest over each vertex's `rings`-ring.
+void DilateOverRings(const MeshTopology& topology, int rings, std::vector<double>& values)
+{
+  const MeshTopology::VertexGraph& graph = topology.Graph();
+  std::vector<double> next(values.size());
+  for (int r = 0; r < rings; ++r)
+  {
+    for (std::size_t v = 0; v < values.size(); ++v)
+    {
+      next[v] = values[v];
+      for (std::int64_t k = graph.NeighborOffsets[v]; k < graph.NeighborOffsets[v + 1]; ++k)
+      {
+        next[v] = std::max(next[v], values[graph.Neighbors[k]]);
+      }
+    }
+    values.swap(next);
+  }
+}
+
+/// The remesh's deviation at every input vertex: its distance to the
+/// remesh, and the distance to the input of the centre of every remesh
+/// triangle that a corner of lies on one of the vertex's triangles (a
+/// triangle that spans a gap; the largest of those).
+std::vector<double> LocalDeviations(
+  const MeshTopology& topology, const double* points, const RemeshResult& remesh, int numThreads)
+{
+  const std::size_t triangles = remesh.Triangles.size() / 3;
+  const TriangleGrid toRemesh(remesh.Points.data(), remesh.Triangles.data(), triangles, numThreads);
+  std::vector<double> deviation(static_cast<std::size_t>(topology.NumberOfVertices()), 0.0);
+  ParallelFor(topology.NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (Index v = static_cast<Index>(begin); v < end; ++v)
+    {
+      deviation[v] = topology.Valence(v) > 0 ? toRemesh.Distance(Point(points, v)) : 0.0;
+    }
+  });
+  const TriangleGrid toInput(points, topology.TriangleList().data(), topology.NumberOfTriangles(), numThreads);
+  std::vector<double> centre(triangles);
+  ParallelFor(static_cast<std::int64_t>(triangles), numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t t = begin; t < end; ++t)
+    {
+      const Index* c = remesh.Triangles.data() + 3 * t;
+      centre[t] = toInput.Distance(
+        (Point(remesh.Points.data(), c[0]) + Point(remesh.Points.data(), c[1]) + Point(remesh.Points.data(), c[2])) /
+        3.0);
+    }
+  });
+  const IndexArray& input = topology.TriangleList();
+  for (std::size_t t = 0; t < triangles; ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index source = remesh.SourceTriangle[remesh.Triangles[3 * t + k]];
+      for (int j = 0; source >= 0 && j < 3; ++j)
+      {
+        double& d = deviation[input[3 * static_cast<std::size_t>(source) + j]];
+        d = std::max(d, centre[t]);
+      }
+    }
+  }
+  return deviation;
+}
+
 } // namespace
 
 void CheckFidelity(const MeshTopology& topology, const double* points, const RemeshOptions& options, RemeshResult& out)
@@ -327,13 +416,7 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   std::vector<double> raised;
   if (options.MaximumSurfaceSag > 0.0)
   {
-    if (cache->MaximumCurvature.size() != static_cast<std::size_t>(n))
-    {
-      cache->MaximumCurvature =
-        CurvatureValues(topology, points, CurvatureMeasure::MaximumCurvature, options.NumberOfThreads);
-      AssembleSurfaceLaplacian(
-        topology, points, LaplacianWeights::Cotangent, cache->SurfaceLaplacian, options.NumberOfThreads);
-    }
+    KeepCurvatures(topology, points, options.NumberOfThreads, *cache);
     raised = RaiseImportanceForSag(topology, points, importance, cache->MaximumCurvature,
       features.empty() ? nullptr : features.data(), options.NumberOfVertices, options.MaximumSurfaceSag,
       options.NumberOfThreads, &cache->SurfaceLaplacian);
@@ -379,6 +462,93 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   start = std::chrono::steady_clock::now();
   CheckFidelity(topology, points, options, out);
   out.FidelitySeconds = SecondsSince(start);
+  return out;
+}
+
+
+DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
+  const double* importance, const RemeshOptions& options, double maximumDeviation, int maximumRounds)
+{
+  DeviationRemeshResult out;
+  const std::size_t n = static_cast<std::size_t>(topology.NumberOfVertices());
+  RemeshCache local;
+  RemeshCache* cache = options.Cache ? options.Cache : &local;
+  KeepCurvatures(topology, points, options.NumberOfThreads, *cache);
+  const LargeVector<double>& mass = cache->SurfaceLaplacian.Mass;
+  const double diagonal = UsedBoundingBoxDiagonal(points, topology.TriangleList().data(), topology.NumberOfTriangles());
+  const double bound = maximumDeviation * diagonal;
+  std::vector<double> weight(n, 1.0);
+  double integral = 0.0; // of the weight over the surface
+  for (std::size_t v = 0; v < n; ++v)
+  {
+    weight[v] = importance ? importance[v] : 1.0;
+    integral += mass[v] * weight[v];
+  }
+  std::int64_t count = options.NumberOfVertices;
+  if (count <= 0)
+  {
+    count = std::max<std::int64_t>(100, CountForDeviation(mass, cache->MaximumCurvature, bound));
+  }
+  const double meanEdge = MeanEdgeLength(topology, points);
+  RemeshOptions round = options;
+  round.Cache = cache;
+  int failures = 0;
+  for (int r = 0; r < maximumRounds && !out.Met; ++r)
+  {
+    round.NumberOfVertices = count;
+    out.Counts.push_back(count);
+    out.Remesh = RemeshSurface(topology, points, atlas, weight.data(), round);
+    out.Rounds = r + 1;
+    if (!out.Remesh.Error.empty())
+    {
+      // The chart boundaries need more samples, or a thin part was lost
+      // (tried twice more with twice the count: beyond, more vertices fail as these did).
+      const bool boundaries = out.Remesh.Samples.BoundarySamples >= count;
+      if (!boundaries && ++failures > 2)
+      {
+        break;
+      }
+      count = 2 * std::max(count, out.Remesh.Samples.BoundarySamples);
+      continue;
+    }
+    const double worst = std::max(out.Remesh.DeviationToInput, out.Remesh.DeviationFromInput) * diagonal;
+    out.Met = worst <= bound;
+    if (out.Met)
+    {
+      break;
+    }
+    // The deviation falls with the square of the spacing: the density (the
+    // weight) is raised by the ratio to a target below the bound (each
+    // remesh's vertices fall elsewhere: its deviation varies by 10-20%)
+    // wherever the input is left farther within about a spacing (the input's
+    // vertices sample the remesh's sag unevenly: most lie near its vertices).
+    const double target = 0.75 * bound;
+    std::vector<double> factor = LocalDeviations(topology, points, out.Remesh, options.NumberOfThreads);
+    const int rings =
+      static_cast<int>(std::min(32.0, std::ceil(2.0 * out.Remesh.Spacing / std::max(meanEdge, 1e-300))));
+    DilateOverRings(topology, rings, factor);
+    bool raised = false;
+    for (std::size_t v = 0; v < n; ++v)
+    {
+      // (Raised a little beyond the ratio: a small raised spot moves the
+      // samples of error diffusion less than its share of the count.)
+      factor[v] = factor[v] > target ? std::min(16.0, std::pow(factor[v] / target, 1.5)) : 1.0;
+      raised = raised || factor[v] > 1.0;
+    }
+    if (!raised) // the remesh's triangles are the far ones: denser everywhere
+    {
+      count = static_cast<std::int64_t>(std::ceil(static_cast<double>(count) * std::min(4.0, worst / target)));
+      continue;
+    }
+    double raisedIntegral = 0.0;
+    for (std::size_t v = 0; v < n; ++v)
+    {
+      weight[v] *= factor[v];
+      raisedIntegral += mass[v] * weight[v];
+    }
+    count = static_cast<std::int64_t>(std::ceil(static_cast<double>(count) * std::min(4.0, raisedIntegral / integral)));
+    integral = raisedIntegral;
+  }
   return out;
 }
 

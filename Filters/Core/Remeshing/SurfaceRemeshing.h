@@ -150,4 +150,27 @@ void CheckFidelity(const MeshTopology& topology, const double* points, const Rem
 RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
   const double* importance, const RemeshOptions& options = {});
 
+/// The error-driven mode (as MMG's -hausd; the thesis' future work):
+/// remeshes until the remesh is within `maximumDeviation` (a fraction of the
+/// input's bounding-box diagonal) of the input both ways (RemeshResult's
+/// Deviation*).  options.NumberOfVertices: the least count to use, or 0 for
+/// as few as the deviation takes, estimated first from the curvature (a
+/// triangle of spacing s departs about s^2 kappa / 8 from a surface of
+/// largest principal curvature kappa).  After each remesh the importance
+/// (`importance`, null: uniform) is raised at the input's vertices left
+/// farther than the bound, by the ratio of their distance to it (the
+/// deviation falls with the square of the spacing), spread over the
+/// spacing, with the count raised in proportion, so that the density
+/// elsewhere stays; at most `maximumRounds` remeshes.  The result is the
+/// last remesh; Rounds and Met say how it went.
+struct DeviationRemeshResult
+{
+  RemeshResult Remesh;
+  int Rounds = 0;
+  bool Met = false; ///< both deviations within the bound
+  std::vector<std::int64_t> Counts; ///< the count of each round
+};
+DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
+  const double* importance, const RemeshOptions& options, double maximumDeviation, int maximumRounds = 8);
+
 } // namespace beltrami
