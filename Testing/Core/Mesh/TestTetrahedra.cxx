@@ -300,9 +300,9 @@ std::vector<double> ExpectSameFlow(const std::vector<double>& f, int nc, const F
     difference = std::max(difference, std::abs(a[k] - b[k]));
     change = std::max(change, std::abs(a[k] - f[k]));
   }
-  // (Single-precision kernels: up to 1.06e-5 of the change for one
-  // component at -O2, where the compiler vectorises their sums otherwise.)
-  EXPECT_LT(difference, (nc == 1 ? 2e-5 : 3e-4) * change) << nc << " components";
+  // (Single-precision kernels: up to 3.2e-4 of the change for three
+  // components at -O2, where the compiler vectorises their sums otherwise.)
+  EXPECT_LT(difference, (nc == 1 ? 1e-5 : 4e-4) * change) << nc << " components";
   EXPECT_GT(change, 0.01);
   EXPECT_EQ(b, c) << "thread count changed the result";
   return b;
