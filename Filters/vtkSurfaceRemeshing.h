@@ -57,7 +57,8 @@
  * fractions of the input's bounding-box diagonal: the largest distance of
  * its triangle centres from the input, and of the input's vertices from
  * it; a warning names the input point where a part is left farther than
- * the remesh's spacing, a limb or tip lost) and RemeshSeconds (sampling,
+ * the remesh's spacing, and beyond four spacings - a limb's end cut off or
+ * bridged - it is an error with an empty output) and RemeshSeconds (sampling,
  * triangulation, optimisation, the fidelity's measurement).  The
  * error-driven mode (MaximumDeviation > 0, as MMG's -hausd) remeshes until
  * both deviations are within that fraction of the diagonal, raising the

@@ -356,6 +356,97 @@ void SplitDoubleEars(JoinedTriangles& joined)
   }
 }
 
+/// Two boundary samples that two charts both join by a diagonal: a limb
+/// thinner than the spacing whose two seams between the same two charts
+/// have a sample each at its cross-section, which both charts' triangulations
+/// join, pinching the limb to an edge of four triangles.  The diagonal is
+/// flipped in one of the two charts (its quadrilateral convex in that
+/// chart's plane, the new edge not in the mesh yet): the edge keeps two
+/// triangles, the limb its cross-section.
+void FlipSharedDiagonals(JoinedTriangles& j)
+{
+  const auto key = [](Index a, Index b) { return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b); };
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> facesOn;
+  const std::size_t faces = j.Triangles.size() / 3;
+  for (std::size_t f = 0; f < faces; ++f)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      facesOn[key(j.Triangles[3 * f + k], j.Triangles[3 * f + (k + 1) % 3])].push_back(f);
+    }
+  }
+  const auto uv = [&j](std::size_t f, int k) { return Vec2(j.CornerUV[2 * (3 * f + k)], j.CornerUV[2 * (3 * f + k) + 1]); };
+  const auto cross = [](const Vec2& a, const Vec2& b, const Vec2& c) {
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+  };
+  std::vector<std::pair<std::uint64_t, std::vector<std::size_t>>> shared;
+  for (const auto& [edge, on] : facesOn)
+  {
+    if (on.size() == 4)
+    {
+      shared.emplace_back(edge, on);
+    }
+  }
+  std::sort(shared.begin(), shared.end()); // (deterministic)
+  for (const auto& [edge, on] : shared)
+  {
+    const Index a = static_cast<Index>(edge >> 32), b = static_cast<Index>(edge & 0xffffffffu);
+    for (const std::size_t first : on)
+    {
+      // The other face of `first`'s chart on a-b: the two sides of its diagonal.
+      std::size_t second = faces;
+      for (const std::size_t f : on)
+      {
+        second = f != first && j.FaceChart[f] == j.FaceChart[first] ? f : second;
+      }
+      if (second == faces || second < first)
+      {
+        continue;
+      }
+      // Corners: p, q, r of each face with p, q the edge's ends in the face's order.
+      int ka = 0, kb = 0;
+      for (int k = 0; k < 3; ++k)
+      {
+        ka = j.Triangles[3 * first + k] == a ? k : ka;
+        kb = j.Triangles[3 * second + k] == a ? k : kb;
+      }
+      // Orient so that `first` runs p -> q -> x and `second` q -> p -> y.
+      const int k1 = j.Triangles[3 * first + (ka + 1) % 3] == b ? ka : (ka + 2) % 3;
+      const int k2 = (k1 == ka) ? (kb + 2) % 3 : kb;
+      const Index p = j.Triangles[3 * first + k1], q = j.Triangles[3 * first + (k1 + 1) % 3];
+      const Index x = j.Triangles[3 * first + (k1 + 2) % 3];
+      const Index y = j.Triangles[3 * second + (k2 + 2) % 3];
+      if (j.Triangles[3 * second + k2] != q || j.Triangles[3 * second + (k2 + 1) % 3] != p || x == y ||
+        facesOn.count(key(x, y)))
+      {
+        continue;
+      }
+      const Vec2 up = uv(first, k1), uq = uv(first, (k1 + 1) % 3), ux = uv(first, (k1 + 2) % 3);
+      const Vec2 uy = uv(second, (k2 + 2) % 3);
+      const double sign = cross(up, uq, ux);
+      if (!(cross(ux, up, uy) * sign > 0.0 && cross(uy, uq, ux) * sign > 0.0))
+      {
+        continue; // not convex in the chart's plane
+      }
+      // (p, q, x) + (q, p, y) -> (x, p, y) + (y, q, x)
+      const Index flipped[2][3] = { { x, p, y }, { y, q, x } };
+      const Vec2 flippedUV[2][3] = { { ux, up, uy }, { uy, uq, ux } };
+      for (int side = 0; side < 2; ++side)
+      {
+        const std::size_t f = side == 0 ? first : second;
+        for (int k = 0; k < 3; ++k)
+        {
+          j.Triangles[3 * f + k] = flipped[side][k];
+          j.CornerUV[2 * (3 * f + k)] = flippedUV[side][k][0];
+          j.CornerUV[2 * (3 * f + k) + 1] = flippedUV[side][k][1];
+        }
+      }
+      facesOn[key(x, y)] = { first, second };
+      break; // one chart's diagonal flipped: the edge is the other's alone
+    }
+  }
+}
+
 ChartTriangles TriangulateChart(const MeshTopology& topology, const AtlasChart& chart, const ChartLocator& locator,
   const SurfaceSamples& samples, const std::vector<int>& paths, const std::vector<Index>& interior)
 {
@@ -503,6 +594,7 @@ Remesh CreateRemesh(const MeshTopology& topology, const double* points, const At
     }
   }
   SplitDoubleEars(joined);
+  FlipSharedDiagonals(joined);
   SortFacesByVertex(joined, n); // neighbouring faces near in memory: the optimisation's fans
   const MeshTopology topologyOut(n, std::move(joined.Triangles));
   std::vector<double> positions(3 * static_cast<std::size_t>(n));

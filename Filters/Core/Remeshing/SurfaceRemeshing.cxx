@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <sstream>
 
 namespace beltrami
 {
@@ -396,6 +397,16 @@ void CheckFidelity(const MeshTopology& topology, const double* points, const Rem
   {
     out.Error = "the remesh does not keep the input's topology (" + differences + ")";
   }
+  else if (deviation.FirstToSecond > LostPartSpacings * out.Spacing)
+  {
+    // Not a coarse remesh but a part cut off or bridged (a limb's end):
+    // a mesh without it would pass for the input.
+    std::ostringstream said;
+    said << "a part of the input is lost: the input point (" << out.FarthestInputPoint[0] << ", "
+         << out.FarthestInputPoint[1] << ", " << out.FarthestInputPoint[2] << ") is " << deviation.FirstToSecond
+         << " from the remesh, " << deviation.FirstToSecond / out.Spacing << " times its spacing";
+    out.Error = said.str();
+  }
 }
 
 RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
@@ -492,7 +503,8 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
   const double meanEdge = MeanEdgeLength(topology, points);
   RemeshOptions round = options;
   round.Cache = cache;
-  int failures = 0;
+  int failures = 0, stalled = 0;
+  double closest = HUGE_VAL;
   for (int r = 0; r < maximumRounds && !out.Met; ++r)
   {
     round.NumberOfVertices = count;
@@ -513,7 +525,12 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
     }
     const double worst = std::max(out.Remesh.DeviationToInput, out.Remesh.DeviationFromInput) * diagonal;
     out.Met = worst <= bound;
-    if (out.Met)
+    // More vertices that do not bring the remesh closer (three times in a row:
+    // the far part is not a matter of density), or more than the input's
+    // resolution can use: the last remesh stands (Met says it missed).
+    stalled = worst > 0.95 * closest ? stalled + 1 : 0;
+    closest = std::min(closest, worst);
+    if (out.Met || stalled >= 3 || count >= MostVerticesPerInputVertex * static_cast<std::int64_t>(n))
     {
       break;
     }
@@ -537,7 +554,8 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
     }
     if (!raised) // the remesh's triangles are the far ones: denser everywhere
     {
-      count = static_cast<std::int64_t>(std::ceil(static_cast<double>(count) * std::min(4.0, worst / target)));
+      count = std::min(static_cast<std::int64_t>(std::ceil(static_cast<double>(count) * std::min(4.0, worst / target))),
+        MostVerticesPerInputVertex * static_cast<std::int64_t>(n));
       continue;
     }
     double raisedIntegral = 0.0;
@@ -547,6 +565,7 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
       raisedIntegral += mass[v] * weight[v];
     }
     count = static_cast<std::int64_t>(std::ceil(static_cast<double>(count) * std::min(4.0, raisedIntegral / integral)));
+    count = std::min(count, MostVerticesPerInputVertex * static_cast<std::int64_t>(n));
     integral = raisedIntegral;
   }
   return out;
