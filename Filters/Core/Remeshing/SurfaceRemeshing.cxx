@@ -367,6 +367,45 @@ std::vector<double> LocalDeviations(
   return deviation;
 }
 
+/// The next remesh's weights and count after one that left the input
+/// farther than `target`, a margin below the bound (each remesh's vertices
+/// fall elsewhere: its deviation varies by 10-20%).  The deviation falls
+/// with the square of the spacing: the density (`weight`, whose integral
+/// over the surface is `integral`) is raised by the ratio wherever the
+/// input is left farther within about two spacings (the input's vertices
+/// sample the remesh's sag unevenly: most lie near its vertices), and the
+/// count with the integral; where no input vertex is (the remesh's
+/// triangles are the far ones), the count alone.  At most `most`.
+std::int64_t RaiseWhereFar(const MeshTopology& topology, const double* points, const RemeshResult& remesh,
+  const LargeVector<double>& mass, double meanEdge, double target, double worst, std::int64_t count,
+  std::int64_t most, std::vector<double>& weight, double& integral, int numThreads)
+{
+  std::vector<double> factor = LocalDeviations(topology, points, remesh, numThreads);
+  const int rings = static_cast<int>(std::min(32.0, std::ceil(2.0 * remesh.Spacing / std::max(meanEdge, 1e-300))));
+  DilateOverRings(topology, rings, factor);
+  bool raised = false;
+  for (double& f : factor)
+  {
+    // (Raised a little beyond the ratio: a small raised spot moves the
+    // samples of error diffusion less than its share of the count.)
+    f = f > target ? std::min(16.0, std::pow(f / target, 1.5)) : 1.0;
+    raised = raised || f > 1.0;
+  }
+  double growth = std::min(4.0, worst / target);
+  if (raised)
+  {
+    double raisedIntegral = 0.0;
+    for (std::size_t v = 0; v < weight.size(); ++v)
+    {
+      weight[v] *= factor[v];
+      raisedIntegral += mass[v] * weight[v];
+    }
+    growth = std::min(4.0, raisedIntegral / integral);
+    integral = raisedIntegral;
+  }
+  return std::min(static_cast<std::int64_t>(std::ceil(static_cast<double>(count) * growth)), most);
+}
+
 } // namespace
 
 void CheckFidelity(const MeshTopology& topology, const double* points, const RemeshOptions& options, RemeshResult& out)
@@ -534,39 +573,8 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
     {
       break;
     }
-    // The deviation falls with the square of the spacing: the density (the
-    // weight) is raised by the ratio to a target below the bound (each
-    // remesh's vertices fall elsewhere: its deviation varies by 10-20%)
-    // wherever the input is left farther within about a spacing (the input's
-    // vertices sample the remesh's sag unevenly: most lie near its vertices).
-    const double target = 0.75 * bound;
-    std::vector<double> factor = LocalDeviations(topology, points, out.Remesh, options.NumberOfThreads);
-    const int rings =
-      static_cast<int>(std::min(32.0, std::ceil(2.0 * out.Remesh.Spacing / std::max(meanEdge, 1e-300))));
-    DilateOverRings(topology, rings, factor);
-    bool raised = false;
-    for (std::size_t v = 0; v < n; ++v)
-    {
-      // (Raised a little beyond the ratio: a small raised spot moves the
-      // samples of error diffusion less than its share of the count.)
-      factor[v] = factor[v] > target ? std::min(16.0, std::pow(factor[v] / target, 1.5)) : 1.0;
-      raised = raised || factor[v] > 1.0;
-    }
-    if (!raised) // the remesh's triangles are the far ones: denser everywhere
-    {
-      count = std::min(static_cast<std::int64_t>(std::ceil(static_cast<double>(count) * std::min(4.0, worst / target))),
-        MostVerticesPerInputVertex * static_cast<std::int64_t>(n));
-      continue;
-    }
-    double raisedIntegral = 0.0;
-    for (std::size_t v = 0; v < n; ++v)
-    {
-      weight[v] *= factor[v];
-      raisedIntegral += mass[v] * weight[v];
-    }
-    count = static_cast<std::int64_t>(std::ceil(static_cast<double>(count) * std::min(4.0, raisedIntegral / integral)));
-    count = std::min(count, MostVerticesPerInputVertex * static_cast<std::int64_t>(n));
-    integral = raisedIntegral;
+    count = RaiseWhereFar(topology, points, out.Remesh, mass, meanEdge, 0.75 * bound, worst, count,
+      MostVerticesPerInputVertex * static_cast<std::int64_t>(n), weight, integral, options.NumberOfThreads);
   }
   return out;
 }
