@@ -122,13 +122,18 @@ double Cross2(const std::vector<double>& uv, Index a, Index b, Index c)
 /// the same way in both planes (across a corner of both squares): two
 /// triangles with the same three vertices.  Each ear's inner edge is
 /// swapped where the quadrilateral is convex.
+/// The key of the undirected edge a-b.
+std::uint64_t EdgeKey(Index a, Index b)
+{
+  return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
+}
+
 void FlipEars(const ChartPoints& points, std::vector<Index>& triangles)
 {
-  const auto key = [](Index a, Index b) { return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b); };
   std::unordered_map<std::uint64_t, std::uint8_t> constrained;
   for (std::size_t s = 0; s + 1 < points.Segments.size(); s += 2)
   {
-    constrained[key(points.Segments[s], points.Segments[s + 1])] = 1;
+    constrained[EdgeKey(points.Segments[s], points.Segments[s + 1])] = 1;
   }
   std::unordered_map<std::uint64_t, std::size_t> triangleOfEdge; // directed edge a -> b: its triangle
   const auto directed = [](Index a, Index b) { return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b); };
@@ -145,7 +150,7 @@ void FlipEars(const ChartPoints& points, std::vector<Index>& triangles)
     {
       // Ear at corner k: its two edges there constrained, the opposite one not.
       const Index m = triangles[t + k], a = triangles[t + (k + 1) % 3], b = triangles[t + (k + 2) % 3];
-      if (!constrained.count(key(m, a)) || !constrained.count(key(b, m)) || constrained.count(key(a, b)))
+      if (!constrained.count(EdgeKey(m, a)) || !constrained.count(EdgeKey(b, m)) || constrained.count(EdgeKey(a, b)))
       {
         continue;
       }
@@ -365,14 +370,13 @@ void SplitDoubleEars(JoinedTriangles& joined)
 /// triangles, the limb its cross-section.
 void FlipSharedDiagonals(JoinedTriangles& j)
 {
-  const auto key = [](Index a, Index b) { return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b); };
   std::unordered_map<std::uint64_t, std::vector<std::size_t>> facesOn;
   const std::size_t faces = j.Triangles.size() / 3;
   for (std::size_t f = 0; f < faces; ++f)
   {
     for (int k = 0; k < 3; ++k)
     {
-      facesOn[key(j.Triangles[3 * f + k], j.Triangles[3 * f + (k + 1) % 3])].push_back(f);
+      facesOn[EdgeKey(j.Triangles[3 * f + k], j.Triangles[3 * f + (k + 1) % 3])].push_back(f);
     }
   }
   const auto uv = [&j](std::size_t f, int k) { return Vec2(j.CornerUV[2 * (3 * f + k)], j.CornerUV[2 * (3 * f + k) + 1]); };
@@ -417,7 +421,7 @@ void FlipSharedDiagonals(JoinedTriangles& j)
       const Index x = j.Triangles[3 * first + (k1 + 2) % 3];
       const Index y = j.Triangles[3 * second + (k2 + 2) % 3];
       if (j.Triangles[3 * second + k2] != q || j.Triangles[3 * second + (k2 + 1) % 3] != p || x == y ||
-        facesOn.count(key(x, y)))
+        facesOn.count(EdgeKey(x, y)))
       {
         continue;
       }
@@ -441,7 +445,7 @@ void FlipSharedDiagonals(JoinedTriangles& j)
           j.CornerUV[2 * (3 * f + k) + 1] = flippedUV[side][k][1];
         }
       }
-      facesOn[key(x, y)] = { first, second };
+      facesOn[EdgeKey(x, y)] = { first, second };
       break; // one chart's diagonal flipped: the edge is the other's alone
     }
   }

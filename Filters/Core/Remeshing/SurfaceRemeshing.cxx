@@ -328,8 +328,8 @@ void DilateOverRings(const MeshTopology& topology, int rings, std::vector<double
 /// remesh, and the distance to the input of the centre of every remesh
 /// triangle that a corner of lies on one of the vertex's triangles (a
 /// triangle that spans a gap; the largest of those).
-std::vector<double> LocalDeviations(
-  const MeshTopology& topology, const double* points, const RemeshResult& remesh, int numThreads)
+std::vector<double> LocalDeviations(const MeshTopology& topology, const double* points, const TriangleGrid& toInput,
+  const RemeshResult& remesh, int numThreads)
 {
   const std::size_t triangles = remesh.Triangles.size() / 3;
   const TriangleGrid toRemesh(remesh.Points.data(), remesh.Triangles.data(), triangles, numThreads);
@@ -340,7 +340,6 @@ std::vector<double> LocalDeviations(
       deviation[v] = topology.Valence(v) > 0 ? toRemesh.Distance(Point(points, v)) : 0.0;
     }
   });
-  const TriangleGrid toInput(points, topology.TriangleList().data(), topology.NumberOfTriangles(), numThreads);
   std::vector<double> centre(triangles);
   ParallelFor(static_cast<std::int64_t>(triangles), numThreads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t t = begin; t < end; ++t)
@@ -376,11 +375,12 @@ std::vector<double> LocalDeviations(
 /// sample the remesh's sag unevenly: most lie near its vertices), and the
 /// count with the integral; where no input vertex is (the remesh's
 /// triangles are the far ones), the count alone.  At most `most`.
-std::int64_t RaiseWhereFar(const MeshTopology& topology, const double* points, const RemeshResult& remesh,
+std::int64_t RaiseWhereFar(const MeshTopology& topology, const double* points, const TriangleGrid& toInput,
+  const RemeshResult& remesh,
   const LargeVector<double>& mass, double meanEdge, double target, double worst, std::int64_t count,
   std::int64_t most, std::vector<double>& weight, double& integral, int numThreads)
 {
-  std::vector<double> factor = LocalDeviations(topology, points, remesh, numThreads);
+  std::vector<double> factor = LocalDeviations(topology, points, toInput, remesh, numThreads);
   const int rings = static_cast<int>(std::min(32.0, std::ceil(2.0 * remesh.Spacing / std::max(meanEdge, 1e-300))));
   DilateOverRings(topology, rings, factor);
   bool raised = false;
@@ -540,6 +540,8 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
     count = std::max<std::int64_t>(100, CountForDeviation(mass, cache->MaximumCurvature, bound));
   }
   const double meanEdge = MeanEdgeLength(topology, points);
+  // The input's grid, once for every round (its triangles stay).
+  const TriangleGrid toInput(points, topology.TriangleList().data(), topology.NumberOfTriangles(), options.NumberOfThreads);
   RemeshOptions round = options;
   round.Cache = cache;
   int failures = 0, stalled = 0;
@@ -573,7 +575,7 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
     {
       break;
     }
-    count = RaiseWhereFar(topology, points, out.Remesh, mass, meanEdge, 0.75 * bound, worst, count,
+    count = RaiseWhereFar(topology, points, toInput, out.Remesh, mass, meanEdge, 0.75 * bound, worst, count,
       MostVerticesPerInputVertex * static_cast<std::int64_t>(n), weight, integral, options.NumberOfThreads);
   }
   return out;
