@@ -11,6 +11,7 @@
 
 #include <exception>
 #include <tuple>
+#include <utility>
 #include <vtkFloatArray.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
@@ -31,6 +32,7 @@ BELTRAMI_SAME_ENUM(vtkImplicitFairing::UMBRELLA, beltrami::FairingOperator::Umbr
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::SCALE_DEPENDENT_UMBRELLA, beltrami::FairingOperator::ScaleDependentUmbrella);
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::CURVATURE_FLOW, beltrami::FairingOperator::CurvatureFlow);
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::CURVATURE_FLOW_AND_SAMPLING, beltrami::FairingOperator::CurvatureFlowAndSampling);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::LEAST_ESTIMATED_ERROR, beltrami::FairingOperator::LeastEstimatedError);
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::IMPLICIT, beltrami::FairingIntegration::Implicit);
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::EXPLICIT, beltrami::FairingIntegration::Explicit);
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::TAUBIN_LAMBDA_MU, beltrami::FairingIntegration::TaubinLambdaMu);
@@ -313,6 +315,20 @@ void vtkImplicitFairing::WriteOutput(
     inv->InsertNextValue(report.InitialInvariant);
     inv->InsertNextValue(report.FinalInvariant);
     fd->AddArray(inv);
+  }
+  if (report.MedianDihedral > 0.0 || report.Noise > 0.0)
+  {
+    // A chosen time step: what it was chosen from, and its estimated error.
+    for (auto [name, value] : { std::pair{ "FairingNoise", report.Noise },
+           std::pair{ "FairingTimeStep", report.ChosenTimeStep },
+           std::pair{ "FairingEstimatedError", report.EstimatedError },
+           std::pair{ "FairingOperator", static_cast<double>(report.OperatorUsed) } })
+    {
+      vtkNew<vtkDoubleArray> a;
+      a->SetName(name);
+      a->InsertNextValue(value);
+      fd->AddArray(a);
+    }
   }
   if (report.LargestGain > 1.0)
   {

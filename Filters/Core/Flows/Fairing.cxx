@@ -2,7 +2,9 @@
 
 #include "Flows/FairingAnisotropy.h"
 #include "Flows/FairingInvariants.h"
+#include "Flows/FairingStepChoice.h"
 #include "Flows/FairingSteps.h"
+#include "Flows/NoiseEstimation.h"
 #include "Mesh/Curvatures.h"
 #include "Mesh/Laplacian.h"
 #include "Mesh/MeshMeasures.h"
@@ -314,6 +316,88 @@ std::vector<double> MollifiedOperatorPoints(const MeshTopology& topo, const doub
   return regular;
 }
 
+/// The operator of a step at x: its Laplacian assembled at x, or at the
+/// mollified copy of x (OperatorMollification).
+void AssembleOperator(const MeshTopology& topo, const double* x, const std::vector<std::uint8_t>& held,
+  const std::vector<double>& weight, const FairingOptions& opt, GraphLaplacian& L, const Partition* split)
+{
+  std::vector<double> regular;
+  if (opt.OperatorMollification > 0.0 && opt.Operator != FairingOperator::Umbrella)
+  {
+    regular = MollifiedOperatorPoints(topo, x, held, weight, opt, split);
+  }
+  Assemble(topo, regular.empty() ? x : regular.data(), WeightsOf(opt.Operator), L, opt.NumberOfThreads, split);
+}
+
+/// TimeStep 0: the noise of the input's geometry and the step of least
+/// estimated error (Flows/FairingStepChoice.h) for the run's steps with the
+/// isotropic weights (an anisotropic run's weights depend on the step) and
+/// the invariant; into the report, the step in physical units.  `order`:
+/// the solver's renumbering of the surface graph, computed here if empty.
+double ChooseStep(const MeshTopology& topo, const double* x, const FairingOptions& opt, const VertexRoles& roles,
+  const std::vector<std::uint8_t>& held, const InvariantState& inv, double unit, std::vector<Index>& order,
+  const Partition* split, std::ostringstream& warn, FairingReport& report)
+{
+  const Index n = topo.NumberOfVertices();
+  const SurfaceNoise noise = EstimateSurfaceNoise(topo, x, roles.Fixed.data(), split, opt.NumberOfThreads);
+  report.Noise = noise.Deviation;
+  report.MedianDihedral = noise.MedianDihedral;
+  GraphLaplacian L;
+  FairingOptions o = opt;
+  o.SolverTolerance = std::min(opt.SolverTolerance, 1e-6); // (differences of two runs)
+  const SmoothingRun run = [&](double dt, double* p) {
+    o.TimeStep = dt;
+    FairingReport scratch;
+    for (int step = 0; step < o.NumberOfIterations; ++step)
+    {
+      AssembleOperator(topo, p, held, roles.Weight, o, L, split);
+      if (order.empty() && !split)
+      {
+        order = LocalityOrder(n, L.Offsets, L.Neighbors);
+      }
+      if (!Integrate(Stage{ L, held, roles.Weight, split ? nullptr : order.data(), &roles.Moves, split }, o, p,
+            scratch))
+      {
+        return false;
+      }
+      if (inv.Kind != FairingInvariant::None)
+      {
+        RestoreInvariant(inv, topo, p, o.NumberOfThreads);
+      }
+    }
+    return true;
+  };
+  // The points moved along their normals by random amounts of deviation
+  // epsilon, a tenth of the noise.
+  const std::vector<double> points(x, x + 3 * static_cast<std::size_t>(n));
+  std::vector<double> perturbed = points, probe(points.size());
+  const double epsilon = 0.1 * noise.Deviation;
+  std::vector<std::uint8_t> moving(static_cast<std::size_t>(n));
+  for (Index i = 0; i < n; ++i)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      probe[3 * static_cast<std::size_t>(i) + c] = epsilon * ProbeSign(split ? split->GlobalRow(i) : i, c);
+    }
+    moving[i] = !held[i];
+  }
+  MoveAlongNormals(topo, perturbed.data(), probe.data(), Keep::Normal, opt.NumberOfThreads);
+  if (split)
+  {
+    split->UpdateGhosts(perturbed.data(), 3); // the ghosts' normals are not all here
+  }
+  const StepChoice choice = ChooseTimeStep(run, points, perturbed, epsilon, moving, noise.Deviation, unit, split);
+  report.ChosenTimeStep = choice.TimeStep;
+  report.EstimatedError = choice.EstimatedError;
+  if (choice.ShapeDetail)
+  {
+    warn << "The surface varies at the scale of its triangles by about " << noise.Deviation
+         << " (standard deviation along the normals), which smoothing cannot tell from noise: it was left as it "
+            "is. Set TimeStep to smooth it. ";
+  }
+  return choice.TimeStep;
+}
+
 /// Section 3.6, by operator splitting: the tangential part (at the new
 /// surface) of an umbrella step, which evens out the sampling.  The umbrella
 /// is dimensionless: its step is lambda*dt in units of the mean edge length
@@ -445,10 +529,15 @@ bool BoundaryCurves(const MeshTopology& topo, const Partition* split, CurveGraph
   return (split ? split->Max(any) : any) > 0.0;
 }
 
-FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const FairingOptions& opt,
-  const FairingConstraints& cons, const ProgressCallback& progress, const DistributedSurface& pieces)
+/// `stepUnit`: the unit of the steps a chosen time step (TimeStep 0) is
+/// searched in (h^(2k) for order k, 1 for the umbrella).
+FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const FairingOptions& given,
+  const FairingConstraints& cons, const ProgressCallback& progress, const DistributedSurface& pieces,
+  double stepUnit)
 {
   FairingReport report;
+  report.OperatorUsed = given.Operator;
+  FairingOptions opt = given;
   const Index n = topo.NumberOfVertices();
   const int threads = opt.NumberOfThreads;
   const Partition* split = pieces.Split;
@@ -476,6 +565,11 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
   for (Index i = 0; i < n; ++i)
   {
     held[i] = fixed[i] || roles.Boundary[i];
+  }
+  if (opt.TimeStep == 0.0 && opt.Integration != FairingIntegration::TaubinLambdaMu && opt.NumberOfIterations > 0)
+  {
+    opt.TimeStep = ChooseStep(topo, x, opt, roles, held, inv, stepUnit, order, split, warn, report);
+    opt.NumberOfIterations = opt.TimeStep > 0.0 ? opt.NumberOfIterations : 0; // a clean mesh stays as it is
   }
   // A combination with a negative weight: each step's start, kept in case
   // the step is not defined there (section 3.2.6's amplification).
@@ -536,12 +630,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     }
     else
     {
-      std::vector<double> regular;
-      if (opt.OperatorMollification > 0.0 && opt.Operator != FairingOperator::Umbrella)
-      {
-        regular = MollifiedOperatorPoints(topo, x, held, weight, opt, split);
-      }
-      Assemble(topo, regular.empty() ? x : regular.data(), WeightsOf(opt.Operator), L, threads, split);
+      AssembleOperator(topo, x, held, weight, opt, L, split);
       if (opt.KeepFirstOperator && opt.NumberOfIterations > 1)
       {
         first = L;
@@ -581,6 +670,13 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
   return report;
 }
 
+/// A report whose chosen time step is in units of `unit` (the options' Units).
+FairingReport InGivenUnits(FairingReport report, double unit)
+{
+  report.ChosenTimeStep /= unit;
+  return report;
+}
+
 /// Order 0: finite weights, the highest non-zero one positive.
 bool CheckOrderWeights(const FairingOptions& opt)
 {
@@ -607,6 +703,10 @@ std::string DistributedFairingLimitation(const FairingOptions& opt)
 FairingReport FairSurface(const MeshTopology& topo, double* points, const FairingOptions& options,
   const FairingConstraints& cons, const ProgressCallback& progress, const Partition* split)
 {
+  if (options.Operator == FairingOperator::LeastEstimatedError)
+  {
+    return FairWithEitherOperator(topo, points, options, cons, progress, split);
+  }
   if (split)
   {
     const std::string limit = DistributedFairingLimitation(options);
@@ -629,23 +729,29 @@ FairingReport FairSurface(const MeshTopology& topo, double* points, const Fairin
     return failed;
   }
   const DistributedSurface pieces(topo, points, split, opt.NumberOfThreads);
-  if (opt.Units == LengthUnit::MeanEdgeLength && (split || topo.NumberOfTriangles() > 0))
+  // The unit of the time step in the mean edge length h: h^(2k) for L^k (a
+  // combination's terms are c_k (h^2 L)^k), 1 for the dimensionless umbrella;
+  // also the scale a chosen step is searched at.
+  double h = 0.0, unit = 1.0;
+  const bool scaled = opt.Units == LengthUnit::MeanEdgeLength;
+  if ((scaled || opt.TimeStep == 0.0) && (split || topo.NumberOfTriangles() > 0))
   {
-    const double h = split ? pieces.MeanEdgeLength : MeanEdgeLength(topo, points);
+    h = split ? pieces.MeanEdgeLength : MeanEdgeLength(topo, points);
     if (!(h > 0.0) || !std::isfinite(h))
     {
       FairingReport failed;
       failed.Error = "The mean edge length of the input is " + std::to_string(h) + ": cannot scale the time step.";
       return failed;
     }
+    for (int k = 0; k < 2 * degree && opt.Operator != FairingOperator::Umbrella; ++k)
+    {
+      unit *= h;
+    }
+  }
+  if (scaled && h > 0.0)
+  {
     if (opt.Operator != FairingOperator::Umbrella)
     {
-      // L^k: 1/length^(2k); a combination's terms are c_k (h^2 L)^k.
-      double unit = 1.0;
-      for (int k = 0; k < 2 * degree; ++k)
-      {
-        unit *= h;
-      }
       opt.TimeStep *= unit;
       for (int k = 1; k <= 4; ++k)
       {
@@ -657,7 +763,7 @@ FairingReport FairSurface(const MeshTopology& topo, double* points, const Fairin
   }
   if (opt.Boundary != FairingBoundary::VirtualVertex || topo.Summary().NumberOfBoundaryLoops == 0)
   {
-    return FairClosedOrFixed(topo, points, opt, cons, progress, pieces);
+    return InGivenUnits(FairClosedOrFixed(topo, points, opt, cons, progress, pieces, unit), scaled ? unit : 1.0);
   }
   // Section 3.5.2: close each boundary loop with a fan of virtual triangles to
   // a virtual vertex at its barycentre, smooth the closed surface, drop them.
@@ -715,8 +821,8 @@ FairingReport FairSurface(const MeshTopology& topo, double* points, const Fairin
     }
   }
   opt.Boundary = FairingBoundary::Fixed; // anything left open (e.g. non-manifold) stays fixed
-  FairingReport report =
-    FairClosedOrFixed(closed, x.data(), opt, extended, progress, DistributedSurface(closed, x.data(), nullptr, 0));
+  FairingReport report = InGivenUnits(FairClosedOrFixed(closed, x.data(), opt, extended, progress,
+    DistributedSurface(closed, x.data(), nullptr, 0), unit), scaled ? unit : 1.0);
   std::copy(x.begin(), x.begin() + 3 * static_cast<std::size_t>(n), points);
   return report;
 }

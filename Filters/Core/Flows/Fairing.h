@@ -44,8 +44,16 @@ enum class FairingOperator : int
   Umbrella = 0,               ///< eq. 3.7 (dimensionless time step)
   ScaleDependentUmbrella = 1, ///< eq. 3.11 (Fujiwara)
   CurvatureFlow = 2,          ///< eq. 3.12/3.13: dX/dt = -kappa_H n
-  CurvatureFlowAndSampling = 3 ///< section 3.6: curvature flow + tangential part of the
-                               ///< scale-dependent umbrella (regularises the sampling)
+  CurvatureFlowAndSampling = 3, ///< section 3.6: curvature flow + tangential part of the
+                                ///< scale-dependent umbrella (regularises the sampling)
+  /// With a chosen time step (TimeStep 0, implicit, isotropic): the curvature
+  /// flow or the umbrella, whichever reaches the lower estimated error (the
+  /// umbrella alone where the mesh is crumpled: median dihedral angle of 52
+  /// degrees or more, where the cotangent weights are noise themselves);
+  /// otherwise the curvature flow.  The umbrella's uniform weights do not
+  /// see the noise and win on very noisy meshes, the curvature flow on
+  /// coarse ones whose triangles are uneven.
+  LeastEstimatedError = 4
 };
 
 enum class FairingIntegration : int
@@ -74,10 +82,10 @@ enum class FairingBoundary : int
 
 /// The defaults are those of vtkImplicitFairing and its ParaView panel (one
 /// source: the filter starts from FairingOptions{}): second-order curvature
-/// flow, one implicit step of 4 h^4 with h the mean edge length.
+/// flow, one implicit step of the size chosen from the input's noise.
 struct FairingOptions
 {
-  FairingOperator Operator = FairingOperator::CurvatureFlow;
+  FairingOperator Operator = FairingOperator::LeastEstimatedError;
   /// 1-4: L^k (section 3.2.6); 0: the combination of OrderWeights.
   int Order = 2;
   /// Order 0: the weights c_1..c_4 of L, L^2, L^3, L^4 in the flow
@@ -90,7 +98,12 @@ struct FairingOptions
   FairingIntegration Integration = FairingIntegration::Implicit;
   /// lambda*dt, in length^(2k) of `Units` for order k (2K for a
   /// combination up to order K); the umbrella operator's step is dimensionless.
-  double TimeStep = 4.0;
+  /// 0 (default): chosen from the input for the given NumberOfIterations -
+  /// the noise of its geometry estimated (EstimateSurfaceNoise) and the
+  /// step of least estimated error taken (Stein's unbiased risk estimate,
+  /// see Flows/FairingStepChoice.h); a clean mesh is left nearly as it is.
+  /// Not with Taubin's passes (their steps are TaubinLambda and TaubinMu).
+  double TimeStep = 0.0;
   /// Unit of TimeStep and FeatureThreshold: the mean edge length h of the
   /// input (then the step is scaled by h^2 or h^4 and the threshold by 1/h),
   /// or the mesh's own units.
@@ -170,6 +183,16 @@ struct FairingReport
   Index DegenerateTriangles = 0;       ///< zero-area triangles skipped (largest over the steps)
   Index FeatureVertices = 0;           ///< anisotropic: vertices on edges or corners (last step)
   std::string Warning;                 ///< a sentence for the user, empty if none
+  /// A chosen time step (TimeStep 0): the noise of the input's geometry
+  /// (standard deviation along the normals, length), the median dihedral
+  /// angle (degrees, EstimateSurfaceNoise), the step (in the options' Units; 0: none needed) and the
+  /// estimated RMS distance of the moving points to the noise-free surface
+  /// after the run (length).  All 0 when the step was given.
+  double Noise = 0.0;
+  double MedianDihedral = 0.0;
+  FairingOperator OperatorUsed = FairingOperator::CurvatureFlow; ///< the operator the run used
+  double ChosenTimeStep = 0.0;
+  double EstimatedError = 0.0;
 };
 
 /// Smooths `points` (3 doubles per vertex, in place) of the surface `topology`.

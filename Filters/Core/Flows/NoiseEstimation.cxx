@@ -1,6 +1,9 @@
 #include "Flows/NoiseEstimation.h"
 
+#include "Mesh/Geometry.h"
 #include "Support/Parallel.h"
+
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
@@ -390,6 +393,186 @@ double EstimateGraphNoise(Index size, const std::int64_t* offsets, const Index* 
     counted = static_cast<std::int64_t>(s.Response.size());
   }, split);
   return (split ? split->Sum(static_cast<double>(counted)) : counted) >= 8 ? estimate : 0.0;
+}
+
+namespace
+{
+
+/// The median angle (degrees) between the normals of the two triangles of
+/// each interior edge (each edge counted on one process).
+double MedianDihedral(const MeshTopology& topo, const double* x, const Partition* split)
+{
+  const MeshTopology::EdgeTable& edges = topo.Edges();
+  const auto normal = [&](Index corner) {
+    const Index t = corner / 3;
+    const Vec3 a = Point(x, topo.CornerVertex(3 * t)), b = Point(x, topo.CornerVertex(3 * t + 1)),
+               c = Point(x, topo.CornerVertex(3 * t + 2));
+    return Vec3((b - a).cross(c - a));
+  };
+  std::vector<double> angles;
+  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
+  {
+    const Index a = edges.Vertices[2 * e], b = edges.Vertices[2 * e + 1];
+    const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
+    if (c0 < 0 || c1 < 0 || edges.FaceCount[e] != 2 || (split && !split->CountsEdge(a, b)))
+    {
+      continue;
+    }
+    const Vec3 n0 = normal(c0), n1 = normal(c1);
+    const double norms = n0.norm() * n1.norm();
+    if (norms > 0.0 && std::isfinite(norms))
+    {
+      angles.push_back(std::acos(std::clamp(n0.dot(n1) / norms, -1.0, 1.0)) * 180.0 / 3.141592653589793);
+    }
+  }
+  const std::int64_t count = Total(angles.size(), split);
+  return count > 0 ? NthSmallest(angles, count / 2, split) : 0.0;
+}
+
+/// The rings of the quadric fits for a median dihedral angle (degrees; see
+/// EstimateSurfaceNoise).
+int RingsFor(double dihedral)
+{
+  return dihedral < 35.0 ? 2 : dihedral < 45.0 ? 3 : dihedral < 52.0 ? 4 : 6;
+}
+
+/// The k-ring of `centre` (without it) into `ring`; false when a point to
+/// expand is not whole here (a ghost of a split surface).
+bool CollectRing(const MeshTopology::VertexGraph& graph, Index centre, int rings, const Partition* split,
+  std::vector<int>& stamp, int mark, std::vector<Index>& ring)
+{
+  ring.assign(1, centre);
+  stamp[centre] = mark;
+  std::size_t begin = 0;
+  for (int r = 0; r < rings; ++r)
+  {
+    const std::size_t end = ring.size();
+    for (std::size_t k = begin; k < end; ++k)
+    {
+      const Index v = ring[k];
+      if (split && !split->IsOwned(v))
+      {
+        return false;
+      }
+      for (std::int64_t j = graph.NeighborOffsets[v]; j < graph.NeighborOffsets[v + 1]; ++j)
+      {
+        const Index w = graph.Neighbors[j];
+        if (stamp[w] != mark)
+        {
+          stamp[w] = mark;
+          ring.push_back(w);
+        }
+      }
+    }
+    begin = end;
+  }
+  ring.erase(ring.begin());
+  return true;
+}
+
+/// The height of x_centre above the least-squares quadric through the ring's
+/// points, over its noise gain (a noise sample); NaN where the fit is not
+/// determined.
+double QuadricResidual(const double* x, Index centre, const std::vector<Index>& ring)
+{
+  const Vec3 o = Point(x, centre);
+  Vec3 mean = Vec3::Zero();
+  for (Index v : ring)
+  {
+    mean += Point(x, v) - o;
+  }
+  mean /= static_cast<double>(ring.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (Index v : ring)
+  {
+    const Vec3 d = Point(x, v) - o - mean;
+    cov += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> pca(cov);
+  const Vec3 axisU = pca.eigenvectors().col(2), axisV = pca.eigenvectors().col(1), axisN = pca.eigenvectors().col(0);
+  double radius = 0.0;
+  for (Index v : ring)
+  {
+    const Vec3 d = Point(x, v) - o;
+    radius += d.dot(axisU) * d.dot(axisU) + d.dot(axisV) * d.dot(axisV);
+  }
+  radius = std::sqrt(radius / static_cast<double>(ring.size()));
+  if (!(radius > 0.0) || !std::isfinite(radius))
+  {
+    return std::nan("");
+  }
+  using Row = Eigen::Matrix<double, 6, 1>;
+  const auto basis = [&](Index v) {
+    const Vec3 d = Point(x, v) - o;
+    const double u = d.dot(axisU) / radius, w = d.dot(axisV) / radius;
+    return Row(1.0, u, w, u * u, u * w, w * w);
+  };
+  Eigen::Matrix<double, 6, 6> gram = Eigen::Matrix<double, 6, 6>::Zero();
+  for (Index v : ring)
+  {
+    const Row b = basis(v);
+    gram += b * b.transpose();
+  }
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(gram);
+  const Eigen::VectorXd d = ldlt.vectorD();
+  if (ldlt.info() != Eigen::Success || !(d.minCoeff() > 1e-9 * d.maxCoeff()))
+  {
+    return std::nan("");
+  }
+  const Row g = ldlt.solve(Row::Unit(0)); // the fit's value at the centre: sum_j (b_j . g) z_j
+  double height = 0.0, gain = 1.0;
+  for (Index v : ring)
+  {
+    const double w = basis(v).dot(g);
+    height += w * (Point(x, v) - o).dot(axisN);
+    gain += w * w;
+  }
+  return std::abs(height) / std::sqrt(gain);
+}
+
+} // namespace
+
+SurfaceNoise EstimateSurfaceNoise(
+  const MeshTopology& topo, const double* x, const std::uint8_t* skip, const Partition* split, int numThreads)
+{
+  SurfaceNoise result;
+  const Index n = topo.NumberOfVertices();
+  result.MedianDihedral = MedianDihedral(topo, x, split);
+  const int rings = RingsFor(result.MedianDihedral);
+  const MeshTopology::VertexGraph& graph = topo.Graph();
+  const double rows = split ? static_cast<double>(split->TotalRows()) : static_cast<double>(n);
+  const std::int64_t stride = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(rows / 32768.0)));
+  const auto sampled = [&](Index i) {
+    return (split ? split->IsOwned(i) && split->GlobalRow(i) % stride == 0 : i % stride == 0) && !(skip && skip[i]);
+  };
+  std::vector<double> residual(static_cast<std::size_t>(n), std::nan(""));
+  ParallelFor(n, numThreads, [&](std::int64_t begin, std::int64_t end) {
+    std::vector<int> stamp(static_cast<std::size_t>(n), -1);
+    std::vector<Index> ring;
+    for (std::int64_t i = begin; i < end; ++i)
+    {
+      const Index v = static_cast<Index>(i);
+      if (sampled(v) && CollectRing(graph, v, rings, split, stamp, v, ring) && ring.size() >= 9)
+      {
+        residual[i] = QuadricResidual(x, v, ring);
+      }
+    }
+  }, {}, ResolveThreadCount(numThreads), 1);
+  std::vector<double> samples;
+  for (double r : residual)
+  {
+    if (std::isfinite(r))
+    {
+      samples.push_back(r);
+    }
+  }
+  const std::int64_t count = Total(samples.size(), split);
+  if (count >= 8)
+  {
+    result.Deviation = NthSmallest(samples, count / 2, split) / 0.6744897501960817;
+    result.Rings = rings;
+  }
+  return result;
 }
 
 } // namespace beltrami
