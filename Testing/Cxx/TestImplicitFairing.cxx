@@ -95,6 +95,7 @@ TEST(ImplicitFairing, EdgeLengthUnitsEqualPhysicalUnitsScaled)
   const auto noisy = NoisySphere(2.0, 0.02);
   const double h = MeanEdgeLength(noisy);
   vtkNew<vtkImplicitFairing> byDefault;
+  byDefault->SetTimeStep(4.0); // (0, the default, chooses it)
   const auto a = Fair(noisy, byDefault);
   vtkNew<vtkImplicitFairing> physical;
   physical->SetUnits(vtkImplicitFairing::PHYSICAL);

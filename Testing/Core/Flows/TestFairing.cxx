@@ -684,22 +684,33 @@ TEST(Fairing, TaubinLambdaMuShrinksLessThanPlainDiffusion)
 TEST(Fairing, DefaultsAreTheFiltersInEdgeLengthUnits)
 {
   // FairingOptions{} is vtkImplicitFairing's default: one implicit order-2
-  // curvature-flow step of 4 h^4 on the mollified operator, h the mean edge
-  // length; the same run spelled out in physical units gives the same bits.
+  // step of the operator and size chosen from the noise, reported in units
+  // of h^4 (h the mean edge length; the umbrella's step is dimensionless);
+  // the same run spelled out in physical units gives the same points.
   Mesh noisy = test::TwoRateSphere(1.0, 12, 48, 6, 24);
-  AddNormalNoise(noisy, 0.01, 7);
+  AddNormalNoise(noisy, 0.01, 7, true);
   const double h = MeanEdgeLength(noisy.Topology(), noisy.Points.data());
   Mesh byDefault = noisy;
   const FairingReport r = Smooth(byDefault, FairingOptions{});
   ASSERT_TRUE(r.Completed && r.Error.empty());
+  EXPECT_NEAR(r.Noise, 0.01, 0.0015); // the added noise's deviation
+  ASSERT_GT(r.ChosenTimeStep, 0.0);
+  EXPECT_LT(r.EstimatedError, 0.6 * r.Noise);
+  const bool umbrella = r.OperatorUsed == FairingOperator::Umbrella;
+  EXPECT_TRUE(umbrella || r.OperatorUsed == FairingOperator::CurvatureFlow);
   FairingOptions physical = PhysicalOptions();
+  physical.Operator = r.OperatorUsed;
   physical.Order = 2;
   physical.OperatorMollification = 1.0;
-  physical.TimeStep = 4.0 * (h * h * h * h);
+  physical.TimeStep = r.ChosenTimeStep * (umbrella ? 1.0 : h * h * h * h);
   physical.FeatureThreshold = 0.5 / h;
   Mesh spelledOut = noisy;
-  Smooth(spelledOut, physical);
-  EXPECT_EQ(byDefault.Points, spelledOut.Points);
+  const FairingReport given = Smooth(spelledOut, physical);
+  EXPECT_EQ(given.ChosenTimeStep, 0.0); // (a given step is not reported as chosen)
+  for (std::size_t k = 0; k < noisy.Points.size(); ++k)
+  {
+    ASSERT_NEAR(byDefault.Points[k], spelledOut.Points[k], 1e-12);
+  }
   double moved = 0.0;
   for (std::size_t k = 0; k < noisy.Points.size(); ++k)
   {
@@ -902,6 +913,7 @@ TEST(Fairing, CombinationsThatAmplifyWithoutBoundAreRefused)
       v *= size;
     }
     FairingOptions o = FairingOptions{};
+    o.TimeStep = 4.0;
     o.Order = 0;
     o.OrderWeights[0] = -1.0;
     o.OrderWeights[1] = 1.0;
