@@ -398,9 +398,9 @@ double EstimateGraphNoise(Index size, const std::int64_t* offsets, const Index* 
 namespace
 {
 
-/// The median angle (degrees) between the normals of the two triangles of
-/// each interior edge (each edge counted on one process).
-double MedianDihedral(const MeshTopology& topo, const double* x, const Partition* split)
+/// Per edge, the angle (degrees) between the normals of its two triangles
+/// (NaN where it has not two, or a triangle has no area).
+std::vector<double> DihedralAngles(const MeshTopology& topo, const double* x)
 {
   const MeshTopology::EdgeTable& edges = topo.Edges();
   const auto normal = [&](Index corner) {
@@ -409,24 +409,58 @@ double MedianDihedral(const MeshTopology& topo, const double* x, const Partition
                c = Point(x, topo.CornerVertex(3 * t + 2));
     return Vec3((b - a).cross(c - a));
   };
-  std::vector<double> angles;
+  std::vector<double> angles(static_cast<std::size_t>(edges.NumberOfEdges()), std::nan(""));
   for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
   {
-    const Index a = edges.Vertices[2 * e], b = edges.Vertices[2 * e + 1];
     const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
-    if (c0 < 0 || c1 < 0 || edges.FaceCount[e] != 2 || (split && !split->CountsEdge(a, b)))
+    if (c0 >= 0 && c1 >= 0 && edges.FaceCount[e] == 2)
     {
-      continue;
-    }
-    const Vec3 n0 = normal(c0), n1 = normal(c1);
-    const double norms = n0.norm() * n1.norm();
-    if (norms > 0.0 && std::isfinite(norms))
-    {
-      angles.push_back(std::acos(std::clamp(n0.dot(n1) / norms, -1.0, 1.0)) * 180.0 / 3.141592653589793);
+      const Vec3 n0 = normal(c0), n1 = normal(c1);
+      const double norms = n0.norm() * n1.norm();
+      if (norms > 0.0 && std::isfinite(norms))
+      {
+        angles[e] = std::acos(std::clamp(n0.dot(n1) / norms, -1.0, 1.0)) * 180.0 / 3.141592653589793;
+      }
     }
   }
-  const std::int64_t count = Total(angles.size(), split);
-  return count > 0 ? NthSmallest(angles, count / 2, split) : 0.0;
+  return angles;
+}
+
+/// The median of the edges' angles (each edge counted on one process).
+double MedianDihedral(const MeshTopology& topo, const std::vector<double>& angles, const Partition* split)
+{
+  const MeshTopology::EdgeTable& edges = topo.Edges();
+  std::vector<double> counted;
+  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
+  {
+    if (std::isfinite(angles[e]) && (!split || split->CountsEdge(edges.Vertices[2 * e], edges.Vertices[2 * e + 1])))
+    {
+      counted.push_back(angles[e]);
+    }
+  }
+  const std::int64_t count = Total(counted.size(), split);
+  return count > 0 ? NthSmallest(counted, count / 2, split) : 0.0;
+}
+
+/// The median angle of the edges at vertex v (0 without any).
+double VertexDihedral(const MeshTopology& topo, const std::vector<double>& angles, Index v, std::vector<double>& scratch)
+{
+  const MeshTopology::EdgeTable& edges = topo.Edges();
+  scratch.clear();
+  for (std::int64_t k = edges.NeighborOffsets[v]; k < edges.NeighborOffsets[v + 1]; ++k)
+  {
+    const double angle = angles[edges.NeighborEdges[k]];
+    if (std::isfinite(angle))
+    {
+      scratch.push_back(angle);
+    }
+  }
+  if (scratch.empty())
+  {
+    return 0.0;
+  }
+  std::nth_element(scratch.begin(), scratch.begin() + scratch.size() / 2, scratch.end());
+  return scratch[scratch.size() / 2];
 }
 
 /// The rings of the quadric fits for a median dihedral angle (degrees; see
@@ -537,8 +571,8 @@ SurfaceNoise EstimateSurfaceNoise(
 {
   SurfaceNoise result;
   const Index n = topo.NumberOfVertices();
-  result.MedianDihedral = MedianDihedral(topo, x, split);
-  const int rings = RingsFor(result.MedianDihedral);
+  const std::vector<double> angles = DihedralAngles(topo, x);
+  result.MedianDihedral = MedianDihedral(topo, angles, split);
   const MeshTopology::VertexGraph& graph = topo.Graph();
   const double rows = split ? static_cast<double>(split->TotalRows()) : static_cast<double>(n);
   const std::int64_t stride = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(rows / 32768.0)));
@@ -549,10 +583,13 @@ SurfaceNoise EstimateSurfaceNoise(
   ParallelFor(n, numThreads, [&](std::int64_t begin, std::int64_t end) {
     std::vector<int> stamp(static_cast<std::size_t>(n), -1);
     std::vector<Index> ring;
+    std::vector<double> scratch;
     for (std::int64_t i = begin; i < end; ++i)
     {
       const Index v = static_cast<Index>(i);
-      if (sampled(v) && CollectRing(graph, v, rings, split, stamp, v, ring) && ring.size() >= 9)
+      if (sampled(v) && CollectRing(graph, v,
+                          RingsFor(std::max(result.MedianDihedral, VertexDihedral(topo, angles, v, scratch))),
+                          split, stamp, v, ring) && ring.size() >= 9)
       {
         residual[i] = QuadricResidual(x, v, ring);
       }
@@ -570,7 +607,7 @@ SurfaceNoise EstimateSurfaceNoise(
   if (count >= 8)
   {
     result.Deviation = NthSmallest(samples, count / 2, split) / 0.6744897501960817;
-    result.Rings = rings;
+    result.Rings = RingsFor(result.MedianDihedral);
   }
   return result;
 }

@@ -1,0 +1,99 @@
+"""The fairing at its defaults against oracles chosen with the clean mesh:
+shared by the defaults' test (test_fairing_defaults.py) and the fairing
+benchmark's table (benchmark_fairing.py --defaults).
+
+A case is a mesh with Gaussian noise of a fraction of its bounding-box
+diagonal along its normals (a fixed seed); every error is the RMS distance
+of the points to the clean ones over the diagonal:
+  defaults   vtkImplicitFairing with nothing set (the step and the operator
+             chosen from the noise), with its estimated noise and error
+  own best   the filter's best step for the curvature flow and for the
+             umbrella (order 2, one step; steps a factor of 2 apart)
+  sinc best  vtkWindowedSincPolyDataFilter (20 iterations, normalised
+             coordinates) at its best pass band
+"""
+import time
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkFiltersCore import vtkTriangleFilter, vtkWindowedSincPolyDataFilter
+
+from beltrami import vtkImplicitFairing, vtkOFFReader
+from beltrami.pipelines import noisy_along_normals
+
+CURVATURE_STEPS = [0.01 * 2.0 ** k for k in range(16)]  # h^4
+UMBRELLA_STEPS = [0.16 * 2.0 ** k for k in range(16)]   # dimensionless
+PASS_BANDS = (0.001, 0.003, 0.01, 0.03, 0.1, 0.2, 0.5, 1.0)
+
+
+def read_triangles(path):
+    reader = vtkOFFReader()
+    reader.SetFileName(path)
+    triangles = vtkTriangleFilter()
+    triangles.SetInputConnection(reader.GetOutputPort())
+    triangles.Update()
+    return triangles.GetOutput()
+
+
+def points_of(polydata):
+    return vtk_to_numpy(polydata.GetPoints().GetData()).astype(float)
+
+
+def error(polydata, clean, diagonal):
+    return float(np.sqrt(np.mean(np.sum((points_of(polydata) - clean) ** 2, 1)))) / diagonal
+
+
+def faired(noisy, **settings):
+    f = vtkImplicitFairing()
+    f.SetInputData(noisy)
+    for name, value in settings.items():
+        getattr(f, "Set" + name)(value)
+    start = time.perf_counter()
+    f.Update()
+    return f.GetOutput(), time.perf_counter() - start
+
+
+def windowed_sinc(noisy, pass_band):
+    w = vtkWindowedSincPolyDataFilter()
+    w.SetInputData(noisy)
+    w.SetNumberOfIterations(20)
+    w.SetPassBand(pass_band)
+    w.NormalizeCoordinatesOn()
+    w.NonManifoldSmoothingOn()
+    start = time.perf_counter()
+    w.Update()
+    return w.GetOutput(), time.perf_counter() - start
+
+
+def field(polydata, name):
+    a = polydata.GetFieldData().GetArray(name)
+    return a.GetValue(0) if a else float("nan")
+
+
+def case(mesh, level, seed=1, oracles=True):
+    """One mesh and noise level: a dict of the errors (over the diagonal),
+    the defaults' estimates and times; the oracles only when asked."""
+    clean = points_of(mesh)
+    diagonal = float(np.linalg.norm(clean.max(0) - clean.min(0)))
+    noisy = noisy_along_normals(mesh, level * diagonal, seed=seed) if level > 0 else mesh
+    result, seconds = faired(noisy)
+    row = {"noise": level, "input": error(noisy, clean, diagonal), "defaults": error(result, clean, diagonal),
+           "seconds": seconds, "estimated noise": field(result, "FairingNoise") / diagonal,
+           "estimated error": field(result, "FairingEstimatedError") / diagonal,
+           "step": field(result, "FairingTimeStep"), "operator": field(result, "FairingOperator"),
+           "moved": float(np.sqrt(np.mean(np.sum((points_of(result) - points_of(noisy)) ** 2, 1))))}
+    if oracles:
+        own = [(error(faired(noisy, Operator=operator, TimeStep=step)[0], clean, diagonal), step, operator)
+               for operator, steps in ((vtkImplicitFairing.CURVATURE_FLOW, CURVATURE_STEPS),
+                                       (vtkImplicitFairing.UMBRELLA, UMBRELLA_STEPS)) for step in steps]
+        row["own best"], row["own best step"], row["own best operator"] = min(own)
+        sinc = [(error(out, clean, diagonal), band, seconds) for band in PASS_BANDS
+                for out, seconds in [windowed_sinc(noisy, band)]]
+        row["sinc best"], row["sinc pass band"], row["sinc seconds"] = min(sinc)
+    return row
+
+
+def mean_edge_length(mesh):
+    p = points_of(mesh)
+    t = vtk_to_numpy(mesh.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+    return float(np.mean([np.linalg.norm(p[t[:, a]] - p[t[:, (a + 1) % 3]], axis=1).mean() for a in range(3)]))
