@@ -3,9 +3,10 @@
 
 Reads an OFF mesh (default: the bundled Stanford bunny scan), adds Gaussian
 noise of 0.3% of the bounding-box diagonal along the normals (fixed seed),
-smooths it with vtkImplicitFairing's defaults (one implicit step of the
-order-2 curvature flow, 4 h^4, operator on the mollified copy, volume kept
-exactly) and with vtkWindowedSincPolyDataFilter at a few pass bands, prints
+smooths it with vtkImplicitFairing's defaults (one implicit order-2 step
+whose size and operator, curvature flow or umbrella, are chosen from the
+noise it estimates; volume kept exactly) and with
+vtkWindowedSincPolyDataFilter at a few pass bands, prints
 their RMS distance to the clean mesh, and writes the noisy and smoothed
 meshes (.vtp) and PNGs of their mean curvature; then exaggerates the clean
 scan's features with a combination of orders (-0.5 L + L^2, section 3.2.6)
@@ -71,11 +72,18 @@ def main(argv):
     iterations = vtk_to_numpy(smoothed.GetFieldData().GetArray("FairingIterations"))
     print("    vtkImplicitFairing, defaults               %.5f  (%.2f s, %d solver iterations)"
           % (rms_distance(smoothed, clean) / diagonal, elapsed, int(iterations.sum())))
-    multigrid = vtkImplicitFairing()
-    multigrid.SetPreconditioner(vtkImplicitFairing.MULTIGRID)  # hypre's BoomerAMG (issue 28)
+    chosen = {name: smoothed.GetFieldData().GetArray(name).GetValue(0)
+              for name in ("FairingNoise", "FairingTimeStep", "FairingEstimatedError", "FairingOperator")}
+    print("      noise estimated %.5f of the diagonal, %s step %.3g chosen, error estimated %.5f"
+          % (chosen["FairingNoise"] / diagonal, "umbrella" if chosen["FairingOperator"] == 0 else "curvature-flow",
+             chosen["FairingTimeStep"], chosen["FairingEstimatedError"] / diagonal))
+    multigrid = vtkImplicitFairing()  # the chosen step, solved with hypre's BoomerAMG
+    multigrid.SetOperator(int(chosen["FairingOperator"]))
+    multigrid.SetTimeStep(chosen["FairingTimeStep"])
+    multigrid.SetPreconditioner(vtkImplicitFairing.MULTIGRID)
     solved, elapsed = run(multigrid, noisy)
     iterations = vtk_to_numpy(solved.GetFieldData().GetArray("FairingIterations"))
-    print("    vtkImplicitFairing, multigrid solver       %.5f  (%.2f s incl. starting MPI, %d solver iterations)"
+    print("    the same step, multigrid solver            %.5f  (%.2f s incl. starting MPI, %d solver iterations)"
           % (rms_distance(solved, clean) / diagonal, elapsed, int(iterations.sum())))
     for passband in (0.01, 0.02, 0.05):
         sinc = vtkWindowedSincPolyDataFilter()
@@ -96,6 +104,7 @@ def main(argv):
     exaggerate.SetOrder(vtkImplicitFairing.COMBINATION)
     exaggerate.SetOrderWeights(-0.5, 1.0, 0.0, 0.0)
     exaggerate.SetNumberOfIterations(3)
+    exaggerate.SetTimeStep(4.0)
     exaggerated, elapsed = run(exaggerate, mesh)
     gain = exaggerated.GetFieldData().GetArray("FairingLargestGain").GetValue(0)
     print("  feature exaggeration (-0.5 L + L^2, 3 steps): largest gain per step %.3f, moved %.5f of the diagonal "

@@ -68,22 +68,22 @@ def empty_rank_partitions(ranks):
 def rank_rows(proxy, array, names):
     """Per rank of a pvbatch run, the first len(names) values of the field
     array `array` of the proxy's output (-1 where it has none): a numpy
-    array per name, one value per rank."""
+    array (of doubles) per name, one value per rank."""
     from paraview import servermanager
     from paraview.simple import ProgrammableFilter
     from vtkmodules.util.numpy_support import vtk_to_numpy
     rows = ProgrammableFilter(Input=proxy, OutputDataSetType="vtkPolyData")
     rows.Script = """
-from vtkmodules.vtkCommonCore import vtkIdTypeArray, vtkPoints
+from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkPoints
 d = self.GetInput().GetFieldData().GetArray(%r)
 out = self.GetOutput()
 p = vtkPoints()
 p.InsertNextPoint(0.0, 0.0, 0.0)
 out.SetPoints(p)
 for k, name in enumerate(%r):
-    a = vtkIdTypeArray()
+    a = vtkDoubleArray()
     a.SetName(name)
-    a.InsertNextValue(int(d.GetValue(k)) if d else -1)
+    a.InsertNextValue(d.GetTuple1(k) if d else -1)
     out.GetPointData().AddArray(a)
 """ % (array, list(names))
     table = servermanager.Fetch(rows).GetPointData()

@@ -371,13 +371,14 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
   // epsilon, a tenth of the noise.
   const std::vector<double> points(x, x + 3 * static_cast<std::size_t>(n));
   std::vector<double> perturbed = points, probe(points.size());
-  const double epsilon = 0.1 * noise.Deviation;
+  const double epsilon = 0.5 * noise.Deviation;
   std::vector<std::uint8_t> moving(static_cast<std::size_t>(n));
   for (Index i = 0; i < n; ++i)
   {
     for (int c = 0; c < 3; ++c)
     {
-      probe[3 * static_cast<std::size_t>(i) + c] = epsilon * ProbeSign(split ? split->GlobalRow(i) : i, c);
+      // (+1 or -1 from a hash of the point and the coordinate: a split surface draws the serial signs)
+      probe[3 * static_cast<std::size_t>(i) + c] = epsilon * ((PointHash(x + 3 * static_cast<std::size_t>(i)) >> (60 + c)) & 1 ? 1.0 : -1.0);
     }
     moving[i] = !held[i];
   }

@@ -52,17 +52,6 @@ RiskTerms TermsAt(const SmoothingRun& run, const std::vector<double>& x, const s
 
 } // namespace
 
-/// +1 or -1, a hash of a point's global row and a coordinate (SplitMix64):
-/// a split surface draws the serial signs.
-double ProbeSign(std::int64_t row, int coordinate)
-{
-  std::uint64_t z = static_cast<std::uint64_t>(row) * 3u + static_cast<std::uint64_t>(coordinate) + 0x9e3779b97f4a7c15ull;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  z ^= z >> 31;
-  return (z >> 63) ? 1.0 : -1.0;
-}
-
 StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x, const std::vector<double>& perturbed,
   double epsilon, const std::vector<std::uint8_t>& moving, double noise, double unit, const Partition* split)
 {

@@ -52,10 +52,6 @@ using SmoothingRun = std::function<bool(double timeStep, double* points)>;
 /// factors of 2 and sqrt 2; 0 when no step is estimated to come closer than
 /// the input.  `moving`: per vertex, non-zero where the run may move it.
 /// Collective on a split surface (the sums over the owned points of all).
-/// +1 or -1, a hash of a point's global row and a coordinate (SplitMix64):
-/// a split surface draws the serial signs.
-double ProbeSign(std::int64_t row, int coordinate);
-
 StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x, const std::vector<double>& perturbed,
   double epsilon, const std::vector<std::uint8_t>& moving, double noise, double unit, const Partition* split);
 

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 namespace beltrami
@@ -566,6 +567,23 @@ double QuadricResidual(const double* x, Index centre, const std::vector<Index>& 
 
 } // namespace
 
+std::uint64_t PointHash(const double* point)
+{
+  const auto mix = [](std::uint64_t z) { // SplitMix64's finaliser
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  };
+  std::uint64_t h = 0x9e3779b97f4a7c15ull;
+  for (int a = 0; a < 3; ++a)
+  {
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, point + a, sizeof bits);
+    h = mix(h ^ bits);
+  }
+  return h;
+}
+
 SurfaceNoise EstimateSurfaceNoise(
   const MeshTopology& topo, const double* x, const std::uint8_t* skip, const Partition* split, int numThreads)
 {
@@ -577,7 +595,8 @@ SurfaceNoise EstimateSurfaceNoise(
   const double rows = split ? static_cast<double>(split->TotalRows()) : static_cast<double>(n);
   const std::int64_t stride = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(rows / 32768.0)));
   const auto sampled = [&](Index i) {
-    return (split ? split->IsOwned(i) && split->GlobalRow(i) % stride == 0 : i % stride == 0) && !(skip && skip[i]);
+    return (!split || split->IsOwned(i)) && PointHash(x + 3 * static_cast<std::size_t>(i)) % stride == 0 &&
+      !(skip && skip[i]);
   };
   std::vector<double> residual(static_cast<std::size_t>(n), std::nan(""));
   ParallelFor(n, numThreads, [&](std::int64_t begin, std::int64_t end) {

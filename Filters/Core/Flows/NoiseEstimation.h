@@ -61,6 +61,11 @@ double EstimateVolumeNoise(const VoxelGrid& grid, int components, const double* 
 double EstimateGraphNoise(Index size, const std::int64_t* offsets, const Index* neighbors, const double* points,
   int components, const double* values, const std::uint8_t* skip = nullptr, const Partition* split = nullptr);
 
+/// A hash of a point's three coordinates (their bits, SplitMix64): the same
+/// for a point wherever it lies in the numbering, so that a surface split
+/// over processes samples and draws what the serial run does.
+std::uint64_t PointHash(const double* point);
+
 /// The noise of a surface's geometry (EstimateSurfaceNoise).
 struct SurfaceNoise
 {
@@ -89,8 +94,7 @@ struct SurfaceNoise
 /// noise (elephant: 0.13% of the diagonal without noise); where the noise
 /// crumples only part of a mesh (a locally refined region) it is measured
 /// too low.  Points marked in `skip` and points with fewer than 9 others in
-/// the ring do not count; beyond 2^15 points they are sampled at a regular
-/// stride.  split (optional, collective): a surface split over processes,
+/// the ring do not count; beyond 2^15 points they are sampled (by PointHash).  split (optional, collective): a surface split over processes,
 /// each with the stars of the points it owns; a point counts where its
 /// whole k-ring is on its owner (an estimate close to the serial one).
 SurfaceNoise EstimateSurfaceNoise(const MeshTopology& topology, const double* points,
