@@ -329,6 +329,27 @@ void AssembleOperator(const MeshTopology& topo, const double* x, const std::vect
   Assemble(topo, regular.empty() ? x : regular.data(), WeightsOf(opt.Operator), L, opt.NumberOfThreads, split);
 }
 
+/// x with each point moved along its normal by epsilon times the normal part
+/// of a vector of random signs (from a hash of the point and the coordinate,
+/// so a split surface draws the serial ones): a perturbation of deviation
+/// epsilon for the risk's divergence.
+std::vector<double> PerturbedAlongNormals(
+  const MeshTopology& topo, const double* x, double epsilon, const Partition* split, int threads)
+{
+  const std::size_t size = 3 * static_cast<std::size_t>(topo.NumberOfVertices());
+  std::vector<double> perturbed(x, x + size), probe(size);
+  for (std::size_t k = 0; k < size; ++k)
+  {
+    probe[k] = (PointHash(x + k - k % 3) >> (60 + k % 3)) & 1 ? epsilon : -epsilon;
+  }
+  MoveAlongNormals(topo, perturbed.data(), probe.data(), Keep::Normal, threads);
+  if (split)
+  {
+    split->UpdateGhosts(perturbed.data(), 3); // the ghosts' normals are not all here
+  }
+  return perturbed;
+}
+
 /// TimeStep 0: the noise of the input's geometry and the step of least
 /// estimated error (Flows/FairingStepChoice.h) for the run's steps with the
 /// isotropic weights (an anisotropic run's weights depend on the step) and
@@ -367,25 +388,13 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
     }
     return true;
   };
-  // The points moved along their normals by random amounts of deviation
-  // epsilon, a tenth of the noise.
   const std::vector<double> points(x, x + 3 * static_cast<std::size_t>(n));
-  std::vector<double> perturbed = points, probe(points.size());
   const double epsilon = 0.5 * noise.Deviation;
+  const std::vector<double> perturbed = PerturbedAlongNormals(topo, x, epsilon, split, opt.NumberOfThreads);
   std::vector<std::uint8_t> moving(static_cast<std::size_t>(n));
   for (Index i = 0; i < n; ++i)
   {
-    for (int c = 0; c < 3; ++c)
-    {
-      // (+1 or -1 from a hash of the point and the coordinate: a split surface draws the serial signs)
-      probe[3 * static_cast<std::size_t>(i) + c] = epsilon * ((PointHash(x + 3 * static_cast<std::size_t>(i)) >> (60 + c)) & 1 ? 1.0 : -1.0);
-    }
     moving[i] = !held[i];
-  }
-  MoveAlongNormals(topo, perturbed.data(), probe.data(), Keep::Normal, opt.NumberOfThreads);
-  if (split)
-  {
-    split->UpdateGhosts(perturbed.data(), 3); // the ghosts' normals are not all here
   }
   const StepChoice choice = ChooseTimeStep(run, points, perturbed, epsilon, moving, noise.Deviation, unit, split);
   report.ChosenTimeStep = choice.TimeStep;
