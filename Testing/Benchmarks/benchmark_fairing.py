@@ -20,7 +20,6 @@ import time
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkFiltersCore import vtkWindowedSincPolyDataFilter
 from vtkmodules.vtkFiltersModeling import vtkLoopSubdivisionFilter
 
 import peers
@@ -28,6 +27,7 @@ from beltrami import vtkImplicitFairing, vtkOFFReader
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
 from test_python import noisy_along_normals  # noqa: E402
+import fairing_oracles as oracles  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "Data")
@@ -61,13 +61,7 @@ def first_and_best(make, repeats=3):
 
 
 def sinc(mesh, passband):
-    w = vtkWindowedSincPolyDataFilter()
-    w.SetInputData(mesh)
-    w.SetNumberOfIterations(20)
-    w.SetPassBand(passband)
-    w.NormalizeCoordinatesOn()
-    w.NonManifoldSmoothingOn()
-    return w
+    return oracles.sinc_filter(mesh, passband)
 
 
 def fairing(mesh, threads, step=10.0, steps=1, order=1, mollification=0.0):
@@ -101,7 +95,6 @@ def defaults(mesh, threads):
 def defaults_table(json_path=None):
     """The defaults against the oracles over the corpus (fairing_oracles)."""
     import json
-    import fairing_oracles as oracles
     import inputs
     print("Fairing defaults: RMS distance to the clean mesh / diagonal; own best: the best step of the curvature flow\n"
           "and of the umbrella; sinc: vtkWindowedSincPolyDataFilter (20 iterations) at its best pass band; noise:\n"
