@@ -399,6 +399,12 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
   const StepChoice choice = ChooseTimeStep(run, points, perturbed, epsilon, moving, noise.Deviation, unit, split);
   report.ChosenTimeStep = choice.TimeStep;
   report.EstimatedError = choice.EstimatedError;
+  if (choice.AtLimit && choice.TimeStep > 0.0)
+  {
+    warn << "The time step chosen is the " << (choice.TimeStep > unit ? "largest" : "smallest")
+         << " the search tries (" << (choice.TimeStep > unit ? "4096" : "1/65536")
+         << " times h^(2k) for order k, h the mean edge length); a step beyond may be better: set TimeStep. ";
+  }
   if (choice.ShapeDetail)
   {
     warn << "The surface varies at the scale of its triangles by about " << noise.Deviation

@@ -82,6 +82,7 @@ StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x,
   {
     best += direction;
   }
+  choice.AtLimit = best == Lowest || best == Highest;
   for (int d : { 2, 1 })
   {
     if (best + d <= Highest && risk(best + d) < risk(best))

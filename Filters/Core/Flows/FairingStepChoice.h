@@ -19,6 +19,7 @@ struct StepChoice
   double EstimatedError = 0.0; ///< RMS distance of the moving points to the noise-free ones, estimated
   int Evaluations = 0;         ///< time steps tried
   bool ShapeDetail = false;    ///< left as it is: the estimated noise is mostly the shape's detail
+  bool AtLimit = false;        ///< the step is the largest or smallest tried, and the risk still fell there
 };
 
 /// The largest fraction of the estimated noise a chosen step may be
