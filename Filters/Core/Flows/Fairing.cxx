@@ -403,7 +403,8 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
   {
     warn << "The time step chosen is the " << (choice.TimeStep > unit ? "largest" : "smallest")
          << " the search tries (" << (choice.TimeStep > unit ? "4096" : "1/65536")
-         << " times its unit, h^(2k) for order k with h the mean edge length, 1 for the umbrella); a step beyond may be better: set TimeStep. ";
+         << " times its unit, h^(2k) for order k with h the mean edge length, 1 for the umbrella); a step "
+            "beyond may be better: set TimeStep. ";
   }
   if (choice.ShapeDetail)
   {
