@@ -168,7 +168,7 @@ for level in (1, 2):
             print(f"  {name}, curvature flow L^2 one step of 4 h^4, OperatorMollification {mollification:g}: "
                   f"{first:.3f} / {best:.3f} s ({f.GetIterations(0)} iterations)")
 
-print("\nPreconditioners (issue 28): Jacobi (default) against algebraic multigrid (hypre's BoomerAMG,")
+print("\nPreconditioners: Jacobi (default) against algebraic multigrid (hypre's BoomerAMG,")
 print("one V-cycle per CG iteration), 2 threads, first run in this process (multigrid's includes its set-up;")
 print("the first multigrid solve of the process also starts MPI, about 0.5 s); distance to a solve")
 print("at tolerance 1e-12, largest over the points, relative to the bounding-box diagonal")
