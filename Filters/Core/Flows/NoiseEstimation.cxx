@@ -1,6 +1,7 @@
 #include "Flows/NoiseEstimation.h"
 
 #include "Mesh/Geometry.h"
+#include "Mesh/RingGeometry.h"
 #include "Support/Parallel.h"
 
 #include <Eigen/Eigenvalues>
@@ -416,11 +417,10 @@ std::vector<double> DihedralAngles(const MeshTopology& topo, const double* x)
     const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
     if (c0 >= 0 && c1 >= 0 && edges.FaceCount[e] == 2)
     {
-      const Vec3 n0 = normal(c0), n1 = normal(c1);
-      const double norms = n0.norm() * n1.norm();
-      if (norms > 0.0 && std::isfinite(norms))
+      const double cosine = NormalCosine(normal(c0), normal(c1)); // (NaN without a normal)
+      if (std::isfinite(cosine))
       {
-        angles[e] = std::acos(std::clamp(n0.dot(n1) / norms, -1.0, 1.0)) * 180.0 / 3.141592653589793;
+        angles[e] = std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / 3.141592653589793;
       }
     }
   }
