@@ -3,6 +3,7 @@
 #   ./beltrami.sh demo   install what is missing, build, run the demo pipeline
 #   ./beltrami.sh test   install what is missing, build, run the whole test suite
 #   ./beltrami.sh build  install what is missing and build only
+#   ./beltrami.sh docs   install what is missing, build the user guide (build/docs/html)
 # Idempotent: a second run only rebuilds what changed.
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -26,6 +27,8 @@ PACKAGES=(
   libhypre-dev
   # the remesher's constrained Delaunay triangulation (CGAL, header-only)
   libcgal-dev
+  # the user guide (Sphinx, MyST Markdown, the furo theme)
+  python3-sphinx python3-myst-parser furo
 )
 
 install_missing() {
@@ -62,13 +65,18 @@ case "$action" in
     source "$BUILD/beltrami-env.sh"
     xvfb-run -a /usr/bin/python3 Examples/curvature_demo.py Testing/Data/bunny00.off "$ROOT/demo-output"
     xvfb-run -a /usr/bin/python3 Examples/smoothing_demo.py Testing/Data/bunny00.off "$ROOT/demo-output"
-    # The same smoothing split over 2 ranks of pvbatch, solved over the ranks (issue 28).
+    # The same smoothing split over 2 ranks of pvbatch, solved over the ranks.
     xvfb-run -a mpirun --allow-run-as-root --oversubscribe -np 2 pvbatch \
       Examples/distributed_smoothing_demo.py Testing/Data/bunny00.off "$ROOT/demo-output"
     xvfb-run -a /usr/bin/python3 Examples/parameterization_demo.py Testing/Data/mushroom.off "$ROOT/demo-output"
     xvfb-run -a /usr/bin/python3 Examples/remeshing_demo.py "$ROOT/demo-output"
     xvfb-run -a /usr/bin/python3 Examples/line_drawing_demo.py "$ROOT/demo-output"
     /usr/bin/python3 Examples/denoising_demo.py "$ROOT/demo-output"
+    ;;
+  docs)
+    install_missing
+    /usr/bin/python3 -m sphinx -W --keep-going -q -b html docs "$BUILD/docs/html"
+    echo "== the user guide: $BUILD/docs/html/index.html"
     ;;
   test)
     install_missing
@@ -77,7 +85,7 @@ case "$action" in
     ctest --output-on-failure -j"$(nproc)"
     ;;
   *)
-    echo "usage: $0 [demo|test|build]" >&2
+    echo "usage: $0 [demo|test|build|docs]" >&2
     exit 2
     ;;
 esac

@@ -1,4 +1,4 @@
-"""Demo (issue 28): the default smoothing step on a noisy scan split over the
+"""Demo: the default smoothing step on a noisy scan split over the
 ranks of pvbatch, each rank smoothing its own piece and every solve running
 over all ranks.  Writes the result coloured by the rank that owns each point
 (<out>/bunny00_distributed_ranks.png) and prints each rank's share, the error

@@ -91,44 +91,53 @@ public:
   };
 
   ///@{
-  /// alpha (data units to lengths); 0 (default): automatic.
+  /// alpha: maps data units to lengths. 0 (default): automatic, as the denoising filters at their
+  /// defaults: 1.5 h / sigma (1.0 on 3D images), h the spacing's geometric mean or the mesh's mean
+  /// edge length, sigma the noise level; 1 where no noise is found (synthetic data: set it). For
+  /// height fields in physical units use 1. Default: 0.
   vtkSetClampMacro(ContrastScale, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(ContrastScale, double);
   ///@}
 
   ///@{
-  /// The noise level sigma of the automatic ContrastScale; 0 (default): estimated.
+  /// sigma of the automatic contrast scale, in data units. 0 (default): estimated from the data
+  /// (EstimatedNoiseLevel in the field data). Default: 0.
   vtkSetClampMacro(NoiseLevel, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(NoiseLevel, double);
   ///@}
 
   ///@{
-  /// Images: the values one sample beyond the border (LINEAR, default, or REFLECT).
+  /// Images: values assumed one sample beyond the border: mirrored, or linearly extrapolated (ramps
+  /// give zero at the border too). Values: 0 Reflect, 1 Linear. Default: Linear.
   vtkSetClampMacro(BoundaryHandling, int, REFLECT, LINEAR);
   vtkGetMacro(BoundaryHandling, int);
   ///@}
 
   ///@{
-  /// Which arrays to output (all on by default).
+  /// Output MeanCurvatureNormal (3 + n components). Default: on.
   vtkSetMacro(ComputeMeanCurvatureNormal, bool);
   vtkGetMacro(ComputeMeanCurvatureNormal, bool);
   vtkBooleanMacro(ComputeMeanCurvatureNormal, bool);
+  /// Output BeltramiOperator (n components). Default: on.
   vtkSetMacro(ComputeBeltramiOperator, bool);
   vtkGetMacro(ComputeBeltramiOperator, bool);
   vtkBooleanMacro(ComputeBeltramiOperator, bool);
+  /// Output MeanCurvature. Default: on.
   vtkSetMacro(ComputeMeanCurvature, bool);
   vtkGetMacro(ComputeMeanCurvature, bool);
   vtkBooleanMacro(ComputeMeanCurvature, bool);
+  /// Output GaussianCurvature (2D images and surfaces only). Default: on.
   vtkSetMacro(ComputeGaussianCurvature, bool);
   vtkGetMacro(ComputeGaussianCurvature, bool);
   vtkBooleanMacro(ComputeGaussianCurvature, bool);
+  /// Output EdgeIndicator. Default: on.
   vtkSetMacro(ComputeEdgeIndicator, bool);
   vtkGetMacro(ComputeEdgeIndicator, bool);
   vtkBooleanMacro(ComputeEdgeIndicator, bool);
   ///@}
 
   ///@{
-  /// Threads (0: all).
+  /// Threads (0: all); the result does not depend on it. Default: 0.
   vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
   vtkGetMacro(NumberOfThreads, int);
   ///@}

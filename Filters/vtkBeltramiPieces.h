@@ -1,5 +1,5 @@
 // The pieces of data split over the ranks of pvbatch or pvserver, for the
-// filters that solve over the ranks (issue 28): each piece grown by the
+// filters that solve over the ranks: each piece grown by the
 // cells of the other pieces around its points (so that every point of the
 // piece has its whole star: rings), and the owner of every point (the
 // core's Partition).  What does not depend on the cell type: triangles for

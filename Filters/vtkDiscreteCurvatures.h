@@ -86,7 +86,10 @@ public:
   };
 
   ///@{
-  /// Curvature estimator. Default MEYER_2003.
+  /// Curvature estimator. Meyer 2003 uses the cotangent mean-curvature normal, the angle-defect
+  /// Gaussian curvature and the least-squares principal directions of the thesis. Taubin 1995
+  /// (section 2.2.4) is offered to compare both in one pipeline. Values: 0 Meyer 2003 (thesis
+  /// operators), 1 Taubin 1995 (curvature tensor). Default: Meyer 2003 (thesis operators).
   vtkSetClampMacro(Method, int, MEYER_2003, TAUBIN_1995);
   vtkGetMacro(Method, int);
   void SetMethodToMeyer2003() { this->SetMethod(MEYER_2003); }
@@ -94,49 +97,64 @@ public:
   ///@}
 
   ///@{
-  /// Vertex-normal weighting (section 2.2.1). Default MEAN_CURVATURE_NORMAL.
+  /// How vertex normals are computed (section 2.2.1). The default is the direction of the mean
+  /// curvature normal, oriented like the triangles, with the area-weighted face normals where it
+  /// vanishes (flat or saddle points, section 2.4.5) or lies more than 60 degrees from them (a few
+  /// vertices of noisy scans). The normal also defines the tangent plane of the principal
+  /// directions. Values: 0 Mean curvature normal, 1 Uniform (Gouraud), 2 Angle
+  /// (Thuermer-Wuethrich), 3 Sphere (Max 1999), 4 Area. Default: Mean curvature normal.
   vtkSetClampMacro(NormalWeighting, int, MEAN_CURVATURE_NORMAL, AREA);
   vtkGetMacro(NormalWeighting, int);
   ///@}
 
   ///@{
-  /// What boundary and non-manifold points get. Default BOUNDARY_NAN.
+  /// Curvature is undefined at boundary and non-manifold points (their 1-ring is not a closed
+  /// disk). NaN marks them as such; Interior average gives them the mean value of their neighbours
+  /// that have one, filled ring by ring from the interior (principal directions stay NaN).
+  /// MixedArea and Normals are always computed. Values: 0 NaN (undefined), 1 Interior average.
+  /// Default: NaN (undefined).
   vtkSetClampMacro(BoundaryHandling, int, BOUNDARY_NAN, INTERIOR_AVERAGE);
   vtkGetMacro(BoundaryHandling, int);
   ///@}
 
   ///@{
-  /// Output switches (all on by default).
+  /// Output MeanCurvatureNormal (3 components, K = 2 kappa_H n). Default: on.
   vtkSetMacro(ComputeMeanCurvatureNormal, bool);
   vtkGetMacro(ComputeMeanCurvatureNormal, bool);
   vtkBooleanMacro(ComputeMeanCurvatureNormal, bool);
+  /// Output MixedArea (the Voronoi/mixed area of each point). Default: on.
   vtkSetMacro(ComputeMixedArea, bool);
   vtkGetMacro(ComputeMixedArea, bool);
   vtkBooleanMacro(ComputeMixedArea, bool);
+  /// Output MeanCurvature (signed). Default: on.
   vtkSetMacro(ComputeMeanCurvature, bool);
   vtkGetMacro(ComputeMeanCurvature, bool);
   vtkBooleanMacro(ComputeMeanCurvature, bool);
+  /// Output GaussianCurvature. Default: on.
   vtkSetMacro(ComputeGaussianCurvature, bool);
   vtkGetMacro(ComputeGaussianCurvature, bool);
   vtkBooleanMacro(ComputeGaussianCurvature, bool);
-  /// MaximumCurvature and MinimumCurvature.
+  /// Output MaximumCurvature and MinimumCurvature. Default: on.
   vtkSetMacro(ComputePrincipalCurvatures, bool);
   vtkGetMacro(ComputePrincipalCurvatures, bool);
   vtkBooleanMacro(ComputePrincipalCurvatures, bool);
-  /// PrincipalDirection1 and PrincipalDirection2.
+  /// Output PrincipalDirection1 and PrincipalDirection2 (unit, tangent, orthogonal). Default: on.
   vtkSetMacro(ComputePrincipalDirections, bool);
   vtkGetMacro(ComputePrincipalDirections, bool);
   vtkBooleanMacro(ComputePrincipalDirections, bool);
+  /// Output Normals (set as the active normals). Default: on.
   vtkSetMacro(ComputeNormals, bool);
   vtkGetMacro(ComputeNormals, bool);
   vtkBooleanMacro(ComputeNormals, bool);
+  /// Output VertexStatus, the bit field that says why a point has no curvature. Default: on.
   vtkSetMacro(ComputeVertexStatus, bool);
   vtkGetMacro(ComputeVertexStatus, bool);
   vtkBooleanMacro(ComputeVertexStatus, bool);
   ///@}
 
   ///@{
-  /// Threads used (0: all cores). Default 0.
+  /// Threads used per process; 0 uses all cores, shared among the processes of an MPI job on the
+  /// node (or BELTRAMI_NUM_THREADS). Default: 0.
   vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
   vtkGetMacro(NumberOfThreads, int);
   ///@}

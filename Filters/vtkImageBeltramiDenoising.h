@@ -154,8 +154,19 @@ public:
     REFLECT = 0,
     LINEAR = 1
   };
+  /// Automatic: unsigned char arrays of 3 or 4 components are colours smoothed as coupled RGB
+  /// (where the noise is added), anything else is smoothed as it is. L*u*v* is perceptually
+  /// uniform; the change and the error are measured back in RGB. RGB and L*u*v* treat the array as
+  /// colours in [0, 1] (or the range of the integer type); an alpha channel is passed unchanged.
+  /// Log-Euclidean tensors: 6-component symmetric tensors (XX, YY, ZZ, XY, YZ, XZ; e.g. diffusion
+  /// tensors) smoothed as their matrix logarithms, so the result stays positive definite and does
+  /// not swell (equal determinants are kept exactly); eigenvalues below 1e-6 of the largest are
+  /// raised to it with a warning. Values: 0 Automatic, 1 None, 2 RGB, 3 L*u*v*, 4 Log-Euclidean
+  /// tensors. Default: Automatic.
   vtkSetClampMacro(ColorSpace, int, AUTOMATIC, LOG_EUCLIDEAN);
   vtkGetMacro(ColorSpace, int);
+  /// Values assumed beyond the image border: mirrored (Neumann) or linearly extrapolated (linear
+  /// ramps stay exactly as they are). Values: 0 Reflect, 1 Linear. Default: Linear.
   vtkSetClampMacro(BoundaryHandling, int, REFLECT, LINEAR);
   vtkGetMacro(BoundaryHandling, int);
 

@@ -51,7 +51,7 @@
  *    and 2 without constraints.  Multigrid needs 3-4 iterations for a
  *    clean mesh's step of any size where Jacobi needs 70-500, but each
  *    costs about 25 of ours and its set-up more: on 2 cores Jacobi is the
- *    faster up to the 1.2M triangles measured (README, Fairing speed).
+ *    faster up to the 1.2M triangles measured (the guide's benchmarks page).
  *    Distributed, both run over the ranks with the serial iteration counts
  *    (the multigrid hierarchy spans the ranks; the order-2 Jacobi solve is
  *    the same complex-shift COCG; order-1 Jacobi solves are in double
@@ -211,60 +211,128 @@ public:
     MULTIGRID = 1
   };
 
+  /// Umbrella (eq. 3.7), scale-dependent umbrella (eq. 3.11), curvature flow (section 3.5),
+  /// curvature flow plus the tangential part of the umbrella, which evens out the triangles
+  /// (section 3.6), or Least Estimated Error (default): with the automatic time step, the curvature
+  /// flow or the umbrella, whichever ends at the lower estimated error (field array
+  /// FairingOperator); with a given time step, the curvature flow. Values: 0 Umbrella, 1
+  /// Scale-Dependent Umbrella, 2 Curvature Flow, 3 Curvature Flow And Sampling, 4 Least Estimated
+  /// Error. Default: Least Estimated Error.
   vtkSetClampMacro(Operator, int, UMBRELLA, LEAST_ESTIMATED_ERROR);
   vtkGetMacro(Operator, int);
-  /// Order of the operator: 1-4, or COMBINATION (the OrderWeights).
+  /// Order of the operator (section 3.2.6): L^2 (default) is a sharper low-pass filter: it removes
+  /// noise at the scale of the triangles and keeps larger shapes; L smooths more broadly and is
+  /// cheaper per step; L^3 and L^4 come closer still to an ideal low-pass (figure 3.4a), solved as
+  /// products of factors of degree 1 and 2 with about 15x the solver iterations of L^2 on scans
+  /// (raise Maximum Solver Iterations; a warning says when the limit ends a solve), for about the
+  /// same noise removal on bunny00. One step multiplies the component of frequency w by 1/(1 + dt
+  /// w^k). Combination: the weighted sum of the Order Weights. Values: 1 L, 2 L squared, 3 L cubed,
+  /// 4 L to the fourth, 0 Combination. Default: L squared.
   vtkSetClampMacro(Order, int, COMBINATION, 4);
   vtkGetMacro(Order, int);
-  /// COMBINATION: the weights of L, L^2, L^3, L^4.
+  /// Combination: the weights c1..c4 of L, L^2, L^3, L^4 in the flow dX/dt = -lambda sum c_k (-L)^k
+  /// X; one step multiplies frequency w by 1/(1 + dt sum c_k w^k). With mean-edge-length units each
+  /// term is c_k (h^2 L)^k and the time step is in units of h^(2K), K the highest order used. A
+  /// negative weight on a lower order amplifies the shapes of that scale (feature exaggeration,
+  /// section 3.2.6; the largest gain is reported in the field array FairingLargestGain); the
+  /// highest weight used must be positive, and a step that would amplify some frequency more than
+  /// 100-fold (or without bound) is refused with an error. Default: 1 1 0 0.
   vtkSetVector4Macro(OrderWeights, double);
   vtkGetVector4Macro(OrderWeights, double);
+  /// 0: the operator of each step is evaluated on the points themselves (the thesis'
+  /// linearisation). Above 0 (default 1): on a mollified copy, each point moved by the normal part
+  /// of one implicit umbrella step of this time. On noisy scans the cotangents of the noisy
+  /// triangles are noisy too; the copy damps that noise and keeps the sampling, so flat regions
+  /// still never move. Not used by the umbrella operator. Default: 1.0.
   vtkSetClampMacro(OperatorMollification, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(OperatorMollification, double);
+  /// Implicit (backward Euler, stable for any time step), explicit (forward Euler; a warning above
+  /// the stability limit) or Taubin's lambda|mu passes. Values: 0 Implicit, 1 Explicit, 2 Taubin
+  /// lambda|mu. Default: Implicit.
   vtkSetClampMacro(Integration, int, IMPLICIT, TAUBIN_LAMBDA_MU);
   vtkGetMacro(Integration, int);
+  /// lambda*dt of each step: the amount of smoothing (see Units). 0 (default): chosen from the
+  /// input - the noise of its geometry is estimated and the step of least estimated error taken
+  /// (Stein's unbiased risk estimate), so a clean mesh is left nearly as it is and a noisy one
+  /// smoothed as much as its noise needs; the field arrays FairingNoise, FairingTimeStep and
+  /// FairingEstimatedError report the choice. A positive value is used as given. Default: 0.
   vtkSetClampMacro(TimeStep, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(TimeStep, double);
+  /// Mean Edge Length: the time step is in units of h^(2k) for order k (h^2, h^4 for order 2; h the
+  /// mean edge length; h^(2K) for a combination up to order K) and the feature threshold in units
+  /// of 1/h. Physical: length^(2k) and 1/length (the umbrella's step is dimensionless). Values: 0
+  /// Mean Edge Length, 1 Physical. Default: Mean Edge Length.
   vtkSetClampMacro(Units, int, MEAN_EDGE_LENGTH, PHYSICAL);
   vtkGetMacro(Units, int);
+  /// Number of time steps; the operator is rebuilt at every step. Default: 1.
   vtkSetClampMacro(NumberOfIterations, int, 0, VTK_INT_MAX);
   vtkGetMacro(NumberOfIterations, int);
+  /// Reduction of the conjugate-gradient residual at each implicit step. Default: 1e-4.
   vtkSetClampMacro(SolverTolerance, double, 1e-15, 1.0);
   vtkGetMacro(SolverTolerance, double);
+  /// The most conjugate-gradient iterations of each implicit step. Default: 1000.
   vtkSetClampMacro(MaximumSolverIterations, int, 1, VTK_INT_MAX);
   vtkGetMacro(MaximumSolverIterations, int);
-  /// The preconditioner of the order-1 and order-2 solves: JACOBI (default)
-  /// or MULTIGRID (hypre's BoomerAMG; see the class documentation).
+  /// Preconditioner of the order-1 and order-2 solves. Jacobi (default): mixed precision, the
+  /// faster on the measured machines. Algebraic Multigrid: one V-cycle of hypre's BoomerAMG per
+  /// iteration; 3-4 iterations for a clean mesh's step of any size where Jacobi needs 70-500, but
+  /// each iteration and its set-up cost more. In a distributed run both work over the ranks with
+  /// the serial iteration counts (the multigrid hierarchy spans the ranks; order-1 Jacobi solves
+  /// are in double precision there). Values: 0 Jacobi, 1 Algebraic Multigrid. Default: Jacobi.
   vtkSetClampMacro(Preconditioner, int, JACOBI, MULTIGRID);
   vtkGetMacro(Preconditioner, int);
+  /// Quantity restored by scaling after each step (section 3.3). Automatic: the volume for closed
+  /// surfaces without fixed points, nothing otherwise. Values: 0 Automatic, 1 None, 2 Volume, 3
+  /// Area, 4 Height Field Volume, 5 Volume Of Revolution. Default: Automatic.
   vtkSetClampMacro(Invariant, int, AUTOMATIC, REVOLUTION_VOLUME);
   vtkGetMacro(Invariant, int);
+  /// Normal of the reference plane of Height Field Volume (the plane passes through the mean
+  /// boundary point), or the direction of the axis of Volume Of Revolution (the axis passes through
+  /// the area centroid). Default: 0 0 1.
   vtkSetVector3Macro(ReferencePlaneNormal, double);
   vtkGetVector3Macro(ReferencePlaneNormal, double);
+  /// Boundary points stay fixed, are smoothed as curves, or each boundary loop is closed by a
+  /// hidden vertex (section 3.5.2). Values: 0 Fixed, 1 Smooth As Curve, 2 Virtual Vertex. Default:
+  /// Fixed.
   vtkSetClampMacro(BoundaryHandling, int, FIXED, VIRTUAL_VERTEX);
   vtkGetMacro(BoundaryHandling, int);
+  /// Feature-preserving smoothing (section 3.7.1): edges and corners found from the principal
+  /// curvatures are kept. Default: off.
   vtkSetMacro(Anisotropic, bool);
   vtkGetMacro(Anisotropic, bool);
   vtkBooleanMacro(Anisotropic, bool);
+  /// T: a principal curvature above T marks a feature (in units of 1/h by default). Default: 0.5.
   vtkSetClampMacro(FeatureThreshold, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(FeatureThreshold, double);
+  /// The anisotropic weights (kappa_min / kappa_H along edges) are clamped at this value: slightly
+  /// negative values let edges sharpen a little, as in the thesis. Default: -0.1.
   vtkSetClampMacro(MinimumAnisotropicWeight, double, -1.0, 1.0);
   vtkGetMacro(MinimumAnisotropicWeight, double);
+  /// The anisotropic weights are computed on a copy smoothed by this many time steps of isotropic
+  /// curvature flow (0: off). Default: 1.0.
   vtkSetClampMacro(Mollification, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(Mollification, double);
+  /// Also smooth the detected edges as curves. Default: off.
   vtkSetMacro(SmoothFeatureCurves, bool);
   vtkGetMacro(SmoothFeatureCurves, bool);
   vtkBooleanMacro(SmoothFeatureCurves, bool);
-  /// Section 3.4.3: keep the operator of the first step for every step (a
-  /// filter relative to the input mesh instead of the current one; off by
-  /// default).
+  /// Section 3.4.3: keep the operator (weights and areas) of the first step for every step, a
+  /// filter relative to the input mesh instead of the current one: each step applies the same
+  /// linear filter. Off: the operator follows the surface (the thesis' linearisation per step).
+  /// Default: off.
   vtkSetMacro(KeepFirstOperator, bool);
   vtkGetMacro(KeepFirstOperator, bool);
   vtkBooleanMacro(KeepFirstOperator, bool);
+  /// Taubin's lambda: the weight of the shrinking pass of each lambda|mu step (Taubin 1995; the
+  /// defaults are those of the thesis' figure 3.5(d), pass band 1/lambda + 1/mu = 0.1). Default:
+  /// 0.6307.
   vtkSetMacro(TaubinLambda, double);
   vtkGetMacro(TaubinLambda, double);
+  /// Taubin's mu (negative, |mu| > lambda): the weight of the inflating pass. Default: -0.6732.
   vtkSetMacro(TaubinMu, double);
   vtkGetMacro(TaubinMu, double);
+  /// Threads (0: all cores, shared among the processes of an MPI job on the node; or
+  /// BELTRAMI_NUM_THREADS). Default: 0.
   vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
   vtkGetMacro(NumberOfThreads, int);
 
@@ -281,20 +349,29 @@ public:
   void SetMaximumNumberOfIterations(int iterations) { this->SetMaximumSolverIterations(iterations); }
   int GetMaximumNumberOfIterations() { return this->MaximumSolverIterations; }
 
-  /// Whether the arrays selected as input arrays 0 (fixed points) and 1
-  /// (smoothing weights) are used (default on; nothing selected = none).
-  /// ParaView's panel starts with them off, because it preselects an array
-  /// of the input for every array selection.
+  /// Keep the points marked by a point array fixed (in ParaView: tick this box, then choose the
+  /// array). Default: on. (The ParaView panel starts at off: Python opts in by choosing the array;
+  /// ParaView preselects an array for every array choice, so its panel starts off.)
   vtkSetMacro(UseFixedPointsArray, bool);
   vtkGetMacro(UseFixedPointsArray, bool);
   vtkBooleanMacro(UseFixedPointsArray, bool);
-  /// Whether input arrays 2 and 3 (axis directions, plane normals) are read when selected.
+  /// Hold points on axes given by a 3-component point array (in ParaView: tick this box, then
+  /// choose the array). Default: on. (The ParaView panel starts at off: Python opts in by choosing
+  /// the array; ParaView preselects an array for every array choice, so its panel starts off.)
   vtkSetMacro(UseAxisDirectionsArray, bool);
   vtkGetMacro(UseAxisDirectionsArray, bool);
   vtkBooleanMacro(UseAxisDirectionsArray, bool);
+  /// Hold points on planes given by a 3-component point array of normals (in ParaView: tick this
+  /// box, then choose the array). Default: on. (The ParaView panel starts at off: Python opts in by
+  /// choosing the array; ParaView preselects an array for every array choice, so its panel starts
+  /// off.)
   vtkSetMacro(UsePlaneNormalsArray, bool);
   vtkGetMacro(UsePlaneNormalsArray, bool);
   vtkBooleanMacro(UsePlaneNormalsArray, bool);
+  /// Attenuate the smoothing by a per-point weight array in [0, 1] (in ParaView: tick this box,
+  /// then choose the array). Default: on. (The ParaView panel starts at off: Python opts in by
+  /// choosing the array; ParaView preselects an array for every array choice, so its panel starts
+  /// off.)
   vtkSetMacro(UseSmoothingWeightsArray, bool);
   vtkGetMacro(UseSmoothingWeightsArray, bool);
   vtkBooleanMacro(UseSmoothingWeightsArray, bool);

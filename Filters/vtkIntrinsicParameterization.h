@@ -121,16 +121,24 @@ public:
   };
 
   ///@{
-  /// lambda and mu of E = lambda E_A + mu E_chi (default 1 and 0: DCP).
+  /// lambda: weight of the discrete conformal (Dirichlet) energy. Default: 1.
   vtkSetMacro(ConformalWeight, double);
   vtkGetMacro(ConformalWeight, double);
+  /// mu: weight of the discrete authalic (chi) energy, scaled by the mean squared edge length so
+  /// the mix does not depend on the mesh's units. Default: 0.
   vtkSetMacro(AuthalicWeight, double);
   vtkGetMacro(AuthalicWeight, double);
   ///@}
 
   ///@{
+  /// Circle: the outer loop on the circle of centre (0.5, 0.5) and radius 0.5. Square: on the unit
+  /// square, corners at the quarters of its length. Given: every boundary point at the value of the
+  /// Given Boundary UV Array. Natural: free boundary (natural conformal map), fitted into the unit
+  /// square. Values: 0 Circle, 1 Square, 2 Given, 3 Natural. Default: Circle.
   vtkSetClampMacro(Boundary, int, CIRCLE, NATURAL);
   vtkGetMacro(Boundary, int);
+  /// Spacing of the boundary points on the circle or square: proportional to the 3D edge lengths,
+  /// or equal. Values: 0 Arc Length, 1 Uniform. Default: Arc Length.
   vtkSetClampMacro(BoundarySpacing, int, ARC_LENGTH, UNIFORM);
   vtkGetMacro(BoundarySpacing, int);
   ///@}
@@ -158,11 +166,17 @@ public:
   ///@}
 
   ///@{
+  /// Use the blend l DCP + (1-l) DAP (same boundary) with the l in the Optimal Mix Range that
+  /// minimises the Optimal Energy (section 5.5.1); the weights above are then not used. Default:
+  /// off.
   vtkSetMacro(OptimizeMix, bool);
   vtkGetMacro(OptimizeMix, bool);
   vtkBooleanMacro(OptimizeMix, bool);
+  /// Distortion energy minimised by Optimize Mix. Values: 0 Edge Length, 1 Area. Default: Edge
+  /// Length.
   vtkSetClampMacro(OptimalEnergy, int, EDGE_LENGTH, AREA);
   vtkGetMacro(OptimalEnergy, int);
+  /// Range searched for the optimal blend l. Default: 0 1.
   vtkSetVector2Macro(OptimalMixRange, double);
   vtkGetVector2Macro(OptimalMixRange, double);
   /// The l found by the last update with OptimizeMix (-1 otherwise).
@@ -170,8 +184,13 @@ public:
   ///@}
 
   ///@{
+  /// Gradient-descent steps on the fixed boundary points (section 5.5.2), through the
+  /// impulse-response basis; 0 = off. Steps that would flip a triangle are refused. The energies
+  /// are in the field array BoundaryEnergy. Default: 0.
   vtkSetClampMacro(BoundaryOptimizationSteps, int, 0, VTK_INT_MAX);
   vtkGetMacro(BoundaryOptimizationSteps, int);
+  /// Distortion energy minimised by the boundary optimisation. Values: 0 Edge Length, 1 Area.
+  /// Default: Edge Length.
   vtkSetClampMacro(BoundaryEnergy, int, EDGE_LENGTH, AREA);
   vtkGetMacro(BoundaryEnergy, int);
   vtkSetMacro(KeepBoundaryBasis, bool);
@@ -180,31 +199,28 @@ public:
   ///@}
 
   ///@{
-  /// Closed, higher-genus or multi-component input (no disk): with
-  /// AtlasForNonDisks (default on; off: an error) it is parameterized through an
-  /// atlas (vtkSurfaceAtlas, thesis section 4.2: disk-like charts, each by
-  /// DCP on its square (Boundary SQUARE), circle (CIRCLE) or free (NATURAL),
-  /// packed into [0,1]^2); the output is then the surface cut along the
-  /// chart seams, with UV, ChartId and vtkOriginalPointIds, and a warning
-  /// says so.  A disk still gets one map, unless that map flips triangles
-  /// (DCP's weights are negative at obtuse triangles, and holes are free):
-  /// then, where nothing pins the single map (no constraints, handles,
-  /// GIVEN boundary, boundary optimisation, optimal mix or kept basis), the
-  /// atlas, which never flips, is used instead, with a warning.  Not in
-  /// distributed runs (use Surface Atlas there).
+  /// Closed, higher-genus or multi-component input (no disk): parameterize it through an atlas (as
+  /// Surface Atlas: disk-like charts on squares, circles or free boundaries as Boundary says,
+  /// packed into [0,1]^2) instead of refusing it. The output is then the surface cut along the
+  /// chart seams. A disk still gets one map, unless that map flips triangles (obtuse triangles,
+  /// free holes) and nothing pins it (constraints, handles, Given boundary, boundary optimisation,
+  /// optimal mix): then the atlas, which never flips, is used instead, with a warning. Serial runs
+  /// only (Surface Atlas handles distributed data). Default: on.
   vtkSetMacro(AtlasForNonDisks, bool);
   vtkGetMacro(AtlasForNonDisks, bool);
   vtkBooleanMacro(AtlasForNonDisks, bool);
   ///@}
 
   ///@{
+  /// Output the flattened mesh (points (u, v, 0)) instead of the 3D surface. Default: off.
   vtkSetMacro(OutputFlattenedMesh, bool);
   vtkGetMacro(OutputFlattenedMesh, bool);
   vtkBooleanMacro(OutputFlattenedMesh, bool);
   ///@}
 
   ///@{
-  /// Threads of the assembly (0 = all; BELTRAMI_NUM_THREADS).
+  /// Threads used for the assembly; 0 uses all cores, shared among the processes of an MPI job on
+  /// the node (or BELTRAMI_NUM_THREADS). Default: 0.
   vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
   vtkGetMacro(NumberOfThreads, int);
   ///@}

@@ -104,67 +104,95 @@ public:
     CREASE = 6
   };
 
+  /// The camera's position (perspective). Kept equal to a view's camera by
+  /// beltrami_paraview.follow_camera. Default: 0 0 1.
   vtkSetVector3Macro(CameraPosition, double);
   vtkGetVector3Macro(CameraPosition, double);
+  /// The direction the camera looks along, used with Parallel Projection. Default: 0 0 -1.
   vtkSetVector3Macro(ViewDirection, double);
   vtkGetVector3Macro(ViewDirection, double);
+  /// Orthographic view along View Direction instead of the perspective from Camera Position.
+  /// Default: off.
   vtkSetMacro(ParallelProjection, bool);
   vtkGetMacro(ParallelProjection, bool);
   vtkBooleanMacro(ParallelProjection, bool);
 
+  /// Draw the contours: n.v = 0 interpolated in the triangles. Default: on.
   vtkSetMacro(Contours, bool);
   vtkGetMacro(Contours, bool);
   vtkBooleanMacro(Contours, bool);
+  /// Draw the suggestive contours: the radial curvature is 0 and its derivative towards the viewer
+  /// positive. Default: on.
   vtkSetMacro(SuggestiveContours, bool);
   vtkGetMacro(SuggestiveContours, bool);
   vtkBooleanMacro(SuggestiveContours, bool);
+  /// Draw the suggestive highlights: the radial curvature is 0 and its derivative negative.
+  /// Default: off.
   vtkSetMacro(SuggestiveHighlights, bool);
   vtkGetMacro(SuggestiveHighlights, bool);
   vtkBooleanMacro(SuggestiveHighlights, bool);
+  /// Draw the ridges: the maximum principal curvature at a maximum along its direction. Default:
+  /// off.
   vtkSetMacro(Ridges, bool);
   vtkGetMacro(Ridges, bool);
   vtkBooleanMacro(Ridges, bool);
+  /// Draw the valleys: the minimum principal curvature at a minimum along its direction. Default:
+  /// off.
   vtkSetMacro(Valleys, bool);
   vtkGetMacro(Valleys, bool);
   vtkBooleanMacro(Valleys, bool);
+  /// Draw the edges of one triangle. Default: on.
   vtkSetMacro(Boundaries, bool);
   vtkGetMacro(Boundaries, bool);
   vtkBooleanMacro(Boundaries, bool);
+  /// Draw the edges whose two triangles' normals differ by more than Crease Angle. Default: on.
   vtkSetMacro(Creases, bool);
   vtkGetMacro(Creases, bool);
   vtkBooleanMacro(Creases, bool);
 
+  /// The length that makes the thresholds scale-free; 0: 1% of the bounding-box diagonal. Default:
+  /// 0.
   vtkSetClampMacro(FeatureSize, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(FeatureSize, double);
+  /// Suggestive contours and highlights are drawn where the derivative of the radial curvature
+  /// times Feature Size^2 exceeds this. Default: 0.1.
   vtkSetClampMacro(SuggestiveContourThreshold, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(SuggestiveContourThreshold, double);
+  /// Suggestive lines are drawn only where the surface turns at least this angle (degrees) away
+  /// from the viewer. Default: 15.
   vtkSetClampMacro(SuggestiveContourAngle, double, 0.0, 90.0);
   vtkGetMacro(SuggestiveContourAngle, double);
+  /// Ridges (valleys) are drawn where the maximum curvature (minus the minimum one) times Feature
+  /// Size exceeds this. Default: 0.4.
   vtkSetClampMacro(RidgeThreshold, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(RidgeThreshold, double);
+  /// Dihedral angle in degrees above which an edge is a crease. Default: 40.
   vtkSetClampMacro(CreaseAngle, double, 0.0, 180.0);
   vtkGetMacro(CreaseAngle, double);
-  /// Suggestive contours and highlights, ridges and valleys whose polylines
-  /// are shorter than this many FeatureSize are dropped (default 0: all
-  /// kept; 1-3 clean the short pieces the noise of raw scans draws).
+  /// Suggestive contours and highlights, ridges and valleys whose polylines are shorter than this
+  /// many Feature Size are dropped (0: all kept). Values of 1-3 clean the short pieces that the
+  /// noise of raw scans draws. Default: 0.
   vtkSetClampMacro(MinimumLineLength, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(MinimumLineLength, double);
-  /// Hysteresis of the curvature lines' thresholds (default 1: none):
-  /// suggestive contours and highlights, ridges and valleys are traced down
-  /// to this fraction of their thresholds, and a polyline is kept where its
-  /// strength passes the full threshold somewhere, so the noise of a scan
-  /// no longer breaks a line wherever it dips below the threshold (0.5:
-  /// lines about 1.5-2.4x longer on average on the bunny scan).
+  /// Hysteresis of the curvature lines' thresholds (1: none). Suggestive contours and highlights,
+  /// ridges and valleys are traced down to this fraction of their thresholds, and a line is kept
+  /// where it passes the full threshold somewhere: on raw scans, 0.5 joins the pieces that the
+  /// noise breaks wherever it dips below the threshold. Default: 1.
   vtkSetClampMacro(HysteresisRatio, double, 0.01, 1.0);
   vtkGetMacro(HysteresisRatio, double);
-  /// Leave suggestive contours and highlights, ridges and valleys out of the
-  /// triangles at a crease vertex (default on; see CreaseAngle).
+  /// Leave suggestive contours and highlights, ridges and valleys out of the triangles at a crease
+  /// vertex (an end of an edge sharper than Crease Angle): the curvature there is the crease's, not
+  /// the surface's, and CAD parts would get suggestive contours along their creases. Default: on.
   vtkSetMacro(AvoidCreases, bool);
   vtkGetMacro(AvoidCreases, bool);
   vtkBooleanMacro(AvoidCreases, bool);
+  /// Drop the pieces of suggestive lines, ridges and valleys on back-facing triangles (n.v < 0).
+  /// Default: on.
   vtkSetMacro(DropBackFacing, bool);
   vtkGetMacro(DropBackFacing, bool);
   vtkBooleanMacro(DropBackFacing, bool);
+  /// Threads; 0 uses all cores, shared among the processes of an MPI job on the node (or
+  /// BELTRAMI_NUM_THREADS). Default: 0.
   vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
   vtkGetMacro(NumberOfThreads, int);
 

@@ -116,27 +116,34 @@ public:
     POINT_ARRAY = 5
   };
 
-  /// The remesh's vertex count (default 10000); with MaximumDeviation, the
-  /// least count, 0 for as few as the deviation takes.
+  /// The vertices of the remesh, met exactly. With a Maximum Deviation, the least count (0: as few
+  /// as the deviation takes). Default: 10000.
   vtkSetClampMacro(NumberOfVertices, vtkIdType, 0, VTK_ID_MAX);
   vtkGetMacro(NumberOfVertices, vtkIdType);
-  /// The error-driven mode (> 0; default 0: off): the remesh's two-sided
-  /// deviation from the input (field array RemeshDeviation) at most this
-  /// fraction of the input's bounding-box diagonal.  The density is raised
-  /// where the input is left farther, and the count with it, remesh after
-  /// remesh (at most MaximumDeviationRounds; a warning says where the bound
-  /// was not met).  NumberOfVertices is then the least count (0: as few as
-  /// it takes, estimated from the curvature first).
+  /// The error-driven mode (0: off): the remesh's two-sided deviation from the input at most this
+  /// fraction of the input's bounding-box diagonal (e.g. 0.002). The density is raised where the
+  /// input is left farther, and the vertex count with it, remesh after remesh; a warning says where
+  /// the bound was not met within Maximum Deviation Rounds. Default: 0.
   vtkSetClampMacro(MaximumDeviation, double, 0.0, 1.0);
   vtkGetMacro(MaximumDeviation, double);
+  /// The most remeshes the error-driven mode makes to meet the Maximum Deviation. Default: 8.
   vtkSetClampMacro(MaximumDeviationRounds, int, 1, 100);
   vtkGetMacro(MaximumDeviationRounds, int);
+  /// What the vertex density follows: uniform (equal triangles), a curvature of chapter 2, or the
+  /// Importance Array; through the transfer function of x = |value| / mean (x^Gamma, or the
+  /// Transfer Function points), the Gradation filter and the Minimum Importance. Values: 0 Uniform,
+  /// 1 Mean curvature |H|, 2 Gaussian curvature |K|, 3 Total curvature k1^2+k2^2, 4 Maximum
+  /// curvature max|k|, 5 Point array. Default: Uniform.
   vtkSetClampMacro(Importance, int, UNIFORM, POINT_ARRAY);
   vtkGetMacro(Importance, int);
+  /// Exponent of the transfer function: 0 gives a uniform mesh, larger values adapt more to the
+  /// importance. Default: 1.0.
   vtkSetClampMacro(Gamma, double, 0.0, 10.0);
   vtkGetMacro(Gamma, double);
-  /// Smooth gradation: the width (standard deviation, in the surface's
-  /// units) of the low-pass filter of the importance; 0 (default): none.
+  /// Smooth gradation of the vertex density (section 4.3.1): the importance low-pass filtered over
+  /// the surface by the heat kernel of this standard deviation, in the surface's units (0: none). A
+  /// few mean edge lengths of the remesh calm a noisy curvature; the importance's integral is kept.
+  /// Default: 0.
   vtkSetClampMacro(Gradation, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(Gradation, double);
   /// The transfer function as a piecewise-linear function of x = |value| /
@@ -145,27 +152,38 @@ public:
   void AddTransferFunctionPoint(double x, double importance);
   void RemoveAllTransferFunctionPoints();
   int GetNumberOfTransferFunctionPoints() const { return static_cast<int>(this->TransferFunction.size() / 2); }
+  /// The least importance, relative to the mean: flat regions keep at least this density. Default:
+  /// 0.05.
   vtkSetClampMacro(MinimumImportance, double, 0.0, 1.0);
   vtkGetMacro(MinimumImportance, double);
+  /// Keep sharp edges (normals differing by more than Feature Angle) as chart boundaries, sampled
+  /// along them so that the remesh reproduces them (CAD parts, section 4.2.3). Default: off.
   vtkSetMacro(SplitAtFeatures, bool);
   vtkGetMacro(SplitAtFeatures, bool);
   vtkBooleanMacro(SplitAtFeatures, bool);
+  /// Dihedral angle in degrees above which an edge is sharp. Default: 60.
   vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
   vtkGetMacro(FeatureAngle, double);
-  /// Where a sharp edge line or the surface's boundary bends, it gets more
-  /// samples: the chord between two of them departs from the line by at
-  /// most this fraction of the remesh's spacing there (0: the density's
-  /// spacing everywhere).  Default 0.025.
+  /// Where a sharp edge line or the surface's boundary bends, it gets more samples than the density
+  /// gives: the chord between two of them departs from the line by at most this fraction of the
+  /// remesh's spacing there (the rest of the surface gets correspondingly fewer; 0: the density's
+  /// spacing everywhere). Default: 0.025.
   vtkSetClampMacro(MaximumLineSag, double, 0.0, 1.0);
   vtkGetMacro(MaximumLineSag, double);
-  /// The same for the surface: where a triangle of the density's spacing
-  /// would depart from the surface by more than this fraction of the
-  /// spacing, the density is raised there (0: the density as given).
-  /// Default 0.1.
+  /// Where the surface bends tighter than the density can follow (a triangle of its spacing would
+  /// depart from the surface by more than this fraction of the spacing, about spacing^2 x curvature
+  /// / 8 with the larger principal curvature), the density is raised there, smoothly over one
+  /// spacing, so the remesh keeps to the surface; a uniform remesh stays uniform wherever the
+  /// spacing follows the surface (0: the density as given). Default: 0.1.
   vtkSetClampMacro(MaximumSurfaceSag, double, 0.0, 1.0);
   vtkGetMacro(MaximumSurfaceSag, double);
+  /// Rounds of edge swaps and relaxation after the triangulation, the first fifth in the charts'
+  /// parameter planes and the rest stitching the charts on the surface (0: the constrained Delaunay
+  /// triangulation as it is). Default: 25.
   vtkSetClampMacro(Iterations, int, 0, VTK_INT_MAX);
   vtkGetMacro(Iterations, int);
+  /// Threads for the atlas, the maps and the triangulation; 0 uses all cores, shared among the
+  /// processes of an MPI job on the node (or BELTRAMI_NUM_THREADS). Default: 0.
   vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
   vtkGetMacro(NumberOfThreads, int);
   /// How many times the atlas was built (it is kept while the input and the

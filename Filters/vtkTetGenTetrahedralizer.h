@@ -51,12 +51,19 @@ public:
   vtkTypeMacro(vtkTetGenTetrahedralizer, vtkUnstructuredGridAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
+  /// Largest circumradius / shortest edge of a tetrahedron (TetGen -q); 0: no quality refinement.
+  /// Default: 2.0.
   vtkSetClampMacro(RadiusEdgeRatio, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(RadiusEdgeRatio, double);
+  /// Smallest dihedral angle in degrees (TetGen -q/angle); 0: TetGen's default. Default: 0.
   vtkSetClampMacro(MinimumDihedralAngle, double, 0.0, 70.0);
   vtkGetMacro(MinimumDihedralAngle, double);
+  /// Largest tetrahedron volume (TetGen -a); 0: no limit. With Preserve Surface, tetrahedra at the
+  /// surface may exceed it. Default: 0.
   vtkSetClampMacro(MaximumVolume, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(MaximumVolume, double);
+  /// No new points on the surface (TetGen -Y): the boundary of the output is the input's triangles.
+  /// Default: on.
   vtkSetMacro(PreserveSurface, bool);
   vtkGetMacro(PreserveSurface, bool);
   vtkBooleanMacro(PreserveSurface, bool);

@@ -72,11 +72,10 @@ public:
   vtkBeltramiGraphFlowSettingsMacro();
   vtkBeltramiMeshUnitsMacro();
 
-  /// 6-component symmetric tensors (XX, YY, ZZ, XY, YZ, XZ; diffusion
-  /// tensors) smoothed as their matrix logarithms (log-Euclidean, Arsigny et
-  /// al. 2006): the result stays positive definite and averaging does not
-  /// swell the tensors; the noise and the error are measured on the tensors.
-  /// Off by default (the components as they are).
+  /// 6-component symmetric tensors (XX, YY, ZZ, XY, YZ, XZ; e.g. diffusion tensors) smoothed as
+  /// their matrix logarithms (log-Euclidean): the result stays positive definite and does not swell
+  /// (equal determinants are kept exactly); eigenvalues below 1e-6 of the largest are raised to it
+  /// with a warning. Off: the components as they are. Default: off.
   vtkSetMacro(LogEuclideanTensors, bool);
   vtkGetMacro(LogEuclideanTensors, bool);
   vtkBooleanMacro(LogEuclideanTensors, bool);

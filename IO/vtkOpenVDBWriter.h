@@ -37,11 +37,11 @@ public:
   vtkSetStdStringFromCharMacro(GridName);
   vtkGetCharFromStdStringMacro(GridName);
 
-  /// Off (default): every voxel active.  On: voxels equal to BackgroundValue inactive.
+  /// Leave the voxels whose components all equal the background value inactive. Default: off.
   vtkSetMacro(SparseOutput, bool);
   vtkGetMacro(SparseOutput, bool);
   vtkBooleanMacro(SparseOutput, bool);
-  /// The grid's background value (every component; default 0).
+  /// The grid's background value (every component). Default: 0.
   vtkSetMacro(BackgroundValue, double);
   vtkGetMacro(BackgroundValue, double);
 

@@ -120,7 +120,7 @@ void Timings(const char* label, vtkPolyData* mesh)
   std::printf("  vtkCurvatures Gaussian                %8.3f s\n", vtkGauss);
   std::printf("  vtkCurvatures Maximum                 %8.3f s\n", vtkMax);
   // The first run of a process also pays for faulting in fresh memory (about
-  // 1 ms per MiB on this project's virtual machines); later runs reuse
+  // 1 ms per MiB on machines where page faults are slow); later runs reuse
   // freed blocks (Core/Support/LargeBuffer.h).
   std::printf("  vtkDiscreteCurvatures, all outputs, 1 thread  %8.3f s (first run %.3f s)\n", ours1,
     times1.First);

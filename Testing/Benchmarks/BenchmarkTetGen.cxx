@@ -105,7 +105,7 @@ int main(int argc, char* argv[])
     filter->SetInputData(surface);
     const std::string switches = filter->GetSwitches();
     // Interleaved runs: the machine's speed drifts between runs (shared
-    // virtual machines), both sides see the same drift.
+    // machines), both sides see the same drift.
     int tets = 0;
     std::vector<double> direct, ours;
     for (int r = 0; r < Repeats; ++r)

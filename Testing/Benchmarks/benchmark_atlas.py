@@ -88,7 +88,7 @@ def first_and_best(f, repeats=3):
 def main(argv):
     levels = int(argv[1]) if len(argv) > 1 else 2
     bunny = mesh("bunny00.off")
-    print("time: the first run and the best of 3 (this VM's timings vary by up to 50% between runs)")
+    print("time: the first run and the best of 3 (timings here vary by up to 50% between runs)")
     print("%-10s %9s %7s %13s %9s %11s %7s" % ("boundary", "triangles", "charts", "time s", "packing",
                                               "mean angle", "splits"))
     for level in range(levels + 1):

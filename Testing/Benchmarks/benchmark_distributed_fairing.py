@@ -3,10 +3,10 @@
 and of 0.075% of the diagonal along the normals) split over 1, 2 and 4 ranks
 of pvbatch (RedistributeDataSet), with the Jacobi preconditioner and (on the
 lighter noise only: on the heavier one a serial multigrid step takes over 10
-minutes, see the README) the multigrid one; and vtkSurfaceDataDenoising at
+minutes) the multigrid one; and vtkSurfaceDataDenoising at
 its defaults on point data over the same mesh (f = sin(40 x) cos(30 y) plus
 Gaussian noise of 0.15; noise estimated, least-risk stop), and two fairing
-options that run split since session 39 (anisotropic smoothing with its
+options that run split (anisotropic smoothing with its
 feature curves; ten Taubin lambda|mu steps), on the lighter noise:
 wall time of the filter, solver iterations, the largest share of points and
 triangles a rank holds, and the values each rank sends per ghost update.

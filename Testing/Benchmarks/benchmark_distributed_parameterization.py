@@ -1,4 +1,4 @@
-"""Benchmark (on demand, issue 28): vtkIntrinsicParameterization at its
+"""Benchmark (on demand): vtkIntrinsicParameterization at its
 defaults (DCP, circle boundary) on a height-field disk of n x n points,
 on 1 rank (the serial path: one sparse direct factorization of the whole
 system) and split over 2 and 4 ranks of pvbatch (each rank keeps its piece;

@@ -1,4 +1,4 @@
-"""Benchmark (on demand, issue 28): the volume flows split over 1, 2 and 4
+"""Benchmark (on demand): the volume flows split over 1, 2 and 4
 ranks of pvbatch at their defaults (noise estimated, least-risk stop), one
 thread per rank:
 - vtkImageBeltramiDenoising on a noisy 128^3 volume (piecewise-constant

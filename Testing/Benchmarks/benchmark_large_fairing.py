@@ -1,4 +1,4 @@
-"""Benchmark (on demand, issue 28): one step of vtkImplicitFairing with its
+"""Benchmark (on demand): one step of vtkImplicitFairing with its
 defaults (order 2, 4 h^4, mollified operator, Jacobi-preconditioned CG,
 exact volume) on the bunny Loop-subdivided four times (19.2M triangles),
 clean and with normal noise of 0.075% of the bounding-box diagonal: time,

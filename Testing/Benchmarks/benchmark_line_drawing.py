@@ -1,4 +1,4 @@
-"""Line drawings (vtkSurfaceLineDrawing, issue 27) on the 1.2M-triangle
+"""Line drawings (vtkSurfaceLineDrawing) on the 1.2M-triangle
 Loop-subdivided bunny (on demand, not a test): the view-independent pass
 (curvatures, their derivatives, feature edges; with ridges on, the ridge
 and valley candidates too) against our curvature filter alone

@@ -1,4 +1,4 @@
-"""vtkBeltramiOperators (issue 31: the operators of section 2.8 as edge and
+"""vtkBeltramiOperators (the operators of section 2.8 as edge and
 feature maps) against what a user would otherwise take for an edge map and a
 Laplacian, same run, same data, best of 3:
  - the camera image (512 x 512, and 4x upsampled to 2048 x 2048): ours (all

@@ -6,7 +6,7 @@ Importing this module also keeps freed memory in the process (glibc's
 mallopt: no trimming of the heap, blocks up to 64 MiB from the heap instead
 of their own mappings).  By default glibc hands every freed block of 128 KiB
 or more back to the kernel, so a method that allocates temporaries per
-iteration faults them in again each time; on the virtual machines of this
+iteration faults them in again each time; on machines where page faults are slow, of this
 project a fresh page costs 1-3 ms per MiB, and scikit-image's TV on the
 512 x 512 camera image took 0.44-0.51 s instead of 0.08-0.10 s, depending on
 what the process had freed before.  Our filters keep their large buffers

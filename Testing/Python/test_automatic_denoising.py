@@ -1,4 +1,4 @@
-"""Denoising without tuning (issue 29): the noise level estimated from the data
+"""Denoising without tuning: the noise level estimated from the data
 alone, and the defaults (automatic contrast scale, least-estimated-error stop)
 against the flow's own oracle (best contrast scale and stopping step chosen with
 the clean data) and against Gaussian smoothing at its oracle width, on

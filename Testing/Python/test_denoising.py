@@ -302,7 +302,7 @@ class TensorFields(unittest.TestCase):
                           0 * x, 0 * x])
 
     def test_log_euclidean_tensors_stay_positive_definite_and_do_not_swell(self):
-        # Issue 31: 6-component symmetric tensors smoothed as matrix
+        # 6-component symmetric tensors smoothed as matrix
         # logarithms (Arsigny et al. 2006).  Equal determinants stay equal
         # (the flow averages log det); smoothing the components themselves
         # swells the tensors (det of a mean >= the mean's geometric mean).

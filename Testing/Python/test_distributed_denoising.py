@@ -1,4 +1,4 @@
-"""SurfaceDataDenoising on surfaces split over the ranks of pvbatch (issue 28):
+"""SurfaceDataDenoising on surfaces split over the ranks of pvbatch:
 each rank smooths the point data of its own piece, the noise estimate (an
 exact median over the ranks), the mean edge length, the stops' sums and the
 semi-implicit solves run over all ranks, and the results equal the serial

@@ -1,4 +1,4 @@
-"""ImplicitFairing on surfaces split over the ranks of pvbatch (issue 28):
+"""ImplicitFairing on surfaces split over the ranks of pvbatch:
 each rank smooths its own piece, every solve runs over all ranks, and the
 results equal the serial ones (plain VTK on the whole surface) to the solver
 tolerance.  Run by ctest with 1, 2, 3 and 4 ranks (mpirun --oversubscribe).

@@ -1,5 +1,5 @@
-"""IntrinsicParameterization on disks split over the ranks of pvbatch
-(issue 28): each rank keeps its own piece, the conformal system is solved
+"""IntrinsicParameterization on disks split over the ranks of pvbatch:
+each rank keeps its own piece, the conformal system is solved
 over all ranks (multigrid-preconditioned CG) and the maps equal the serial
 ones (plain VTK on the whole surface, a direct solve) to the solver
 tolerance.  Run by ctest with 1, 2, 3 and 4 ranks (mpirun --oversubscribe).

@@ -1,5 +1,5 @@
 """TetrahedralBeltramiDenoising on tetrahedra split over the ranks of pvbatch
-(issue 28): each rank smooths the point data of its own piece, with the
+each rank smooths the point data of its own piece, with the
 tetrahedra of the other pieces around its points (exchanged, not gathered);
 the noise estimate (an exact median over the ranks), the mean edge length,
 the stops' sums and the semi-implicit solves run over all ranks, and the

@@ -1,4 +1,4 @@
-"""vtkBeltramiOperators (thesis section 2.8 as outputs, issue 31) from
+"""vtkBeltramiOperators (thesis section 2.8 as outputs) from
 /usr/bin/python3: the operators of a Gaussian image against the analytic
 graph, the same image in another plane, pieces equal to the whole image, the
 automatic contrast scale on the real camera image, point data on a surface,

@@ -18,21 +18,6 @@ PLUGIN = os.path.join(HERE, "..", "..", "ParaViewPlugin")
 SKIP_COMMANDS = {"SetInputArrayToProcess", "SetInputConnection", "AddInputConnection", "SetFileName",
                  "AddFixedPoint", "RemoveAllFixedPoints", "AddPointConstraint", "RemoveAllPointConstraints",
                  "AddShortestPathLineConstraint", "AddBoundaryHandle", "AddTransferFunctionPoint"}
-# Where the panel's default differs from the filter's on purpose, and why.
-DIFFERENT_DEFAULT = {
-    # The "Use ... array" switches: a Python user opts in by choosing the
-    # array (SetInputArrayToProcess), so the switch starts on; the panel's
-    # array list starts at None and the switch starts off so that a chosen
-    # array is used only when ticked (vtkSurfaceDataDenoising.h).  With the
-    # defaults of either, nothing is fixed.
-    ("ImageBeltramiDenoising", "UseFixedPixelsArray"),
-    ("SurfaceDataDenoising", "UseFixedPointsArray"),
-    ("TetrahedralBeltramiDenoising", "UseFixedPointsArray"),
-    ("ImplicitFairing", "UseFixedPointsArray"),
-    ("ImplicitFairing", "UseSmoothingWeightsArray"),
-    ("ImplicitFairing", "UseAxisDirectionsArray"),
-    ("ImplicitFairing", "UsePlaneNormalsArray"),
-}
 problems = []
 checked = {"properties": 0, "defaults": 0, "enumerations": 0}
 
@@ -42,8 +27,8 @@ def fail(text):
     print("FAILED:", text)
 
 
-def values_of(prop, kind):
-    text = prop.get("default_values")
+def values_of(prop, kind, attribute="default_values"):
+    text = prop.get(attribute)
     if text is None:
         return None
     if kind == "StringVectorProperty" and text == "":
@@ -120,9 +105,14 @@ def check_proxy(proxy_el, file):
                 fail(f"{file}: {proxy}.{name}: {cls} has no getter for {command} to compare the default with")
             else:
                 checked["defaults"] += 1
-                if (proxy, name) in DIFFERENT_DEFAULT:
-                    if same(default, actual):
-                        fail(f"{file}: {proxy}.{name}: listed as a deliberate difference, but the defaults agree")
+                # A deliberate difference is said in the XML itself (the one
+                # source of the reference, docs/reference.py).
+                hint = prop.find("Hints/PythonDefault")
+                if hint is not None:
+                    python_default = values_of(hint, kind, "value")
+                    if same(default, actual) or not same(python_default, actual):
+                        fail(f"{file}: {proxy}.{name}: the XML says Python starts at {python_default} "
+                             f"and the panel at {default}, but {cls} starts at {actual}")
                 elif not same(default, actual):
                     fail(f"{file}: {proxy}.{name}: XML default {default} but {cls} starts at {actual}")
         if prop.find("EnumerationDomain") is not None:

@@ -189,7 +189,7 @@ class FairingFromPython(unittest.TestCase):
             self.assertGreater(moved.max(), 1e-3)
 
     def test_noisy_bunny_against_windowed_sinc(self):
-        # Issue 3's noisy scan: bunny00 with Gaussian noise of 0.3% of the
+        # The noisy scan: bunny00 with Gaussian noise of 0.3% of the
         # bounding-box diagonal along the normals; RMS vertex distance to the
         # clean mesh.  vtkWindowedSincPolyDataFilter at its best pass band
         # (swept) against the filter with its defaults (curvature flow of
@@ -231,7 +231,7 @@ class FairingFromPython(unittest.TestCase):
         # largest move, in a quarter of the iterations or less), and at the
         # default tolerance the same denoising error.  (At 1e-4 both meet
         # the residual bound, but Jacobi's complex solver over-solves: its
-        # points are 300x nearer the exact step's; see the README.)
+        # points are 300x nearer the exact step's.)
         bunny = self.bunny()
         clean = vtk_to_numpy(bunny.GetPoints().GetData()).astype(float)
         diag = np.linalg.norm(clean.max(0) - clean.min(0))
@@ -744,7 +744,7 @@ class RemeshingFromPython(unittest.TestCase):
 
 
 class LineDrawingFromPython(unittest.TestCase):
-    """vtkSurfaceLineDrawing (issue 27) through the wrapping."""
+    """vtkSurfaceLineDrawing through the wrapping."""
 
     def drawing(self, source):
         f = vtkSurfaceLineDrawing()

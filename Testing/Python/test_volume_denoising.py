@@ -263,7 +263,7 @@ if __name__ == "__main__":
 
 class TensorVolumes(unittest.TestCase):
     def test_log_euclidean_tensors_on_tetrahedra(self):
-        # Issue 31: 6-component symmetric tensors on tetrahedra, smoothed as
+        # 6-component symmetric tensors on tetrahedra, smoothed as
         # matrix logarithms: diag(1, 0.25, 0.1) turning about z along x keeps
         # its (equal) determinants and stays positive definite under noise;
         # the components' flow swells it.

@@ -1,4 +1,4 @@
-// Beltrami core: line drawings of a triangle surface (issue 27): contours,
+// Beltrami core: line drawings of a triangle surface: contours,
 // suggestive contours and highlights (DeCarlo, Finkelstein, Rusinkiewicz &
 // Santella 2003; DeCarlo & Rusinkiewicz 2007), ridges and valleys,
 // boundaries and creases, chained into polylines.

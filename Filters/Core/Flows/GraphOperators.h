@@ -1,5 +1,5 @@
 // Beltrami core: the operators of section 2.8 on data seen as a graph, as
-// outputs (issue 31): for images and point data on surfaces, the 2-manifold
+// outputs: for images and point data on surfaces, the 2-manifold
 // S = (base point, alpha f) in R^(2+n) or R^(3+n) (section 2.8.1); for 3D
 // images and point data on tetrahedra, the 3-manifold one dimension up
 // (section 2.8.2).  The same operators the graph flows move the data by,

@@ -1,5 +1,5 @@
 // Beltrami core: the level of additive Gaussian noise in data, from the data
-// alone (issue 29: denoising without hand-tuned parameters).
+// alone (denoising without hand-tuned parameters).
 //
 // Each estimator computes, per sample, a high-pass response that cancels
 // linear data and turns white noise of deviation sigma into noise of a known

@@ -41,7 +41,7 @@ namespace beltrami::detail
 
 // The systems' arrays are LargeVectors (2 MiB pages, reused by the next
 // run): at 179k vertices they hold some 100 MB, and faulting them in 4 KiB
-// pages on this project's virtual machines cost 0.2-0.4 s of a first run.
+// pages on machines where page faults are slow cost 0.2-0.4 s of a first run.
 struct RowMatrix // CSR rows over all unknowns
 {
   LargeVector<std::int64_t> Offsets;

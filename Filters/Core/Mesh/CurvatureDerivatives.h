@@ -1,5 +1,5 @@
 // Beltrami core: the derivative of the curvature tensor per vertex, for the
-// line drawings (issue 27: suggestive contours, ridges and valleys), which
+// line drawings (suggestive contours, ridges and valleys), which
 // need the third-order quantity C = D II beyond chapter 2's operators.
 //
 // Method: Rusinkiewicz, "Estimating curvatures and their derivatives on

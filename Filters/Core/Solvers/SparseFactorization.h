@@ -4,7 +4,7 @@
 // dissection): our SupernodalLU, its Cholesky form for symmetric positive
 // definite systems and its LU for the others; it runs independent subtrees
 // on separate threads, faster than CHOLMOD and UMFPACK on the
-// parameterization's systems (the README's parameterization section has the
+// parameterization's systems (the guide's benchmarks page has the
 // timings).  SuiteSparse otherwise, and
 // when SupernodalLU fails: CHOLMOD's supernodal Cholesky, UMFPACK's LU (any
 // pivot; also when the Cholesky finds the matrix not positive definite).

@@ -56,7 +56,7 @@ int InputFile(const std::vector<char>& input)
 /// its standard output (closed in the child after dup2), standard error on
 /// /dev/null, the heap on transparent huge pages (glibc >= 2.35: a fresh
 /// process faults in all its memory, one 4 KiB page at a time otherwise,
-/// which on virtual machines costs more than the work).  Returns the pid or
+/// which on machines where page faults are slow costs more than the work).  Returns the pid or
 /// throws.
 pid_t Spawn(const std::string& program, const std::vector<std::string>& arguments, int in, int out)
 {

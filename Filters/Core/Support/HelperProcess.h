@@ -36,7 +36,7 @@ HelperProcessResult RunHelperProcess(const std::string& program, const std::vect
   const std::function<bool()>& keepGoing = {});
 
 /// A helper process kept running between requests, so that the memory it
-/// faulted in stays warm (on virtual machines a fresh process pays ~1 ms per
+/// faulted in stays warm (on machines where page faults are slow a fresh process pays ~1 ms per
 /// MiB it touches).  Its standard input and output are one end of a socket
 /// pair; a request and its answer are frames: a uint64 length and the bytes.
 /// The helper is started by the first request and again after it died: a

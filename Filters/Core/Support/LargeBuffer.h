@@ -3,7 +3,7 @@
 // Arrays of several megabytes are placed on 2 MiB-aligned memory that the
 // kernel may back with transparent huge pages (Linux, madvise mode), so that
 // first touching them costs one page fault per 2 MiB instead of one per
-// 4 KiB.  On virtual machines a 4 KiB fault can cost 10 us: a 512 x 512
+// 4 KiB.  Where page faults are slow a 4 KiB fault can cost 10 us: a 512 x 512
 // image flow spent more time faulting in its buffers than computing.
 // Small arrays and other systems use the ordinary allocator.
 //
@@ -12,7 +12,7 @@
 // BELTRAMI_LARGE_BUFFER_CACHE_MB, 0 disables it) and handed out again for an
 // allocation of the same rounded size: a filter that runs again (a changed
 // parameter in ParaView, the next time step, the next solver call) finds
-// its buffers already faulted in.  On this project's virtual machines first
+// its buffers already faulted in.  On machines where page faults are slow first
 // touching fresh memory costs about 1-2 ms per MiB, more than computing the
 // curvatures of the 1.2M-triangle benchmark mesh into it.  On Linux an
 // allocation of a size the cache does not hold is made of cached blocks'

@@ -93,7 +93,7 @@ private:
   WorkerPool() = default;
 
   /// Spins (for up to SpinTime) until ready() holds: waking a sleeping
-  /// thread costs tens of microseconds, more in virtual machines, and a
+  /// thread costs tens of microseconds, more where page faults are slow, and a
   /// solver runs a parallel loop every few hundred microseconds.
   template <typename F>
   static bool SpinUntil(F&& ready)

@@ -1,4 +1,4 @@
-// Line drawings (issue 27): curvature derivatives against analytic surfaces,
+// Line drawings: curvature derivatives against analytic surfaces,
 // suggestive contours on a Gaussian bump, contours on spheres, ridges and
 // valleys of an ellipsoid, suggestive contours meeting contours on a torus,
 // chaining, no curvature lines along the creases of a CAD part, and bad

@@ -177,7 +177,7 @@ TEST(ImageGraphFlow, SinglePrecisionCellsMatchALongDoubleReferenceAcrossSteepEdg
 {
   // Colour and grey noise on steps of 1 at contrast scales of 50 and 400
   // (rises of 50-400 per pixel), anisotropic spacing; the pixels inside the
-  // border compared.  Measured (AMD VM): 6e-6 and 5e-7 of the change at 50
+  // border compared.  Measured (2-core x86-64): 6e-6 and 5e-7 of the change at 50
   // (grey, colour), 3.3e-4 and 4e-7 at 400; with the areas from
   // |u|^2 |v|^2 - (u.v)^2 in single precision 6e-4 and 1.9e-5 at 400.
   const auto compare = [](auto nc, double alpha, double dt, double bound) {

@@ -1,5 +1,5 @@
 // The operators of section 2.8 on data seen as graphs, as outputs
-// (Flows/GraphOperators, issue 31), against analytic graphs: the
+// (Flows/GraphOperators), against analytic graphs: the
 // Laplace-Beltrami operator of the data, the mean and Gaussian curvatures
 // and the edge indicator of a Gaussian image, volume and point data, zero
 // on linear data, and the image and volume paths equal to the mesh paths

@@ -1,5 +1,5 @@
 // Finite-difference checks of the gradients of appendix A behind the
-// assembled Laplacians (issue 31):
+// assembled Laplacians:
 //  - A.2: the gradient of the total area with respect to a vertex is
 //    (1/2) sum_j (cot a_ij + cot b_ij) (x_i - x_j) = 2 (S x)_i for the
 //    cotangent stiffness S (c_ij = (cot a + cot b) / 4);

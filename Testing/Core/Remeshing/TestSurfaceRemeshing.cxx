@@ -407,7 +407,7 @@ TEST(SurfaceRemeshing, SharpEdgesOfACadPartAreReproduced)
   // through them.  The creases are sampled more densely where they bend
   // (MaximumLineSag): every end and middle of an input sharp edge lies
   // within 0.080% of the diagonal of the remesh at 10k vertices and 0.103%
-  // at 5k (AMD EPYC VM).  With the density's spacing along them too
+  // at 5k (2-core x86-64).  With the density's spacing along them too
   // (MaximumLineSag 0) the small round crease (22.5 degrees of turn per
   // input edge) is cut between samples: 0.111-0.123% and 0.152-0.161%
   // there (0.102% and 0.146% on an Intel Xeon, whose BLAS and libm round
