@@ -116,14 +116,11 @@ def pvpython_name(label):
     return re.sub(r"[^A-Za-z0-9_]", "", label)
 
 
-def cell(text):
-    return text.replace("|", "\\|")
-
-
 def settings_markdown(p):
-    """The settings table of one proxy, MyST Markdown."""
-    lines = [f"Settings of *{p.label}* (Python: `{p.cls}`, pvpython: `{pvpython_name(p.label)}`):", "",
-             "| Setting | pvpython | Python | Default | What it does |", "|---|---|---|---|---|"]
+    """The settings of one proxy, MyST Markdown: a definition list, one
+    setting a term (panel label; pvpython and Python names; default)."""
+    lines = [f"Settings of *{p.label}* (Python: `{p.cls}`, pvpython: `{pvpython_name(p.label)}`). "
+             "Each gives its panel label, then its pvpython property and Python method, then its default.", ""]
     for s in p.settings:
         if s.information_only:
             continue
@@ -131,14 +128,16 @@ def settings_markdown(p):
                                                    if s.command == "SetInputArrayToProcess" else "")
         default = s.default_text()
         if s.python_default is not None:
-            default = f"{s.python_default_text()} (panel: {default})"
-        what = s.doc
+            default = f"{s.python_default_text()} in Python, {default} in the panel"
+        names = ", ".join(x for x in (f"`{pvpython_name(s.label)}`", python) if x)
+        term = f"**{s.label}** ({names}" + (f"; default: {default}" if default else "") + ")"
+        what = s.doc or "(no description)"
         if s.entries:
             what += " Values: " + ", ".join(f"{text} ({v})" for v, text in s.entries) + "."
         if s.advanced:
-            what += " *Advanced.*"
-        lines.append(f"| {cell(s.label)} | `{pvpython_name(s.label)}` | {python} | {cell(default)} | {cell(what)} |")
-    return "\n".join(lines) + "\n"
+            what += " *Advanced* (the panel's gear button)."
+        lines += [term, f": {what}", ""]
+    return "\n".join(lines)
 
 
 def write_markdown(directory):

@@ -14,7 +14,7 @@ diagonal = np.linalg.norm(clean.max(0) - clean.min(0))
 noisy = vtkPolyData()
 noisy.DeepCopy(reader.GetOutput())
 points = vtkPoints()
-points.SetData(numpy_to_vtk(clean + np.random.default_rng(1).normal(0, 0.002 * diagonal, clean.shape), deep=1))
+points.SetData(numpy_to_vtk(clean + np.random.default_rng(1).normal(0, 0.001 * diagonal, clean.shape), deep=1))
 noisy.SetPoints(points)
 
 fairing = vtkImplicitFairing()
