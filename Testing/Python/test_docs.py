@@ -153,6 +153,9 @@ def check_history():
     readme = open(os.path.join(ROOT, "README.md"), encoding="utf-8").read().split("\n")
     if len(readme) > 250:
         fail(f"README.md has {len(readme)} lines (at most 250)")
+    for target in re.findall(r"\]\(([^)#]+)", "\n".join(readme)):
+        if not re.match(r"[a-z]+:", target) and not os.path.exists(os.path.join(ROOT, target)):
+            fail(f"README.md links to {target}, which is not there")
     files = tracked_text_files()
     for name in files:
         for number, line in enumerate(open(os.path.join(ROOT, name), encoding="utf-8", errors="replace"), 1):
