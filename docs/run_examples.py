@@ -18,9 +18,19 @@ def examples(pvpython):
     return [p for p in paths if p.endswith("_pvpython.py") == pvpython]
 
 
+def load_plugin():
+    """In pvpython the plugin comes from PV_PLUGIN_PATH (build/beltrami-env.sh);
+    where only BELTRAMI_PLUGIN names it (the test suite), it is loaded here."""
+    import paraview.simple as simple
+    if not hasattr(simple, "ImplicitFairing") and os.environ.get("BELTRAMI_PLUGIN"):
+        simple.LoadPlugin(os.environ["BELTRAMI_PLUGIN"], ns=vars(simple))
+
+
 def main(argv):
     pvpython = "--pvpython" in argv
     os.chdir(ROOT)
+    if pvpython:
+        load_plugin()
     passed, failed = 0, 0
     for path in examples(pvpython):
         start = time.perf_counter()

@@ -6,7 +6,7 @@ reader.SetFileName("Testing/Data/bunny00.off")
 drawing = vtkSurfaceLineDrawing()
 drawing.SetInputConnection(reader.GetOutputPort())
 drawing.SetCameraPosition(0.0, 0.1, 1.0)
-drawing.SetDrawRidges(True)
+drawing.SetRidges(True)
 drawing.Update()
 print("polylines:", drawing.GetOutput().GetNumberOfCells())
 
