@@ -104,13 +104,6 @@ def proxies():
     return found
 
 
-def proxy(name):
-    for p in proxies():
-        if p.name == name:
-            return p
-    raise KeyError(f"no proxy {name} in {PLUGIN}")
-
-
 def pvpython_name(label):
     """The name paraview.simple gives a proxy or property of this label."""
     return re.sub(r"[^A-Za-z0-9_]", "", label)

@@ -75,6 +75,8 @@ def check_reference(out):
         for s in p.settings:
             if s.information_only:
                 continue
+            if not s.doc:
+                fail(f"{p.label}: the setting {s.label} has no <Documentation> in {p.file}")
             for word in (s.label, s.setter):
                 if word and word not in text:
                     fail(f"{p.label}: the setting '{word}' is not in {', '.join(pages)}")
