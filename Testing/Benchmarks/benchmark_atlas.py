@@ -24,6 +24,7 @@ import beltrami
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from benchmark_parameterization import cgal, mesh  # noqa: E402  (CGAL on one mesh; bundled meshes)
 from timing import timed  # noqa: E402
+import results  # noqa: E402
 
 
 def atlas_of(data, boundary):
@@ -64,16 +65,20 @@ def against_cgal(data):
         peer = cgal(chart_mesh(cut, c))
         if not peer:
             print("  (CGAL comparison skipped: build/bin/beltrami-benchmark-cgal-parameterization not built)")
-            return
+            return []
         for name in rows:
             mine = vtk_to_numpy(ours[name].GetFieldData().GetArray("AtlasChartAngleDistortion"))[c]
             rows[name].append((mine, peer[name][1]))
+    table = []
     for name, label in (("DCP", "DCP on circles"), ("DCPsquare", "DCP on squares"), ("natural", "natural vs LSCM")):
         mine, theirs = np.array(rows[name]).T
+        table.append([label, float(np.average(mine, weights=areas)), float(np.average(theirs, weights=areas)),
+                      int(np.sum(mine > theirs + 0.01)), int(charts)])
         print("  %-16s mean angle distortion (area-weighted) ours %.3f deg, CGAL %.3f deg; charts where ours is "
               "worse by more than 0.01 deg: %d of %d" % (label, np.average(mine, weights=areas),
                                                          np.average(theirs, weights=areas),
                                                          int(np.sum(mine > theirs + 0.01)), charts))
+    return table
 
 
 def first_and_best(f, repeats=3):
@@ -91,6 +96,7 @@ def main(argv):
     print("time: the first run and the best of 3 (timings here vary by up to 50% between runs)")
     print("%-10s %9s %7s %13s %9s %11s %7s" % ("boundary", "triangles", "charts", "time s", "packing",
                                               "mean angle", "splits"))
+    rows = []
     for level in range(levels + 1):
         data = mesh("bunny00.off", level) if level else bunny
         for boundary, name in ((beltrami.vtkSurfaceAtlas.SQUARE, "square"), (beltrami.vtkSurfaceAtlas.CIRCLE, "circle"),
@@ -109,6 +115,13 @@ def main(argv):
             print("%-10s %9d %7d %6.2f / %4.2f %8.1f%% %9.2f deg %7d" % (
                 name, data.GetNumberOfCells(), n, first, elapsed, 100 * fd.GetArray("AtlasPackingEfficiency").GetValue(0),
                 mean, fd.GetArray("AtlasSplitsForFlips").GetValue(0)))
+            rows.append([name, data.GetNumberOfCells(), n, first, elapsed,
+                         100 * fd.GetArray("AtlasPackingEfficiency").GetValue(0), mean])
+    results.save("atlas", "Atlas", "Charts, packing and distortion", "none for whole atlases in Debian (see the "
+                 "per-chart comparison with CGAL below)", "bunny00 and its Loop subdivisions",
+                 ["chart boundary", "triangles", "charts", "first run s", "best of 3 s", "packing %",
+                  "mean angle distortion deg"], rows, "Without the geometry maps; angle distortion area-weighted "
+                 "over the charts.")
     print("geometry maps at 512^2 (FaceId, Embedding, AreaRatio, MeanCurvature, GaussianCurvature; best of 5, "
           "the atlas excluded):")
     for level in range(min(levels, 1) + 1):
@@ -128,7 +141,14 @@ def main(argv):
                           seconds[beltrami.vtkSurfaceAtlas.CHARTS, 512] - atlas,
                           seconds[beltrami.vtkSurfaceAtlas.ATLAS, 512] - atlas))
     print("bunny00's charts against CGAL 5.5:")
-    against_cgal(bunny)
+    table = against_cgal(bunny)
+    if table:
+        results.save("atlas_charts", "Atlas", "Each chart's map against CGAL",
+                     "CGAL 5.5 Surface_mesh_parameterization (DCP on a circle, LSCM) on the same charts",
+                     "the charts of bunny00's atlas, each given to both", ["map", "ours deg", "CGAL deg",
+                                                                           "charts where ours is worse by > 0.01 deg",
+                                                                           "charts"], table,
+                     "Mean angle distortion, area-weighted over the charts.")
     return 0
 
 
