@@ -12,14 +12,13 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 
 
 def machine():
-    """CPU model, cores and memory of this machine, in words."""
-    model = platform.processor() or platform.machine()
+    """This machine's kind in words: architecture, widest vector unit, cores, memory
+    (no vendor's model name: the page describes the class of machine)."""
+    vector = ""
     try:
         with open("/proc/cpuinfo", encoding="utf-8") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    model = line.split(":", 1)[1].strip()
-                    break
+            flags = next((line.split(":", 1)[1].split() for line in f if line.startswith("flags")), [])
+        vector = " with AVX-512" if "avx512f" in flags else " with AVX2" if "avx2" in flags else ""
     except OSError:
         pass
     memory = ""
@@ -29,7 +28,7 @@ def machine():
         memory = f", {kib / 2**20:.0f} GiB"
     except (OSError, ValueError, IndexError):
         pass
-    return f"{model}, {os.cpu_count()} cores{memory}"
+    return f"{platform.machine()}{vector}, {os.cpu_count()} cores{memory}"
 
 
 def save(name, capability, title, peer, data, columns, rows, notes=""):

@@ -29,8 +29,8 @@ import reference  # noqa: E402
 problems = []
 # Words of a development history, not of a user's documentation.
 HISTORY = re.compile(r"\bissues? #?\d+|\bsessions? \d+|\b(this|last|previous|next|that) session\b|"
-                     r"virtual machines?|\bVMs?\b", re.IGNORECASE)
-TEXT_SUFFIXES = (".md", ".py", ".h", ".cxx", ".xml", ".txt", ".sh", ".in", ".module", ".plugin", "run")
+                     r"virtual machines?|\bVMs?\b|\b(EPYC|Xeon|Ryzen|Opteron)\b", re.IGNORECASE)
+TEXT_SUFFIXES = (".md", ".py", ".h", ".cxx", ".xml", ".txt", ".sh", ".in", ".module", ".plugin", ".json", "run")
 
 
 def fail(text):

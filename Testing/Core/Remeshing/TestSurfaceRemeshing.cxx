@@ -410,7 +410,7 @@ TEST(SurfaceRemeshing, SharpEdgesOfACadPartAreReproduced)
   // at 5k (2-core x86-64).  With the density's spacing along them too
   // (MaximumLineSag 0) the small round crease (22.5 degrees of turn per
   // input edge) is cut between samples: 0.111-0.123% and 0.152-0.161%
-  // there (0.102% and 0.146% on an Intel Xeon, whose BLAS and libm round
+  // there (0.102% and 0.146% on another x86-64 whose BLAS and libm round
   // the charts' maps differently).  Before the crease ends were corners:
   // 0.16-0.19% and 0.43-0.44%, at vertex 161.  Without the features the
   // remesh cuts the creases: 0.83-0.94% and 1.14-1.39%.
