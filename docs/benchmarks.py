@@ -58,8 +58,5 @@ def markdown(records):
 
 
 def write_markdown(directory, path):
-    text = markdown(load(directory))
-    os.makedirs(os.path.dirname(path), exist_ok=True)
-    if not os.path.exists(path) or open(path, encoding="utf-8").read() != text:
-        with open(path, "w", encoding="utf-8") as f:
-            f.write(text)
+    from reference import write_if_changed
+    write_if_changed(path, markdown(load(directory)))

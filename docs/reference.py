@@ -133,15 +133,18 @@ def settings_markdown(p):
     return "\n".join(lines)
 
 
+def write_if_changed(path, text):
+    """Writes text to path unless it holds it already (Sphinx then rebuilds only what changed)."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    if not os.path.exists(path) or open(path, encoding="utf-8").read() != text:
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(text)
+
+
 def write_markdown(directory):
     """One settings file per proxy: <directory>/<Proxy>.md."""
-    os.makedirs(directory, exist_ok=True)
     for p in proxies():
-        text = settings_markdown(p)
-        path = os.path.join(directory, p.name + ".md")
-        if not os.path.exists(path) or open(path, encoding="utf-8").read() != text:
-            with open(path, "w", encoding="utf-8") as f:
-                f.write(text)
+        write_if_changed(os.path.join(directory, p.name + ".md"), settings_markdown(p))
 
 
 # ---- the headers' setter comments ------------------------------------------------------------
@@ -184,8 +187,10 @@ def header_changes():
         path = header_of(p.cls)
         if path is None:
             continue
-        lines = changes[path][1] if path in changes else open(path, encoding="utf-8").read().split("\n")
-        original = open(path, encoding="utf-8").read().split("\n")
+        if path not in changes:
+            original = open(path, encoding="utf-8").read().split("\n")
+            changes[path] = (original, list(original))
+        lines = changes[path][1]
         for s in p.settings:
             if not s.setter or not s.doc:
                 continue
@@ -202,7 +207,6 @@ def header_changes():
                     and lines[start - 1].strip() not in ("///@{", "///@}"):
                 start -= 1
             lines[start:i] = comment_for(s, indent)
-        changes[path] = (original, lines)
     return {path: pair for path, pair in changes.items() if pair[0] != pair[1]}
 
 

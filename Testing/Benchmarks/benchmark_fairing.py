@@ -9,11 +9,11 @@ build/bin/beltrami-benchmark-cgal-smooth-shape, built when Debian's
 libcgal-dev is installed (a peer to compare with, not a dependency).
 Run:  source build/beltrami-env.sh && /usr/bin/python3 Testing/Benchmarks/benchmark_fairing.py
 
-With --defaults [--json FILE]: instead, the defaults (the step and the operator
+With --defaults: instead, the defaults (the step and the operator
 chosen from the noise) on every mesh of the shared corpus with Gaussian noise of
 0.1%, 0.3% and 1% of the diagonal along the normals, against the filter's own
 best step and windowed sinc's best pass band (both chosen with the clean mesh),
-error and time per case in one table (and the rows as JSON)."""
+error and time per case in one table (also written for the guide's benchmarks page)."""
 import os
 import sys
 import time
@@ -93,9 +93,8 @@ def defaults(mesh, threads):
     return f
 
 
-def defaults_table(json_path=None):
+def defaults_table():
     """The defaults against the oracles over the corpus (fairing_oracles)."""
-    import json
     import inputs
     print("Fairing defaults: RMS distance to the clean mesh / diagonal; own best: the best step of the curvature flow\n"
           "and of the umbrella; sinc: vtkWindowedSincPolyDataFilter (20 iterations) at its best pass band; noise:\n"
@@ -132,14 +131,10 @@ def defaults_table(json_path=None):
                    "umbrella" if r["operator"] == 0 else "curvature flow", r["seconds"], r["sinc seconds"]]
                   for r in rows],
                  "Errors: RMS distance to the clean mesh over the bounding-box diagonal. " + summary)
-    if json_path:
-        with open(json_path, "w") as out:
-            json.dump(rows, out, indent=1)
-        print("wrote " + json_path)
 
 
 if "--defaults" in sys.argv:
-    defaults_table(sys.argv[sys.argv.index("--json") + 1] if "--json" in sys.argv else None)
+    defaults_table()
     sys.exit(0)
 
 reader = vtkOFFReader()
