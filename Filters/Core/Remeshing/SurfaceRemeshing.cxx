@@ -327,9 +327,12 @@ void DilateOverRings(const MeshTopology& topology, int rings, std::vector<double
 /// The remesh's deviation at every input vertex: its distance to the
 /// remesh, and the distance to the input of the centre of every remesh
 /// triangle that a corner of lies on one of the vertex's triangles (a
-/// triangle that spans a gap; the largest of those).
+/// triangle that spans a gap; the largest of those).  Every input vertex
+/// farther than `pin` from the remesh that is the farthest of its 1-ring
+/// (a cone point of the input between the remesh's vertices) is flagged in
+/// `pinned`.
 std::vector<double> LocalDeviations(const MeshTopology& topology, const double* points, const TriangleGrid& toInput,
-  const RemeshResult& remesh, int numThreads)
+  const RemeshResult& remesh, double pin, std::vector<std::uint8_t>& pinned, int numThreads)
 {
   const std::size_t triangles = remesh.Triangles.size() / 3;
   const TriangleGrid toRemesh(remesh.Points.data(), remesh.Triangles.data(), triangles, numThreads);
@@ -340,6 +343,16 @@ std::vector<double> LocalDeviations(const MeshTopology& topology, const double* 
       deviation[v] = topology.Valence(v) > 0 ? toRemesh.Distance(Point(points, v)) : 0.0;
     }
   });
+  const MeshTopology::VertexGraph& graph = topology.Graph();
+  for (Index v = 0; v < topology.NumberOfVertices(); ++v)
+  {
+    bool farthest = deviation[v] > pin;
+    for (std::int64_t k = graph.NeighborOffsets[v]; farthest && k < graph.NeighborOffsets[v + 1]; ++k)
+    {
+      farthest = deviation[graph.Neighbors[k]] <= deviation[v];
+    }
+    pinned[v] = pinned[v] || farthest;
+  }
   std::vector<double> centre(triangles);
   ParallelFor(static_cast<std::int64_t>(triangles), numThreads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t t = begin; t < end; ++t)
@@ -367,20 +380,23 @@ std::vector<double> LocalDeviations(const MeshTopology& topology, const double* 
 }
 
 /// The next remesh's weights and count after one that left the input
-/// farther than `target`, a margin below the bound (each remesh's vertices
-/// fall elsewhere: its deviation varies by 10-20%).  The deviation falls
+/// farther than `bound`, aiming at a target of three quarters of it (each
+/// remesh's vertices fall elsewhere: its deviation varies by 10-20%).  The deviation falls
 /// with the square of the spacing: the density (`weight`, whose integral
 /// over the surface is `integral`) is raised by the ratio wherever the
 /// input is left farther within about two spacings (the input's vertices
 /// sample the remesh's sag unevenly: most lie near its vertices), and the
 /// count with the integral; where no input vertex is (the remesh's
-/// triangles are the far ones), the count alone.  At most `most`.
+/// triangles are the far ones), the count alone.  At most `most`.  The
+/// input's cone points farther than the bound are pinned (LocalDeviations:
+/// pinned at the target, they cost more vertices than they save).
 std::int64_t RaiseWhereFar(const MeshTopology& topology, const double* points, const TriangleGrid& toInput,
   const RemeshResult& remesh,
-  const LargeVector<double>& mass, double meanEdge, double target, double worst, std::int64_t count,
-  std::int64_t most, std::vector<double>& weight, double& integral, int numThreads)
+  const LargeVector<double>& mass, double meanEdge, double bound, double worst, std::int64_t count,
+  std::int64_t most, std::vector<double>& weight, double& integral, std::vector<std::uint8_t>& pinned, int numThreads)
 {
-  std::vector<double> factor = LocalDeviations(topology, points, toInput, remesh, numThreads);
+  const double target = 0.75 * bound;
+  std::vector<double> factor = LocalDeviations(topology, points, toInput, remesh, bound, pinned, numThreads);
   const int rings = static_cast<int>(std::min(32.0, std::ceil(2.0 * remesh.Spacing / std::max(meanEdge, 1e-300))));
   DilateOverRings(topology, rings, factor);
   bool raised = false;
@@ -477,6 +493,7 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   sampling.NumberOfSamples = options.NumberOfVertices;
   sampling.Resolution = options.Resolution;
   sampling.MaximumLineSag = options.MaximumLineSag;
+  sampling.PinnedVertices = options.PinnedVertices;
   sampling.NumberOfThreads = options.NumberOfThreads;
   sampling.Cache = cache;
   out.Samples = SampleSurface(topology, points, atlas, importance, sampling);
@@ -542,8 +559,10 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
   const double meanEdge = MeanEdgeLength(topology, points);
   // The input's grid, once for every round (its triangles stay).
   const TriangleGrid toInput(points, topology.TriangleList().data(), topology.NumberOfTriangles(), options.NumberOfThreads);
+  std::vector<std::uint8_t> pinned(n, 0); // where a remesh left the input farthest
   RemeshOptions round = options;
   round.Cache = cache;
+  round.PinnedVertices = pinned.data();
   int failures = 0, stalled = 0;
   double closest = HUGE_VAL;
   for (int r = 0; r < maximumRounds && !out.Met; ++r)
@@ -575,8 +594,8 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
     {
       break;
     }
-    count = RaiseWhereFar(topology, points, toInput, out.Remesh, mass, meanEdge, 0.75 * bound, worst, count,
-      MostVerticesPerInputVertex * static_cast<std::int64_t>(n), weight, integral, options.NumberOfThreads);
+    count = RaiseWhereFar(topology, points, toInput, out.Remesh, mass, meanEdge, bound, worst, count,
+      MostVerticesPerInputVertex * static_cast<std::int64_t>(n), weight, integral, pinned, options.NumberOfThreads);
   }
   return out;
 }

@@ -36,6 +36,9 @@ struct RemeshOptions
   /// (RaiseImportanceForSag).  A uniform remesh stays uniform wherever the
   /// spacing follows the surface.
   double MaximumSurfaceSag = 0.1;
+  /// Input vertices that get a remesh vertex each, exactly there (one flag
+  /// per surface vertex; null: none; SamplingOptions::PinnedVertices).
+  const std::uint8_t* PinnedVertices = nullptr;
   int NumberOfThreads = 0;
   RemeshCache* Cache = nullptr; ///< optional: kept between calls on the same surface and atlas (RemeshCache)
 };

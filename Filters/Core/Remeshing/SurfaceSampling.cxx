@@ -4,6 +4,7 @@
 #include "Maps/GeometryImages.h"
 #include "Mesh/Geometry.h"
 #include "Remeshing/ErrorDiffusion.h"
+#include "Remeshing/SqueezedParts.h"
 
 #include <Eigen/Geometry>
 
@@ -346,12 +347,13 @@ double AngleDefect(const MeshTopology& topology, const double* points, Index v)
 }
 
 /// Every interior vertex of a chart (all its triangles in the chart) with
-/// an angle defect above `threshold` takes the nearest interior sample of
-/// its chart, exactly at the vertex, as a Tip (SamplingOptions::TipAngleDefect).
+/// an angle defect above `threshold`, or `pinned` (per vertex; may be
+/// null), takes the nearest interior sample of its chart, exactly at the
+/// vertex, as a Tip (SamplingOptions::TipAngleDefect, PinnedVertices).
 void PinTips(const MeshTopology& topology, const double* points, const AtlasResult& atlas, double threshold,
-  SurfaceSamples& out)
+  const std::uint8_t* pinned, SurfaceSamples& out)
 {
-  std::vector<std::vector<std::size_t>> interior(threshold > 0.0 ? atlas.Charts.size() : 0); // per chart
+  std::vector<std::vector<std::size_t>> interior(threshold > 0.0 || pinned ? atlas.Charts.size() : 0); // per chart
   for (std::size_t s = 0; s < out.Kind.size() && !interior.empty(); ++s)
   {
     if (out.Kind[s] == SampleKind::Interior)
@@ -359,9 +361,10 @@ void PinTips(const MeshTopology& topology, const double* points, const AtlasResu
       interior[out.Chart[s]].push_back(s);
     }
   }
-  for (Index v = 0; threshold > 0.0 && v < topology.NumberOfVertices(); ++v)
+  for (Index v = 0; !interior.empty() && v < topology.NumberOfVertices(); ++v)
   {
-    if (!topology.IsInterior(v) || topology.Valence(v) == 0 || !(AngleDefect(topology, points, v) > threshold))
+    if (!topology.IsInterior(v) || topology.Valence(v) == 0 ||
+      !((pinned && pinned[v]) || (threshold > 0.0 && AngleDefect(topology, points, v) > threshold)))
     {
       continue;
     }
@@ -704,8 +707,20 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
     out.ControlMap[p] *= out.Density;
   }
   ExcludeBoundaryBand(topology, points, importance, atlas, boundaries, out.Density, n, roles);
-  HalftoneResult halftone =
-    Halftone(out.ControlMap.data(), n, n, options.NumberOfSamples - out.BoundarySamples, roles.data());
+  // The parts the charts' maps squeeze past the texels are sampled on the
+  // surface (Remeshing/SqueezedParts), and their texels left out.
+  const SqueezedSamples squeezed = SampleSqueezedParts(
+    topology, points, atlas, packed, importance, out.Density, n, options.NumberOfSamples - out.BoundarySamples);
+  for (std::size_t p = 0; p < roles.size() && !squeezed.Triangle.empty(); ++p)
+  {
+    if (raster.Face[p] >= 0 && squeezed.PackedSqueezed[raster.Face[p]])
+    {
+      roles[p] = static_cast<std::uint8_t>(PixelRole::Outside);
+    }
+  }
+  const std::int64_t squeezedCount = static_cast<std::int64_t>(squeezed.Chart.size());
+  HalftoneResult halftone = Halftone(
+    out.ControlMap.data(), n, n, options.NumberOfSamples - out.BoundarySamples - squeezedCount, roles.data());
   if (!halftone.Error.empty())
   {
     out.Error = "the control map at " + std::to_string(n) + "^2 texels " + halftone.Error;
@@ -722,9 +737,14 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
         atlas.ChartOfTriangle[triangle], out);
     }
   }
+  for (std::int64_t s = 0; s < squeezedCount; ++s)
+  {
+    AddSample(topology, points, squeezed.Triangle[s], &squeezed.Barycentric[3 * s], SampleKind::Interior,
+      squeezed.Chart[s], out);
+  }
   out.Halftone = std::move(halftone.Samples);
   GiveEveryChartAnInteriorSample(topology, points, atlas, out);
-  PinTips(topology, points, atlas, options.TipAngleDefect, out);
+  PinTips(topology, points, atlas, options.TipAngleDefect, options.PinnedVertices, out);
   return out;
 }
 

@@ -89,6 +89,10 @@ struct SamplingOptions
   /// there (SampleKind::Tip): a tip thinner than the spacing is neither cut
   /// off by the halftone nor pulled down by the relaxation (0: none).
   double TipAngleDefect = 2.0;
+  /// Input vertices pinned as tips too, whatever their angle defect (one
+  /// flag per surface vertex; null: none): where a remesh left the input
+  /// farthest, the error-driven mode puts a vertex (RemeshToDeviation).
+  const std::uint8_t* PinnedVertices = nullptr;
   int NumberOfThreads = 0;
   RemeshCache* Cache = nullptr; ///< optional: kept between calls by the caller
 };
