@@ -367,10 +367,80 @@ void SplitDoubleEars(JoinedTriangles& joined)
 /// join, pinching the limb to an edge of four triangles.  The diagonal is
 /// flipped in one of the two charts (its quadrilateral convex in that
 /// chart's plane, the new edge not in the mesh yet): the edge keeps two
-/// triangles, the limb its cross-section.
+/// triangles, the limb its cross-section.  Where neither chart's is convex
+/// (a needle whose seam runs up one side and down the other: each chart
+/// fans the same two samples), the first chart's is flipped anyway; its
+/// triangles may be inverted in its plane, and the stitching rounds, on the
+/// surface, repair them (as after SplitDoubleEars).
+using FacesOnEdges = std::unordered_map<std::uint64_t, std::vector<std::size_t>>;
+
+/// Flips the diagonal a-b of face `first`'s chart (FlipSharedDiagonals):
+/// false where that chart has one face on it only, where the new edge is
+/// in the mesh already, or (`convex`) where the quadrilateral is not convex
+/// in the chart's plane.
+bool FlipDiagonal(JoinedTriangles& j, FacesOnEdges& facesOn, Index a, Index b, const std::vector<std::size_t>& on,
+  std::size_t first, bool convex)
+{
+  const std::size_t faces = j.Triangles.size() / 3;
+  const auto uv = [&j](std::size_t f, int k) { return Vec2(j.CornerUV[2 * (3 * f + k)], j.CornerUV[2 * (3 * f + k) + 1]); };
+  const auto cross = [](const Vec2& p, const Vec2& q, const Vec2& r) {
+    return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+  };
+  // The other face of `first`'s chart on a-b: the two sides of its diagonal.
+  std::size_t second = faces;
+  for (const std::size_t f : on)
+  {
+    second = f != first && j.FaceChart[f] == j.FaceChart[first] ? f : second;
+  }
+  if (second == faces || second < first)
+  {
+    return false;
+  }
+  // Corners: p, q, r of each face with p, q the edge's ends in the face's order.
+  int ka = 0, kb = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    ka = j.Triangles[3 * first + k] == a ? k : ka;
+    kb = j.Triangles[3 * second + k] == a ? k : kb;
+  }
+  // Orient so that `first` runs p -> q -> x and `second` q -> p -> y.
+  const int k1 = j.Triangles[3 * first + (ka + 1) % 3] == b ? ka : (ka + 2) % 3;
+  const int k2 = (k1 == ka) ? (kb + 2) % 3 : kb;
+  const Index p = j.Triangles[3 * first + k1], q = j.Triangles[3 * first + (k1 + 1) % 3];
+  const Index x = j.Triangles[3 * first + (k1 + 2) % 3];
+  const Index y = j.Triangles[3 * second + (k2 + 2) % 3];
+  if (j.Triangles[3 * second + k2] != q || j.Triangles[3 * second + (k2 + 1) % 3] != p || x == y ||
+    facesOn.count(EdgeKey(x, y)))
+  {
+    return false;
+  }
+  const Vec2 up = uv(first, k1), uq = uv(first, (k1 + 1) % 3), ux = uv(first, (k1 + 2) % 3);
+  const Vec2 uy = uv(second, (k2 + 2) % 3);
+  const double sign = cross(up, uq, ux);
+  if (convex && !(cross(ux, up, uy) * sign > 0.0 && cross(uy, uq, ux) * sign > 0.0))
+  {
+    return false;
+  }
+  // (p, q, x) + (q, p, y) -> (x, p, y) + (y, q, x)
+  const Index flipped[2][3] = { { x, p, y }, { y, q, x } };
+  const Vec2 flippedUV[2][3] = { { ux, up, uy }, { uy, uq, ux } };
+  for (int side = 0; side < 2; ++side)
+  {
+    const std::size_t f = side == 0 ? first : second;
+    for (int k = 0; k < 3; ++k)
+    {
+      j.Triangles[3 * f + k] = flipped[side][k];
+      j.CornerUV[2 * (3 * f + k)] = flippedUV[side][k][0];
+      j.CornerUV[2 * (3 * f + k) + 1] = flippedUV[side][k][1];
+    }
+  }
+  facesOn[EdgeKey(x, y)] = { first, second };
+  return true;
+}
+
 void FlipSharedDiagonals(JoinedTriangles& j)
 {
-  std::unordered_map<std::uint64_t, std::vector<std::size_t>> facesOn;
+  FacesOnEdges facesOn;
   const std::size_t faces = j.Triangles.size() / 3;
   for (std::size_t f = 0; f < faces; ++f)
   {
@@ -379,10 +449,6 @@ void FlipSharedDiagonals(JoinedTriangles& j)
       facesOn[EdgeKey(j.Triangles[3 * f + k], j.Triangles[3 * f + (k + 1) % 3])].push_back(f);
     }
   }
-  const auto uv = [&j](std::size_t f, int k) { return Vec2(j.CornerUV[2 * (3 * f + k)], j.CornerUV[2 * (3 * f + k) + 1]); };
-  const auto cross = [](const Vec2& a, const Vec2& b, const Vec2& c) {
-    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-  };
   std::vector<std::pair<std::uint64_t, std::vector<std::size_t>>> shared;
   for (const auto& [edge, on] : facesOn)
   {
@@ -395,58 +461,14 @@ void FlipSharedDiagonals(JoinedTriangles& j)
   for (const auto& [edge, on] : shared)
   {
     const Index a = static_cast<Index>(edge >> 32), b = static_cast<Index>(edge & 0xffffffffu);
-    for (const std::size_t first : on)
+    // One chart's diagonal flipped (a convex one first): the edge is the other's alone.
+    bool flipped = false;
+    for (const bool convex : { true, false })
     {
-      // The other face of `first`'s chart on a-b: the two sides of its diagonal.
-      std::size_t second = faces;
-      for (const std::size_t f : on)
+      for (std::size_t k = 0; k < on.size() && !flipped; ++k)
       {
-        second = f != first && j.FaceChart[f] == j.FaceChart[first] ? f : second;
+        flipped = FlipDiagonal(j, facesOn, a, b, on, on[k], convex);
       }
-      if (second == faces || second < first)
-      {
-        continue;
-      }
-      // Corners: p, q, r of each face with p, q the edge's ends in the face's order.
-      int ka = 0, kb = 0;
-      for (int k = 0; k < 3; ++k)
-      {
-        ka = j.Triangles[3 * first + k] == a ? k : ka;
-        kb = j.Triangles[3 * second + k] == a ? k : kb;
-      }
-      // Orient so that `first` runs p -> q -> x and `second` q -> p -> y.
-      const int k1 = j.Triangles[3 * first + (ka + 1) % 3] == b ? ka : (ka + 2) % 3;
-      const int k2 = (k1 == ka) ? (kb + 2) % 3 : kb;
-      const Index p = j.Triangles[3 * first + k1], q = j.Triangles[3 * first + (k1 + 1) % 3];
-      const Index x = j.Triangles[3 * first + (k1 + 2) % 3];
-      const Index y = j.Triangles[3 * second + (k2 + 2) % 3];
-      if (j.Triangles[3 * second + k2] != q || j.Triangles[3 * second + (k2 + 1) % 3] != p || x == y ||
-        facesOn.count(EdgeKey(x, y)))
-      {
-        continue;
-      }
-      const Vec2 up = uv(first, k1), uq = uv(first, (k1 + 1) % 3), ux = uv(first, (k1 + 2) % 3);
-      const Vec2 uy = uv(second, (k2 + 2) % 3);
-      const double sign = cross(up, uq, ux);
-      if (!(cross(ux, up, uy) * sign > 0.0 && cross(uy, uq, ux) * sign > 0.0))
-      {
-        continue; // not convex in the chart's plane
-      }
-      // (p, q, x) + (q, p, y) -> (x, p, y) + (y, q, x)
-      const Index flipped[2][3] = { { x, p, y }, { y, q, x } };
-      const Vec2 flippedUV[2][3] = { { ux, up, uy }, { uy, uq, ux } };
-      for (int side = 0; side < 2; ++side)
-      {
-        const std::size_t f = side == 0 ? first : second;
-        for (int k = 0; k < 3; ++k)
-        {
-          j.Triangles[3 * f + k] = flipped[side][k];
-          j.CornerUV[2 * (3 * f + k)] = flippedUV[side][k][0];
-          j.CornerUV[2 * (3 * f + k) + 1] = flippedUV[side][k][1];
-        }
-      }
-      facesOn[EdgeKey(x, y)] = { first, second };
-      break; // one chart's diagonal flipped: the edge is the other's alone
     }
   }
 }
@@ -565,9 +587,9 @@ Remesh CreateRemesh(const MeshTopology& topology, const double* points, const At
   }
   for (Index s = 0; s < n; ++s)
   {
-    if (samples.Kind[s] == SampleKind::Interior || samples.Kind[s] == SampleKind::Tip)
+    if ((samples.Kind[s] == SampleKind::Interior || samples.Kind[s] == SampleKind::Tip) && samples.Chart[s] >= 0)
     {
-      interior[samples.Chart[s]].push_back(s);
+      interior[samples.Chart[s]].push_back(s); // (a Tip on a chart boundary is its path's)
     }
   }
   std::vector<ChartTriangles> parts(charts);

@@ -346,14 +346,70 @@ double AngleDefect(const MeshTopology& topology, const double* points, Index v)
   return 2.0 * M_PI - sum;
 }
 
-/// Every interior vertex of a chart (all its triangles in the chart) with
-/// an angle defect above `threshold`, or `pinned` (per vertex; may be
-/// null), takes the nearest interior sample of its chart, exactly at the
-/// vertex, as a Tip (SamplingOptions::TipAngleDefect, PinnedVertices).
+/// The vertices to pin: interior vertices with an angle defect above
+/// `threshold` (0: none), or `pinned` (per vertex; may be null).
+std::vector<Index> TipVertices(
+  const MeshTopology& topology, const double* points, double threshold, const std::uint8_t* pinned)
+{
+  std::vector<Index> tips;
+  for (Index v = 0; (threshold > 0.0 || pinned) && v < topology.NumberOfVertices(); ++v)
+  {
+    if (topology.IsInterior(v) && topology.Valence(v) > 0 &&
+      ((pinned && pinned[v]) || (threshold > 0.0 && AngleDefect(topology, points, v) > threshold)))
+    {
+      tips.push_back(v);
+    }
+  }
+  return tips;
+}
+
+/// Tip vertex v on a chart boundary: the sample of its path nearest to it
+/// (not a corner; a corner at v is there already) moves onto it, as a Tip
+/// that the optimisation leaves (a seam that runs up a needle and down
+/// again would otherwise leave its tip between two samples).
+void PinOnPath(const MeshTopology& topology, const double* points, Index v, SurfaceSamples& out)
+{
+  for (SamplePath& path : out.Paths)
+  {
+    for (std::size_t i = 0; i < path.Vertices.size(); ++i)
+    {
+      if (path.Vertices[i] != v)
+      {
+        continue;
+      }
+      std::size_t nearest = 0;
+      double best = HUGE_VAL;
+      for (std::size_t k = 0; k < path.Samples.size(); ++k)
+      {
+        const double d = std::abs(path.SampleArc[k] - path.Arc[i]);
+        if (d < best && (out.Kind[path.Samples[k]] == SampleKind::Boundary || d == 0.0))
+        {
+          best = d;
+          nearest = k;
+        }
+      }
+      const Index s = path.Samples[nearest];
+      if (best < HUGE_VAL && out.Kind[s] != SampleKind::Tip)
+      {
+        out.Triangle[s] = LocateOnPath(topology, path, path.Arc[i], &out.Barycentric[3 * s]);
+        const Vec3 x = Point(points, v);
+        std::copy(x.data(), x.data() + 3, &out.Positions[3 * s]);
+        path.SampleArc[nearest] = path.Arc[i];
+        out.Kind[s] = SampleKind::Tip;
+      }
+    }
+  }
+}
+
+/// Every tip vertex (TipVertices) takes the nearest sample, exactly at the
+/// vertex, as a Tip (SamplingOptions::TipAngleDefect, PinnedVertices): an
+/// interior sample of its chart where all its triangles are in one, else,
+/// at a cone point, a sample of its chart boundary's path (PinOnPath).
 void PinTips(const MeshTopology& topology, const double* points, const AtlasResult& atlas, double threshold,
   const std::uint8_t* pinned, SurfaceSamples& out)
 {
-  std::vector<std::vector<std::size_t>> interior(threshold > 0.0 || pinned ? atlas.Charts.size() : 0); // per chart
+  const std::vector<Index> tips = TipVertices(topology, points, threshold, pinned);
+  std::vector<std::vector<std::size_t>> interior(tips.empty() ? 0 : atlas.Charts.size()); // per chart
   for (std::size_t s = 0; s < out.Kind.size() && !interior.empty(); ++s)
   {
     if (out.Kind[s] == SampleKind::Interior)
@@ -361,19 +417,18 @@ void PinTips(const MeshTopology& topology, const double* points, const AtlasResu
       interior[out.Chart[s]].push_back(s);
     }
   }
-  for (Index v = 0; !interior.empty() && v < topology.NumberOfVertices(); ++v)
+  for (const Index v : tips)
   {
-    if (!topology.IsInterior(v) || topology.Valence(v) == 0 ||
-      !((pinned && pinned[v]) || (threshold > 0.0 && AngleDefect(topology, points, v) > threshold)))
-    {
-      continue;
-    }
     const Index corner = *topology.CornersBegin(v);
     const int chart = atlas.ChartOfTriangle[corner / 3];
     if (!std::all_of(topology.CornersBegin(v), topology.CornersEnd(v),
           [&](Index c) { return atlas.ChartOfTriangle[c / 3] == chart; }))
     {
-      continue; // on a chart boundary: a corner or path sample is near
+      if (threshold > 0.0 && AngleDefect(topology, points, v) > threshold)
+      {
+        PinOnPath(topology, points, v, out); // (a far vertex the error-driven mode pins: a path sample is near)
+      }
+      continue;
     }
     const Vec3 x = Point(points, v);
     std::size_t nearest = out.Kind.size();

@@ -85,9 +85,10 @@ struct SamplingOptions
   /// Input vertices inside a chart whose angle defect (2 pi minus the sum
   /// of their corners' angles) exceeds this many radians - the tips of
   /// spikes, horns and fingers, cones narrower than about 43 degrees at 2 -
-  /// each take the nearest interior sample of their chart, which stays
-  /// there (SampleKind::Tip): a tip thinner than the spacing is neither cut
-  /// off by the halftone nor pulled down by the relaxation (0: none).
+  /// each take the nearest interior sample of their chart (on a chart
+  /// boundary: the nearest sample of its path), which stays there
+  /// (SampleKind::Tip): a tip thinner than the spacing is neither cut off
+  /// by the halftone nor pulled down by the relaxation (0: none).
   double TipAngleDefect = 2.0;
   /// Input vertices pinned as tips too, whatever their angle defect (one
   /// flag per surface vertex; null: none): where a remesh left the input
@@ -102,7 +103,7 @@ enum class SampleKind : std::uint8_t
   Interior = 0, ///< from the halftone, inside one chart
   Boundary = 1, ///< on a chart boundary path (a seam or the surface's boundary)
   Corner = 2,   ///< where chart boundaries meet (or a boundary loop starts)
-  Tip = 3       ///< inside one chart, pinned at a cone point of the input (SamplingOptions::TipAngleDefect)
+  Tip = 3       ///< pinned at a cone point of the input (SamplingOptions::TipAngleDefect): inside one chart, or on a path (Chart -1)
 };
 
 /// A chart boundary path (a seam, a stretch of the surface's boundary or of
