@@ -563,7 +563,7 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
   RemeshOptions round = options;
   round.Cache = cache;
   round.PinnedVertices = pinned.data();
-  int failures = 0, stalled = 0;
+  int failures = 0, stalled = 0, doublings = 0;
   double closest = HUGE_VAL;
   for (int r = 0; r < maximumRounds && !out.Met; ++r)
   {
@@ -585,17 +585,27 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
     }
     const double worst = std::max(out.Remesh.DeviationToInput, out.Remesh.DeviationFromInput) * diagonal;
     out.Met = worst <= bound;
-    // More vertices that do not bring the remesh closer (three times in a row:
-    // the far part is not a matter of density), or more than the input's
-    // resolution can use: the last remesh stands (Met says it missed).
+    // More vertices where it is far that do not bring the remesh closer
+    // (twice in a row: a thin part split along its length by a seam, whose
+    // halves are narrower than the band the halftone leaves beside the
+    // seams) take twice the count everywhere, twice at most; beyond, or
+    // beyond what the input's resolution can use, the last remesh stands
+    // (Met says it missed).
     stalled = worst > 0.95 * closest ? stalled + 1 : 0;
     closest = std::min(closest, worst);
-    if (out.Met || stalled >= 3 || count >= MostVerticesPerInputVertex * static_cast<std::int64_t>(n))
+    const std::int64_t most = MostVerticesPerInputVertex * static_cast<std::int64_t>(n);
+    if (out.Met || (stalled >= 2 && ++doublings > 2) || count >= most)
     {
       break;
     }
-    count = RaiseWhereFar(topology, points, toInput, out.Remesh, mass, meanEdge, bound, worst, count,
-      MostVerticesPerInputVertex * static_cast<std::int64_t>(n), weight, integral, pinned, options.NumberOfThreads);
+    if (stalled >= 2)
+    {
+      count = std::min(2 * count, most);
+      stalled = 0;
+      continue;
+    }
+    count = RaiseWhereFar(topology, points, toInput, out.Remesh, mass, meanEdge, bound, worst, count, most, weight,
+      integral, pinned, options.NumberOfThreads);
   }
   return out;
 }

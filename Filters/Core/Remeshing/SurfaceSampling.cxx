@@ -22,10 +22,11 @@ namespace
 {
 
 /// The chart boundaries as paths of surface vertices between corners
-/// (vertices where other than two boundary edges meet, or where the path
+/// (vertices where other than two boundary edges meet, where the path
 /// passes from a kept edge, a feature or the surface's boundary, to another
-/// edge; a closed loop without one starts and ends at its first vertex,
-/// made a corner).
+/// edge, or where a kept line turns sharply (IsSharpTurn) or is pinned
+/// (SamplingOptions::PinnedVertices); a closed loop without one starts and
+/// ends at its first vertex, made a corner).
 struct BoundaryPaths
 {
   std::vector<std::vector<Index>> Paths;
@@ -45,25 +46,54 @@ bool IsKeptEdge(const MeshTopology::EdgeTable& edges, std::int64_t e, const std:
   return IsOpenEdge(edges, e) || (featureEdges && featureEdges[e]);
 }
 
-BoundaryPaths ChartBoundaries(
-  const MeshTopology& topology, const std::vector<int>& chartOfTriangle, const std::uint8_t* featureEdges)
+/// The density's spacing at surface vertex v (SampleSurface's density).
+double SpacingAt(const double* importance, double density, Index v)
+{
+  return 1.0 / std::sqrt(density * (importance ? std::max(1e-300, importance[v]) : 1.0));
+}
+
+/// Whether the kept line through v (along its kept edges to a and b) turns
+/// there by more than SharpTurnDegrees, with both edges at least half the
+/// density's spacing long: a corner of a jagged hole's rim, whose chord
+/// would cut the corner and leave slivers beside it.  (Shorter edges: the
+/// line's bends are sampled by MaximumLineSag instead.)
+constexpr double SharpTurnDegrees = 45.0;
+bool IsSharpTurn(const double* points, const double* importance, double density, Index a, Index v, Index b)
+{
+  const Vec3 in = Point(points, v) - Point(points, a), out = Point(points, b) - Point(points, v);
+  const double shortest = 0.5 * SpacingAt(importance, density, v);
+  return in.norm() >= shortest && out.norm() >= shortest &&
+    std::atan2(in.cross(out).norm(), in.dot(out)) > SharpTurnDegrees * M_PI / 180.0;
+}
+
+BoundaryPaths ChartBoundaries(const MeshTopology& topology, const double* points, const double* importance,
+  double density, const std::vector<int>& chartOfTriangle, const std::uint8_t* featureEdges,
+  const std::uint8_t* pinned)
 {
   const MeshTopology::EdgeTable& edges = topology.Edges();
   std::vector<std::uint8_t> boundary = EdgesBetweenLabels(topology, chartOfTriangle);
   std::vector<int> valence(topology.NumberOfVertices(), 0), kept(topology.NumberOfVertices(), 0);
+  std::vector<Index> keptEnds(2 * static_cast<std::size_t>(topology.NumberOfVertices()), -1); // first two
   for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
   {
     boundary[e] = boundary[e] || IsOpenEdge(edges, e);
     const int keep = boundary[e] && IsKeptEdge(edges, e, featureEdges);
     for (int k = 0; k < 2; ++k)
     {
-      valence[edges.Vertices[2 * e + k]] += boundary[e];
-      kept[edges.Vertices[2 * e + k]] += keep;
+      const Index v = edges.Vertices[2 * e + k];
+      valence[v] += boundary[e];
+      if (keep && kept[v] < 2)
+      {
+        keptEnds[2 * v + kept[v]] = edges.Vertices[2 * e + 1 - k];
+      }
+      kept[v] += keep;
     }
   }
   for (Index v = 0; v < topology.NumberOfVertices(); ++v)
   {
     valence[v] += valence[v] == 2 && kept[v] == 1; // a kept line's end inside a path: a corner
+    valence[v] += valence[v] == 2 && ((pinned && pinned[v]) ||
+      (kept[v] == 2 && IsSharpTurn(points, importance, density, keptEnds[2 * v], v, keptEnds[2 * v + 1])));
   }
   BoundaryPaths result;
   std::vector<std::uint8_t> done(boundary.size(), 0);
@@ -736,7 +766,9 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
   // boundary paths get (a band one spacing wide), so the whole count goes
   // by the map's mass.
   out.Density = options.NumberOfSamples / mass;
-  const BoundaryPaths boundaries = ChartBoundaries(topology, atlas.ChartOfTriangle, options.FeatureEdges);
+  const BoundaryPaths boundaries =
+    ChartBoundaries(topology, points, importance, out.Density, atlas.ChartOfTriangle, options.FeatureEdges,
+      options.PinnedVertices);
   SampleBoundaries(topology, points, importance, atlas.ChartOfTriangle, boundaries, out.Density, options.FeatureEdges,
     options.MaximumLineSag, out);
   if (options.MaximumLineSag > 0.0 && static_cast<std::int64_t>(out.Kind.size()) > options.NumberOfSamples)

@@ -91,7 +91,8 @@ struct SamplingOptions
   /// by the halftone nor pulled down by the relaxation (0: none).
   double TipAngleDefect = 2.0;
   /// Input vertices pinned as tips too, whatever their angle defect (one
-  /// flag per surface vertex; null: none): where a remesh left the input
+  /// flag per surface vertex; null: none), or, on a feature line or the
+  /// surface's boundary, as corners: where a remesh left the input
   /// farthest, the error-driven mode puts a vertex (RemeshToDeviation).
   const std::uint8_t* PinnedVertices = nullptr;
   int NumberOfThreads = 0;
