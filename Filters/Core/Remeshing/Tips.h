@@ -1,0 +1,24 @@
+// Beltrami core: the remesh's vertices pinned at the input's cone points
+// (the tips of spikes, horns and fingers) and, for the error-driven mode,
+// at the input vertices a remesh left farthest (Remeshing/SurfaceSampling).
+#pragma once
+
+#include "Remeshing/SurfaceSampling.h"
+
+#include <cstdint>
+
+namespace beltrami
+{
+
+/// The angle defect of interior vertex v: 2 pi minus its corners' angles.
+double AngleDefect(const MeshTopology& topology, const double* points, Index v);
+
+/// Every interior vertex with an angle defect above `threshold` (0: none),
+/// or `pinned` (per vertex; may be null), takes the nearest sample of
+/// `out`, exactly at the vertex, as a Tip (SamplingOptions::TipAngleDefect,
+/// PinnedVertices): an interior sample of its chart where all its triangles
+/// are in one, else, at a cone point, a sample of its chart boundary's path.
+void PinTips(const MeshTopology& topology, const double* points, const AtlasResult& atlas, double threshold,
+  const std::uint8_t* pinned, SurfaceSamples& out);
+
+} // namespace beltrami
