@@ -386,8 +386,10 @@ std::vector<double> LocalDeviations(const MeshTopology& topology, const double* 
 /// over the surface is `integral`) is raised by the ratio wherever the
 /// input is left farther within about two spacings (the input's vertices
 /// sample the remesh's sag unevenly: most lie near its vertices), and the
-/// count with the integral; where no input vertex is (the remesh's
-/// triangles are the far ones), the count alone.  At most `most`.  The
+/// count with the integral, by a tenth at least (a small raised spot moves
+/// the count less than the remeshes' deviation varies, and the rounds would
+/// creep); where no input vertex is (the remesh's triangles are the far
+/// ones), the count alone.  At most `most`.  The
 /// input's cone points farther than the bound are pinned (LocalDeviations:
 /// pinned at the target, they cost more vertices than they save).
 std::int64_t RaiseWhereFar(const MeshTopology& topology, const double* points, const TriangleGrid& toInput,
@@ -419,7 +421,7 @@ std::int64_t RaiseWhereFar(const MeshTopology& topology, const double* points, c
     growth = std::min(4.0, raisedIntegral / integral);
     integral = raisedIntegral;
   }
-  return std::min(static_cast<std::int64_t>(std::ceil(static_cast<double>(count) * growth)), most);
+  return std::min(static_cast<std::int64_t>(std::ceil(static_cast<double>(count) * std::max(1.1, growth))), most);
 }
 
 } // namespace

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <unordered_map>
 
 namespace beltrami
 {
@@ -26,15 +28,108 @@ double AngleDefect(const MeshTopology& topology, const double* points, Index v)
 namespace
 {
 
-/// The vertices to pin: interior vertices with an angle defect above
-/// `threshold` (0: none), or `pinned` (per vertex; may be null).
-std::vector<Index> TipVertices(
-  const MeshTopology& topology, const double* points, double threshold, const std::uint8_t* pinned)
+/// How far interior vertex v stands out of its 1-ring: its distance to the
+/// plane through the ring's centroid normal to the ring's vector area.
+double HeightOverRing(const MeshTopology& topology, const double* points, Index v)
 {
-  std::vector<Index> tips;
+  const Index* pairs = topology.RingPairsBegin(v);
+  Vec3 centroid = Vec3::Zero(), normal = Vec3::Zero();
+  for (Index k = 0; k < topology.Valence(v); ++k)
+  {
+    centroid += Point(points, pairs[2 * k]);
+  }
+  centroid /= static_cast<double>(std::max<Index>(1, topology.Valence(v)));
+  for (Index k = 0; k < topology.Valence(v); ++k)
+  {
+    normal += (Point(points, pairs[2 * k]) - centroid).cross(Point(points, pairs[2 * k + 1]) - centroid);
+  }
+  const double length = normal.norm();
+  return length > 0.0 ? std::abs((Point(points, v) - centroid).dot(normal)) / length : 0.0;
+}
+
+/// The spikes of the input at the density's spacing: interior vertices that
+/// stand out of their 1-ring by more than SpikeHeight spacings, the most of
+/// their 1-ring; of those closer than a spacing, the one that stands out
+/// most.  (A remesh passes near the ring, below the spike by its height:
+/// the single far vertices of scans and terrains.)
+constexpr double SpikeHeight = 0.25;
+std::vector<Index> Spikes(const MeshTopology& topology, const double* points, const double* importance, double density)
+{
+  const Index n = topology.NumberOfVertices();
+  const auto spacing = [&](Index v) {
+    return 1.0 / std::sqrt(density * (importance ? std::max(1e-300, importance[v]) : 1.0));
+  };
+  std::vector<double> height(n, 0.0);
+  for (Index v = 0; v < n; ++v)
+  {
+    height[v] = topology.IsInterior(v) && topology.Valence(v) > 2 ? HeightOverRing(topology, points, v) : 0.0;
+  }
+  std::vector<std::pair<double, Index>> candidates; // (height in spacings, vertex)
+  const MeshTopology::VertexGraph& graph = topology.Graph();
+  for (Index v = 0; v < n; ++v)
+  {
+    bool highest = height[v] > SpikeHeight * spacing(v);
+    for (std::int64_t k = graph.NeighborOffsets[v]; highest && k < graph.NeighborOffsets[v + 1]; ++k)
+    {
+      highest = height[graph.Neighbors[k]] < height[v] || (height[graph.Neighbors[k]] == height[v] && graph.Neighbors[k] > v);
+    }
+    if (highest)
+    {
+      candidates.emplace_back(height[v] / spacing(v), v);
+    }
+  }
+  std::sort(candidates.begin(), candidates.end(), std::greater<>());
+  double cell = 0.0; // the largest spacing among them: the kept ones in cells of that size
+  for (const auto& [relative, v] : candidates)
+  {
+    cell = std::max(cell, spacing(v));
+  }
+  const auto key = [&](const Vec3& x, int dx, int dy, int dz) {
+    const auto at = [&](double c, int d) {
+      const double index = std::clamp(std::floor(c / cell), -1e15, 1e15); // (any coordinate: a defined key)
+      return static_cast<std::uint64_t>(static_cast<std::int64_t>(index) + d) & 0x1fffff;
+    };
+    return at(x[0], dx) << 42 | at(x[1], dy) << 21 | at(x[2], dz);
+  };
+  std::unordered_map<std::uint64_t, std::vector<Index>> kept;
+  std::vector<Index> spikes;
+  for (const auto& [relative, v] : candidates)
+  {
+    const Vec3 x = Point(points, v);
+    bool apart = true;
+    for (int d = 0; d < 27 && apart; ++d)
+    {
+      const auto found = kept.find(key(x, d % 3 - 1, d / 3 % 3 - 1, d / 9 - 1));
+      for (std::size_t k = 0; found != kept.end() && k < found->second.size() && apart; ++k)
+      {
+        const Index w = found->second[k];
+        apart = (x - Point(points, w)).norm() >= std::max(spacing(v), spacing(w));
+      }
+    }
+    if (apart)
+    {
+      spikes.push_back(v);
+      kept[key(x, 0, 0, 0)].push_back(v);
+    }
+  }
+  return spikes;
+}
+
+/// The vertices to pin: interior vertices with an angle defect above
+/// `threshold` (0: none), or `pinned` (per vertex; may be null), and the
+/// Spikes (with `density` > 0).
+std::vector<Index> TipVertices(const MeshTopology& topology, const double* points, double threshold,
+  const std::uint8_t* pinned, const double* importance, double density)
+{
+  std::vector<Index> tips = density > 0.0 ? Spikes(topology, points, importance, density) : std::vector<Index>();
+  std::vector<std::uint8_t> taken(static_cast<std::size_t>(topology.NumberOfVertices()), 0);
+  for (Index v : tips)
+  {
+    taken[v] = 1;
+  }
   for (Index v = 0; (threshold > 0.0 || pinned) && v < topology.NumberOfVertices(); ++v)
   {
-    if (topology.IsInterior(v) && topology.Valence(v) > 0 &&
+    if (!taken[v] && topology.IsInterior(v) && topology.Valence(v) > 0 &&
       ((pinned && pinned[v]) || (threshold > 0.0 && AngleDefect(topology, points, v) > threshold)))
     {
       tips.push_back(v);
@@ -88,9 +183,9 @@ void PinOnPath(const MeshTopology& topology, const double* points, Index v, Surf
 /// interior sample of its chart where all its triangles are in one, else,
 /// at a cone point, a sample of its chart boundary's path (PinOnPath).
 void PinTips(const MeshTopology& topology, const double* points, const AtlasResult& atlas, double threshold,
-  const std::uint8_t* pinned, SurfaceSamples& out)
+  const std::uint8_t* pinned, const double* importance, double density, SurfaceSamples& out)
 {
-  const std::vector<Index> tips = TipVertices(topology, points, threshold, pinned);
+  const std::vector<Index> tips = TipVertices(topology, points, threshold, pinned, importance, density);
   std::vector<std::vector<std::size_t>> interior(tips.empty() ? 0 : atlas.Charts.size()); // per chart
   for (std::size_t s = 0; s < out.Kind.size() && !interior.empty(); ++s)
   {

@@ -14,11 +14,14 @@ namespace beltrami
 double AngleDefect(const MeshTopology& topology, const double* points, Index v);
 
 /// Every interior vertex with an angle defect above `threshold` (0: none),
-/// or `pinned` (per vertex; may be null), takes the nearest sample of
-/// `out`, exactly at the vertex, as a Tip (SamplingOptions::TipAngleDefect,
-/// PinnedVertices): an interior sample of its chart where all its triangles
-/// are in one, else, at a cone point, a sample of its chart boundary's path.
+/// or `pinned` (per vertex; may be null), or that stands out of its 1-ring
+/// by a quarter of the spacing of `density` (samples per unit area where
+/// `importance`, per vertex or null, is 1; 0: none), takes the nearest
+/// sample of `out`, exactly at the vertex, as a Tip (SamplingOptions::
+/// TipAngleDefect, PinnedVertices): an interior sample of its chart where
+/// all its triangles are in one, else, at a cone point, a sample of its
+/// chart boundary's path.
 void PinTips(const MeshTopology& topology, const double* points, const AtlasResult& atlas, double threshold,
-  const std::uint8_t* pinned, SurfaceSamples& out);
+  const std::uint8_t* pinned, const double* importance, double density, SurfaceSamples& out);
 
 } // namespace beltrami
