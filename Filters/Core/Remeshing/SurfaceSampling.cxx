@@ -47,12 +47,6 @@ bool IsKeptEdge(const MeshTopology::EdgeTable& edges, std::int64_t e, const std:
   return IsOpenEdge(edges, e) || (featureEdges && featureEdges[e]);
 }
 
-/// The density's spacing at surface vertex v (SampleSurface's density).
-double SpacingAt(const double* importance, double density, Index v)
-{
-  return 1.0 / std::sqrt(density * (importance ? std::max(1e-300, importance[v]) : 1.0));
-}
-
 /// Whether the kept line through v (along its kept edges to a and b) turns
 /// there by more than SharpTurnDegrees, with both edges at least half the
 /// density's spacing long: a corner of a jagged hole's rim, whose chord
@@ -549,6 +543,11 @@ std::pair<std::size_t, double> EdgeAtArc(const SamplePath& path, double arc)
 }
 
 } // namespace
+
+double SpacingAt(const double* importance, double density, Index v)
+{
+  return 1.0 / std::sqrt(density * (importance ? std::max(1e-300, importance[v]) : 1.0));
+}
 
 Index LocateOnPath(const MeshTopology& topology, const SamplePath& path, double arc, double barycentric[3])
 {

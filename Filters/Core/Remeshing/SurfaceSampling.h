@@ -138,6 +138,10 @@ struct SurfaceSamples
   std::vector<std::uint8_t> Halftone; ///< 1 per texel holding an interior sample
 };
 
+/// The spacing of `density` samples per unit area where the importance is
+/// 1 at surface vertex v (importance: per vertex, or null: uniform).
+double SpacingAt(const double* importance, double density, Index v);
+
 /// The point at arc length `arc` along `path`: a surface triangle with the
 /// path's edge there and the barycentric weights of its corners.
 Index LocateOnPath(const MeshTopology& topology, const SamplePath& path, double arc, double barycentric[3]);

@@ -56,9 +56,7 @@ constexpr double SpikeHeight = 0.25;
 std::vector<Index> Spikes(const MeshTopology& topology, const double* points, const double* importance, double density)
 {
   const Index n = topology.NumberOfVertices();
-  const auto spacing = [&](Index v) {
-    return 1.0 / std::sqrt(density * (importance ? std::max(1e-300, importance[v]) : 1.0));
-  };
+  const auto spacing = [&](Index v) { return SpacingAt(importance, density, v); };
   std::vector<double> height(n, 0.0);
   for (Index v = 0; v < n; ++v)
   {
