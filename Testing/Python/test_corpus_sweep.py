@@ -13,7 +13,8 @@ promises:
   atlas                 no flipped UV triangle, UV in [0, 1]^2
   remeshing             the exact count; Euler characteristic, components and
                         boundary loops kept; manifold and oriented; the
-                        deviation it reports the one measured
+                        deviation it reports the one measured, and within
+                        a quarter of CGAL's at the count (CGAL_HAUSDORFF)
   remeshing-10k         as remeshing at 10,000 vertices (sharp edges kept on
                         the CAD parts), and the triangles' quality on the
                         real meshes (check_quality)
@@ -165,12 +166,54 @@ def remesh_problem(mesh, out, top):
     return None, to_input, from_input
 
 
-def check_remesh(mesh, out, top, count=2000):
+# CGAL 5.5's isotropic remeshing at about the same counts (2,000, 10,000), its
+# two-sided Hausdorff distance in % of the diagonal, the CAD parts' sharp
+# edges kept (the hard shapes as generated in inputs.hard_shapes), measured
+# once by
+#   Testing/Benchmarks/benchmark_remeshing.py --corpus
+# (its target edge length calibrated to give the count; docs/benchmarks/
+# remeshing_corpus.json).
+CGAL_HAUSDORFF = {
+    "blobby.off": (0.402, 0.171), "bunny00.off": (2.207, 0.523), "cactus.off": (0.73, 0.413),
+    "cow.off": (2.352, 1.173), "cube.off": (0.0, 0.0), "cylinder_locally_refined.off": (0.064, 0.027),
+    "double-torus-example.off": (0.984, 0.566), "eight.off": (0.436, 0.216),
+    "elephant-with-holes.off": (1.718, 1.022), "elephant.off": (1.46, 0.47), "fandisk.off": (0.484, 0.166),
+    "fandisk_large.off": (0.923, 0.701), "hand.off": (1.864, 1.022), "head.off": (0.784, 0.283),
+    "holes.off": (0.399, 0.074), "knot1.off": (0.318, 0.122), "larger_sphere.off": (0.144, 0.054),
+    "mask_cone.off": (1.269, 0.459), "mech-holes-shark.off": (2.159, 1.086), "mushroom.off": (0.682, 0.195),
+    "nefertiti.off": (0.556, 0.208), "patch-01.off": (1.294, 1.031), "plane.off": (0.0, 0.0),
+    "sphere966.off": (0.136, 0.063), "three_peaks.off": (1.347, 0.3), "spiky-sphere": (0.395, 0.216),
+    "comb": (0.667, 0.363), "dumbbell": (0.806, 0.219), "torus-thin-handle": (1.14, 0.35),
+    "sphere-with-speck": (0.075, 0.028), "thin-plate": (0.0, 0.0), "huge-sphere": (0.152, 0.054),
+    "tiny-sphere": (0.152, 0.057),
+}
+# Ours may be farther than CGAL's by a quarter (remesh to remesh the
+# deviation varies by 10-20%); named, the cases beyond that, with the
+# ratio measured: the spiky sphere's needles at 2,000 vertices (1.48) and
+# the sphere beside its speck at 10,000 (1.29: on spheres CGAL's remesh is
+# the more regular, 98% of valence 6).
+CGAL_EXCEPTIONS = {("spiky-sphere", 2000): 1.6, ("sphere-with-speck", 10000): 1.4}
+
+
+def compare_with_cgal(path, count, to_input, from_input):
+    """None, or how far ours is beyond CGAL_HAUSDORFF."""
+    name = os.path.basename(path)
+    if name not in CGAL_HAUSDORFF or (count == 2000 and name in CAD):  # (the 2k sweep keeps no sharp edges)
+        return None
+    peer = CGAL_HAUSDORFF[name][0 if count == 2000 else 1]
+    ours = 100 * max(to_input, from_input)
+    allowed = max(1e-3, CGAL_EXCEPTIONS.get((name, count), 1.25) * peer)
+    print("    CGAL at about this count: %.3f%%" % peer)
+    return None if ours <= allowed else "%.3f%% of the diagonal, CGAL %.3f%% (allowed %.3f%%)" % (ours, peer, allowed)
+
+
+def check_remesh(mesh, out, top, count=2000, path=""):
     if out.GetNumberOfPoints() != count:
         return "%d vertices, not %d" % (out.GetNumberOfPoints(), count)
     problem, to_input, from_input = remesh_problem(mesh, out, top)
     if problem is None:
         print("    deviation %.3f%% / %.3f%% of the diagonal" % (100 * to_input, 100 * from_input))
+        problem = compare_with_cgal(path, count, to_input, from_input)
     return problem
 
 
@@ -227,7 +270,7 @@ def check_quality(path, points, triangles):
 
 
 def check_remesh_10k(mesh, out, top, path):
-    problem = check_remesh(mesh, out, top, count=10000)
+    problem = check_remesh(mesh, out, top, 10000, path)
     return problem or check_quality(path, *inputs.arrays_of(out))
 
 
@@ -324,7 +367,7 @@ def sweep(name, meshes):
             status = "refused: " + first[:200]
         else:
             problem = first[:200] if said.errors else \
-                (check(mesh, out, top, path) if check is check_remesh_10k else check(mesh, out, top))
+                (check(mesh, out, top, path=path) if check in (check_remesh, check_remesh_10k) else check(mesh, out, top))
             failed += problem is not None
             passed += problem is None
             status = "ok" if problem is None else "FAILED: " + problem
