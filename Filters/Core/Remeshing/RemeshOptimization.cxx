@@ -549,9 +549,15 @@ bool Optimizer::MoveOnPath(Index v, double& moved)
   // its refinement would (nothing where the refinement is 1).
   const std::optional<double> refined = RefinedMiddle(path, lo, hi);
   const double shift = refined ? *refined - arc : (target / sum - M.Position(v)).dot(tangent.normalized());
+  // Between its neighbours, a fifth of the way from each at least (a tenth
+  // where the line is refined, its gaps uneven by design): a bound of its
+  // own gaps would let a sample pulled towards a corner creep, move after
+  // move, to beside it (a sliver).
+  const double margin = (refined ? 0.1 : 0.2) * (hi - lo);
+  const double first = lo + margin, last = hi - margin;
   for (double step = 1.0; step > 0.1; step *= 0.5)
   {
-    const double next = std::clamp(arc + step * shift, lo + 0.1 * (arc - lo), hi - 0.1 * (hi - arc));
+    const double next = std::clamp(arc + step * shift, first, last);
     double w[3];
     const Index t = LocateOnPath(Topology, path, next, w);
     if (Place(v, t, w, moved))
