@@ -380,18 +380,18 @@ std::vector<double> LocalDeviations(const MeshTopology& topology, const double* 
 }
 
 /// The next remesh's weights and count after one that left the input
-/// farther than `bound`, aiming at a target of three quarters of it (each
-/// remesh's vertices fall elsewhere: its deviation varies by 10-20%).  The deviation falls
-/// with the square of the spacing: the density (`weight`, whose integral
-/// over the surface is `integral`) is raised by the ratio wherever the
-/// input is left farther within about two spacings (the input's vertices
-/// sample the remesh's sag unevenly: most lie near its vertices), and the
-/// count with the integral, by a tenth at least (a small raised spot moves
-/// the count less than the remeshes' deviation varies, and the rounds would
-/// creep); where no input vertex is (the remesh's triangles are the far
-/// ones), the count alone.  At most `most`.  The
-/// input's cone points farther than the bound are pinned (LocalDeviations:
-/// pinned at the target, they cost more vertices than they save).
+/// farther than `bound`, aiming at three quarters of it (each remesh's
+/// vertices fall elsewhere: its deviation varies by 10-20%).  The deviation
+/// falls with the square of the spacing: the density (`weight`, whose
+/// integral over the surface is `integral`) is raised by the ratio wherever
+/// the input is left farther within about two spacings (the input's
+/// vertices sample the remesh's sag unevenly: most lie near its vertices),
+/// and the count with the integral, by a tenth at least (a small raised
+/// spot moves the count less than the remeshes' deviation varies, and the
+/// rounds would creep); where no input vertex is (the remesh's triangles
+/// are the far ones), the count alone.  At most `most`.  The input's cone
+/// points farther than the bound are pinned (LocalDeviations; pinned from
+/// three quarters of it, they cost more vertices than they save).
 std::int64_t RaiseWhereFar(const MeshTopology& topology, const double* points, const TriangleGrid& toInput,
   const RemeshResult& remesh,
   const LargeVector<double>& mass, double meanEdge, double bound, double worst, std::int64_t count,

@@ -172,10 +172,12 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
 /// (`importance`, null: uniform) is raised at the input's vertices left
 /// farther than the bound, by the ratio of their distance to it (the
 /// deviation falls with the square of the spacing), spread over the
-/// spacing, with the count raised in proportion, so that the density
-/// elsewhere stays; at most `maximumRounds` remeshes, fewer where three
-/// rounds in a row bring the remesh no closer (a part lost for want of
-/// samples in its charts, not of density) or the count reaches
+/// spacing, with the count raised in proportion (by a tenth at least), so
+/// that the density elsewhere stays, and the input's vertices farthest
+/// from it are pinned (SamplingOptions::PinnedVertices); where two rounds
+/// in a row bring the remesh no closer, the count is doubled instead (twice
+/// at most).  At most `maximumRounds` remeshes, fewer where the doubled
+/// counts do not help either or the count reaches
 /// MostVerticesPerInputVertex times the input's vertices.  The result is
 /// the last remesh; Rounds and Met say how it went.
 /// (RemeshToDeviation: its largest count per vertex of the input.)

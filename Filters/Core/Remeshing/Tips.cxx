@@ -47,6 +47,51 @@ double HeightOverRing(const MeshTopology& topology, const double* points, Index 
   return length > 0.0 ? std::abs((Point(points, v) - centroid).dot(normal)) / length : 0.0;
 }
 
+/// Of `candidates` (strongest first), those a spacing apart from every
+/// stronger one kept (`spacing` per vertex; a grid of the largest spacing's
+/// cells finds the near ones).
+template <typename Spacing>
+std::vector<Index> KeepApart(
+  const double* points, const std::vector<std::pair<double, Index>>& candidates, const Spacing& spacing)
+{
+  double cell = 0.0;
+  for (const auto& [strength, v] : candidates)
+  {
+    cell = std::max(cell, spacing(v));
+  }
+  const auto key = [&](const Vec3& x, int d) {
+    std::uint64_t k = 0;
+    for (int axis = 0; axis < 3; ++axis, d /= 3)
+    {
+      const double index = std::clamp(std::floor(x[axis] / cell), -1e15, 1e15); // (any coordinate: a defined key)
+      k = k << 21 | (static_cast<std::uint64_t>(static_cast<std::int64_t>(index) + d % 3 - 1) & 0x1fffff);
+    }
+    return k;
+  };
+  std::unordered_map<std::uint64_t, std::vector<Index>> kept; // by cell (key offset 13: the cell itself)
+  std::vector<Index> out;
+  for (const auto& [strength, v] : candidates)
+  {
+    const Vec3 x = Point(points, v);
+    bool apart = true;
+    for (int d = 0; d < 27 && apart; ++d)
+    {
+      const auto found = kept.find(key(x, d));
+      for (std::size_t k = 0; found != kept.end() && k < found->second.size() && apart; ++k)
+      {
+        const Index w = found->second[k];
+        apart = (x - Point(points, w)).norm() >= std::max(spacing(v), spacing(w));
+      }
+    }
+    if (apart)
+    {
+      out.push_back(v);
+      kept[key(x, 13)].push_back(v);
+    }
+  }
+  return out;
+}
+
 /// The spikes of the input at the density's spacing: interior vertices that
 /// stand out of their 1-ring by more than SpikeHeight spacings, the most of
 /// their 1-ring; of those closer than a spacing, the one that stands out
@@ -69,7 +114,8 @@ std::vector<Index> Spikes(const MeshTopology& topology, const double* points, co
     bool highest = height[v] > SpikeHeight * spacing(v);
     for (std::int64_t k = graph.NeighborOffsets[v]; highest && k < graph.NeighborOffsets[v + 1]; ++k)
     {
-      highest = height[graph.Neighbors[k]] < height[v] || (height[graph.Neighbors[k]] == height[v] && graph.Neighbors[k] > v);
+      const Index w = graph.Neighbors[k];
+      highest = height[w] < height[v] || (height[w] == height[v] && w > v);
     }
     if (highest)
     {
@@ -77,40 +123,7 @@ std::vector<Index> Spikes(const MeshTopology& topology, const double* points, co
     }
   }
   std::sort(candidates.begin(), candidates.end(), std::greater<>());
-  double cell = 0.0; // the largest spacing among them: the kept ones in cells of that size
-  for (const auto& [relative, v] : candidates)
-  {
-    cell = std::max(cell, spacing(v));
-  }
-  const auto key = [&](const Vec3& x, int dx, int dy, int dz) {
-    const auto at = [&](double c, int d) {
-      const double index = std::clamp(std::floor(c / cell), -1e15, 1e15); // (any coordinate: a defined key)
-      return static_cast<std::uint64_t>(static_cast<std::int64_t>(index) + d) & 0x1fffff;
-    };
-    return at(x[0], dx) << 42 | at(x[1], dy) << 21 | at(x[2], dz);
-  };
-  std::unordered_map<std::uint64_t, std::vector<Index>> kept;
-  std::vector<Index> spikes;
-  for (const auto& [relative, v] : candidates)
-  {
-    const Vec3 x = Point(points, v);
-    bool apart = true;
-    for (int d = 0; d < 27 && apart; ++d)
-    {
-      const auto found = kept.find(key(x, d % 3 - 1, d / 3 % 3 - 1, d / 9 - 1));
-      for (std::size_t k = 0; found != kept.end() && k < found->second.size() && apart; ++k)
-      {
-        const Index w = found->second[k];
-        apart = (x - Point(points, w)).norm() >= std::max(spacing(v), spacing(w));
-      }
-    }
-    if (apart)
-    {
-      spikes.push_back(v);
-      kept[key(x, 0, 0, 0)].push_back(v);
-    }
-  }
-  return spikes;
+  return KeepApart(points, candidates, spacing);
 }
 
 /// The vertices to pin: interior vertices with an angle defect above
