@@ -297,11 +297,56 @@ void SampleBoundaries(const MeshTopology& topology, const double* points, const 
   }
 }
 
+/// The triangle of `chart` whose centre is farthest from the chart's
+/// boundary (its vertices that a triangle of another chart, or the
+/// surface's boundary, touches): where a sample leaves the fewest flat
+/// triangles beside the boundary (a chart's largest triangle can be a long
+/// sliver along it).
+Index InnermostTriangle(const MeshTopology& topology, const double* points, const AtlasResult& atlas, int chart)
+{
+  std::vector<Vec3> border;
+  for (Index t : atlas.Charts[chart].Triangles)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index v = topology.CornerVertex(3 * t + k);
+      if (!topology.IsInterior(v) || std::any_of(topology.CornersBegin(v), topology.CornersEnd(v),
+                                       [&](Index c) { return atlas.ChartOfTriangle[c / 3] != chart; }))
+      {
+        border.push_back(Point(points, v));
+      }
+    }
+  }
+  // (At most about 1,000 triangles and border points looked at: charts
+  // without a sample are small, but a count below the charts' is not.)
+  const std::vector<Index>& triangles = atlas.Charts[chart].Triangles;
+  const std::size_t step = 1 + triangles.size() / 1000, borderStep = 1 + border.size() / 1000;
+  Index best = triangles.front();
+  double farthest = -1.0;
+  for (std::size_t i = 0; i < triangles.size(); i += step)
+  {
+    const Index t = triangles[i];
+    const Vec3 centre = (Point(points, topology.CornerVertex(3 * t)) + Point(points, topology.CornerVertex(3 * t + 1)) +
+                          Point(points, topology.CornerVertex(3 * t + 2))) / 3.0;
+    double nearest = HUGE_VAL;
+    for (std::size_t k = 0; k < border.size(); k += borderStep)
+    {
+      nearest = std::min(nearest, (border[k] - centre).squaredNorm());
+    }
+    if (nearest > farthest)
+    {
+      farthest = nearest;
+      best = t;
+    }
+  }
+  return best;
+}
+
 /// A chart far smaller than the spacing gets no interior sample; where its
 /// neighbour across its boundary gets none either, both triangulate the
 /// same few boundary samples into the same triangles (a speck of a scan, a
 /// thin limb's tip).  Every chart without one gets one interior sample, at
-/// the centre of its largest triangle, taken from the chart with the most
+/// the centre of its innermost triangle, taken from the chart with the most
 /// (its last one): the count stays, and a component too small for the
 /// spacing is kept as a closed mesh of a few vertices.
 void GiveEveryChartAnInteriorSample(
@@ -323,20 +368,7 @@ void GiveEveryChartAnInteriorSample(
     {
       continue;
     }
-    Index largest = atlas.Charts[c].Triangles.front();
-    double area = -1.0;
-    for (Index t : atlas.Charts[c].Triangles)
-    {
-      const Vec3 a = Point(points, topology.CornerVertex(3 * t));
-      const double twice = (Point(points, topology.CornerVertex(3 * t + 1)) - a)
-                             .cross(Point(points, topology.CornerVertex(3 * t + 2)) - a)
-                             .norm();
-      if (twice > area)
-      {
-        area = twice;
-        largest = t;
-      }
-    }
+    const Index largest = InnermostTriangle(topology, points, atlas, static_cast<int>(c));
     // The donor's last sample takes the new one's place (interior samples
     // follow the boundary samples, whose ids the paths hold).
     const std::size_t s = static_cast<std::size_t>(last[donor]);
