@@ -9,6 +9,7 @@
 #include "Mesh/Geometry.h"
 #include "Mesh/Laplacian.h"
 #include "Solvers/Partition.h"
+#include "Support/DisjointSets.h"
 
 #include <algorithm>
 #include <cmath>
@@ -115,15 +116,6 @@ SplitBoundary GatherBoundary(
     }
   }
   return b;
-}
-
-Index FindRoot(std::vector<Index>& parent, Index v)
-{
-  while (parent[v] != v)
-  {
-    v = parent[v] = parent[parent[v]];
-  }
-  return v;
 }
 
 /// Connected components of the whole surface: those of each piece, joined

@@ -1,5 +1,7 @@
 #include "Mesh/MeshTopology.h"
 
+#include "Support/DisjointSets.h"
+
 #include <algorithm>
 #include <atomic>
 #include <limits>
@@ -94,16 +96,6 @@ int RegularFanOwnedEdges(const Index* pairs, Index valence, Index v)
     ++length;
   } while (c != 0 && length <= valence);
   return length == valence ? owned : -1;
-}
-
-Index FindRoot(std::vector<Index>& parent, Index a)
-{
-  while (parent[a] != a)
-  {
-    parent[a] = parent[parent[a]];
-    a = parent[a];
-  }
-  return a;
 }
 
 } // namespace

@@ -1,6 +1,8 @@
 #include "Remeshing/SqueezedParts.h"
 
 #include "Mesh/Geometry.h"
+#include "Remeshing/SurfaceSampling.h"
+#include "Support/DisjointSets.h"
 
 #include <Eigen/Geometry>
 
@@ -14,17 +16,6 @@ namespace beltrami
 
 namespace
 {
-
-/// The root of `k` in a union-find forest (with path halving).
-Index Root(std::vector<Index>& parent, Index k)
-{
-  while (parent[k] != k)
-  {
-    parent[k] = parent[parent[k]];
-    k = parent[k];
-  }
-  return k;
-}
 
 /// The importance at barycentric weights w of `triangle` (1 without one).
 double ImportanceAt(const MeshTopology& topology, const double* importance, Index triangle, const double* w)
@@ -101,7 +92,7 @@ std::vector<Candidate> PartCandidates(const MeshTopology& topology, const double
     const Vec3 a = Point(points, topology.CornerVertex(3 * t)), b = Point(points, topology.CornerVertex(3 * t + 1)),
                c = Point(points, topology.CornerVertex(3 * t + 2));
     const double longest = std::max({ (b - a).norm(), (c - b).norm(), (a - c).norm() });
-    const double spacing = 1.0 / std::sqrt(density * std::max(1e-12, ImportanceAt(topology, importance, t, centre)));
+    const double spacing = SpacingOf(density, ImportanceAt(topology, importance, t, centre));
     const int m = std::clamp(static_cast<int>(std::ceil(3.0 * longest / spacing)), 1, 16);
     const bool onBorder[3] = { BorderEdge(topology, inPart, t, 0), BorderEdge(topology, inPart, t, 1),
       BorderEdge(topology, inPart, t, 2) };
@@ -111,7 +102,7 @@ std::vector<Candidate> PartCandidates(const MeshTopology& topology, const double
       {
         Candidate k{ t, { double(i) / m, double(j) / m, double(m - i - j) / m }, Vec3::Zero(), 0.0, HUGE_VAL };
         k.X = k.W[0] * a + k.W[1] * b + k.W[2] * c;
-        k.Spacing = 1.0 / std::sqrt(density * std::max(1e-12, ImportanceAt(topology, importance, t, k.W)));
+        k.Spacing = SpacingOf(density, ImportanceAt(topology, importance, t, k.W));
         if ((i == 0 && onBorder[0]) || (j == 0 && onBorder[1]) || (i + j == m && onBorder[2]))
         {
           border.push_back(k.X);
@@ -198,7 +189,7 @@ std::vector<std::vector<Index>> SqueezedPartsOf(
       }
       else if (expected[t] > 0.0 && atlas.ChartOfTriangle[t] == atlas.ChartOfTriangle[first])
       {
-        parent[Root(parent, t)] = Root(parent, first);
+        parent[FindRoot(parent, t)] = FindRoot(parent, first);
       }
     }
   }
@@ -207,7 +198,7 @@ std::vector<std::vector<Index>> SqueezedPartsOf(
   {
     if (expected[t] > 0.0)
     {
-      parts[Root(parent, t)].push_back(t);
+      parts[FindRoot(parent, t)].push_back(t);
     }
   }
   std::vector<std::vector<Index>> out;

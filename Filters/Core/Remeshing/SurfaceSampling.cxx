@@ -305,16 +305,12 @@ void SampleBoundaries(const MeshTopology& topology, const double* points, const 
 Index InnermostTriangle(const MeshTopology& topology, const double* points, const AtlasResult& atlas, int chart)
 {
   std::vector<Vec3> border;
-  for (Index t : atlas.Charts[chart].Triangles)
+  for (Index v : atlas.Charts[chart].Vertices)
   {
-    for (int k = 0; k < 3; ++k)
+    if (!topology.IsInterior(v) || std::any_of(topology.CornersBegin(v), topology.CornersEnd(v),
+                                     [&](Index c) { return atlas.ChartOfTriangle[c / 3] != chart; }))
     {
-      const Index v = topology.CornerVertex(3 * t + k);
-      if (!topology.IsInterior(v) || std::any_of(topology.CornersBegin(v), topology.CornersEnd(v),
-                                       [&](Index c) { return atlas.ChartOfTriangle[c / 3] != chart; }))
-      {
-        border.push_back(Point(points, v));
-      }
+      border.push_back(Point(points, v));
     }
   }
   // (At most about 1,000 triangles and border points looked at: charts
@@ -578,7 +574,7 @@ std::pair<std::size_t, double> EdgeAtArc(const SamplePath& path, double arc)
 
 double SpacingAt(const double* importance, double density, Index v)
 {
-  return 1.0 / std::sqrt(density * (importance ? std::max(1e-300, importance[v]) : 1.0));
+  return SpacingOf(density, importance ? importance[v] : 1.0);
 }
 
 Index LocateOnPath(const MeshTopology& topology, const SamplePath& path, double arc, double barycentric[3])

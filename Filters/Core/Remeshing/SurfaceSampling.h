@@ -15,6 +15,8 @@
 #include "Maps/GeometryImages.h"
 #include "Mesh/Laplacian.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -139,7 +141,13 @@ struct SurfaceSamples
 };
 
 /// The spacing of `density` samples per unit area where the importance is
-/// 1 at surface vertex v (importance: per vertex, or null: uniform).
+/// 1, where it is `importance` (none at importance 0: a spacing beyond any).
+inline double SpacingOf(double density, double importance)
+{
+  return 1.0 / std::sqrt(density * std::max(1e-300, importance));
+}
+
+/// SpacingOf at surface vertex v (importance: per vertex, or null: uniform).
 double SpacingAt(const double* importance, double density, Index v);
 
 /// The point at arc length `arc` along `path`: a surface triangle with the
