@@ -31,7 +31,8 @@ vtkStandardNewMacro(vtkSurfaceRemeshing);
 /// What a re-run with other sampling settings reuses: the input's surface
 /// (topology with its edge table, points as doubles) and its curvatures
 /// while the input's geometry stays, and its atlas while the feature
-/// settings stay too.
+/// settings stay too (and, with sharp edges kept, the count: the feature
+/// fragments it drops depend on the spacing).
 struct vtkSurfaceRemeshing::Kept
 {
   const void* Input = nullptr;
@@ -43,6 +44,7 @@ struct vtkSurfaceRemeshing::Kept
   beltrami::RemeshCache Remeshing; // of this surface and atlas
   bool SplitAtFeatures = false;
   double FeatureAngle = 0.0;
+  double FeatureSpacing = 0.0; // the shortest feature chain kept
   std::vector<double> Curvatures; // of the measure CurvatureImportance (-1: none yet)
   int CurvatureImportance = -1;
 };
@@ -98,9 +100,17 @@ int vtkSurfaceRemeshing::KeepSurface(vtkPolyData* input)
 const beltrami::AtlasResult& vtkSurfaceRemeshing::Atlas()
 {
   Kept& kept = *this->Cache;
-  if (!kept.Atlas || kept.SplitAtFeatures != this->SplitAtFeatures || kept.FeatureAngle != this->FeatureAngle)
+  // With sharp edges kept, their fragments shorter than the spacing of the
+  // requested count are dropped (the error-driven mode's count is not known
+  // yet: all are kept there).
+  const double spacing = this->SplitAtFeatures && this->MaximumDeviation <= 0.0 && this->NumberOfVertices > 0
+    ? beltrami::UniformSpacing(
+        beltrami::SurfaceArea(kept.Surface.Topology(), kept.Points, this->NumberOfThreads), this->NumberOfVertices)
+    : 0.0;
+  if (!kept.Atlas || kept.SplitAtFeatures != this->SplitAtFeatures || kept.FeatureAngle != this->FeatureAngle ||
+    kept.FeatureSpacing != spacing)
   {
-    beltrami::AtlasOptions options = beltrami::RemeshingAtlasOptions();
+    beltrami::AtlasOptions options = beltrami::RemeshingAtlasOptions(spacing);
     options.SplitAtFeatures = this->SplitAtFeatures;
     options.FeatureAngle = this->FeatureAngle;
     options.NumberOfThreads = this->NumberOfThreads;
@@ -109,6 +119,7 @@ const beltrami::AtlasResult& vtkSurfaceRemeshing::Atlas()
     kept.Remeshing.Clear();
     kept.SplitAtFeatures = this->SplitAtFeatures;
     kept.FeatureAngle = this->FeatureAngle;
+    kept.FeatureSpacing = spacing;
     ++this->AtlasBuilds;
   }
   return *kept.Atlas;

@@ -157,7 +157,10 @@ public:
   vtkSetClampMacro(MinimumImportance, double, 0.0, 1.0);
   vtkGetMacro(MinimumImportance, double);
   /// Keep sharp edges (normals differing by more than Feature Angle) as chart boundaries, sampled
-  /// along them so that the remesh reproduces them (CAD parts, section 4.2.3). Default: off.
+  /// along them so that the remesh reproduces them (CAD parts, section 4.2.3). Dangling runs of
+  /// sharp edges shorter than the remesh's spacing are not kept (a crease that crosses the input's
+  /// edges at a slant shows as such fragments); with Maximum Deviation every run is kept. Default:
+  /// off.
   vtkSetMacro(SplitAtFeatures, bool);
   vtkGetMacro(SplitAtFeatures, bool);
   vtkBooleanMacro(SplitAtFeatures, bool);

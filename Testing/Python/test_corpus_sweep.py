@@ -11,13 +11,13 @@ promises:
   surface-data-denoising finite values, the array's range not widened
   parameterization      no flipped UV triangle, UV in [0, 1]^2
   atlas                 no flipped UV triangle, UV in [0, 1]^2
-  remeshing             the exact count; Euler characteristic, components and
-                        boundary loops kept; manifold and oriented; the
+  remeshing             at 2,000 vertices (sharp edges kept on the CAD
+                        parts): the exact count; Euler characteristic,
+                        components and boundary loops kept; manifold and oriented; the
                         deviation it reports the one measured, and within
                         a quarter of CGAL's at the count (CGAL_HAUSDORFF)
-  remeshing-10k         as remeshing at 10,000 vertices (sharp edges kept on
-                        the CAD parts), and the triangles' quality on the
-                        real meshes (check_quality)
+  remeshing-10k         as remeshing at 10,000 vertices, and the triangles'
+                        quality on the real meshes (check_quality)
   remeshing-deviation   the error-driven mode (MaximumDeviation 0.5% of the
                         diagonal, the count left to it): as remeshing, and
                         both deviations within the bound
@@ -189,16 +189,18 @@ CGAL_HAUSDORFF = {
 }
 # Ours may be farther than CGAL's by a quarter (remesh to remesh the
 # deviation varies by 10-20%); named, the cases beyond that, with the
-# ratio measured: the spiky sphere's needles at 2,000 vertices (1.48) and
+# ratio measured: the spiky sphere's needles at 2,000 vertices (1.48),
 # the sphere beside its speck at 10,000 (1.29: on spheres CGAL's remesh is
-# the more regular, 98% of valence 6).
-CGAL_EXCEPTIONS = {("spiky-sphere", 2000): 1.6, ("sphere-with-speck", 10000): 1.4}
+# the more regular, 98% of valence 6) and fandisk_large's sharp edges at
+# 2,000 (1.31: its creases cross its edges at a slant, and their fragments
+# shorter than the spacing are not kept; CGAL keeps every one).
+CGAL_EXCEPTIONS = {("spiky-sphere", 2000): 1.6, ("sphere-with-speck", 10000): 1.4, ("fandisk_large.off", 2000): 1.4}
 
 
 def compare_with_cgal(path, count, to_input, from_input):
     """None, or how far ours is beyond CGAL_HAUSDORFF."""
     name = os.path.basename(path)
-    if name not in CGAL_HAUSDORFF or (count == 2000 and name in CAD):  # (the 2k sweep keeps no sharp edges)
+    if name not in CGAL_HAUSDORFF:
         return None
     peer = CGAL_HAUSDORFF[name][0 if count == 2000 else 1]
     ours = 100 * max(to_input, from_input)
@@ -351,7 +353,7 @@ def sweep(name, meshes):
         if which == "closed" and (top["loops"] or not top["manifold"]):
             continue
         f = make()
-        if name in ("remeshing-10k", "remeshing-deviation") and os.path.basename(path) in CAD:
+        if name.startswith("remeshing") and os.path.basename(path) in CAD:
             f.SetSplitAtFeatures(True)
         said = inputs.Messages(f, f.GetExecutive())
         f.SetInputData(mesh)

@@ -324,7 +324,9 @@ AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const
   std::vector<std::uint8_t> cut;
   if (options.SplitAtFeatures)
   {
-    cut = SharpEdges(topology, points, options.FeatureAngle);
+    result.FeatureEdges = SharpEdges(topology, points, options.FeatureAngle);
+    DropShortFeatureChains(topology, points, options.MinimumFeatureLength, result.FeatureEdges);
+    cut = result.FeatureEdges;
   }
   if (!options.SeamLabels.empty())
   {

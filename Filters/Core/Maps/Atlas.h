@@ -46,6 +46,11 @@ struct AtlasOptions
   /// their charts small.
   bool SplitAtFeatures = false;
   double FeatureAngle = 60.0;
+  /// Sharp edges in dangling chains shorter than this (surface units) are
+  /// not features (DropShortFeatureChains): a crease that the mesh's edges
+  /// cross at a slant shows as fragments a few edges long, each of which
+  /// would split a chart.  0: every sharp edge is one.
+  double MinimumFeatureLength = 0.0;
   /// User seams: one label per surface triangle (kept triangles, in the
   /// topology's order); edges between different labels are chart
   /// boundaries.  Empty: none.
@@ -90,6 +95,9 @@ struct AtlasResult
   std::vector<AtlasChart> Charts;
   int SplitsForFlips = 0;           ///< charts split because their map flipped a triangle (or squeezed too much of it: MaximumSqueezedShare)
   std::int64_t CutEdges = 0;        ///< seam and feature edges kept as chart boundaries
+  /// 1 per edge of the topology: the sharp edges kept as chart boundaries
+  /// (SplitAtFeatures; empty without).
+  std::vector<std::uint8_t> FeatureEdges;
   double PackingEfficiency = 0.0;   ///< area of the packed charts' maps / area of [0, 1]^2
 };
 

@@ -220,6 +220,68 @@ std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, 
   return sharp;
 }
 
+std::int64_t DropShortFeatureChains(
+  const MeshTopology& topo, const double* x, double minimumLength, std::vector<std::uint8_t>& features)
+{
+  const MeshTopology::EdgeTable& e = topo.Edges();
+  const Index n = topo.NumberOfVertices();
+  std::vector<int> degree(n, 0);
+  for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
+  {
+    degree[e.Vertices[2 * k]] += features[k];
+    degree[e.Vertices[2 * k + 1]] += features[k];
+  }
+  // The feature edge at v other than `except` (-1: none).
+  const auto nextEdge = [&](Index v, std::int64_t except) {
+    for (std::int64_t k = e.NeighborOffsets[v]; k < e.NeighborOffsets[v + 1]; ++k)
+    {
+      if (features[e.NeighborEdges[k]] && e.NeighborEdges[k] != except)
+      {
+        return e.NeighborEdges[k];
+      }
+    }
+    return std::int64_t(-1);
+  };
+  std::int64_t dropped = 0;
+  std::vector<std::int64_t> chain, drop;
+  for (bool again = minimumLength > 0.0; again;)
+  {
+    drop.clear();
+    for (Index end = 0; end < n; ++end)
+    {
+      if (degree[end] != 1)
+      {
+        continue;
+      }
+      chain.clear();
+      double length = 0.0;
+      Index v = end;
+      for (std::int64_t k = nextEdge(v, -1); k >= 0 && length < minimumLength; k = degree[v] == 2 ? nextEdge(v, k) : -1)
+      {
+        chain.push_back(k);
+        const Index w = e.Vertices[2 * k] == v ? e.Vertices[2 * k + 1] : e.Vertices[2 * k];
+        length += (Point(x, w) - Point(x, v)).norm();
+        v = w;
+      }
+      if (length < minimumLength)
+      {
+        drop.insert(drop.end(), chain.begin(), chain.end());
+      }
+    }
+    std::sort(drop.begin(), drop.end());
+    drop.erase(std::unique(drop.begin(), drop.end()), drop.end());
+    for (const std::int64_t k : drop)
+    {
+      features[k] = 0;
+      --degree[e.Vertices[2 * k]];
+      --degree[e.Vertices[2 * k + 1]];
+    }
+    dropped += static_cast<std::int64_t>(drop.size());
+    again = !drop.empty();
+  }
+  return dropped;
+}
+
 double EnclosedVolume(const MeshTopology& topo, const double* points, int numThreads)
 {
   return VolumeAndCentroid(topo, points, numThreads, nullptr);

@@ -46,6 +46,13 @@ double SurfaceArea(const MeshTopology& topology, const double* points, int numTh
 /// more than `angleDegrees` (the dihedral test of thesis section 4.2.3, like
 /// vtkFeatureEdges' FeatureAngle); boundary and non-manifold edges: 0.
 std::vector<std::uint8_t> SharpEdges(const MeshTopology& topology, const double* points, double angleDegrees);
+/// Drops from `features` (1 per edge of topology.Edges()) the dangling
+/// chains shorter than `minimumLength`: runs of feature edges from an end
+/// (a vertex with one feature edge) to the next vertex with other than two,
+/// repeated while a drop leaves new ends.  Closed lines and networks stay.
+/// Returns the number of edges dropped.
+std::int64_t DropShortFeatureChains(
+  const MeshTopology& topology, const double* points, double minimumLength, std::vector<std::uint8_t>& features);
 double VolumeAbovePlane(const MeshTopology& topology, const double* points, const double origin[3],
   const double normal[3], int numThreads = 0);
 

@@ -24,14 +24,20 @@ double SecondsSince(std::chrono::steady_clock::time_point start)
 
 } // namespace
 
-AtlasOptions RemeshingAtlasOptions()
+AtlasOptions RemeshingAtlasOptions(double spacing)
 {
   AtlasOptions options;
   options.ChartBoundary = ParameterizationBoundary::Natural;
   options.BalanceAreas = true;
   options.MaximumSqueezedShare = 0.3;
   options.MeasureDistortion = false;
+  options.MinimumFeatureLength = spacing;
   return options;
+}
+
+double UniformSpacing(double area, std::int64_t count)
+{
+  return std::sqrt(2.0 * area / (std::sqrt(3.0) * static_cast<double>(std::max<std::int64_t>(1, count))));
 }
 
 std::vector<double> CurvatureValues(const MeshTopology& topology, const double* points, CurvatureMeasure measure,
@@ -448,8 +454,7 @@ void CheckFidelity(const MeshTopology& topology, const double* points, const Rem
   out.DeviationFromInput = deviation.FirstToSecond / scale;
   out.DeviationToInput = deviation.SecondToFirst / scale;
   out.FarthestInputPoint = deviation.FarthestOfFirst;
-  out.Spacing = std::sqrt(2.0 * SurfaceArea(topology, points, options.NumberOfThreads) /
-    (std::sqrt(3.0) * static_cast<double>(std::max<std::int64_t>(1, options.NumberOfVertices))));
+  out.Spacing = UniformSpacing(SurfaceArea(topology, points, options.NumberOfThreads), options.NumberOfVertices);
   if (!differences.empty())
   {
     out.Error = "the remesh does not keep the input's topology (" + differences + ")";
@@ -479,19 +484,24 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   RemeshCache local; // one run's locators shared by its stages, where the caller keeps none
   RemeshCache* cache = options.Cache ? options.Cache : &local;
   auto start = std::chrono::steady_clock::now();
-  const std::vector<std::uint8_t> features =
-    options.FeatureAngle > 0.0 ? SharpEdges(topology, points, options.FeatureAngle) : std::vector<std::uint8_t>();
+  // The atlas's feature lines where it split at them, else the sharp edges.
+  const bool splitAtFeatures = !atlas.FeatureEdges.empty();
+  const std::vector<std::uint8_t> sharp = options.FeatureAngle > 0.0 && !splitAtFeatures
+    ? SharpEdges(topology, points, options.FeatureAngle)
+    : std::vector<std::uint8_t>();
+  const std::uint8_t* features =
+    options.FeatureAngle <= 0.0 ? nullptr : splitAtFeatures ? atlas.FeatureEdges.data() : sharp.data();
   std::vector<double> raised;
   if (options.MaximumSurfaceSag > 0.0)
   {
     KeepCurvatures(topology, points, options.NumberOfThreads, *cache);
     raised = RaiseImportanceForSag(topology, points, importance, cache->MaximumCurvature,
-      features.empty() ? nullptr : features.data(), options.NumberOfVertices, options.MaximumSurfaceSag,
+      features, options.NumberOfVertices, options.MaximumSurfaceSag,
       options.NumberOfThreads, &cache->SurfaceLaplacian);
     importance = raised.empty() ? importance : raised.data();
   }
   SamplingOptions sampling;
-  sampling.FeatureEdges = features.empty() ? nullptr : features.data();
+  sampling.FeatureEdges = features;
   sampling.NumberOfSamples = options.NumberOfVertices;
   sampling.Resolution = options.Resolution;
   sampling.MaximumLineSag = options.MaximumLineSag;
@@ -520,7 +530,7 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   optimization.OverRelaxation = options.OverRelaxation;
   optimization.NumberOfThreads = options.NumberOfThreads;
   optimization.Importance = importance;
-  optimization.FeatureEdges = features.empty() ? nullptr : features.data();
+  optimization.FeatureEdges = features;
   optimization.Cache = cache;
   out.Optimization = OptimizeRemesh(remesh, topology, points, atlas, out.Samples, optimization);
   out.OptimizationSeconds = SecondsSince(start);

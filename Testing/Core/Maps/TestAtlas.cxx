@@ -477,6 +477,74 @@ TEST(Atlas, SeamsAndSharpEdgesAreChartBoundaries)
   EXPECT_NE(BuildAtlas(topology, sphere.Points.data(), options).Error, "") << "one label short";
 }
 
+TEST(Atlas, FeatureFragmentsShorterThanTheLengthAsked)
+{
+  // A cube of side 2 in cells of 1/4: its 12 edges (closed lines, 96 sharp
+  // edges) with a dangling line of 3 cells from an edge into the top face
+  // and a free segment of 2 cells on it.
+  const Mesh cube = test::CubeSurface(8);
+  const MeshTopology topology = cube.Topology();
+  const auto vertexAt = [&](double x, double y, double z) {
+    for (Index v = 0; v < topology.NumberOfVertices(); ++v)
+    {
+      if ((cube.Point(v) - Eigen::Vector3d(x, y, z)).norm() < 1e-9)
+      {
+        return v;
+      }
+    }
+    return Index(-1);
+  };
+  const std::vector<std::uint8_t> sharp = SharpEdges(topology, cube.Points.data(), 60.0);
+  ASSERT_EQ(std::count(sharp.begin(), sharp.end(), std::uint8_t(1)), 96);
+  std::vector<std::uint8_t> marked = sharp;
+  const auto mark = [&](std::initializer_list<double> xs, double y) {
+    for (auto x = xs.begin(); x + 1 != xs.end(); ++x)
+    {
+      const std::int64_t e = topology.Edges().Find(vertexAt(*x, y, 1.0), vertexAt(*(x + 1), y, 1.0));
+      ASSERT_GE(e, 0);
+      marked[e] = 1;
+    }
+  };
+  mark({ 1.0, 0.75, 0.5, 0.25 }, 0.0);
+  mark({ -0.5, -0.25, 0.0 }, -0.5);
+  const auto count = [](const std::vector<std::uint8_t>& f) { return std::count(f.begin(), f.end(), std::uint8_t(1)); };
+  for (const auto& [length, dropped] : { std::pair<double, int>(0.0, 0), { 0.4, 0 }, { 0.6, 2 }, { 0.8, 5 } })
+  {
+    std::vector<std::uint8_t> features = marked;
+    EXPECT_EQ(DropShortFeatureChains(topology, cube.Points.data(), length, features), dropped) << length;
+    EXPECT_EQ(count(features), 101 - dropped) << length;
+    if (dropped == 5)
+    {
+      EXPECT_EQ(features, sharp) << "the cube's closed edges stay";
+    }
+  }
+  // The coarse elephant's sharp edges are mostly fragments (146 ends), each
+  // splitting its chart.  Kept only where longer than the spacing of 2,000
+  // vertices, the atlas has every kept line on its charts' boundaries, no
+  // fragment left, and fewer charts.
+  std::string error;
+  const Mesh elephant = test::ReadMesh("elephant.off", error);
+  ASSERT_EQ(error, "");
+  const MeshTopology surface = elephant.Topology();
+  AtlasOptions options;
+  options.SplitAtFeatures = true;
+  const AtlasResult all = BuildAtlas(surface, elephant.Points.data(), options);
+  options.MinimumFeatureLength =
+    std::sqrt(2.0 * SurfaceArea(surface, elephant.Points.data()) / (std::sqrt(3.0) * 2000));
+  const AtlasResult kept = BuildAtlas(surface, elephant.Points.data(), options);
+  ExpectValidAtlas(elephant, kept, "elephant");
+  EXPECT_EQ(all.CutEdges, count(SharpEdges(surface, elephant.Points.data(), 60.0)));
+  EXPECT_EQ(all.FeatureEdges, SharpEdges(surface, elephant.Points.data(), 60.0));
+  EXPECT_EQ(kept.CutEdges, count(kept.FeatureEdges));
+  EXPECT_LT(kept.CutEdges, all.CutEdges);
+  EXPECT_EQ(CutEdgesInsideCharts(surface, kept.FeatureEdges, kept), 0);
+  std::vector<std::uint8_t> again = kept.FeatureEdges;
+  EXPECT_EQ(DropShortFeatureChains(surface, elephant.Points.data(), options.MinimumFeatureLength, again), 0);
+  EXPECT_LT(kept.Charts.size(), all.Charts.size());
+  std::printf("elephant: %zu charts keeping %lld sharp edges (%zu charts, %lld edges with every fragment)\n",
+    kept.Charts.size(), static_cast<long long>(kept.CutEdges), all.Charts.size(), static_cast<long long>(all.CutEdges));
+}
+
 TEST(Atlas, MaximumChartAreaIsKept)
 {
   std::string error;
