@@ -21,6 +21,8 @@ from vtkmodules.vtkFiltersCore import vtkTriangleFilter, vtkWindowedSincPolyData
 from beltrami import vtkImplicitFairing, vtkOFFReader
 from beltrami.pipelines import noisy_along_normals
 
+import inputs
+
 CURVATURE_STEPS = [0.01 * 2.0 ** k for k in range(16)]  # h^4
 UMBRELLA_STEPS = [0.16 * 2.0 ** k for k in range(16)]   # dimensionless
 PASS_BANDS = (0.001, 0.003, 0.01, 0.03, 0.1, 0.2, 0.5, 1.0)
@@ -43,13 +45,17 @@ def error(polydata, clean, diagonal):
     return float(np.sqrt(np.mean(np.sum((points_of(polydata) - clean) ** 2, 1)))) / diagonal
 
 
-def faired(noisy, **settings):
+def faired(noisy, warnings=None, **settings):
+    """The output and seconds; the filter's warnings appended to `warnings`."""
     f = vtkImplicitFairing()
+    said = inputs.Messages(f, f.GetExecutive())
     f.SetInputData(noisy)
     for name, value in settings.items():
         getattr(f, "Set" + name)(value)
     start = time.perf_counter()
     f.Update()
+    if warnings is not None:
+        warnings.extend(said.warnings)
     return f.GetOutput(), time.perf_counter() - start
 
 
@@ -82,8 +88,9 @@ def case(mesh, level, seed=1, oracles=True):
     clean = points_of(mesh)
     diagonal = float(np.linalg.norm(clean.max(0) - clean.min(0)))
     noisy = noisy_along_normals(mesh, level * diagonal, seed=seed) if level > 0 else mesh
-    result, seconds = faired(noisy)
-    row = {"noise": level, "input": error(noisy, clean, diagonal), "defaults": error(result, clean, diagonal),
+    warnings = []
+    result, seconds = faired(noisy, warnings)
+    row = {"warned": any("scale of its triangles" in w for w in warnings), "noise": level, "input": error(noisy, clean, diagonal), "defaults": error(result, clean, diagonal),
            "seconds": seconds, "estimated noise": field(result, "FairingNoise") / diagonal,
            "estimated error": field(result, "FairingEstimatedError") / diagonal,
            "step": field(result, "FairingTimeStep"), "operator": field(result, "FairingOperator"),

@@ -360,7 +360,13 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
   const Partition* split, std::ostringstream& warn, FairingReport& report)
 {
   const Index n = topo.NumberOfVertices();
-  const SurfaceNoise noise = EstimateSurfaceNoise(topo, x, roles.Fixed.data(), split, opt.NumberOfThreads);
+  SurfaceNoise noise;
+  noise.Deviation = opt.KnownNoise;
+  noise.MedianDihedral = opt.KnownMedianDihedral;
+  if (!(noise.Deviation > 0.0))
+  {
+    noise = EstimateSurfaceNoise(topo, x, roles.Fixed.data(), split, opt.NumberOfThreads);
+  }
   report.Noise = noise.Deviation;
   report.MedianDihedral = noise.MedianDihedral;
   GraphLaplacian L;
@@ -406,7 +412,7 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
          << " times its unit, h^(2k) for order k with h the mean edge length, 1 for the umbrella); a step "
             "beyond may be better: set TimeStep. ";
   }
-  if (choice.ShapeDetail)
+  if (choice.ShapeDetail && noise.Deviation >= CleanVariation * MeanEdgeLength(topo, x, split))
   {
     warn << "The surface varies at the scale of its triangles by about " << noise.Deviation
          << " (standard deviation along the normals), which smoothing cannot tell from noise: it was left as it "

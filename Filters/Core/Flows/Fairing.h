@@ -104,6 +104,10 @@ struct FairingOptions
   /// see Flows/FairingStepChoice.h); a clean mesh is left nearly as it is.
   /// Not with Taubin's passes (their steps are TaubinLambda and TaubinMu).
   double TimeStep = 0.0;
+  /// TimeStep 0: the input's noise (length) and median dihedral angle where
+  /// a run on the same input estimated them already (its FairingReport's
+  /// Noise and MedianDihedral); 0: estimated here.
+  double KnownNoise = 0.0, KnownMedianDihedral = 0.0;
   /// Unit of TimeStep and FeatureThreshold: the mean edge length h of the
   /// input (then the step is scaled by h^2 or h^4 and the threshold by 1/h),
   /// or the mesh's own units.

@@ -132,6 +132,8 @@ FairingReport FairWithEitherOperator(const MeshTopology& topo, double* points, c
   {
     std::vector<double> curvature(points, points + size);
     opt.Operator = FairingOperator::CurvatureFlow;
+    opt.KnownNoise = report.Noise; // (the same input)
+    opt.KnownMedianDihedral = report.MedianDihedral;
     FairingReport flow = FairSurface(topo, curvature.data(), opt, cons, progress, split);
     if (flow.Error.empty() && flow.EstimatedError <= report.EstimatedError)
     {
