@@ -15,12 +15,6 @@ namespace beltrami
 namespace
 {
 
-/// Twice the signed area of the triangle (a, b, c) in the plane.
-inline double Cross2(const double* a, const double* b, const double* c)
-{
-  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-}
-
 /// The raster pixel (column or row) of coordinate u at resolution n: -1
 /// below the first pixel's centre, clamped to n - 1 above.
 inline int RasterPixel(double u, int n)

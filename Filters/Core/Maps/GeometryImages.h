@@ -17,6 +17,12 @@
 namespace beltrami
 {
 
+/// Twice the signed area of the triangle (a, b, c) in the plane.
+inline double Cross2(const double* a, const double* b, const double* c)
+{
+  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
 /// Where the pixels of a chart's square fall: pixel (i, j) (row j, x
 /// fastest) has its centre at ((i + 0.5) / n, (j + 0.5) / n).
 struct ChartRaster

@@ -112,8 +112,7 @@ bool MoveInside(const DomainTriangulation& cdt, std::size_t firstInterior, Chart
 /// Twice the signed area of the triangle (a, b, c) of the points' UV.
 double Cross2(const std::vector<double>& uv, Index a, Index b, Index c)
 {
-  return (uv[2 * b] - uv[2 * a]) * (uv[2 * c + 1] - uv[2 * a + 1]) -
-    (uv[2 * b + 1] - uv[2 * a + 1]) * (uv[2 * c] - uv[2 * a]);
+  return beltrami::Cross2(&uv[2 * a], &uv[2 * b], &uv[2 * c]);
 }
 
 /// Flips away the ears of the triangulation: triangles of three consecutive

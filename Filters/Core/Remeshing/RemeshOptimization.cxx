@@ -1,6 +1,6 @@
 #include "Remeshing/RemeshOptimization.h"
 
-#include "Maps/GeometryImages.h"
+#include "Remeshing/RemeshOptimizer.h"
 #include "Support/Parallel.h"
 #include "Support/Vectorization.h"
 
@@ -14,30 +14,11 @@
 namespace beltrami
 {
 
+namespace detail
+{
+
 namespace
 {
-
-/// Twice the signed area of the triangle (a, b, c) in the plane.
-inline double Cross2(const double* a, const double* b, const double* c)
-{
-  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-}
-
-/// Area / perimeter^2 of a 3D triangle, over its value for the equilateral
-/// triangle (1: equilateral, 0: degenerate).
-double Roundness(const Vec3& a, const Vec3& b, const Vec3& c)
-{
-  const double perimeter = (b - a).norm() + (c - b).norm() + (a - c).norm();
-  const double area = 0.5 * (b - a).cross(c - a).norm();
-  return perimeter > 0.0 ? area / (perimeter * perimeter) * (36.0 / std::sqrt(3.0)) : 0.0;
-}
-
-/// The cosine of the smallest angle of a 3D triangle.
-double LargestCosine(const Vec3& a, const Vec3& b, const Vec3& c)
-{
-  const Vec3 ab = (b - a).normalized(), bc = (c - b).normalized(), ca = (a - c).normalized();
-  return std::max({ -ab.dot(ca), -bc.dot(ab), -ca.dot(bc) });
-}
 
 /// The part of the plane triangle (p, a, b) nearer to p than to a and b
 /// (p's Voronoi region in it; in an obtuse triangle the circumcentre is
@@ -91,7 +72,6 @@ double VoronoiPart3D(const Vec3& p, const Vec3& a, const Vec3& b, Vec3& centroid
   centroid = p + c[0] * e1 + c[1] * e2;
   return area;
 }
-
 /// One thread's buffers for the moves (no allocation per move).
 struct MoveBuffers
 {
@@ -107,267 +87,7 @@ MoveBuffers& ThreadBuffers()
   return buffers;
 }
 
-/// How a vertex may move while stitching.
-enum Mobility : std::uint8_t
-{
-  Free = 0,   ///< anywhere on the surface
-  OnPath = 1, ///< along its path (the surface's boundary or a feature)
-  Fixed = 2   ///< a corner on the surface's boundary or a feature
-};
-
-class Optimizer
-{
-public:
-  Optimizer(Remesh& remesh, const MeshTopology& topology, const double* points, const AtlasResult& atlas,
-    const SurfaceSamples& samples, const double* importance, RemeshCache* cache)
-    : R(remesh), M(remesh.Mesh), Topology(topology), Points(points), Atlas(atlas), Samples(samples),
-      ImportanceValues(importance), Locators((cache ? *cache : LocalCache).Locators(atlas))
-  {
-    Valence.resize(M.NumberOfVertices());
-    for (Index v = 0; v < M.NumberOfVertices(); ++v)
-    {
-      Valence[v] = M.Valence(v);
-    }
-    for (Index v = 0; ImportanceValues && v < M.NumberOfVertices(); ++v)
-    {
-      VertexImportance.push_back(ImportanceAt(v));
-    }
-    PathIndex.assign(M.NumberOfVertices(), -1);
-    for (const SamplePath& path : samples.Paths)
-    {
-      for (std::size_t i = 1; i + 1 < path.Samples.size(); ++i)
-      {
-        PathIndex[path.Samples[i]] = static_cast<Index>(i);
-      }
-    }
-  }
-
-  std::int64_t SwapForValence();
-  std::int64_t SwapForShape();
-  std::int64_t SwapSlivers();
-  template <typename Wanted, typename Accept>
-  std::int64_t SwapWhere(Wanted&& wanted, Accept&& accept);
-  double Relax();
-  Index BeginStitching(const std::uint8_t* featureEdges);
-  int NumberOfThreads = 0;
-  double OverRelaxation = 1.0; ///< the first try of a move off a path, of the way to its target
-
-private:
-  const double* UVAt(Index h) const { return &R.CornerUV[2 * h]; }
-  bool SameChart(Index h) const
-  {
-    return !M.IsBoundary(h) && R.FaceChart[h / 3] == R.FaceChart[M.Twin(h) / 3];
-  }
-  /// h's edge may be swapped: inside a chart, or, while stitching, anywhere
-  /// but along a path that stays (a feature).
-  bool Swappable(Index h) const
-  {
-    if (!Stitching)
-    {
-      return SameChart(h);
-    }
-    const Index a = M.Tail(h), b = M.Head(h);
-    return !M.IsBoundary(h) && (Moves[a] == Free || Moves[b] == Free || !KeptEdges.count(EdgeKey(a, b)));
-  }
-  static std::uint64_t EdgeKey(Index a, Index b)
-  {
-    return static_cast<std::uint64_t>(std::min(a, b)) << 32 | static_cast<std::uint32_t>(std::max(a, b));
-  }
-  bool FlipKeepsCharts(Index h) const;
-  bool FlipKeepsSurface(Index h) const;
-  bool CanSwap(Index h) const { return M.CanFlip(h) && (Stitching || FlipKeepsCharts(h)) && FlipKeepsSurface(h); }
-  void Flip(Index h);
-  std::pair<double, double> Roundnesses(Index h) const;
-  int Target(Index v) const { return M.IsBoundaryVertex(v) ? 4 : 6; }
-  double Importance(Index f) const;
-  double ImportanceAt(Index v) const;
-  double Weight(Index f) const;
-  bool MoveInterior(Index v, double& moved);
-  bool MoveOnPath(Index v, double& moved);
-  bool MoveOnSurface(Index v, double& moved);
-  Index NearestOnSurface(const Vec3& p, Index start, double radius, double* w);
-  bool KeepsPlane(Index v, Index triangle, const double* w);
-  Vec3 FanNormal(Index v) const;
-  bool KeepsSurface(Index v, const Vec3& x, const Vec3& normal) const;
-  bool Place(Index v, Index triangle, const double* w, double& moved, const Vec3* normal = nullptr);
-  void Move(Index v, double& moved);
-  void ColourVertices();
-  void Prefetch(Index v) const;
-
-  Remesh& R;
-  HalfEdgeMesh& M;
-  const MeshTopology& Topology;
-  const double* Points;
-  const AtlasResult& Atlas;
-  const SurfaceSamples& Samples;
-  const double* ImportanceValues;
-  RemeshCache LocalCache; ///< where the caller keeps none
-  const std::vector<ChartLocator>& Locators;
-  std::vector<Index> Valence;
-  std::vector<Index> PathIndex; ///< per vertex: its index in its path's Samples
-  std::vector<double> VertexImportance; ///< per vertex: ImportanceAt (empty without an importance)
-  bool Stitching = false;
-  std::vector<std::uint8_t> Moves;     ///< per vertex while stitching: its Mobility
-  std::unordered_set<std::uint64_t> KeptEdges; ///< EdgeKey of the remesh's edges along kept paths
-  std::vector<std::int64_t> ColourOffsets; ///< CSR of the colours over ColourVerticesList
-  std::vector<Index> ColourVerticesList;
-};
-
-/// The flip of h's edge (faces (a, b, c), (b, a, d) -> (c, a, d), (d, b, c))
-/// keeps both new faces positively oriented in the chart.
-bool Optimizer::FlipKeepsCharts(Index h) const
-{
-  const Index t = M.Twin(h);
-  const double *a = UVAt(h), *b = UVAt(HalfEdgeMesh::Next(h)), *c = UVAt(HalfEdgeMesh::Prev(h));
-  const double* d = UVAt(HalfEdgeMesh::Prev(t));
-  const double scale = std::abs(Cross2(a, b, c)) + std::abs(Cross2(b, a, d));
-  return Cross2(c, a, d) > 1e-6 * scale && Cross2(d, b, c) > 1e-6 * scale;
-}
-
-/// The flip of h's edge does not fold the surface: the new faces' normals
-/// are within 60 degrees of the old ones' mean.
-bool Optimizer::FlipKeepsSurface(Index h) const
-{
-  const Index t = M.Twin(h);
-  const Vec3 pa = M.Position(M.Tail(h)), pb = M.Position(M.Head(h));
-  const Vec3 pc = M.Position(M.Tail(HalfEdgeMesh::Prev(h))), pd = M.Position(M.Tail(HalfEdgeMesh::Prev(t)));
-  const Vec3 before = ((pb - pa).cross(pc - pa) + (pa - pb).cross(pd - pb)).normalized();
-  const Vec3 n0 = (pa - pc).cross(pd - pc).normalized(), n1 = (pb - pd).cross(pc - pd).normalized();
-  return n0.dot(before) > 0.5 && n1.dot(before) > 0.5;
-}
-
-void Optimizer::Flip(Index h)
-{
-  const Index t = M.Twin(h);
-  const Index a = M.Tail(h), b = M.Head(h), c = M.Tail(HalfEdgeMesh::Prev(h)), d = M.Tail(HalfEdgeMesh::Prev(t));
-  const double uv[4][2] = { { UVAt(h)[0], UVAt(h)[1] },
-    { UVAt(HalfEdgeMesh::Next(h))[0], UVAt(HalfEdgeMesh::Next(h))[1] },
-    { UVAt(HalfEdgeMesh::Prev(h))[0], UVAt(HalfEdgeMesh::Prev(h))[1] },
-    { UVAt(HalfEdgeMesh::Prev(t))[0], UVAt(HalfEdgeMesh::Prev(t))[1] } };
-  const Index g = 3 * (h / 3), k = 3 * (t / 3);
-  M.FlipEdge(h); // faces (c, a, d) at g and (d, b, c) at k
-  const int order[6] = { 2, 0, 3, 3, 1, 2 };
-  for (int i = 0; i < 6; ++i)
-  {
-    const Index corner = i < 3 ? g + i : k + i - 3;
-    R.CornerUV[2 * corner] = uv[order[i]][0];
-    R.CornerUV[2 * corner + 1] = uv[order[i]][1];
-  }
-  --Valence[a];
-  --Valence[b];
-  ++Valence[c];
-  ++Valence[d];
-}
-
-/// The smaller area/perimeter^2 ratio of h's two faces (in 3D) before and
-/// after the flip of h's edge.
-std::pair<double, double> Optimizer::Roundnesses(Index h) const
-{
-  const Vec3 a = M.Position(M.Tail(h)), b = M.Position(M.Head(h));
-  const Vec3 c = M.Position(M.Tail(HalfEdgeMesh::Prev(h))), d = M.Position(M.Tail(HalfEdgeMesh::Prev(M.Twin(h))));
-  return { std::min(Roundness(a, b, c), Roundness(b, a, d)), std::min(Roundness(c, a, d), Roundness(d, b, c)) };
-}
-
-/// One sweep of swaps over the edges in order: an edge is swapped where
-/// it is Swappable, wanted(h) holds (a test of its two faces and their
-/// vertices' valences) and then accept(h).  Swappable and wanted are
-/// evaluated for every edge at once (in parallel) on the mesh before the
-/// sweep, and again for an edge when its turn comes if a swap of this sweep
-/// replaced one of its faces or changed a valence there: the swaps of the
-/// plain serial sweep, for any thread count.
-template <typename Wanted, typename Accept>
-std::int64_t Optimizer::SwapWhere(Wanted&& wanted, Accept&& accept)
-{
-  const Index halfEdges = M.NumberOfHalfEdges();
-  std::vector<std::uint8_t> first(halfEdges, 0);
-  ParallelFor(halfEdges, NumberOfThreads, [&](std::int64_t begin, std::int64_t end) {
-    for (Index h = static_cast<Index>(begin); h < end; ++h)
-    {
-      first[h] = M.Twin(h) > h && Swappable(h) && wanted(h);
-    }
-  }, {}, 0, 4096);
-  // A swap changes its two faces and the valences of their four vertices:
-  // every face around those is marked (an edge's two faces hold its quad).
-  std::vector<std::uint8_t> changed(M.NumberOfFaces(), 0);
-  std::int64_t swaps = 0;
-  for (Index h = 0; h < halfEdges; ++h)
-  {
-    const Index t = M.Twin(h);
-    if (t < h || !(first[h] || changed[h / 3] || changed[t / 3]))
-    {
-      continue;
-    }
-    if ((changed[h / 3] || changed[t / 3] ? Swappable(h) && wanted(h) : true) && accept(h))
-    {
-      const Index quad[4] = { M.Tail(h), M.Head(h), M.Tail(HalfEdgeMesh::Prev(h)), M.Tail(HalfEdgeMesh::Prev(t)) };
-      Flip(h);
-      for (const Index v : quad)
-      {
-        M.ForEachOutgoing(v, [&](Index g) { changed[g / 3] = 1; });
-      }
-      ++swaps;
-    }
-  }
-  return swaps;
-}
-
-/// Swaps edges wherever that lowers the sum of squared deviations of the
-/// four valences from their targets (section 4.4.2) without halving the
-/// smaller area/perimeter^2 ratio of the two triangles (else the shape
-/// swaps and these would undo each other round after round, and a sliver
-/// could be left by the last one).
-std::int64_t Optimizer::SwapForValence()
-{
-  const auto fewerDeviations = [&](Index h) {
-    const Index a = M.Tail(h), b = M.Head(h);
-    const Index c = M.Tail(HalfEdgeMesh::Prev(h)), d = M.Tail(HalfEdgeMesh::Prev(M.Twin(h)));
-    const auto dev = [&](Index v, int change) {
-      const double x = Valence[v] + change - Target(v);
-      return x * x;
-    };
-    return dev(a, -1) + dev(b, -1) + dev(c, 1) + dev(d, 1) < dev(a, 0) + dev(b, 0) + dev(c, 0) + dev(d, 0);
-  };
-  return SwapWhere(fewerDeviations, [&](Index h) {
-    if (!CanSwap(h))
-    {
-      return false;
-    }
-    const auto [roundBefore, roundAfter] = Roundnesses(h);
-    return roundAfter >= 0.5 * roundBefore;
-  });
-}
-
-/// Swaps edges wherever that raises the smaller area/perimeter^2 ratio of
-/// the two triangles (in 3D).
-std::int64_t Optimizer::SwapForShape()
-{
-  const auto rounder = [&](Index h) {
-    const auto [before, after] = Roundnesses(h);
-    return after > before * 1.01;
-  };
-  return SwapWhere(rounder, [&](Index h) { return CanSwap(h); });
-}
-
-/// Swaps the edges of triangles with an angle below 30 degrees wherever
-/// that raises the smaller area/perimeter^2 ratio: after the last
-/// relaxation, which can leave such a triangle (a vertex slid along a
-/// path) where a swap mends it, without undoing the valence swaps
-/// elsewhere.
-std::int64_t Optimizer::SwapSlivers()
-{
-  const double cos30 = 0.5 * std::sqrt(3.0);
-  const auto mends = [&](Index h) {
-    const Vec3 a = M.Position(M.Tail(h)), b = M.Position(M.Head(h));
-    const Vec3 c = M.Position(M.Tail(HalfEdgeMesh::Prev(h))), d = M.Position(M.Tail(HalfEdgeMesh::Prev(M.Twin(h))));
-    if (std::max(LargestCosine(a, b, c), LargestCosine(b, a, d)) <= cos30)
-    {
-      return false;
-    }
-    const auto [before, after] = Roundnesses(h);
-    return after > before * 1.01;
-  };
-  return SwapWhere(mends, [&](Index h) { return CanSwap(h); });
-}
+} // namespace
 
 /// The mean importance of face f's vertices (1 without one).
 double Optimizer::Importance(Index f) const
@@ -856,7 +576,8 @@ double Optimizer::Relax()
   return total / std::max<Index>(1, M.NumberOfVertices());
 }
 
-} // namespace
+} // namespace detail
+
 
 RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& topology, const double* points,
   const AtlasResult& atlas, const SurfaceSamples& samples, const RemeshOptimizationOptions& options)
@@ -866,7 +587,7 @@ RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& 
   {
     return stats;
   }
-  Optimizer optimizer(remesh, topology, points, atlas, samples, options.Importance, options.Cache);
+  detail::Optimizer optimizer(remesh, topology, points, atlas, samples, options.Importance, options.Cache);
   optimizer.NumberOfThreads = options.NumberOfThreads;
   optimizer.OverRelaxation = std::max(1.0, options.OverRelaxation);
   const int rounds = std::max(0, options.Iterations) + std::max(0, options.StitchingIterations);

@@ -1,0 +1,131 @@
+// Beltrami core, private to Remeshing/RemeshOptimization: the optimiser of
+// a remesh (section 4.4), its edge swaps (RemeshSwaps.cxx) and its vertex
+// moves and stitching (RemeshOptimization.cxx).
+#pragma once
+
+#include "Remeshing/RemeshOptimization.h"
+
+#include "Maps/GeometryImages.h"
+
+#include <cstdint>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+namespace beltrami::detail
+{
+
+/// Area / perimeter^2 of a 3D triangle, over its value for the equilateral
+/// triangle (1: equilateral, 0: degenerate).
+double Roundness(const Vec3& a, const Vec3& b, const Vec3& c);
+
+/// The cosine of the smallest angle of a 3D triangle.
+double LargestCosine(const Vec3& a, const Vec3& b, const Vec3& c);
+
+/// How a vertex may move while stitching.
+enum Mobility : std::uint8_t
+{
+  Free = 0,   ///< anywhere on the surface
+  OnPath = 1, ///< along its path (the surface's boundary or a feature)
+  Fixed = 2   ///< a corner on the surface's boundary or a feature
+};
+
+class Optimizer
+{
+public:
+  Optimizer(Remesh& remesh, const MeshTopology& topology, const double* points, const AtlasResult& atlas,
+    const SurfaceSamples& samples, const double* importance, RemeshCache* cache)
+    : R(remesh), M(remesh.Mesh), Topology(topology), Points(points), Atlas(atlas), Samples(samples),
+      ImportanceValues(importance), Locators((cache ? *cache : LocalCache).Locators(atlas))
+  {
+    Valence.resize(M.NumberOfVertices());
+    for (Index v = 0; v < M.NumberOfVertices(); ++v)
+    {
+      Valence[v] = M.Valence(v);
+    }
+    for (Index v = 0; ImportanceValues && v < M.NumberOfVertices(); ++v)
+    {
+      VertexImportance.push_back(ImportanceAt(v));
+    }
+    PathIndex.assign(M.NumberOfVertices(), -1);
+    for (const SamplePath& path : samples.Paths)
+    {
+      for (std::size_t i = 1; i + 1 < path.Samples.size(); ++i)
+      {
+        PathIndex[path.Samples[i]] = static_cast<Index>(i);
+      }
+    }
+  }
+
+  std::int64_t SwapForValence();
+  std::int64_t SwapForShape();
+  std::int64_t SwapSlivers();
+  template <typename Wanted, typename Accept>
+  std::int64_t SwapWhere(Wanted&& wanted, Accept&& accept);
+  double Relax();
+  Index BeginStitching(const std::uint8_t* featureEdges);
+  int NumberOfThreads = 0;
+  double OverRelaxation = 1.0; ///< the first try of a move off a path, of the way to its target
+
+private:
+  const double* UVAt(Index h) const { return &R.CornerUV[2 * h]; }
+  bool SameChart(Index h) const
+  {
+    return !M.IsBoundary(h) && R.FaceChart[h / 3] == R.FaceChart[M.Twin(h) / 3];
+  }
+  /// h's edge may be swapped: inside a chart, or, while stitching, anywhere
+  /// but along a path that stays (a feature).
+  bool Swappable(Index h) const
+  {
+    if (!Stitching)
+    {
+      return SameChart(h);
+    }
+    const Index a = M.Tail(h), b = M.Head(h);
+    return !M.IsBoundary(h) && (Moves[a] == Free || Moves[b] == Free || !KeptEdges.count(EdgeKey(a, b)));
+  }
+  static std::uint64_t EdgeKey(Index a, Index b)
+  {
+    return static_cast<std::uint64_t>(std::min(a, b)) << 32 | static_cast<std::uint32_t>(std::max(a, b));
+  }
+  bool FlipKeepsCharts(Index h) const;
+  bool FlipKeepsSurface(Index h) const;
+  bool CanSwap(Index h) const { return M.CanFlip(h) && (Stitching || FlipKeepsCharts(h)) && FlipKeepsSurface(h); }
+  void Flip(Index h);
+  std::pair<double, double> Roundnesses(Index h) const;
+  int Target(Index v) const { return M.IsBoundaryVertex(v) ? 4 : 6; }
+  double Importance(Index f) const;
+  double ImportanceAt(Index v) const;
+  double Weight(Index f) const;
+  bool MoveInterior(Index v, double& moved);
+  bool MoveOnPath(Index v, double& moved);
+  bool MoveOnSurface(Index v, double& moved);
+  Index NearestOnSurface(const Vec3& p, Index start, double radius, double* w);
+  bool KeepsPlane(Index v, Index triangle, const double* w);
+  Vec3 FanNormal(Index v) const;
+  bool KeepsSurface(Index v, const Vec3& x, const Vec3& normal) const;
+  bool Place(Index v, Index triangle, const double* w, double& moved, const Vec3* normal = nullptr);
+  void Move(Index v, double& moved);
+  void ColourVertices();
+  void Prefetch(Index v) const;
+
+  Remesh& R;
+  HalfEdgeMesh& M;
+  const MeshTopology& Topology;
+  const double* Points;
+  const AtlasResult& Atlas;
+  const SurfaceSamples& Samples;
+  const double* ImportanceValues;
+  RemeshCache LocalCache; ///< where the caller keeps none
+  const std::vector<ChartLocator>& Locators;
+  std::vector<Index> Valence;
+  std::vector<Index> PathIndex; ///< per vertex: its index in its path's Samples
+  std::vector<double> VertexImportance; ///< per vertex: ImportanceAt (empty without an importance)
+  bool Stitching = false;
+  std::vector<std::uint8_t> Moves;     ///< per vertex while stitching: its Mobility
+  std::unordered_set<std::uint64_t> KeptEdges; ///< EdgeKey of the remesh's edges along kept paths
+  std::vector<std::int64_t> ColourOffsets; ///< CSR of the colours over ColourVerticesList
+  std::vector<Index> ColourVerticesList;
+};
+
+} // namespace beltrami::detail

@@ -1,0 +1,181 @@
+#include "Remeshing/RemeshOptimizer.h"
+
+#include "Support/Parallel.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+
+namespace beltrami::detail
+{
+
+double Roundness(const Vec3& a, const Vec3& b, const Vec3& c)
+{
+  const double perimeter = (b - a).norm() + (c - b).norm() + (a - c).norm();
+  const double area = 0.5 * (b - a).cross(c - a).norm();
+  return perimeter > 0.0 ? area / (perimeter * perimeter) * (36.0 / std::sqrt(3.0)) : 0.0;
+}
+
+double LargestCosine(const Vec3& a, const Vec3& b, const Vec3& c)
+{
+  const Vec3 ab = (b - a).normalized(), bc = (c - b).normalized(), ca = (a - c).normalized();
+  return std::max({ -ab.dot(ca), -bc.dot(ab), -ca.dot(bc) });
+}
+/// The flip of h's edge (faces (a, b, c), (b, a, d) -> (c, a, d), (d, b, c))
+/// keeps both new faces positively oriented in the chart.
+bool Optimizer::FlipKeepsCharts(Index h) const
+{
+  const Index t = M.Twin(h);
+  const double *a = UVAt(h), *b = UVAt(HalfEdgeMesh::Next(h)), *c = UVAt(HalfEdgeMesh::Prev(h));
+  const double* d = UVAt(HalfEdgeMesh::Prev(t));
+  const double scale = std::abs(Cross2(a, b, c)) + std::abs(Cross2(b, a, d));
+  return Cross2(c, a, d) > 1e-6 * scale && Cross2(d, b, c) > 1e-6 * scale;
+}
+
+/// The flip of h's edge does not fold the surface: the new faces' normals
+/// are within 60 degrees of the old ones' mean.
+bool Optimizer::FlipKeepsSurface(Index h) const
+{
+  const Index t = M.Twin(h);
+  const Vec3 pa = M.Position(M.Tail(h)), pb = M.Position(M.Head(h));
+  const Vec3 pc = M.Position(M.Tail(HalfEdgeMesh::Prev(h))), pd = M.Position(M.Tail(HalfEdgeMesh::Prev(t)));
+  const Vec3 before = ((pb - pa).cross(pc - pa) + (pa - pb).cross(pd - pb)).normalized();
+  const Vec3 n0 = (pa - pc).cross(pd - pc).normalized(), n1 = (pb - pd).cross(pc - pd).normalized();
+  return n0.dot(before) > 0.5 && n1.dot(before) > 0.5;
+}
+
+void Optimizer::Flip(Index h)
+{
+  const Index t = M.Twin(h);
+  const Index a = M.Tail(h), b = M.Head(h), c = M.Tail(HalfEdgeMesh::Prev(h)), d = M.Tail(HalfEdgeMesh::Prev(t));
+  const double uv[4][2] = { { UVAt(h)[0], UVAt(h)[1] },
+    { UVAt(HalfEdgeMesh::Next(h))[0], UVAt(HalfEdgeMesh::Next(h))[1] },
+    { UVAt(HalfEdgeMesh::Prev(h))[0], UVAt(HalfEdgeMesh::Prev(h))[1] },
+    { UVAt(HalfEdgeMesh::Prev(t))[0], UVAt(HalfEdgeMesh::Prev(t))[1] } };
+  const Index g = 3 * (h / 3), k = 3 * (t / 3);
+  M.FlipEdge(h); // faces (c, a, d) at g and (d, b, c) at k
+  const int order[6] = { 2, 0, 3, 3, 1, 2 };
+  for (int i = 0; i < 6; ++i)
+  {
+    const Index corner = i < 3 ? g + i : k + i - 3;
+    R.CornerUV[2 * corner] = uv[order[i]][0];
+    R.CornerUV[2 * corner + 1] = uv[order[i]][1];
+  }
+  --Valence[a];
+  --Valence[b];
+  ++Valence[c];
+  ++Valence[d];
+}
+
+/// The smaller area/perimeter^2 ratio of h's two faces (in 3D) before and
+/// after the flip of h's edge.
+std::pair<double, double> Optimizer::Roundnesses(Index h) const
+{
+  const Vec3 a = M.Position(M.Tail(h)), b = M.Position(M.Head(h));
+  const Vec3 c = M.Position(M.Tail(HalfEdgeMesh::Prev(h))), d = M.Position(M.Tail(HalfEdgeMesh::Prev(M.Twin(h))));
+  return { std::min(Roundness(a, b, c), Roundness(b, a, d)), std::min(Roundness(c, a, d), Roundness(d, b, c)) };
+}
+
+/// One sweep of swaps over the edges in order: an edge is swapped where
+/// it is Swappable, wanted(h) holds (a test of its two faces and their
+/// vertices' valences) and then accept(h).  Swappable and wanted are
+/// evaluated for every edge at once (in parallel) on the mesh before the
+/// sweep, and again for an edge when its turn comes if a swap of this sweep
+/// replaced one of its faces or changed a valence there: the swaps of the
+/// plain serial sweep, for any thread count.
+template <typename Wanted, typename Accept>
+std::int64_t Optimizer::SwapWhere(Wanted&& wanted, Accept&& accept)
+{
+  const Index halfEdges = M.NumberOfHalfEdges();
+  std::vector<std::uint8_t> first(halfEdges, 0);
+  ParallelFor(halfEdges, NumberOfThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (Index h = static_cast<Index>(begin); h < end; ++h)
+    {
+      first[h] = M.Twin(h) > h && Swappable(h) && wanted(h);
+    }
+  }, {}, 0, 4096);
+  // A swap changes its two faces and the valences of their four vertices:
+  // every face around those is marked (an edge's two faces hold its quad).
+  std::vector<std::uint8_t> changed(M.NumberOfFaces(), 0);
+  std::int64_t swaps = 0;
+  for (Index h = 0; h < halfEdges; ++h)
+  {
+    const Index t = M.Twin(h);
+    if (t < h || !(first[h] || changed[h / 3] || changed[t / 3]))
+    {
+      continue;
+    }
+    if ((changed[h / 3] || changed[t / 3] ? Swappable(h) && wanted(h) : true) && accept(h))
+    {
+      const Index quad[4] = { M.Tail(h), M.Head(h), M.Tail(HalfEdgeMesh::Prev(h)), M.Tail(HalfEdgeMesh::Prev(t)) };
+      Flip(h);
+      for (const Index v : quad)
+      {
+        M.ForEachOutgoing(v, [&](Index g) { changed[g / 3] = 1; });
+      }
+      ++swaps;
+    }
+  }
+  return swaps;
+}
+
+/// Swaps edges wherever that lowers the sum of squared deviations of the
+/// four valences from their targets (section 4.4.2) without halving the
+/// smaller area/perimeter^2 ratio of the two triangles (else the shape
+/// swaps and these would undo each other round after round, and a sliver
+/// could be left by the last one).
+std::int64_t Optimizer::SwapForValence()
+{
+  const auto fewerDeviations = [&](Index h) {
+    const Index a = M.Tail(h), b = M.Head(h);
+    const Index c = M.Tail(HalfEdgeMesh::Prev(h)), d = M.Tail(HalfEdgeMesh::Prev(M.Twin(h)));
+    const auto dev = [&](Index v, int change) {
+      const double x = Valence[v] + change - Target(v);
+      return x * x;
+    };
+    return dev(a, -1) + dev(b, -1) + dev(c, 1) + dev(d, 1) < dev(a, 0) + dev(b, 0) + dev(c, 0) + dev(d, 0);
+  };
+  return SwapWhere(fewerDeviations, [&](Index h) {
+    if (!CanSwap(h))
+    {
+      return false;
+    }
+    const auto [roundBefore, roundAfter] = Roundnesses(h);
+    return roundAfter >= 0.5 * roundBefore;
+  });
+}
+
+/// Swaps edges wherever that raises the smaller area/perimeter^2 ratio of
+/// the two triangles (in 3D).
+std::int64_t Optimizer::SwapForShape()
+{
+  const auto rounder = [&](Index h) {
+    const auto [before, after] = Roundnesses(h);
+    return after > before * 1.01;
+  };
+  return SwapWhere(rounder, [&](Index h) { return CanSwap(h); });
+}
+
+/// Swaps the edges of triangles with an angle below 30 degrees wherever
+/// that raises the smaller area/perimeter^2 ratio: after the last
+/// relaxation, which can leave such a triangle (a vertex slid along a
+/// path) where a swap mends it, without undoing the valence swaps
+/// elsewhere.
+std::int64_t Optimizer::SwapSlivers()
+{
+  const double cos30 = 0.5 * std::sqrt(3.0);
+  const auto mends = [&](Index h) {
+    const Vec3 a = M.Position(M.Tail(h)), b = M.Position(M.Head(h));
+    const Vec3 c = M.Position(M.Tail(HalfEdgeMesh::Prev(h))), d = M.Position(M.Tail(HalfEdgeMesh::Prev(M.Twin(h))));
+    if (std::max(LargestCosine(a, b, c), LargestCosine(b, a, d)) <= cos30)
+    {
+      return false;
+    }
+    const auto [before, after] = Roundnesses(h);
+    return after > before * 1.01;
+  };
+  return SwapWhere(mends, [&](Index h) { return CanSwap(h); });
+}
+
+} // namespace beltrami::detail
