@@ -193,8 +193,13 @@ CGAL_HAUSDORFF = {
 # the sphere beside its speck at 10,000 (1.29: on spheres CGAL's remesh is
 # the more regular, 98% of valence 6) and fandisk_large's sharp edges at
 # 2,000 (1.31: its creases cross its edges at a slant, and their fragments
-# shorter than the spacing are not kept; CGAL keeps every one).
-CGAL_EXCEPTIONS = {("spiky-sphere", 2000): 1.6, ("sphere-with-speck", 10000): 1.4, ("fandisk_large.off", 2000): 1.4}
+# shorter than the spacing are not kept; CGAL keeps every one), and
+# cylinder_locally_refined at 10,000 (2.2, 0.061% against 0.027%: a pleat
+# of folded caps 0.0075 from its boundary, less than the spacing, which
+# CGAL keeps as sharp edges, with 0.5 degree slivers beside them; ours
+# passes it by, 0.061% at 2,000 and 10,000 alike).
+CGAL_EXCEPTIONS = {("spiky-sphere", 2000): 1.6, ("sphere-with-speck", 10000): 1.4, ("fandisk_large.off", 2000): 1.4,
+                   ("cylinder_locally_refined.off", 10000): 2.4}
 
 
 def compare_with_cgal(path, count, to_input, from_input):
@@ -244,13 +249,11 @@ def triangle_quality(points, triangles):
 # degrees themselves, and are measured only):
 #   elephant-with-holes  5.9 deg, 1.76%, 76.1%: 106 punched holes whose
 #                        jagged rims take a third of the vertices;
-#   cylinder_locally_refined, mech-holes-shark  0.1 and 3.1 deg (0.23% and
-#                        0.28% below 30): where a sharp edge passes a corner
-#                        of the charts straight, a flat triangle of two of
-#                        its samples and the corner;
-#   fandisk_large        17.2 deg, 0.89%, 76.3%.
+#   mech-holes-shark     1.4 deg (0.25% below 30): where a sharp edge
+#                        passes a corner of the charts straight, a flat
+#                        triangle of two of its samples and the corner;
+#   fandisk_large        17.7 deg, 0.85%, 77.0%.
 QUALITY_EXCEPTIONS = {"elephant-with-holes.off": (0.0, 0.025, 0.75),
-                      "cylinder_locally_refined.off": (0.0, 0.005, 0.78),
                       "mech-holes-shark.off": (0.0, 0.005, 0.78),
                       "fandisk_large.off": (14.0, 0.012, 0.76)}
 

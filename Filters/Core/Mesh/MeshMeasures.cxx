@@ -208,13 +208,30 @@ std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, 
     const Index* v = &tri[corner - corner % 3];
     return (Point(x, v[1]) - Point(x, v[0])).cross(Point(x, v[2]) - Point(x, v[0])).normalized();
   };
+  // A cap (an angle near 180 degrees: its corners nearly on a line) has no
+  // normal to speak of: it turns about its long edge with the slightest
+  // move of the middle corner.
+  const double capCosine = std::cos(MostCapAngle * M_PI / 180.0);
+  const auto cap = [&](Index corner) {
+    const Index* v = &tri[corner - corner % 3];
+    for (int k = 0; k < 3; ++k)
+    {
+      const Vec3 a = Point(x, v[(k + 1) % 3]) - Point(x, v[k]), b = Point(x, v[(k + 2) % 3]) - Point(x, v[k]);
+      if (a.dot(b) < capCosine * a.norm() * b.norm())
+      {
+        return true;
+      }
+    }
+    return false;
+  };
   std::vector<std::uint8_t> sharp(e.NumberOfEdges(), 0);
   for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
   {
     const Index c0 = e.OppositeCorners[2 * k], c1 = e.OppositeCorners[2 * k + 1];
     if (e.FaceCount[k] == 2 && c0 >= 0 && c1 >= 0)
     {
-      sharp[k] = normal(c0).dot(normal(c1)) < cosine; // false for NaN (degenerate triangles)
+      // (false for NaN: degenerate triangles)
+      sharp[k] = normal(c0).dot(normal(c1)) < cosine && !cap(c0) && !cap(c1);
     }
   }
   return sharp;

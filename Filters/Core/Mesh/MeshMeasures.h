@@ -44,8 +44,12 @@ double MeanEdgeLength(const MeshTopology& topology, const double* points, const 
 double SurfaceArea(const MeshTopology& topology, const double* points, int numThreads = 0);
 /// 1 per edge of topology.Edges() whose two triangles' normals differ by
 /// more than `angleDegrees` (the dihedral test of thesis section 4.2.3, like
-/// vtkFeatureEdges' FeatureAngle); boundary and non-manifold edges: 0.
+/// vtkFeatureEdges' FeatureAngle); boundary and non-manifold edges: 0, and
+/// the edges of caps (a triangle with an angle above MostCapAngle, whose
+/// normal is not defined by its shape: cylinder_locally_refined's three
+/// caps of 174-179 degrees made sharp edges, and charts, of their own).
 std::vector<std::uint8_t> SharpEdges(const MeshTopology& topology, const double* points, double angleDegrees);
+constexpr double MostCapAngle = 170.0;
 /// Drops from `features` (1 per edge of topology.Edges()) the dangling
 /// chains shorter than `minimumLength`: runs of feature edges from an end
 /// (a vertex with one feature edge) to the next vertex with other than two,

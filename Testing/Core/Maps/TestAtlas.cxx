@@ -545,6 +545,29 @@ TEST(Atlas, FeatureFragmentsShorterThanTheLengthAsked)
     kept.Charts.size(), static_cast<long long>(kept.CutEdges), all.Charts.size(), static_cast<long long>(all.CutEdges));
 }
 
+TEST(Atlas, CapsHaveNoSharpEdges)
+{
+  // A triangle folded back between its neighbours (its normal opposite
+  // theirs): three sharp edges, unless it is a cap (its middle corner 0.01
+  // off its long edge: 178.9 degrees), whose normal means nothing.
+  for (const double offset : { 0.5, 0.01 })
+  {
+    Mesh fold;
+    for (const Eigen::Vector3d& p : { Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, 0, 0),
+           Eigen::Vector3d(1, -offset, 0), Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(1, -1, 0) })
+    {
+      fold.AddPoint(p);
+    }
+    fold.AddTriangle(0, 1, 2); // the folded one
+    fold.AddTriangle(0, 2, 3);
+    fold.AddTriangle(2, 1, 3);
+    fold.AddTriangle(0, 4, 1);
+    const MeshTopology topology = fold.Topology();
+    const std::vector<std::uint8_t> sharp = SharpEdges(topology, fold.Points.data(), 60.0);
+    EXPECT_EQ(std::count(sharp.begin(), sharp.end(), std::uint8_t(1)), offset > 0.1 ? 3 : 0) << offset;
+  }
+}
+
 TEST(Atlas, MaximumChartAreaIsKept)
 {
   std::string error;
