@@ -369,6 +369,12 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
   }
   report.Noise = noise.Deviation;
   report.MedianDihedral = noise.MedianDihedral;
+  const double h = MeanEdgeLength(topo, x, split);
+  if (!(noise.Deviation >= NoNoise * h)) // nothing to gain (and no runs to pay for)
+  {
+    report.EstimatedError = noise.Deviation;
+    return 0.0;
+  }
   GraphLaplacian L;
   FairingOptions o = opt;
   o.SolverTolerance = std::min(opt.SolverTolerance, 1e-6); // (differences of two runs)
@@ -412,7 +418,7 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
          << " times its unit, h^(2k) for order k with h the mean edge length, 1 for the umbrella); a step "
             "beyond may be better: set TimeStep. ";
   }
-  if (choice.ShapeDetail && noise.Deviation >= CleanVariation * MeanEdgeLength(topo, x, split))
+  if (choice.ShapeDetail && noise.Deviation >= CleanVariation * h)
   {
     warn << "The surface varies at the scale of its triangles by about " << noise.Deviation
          << " (standard deviation along the normals), which smoothing cannot tell from noise: it was left as it "

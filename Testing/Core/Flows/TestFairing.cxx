@@ -3,6 +3,7 @@
 #include "TestMeshes.h"
 
 #include "Flows/Fairing.h"
+#include "Flows/FairingStepChoice.h"
 #include "Mesh/Laplacian.h"
 
 #include <Eigen/Eigenvalues>
@@ -726,6 +727,38 @@ TEST(Fairing, DefaultsAreTheFiltersInEdgeLengthUnits)
   const FairingReport failed = Smooth(collapsed, FairingOptions{});
   EXPECT_FALSE(failed.Error.empty());
   EXPECT_EQ(collapsed.Points, before);
+}
+
+TEST(Fairing, DefaultsLeaveACleanMeshWithoutSearching)
+{
+  // Noise below NoNoise of the mean edge length: no step searched, the
+  // points left bit for bit, no warning; a little above it the search runs
+  // and smooths (a fine sphere: its points on the sphere, no detail).
+  const Mesh sphere = test::OctahedronSphere(5);
+  const double h = MeanEdgeLength(sphere.Topology(), sphere.Points.data());
+  static_assert(0.002 < detail::NoNoise && detail::NoNoise < 0.05, "one case on each side");
+  for (const double noise : { 0.002, 0.05 })
+  {
+    Mesh m = sphere;
+    AddNormalNoise(m, noise * h, 3, true);
+    const std::vector<double> before = m.Points;
+    const FairingReport r = Smooth(m, FairingOptions{});
+    ASSERT_TRUE(r.Completed && r.Error.empty()) << noise;
+    EXPECT_NEAR(r.Noise, noise * h, 0.25 * noise * h) << noise;
+    EXPECT_EQ(r.Warning, "") << noise;
+    if (noise == 0.002) // (without the gate the search chose a step here and moved the points)
+    {
+      EXPECT_EQ(r.ChosenTimeStep, 0.0);
+      EXPECT_EQ(r.EstimatedError, r.Noise);
+      EXPECT_EQ(m.Points, before);
+    }
+    else
+    {
+      EXPECT_GT(r.ChosenTimeStep, 0.0);
+      EXPECT_LT(r.EstimatedError, 0.75 * r.Noise);
+      EXPECT_NE(m.Points, before);
+    }
+  }
 }
 
 namespace
