@@ -321,6 +321,7 @@ void vtkImplicitFairing::WriteOutput(
     // A chosen time step: what it was chosen from, and its estimated error.
     for (auto [name, value] : { std::pair{ "FairingNoise", report.Noise },
            std::pair{ "FairingTimeStep", report.ChosenTimeStep },
+           std::pair{ "FairingTangentialNoise", report.TangentialNoise },
            std::pair{ "FairingEstimatedError", report.EstimatedError },
            std::pair{ "FairingOperator", static_cast<double>(report.OperatorUsed) } })
     {

@@ -15,7 +15,9 @@ of the points to the clean ones over the diagonal:
 import time
 
 import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkPoints
+from vtkmodules.vtkCommonDataModel import vtkPolyData
 from vtkmodules.vtkFiltersCore import vtkTriangleFilter, vtkWindowedSincPolyDataFilter
 
 from beltrami import vtkImplicitFairing, vtkOFFReader
@@ -82,24 +84,40 @@ def field(polydata, name):
     return a.GetValue(0) if a else float("nan")
 
 
-def case(mesh, level, seed=1, oracles=True):
-    """One mesh and noise level: a dict of the errors (over the diagonal),
-    the defaults' estimates and times; the oracles only when asked."""
+def isotropic_noise(polydata, sigma, seed):
+    """A copy of polydata with Gaussian noise of deviation sigma in each
+    coordinate (a scan's noise in every direction)."""
+    x = points_of(polydata) + sigma * np.random.default_rng(seed).standard_normal((polydata.GetNumberOfPoints(), 3))
+    noisy = vtkPolyData()
+    noisy.DeepCopy(polydata)
+    points = vtkPoints()
+    points.SetData(numpy_to_vtk(x, deep=1))
+    noisy.SetPoints(points)
+    return noisy
+
+
+def case(mesh, level, seed=1, oracles=True, isotropic=False, own=True):
+    """One mesh and noise level (along the normals, or isotropic): a dict of
+    the errors (over the diagonal), the defaults' estimates and times; the
+    oracles only when asked (the own best step's sweep unless own=False)."""
     clean = points_of(mesh)
     diagonal = float(np.linalg.norm(clean.max(0) - clean.min(0)))
-    noisy = noisy_along_normals(mesh, level * diagonal, seed=seed) if level > 0 else mesh
+    noise = isotropic_noise if isotropic else noisy_along_normals
+    noisy = noise(mesh, level * diagonal, seed=seed) if level > 0 else mesh
     warnings = []
     result, seconds = faired(noisy, warnings)
     row = {"warned": any("scale of its triangles" in w for w in warnings), "noise": level, "input": error(noisy, clean, diagonal), "defaults": error(result, clean, diagonal),
            "seconds": seconds, "estimated noise": field(result, "FairingNoise") / diagonal,
            "estimated error": field(result, "FairingEstimatedError") / diagonal,
+           "tangential noise": field(result, "FairingTangentialNoise") / diagonal,
            "step": field(result, "FairingTimeStep"), "operator": field(result, "FairingOperator"),
            "moved": float(np.sqrt(np.mean(np.sum((points_of(result) - points_of(noisy)) ** 2, 1))))}
+    if oracles and own:
+        swept = [(error(faired(noisy, Operator=operator, TimeStep=step)[0], clean, diagonal), step, operator)
+                 for operator, steps in ((vtkImplicitFairing.CURVATURE_FLOW, CURVATURE_STEPS),
+                                         (vtkImplicitFairing.UMBRELLA, UMBRELLA_STEPS)) for step in steps]
+        row["own best"], row["own best step"], row["own best operator"] = min(swept)
     if oracles:
-        own = [(error(faired(noisy, Operator=operator, TimeStep=step)[0], clean, diagonal), step, operator)
-               for operator, steps in ((vtkImplicitFairing.CURVATURE_FLOW, CURVATURE_STEPS),
-                                       (vtkImplicitFairing.UMBRELLA, UMBRELLA_STEPS)) for step in steps]
-        row["own best"], row["own best step"], row["own best operator"] = min(own)
         sinc = [(error(out, clean, diagonal), band, seconds) for band in PASS_BANDS
                 for out, seconds in [windowed_sinc(noisy, band)]]
         row["sinc best"], row["sinc pass band"], row["sinc seconds"] = min(sinc)

@@ -93,15 +93,25 @@ enum class Keep
 /// Moves x[i] by the `keep` part of d[i] (both 3 per vertex), with the
 /// vertex normals of x before the move; vertices without a normal (no area,
 /// NaN) or with a non-finite d[i] do not move.
-void MoveAlongNormals(const MeshTopology& topo, double* x, const double* d, Keep keep, int threads)
+/// The unit normals of the points (chapter 2's, ComputeCurvatures).
+std::vector<double> UnitNormals(const MeshTopology& topo, const double* x, int threads)
 {
-  const Index n = topo.NumberOfVertices();
-  std::vector<double> normals(3 * static_cast<std::size_t>(n));
+  std::vector<double> normals(3 * static_cast<std::size_t>(topo.NumberOfVertices()));
   CurvatureOutputs no;
   no.Normals = normals.data();
   CurvatureOptions co;
   co.NumberOfThreads = threads;
-  ComputeCurvatures(topo, static_cast<const double*>(x), co, no);
+  ComputeCurvatures(topo, x, co, no);
+  return normals;
+}
+
+/// `tangentialShare` (Keep::Normal): that fraction of the tangential part
+/// is kept too.
+void MoveAlongNormals(
+  const MeshTopology& topo, double* x, const double* d, Keep keep, int threads, double tangentialShare = 0.0)
+{
+  const Index n = topo.NumberOfVertices();
+  const std::vector<double> normals = UnitNormals(topo, x, threads);
   for (Index i = 0; i < n; ++i)
   {
     const Vec3 nn = Point(normals.data(), i);
@@ -109,7 +119,7 @@ void MoveAlongNormals(const MeshTopology& topo, double* x, const double* d, Keep
     if (nn.allFinite() && di.allFinite())
     {
       const Vec3 along = di.dot(nn) * nn;
-      const Vec3 move = keep == Keep::Normal ? along : Vec3(di - along);
+      const Vec3 move = keep == Keep::Normal ? Vec3(along + tangentialShare * (di - along)) : Vec3(di - along);
       for (int c = 0; c < 3; ++c)
       {
         x[3 * i + c] += move[c];
@@ -333,8 +343,8 @@ void AssembleOperator(const MeshTopology& topo, const double* x, const std::vect
 /// of a vector of random signs (from a hash of the point and the coordinate,
 /// so a split surface draws the serial ones): a perturbation of deviation
 /// epsilon for the risk's divergence.
-std::vector<double> PerturbedAlongNormals(
-  const MeshTopology& topo, const double* x, double epsilon, const Partition* split, int threads)
+std::vector<double> PerturbedAlongNormals(const MeshTopology& topo, const double* x, double epsilon,
+  double tangentialShare, const Partition* split, int threads)
 {
   const std::size_t size = 3 * static_cast<std::size_t>(topo.NumberOfVertices());
   std::vector<double> perturbed(x, x + size), probe(size);
@@ -342,7 +352,7 @@ std::vector<double> PerturbedAlongNormals(
   {
     probe[k] = (PointHash(x + k - k % 3) >> (60 + k % 3)) & 1 ? epsilon : -epsilon;
   }
-  MoveAlongNormals(topo, perturbed.data(), probe.data(), Keep::Normal, threads);
+  MoveAlongNormals(topo, perturbed.data(), probe.data(), Keep::Normal, threads, tangentialShare);
   if (split)
   {
     split->UpdateGhosts(perturbed.data(), 3); // the ghosts' normals are not all here
@@ -402,13 +412,21 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
   };
   const std::vector<double> points(x, x + 3 * static_cast<std::size_t>(n));
   const double epsilon = 0.5 * noise.Deviation;
-  const std::vector<double> perturbed = PerturbedAlongNormals(topo, x, epsilon, split, opt.NumberOfThreads);
+  // Isotropic noise (IsotropicNoise): the same deviation in the tangent
+  // planes; its part of the divergence comes from the same probe.
+  const double tangential =
+    EstimateTangentialNoise(topo, x, UnitNormals(topo, x, opt.NumberOfThreads).data(), roles.Fixed.data(), split);
+  const double share = IsotropicNoise(noise.Deviation, tangential, h) ? 1.0 : 0.0;
+  report.TangentialNoise = share * noise.Deviation;
+  const std::vector<double> perturbed =
+    PerturbedAlongNormals(topo, x, epsilon, share, split, opt.NumberOfThreads);
   std::vector<std::uint8_t> moving(static_cast<std::size_t>(n));
   for (Index i = 0; i < n; ++i)
   {
     moving[i] = !held[i];
   }
-  const StepChoice choice = ChooseTimeStep(run, points, perturbed, epsilon, moving, noise.Deviation, unit, split);
+  const StepChoice choice =
+    ChooseTimeStep(run, points, perturbed, epsilon, moving, noise.Deviation, share, unit, split);
   report.ChosenTimeStep = choice.TimeStep;
   report.EstimatedError = choice.EstimatedError;
   if (choice.AtLimit && choice.TimeStep > 0.0)

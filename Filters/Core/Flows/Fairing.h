@@ -194,6 +194,10 @@ struct FairingReport
   /// after the run (length).  All 0 when the step was given.
   double Noise = 0.0;
   double MedianDihedral = 0.0;
+  /// The noise per direction of the tangent planes the step's risk
+  /// assumed (length): 0 (noise along the normals) or Noise (isotropic
+  /// noise, where the estimate says so: Flows/FairingStepChoice.h).
+  double TangentialNoise = 0.0;
   FairingOperator OperatorUsed = FairingOperator::CurvatureFlow; ///< the operator the run used
   double ChosenTimeStep = 0.0;
   double EstimatedError = 0.0;

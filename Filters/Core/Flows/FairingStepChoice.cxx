@@ -53,7 +53,8 @@ RiskTerms TermsAt(const SmoothingRun& run, const std::vector<double>& x, const s
 } // namespace
 
 StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x, const std::vector<double>& perturbed,
-  double epsilon, const std::vector<std::uint8_t>& moving, double noise, double unit, const Partition* split)
+  double epsilon, const std::vector<std::uint8_t>& moving, double noise, double tangential, double unit,
+  const Partition* split)
 {
   StepChoice choice;
   if (!(noise > 0.0) || !(unit > 0.0) || !(epsilon > 0.0))
@@ -61,6 +62,7 @@ StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x,
     return choice;
   }
   const double variance = noise * noise;
+  const double directions = 1.0 + 2.0 * tangential * tangential; // the input's risk per point, in noise^2
   double points = 0.0;
   std::map<int, double> risks; // by j, the step unit 2^(j/2)
   const auto risk = [&](int j) {
@@ -72,7 +74,7 @@ StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x,
     const RiskTerms t = TermsAt(run, x, perturbed, epsilon, moving, split, unit * std::exp2(0.5 * j));
     ++choice.Evaluations;
     points = std::max(points, t.Points);
-    return risks[j] = t.Defined ? t.Moved + 2.0 * variance * t.Divergence - variance * t.Points
+    return risks[j] = t.Defined ? t.Moved + 2.0 * variance * t.Divergence - directions * variance * t.Points
                                 : std::numeric_limits<double>::infinity();
   };
   constexpr int Lowest = -32, Highest = 24;
@@ -94,13 +96,14 @@ StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x,
       best -= d;
     }
   }
-  // The input's own risk is noise^2 per moving point.  White noise is what
+  // The input's own risk is noise^2 per moving point and direction.  White noise is what
   // the flows remove best; where the best step is estimated to leave more
   // than MostKeptNoise of it, most of the "noise" is the shape's own detail
   // at the scale of the triangles (coarse meshes), which the flows cannot
   // tell from noise: the points are left as they are.
-  const double error = points > 0.0 ? std::sqrt(std::max(0.0, risk(best)) / points) : noise;
-  choice.ShapeDetail = points > 0.0 && error >= MostKeptNoise * noise;
+  const double input = noise * std::sqrt(directions);
+  const double error = points > 0.0 ? std::sqrt(std::max(0.0, risk(best)) / points) : input;
+  choice.ShapeDetail = points > 0.0 && error >= MostKeptNoise * input;
   if (points > 0.0 && !choice.ShapeDetail)
   {
     choice.TimeStep = unit * std::exp2(0.5 * best);
@@ -108,7 +111,7 @@ StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x,
   }
   else
   {
-    choice.EstimatedError = noise;
+    choice.EstimatedError = input;
   }
   return choice;
 }

@@ -631,4 +631,38 @@ SurfaceNoise EstimateSurfaceNoise(
   return result;
 }
 
+double EstimateTangentialNoise(const MeshTopology& topo, const double* x, const double* normals,
+  const std::uint8_t* skip, const Partition* split)
+{
+  const Index n = topo.NumberOfVertices();
+  const MeshTopology::VertexGraph& graph = topo.Graph();
+  const double rows = split ? static_cast<double>(split->TotalRows()) : static_cast<double>(n);
+  const std::int64_t stride = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(rows / 32768.0)));
+  std::vector<double> samples;
+  for (Index v = 0; v < n; ++v)
+  {
+    const std::int64_t begin = graph.NeighborOffsets[v], end = graph.NeighborOffsets[v + 1];
+    const Vec3 normal = Point(normals, v);
+    if ((split && !split->IsOwned(v)) || (skip && skip[v]) || (topo.VertexFlags(v) & VertexBoundary) ||
+      end - begin < 3 || !normal.allFinite() || PointHash(x + 3 * static_cast<std::size_t>(v)) % stride != 0)
+    {
+      continue;
+    }
+    Vec3 move = Vec3::Zero();
+    for (std::int64_t k = begin; k < end; ++k)
+    {
+      move += Point(x, graph.Neighbors[k]);
+    }
+    const double count = static_cast<double>(end - begin);
+    move = move / count - Point(x, v);
+    const Vec3 tangential = move - move.dot(normal) * normal;
+    if (tangential.allFinite())
+    {
+      samples.push_back(tangential.squaredNorm() / (1.0 + 1.0 / count));
+    }
+  }
+  const std::int64_t total = Total(samples.size(), split);
+  return total >= 8 ? std::sqrt(NthSmallest(samples, total / 2, split) / (2.0 * std::log(2.0))) : 0.0;
+}
+
 } // namespace beltrami

@@ -100,4 +100,16 @@ struct SurfaceNoise
 SurfaceNoise EstimateSurfaceNoise(const MeshTopology& topology, const double* points,
   const std::uint8_t* skip = nullptr, const Partition* split = nullptr, int numThreads = 0);
 
+/// The standard deviation, per direction, of white noise in the tangent
+/// planes of a triangle mesh's points (the rest of an isotropic noise:
+/// a scan's points displaced in every direction, not only along the
+/// normals).  At each (sampled, as EstimateSurfaceNoise's) interior point,
+/// the part in its tangent plane (`normals`: 3 per point, unit) of the move
+/// to the centroid of its k neighbours over its noise gain 1 + 1/k, whose
+/// median square is 2 ln 2 times the variance.  An irregular sampling
+/// counts as tangential noise (the corpus' clean meshes: 0.03-0.17 of their
+/// mean edge length).  0 with fewer than 8 points.
+double EstimateTangentialNoise(const MeshTopology& topology, const double* points, const double* normals,
+  const std::uint8_t* skip = nullptr, const Partition* split = nullptr);
+
 } // namespace beltrami

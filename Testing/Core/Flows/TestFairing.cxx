@@ -729,6 +729,49 @@ TEST(Fairing, DefaultsAreTheFiltersInEdgeLengthUnits)
   EXPECT_EQ(collapsed.Points, before);
 }
 
+TEST(Fairing, DefaultsFindIsotropicNoise)
+{
+  // A fine sphere with Gaussian noise of 0.3 h along its normals, and in
+  // every direction: the second is found isotropic (the tangential noise
+  // the choice assumes is the normal one) and smoothed to a third of its
+  // RMS distance to the sphere's points; the first is taken as noise along
+  // the normals.
+  const Mesh sphere = test::OctahedronSphere(5);
+  const double h = MeanEdgeLength(sphere.Topology(), sphere.Points.data());
+  for (const bool isotropic : { false, true })
+  {
+    Mesh m = sphere;
+    if (isotropic)
+    {
+      std::mt19937 generator(5);
+      std::normal_distribution<double> gaussian(0.0, 0.3 * h);
+      for (double& c : m.Points)
+      {
+        c += gaussian(generator);
+      }
+    }
+    else
+    {
+      AddNormalNoise(m, 0.3 * h, 5, true);
+    }
+    const auto distance = [&](const Mesh& a) {
+      double sum = 0.0;
+      for (std::size_t k = 0; k < a.Points.size(); ++k)
+      {
+        sum += (a.Points[k] - sphere.Points[k]) * (a.Points[k] - sphere.Points[k]);
+      }
+      return std::sqrt(sum / static_cast<double>(a.NumberOfVertices()));
+    };
+    const double before = distance(m);
+    const FairingReport r = Smooth(m, FairingOptions{});
+    ASSERT_TRUE(r.Completed && r.Error.empty()) << isotropic;
+    EXPECT_NEAR(r.Noise, 0.3 * h, 0.05 * h) << isotropic;
+    EXPECT_EQ(r.TangentialNoise, isotropic ? r.Noise : 0.0);
+    EXPECT_GT(r.ChosenTimeStep, 0.0) << isotropic;
+    EXPECT_LT(distance(m), (isotropic ? 0.35 : 0.5) * before) << isotropic;
+  }
+}
+
 TEST(Fairing, DefaultsLeaveACleanMeshWithoutSearching)
 {
   // Noise below NoNoise of the mean edge length: no step searched, the
