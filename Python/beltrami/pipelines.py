@@ -428,13 +428,24 @@ def noisy_along_normals(polydata, sigma, seed):
     normals.Update()
     n = vtk_to_numpy(normals.GetOutput().GetPointData().GetNormals()).astype(float)
     x = vtk_to_numpy(polydata.GetPoints().GetData()).astype(float)
-    x = x + (sigma * np.random.default_rng(seed).standard_normal(len(x)))[:, None] * n
-    noisy = vtkPolyData()
-    noisy.DeepCopy(polydata)
+    return with_points(polydata, x + (sigma * np.random.default_rng(seed).standard_normal(len(x)))[:, None] * n)
+
+
+def noisy_isotropic(polydata, sigma, seed):
+    """A copy of polydata with Gaussian noise of standard deviation sigma in
+    each coordinate: a scan's noise in every direction."""
+    x = vtk_to_numpy(polydata.GetPoints().GetData()).astype(float)
+    return with_points(polydata, x + sigma * np.random.default_rng(seed).standard_normal(x.shape))
+
+
+def with_points(polydata, x):
+    """A copy of polydata with the points x (n x 3)."""
+    copy = vtkPolyData()
+    copy.DeepCopy(polydata)
     points = vtkPoints()
-    points.SetData(numpy_to_vtk(x, deep=1))
-    noisy.SetPoints(points)
-    return noisy
+    points.SetData(numpy_to_vtk(np.ascontiguousarray(x, dtype=float), deep=1))
+    copy.SetPoints(points)
+    return copy
 
 
 def rms_distance(polydata, clean_points):

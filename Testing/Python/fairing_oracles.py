@@ -15,13 +15,11 @@ of the points to the clean ones over the diagonal:
 import time
 
 import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkPoints
-from vtkmodules.vtkCommonDataModel import vtkPolyData
+from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersCore import vtkTriangleFilter, vtkWindowedSincPolyDataFilter
 
 from beltrami import vtkImplicitFairing, vtkOFFReader
-from beltrami.pipelines import noisy_along_normals
+from beltrami.pipelines import noisy_along_normals, noisy_isotropic
 
 import inputs
 
@@ -84,25 +82,13 @@ def field(polydata, name):
     return a.GetValue(0) if a else float("nan")
 
 
-def isotropic_noise(polydata, sigma, seed):
-    """A copy of polydata with Gaussian noise of deviation sigma in each
-    coordinate (a scan's noise in every direction)."""
-    x = points_of(polydata) + sigma * np.random.default_rng(seed).standard_normal((polydata.GetNumberOfPoints(), 3))
-    noisy = vtkPolyData()
-    noisy.DeepCopy(polydata)
-    points = vtkPoints()
-    points.SetData(numpy_to_vtk(x, deep=1))
-    noisy.SetPoints(points)
-    return noisy
-
-
 def case(mesh, level, seed=1, oracles=True, isotropic=False, own=True):
     """One mesh and noise level (along the normals, or isotropic): a dict of
     the errors (over the diagonal), the defaults' estimates and times; the
     oracles only when asked (the own best step's sweep unless own=False)."""
     clean = points_of(mesh)
     diagonal = float(np.linalg.norm(clean.max(0) - clean.min(0)))
-    noise = isotropic_noise if isotropic else noisy_along_normals
+    noise = noisy_isotropic if isotropic else noisy_along_normals
     noisy = noise(mesh, level * diagonal, seed=seed) if level > 0 else mesh
     warnings = []
     result, seconds = faired(noisy, warnings)
