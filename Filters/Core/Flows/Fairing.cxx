@@ -4,8 +4,6 @@
 #include "Flows/FairingInvariants.h"
 #include "Flows/FairingStepChoice.h"
 #include "Flows/FairingSteps.h"
-#include "Flows/NoiseEstimation.h"
-#include "Mesh/Curvatures.h"
 #include "Mesh/Laplacian.h"
 #include "Mesh/MeshMeasures.h"
 #include "Mesh/RingGeometry.h"
@@ -83,51 +81,6 @@ LaplacianWeights WeightsOf(FairingOperator op)
   }
 }
 
-/// Which part of a displacement d at a vertex of normal n is kept.
-enum class Keep
-{
-  Normal,    ///< (d.n) n
-  Tangential ///< d - (d.n) n
-};
-
-/// Moves x[i] by the `keep` part of d[i] (both 3 per vertex), with the
-/// vertex normals of x before the move; vertices without a normal (no area,
-/// NaN) or with a non-finite d[i] do not move.
-/// The unit normals of the points (chapter 2's, ComputeCurvatures).
-std::vector<double> UnitNormals(const MeshTopology& topo, const double* x, int threads)
-{
-  std::vector<double> normals(3 * static_cast<std::size_t>(topo.NumberOfVertices()));
-  CurvatureOutputs no;
-  no.Normals = normals.data();
-  CurvatureOptions co;
-  co.NumberOfThreads = threads;
-  ComputeCurvatures(topo, x, co, no);
-  return normals;
-}
-
-/// `tangentialShare` (Keep::Normal): that fraction of the tangential part
-/// is kept too.
-void MoveAlongNormals(
-  const MeshTopology& topo, double* x, const double* d, Keep keep, int threads, double tangentialShare = 0.0)
-{
-  const Index n = topo.NumberOfVertices();
-  const std::vector<double> normals = UnitNormals(topo, x, threads);
-  for (Index i = 0; i < n; ++i)
-  {
-    const Vec3 nn = Point(normals.data(), i);
-    const Vec3 di = Point(d, i);
-    if (nn.allFinite() && di.allFinite())
-    {
-      const Vec3 along = di.dot(nn) * nn;
-      const Vec3 move = keep == Keep::Normal ? Vec3(along + tangentialShare * (di - along)) : Vec3(di - along);
-      for (int c = 0; c < 3; ++c)
-      {
-        x[3 * i + c] += move[c];
-      }
-    }
-  }
-}
-
 /// The one Laplacian assembler; distributed, the ghosts' masses are their
 /// owners' (a ghost's own triangles are not all on this process).
 void Assemble(const MeshTopology& topo, const double* x, LaplacianWeights kind, GraphLaplacian& lap, int threads,
@@ -160,16 +113,6 @@ std::vector<double> SmoothedCopy(const MeshTopology& topo, const double* x, Lapl
   return copy;
 }
 
-/// What the flows may move: hard constraints (user-fixed or zero weight),
-/// soft weights clamped to [0, 1], boundary vertices, and vertices the flows
-/// cannot move (non-manifold, duplicate faces, non-finite: kept fixed).
-struct VertexRoles
-{
-  std::vector<std::uint8_t> Fixed, Boundary;
-  std::vector<double> Weight;
-  Motions Moves; ///< axis and plane constraints of the vertices that are not fixed
-  bool HardConstraints = false;
-};
 
 /// Reads the axis and plane constraints (a non-zero finite direction; the
 /// axis first) of the vertices that are not fixed.  Without any (and not
@@ -337,112 +280,6 @@ void AssembleOperator(const MeshTopology& topo, const double* x, const std::vect
     regular = MollifiedOperatorPoints(topo, x, held, weight, opt, split);
   }
   Assemble(topo, regular.empty() ? x : regular.data(), WeightsOf(opt.Operator), L, opt.NumberOfThreads, split);
-}
-
-/// x with each point moved along its normal by epsilon times the normal part
-/// of a vector of random signs (from a hash of the point and the coordinate,
-/// so a split surface draws the serial ones): a perturbation of deviation
-/// epsilon for the risk's divergence.
-std::vector<double> PerturbedAlongNormals(const MeshTopology& topo, const double* x, double epsilon,
-  double tangentialShare, const Partition* split, int threads)
-{
-  const std::size_t size = 3 * static_cast<std::size_t>(topo.NumberOfVertices());
-  std::vector<double> perturbed(x, x + size), probe(size);
-  for (std::size_t k = 0; k < size; ++k)
-  {
-    probe[k] = (PointHash(x + k - k % 3) >> (60 + k % 3)) & 1 ? epsilon : -epsilon;
-  }
-  MoveAlongNormals(topo, perturbed.data(), probe.data(), Keep::Normal, threads, tangentialShare);
-  if (split)
-  {
-    split->UpdateGhosts(perturbed.data(), 3); // the ghosts' normals are not all here
-  }
-  return perturbed;
-}
-
-/// TimeStep 0: the noise of the input's geometry and the step of least
-/// estimated error (Flows/FairingStepChoice.h) for the run's steps with the
-/// isotropic weights (an anisotropic run's weights depend on the step) and
-/// the invariant; into the report, the step in physical units.  `order`:
-/// the solver's renumbering of the surface graph, computed here if empty.
-double ChooseStep(const MeshTopology& topo, const double* x, const FairingOptions& opt, const VertexRoles& roles,
-  const std::vector<std::uint8_t>& held, const InvariantState& inv, double unit, std::vector<Index>& order,
-  const Partition* split, std::ostringstream& warn, FairingReport& report)
-{
-  const Index n = topo.NumberOfVertices();
-  SurfaceNoise noise;
-  noise.Deviation = opt.KnownNoise;
-  noise.MedianDihedral = opt.KnownMedianDihedral;
-  if (!(noise.Deviation > 0.0))
-  {
-    noise = EstimateSurfaceNoise(topo, x, roles.Fixed.data(), split, opt.NumberOfThreads);
-  }
-  report.Noise = noise.Deviation;
-  report.MedianDihedral = noise.MedianDihedral;
-  const double h = MeanEdgeLength(topo, x, split);
-  if (!(noise.Deviation >= NoNoise * h)) // nothing to gain (and no runs to pay for)
-  {
-    report.EstimatedError = noise.Deviation;
-    return 0.0;
-  }
-  GraphLaplacian L;
-  FairingOptions o = opt;
-  o.SolverTolerance = std::min(opt.SolverTolerance, 1e-6); // (differences of two runs)
-  const SmoothingRun run = [&](double dt, double* p) {
-    o.TimeStep = dt;
-    FairingReport scratch;
-    for (int step = 0; step < o.NumberOfIterations; ++step)
-    {
-      AssembleOperator(topo, p, held, roles.Weight, o, L, split);
-      if (order.empty() && !split)
-      {
-        order = LocalityOrder(n, L.Offsets, L.Neighbors);
-      }
-      if (!Integrate(Stage{ L, held, roles.Weight, split ? nullptr : order.data(), &roles.Moves, split }, o, p,
-            scratch))
-      {
-        return false;
-      }
-      if (inv.Kind != FairingInvariant::None)
-      {
-        RestoreInvariant(inv, topo, p, o.NumberOfThreads);
-      }
-    }
-    return true;
-  };
-  const std::vector<double> points(x, x + 3 * static_cast<std::size_t>(n));
-  const double epsilon = 0.5 * noise.Deviation;
-  // Isotropic noise (IsotropicNoise): the same deviation in the tangent
-  // planes; its part of the divergence comes from the same probe.
-  const double tangential =
-    EstimateTangentialNoise(topo, x, UnitNormals(topo, x, opt.NumberOfThreads).data(), roles.Fixed.data(), split);
-  const double share = IsotropicNoise(noise.Deviation, tangential, h) ? 1.0 : 0.0;
-  report.TangentialNoise = share * noise.Deviation;
-  const std::vector<double> perturbed =
-    PerturbedAlongNormals(topo, x, epsilon, share, split, opt.NumberOfThreads);
-  std::vector<std::uint8_t> moving(static_cast<std::size_t>(n));
-  for (Index i = 0; i < n; ++i)
-  {
-    moving[i] = !held[i];
-  }
-  const StepChoice choice =
-    ChooseTimeStep(run, points, perturbed, epsilon, moving, noise.Deviation, share, unit, split);
-  report.ChosenTimeStep = choice.TimeStep;
-  report.EstimatedError = choice.EstimatedError;
-  if (choice.AtLimit && choice.TimeStep > 0.0)
-  {
-    warn << "The time step chosen is the " << (choice.TimeStep > unit ? "largest" : "smallest")
-         << " the search tries (" << (choice.TimeStep > unit ? "4096" : "1/65536")
-         << " times its unit, h^(2k) for order k with h the mean edge length, 1 for the umbrella); a step "
-            "beyond may be better: set TimeStep. ";
-  }
-  if (choice.ShapeDetail && noise.Deviation >= CleanVariation * h)
-  {
-    warn << "The surface varies at the scale of its triangles by about " << noise.Deviation
-         << " (standard deviation along the normals), which smoothing cannot tell from noise: it was left as it "
-            "is. Set TimeStep to smooth it. ";
-  }
-  return choice.TimeStep;
 }
 
 /// Section 3.6, by operator splitting: the tangential part (at the new
@@ -615,7 +452,10 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
   }
   if (opt.TimeStep == 0.0 && opt.Integration != FairingIntegration::TaubinLambdaMu && opt.NumberOfIterations > 0)
   {
-    opt.TimeStep = ChooseStep(topo, x, opt, roles, held, inv, stepUnit, order, split, warn, report);
+    const OperatorAssembly assemble = [&](const double* p, const FairingOptions& o, GraphLaplacian& lap) {
+      AssembleOperator(topo, p, held, weight, o, lap, split);
+    };
+    opt.TimeStep = ChooseStep(topo, x, opt, roles, held, inv, assemble, stepUnit, order, split, warn, report);
     opt.NumberOfIterations = opt.TimeStep > 0.0 ? opt.NumberOfIterations : 0; // a clean mesh stays as it is
   }
   // A combination with a negative weight: each step's start, kept in case

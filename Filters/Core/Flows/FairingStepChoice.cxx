@@ -1,5 +1,10 @@
 #include "Flows/FairingStepChoice.h"
 
+#include "Flows/FairingSteps.h"
+#include "Flows/NoiseEstimation.h"
+#include "Mesh/MeshMeasures.h"
+#include "Solvers/SparseGraph.h"
+
 #include <algorithm>
 #include <utility>
 #include <cmath>
@@ -11,6 +16,27 @@ namespace beltrami::detail
 
 namespace
 {
+
+/// x with each point moved along its normal by epsilon times the normal part
+/// of a vector of random signs (from a hash of the point and the coordinate,
+/// so a split surface draws the serial ones): a perturbation of deviation
+/// epsilon for the risk's divergence.
+std::vector<double> PerturbedAlongNormals(const MeshTopology& topo, const double* x, double epsilon,
+  double tangentialShare, const Partition* split, int threads)
+{
+  const std::size_t size = 3 * static_cast<std::size_t>(topo.NumberOfVertices());
+  std::vector<double> perturbed(x, x + size), probe(size);
+  for (std::size_t k = 0; k < size; ++k)
+  {
+    probe[k] = (PointHash(x + k - k % 3) >> (60 + k % 3)) & 1 ? epsilon : -epsilon;
+  }
+  MoveAlongNormals(topo, perturbed.data(), probe.data(), Keep::Normal, threads, tangentialShare);
+  if (split)
+  {
+    split->UpdateGhosts(perturbed.data(), 3); // the ghosts' normals are not all here
+  }
+  return perturbed;
+}
 
 /// The sums of the risk over the moving points this process owns (and over
 /// the processes): |f(x) - x|^2, the divergence, the points.
@@ -146,6 +172,86 @@ FairingReport FairWithEitherOperator(const MeshTopology& topo, double* points, c
   }
   std::copy(umbrella.begin(), umbrella.end(), points);
   return report;
+}
+
+double ChooseStep(const MeshTopology& topo, const double* x, const FairingOptions& opt, const VertexRoles& roles,
+  const std::vector<std::uint8_t>& held, const InvariantState& inv, const OperatorAssembly& assemble, double unit,
+  std::vector<Index>& order, const Partition* split, std::ostringstream& warn, FairingReport& report)
+{
+  const Index n = topo.NumberOfVertices();
+  SurfaceNoise noise;
+  noise.Deviation = opt.KnownNoise;
+  noise.MedianDihedral = opt.KnownMedianDihedral;
+  if (!(noise.Deviation > 0.0))
+  {
+    noise = EstimateSurfaceNoise(topo, x, roles.Fixed.data(), split, opt.NumberOfThreads);
+  }
+  report.Noise = noise.Deviation;
+  report.MedianDihedral = noise.MedianDihedral;
+  const double h = MeanEdgeLength(topo, x, split);
+  if (!(noise.Deviation >= NoNoise * h)) // nothing to gain (and no runs to pay for)
+  {
+    report.EstimatedError = noise.Deviation;
+    return 0.0;
+  }
+  GraphLaplacian L;
+  FairingOptions o = opt;
+  o.SolverTolerance = std::min(opt.SolverTolerance, 1e-6); // (differences of two runs)
+  const SmoothingRun run = [&](double dt, double* p) {
+    o.TimeStep = dt;
+    FairingReport scratch;
+    for (int step = 0; step < o.NumberOfIterations; ++step)
+    {
+      assemble(p, o, L);
+      if (order.empty() && !split)
+      {
+        order = LocalityOrder(n, L.Offsets, L.Neighbors);
+      }
+      if (!Integrate(Stage{ L, held, roles.Weight, split ? nullptr : order.data(), &roles.Moves, split }, o, p,
+            scratch))
+      {
+        return false;
+      }
+      if (inv.Kind != FairingInvariant::None)
+      {
+        RestoreInvariant(inv, topo, p, o.NumberOfThreads);
+      }
+    }
+    return true;
+  };
+  const std::vector<double> points(x, x + 3 * static_cast<std::size_t>(n));
+  const double epsilon = 0.5 * noise.Deviation;
+  // Isotropic noise (IsotropicNoise): the same deviation in the tangent
+  // planes; its part of the divergence comes from the same probe.
+  const double tangential =
+    EstimateTangentialNoise(topo, x, UnitNormals(topo, x, opt.NumberOfThreads).data(), roles.Fixed.data(), split);
+  const double share = IsotropicNoise(noise.Deviation, tangential, h) ? 1.0 : 0.0;
+  report.TangentialNoise = share * noise.Deviation;
+  const std::vector<double> perturbed =
+    PerturbedAlongNormals(topo, x, epsilon, share, split, opt.NumberOfThreads);
+  std::vector<std::uint8_t> moving(static_cast<std::size_t>(n));
+  for (Index i = 0; i < n; ++i)
+  {
+    moving[i] = !held[i];
+  }
+  const StepChoice choice =
+    ChooseTimeStep(run, points, perturbed, epsilon, moving, noise.Deviation, share, unit, split);
+  report.ChosenTimeStep = choice.TimeStep;
+  report.EstimatedError = choice.EstimatedError;
+  if (choice.AtLimit && choice.TimeStep > 0.0)
+  {
+    warn << "The time step chosen is the " << (choice.TimeStep > unit ? "largest" : "smallest")
+         << " the search tries (" << (choice.TimeStep > unit ? "4096" : "1/65536")
+         << " times its unit, h^(2k) for order k with h the mean edge length, 1 for the umbrella); a step "
+            "beyond may be better: set TimeStep. ";
+  }
+  if (choice.ShapeDetail && noise.Deviation >= CleanVariation * h)
+  {
+    warn << "The surface varies at the scale of its triangles by about " << noise.Deviation
+         << " (standard deviation along the normals), which smoothing cannot tell from noise: it was left as it "
+            "is. Set TimeStep to smooth it. ";
+  }
+  return choice.TimeStep;
 }
 
 } // namespace beltrami::detail

@@ -3,11 +3,14 @@
 #pragma once
 
 #include "Flows/Fairing.h"
+#include "Flows/FairingInvariants.h"
+#include "Flows/FairingSteps.h"
 #include "Mesh/MeshTopology.h"
 #include "Solvers/Partition.h"
 
 #include <cstdint>
 #include <functional>
+#include <sstream>
 #include <vector>
 
 namespace beltrami::detail
@@ -92,6 +95,22 @@ using SmoothingRun = std::function<bool(double timeStep, double* points)>;
 StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x, const std::vector<double>& perturbed,
   double epsilon, const std::vector<std::uint8_t>& moving, double noise, double tangential, double unit,
   const Partition* split);
+
+/// The operator of a step at the points p with the options o, into L
+/// (Fairing.cxx's AssembleOperator, with the run's roles and split).
+using OperatorAssembly = std::function<void(const double* p, const FairingOptions& o, GraphLaplacian& L)>;
+
+/// TimeStep 0: the noise of the input's geometry and the step of least
+/// estimated error (ChooseTimeStep) for the run's steps with the isotropic
+/// weights (an anisotropic run's weights depend on the step) and the
+/// invariant; into the report, the step in physical units.  No step is
+/// searched below NoNoise; the noise is taken as isotropic where
+/// IsotropicNoise says so.  `order`: the solver's renumbering of the
+/// surface graph, computed here if empty.  `warn` gets the sentences for
+/// the user (a step at the search's end; a surface left as it is).
+double ChooseStep(const MeshTopology& topo, const double* x, const FairingOptions& opt, const VertexRoles& roles,
+  const std::vector<std::uint8_t>& held, const InvariantState& inv, const OperatorAssembly& assemble, double unit,
+  std::vector<Index>& order, const Partition* split, std::ostringstream& warn, FairingReport& report);
 
 /// FairSurface with FairingOperator::LeastEstimatedError: the curvature flow,
 /// or with a chosen time step both it and the umbrella, the run of the lower

@@ -1,5 +1,7 @@
 #include "Flows/FairingSteps.h"
 
+#include "Mesh/Curvatures.h"
+
 #include "Solvers/ConjugateGradient.h"
 #include "Solvers/GraphSolvers.h"
 
@@ -582,6 +584,37 @@ bool Integrate(const Stage& st, const FairingOptions& opt, double* x, FairingRep
       return true;
   }
   return true;
+}
+
+std::vector<double> UnitNormals(const MeshTopology& topo, const double* x, int threads)
+{
+  std::vector<double> normals(3 * static_cast<std::size_t>(topo.NumberOfVertices()));
+  CurvatureOutputs no;
+  no.Normals = normals.data();
+  CurvatureOptions co;
+  co.NumberOfThreads = threads;
+  ComputeCurvatures(topo, x, co, no);
+  return normals;
+}
+
+void MoveAlongNormals(const MeshTopology& topo, double* x, const double* d, Keep keep, int threads, double tangentialShare)
+{
+  const Index n = topo.NumberOfVertices();
+  const std::vector<double> normals = UnitNormals(topo, x, threads);
+  for (Index i = 0; i < n; ++i)
+  {
+    const Vec3 nn = Point(normals.data(), i);
+    const Vec3 di = Point(d, i);
+    if (nn.allFinite() && di.allFinite())
+    {
+      const Vec3 along = di.dot(nn) * nn;
+      const Vec3 move = keep == Keep::Normal ? Vec3(along + tangentialShare * (di - along)) : Vec3(di - along);
+      for (int c = 0; c < 3; ++c)
+      {
+        x[3 * i + c] += move[c];
+      }
+    }
+  }
 }
 
 } // namespace beltrami::detail

@@ -154,4 +154,32 @@ bool ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, Fairing
 /// combination whose implicit step is not positive definite): nothing moved.
 bool Integrate(const Stage& st, const FairingOptions& opt, double* x, FairingReport& report);
 
+/// Which part of a displacement d at a vertex of normal n is kept.
+enum class Keep
+{
+  Normal,    ///< (d.n) n
+  Tangential ///< d - (d.n) n
+};
+
+/// Moves x[i] by the `keep` part of d[i] (both 3 per vertex), with the
+/// vertex normals of x before the move; vertices without a normal (no area,
+/// NaN) or with a non-finite d[i] do not move.  `tangentialShare`
+/// (Keep::Normal): that fraction of the tangential part is kept too.
+void MoveAlongNormals(
+  const MeshTopology& topo, double* x, const double* d, Keep keep, int threads, double tangentialShare = 0.0);
+
+/// The unit normals of the points (chapter 2's, ComputeCurvatures).
+std::vector<double> UnitNormals(const MeshTopology& topo, const double* x, int threads);
+
+/// What the flows may move: hard constraints (user-fixed or zero weight),
+/// soft weights clamped to [0, 1], boundary vertices, and vertices the flows
+/// cannot move (non-manifold, duplicate faces, non-finite: kept fixed).
+struct VertexRoles
+{
+  std::vector<std::uint8_t> Fixed, Boundary;
+  std::vector<double> Weight;
+  Motions Moves; ///< axis and plane constraints of the vertices that are not fixed
+  bool HardConstraints = false;
+};
+
 } // namespace beltrami::detail
