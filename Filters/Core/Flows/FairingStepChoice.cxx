@@ -17,10 +17,11 @@ namespace beltrami::detail
 namespace
 {
 
-/// x with each point moved along its normal by epsilon times the normal part
-/// of a vector of random signs (from a hash of the point and the coordinate,
-/// so a split surface draws the serial ones): a perturbation of deviation
-/// epsilon for the risk's divergence.
+/// x with each point moved by epsilon times a vector of random signs (from a
+/// hash of the point and the coordinate, so a split surface draws the serial
+/// ones): its part along the normal, and `tangentialShare` of its part in the
+/// tangent plane; a perturbation of deviation epsilon along the normals (and
+/// tangentialShare epsilon across) for the risk's divergence.
 std::vector<double> PerturbedAlongNormals(const MeshTopology& topo, const double* x, double epsilon,
   double tangentialShare, const Partition* split, int threads)
 {
@@ -122,8 +123,8 @@ StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x,
       best -= d;
     }
   }
-  // The input's own risk is noise^2 per moving point and direction.  White noise is what
-  // the flows remove best; where the best step is estimated to leave more
+  // The input's own risk is noise^2 per moving point and direction.  White
+  // noise is what the flows remove best; where the best step is estimated to leave more
   // than MostKeptNoise of it, most of the "noise" is the shape's own detail
   // at the scale of the triangles (coarse meshes), which the flows cannot
   // tell from noise: the points are left as they are.
