@@ -13,7 +13,8 @@ With --defaults: instead, the defaults (the step and the operator
 chosen from the noise) on every mesh of the shared corpus with Gaussian noise of
 0.1%, 0.3% and 1% of the diagonal along the normals, against the filter's own
 best step and windowed sinc's best pass band (both chosen with the clean mesh),
-error and time per case in one table (also written for the guide's benchmarks page)."""
+error and time per case in one table (also written for the guide's benchmarks page).
+With --defaults --isotropic: the same with the noise in every coordinate."""
 import os
 import sys
 import time
@@ -93,10 +94,12 @@ def defaults(mesh, threads):
     return f
 
 
-def defaults_table():
-    """The defaults against the oracles over the corpus (fairing_oracles)."""
+def defaults_table(isotropic=False):
+    """The defaults against the oracles over the corpus (fairing_oracles),
+    with noise along the normals or, isotropic, in every direction."""
     import inputs
-    print("Fairing defaults: RMS distance to the clean mesh / diagonal; own best: the best step of the curvature flow\n"
+    print(("Isotropic noise. " if isotropic else "") +
+          "Fairing defaults: RMS distance to the clean mesh / diagonal; own best: the best step of the curvature flow\n"
           "and of the umbrella; sinc: vtkWindowedSincPolyDataFilter (20 iterations) at its best pass band; noise:\n"
           "the estimate over the added noise; seconds of the defaults and of one sinc run")
     print(f"{'mesh':28s} {'noise':>6s} {'input':>8s} {'defaults':>8s} {'own best':>8s} {'sinc':>8s} {'noise':>6s} "
@@ -107,34 +110,40 @@ def defaults_table():
         if mesh.GetNumberOfPolys() < 8:
             continue
         for level in (0.001, 0.003, 0.01):
-            r = oracles.case(mesh, level)
+            r = oracles.case(mesh, level, isotropic=isotropic)
             r["mesh"] = os.path.basename(path)
             rows.append(r)
             print(f"{r['mesh']:28s} {100 * level:5.1f}% {r['input']:8.5f} {r['defaults']:8.5f} {r['own best']:8.5f} "
                   f"{r['sinc best']:8.5f} {r['estimated noise'] / level:6.2f} "
-                  f"{'umbrella' if r['operator'] == 0 else 'curvature':>9s} {r['seconds']:6.2f} {r['sinc seconds']:6.2f}",
-                  flush=True)
+                  f"{'umbrella' if r['operator'] == 0 else 'curvature':>9s} {r['seconds']:6.2f} {r['sinc seconds']:6.2f}"
+                  f"{'  (found isotropic)' if r['tangential noise'] > 0 else ''}", flush=True)
     noisy = len(rows)
     summary = (f"No further than the input: {sum(r['defaults'] <= r['input'] * (1 + 1e-9) for r in rows)} of {noisy}; "
                f"within 10% of the own best: {sum(r['defaults'] <= 1.1 * r['own best'] for r in rows)}; "
                f"ahead of windowed sinc's best: {sum(r['defaults'] < r['sinc best'] for r in rows)}; "
                f"noise estimate within 15%: {sum(abs(r['estimated noise'] / r['noise'] - 1) <= 0.15 for r in rows)}.")
+    if isotropic:
+        summary += f" Found isotropic: {sum(r['tangential noise'] > 0 for r in rows)} of {noisy}."
     print(summary)
-    results.save("smoothing_defaults", "Smoothing", "The defaults over the corpus",
+    results.save("smoothing_defaults_isotropic" if isotropic else "smoothing_defaults", "Smoothing",
+                 "The defaults over the corpus" + (", isotropic noise" if isotropic else ""),
                  "the filter's own best step (curvature flow or umbrella) and vtkWindowedSincPolyDataFilter "
                  "(20 iterations) at its best pass band, both chosen with the clean mesh",
-                 "every mesh of the corpus with Gaussian noise along the normals of 0.1%, 0.3% and 1% of the "
-                 "bounding-box diagonal", ["mesh", "noise", "input", "defaults", "own best", "windowed sinc best",
-                                           "estimated / true noise", "operator chosen", "defaults s", "sinc s"],
+                 "every mesh of the corpus with Gaussian noise " +
+                 ("in every coordinate" if isotropic else "along the normals") +
+                 " of 0.1%, 0.3% and 1% of the bounding-box diagonal",
+                 ["mesh", "noise", "input", "defaults", "own best", "windowed sinc best", "estimated / true noise",
+                  "operator chosen"] + (["found isotropic"] if isotropic else []) + ["defaults s", "sinc s"],
                  [[r["mesh"], f"{100 * r['noise']:.1f}%", r["input"], r["defaults"], r["own best"],
                    r["sinc best"], r["estimated noise"] / r["noise"],
-                   "umbrella" if r["operator"] == 0 else "curvature flow", r["seconds"], r["sinc seconds"]]
-                  for r in rows],
+                   "umbrella" if r["operator"] == 0 else "curvature flow"] +
+                  (["yes" if r["tangential noise"] > 0 else "no"] if isotropic else []) +
+                  [r["seconds"], r["sinc seconds"]] for r in rows],
                  "Errors: RMS distance to the clean mesh over the bounding-box diagonal. " + summary)
 
 
 if "--defaults" in sys.argv:
-    defaults_table()
+    defaults_table("--isotropic" in sys.argv)
     sys.exit(0)
 
 reader = vtkOFFReader()
