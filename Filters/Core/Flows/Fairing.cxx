@@ -261,7 +261,7 @@ std::vector<double> MollifiedOperatorPoints(const MeshTopology& topo, const doub
   {
     step[k] -= x[k];
   }
-  MoveAlongNormals(topo, regular.data(), step.data(), Keep::Normal, opt.NumberOfThreads);
+  MoveAlongNormals(UnitNormals(topo, x, opt.NumberOfThreads), regular.data(), step.data(), Keep::Normal);
   if (split)
   {
     split->UpdateGhosts(regular.data(), 3); // the ghosts' normals are not all here
@@ -302,7 +302,7 @@ void RegulariseSampling(const MeshTopology& topo, double* x, const std::vector<s
   {
     vk *= relax;
   }
-  MoveAlongNormals(topo, x, v.data(), Keep::Tangential, threads);
+  MoveAlongNormals(UnitNormals(topo, x, threads), x, v.data(), Keep::Tangential);
   moves.KeepAllowed(before, x);
   if (split)
   {

@@ -22,16 +22,16 @@ namespace
 /// ones): its part along the normal, and `tangentialShare` of its part in the
 /// tangent plane; a perturbation of deviation epsilon along the normals (and
 /// tangentialShare epsilon across) for the risk's divergence.
-std::vector<double> PerturbedAlongNormals(const MeshTopology& topo, const double* x, double epsilon,
-  double tangentialShare, const Partition* split, int threads)
+std::vector<double> PerturbedAlongNormals(const std::vector<double>& normals, const double* x, double epsilon,
+  double tangentialShare, const Partition* split)
 {
-  const std::size_t size = 3 * static_cast<std::size_t>(topo.NumberOfVertices());
+  const std::size_t size = normals.size();
   std::vector<double> perturbed(x, x + size), probe(size);
   for (std::size_t k = 0; k < size; ++k)
   {
     probe[k] = (PointHash(x + k - k % 3) >> (60 + k % 3)) & 1 ? epsilon : -epsilon;
   }
-  MoveAlongNormals(topo, perturbed.data(), probe.data(), Keep::Normal, threads, tangentialShare);
+  MoveAlongNormals(normals, perturbed.data(), probe.data(), Keep::Normal, tangentialShare);
   if (split)
   {
     split->UpdateGhosts(perturbed.data(), 3); // the ghosts' normals are not all here
@@ -224,12 +224,11 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
   const double epsilon = 0.5 * noise.Deviation;
   // Isotropic noise (IsotropicNoise): the same deviation in the tangent
   // planes; its part of the divergence comes from the same probe.
-  const double tangential =
-    EstimateTangentialNoise(topo, x, UnitNormals(topo, x, opt.NumberOfThreads).data(), roles.Fixed.data(), split);
+  const std::vector<double> normals = UnitNormals(topo, x, opt.NumberOfThreads);
+  const double tangential = EstimateTangentialNoise(topo, x, normals.data(), roles.Fixed.data(), split);
   const double share = IsotropicNoise(noise.Deviation, tangential, h) ? 1.0 : 0.0;
   report.TangentialNoise = share * noise.Deviation;
-  const std::vector<double> perturbed =
-    PerturbedAlongNormals(topo, x, epsilon, share, split, opt.NumberOfThreads);
+  const std::vector<double> perturbed = PerturbedAlongNormals(normals, x, epsilon, share, split);
   std::vector<std::uint8_t> moving(static_cast<std::size_t>(n));
   for (Index i = 0; i < n; ++i)
   {

@@ -597,10 +597,9 @@ std::vector<double> UnitNormals(const MeshTopology& topo, const double* x, int t
   return normals;
 }
 
-void MoveAlongNormals(const MeshTopology& topo, double* x, const double* d, Keep keep, int threads, double tangentialShare)
+void MoveAlongNormals(const std::vector<double>& normals, double* x, const double* d, Keep keep, double tangentialShare)
 {
-  const Index n = topo.NumberOfVertices();
-  const std::vector<double> normals = UnitNormals(topo, x, threads);
+  const Index n = static_cast<Index>(normals.size() / 3);
   for (Index i = 0; i < n; ++i)
   {
     const Vec3 nn = Point(normals.data(), i);

@@ -161,12 +161,12 @@ enum class Keep
   Tangential ///< d - (d.n) n
 };
 
-/// Moves x[i] by the `keep` part of d[i] (both 3 per vertex), with the
-/// vertex normals of x before the move; vertices without a normal (no area,
-/// NaN) or with a non-finite d[i] do not move.  `tangentialShare`
+/// Moves x[i] by the `keep` part of d[i] (both 3 per vertex), with
+/// `normals` (UnitNormals of x before the move); vertices without a normal
+/// (no area, NaN) or with a non-finite d[i] do not move.  `tangentialShare`
 /// (Keep::Normal): that fraction of the tangential part is kept too.
 void MoveAlongNormals(
-  const MeshTopology& topo, double* x, const double* d, Keep keep, int threads, double tangentialShare = 0.0);
+  const std::vector<double>& normals, double* x, const double* d, Keep keep, double tangentialShare = 0.0);
 
 /// The unit normals of the points (chapter 2's, ComputeCurvatures).
 std::vector<double> UnitNormals(const MeshTopology& topo, const double* x, int threads);
