@@ -71,6 +71,7 @@ case "$action" in
     xvfb-run -a /usr/bin/python3 Examples/parameterization_demo.py Testing/Data/mushroom.off "$ROOT/demo-output"
     xvfb-run -a /usr/bin/python3 Examples/remeshing_demo.py "$ROOT/demo-output"
     xvfb-run -a /usr/bin/python3 Examples/line_drawing_demo.py "$ROOT/demo-output"
+    xvfb-run -a /usr/bin/python3 Examples/vector_field_demo.py "$ROOT/demo-output"
     /usr/bin/python3 Examples/denoising_demo.py "$ROOT/demo-output"
     ;;
   docs)

@@ -25,8 +25,9 @@ def proxy_function(proxy):
 
 
 # Suitable data: each with a point array for the filters that smooth or
-# differentiate one.
-surface = Elevation(Input=OpenDataFile(os.path.join(DATA, "eight.off")))
+# differentiate one (the surface also with a vector array).
+surface = Calculator(Input=Elevation(Input=OpenDataFile(os.path.join(DATA, "eight.off"))), ResultArrayName="Wind",
+                     Function="coordsY*iHat - coordsX*jHat")
 image = Wavelet(WholeExtent=[0, 15, 0, 15, 0, 15])
 volume = Elevation(Input=TetGenTetrahedralize(Input=surface))
 inputs = {"vtkPolyData": surface, "vtkImageData": image, "vtkUnstructuredGrid": volume}

@@ -112,6 +112,27 @@ def with_scalars(mesh, name="Scalars"):
 
 # ---------------------------------------------------------- generated shapes
 
+def with_vectors(mesh, name="Vectors"):
+    """A shallow copy of mesh with a point vector array (a rotation about z
+    plus a gradient-like part, not tangent), the active vectors: what the
+    vector-field decomposition takes."""
+    from vtkmodules.vtkCommonDataModel import vtkPolyData
+    out = vtkPolyData()
+    out.ShallowCopy(mesh)
+    n = mesh.GetNumberOfPoints()
+    values = np.zeros((n, 3))
+    if n:
+        p = vtk_to_numpy(mesh.GetPoints().GetData()).astype(np.float64)
+        with np.errstate(all="ignore"):
+            c = p - np.nanmean(np.where(np.isfinite(p), p, np.nan), axis=0)
+            values = np.stack([-c[:, 1] + 0.3 * c[:, 0], c[:, 0] + 0.3 * c[:, 1], 0.2 * np.sin(c[:, 2])], axis=1)
+    array = numpy_to_vtk(values, deep=True)
+    array.SetName(name)
+    out.GetPointData().AddArray(array)
+    out.GetPointData().SetActiveVectors(name)
+    return out
+
+
 def sphere(n=24, radius=1.0, center=(0.0, 0.0, 0.0)):
     """A closed UV sphere (poles shared): 2 + (n - 1) * 2n points."""
     rings, sectors = n, 2 * n

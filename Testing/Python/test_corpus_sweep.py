@@ -322,6 +322,31 @@ def check_tetgen(mesh, out, top):
     return None
 
 
+def check_vector_fields(mesh, out, top):
+    """The parts sum to the tangent field, are orthogonal, and on closed
+    genus-0 surfaces there is no harmonic part."""
+    fd, pd = out.GetFieldData(), out.GetPointData()
+    energy = [fd.GetArray(k + "Energy").GetValue(0) for k in ("Tangent", "CurlFree", "DivergenceFree", "Harmonic")]
+    inner = max(abs(fd.GetArray(k).GetValue(0)) for k in ("CurlFreeDivergenceFreeInnerProduct",
+                                                         "CurlFreeHarmonicInnerProduct",
+                                                         "DivergenceFreeHarmonicInnerProduct"))
+    parts = [vtk_to_numpy(pd.GetArray(k)) for k in ("TangentField", "CurlFreePart", "DivergenceFreePart",
+                                                    "HarmonicPart")]
+    if top["manifold"] and top["oriented"] and not np.isfinite(np.concatenate(parts)).all():
+        return "NaN parts on a manifold, oriented surface"
+    if np.nanmax(np.abs(parts[0] - parts[1] - parts[2] - parts[3])) > 1e-9 * np.nanmax(np.abs(parts[0])):
+        return "the parts do not sum to the tangent field"
+    if inner > 1e-8 * energy[0] or abs(sum(energy[1:]) - energy[0]) > 1e-8 * energy[0]:
+        return "parts not orthogonal: inner products %.3g, energies %s" % (inner / energy[0], energy)
+    genus_zero = top["manifold"] and not top["loops"] and 2 * top["components"] == top["euler"]
+    if genus_zero and energy[3] > 1e-10 * energy[0]:
+        return "a harmonic part (%.3g of the energy) on closed genus-0 surfaces" % (energy[3] / energy[0])
+    print("    energy shares %.4f %.4f %.4f, %d solver iterations"
+          % (energy[1] / energy[0], energy[2] / energy[0], energy[3] / energy[0],
+             fd.GetArray("SolverIterations").GetValue(0)))
+    return None
+
+
 # name -> (make, check, which meshes ("all" or "closed"), the errors that
 # are the filter's defined answer rather than a failure: a remesh the
 # remesher cannot make yet (it says why, with an empty output, rather than
@@ -339,6 +364,7 @@ FILTERS = {
     "remeshing-deviation": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=0,
                                                MaximumDeviation=DEVIATION), check_deviation, "all", None),
     "line-drawing": (b.vtkSurfaceLineDrawing, check_lines, "all", None),
+    "vector-fields": (b.vtkSurfaceVectorFieldDecomposition, check_vector_fields, "all", None),
     "tetgen": (b.vtkTetGenTetrahedralizer, check_tetgen, "closed", "The surface intersects itself"),
 }
 
@@ -359,7 +385,7 @@ def sweep(name, meshes):
         if name.startswith("remeshing") and os.path.basename(path) in CAD:
             f.SetSplitAtFeatures(True)
         said = inputs.Messages(f, f.GetExecutive())
-        f.SetInputData(mesh)
+        f.SetInputData(inputs.with_vectors(mesh) if name == "vector-fields" else mesh)
         start = time.perf_counter()
         f.Update()
         seconds = time.perf_counter() - start

@@ -44,6 +44,7 @@ def filters():
         "atlas": (b.vtkSurfaceAtlas, ("surface",)),
         "remeshing": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=300), ("surface",)),
         "line-drawing": (b.vtkSurfaceLineDrawing, ("surface",)),
+        "vector-fields": (b.vtkSurfaceVectorFieldDecomposition, ("surface-with-vectors",)),
         "tetgen": (b.vtkTetGenTetrahedralizer, ("surface",)),
         "image-denoising": (b.vtkImageBeltramiDenoising, ("image",)),
         "tetrahedral-denoising": (b.vtkTetrahedralBeltramiDenoising, ("grid", "image")),
@@ -78,6 +79,8 @@ def cases_for(kinds, folder):
     cases = {}
     if "surface" in kinds:
         cases.update(inputs.hostile_surfaces())
+    if "surface-with-vectors" in kinds:
+        cases.update({name: inputs.with_vectors(mesh) for name, mesh in inputs.hostile_surfaces().items()})
     if "image" in kinds:
         cases.update(inputs.hostile_images())
     if "grid" in kinds:

@@ -128,6 +128,102 @@ void AssembleSurfaceLaplacian(const MeshTopology& topo, const double* points, in
   }
 }
 
+namespace
+{
+
+/// The edges of triangle t's corners' opposite sides (EdgeGraph::TriangleEdges)
+/// that are not e, ascending and without repeats, into `out`; returns how many.
+int EdgeNeighbors(const MeshTopology::EdgeTable& edges, const IndexArray& triangleEdges,
+  Index e, Index out[4])
+{
+  int n = 0;
+  for (int side = 0; side < 2; ++side)
+  {
+    const Index c = edges.OppositeCorners[2 * static_cast<std::int64_t>(e) + side];
+    if (c < 0)
+    {
+      continue;
+    }
+    for (const Index other : { MeshTopology::Next(c), MeshTopology::Prev(c) })
+    {
+      out[n++] = triangleEdges[other];
+    }
+  }
+  std::sort(out, out + n);
+  n = static_cast<int>(std::unique(out, out + n) - out);
+  return static_cast<int>(std::remove(out, out + n, e) - out);
+}
+
+} // namespace
+
+void EdgeGraph::Build(const MeshTopology& topo)
+{
+  const MeshTopology::EdgeTable& edges = topo.Edges();
+  const IndexArray& tri = topo.TriangleList();
+  const Index ne = static_cast<Index>(edges.NumberOfEdges());
+  TriangleEdges.assign(tri.size(), -1);
+  ParallelFor(static_cast<std::int64_t>(tri.size()), topo.NumberOfThreads(), [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t c = begin; c < end; ++c)
+    {
+      const Index corner = static_cast<Index>(c);
+      TriangleEdges[c] = static_cast<Index>(
+        edges.Find(tri[MeshTopology::Next(corner)], tri[MeshTopology::Prev(corner)]));
+    }
+  });
+  Offsets.assign(static_cast<std::size_t>(ne) + 1, 0);
+  Index row[4];
+  for (Index e = 0; e < ne; ++e)
+  {
+    Offsets[e + 1] = Offsets[e] + EdgeNeighbors(edges, TriangleEdges, e, row);
+  }
+  Neighbors.assign(static_cast<std::size_t>(Offsets[ne]), 0);
+  ParallelFor(ne, topo.NumberOfThreads(), [&](std::int64_t begin, std::int64_t end) {
+    Index local[4];
+    for (Index e = static_cast<Index>(begin); e < end; ++e)
+    {
+      std::copy(local, local + EdgeNeighbors(edges, TriangleEdges, e, local), Neighbors.data() + Offsets[e]);
+    }
+  });
+}
+
+void AssembleNonconformingLaplacian(const MeshTopology& topo, const EdgeGraph& graph, const double* points,
+  GraphLaplacian& l, int numThreads)
+{
+  const MeshTopology::EdgeTable& edges = topo.Edges();
+  const IndexArray& tri = topo.TriangleList();
+  const Index ne = static_cast<Index>(edges.NumberOfEdges());
+  Resize(l, ne, graph.Offsets.data(), graph.Neighbors.data());
+  ParallelFor(ne, numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (Index e = static_cast<Index>(begin); e < end; ++e)
+    {
+      const Index* first = l.Neighbors + l.Offsets[e];
+      const Index* last = l.Neighbors + l.Offsets[e + 1];
+      const auto entry = [&](Index f) { return std::lower_bound(first, last, f) - l.Neighbors; };
+      double mass = 0.0;
+      for (int side = 0; side < 2; ++side)
+      {
+        const Index c = edges.OppositeCorners[2 * static_cast<std::int64_t>(e) + side];
+        if (c < 0)
+        {
+          continue;
+        }
+        const Index next = MeshTopology::Next(c), prev = MeshTopology::Prev(c);
+        const CornerGeometry<3> g =
+          MakeCornerGeometry<3>(points, 3, LoadPoint<3>(points, 3, tri[c]), c, tri[next], tri[prev]);
+        if (g.Degenerate)
+        {
+          continue;
+        }
+        // The edge opposite next(c) meets e at prev(c), the one opposite prev(c) at next(c).
+        l.Weights[entry(graph.TriangleEdges[next])] += g.CotK;
+        l.Weights[entry(graph.TriangleEdges[prev])] += g.CotJ;
+        mass += g.TwiceArea / 6.0;
+      }
+      l.FinishRow(e, mass);
+    }
+  });
+}
+
 void CurveGraph::Build(Index n, const std::vector<std::vector<Index>>& loops,
   const std::vector<std::vector<Index>>& chains)
 {

@@ -91,6 +91,27 @@ void AssembleSurfaceLaplacian(const MeshTopology& topology, const double* points
 void AssembleSurfaceLaplacian(const MeshTopology& topology, const double* points, int dimension,
   LaplacianWeights weights, GraphLaplacian& laplacian, int numThreads = 0);
 
+/// The nonconforming (Crouzeix-Raviart) Laplacian of Polthier & Preuss: one
+/// unknown per edge, the value at its midpoint, of functions linear in each
+/// triangle and continuous only at the edge midpoints.  In a triangle the
+/// basis function of edge e is 1 - 2 phi_k (k the vertex opposite e), so the
+/// coupling of two of its edges that meet at vertex m is four times that of
+/// the vertices opposite them: with the normalization of eq. 3.13 above (half
+/// the finite-element stiffness) c_ee' = cot(theta_m) per triangle.  The
+/// mass is the lumped area/3 per edge and triangle.  Edges of zero-area
+/// triangles only get no coupling (callers keep them fixed).
+struct EdgeGraph
+{
+  LargeVector<std::int64_t> Offsets; ///< CSR rows, one per edge (MeshTopology::Edges() order)
+  IndexArray Neighbors;              ///< the other edges of the edge's triangles, ascending
+  IndexArray TriangleEdges;          ///< 3 per triangle: the edge opposite corner 3t + k
+  /// Builds the graph of `topology`'s edges (edges in three or more
+  /// triangles are coupled to all of their triangles' edges).
+  void Build(const MeshTopology& topology);
+};
+void AssembleNonconformingLaplacian(const MeshTopology& topology, const EdgeGraph& graph,
+  const double* points, GraphLaplacian& laplacian, int numThreads = 0);
+
 /// A 1D Laplacian along polylines through mesh vertices (boundary loops,
 /// feature curves): the graph holds, for every vertex, its curve neighbours
 /// (none for vertices on no curve).  Umbrella: c = 1, a = 2; otherwise the 1D

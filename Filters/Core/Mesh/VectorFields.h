@@ -1,0 +1,108 @@
+// Beltrami core: vector fields on triangle surfaces (thesis section 6.3's
+// next operators): the Helmholtz-Hodge decomposition of Polthier & Preuss
+// (2003), divergence and curl.
+//
+// A field is one tangent vector per triangle (constant on it).  It splits
+// into three parts, orthogonal in L2 (sum over the triangles of area times
+// the dot product):
+//   X = grad u + J grad v + H
+// - grad u, the curl-free part: u piecewise linear and continuous (one value
+//   per vertex), the least-squares fit S u = (X, grad phi_i), S the cotangent
+//   stiffness of the shared assembler;
+// - J grad v, the divergence-free part (J the rotation by +90 degrees about
+//   the triangle's normal): v nonconforming (one value per edge midpoint,
+//   Laplacian.h's EdgeGraph), the fit of J^T X the same way;
+// - H, the harmonic part: the remainder, divergence- and curl-free.
+// grad u and J grad v are exactly orthogonal (on each edge u is continuous
+// and v's mean is shared), so both fits are the orthogonal projections and
+// on a closed surface of genus g the harmonic fields span exactly 2g
+// dimensions (the space of fields per triangle has 2F = (V - 1) + (E - 1) + 2g
+// of them).  On open surfaces one of the two functions is fixed at 0 on the
+// boundary (VectorFieldBoundary); the harmonic fields then span 2g + b - 1
+// dimensions, b the number of boundary loops (none on a disk).
+//
+// Per vertex: Divergence div X = -(X, grad phi_i) / A_i and Curl (vorticity,
+// n . curl X) = (J^T X, grad phi_i) / A_i: the flux of X out of the vertex's
+// cell and its circulation along the cell's boundary (any cell whose boundary
+// runs through the midpoints of the vertex's edges: for a field constant per
+// triangle they are the same), over the cell's area A_i, here the lumped
+// area (a third of each triangle; integral of phi_i).  The mixed area of
+// figure 2.3 would be as good for a field given per triangle, but with the
+// per-triangle means of point data it overestimates by up to 4/3 at vertices
+// whose triangles are thin (the poles of a latitude-longitude sphere).  For
+// X = grad u + J grad v on a smooth surface: Laplace u and Laplace v.
+#pragma once
+
+#include "Mesh/MeshTopology.h"
+#include "Solvers/AlgebraicMultigrid.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace beltrami
+{
+
+/// Which function is fixed at 0 on the boundary of an open surface.
+enum class VectorFieldBoundary : int
+{
+  /// The stream function: the divergence-free part carries no flux through
+  /// the boundary (in the weak sense of its midpoint values), the curl-free
+  /// part takes the field's flux.
+  TangentDivergenceFree = 0,
+  /// The potential: the curl-free part is normal to the boundary, the
+  /// divergence-free part takes the field's circulation along it.
+  NormalCurlFree = 1
+};
+
+struct VectorFieldOptions
+{
+  VectorFieldBoundary Boundary = VectorFieldBoundary::TangentDivergenceFree;
+  /// Residual reduction of the two Poisson solves.
+  double Tolerance = 1e-12;
+  /// Multigrid (BoomerAMG) preconditioning; Jacobi for comparisons.
+  Preconditioning Preconditioner = Preconditioning::Multigrid;
+  int NumberOfThreads = 0;
+};
+
+/// The parts of a field (3 values per triangle unless said otherwise).
+struct VectorFieldDecomposition
+{
+  std::vector<double> Tangent;        ///< the input with its normal component removed
+  std::vector<double> Normal;         ///< that normal component, 1 per triangle
+  std::vector<double> CurlFree;       ///< grad u
+  std::vector<double> DivergenceFree; ///< J grad v
+  std::vector<double> Harmonic;       ///< the rest
+  std::vector<double> Potential;      ///< u, 1 per vertex (0 at a vertex of each closed component)
+  std::vector<double> StreamFunction; ///< v, 1 per edge (MeshTopology::Edges() order)
+  std::vector<double> Areas;          ///< 1 per triangle (0: zero area or NaN coordinates)
+  std::vector<double> Divergence;     ///< 1 per vertex (NaN where the vertex has no area)
+  std::vector<double> Curl;           ///< 1 per vertex (NaN where the vertex has no area)
+  /// Integrals over the surface: |Tangent|^2, |CurlFree|^2, |DivergenceFree|^2, |Harmonic|^2.
+  double Energy[4] = { 0, 0, 0, 0 };
+  /// (CurlFree, DivergenceFree), (CurlFree, Harmonic), (DivergenceFree, Harmonic).
+  double InnerProducts[3] = { 0, 0, 0 };
+  Index DegenerateTriangles = 0; ///< zero-area triangles: their field is left out (parts 0)
+  int Iterations = 0;            ///< of the two solves
+  bool Converged = true;
+};
+
+/// Decomposes `vectors` (3 per triangle of `topology`; need not be tangent)
+/// on the surface `points` (3 per vertex).  The topology should be manifold
+/// and consistently oriented (the filter removes the triangles where it is
+/// not); NaN vectors count as zero.
+void DecomposeVectorField(const MeshTopology& topology, const double* points, const double* vectors,
+  const VectorFieldOptions& options, VectorFieldDecomposition& result);
+
+/// A field given per vertex as one per triangle: the mean of its corners'
+/// vectors (the integral of the linear interpolant over the triangle).
+std::vector<double> TriangleVectorsFromPoints(const MeshTopology& topology, const double* pointVectors);
+/// Values given per triangle (`components` each) as values per vertex: the
+/// area-weighted mean over the vertex's triangles (0 at a vertex in none).
+std::vector<double> PointValuesFromTriangles(
+  const MeshTopology& topology, const double* points, const double* triangleValues, int components);
+/// Per vertex, the mean of a per-edge function over the vertex's edges
+/// (the stream function at the vertices; NaN at a vertex in no edge).
+std::vector<double> PointValuesFromEdges(const MeshTopology& topology, const double* edgeValues);
+
+} // namespace beltrami

@@ -1,0 +1,289 @@
+#include "vtkSurfaceVectorFieldDecomposition.h"
+#include "vtkBeltramiSettings.h"
+
+#include "vtkBeltramiSurface.h"
+
+#include "Mesh/VectorFields.h"
+
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkDataObject.h>
+#include <vtkDataSetAttributes.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkIdTypeArray.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <memory>
+#include <vector>
+
+BELTRAMI_SAME_ENUM(vtkSurfaceVectorFieldDecomposition::TANGENT_DIVERGENCE_FREE,
+  beltrami::VectorFieldBoundary::TangentDivergenceFree);
+BELTRAMI_SAME_ENUM(vtkSurfaceVectorFieldDecomposition::NORMAL_CURL_FREE, beltrami::VectorFieldBoundary::NormalCurlFree);
+
+vtkStandardNewMacro(vtkSurfaceVectorFieldDecomposition);
+
+vtkSurfaceVectorFieldDecomposition::vtkSurfaceVectorFieldDecomposition()
+{
+  beltrami::VectorFieldOptions defaults;
+  this->CopySettings(defaults, vtkBeltramiCopy::FromCore);
+  this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::VECTORS);
+}
+
+void vtkSurfaceVectorFieldDecomposition::CopySettings(beltrami::VectorFieldOptions& o, vtkBeltramiCopy direction)
+{
+  BeltramiCopySetting(this->BoundaryCondition, o.Boundary, direction);
+  BeltramiCopySetting(this->NumberOfThreads, o.NumberOfThreads, direction);
+}
+
+int vtkSurfaceVectorFieldDecomposition::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  // The two Poisson solves couple the whole surface.
+  return vtkBeltramiSurface::Execute(this, inputVector, outputVector, this->NumberOfThreads,
+    vtkBeltramiSurface::Needs::WholeSurface, [this](vtkBeltramiSurface& surface) { return this->Compute(surface); });
+}
+
+namespace
+{
+
+constexpr double NaN = std::numeric_limits<double>::quiet_NaN();
+constexpr std::uint8_t Defects = beltrami::VertexNonManifold | beltrami::VertexInconsistent |
+  beltrami::VertexDuplicateFace;
+
+/// The triangles of `topology` (ids into it) kept for the decomposition:
+/// none with a vertex at a non-manifold point, an inconsistent orientation
+/// or a duplicate triangle, repeated until the kept ones have none.
+std::unique_ptr<beltrami::MeshTopology> ManifoldPart(
+  const beltrami::MeshTopology& topo, std::vector<beltrami::Index>& kept, int threads)
+{
+  kept.resize(topo.NumberOfTriangles());
+  for (beltrami::Index t = 0; t < topo.NumberOfTriangles(); ++t)
+  {
+    kept[t] = t;
+  }
+  std::unique_ptr<beltrami::MeshTopology> part;
+  const beltrami::MeshTopology* current = &topo;
+  while (!current->Summary().IsManifold() || !current->Summary().IsOriented())
+  {
+    std::vector<beltrami::Index> next;
+    beltrami::IndexArray triangles;
+    const beltrami::IndexArray& list = current->TriangleList();
+    for (beltrami::Index t = 0; t < current->NumberOfTriangles(); ++t)
+    {
+      const beltrami::Index* v = &list[3 * static_cast<std::int64_t>(t)];
+      if (!((current->VertexFlags(v[0]) | current->VertexFlags(v[1]) | current->VertexFlags(v[2])) & Defects))
+      {
+        next.push_back(kept[t]);
+        triangles.insert(triangles.end(), v, v + 3);
+      }
+    }
+    kept.swap(next);
+    part = std::make_unique<beltrami::MeshTopology>(topo.NumberOfVertices(), std::move(triangles), threads);
+    current = part.get();
+  }
+  return part;
+}
+
+void AddScalar(vtkFieldData* fd, const char* name, double value)
+{
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->InsertNextValue(value);
+  fd->AddArray(a);
+}
+
+vtkDoubleArray* AddArray(vtkDataSetAttributes* data, const char* name, int components, vtkIdType tuples)
+{
+  const vtkSmartPointer<vtkDataArray> array = vtkBeltramiSurface::NewArray(VTK_DOUBLE, name, components, tuples);
+  data->AddArray(array); // (holds it)
+  return vtkDoubleArray::SafeDownCast(array);
+}
+
+} // namespace
+
+void vtkSurfaceVectorFieldDecomposition::AddArrays(vtkBeltramiSurface& surface, const beltrami::MeshTopology& topo,
+  const std::vector<beltrami::Index>& kept, const double* points, const beltrami::VectorFieldDecomposition& r,
+  bool onPoints)
+{
+  vtkPolyData* output = surface.Output();
+  const vtkIdType np = output->GetNumberOfPoints();
+  const std::vector<beltrami::Index>& merged = surface.MergedPoints();
+  const auto topologyPoint = [&merged](vtkIdType i) { return merged.empty() ? i : merged[i]; };
+  const std::vector<double> stream = beltrami::PointValuesFromEdges(topo, r.StreamFunction.data());
+  struct Output
+  {
+    const char* Name;
+    const std::vector<double>& Values; ///< per vertex (Point) or per triangle
+    int Components;
+    bool Point;
+  };
+  const Output outputs[] = { { "Potential", r.Potential, 1, true }, { "StreamFunction", stream, 1, true },
+    { "Divergence", r.Divergence, 1, true }, { "Curl", r.Curl, 1, true },
+    { "NormalComponent", r.Normal, 1, false }, { "TangentField", r.Tangent, 3, false },
+    { "CurlFreePart", r.CurlFree, 3, false }, { "DivergenceFreePart", r.DivergenceFree, 3, false },
+    { "HarmonicPart", r.Harmonic, 3, false } };
+  // Cell values: the area-weighted mean of the cell's triangles.
+  const beltrami::MeshTopology& whole = surface.Topology();
+  const vtkIdType nc = output->GetNumberOfCells();
+  std::vector<vtkIdType> cellOf(kept.size());
+  std::vector<double> weight(kept.size()), cellArea(onPoints ? 0 : nc, 0.0);
+  for (std::size_t k = 0; k < kept.size(); ++k)
+  {
+    weight[k] = r.Areas[k] > 0.0 ? r.Areas[k] : 1e-300; // a lone zero-area triangle keeps its 0
+    cellOf[k] = surface.TriangleCell(whole.OriginalTriangleIds()[kept[k]]);
+    if (!onPoints)
+    {
+      cellArea[cellOf[k]] += weight[k];
+    }
+  }
+  for (const Output& o : outputs)
+  {
+    if (o.Point || onPoints)
+    {
+      const std::vector<double> values = o.Point
+        ? std::vector<double>()
+        : beltrami::PointValuesFromTriangles(topo, points, o.Values.data(), o.Components);
+      const std::vector<double>& perPoint = o.Point ? o.Values : values;
+      vtkDoubleArray* a = AddArray(output->GetPointData(), o.Name, o.Components, np);
+      for (vtkIdType i = 0; i < np; ++i)
+      {
+        const beltrami::Index v = static_cast<beltrami::Index>(topologyPoint(i));
+        for (int d = 0; d < o.Components; ++d)
+        {
+          a->SetComponent(i, d, topo.Valence(v) > 0 ? perPoint[o.Components * v + d] : NaN);
+        }
+      }
+      continue;
+    }
+    std::vector<double> sums(static_cast<std::size_t>(o.Components) * nc, 0.0);
+    for (std::size_t k = 0; k < kept.size(); ++k)
+    {
+      for (int d = 0; d < o.Components; ++d)
+      {
+        sums[o.Components * cellOf[k] + d] += weight[k] * o.Values[o.Components * k + d];
+      }
+    }
+    vtkDoubleArray* a = AddArray(output->GetCellData(), o.Name, o.Components, nc);
+    for (vtkIdType c = 0; c < nc; ++c)
+    {
+      for (int d = 0; d < o.Components; ++d)
+      {
+        a->SetComponent(c, d, cellArea[c] > 0.0 ? sums[o.Components * c + d] / cellArea[c] : NaN);
+      }
+    }
+  }
+  (onPoints ? static_cast<vtkDataSetAttributes*>(output->GetPointData()) : output->GetCellData())
+    ->SetActiveVectors("TangentField");
+  output->GetPointData()->SetActiveScalars("Potential");
+}
+
+bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
+{
+  vtkPolyData* input = surface.Input();
+  vtkPolyData* output = surface.Output();
+  int association = -1;
+  vtkDataArray* array = this->GetInputArrayToProcess(0, input, association);
+  if (!array || array->GetNumberOfComponents() != 3 ||
+    (association != vtkDataObject::FIELD_ASSOCIATION_POINTS && association != vtkDataObject::FIELD_ASSOCIATION_CELLS))
+  {
+    vtkErrorMacro("Select a point or cell array of 3 components, the vector field to decompose"
+      << (array ? " (the selected one has " + std::to_string(array->GetNumberOfComponents()) + ")" : std::string())
+      << ": SetInputArrayToProcess(0, 0, 0, association, name), or give the points active vectors.");
+    return false;
+  }
+  const bool onPoints = association == vtkDataObject::FIELD_ASSOCIATION_POINTS;
+  const beltrami::MeshTopology& whole = surface.Topology();
+  if (whole.NumberOfTriangles() == 0)
+  {
+    vtkWarningMacro("Input has no polygons or triangle strips: there is no field to decompose.");
+    return true;
+  }
+  const int threads = this->NumberOfThreads;
+  std::vector<beltrami::Index> kept;
+  const std::unique_ptr<beltrami::MeshTopology> part = ManifoldPart(whole, kept, threads);
+  const beltrami::MeshTopology& topo = part ? *part : whole;
+  if (surface.NumberOfInvalidCells())
+  {
+    vtkWarningMacro(<< surface.NumberOfInvalidCells() << " cells with point ids out of range are left out.");
+  }
+  if (part)
+  {
+    vtkWarningMacro(<< surface.TopologyWarning() << ": the " << whole.NumberOfTriangles() - topo.NumberOfTriangles()
+                    << " triangles at those points are left out (their parts are NaN).");
+  }
+  // The field per kept triangle.
+  std::vector<double> pointStorage, vectors(3 * kept.size());
+  const double* points = surface.PointsAsDouble(pointStorage);
+  const beltrami::IndexArray& list = whole.TriangleList();
+  for (std::size_t k = 0; k < kept.size(); ++k)
+  {
+    for (int d = 0; d < 3; ++d)
+    {
+      double value = 0.0;
+      if (onPoints)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          value += array->GetComponent(list[3 * static_cast<std::int64_t>(kept[k]) + c], d) / 3.0;
+        }
+      }
+      else
+      {
+        value = array->GetComponent(surface.TriangleCell(whole.OriginalTriangleIds()[kept[k]]), d);
+      }
+      vectors[3 * k + d] = value;
+    }
+  }
+  beltrami::VectorFieldOptions options;
+  this->CopySettings(options, vtkBeltramiCopy::ToCore);
+  beltrami::VectorFieldDecomposition r;
+  this->UpdateProgress(0.0);
+  try
+  {
+    beltrami::DecomposeVectorField(topo, points, vectors.data(), options, r);
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro("The decomposition failed: " << e.what());
+    return false;
+  }
+  this->UpdateProgress(1.0);
+  if (!r.Converged)
+  {
+    vtkWarningMacro("The Poisson solves did not reach their tolerance (" << r.Iterations
+                    << " iterations): the parts are approximate.");
+  }
+  if (r.DegenerateTriangles)
+  {
+    vtkWarningMacro(<< r.DegenerateTriangles
+                    << " triangles have zero area or NaN coordinates: their field is left out (parts 0).");
+  }
+
+  this->AddArrays(surface, topo, kept, points, r, onPoints);
+  vtkFieldData* fd = output->GetFieldData();
+  AddScalar(fd, "TangentEnergy", r.Energy[0]);
+  AddScalar(fd, "CurlFreeEnergy", r.Energy[1]);
+  AddScalar(fd, "DivergenceFreeEnergy", r.Energy[2]);
+  AddScalar(fd, "HarmonicEnergy", r.Energy[3]);
+  AddScalar(fd, "CurlFreeDivergenceFreeInnerProduct", r.InnerProducts[0]);
+  AddScalar(fd, "CurlFreeHarmonicInnerProduct", r.InnerProducts[1]);
+  AddScalar(fd, "DivergenceFreeHarmonicInnerProduct", r.InnerProducts[2]);
+  AddScalar(fd, "ExcludedTriangles", static_cast<double>(whole.NumberOfTriangles() - topo.NumberOfTriangles()));
+  AddScalar(fd, "SolverIterations", r.Iterations);
+  return true;
+}
+
+void vtkSurfaceVectorFieldDecomposition::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "BoundaryCondition: " << this->BoundaryCondition << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}

@@ -1,0 +1,339 @@
+// The Helmholtz-Hodge decomposition of vector fields on surfaces
+// (Mesh/VectorFields): spherical-harmonic fields recovered with errors that
+// fall linearly with the edge length, the torus' harmonic fields, exact
+// orthogonality, exact recovery of discrete gradients and rotated gradients,
+// and the boundary conditions of open surfaces.
+#include "TestMeshes.h"
+
+#include "Mesh/VectorFields.h"
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace beltrami
+{
+namespace
+{
+
+using Eigen::Vector3d;
+
+/// Per triangle: the centroid and the area.
+struct Centroids
+{
+  std::vector<Vector3d> Points;
+  std::vector<double> Areas;
+  explicit Centroids(const test::Mesh& m)
+  {
+    for (std::size_t t = 0; t < m.Triangles.size(); t += 3)
+    {
+      const Vector3d a = m.Point(m.Triangles[t]), b = m.Point(m.Triangles[t + 1]), c = m.Point(m.Triangles[t + 2]);
+      Points.push_back((a + b + c) / 3.0);
+      Areas.push_back(0.5 * (b - a).cross(c - a).norm());
+    }
+  }
+};
+
+/// The relative L2 distance (area-weighted, per triangle) of `field` to `exact`.
+double RelativeError(const Centroids& c, const std::vector<double>& field, const std::vector<Vector3d>& exact)
+{
+  double error = 0.0, size = 0.0;
+  for (std::size_t t = 0; t < exact.size(); ++t)
+  {
+    error += c.Areas[t] * (Vector3d(&field[3 * t]) - exact[t]).squaredNorm();
+    size += c.Areas[t] * exact[t].squaredNorm();
+  }
+  return std::sqrt(error / size);
+}
+
+std::vector<double> Flatten(const std::vector<Vector3d>& v)
+{
+  std::vector<double> out;
+  for (const Vector3d& x : v)
+  {
+    out.insert(out.end(), { x[0], x[1], x[2] });
+  }
+  return out;
+}
+
+/// On the unit sphere: u = x y (degree 2, Laplace u = -6 u) and
+/// v = 5 z^3 - 3 z (degree 3, Laplace v = -12 v), their tangent gradients at
+/// the projection p of a point.
+double U(const Vector3d& p) { return p[0] * p[1]; }
+double V(const Vector3d& p) { return 5 * p[2] * p[2] * p[2] - 3 * p[2]; }
+Vector3d Tangent(const Vector3d& p, const Vector3d& gradient) { return gradient - gradient.dot(p) * p; }
+Vector3d GradU(const Vector3d& p) { return Tangent(p, Vector3d(p[1], p[0], 0)); }
+Vector3d GradV(const Vector3d& p) { return Tangent(p, Vector3d(0, 0, 15 * p[2] * p[2] - 3)); }
+
+struct SphereErrors
+{
+  double EdgeLength, CurlFree, DivergenceFree, Harmonic, Divergence, Curl, Orthogonality;
+};
+
+SphereErrors DecomposeOnSphere(int levels)
+{
+  const test::Mesh m = test::OctahedronSphere(levels);
+  const MeshTopology topo = m.Topology();
+  const Centroids c(m);
+  std::vector<Vector3d> gradient, rotated, field;
+  for (const Vector3d& x : c.Points)
+  {
+    const Vector3d p = x.normalized();
+    gradient.push_back(GradU(p));
+    rotated.push_back(p.cross(GradV(p)));
+    field.push_back(gradient.back() + rotated.back());
+  }
+  VectorFieldDecomposition r;
+  DecomposeVectorField(topo, m.Points.data(), Flatten(field).data(), VectorFieldOptions(), r);
+  EXPECT_TRUE(r.Converged);
+  SphereErrors e;
+  e.EdgeLength = (m.Point(m.Triangles[0]) - m.Point(m.Triangles[1])).norm();
+  e.CurlFree = RelativeError(c, r.CurlFree, gradient);
+  e.DivergenceFree = RelativeError(c, r.DivergenceFree, rotated);
+  e.Harmonic = std::sqrt(r.Energy[3] / r.Energy[0]);
+  double dError = 0, dSize = 0, cError = 0, cSize = 0;
+  for (Index i = 0; i < m.NumberOfVertices(); ++i)
+  {
+    const Vector3d p = m.Point(i);
+    dError += std::pow(r.Divergence[i] + 6 * U(p), 2);
+    dSize += std::pow(6 * U(p), 2);
+    cError += std::pow(r.Curl[i] + 12 * V(p), 2);
+    cSize += std::pow(12 * V(p), 2);
+  }
+  e.Divergence = std::sqrt(dError / dSize);
+  e.Curl = std::sqrt(cError / cSize);
+  e.Orthogonality = std::max({ std::abs(r.InnerProducts[0]), std::abs(r.InnerProducts[1]),
+                      std::abs(r.InnerProducts[2]) }) / r.Energy[0];
+  return e;
+}
+
+TEST(VectorFields, SphericalHarmonicPartsConvergeLinearly)
+{
+  std::vector<SphereErrors> errors;
+  for (int levels = 4; levels <= 7; ++levels) // 1k, 4k, 16k, 66k vertices
+  {
+    errors.push_back(DecomposeOnSphere(levels));
+    const SphereErrors& e = errors.back();
+    std::printf("h %.4f: curl-free %.3e  divergence-free %.3e  harmonic %.3e  div %.3e  curl %.3e  "
+                "orthogonality %.1e\n",
+      e.EdgeLength, e.CurlFree, e.DivergenceFree, e.Harmonic, e.Divergence, e.Curl, e.Orthogonality);
+    EXPECT_LT(e.Orthogonality, 1e-8);
+    EXPECT_LT(e.Harmonic, 1e-8) << "a sphere has no harmonic fields";
+  }
+  for (std::size_t k = 1; k < errors.size(); ++k)
+  {
+    // At least linear: the error at least halves when the edge length does.
+    const double halving = errors[k - 1].EdgeLength / errors[k].EdgeLength;
+    EXPECT_NEAR(halving, 2.0, 0.1);
+    EXPECT_GT(errors[k - 1].CurlFree / errors[k].CurlFree, 0.95 * halving);
+    EXPECT_GT(errors[k - 1].DivergenceFree / errors[k].DivergenceFree, 0.95 * halving);
+  }
+  EXPECT_LT(errors.back().CurlFree, 0.01);
+  EXPECT_LT(errors.back().DivergenceFree, 0.01);
+  EXPECT_LT(errors.back().Divergence, 0.01);
+  EXPECT_LT(errors.back().Curl, 0.01);
+}
+
+/// The rotation-angle gradient of a torus of revolution about z: tangent to
+/// the large circles, of length 1/rho.
+std::vector<Vector3d> AngleGradient(const Centroids& c)
+{
+  std::vector<Vector3d> field;
+  for (const Vector3d& p : c.Points)
+  {
+    const double rho2 = p[0] * p[0] + p[1] * p[1];
+    field.push_back(Vector3d(-p[1], p[0], 0) / rho2);
+  }
+  return field;
+}
+
+TEST(VectorFields, TheTorusAngleGradientIsHarmonic)
+{
+  double previous = 1.0;
+  for (const int n : { 40, 80, 160 }) // 2.4k, 9.6k, 38k vertices
+  {
+    const test::Mesh m = test::Torus(1.0, 0.4, 2 * n, n / 2 + n / 4, 0.2, 7);
+    const Centroids c(m);
+    const std::vector<Vector3d> field = AngleGradient(c);
+    VectorFieldDecomposition r;
+    DecomposeVectorField(m.Topology(), m.Points.data(), Flatten(field).data(), VectorFieldOptions(), r);
+    const double others = std::sqrt((r.Energy[1] + r.Energy[2]) / r.Energy[0]);
+    const double harmonic = RelativeError(c, r.Harmonic, field);
+    std::printf("%d vertices: other parts %.3e of the field, harmonic part off by %.3e\n", m.NumberOfVertices(),
+      others, harmonic);
+    EXPECT_LT(others, previous);
+    previous = others;
+    if (n == 160)
+    {
+      EXPECT_LT(others, 0.01);
+      EXPECT_LT(harmonic, 0.01);
+    }
+  }
+}
+
+/// The Gram matrix of the harmonic parts of random fields: its rank is the
+/// dimension of the harmonic fields.
+Eigen::VectorXd HarmonicGramEigenvalues(const test::Mesh& m, int fields, const VectorFieldOptions& o = {})
+{
+  const MeshTopology topo = m.Topology();
+  const Centroids c(m);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  std::vector<std::vector<double>> parts;
+  for (int k = 0; k < fields; ++k)
+  {
+    std::vector<double> field(m.Triangles.size());
+    for (double& x : field)
+    {
+      x = normal(rng);
+    }
+    VectorFieldDecomposition r;
+    DecomposeVectorField(topo, m.Points.data(), field.data(), o, r);
+    EXPECT_LT(std::abs(r.InnerProducts[0]), 1e-8 * r.Energy[0]);
+    EXPECT_LT(std::abs(r.InnerProducts[1]), 1e-8 * r.Energy[0]);
+    EXPECT_LT(std::abs(r.InnerProducts[2]), 1e-8 * r.Energy[0]);
+    parts.push_back(r.Harmonic);
+  }
+  Eigen::MatrixXd gram(fields, fields);
+  for (int a = 0; a < fields; ++a)
+  {
+    for (int b = 0; b < fields; ++b)
+    {
+      double s = 0.0;
+      for (std::size_t t = 0; t < c.Areas.size(); ++t)
+      {
+        s += c.Areas[t] * Vector3d(&parts[a][3 * t]).dot(Vector3d(&parts[b][3 * t]));
+      }
+      gram(a, b) = s;
+    }
+  }
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(gram).eigenvalues().reverse();
+}
+
+TEST(VectorFields, HarmonicFieldsSpanTwiceTheGenus)
+{
+  const Eigen::VectorXd torus = HarmonicGramEigenvalues(test::Torus(1.0, 0.4, 60, 24, 0.3, 5), 6);
+  std::printf("torus: Gram eigenvalues %.3e %.3e %.3e ... %.3e\n", torus[0], torus[1], torus[2], torus[5]);
+  EXPECT_GT(torus[1], 1e-3 * torus[0]);
+  EXPECT_LT(torus[2], 1e-12 * torus[0]);
+  const test::Mesh sphere = test::OctahedronSphere(4);
+  const Centroids c(sphere);
+  std::vector<double> field(sphere.Triangles.size());
+  std::mt19937 rng(4);
+  std::normal_distribution<double> normal;
+  for (double& x : field)
+  {
+    x = normal(rng);
+  }
+  VectorFieldDecomposition r;
+  DecomposeVectorField(sphere.Topology(), sphere.Points.data(), field.data(), VectorFieldOptions(), r);
+  EXPECT_LT(r.Energy[3], 1e-20 * r.Energy[0]) << "a sphere has no harmonic fields";
+  EXPECT_NEAR(r.Energy[1] + r.Energy[2] + r.Energy[3], r.Energy[0], 1e-10 * r.Energy[0]);
+  // An open cylinder (genus 0, two boundary loops): 2g + b - 1 = 1 under either condition.
+  for (const VectorFieldBoundary boundary :
+    { VectorFieldBoundary::TangentDivergenceFree, VectorFieldBoundary::NormalCurlFree })
+  {
+    VectorFieldOptions o;
+    o.Boundary = boundary;
+    const Eigen::VectorXd cylinder = HarmonicGramEigenvalues(test::Cylinder(0.5, 1.5, 40, 30), 4, o);
+    EXPECT_GT(cylinder[0], 1e-3 * cylinder.sum());
+    EXPECT_LT(cylinder[1], 1e-12 * cylinder[0]);
+  }
+}
+
+/// grad u and J grad u of a random function u at the vertices, per triangle.
+void DiscreteGradients(const test::Mesh& m, unsigned seed, std::vector<Vector3d>& gradient, std::vector<Vector3d>& rotated)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> d(-1, 1);
+  std::vector<double> u(m.NumberOfVertices());
+  for (double& x : u)
+  {
+    x = d(rng);
+  }
+  for (std::size_t t = 0; t < m.Triangles.size(); t += 3)
+  {
+    const Index* v = &m.Triangles[t];
+    const Vector3d a = m.Point(v[0]), b = m.Point(v[1]), c = m.Point(v[2]);
+    const Vector3d cross = (b - a).cross(c - a), n = cross.normalized();
+    const Vector3d g = (u[v[0]] * n.cross(c - b) + u[v[1]] * n.cross(a - c) + u[v[2]] * n.cross(b - a)) / cross.norm();
+    gradient.push_back(g);
+    rotated.push_back(n.cross(g));
+  }
+}
+
+TEST(VectorFields, DiscreteGradientsAndRotatedGradientsAreRecoveredExactly)
+{
+  const test::Mesh m = test::Torus(1.0, 0.3, 48, 20, 0.3, 9);
+  const Centroids c(m);
+  std::vector<Vector3d> gradient, rotated;
+  DiscreteGradients(m, 1, gradient, rotated);
+  const MeshTopology topo = m.Topology();
+  VectorFieldDecomposition g, j;
+  DecomposeVectorField(topo, m.Points.data(), Flatten(gradient).data(), VectorFieldOptions(), g);
+  DecomposeVectorField(topo, m.Points.data(), Flatten(rotated).data(), VectorFieldOptions(), j);
+  EXPECT_LT(RelativeError(c, g.CurlFree, gradient), 1e-9);
+  EXPECT_LT(RelativeError(c, j.DivergenceFree, rotated), 1e-9);
+  // A discrete gradient has no curl, a rotated one no divergence (exactly, weakly).
+  double curl = 0, divergence = 0, gDivergence = 0;
+  for (Index i = 0; i < m.NumberOfVertices(); ++i)
+  {
+    curl = std::max(curl, std::abs(g.Curl[i]));
+    divergence = std::max(divergence, std::abs(j.Divergence[i]));
+    gDivergence = std::max(gDivergence, std::abs(g.Divergence[i]));
+  }
+  EXPECT_LT(curl, 1e-10 * gDivergence);
+  EXPECT_LT(divergence, 1e-10 * gDivergence);
+}
+
+TEST(VectorFields, OpenSurfacesKeepOrthogonalityUnderBothBoundaryConditions)
+{
+  const test::Mesh m = test::Cylinder(0.5, 1.5, 40, 30);
+  const MeshTopology topo = m.Topology();
+  std::vector<double> field(m.Triangles.size());
+  std::mt19937 rng(8);
+  std::normal_distribution<double> normal;
+  for (double& x : field)
+  {
+    x = normal(rng);
+  }
+  for (const VectorFieldBoundary boundary :
+    { VectorFieldBoundary::TangentDivergenceFree, VectorFieldBoundary::NormalCurlFree })
+  {
+    VectorFieldOptions o;
+    o.Boundary = boundary;
+    VectorFieldDecomposition r;
+    DecomposeVectorField(topo, m.Points.data(), field.data(), o, r);
+    EXPECT_TRUE(r.Converged);
+    for (const double inner : r.InnerProducts)
+    {
+      EXPECT_LT(std::abs(inner), 1e-9 * r.Energy[0]);
+    }
+    EXPECT_GT(r.Energy[3], 1e-6 * r.Energy[0]) << "an open cylinder has harmonic fields";
+    if (boundary == VectorFieldBoundary::NormalCurlFree)
+    {
+      // u = 0 on the boundary: the curl-free part is normal to it.
+      const std::vector<std::vector<Index>> loops = topo.BoundaryLoops();
+      double tangential = 0, largest = 0;
+      for (std::size_t t = 0; t < m.Triangles.size() / 3; ++t)
+      {
+        largest = std::max(largest, Vector3d(&r.CurlFree[3 * t]).norm());
+        for (int k = 0; k < 3; ++k)
+        {
+          const Index a = m.Triangles[3 * t + k], b = m.Triangles[3 * t + (k + 1) % 3];
+          if ((topo.VertexFlags(a) & VertexBoundary) && (topo.VertexFlags(b) & VertexBoundary) &&
+            std::abs(m.Point(a)[2] - m.Point(b)[2]) < 1e-12)
+          {
+            tangential = std::max(tangential, std::abs(Vector3d(&r.CurlFree[3 * t]).dot(m.Point(b) - m.Point(a))));
+          }
+        }
+      }
+      EXPECT_EQ(loops.size(), 2u);
+      EXPECT_LT(tangential, 1e-10 * largest);
+    }
+  }
+}
+
+} // namespace
+} // namespace beltrami

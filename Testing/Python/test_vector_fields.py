@@ -1,0 +1,195 @@
+"""vtkSurfaceVectorFieldDecomposition through the Python wrapping: point data
+on a latitude-longitude sphere against the analytic parts, divergence and
+curl; cell data on a torus (the harmonic rotation field) and on quads;
+the parts summing to the tangent field and orthogonal; open surfaces under
+both boundary conditions; the errors and warnings of bad input."""
+import os
+import sys
+import unittest
+
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkFiltersSources import vtkPlaneSource, vtkSphereSource
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import inputs  # noqa: E402
+from beltrami import vtkSurfaceVectorFieldDecomposition  # noqa: E402
+
+PARTS = ("TangentField", "CurlFreePart", "DivergenceFreePart", "HarmonicPart")
+
+
+def decompose(mesh, name, association=0, **settings):
+    f = inputs.filter_with(vtkSurfaceVectorFieldDecomposition, **settings)()
+    said = inputs.Messages(f, f.GetExecutive())
+    f.SetInputData(mesh)
+    f.SetInputArrayToProcess(0, 0, 0, association, name)
+    f.Update()
+    return f.GetOutput(), said
+
+
+def add(mesh, name, values, cells=False):
+    array = numpy_to_vtk(np.ascontiguousarray(values, dtype=float), deep=True)
+    array.SetName(name)
+    (mesh.GetCellData() if cells else mesh.GetPointData()).AddArray(array)
+    return mesh
+
+
+def arrays(out, cells=False):
+    data = out.GetCellData() if cells else out.GetPointData()
+    return {k: vtk_to_numpy(data.GetArray(k)) for k in PARTS}
+
+
+def field_data(out, name):
+    return out.GetFieldData().GetArray(name).GetValue(0)
+
+
+def relative(a, b):
+    return np.linalg.norm(a - b) / np.linalg.norm(b)
+
+
+class Sphere(unittest.TestCase):
+    """u = x y, v = 5 z^3 - 3 z on the unit sphere: X = grad u + n x grad v at
+    the points; Laplace u = -6 u, Laplace v = -12 v."""
+
+    @classmethod
+    def setUpClass(cls):
+        s = vtkSphereSource()
+        s.SetThetaResolution(240)
+        s.SetPhiResolution(120)
+        s.SetRadius(1.0)
+        s.Update()
+        mesh = s.GetOutput()
+        p = vtk_to_numpy(mesh.GetPoints().GetData()).astype(float)
+        p /= np.linalg.norm(p, axis=1)[:, None]
+        cls.p = p
+
+        def tangent(g):
+            return g - (g * p).sum(1)[:, None] * p
+        cls.gradient = tangent(np.stack([p[:, 1], p[:, 0], 0 * p[:, 0]], 1))
+        cls.rotated = np.cross(p, tangent(np.stack([0 * p[:, 0], 0 * p[:, 0], 15 * p[:, 2] ** 2 - 3], 1)))
+        # A normal component too: removed and reported.
+        add(mesh, "X", cls.gradient + cls.rotated + 0.5 * p)
+        mesh.GetPointData().SetActiveVectors("X")
+        cls.mesh = mesh
+        cls.out, cls.said = decompose(mesh, "X")
+
+    def test_parts_against_the_analytic_ones(self):
+        a = arrays(self.out)
+        self.assertFalse(self.said.errors or self.said.warnings, self.said.errors + self.said.warnings)
+        self.assertLess(relative(a["CurlFreePart"], self.gradient), 0.01)
+        self.assertLess(relative(a["DivergenceFreePart"], self.rotated), 0.01)
+        self.assertLess(np.linalg.norm(a["HarmonicPart"]), 1e-6 * np.linalg.norm(a["TangentField"]))
+        normal = vtk_to_numpy(self.out.GetPointData().GetArray("NormalComponent"))
+        self.assertLess(np.abs(normal - 0.5).max(), 0.01)
+
+    def test_divergence_curl_and_potentials(self):
+        pd = self.out.GetPointData()
+        u = self.p[:, 0] * self.p[:, 1]
+        v = 5 * self.p[:, 2] ** 3 - 3 * self.p[:, 2]
+        self.assertLess(relative(vtk_to_numpy(pd.GetArray("Divergence")), -6 * u), 0.01)
+        self.assertLess(relative(vtk_to_numpy(pd.GetArray("Curl")), -12 * v), 0.01)
+        potential = vtk_to_numpy(pd.GetArray("Potential"))
+        stream = vtk_to_numpy(pd.GetArray("StreamFunction"))
+        self.assertLess(relative(potential - potential.mean(), u - u.mean()), 0.01)
+        self.assertLess(relative(stream - stream.mean(), v - v.mean()), 0.02)
+
+    def test_parts_sum_and_are_orthogonal(self):
+        a = arrays(self.out)
+        total = a["CurlFreePart"] + a["DivergenceFreePart"] + a["HarmonicPart"]
+        self.assertLess(np.abs(total - a["TangentField"]).max(), 1e-10 * np.abs(a["TangentField"]).max())
+        energy = field_data(self.out, "TangentEnergy")
+        for name in ("CurlFreeDivergenceFreeInnerProduct", "CurlFreeHarmonicInnerProduct",
+                     "DivergenceFreeHarmonicInnerProduct"):
+            self.assertLess(abs(field_data(self.out, name)), 1e-8 * energy, name)
+        self.assertAlmostEqual(field_data(self.out, "CurlFreeEnergy") + field_data(self.out, "DivergenceFreeEnergy")
+                               + field_data(self.out, "HarmonicEnergy"), energy, delta=1e-9 * energy)
+        self.assertEqual(field_data(self.out, "ExcludedTriangles"), 0)
+
+
+class TorusCells(unittest.TestCase):
+    def test_the_rotation_field_is_harmonic(self):
+        p, t = inputs.torus(n=160, m=64, major=1.0, minor=0.4)
+        mesh = inputs.polydata(p, t)
+        c = p[t].mean(axis=1)
+        rho2 = c[:, 0] ** 2 + c[:, 1] ** 2
+        add(mesh, "Flow", np.stack([-c[:, 1], c[:, 0], 0 * c[:, 0]], 1) / rho2[:, None], cells=True)
+        out, said = decompose(mesh, "Flow", association=1)
+        self.assertFalse(said.errors or said.warnings)
+        a = arrays(out, cells=True)
+        self.assertEqual(len(a["HarmonicPart"]), len(t))
+        energy = field_data(out, "TangentEnergy")
+        self.assertGreater(field_data(out, "HarmonicEnergy"), 0.999 * energy)
+        self.assertLess(relative(a["HarmonicPart"], a["TangentField"]), 0.02)
+
+
+class OpenSurfaces(unittest.TestCase):
+    def plane(self):
+        s = vtkPlaneSource()  # quads: triangulated inside, parts per quad
+        s.SetResolution(30, 20)
+        s.Update()
+        mesh = s.GetOutput()
+        c = np.array([mesh.GetCell(k).GetBounds() for k in range(mesh.GetNumberOfCells())])
+        x, y = (c[:, 0] + c[:, 1]) / 2, (c[:, 2] + c[:, 3]) / 2
+        return add(mesh, "V", np.stack([np.sin(3 * y) + x, np.cos(2 * x) - y * x, 0 * x], 1), cells=True)
+
+    def test_both_boundary_conditions(self):
+        mesh = self.plane()
+        for condition in (0, 1):
+            out, said = decompose(mesh, "V", association=1, BoundaryCondition=condition)
+            self.assertFalse(said.errors or said.warnings)
+            a = arrays(out, cells=True)
+            self.assertEqual(len(a["CurlFreePart"]), mesh.GetNumberOfCells())
+            self.assertLess(np.abs(a["CurlFreePart"] + a["DivergenceFreePart"] + a["HarmonicPart"]
+                                   - a["TangentField"]).max(), 1e-10)
+            energy = field_data(out, "TangentEnergy")
+            for name in ("CurlFreeDivergenceFreeInnerProduct", "CurlFreeHarmonicInnerProduct",
+                         "DivergenceFreeHarmonicInnerProduct"):
+                self.assertLess(abs(field_data(out, name)), 1e-8 * energy)
+            # (Harmonic fields with these conditions: 2g + boundary loops - 1, none on a disk.)
+            self.assertLess(field_data(out, "HarmonicEnergy"), 1e-12 * energy, "a disk has no harmonic fields")
+            if condition == 1:
+                p = vtk_to_numpy(out.GetPoints().GetData())
+                edge = (np.abs(np.abs(p[:, 0]) - 0.5) < 1e-9) | (np.abs(np.abs(p[:, 1]) - 0.5) < 1e-9)
+                self.assertLess(np.abs(vtk_to_numpy(out.GetPointData().GetArray("Potential"))[edge]).max(), 1e-12)
+
+
+class BadInput(unittest.TestCase):
+    def test_no_vector_array_is_an_error(self):
+        p, t = inputs.sphere(12)
+        mesh = inputs.with_scalars(inputs.polydata(p, t))
+        for name in (None, "Scalars"):
+            f = vtkSurfaceVectorFieldDecomposition()
+            said = inputs.Messages(f, f.GetExecutive())
+            f.SetInputData(mesh)
+            if name:
+                f.SetInputArrayToProcess(0, 0, 0, 0, name)
+            f.Update()
+            self.assertTrue(said.errors and "3 components" in said.errors[0], said.errors)
+
+    def test_non_manifold_triangles_are_left_out(self):
+        p, t = inputs.sphere(16)
+        fin = len(p)
+        p = np.vstack([p, [[0.0, 0.0, 3.0]]])
+        t = np.vstack([t, [[t[0][0], t[0][1], fin]]])  # a third triangle on an edge
+        mesh = inputs.with_vectors(inputs.polydata(p, t))
+        out, said = decompose(mesh, "Vectors")
+        self.assertTrue(any("left out" in w for w in said.warnings), said.warnings)
+        excluded = field_data(out, "ExcludedTriangles")
+        self.assertGreater(excluded, 0)
+        self.assertLess(excluded, 50)  # the triangles at the edge's two points (one a pole)
+        parts = arrays(out)["HarmonicPart"]
+        self.assertTrue(np.isnan(parts[fin]).all())
+        self.assertGreater(np.isfinite(parts[:, 0]).sum(), len(p) - 20)
+
+    def test_nan_vectors_count_as_zero(self):
+        p, t = inputs.sphere(16)
+        mesh = inputs.with_vectors(inputs.polydata(p, t))
+        vtk_to_numpy(mesh.GetPointData().GetArray("Vectors"))[5] = np.nan
+        out, said = decompose(mesh, "Vectors")
+        self.assertFalse(said.errors)
+        self.assertTrue(np.isfinite(arrays(out)["CurlFreePart"]).all())
+
+
+if __name__ == "__main__":
+    result = unittest.main(exit=False, verbosity=2).result
+    sys.exit(0 if result.wasSuccessful() else 1)
