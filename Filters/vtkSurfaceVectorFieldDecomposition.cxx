@@ -278,6 +278,7 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
   AddScalar(fd, "DivergenceFreeHarmonicInnerProduct", r.InnerProducts[2]);
   AddScalar(fd, "ExcludedTriangles", static_cast<double>(whole.NumberOfTriangles() - topo.NumberOfTriangles()));
   AddScalar(fd, "SolverIterations", r.Iterations);
+  AddScalar(fd, "SolverResidual", r.Residual);
   return true;
 }
 

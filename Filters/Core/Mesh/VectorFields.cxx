@@ -4,6 +4,8 @@
 #include "Mesh/Laplacian.h"
 #include "Mesh/RingGeometry.h"
 #include "Solvers/GraphSolvers.h"
+#include "Solvers/NestedDissection.h"
+#include "Solvers/SparseFactorization.h"
 #include "Support/DisjointSets.h"
 
 #include <Eigen/Geometry>
@@ -115,10 +117,82 @@ struct Poisson
   const GraphLaplacian& Laplacian;
   std::vector<std::uint8_t> Fixed;      ///< boundary conditions and rows without coupling
   const std::vector<Index>& Component;  ///< per row: its component's id (a vertex id)
+  const double* Positions;              ///< 3 per row: where the unknown lives (the elimination order's)
 };
 
-std::vector<double> SolvePoisson(Poisson& p, const std::vector<double>& b, double scale,
-  const VectorFieldOptions& o, VectorFieldDecomposition& r)
+/// K x = b by a sparse Cholesky factorization in nested-dissection order
+/// (the fixed rows identity rows); false if the factorization fails.
+bool SolveDirectly(const Poisson& p, const std::vector<double>& b, int threads, std::vector<double>& x)
+{
+  const GraphLaplacian& l = p.Laplacian;
+  const Index n = l.NumberOfVertices;
+  std::vector<int> outer(static_cast<std::size_t>(n) + 1, 0), inner;
+  std::vector<double> values;
+  inner.reserve(static_cast<std::size_t>(l.Offsets[n]) + n);
+  values.reserve(inner.capacity());
+  for (Index i = 0; i < n; ++i) // column i (symmetric): the free neighbours and the diagonal, ascending
+  {
+    bool diagonal = false;
+    for (std::int64_t k = l.Offsets[i]; !p.Fixed[i] && k < l.Offsets[i + 1]; ++k)
+    {
+      const Index j = l.Neighbors[k];
+      if (!diagonal && j > i)
+      {
+        inner.push_back(i);
+        values.push_back(2.0 * l.Diagonal[i]);
+        diagonal = true;
+      }
+      if (!p.Fixed[j])
+      {
+        inner.push_back(j);
+        values.push_back(-2.0 * l.Weights[k]);
+      }
+    }
+    if (!diagonal)
+    {
+      inner.push_back(i);
+      values.push_back(p.Fixed[i] ? 1.0 : 2.0 * l.Diagonal[i]);
+    }
+    outer[i + 1] = static_cast<int>(inner.size());
+  }
+  const SparseFactorization::MatrixView a(n, n, static_cast<Eigen::Index>(inner.size()), outer.data(), inner.data(),
+    values.data());
+  const std::vector<Index> order = NestedDissectionOrder(n, l.Offsets, l.Neighbors, p.Positions, threads);
+  SparseFactorization factor;
+  if (!factor.Compute(a, true, std::vector<int>(order.begin(), order.end()), false, threads))
+  {
+    return false;
+  }
+  Eigen::MatrixXd rhs(n, 1);
+  for (Index i = 0; i < n; ++i)
+  {
+    rhs(i, 0) = p.Fixed[i] ? 0.0 : b[i];
+  }
+  const Eigen::MatrixXd solution = factor.Solve(rhs);
+  x.assign(solution.data(), solution.data() + n);
+  return x.size() == static_cast<std::size_t>(n) && std::all_of(x.begin(), x.end(), [](double v) { return std::isfinite(v); });
+}
+
+/// The relative residual of K x = b on the free rows.
+double RelativeResidual(const Poisson& p, const std::vector<double>& b, const std::vector<double>& x, int threads)
+{
+  std::vector<double> y(x.size());
+  p.Laplacian.ApplyStiffness(x.data(), y.data(), 1, threads);
+  double r = 0.0, size = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i)
+  {
+    if (!p.Fixed[i])
+    {
+      r += (2.0 * y[i] - b[i]) * (2.0 * y[i] - b[i]);
+      size += b[i] * b[i];
+    }
+  }
+  return size > 0.0 ? std::sqrt(r / size) : std::sqrt(r);
+}
+
+/// Pins one row in each component that no fixed row anchors; returns the
+/// pinned components (1 per component id).
+std::vector<std::uint8_t> PinFloatingComponents(Poisson& p)
 {
   const Index n = p.Laplacian.NumberOfVertices;
   std::vector<std::uint8_t> anchored(p.Component.size(), 0), floating(p.Component.size(), 0);
@@ -134,27 +208,17 @@ std::vector<double> SolvePoisson(Poisson& p, const std::vector<double>& b, doubl
     const Index c = p.Component[i];
     if (!anchored[c] && p.Laplacian.Diagonal[i] > 0.0)
     {
-      anchored[c] = floating[c] = 1; // pinned: a floating component
+      anchored[c] = floating[c] = 1;
       p.Fixed[i] = 1;
     }
   }
-  std::vector<double> x(n, 0.0);
-  if (std::all_of(p.Fixed.begin(), p.Fixed.end(), [](std::uint8_t f) { return f != 0; }))
-  {
-    return x; // nothing to solve (no triangle with area)
-  }
-  ShiftedLaplacianProblem pb = p.Laplacian.Problem(1);
-  pb.Factor = 2.0;
-  pb.Fixed = p.Fixed.data();
-  pb.Scale.assign(1, scale);
-  pb.Tolerance = o.Tolerance;
-  pb.MaximumIterations = 20000;
-  pb.NumberOfThreads = o.NumberOfThreads;
-  pb.Preconditioner = o.Preconditioner;
-  const ConjugateGradientResult result = SolveShiftedLaplacian(pb, b.data(), x.data());
-  r.Iterations += result.Iterations;
-  r.Converged = r.Converged && result.Converged;
-  // Zero mean (mass-weighted) on the floating components.
+  return floating;
+}
+
+/// Zero mean (mass-weighted) on the floating components.
+void RemoveMeans(const Poisson& p, const std::vector<std::uint8_t>& floating, std::vector<double>& x)
+{
+  const Index n = p.Laplacian.NumberOfVertices;
   std::vector<double> sum(p.Component.size(), 0.0), mass(p.Component.size(), 0.0);
   for (Index i = 0; i < n; ++i)
   {
@@ -169,6 +233,43 @@ std::vector<double> SolvePoisson(Poisson& p, const std::vector<double>& b, doubl
       x[i] -= sum[c] / mass[c];
     }
   }
+}
+
+/// The direct solve; where it fails or misses the tolerance, conjugate
+/// gradients preconditioned by multigrid (from zero).
+std::vector<double> SolvePoisson(Poisson& p, const std::vector<double>& b, double scale,
+  const VectorFieldOptions& o, VectorFieldDecomposition& r)
+{
+  const Index n = p.Laplacian.NumberOfVertices;
+  const std::vector<std::uint8_t> floating = PinFloatingComponents(p);
+  std::vector<double> x(n, 0.0);
+  if (std::all_of(p.Fixed.begin(), p.Fixed.end(), [](std::uint8_t f) { return f != 0; }))
+  {
+    return x; // nothing to solve (no triangle with area)
+  }
+  double residual = 1.0;
+  if (SolveDirectly(p, b, o.NumberOfThreads, x))
+  {
+    residual = RelativeResidual(p, b, x, o.NumberOfThreads);
+  }
+  if (!(residual <= o.Tolerance))
+  {
+    std::fill(x.begin(), x.end(), 0.0);
+    ShiftedLaplacianProblem pb = p.Laplacian.Problem(1);
+    pb.Factor = 2.0;
+    pb.Fixed = p.Fixed.data();
+    pb.Scale.assign(1, scale);
+    pb.Tolerance = o.Tolerance;
+    pb.MaximumIterations = 20000;
+    pb.NumberOfThreads = o.NumberOfThreads;
+    pb.Preconditioner = Preconditioning::Multigrid;
+    const ConjugateGradientResult result = SolveShiftedLaplacian(pb, b.data(), x.data());
+    r.Iterations += result.Iterations;
+    r.Converged = r.Converged && result.Converged;
+    residual = RelativeResidual(p, b, x, o.NumberOfThreads);
+  }
+  r.Residual = std::max(r.Residual, residual);
+  RemoveMeans(p, floating, x);
   return x;
 }
 
@@ -202,7 +303,7 @@ void CurlFreePart(const MeshTopology& topo, const double* points, const Triangle
       r.Curl[i] = area > 0.0 ? circulation / area : std::numeric_limits<double>::quiet_NaN();
     }
   });
-  Poisson p{ lap, std::vector<std::uint8_t>(nv, 0), component };
+  Poisson p{ lap, std::vector<std::uint8_t>(nv, 0), component, points };
   for (Index i = 0; i < nv; ++i)
   {
     const bool boundary = (topo.VertexFlags(i) & VertexBoundary) != 0;
@@ -242,7 +343,8 @@ void DivergenceFreePart(const MeshTopology& topo, const double* points, const Tr
   AssembleNonconformingLaplacian(topo, graph, points, lap, o.NumberOfThreads);
   std::vector<double> b(ne, 0.0);
   std::vector<Index> component(ne);
-  Poisson p{ lap, std::vector<std::uint8_t>(ne, 0), component };
+  std::vector<double> midpoints(3 * static_cast<std::size_t>(ne));
+  Poisson p{ lap, std::vector<std::uint8_t>(ne, 0), component, midpoints.data() };
   ParallelFor(ne, o.NumberOfThreads, [&](std::int64_t begin, std::int64_t end) {
     for (Index e = static_cast<Index>(begin); e < end; ++e)
     {
@@ -254,7 +356,9 @@ void DivergenceFreePart(const MeshTopology& topo, const double* points, const Tr
           b[e] += Vec3(&r.Tangent[3 * static_cast<std::int64_t>(c / 3)]).dot(Side(points, tri, c));
         }
       }
-      component[e] = vertexComponent[edges.Vertices[2 * static_cast<std::int64_t>(e)]];
+      const Index a = edges.Vertices[2 * static_cast<std::int64_t>(e)], c = edges.Vertices[2 * static_cast<std::int64_t>(e) + 1];
+      component[e] = vertexComponent[a];
+      Store(&midpoints[3 * static_cast<std::size_t>(e)], 0.5 * (Point(points, a) + Point(points, c)));
       const bool boundary = edges.FaceCount[e] == 1;
       p.Fixed[e] = !(lap.Diagonal[e] > 0.0) || edges.FaceCount[e] > 2 ||
         (boundary && o.Boundary == VectorFieldBoundary::TangentDivergenceFree);
