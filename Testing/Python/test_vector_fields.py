@@ -122,6 +122,34 @@ class TorusCells(unittest.TestCase):
         self.assertLess(relative(a["HarmonicPart"], a["TangentField"]), 0.02)
 
 
+class LatitudeLongitudeGrid(unittest.TestCase):
+    """A global grid as climate data come: the seam at 0 and 360
+    degrees and the poles' copies computed with sines and cosines (apart by
+    round-off): welded, then decomposed as the sphere it is."""
+
+    def test_the_seam_and_poles_are_welded(self):
+        nlon, nlat = 144, 73  # 2.5 degrees
+        lon, lat = np.meshgrid(np.radians(np.linspace(0, 360, nlon + 1)), np.radians(np.linspace(-90, 90, nlat)),
+                               indexing="ij")
+        p = np.stack([np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)], -1).reshape(-1, 3)
+        i, j = np.meshgrid(np.arange(nlon), np.arange(nlat - 1), indexing="ij")
+        a, b, c, d = i * nlat + j, (i + 1) * nlat + j, (i + 1) * nlat + j + 1, i * nlat + j + 1
+        mesh = inputs.polydata(p, np.concatenate([np.stack([a, b, c], -1), np.stack([a, c, d], -1)]).reshape(-1, 3))
+        east = np.stack([-np.sin(lon), np.cos(lon), 0 * lon], -1).reshape(-1, 3)
+        gradient = np.stack([p[:, 1], p[:, 0], 0 * p[:, 0]], 1)
+        gradient -= (gradient * p).sum(1)[:, None] * p
+        rotation = np.cos(lat).reshape(-1)[:, None] * east  # solid rotation: the stream function of z
+        add(mesh, "wind", gradient + rotation)
+        out, said = decompose(mesh, "wind")
+        self.assertTrue(any("merged" in w for w in said.warnings), said.warnings)
+        a = arrays(out)
+        self.assertLess(relative(a["CurlFreePart"], gradient), 0.02)
+        self.assertLess(relative(a["DivergenceFreePart"], rotation), 0.02)
+        self.assertLess(np.linalg.norm(a["HarmonicPart"]), 1e-8 * np.linalg.norm(a["TangentField"]))
+        curl = vtk_to_numpy(out.GetPointData().GetArray("Curl"))
+        self.assertLess(relative(curl, 2 * p[:, 2]), 0.01)
+
+
 class OpenSurfaces(unittest.TestCase):
     def plane(self):
         s = vtkPlaneSource()  # quads: triangulated inside, parts per quad

@@ -1,54 +1,105 @@
 #include "Mesh/SurfaceRepair.h"
 
 #include "Mesh/Geometry.h"
+#include "Support/DisjointSets.h"
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <limits>
+#include <map>
 #include <numeric>
 
 namespace beltrami
 {
 
+namespace
+{
+
+/// The distance below which two boundary points count as one: a small
+/// fraction of the extent, or a few units in the last place of the
+/// coordinates' type (float data computed in float).
+template <typename T>
+double CoincidenceTolerance(const MeshTopology& topology, const T* points)
+{
+  Eigen::AlignedBox3d box;
+  double largest = 0.0;
+  for (Index v = 0; v < topology.NumberOfVertices(); ++v)
+  {
+    const Vec3 x(points[3 * static_cast<std::size_t>(v)], points[3 * static_cast<std::size_t>(v) + 1],
+      points[3 * static_cast<std::size_t>(v) + 2]);
+    if (topology.Valence(v) > 0 && x.allFinite())
+    {
+      box.extend(x);
+      largest = std::max(largest, x.cwiseAbs().maxCoeff());
+    }
+  }
+  if (box.isEmpty())
+  {
+    return 0.0;
+  }
+  return std::max(NearlyCoincident * box.diagonal().norm(),
+    8.0 * static_cast<double>(std::numeric_limits<T>::epsilon()) * largest);
+}
+
+} // namespace
+
 template <typename T>
 std::vector<Index> CoincidentBoundaryPoints(const MeshTopology& topology, const T* points, Index& merged)
 {
   merged = 0;
-  std::vector<Index> candidates;
-  for (Index v = 0; v < topology.NumberOfVertices(); ++v)
-  {
-    if ((topology.VertexFlags(v) & VertexBoundary) != 0)
-    {
-      candidates.push_back(v);
-    }
-  }
   const auto at = [points](Index v) {
     const T* x = points + 3 * static_cast<std::size_t>(v);
-    return std::array<T, 3>{ x[0], x[1], x[2] };
+    return Vec3(x[0], x[1], x[2]);
   };
-  // Sorted by coordinates, then id: equal points are neighbours, the lowest id first.
-  std::sort(candidates.begin(), candidates.end(), [&at](Index a, Index b) {
-    const auto pa = at(a), pb = at(b);
-    return pa != pb ? pa < pb : a < b;
-  });
-  std::vector<Index> merge;
-  for (std::size_t k = 1; k < candidates.size(); ++k)
+  const double tolerance = CoincidenceTolerance(topology, points);
+  // The boundary points in cells of the tolerance's size: near points are in
+  // the same cell or a neighbouring one.
+  using Cell = std::array<std::int64_t, 3>;
+  std::map<Cell, std::vector<Index>> cells;
+  const auto cellOf = [tolerance](const Vec3& x) {
+    return Cell{ static_cast<std::int64_t>(std::floor(x[0] / tolerance)),
+      static_cast<std::int64_t>(std::floor(x[1] / tolerance)), static_cast<std::int64_t>(std::floor(x[2] / tolerance)) };
+  };
+  const bool finiteCells = tolerance > 0.0 && std::isfinite(tolerance);
+  for (Index v = 0; finiteCells && v < topology.NumberOfVertices(); ++v)
   {
-    std::size_t first = k - 1;
-    while (k < candidates.size() && at(candidates[k]) == at(candidates[first]))
+    if ((topology.VertexFlags(v) & VertexBoundary) != 0 && at(v).allFinite() &&
+      (at(v).cwiseAbs().array() / tolerance < 1e15).all())
     {
-      if (merge.empty())
-      {
-        merge.resize(static_cast<std::size_t>(topology.NumberOfVertices()));
-        std::iota(merge.begin(), merge.end(), Index(0));
-      }
-      merge[candidates[k]] = candidates[first];
-      ++merged;
-      ++k;
+      cells[cellOf(at(v))].push_back(v);
     }
   }
-  return merge;
+  // Near points joined (union-find, the lowest id the root).
+  std::vector<Index> merge(static_cast<std::size_t>(topology.NumberOfVertices()));
+  std::iota(merge.begin(), merge.end(), Index(0));
+  for (const auto& [cell, members] : cells)
+  {
+    for (const Index v : members)
+    {
+      for (int n = 0; n < 27; ++n)
+      {
+        const Cell near{ cell[0] + n % 3 - 1, cell[1] + n / 3 % 3 - 1, cell[2] + n / 9 - 1 };
+        const auto found = cells.find(near);
+        for (const Index w : found == cells.end() ? std::vector<Index>() : found->second)
+        {
+          if (w > v && (at(v) - at(w)).norm() <= tolerance)
+          {
+            const Index a = FindRoot(merge, v), b = FindRoot(merge, w);
+            merge[std::max(a, b)] = std::min(a, b);
+          }
+        }
+      }
+    }
+  }
+  for (Index v = 0; v < topology.NumberOfVertices(); ++v)
+  {
+    merge[v] = FindRoot(merge, v);
+    merged += merge[v] != v;
+  }
+  return merged ? merge : std::vector<Index>();
 }
 
 template std::vector<Index> CoincidentBoundaryPoints<float>(const MeshTopology&, const float*, Index&);

@@ -17,11 +17,19 @@
 namespace beltrami
 {
 
+/// Boundary points closer than this fraction of the bounding box's diagonal
+/// (or than 8 units in the last place of the coordinates' type) are one:
+/// the seam of a latitude-longitude grid whose points at 0 and 360 degrees
+/// were computed with sines and cosines differs by 1e-16, and float data
+/// computed in float by 1e-7.
+constexpr double NearlyCoincident = 1e-10;
+
 /// For every point, the point it is merged into (itself when kept): the
-/// boundary points of `topology` whose coordinates (3 per point) are exactly
-/// equal map to the lowest id among them.  Points inside the surface are
-/// never merged (a surface that touches itself stays as it is).  Empty when
-/// nothing is merged.  `merged` gets the number of points merged away.
+/// boundary points of `topology` that coincide (within NearlyCoincident,
+/// joined transitively) map to the lowest id among them.  Points inside the
+/// surface are never merged (a surface that touches itself stays as it is).
+/// Empty when nothing is merged.  `merged` gets the number of points merged
+/// away.
 template <typename T>
 std::vector<Index> CoincidentBoundaryPoints(const MeshTopology& topology, const T* points, Index& merged);
 

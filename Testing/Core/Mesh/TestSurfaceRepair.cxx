@@ -53,6 +53,25 @@ TEST(SurfaceRepair, SoupIsWeldedIntoTheClosedSphere)
   }
 }
 
+TEST(SurfaceRepair, NearlyCoincidentPointsAreWeldedAndDistinctOnesKept)
+{
+  // The soup's copies of a point moved by round-off (1e-14, a seam computed
+  // with sines and cosines) are welded; moved by 1e-7 of the diagonal (a
+  // real gap) they are not.
+  const test::Mesh sphere = test::OctahedronSphere(2);
+  for (const double shift : { 1e-14, 1e-7 })
+  {
+    test::Mesh soup = Soup(sphere);
+    for (std::size_t k = 0; k < soup.Points.size(); k += 3)
+    {
+      soup.Points[k] += shift * static_cast<double>(k / 3); // every copy apart from the others
+    }
+    Index merged = 0;
+    const std::vector<Index> merge = CoincidentBoundaryPoints(soup.Topology(), soup.Points.data(), merged);
+    EXPECT_EQ(merged, shift < 1e-10 ? soup.NumberOfVertices() - sphere.NumberOfVertices() : 0) << shift;
+  }
+}
+
 TEST(SurfaceRepair, InteriorPointsAreNeverMerged)
 {
   // Two closed spheres that touch where a point of each coincides: nothing to weld.
