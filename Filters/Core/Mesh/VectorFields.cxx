@@ -329,16 +329,121 @@ void CurlFreePart(const MeshTopology& topo, const double* points, const Triangle
   });
 }
 
-/// The divergence-free part: the nonconforming stream function v and
-/// J grad v = sum_k v_k e_k / A per triangle.
-void DivergenceFreePart(const MeshTopology& topo, const double* points, const TriangleFrames& f,
+/// Whether every component is closed, manifold, oriented and of genus 0
+/// (Euler characteristic 2), without zero-area triangles: no harmonic fields.
+bool ClosedGenusZero(const MeshTopology& topo, const std::vector<Index>& component, Index degenerate)
+{
+  const TopologySummary& s = topo.Summary();
+  if (!s.IsClosed() || !s.IsManifold() || !s.IsOriented() || degenerate > 0)
+  {
+    return false;
+  }
+  const MeshTopology::EdgeTable& edges = topo.Edges();
+  std::vector<std::int64_t> euler(component.size(), 0); // by component id
+  for (Index v = 0; v < topo.NumberOfVertices(); ++v)
+  {
+    euler[component[v]] += topo.Valence(v) > 0;
+  }
+  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
+  {
+    --euler[component[edges.Vertices[2 * e]]];
+  }
+  for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
+  {
+    ++euler[component[topo.TriangleList()[3 * static_cast<std::int64_t>(t)]]];
+  }
+  for (Index v = 0; v < topo.NumberOfVertices(); ++v)
+  {
+    if (component[v] == v && topo.Valence(v) > 0 && euler[v] != 2)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+/// On closed genus-0 components the rest X - grad u is all divergence-free:
+/// its stream function (grad v = J^T (X - grad u) = -n x (X - grad u) on each
+/// triangle) by integration from edge midpoint to edge midpoint, breadth
+/// first over the triangles from one edge per component, then zero mean.
+std::vector<double> IntegrateStreamFunction(const MeshTopology& topo, const double* points, const TriangleFrames& f,
+  const EdgeGraph& graph, const VectorFieldDecomposition& r)
+{
+  const MeshTopology::EdgeTable& edges = topo.Edges();
+  const IndexArray& tri = topo.TriangleList();
+  const Index nt = topo.NumberOfTriangles();
+  std::vector<double> v(static_cast<std::size_t>(edges.NumberOfEdges()), 0.0);
+  std::vector<std::uint8_t> known(v.size(), 0), visited(nt, 0);
+  const auto midpoint = [&](Index c) -> Vec3 { // (a Vec3, not an expression of temporaries)
+    return 0.5 * (Point(points, tri[MeshTopology::Next(c)]) + Point(points, tri[MeshTopology::Prev(c)]));
+  };
+  std::vector<Index> queue, members;
+  for (Index start = 0; start < nt; ++start)
+  {
+    if (visited[start])
+    {
+      continue;
+    }
+    known[graph.TriangleEdges[3 * static_cast<std::int64_t>(start)]] = 1;
+    visited[start] = 1;
+    queue.assign(1, start);
+    members.clear();
+    for (std::size_t q = 0; q < queue.size(); ++q)
+    {
+      const std::int64_t t = queue[q];
+      const Vec3 n(&f.Normals[3 * t]);
+      const Vec3 gradient = -n.cross(Vec3(&r.Tangent[3 * t]) - Vec3(&r.CurlFree[3 * t]));
+      Index from = static_cast<Index>(3 * t);
+      while (!known[graph.TriangleEdges[from]])
+      {
+        ++from;
+      }
+      for (Index c = static_cast<Index>(3 * t); c < 3 * t + 3; ++c)
+      {
+        const Index e = graph.TriangleEdges[c];
+        if (!known[e])
+        {
+          v[e] = v[graph.TriangleEdges[from]] + gradient.dot(midpoint(c) - midpoint(from));
+          known[e] = 1;
+          members.push_back(e);
+        }
+        for (int s = 0; s < 2; ++s)
+        {
+          const Index across = edges.OppositeCorners[2 * static_cast<std::int64_t>(e) + s] / 3;
+          if (!visited[across])
+          {
+            visited[across] = 1;
+            queue.push_back(across);
+          }
+        }
+      }
+    }
+    // Zero mean over the component (the lumped mass: a third of each triangle per edge).
+    double sum = 0.0, mass = 0.0;
+    for (const Index t : queue)
+    {
+      for (Index c = 3 * t; c < 3 * t + 3; ++c)
+      {
+        sum += f.Areas[t] / 3.0 * v[graph.TriangleEdges[c]];
+        mass += f.Areas[t] / 3.0;
+      }
+    }
+    members.push_back(graph.TriangleEdges[3 * static_cast<std::int64_t>(start)]);
+    for (const Index e : members)
+    {
+      v[e] -= sum / mass;
+    }
+  }
+  return v;
+}
+
+/// The nonconforming stream function by its Poisson system.
+std::vector<double> SolveStreamFunction(const MeshTopology& topo, const double* points, const EdgeGraph& graph,
   const std::vector<Index>& vertexComponent, double scale, const VectorFieldOptions& o, VectorFieldDecomposition& r)
 {
   const MeshTopology::EdgeTable& edges = topo.Edges();
   const IndexArray& tri = topo.TriangleList();
   const Index ne = static_cast<Index>(edges.NumberOfEdges());
-  EdgeGraph graph;
-  graph.Build(topo);
   GraphLaplacian lap;
   AssembleNonconformingLaplacian(topo, graph, points, lap, o.NumberOfThreads);
   std::vector<double> b(ne, 0.0);
@@ -364,7 +469,21 @@ void DivergenceFreePart(const MeshTopology& topo, const double* points, const Tr
         (boundary && o.Boundary == VectorFieldBoundary::TangentDivergenceFree);
     }
   });
-  r.StreamFunction = SolvePoisson(p, b, scale, o, r);
+  return SolvePoisson(p, b, scale, o, r);
+}
+
+/// The divergence-free part: the nonconforming stream function v (solved,
+/// or integrated where there are no harmonic fields) and J grad v =
+/// sum_k v_k e_k / A per triangle.
+void DivergenceFreePart(const MeshTopology& topo, const double* points, const TriangleFrames& f,
+  const std::vector<Index>& vertexComponent, double scale, const VectorFieldOptions& o, VectorFieldDecomposition& r)
+{
+  const IndexArray& tri = topo.TriangleList();
+  EdgeGraph graph;
+  graph.Build(topo);
+  r.StreamFunction = o.Integrate && ClosedGenusZero(topo, vertexComponent, r.DegenerateTriangles)
+    ? IntegrateStreamFunction(topo, points, f, graph, r)
+    : SolveStreamFunction(topo, points, graph, vertexComponent, scale, o, r);
   r.DivergenceFree.assign(r.Tangent.size(), 0.0);
   ParallelFor(topo.NumberOfTriangles(), o.NumberOfThreads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t t = begin; t < end; ++t)

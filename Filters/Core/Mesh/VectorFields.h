@@ -13,6 +13,9 @@
 //   the triangle's normal): v nonconforming (one value per edge midpoint,
 //   Laplacian.h's EdgeGraph), the fit of J^T X the same way;
 // - H, the harmonic part: the remainder, divergence- and curl-free.
+// Where there are no harmonic fields (every component closed and of genus
+// 0), X - grad u is all of J grad v: v is then integrated across the
+// triangles instead of solved (VectorFieldOptions::Integrate).
 // grad u and J grad v are exactly orthogonal (on each edge u is continuous
 // and v's mean is shared), so both fits are the orthogonal projections and
 // on a closed surface of genus g the harmonic fields span exactly 2g
@@ -65,6 +68,11 @@ struct VectorFieldOptions
   VectorFieldBoundary Boundary = VectorFieldBoundary::TangentDivergenceFree;
   /// Relative residual of the two Poisson solves.
   double Tolerance = 1e-10;
+  /// Where every component is closed and of genus 0 (no harmonic fields),
+  /// X - grad u is all divergence-free and its stream function is
+  /// integrated across the triangles instead of solved (the same to the
+  /// first solve's accuracy, in a fraction of the time); false: solved.
+  bool Integrate = true;
   int NumberOfThreads = 0;
 };
 

@@ -287,6 +287,49 @@ TEST(VectorFields, DiscreteGradientsAndRotatedGradientsAreRecoveredExactly)
   EXPECT_LT(divergence, 1e-10 * gDivergence);
 }
 
+TEST(VectorFields, IntegratedStreamFunctionEqualsTheSolvedOne)
+{
+  // Two closed genus-0 components (no harmonic fields): the stream function
+  // integrated across the triangles is the solved one.
+  test::Mesh m = test::OctahedronSphere(4);
+  const test::Mesh other = test::OctahedronSphere(3, 0.5);
+  const Index offset = m.NumberOfVertices();
+  for (Index v = 0; v < other.NumberOfVertices(); ++v)
+  {
+    m.AddPoint(other.Point(v) + Eigen::Vector3d(3, 0, 0));
+  }
+  for (const Index v : other.Triangles)
+  {
+    m.Triangles.push_back(v + offset);
+  }
+  std::vector<double> field(m.Triangles.size());
+  std::mt19937 rng(12);
+  std::normal_distribution<double> normal;
+  for (double& x : field)
+  {
+    x = normal(rng);
+  }
+  const MeshTopology topo = m.Topology();
+  VectorFieldOptions o;
+  VectorFieldDecomposition integrated, solved;
+  DecomposeVectorField(topo, m.Points.data(), field.data(), o, integrated);
+  o.Integrate = false;
+  DecomposeVectorField(topo, m.Points.data(), field.data(), o, solved);
+  double difference = 0.0, size = 0.0;
+  for (std::size_t e = 0; e < solved.StreamFunction.size(); ++e)
+  {
+    difference = std::max(difference, std::abs(integrated.StreamFunction[e] - solved.StreamFunction[e]));
+    size = std::max(size, std::abs(solved.StreamFunction[e]));
+  }
+  EXPECT_LT(difference, 1e-9 * size);
+  EXPECT_LT(integrated.Energy[3], 1e-18 * integrated.Energy[0]);
+  EXPECT_NEAR(integrated.Energy[2], solved.Energy[2], 1e-9 * solved.Energy[0]);
+  for (const double inner : integrated.InnerProducts)
+  {
+    EXPECT_LT(std::abs(inner), 1e-9 * integrated.Energy[0]);
+  }
+}
+
 TEST(VectorFields, OpenSurfacesKeepOrthogonalityUnderBothBoundaryConditions)
 {
   const test::Mesh m = test::Cylinder(0.5, 1.5, 40, 30);
