@@ -85,6 +85,10 @@ std::unique_ptr<beltrami::MeshTopology> ManifoldPart(
         triangles.insert(triangles.end(), v, v + 3);
       }
     }
+    if (next.size() == kept.size())
+    {
+      break; // (nothing left to remove: cannot happen, defects are flagged on triangles' vertices)
+    }
     kept.swap(next);
     part = std::make_unique<beltrami::MeshTopology>(topo.NumberOfVertices(), std::move(triangles), threads);
     current = part.get();
