@@ -19,6 +19,7 @@
 #include <vtkPolyData.h>
 
 #include <cmath>
+#include <cstring>
 #include <exception>
 #include <limits>
 #include <memory>
@@ -30,7 +31,18 @@ BELTRAMI_SAME_ENUM(vtkSurfaceVectorFieldDecomposition::NORMAL_CURL_FREE, beltram
 
 vtkStandardNewMacro(vtkSurfaceVectorFieldDecomposition);
 
+struct vtkSurfaceVectorFieldDecomposition::vtkPrepared
+{
+  std::uint64_t Key = 0;    ///< of the last run's surface and settings
+  std::vector<double> Points; ///< the prepared decomposition's own copies
+  std::unique_ptr<beltrami::MeshTopology> Topology;
+  std::unique_ptr<beltrami::VectorFieldDecomposer> Decomposer;
+};
+
+vtkSurfaceVectorFieldDecomposition::~vtkSurfaceVectorFieldDecomposition() = default;
+
 vtkSurfaceVectorFieldDecomposition::vtkSurfaceVectorFieldDecomposition()
+  : Prepared(std::make_unique<vtkPrepared>())
 {
   beltrami::VectorFieldOptions defaults;
   this->CopySettings(defaults, vtkBeltramiCopy::FromCore);
@@ -94,6 +106,28 @@ std::unique_ptr<beltrami::MeshTopology> ManifoldPart(
     current = part.get();
   }
   return part;
+}
+
+/// A 64-bit hash of the surface (its points and triangles) and the settings.
+std::uint64_t SurfaceKey(const beltrami::MeshTopology& topo, const double* points, const beltrami::VectorFieldOptions& o)
+{
+  std::uint64_t h = 1469598103934665603ull;
+  const auto mix = [&h](std::uint64_t word) {
+    h ^= word + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+  };
+  mix(static_cast<std::uint64_t>(topo.NumberOfVertices()));
+  mix(static_cast<std::uint64_t>(o.Boundary));
+  for (std::int64_t k = 0; k < 3 * static_cast<std::int64_t>(topo.NumberOfVertices()); ++k)
+  {
+    std::uint64_t word;
+    std::memcpy(&word, points + k, sizeof word);
+    mix(word);
+  }
+  for (const beltrami::Index v : topo.TriangleList())
+  {
+    mix(static_cast<std::uint64_t>(v));
+  }
+  return h;
 }
 
 void AddScalar(vtkFieldData* fd, const char* name, double value)
@@ -249,10 +283,36 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
   beltrami::VectorFieldOptions options;
   this->CopySettings(options, vtkBeltramiCopy::ToCore);
   beltrami::VectorFieldDecomposition r;
+  bool reused = false;
   this->UpdateProgress(0.0);
   try
   {
-    beltrami::DecomposeVectorField(topo, points, vectors.data(), options, r);
+    // A surface seen twice in a row is prepared once and kept (the
+    // factorizations); a single run keeps nothing.
+    const std::uint64_t key = SurfaceKey(topo, points, options);
+    vtkPrepared& prepared = *this->Prepared;
+    reused = key == prepared.Key && prepared.Decomposer;
+    if (key == prepared.Key && !prepared.Decomposer)
+    {
+      prepared.Points.assign(points, points + 3 * static_cast<std::size_t>(topo.NumberOfVertices()));
+      prepared.Topology = std::make_unique<beltrami::MeshTopology>(
+        topo.NumberOfVertices(), beltrami::IndexArray(topo.TriangleList()), threads);
+      prepared.Decomposer =
+        std::make_unique<beltrami::VectorFieldDecomposer>(*prepared.Topology, prepared.Points.data(), options);
+    }
+    else if (key != prepared.Key)
+    {
+      prepared = vtkPrepared();
+      prepared.Key = key;
+    }
+    if (prepared.Decomposer)
+    {
+      prepared.Decomposer->Decompose(vectors.data(), r);
+    }
+    else
+    {
+      beltrami::DecomposeVectorField(topo, points, vectors.data(), options, r);
+    }
   }
   catch (const std::exception& e)
   {
@@ -283,6 +343,7 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
   AddScalar(fd, "ExcludedTriangles", static_cast<double>(whole.NumberOfTriangles() - topo.NumberOfTriangles()));
   AddScalar(fd, "SolverIterations", r.Iterations);
   AddScalar(fd, "SolverResidual", r.Residual);
+  AddScalar(fd, "PreparedSystemsReused", reused ? 1.0 : 0.0);
   return true;
 }
 

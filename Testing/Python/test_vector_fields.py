@@ -150,6 +150,33 @@ class LatitudeLongitudeGrid(unittest.TestCase):
         self.assertLess(relative(curl, 2 * p[:, 2]), 0.01)
 
 
+class TimeSteps(unittest.TestCase):
+    """Fields on a fixed mesh, one after the other (time steps): from the
+    third run on the factorized systems are reused, with the numbers of a
+    filter that decomposes each field from scratch; a changed mesh or
+    setting prepares anew."""
+
+    def test_prepared_systems_are_reused_with_the_same_numbers(self):
+        p, t = inputs.torus(n=60, m=24, major=1.0, minor=0.4)  # genus 1: both systems factorized
+        mesh = inputs.polydata(p, t)
+        f = vtkSurfaceVectorFieldDecomposition()
+        reused = []
+        for step in range(4):
+            add(mesh, "w", np.cross([0.0, 0.0, 1.0], p) * (1 + step) + step * p[:, [1, 2, 0]])
+            f.SetInputData(mesh)
+            f.SetInputArrayToProcess(0, 0, 0, 0, "w")
+            f.Modified()
+            f.Update()
+            fresh, _ = decompose(mesh, "w")
+            for name in PARTS:
+                self.assertTrue(np.array_equal(arrays(f.GetOutput())[name], arrays(fresh)[name]), name)
+            reused.append(field_data(f.GetOutput(), "PreparedSystemsReused"))
+        self.assertEqual(reused, [0, 0, 1, 1])
+        f.SetBoundaryCondition(1)  # (closed: the same numbers, but prepared anew)
+        f.Update()
+        self.assertEqual(field_data(f.GetOutput(), "PreparedSystemsReused"), 0)
+
+
 class OpenSurfaces(unittest.TestCase):
     def plane(self):
         s = vtkPlaneSource()  # quads: triangulated inside, parts per quad

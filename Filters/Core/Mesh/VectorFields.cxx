@@ -13,7 +13,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
+#include <utility>
 
 namespace beltrami
 {
@@ -108,184 +110,204 @@ std::vector<Index> VertexComponents(const MeshTopology& topo)
   return parent;
 }
 
-/// One Poisson problem: K x = b on the rows of `laplacian` (true stiffness:
-/// twice the assembler's normalization), rows with `fixed` kept at 0, one
-/// row pinned in each component with none fixed; the solution then gets zero
-/// mean there (the function is defined up to a constant).
-struct Poisson
+/// One Poisson system of the decomposition, prepared once per surface:
+/// K x = b on the rows of the Laplacian (true stiffness: twice the
+/// assembler's normalization), the fixed rows kept at 0, one row pinned in
+/// each component with none fixed (the solution then gets zero mean there:
+/// the function is defined up to a constant).  Factorized by a sparse
+/// Cholesky in nested-dissection order; where that fails or misses the
+/// tolerance, conjugate gradients preconditioned by multigrid.
+class PoissonSystem
 {
-  const GraphLaplacian& Laplacian;
-  std::vector<std::uint8_t> Fixed;      ///< boundary conditions and rows without coupling
-  const std::vector<Index>& Component;  ///< per row: its component's id (a vertex id)
-  const double* Positions;              ///< 3 per row: where the unknown lives (the elimination order's)
+public:
+  /// `laplacian` (moved in) on the graph of `positions` (3 per row: where
+  /// each unknown lives, for the elimination order).
+  PoissonSystem(GraphLaplacian laplacian, std::vector<std::uint8_t> fixed, std::vector<Index> component,
+    const double* positions, const VectorFieldOptions& options)
+    : L(std::move(laplacian))
+    , Fixed(std::move(fixed))
+    , Component(std::move(component))
+    , Options(options)
+  {
+    PinFloatingComponents();
+    if (!std::all_of(Fixed.begin(), Fixed.end(), [](std::uint8_t f) { return f != 0; }))
+    {
+      Factorize(positions);
+    }
+  }
+
+  std::vector<double> Solve(const std::vector<double>& b, double scale, VectorFieldDecomposition& r) const
+  {
+    const Index n = L.NumberOfVertices;
+    std::vector<double> x(n, 0.0);
+    if (std::all_of(Fixed.begin(), Fixed.end(), [](std::uint8_t f) { return f != 0; }))
+    {
+      return x; // nothing to solve (no triangle with area)
+    }
+    double residual = 1.0;
+    if (Factor)
+    {
+      Eigen::MatrixXd rhs(n, 1);
+      for (Index i = 0; i < n; ++i)
+      {
+        rhs(i, 0) = Fixed[i] ? 0.0 : b[i];
+      }
+      const Eigen::MatrixXd solution = Factor->Solve(rhs);
+      x.assign(solution.data(), solution.data() + n);
+      residual = RelativeResidual(b, x);
+    }
+    if (!(residual <= Options.Tolerance))
+    {
+      std::fill(x.begin(), x.end(), 0.0);
+      ShiftedLaplacianProblem pb = L.Problem(1);
+      pb.Factor = 2.0;
+      pb.Fixed = Fixed.data();
+      pb.Scale.assign(1, scale);
+      pb.Tolerance = Options.Tolerance;
+      pb.MaximumIterations = 20000;
+      pb.NumberOfThreads = Options.NumberOfThreads;
+      pb.Preconditioner = Preconditioning::Multigrid;
+      const ConjugateGradientResult result = SolveShiftedLaplacian(pb, b.data(), x.data());
+      r.Iterations += result.Iterations;
+      r.Converged = r.Converged && result.Converged;
+      residual = RelativeResidual(b, x);
+    }
+    r.Residual = std::max(r.Residual, residual);
+    RemoveMeans(x);
+    return x;
+  }
+
+  const GraphLaplacian& Laplacian() const { return L; }
+
+private:
+  /// Pins one row in each component that no fixed row anchors.
+  void PinFloatingComponents()
+  {
+    const Index n = L.NumberOfVertices;
+    std::vector<std::uint8_t> anchored(Component.size(), 0);
+    Floating.assign(Component.size(), 0);
+    for (Index i = 0; i < n; ++i)
+    {
+      if (Fixed[i] && L.Diagonal[i] > 0.0)
+      {
+        anchored[Component[i]] = 1;
+      }
+    }
+    for (Index i = 0; i < n; ++i)
+    {
+      const Index c = Component[i];
+      if (!anchored[c] && L.Diagonal[i] > 0.0)
+      {
+        anchored[c] = Floating[c] = 1;
+        Fixed[i] = 1;
+      }
+    }
+  }
+
+  /// The matrix (the fixed rows identity rows) and its factorization; no
+  /// factorization where it fails.
+  void Factorize(const double* positions)
+  {
+    const Index n = L.NumberOfVertices;
+    Outer.assign(static_cast<std::size_t>(n) + 1, 0);
+    Inner.reserve(static_cast<std::size_t>(L.Offsets[n]) + n);
+    Values.reserve(Inner.capacity());
+    for (Index i = 0; i < n; ++i) // column i (symmetric): the free neighbours and the diagonal, ascending
+    {
+      bool diagonal = false;
+      for (std::int64_t k = L.Offsets[i]; !Fixed[i] && k < L.Offsets[i + 1]; ++k)
+      {
+        const Index j = L.Neighbors[k];
+        if (!diagonal && j > i)
+        {
+          Inner.push_back(i);
+          Values.push_back(2.0 * L.Diagonal[i]);
+          diagonal = true;
+        }
+        if (!Fixed[j])
+        {
+          Inner.push_back(j);
+          Values.push_back(-2.0 * L.Weights[k]);
+        }
+      }
+      if (!diagonal)
+      {
+        Inner.push_back(i);
+        Values.push_back(Fixed[i] ? 1.0 : 2.0 * L.Diagonal[i]);
+      }
+      Outer[i + 1] = static_cast<int>(Inner.size());
+    }
+    const SparseFactorization::MatrixView a(
+      n, n, static_cast<Eigen::Index>(Inner.size()), Outer.data(), Inner.data(), Values.data());
+    const std::vector<Index> order =
+      NestedDissectionOrder(n, L.Offsets, L.Neighbors, positions, Options.NumberOfThreads);
+    Factor = std::make_unique<SparseFactorization>();
+    if (!Factor->Compute(a, true, std::vector<int>(order.begin(), order.end()), false, Options.NumberOfThreads))
+    {
+      Factor.reset();
+    }
+  }
+
+  /// The relative residual of K x = b on the free rows (NaN x: 1).
+  double RelativeResidual(const std::vector<double>& b, const std::vector<double>& x) const
+  {
+    std::vector<double> y(x.size());
+    L.ApplyStiffness(x.data(), y.data(), 1, Options.NumberOfThreads);
+    double r = 0.0, size = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+    {
+      if (!Fixed[i])
+      {
+        r += (2.0 * y[i] - b[i]) * (2.0 * y[i] - b[i]);
+        size += b[i] * b[i];
+      }
+    }
+    const double relative = size > 0.0 ? std::sqrt(r / size) : std::sqrt(r);
+    return std::isfinite(relative) ? relative : 1.0;
+  }
+
+  /// Zero mean (mass-weighted) on the floating components.
+  void RemoveMeans(std::vector<double>& x) const
+  {
+    const Index n = L.NumberOfVertices;
+    std::vector<double> sum(Component.size(), 0.0), mass(Component.size(), 0.0);
+    for (Index i = 0; i < n; ++i)
+    {
+      sum[Component[i]] += L.Mass[i] * x[i];
+      mass[Component[i]] += L.Mass[i];
+    }
+    for (Index i = 0; i < n; ++i)
+    {
+      const Index c = Component[i];
+      if (Floating[c] && mass[c] > 0.0)
+      {
+        x[i] -= sum[c] / mass[c];
+      }
+    }
+  }
+
+  GraphLaplacian L;
+  std::vector<std::uint8_t> Fixed;    ///< boundary conditions, rows without coupling, the pins
+  std::vector<Index> Component;       ///< per row: its component's id (a vertex id)
+  std::vector<std::uint8_t> Floating; ///< per component id: pinned (no boundary condition)
+  VectorFieldOptions Options;
+  std::vector<int> Outer, Inner;      ///< the factorized matrix (compressed columns), kept for it
+  std::vector<double> Values;
+  std::unique_ptr<SparseFactorization> Factor;
 };
 
-/// K x = b by a sparse Cholesky factorization in nested-dissection order
-/// (the fixed rows identity rows); false if the factorization fails.
-bool SolveDirectly(const Poisson& p, const std::vector<double>& b, int threads, std::vector<double>& x)
-{
-  const GraphLaplacian& l = p.Laplacian;
-  const Index n = l.NumberOfVertices;
-  std::vector<int> outer(static_cast<std::size_t>(n) + 1, 0), inner;
-  std::vector<double> values;
-  inner.reserve(static_cast<std::size_t>(l.Offsets[n]) + n);
-  values.reserve(inner.capacity());
-  for (Index i = 0; i < n; ++i) // column i (symmetric): the free neighbours and the diagonal, ascending
-  {
-    bool diagonal = false;
-    for (std::int64_t k = l.Offsets[i]; !p.Fixed[i] && k < l.Offsets[i + 1]; ++k)
-    {
-      const Index j = l.Neighbors[k];
-      if (!diagonal && j > i)
-      {
-        inner.push_back(i);
-        values.push_back(2.0 * l.Diagonal[i]);
-        diagonal = true;
-      }
-      if (!p.Fixed[j])
-      {
-        inner.push_back(j);
-        values.push_back(-2.0 * l.Weights[k]);
-      }
-    }
-    if (!diagonal)
-    {
-      inner.push_back(i);
-      values.push_back(p.Fixed[i] ? 1.0 : 2.0 * l.Diagonal[i]);
-    }
-    outer[i + 1] = static_cast<int>(inner.size());
-  }
-  const SparseFactorization::MatrixView a(n, n, static_cast<Eigen::Index>(inner.size()), outer.data(), inner.data(),
-    values.data());
-  const std::vector<Index> order = NestedDissectionOrder(n, l.Offsets, l.Neighbors, p.Positions, threads);
-  SparseFactorization factor;
-  if (!factor.Compute(a, true, std::vector<int>(order.begin(), order.end()), false, threads))
-  {
-    return false;
-  }
-  Eigen::MatrixXd rhs(n, 1);
-  for (Index i = 0; i < n; ++i)
-  {
-    rhs(i, 0) = p.Fixed[i] ? 0.0 : b[i];
-  }
-  const Eigen::MatrixXd solution = factor.Solve(rhs);
-  x.assign(solution.data(), solution.data() + n);
-  return x.size() == static_cast<std::size_t>(n) && std::all_of(x.begin(), x.end(), [](double v) { return std::isfinite(v); });
-}
-
-/// The relative residual of K x = b on the free rows.
-double RelativeResidual(const Poisson& p, const std::vector<double>& b, const std::vector<double>& x, int threads)
-{
-  std::vector<double> y(x.size());
-  p.Laplacian.ApplyStiffness(x.data(), y.data(), 1, threads);
-  double r = 0.0, size = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i)
-  {
-    if (!p.Fixed[i])
-    {
-      r += (2.0 * y[i] - b[i]) * (2.0 * y[i] - b[i]);
-      size += b[i] * b[i];
-    }
-  }
-  return size > 0.0 ? std::sqrt(r / size) : std::sqrt(r);
-}
-
-/// Pins one row in each component that no fixed row anchors; returns the
-/// pinned components (1 per component id).
-std::vector<std::uint8_t> PinFloatingComponents(Poisson& p)
-{
-  const Index n = p.Laplacian.NumberOfVertices;
-  std::vector<std::uint8_t> anchored(p.Component.size(), 0), floating(p.Component.size(), 0);
-  for (Index i = 0; i < n; ++i)
-  {
-    if (p.Fixed[i] && p.Laplacian.Diagonal[i] > 0.0)
-    {
-      anchored[p.Component[i]] = 1;
-    }
-  }
-  for (Index i = 0; i < n; ++i)
-  {
-    const Index c = p.Component[i];
-    if (!anchored[c] && p.Laplacian.Diagonal[i] > 0.0)
-    {
-      anchored[c] = floating[c] = 1;
-      p.Fixed[i] = 1;
-    }
-  }
-  return floating;
-}
-
-/// Zero mean (mass-weighted) on the floating components.
-void RemoveMeans(const Poisson& p, const std::vector<std::uint8_t>& floating, std::vector<double>& x)
-{
-  const Index n = p.Laplacian.NumberOfVertices;
-  std::vector<double> sum(p.Component.size(), 0.0), mass(p.Component.size(), 0.0);
-  for (Index i = 0; i < n; ++i)
-  {
-    sum[p.Component[i]] += p.Laplacian.Mass[i] * x[i];
-    mass[p.Component[i]] += p.Laplacian.Mass[i];
-  }
-  for (Index i = 0; i < n; ++i)
-  {
-    const Index c = p.Component[i];
-    if (floating[c] && mass[c] > 0.0)
-    {
-      x[i] -= sum[c] / mass[c];
-    }
-  }
-}
-
-/// The direct solve; where it fails or misses the tolerance, conjugate
-/// gradients preconditioned by multigrid (from zero).
-std::vector<double> SolvePoisson(Poisson& p, const std::vector<double>& b, double scale,
-  const VectorFieldOptions& o, VectorFieldDecomposition& r)
-{
-  const Index n = p.Laplacian.NumberOfVertices;
-  const std::vector<std::uint8_t> floating = PinFloatingComponents(p);
-  std::vector<double> x(n, 0.0);
-  if (std::all_of(p.Fixed.begin(), p.Fixed.end(), [](std::uint8_t f) { return f != 0; }))
-  {
-    return x; // nothing to solve (no triangle with area)
-  }
-  double residual = 1.0;
-  if (SolveDirectly(p, b, o.NumberOfThreads, x))
-  {
-    residual = RelativeResidual(p, b, x, o.NumberOfThreads);
-  }
-  if (!(residual <= o.Tolerance))
-  {
-    std::fill(x.begin(), x.end(), 0.0);
-    ShiftedLaplacianProblem pb = p.Laplacian.Problem(1);
-    pb.Factor = 2.0;
-    pb.Fixed = p.Fixed.data();
-    pb.Scale.assign(1, scale);
-    pb.Tolerance = o.Tolerance;
-    pb.MaximumIterations = 20000;
-    pb.NumberOfThreads = o.NumberOfThreads;
-    pb.Preconditioner = Preconditioning::Multigrid;
-    const ConjugateGradientResult result = SolveShiftedLaplacian(pb, b.data(), x.data());
-    r.Iterations += result.Iterations;
-    r.Converged = r.Converged && result.Converged;
-    residual = RelativeResidual(p, b, x, o.NumberOfThreads);
-  }
-  r.Residual = std::max(r.Residual, residual);
-  RemoveMeans(p, floating, x);
-  return x;
-}
-
-/// The curl-free part: the potential u and grad u per triangle; also the
-/// divergence and curl at the vertices (they share the loop over corners).
-void CurlFreePart(const MeshTopology& topo, const double* points, const TriangleFrames& f,
-  const std::vector<Index>& component, double scale, const VectorFieldOptions& o, VectorFieldDecomposition& r)
+/// The right-hand side of the potential's system, (X, grad phi_i) per
+/// vertex; also the divergence and curl at the vertices (they share the
+/// loop over the corners).
+std::vector<double> PotentialRightHandSide(const MeshTopology& topo, const double* points, const TriangleFrames& f,
+  int threads, VectorFieldDecomposition& r)
 {
   const Index nv = topo.NumberOfVertices();
   const IndexArray& tri = topo.TriangleList();
-  GraphLaplacian lap;
-  AssembleSurfaceLaplacian(topo, points, LaplacianWeights::Cotangent, lap, o.NumberOfThreads);
   std::vector<double> b(nv, 0.0);
   r.Divergence.assign(nv, 0.0);
   r.Curl.assign(nv, 0.0);
-  ParallelFor(nv, o.NumberOfThreads, [&](std::int64_t begin, std::int64_t end) {
+  ParallelFor(nv, threads, [&](std::int64_t begin, std::int64_t end) {
     for (Index i = static_cast<Index>(begin); i < end; ++i)
     {
       double flux = 0.0, circulation = 0.0, area = 0.0;
@@ -303,15 +325,16 @@ void CurlFreePart(const MeshTopology& topo, const double* points, const Triangle
       r.Curl[i] = area > 0.0 ? circulation / area : std::numeric_limits<double>::quiet_NaN();
     }
   });
-  Poisson p{ lap, std::vector<std::uint8_t>(nv, 0), component, points };
-  for (Index i = 0; i < nv; ++i)
-  {
-    const bool boundary = (topo.VertexFlags(i) & VertexBoundary) != 0;
-    p.Fixed[i] = !(lap.Diagonal[i] > 0.0) || (boundary && o.Boundary == VectorFieldBoundary::NormalCurlFree);
-  }
-  r.Potential = SolvePoisson(p, b, scale, o, r);
+  return b;
+}
+
+/// grad u per triangle: sum_k u_k n x e_k / 2A.
+void GradientPart(const MeshTopology& topo, const double* points, const TriangleFrames& f, int threads,
+  VectorFieldDecomposition& r)
+{
+  const IndexArray& tri = topo.TriangleList();
   r.CurlFree.assign(r.Tangent.size(), 0.0);
-  ParallelFor(topo.NumberOfTriangles(), o.NumberOfThreads, [&](std::int64_t begin, std::int64_t end) {
+  ParallelFor(topo.NumberOfTriangles(), threads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t t = begin; t < end; ++t)
     {
       if (f.Areas[t] == 0.0)
@@ -437,55 +460,37 @@ std::vector<double> IntegrateStreamFunction(const MeshTopology& topo, const doub
   return v;
 }
 
-/// The nonconforming stream function by its Poisson system.
-std::vector<double> SolveStreamFunction(const MeshTopology& topo, const double* points, const EdgeGraph& graph,
-  const std::vector<Index>& vertexComponent, double scale, const VectorFieldOptions& o, VectorFieldDecomposition& r)
+/// The right-hand side of the stream function's system, (J^T X, grad psi_e)
+/// = sum of X . e_k over the edge's triangles (e_k the edge opposite corner k).
+std::vector<double> StreamRightHandSide(const MeshTopology& topo, const double* points, int threads,
+  const VectorFieldDecomposition& r)
 {
   const MeshTopology::EdgeTable& edges = topo.Edges();
   const IndexArray& tri = topo.TriangleList();
-  const Index ne = static_cast<Index>(edges.NumberOfEdges());
-  GraphLaplacian lap;
-  AssembleNonconformingLaplacian(topo, graph, points, lap, o.NumberOfThreads);
-  std::vector<double> b(ne, 0.0);
-  std::vector<Index> component(ne);
-  std::vector<double> midpoints(3 * static_cast<std::size_t>(ne));
-  Poisson p{ lap, std::vector<std::uint8_t>(ne, 0), component, midpoints.data() };
-  ParallelFor(ne, o.NumberOfThreads, [&](std::int64_t begin, std::int64_t end) {
-    for (Index e = static_cast<Index>(begin); e < end; ++e)
+  std::vector<double> b(static_cast<std::size_t>(edges.NumberOfEdges()), 0.0);
+  ParallelFor(edges.NumberOfEdges(), threads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t e = begin; e < end; ++e)
     {
       for (int s = 0; s < 2; ++s)
       {
-        const Index c = edges.OppositeCorners[2 * static_cast<std::int64_t>(e) + s];
+        const Index c = edges.OppositeCorners[2 * e + s];
         if (c >= 0)
         {
           b[e] += Vec3(&r.Tangent[3 * static_cast<std::int64_t>(c / 3)]).dot(Side(points, tri, c));
         }
       }
-      const Index a = edges.Vertices[2 * static_cast<std::int64_t>(e)], c = edges.Vertices[2 * static_cast<std::int64_t>(e) + 1];
-      component[e] = vertexComponent[a];
-      Store(&midpoints[3 * static_cast<std::size_t>(e)], 0.5 * (Point(points, a) + Point(points, c)));
-      const bool boundary = edges.FaceCount[e] == 1;
-      p.Fixed[e] = !(lap.Diagonal[e] > 0.0) || edges.FaceCount[e] > 2 ||
-        (boundary && o.Boundary == VectorFieldBoundary::TangentDivergenceFree);
     }
   });
-  return SolvePoisson(p, b, scale, o, r);
+  return b;
 }
 
-/// The divergence-free part: the nonconforming stream function v (solved,
-/// or integrated where there are no harmonic fields) and J grad v =
-/// sum_k v_k e_k / A per triangle.
-void DivergenceFreePart(const MeshTopology& topo, const double* points, const TriangleFrames& f,
-  const std::vector<Index>& vertexComponent, double scale, const VectorFieldOptions& o, VectorFieldDecomposition& r)
+/// J grad v per triangle: sum_k v_k e_k / A.
+void RotatedGradientPart(const MeshTopology& topo, const double* points, const TriangleFrames& f,
+  const EdgeGraph& graph, int threads, VectorFieldDecomposition& r)
 {
   const IndexArray& tri = topo.TriangleList();
-  EdgeGraph graph;
-  graph.Build(topo);
-  r.StreamFunction = o.Integrate && ClosedGenusZero(topo, vertexComponent, r.DegenerateTriangles)
-    ? IntegrateStreamFunction(topo, points, f, graph, r)
-    : SolveStreamFunction(topo, points, graph, vertexComponent, scale, o, r);
   r.DivergenceFree.assign(r.Tangent.size(), 0.0);
-  ParallelFor(topo.NumberOfTriangles(), o.NumberOfThreads, [&](std::int64_t begin, std::int64_t end) {
+  ParallelFor(topo.NumberOfTriangles(), threads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t t = begin; t < end; ++t)
     {
       if (f.Areas[t] == 0.0)
@@ -531,33 +536,110 @@ void HarmonicPart(const TriangleFrames& f, int threads, VectorFieldDecomposition
 
 } // namespace
 
-void DecomposeVectorField(const MeshTopology& topo, const double* points, const double* vectors,
-  const VectorFieldOptions& o, VectorFieldDecomposition& r)
+struct VectorFieldDecomposer::Internals
 {
-  r = VectorFieldDecomposition();
-  const TriangleFrames frames = MakeFrames(topo, points, o.NumberOfThreads);
-  r.DegenerateTriangles = static_cast<Index>(std::count(frames.Areas.begin(), frames.Areas.end(), 0.0));
-  ProjectToTangent(frames, vectors, r, o.NumberOfThreads);
-  // The size of the potentials: the largest vector times the extent.
-  double largest = 0.0;
-  for (std::size_t k = 0; k < r.Tangent.size(); ++k)
-  {
-    largest = std::max(largest, std::abs(r.Tangent[k]));
-  }
+  Internals(const MeshTopology& topo, const double* points, const VectorFieldOptions& o);
+
+  const MeshTopology& Topology;
+  const double* Points;
+  VectorFieldOptions Options;
+  TriangleFrames Frames;
+  Index DegenerateTriangles = 0;
+  std::vector<Index> Component; ///< per vertex: its component's id
+  double Extent = 1.0;          ///< the bounding box's diagonal
+  std::unique_ptr<PoissonSystem> Potential;
+  EdgeGraph Graph;
+  bool Integrate = false;       ///< no harmonic fields: the stream function integrated
+  std::unique_ptr<PoissonSystem> Stream;
+};
+
+VectorFieldDecomposer::Internals::Internals(const MeshTopology& topo, const double* points, const VectorFieldOptions& o)
+  : Topology(topo)
+  , Points(points)
+  , Options(o)
+  , Frames(MakeFrames(topo, points, o.NumberOfThreads))
+  , DegenerateTriangles(static_cast<Index>(std::count(Frames.Areas.begin(), Frames.Areas.end(), 0.0)))
+  , Component(VertexComponents(topo))
+{
+  const Index nv = topo.NumberOfVertices();
   Eigen::AlignedBox3d box;
-  for (Index v = 0; v < topo.NumberOfVertices(); ++v)
+  for (Index v = 0; v < nv; ++v)
   {
-    if (topo.Valence(v) > 0)
+    if (topo.Valence(v) > 0 && Point(points, v).allFinite())
     {
       box.extend(Point(points, v));
     }
   }
-  const double scale = largest * (box.isEmpty() ? 1.0 : std::max(box.diagonal().norm(), 1e-300));
-  const std::vector<Index> component = VertexComponents(topo);
-  CurlFreePart(topo, points, frames, component, scale, o, r);
-  DivergenceFreePart(topo, points, frames, component, scale, o, r);
-  HarmonicPart(frames, o.NumberOfThreads, r);
-  r.Areas = frames.Areas;
+  Extent = box.isEmpty() ? 1.0 : std::max(box.diagonal().norm(), 1e-300);
+  GraphLaplacian cotangent;
+  AssembleSurfaceLaplacian(topo, points, LaplacianWeights::Cotangent, cotangent, o.NumberOfThreads);
+  std::vector<std::uint8_t> fixed(nv);
+  for (Index i = 0; i < nv; ++i)
+  {
+    const bool boundary = (topo.VertexFlags(i) & VertexBoundary) != 0;
+    fixed[i] = !(cotangent.Diagonal[i] > 0.0) || (boundary && o.Boundary == VectorFieldBoundary::NormalCurlFree);
+  }
+  Potential = std::make_unique<PoissonSystem>(std::move(cotangent), std::move(fixed), Component, points, o);
+  Graph.Build(topo);
+  Integrate = o.Integrate && ClosedGenusZero(topo, Component, DegenerateTriangles);
+  if (Integrate)
+  {
+    return;
+  }
+  const MeshTopology::EdgeTable& edges = topo.Edges();
+  const Index ne = static_cast<Index>(edges.NumberOfEdges());
+  GraphLaplacian nonconforming;
+  AssembleNonconformingLaplacian(topo, Graph, points, nonconforming, o.NumberOfThreads);
+  std::vector<std::uint8_t> fixedEdges(ne);
+  std::vector<Index> component(ne);
+  std::vector<double> midpoints(3 * static_cast<std::size_t>(ne));
+  for (Index e = 0; e < ne; ++e)
+  {
+    const Index a = edges.Vertices[2 * static_cast<std::int64_t>(e)], b = edges.Vertices[2 * static_cast<std::int64_t>(e) + 1];
+    component[e] = Component[a];
+    Store(&midpoints[3 * static_cast<std::size_t>(e)], 0.5 * (Point(points, a) + Point(points, b)));
+    const bool boundary = edges.FaceCount[e] == 1;
+    fixedEdges[e] = !(nonconforming.Diagonal[e] > 0.0) || edges.FaceCount[e] > 2 ||
+      (boundary && o.Boundary == VectorFieldBoundary::TangentDivergenceFree);
+  }
+  Stream = std::make_unique<PoissonSystem>(
+    std::move(nonconforming), std::move(fixedEdges), std::move(component), midpoints.data(), o);
+}
+
+VectorFieldDecomposer::VectorFieldDecomposer(
+  const MeshTopology& topology, const double* points, const VectorFieldOptions& options)
+  : I(std::make_unique<Internals>(topology, points, options))
+{
+}
+
+VectorFieldDecomposer::~VectorFieldDecomposer() = default;
+
+void VectorFieldDecomposer::Decompose(const double* vectors, VectorFieldDecomposition& r) const
+{
+  const MeshTopology& topo = I->Topology;
+  const int threads = I->Options.NumberOfThreads;
+  r = VectorFieldDecomposition();
+  r.DegenerateTriangles = I->DegenerateTriangles;
+  ProjectToTangent(I->Frames, vectors, r, threads);
+  double largest = 0.0; // the size of the potentials: the largest vector times the extent
+  for (const double x : r.Tangent)
+  {
+    largest = std::max(largest, std::abs(x));
+  }
+  const double scale = largest * I->Extent;
+  r.Potential = I->Potential->Solve(PotentialRightHandSide(topo, I->Points, I->Frames, threads, r), scale, r);
+  GradientPart(topo, I->Points, I->Frames, threads, r);
+  r.StreamFunction = I->Integrate ? IntegrateStreamFunction(topo, I->Points, I->Frames, I->Graph, r)
+                                  : I->Stream->Solve(StreamRightHandSide(topo, I->Points, threads, r), scale, r);
+  RotatedGradientPart(topo, I->Points, I->Frames, I->Graph, threads, r);
+  HarmonicPart(I->Frames, threads, r);
+  r.Areas = I->Frames.Areas;
+}
+
+void DecomposeVectorField(const MeshTopology& topo, const double* points, const double* vectors,
+  const VectorFieldOptions& o, VectorFieldDecomposition& r)
+{
+  VectorFieldDecomposer(topo, points, o).Decompose(vectors, r);
 }
 
 std::vector<double> TriangleVectorsFromPoints(const MeshTopology& topo, const double* pointVectors)

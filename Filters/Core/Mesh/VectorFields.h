@@ -39,6 +39,7 @@
 #include "Mesh/MeshTopology.h"
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -97,6 +98,25 @@ struct VectorFieldDecomposition
   int Iterations = 0;            ///< of the conjugate gradients (0: the direct solves met the tolerance)
   double Residual = 0.0;         ///< the larger relative residual of the two solves
   bool Converged = true;
+};
+
+/// The decomposition prepared for one surface: the frames of its triangles,
+/// its components and the two Poisson systems, factorized.  Decompose then
+/// costs two triangular solves a field (the time steps of a field on a fixed
+/// mesh).  `topology` and `points` must outlive it.
+class VectorFieldDecomposer
+{
+public:
+  VectorFieldDecomposer(const MeshTopology& topology, const double* points, const VectorFieldOptions& options);
+  ~VectorFieldDecomposer();
+  VectorFieldDecomposer(const VectorFieldDecomposer&) = delete;
+  VectorFieldDecomposer& operator=(const VectorFieldDecomposer&) = delete;
+  /// As DecomposeVectorField.
+  void Decompose(const double* vectors, VectorFieldDecomposition& result) const;
+
+private:
+  struct Internals;
+  std::unique_ptr<Internals> I;
 };
 
 /// Decomposes `vectors` (3 per triangle of `topology`; need not be tangent)
