@@ -188,7 +188,7 @@ void vtkSurfaceVectorFieldDecomposition::AddArrays(vtkBeltramiSurface& surface, 
     {
       const std::vector<double> values = o.Point
         ? std::vector<double>()
-        : beltrami::PointValuesFromTriangles(topo, points, o.Values.data(), o.Components);
+        : beltrami::PointValuesFromTriangles(topo, r.Areas, o.Values.data(), o.Components);
       const std::vector<double>& perPoint = o.Point ? o.Values : values;
       vtkDoubleArray* a = AddArray(output->GetPointData(), o.Name, o.Components, np);
       for (vtkIdType i = 0; i < np; ++i)

@@ -123,20 +123,12 @@ SplitBoundary GatherBoundary(
 Index CountSplitComponents(const MeshTopology& topo, const Partition& split)
 {
   const Index n = topo.NumberOfVertices();
-  std::vector<Index> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
-  const IndexArray& t = topo.TriangleList();
-  for (std::size_t k = 0; k < t.size(); k += 3)
-  {
-    const Index a = FindRoot(parent, t[k]);
-    parent[FindRoot(parent, t[k + 1])] = a;
-    parent[FindRoot(parent, t[k + 2])] = a;
-  }
+  const std::vector<Index> root = topo.ComponentRoots();
   std::vector<Index> component(n, -1);
   Index local = 0;
   for (Index v = 0; v < n; ++v)
   {
-    if (topo.Valence(v) > 0 && FindRoot(parent, v) == v)
+    if (topo.Valence(v) > 0 && root[v] == v)
     {
       component[v] = local++;
     }
@@ -146,7 +138,7 @@ Index CountSplitComponents(const MeshTopology& topo, const Partition& split)
   std::vector<double> label(n, -1.0); // the component's number over all processes
   for (Index v = 0; v < n; ++v)
   {
-    label[v] = topo.Valence(v) > 0 ? offset + component[FindRoot(parent, v)] : -1.0;
+    label[v] = topo.Valence(v) > 0 ? offset + component[root[v]] : -1.0;
   }
   std::vector<double> owners(label);
   split.UpdateGhosts(owners.data(), 1);

@@ -34,6 +34,24 @@ std::vector<double> SumOverTriangles(const MeshTopology& topo, const double* poi
 
 } // namespace
 
+template <typename T>
+Eigen::AlignedBox3d UsedPointsBox(const MeshTopology& topo, const T* points)
+{
+  Eigen::AlignedBox3d box;
+  for (Index v = 0; v < topo.NumberOfVertices(); ++v)
+  {
+    const T* p = points + 3 * static_cast<std::size_t>(v);
+    const Vec3 x(p[0], p[1], p[2]);
+    if (topo.Valence(v) > 0 && x.allFinite())
+    {
+      box.extend(x);
+    }
+  }
+  return box;
+}
+template Eigen::AlignedBox3d UsedPointsBox<float>(const MeshTopology&, const float*);
+template Eigen::AlignedBox3d UsedPointsBox<double>(const MeshTopology&, const double*);
+
 Vec3 VertexCentroid(const MeshTopology& topo, const double* points)
 {
   Vec3 c = Vec3::Zero();

@@ -9,6 +9,8 @@
 #include "Mesh/MeshTopology.h"
 #include "Solvers/Partition.h"
 
+#include <Eigen/Geometry>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -75,6 +77,11 @@ struct TriangleQuality
   Index DegenerateTriangles = 0;    ///< of zero area (or non-finite points)
 };
 TriangleQuality MeasureTriangleQuality(const MeshTopology& topology, const double* points);
+
+/// The bounding box of the used vertices (valence > 0) with finite
+/// coordinates; empty when there are none.
+template <typename T>
+Eigen::AlignedBox3d UsedPointsBox(const MeshTopology& topology, const T* points);
 
 /// The mean of the points of used vertices (valence > 0, finite).
 Vec3 VertexCentroid(const MeshTopology& topology, const double* points);

@@ -325,7 +325,7 @@ std::vector<std::vector<Index>> MeshTopology::BoundaryLoops() const
   return loops;
 }
 
-Index MeshTopology::CountComponents() const
+std::vector<Index> MeshTopology::ComponentRoots() const
 {
   std::vector<Index> parent(NumVertices);
   std::iota(parent.begin(), parent.end(), 0);
@@ -337,10 +337,20 @@ Index MeshTopology::CountComponents() const
     parent[b] = a;
     parent[c] = a;
   }
+  for (Index v = 0; v < NumVertices; ++v)
+  {
+    parent[v] = FindRoot(parent, v);
+  }
+  return parent;
+}
+
+Index MeshTopology::CountComponents() const
+{
+  const std::vector<Index> root = ComponentRoots();
   Index components = 0;
   for (Index v = 0; v < NumVertices; ++v)
   {
-    components += Valence(v) > 0 && FindRoot(parent, v) == v;
+    components += Valence(v) > 0 && root[v] == v;
   }
   return components;
 }

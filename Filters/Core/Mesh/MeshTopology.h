@@ -113,6 +113,10 @@ public:
   std::vector<std::vector<Index>> BoundaryLoops() const;
   /// Connected components of the triangles (computed on each call).
   Index CountComponents() const;
+  /// For every vertex, its component's id: the vertex id of one of the
+  /// component's vertices, the same for all of them (an unused vertex: its
+  /// own id).  Computed on each call.
+  std::vector<Index> ComponentRoots() const;
   /// One-line human description (triangles, components, genus, boundary
   /// loops, defects), e.g. for error messages.
   std::string Describe() const;

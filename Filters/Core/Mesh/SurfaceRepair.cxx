@@ -1,6 +1,7 @@
 #include "Mesh/SurfaceRepair.h"
 
 #include "Mesh/Geometry.h"
+#include "Mesh/MeshMeasures.h"
 #include "Support/DisjointSets.h"
 
 #include <Eigen/Geometry>
@@ -24,22 +25,12 @@ namespace
 template <typename T>
 double CoincidenceTolerance(const MeshTopology& topology, const T* points)
 {
-  Eigen::AlignedBox3d box;
-  double largest = 0.0;
-  for (Index v = 0; v < topology.NumberOfVertices(); ++v)
-  {
-    const Vec3 x(points[3 * static_cast<std::size_t>(v)], points[3 * static_cast<std::size_t>(v) + 1],
-      points[3 * static_cast<std::size_t>(v) + 2]);
-    if (topology.Valence(v) > 0 && x.allFinite())
-    {
-      box.extend(x);
-      largest = std::max(largest, x.cwiseAbs().maxCoeff());
-    }
-  }
+  const Eigen::AlignedBox3d box = UsedPointsBox(topology, points);
   if (box.isEmpty())
   {
     return 0.0;
   }
+  const double largest = std::max(box.min().cwiseAbs().maxCoeff(), box.max().cwiseAbs().maxCoeff());
   return std::max(NearlyCoincident * box.diagonal().norm(),
     8.0 * static_cast<double>(std::numeric_limits<T>::epsilon()) * largest);
 }

@@ -2,11 +2,11 @@
 
 #include "Mesh/Geometry.h"
 #include "Mesh/Laplacian.h"
+#include "Mesh/MeshMeasures.h"
 #include "Mesh/RingGeometry.h"
 #include "Solvers/GraphSolvers.h"
 #include "Solvers/NestedDissection.h"
 #include "Solvers/SparseFactorization.h"
-#include "Support/DisjointSets.h"
 
 #include <Eigen/Geometry>
 
@@ -14,7 +14,6 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <numeric>
 #include <utility>
 
 namespace beltrami
@@ -87,27 +86,6 @@ void ProjectToTangent(const TriangleFrames& f, const double* vectors, VectorFiel
       Store(&r.Tangent[3 * t], x - r.Normal[t] * n);
     }
   });
-}
-
-/// The vertex components (union-find over the triangles' vertices).
-std::vector<Index> VertexComponents(const MeshTopology& topo)
-{
-  std::vector<Index> parent(topo.NumberOfVertices());
-  std::iota(parent.begin(), parent.end(), 0);
-  const IndexArray& tri = topo.TriangleList();
-  for (std::size_t c = 0; c < tri.size(); c += 3)
-  {
-    for (int k = 1; k < 3; ++k)
-    {
-      const Index a = FindRoot(parent, tri[c]), b = FindRoot(parent, tri[c + k]);
-      parent[std::max(a, b)] = std::min(a, b);
-    }
-  }
-  for (Index v = 0; v < topo.NumberOfVertices(); ++v)
-  {
-    parent[v] = FindRoot(parent, v);
-  }
-  return parent;
 }
 
 /// One Poisson system of the decomposition, prepared once per surface:
@@ -328,12 +306,14 @@ std::vector<double> PotentialRightHandSide(const MeshTopology& topo, const doubl
   return b;
 }
 
-/// grad u per triangle: sum_k u_k n x e_k / 2A.
-void GradientPart(const MeshTopology& topo, const double* points, const TriangleFrames& f, int threads,
-  VectorFieldDecomposition& r)
+/// Per triangle of non-zero area: sum over its corners c of term(t, c, e_c)
+/// (e_c the side opposite c), over the area; into `out` (3 per triangle).
+template <typename Term>
+void SumOverCorners(const MeshTopology& topo, const double* points, const TriangleFrames& f, int threads,
+  std::vector<double>& out, Term term)
 {
   const IndexArray& tri = topo.TriangleList();
-  r.CurlFree.assign(r.Tangent.size(), 0.0);
+  out.assign(3 * static_cast<std::size_t>(topo.NumberOfTriangles()), 0.0);
   ParallelFor(topo.NumberOfTriangles(), threads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t t = begin; t < end; ++t)
     {
@@ -341,14 +321,23 @@ void GradientPart(const MeshTopology& topo, const double* points, const Triangle
       {
         continue;
       }
-      const Vec3 n(&f.Normals[3 * t]);
-      Vec3 g = Vec3::Zero();
+      Vec3 sum = Vec3::Zero();
       for (Index c = static_cast<Index>(3 * t); c < 3 * t + 3; ++c)
       {
-        g += r.Potential[tri[c]] * n.cross(Side(points, tri, c));
+        sum += term(t, c, Side(points, tri, c));
       }
-      Store(&r.CurlFree[3 * t], g / (2.0 * f.Areas[t]));
+      Store(&out[3 * t], sum / f.Areas[t]);
     }
+  });
+}
+
+/// grad u per triangle: sum_k u_k n x e_k / 2A.
+void GradientPart(const MeshTopology& topo, const double* points, const TriangleFrames& f, int threads,
+  VectorFieldDecomposition& r)
+{
+  const IndexArray& tri = topo.TriangleList();
+  SumOverCorners(topo, points, f, threads, r.CurlFree, [&](std::int64_t t, Index c, const Vec3& side) -> Vec3 {
+    return 0.5 * r.Potential[tri[c]] * Vec3(&f.Normals[3 * t]).cross(side);
   });
 }
 
@@ -488,22 +477,8 @@ std::vector<double> StreamRightHandSide(const MeshTopology& topo, const double* 
 void RotatedGradientPart(const MeshTopology& topo, const double* points, const TriangleFrames& f,
   const EdgeGraph& graph, int threads, VectorFieldDecomposition& r)
 {
-  const IndexArray& tri = topo.TriangleList();
-  r.DivergenceFree.assign(r.Tangent.size(), 0.0);
-  ParallelFor(topo.NumberOfTriangles(), threads, [&](std::int64_t begin, std::int64_t end) {
-    for (std::int64_t t = begin; t < end; ++t)
-    {
-      if (f.Areas[t] == 0.0)
-      {
-        continue;
-      }
-      Vec3 g = Vec3::Zero();
-      for (Index c = static_cast<Index>(3 * t); c < 3 * t + 3; ++c)
-      {
-        g += r.StreamFunction[graph.TriangleEdges[c]] * Side(points, tri, c);
-      }
-      Store(&r.DivergenceFree[3 * t], g / f.Areas[t]);
-    }
+  SumOverCorners(topo, points, f, threads, r.DivergenceFree, [&](std::int64_t, Index c, const Vec3& side) -> Vec3 {
+    return r.StreamFunction[graph.TriangleEdges[c]] * side;
   });
 }
 
@@ -559,17 +534,10 @@ VectorFieldDecomposer::Internals::Internals(const MeshTopology& topo, const doub
   , Options(o)
   , Frames(MakeFrames(topo, points, o.NumberOfThreads))
   , DegenerateTriangles(static_cast<Index>(std::count(Frames.Areas.begin(), Frames.Areas.end(), 0.0)))
-  , Component(VertexComponents(topo))
+  , Component(topo.ComponentRoots())
 {
   const Index nv = topo.NumberOfVertices();
-  Eigen::AlignedBox3d box;
-  for (Index v = 0; v < nv; ++v)
-  {
-    if (topo.Valence(v) > 0 && Point(points, v).allFinite())
-    {
-      box.extend(Point(points, v));
-    }
-  }
+  const Eigen::AlignedBox3d box = UsedPointsBox(topo, points);
   Extent = box.isEmpty() ? 1.0 : std::max(box.diagonal().norm(), 1e-300);
   GraphLaplacian cotangent;
   AssembleSurfaceLaplacian(topo, points, LaplacianWeights::Cotangent, cotangent, o.NumberOfThreads);
@@ -642,26 +610,10 @@ void DecomposeVectorField(const MeshTopology& topo, const double* points, const 
   VectorFieldDecomposer(topo, points, o).Decompose(vectors, r);
 }
 
-std::vector<double> TriangleVectorsFromPoints(const MeshTopology& topo, const double* pointVectors)
-{
-  const IndexArray& tri = topo.TriangleList();
-  std::vector<double> out(tri.size(), 0.0);
-  for (std::size_t c = 0; c < tri.size(); ++c)
-  {
-    const std::size_t t = c / 3;
-    for (int k = 0; k < 3; ++k)
-    {
-      out[3 * t + k] += pointVectors[3 * static_cast<std::int64_t>(tri[c]) + k] / 3.0;
-    }
-  }
-  return out;
-}
-
 std::vector<double> PointValuesFromTriangles(
-  const MeshTopology& topo, const double* points, const double* triangleValues, int components)
+  const MeshTopology& topo, const std::vector<double>& areas, const double* triangleValues, int components)
 {
   const Index nv = topo.NumberOfVertices();
-  const IndexArray& tri = topo.TriangleList();
   std::vector<double> out(static_cast<std::size_t>(components) * nv, 0.0);
   ParallelFor(nv, topo.NumberOfThreads(), [&](std::int64_t begin, std::int64_t end) {
     for (Index v = static_cast<Index>(begin); v < end; ++v)
@@ -671,16 +623,11 @@ std::vector<double> PointValuesFromTriangles(
       for (const Index* c = topo.CornersBegin(v); c != topo.CornersEnd(v); ++c)
       {
         const std::int64_t t = *c / 3;
-        const Vec3 a = Point(points, tri[3 * t]), b = Point(points, tri[3 * t + 1]), d = Point(points, tri[3 * t + 2]);
-        const double area = 0.5 * (b - a).cross(d - a).norm();
-        if (area > 0.0) // (NaN: left out)
+        for (int k = 0; k < components; ++k)
         {
-          for (int k = 0; k < components; ++k)
-          {
-            sum[k] += area * triangleValues[components * t + k];
-          }
-          weight += area;
+          sum[k] += areas[t] * triangleValues[components * t + k];
         }
+        weight += areas[t];
       }
       for (int k = 0; weight > 0.0 && k < components; ++k)
       {

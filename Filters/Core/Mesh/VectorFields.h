@@ -126,13 +126,12 @@ private:
 void DecomposeVectorField(const MeshTopology& topology, const double* points, const double* vectors,
   const VectorFieldOptions& options, VectorFieldDecomposition& result);
 
-/// A field given per vertex as one per triangle: the mean of its corners'
-/// vectors (the integral of the linear interpolant over the triangle).
-std::vector<double> TriangleVectorsFromPoints(const MeshTopology& topology, const double* pointVectors);
 /// Values given per triangle (`components` each) as values per vertex: the
-/// area-weighted mean over the vertex's triangles (0 at a vertex in none).
+/// mean over the vertex's triangles weighted by `areas` (one per triangle,
+/// VectorFieldDecomposition::Areas: zero-area triangles left out); 0 at a
+/// vertex in none.
 std::vector<double> PointValuesFromTriangles(
-  const MeshTopology& topology, const double* points, const double* triangleValues, int components);
+  const MeshTopology& topology, const std::vector<double>& areas, const double* triangleValues, int components);
 /// Per vertex, the mean of a per-edge function over the vertex's edges
 /// (the stream function at the vertices; NaN at a vertex in no edge).
 std::vector<double> PointValuesFromEdges(const MeshTopology& topology, const double* edgeValues);
