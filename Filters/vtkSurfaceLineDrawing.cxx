@@ -7,11 +7,13 @@
 #include "Solvers/Partition.h"
 
 #include "Drawing/LineDrawing.h"
+#include "Drawing/Visibility.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
+#include <vtkIntArray.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
 #include <vtkNew.h>
@@ -23,6 +25,7 @@
 
 #include <algorithm>
 #include <string>
+#include <utility>
 
 BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::CONTOUR, beltrami::LineType::Contour);
 BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::SUGGESTIVE_CONTOUR, beltrami::LineType::SuggestiveContour);
@@ -31,6 +34,9 @@ BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::RIDGE, beltrami::LineType::Ridge);
 BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::VALLEY, beltrami::LineType::Valley);
 BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::BOUNDARY, beltrami::LineType::Boundary);
 BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::CREASE, beltrami::LineType::Crease);
+BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::ALL_LINES, beltrami::LineVisibility::All);
+BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::VISIBLE_LINES, beltrami::LineVisibility::Visible);
+BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::VISIBLE_AND_HIDDEN_LINES, beltrami::LineVisibility::VisibleAndHidden);
 
 vtkStandardNewMacro(vtkSurfaceLineDrawing);
 
@@ -77,6 +83,7 @@ void vtkSurfaceLineDrawing::CopySettings(beltrami::LineDrawingOptions& o, vtkBel
   BeltramiCopySetting(this->HysteresisRatio, o.HysteresisRatio, direction);
   BeltramiCopySetting(this->DropBackFacing, o.DropBackFacing, direction);
   BeltramiCopySetting(this->AvoidCreases, o.AvoidCreases, direction);
+  BeltramiCopySetting(this->Visibility, o.Visibility, direction);
   BeltramiCopySetting(this->NumberOfThreads, o.NumberOfThreads, direction);
 }
 
@@ -97,6 +104,10 @@ int vtkSurfaceLineDrawing::RequestData(
 
 int vtkSurfaceLineDrawing::DrawSplit(vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  if (this->Visibility != ALL_LINES)
+  {
+    return -1; // (the visibility rays need every triangle: the whole surface on rank 0)
+  }
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* lines = vtkPolyData::GetData(outputVector, 0);
   vtkPolyData* surface = vtkPolyData::GetData(outputVector, 1);
@@ -164,6 +175,40 @@ void WriteLines(const beltrami::LineSet& lines, vtkPolyData* output)
   output->GetCellData()->AddArray(type);
   output->GetCellData()->AddArray(FromVector("Strength", 1, lines.Strength));
   output->GetCellData()->SetActiveScalars("LineType");
+  if (!lines.Hidden.empty())
+  {
+    vtkNew<vtkUnsignedCharArray> hidden;
+    hidden->SetName("Hidden");
+    hidden->SetNumberOfValues(lines.NumberOfLines());
+    std::copy(lines.Hidden.begin(), lines.Hidden.end(), hidden->GetPointer(0));
+    output->GetCellData()->AddArray(hidden);
+  }
+}
+
+/// The view on the lines' field data, for writers that project them
+/// (vtkLineDrawingWriter): CameraPosition, ViewDirection, ViewUp,
+/// ParallelProjection, Visibility.
+void WriteView(vtkPolyData* output, const double position[3], const double direction[3], const double up[3],
+  bool parallel, int visibility)
+{
+  vtkFieldData* fd = output->GetFieldData();
+  const std::pair<const char*, const double*> vectors[3] = { { "CameraPosition", position },
+    { "ViewDirection", direction }, { "ViewUp", up } };
+  for (const auto& v : vectors)
+  {
+    auto array = NewArray(v.first, 3, 1);
+    std::copy(v.second, v.second + 3, array->GetPointer(0));
+    fd->AddArray(array);
+  }
+  const std::pair<const char*, int> flags[2] = { { "ParallelProjection", parallel ? 1 : 0 },
+    { "Visibility", visibility } };
+  for (const auto& f : flags)
+  {
+    vtkNew<vtkIntArray> array;
+    array->SetName(f.first);
+    array->InsertNextValue(f.second);
+    fd->AddArray(array);
+  }
 }
 
 } // namespace
@@ -278,7 +323,20 @@ int vtkSurfaceLineDrawing::DrawView(vtkPolyData* output, vtkPolyData* surface)
     array->Modified();
     values[k] = array->GetPointer(0);
   }
-  WriteLines(beltrami::DrawLines(geometry, view, options, { values[0], values[1], values[2] }), output);
+  beltrami::LineSet lines = beltrami::DrawLines(geometry, view, options, { values[0], values[1], values[2] });
+  if (options.Visibility != beltrami::LineVisibility::All && !geometry.Split)
+  {
+    beltrami::VisibilityOptions visibility;
+    visibility.KeepHidden = options.Visibility == beltrami::LineVisibility::VisibleAndHidden;
+    visibility.NumberOfThreads = this->NumberOfThreads;
+    lines = beltrami::SplitByVisibility(lines, geometry, view, visibility);
+  }
+  WriteLines(lines, output);
+  if (!geometry.Split || geometry.Split->Rank() == 0)
+  {
+    WriteView(output, this->CameraPosition, this->ViewDirection, this->ViewUp, this->ParallelProjection,
+      this->Visibility);
+  }
   vtkPointData* pd = surface->GetPointData();
   pd->AddArray(this->Cache->Derivatives);
   for (vtkDoubleArray* array : this->Cache->ViewArrays)
@@ -300,7 +358,9 @@ void vtkSurfaceLineDrawing::PrintSelf(ostream& os, vtkIndent indent)
      << this->CameraPosition[2] << "\n"
      << indent << "ViewDirection: " << this->ViewDirection[0] << " " << this->ViewDirection[1] << " "
      << this->ViewDirection[2] << "\n"
+     << indent << "ViewUp: " << this->ViewUp[0] << " " << this->ViewUp[1] << " " << this->ViewUp[2] << "\n"
      << indent << "ParallelProjection: " << this->ParallelProjection << "\n"
+     << indent << "Visibility: " << this->Visibility << "\n"
      << indent << "Contours: " << this->Contours << "\n"
      << indent << "SuggestiveContours: " << this->SuggestiveContours << "\n"
      << indent << "SuggestiveHighlights: " << this->SuggestiveHighlights << "\n"

@@ -93,6 +93,13 @@ public:
   vtkTypeMacro(vtkSurfaceLineDrawing, vtkPolyDataAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
+  enum VisibilityModes
+  {
+    ALL_LINES = 0,
+    VISIBLE_LINES = 1,
+    VISIBLE_AND_HIDDEN_LINES = 2
+  };
+
   enum LineTypes
   {
     CONTOUR = 0,
@@ -111,6 +118,9 @@ public:
   /// The direction the camera looks along, used with Parallel Projection. Default: 0 0 -1.
   vtkSetVector3Macro(ViewDirection, double);
   vtkGetVector3Macro(ViewDirection, double);
+  /// The camera's up direction: the vertical of the page for vtkLineDrawingWriter. Default: 0 1 0.
+  vtkSetVector3Macro(ViewUp, double);
+  vtkGetVector3Macro(ViewUp, double);
   /// Orthographic view along View Direction instead of the perspective from Camera Position.
   /// Default: off.
   vtkSetMacro(ParallelProjection, bool);
@@ -191,6 +201,11 @@ public:
   vtkSetMacro(DropBackFacing, bool);
   vtkGetMacro(DropBackFacing, bool);
   vtkBooleanMacro(DropBackFacing, bool);
+  /// Which parts of the lines to keep: all of them (hidden parts are left to the renderer's depth
+  /// test), the visible ones only, or both with cell array Hidden. Values: 0 All lines, 1 Visible
+  /// lines, 2 Visible and hidden lines. Default: All lines.
+  vtkSetClampMacro(Visibility, int, ALL_LINES, VISIBLE_AND_HIDDEN_LINES);
+  vtkGetMacro(Visibility, int);
   /// Threads; 0 uses all cores, shared among the processes of an MPI job on the node (or
   /// BELTRAMI_NUM_THREADS). Default: 0.
   vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
@@ -208,7 +223,9 @@ protected:
 
   double CameraPosition[3] = { 0.0, 0.0, 1.0 };
   double ViewDirection[3] = { 0.0, 0.0, -1.0 };
+  double ViewUp[3] = { 0.0, 1.0, 0.0 };
   bool ParallelProjection = false;
+  int Visibility = 0;
   bool Contours = true;
   bool SuggestiveContours = true;
   bool SuggestiveHighlights = false;

@@ -98,6 +98,10 @@ std::vector<SegmentChain> ChainSegments(const std::vector<std::int64_t>& keys)
         {
           chain.Points.push_back({ s, exit });
         }
+        else
+        {
+          chain.ClosingSegment = s;
+        }
         break;
       }
       chain.Points.push_back({ s, exit });

@@ -20,6 +20,9 @@ struct SegmentChain
 {
   std::vector<ChainPoint> Points;
   bool Closed = false;
+  /// A closed loop's segment from its last point back to its first (the
+  /// others: the piece from Points[i - 1] to Points[i] is Points[i]'s).
+  Index ClosingSegment = -1;
 };
 
 /// Joins the segments whose ends have the same Key (>= 0) when exactly two

@@ -273,6 +273,7 @@ void LineDrawingGeometry::Build(
   DefaultFeatureSize = extent.allFinite() ? 0.01 * extent.norm() : 0.0;
   Threads = numThreads;
   RidgesFound = false; // (found when first drawn: RidgeCandidates)
+  Occlusion.reset();    // (built when first asked for: Occluders)
   Ridges[0] = SegmentList();
   Ridges[1] = SegmentList();
   FindFeatureEdges(topology, numThreads);
@@ -620,9 +621,11 @@ void Resolve(const LineDrawingGeometry& geo, const SegmentList& segments, LineTy
 {
   std::vector<std::int64_t>& keys = out.Keys[static_cast<int>(type)];
   std::vector<double>& ends = out.Ends[static_cast<int>(type)];
+  std::vector<Index>& faces = out.Faces[static_cast<int>(type)];
   const std::size_t first = keys.size(); // (in place, in parallel: each segment its own slots)
   keys.resize(first + 2 * segments.size());
   ends.resize(ViewSegments::ValuesPerEnd * keys.size());
+  faces.resize(keys.size() / 2);
   ParallelFor(static_cast<std::int64_t>(segments.size()), threads, [&](std::int64_t begin, std::int64_t last) {
     for (std::int64_t i = begin; i < last; ++i)
     {
@@ -630,6 +633,7 @@ void Resolve(const LineDrawingGeometry& geo, const SegmentList& segments, LineTy
       const Index* v = geo.Triangles.data() + 3 * static_cast<std::int64_t>(s.Face);
       double corners[3];
       strength(static_cast<Index>(i), v, corners);
+      faces[first / 2 + i] = s.Face;
       for (int e = 0; e < 2; ++e)
       {
         const LineEnd& end = s.End[e];
@@ -656,6 +660,8 @@ void Resolve(const LineDrawingGeometry& geo, const SegmentList& segments, LineTy
 void AddLines(const ViewSegments& segments, LineType type, LineSet& lines, const LineFilter& filter = {})
 {
   const std::vector<double>& ends = segments.Ends[static_cast<int>(type)];
+  const std::vector<Index>& faces = segments.Faces[static_cast<int>(type)];
+  const auto faceOf = [&](const ChainPoint& cp) { return faces.empty() ? Index(-1) : faces[cp.Segment]; };
   for (const SegmentChain& chain : ChainSegments(segments.Keys[static_cast<int>(type)]))
   {
     const std::size_t firstValue = lines.PointStrength.size();
@@ -669,7 +675,9 @@ void AddLines(const ViewSegments& segments, LineType type, LineSet& lines, const
       if (lines.PointStrength.size() > firstValue)
       {
         length += (p - Point(lines.Points.data(), static_cast<Index>(lines.PointStrength.size() - 1))).norm();
+        lines.EdgeFace.back() = faceOf(cp); // (the piece from the previous point: this segment's)
       }
+      lines.EdgeFace.push_back(-1);
       lines.Points.insert(lines.Points.end(), end, end + 3);
       lines.Normals.insert(lines.Normals.end(), end + 3, end + 6);
       lines.PointStrength.push_back(value);
@@ -689,11 +697,14 @@ void AddLines(const ViewSegments& segments, LineType type, LineSet& lines, const
       lines.Normals.resize(3 * firstValue);
       lines.PointStrength.resize(firstValue);
       lines.Connectivity.resize(static_cast<std::size_t>(lines.Offsets.back()));
+      lines.EdgeFace.resize(lines.Connectivity.size());
       continue;
     }
     if (chain.Closed)
     {
+      lines.EdgeFace.back() = faces.empty() ? Index(-1) : faces[chain.ClosingSegment]; // (the closing piece)
       lines.Connectivity.push_back(first);
+      lines.EdgeFace.push_back(-1);
     }
     lines.Offsets.push_back(static_cast<Index>(lines.Connectivity.size()));
     lines.Type.push_back(static_cast<std::uint8_t>(type));

@@ -36,6 +36,7 @@ namespace beltrami
 {
 
 class Partition;
+struct OcclusionIndex;
 
 enum class LineType : std::uint8_t
 {
@@ -56,6 +57,14 @@ struct LineView
   bool Perspective = true;
   Vec3 Position = Vec3(0, 0, 1);
   Vec3 Direction = Vec3(0, 0, -1);
+};
+
+/// Which parts of the lines a drawing keeps (Drawing/Visibility.h).
+enum class LineVisibility : std::uint8_t
+{
+  All = 0,             ///< every part, seen or not (hidden lines left to a renderer's depth test)
+  Visible = 1,         ///< the parts seen from the camera
+  VisibleAndHidden = 2 ///< both, the hidden parts marked (LineSet::Hidden)
 };
 
 struct LineDrawingOptions
@@ -95,6 +104,9 @@ struct LineDrawingOptions
   /// its strength passes the full threshold somewhere (Canny's rule: on
   /// scans the noise breaks a line wherever it dips below the threshold).
   double HysteresisRatio = 1.0;
+  /// Which parts to keep: every part, or split where the lines pass behind
+  /// the surface (SplitByVisibility, applied by the caller).
+  LineVisibility Visibility = LineVisibility::All;
   int NumberOfThreads = 0;
 };
 
@@ -195,6 +207,10 @@ public:
   /// (drawings without ridges and valleys, the default, do not pay for
   /// them), then kept (not for concurrent calls on one geometry).
   const SegmentList& RidgeCandidates(bool valleys) const;
+  /// The triangles in a tree for the visibility rays, and the faces around
+  /// each vertex (Drawing/Visibility.cxx defines it): built on the first
+  /// call after Build, then kept (not for concurrent calls on one geometry).
+  const OcclusionIndex& Occluders() const;
 
 private:
   double DefaultFeatureSize = 0.0;
@@ -212,6 +228,7 @@ private:
   /// and the previous vertex), as the 1-ring loops compute it.
   Vec3 FaceCross(Index f, Index a) const;
   mutable CreaseList CreaseEdges; // Creases' last angle
+  mutable std::shared_ptr<const OcclusionIndex> Occlusion; // Occluders, when first asked for
   struct RidgeCache
   {
     bool Valid = false, AvoidCreases = false;
@@ -239,6 +256,13 @@ struct LineSet
   std::vector<std::uint8_t> Type;      ///< LineType per line
   std::vector<std::uint8_t> Closed;    ///< 1 for a closed loop
   std::vector<double> Strength;        ///< mean point strength per line
+  /// Per line: 1 for the parts behind the surface (SplitByVisibility with
+  /// the hidden parts kept; empty: none tested).
+  std::vector<std::uint8_t> Hidden;
+  /// Per entry of Connectivity: the face that the piece from that point to
+  /// the next lies in (-1: the last point of a line, or not known: split
+  /// runs' lines, chained from every process' segments).
+  std::vector<Index> EdgeFace;
   Index NumberOfLines() const { return static_cast<Index>(Type.size()); }
 };
 
@@ -250,6 +274,8 @@ struct ViewSegments
   static constexpr int ValuesPerEnd = 7;
   std::vector<std::int64_t> Keys[NumberOfLineTypes];
   std::vector<double> Ends[NumberOfLineTypes];
+  /// The face of each segment (this process' numbering; not gathered).
+  std::vector<Index> Faces[NumberOfLineTypes];
 };
 
 /// The per-view pass: the segments of this process' faces and edges
