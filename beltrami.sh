@@ -27,6 +27,8 @@ PACKAGES=(
   libhypre-dev
   # the remesher's constrained Delaunay triangulation (CGAL, header-only)
   libcgal-dev
+  # line drawings as PDF (Cairo), and the readers the tests rasterise PDF and SVG with
+  libcairo2-dev poppler-utils librsvg2-bin
   # the user guide (Sphinx, MyST Markdown, the furo theme)
   python3-sphinx python3-myst-parser furo
 )

@@ -8,7 +8,8 @@ again), and the bunny once more without the short curvature lines its scan
 noise draws (MinimumLineLength 2 feature sizes); prints the line counts and
 times and writes the lines (.vtp) and
 pictures: contours black, suggestive contours blue, ridges red, valleys
-green, creases grey.
+green, creases grey; and each drawing for print, its visible lines only, as
+SVG and PDF pages (vtkLineDrawingWriter; the bunny's hidden lines dashed).
 
     source build/beltrami-env.sh
     xvfb-run -a /usr/bin/python3 Examples/line_drawing_demo.py [output-dir]
@@ -19,7 +20,7 @@ import sys
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
-from beltrami.pipelines import line_drawing, render_line_drawing, write_vtp
+from beltrami.pipelines import line_drawing, render_line_drawing, write_print_drawing, write_vtp
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "Testing", "Data")
@@ -55,6 +56,8 @@ def main(argv):
                      drawing.GetGeometryBuilds()))
             write_vtp(lines, stem + ".vtp")
             print("wrote %s.vtp\nwrote %s.png" % (stem, stem))
+            for path in write_print_drawing(drawing, stem, hidden_dashed=mesh.startswith("bunny")):
+                print("wrote %s" % path)
     return 0
 
 

@@ -17,7 +17,7 @@ render re-runs only the drawing's per-view pass.
 
 def _view_of(camera):
     return (tuple(camera.GetPosition()), tuple(camera.GetDirectionOfProjection()),
-            1 if camera.GetParallelProjection() else 0)
+            1 if camera.GetParallelProjection() else 0, tuple(camera.GetViewUp()))
 
 
 def follow_camera(drawing, view=None):
@@ -37,6 +37,7 @@ def follow_camera(drawing, view=None):
         drawing.CameraPosition = list(current[0])
         drawing.ViewDirection = list(current[1])
         drawing.ParallelProjection = current[2]
+        drawing.ViewUp = list(current[3])
 
     update()
     tag = camera.AddObserver("ModifiedEvent", update)

@@ -220,6 +220,25 @@ def follow(drawing, camera):
     drawing.SetCameraPosition(camera.GetPosition())
     drawing.SetViewDirection(camera.GetDirectionOfProjection())
     drawing.SetParallelProjection(bool(camera.GetParallelProjection()))
+    drawing.SetViewUp(camera.GetViewUp())
+
+
+def write_print_drawing(drawing, stem, hidden_dashed=False):
+    """Writes the drawing's visible lines (for its current camera) as
+    stem.svg and stem.pdf with vtkLineDrawingWriter (hidden lines dashed
+    when asked); the drawing's Visibility is left as it was."""
+    from beltrami import vtkLineDrawingWriter
+    before = drawing.GetVisibility()
+    drawing.SetVisibility(vtkSurfaceLineDrawing.VISIBLE_AND_HIDDEN_LINES if hidden_dashed
+                          else vtkSurfaceLineDrawing.VISIBLE_LINES)
+    writer = vtkLineDrawingWriter()
+    writer.SetInputConnection(drawing.GetOutputPort())
+    writer.SetDrawHiddenLines(hidden_dashed)
+    for extension in (".svg", ".pdf"):
+        writer.SetFileName(stem + extension)
+        writer.Write()
+    drawing.SetVisibility(before)
+    return [stem + ".svg", stem + ".pdf"]
 
 
 def white_surface_actor(source):
@@ -275,6 +294,57 @@ def render_line_drawing(drawing, png_path, size=(800, 800), view_up=(0, 1, 0), d
     elapsed = time.perf_counter() - start
     renderer.AddActor(line_type_actor(drawing.GetOutput(), line_width))
     return capture(renderer, png_path, size), elapsed
+
+
+def render_visible_lines(drawing, png_path, size=(800, 800), view_up=(0, 1, 0), direction=(0, 0, 1), zoom=1.0,
+                         line_width=2.0):
+    """The drawing's lines alone, no surface to hide them, for a camera
+    looking from `direction` with its Visibility set to visible and hidden
+    lines: visible lines black, hidden ones light grey. Returns the image."""
+    drawing.GetInputAlgorithm().Update()
+    surface = white_surface_actor(drawing.GetInputConnection(0, 0))
+    renderer = framed_renderer([surface], view_up, direction, zoom)
+    renderer.RemoveActor(surface)  # (it framed the camera)
+    follow(drawing, renderer.GetActiveCamera())
+    drawing.SetVisibility(vtkSurfaceLineDrawing.VISIBLE_AND_HIDDEN_LINES)
+    drawing.Update()
+    colours = vtkLookupTable()
+    colours.SetNumberOfTableValues(2)
+    colours.SetTableValue(0, 0.0, 0.0, 0.0, 1.0)
+    colours.SetTableValue(1, 0.75, 0.75, 0.75, 1.0)
+    colours.SetTableRange(0, 1)
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputData(drawing.GetOutput())
+    mapper.SetScalarModeToUseCellFieldData()
+    mapper.SelectColorArray("Hidden")
+    mapper.SetLookupTable(colours)
+    mapper.SetColorModeToMapScalars()
+    mapper.SetScalarRange(0, 1)
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetLineWidth(line_width)
+    actor.GetProperty().LightingOff()
+    renderer.AddActor(actor)
+    return capture(renderer, png_path, size)
+
+
+def rasterise_svg(svg_path, png_path, width=400):
+    """An SVG page as a PNG `width` pixels wide on white (rsvg-convert, from
+    Debian's librsvg2-bin); returns the RGB image."""
+    import subprocess
+    from vtkmodules.vtkImagingCore import vtkImageExtractComponents
+    subprocess.run(["rsvg-convert", "-w", str(width), "-b", "white", "-o", png_path, svg_path], check=True)
+    reader = vtkPNGReader()
+    reader.SetFileName(png_path)
+    rgb = vtkImageExtractComponents()
+    rgb.SetInputConnection(reader.GetOutputPort())
+    rgb.SetComponents(0, 1, 2)
+    rgb.Update()
+    writer = vtkPNGWriter()
+    writer.SetFileName(png_path)
+    writer.SetInputConnection(rgb.GetOutputPort())
+    writer.Write()
+    return rgb.GetOutput()
 
 
 def checkerboard(squares=16, pixels=32):

@@ -363,7 +363,8 @@ FILTERS = {
                       None),
     "remeshing-deviation": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=0,
                                                MaximumDeviation=DEVIATION), check_deviation, "all", None),
-    "line-drawing": (b.vtkSurfaceLineDrawing, check_lines, "all", None),
+    # (visible and hidden lines: the drawing, and the visibility rays that split it)
+    "line-drawing": (inputs.filter_with(b.vtkSurfaceLineDrawing, Visibility=2), check_lines, "all", None),
     "vector-fields": (b.vtkSurfaceVectorFieldDecomposition, check_vector_fields, "all", None),
     "tetgen": (b.vtkTetGenTetrahedralizer, check_tetgen, "closed", "The surface intersects itself"),
 }

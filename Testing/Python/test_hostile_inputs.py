@@ -43,7 +43,7 @@ def filters():
         "parameterization": (b.vtkIntrinsicParameterization, ("surface",)),
         "atlas": (b.vtkSurfaceAtlas, ("surface",)),
         "remeshing": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=300), ("surface",)),
-        "line-drawing": (b.vtkSurfaceLineDrawing, ("surface",)),
+        "line-drawing": (inputs.filter_with(b.vtkSurfaceLineDrawing, Visibility=2), ("surface",)),
         "vector-fields": (b.vtkSurfaceVectorFieldDecomposition, ("surface-with-vectors",)),
         "tetgen": (b.vtkTetGenTetrahedralizer, ("surface",)),
         "image-denoising": (b.vtkImageBeltramiDenoising, ("image",)),

@@ -4,15 +4,19 @@ perspective; a torus seen at a grazing angle, against rays cast through the
 implicit torus), and vtkLineDrawingWriter's SVG and PDF."""
 import math
 import os
+import re
+import subprocess
 import sys
+import tempfile
 import unittest
+import xml.etree.ElementTree as ElementTree
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import inputs  # noqa: E402
-from beltrami import vtkSurfaceLineDrawing  # noqa: E402
+from beltrami import vtkLineDrawingWriter, vtkSurfaceLineDrawing  # noqa: E402
 
 CONTOUR, CREASE = vtkSurfaceLineDrawing.CONTOUR, vtkSurfaceLineDrawing.CREASE
 
@@ -137,6 +141,198 @@ class Visibility(unittest.TestCase):
         print("torus: %d points, %d classified unlike the analytic rays, the farthest %.3f%% of the view from "
               "an analytic occlusion boundary" % (len(allpoints), len(wrong), 100 * worst))
         self.assertLess(worst, 0.005)
+
+
+NAMES = ("contour", "suggestive-contour", "suggestive-highlight", "ridge", "valley", "boundary", "crease")
+PAGE, MARGIN = 504.0, 18.0  # the writer's defaults, points
+
+
+def write(drawing_output, path, **settings):
+    w = inputs.filter_with(vtkLineDrawingWriter, **settings)()
+    said = inputs.Messages(w)
+    w.SetInputData(drawing_output)
+    w.SetFileName(path)
+    w.Write()
+    return said
+
+
+def field(out, name):
+    return vtk_to_numpy(out.GetFieldData().GetArray(name)).ravel()
+
+
+def projected(out, hidden_too):
+    """{class: [page polyline (k x 2)]} of a drawing, projected here from its
+    field arrays (the writer's page: longer side PAGE less the margins, y down)."""
+    eye, forward, up = field(out, "CameraPosition"), field(out, "ViewDirection"), field(out, "ViewUp")
+    forward = forward / np.linalg.norm(forward)
+    up = up - (up @ forward) * forward
+    up /= np.linalg.norm(up)
+    right = np.cross(forward, up)
+    parallel = field(out, "ParallelProjection")[0] != 0
+    lines = [(t, h, p) for t, h, p in polylines(out) if hidden_too or not h]
+
+    def plane(p):
+        if parallel:
+            return np.stack([p @ right, p @ up], -1)
+        v = p - eye
+        z = v @ forward
+        return np.stack([v @ right / z, v @ up / z], -1)
+    flat = [(t, h, plane(p)) for t, h, p in lines]
+    allxy = np.vstack([xy for _, _, xy in flat])
+    lo, hi = allxy.min(0), allxy.max(0)
+    scale = (PAGE - 2 * MARGIN) / (hi - lo).max()
+    pages = {}
+    for t, h, xy in flat:
+        page = np.stack([MARGIN + (xy[:, 0] - lo[0]) * scale, MARGIN + (hi[1] - xy[:, 1]) * scale], -1)
+        pages.setdefault("hidden" if h else NAMES[t], []).append(page)
+    return pages, (hi - lo) * scale + 2 * MARGIN
+
+
+def svg_paths(path):
+    """{class: [polyline (k x 2)]} and (width, height) of an SVG page."""
+    root = ElementTree.parse(path).getroot()  # (valid XML, or this raises)
+    ns = "{http://www.w3.org/2000/svg}"
+    paths = {}
+    for group in root.iter(ns + "g"):
+        for element in group.iter(ns + "path"):
+            d = element.get("d")
+            xy = np.array([[float(v) for v in pair.split(",")] for pair in re.findall(r"[ML]([-0-9.e]+,[-0-9.e]+)", d)])
+            if d.rstrip().endswith("Z"):
+                xy = np.vstack([xy, xy[:1]])
+            paths.setdefault(group.get("class"), []).append(xy)
+    size = np.array([float(root.get(k).rstrip("pt")) for k in ("width", "height")])
+    return paths, size
+
+
+def distance_to_polylines(points, polylines_list):
+    """The distance from each point to the nearest segment of the polylines."""
+    a = np.vstack([p[:-1] for p in polylines_list])
+    b = np.vstack([p[1:] for p in polylines_list])
+    ab = b - a
+    best = np.full(len(points), np.inf)
+    for start in range(0, len(points), 256):
+        q = points[start:start + 256, None, :]
+        t = np.clip(((q - a) * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-300), 0, 1)
+        d = np.linalg.norm(q - (a + t[..., None] * ab), axis=-1).min(1)
+        best[start:start + 256] = d
+    return best
+
+
+def ink(grey, points_per_pixel):
+    """The ink of a greyscale raster (0-255) in square points (1 - grey, summed)."""
+    return (1.0 - grey / 255.0).sum() * points_per_pixel ** 2
+
+
+def read_pgm(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    magic, width, height, maximum, rest = re.match(rb"(P5)\s+(\d+)\s+(\d+)\s+(\d+)\s(.*)", data, re.S).groups()
+    return np.frombuffer(rest, np.uint8)[: int(width) * int(height)].reshape(int(height), int(width)).astype(float)
+
+
+class Writer(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp()
+
+    def test_svg_rereads_to_the_projected_polylines(self):
+        for camera in (dict(CameraPosition=(0, 0, 5)), dict(ParallelProjection=True, ViewDirection=(0.2, -0.3, -1),
+                                                               ViewUp=(1, 1, 0))):
+            out = draw(sphere_before_roof(), Visibility=vtkSurfaceLineDrawing.VISIBLE_AND_HIDDEN_LINES, **camera)
+            svg = os.path.join(self.tmp, "roof.svg")
+            said = write(out, svg, DrawHiddenLines=True)
+            self.assertEqual(said.errors + said.warnings, [])
+            paths, size = svg_paths(svg)
+            expected, expected_size = projected(out, hidden_too=True)
+            self.assertTrue(np.allclose(size, expected_size, atol=2e-3), (size, expected_size))
+            self.assertEqual(sorted(paths), sorted(expected))
+            self.assertEqual(len(paths["hidden"]), 1)  # the crease behind the sphere
+            self.assertEqual(len(paths["crease"]), 2)  # and its two visible ends
+            tolerance = vtkLineDrawingWriter().GetTolerance()
+            for name in expected:
+                ours = np.vstack(paths[name])
+                theirs = np.vstack(expected[name])
+                # Every vertex written is a projected vertex (simplification
+                # keeps a subset; 3 decimals) and every projected vertex lies
+                # within the tolerance of the written lines.
+                nearest = np.array([np.linalg.norm(theirs - p, axis=1).min() for p in ours])
+                self.assertLess(nearest.max(), 2e-3, name)
+                self.assertLess(distance_to_polylines(theirs, paths[name]).max(), tolerance + 2e-3, name)
+            # Hidden lines left out by default.
+            said = write(out, svg)
+            self.assertNotIn("hidden", svg_paths(svg)[0])
+
+    def test_pdf_and_svg_rasterise_to_the_expected_ink(self):
+        """A sphere's contour, a circle filling the page less its margins:
+        its ink is the circumference times the contour's width."""
+        mesh = inputs.polydata(*inputs.sphere(96))
+        out = draw(mesh, ParallelProjection=True, ViewDirection=(0, 0, -1),
+                   Visibility=vtkSurfaceLineDrawing.VISIBLE_LINES)
+        width = vtkLineDrawingWriter().GetLineWidths()[0]
+        expected = math.pi * (PAGE - 2 * MARGIN) * width
+        pdf, svg = os.path.join(self.tmp, "sphere.pdf"), os.path.join(self.tmp, "sphere.svg")
+        for path in (pdf, svg):
+            said = write(out, path)
+            self.assertEqual(said.errors + said.warnings, [])
+        with open(pdf, "rb") as f:
+            self.assertEqual(f.read(5), b"%PDF-")
+        # (At 288 dpi: poppler's rasteriser widens strokes by about an
+        # eighth of a pixel, 2.6% of this contour's ink at 288 dpi, 5% at 144.)
+        subprocess.run(["pdftoppm", "-r", "288", "-gray", pdf, os.path.join(self.tmp, "page")], check=True)
+        raster = read_pgm(os.path.join(self.tmp, "page-1.pgm"))
+        self.assertEqual(raster.shape, (2016, 2016))  # 504 pt at 288 dpi
+        pdf_ink = ink(raster, 0.25)
+        print("sphere contour: ink %.1f pt^2 in the PDF, %.1f expected" % (pdf_ink, expected))
+        self.assertLess(abs(pdf_ink / expected - 1), 0.035)
+        # The ink lies on the circle of radius (PAGE - 2 MARGIN) / 2 about the page's centre.
+        ys, xs = np.nonzero(raster < 128)
+        radius = np.hypot(xs * 0.25 + 0.125 - PAGE / 2, ys * 0.25 + 0.125 - PAGE / 2)
+        self.assertLess(np.abs(radius - (PAGE / 2 - MARGIN)).max(), width)
+        png = os.path.join(self.tmp, "sphere.png")
+        subprocess.run(["rsvg-convert", "--dpi-x", "288", "--dpi-y", "288", "-b", "white", "-o", png, svg], check=True)
+        from vtkmodules.vtkIOImage import vtkPNGReader
+        reader = vtkPNGReader()
+        reader.SetFileName(png)
+        reader.Update()
+        image = reader.GetOutput()
+        rgb = vtk_to_numpy(image.GetPointData().GetScalars()).astype(float)
+        self.assertEqual((image.GetDimensions()[0], image.GetDimensions()[1]), (2016, 2016))
+        svg_ink = ink(rgb[:, :3].mean(1), 0.25)
+        print("sphere contour: ink %.1f pt^2 in the SVG" % svg_ink)
+        self.assertLess(abs(svg_ink / expected - 1), 0.035)
+
+    def test_tapering_and_styles(self):
+        mesh = inputs.read_off(os.path.join(inputs.DATA, "bunny00.off"))
+        out = draw(mesh, SuggestiveContours=True, CameraPosition=(0.5, 0.2, 2.0), ViewDirection=(-0.25, -0.1, -1),
+                   Visibility=vtkSurfaceLineDrawing.VISIBLE_LINES)
+        svg = os.path.join(self.tmp, "bunny.svg")
+        root_plain = (write(out, svg), ElementTree.parse(svg).getroot())[1]
+        write(out, svg, TaperByStrength=True, LineColors=[0.2, 0.3, 0.4] + [0] * 21)
+        root = ElementTree.parse(svg).getroot()
+        ns = "{http://www.w3.org/2000/svg}"
+        widths = {}
+        for g in root.iter(ns + "g"):
+            widths.setdefault(g.get("class"), set()).add(float(g.get("stroke-width")))
+            if g.get("class") == "contour":
+                self.assertEqual(g.get("stroke"), "#334d66")
+        self.assertEqual(widths["contour"], {1.2})  # contours are not tapered
+        self.assertGreater(len(widths["suggestive-contour"]), 3)
+        self.assertLessEqual(max(widths["suggestive-contour"]), 0.7)
+        self.assertGreaterEqual(min(widths["suggestive-contour"]), 0.7 * 0.2)
+        plain = {float(g.get("stroke-width")) for g in root_plain.iter(ns + "g") if g.get("class") == "suggestive-contour"}
+        self.assertEqual(plain, {0.7})
+
+    def test_bad_input(self):
+        svg = os.path.join(self.tmp, "none.svg")
+        mesh = inputs.polydata(*inputs.sphere(12))
+        said = write(mesh, svg)  # no camera: an error, nothing written
+        self.assertTrue(any("no camera" in e for e in said.errors), said.errors)
+        self.assertFalse(os.path.exists(svg))
+        out = draw(mesh)  # not tested for visibility: written, with a warning
+        said = write(out, svg)
+        self.assertTrue(any("visibility" in w for w in said.warnings), said.warnings)
+        self.assertTrue(os.path.exists(svg))
+        said = write(out, os.path.join(self.tmp, "no", "such", "dir.pdf"))
+        self.assertTrue(any("Cannot write" in e for e in said.errors), said.errors)
 
 
 if __name__ == "__main__":

@@ -5,7 +5,8 @@ after an implicit curvature-flow step (mean curvature colours), the bunny's
 atlas (a checkerboard through its packed UV: seams, one texel density), the
 bunny remeshed with 2,000 vertices, uniformly and adapted to its mean
 curvature (chapter 4: the triangles drawn), line drawings of the bunny
-and of fandisk, and the
+and of fandisk, the bunny's lines hidden by the visibility pass alone and
+fandisk's SVG page rasterised, and the
 denoising demo's results on the noisy camera (greyscale) and coffee (colour)
 images (256 x 256 crops).
 Run with --make-baseline to regenerate them (look at them before committing)."""
@@ -159,6 +160,25 @@ for mesh, direction, zoom, extra in (("bunny00", (0.8, 0.2, 1), 1.2, dict(ridges
     ok = compare("%s_line_drawing.png" % mesh,
                  lambda png: pipelines.render_line_drawing(drawing, png, size=(400, 400), direction=direction,
                                                            zoom=zoom)[0]) and ok
+# Drawings for print: the bunny's lines alone, hidden by the visibility pass
+# (not a depth test; hidden lines grey), and fandisk's SVG page (visible
+# lines only) rasterised by rsvg-convert.
+bunny = pipelines.line_drawing(os.path.join(DATA, "bunny00.off"))
+ok = compare("bunny00_visible_lines.png",
+             lambda png: pipelines.render_visible_lines(bunny, png, size=(400, 400), direction=(0.8, 0.2, 1),
+                                                        zoom=1.2)) and ok
+
+
+def fandisk_page(png):
+    drawing = pipelines.line_drawing(os.path.join(DATA, "fandisk.off"))
+    pipelines.render_line_drawing(drawing, os.path.join(out_dir, "fandisk_for_print.png"), size=(400, 400),
+                                  direction=(1, 0.6, 0.8), zoom=0.9)  # (sets the drawing's camera)
+    stem = os.path.join(out_dir, "fandisk_print")
+    svg, _ = pipelines.write_print_drawing(drawing, stem)
+    return pipelines.rasterise_svg(svg, png)
+
+
+ok = compare("fandisk_print_svg.png", fandisk_page) and ok
 ok = compare_pixels("camera_denoised.png", denoised_crop("camera", slice(128, 384), slice(128, 384))) and ok
 ok = compare_pixels("coffee_denoised.png", denoised_crop("coffee", slice(72, 328), slice(172, 428))) and ok
 sys.exit(0 if ok else 1)
