@@ -82,7 +82,7 @@ vtkLineDrawingWriter::~vtkLineDrawingWriter()
   this->SetFileName(nullptr);
 }
 
-void vtkLineDrawingWriter::SetLineWidth(int index, double width)
+void vtkLineDrawingWriter::SetLineWidths(int index, double width)
 {
   if (index >= 0 && index < 8 && this->LineWidths[index] != width)
   {
@@ -91,7 +91,7 @@ void vtkLineDrawingWriter::SetLineWidth(int index, double width)
   }
 }
 
-void vtkLineDrawingWriter::SetLineColorComponent(int index, double value)
+void vtkLineDrawingWriter::SetLineColors(int index, double value)
 {
   if (index >= 0 && index < 24 && this->LineColors[index] != value)
   {

@@ -64,14 +64,14 @@ public:
   vtkGetVectorMacro(LineWidths, double, 8);
   /// Stroke widths in points per line type: contour, suggestive contour, suggestive highlight,
   /// ridge, valley, boundary, crease, and hidden lines. Default: 1.2 0.7 0.7 0.6 0.6 1.2 0.9 0.5.
-  void SetLineWidth(int index, double width);
+  void SetLineWidths(int index, double width);
   /// Stroke colours (RGB in [0, 1]) per line type, in the order of Line Widths. Default: 0 0 0 0 0
   /// 0 0.55 0.55 0.55 0 0 0 0 0 0 0 0 0 0 0 0 0.55 0.55 0.55.
   vtkSetVectorMacro(LineColors, double, 24);
   vtkGetVectorMacro(LineColors, double, 24);
   /// Stroke colours (RGB in [0, 1]) per line type, in the order of Line Widths. Default: 0 0 0 0 0
   /// 0 0.55 0.55 0.55 0 0 0 0 0 0 0 0 0 0 0 0 0.55 0.55 0.55.
-  void SetLineColorComponent(int index, double value);
+  void SetLineColors(int index, double value);
   /// Draw the lines marked hidden, dashed (Hidden Dash), instead of leaving them out. Default: off.
   vtkSetMacro(DrawHiddenLines, bool);
   vtkGetMacro(DrawHiddenLines, bool);
