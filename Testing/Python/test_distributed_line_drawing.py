@@ -14,7 +14,8 @@ closed ones, points, lengths, strengths: every point of each drawing within
 1e-9 of the diagonal of a point of the other), the per-point arrays of
 output 1 (CurvatureDerivative, NdotV, RadialCurvature...) on every piece;
 a new camera re-runs only the per-view pass; a rank with an empty piece; a
-NaN point (no hang);
+NaN point (no hang); Visibility (the surface gathered on rank 0: the serial
+visible and hidden lines) and the Line Drawing Writer (one page, by rank 0);
 what each rank holds (with 4 ranks no rank more than a third of the points
 and triangles)."""
 import builtins  # (ParaView's programmable filters put numpy_interface's max, abs... in __main__)
@@ -168,6 +169,24 @@ if ranks > 1:
           % (owned + ghosts, whole.GetNumberOfPoints(), triangles, whole.GetNumberOfCells()))
     run("bunny00.off", "bunny on %d of %d ranks" % (empty_rank_partitions(ranks), ranks), bunny_cameras[:1],
         partitions=empty_rank_partitions(ranks))
+
+# Visibility: the rays need every triangle, so the surface is gathered on
+# rank 0 and drawn there: the serial visible and hidden lines. The Line
+# Drawing Writer writes them once, on rank 0.
+SETTINGS["Visibility"] = vtkSurfaceLineDrawing.VISIBLE_AND_HIDDEN_LINES
+drawing, _ = run("bunny00.off", "bunny with visibility", bunny_cameras[:1])
+hidden = servermanager.Fetch(drawing).GetCellData().GetArray("Hidden")
+check(hidden is not None and 0 < builtins.sum(hidden.GetValue(i) for i in range(hidden.GetNumberOfTuples()))
+      < hidden.GetNumberOfTuples(), "visible and hidden lines over %d rank(s)" % ranks)
+del SETTINGS["Visibility"]
+page = os.path.join(os.environ.get("BELTRAMI_TEST_OUTPUT_DIR", "/tmp"), "distributed_drawing_%d.svg" % ranks)
+if os.path.exists(page):
+    os.remove(page)
+SaveData(page, proxy=drawing)
+with open(page) as f:
+    text = f.read()
+check(text.startswith("<?xml") and text.count("<path") > 10 and text.rstrip().endswith("</svg>"),
+      "the Line Drawing Writer wrote one page over %d rank(s) (%d paths)" % (ranks, text.count("<path")))
 
 # A NaN point (made after RedistributeDataSet, whose k-d tree does not take
 # one): no hang, a defined output: the lines elsewhere (the NaN's triangles
