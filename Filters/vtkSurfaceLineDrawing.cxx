@@ -34,6 +34,7 @@ BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::RIDGE, beltrami::LineType::Ridge);
 BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::VALLEY, beltrami::LineType::Valley);
 BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::BOUNDARY, beltrami::LineType::Boundary);
 BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::CREASE, beltrami::LineType::Crease);
+BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::APPARENT_RIDGE, beltrami::LineType::ApparentRidge);
 BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::ALL_LINES, beltrami::LineVisibility::All);
 BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::VISIBLE_LINES, beltrami::LineVisibility::Visible);
 BELTRAMI_SAME_ENUM(vtkSurfaceLineDrawing::VISIBLE_AND_HIDDEN_LINES, beltrami::LineVisibility::VisibleAndHidden);
@@ -69,7 +70,8 @@ vtkSurfaceLineDrawing::~vtkSurfaceLineDrawing() = default;
 void vtkSurfaceLineDrawing::CopySettings(beltrami::LineDrawingOptions& o, vtkBeltramiCopy direction)
 {
   bool* draw[beltrami::NumberOfLineTypes] = { &this->Contours, &this->SuggestiveContours,
-    &this->SuggestiveHighlights, &this->Ridges, &this->Valleys, &this->Boundaries, &this->Creases };
+    &this->SuggestiveHighlights, &this->Ridges, &this->Valleys, &this->Boundaries, &this->Creases,
+    &this->ApparentRidges };
   for (int type = 0; type < beltrami::NumberOfLineTypes; ++type)
   {
     BeltramiCopySetting(*draw[type], o.Draw[type], direction);
@@ -78,6 +80,7 @@ void vtkSurfaceLineDrawing::CopySettings(beltrami::LineDrawingOptions& o, vtkBel
   BeltramiCopySetting(this->SuggestiveContourThreshold, o.SuggestiveThreshold, direction);
   BeltramiCopySetting(this->SuggestiveContourAngle, o.SuggestiveAngle, direction);
   BeltramiCopySetting(this->RidgeThreshold, o.RidgeThreshold, direction);
+  BeltramiCopySetting(this->ApparentRidgeThreshold, o.ApparentRidgeThreshold, direction);
   BeltramiCopySetting(this->CreaseAngle, o.CreaseAngle, direction);
   BeltramiCopySetting(this->MinimumLineLength, o.MinimumLength, direction);
   BeltramiCopySetting(this->HysteresisRatio, o.HysteresisRatio, direction);
@@ -104,9 +107,12 @@ int vtkSurfaceLineDrawing::RequestData(
 
 int vtkSurfaceLineDrawing::DrawSplit(vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  if (this->Visibility != ALL_LINES)
+  if (this->Visibility != ALL_LINES || this->ApparentRidges)
   {
-    return -1; // (the visibility rays need every triangle: the whole surface on rank 0)
+    // (The visibility rays need every triangle, the apparent ridges the
+    // derivatives of a view's curvature on whole 1-rings: the whole surface
+    // on rank 0.)
+    return -1;
   }
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* lines = vtkPolyData::GetData(outputVector, 0);
@@ -368,6 +374,8 @@ void vtkSurfaceLineDrawing::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "Valleys: " << this->Valleys << "\n"
      << indent << "Boundaries: " << this->Boundaries << "\n"
      << indent << "Creases: " << this->Creases << "\n"
+     << indent << "ApparentRidges: " << this->ApparentRidges << "\n"
+     << indent << "ApparentRidgeThreshold: " << this->ApparentRidgeThreshold << "\n"
      << indent << "FeatureSize: " << this->FeatureSize << "\n"
      << indent << "SuggestiveContourThreshold: " << this->SuggestiveContourThreshold << "\n"
      << indent << "SuggestiveContourAngle: " << this->SuggestiveContourAngle << "\n"

@@ -20,6 +20,10 @@
  *    along its direction with kappa_1 * FeatureSize > RidgeThreshold / the
  *    minimum one kappa_2 at a minimum with -kappa_2 * FeatureSize >
  *    RidgeThreshold.
+ *  - APPARENT_RIDGE (Judd, Durand & Adelson 2007): the view-dependent
+ *    curvature q1 (the normal's turn per unit length in the image) at a
+ *    maximum along its direction, q1 * FeatureSize > ApparentRidgeThreshold,
+ *    on the side facing the viewer (Drawing/ApparentRidges.h).
  *  - BOUNDARY: edges of one triangle; CREASE: edges whose triangles'
  *    normals differ by more than CreaseAngle degrees.  With AvoidCreases
  *    (default) the curvature lines (suggestive, ridges, valleys) are left
@@ -48,7 +52,8 @@
  * Output 0: polylines, cell arrays LineType (the enumeration below) and
  * Strength (the mean of the tested quantity along the line: D_w kappa_r
  * FeatureSize^2 for suggestive lines, |kappa| FeatureSize for ridges and
- * valleys, the dihedral angle for creases, 1 for contours and boundaries),
+ * valleys, q1 FeatureSize for apparent ridges, the dihedral angle for
+ * creases, 1 for contours and boundaries),
  * point arrays Strength (the same per point, for fading) and Normals (the
  * surface normal, for offset rendering).  Output 1: the input surface with
  * point arrays CurvatureDerivative (4 components: C(e1,e1,e1),
@@ -59,8 +64,14 @@
  * lines that need it stop at their triangles, with a warning; contours,
  * boundaries and creases are drawn everywhere.
  *
+ * Visibility (VISIBLE_LINES, VISIBLE_AND_HIDDEN_LINES) splits the lines
+ * where they pass behind the surface, tested by rays from their points to
+ * the eye (Drawing/Visibility.h); the lines' field data keep the view for
+ * vtkLineDrawingWriter.
+ *
  * Distributed runs (pvbatch, pvserver): a surface split over the ranks is
- * drawn where it lies.  The ranks exchange the triangles around their
+ * drawn where it lies (with Visibility or apparent ridges on, gathered on
+ * rank 0 and drawn there).  The ranks exchange the triangles around their
  * common points (so that every point of a piece has its whole 1-ring),
  * each computes the curvatures and their derivatives of its piece and
  * takes its neighbours' values for the ring, and finds the segments of the
@@ -108,7 +119,8 @@ public:
     RIDGE = 3,
     VALLEY = 4,
     BOUNDARY = 5,
-    CREASE = 6
+    CREASE = 6,
+    APPARENT_RIDGE = 7
   };
 
   /// The camera's position (perspective). Kept equal to a view's camera by
@@ -160,6 +172,12 @@ public:
   vtkGetMacro(Creases, bool);
   vtkBooleanMacro(Creases, bool);
 
+  /// Draw the apparent ridges (Judd et al. 2007): the view-dependent curvature at a maximum along
+  /// its direction. Default: off.
+  vtkSetMacro(ApparentRidges, bool);
+  vtkGetMacro(ApparentRidges, bool);
+  vtkBooleanMacro(ApparentRidges, bool);
+
   /// The length that makes the thresholds scale-free; 0: 1% of the bounding-box diagonal. Default:
   /// 0.
   vtkSetClampMacro(FeatureSize, double, 0.0, VTK_DOUBLE_MAX);
@@ -176,23 +194,28 @@ public:
   /// Size exceeds this. Default: 0.4.
   vtkSetClampMacro(RidgeThreshold, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(RidgeThreshold, double);
+  /// Apparent ridges are drawn where the view-dependent curvature times Feature Size exceeds this.
+  /// Default: 1.
+  vtkSetClampMacro(ApparentRidgeThreshold, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(ApparentRidgeThreshold, double);
   /// Dihedral angle in degrees above which an edge is a crease. Default: 40.
   vtkSetClampMacro(CreaseAngle, double, 0.0, 180.0);
   vtkGetMacro(CreaseAngle, double);
-  /// Suggestive contours and highlights, ridges and valleys whose polylines are shorter than this
-  /// many Feature Size are dropped (0: all kept). Values of 1-3 clean the short pieces that the
-  /// noise of raw scans draws. Default: 0.
+  /// Suggestive contours and highlights, ridges, valleys and apparent ridges whose polylines are
+  /// shorter than this many Feature Size are dropped (0: all kept). Values of 1-3 clean the short
+  /// pieces that the noise of raw scans draws. Default: 0.
   vtkSetClampMacro(MinimumLineLength, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(MinimumLineLength, double);
   /// Hysteresis of the curvature lines' thresholds (1: none). Suggestive contours and highlights,
-  /// ridges and valleys are traced down to this fraction of their thresholds, and a line is kept
-  /// where it passes the full threshold somewhere: on raw scans, 0.5 joins the pieces that the
-  /// noise breaks wherever it dips below the threshold. Default: 1.
+  /// ridges, valleys and apparent ridges are traced down to this fraction of their thresholds, and
+  /// a line is kept where it passes the full threshold somewhere: on raw scans, 0.5 joins the
+  /// pieces that the noise breaks wherever it dips below the threshold. Default: 1.
   vtkSetClampMacro(HysteresisRatio, double, 0.01, 1.0);
   vtkGetMacro(HysteresisRatio, double);
-  /// Leave suggestive contours and highlights, ridges and valleys out of the triangles at a crease
-  /// vertex (an end of an edge sharper than Crease Angle): the curvature there is the crease's, not
-  /// the surface's, and CAD parts would get suggestive contours along their creases. Default: on.
+  /// Leave suggestive contours and highlights, ridges, valleys and apparent ridges out of the
+  /// triangles at a crease vertex (an end of an edge sharper than Crease Angle): the curvature
+  /// there is the crease's, not the surface's, and CAD parts would get suggestive contours along
+  /// their creases. Default: on.
   vtkSetMacro(AvoidCreases, bool);
   vtkGetMacro(AvoidCreases, bool);
   vtkBooleanMacro(AvoidCreases, bool);
@@ -233,10 +256,12 @@ protected:
   bool Valleys = false;
   bool Boundaries = true;
   bool Creases = true;
+  bool ApparentRidges = false;
   double FeatureSize = 0.0;
   double SuggestiveContourThreshold = 0.0;
   double SuggestiveContourAngle = 0.0;
   double RidgeThreshold = 0.0;
+  double ApparentRidgeThreshold = 0.0;
   double CreaseAngle = 0.0;
   double MinimumLineLength = 0.0;
   double HysteresisRatio = 1.0;

@@ -155,7 +155,7 @@ std::vector<Piece> ProjectLines(const LineDrawingInput& lines, const LineDrawing
 
 /// Per point: the width factor of tapering (1 without): the strength over
 /// twice the median strength of its line type's points, in [0.2, 1], for
-/// suggestive contours and highlights, ridges and valleys.
+/// suggestive contours and highlights, ridges, valleys and apparent ridges.
 std::vector<double> TaperFactors(const LineDrawingInput& lines, const LineDrawingPageOptions& options)
 {
   std::size_t points = 0;
@@ -168,7 +168,7 @@ std::vector<double> TaperFactors(const LineDrawingInput& lines, const LineDrawin
   {
     return factor;
   }
-  for (int type = 1; type <= 4; ++type)
+  for (const int type : { 1, 2, 3, 4, 7 })
   {
     std::vector<double> strengths;
     for (std::size_t l = 0; l < lines.Types.size(); ++l)
@@ -319,7 +319,7 @@ std::vector<std::size_t> Simplify(const std::vector<double>& xy, const std::vect
 }
 
 /// The order styles are drawn in: hidden lines under everything, contours on top.
-constexpr int DrawingOrder[NumberOfDrawingStyles] = { HiddenStyle, 3, 4, 2, 1, 6, 5, 0 };
+constexpr int DrawingOrder[NumberOfDrawingStyles] = { HiddenStyle, 3, 4, 2, 1, 7, 6, 5, 0 };
 
 std::string Number(double x)
 {
@@ -343,7 +343,7 @@ LineDrawingPageOptions::LineDrawingPageOptions()
 {
   // Like the suggestive contours paper's figures: black contours, thinner
   // suggestive contours; highlights grey; hidden lines grey and dashed.
-  const double widths[NumberOfDrawingStyles] = { 1.2, 0.7, 0.7, 0.6, 0.6, 1.2, 0.9, 0.5 };
+  const double widths[NumberOfDrawingStyles] = { 1.2, 0.7, 0.7, 0.6, 0.6, 1.2, 0.9, 0.7, 0.5 };
   for (int s = 0; s < NumberOfDrawingStyles; ++s)
   {
     Styles[s].Width = widths[s];
@@ -358,7 +358,7 @@ LineDrawingPageOptions::LineDrawingPageOptions()
 const char* LineStyleName(int style)
 {
   static const char* names[NumberOfDrawingStyles] = { "contour", "suggestive-contour", "suggestive-highlight",
-    "ridge", "valley", "boundary", "crease", "hidden" };
+    "ridge", "valley", "boundary", "crease", "apparent-ridge", "hidden" };
   return style >= 0 && style < NumberOfDrawingStyles ? names[style] : "unknown";
 }
 

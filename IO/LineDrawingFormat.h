@@ -17,8 +17,8 @@
 namespace beltrami
 {
 
-constexpr int NumberOfDrawingStyles = 8; ///< the 7 line types, then hidden lines
-constexpr int HiddenStyle = 7;
+constexpr int NumberOfDrawingStyles = 9; ///< the 8 line types, then hidden lines
+constexpr int HiddenStyle = 8;
 
 struct LineStyle
 {

@@ -84,7 +84,7 @@ vtkLineDrawingWriter::~vtkLineDrawingWriter()
 
 void vtkLineDrawingWriter::SetLineWidths(int index, double width)
 {
-  if (index >= 0 && index < 8 && this->LineWidths[index] != width)
+  if (index >= 0 && index < beltrami::NumberOfDrawingStyles && this->LineWidths[index] != width)
   {
     this->LineWidths[index] = width;
     this->Modified();
@@ -93,7 +93,7 @@ void vtkLineDrawingWriter::SetLineWidths(int index, double width)
 
 void vtkLineDrawingWriter::SetLineColors(int index, double value)
 {
-  if (index >= 0 && index < 24 && this->LineColors[index] != value)
+  if (index >= 0 && index < 3 * beltrami::NumberOfDrawingStyles && this->LineColors[index] != value)
   {
     this->LineColors[index] = value;
     this->Modified();

@@ -9,8 +9,8 @@
  * margins; polylines whose ends meet are joined, each is simplified to
  * Tolerance (points on the page) and stroked per line type (cell array
  * LineType) with the widths of LineWidths and the colours of LineColors;
- * with TaperByStrength the suggestive contours and highlights, ridges and
- * valleys thin where their point array Strength is weak (below twice its
+ * with TaperByStrength the suggestive contours and highlights, ridges,
+ * valleys and apparent ridges thin where their point array Strength is weak (below twice its
  * median, down to a fifth of the width).  Lines marked hidden (cell array
  * Hidden, the drawing's Visibility set to visible and hidden lines) are
  * drawn dashed in grey with DrawHiddenLines, else left out.  The drawing
@@ -59,18 +59,17 @@ public:
   vtkSetClampMacro(Tolerance, double, 0.0, 100.0);
   vtkGetMacro(Tolerance, double);
   /// Stroke widths in points per line type: contour, suggestive contour, suggestive highlight,
-  /// ridge, valley, boundary, crease, and hidden lines. Default: 1.2 0.7 0.7 0.6 0.6 1.2 0.9 0.5.
-  vtkSetVectorMacro(LineWidths, double, 8);
-  vtkGetVectorMacro(LineWidths, double, 8);
-  /// Stroke widths in points per line type: contour, suggestive contour, suggestive highlight,
-  /// ridge, valley, boundary, crease, and hidden lines. Default: 1.2 0.7 0.7 0.6 0.6 1.2 0.9 0.5.
+  /// ridge, valley, boundary, crease, apparent ridge, and hidden lines. Default: 1.2 0.7 0.7 0.6
+  /// 0.6 1.2 0.9 0.7 0.5.
+  vtkSetVectorMacro(LineWidths, double, 9);
+  vtkGetVectorMacro(LineWidths, double, 9);
+  /// One of Line Widths (index: the line type, 8 for hidden lines), as ParaView sets them.
   void SetLineWidths(int index, double width);
   /// Stroke colours (RGB in [0, 1]) per line type, in the order of Line Widths. Default: 0 0 0 0 0
-  /// 0 0.55 0.55 0.55 0 0 0 0 0 0 0 0 0 0 0 0 0.55 0.55 0.55.
-  vtkSetVectorMacro(LineColors, double, 24);
-  vtkGetVectorMacro(LineColors, double, 24);
-  /// Stroke colours (RGB in [0, 1]) per line type, in the order of Line Widths. Default: 0 0 0 0 0
-  /// 0 0.55 0.55 0.55 0 0 0 0 0 0 0 0 0 0 0 0 0.55 0.55 0.55.
+  /// 0 0.55 0.55 0.55 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0.55 0.55 0.55.
+  vtkSetVectorMacro(LineColors, double, 27);
+  vtkGetVectorMacro(LineColors, double, 27);
+  /// One value of Line Colors (index: 3 times the line type plus the channel), as ParaView sets them.
   void SetLineColors(int index, double value);
   /// Draw the lines marked hidden, dashed (Hidden Dash), instead of leaving them out. Default: off.
   vtkSetMacro(DrawHiddenLines, bool);
@@ -79,8 +78,8 @@ public:
   /// Dash and gap length of hidden lines in points. Default: 2.5.
   vtkSetClampMacro(HiddenDash, double, 0.0, 1e3);
   vtkGetMacro(HiddenDash, double);
-  /// Thin suggestive contours and highlights, ridges and valleys where they are weak: width times
-  /// Strength over twice its median, in [0.2, 1]. Default: off.
+  /// Thin suggestive contours and highlights, ridges, valleys and apparent ridges where they are
+  /// weak: width times Strength over twice its median, in [0.2, 1]. Default: off.
   vtkSetMacro(TaperByStrength, bool);
   vtkGetMacro(TaperByStrength, bool);
   vtkBooleanMacro(TaperByStrength, bool);
@@ -99,8 +98,8 @@ protected:
   double PageSize = 0.0;
   double Margin = 0.0;
   double Tolerance = 0.0;
-  double LineWidths[8];
-  double LineColors[24];
+  double LineWidths[9];
+  double LineColors[27];
   bool DrawHiddenLines = false;
   double HiddenDash = 0.0;
   bool TaperByStrength = false;

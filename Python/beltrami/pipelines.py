@@ -191,9 +191,9 @@ def render_flat_meshes(meshes, png_path, size=(1200, 600), gap=0.2):
 
 
 # Colours of vtkSurfaceLineDrawing's line types (contour, suggestive contour,
-# suggestive highlight, ridge, valley, boundary, crease).
+# suggestive highlight, ridge, valley, boundary, crease, apparent ridge).
 LINE_COLOURS = ((0.0, 0.0, 0.0), (0.10, 0.25, 0.75), (0.95, 0.55, 0.05), (0.80, 0.10, 0.10),
-                (0.10, 0.55, 0.20), (0.0, 0.0, 0.0), (0.35, 0.35, 0.35))
+                (0.10, 0.55, 0.20), (0.0, 0.0, 0.0), (0.35, 0.35, 0.35), (0.55, 0.15, 0.65))
 
 
 def line_drawing(mesh_path, ridges=False, valleys=False, highlights=False, minimum_length=0.0, hysteresis=1.0):

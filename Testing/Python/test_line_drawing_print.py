@@ -1,7 +1,8 @@
 """Line drawings for print: vtkSurfaceLineDrawing's Visibility against
 analytic occlusion (a sphere in front of a folded plane, orthographic and
 perspective; a torus seen at a grazing angle, against rays cast through the
-implicit torus), and vtkLineDrawingWriter's SVG and PDF."""
+implicit torus), apparent ridges against their closed form (an extruded
+profile seen from three directions), and vtkLineDrawingWriter's SVG and PDF."""
 import math
 import os
 import re
@@ -143,7 +144,56 @@ class Visibility(unittest.TestCase):
         self.assertLess(worst, 0.005)
 
 
-NAMES = ("contour", "suggestive-contour", "suggestive-highlight", "ridge", "valley", "boundary", "crease")
+def extruded_bump(a=2.0, n=301):
+    """z = a exp(-x^2 / 2) over [-4.5, 4.5] x [-2, 2]: a profile extruded along y."""
+    xs, ys = np.linspace(-4.5, 4.5, n), np.linspace(-2.0, 2.0, n // 2)
+    X, Y = np.meshgrid(xs, ys, indexing="ij")
+    points = np.stack([X, Y, a * np.exp(-X ** 2 / 2)], -1).reshape(-1, 3)
+    m = len(ys)
+    i, j = np.meshgrid(np.arange(n - 1), np.arange(m - 1), indexing="ij")
+    p, q, r, s = i * m + j, (i + 1) * m + j, (i + 1) * m + j + 1, i * m + j + 1
+    tris = np.concatenate([np.stack([p, q, r], -1).reshape(-1, 3), np.stack([p, r, s], -1).reshape(-1, 3)])
+    return inputs.polydata(points, tris)
+
+
+class ApparentRidges(unittest.TestCase):
+    def test_extruded_profile_against_closed_form(self):
+        """Seen orthographically along (sin b, 0, -cos b), the profile's
+        normal turns by h'' / (1 + h'^2) per unit x and x moves the image by
+        cos b + h' sin b: the view-dependent curvature is
+        q1 = |h'' / (1 + h'^2) / (cos b + h' sin b)| (the y direction: 0), and
+        the apparent ridges are the lines x = const at its maxima in x."""
+        a, size, threshold = 2.0, 0.1, 0.02
+        mesh = extruded_bump(a)
+        x = np.linspace(-4.4, 4.4, 880001)
+        slope, bend = -a * x * np.exp(-x ** 2 / 2), a * (x ** 2 - 1) * np.exp(-x ** 2 / 2)
+        valley = x[x > 1][np.argmax((bend / (1 + slope ** 2) ** 1.5)[x > 1])]  # (the surface's own valley)
+        for degrees in (0.0, 30.0, -45.0):
+            b = math.radians(degrees)
+            image = np.cos(b) + slope * np.sin(b)
+            q1 = np.where(image > 0, np.abs(bend / (1 + slope ** 2) / np.maximum(image, 1e-300)), 0.0)
+            peak = np.nonzero((q1[1:-1] > q1[:-2]) & (q1[1:-1] >= q1[2:]) & (q1[1:-1] * size > threshold)
+                              & (image[1:-1] > 0.1))[0] + 1  # (not the contour, where q1 grows without bound)
+            expected = x[peak]
+            out = draw(mesh, ParallelProjection=True, ViewDirection=(math.sin(b), 0, -math.cos(b)), Contours=False,
+                       Boundaries=False, Creases=False, ApparentRidges=True, FeatureSize=size,
+                       ApparentRidgeThreshold=threshold)
+            lines = [p for t, _, p in polylines(out) if t == vtkSurfaceLineDrawing.APPARENT_RIDGE]
+            found = sorted(p[:, 0].mean() for p in lines)
+            print("apparent ridges seen at %g degrees: x = %s (closed form %s)"
+                  % (degrees, np.round(found, 4), np.round(expected, 4)))
+            self.assertEqual(len(lines), len(expected))
+            for p, x0 in zip(sorted(lines, key=lambda p: p[:, 0].mean()), expected):
+                self.assertLess(np.abs(p[:, 0] - x0).max(), 0.01)  # 0.1% of the view; the grid's step 0.03
+                self.assertGreater(np.ptp(p[:, 1]), 3.9)  # across the whole strip
+            if degrees == 0.0:
+                # The view-dependent curvature, not the surface's: its maximum
+                # lies 0.09 from the surface's valley.
+                self.assertGreater(abs(expected[-1] - valley), 0.09)
+
+
+NAMES = ("contour", "suggestive-contour", "suggestive-highlight", "ridge", "valley", "boundary", "crease",
+         "apparent-ridge")
 PAGE, MARGIN = 504.0, 18.0  # the writer's defaults, points
 
 

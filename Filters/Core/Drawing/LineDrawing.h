@@ -1,6 +1,7 @@
 // Beltrami core: line drawings of a triangle surface: contours,
 // suggestive contours and highlights (DeCarlo, Finkelstein, Rusinkiewicz &
 // Santella 2003; DeCarlo & Rusinkiewicz 2007), ridges and valleys,
+// apparent ridges (Judd, Durand & Adelson 2007: Drawing/ApparentRidges.h),
 // boundaries and creases, chained into polylines.
 //
 // Two passes:
@@ -46,9 +47,10 @@ enum class LineType : std::uint8_t
   Ridge = 3,               ///< D_e1 kappa_1 = 0, a maximum along e1, kappa_1 > threshold
   Valley = 4,              ///< D_e2 kappa_2 = 0, a minimum along e2, kappa_2 < -threshold
   Boundary = 5,            ///< edges of one triangle
-  Crease = 6               ///< edges whose dihedral angle exceeds the crease angle
+  Crease = 6,              ///< edges whose dihedral angle exceeds the crease angle
+  ApparentRidge = 7        ///< D_t1 q1 = 0, a maximum along t1, q1 > threshold (Drawing/ApparentRidges.h)
 };
-constexpr int NumberOfLineTypes = 7;
+constexpr int NumberOfLineTypes = 8;
 
 /// The camera: a position (perspective) or a direction of projection
 /// (orthographic: the direction the camera looks along).
@@ -70,7 +72,7 @@ enum class LineVisibility : std::uint8_t
 struct LineDrawingOptions
 {
   /// Which line types to draw, by LineType.
-  bool Draw[NumberOfLineTypes] = { true, true, false, false, false, true, true };
+  bool Draw[NumberOfLineTypes] = { true, true, false, false, false, true, true, false };
   /// The length that makes the thresholds scale-free; 0: automatic (1% of
   /// the bounding-box diagonal).
   double FeatureSize = 0.0;
@@ -82,11 +84,14 @@ struct LineDrawingOptions
   double SuggestiveAngle = 15.0;
   /// Ridges (valleys) where kappa_1 (-kappa_2) times FeatureSize exceeds this.
   double RidgeThreshold = 0.4;
+  /// Apparent ridges where the view-dependent curvature q1 times
+  /// FeatureSize exceeds this.
+  double ApparentRidgeThreshold = 1.0;
   /// Creases where the normals of an edge's two triangles differ by more
   /// than this (degrees; above VTK's 30 so that coarse organic meshes do
   /// not draw their tessellation).
   double CreaseAngle = 40.0;
-  /// Suggestive contours and highlights, ridges and valleys are left out of
+  /// Suggestive contours and highlights, ridges, valleys and apparent ridges are left out of
   /// the triangles at a crease vertex (an end of an edge sharper than
   /// CreaseAngle): there the curvature estimates see the crease itself
   /// (huge and arbitrary in direction), not the smooth surface on its two
@@ -94,12 +99,12 @@ struct LineDrawingOptions
   bool AvoidCreases = true;
   /// Drop the pieces of every type but contours where n.v < 0.
   bool DropBackFacing = true;
-  /// Suggestive contours and highlights, ridges and valleys whose polylines
+  /// Suggestive contours and highlights, ridges, valleys and apparent ridges whose polylines
   /// are shorter than this many FeatureSize are dropped (0: all kept): on
   /// raw scans the noise breaks them into short pieces.
   double MinimumLength = 0.0;
   /// Hysteresis of the curvature lines' thresholds (in (0, 1]; 1: none):
-  /// suggestive contours and highlights, ridges and valleys are traced
+  /// suggestive contours and highlights, ridges, valleys and apparent ridges are traced
   /// down to this fraction of their thresholds, and a polyline is kept if
   /// its strength passes the full threshold somewhere (Canny's rule: on
   /// scans the noise breaks a line wherever it dips below the threshold).
