@@ -107,12 +107,9 @@ int vtkSurfaceLineDrawing::RequestData(
 
 int vtkSurfaceLineDrawing::DrawSplit(vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  if (this->Visibility != ALL_LINES || this->ApparentRidges)
+  if (this->Visibility != ALL_LINES)
   {
-    // (The visibility rays need every triangle, the apparent ridges the
-    // derivatives of a view's curvature on whole 1-rings: the whole surface
-    // on rank 0.)
-    return -1;
+    return -1; // (the visibility rays need every triangle: the whole surface on rank 0)
   }
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* lines = vtkPolyData::GetData(outputVector, 0);
@@ -335,6 +332,8 @@ int vtkSurfaceLineDrawing::DrawView(vtkPolyData* output, vtkPolyData* surface)
     beltrami::VisibilityOptions visibility;
     visibility.KeepHidden = options.Visibility == beltrami::LineVisibility::VisibleAndHidden;
     visibility.NumberOfThreads = this->NumberOfThreads;
+    visibility.MinimumLength = options.MinimumLength *
+      (options.FeatureSize > 0.0 ? options.FeatureSize : geometry.AutomaticFeatureSize());
     lines = beltrami::SplitByVisibility(lines, geometry, view, visibility);
   }
   WriteLines(lines, output);

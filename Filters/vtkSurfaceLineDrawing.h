@@ -70,8 +70,8 @@
  * vtkLineDrawingWriter.
  *
  * Distributed runs (pvbatch, pvserver): a surface split over the ranks is
- * drawn where it lies (with Visibility or apparent ridges on, gathered on
- * rank 0 and drawn there).  The ranks exchange the triangles around their
+ * drawn where it lies (with Visibility on, gathered on rank 0 and drawn
+ * there).  The ranks exchange the triangles around their
  * common points (so that every point of a piece has its whole 1-ring),
  * each computes the curvatures and their derivatives of its piece and
  * takes its neighbours' values for the ring, and finds the segments of the
@@ -201,9 +201,10 @@ public:
   /// Dihedral angle in degrees above which an edge is a crease. Default: 40.
   vtkSetClampMacro(CreaseAngle, double, 0.0, 180.0);
   vtkGetMacro(CreaseAngle, double);
-  /// Suggestive contours and highlights, ridges, valleys and apparent ridges whose polylines are
-  /// shorter than this many Feature Size are dropped (0: all kept). Values of 1-3 clean the short
-  /// pieces that the noise of raw scans draws. Default: 0.
+  /// Lines of every type but boundaries and creases whose polylines are shorter than this many
+  /// Feature Size are dropped (0: all kept), and with Visibility the visible (hidden) parts of a
+  /// line that are shorter. Values of 1-3 clean the short pieces and small contour loops that the
+  /// noise of raw scans draws. Default: 0.
   vtkSetClampMacro(MinimumLineLength, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(MinimumLineLength, double);
   /// Hysteresis of the curvature lines' thresholds (1: none). Suggestive contours and highlights,

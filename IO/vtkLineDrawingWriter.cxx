@@ -10,11 +10,12 @@
 #include <vtkFieldData.h>
 #include <vtkIdTypeArray.h>
 #include <vtkInformation.h>
-#include <vtkMultiProcessController.h>
+#include <vtkInformationVector.h>
 #include <vtkObjectFactory.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -105,6 +106,23 @@ vtkPolyData* vtkLineDrawingWriter::GetInput()
   return vtkPolyData::SafeDownCast(this->Superclass::GetInput());
 }
 
+vtkTypeBool vtkLineDrawingWriter::ProcessRequest(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  if (request->Has(vtkStreamingDemandDrivenPipeline::REQUEST_UPDATE_EXTENT()) && this->NumberOfPieces > 1)
+  {
+    // Each rank asks for its own piece, as ParaView's views do, so that a
+    // distributed drawing runs together over the ranks (the whole data on
+    // every rank, what a plain writer asks for, would draw each rank's
+    // piece alone).
+    vtkInformation* in = inputVector[0]->GetInformationObject(0);
+    in->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), this->Piece);
+    in->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), this->NumberOfPieces);
+    return 1;
+  }
+  return this->Superclass::ProcessRequest(request, inputVector, outputVector);
+}
+
 int vtkLineDrawingWriter::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
@@ -113,8 +131,7 @@ int vtkLineDrawingWriter::FillInputPortInformation(int, vtkInformation* info)
 
 void vtkLineDrawingWriter::WriteData()
 {
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  if (controller && controller->GetLocalProcessId() > 0)
+  if (this->Piece > 0)
   {
     return; // (rank 0 holds the drawing's lines and writes them)
   }
@@ -234,5 +251,6 @@ void vtkLineDrawingWriter::PrintSelf(ostream& os, vtkIndent indent)
   os << "\n"
      << indent << "DrawHiddenLines: " << this->DrawHiddenLines << "\n"
      << indent << "HiddenDash: " << this->HiddenDash << "\n"
-     << indent << "TaperByStrength: " << this->TaperByStrength << "\n";
+     << indent << "TaperByStrength: " << this->TaperByStrength << "\n"
+     << indent << "Piece: " << this->Piece << " of " << this->NumberOfPieces << "\n";
 }

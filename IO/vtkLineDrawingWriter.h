@@ -17,8 +17,8 @@
  * should be made with Visibility on: its lines are otherwise all written,
  * hidden or not (with a warning).  FileFormat AUTOMATIC takes the format
  * from the file name's extension (.pdf: PDF, else SVG).  PDF goes through
- * Cairo.  In a distributed run rank 0, which holds the drawing's lines,
- * writes the file.
+ * Cairo.  In a distributed run (ParaView sets Piece and NumberOfPieces on
+ * each rank) rank 0, which holds the drawing's lines, writes the file.
  */
 #ifndef vtkLineDrawingWriter_h
 #define vtkLineDrawingWriter_h
@@ -84,6 +84,14 @@ public:
   vtkGetMacro(TaperByStrength, bool);
   vtkBooleanMacro(TaperByStrength, bool);
 
+  /// The piece this process asks its input for, of NumberOfPieces: ParaView sets them on each rank
+  /// (its writers' convention), so that a drawing split over the ranks is drawn together and
+  /// written by piece 0. Default: 0 of 1 (the whole data).
+  vtkSetClampMacro(Piece, int, 0, VTK_INT_MAX);
+  vtkGetMacro(Piece, int);
+  vtkSetClampMacro(NumberOfPieces, int, 1, VTK_INT_MAX);
+  vtkGetMacro(NumberOfPieces, int);
+
   vtkPolyData* GetInput();
 
 protected:
@@ -92,6 +100,8 @@ protected:
 
   void WriteData() override;
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  vtkTypeBool ProcessRequest(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
 
   char* FileName = nullptr;
   int FileFormat = AUTOMATIC;
@@ -103,6 +113,8 @@ protected:
   bool DrawHiddenLines = false;
   double HiddenDash = 0.0;
   bool TaperByStrength = false;
+  int Piece = 0;
+  int NumberOfPieces = 1;
 
 private:
   vtkLineDrawingWriter(const vtkLineDrawingWriter&) = delete;

@@ -35,7 +35,7 @@ from configure import (DISJOINT_SPHERES, check, configured, empty_rank_partition
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
 LoadPlugin(os.environ["BELTRAMI_PLUGIN"], ns=globals())
-from beltrami import vtkSurfaceLineDrawing  # noqa: E402
+from beltrami import vtkLineDrawingWriter, vtkSurfaceLineDrawing  # noqa: E402
 
 ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
 SETTINGS = dict(SuggestiveHighlights=1, Ridges=1, Valleys=1, HysteresisRatio=0.5, MinimumLineLength=2.0)
@@ -174,19 +174,27 @@ if ranks > 1:
 # rank 0 and drawn there: the serial visible and hidden lines. The Line
 # Drawing Writer writes them once, on rank 0.
 SETTINGS["Visibility"] = vtkSurfaceLineDrawing.VISIBLE_AND_HIDDEN_LINES
-drawing, _ = run("bunny00.off", "bunny with visibility", bunny_cameras[:1])
+drawing, whole = run("bunny00.off", "bunny with visibility", bunny_cameras[:1])
 hidden = servermanager.Fetch(drawing).GetCellData().GetArray("Hidden")
 check(hidden is not None and 0 < builtins.sum(hidden.GetValue(i) for i in range(hidden.GetNumberOfTuples()))
       < hidden.GetNumberOfTuples(), "visible and hidden lines over %d rank(s)" % ranks)
+folder = os.environ.get("BELTRAMI_TEST_OUTPUT_DIR", "/tmp")
+page, serial_page = (os.path.join(folder, "distributed_drawing_%s.svg" % k) for k in (ranks, "%d_serial" % ranks))
+SaveData(page, proxy=drawing)  # (rank 0 writes)
+reference = serial(whole, bunny_cameras[0])
+writer = vtkLineDrawingWriter()
+writer.SetInputConnection(reference.GetOutputPort())
+writer.SetFileName(serial_page)
+writer.Write()
 del SETTINGS["Visibility"]
-page = os.path.join(os.environ.get("BELTRAMI_TEST_OUTPUT_DIR", "/tmp"), "distributed_drawing_%d.svg" % ranks)
-if os.path.exists(page):
-    os.remove(page)
-SaveData(page, proxy=drawing)
-with open(page) as f:
-    text = f.read()
-check(text.startswith("<?xml") and text.count("<path") > 10 and text.rstrip().endswith("</svg>"),
-      "the Line Drawing Writer wrote one page over %d rank(s) (%d paths)" % (ranks, text.count("<path")))
+texts = []
+for path in (page, serial_page):
+    with open(path) as f:
+        texts.append(f.read())
+counts = [(t.count("<path"), t.count(" L")) for t in texts]
+check(texts[0].startswith("<?xml") and texts[0].rstrip().endswith("</svg>") and counts[0] == counts[1]
+      and counts[0][0] > 20, "the Line Drawing Writer wrote the serial page over %d rank(s) (paths, segments %s, "
+      "serial %s)" % (ranks, counts[0], counts[1]))
 
 # A NaN point (made after RedistributeDataSet, whose k-d tree does not take
 # one): no hang, a defined output: the lines elsewhere (the NaN's triangles

@@ -1,6 +1,7 @@
 #include "Drawing/ApparentRidges.h"
 
 #include "Drawing/FaceZeroSets.h"
+#include "Solvers/Partition.h"
 
 #include <cmath>
 #include <limits>
@@ -104,6 +105,13 @@ ApparentCurvature ComputeApparentCurvature(const LineDrawingGeometry& geo, const
     {
       out.Derivative[v] = Point(gradient.data(), v).dot(Point(out.T1.data(), v)) / area[v];
     }
+  }
+  if (geo.Split)
+  {
+    // A ghost point's star is cut at the edge of the ring: its owner's
+    // derivative (collective; q1 and t1 there are the owner's already, from
+    // its curvatures).
+    geo.Split->UpdateGhosts(out.Derivative.data(), 1);
   }
   return out;
 }

@@ -25,7 +25,8 @@ namespace beltrami
 {
 
 /// Per vertex, for one view: q1 (NaN where the surface does not face the
-/// viewer or has no curvature), t1 (3 per vertex, unit), D_t1 q1.
+/// viewer or has no curvature), t1 (3 per vertex, unit), D_t1 q1 (split
+/// runs: the owners' values on the ghost points; collective).
 struct ApparentCurvature
 {
   std::vector<double> Q1, T1, Derivative;

@@ -818,7 +818,9 @@ LineSet ChainViewSegments(const ViewSegments& segments, const LineDrawingOptions
     return filter;
   };
   LineSet lines;
-  AddLines(segments, LineType::Contour, lines);
+  LineFilter contours; // (contours: no threshold, the length alone)
+  contours.MinimumLength = options.MinimumLength * size;
+  AddLines(segments, LineType::Contour, lines, contours);
   AddLines(segments, LineType::SuggestiveContour, lines, curvatureLines(options.SuggestiveThreshold));
   AddLines(segments, LineType::SuggestiveHighlight, lines, curvatureLines(options.SuggestiveThreshold));
   AddLines(segments, LineType::Ridge, lines, curvatureLines(options.RidgeThreshold));

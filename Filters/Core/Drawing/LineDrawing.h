@@ -99,9 +99,10 @@ struct LineDrawingOptions
   bool AvoidCreases = true;
   /// Drop the pieces of every type but contours where n.v < 0.
   bool DropBackFacing = true;
-  /// Suggestive contours and highlights, ridges, valleys and apparent ridges whose polylines
-  /// are shorter than this many FeatureSize are dropped (0: all kept): on
-  /// raw scans the noise breaks them into short pieces.
+  /// Lines of every type but boundaries and creases whose polylines are
+  /// shorter than this many FeatureSize are dropped (0: all kept): on raw
+  /// scans the noise breaks the curvature lines into short pieces and draws
+  /// small contour loops around its bumps.
   double MinimumLength = 0.0;
   /// Hysteresis of the curvature lines' thresholds (in (0, 1]; 1: none):
   /// suggestive contours and highlights, ridges, valleys and apparent ridges are traced

@@ -253,6 +253,18 @@ std::vector<Part> CutLine(const LineSet& lines, Index l, const std::vector<std::
   return parts;
 }
 
+double Length(const Part& part)
+{
+  double length = 0.0;
+  for (std::size_t k = 1; k < part.Points.size(); ++k)
+  {
+    const double* a = part.Points[k - 1].Values;
+    const double* b = part.Points[k].Values;
+    length += std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
+  }
+  return length;
+}
+
 void AppendPart(const Part& part, std::uint8_t type, bool closed, LineSet& out)
 {
   double sum = 0.0;
@@ -300,9 +312,13 @@ LineSet SplitByVisibility(const LineSet& lines, const LineDrawingGeometry& geome
   {
     const std::vector<Part> parts = CutLine(lines, l, seenAt, switches, at);
     const bool whole = parts.size() == 1 && lines.Closed[l] != 0;
+    // (A line whole passed the chaining's length test already.)
+    const bool pruned = parts.size() > 1 && lines.Type[l] != static_cast<std::uint8_t>(LineType::Boundary) &&
+      lines.Type[l] != static_cast<std::uint8_t>(LineType::Crease);
     for (const Part& part : parts)
     {
-      if ((part.Seen || options.KeepHidden) && part.Points.size() >= 2)
+      if ((part.Seen || options.KeepHidden) && part.Points.size() >= 2 &&
+        (!pruned || Length(part) >= options.MinimumLength))
       {
         AppendPart(part, lines.Type[l], whole, out);
       }

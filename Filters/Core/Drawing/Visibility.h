@@ -22,6 +22,10 @@ struct VisibilityOptions
 {
   /// Keep the hidden parts, as lines with Hidden = 1 (else they are dropped).
   bool KeepHidden = false;
+  /// Parts shorter than this (a length) are dropped, but for boundaries and
+  /// creases (the options' MinimumLength times the feature size: a contour
+  /// that shows for a moment between two occluders is as short as noise).
+  double MinimumLength = 0.0;
   int NumberOfThreads = 0;
 };
 
