@@ -204,13 +204,13 @@ public:
   /// Lines of every type but boundaries and creases whose polylines are shorter than this many
   /// Feature Size are dropped (0: all kept), and with Visibility the visible (hidden) parts of a
   /// line that are shorter. Values of 1-3 clean the short pieces and small contour loops that the
-  /// noise of raw scans draws. Default: 0.
+  /// noise of raw scans draws. Default: 2.
   vtkSetClampMacro(MinimumLineLength, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(MinimumLineLength, double);
   /// Hysteresis of the curvature lines' thresholds (1: none). Suggestive contours and highlights,
   /// ridges, valleys and apparent ridges are traced down to this fraction of their thresholds, and
   /// a line is kept where it passes the full threshold somewhere: on raw scans, 0.5 joins the
-  /// pieces that the noise breaks wherever it dips below the threshold. Default: 1.
+  /// pieces that the noise breaks wherever it dips below the threshold. Default: 0.5.
   vtkSetClampMacro(HysteresisRatio, double, 0.01, 1.0);
   vtkGetMacro(HysteresisRatio, double);
   /// Leave suggestive contours and highlights, ridges, valleys and apparent ridges out of the

@@ -199,8 +199,9 @@ LINE_COLOURS = ((0.0, 0.0, 0.0), (0.10, 0.25, 0.75), (0.95, 0.55, 0.05), (0.80, 
 def line_drawing(mesh_path, ridges=False, valleys=False, highlights=False, minimum_length=0.0, hysteresis=1.0):
     """vtkSurfaceLineDrawing on an OFF mesh (contours, suggestive contours,
     boundaries and creases; ridges, valleys and highlights on request;
-    curvature lines shorter than minimum_length feature sizes dropped,
-    traced down to hysteresis times their thresholds where they pass them);
+    lines shorter than minimum_length feature sizes dropped, curvature lines
+    traced down to hysteresis times their thresholds where they pass them:
+    by default every piece, 0 and 1, where the filter's defaults are 2 and 0.5);
     returns the filter, not yet updated: its camera is set by
     render_line_drawing."""
     reader = vtkOFFReader()

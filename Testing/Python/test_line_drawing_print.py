@@ -2,7 +2,8 @@
 analytic occlusion (a sphere in front of a folded plane, orthographic and
 perspective; a torus seen at a grazing angle, against rays cast through the
 implicit torus), apparent ridges against their closed form (an extruded
-profile seen from three directions), and vtkLineDrawingWriter's SVG and PDF."""
+profile seen from three directions), a raw scan's long lines at the
+defaults, and vtkLineDrawingWriter's SVG and PDF."""
 import math
 import os
 import re
@@ -190,6 +191,56 @@ class ApparentRidges(unittest.TestCase):
                 # The view-dependent curvature, not the surface's: its maximum
                 # lies 0.09 from the surface's valley.
                 self.assertGreater(abs(expected[-1] - valley), 0.09)
+
+
+class ScanDefaults(unittest.TestCase):
+    def test_a_raw_scan_draws_long_lines_at_the_defaults(self):
+        """bunny00, a raw scan, at the defaults (Minimum Line Length 2,
+        Hysteresis Ratio 0.5), its visible contours and suggestive contours:
+        the median line at least 4 feature sizes long, none shorter than
+        one, and the long lines (4 feature sizes and more) of a smoothed copy
+        (one implicit step of the Laplacian, time FeatureSize^2) kept: 85% of
+        their length within half a feature size of the scan's lines (every
+        piece kept: 91%)."""
+        from beltrami import vtkImplicitFairing
+        scan = inputs.read_off(os.path.join(inputs.DATA, "bunny00.off"))
+        points = vtk_to_numpy(scan.GetPoints().GetData()).astype(float)
+        size = 0.01 * np.linalg.norm(np.ptp(points, 0))
+        smoothing = inputs.filter_with(vtkImplicitFairing, Order=1, Units=1, TimeStep=size * size)()
+        smoothing.SetInputData(scan)
+        smoothing.Update()
+        camera = dict(CameraPosition=(0.0, 0.02, 0.4), ViewDirection=(0, -0.02, -0.4),
+                      Visibility=vtkSurfaceLineDrawing.VISIBLE_LINES, SuggestiveContours=True)
+
+        def lines(mesh, **settings):
+            out = draw(mesh, **camera, **settings)
+            return [p for t, _, p in polylines(out) if t in (CONTOUR, vtkSurfaceLineDrawing.SUGGESTIVE_CONTOUR)]
+
+        def length(p):
+            return np.linalg.norm(np.diff(p, axis=0), axis=1).sum() / size
+
+        def dense(polylines_list):
+            out = []
+            for p in polylines_list:
+                for a, b in zip(p[:-1], p[1:]):
+                    k = max(1, int(np.linalg.norm(b - a) / (0.1 * size)))
+                    out += [a + (b - a) * i / k for i in range(k)]
+            return np.array(out)
+
+        def covered(reference, drawn):
+            near = np.array([np.linalg.norm(drawn - q, axis=1).min() for q in reference])
+            return np.mean(near < 0.5 * size)
+        ours = lines(scan)
+        lengths = np.array([length(p) for p in ours])
+        long_smoothed = dense([p for p in lines(smoothing.GetOutput()) if length(p) >= 4])
+        share = covered(long_smoothed, dense(ours))
+        every = covered(long_smoothed, dense(lines(scan, MinimumLineLength=0.0, HysteresisRatio=1.0)))
+        print("raw scan at the defaults: %d lines, median %.2f feature sizes, shortest %.2f; the smoothed copy's long "
+              "lines %.1f%% kept (every piece: %.1f%%)" % (len(ours), np.median(lengths), lengths.min(), 100 * share,
+                                                            100 * every))
+        self.assertGreaterEqual(np.median(lengths), 4.0)
+        self.assertGreaterEqual(lengths.min(), 1.0)
+        self.assertGreater(share, 0.85)
 
 
 NAMES = ("contour", "suggestive-contour", "suggestive-highlight", "ridge", "valley", "boundary", "crease",

@@ -820,8 +820,11 @@ class LineDrawingFromPython(unittest.TestCase):
         # without a new geometry.
         def count(kind):
             return int(np.sum(vtk_to_numpy(f.GetOutput().GetCellData().GetArray("LineType")) == kind))
+        self.assertEqual((f.GetMinimumLineLength(), f.GetHysteresisRatio()), (2.0, 0.5))  # the defaults
+        f.SetMinimumLineLength(0.0)
+        f.SetHysteresisRatio(1.0)
+        f.Update()
         before = [count(k) for k in (0, 1, 3)]
-        self.assertEqual(f.GetMinimumLineLength(), 0.0)
         f.SetMinimumLineLength(2.0)
         f.Update()
         after = [count(k) for k in (0, 1, 3)]

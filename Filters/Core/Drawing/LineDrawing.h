@@ -103,13 +103,13 @@ struct LineDrawingOptions
   /// shorter than this many FeatureSize are dropped (0: all kept): on raw
   /// scans the noise breaks the curvature lines into short pieces and draws
   /// small contour loops around its bumps.
-  double MinimumLength = 0.0;
+  double MinimumLength = 2.0;
   /// Hysteresis of the curvature lines' thresholds (in (0, 1]; 1: none):
   /// suggestive contours and highlights, ridges, valleys and apparent ridges are traced
   /// down to this fraction of their thresholds, and a polyline is kept if
   /// its strength passes the full threshold somewhere (Canny's rule: on
   /// scans the noise breaks a line wherever it dips below the threshold).
-  double HysteresisRatio = 1.0;
+  double HysteresisRatio = 0.5;
   /// Which parts to keep: every part, or split where the lines pass behind
   /// the surface (SplitByVisibility, applied by the caller).
   LineVisibility Visibility = LineVisibility::All;

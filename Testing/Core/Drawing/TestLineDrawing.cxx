@@ -71,6 +71,8 @@ LineDrawingOptions CurvatureLines()
 {
   LineDrawingOptions o;
   o.Draw[int(LineType::Ridge)] = o.Draw[int(LineType::Valley)] = true;
+  o.MinimumLength = 0.0; // (every piece: the tests below set what they test)
+  o.HysteresisRatio = 1.0;
   return o;
 }
 
