@@ -100,11 +100,16 @@ def capture(renderer, png_path, size):
     grab.SetInput(window)
     grab.ReadFrontBufferOff()
     grab.Update()
+    return write_png_of(grab, png_path)
+
+
+def write_png_of(algorithm, png_path):
+    """Writes an image algorithm's output as a PNG; returns the image."""
     writer = vtkPNGWriter()
     writer.SetFileName(png_path)
-    writer.SetInputConnection(grab.GetOutputPort())
+    writer.SetInputConnection(algorithm.GetOutputPort())
     writer.Write()
-    return grab.GetOutput()
+    return algorithm.GetOutput()
 
 
 def write_vtp(polydata, path):
@@ -341,11 +346,7 @@ def rasterise_svg(svg_path, png_path, width=400):
     rgb.SetInputConnection(reader.GetOutputPort())
     rgb.SetComponents(0, 1, 2)
     rgb.Update()
-    writer = vtkPNGWriter()
-    writer.SetFileName(png_path)
-    writer.SetInputConnection(rgb.GetOutputPort())
-    writer.Write()
-    return rgb.GetOutput()
+    return write_png_of(rgb, png_path)
 
 
 def checkerboard(squares=16, pixels=32):

@@ -55,7 +55,7 @@ class Eye
 public:
   Eye(const LineDrawingGeometry& geo, const LineView& view)
     : Geo(geo)
-    , Index(geo.Occluders())
+    , Occluders(geo.Occluders())
     , View(view)
   {
     // Orthographic: towards the viewer, past everything (the box diagonal is
@@ -69,20 +69,20 @@ public:
   /// piecewise-flat surface near it, within its chordal error of the smooth
   /// one, crossed it up to two triangles away (a torus of 100 x 50 quads
   /// seen at 13 degrees: one ring left out hid pieces of its contours).
-  void Around(const beltrami::Index faces[2], std::vector<beltrami::Index>& skip) const
+  void Around(const Index faces[2], std::vector<Index>& skip) const
   {
     skip.clear();
     for (int k = 0; k < 6; ++k)
     {
-      const beltrami::Index f = faces[k / 3];
+      const Index f = faces[k / 3];
       if (f < 0)
       {
         continue;
       }
-      const beltrami::Index v = Geo.Triangles[3 * static_cast<std::int64_t>(f) + k % 3];
-      for (std::int64_t i = Index.Offsets[v]; i < Index.Offsets[v + 1]; ++i)
+      const Index v = Geo.Triangles[3 * static_cast<std::int64_t>(f) + k % 3];
+      for (std::int64_t i = Occluders.Offsets[v]; i < Occluders.Offsets[v + 1]; ++i)
       {
-        const beltrami::Index* t = Geo.Triangles.data() + 3 * static_cast<std::int64_t>(Index.Faces[i]);
+        const Index* t = Geo.Triangles.data() + 3 * static_cast<std::int64_t>(Occluders.Faces[i]);
         skip.insert(skip.end(), t, t + 3);
       }
     }
@@ -91,17 +91,17 @@ public:
   }
   /// Whether point p of faces[0] or faces[1] is seen from the eye (`skip`:
   /// their Around, found on the first triangle met, if one is).
-  bool Sees(const Vec3& p, const beltrami::Index faces[2], std::vector<beltrami::Index>& skip) const
+  bool Sees(const Vec3& p, const Index faces[2], std::vector<Index>& skip) const
   {
     const Vec3 d = View.Perspective ? Vec3(View.Position - p) : Toward;
     bool found = false;
-    return !Index.Tree.Blocks(p, d, 1e-9, [&](beltrami::Index t) {
+    return !Occluders.Tree.Blocks(p, d, 1e-9, [&](Index t) {
       if (!found)
       {
         Around(faces, skip);
         found = true;
       }
-      const beltrami::Index* v = Geo.Triangles.data() + 3 * static_cast<std::int64_t>(t);
+      const Index* v = Geo.Triangles.data() + 3 * static_cast<std::int64_t>(t);
       return std::binary_search(skip.begin(), skip.end(), v[0]) || std::binary_search(skip.begin(), skip.end(), v[1]) ||
         std::binary_search(skip.begin(), skip.end(), v[2]);
     });
@@ -109,7 +109,7 @@ public:
 
 private:
   const LineDrawingGeometry& Geo;
-  const OcclusionIndex& Index;
+  const OcclusionIndex& Occluders;
   const LineView& View;
   Vec3 Toward;
 };
