@@ -3,7 +3,8 @@ analytic occlusion (a sphere in front of a folded plane, orthographic and
 perspective; a torus seen at a grazing angle, against rays cast through the
 implicit torus), apparent ridges against their closed form (an extruded
 profile seen from three directions), a raw scan's long lines at the
-defaults, and vtkLineDrawingWriter's SVG and PDF."""
+defaults, curvatures and lines of a sphere at 1e+-100 and 1e+-150, and
+vtkLineDrawingWriter's SVG and PDF."""
 import math
 import os
 import re
@@ -241,6 +242,35 @@ class ScanDefaults(unittest.TestCase):
         self.assertGreaterEqual(np.median(lengths), 4.0)
         self.assertGreaterEqual(lengths.min(), 1.0)
         self.assertGreater(share, 0.85)
+
+
+class HugeAndTinyCoordinates(unittest.TestCase):
+    def test_curvatures_and_lines_do_not_depend_on_the_scale(self):
+        """A sphere scaled by 1e+-100 and 1e+-150 (its squared areas beyond
+        double precision's range): the curvatures are the unit sphere's
+        scaled (they were NaN, with a warning of zero-area triangles), and
+        the contour, seen in parallel projection, the unit sphere's scaled."""
+        from beltrami import vtkDiscreteCurvatures
+        points, triangles = inputs.sphere(24)
+
+        def mean_curvature(scale):
+            c = vtkDiscreteCurvatures()
+            said = inputs.Messages(c)
+            c.SetInputData(inputs.polydata(points * scale, triangles))
+            c.Update()
+            self.assertEqual(said.warnings + said.errors, [])
+            return vtk_to_numpy(c.GetOutput().GetPointData().GetArray("MeanCurvature"))
+
+        def contour(scale):
+            out = draw(inputs.polydata(points * scale, triangles), ParallelProjection=True, ViewDirection=(0.3, 0.2, -1),
+                       Visibility=vtkSurfaceLineDrawing.VISIBLE_LINES)
+            lines = [p for t, _, p in polylines(out) if t == CONTOUR]
+            self.assertEqual(len(lines), 1)
+            return lines[0]
+        unit, unit_contour = mean_curvature(1.0), contour(1.0)
+        for scale in (1e100, 1e-100, 1e150, 1e-150):
+            np.testing.assert_allclose(mean_curvature(scale) * scale, unit, rtol=1e-9, err_msg=str(scale))
+            np.testing.assert_allclose(contour(scale) / scale, unit_contour, rtol=1e-9, atol=1e-12, err_msg=str(scale))
 
 
 NAMES = ("contour", "suggestive-contour", "suggestive-highlight", "ridge", "valley", "boundary", "crease",

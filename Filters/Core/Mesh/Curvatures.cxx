@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cmath>
 #include <atomic>
 #include <limits>
 #include <vector>
@@ -622,10 +623,78 @@ void AverageFromInterior(const MeshTopology& topo, const std::vector<std::uint8_
   }
 }
 
+/// The power of two that brings the used points' extent near 1 when it is
+/// far from it (beyond 2^+-60: squared areas of a 1e100 surface overflow,
+/// those of a 1e-100 one vanish), else 0.
+template <typename T>
+int ScaleExponent(const MeshTopology& topo, const T* points)
+{
+  double lo[3] = { HUGE_VAL, HUGE_VAL, HUGE_VAL }, hi[3] = { -HUGE_VAL, -HUGE_VAL, -HUGE_VAL };
+  for (Index v = 0; v < topo.NumberOfVertices(); ++v)
+  {
+    for (int d = 0; d < 3 && topo.Valence(v) > 0 && std::isfinite(static_cast<double>(points[3 * v + d])); ++d)
+    {
+      lo[d] = std::min(lo[d], static_cast<double>(points[3 * v + d]));
+      hi[d] = std::max(hi[d], static_cast<double>(points[3 * v + d]));
+    }
+  }
+  double extent = 0.0;
+  for (int d = 0; d < 3; ++d)
+  {
+    extent = std::max({ extent, hi[d] - lo[d], std::abs(lo[d]), std::abs(hi[d]) }); // (far offsets too)
+  }
+  if (!(extent > 0.0) || !std::isfinite(extent))
+  {
+    return 0;
+  }
+  const int e = std::ilogb(extent);
+  return e > 60 || e < -60 ? e : 0;
+}
+
+template <typename T>
+CurvatureReport CurvaturesAtScale(const MeshTopology& topo, const T* points, const CurvatureOptions& options,
+  const CurvatureOutputs& outputs, const ProgressCallback& progress);
+
 } // namespace
 
 template <typename T>
 CurvatureReport ComputeCurvatures(const MeshTopology& topo, const T* points,
+  const CurvatureOptions& options, const CurvatureOutputs& outputs,
+  const ProgressCallback& progress)
+{
+  const int e = ScaleExponent(topo, points);
+  if (e == 0)
+  {
+    return CurvaturesAtScale(topo, points, options, outputs, progress);
+  }
+  // Points scaled by 2^-e (exact), the outputs scaled back: curvatures by
+  // 2^-e (1 / length), Gaussian curvature by 2^-2e, areas by 2^2e.
+  std::vector<double> scaled(3 * static_cast<std::size_t>(topo.NumberOfVertices()));
+  for (std::size_t k = 0; k < scaled.size(); ++k)
+  {
+    scaled[k] = std::ldexp(static_cast<double>(points[k]), -e);
+  }
+  const CurvatureReport report = CurvaturesAtScale(topo, scaled.data(), options, outputs, progress);
+  const auto rescale = [&](double* values, int perVertex, int exponent) {
+    for (std::size_t k = 0; values && k < perVertex * static_cast<std::size_t>(topo.NumberOfVertices()); ++k)
+    {
+      values[k] = std::ldexp(values[k], exponent);
+    }
+  };
+  rescale(outputs.MeanCurvatureNormal, 3, -e);
+  rescale(outputs.MeanCurvature, 1, -e);
+  rescale(outputs.MaximumCurvature, 1, -e);
+  rescale(outputs.MinimumCurvature, 1, -e);
+  rescale(outputs.GaussianCurvature, 1, -2 * e);
+  rescale(outputs.MixedArea, 1, 2 * e);
+  return report;
+}
+
+namespace
+{
+
+template <typename T>
+CurvatureReport CurvaturesAtScale(const MeshTopology& topo, const T* points,
   const CurvatureOptions& options, const CurvatureOutputs& outputs,
   const ProgressCallback& progress)
 {
@@ -650,6 +719,8 @@ CurvatureReport ComputeCurvatures(const MeshTopology& topo, const T* points,
   report.NonFiniteVertices = kernel.NonFinite;
   return report;
 }
+
+} // namespace
 
 template CurvatureReport ComputeCurvatures<float>(const MeshTopology&, const float*,
   const CurvatureOptions&, const CurvatureOutputs&, const ProgressCallback&);

@@ -70,7 +70,10 @@ struct CurvatureReport
   Index NonFiniteVertices = 0;        ///< vertices with a NaN/inf coordinate in their 1-ring
 };
 
-/// points: 3 interleaved coordinates per vertex (float or double).
+/// points: 3 interleaved coordinates per vertex (float or double).  Surfaces
+/// far from unit size (extent or offset beyond 2^+-60: a 1e100 sphere's
+/// squared areas overflow, a 1e-100 one's vanish) are computed on their
+/// points scaled by a power of two (exact) and the outputs scaled back.
 template <typename T>
 CurvatureReport ComputeCurvatures(const MeshTopology& topology, const T* points,
   const CurvatureOptions& options, const CurvatureOutputs& outputs,
