@@ -15,7 +15,7 @@ import unittest
 import xml.etree.ElementTree as ElementTree
 
 import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import inputs  # noqa: E402
@@ -248,8 +248,10 @@ class HugeAndTinyCoordinates(unittest.TestCase):
     def test_curvatures_and_lines_do_not_depend_on_the_scale(self):
         """A sphere scaled by 1e+-100 and 1e+-150 (its squared areas beyond
         double precision's range): the curvatures are the unit sphere's
-        scaled (they were NaN, with a warning of zero-area triangles), and
-        the contour, seen in parallel projection, the unit sphere's scaled."""
+        scaled (they were NaN, with a warning of zero-area triangles), the
+        contour, seen in parallel projection, the unit sphere's scaled, and
+        the Beltrami operators of point data on it too (they were NaN
+        without a warning)."""
         from beltrami import vtkDiscreteCurvatures
         points, triangles = inputs.sphere(24)
 
@@ -267,10 +269,29 @@ class HugeAndTinyCoordinates(unittest.TestCase):
             lines = [p for t, _, p in polylines(out) if t == CONTOUR]
             self.assertEqual(len(lines), 1)
             return lines[0]
-        unit, unit_contour = mean_curvature(1.0), contour(1.0)
+        def operators(scale):
+            from beltrami import vtkBeltramiOperators
+            f = vtkBeltramiOperators()
+            said = inputs.Messages(f)
+            mesh = inputs.polydata(points * scale, triangles)
+            values = numpy_to_vtk(np.sin(points[:, 0]) + 0.05 * np.cos(37.0 * np.arange(len(points))), deep=True)
+            values.SetName("Scalars")  # (the same data at every scale)
+            mesh.GetPointData().AddArray(values)
+            f.SetInputData(mesh)
+            f.SetInputArrayToProcess(0, 0, 0, 0, "Scalars")
+            f.Update()
+            self.assertEqual(said.warnings + said.errors, [])
+            data = f.GetOutput().GetPointData()
+            # (per length, per length^2, none: brought back to the unit sphere's)
+            return [vtk_to_numpy(data.GetArray(name)) * scale ** power
+                    for name, power in (("MeanCurvature", 1), ("BeltramiOperator", 2), ("GaussianCurvature", 2),
+                                        ("EdgeIndicator", 0))]
+        unit, unit_contour, unit_operators = mean_curvature(1.0), contour(1.0), operators(1.0)
         for scale in (1e100, 1e-100, 1e150, 1e-150):
             np.testing.assert_allclose(mean_curvature(scale) * scale, unit, rtol=1e-9, err_msg=str(scale))
             np.testing.assert_allclose(contour(scale) / scale, unit_contour, rtol=1e-9, atol=1e-12, err_msg=str(scale))
+            for ours, theirs in zip(operators(scale), unit_operators):
+                np.testing.assert_allclose(ours, theirs, rtol=1e-9, atol=1e-12, err_msg=str(scale))
 
 
 NAMES = ("contour", "suggestive-contour", "suggestive-highlight", "ridge", "valley", "boundary", "crease",

@@ -384,7 +384,63 @@ GraphOperatorReport ComputeVolumeGraphOperators(const VoxelGrid& grid, int compo
   return report;
 }
 
+namespace
+{
+
+GraphOperatorReport SurfaceGraphOperatorsAtScale(const MeshTopology& topology, const double* points,
+  int components, const double* values, const GraphOperatorOptions& options, const GraphOperatorOutputs& outputs,
+  const Partition* split);
+
+} // namespace
+
 GraphOperatorReport ComputeSurfaceGraphOperators(const MeshTopology& topology, const double* points,
+  int components, const double* values, const GraphOperatorOptions& options, const GraphOperatorOutputs& outputs,
+  const Partition* split)
+{
+  // A surface far from unit size (squared areas out of range): the points
+  // times 2^-e (exactly), the embedding with them (alpha follows the mean
+  // edge length), the results scaled back: K and H 1/length, Delta_g f and
+  // the Gaussian curvature 1/length^2, alpha length per data unit.
+  Eigen::AlignedBox3d box = UsedPointsBox(topology, points);
+  if (split)
+  {
+    double ends[6] = { -box.min()[0], -box.min()[1], -box.min()[2], box.max()[0], box.max()[1], box.max()[2] };
+    split->Max(ends, 6); // (the same exponent on every process; collective)
+    box = Eigen::AlignedBox3d(Vec3(-ends[0], -ends[1], -ends[2]), Vec3(ends[3], ends[4], ends[5]));
+  }
+  const int e = FarScaleExponent(box);
+  if (e == 0)
+  {
+    return SurfaceGraphOperatorsAtScale(topology, points, components, values, options, outputs, split);
+  }
+  std::vector<double> scaled(3 * static_cast<std::size_t>(topology.NumberOfVertices()));
+  for (std::size_t k = 0; k < scaled.size(); ++k)
+  {
+    scaled[k] = std::ldexp(points[k], -e);
+  }
+  GraphOperatorOptions o = options;
+  o.ContrastScale = std::ldexp(options.ContrastScale, -e); // (0, automatic, stays 0)
+  GraphOperatorReport report =
+    SurfaceGraphOperatorsAtScale(topology, scaled.data(), components, values, o, outputs, split);
+  const std::size_t n = static_cast<std::size_t>(topology.NumberOfVertices());
+  const auto rescale = [](double* values, std::size_t count, int exponent) {
+    for (std::size_t k = 0; values && k < count; ++k)
+    {
+      values[k] = std::ldexp(values[k], exponent);
+    }
+  };
+  rescale(outputs.MeanCurvatureNormal, (3 + components) * n, -e);
+  rescale(outputs.MeanCurvature, n, -e);
+  rescale(outputs.BeltramiOperator, components * n, -2 * e);
+  rescale(outputs.GaussianCurvature, n, -2 * e);
+  report.ContrastScale = std::ldexp(report.ContrastScale, e);
+  return report;
+}
+
+namespace
+{
+
+GraphOperatorReport SurfaceGraphOperatorsAtScale(const MeshTopology& topology, const double* points,
   int components, const double* values, const GraphOperatorOptions& options, const GraphOperatorOutputs& outputs,
   const Partition* split)
 {
@@ -431,6 +487,8 @@ GraphOperatorReport ComputeSurfaceGraphOperators(const MeshTopology& topology, c
   report.UndefinedVertices = static_cast<Index>(split ? split->Sum(undefined) : undefined);
   return report;
 }
+
+} // namespace
 
 GraphOperatorReport ComputeTetrahedralGraphOperators(const TetrahedralMesh& mesh, const double* points,
   int components, const double* values, const GraphOperatorOptions& options, const GraphOperatorOutputs& outputs,

@@ -2,6 +2,7 @@
 
 #pragma GCC diagnostic ignored "-Wpsabi" // (lanes::Real in RingGeometry.h's templates: see Support/LaneVectors.h)
 
+#include "Mesh/MeshMeasures.h"
 #include "Mesh/RingGeometry.h"
 
 #include "Support/LaneVectors.h"
@@ -623,34 +624,6 @@ void AverageFromInterior(const MeshTopology& topo, const std::vector<std::uint8_
   }
 }
 
-/// The power of two that brings the used points' extent near 1 when it is
-/// far from it (beyond 2^+-60: squared areas of a 1e100 surface overflow,
-/// those of a 1e-100 one vanish), else 0.
-template <typename T>
-int ScaleExponent(const MeshTopology& topo, const T* points)
-{
-  double lo[3] = { HUGE_VAL, HUGE_VAL, HUGE_VAL }, hi[3] = { -HUGE_VAL, -HUGE_VAL, -HUGE_VAL };
-  for (Index v = 0; v < topo.NumberOfVertices(); ++v)
-  {
-    for (int d = 0; d < 3 && topo.Valence(v) > 0 && std::isfinite(static_cast<double>(points[3 * v + d])); ++d)
-    {
-      lo[d] = std::min(lo[d], static_cast<double>(points[3 * v + d]));
-      hi[d] = std::max(hi[d], static_cast<double>(points[3 * v + d]));
-    }
-  }
-  double extent = 0.0;
-  for (int d = 0; d < 3; ++d)
-  {
-    extent = std::max({ extent, hi[d] - lo[d], std::abs(lo[d]), std::abs(hi[d]) }); // (far offsets too)
-  }
-  if (!(extent > 0.0) || !std::isfinite(extent))
-  {
-    return 0;
-  }
-  const int e = std::ilogb(extent);
-  return e > 60 || e < -60 ? e : 0;
-}
-
 template <typename T>
 CurvatureReport CurvaturesAtScale(const MeshTopology& topo, const T* points, const CurvatureOptions& options,
   const CurvatureOutputs& outputs, const ProgressCallback& progress);
@@ -662,7 +635,7 @@ CurvatureReport ComputeCurvatures(const MeshTopology& topo, const T* points,
   const CurvatureOptions& options, const CurvatureOutputs& outputs,
   const ProgressCallback& progress)
 {
-  const int e = ScaleExponent(topo, points);
+  const int e = FarScaleExponent(UsedPointsBox(topo, points));
   if (e == 0)
   {
     return CurvaturesAtScale(topo, points, options, outputs, progress);

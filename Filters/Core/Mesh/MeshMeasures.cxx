@@ -52,6 +52,22 @@ Eigen::AlignedBox3d UsedPointsBox(const MeshTopology& topo, const T* points)
 template Eigen::AlignedBox3d UsedPointsBox<float>(const MeshTopology&, const float*);
 template Eigen::AlignedBox3d UsedPointsBox<double>(const MeshTopology&, const double*);
 
+int FarScaleExponent(const Eigen::AlignedBox3d& box)
+{
+  if (box.isEmpty())
+  {
+    return 0;
+  }
+  const double extent = std::max(box.sizes().maxCoeff(), std::max(box.min().cwiseAbs().maxCoeff(),
+    box.max().cwiseAbs().maxCoeff()));
+  if (!(extent > 0.0) || !std::isfinite(extent))
+  {
+    return 0;
+  }
+  const int e = std::ilogb(extent);
+  return e > 60 || e < -60 ? e : 0;
+}
+
 Vec3 VertexCentroid(const MeshTopology& topo, const double* points)
 {
   Vec3 c = Vec3::Zero();

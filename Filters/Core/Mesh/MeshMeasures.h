@@ -83,6 +83,12 @@ TriangleQuality MeasureTriangleQuality(const MeshTopology& topology, const doubl
 template <typename T>
 Eigen::AlignedBox3d UsedPointsBox(const MeshTopology& topology, const T* points);
 
+/// The power of two e that brings a box far from unit size near 1 (its
+/// extent or offset beyond 2^+-60, where squared areas overflow or vanish:
+/// computations there run on the points times 2^-e, exactly, and scale
+/// their results back), else 0 (and for an empty box).
+int FarScaleExponent(const Eigen::AlignedBox3d& box);
+
 /// The mean of the points of used vertices (valence > 0, finite).
 Vec3 VertexCentroid(const MeshTopology& topology, const double* points);
 /// The enclosed volume (relative to the vertex centroid, for accuracy) and,
