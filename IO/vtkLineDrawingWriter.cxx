@@ -45,8 +45,14 @@ void CopyStyles(double* widths, double* colors, double& dash, beltrami::LineDraw
       std::copy(style.Color, style.Color + 3, colors + 3 * s);
     }
   }
-  double& hidden = o.Styles[beltrami::HiddenStyle].Dash;
-  (toPage ? hidden : dash) = toPage ? dash : hidden;
+  if (toPage)
+  {
+    o.Styles[beltrami::HiddenStyle].Dash = dash;
+  }
+  else
+  {
+    dash = o.Styles[beltrami::HiddenStyle].Dash;
+  }
 }
 
 /// The first `n` values of field array `name`, false when it is missing or short.

@@ -413,26 +413,16 @@ GraphOperatorReport ComputeSurfaceGraphOperators(const MeshTopology& topology, c
   {
     return SurfaceGraphOperatorsAtScale(topology, points, components, values, options, outputs, split);
   }
-  std::vector<double> scaled(3 * static_cast<std::size_t>(topology.NumberOfVertices()));
-  for (std::size_t k = 0; k < scaled.size(); ++k)
-  {
-    scaled[k] = std::ldexp(points[k], -e);
-  }
+  const std::vector<double> scaled = PointsTimesPowerOfTwo(points, topology.NumberOfVertices(), -e);
   GraphOperatorOptions o = options;
   o.ContrastScale = std::ldexp(options.ContrastScale, -e); // (0, automatic, stays 0)
   GraphOperatorReport report =
     SurfaceGraphOperatorsAtScale(topology, scaled.data(), components, values, o, outputs, split);
   const std::size_t n = static_cast<std::size_t>(topology.NumberOfVertices());
-  const auto rescale = [](double* values, std::size_t count, int exponent) {
-    for (std::size_t k = 0; values && k < count; ++k)
-    {
-      values[k] = std::ldexp(values[k], exponent);
-    }
-  };
-  rescale(outputs.MeanCurvatureNormal, (3 + components) * n, -e);
-  rescale(outputs.MeanCurvature, n, -e);
-  rescale(outputs.BeltramiOperator, components * n, -2 * e);
-  rescale(outputs.GaussianCurvature, n, -2 * e);
+  TimesPowerOfTwo(outputs.MeanCurvatureNormal, (3 + components) * n, -e);
+  TimesPowerOfTwo(outputs.MeanCurvature, n, -e);
+  TimesPowerOfTwo(outputs.BeltramiOperator, components * n, -2 * e);
+  TimesPowerOfTwo(outputs.GaussianCurvature, n, -2 * e);
   report.ContrastScale = std::ldexp(report.ContrastScale, e);
   return report;
 }

@@ -642,24 +642,15 @@ CurvatureReport ComputeCurvatures(const MeshTopology& topo, const T* points,
   }
   // Points scaled by 2^-e (exact), the outputs scaled back: curvatures by
   // 2^-e (1 / length), Gaussian curvature by 2^-2e, areas by 2^2e.
-  std::vector<double> scaled(3 * static_cast<std::size_t>(topo.NumberOfVertices()));
-  for (std::size_t k = 0; k < scaled.size(); ++k)
-  {
-    scaled[k] = std::ldexp(static_cast<double>(points[k]), -e);
-  }
+  const std::vector<double> scaled = PointsTimesPowerOfTwo(points, topo.NumberOfVertices(), -e);
   const CurvatureReport report = CurvaturesAtScale(topo, scaled.data(), options, outputs, progress);
-  const auto rescale = [&](double* values, int perVertex, int exponent) {
-    for (std::size_t k = 0; values && k < perVertex * static_cast<std::size_t>(topo.NumberOfVertices()); ++k)
-    {
-      values[k] = std::ldexp(values[k], exponent);
-    }
-  };
-  rescale(outputs.MeanCurvatureNormal, 3, -e);
-  rescale(outputs.MeanCurvature, 1, -e);
-  rescale(outputs.MaximumCurvature, 1, -e);
-  rescale(outputs.MinimumCurvature, 1, -e);
-  rescale(outputs.GaussianCurvature, 1, -2 * e);
-  rescale(outputs.MixedArea, 1, 2 * e);
+  const std::size_t n = static_cast<std::size_t>(topo.NumberOfVertices());
+  TimesPowerOfTwo(outputs.MeanCurvatureNormal, 3 * n, -e);
+  TimesPowerOfTwo(outputs.MeanCurvature, n, -e);
+  TimesPowerOfTwo(outputs.MaximumCurvature, n, -e);
+  TimesPowerOfTwo(outputs.MinimumCurvature, n, -e);
+  TimesPowerOfTwo(outputs.GaussianCurvature, n, -2 * e);
+  TimesPowerOfTwo(outputs.MixedArea, n, 2 * e);
   return report;
 }
 

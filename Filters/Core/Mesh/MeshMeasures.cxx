@@ -68,6 +68,27 @@ int FarScaleExponent(const Eigen::AlignedBox3d& box)
   return e > 60 || e < -60 ? e : 0;
 }
 
+template <typename T>
+std::vector<double> PointsTimesPowerOfTwo(const T* points, Index numberOfVertices, int exponent)
+{
+  std::vector<double> out(3 * static_cast<std::size_t>(numberOfVertices));
+  for (std::size_t k = 0; k < out.size(); ++k)
+  {
+    out[k] = std::ldexp(static_cast<double>(points[k]), exponent);
+  }
+  return out;
+}
+template std::vector<double> PointsTimesPowerOfTwo<float>(const float*, Index, int);
+template std::vector<double> PointsTimesPowerOfTwo<double>(const double*, Index, int);
+
+void TimesPowerOfTwo(double* values, std::size_t count, int exponent)
+{
+  for (std::size_t k = 0; values && k < count; ++k)
+  {
+    values[k] = std::ldexp(values[k], exponent);
+  }
+}
+
 Vec3 VertexCentroid(const MeshTopology& topo, const double* points)
 {
   Vec3 c = Vec3::Zero();

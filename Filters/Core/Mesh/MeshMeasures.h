@@ -88,6 +88,11 @@ Eigen::AlignedBox3d UsedPointsBox(const MeshTopology& topology, const T* points)
 /// computations there run on the points times 2^-e, exactly, and scale
 /// their results back), else 0 (and for an empty box).
 int FarScaleExponent(const Eigen::AlignedBox3d& box);
+/// 3 * numberOfVertices coordinates times 2^exponent (exact), in double precision.
+template <typename T>
+std::vector<double> PointsTimesPowerOfTwo(const T* points, Index numberOfVertices, int exponent);
+/// values[0 .. count) times 2^exponent, in place (nothing when values is null).
+void TimesPowerOfTwo(double* values, std::size_t count, int exponent);
 
 /// The mean of the points of used vertices (valence > 0, finite).
 Vec3 VertexCentroid(const MeshTopology& topology, const double* points);
