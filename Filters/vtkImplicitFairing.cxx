@@ -51,6 +51,7 @@ BELTRAMI_SAME_ENUM(vtkImplicitFairing::PHYSICAL, beltrami::LengthUnit::Physical)
 
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::JACOBI, beltrami::Preconditioning::Jacobi);
 BELTRAMI_SAME_ENUM(vtkImplicitFairing::MULTIGRID, beltrami::Preconditioning::Multigrid);
+BELTRAMI_SAME_ENUM(vtkImplicitFairing::GEOMETRIC_MULTIGRID, beltrami::Preconditioning::GeometricMultigrid);
 
 vtkStandardNewMacro(vtkImplicitFairing);
 

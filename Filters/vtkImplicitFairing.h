@@ -208,7 +208,8 @@ public:
   enum PreconditionerType
   {
     JACOBI = 0,
-    MULTIGRID = 1
+    MULTIGRID = 1,
+    GEOMETRIC_MULTIGRID = 2
   };
 
   /// Umbrella (eq. 3.7), scale-dependent umbrella (eq. 3.11), curvature flow (section 3.5),
@@ -279,7 +280,7 @@ public:
   /// each iteration and its set-up cost more. In a distributed run both work over the ranks with
   /// the serial iteration counts (the multigrid hierarchy spans the ranks; order-1 Jacobi solves
   /// are in double precision there). Values: 0 Jacobi, 1 Algebraic Multigrid. Default: Jacobi.
-  vtkSetClampMacro(Preconditioner, int, JACOBI, MULTIGRID);
+  vtkSetClampMacro(Preconditioner, int, JACOBI, GEOMETRIC_MULTIGRID);
   vtkGetMacro(Preconditioner, int);
   /// Quantity restored by scaling after each step (section 3.3). Automatic: the volume for closed
   /// surfaces without fixed points, nothing otherwise. Values: 0 Automatic, 1 None, 2 Volume, 3

@@ -425,6 +425,12 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
   const Index n = topo.NumberOfVertices();
   const int threads = opt.NumberOfThreads;
   const Partition* split = pieces.Split;
+  if (opt.Preconditioner == Preconditioning::GeometricMultigrid && !split && !opt.Hierarchy && n > 0)
+  {
+    const MeshTopology::VertexGraph& graph = topo.Graph();
+    opt.Hierarchy = std::make_shared<const SurfaceHierarchy>(
+      n, graph.NeighborOffsets.data(), graph.Neighbors.data(), x, threads);
+  }
   const VertexRoles roles = ClassifyVertices(topo, x, opt, cons, split, report);
   const std::vector<std::uint8_t>& fixed = roles.Fixed;
   const std::vector<double>& weight = roles.Weight;

@@ -30,9 +30,11 @@
 #include "Mesh/MeshMeasures.h"
 #include "Solvers/AlgebraicMultigrid.h"
 #include "Solvers/Partition.h"
+#include "Solvers/SurfaceMultigrid.h"
 #include "Mesh/MeshTopology.h"
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -115,9 +117,13 @@ struct FairingOptions
   int NumberOfIterations = 1; ///< time steps
   double SolverTolerance = 1e-4; ///< reduction of the solver residual (see ConjugateGradient.h)
   int MaximumSolverIterations = 1000;
-  /// Of the graph solvers (orders 1 and 2 without constraints): Jacobi, or
-  /// algebraic multigrid (see Solvers/AlgebraicMultigrid.h for when it pays).
+  /// Of the graph solvers (orders 1 and 2 without constraints): Jacobi,
+  /// algebraic multigrid (see Solvers/AlgebraicMultigrid.h for when it pays)
+  /// or geometric multigrid (Solvers/SurfaceMultigrid.h).
   Preconditioning Preconditioner = Preconditioning::Jacobi;
+  /// GeometricMultigrid: the hierarchy of the run's surface, built once by
+  /// the fairing (from the input's points) for all its solves; not a setting.
+  std::shared_ptr<const SurfaceHierarchy> Hierarchy;
   FairingInvariant Invariant = FairingInvariant::Automatic;
   /// HeightFieldVolume: the normal of the reference plane; RevolutionVolume:
   /// the direction of the axis (through the initial area centroid).

@@ -306,6 +306,8 @@ ConjugateGradientResult SolveStep(
   sl.MaximumIterations = opt.MaximumSolverIterations;
   sl.NumberOfThreads = opt.NumberOfThreads;
   sl.Preconditioner = opt.Preconditioner;
+  sl.Hierarchy = opt.Hierarchy;
+  sl.Points = x; // (without a hierarchy) read before the solve moves them
   sl.Split = st.Split;
   if (Constrained(st) || (st.Split && p.Pure(1) && !UsesMultigrid(sl)))
   {

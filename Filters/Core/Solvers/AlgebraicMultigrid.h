@@ -43,8 +43,9 @@ class Partition;
 /// The preconditioner of the graph solvers (ShiftedLaplacianProblem).
 enum class Preconditioning
 {
-  Jacobi,   ///< mixed precision, renumbered rows (the default: see above)
-  Multigrid ///< one V-cycle of BoomerAMG per iteration
+  Jacobi,            ///< mixed precision, renumbered rows
+  Multigrid,         ///< one V-cycle of BoomerAMG per iteration
+  GeometricMultigrid ///< one V-cycle on the surface's own hierarchy (SurfaceMultigrid)
 };
 
 class AlgebraicMultigrid

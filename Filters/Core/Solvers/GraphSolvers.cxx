@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <memory>
 #include <stdexcept>
 
 namespace beltrami
@@ -317,23 +319,53 @@ void ShiftedProduct(const ShiftedLaplacianProblem& pb, double t, const double* x
   });
 }
 
+/// One V-cycle z = B r of D + t K (`factor`), the rows in `held` kept: on
+/// the surface's hierarchy (GeometricMultigrid with points or a hierarchy,
+/// serial) or BoomerAMG's.
+using Cycle = std::function<void(const double* r, double* z, int columns)>;
+
+/// Whether pb is preconditioned on the surface's hierarchy (serial only).
+bool OnSurfaceHierarchy(const ShiftedLaplacianProblem& pb)
+{
+  return pb.Preconditioner == Preconditioning::GeometricMultigrid && !pb.Split &&
+    (pb.Hierarchy ? pb.Hierarchy->Rows(0) == pb.Rows : pb.Points != nullptr);
+}
+
+/// pb's hierarchy, given or built from its graph and points.
+std::shared_ptr<const SurfaceHierarchy> HierarchyOf(const ShiftedLaplacianProblem& pb)
+{
+  return pb.Hierarchy
+    ? pb.Hierarchy
+    : std::make_shared<const SurfaceHierarchy>(pb.Rows, pb.Offsets, pb.Neighbors, pb.Points, pb.NumberOfThreads);
+}
+
+Cycle MultigridCycle(const ShiftedLaplacianProblem& pb, double factor, const std::vector<std::uint8_t>& held)
+{
+  if (OnSurfaceHierarchy(pb))
+  {
+    auto mg = std::make_shared<SurfaceMultigrid>(HierarchyOf(pb), pb.Offsets, pb.Neighbors, pb.Weights,
+      pb.Diagonal, pb.Shift, factor, held.data(), pb.NumberOfThreads);
+    return [mg](const double* r, double* z, int columns) { mg->Apply(r, z, columns); };
+  }
+  auto amg = std::make_shared<AlgebraicMultigrid>(
+    pb.Rows, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, pb.Shift, factor, held.data(), pb.Split);
+  return [amg](const double* r, double* z, int columns) { amg->Apply(r, z, columns); };
+}
+
 ConjugateGradientResult SolveShiftedMultigrid(const ShiftedLaplacianProblem& pb, const double* b, double* x)
 {
   const std::vector<std::uint8_t> held = HeldRows(pb, false);
-  const AlgebraicMultigrid amg(
-    pb.Rows, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, pb.Shift, pb.Factor, held.data(), pb.Split);
+  const Cycle cycle = MultigridCycle(pb, pb.Factor, held);
   ConjugateGradientProblem cg = MultigridProblem(pb, held);
   cg.Apply = [&](const double* in, double* out) { ShiftedProduct(pb, pb.Factor, in, out); };
-  cg.Preconditioner = [&](const double* r, double* z) { amg.Apply(r, z, pb.Columns); };
+  cg.Preconditioner = [&](const double* r, double* z) { cycle(r, z, pb.Columns); };
   return SolveConjugateGradient(cg, b, x);
 }
 
 ConjugateGradientResult SolveSquaredMultigrid(const ShiftedLaplacianProblem& pb, const double* b, double* x)
 {
   const std::vector<std::uint8_t> held = HeldRows(pb, true);
-  const double a = std::sqrt(pb.Factor);
-  const AlgebraicMultigrid amg(
-    pb.Rows, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, pb.Shift, a, held.data(), pb.Split);
+  const Cycle cycle = MultigridCycle(pb, std::sqrt(pb.Factor), held);
   const int nc = pb.Columns;
   const std::int64_t size = static_cast<std::int64_t>(pb.Rows) * nc;
   LargeVector<double> kx(size), tmp(size);
@@ -367,14 +399,14 @@ ConjugateGradientResult SolveSquaredMultigrid(const ShiftedLaplacianProblem& pb,
   };
   // z = B D B r.
   cg.Preconditioner = [&](const double* r, double* z) {
-    amg.Apply(r, tmp.data(), nc);
+    cycle(r, tmp.data(), nc);
     ParallelFor(size, pb.NumberOfThreads, [&](std::int64_t s, std::int64_t e) {
       for (std::int64_t k = s; k < e; ++k)
       {
         tmp[k] *= held[k / nc] ? 0.0 : pb.Shift[k / nc];
       }
     });
-    amg.Apply(tmp.data(), z, nc);
+    cycle(tmp.data(), z, nc);
   };
   return SolveConjugateGradient(cg, b, x);
 }
@@ -383,7 +415,7 @@ ConjugateGradientResult SolveSquaredMultigrid(const ShiftedLaplacianProblem& pb,
 
 bool UsesMultigrid(const ShiftedLaplacianProblem& pb)
 {
-  return pb.Preconditioner == Preconditioning::Multigrid;
+  return pb.Preconditioner != Preconditioning::Jacobi;
 }
 
 ConjugateGradientResult SolveSquaredLaplacian(const ShiftedLaplacianProblem& pb, const double* b, double* x)
@@ -400,11 +432,22 @@ ConjugateGradientResult SolveSquaredLaplacian(const ShiftedLaplacianProblem& pb,
     none.Converged = true;
     return none;
   }
+  if (OnSurfaceHierarchy(pb))
+  {
+    const std::vector<std::uint8_t> held = HeldRows(pb, true);
+    const std::shared_ptr<const SurfaceHierarchy> hierarchy = HierarchyOf(pb);
+    const SurfaceMultigrid mg(hierarchy, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, pb.Shift,
+      std::sqrt(pb.Factor), held.data(), pb.NumberOfThreads);
+    ShiftedLaplacianProblem work = pb;
+    work.Order = hierarchy->Order().data();
+    return detail::SolveSquaredComplex(
+      work, b, x, [&](const double* r, double* z, int columns) { mg.ApplyInOrder(r, z, columns); });
+  }
   if (UsesMultigrid(pb))
   {
     return SolveSquaredMultigrid(pb, b, x);
   }
-  return detail::SolveSquaredJacobi(pb, b, x);
+  return detail::SolveSquaredComplex(pb, b, x);
 }
 
 ConjugateGradientResult SolveShiftedLaplacian(

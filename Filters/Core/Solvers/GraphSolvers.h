@@ -7,8 +7,10 @@
 
 #include "Solvers/AlgebraicMultigrid.h"
 #include "Solvers/ConjugateGradient.h"
+#include "Solvers/SurfaceMultigrid.h"
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace beltrami
@@ -45,6 +47,12 @@ struct ShiftedLaplacianProblem
   int MaximumIterations = 1000;
   int NumberOfThreads = 0;
   Preconditioning Preconditioner = Preconditioning::Jacobi;
+  /// The rows' points (3 per row), for GeometricMultigrid: its hierarchy is
+  /// built from the graph and the points, or taken from Hierarchy (built
+  /// for the same graph, kept across solves).  Without either, or with a
+  /// Split, GeometricMultigrid takes BoomerAMG.
+  const double* Points = nullptr;
+  std::shared_ptr<const SurfaceHierarchy> Hierarchy;
   /// Optional: the rows split over processes (a collective solve, see
   /// ConjugateGradientProblem::Split): multigrid with the hierarchy spanning
   /// the processes, or for SolveSquaredLaplacian also the Jacobi COCG.

@@ -1,5 +1,6 @@
 // Beltrami core: the order-2 graph solver, SolveSquaredLaplacian's
-// Jacobi-preconditioned COCG on D + i sqrt(t) K (see GraphSolvers.h).
+// COCG on D + i sqrt(t) K (see GraphSolvers.h), preconditioned by Jacobi
+// or by a real V-cycle of D + sqrt(t) K.
 #include "Solvers/GraphSolversDetail.h"
 #include "Solvers/Partition.h"
 
@@ -129,8 +130,9 @@ public:
   using Complex = std::complex<double>;
   static constexpr int W = 2 * NC; // complex vectors: per row NC real parts, then NC imaginary parts
 
-  SquaredSolver(const ShiftedLaplacianProblem& pb, const double* b, double* x)
-    : System(pb, b, x)
+  SquaredSolver(const ShiftedLaplacianProblem& pb, const double* b, double* x, const detail::RealCycle& cycle)
+    : Cycle(cycle)
+    , System(pb, b, x)
     , Pb(System.Problem)
     , B(System.B)
     , X(System.X)
@@ -143,6 +145,7 @@ public:
     , R(2 * Size)
     , P(2 * Size)
     , KP(2 * Size)
+    , Z(cycle ? 2 * Size : 0)
     , Inverse(static_cast<std::size_t>(pb.Rows))
   {
     ParallelForStatic(N, Threads, [&](std::int64_t s, std::int64_t e) { // Jacobi: 1 / (D_i + i a K_ii)
@@ -284,6 +287,17 @@ private:
   /// The COCG start from the real residual in R: P = M^-1 R.
   void Start()
   {
+    if (Cycle)
+    {
+      Cycle(R.data(), P.data(), W);
+      const std::vector<double> sums = RhoAndNorms(P.data());
+      for (int c = 0; c < NC; ++c)
+      {
+        Rho[c] = Complex(sums[2 * c], sums[2 * c + 1]);
+        StartNorm[c] = std::sqrt(sums[2 * NC + c]);
+      }
+      return;
+    }
     const std::vector<double> sums = Total(ParallelSum(N, 3 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
       for (std::int64_t i = s; i < e; ++i)
       {
@@ -340,7 +354,7 @@ private:
   /// reached `target` of its start.
   bool Advance(const Complex* alpha, Complex* beta, double target)
   {
-    const std::vector<double> sums = Total(ParallelSum(N, 3 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+    std::vector<double> sums = Total(ParallelSum(N, 3 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
       for (std::int64_t i = s; i < e; ++i)
       {
         const bool f = IsFree(i);
@@ -351,7 +365,7 @@ private:
           const Complex r = Complex(R[re], R[im]) - Times(alpha[c], Complex(KP[re], KP[im]));
           R[re] = r.real();
           R[im] = r.imag();
-          const Complex rz = Times(r, Times(Inverse[i], r));
+          const Complex rz = Cycle ? Complex(0.0) : Times(r, Times(Inverse[i], r));
           acc[2 * c] += f ? rz.real() : 0.0;
           acc[2 * c + 1] += f ? rz.imag() : 0.0;
           acc[2 * NC + c] += f ? std::norm(r) : 0.0;
@@ -359,6 +373,12 @@ private:
       }
     }));
     ++Result.Iterations;
+    if (Cycle)
+    {
+      Cycle(R.data(), Z.data(), W);
+      const std::vector<double> rz = RhoAndNorms(Z.data());
+      std::copy(rz.begin(), rz.begin() + 2 * NC, sums.begin());
+    }
     bool reached = true;
     for (int c = 0; c < NC; ++c)
     {
@@ -381,7 +401,8 @@ private:
         for (int c = 0; c < NC; ++c)
         {
           const std::int64_t re = i * W + c, im = re + NC;
-          const Complex p = Times(Inverse[i], Complex(R[re], R[im])) + Times(beta[c], Complex(P[re], P[im]));
+          const Complex z = Cycle ? Complex(Z[re], Z[im]) : Times(Inverse[i], Complex(R[re], R[im]));
+          const Complex p = z + Times(beta[c], Complex(P[re], P[im]));
           P[re] = p.real();
           P[im] = p.imag();
         }
@@ -389,6 +410,31 @@ private:
     });
   }
 
+  /// With a preconditioner: the sums r^T z (unconjugated; real and
+  /// imaginary part per column) over the free rows, then ||r||^2 per column.
+  std::vector<double> RhoAndNorms(const double* z) const
+  {
+    return Total(ParallelSum(N, 3 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        if (!IsFree(i))
+        {
+          continue;
+        }
+        for (int c = 0; c < NC; ++c)
+        {
+          const std::int64_t re = i * W + c, im = re + NC;
+          const Complex r(R[re], R[im]);
+          const Complex rz = Times(r, Complex(z[re], z[im]));
+          acc[2 * c] += rz.real();
+          acc[2 * c + 1] += rz.imag();
+          acc[2 * NC + c] += std::norm(r);
+        }
+      }
+    }));
+  }
+
+  const detail::RealCycle& Cycle;
   SquaredSystem System;
   const ShiftedLaplacianProblem& Pb;
   const double* B;
@@ -398,7 +444,7 @@ private:
   const int Threads;
   const double T, A;
   const std::size_t Size;
-  LargeVector<double> R, P, KP;
+  LargeVector<double> R, P, KP, Z; // Z = M^-1 R with a preconditioner
   LargeVector<Complex> Inverse;
   ConjugateGradientResult Result;
   std::vector<double> Norms;
@@ -409,9 +455,10 @@ private:
 
 } // namespace
 
-ConjugateGradientResult detail::SolveSquaredJacobi(const ShiftedLaplacianProblem& pb, const double* b, double* x)
+ConjugateGradientResult detail::SolveSquaredComplex(
+  const ShiftedLaplacianProblem& pb, const double* b, double* x, const RealCycle& cycle)
 {
-  return WithCount<4>(pb.Columns, [&](auto k) { return SquaredSolver<decltype(k)::value>(pb, b, x).Run(); });
+  return WithCount<4>(pb.Columns, [&](auto k) { return SquaredSolver<decltype(k)::value>(pb, b, x, cycle).Run(); });
 }
 
 } // namespace beltrami

@@ -1,0 +1,287 @@
+// The geometric multigrid on the surface's own hierarchy
+// (Solvers/SurfaceMultigrid): the hierarchy's levels, the V-cycle's
+// convergence at four resolutions, and its solves against Jacobi's on real
+// and irregular meshes.
+#include "TestMeshes.h"
+
+#include "Mesh/Laplacian.h"
+#include "Mesh/MeshMeasures.h"
+#include "Solvers/GraphSolvers.h"
+#include "Solvers/SurfaceMultigrid.h"
+#include "Support/DisjointSets.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <numeric>
+#include <tuple>
+#include <string>
+#include <vector>
+
+using namespace beltrami;
+
+namespace
+{
+
+/// M + t K of a mesh's cotangent Laplacian (t in units of h^2), its
+/// graph kept (the topology's arrays copied).
+struct MeshSystem
+{
+  test::Mesh Mesh;
+  GraphLaplacian L;
+  std::vector<std::int64_t> Offsets;
+  std::vector<Index> Neighbors;
+  std::vector<double> Mass;
+  double H = 0.0;
+
+  explicit MeshSystem(test::Mesh mesh)
+    : Mesh(std::move(mesh))
+  {
+    const MeshTopology topo = Mesh.Topology();
+    AssembleSurfaceLaplacian(topo, Mesh.Points.data(), LaplacianWeights::Cotangent, L, 2);
+    const Index n = L.NumberOfVertices;
+    Offsets.assign(L.Offsets, L.Offsets + n + 1);
+    Neighbors.assign(L.Neighbors, L.Neighbors + Offsets[n]);
+    L.Offsets = Offsets.data();
+    L.Neighbors = Neighbors.data();
+    Mass.assign(L.Mass.begin(), L.Mass.end());
+    H = MeanEdgeLength(topo, Mesh.Points.data());
+  }
+
+  ShiftedLaplacianProblem Problem(double step, int columns, Preconditioning m) const
+  {
+    ShiftedLaplacianProblem pb = L.Problem(columns);
+    pb.Shift = Mass.data();
+    pb.Factor = step;
+    pb.Scale.assign(columns, 1.0);
+    pb.Tolerance = 1e-8;
+    pb.MaximumIterations = 20000;
+    pb.NumberOfThreads = 2;
+    pb.Preconditioner = m;
+    pb.Points = Mesh.Points.data();
+    return pb;
+  }
+
+  /// r = b - (M + t K) x.
+  std::vector<double> Residual(double t, const std::vector<double>& b, const std::vector<double>& x) const
+  {
+    std::vector<double> r(b.size());
+    L.ApplyStiffness(x.data(), r.data(), 1, 2);
+    for (std::size_t i = 0; i < r.size(); ++i)
+    {
+      r[i] = b[i] - Mass[i] * x[i] - t * r[i];
+    }
+    return r;
+  }
+};
+
+double Norm(const std::vector<double>& v)
+{
+  double s = 0.0;
+  for (const double x : v)
+  {
+    s += x * x;
+  }
+  return std::sqrt(s);
+}
+
+/// Connected components of a level's operator graph.
+int Components(const LevelMatrix& a)
+{
+  std::vector<Index> parent(a.Rows());
+  std::iota(parent.begin(), parent.end(), 0);
+  for (Index i = 0; i < a.Rows(); ++i)
+  {
+    for (std::int64_t k = a.Offsets[i]; k < a.Offsets[i + 1]; ++k)
+    {
+      parent[FindRoot(parent, i)] = FindRoot(parent, a.Columns[k]);
+    }
+  }
+  int count = 0;
+  for (Index i = 0; i < a.Rows(); ++i)
+  {
+    count += FindRoot(parent, i) == i;
+  }
+  return count;
+}
+
+test::Mesh ReadOrFail(const std::string& name)
+{
+  std::string error;
+  test::Mesh m = test::ReadMesh(name, error);
+  EXPECT_TRUE(error.empty()) << error;
+  return m;
+}
+
+} // namespace
+
+TEST(SurfaceMultigrid, HierarchyCoversEveryVertexAndKeepsComponents)
+{
+  // Two spheres far apart and a real mesh: every finer row interpolates
+  // from its level's coarse rows with non-negative weights summing to 1,
+  // every coarse row is used, each level takes about one row in six to
+  // ten, and every level keeps the components of the finest.
+  test::Mesh two = test::OctahedronSphere(5);
+  const test::Mesh other = test::OctahedronSphere(4, 0.5);
+  const Index offset = two.NumberOfVertices();
+  for (Index i = 0; i < other.NumberOfVertices(); ++i)
+  {
+    two.AddPoint(other.Point(i) + Eigen::Vector3d(5.0, 0.0, 0.0));
+  }
+  for (std::size_t t = 0; t < other.Triangles.size(); t += 3)
+  {
+    two.AddTriangle(other.Triangles[t] + offset, other.Triangles[t + 1] + offset, other.Triangles[t + 2] + offset);
+  }
+  for (const auto& [name, mesh, components] :
+    { std::make_tuple(std::string("two spheres"), two, 2), std::make_tuple(std::string("bunny00"),
+        ReadOrFail("bunny00.off"), 1) })
+  {
+    const MeshSystem s(mesh);
+    const ShiftedLaplacianProblem pb = s.Problem(10.0 * s.H * s.H, 1, Preconditioning::GeometricMultigrid);
+    auto h = std::make_shared<const SurfaceHierarchy>(pb.Rows, pb.Offsets, pb.Neighbors, pb.Points, 2);
+    ASSERT_GE(h->Levels(), 2) << name;
+    EXPECT_LE(h->Rows(h->Levels() - 1), 1000) << name;
+    for (int l = 0; l + 1 < h->Levels(); ++l)
+    {
+      const LevelMatrix& p = h->Prolongation(l);
+      const double ratio = static_cast<double>(h->Rows(l)) / h->Rows(l + 1);
+      EXPECT_GE(ratio, 5.0) << name << " level " << l;
+      EXPECT_LE(ratio, 12.0) << name << " level " << l;
+      for (Index i = 0; i < h->Rows(l); ++i)
+      {
+        double sum = 0.0;
+        for (std::int64_t k = p.Offsets[i]; k < p.Offsets[i + 1]; ++k)
+        {
+          ASSERT_GT(p.Values[k], 0.0);
+          ASSERT_LT(p.Columns[k], h->Rows(l + 1));
+          sum += p.Values[k];
+        }
+        ASSERT_NEAR(sum, 1.0, 1e-12) << name << " level " << l << " row " << i;
+      }
+      const LevelMatrix& r = h->Restriction(l);
+      for (Index c = 0; c < h->Rows(l + 1); ++c)
+      {
+        ASSERT_GT(r.Offsets[c + 1], r.Offsets[c]) << name << " level " << l + 1 << " row " << c << " unused";
+      }
+    }
+    const SurfaceMultigrid mg(h, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, pb.Shift, pb.Factor, nullptr, 2);
+    for (int l = 0; l < mg.Levels(); ++l)
+    {
+      EXPECT_EQ(Components(mg.Operator(l)), components) << name << " level " << l;
+    }
+    EXPECT_LT(mg.OperatorComplexity(), 1.6) << name;
+  }
+}
+
+TEST(SurfaceMultigrid, CycleReducesTheResidualBySizeIndependentFactors)
+{
+  // Spheres of 1k to 263k vertices, M + t K with t = 10 h^2 and 1000 h^2:
+  // the V-cycle alone (x += B (b - A x)) reduces the residual by a factor
+  // per cycle that does not grow with the mesh; the order-2 system
+  // M + t K M^-1 K (t = 4 h^4) takes iterations that grow by at most 1.25x a
+  // level.
+  std::vector<double> factors[2];
+  std::vector<int> squared;
+  for (int levels : { 4, 5, 6, 7, 8 })
+  {
+    const MeshSystem s(test::OctahedronSphere(levels));
+    const Index n = s.L.NumberOfVertices;
+    std::vector<double> b(n);
+    for (Index i = 0; i < n; ++i)
+    {
+      b[i] = s.Mass[i] * (s.Mesh.Points[3 * i] + std::sin(40.0 * s.Mesh.Points[3 * i + 1]));
+    }
+    for (int big : { 0, 1 })
+    {
+      const double t = (big ? 1000.0 : 10.0) * s.H * s.H;
+      const ShiftedLaplacianProblem pb = s.Problem(t, 1, Preconditioning::GeometricMultigrid);
+      auto h = std::make_shared<const SurfaceHierarchy>(pb.Rows, pb.Offsets, pb.Neighbors, pb.Points, 2);
+      const SurfaceMultigrid mg(h, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, pb.Shift, t, nullptr, 2);
+      std::vector<double> x(n, 0.0), z(n);
+      const double r0 = Norm(b);
+      for (int cycle = 0; cycle < 5; ++cycle)
+      {
+        const std::vector<double> r = s.Residual(t, b, x);
+        mg.Apply(r.data(), z.data(), 1);
+        for (Index i = 0; i < n; ++i)
+        {
+          x[i] += z[i];
+        }
+      }
+      factors[big].push_back(std::pow(Norm(s.Residual(t, b, x)) / r0, 1.0 / 5.0));
+    }
+    ShiftedLaplacianProblem pb = s.Problem(4.0 * std::pow(s.H, 4), 1, Preconditioning::GeometricMultigrid);
+    pb.Tolerance = 1e-6;
+    std::vector<double> x(n, 0.0);
+    const ConjugateGradientResult r = SolveSquaredLaplacian(pb, b.data(), x.data());
+    EXPECT_TRUE(r.Converged) << n << " vertices";
+    squared.push_back(r.Iterations);
+    std::cout << n << " vertices: V-cycle factors " << factors[0].back() << " (10 h^2), " << factors[1].back()
+              << " (1000 h^2); order 2, 4 h^4: " << r.Iterations << " iterations\n";
+  }
+  for (int big : { 0, 1 })
+  {
+    for (std::size_t k = 0; k < factors[big].size(); ++k)
+    {
+      EXPECT_LT(factors[big][k], 0.25) << "level " << k << (big ? ", 1000 h^2" : ", 10 h^2");
+      EXPECT_LT(factors[big][k], factors[big][0] + 0.06) << "level " << k << (big ? ", 1000 h^2" : ", 10 h^2");
+    }
+  }
+  for (std::size_t k = 1; k < squared.size(); ++k)
+  {
+    EXPECT_LE(squared[k], 1.25 * squared[k - 1] + 1) << squared[k - 1] << " -> " << squared[k];
+  }
+}
+
+TEST(SurfaceMultigrid, SolvesAsJacobiOnRealAndIrregularMeshes)
+{
+  // Order-1 and order-2 steps on real meshes and on a flat mesh with
+  // slivers (a third of its triangles split at random interior points):
+  // the geometric multigrid's solution equals Jacobi's to the tolerance,
+  // in fewer iterations.
+  std::vector<std::pair<std::string, test::Mesh>> meshes;
+  for (const char* name : { "bunny00.off", "fandisk.off", "eight.off" })
+  {
+    meshes.emplace_back(name, ReadOrFail(name));
+  }
+  meshes.emplace_back("irregular with slivers", test::FlatIrregular(120, 7));
+  for (const auto& [name, mesh] : meshes)
+  {
+    const MeshSystem s(mesh);
+    const Index n = s.L.NumberOfVertices;
+    std::vector<double> b(3 * static_cast<std::size_t>(n));
+    for (std::size_t k = 0; k < b.size(); ++k)
+    {
+      b[k] = s.Mass[k / 3] * s.Mesh.Points[k];
+    }
+    for (int order : { 1, 2 })
+    {
+      const double t = order == 1 ? 10.0 * s.H * s.H : 4.0 * std::pow(s.H, 4);
+      std::vector<double> solution[2];
+      int iterations[2] = {};
+      for (int m : { 0, 1 })
+      {
+        ShiftedLaplacianProblem pb =
+          s.Problem(t, 3, m ? Preconditioning::GeometricMultigrid : Preconditioning::Jacobi);
+        solution[m] = s.Mesh.Points;
+        const ConjugateGradientResult r = order == 1 ? SolveShiftedLaplacian(pb, b.data(), solution[m].data())
+                                                      : SolveSquaredLaplacian(pb, b.data(), solution[m].data());
+        EXPECT_TRUE(r.Converged) << name << ", order " << order << ", preconditioner " << m;
+        iterations[m] = r.Iterations;
+      }
+      double change = 0.0, difference = 0.0;
+      for (std::size_t k = 0; k < b.size(); ++k)
+      {
+        change = std::max(change, std::abs(solution[0][k] - s.Mesh.Points[k]));
+        difference = std::max(difference, std::abs(solution[1][k] - solution[0][k]));
+      }
+      EXPECT_LE(difference, 1e-5 * change) << name << ", order " << order;
+      EXPECT_LT(iterations[1], iterations[0]) << name << ", order " << order;
+      std::cout << name << ", order " << order << ": Jacobi " << iterations[0] << ", geometric multigrid "
+                << iterations[1] << " iterations, difference " << difference / change << " of the change\n";
+    }
+  }
+}
