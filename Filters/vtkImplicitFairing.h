@@ -46,16 +46,20 @@
  *    MaximumSolverIterations, a warning says when the limit ends a solve)
  *    and smooth noise about as well (bunny00, 0.3% noise, best step: RMS
  *    error 0.00120 and 0.00126 of the diagonal against 0.00121).
- *  - Preconditioner: JACOBI (default) or MULTIGRID (one V-cycle of hypre's
- *    BoomerAMG per conjugate-gradient iteration) for the steps of order 1
- *    and 2 without constraints.  Multigrid needs 3-4 iterations for a
- *    clean mesh's step of any size where Jacobi needs 70-500, but each
- *    costs about 25 of ours and its set-up more: on 2 cores Jacobi is the
- *    faster up to the 1.2M triangles measured (the guide's benchmarks page).
- *    Distributed, both run over the ranks with the serial iteration counts
- *    (the multigrid hierarchy spans the ranks; the order-2 Jacobi solve is
- *    the same complex-shift COCG; order-1 Jacobi solves are in double
- *    precision, without the serial renumbering).
+ *  - Preconditioner: JACOBI (default), MULTIGRID (one V-cycle of hypre's
+ *    BoomerAMG per conjugate-gradient iteration) or GEOMETRIC_MULTIGRID (one
+ *    V-cycle on a hierarchy of the surface's own vertices, built once per
+ *    run: Solvers/SurfaceMultigrid.h) for the steps of order 1 and 2
+ *    without constraints.  The multigrids need a few iterations for a step
+ *    of any size where Jacobi needs 70-800, but each costs many of Jacobi's
+ *    and their set-up more: on 2 cores Jacobi is the faster for the default
+ *    steps up to the 1.2M triangles measured, the geometric multigrid for
+ *    large steps (the guide's benchmarks page).  Distributed, Jacobi and
+ *    the algebraic multigrid run over the ranks with the serial iteration
+ *    counts (the hierarchy spans the ranks; the order-2 Jacobi solve is the
+ *    same complex-shift COCG; order-1 Jacobi solves are in double precision,
+ *    without the serial renumbering); the geometric multigrid takes the
+ *    algebraic one there.
  *  - OperatorMollification (default 1; 0: off): the operator of each step is
  *    evaluated on a mollified copy of the points - each moved by the normal
  *    part of one implicit umbrella step of this (dimensionless) time -
@@ -275,11 +279,15 @@ public:
   vtkSetClampMacro(MaximumSolverIterations, int, 1, VTK_INT_MAX);
   vtkGetMacro(MaximumSolverIterations, int);
   /// Preconditioner of the order-1 and order-2 solves. Jacobi (default): mixed precision, the
-  /// faster on the measured machines. Algebraic Multigrid: one V-cycle of hypre's BoomerAMG per
-  /// iteration; 3-4 iterations for a clean mesh's step of any size where Jacobi needs 70-500, but
-  /// each iteration and its set-up cost more. In a distributed run both work over the ranks with
-  /// the serial iteration counts (the multigrid hierarchy spans the ranks; order-1 Jacobi solves
-  /// are in double precision there). Values: 0 Jacobi, 1 Algebraic Multigrid. Default: Jacobi.
+  /// faster for the default steps on the measured machines. Algebraic Multigrid: one V-cycle of
+  /// hypre's BoomerAMG per iteration; 3-4 iterations for a clean mesh's step of any size where
+  /// Jacobi needs 70-500, but each iteration and its set-up cost more. Geometric Multigrid: one
+  /// V-cycle on a hierarchy of the surface's own vertices (built once per run); 5-10 iterations for
+  /// order-1 steps and about 20 for order-2 steps whatever the mesh's size, the fastest for large
+  /// steps (the guide's benchmarks page). In a distributed run the multigrids work over the ranks
+  /// with the serial iteration counts (the algebraic hierarchy spans the ranks; Geometric Multigrid
+  /// takes it there; order-1 Jacobi solves are in double precision). Values: 0 Jacobi, 1 Algebraic
+  /// Multigrid, 2 Geometric Multigrid. Default: Jacobi.
   vtkSetClampMacro(Preconditioner, int, JACOBI, GEOMETRIC_MULTIGRID);
   vtkGetMacro(Preconditioner, int);
   /// Quantity restored by scaling after each step (section 3.3). Automatic: the volume for closed

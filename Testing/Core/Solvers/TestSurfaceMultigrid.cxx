@@ -285,3 +285,4 @@ TEST(SurfaceMultigrid, SolvesAsJacobiOnRealAndIrregularMeshes)
     }
   }
 }
+
