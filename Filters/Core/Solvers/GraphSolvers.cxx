@@ -436,12 +436,13 @@ ConjugateGradientResult SolveSquaredLaplacian(const ShiftedLaplacianProblem& pb,
   {
     const std::vector<std::uint8_t> held = HeldRows(pb, true);
     const std::shared_ptr<const SurfaceHierarchy> hierarchy = HierarchyOf(pb);
-    const SurfaceMultigrid mg(hierarchy, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, pb.Shift,
+    SurfaceMultigrid mg(hierarchy, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, pb.Shift,
       std::sqrt(pb.Factor), held.data(), pb.NumberOfThreads);
     ShiftedLaplacianProblem work = pb;
     work.Order = hierarchy->Order().data();
+    mg.SetImaginaryFactor(std::sqrt(pb.Factor));
     return detail::SolveSquaredComplex(
-      work, b, x, [&](const double* r, double* z, int columns) { mg.ApplyInOrder(r, z, columns); });
+      work, b, x, [&](const double* r, double* z, int columns) { mg.ApplyComplexInOrder(r, z, columns / 2); });
   }
   if (UsesMultigrid(pb))
   {

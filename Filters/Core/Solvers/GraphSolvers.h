@@ -86,7 +86,9 @@ ConjugateGradientResult SolveShiftedLaplacian(
 /// same run goes on with a tighter target.  Converged is false when a check
 /// shows no progress or the iterations run out (the caller may go on with
 /// another solver from x).
-/// With multigrid (UsesMultigrid), CG on A itself, preconditioned by
+/// With GeometricMultigrid, the same COCG preconditioned by a V-cycle of
+/// D + i sqrt(t) K in complex arithmetic on the surface's hierarchy.
+/// With the algebraic Multigrid, CG on A itself, preconditioned by
 /// B D B with B one V-cycle on D + sqrt(t) K_ff: (D + sqrt(t) K) D^-1
 /// (D + sqrt(t) K) = A + 2 sqrt(t) K lies between A and 2 A, so with exact
 /// inverses in place of B the preconditioned system has a condition number

@@ -62,19 +62,16 @@ std::vector<Index> RenumberEntries(const ShiftedLaplacianProblem& pb, const Inde
   return position;
 }
 
-/// z = M r for `columns` interleaved real values per row: a symmetric
-/// positive definite preconditioner (a V-cycle).
-using RealCycle = std::function<void(const double* r, double* z, int columns)>;
+/// z = M r, M ~ (D + i sqrt(t) K)^-1 symmetric (M^T = M, unconjugated), for
+/// complex vectors stored as `columns` real values per row: the real parts
+/// of a row's values, then their imaginary parts (a V-cycle).
+using ComplexCycle = std::function<void(const double* r, double* z, int columns)>;
 
 /// SolveSquaredLaplacian by COCG on D + i sqrt(t) K (checked problem, at
 /// least one row or a split), preconditioned by Jacobi, or by `cycle` where
-/// given: the shifted-Laplacian preconditioner, a V-cycle of the real
-/// D + sqrt(t) K (the preconditioned spectrum (1 + i a l) / (1 + a l) lies
-/// on a half circle from 1 to i, away from 0 whatever the mesh).  The
-/// cycle gets the rows in pb's Order (which must then be given) and the
-/// real and imaginary parts as 2 Columns interleaved columns.
+/// given; the cycle gets the rows in pb's Order (which must then be given).
 ConjugateGradientResult SolveSquaredComplex(
-  const ShiftedLaplacianProblem& pb, const double* b, double* x, const RealCycle& cycle = {});
+  const ShiftedLaplacianProblem& pb, const double* b, double* x, const ComplexCycle& cycle = {});
 
 } // namespace detail
 } // namespace beltrami

@@ -1,6 +1,6 @@
 // Beltrami core: the order-2 graph solver, SolveSquaredLaplacian's
 // COCG on D + i sqrt(t) K (see GraphSolvers.h), preconditioned by Jacobi
-// or by a real V-cycle of D + sqrt(t) K.
+// or by a V-cycle of the same complex operator (SurfaceMultigrid).
 #include "Solvers/GraphSolversDetail.h"
 #include "Solvers/Partition.h"
 
@@ -130,7 +130,7 @@ public:
   using Complex = std::complex<double>;
   static constexpr int W = 2 * NC; // complex vectors: per row NC real parts, then NC imaginary parts
 
-  SquaredSolver(const ShiftedLaplacianProblem& pb, const double* b, double* x, const detail::RealCycle& cycle)
+  SquaredSolver(const ShiftedLaplacianProblem& pb, const double* b, double* x, const detail::ComplexCycle& cycle)
     : Cycle(cycle)
     , System(pb, b, x)
     , Pb(System.Problem)
@@ -434,7 +434,7 @@ private:
     }));
   }
 
-  const detail::RealCycle& Cycle;
+  const detail::ComplexCycle& Cycle;
   SquaredSystem System;
   const ShiftedLaplacianProblem& Pb;
   const double* B;
@@ -456,7 +456,7 @@ private:
 } // namespace
 
 ConjugateGradientResult detail::SolveSquaredComplex(
-  const ShiftedLaplacianProblem& pb, const double* b, double* x, const RealCycle& cycle)
+  const ShiftedLaplacianProblem& pb, const double* b, double* x, const ComplexCycle& cycle)
 {
   return WithCount<4>(pb.Columns, [&](auto k) { return SquaredSolver<decltype(k)::value>(pb, b, x, cycle).Run(); });
 }

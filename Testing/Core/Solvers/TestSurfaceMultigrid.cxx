@@ -181,8 +181,8 @@ TEST(SurfaceMultigrid, CycleReducesTheResidualBySizeIndependentFactors)
   // Spheres of 1k to 263k vertices, M + t K with t = 10 h^2 and 1000 h^2:
   // the V-cycle alone (x += B (b - A x)) reduces the residual by a factor
   // per cycle that does not grow with the mesh; the order-2 system
-  // M + t K M^-1 K (t = 4 h^4) takes iterations that grow by at most 1.25x a
-  // level.
+  // M + t K M^-1 K (t = 4 h^4, COCG with the complex V-cycle) takes at most
+  // 10 iterations at every size (measured 7-8).
   std::vector<double> factors[2];
   std::vector<int> squared;
   for (int levels : { 4, 5, 6, 7, 8 })
@@ -230,9 +230,9 @@ TEST(SurfaceMultigrid, CycleReducesTheResidualBySizeIndependentFactors)
       EXPECT_LT(factors[big][k], factors[big][0] + 0.06) << "level " << k << (big ? ", 1000 h^2" : ", 10 h^2");
     }
   }
-  for (std::size_t k = 1; k < squared.size(); ++k)
+  for (std::size_t k = 0; k < squared.size(); ++k)
   {
-    EXPECT_LE(squared[k], 1.25 * squared[k - 1] + 1) << squared[k - 1] << " -> " << squared[k];
+    EXPECT_LE(squared[k], 10) << "level " << k;
   }
 }
 
