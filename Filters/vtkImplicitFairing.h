@@ -283,11 +283,11 @@ public:
   /// hypre's BoomerAMG per iteration; 3-4 iterations for a clean mesh's step of any size where
   /// Jacobi needs 70-500, but each iteration and its set-up cost more. Geometric Multigrid: one
   /// V-cycle on a hierarchy of the surface's own vertices (built once per run); 5-10 iterations for
-  /// order-1 steps and about 20 for order-2 steps whatever the mesh's size, the fastest for large
-  /// steps (the guide's benchmarks page). In a distributed run the multigrids work over the ranks
-  /// with the serial iteration counts (the algebraic hierarchy spans the ranks; Geometric Multigrid
-  /// takes it there; order-1 Jacobi solves are in double precision). Values: 0 Jacobi, 1 Algebraic
-  /// Multigrid, 2 Geometric Multigrid. Default: Jacobi.
+  /// a clean mesh's order-1 and order-2 steps whatever its size, more on noisy ones, the fastest
+  /// for large steps (the guide's benchmarks page). In a distributed run the multigrids work over
+  /// the ranks with the serial iteration counts (the algebraic hierarchy spans the ranks; Geometric
+  /// Multigrid takes it there; order-1 Jacobi solves are in double precision). Values: 0 Jacobi, 1
+  /// Algebraic Multigrid, 2 Geometric Multigrid. Default: Jacobi.
   vtkSetClampMacro(Preconditioner, int, JACOBI, GEOMETRIC_MULTIGRID);
   vtkGetMacro(Preconditioner, int);
   /// Quantity restored by scaling after each step (section 3.3). Automatic: the volume for closed

@@ -22,7 +22,8 @@ triangles; --big adds 4.8M), clean and with noise of 0.3% of the diagonal:
 one order-1 step of 10 h^2 and of 1000 h^2 and one order-2 step of 4 h^4
 (OperatorMollification 0: one solve each), time and iterations of each,
 and windowed sinc's time, in one table (a preconditioner that took more
-than 10 times Jacobi's time on a mesh is not run on the next larger one)."""
+than 10 times Jacobi's time and 2 s on a mesh is not run on the next
+larger one)."""
 import os
 import sys
 import time
@@ -179,7 +180,7 @@ def preconditioner_table(levels):
                     start = time.perf_counter()
                     f.Update()
                     seconds = time.perf_counter() - start
-                    slow[key] = seconds / row[3] if preconditioner else 1.0
+                    slow[key] = seconds / row[3] if preconditioner and seconds > 2.0 else 1.0
                     row += [round(seconds, 3), f.GetIterations(0)]
                 row.append(round(t_sinc, 3))
                 rows.append(row)

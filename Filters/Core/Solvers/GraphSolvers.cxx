@@ -441,8 +441,10 @@ ConjugateGradientResult SolveSquaredLaplacian(const ShiftedLaplacianProblem& pb,
     ShiftedLaplacianProblem work = pb;
     work.Order = hierarchy->Order().data();
     mg.SetImaginaryFactor(std::sqrt(pb.Factor));
-    return detail::SolveSquaredComplex(
-      work, b, x, [&](const double* r, double* z, int columns) { mg.ApplyComplexInOrder(r, z, columns / 2); });
+    const detail::ComplexCycle cycle = [&](const double* r, double* z, int columns) {
+      mg.ApplyComplexInOrder(r, z, columns / 2);
+    };
+    return detail::SolveSquaredComplex(work, b, x, cycle);
   }
   if (UsesMultigrid(pb))
   {

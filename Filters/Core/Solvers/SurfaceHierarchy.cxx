@@ -86,7 +86,8 @@ std::vector<Index> NearestSamples(const PointGraph& g, const std::vector<Index>&
       const double* p = &g.Points[3 * i];
       double nearest = std::numeric_limits<double>::infinity();
       const auto consider = [&](Index j, double d) {
-        if (coarse[j] >= 0 && (d < nearest || (d == nearest && coarse[j] < region[i])))
+        d = std::isnan(d) ? std::numeric_limits<double>::max() : d; // (NaN points: still some sample)
+        if (coarse[j] >= 0 && (region[i] < 0 || d < nearest || (d == nearest && coarse[j] < region[i])))
         {
           nearest = d;
           region[i] = coarse[j];

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <tuple>
@@ -173,6 +174,37 @@ TEST(SurfaceMultigrid, HierarchyCoversEveryVertexAndKeepsComponents)
       EXPECT_EQ(Components(mg.Operator(l)), components) << name << " level " << l;
     }
     EXPECT_LT(mg.OperatorComplexity(), 1.6) << name;
+  }
+}
+
+TEST(SurfaceMultigrid, HierarchyOfPointsWithNaNs)
+{
+  // Points that are NaN (hostile input) still join a sample each: every
+  // level's rows interpolate from coarse rows with weights summing to 1.
+  test::Mesh m = test::OctahedronSphere(5);
+  for (Index i = 0; i < m.NumberOfVertices(); i += 7)
+  {
+    m.Points[3 * i + i % 3] = std::numeric_limits<double>::quiet_NaN();
+  }
+  const MeshTopology topo = m.Topology();
+  const MeshTopology::VertexGraph& graph = topo.Graph();
+  const SurfaceHierarchy h(
+    m.NumberOfVertices(), graph.NeighborOffsets.data(), graph.Neighbors.data(), m.Points.data(), 2);
+  ASSERT_GE(h.Levels(), 2);
+  for (int l = 0; l + 1 < h.Levels(); ++l)
+  {
+    const LevelMatrix& p = h.Prolongation(l);
+    for (Index i = 0; i < h.Rows(l); ++i)
+    {
+      double sum = 0.0;
+      for (std::int64_t k = p.Offsets[i]; k < p.Offsets[i + 1]; ++k)
+      {
+        ASSERT_GE(p.Columns[k], 0);
+        ASSERT_LT(p.Columns[k], h.Rows(l + 1));
+        sum += p.Values[k];
+      }
+      ASSERT_NEAR(sum, 1.0, 1e-12) << "level " << l << " row " << i;
+    }
   }
 }
 
