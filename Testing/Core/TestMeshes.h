@@ -1,6 +1,7 @@
 // Analytic test surfaces for the core tests and benchmarks (VTK-free).
 #pragma once
 
+#include "Mesh/Laplacian.h"
 #include "Mesh/MeshTopology.h"
 
 #include "IO/OFFFormat.h"
@@ -90,6 +91,33 @@ inline Mesh ReadMesh(const std::string& name, std::string& error)
 
 /// Unit sphere from an octahedron, quadrisected and re-projected `levels`
 /// times (thesis section 2.7.1): 6, 18, 66, 258, 1026, 4098, 16386 vertices.
+/// `a` and a copy of `b` moved by `shift`: two components.
+inline Mesh Merged(Mesh a, const Mesh& b, const Eigen::Vector3d& shift)
+{
+  const Index offset = a.NumberOfVertices();
+  for (Index v = 0; v < b.NumberOfVertices(); ++v)
+  {
+    a.AddPoint(b.Point(v) + shift);
+  }
+  for (const Index v : b.Triangles)
+  {
+    a.Triangles.push_back(v + offset);
+  }
+  return a;
+}
+
+/// An assembled Laplacian's graph copied into `offsets` and `neighbors`
+/// (its own arrays point into the topology's edge table, which a test's
+/// temporary topology takes with it).
+inline void KeepGraph(GraphLaplacian& L, std::vector<std::int64_t>& offsets, std::vector<Index>& neighbors)
+{
+  const Index n = L.NumberOfVertices;
+  offsets.assign(L.Offsets, L.Offsets + n + 1);
+  neighbors.assign(L.Neighbors, L.Neighbors + offsets[n]);
+  L.Offsets = offsets.data();
+  L.Neighbors = neighbors.data();
+}
+
 inline Mesh OctahedronSphere(int levels, double radius = 1.0)
 {
   Mesh m;

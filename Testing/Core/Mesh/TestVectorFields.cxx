@@ -298,17 +298,7 @@ TEST(VectorFields, IntegratedStreamFunctionEqualsTheSolvedOne)
 {
   // Two closed genus-0 components (no harmonic fields): the stream function
   // integrated across the triangles is the solved one.
-  test::Mesh m = test::OctahedronSphere(4);
-  const test::Mesh other = test::OctahedronSphere(3, 0.5);
-  const Index offset = m.NumberOfVertices();
-  for (Index v = 0; v < other.NumberOfVertices(); ++v)
-  {
-    m.AddPoint(other.Point(v) + Eigen::Vector3d(3, 0, 0));
-  }
-  for (const Index v : other.Triangles)
-  {
-    m.Triangles.push_back(v + offset);
-  }
+  const test::Mesh m = test::Merged(test::OctahedronSphere(4), test::OctahedronSphere(3, 0.5), { 3.0, 0.0, 0.0 });
   std::vector<double> field(m.Triangles.size());
   std::mt19937 rng(12);
   std::normal_distribution<double> normal;

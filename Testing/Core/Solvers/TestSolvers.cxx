@@ -38,12 +38,8 @@ struct FlowSystem
   {
     const MeshTopology topo = Mesh.Topology();
     AssembleSurfaceLaplacian(topo, Mesh.Points.data(), LaplacianWeights::Cotangent, L, 2);
-    // Offsets/Neighbors point into the topology's edge table: keep a copy.
+    test::KeepGraph(L, Offsets, Neighbors);
     const Index n = L.NumberOfVertices;
-    Offsets.assign(L.Offsets, L.Offsets + n + 1);
-    Neighbors.assign(L.Neighbors, L.Neighbors + Offsets[n]);
-    L.Offsets = Offsets.data();
-    L.Neighbors = Neighbors.data();
     TimeStep = 10.0 * 0.1 * 0.1;
     Shift.assign(L.Mass.begin(), L.Mass.end());
     Fixed.assign(n, 0);

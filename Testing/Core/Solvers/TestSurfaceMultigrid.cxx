@@ -43,11 +43,7 @@ struct MeshSystem
   {
     const MeshTopology topo = Mesh.Topology();
     AssembleSurfaceLaplacian(topo, Mesh.Points.data(), LaplacianWeights::Cotangent, L, 2);
-    const Index n = L.NumberOfVertices;
-    Offsets.assign(L.Offsets, L.Offsets + n + 1);
-    Neighbors.assign(L.Neighbors, L.Neighbors + Offsets[n]);
-    L.Offsets = Offsets.data();
-    L.Neighbors = Neighbors.data();
+    test::KeepGraph(L, Offsets, Neighbors);
     Mass.assign(L.Mass.begin(), L.Mass.end());
     H = MeanEdgeLength(topo, Mesh.Points.data());
   }
@@ -125,17 +121,7 @@ TEST(SurfaceMultigrid, HierarchyCoversEveryVertexAndKeepsComponents)
   // from its level's coarse rows with non-negative weights summing to 1,
   // every coarse row is used, each level takes about one row in six to
   // ten, and every level keeps the components of the finest.
-  test::Mesh two = test::OctahedronSphere(5);
-  const test::Mesh other = test::OctahedronSphere(4, 0.5);
-  const Index offset = two.NumberOfVertices();
-  for (Index i = 0; i < other.NumberOfVertices(); ++i)
-  {
-    two.AddPoint(other.Point(i) + Eigen::Vector3d(5.0, 0.0, 0.0));
-  }
-  for (std::size_t t = 0; t < other.Triangles.size(); t += 3)
-  {
-    two.AddTriangle(other.Triangles[t] + offset, other.Triangles[t + 1] + offset, other.Triangles[t + 2] + offset);
-  }
+  const test::Mesh two = test::Merged(test::OctahedronSphere(5), test::OctahedronSphere(4, 0.5), { 5.0, 0.0, 0.0 });
   for (const auto& [name, mesh, components] :
     { std::make_tuple(std::string("two spheres"), two, 2), std::make_tuple(std::string("bunny00"),
         ReadOrFail("bunny00.off"), 1) })
