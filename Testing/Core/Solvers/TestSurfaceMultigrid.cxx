@@ -256,16 +256,19 @@ TEST(SurfaceMultigrid, CycleReducesTheResidualBySizeIndependentFactors)
 
 TEST(SurfaceMultigrid, SolvesAsJacobiOnRealAndIrregularMeshes)
 {
-  // Order-1 and order-2 steps on real meshes and on a flat mesh with
-  // slivers (a third of its triangles split at random interior points):
-  // the geometric multigrid's solution equals Jacobi's to the tolerance,
-  // in fewer iterations.
+  // Order-1 and order-2 steps on real meshes, on a flat mesh with slivers
+  // (a third of its triangles split at random interior points) and on a
+  // sphere with a far speck of 1e-4 its size: the geometric multigrid's
+  // solution equals Jacobi's to the tolerance, in fewer iterations.
   std::vector<std::pair<std::string, test::Mesh>> meshes;
   for (const char* name : { "bunny00.off", "fandisk.off", "eight.off" })
   {
     meshes.emplace_back(name, ReadOrFail(name));
   }
   meshes.emplace_back("irregular with slivers", test::FlatIrregular(120, 7));
+  meshes.emplace_back("sphere with a speck",
+    test::Merged(test::OctahedronSphere(4), test::OctahedronSphere(1, 1e-4), { 5.0, 0.0, 0.0 }));
+  const Index speck = test::OctahedronSphere(4).NumberOfVertices(); // the speck's first row
   for (const auto& [name, mesh] : meshes)
   {
     const MeshSystem s(mesh);
@@ -290,16 +293,24 @@ TEST(SurfaceMultigrid, SolvesAsJacobiOnRealAndIrregularMeshes)
         EXPECT_TRUE(r.Converged) << name << ", order " << order << ", preconditioner " << m;
         iterations[m] = r.Iterations;
       }
-      double change = 0.0, difference = 0.0;
+      // The speck's rows (masses 1e-8 of the sphere's) weigh nothing in
+      // the residual that ends the solves: there the order-2 solutions
+      // differ by 6e-5 of the change (5e-8, 5e-4 of the speck's size).
+      const bool onSpeck = name == "sphere with a speck" && order == 2;
+      const std::size_t first = onSpeck ? 3 * static_cast<std::size_t>(speck) : b.size();
+      double change = 0.0, difference = 0.0, tiny = 0.0;
       for (std::size_t k = 0; k < b.size(); ++k)
       {
         change = std::max(change, std::abs(solution[0][k] - s.Mesh.Points[k]));
-        difference = std::max(difference, std::abs(solution[1][k] - solution[0][k]));
+        (k < first ? difference : tiny) = std::max(k < first ? difference : tiny,
+          std::abs(solution[1][k] - solution[0][k]));
       }
       EXPECT_LE(difference, 1e-5 * change) << name << ", order " << order;
+      EXPECT_LE(tiny, 1e-3 * change) << name << ", order " << order;
       EXPECT_LT(iterations[1], iterations[0]) << name << ", order " << order;
       std::cout << name << ", order " << order << ": Jacobi " << iterations[0] << ", geometric multigrid "
-                << iterations[1] << " iterations, difference " << difference / change << " of the change\n";
+                << iterations[1] << " iterations, difference " << difference / change << " of the change"
+                << (onSpeck ? " (" + std::to_string(tiny / change) + " on the speck)" : std::string()) << "\n";
     }
   }
 }
