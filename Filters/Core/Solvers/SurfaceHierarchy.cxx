@@ -2,6 +2,7 @@
 // samples, regions, coarse graphs and prolongations.
 #include "Solvers/SurfaceMultigrid.h"
 
+#include "Solvers/GraphSolversDetail.h"
 #include "Solvers/SparseGraph.h"
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <numeric>
 #include <utility>
 
 namespace beltrami
@@ -26,8 +28,8 @@ constexpr double MostKept = 0.6;
 /// A graph with a point per row (one level of the hierarchy).
 struct PointGraph
 {
-  std::vector<std::int64_t> Offsets{ 0 };
-  std::vector<Index> Neighbors;
+  LargeVector<std::int64_t> Offsets{ 0 };
+  LargeVector<Index> Neighbors;
   std::vector<double> Points;
 
   Index Rows() const { return static_cast<Index>(Offsets.size() - 1); }
@@ -112,23 +114,13 @@ std::vector<Index> NearestSamples(const PointGraph& g, const std::vector<Index>&
 PointGraph CoarseGraph(const PointGraph& g, const std::vector<Index>& coarse, const std::vector<Index>& region,
   Index count)
 {
-  const Index n = g.Rows();
-  // Rows by region (counting sort).
-  std::vector<std::int64_t> start(static_cast<std::size_t>(count) + 1, 0);
-  for (Index i = 0; i < n; ++i)
-  {
-    ++start[region[i] + 1];
-  }
-  for (Index a = 0; a < count; ++a)
-  {
-    start[a + 1] += start[a];
-  }
-  std::vector<Index> members(n);
-  std::vector<std::int64_t> next(start.begin(), start.end() - 1);
-  for (Index i = 0; i < n; ++i)
-  {
-    members[next[region[i]]++] = i;
-  }
+  // The rows of each region: the transpose of the rows' regions.
+  LevelMatrix inRegion;
+  inRegion.Offsets.resize(static_cast<std::size_t>(g.Rows()) + 1);
+  std::iota(inRegion.Offsets.begin(), inRegion.Offsets.end(), 0);
+  inRegion.Columns.assign(region.begin(), region.end());
+  inRegion.Values.assign(region.size(), 1.0);
+  const LevelMatrix members = Transposed(inRegion, count);
   PointGraph c;
   c.Points.resize(3 * static_cast<std::size_t>(count));
   c.Offsets.resize(static_cast<std::size_t>(count) + 1, 0);
@@ -136,9 +128,9 @@ PointGraph CoarseGraph(const PointGraph& g, const std::vector<Index>& coarse, co
   for (Index a = 0; a < count; ++a)
   {
     touching.clear();
-    for (std::int64_t m = start[a]; m < start[a + 1]; ++m)
+    for (std::int64_t m = members.Offsets[a]; m < members.Offsets[a + 1]; ++m)
     {
-      const Index i = members[m];
+      const Index i = members.Columns[m];
       if (coarse[i] == a)
       {
         std::copy(&g.Points[3 * i], &g.Points[3 * i] + 3, &c.Points[3 * a]);
@@ -339,28 +331,19 @@ SurfaceHierarchy::SurfaceHierarchy(
 {
   const int threads = ResolveThreadCount(numThreads);
   FineOrder = LocalityOrder(rows, offsets, neighbors);
-  FinePosition.resize(rows);
-  for (Index i = 0; i < rows; ++i)
-  {
-    FinePosition[FineOrder[i]] = i;
-  }
   PointGraph g;
-  g.Offsets.resize(static_cast<std::size_t>(rows) + 1);
+  ShiftedLaplacianProblem graph;
+  graph.Rows = rows;
+  graph.Offsets = offsets;
+  graph.Neighbors = neighbors;
+  graph.NumberOfThreads = threads;
+  LargeVector<std::uint8_t> none;
+  FinePosition = detail::RenumberEntries(graph, FineOrder.data(), [](Index) { return true; },
+    [](std::int64_t) { return std::uint8_t(0); }, g.Offsets, g.Neighbors, none);
   g.Points.resize(3 * static_cast<std::size_t>(rows));
   for (Index i = 0; i < rows; ++i)
   {
-    const Index v = FineOrder[i];
-    for (std::int64_t k = offsets[v]; k < offsets[v + 1]; ++k)
-    {
-      if (neighbors[k] != v)
-      {
-        g.Neighbors.push_back(FinePosition[neighbors[k]]);
-      }
-    }
-    std::sort(g.Neighbors.begin() + g.Offsets[i], g.Neighbors.end());
-    g.Offsets[i + 1] = static_cast<std::int64_t>(g.Neighbors.size());
-    std::copy(points + 3 * static_cast<std::int64_t>(v), points + 3 * static_cast<std::int64_t>(v) + 3,
-      &g.Points[3 * i]);
+    std::copy_n(points + 3 * static_cast<std::int64_t>(FineOrder[i]), 3, &g.Points[3 * i]);
   }
   Sizes.push_back(rows);
   while (g.Rows() > CoarsestRows)

@@ -1,5 +1,6 @@
 #include "Solvers/SurfaceMultigrid.h"
 
+#include "Solvers/GraphSolversDetail.h"
 #include "Solvers/SparseFactorization.h"
 
 #include <Eigen/SparseLU>
@@ -213,6 +214,40 @@ Smoother<T> SmootherDiagonal(const LevelMatrix& pattern, const T* values, const 
   return d;
 }
 
+/// One level's operator D + s K (s = t, or i a) of scalar type T in its
+/// pattern, and its smoother's diagonal.
+template <typename T>
+struct LevelValues
+{
+  LargeVector<T> Values, Diagonal;
+  Smoother<T> Smooth;
+};
+
+/// Every level's D + s K and smoother diagonal.
+template <typename T>
+void Combined(const std::vector<LevelPair>& pairs, T s, std::vector<LevelValues<T>>& levels, int threads)
+{
+  levels.resize(pairs.size());
+  for (std::size_t l = 0; l < pairs.size(); ++l)
+  {
+    const LevelPair& p = pairs[l];
+    LevelValues<T>& v = levels[l];
+    v.Values.resize(p.K.Values.size());
+    v.Diagonal.resize(p.K.Diagonal.size());
+    ParallelFor(static_cast<std::int64_t>(v.Values.size()), threads, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t k = b; k < e; ++k)
+      {
+        v.Values[k] = (p.DValues.empty() ? 0.0 : p.DValues[k]) + s * p.K.Values[k];
+      }
+    });
+    for (std::size_t i = 0; i < v.Diagonal.size(); ++i)
+    {
+      v.Diagonal[i] = p.DDiagonal[i] + s * p.K.Diagonal[i];
+    }
+    v.Smooth = SmootherDiagonal(p.K, v.Values.data(), v.Diagonal.data(), threads);
+  }
+}
+
 /// One Gauss-Seidel sweep of A x = b on every block of ParallelChunkSize rows
 /// (forward or backward within the block, with the smoother's diagonal),
 /// the other blocks' values from `old` (x at the sweep's start).
@@ -305,17 +340,14 @@ struct SurfaceMultigrid::State
 
   std::shared_ptr<const SurfaceHierarchy> H;
   int Threads = 1;
-  std::vector<LevelPair> Pairs;
-  std::vector<LevelMatrix> A; ///< D + t K per level
-  std::vector<Smoother<double>> Smoothers;
+  std::vector<LevelPair> Pairs; ///< also every level's pattern
+  std::vector<LevelValues<double>> Real; ///< D + t K per level
   std::vector<std::uint8_t> Held; ///< the finest level's, renumbered
   SparseFactorization::Matrix CoarsestMatrix;
   SparseFactorization Coarsest;
   bool Factored = false;
-  /// D + i a K per level (SetImaginaryFactor): values, diagonals, smoother
-  /// diagonals, and the coarsest level's LU.
-  std::vector<LargeVector<Complex>> ComplexValues, ComplexDiagonals;
-  std::vector<Smoother<Complex>> ComplexSmoothers;
+  /// D + i a K per level (SetImaginaryFactor), and the coarsest level's LU.
+  std::vector<LevelValues<Complex>> Imaginary;
   ComplexMatrix ComplexCoarsestMatrix;
   Eigen::SparseLU<ComplexMatrix> ComplexCoarsest;
   bool ComplexFactored = false;
@@ -324,27 +356,21 @@ struct SurfaceMultigrid::State
 
   void Combine(double t);
   void CombineComplex(double a);
-  LevelView<double> View(int l) const
-  {
-    return { &A[l], A[l].Values.data(), A[l].Diagonal.data(), Smoothers[l].Extra.data(),
-      Smoothers[l].Inverse.data() };
-  }
-  LevelView<Complex> ComplexView(int l) const
-  {
-    return { &A[l], ComplexValues[l].data(), ComplexDiagonals[l].data(), ComplexSmoothers[l].Extra.data(),
-      ComplexSmoothers[l].Inverse.data() };
-  }
+  int Levels() const { return static_cast<int>(Pairs.size()); }
   template <typename T>
   LevelView<T> ViewOf(int l) const
   {
-    if constexpr (std::is_same_v<T, Complex>)
-    {
-      return ComplexView(l);
-    }
-    else
-    {
-      return View(l);
-    }
+    const LevelValues<T>& v = [&]() -> const LevelValues<T>& {
+      if constexpr (std::is_same_v<T, Complex>)
+      {
+        return Imaginary[l];
+      }
+      else
+      {
+        return Real[l];
+      }
+    }();
+    return { &Pairs[l].K, v.Values.data(), v.Diagonal.data(), v.Smooth.Extra.data(), v.Smooth.Inverse.data() };
   }
   template <typename T>
   T* Work(const std::vector<LargeVector<double>>& v, int l) const
@@ -399,68 +425,25 @@ Eigen::SparseMatrix<T, Eigen::ColMajor, int> SparseOf(const LevelMatrix& pattern
 
 void SurfaceMultigrid::State::Combine(double t)
 {
-  A.resize(Pairs.size());
-  Smoothers.resize(A.size());
-  for (std::size_t l = 0; l < Pairs.size(); ++l)
-  {
-    const LevelPair& p = Pairs[l];
-    LevelMatrix& a = A[l];
-    if (a.Offsets.size() != p.K.Offsets.size())
-    {
-      a.Offsets = p.K.Offsets;
-      a.Columns = p.K.Columns;
-    }
-    a.Values.resize(p.K.Values.size());
-    a.Diagonal.resize(p.K.Diagonal.size());
-    ParallelFor(static_cast<std::int64_t>(a.Values.size()), Threads, [&](std::int64_t s, std::int64_t e) {
-      for (std::int64_t k = s; k < e; ++k)
-      {
-        a.Values[k] = (p.DValues.empty() ? 0.0 : p.DValues[k]) + t * p.K.Values[k];
-      }
-    });
-    for (std::size_t i = 0; i < a.Diagonal.size(); ++i)
-    {
-      a.Diagonal[i] = p.DDiagonal[i] + t * p.K.Diagonal[i];
-    }
-    Smoothers[l] = SmootherDiagonal(a, a.Values.data(), a.Diagonal.data(), Threads);
-  }
+  Combined(Pairs, t, Real, Threads);
   // The coarsest level's sparse Cholesky.
-  CoarsestMatrix = SparseOf(A.back(), A.back().Values.data(), A.back().Diagonal.data());
-  Factored = A.back().Rows() > 0 && Coarsest.Compute(CoarsestMatrix, true, {}, false, Threads);
+  CoarsestMatrix = SparseOf(Pairs.back().K, Real.back().Values.data(), Real.back().Diagonal.data());
+  Factored = Pairs.back().K.Rows() > 0 && Coarsest.Compute(CoarsestMatrix, true, {}, false, Threads);
 }
 
 void SurfaceMultigrid::State::CombineComplex(double a)
 {
-  const std::size_t levels = Pairs.size();
-  ComplexValues.resize(levels);
-  ComplexDiagonals.resize(levels);
-  ComplexSmoothers.resize(levels);
-  for (std::size_t l = 0; l < levels; ++l)
-  {
-    const LevelPair& p = Pairs[l];
-    ComplexValues[l].resize(p.K.Values.size());
-    ComplexDiagonals[l].resize(p.K.Diagonal.size());
-    for (std::size_t k = 0; k < p.K.Values.size(); ++k)
-    {
-      ComplexValues[l][k] = Complex(p.DValues.empty() ? 0.0 : p.DValues[k], a * p.K.Values[k]);
-    }
-    for (std::size_t i = 0; i < p.K.Diagonal.size(); ++i)
-    {
-      ComplexDiagonals[l][i] = Complex(p.DDiagonal[i], a * p.K.Diagonal[i]);
-    }
-    ComplexSmoothers[l] =
-      SmootherDiagonal(A[l], ComplexValues[l].data(), ComplexDiagonals[l].data(), Threads);
-  }
-  ComplexCoarsestMatrix = SparseOf(A.back(), ComplexValues.back().data(), ComplexDiagonals.back().data());
+  Combined(Pairs, Complex(0.0, a), Imaginary, Threads);
+  ComplexCoarsestMatrix = SparseOf(Pairs.back().K, Imaginary.back().Values.data(), Imaginary.back().Diagonal.data());
   ComplexCoarsest.compute(ComplexCoarsestMatrix);
-  ComplexFactored = A.back().Rows() > 0 && ComplexCoarsest.info() == Eigen::Success;
+  ComplexFactored = Pairs.back().K.Rows() > 0 && ComplexCoarsest.info() == Eigen::Success;
 }
 
 template <typename T, int W>
 void SurfaceMultigrid::State::CoarsestSolve() const
 {
-  const int l = static_cast<int>(A.size()) - 1;
-  const Index n = A[l].Rows();
+  const int l = Levels() - 1;
+  const Index n = Pairs[l].K.Rows();
   const T* b = Work<T>(B, l);
   T* x = Work<T>(X, l);
   const bool factored = std::is_same_v<T, Complex> ? ComplexFactored : Factored;
@@ -508,7 +491,7 @@ void SurfaceMultigrid::State::CoarsestSolve() const
 template <typename T, int W>
 void SurfaceMultigrid::State::Cycle(int l) const
 {
-  if (l + 1 == static_cast<int>(A.size()))
+  if (l + 1 == Levels())
   {
     CoarsestSolve<T, W>();
     return;
@@ -543,15 +526,21 @@ SurfaceMultigrid::SurfaceMultigrid(std::shared_ptr<const SurfaceHierarchy> hiera
   const SurfaceHierarchy& h = *S->H;
   const Index n = h.Rows(0);
   const std::vector<Index>& order = h.Order();
-  const std::vector<Index>& position = h.Position();
-  // The finest level, renumbered; held rows are identity rows, uncoupled.
+  // The finest level, renumbered; held rows are identity rows, their
+  // couplings zero.
+  const auto isHeld = [&](Index v) { return held && held[v]; };
   LevelPair fine;
+  ShiftedLaplacianProblem graph;
+  graph.Rows = n;
+  graph.Offsets = offsets;
+  graph.Neighbors = neighbors;
+  graph.NumberOfThreads = S->Threads;
+  detail::RenumberEntries(graph, order.data(), [&](Index v) { return !isHeld(v); },
+    [&](std::int64_t k) { return isHeld(neighbors[k]) ? 0.0 : -weights[k]; }, fine.K.Offsets, fine.K.Columns,
+    fine.K.Values);
   fine.K.Diagonal.resize(n);
   fine.DDiagonal.resize(n);
-  fine.K.Offsets.assign(static_cast<std::size_t>(n) + 1, 0);
   S->Held.resize(n);
-  const auto isHeld = [&](Index v) { return held && held[v]; };
-  const auto kept = [&](Index v, std::int64_t k) { return neighbors[k] != v && !isHeld(neighbors[k]); };
   ParallelForStatic(n, S->Threads, [&](std::int64_t s, std::int64_t e) {
     for (std::int64_t i = s; i < e; ++i)
     {
@@ -559,31 +548,6 @@ SurfaceMultigrid::SurfaceMultigrid(std::shared_ptr<const SurfaceHierarchy> hiera
       S->Held[i] = isHeld(v);
       fine.K.Diagonal[i] = isHeld(v) ? 0.0 : diagonal[v];
       fine.DDiagonal[i] = isHeld(v) ? 1.0 : (shift ? shift[v] : 0.0);
-      for (std::int64_t k = offsets[v]; !isHeld(v) && k < offsets[v + 1]; ++k)
-      {
-        fine.K.Offsets[i + 1] += kept(v, k);
-      }
-    }
-  });
-  for (Index i = 0; i < n; ++i)
-  {
-    fine.K.Offsets[i + 1] += fine.K.Offsets[i];
-  }
-  fine.K.Columns.resize(fine.K.Offsets[n]);
-  fine.K.Values.resize(fine.K.Offsets[n]);
-  ParallelForStatic(n, S->Threads, [&](std::int64_t s, std::int64_t e) {
-    for (std::int64_t i = s; i < e; ++i)
-    {
-      const Index v = order[i];
-      std::int64_t at = fine.K.Offsets[i];
-      for (std::int64_t k = offsets[v]; !isHeld(v) && k < offsets[v + 1]; ++k)
-      {
-        if (kept(v, k))
-        {
-          fine.K.Columns[at] = position[neighbors[k]];
-          fine.K.Values[at++] = -weights[k];
-        }
-      }
     }
   });
   S->Pairs.push_back(std::move(fine));
@@ -693,22 +657,22 @@ void SurfaceMultigrid::ApplyComplexInOrder(const double* r, double* z, int colum
 
 int SurfaceMultigrid::Levels() const
 {
-  return static_cast<int>(S->A.size());
+  return S->Levels();
 }
 
 const LevelMatrix& SurfaceMultigrid::Operator(int level) const
 {
-  return S->A[level];
+  return S->Pairs[level].K;
 }
 
 double SurfaceMultigrid::OperatorComplexity() const
 {
   double all = 0.0;
-  for (const LevelMatrix& a : S->A)
+  for (const LevelPair& p : S->Pairs)
   {
-    all += static_cast<double>(a.Values.size() + a.Diagonal.size());
+    all += static_cast<double>(p.K.Values.size() + p.K.Diagonal.size());
   }
-  return all / static_cast<double>(S->A[0].Values.size() + S->A[0].Diagonal.size());
+  return all / static_cast<double>(S->Pairs[0].K.Values.size() + S->Pairs[0].K.Diagonal.size());
 }
 
 } // namespace beltrami

@@ -123,7 +123,9 @@ public:
   void ApplyComplexInOrder(const double* r, double* z, int columns) const;
 
   int Levels() const;
-  /// Level l's operator (the finest: A renumbered in the hierarchy's order).
+  /// Level l's stiffness P^T K P (the finest: K renumbered in the
+  /// hierarchy's order, without the held rows' couplings), whose pattern
+  /// is the level's operator's.
   const LevelMatrix& Operator(int level) const;
   /// The non-zeros of all levels over those of A.
   double OperatorComplexity() const;
