@@ -39,6 +39,7 @@ def filters():
         "curvatures": (b.vtkDiscreteCurvatures, ("surface",)),
         "operators": (b.vtkBeltramiOperators, ("surface", "image", "grid")),
         "fairing": (b.vtkImplicitFairing, ("surface",)),
+        "fairing-geometric-multigrid": (inputs.filter_with(b.vtkImplicitFairing, Preconditioner=2), ("surface",)),
         "surface-data-denoising": (b.vtkSurfaceDataDenoising, ("surface",)),
         "parameterization": (b.vtkIntrinsicParameterization, ("surface",)),
         "atlas": (b.vtkSurfaceAtlas, ("surface",)),

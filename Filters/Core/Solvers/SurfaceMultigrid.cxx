@@ -242,7 +242,10 @@ void Combined(const std::vector<LevelPair>& pairs, T s, std::vector<LevelValues<
     });
     for (std::size_t i = 0; i < v.Diagonal.size(); ++i)
     {
-      v.Diagonal[i] = p.DDiagonal[i] + s * p.K.Diagonal[i];
+      // A coarse row whose finer rows are all held has no operator (its
+      // row is zero, its right-hand side too): an identity row.
+      const bool empty = p.DDiagonal[i] == 0.0 && p.K.Diagonal[i] == 0.0;
+      v.Diagonal[i] = empty ? T(1.0) : p.DDiagonal[i] + s * p.K.Diagonal[i];
     }
     v.Smooth = SmootherDiagonal(p.K, v.Values.data(), v.Diagonal.data(), threads);
   }

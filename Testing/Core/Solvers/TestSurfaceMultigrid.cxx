@@ -36,9 +36,10 @@ struct MeshSystem
   std::vector<std::int64_t> Offsets;
   std::vector<Index> Neighbors;
   std::vector<double> Mass;
+  std::vector<std::uint8_t> Fixed; ///< with holdBoundary, the boundary's rows (as the fairing holds them)
   double H = 0.0;
 
-  explicit MeshSystem(test::Mesh mesh)
+  explicit MeshSystem(test::Mesh mesh, bool holdBoundary = false)
     : Mesh(std::move(mesh))
   {
     const MeshTopology topo = Mesh.Topology();
@@ -46,6 +47,14 @@ struct MeshSystem
     test::KeepGraph(L, Offsets, Neighbors);
     Mass.assign(L.Mass.begin(), L.Mass.end());
     H = MeanEdgeLength(topo, Mesh.Points.data());
+    Fixed.assign(L.NumberOfVertices, 0);
+    for (const std::vector<Index>& loop : holdBoundary ? topo.BoundaryLoops() : std::vector<std::vector<Index>>())
+    {
+      for (const Index v : loop)
+      {
+        Fixed[v] = 1;
+      }
+    }
   }
 
   ShiftedLaplacianProblem Problem(double step, int columns, Preconditioning m) const
@@ -59,6 +68,7 @@ struct MeshSystem
     pb.NumberOfThreads = 2;
     pb.Preconditioner = m;
     pb.Points = Mesh.Points.data();
+    pb.Fixed = Fixed.data();
     return pb;
   }
 
@@ -261,7 +271,9 @@ TEST(SurfaceMultigrid, SolvesAsJacobiOnRealAndIrregularMeshes)
   // sphere with a far speck of 1e-4 its size: the geometric multigrid's
   // solution equals Jacobi's to the tolerance, in fewer iterations.
   std::vector<std::pair<std::string, test::Mesh>> meshes;
-  for (const char* name : { "bunny00.off", "fandisk.off", "eight.off" })
+  // (three_peaks is open: its boundary rows held, and coarse rows whose
+  // finer rows are all held have no operator; they made NaN.)
+  for (const char* name : { "bunny00.off", "fandisk.off", "eight.off", "three_peaks.off" })
   {
     meshes.emplace_back(name, ReadOrFail(name));
   }
@@ -271,7 +283,7 @@ TEST(SurfaceMultigrid, SolvesAsJacobiOnRealAndIrregularMeshes)
   const Index speck = test::OctahedronSphere(4).NumberOfVertices(); // the speck's first row
   for (const auto& [name, mesh] : meshes)
   {
-    const MeshSystem s(mesh);
+    const MeshSystem s(mesh, name == "three_peaks.off");
     const Index n = s.L.NumberOfVertices;
     std::vector<double> b(3 * static_cast<std::size_t>(n));
     for (std::size_t k = 0; k < b.size(); ++k)
