@@ -48,9 +48,10 @@
  * its vertices (barycentric in the input triangle under each), point array
  * SampleKind (0 inside a chart, 1 on a chart boundary, 2 at a corner of the
  * chart boundaries, 3 pinned at a tip: an input vertex whose angle defect
- * exceeds 2 radians, a cone narrower than about 43 degrees - a spike's,
- * horn's or finger's tip - takes its chart's nearest interior sample, which
- * the relaxation leaves there), field arrays RemeshMeanMinimumAngle,
+ * exceeds 1 radian, a cone narrower than about 57 degrees - a spike's,
+ * horn's or finger's tip, the sharpest of those closer than the spacing -
+ * takes its chart's nearest interior sample, which the relaxation leaves
+ * there), field arrays RemeshMeanMinimumAngle,
  * RemeshMinimumAngle, RemeshFractionBelow30, RemeshFractionValence6,
  * RemeshEdgeLengthVariation (degrees and fractions), RemeshCharts,
  * RemeshDeviation (the remesh's fidelity, measured after every run, as

@@ -243,6 +243,55 @@ def torus_with_thin_handle(n=48):
     return ring + offset * thin[:, None], t
 
 
+def decimated_bone(n=160, keep=0.1):
+    """A genus-2 bone (a shaft between two flat ends, each with a hole
+    through it) as a decimated scan gives it: the marching-cubes surface of
+    its distance function on an n^3 grid, quadric-decimated to `keep` of
+    its triangles, which leaves long slivers along the shaft."""
+    from vtkmodules.vtkFiltersCore import vtkFlyingEdges3D, vtkPolyDataConnectivityFilter, vtkQuadricDecimation
+
+    def segment(x, a, b, radius):
+        a, b = np.asarray(a, float), np.asarray(b, float)
+        s = np.clip((x - a) @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0)
+        return np.linalg.norm(x - (a + s[..., None] * (b - a)), axis=-1) - radius
+
+    def blend(a, b, k=0.05):  # a smooth minimum
+        h = np.clip(0.5 + 0.5 * (b - a) / k, 0.0, 1.0)
+        return b * (1 - h) + a * h - k * h * (1 - h)
+
+    def distance(x):
+        d = segment(x, (-0.8, 0, 0), (0.8, 0, 0), 0.08)
+        for end in (-0.85, 0.85):
+            q = (x - (end, 0, 0)) / (0.2, 0.25, 0.08)
+            d = blend(d, (np.linalg.norm(q, axis=-1) - 1) * 0.08)
+            d = np.maximum(d, -segment(x, (end, 0, -0.3), (end, 0, 0.3), 0.07))
+        return d
+
+    g = np.linspace(-1.5, 1.5, n)
+    d = np.concatenate([distance(np.stack(np.meshgrid(g[i:i + 16], g, g, indexing="ij"), axis=-1))
+                        for i in range(0, n, 16)])
+    image = vtkImageData()
+    image.SetDimensions(n, n, n)
+    image.SetOrigin(-1.5, -1.5, -1.5)
+    image.SetSpacing(*([3.0 / (n - 1)] * 3))
+    image.GetPointData().SetScalars(numpy_to_vtk(d.transpose(2, 1, 0).ravel().copy(), deep=True))
+    surface = vtkFlyingEdges3D()
+    surface.SetInputData(image)
+    surface.SetValue(0, 0.0)
+    largest = vtkPolyDataConnectivityFilter()
+    largest.SetInputConnection(surface.GetOutputPort())
+    largest.SetExtractionModeToLargestRegion()
+    decimate = vtkQuadricDecimation()
+    decimate.SetInputConnection(largest.GetOutputPort())
+    decimate.SetTargetReduction(1.0 - keep)
+    decimate.Update()
+    p, t = arrays_of(decimate.GetOutput())
+    used = np.unique(t)
+    remap = np.zeros(len(p), dtype=np.int64)
+    remap[used] = np.arange(len(used))
+    return p[used], remap[t]
+
+
 def sphere_with_speck(n=24, speck=1e-4, distance=5.0):
     """A unit sphere and a far-away speck (a sphere of radius `speck`)."""
     return merge(sphere(n), sphere(4, radius=speck, center=(distance, 0.0, 0.0)))
@@ -309,6 +358,7 @@ def hard_shapes():
         "torus-thin-handle": torus_with_thin_handle(),
         "sphere-with-speck": sphere_with_speck(),
         "thin-plate": orient_consistently(*thin_plate()),
+        "decimated-bone": decimated_bone(),
     }
     p, t = sphere(24)
     shapes["huge-sphere"] = (p * 1e12 + 3e12, t)

@@ -185,7 +185,7 @@ CGAL_HAUSDORFF = {
     "sphere966.off": (0.136, 0.063), "three_peaks.off": (1.347, 0.3), "spiky-sphere": (0.395, 0.216),
     "comb": (0.667, 0.363), "dumbbell": (0.806, 0.219), "torus-thin-handle": (1.14, 0.35),
     "sphere-with-speck": (0.075, 0.028), "thin-plate": (0.0, 0.0), "huge-sphere": (0.152, 0.054),
-    "tiny-sphere": (0.152, 0.057),
+    "tiny-sphere": (0.152, 0.057), "decimated-bone": (0.713, 0.306),
 }
 # Ours may be farther than CGAL's by a quarter (remesh to remesh the
 # deviation varies by 10-20%); named, the cases beyond that, with the
@@ -197,9 +197,12 @@ CGAL_HAUSDORFF = {
 # cylinder_locally_refined at 10,000 (2.2, 0.061% against 0.027%: a pleat
 # of folded caps 0.0075 from its boundary, less than the spacing, which
 # CGAL keeps as sharp edges, with 0.5 degree slivers beside them; ours
-# passes it by, 0.061% at 2,000 and 10,000 alike).
+# passes it by, 0.061% at 2,000 and 10,000 alike), and three_peaks at
+# 10,000 (1.25: 0.376% against 0.300%, at a cone point whose angle defect,
+# 0.99 radians, is just short of the pinned tips', on an input whose edges
+# are three times the spacing).
 CGAL_EXCEPTIONS = {("spiky-sphere", 2000): 1.6, ("sphere-with-speck", 10000): 1.4, ("fandisk_large.off", 2000): 1.4,
-                   ("cylinder_locally_refined.off", 10000): 2.4}
+                   ("cylinder_locally_refined.off", 10000): 2.4, ("three_peaks.off", 10000): 1.35}
 
 
 def compare_with_cgal(path, count, to_input, from_input):
@@ -247,12 +250,16 @@ def triangle_quality(points, triangles):
 # bars a little below the figures measured, the meshes that do not meet it
 # yet (the hard shapes' needles and thin plate have angles far below 15
 # degrees themselves, and are measured only):
-#   elephant-with-holes  5.9 deg, 1.76%, 76.1%: 106 punched holes whose
+#   elephant-with-holes  7.1 deg, 1.53%, 75.6%: 106 punched holes whose
 #                        jagged rims take a third of the vertices;
-#   mech-holes-shark     1.4 deg (0.25% below 30): where a sharp edge
+#   mech-holes-shark     0.5 deg (0.27% below 30): where a sharp edge
 #                        passes a corner of the charts straight, a flat
 #                        triangle of two of its samples and the corner;
-#   fandisk_large        17.7 deg, 0.85%, 77.0%.
+#   fandisk_large        18.2 deg, 0.83%, 77.0%.
+# Of the generated shapes, the decimated bone is held to the bars too (its
+# long slivers once made charts whose maps stretched threefold and more,
+# and remeshes folded over themselves, with angles of 0 degrees).
+QUALITY_SHAPES = {"decimated-bone"}
 QUALITY_EXCEPTIONS = {"elephant-with-holes.off": (0.0, 0.025, 0.75),
                       "mech-holes-shark.off": (0.0, 0.005, 0.78),
                       "fandisk_large.off": (14.0, 0.012, 0.76)}
@@ -263,7 +270,7 @@ def check_quality(path, points, triangles):
     worst, below30, valence6 = triangle_quality(points, triangles)
     print("    smallest angle %.1f deg, %.2f%% below 30 deg, %.1f%% of valence 6" % (worst, 100 * below30,
                                                                                       100 * valence6))
-    if path not in inputs.corpus_paths():
+    if path not in inputs.corpus_paths() and path not in QUALITY_SHAPES:
         return None
     bars = QUALITY_EXCEPTIONS.get(os.path.basename(path), (15.0, 0.005, 0.78))
     if worst < bars[0] or below30 > bars[1] or valence6 < bars[2]:

@@ -54,24 +54,40 @@ bool BoundaryIsSimple(const MeshTopology& topology, const std::vector<double>& u
   return true;
 }
 
-/// Whether more than `share` of the chart's 3D area is squeezed by `uv` to
-/// an eighth or less of the chart's mean area scale (3D area per map area).
-bool TooSqueezed(const MeshTopology& chart, const double* points, const double* uv, double share)
+/// Whether the map `uv` of the chart squeezes more than `squeezedShare` of
+/// its 3D area to an eighth or less of the chart's mean area scale (3D area
+/// per map area), or stretches more than `stretchedShare` of it three times
+/// more one way than the other (a triangle's conformal distortion
+/// |J|_F^2 / (2 det J) = sum over its edges of cot(opposite 3D angle)
+/// |edge in the map|^2 / (4 map area) above 5/3: singular values 3:1).
+bool TooDistorted(
+  const MeshTopology& chart, const double* points, const double* uv, double squeezedShare, double stretchedShare)
 {
-  if (!(share > 0.0) || chart.NumberOfTriangles() < 2)
+  if (!(squeezedShare > 0.0 || stretchedShare > 0.0) || chart.NumberOfTriangles() < 2)
   {
     return false;
   }
   std::vector<double> area3D(chart.NumberOfTriangles()), area2D(chart.NumberOfTriangles());
-  double total3D = 0.0, total2D = 0.0;
+  double total3D = 0.0, total2D = 0.0, stretched = 0.0;
   for (Index t = 0; t < chart.NumberOfTriangles(); ++t)
   {
-    const Index a = chart.CornerVertex(3 * t), b = chart.CornerVertex(3 * t + 1), c = chart.CornerVertex(3 * t + 2);
-    area3D[t] = 0.5 * (Point(points, b) - Point(points, a)).cross(Point(points, c) - Point(points, a)).norm();
-    area2D[t] = 0.5 * std::abs((uv[2 * b] - uv[2 * a]) * (uv[2 * c + 1] - uv[2 * a + 1]) -
-                  (uv[2 * b + 1] - uv[2 * a + 1]) * (uv[2 * c] - uv[2 * a]));
+    const Index v[3] = { chart.CornerVertex(3 * t), chart.CornerVertex(3 * t + 1), chart.CornerVertex(3 * t + 2) };
+    const Vec3 a = Point(points, v[0]), b = Point(points, v[1]), c = Point(points, v[2]);
+    area3D[t] = 0.5 * (b - a).cross(c - a).norm();
+    area2D[t] = 0.5 * std::abs((uv[2 * v[1]] - uv[2 * v[0]]) * (uv[2 * v[2] + 1] - uv[2 * v[0] + 1]) -
+                  (uv[2 * v[1] + 1] - uv[2 * v[0] + 1]) * (uv[2 * v[2]] - uv[2 * v[0]]));
     total3D += area3D[t];
     total2D += area2D[t];
+    double dirichlet = 0.0;
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index i = v[(k + 1) % 3], j = v[(k + 2) % 3];
+      const Vec3 p = Point(points, v[k]);
+      const Vec3 e1 = Point(points, i) - p, e2 = Point(points, j) - p;
+      const double du = uv[2 * i] - uv[2 * j], dv = uv[2 * i + 1] - uv[2 * j + 1];
+      dirichlet += e1.dot(e2) / e1.cross(e2).norm() * (du * du + dv * dv);
+    }
+    stretched += !(dirichlet <= 4.0 * area2D[t] * 5.0 / 3.0) && area3D[t] > 0.0 ? area3D[t] : 0.0;
   }
   if (!(total3D > 0.0) || !(total2D > 0.0))
   {
@@ -83,7 +99,8 @@ bool TooSqueezed(const MeshTopology& chart, const double* points, const double* 
   {
     squeezed += area3D[t] > 8.0 * mean * area2D[t] ? area3D[t] : 0.0;
   }
-  return squeezed > share * total3D;
+  return (squeezedShare > 0.0 && squeezed > squeezedShare * total3D) ||
+    (stretchedShare > 0.0 && stretched > stretchedShare * total3D);
 }
 
 /// Maps the chart `mesh` onto its own square by DCP into `chart` (its
@@ -117,7 +134,9 @@ bool MapChart(ChartMesh& mesh, const double* points, const AtlasOptions& atlasOp
     }
     map.UV.clear();
   }
-  if (map.UV.empty() || TooSqueezed(chartTopology, local.data(), map.UV.data(), atlasOptions.MaximumSqueezedShare))
+  if (map.UV.empty() ||
+    TooDistorted(chartTopology, local.data(), map.UV.data(), atlasOptions.MaximumSqueezedShare,
+      atlasOptions.MaximumStretchedShare))
   {
     return false;
   }

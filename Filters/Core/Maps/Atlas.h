@@ -65,6 +65,13 @@ struct AtlasOptions
   /// too few texels there for their samples (the remesher's control map),
   /// and those parts are lost.
   double MaximumSqueezedShare = 0.0;
+  /// Split a chart when more than this share of its 3D area is stretched by
+  /// its map three times more one way than the other (0: never).  Where a
+  /// surface's triangles are long slivers (a decimated scan), a chart's
+  /// free-boundary map can overlap itself, and the circle it then goes onto
+  /// stretches a long chart like that; the remesher's samples, spread
+  /// evenly on the map, would then lie in rows on the surface.
+  double MaximumStretchedShare = 0.0;
   /// Each chart's mean angle and area distortion (AtlasChart); the remesher
   /// does without (a tenth of the charts' mapping time).
   bool MeasureDistortion = true;
@@ -93,7 +100,7 @@ struct AtlasResult
   std::string Warning; ///< non-fatal remarks
   std::vector<int> ChartOfTriangle; ///< per surface triangle
   std::vector<AtlasChart> Charts;
-  int SplitsForFlips = 0;           ///< charts split because their map flipped a triangle (or squeezed too much of it: MaximumSqueezedShare)
+  int SplitsForFlips = 0;           ///< charts split because their map flipped a triangle (or squeezed or stretched too much of it: MaximumSqueezedShare, MaximumStretchedShare)
   std::int64_t CutEdges = 0;        ///< seam and feature edges kept as chart boundaries
   /// 1 per edge of the topology: the sharp edges kept as chart boundaries
   /// (SplitAtFeatures; empty without).

@@ -155,14 +155,41 @@ Vec3 Optimizer::FanNormal(Index v) const
   return normal.normalized();
 }
 
-/// Every face around v stays within 60 degrees of `normal` (FanNormal(v)
-/// before the move) with v at x: no fold.
-bool Optimizer::KeepsSurface(Index v, const Vec3& x, const Vec3& normal) const
+/// The unit normal of input triangle t.
+Vec3 Optimizer::InputNormalOf(Index t) const
 {
-  bool valid = normal.allFinite();
+  const Vec3 a = Point(Points, Topology.CornerVertex(3 * t)), b = Point(Points, Topology.CornerVertex(3 * t + 1)),
+             c = Point(Points, Topology.CornerVertex(3 * t + 2));
+  return (b - a).cross(c - a).normalized();
+}
+
+/// The folded faces around v (Folded) with v at x, on the input where its
+/// normal is inputNormal.
+int Optimizer::FoldsAround(Index v, const Vec3& x, const Vec3& inputNormal) const
+{
+  int folds = 0;
+  M.ForEachOutgoing(v, [&](Index h) {
+    const Index b = M.Head(h), c = M.Tail(HalfEdgeMesh::Prev(h));
+    folds += Folded(x, M.Position(b), M.Position(c), inputNormal, InputNormals[b], InputNormals[c]);
+  });
+  return folds;
+}
+
+/// With v at x (where the input's normal is inputNormal): every face around
+/// v stays within 60 degrees of `normal` (FanNormal(v) before the move) and
+/// none folds (no fold); where faces around v are folded already (a lifted
+/// chart map that is far from linear at the spacing folds some), fewer are.
+bool Optimizer::KeepsSurface(Index v, const Vec3& x, const Vec3& normal, const Vec3& inputNormal) const
+{
+  const int before = FoldsAround(v, M.Position(v), InputNormals[v]), after = FoldsAround(v, x, inputNormal);
+  if (before > 0)
+  {
+    return after < before;
+  }
+  bool valid = normal.allFinite() && after == 0;
   M.ForEachOutgoing(v, [&](Index h) {
     const Vec3 n = (M.Position(M.Head(h)) - x).cross(M.Position(M.Tail(HalfEdgeMesh::Prev(h))) - x);
-    valid = valid && n.dot(normal) > 0.5 * n.norm() && n.norm() > 0.0;
+    valid = valid && n.dot(normal) > SurfaceCosine * n.norm() && n.norm() > 0.0;
   });
   return valid;
 }
@@ -172,10 +199,10 @@ bool Optimizer::KeepsSurface(Index v, const Vec3& x, const Vec3& normal) const
 /// FanNormal where the caller has it); `moved` gets the 3D distance.
 bool Optimizer::Place(Index v, Index triangle, const double* w, double& moved, const Vec3* normal)
 {
-  const Vec3 x = SurfacePoint(Topology, Points, triangle, w);
+  const Vec3 x = SurfacePoint(Topology, Points, triangle, w), inputNormal = InputNormalOf(triangle);
   std::vector<std::pair<Index, std::array<double, 2>>>& corners = ThreadBuffers().Corners;
   corners.clear();
-  if (Stitching ? !KeepsSurface(v, x, normal ? *normal : FanNormal(v)) : !KeepsPlane(v, triangle, w))
+  if (Stitching ? !KeepsSurface(v, x, normal ? *normal : FanNormal(v), inputNormal) : !KeepsPlane(v, triangle, w))
   {
     return false;
   }
@@ -187,6 +214,7 @@ bool Optimizer::Place(Index v, Index triangle, const double* w, double& moved, c
   moved = (x - M.Position(v)).norm();
   M.SetPosition(v, x);
   R.Triangle[v] = triangle;
+  InputNormals[v] = inputNormal;
   std::copy(w, w + 3, &R.Barycentric[3 * v]);
   if (!VertexImportance.empty())
   {
@@ -379,6 +407,19 @@ bool Optimizer::MoveOnSurface(Index v, double& moved)
   normal.normalize();
   Vec3 shift = target / sum - x;
   shift -= shift.dot(normal) * normal;
+  if (FoldsAround(v, x, InputNormals[v]) > 0)
+  {
+    // Folded faces around v: their Voronoi parts and normal mean nothing;
+    // towards the middle of v's neighbours in the input's tangent plane.
+    Vec3 middle = Vec3::Zero();
+    int count = 0;
+    M.ForEachOutgoing(v, [&](Index h) {
+      middle += M.Position(M.Head(h));
+      ++count;
+    });
+    shift = middle / count - x;
+    shift -= shift.dot(InputNormals[v]) * InputNormals[v];
+  }
   for (double step = OverRelaxation; step > 0.1; step *= 0.5)
   {
     double w[3];
@@ -576,6 +617,83 @@ double Optimizer::Relax()
   return total / std::max<Index>(1, M.NumberOfVertices());
 }
 
+/// The cosine of the smallest angle of v's faces with v at x.
+double Optimizer::LargestCosineAround(Index v, const Vec3& x) const
+{
+  double largest = -1.0;
+  M.ForEachOutgoing(v, [&](Index h) {
+    largest = std::max(largest, LargestCosine(x, M.Position(M.Head(h)), M.Position(M.Tail(HalfEdgeMesh::Prev(h)))));
+  });
+  return largest;
+}
+
+/// A free vertex towards the middle of its neighbours (in the input's
+/// tangent plane, put back on the input), the whole way or a half or a
+/// quarter of it, where that raises the smallest angle of its faces.
+bool Optimizer::MoveToRounder(Index v)
+{
+  const Vec3 x = M.Position(v);
+  Vec3 middle = Vec3::Zero();
+  int count = 0;
+  M.ForEachOutgoing(v, [&](Index h) {
+    middle += M.Position(M.Head(h));
+    ++count;
+  });
+  Vec3 shift = middle / std::max(1, count) - x;
+  shift -= shift.dot(InputNormals[v]) * InputNormals[v];
+  const double before = LargestCosineAround(v, x);
+  const Vec3 normal = FanNormal(v);
+  // (Its faces within 120 degrees of their fan's normal rather than 60:
+  // the fans at tips thinner than the spacing turn that far, and the move
+  // only makes rounder triangles, folding none.)
+  const double cosine = SurfaceCosine;
+  SurfaceCosine = -0.5;
+  for (double step = 1.0; step > 0.2; step *= 0.5)
+  {
+    double w[3], moved = 0.0;
+    const Index t = NearestOnSurface(x + step * shift, R.Triangle[v], step * shift.norm(), w);
+    if (t >= 0 && LargestCosineAround(v, SurfacePoint(Topology, Points, t, w)) < before - 1e-9 &&
+      Place(v, t, w, moved, &normal))
+    {
+      SurfaceCosine = cosine;
+      return true;
+    }
+  }
+  SurfaceCosine = cosine;
+  return false;
+}
+
+/// Moves the free vertices of triangles with an angle below `degrees` where
+/// that raises the smallest angle around them (MoveToRounder), then swaps
+/// (SwapSlivers); a few rounds, for what the last relaxation left.
+std::int64_t Optimizer::MendSlivers(double degrees)
+{
+  const double bound = std::cos(degrees * M_PI / 180.0);
+  std::int64_t mended = 0;
+  for (int round = 0; round < 3; ++round)
+  {
+    std::int64_t moves = 0;
+    for (Index f = 0; f < M.NumberOfFaces(); ++f)
+    {
+      const Index v[3] = { M.Tail(3 * f), M.Tail(3 * f + 1), M.Tail(3 * f + 2) };
+      if (LargestCosine(M.Position(v[0]), M.Position(v[1]), M.Position(v[2])) <= bound)
+      {
+        continue;
+      }
+      for (const Index u : v)
+      {
+        moves += Moves[u] == Free && MoveToRounder(u);
+      }
+    }
+    mended += moves + SwapSlivers();
+    if (moves == 0)
+    {
+      break;
+    }
+  }
+  return mended;
+}
+
 } // namespace detail
 
 
@@ -597,6 +715,10 @@ RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& 
     {
       stats.FreedVertices = optimizer.BeginStitching(options.FeatureEdges);
     }
+    if (i >= std::max(0, options.Iterations))
+    {
+      stats.FoldSwaps += optimizer.SwapFolds();
+    }
     stats.ShapeSwaps += optimizer.SwapForShape();
     stats.ValenceSwaps += optimizer.SwapForValence();
     stats.MeanDisplacement = optimizer.Relax();
@@ -604,6 +726,10 @@ RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& 
   if (rounds > 0)
   {
     stats.ShapeSwaps += optimizer.SwapSlivers();
+  }
+  if (rounds > std::max(0, options.Iterations))
+  {
+    stats.ShapeSwaps += optimizer.MendSlivers(20.0);
   }
   return stats;
 }

@@ -20,11 +20,18 @@
 // and the ears along seams get repaired; only samples on the surface's
 // boundary and on feature edges stay on their paths, and corners on them
 // stay fixed.  Every stitching move and swap keeps the triangles within 60
-// degrees of their neighbourhood's normal (no fold).  The relaxation runs
+// degrees of their neighbourhood's normal and none facing against the
+// input (no fold); faces that do already (a lifted chart map far from
+// linear at the spacing) are unfolded by the swaps and moves that leave
+// fewer such, each vertex of one moving towards the middle of its
+// neighbours.  The relaxation runs
 // colour by colour (no two neighbours share a colour), each colour's moves
 // in parallel: the same mesh for any thread count.  A last swap pass
 // mends the triangles with an angle below 30 degrees that the last
-// relaxation left where a swap raises their area/perimeter^2 ratio.
+// relaxation left where a swap raises their area/perimeter^2 ratio, and a
+// few rounds move the free vertices of triangles below 20 degrees towards
+// the middle of their neighbours where that raises the smallest angle
+// around them (the fans at tips thinner than the spacing), swapping again.
 #pragma once
 
 #include "Remeshing/Remesh.h"
@@ -55,6 +62,7 @@ struct RemeshOptimizationOptions
 struct RemeshOptimizationStatistics
 {
   std::int64_t ValenceSwaps = 0, ShapeSwaps = 0;
+  std::int64_t FoldSwaps = 0; ///< stitching swaps that unfolded faces (Folded)
   double MeanDisplacement = 0.0; ///< of the vertices in the last relaxation, in 3D (the surface's units)
   Index FreedVertices = 0;  ///< chart-boundary samples that moved freely while stitching
 };

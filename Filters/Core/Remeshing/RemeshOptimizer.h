@@ -22,6 +22,13 @@ double Roundness(const Vec3& a, const Vec3& b, const Vec3& c);
 /// The cosine of the smallest angle of a 3D triangle.
 double LargestCosine(const Vec3& a, const Vec3& b, const Vec3& c);
 
+/// A face (a, b, c) of the remesh is folded where its vertices' input
+/// normals (na, nb, nc) agree (each two within 60 degrees: not across a part
+/// thinner than the spacing, nor across a sharp edge, where a vertex on the
+/// edge has either side's normal) and it faces against their sum, or has
+/// no area.
+bool Folded(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& na, const Vec3& nb, const Vec3& nc);
+
 /// How a vertex may move while stitching.
 enum Mobility : std::uint8_t
 {
@@ -47,6 +54,10 @@ public:
     {
       VertexImportance.push_back(ImportanceAt(v));
     }
+    for (Index v = 0; v < M.NumberOfVertices(); ++v)
+    {
+      InputNormals.push_back(InputNormalOf(R.Triangle[v]));
+    }
     PathIndex.assign(M.NumberOfVertices(), -1);
     for (const SamplePath& path : samples.Paths)
     {
@@ -60,11 +71,14 @@ public:
   std::int64_t SwapForValence();
   std::int64_t SwapForShape();
   std::int64_t SwapSlivers();
+  std::int64_t SwapFolds();
+  std::int64_t MendSlivers(double degrees);
   template <typename Wanted, typename Accept>
   std::int64_t SwapWhere(Wanted&& wanted, Accept&& accept);
   double Relax();
   Index BeginStitching(const std::uint8_t* featureEdges);
   int NumberOfThreads = 0;
+  double SurfaceCosine = 0.5; ///< KeepsSurface: faces within acos(this) of the fan's normal
   double OverRelaxation = 1.0; ///< the first try of a move off a path, of the way to its target
 
 private:
@@ -100,10 +114,15 @@ private:
   bool MoveInterior(Index v, double& moved);
   bool MoveOnPath(Index v, double& moved);
   bool MoveOnSurface(Index v, double& moved);
+  double LargestCosineAround(Index v, const Vec3& x) const;
+  bool MoveToRounder(Index v);
   Index NearestOnSurface(const Vec3& p, Index start, double radius, double* w);
   bool KeepsPlane(Index v, Index triangle, const double* w);
   Vec3 FanNormal(Index v) const;
-  bool KeepsSurface(Index v, const Vec3& x, const Vec3& normal) const;
+  bool KeepsSurface(Index v, const Vec3& x, const Vec3& normal, const Vec3& inputNormal) const;
+  Vec3 InputNormalOf(Index triangle) const;
+  int FoldsAround(Index v, const Vec3& x, const Vec3& inputNormal) const;
+  int FoldsOfFlip(Index h, bool flipped) const;
   bool Place(Index v, Index triangle, const double* w, double& moved, const Vec3* normal = nullptr);
   void Move(Index v, double& moved);
   void ColourVertices();
@@ -121,6 +140,7 @@ private:
   std::vector<Index> Valence;
   std::vector<Index> PathIndex; ///< per vertex: its index in its path's Samples
   std::vector<double> VertexImportance; ///< per vertex: ImportanceAt (empty without an importance)
+  std::vector<Vec3> InputNormals; ///< per vertex: the unit normal of the input triangle it lies in
   bool Stitching = false;
   std::vector<std::uint8_t> Moves;     ///< per vertex while stitching: its Mobility
   std::unordered_set<std::uint64_t> KeptEdges; ///< EdgeKey of the remesh's edges along kept paths

@@ -33,16 +33,39 @@ bool Optimizer::FlipKeepsCharts(Index h) const
   return Cross2(c, a, d) > 1e-6 * scale && Cross2(d, b, c) > 1e-6 * scale;
 }
 
+bool Folded(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& na, const Vec3& nb, const Vec3& nc)
+{
+  return na.dot(nb) > 0.5 && nb.dot(nc) > 0.5 && nc.dot(na) > 0.5 && !((b - a).cross(c - a).dot(na + nb + nc) > 0.0);
+}
+
+/// The folded faces of h's edge (faces (a, b, c), (b, a, d)), or of the
+/// two after its flip ((c, a, d), (d, b, c)).
+int Optimizer::FoldsOfFlip(Index h, bool flipped) const
+{
+  const Index t = M.Twin(h);
+  const Index a = M.Tail(h), b = M.Head(h), c = M.Tail(HalfEdgeMesh::Prev(h)), d = M.Tail(HalfEdgeMesh::Prev(t));
+  const Vec3 pa = M.Position(a), pb = M.Position(b), pc = M.Position(c), pd = M.Position(d);
+  const Vec3 &na = InputNormals[a], &nb = InputNormals[b], &nc = InputNormals[c], &nd = InputNormals[d];
+  return flipped ? Folded(pc, pa, pd, nc, na, nd) + Folded(pd, pb, pc, nd, nb, nc)
+                 : Folded(pa, pb, pc, na, nb, nc) + Folded(pb, pa, pd, nb, na, nd);
+}
+
 /// The flip of h's edge does not fold the surface: the new faces' normals
-/// are within 60 degrees of the old ones' mean.
+/// are within 60 degrees of the old ones' mean and neither is folded
+/// (Folded); where one of the old faces is folded, the flip folds fewer.
 bool Optimizer::FlipKeepsSurface(Index h) const
 {
+  const int before = FoldsOfFlip(h, false), after = FoldsOfFlip(h, true);
+  if (before > 0)
+  {
+    return after < before;
+  }
   const Index t = M.Twin(h);
   const Vec3 pa = M.Position(M.Tail(h)), pb = M.Position(M.Head(h));
   const Vec3 pc = M.Position(M.Tail(HalfEdgeMesh::Prev(h))), pd = M.Position(M.Tail(HalfEdgeMesh::Prev(t)));
-  const Vec3 before = ((pb - pa).cross(pc - pa) + (pa - pb).cross(pd - pb)).normalized();
+  const Vec3 before3 = ((pb - pa).cross(pc - pa) + (pa - pb).cross(pd - pb)).normalized();
   const Vec3 n0 = (pa - pc).cross(pd - pc).normalized(), n1 = (pb - pd).cross(pc - pd).normalized();
-  return n0.dot(before) > 0.5 && n1.dot(before) > 0.5;
+  return after == 0 && n0.dot(before3) > 0.5 && n1.dot(before3) > 0.5;
 }
 
 void Optimizer::Flip(Index h)
@@ -176,6 +199,12 @@ std::int64_t Optimizer::SwapSlivers()
     return after > before * 1.01;
   };
   return SwapWhere(mends, [&](Index h) { return CanSwap(h); });
+}
+
+/// Swaps the edges of folded faces (Folded) wherever that folds fewer.
+std::int64_t Optimizer::SwapFolds()
+{
+  return SwapWhere([&](Index h) { return FoldsOfFlip(h, false) > 0; }, [&](Index h) { return CanSwap(h); });
 }
 
 } // namespace beltrami::detail

@@ -30,6 +30,7 @@ AtlasOptions RemeshingAtlasOptions(double spacing)
   options.ChartBoundary = ParameterizationBoundary::Natural;
   options.BalanceAreas = true;
   options.MaximumSqueezedShare = 0.3;
+  options.MaximumStretchedShare = 0.3;
   options.MeasureDistortion = false;
   options.MinimumFeatureLength = spacing;
   return options;

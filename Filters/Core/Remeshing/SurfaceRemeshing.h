@@ -74,7 +74,11 @@ struct RemeshResult
 /// Hausdorff distance of bunny00 at 10k vertices 1.3% -> 0.8%), and charts
 /// split where a third of them or more is squeezed eightfold
 /// (AtlasOptions::MaximumSqueezedShare 0.3: the arms of a cactus, the legs
-/// and horns of a cow, whose samples the control map could not hold).
+/// and horns of a cow, whose samples the control map could not hold), and
+/// where a third of them or more is stretched threefold one way
+/// (AtlasOptions::MaximumStretchedShare 0.3: charts of long slivers, whose
+/// free boundary overlapped and whose circle map then laid the samples in
+/// rows: a decimated bone's remesh folded, with angles of 0 degrees).
 /// spacing > 0 (the remesh's, UniformSpacing): dangling feature chains
 /// shorter than it are no features (AtlasOptions::MinimumFeatureLength):
 /// each end would take a sample of its own, and their charts more samples

@@ -126,26 +126,51 @@ std::vector<Index> Spikes(const MeshTopology& topology, const double* points, co
   return KeepApart(points, candidates, spacing);
 }
 
-/// The vertices to pin: interior vertices with an angle defect above
-/// `threshold` (0: none), or `pinned` (per vertex; may be null), and the
-/// Spikes (with `density` > 0).
+/// The vertices to pin: the Spikes (with `density` > 0) and interior
+/// vertices with an angle defect above `threshold` (0: none), sharpest
+/// first, each a spacing from every spike and sharper one kept (two pinned
+/// samples closer than the spacing would leave slivers beside their short
+/// edge), and every `pinned` one (per vertex; may be null).
 std::vector<Index> TipVertices(const MeshTopology& topology, const double* points, double threshold,
   const std::uint8_t* pinned, const double* importance, double density)
 {
-  std::vector<Index> tips = density > 0.0 ? Spikes(topology, points, importance, density) : std::vector<Index>();
+  std::vector<Index> spikes = density > 0.0 ? Spikes(topology, points, importance, density) : std::vector<Index>();
   std::vector<std::uint8_t> taken(static_cast<std::size_t>(topology.NumberOfVertices()), 0);
-  for (Index v : tips)
+  std::vector<std::pair<double, Index>> candidates; // (strength, vertex): the spikes before every cone
+  for (Index v : spikes)
   {
     taken[v] = 1;
+    candidates.emplace_back(HUGE_VAL, v);
   }
+  std::vector<Index> forced;
   for (Index v = 0; (threshold > 0.0 || pinned) && v < topology.NumberOfVertices(); ++v)
   {
-    if (!taken[v] && topology.IsInterior(v) && topology.Valence(v) > 0 &&
-      ((pinned && pinned[v]) || (threshold > 0.0 && AngleDefect(topology, points, v) > threshold)))
+    if (taken[v] || !topology.IsInterior(v) || topology.Valence(v) == 0)
+    {
+      continue;
+    }
+    const double defect = threshold > 0.0 ? AngleDefect(topology, points, v) : 0.0;
+    if (pinned && pinned[v])
+    {
+      forced.push_back(v);
+    }
+    else if (threshold > 0.0 && defect > threshold)
+    {
+      candidates.emplace_back(defect, v);
+    }
+  }
+  std::stable_sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<Index> tips = density > 0.0
+    ? KeepApart(points, candidates, [&](Index v) { return SpacingAt(importance, density, v); })
+    : std::vector<Index>();
+  if (!(density > 0.0))
+  {
+    for (const auto& [strength, v] : candidates)
     {
       tips.push_back(v);
     }
   }
+  tips.insert(tips.end(), forced.begin(), forced.end());
   return tips;
 }
 

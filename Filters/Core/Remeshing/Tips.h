@@ -16,7 +16,8 @@ double AngleDefect(const MeshTopology& topology, const double* points, Index v);
 /// Every interior vertex with an angle defect above `threshold` (0: none),
 /// or `pinned` (per vertex; may be null), or that stands out of its 1-ring
 /// by a quarter of the spacing of `density` (samples per unit area where
-/// `importance`, per vertex or null, is 1; 0: none), takes the nearest
+/// `importance`, per vertex or null, is 1; 0: none) - a vertex by its angle
+/// defect only a spacing from every such spike and sharper cone - takes the nearest
 /// sample of `out`, exactly at the vertex, as a Tip (SamplingOptions::
 /// TipAngleDefect, PinnedVertices): an interior sample of its chart where
 /// all its triangles are in one, else, at a cone point, a sample of its

@@ -3,6 +3,7 @@
 #include "Mesh/MeshMeasures.h"
 #include "Remeshing/SurfaceRemeshing.h"
 #include "Remeshing/SurfaceSampling.h"
+#include "Remeshing/Tips.h"
 #include "Maps/MeshWithAtlas.h"
 
 #include <gtest/gtest.h>
@@ -223,4 +224,48 @@ TEST(SurfaceSampling, RefinedMiddleHalvesTheRefinementsIntegral)
   EXPECT_FALSE(RefinedMiddle(path, 0.0, 2.0).has_value());
   path.Refinement = { 2.0, 2.0, 2.0 };
   EXPECT_NEAR(*RefinedMiddle(path, 0.5, 1.5), 1.0, 1e-12) << "a constant refinement: the middle";
+}
+
+TEST(SurfaceSampling, TipsCloserThanTheSpacingPinOnlyTheSharpest)
+{
+  // A sphere with three cone points pulled out of it: two near each other
+  // (closer than the spacing of 100 samples) and one on the other side.
+  Mesh mesh = test::OctahedronSphere(4);
+  const auto nearestVertex = [&](const Vec3& direction) {
+    Index best = 0;
+    for (Index v = 1; v < mesh.NumberOfVertices(); ++v)
+    {
+      best = (mesh.Point(v) - direction).norm() < (mesh.Point(best) - direction).norm() ? v : best;
+    }
+    return best;
+  };
+  const Index a = nearestVertex(Vec3(0.3, 0.2, 0.93).normalized()), far = nearestVertex(Vec3(-0.3, -0.2, -0.93).normalized());
+  const Index b = nearestVertex(Vec3(0.42, 0.2, 0.9).normalized());
+  mesh.SetPoint(a, 1.6 * mesh.Point(a));
+  mesh.SetPoint(b, 1.5 * mesh.Point(b));
+  mesh.SetPoint(far, 1.6 * mesh.Point(far));
+  const MeshTopology topology(mesh.NumberOfVertices(), IndexArray(mesh.Triangles.begin(), mesh.Triangles.end()));
+  const AtlasResult atlas = BuildAtlas(topology, mesh.Points.data(), RemeshingAtlasOptions());
+  ASSERT_EQ(atlas.Error, "");
+  SamplingOptions options;
+  options.NumberOfSamples = 100;
+  const SurfaceSamples s = SampleSurface(topology, mesh.Points.data(), atlas, nullptr, options);
+  ASSERT_EQ(s.Error, "");
+  const double spacing = UniformSpacing(SurfaceArea(topology, mesh.Points.data(), 1), 100);
+  ASSERT_LT((mesh.Point(a) - mesh.Point(b)).norm(), 0.8 * spacing);
+  std::vector<Vec3> tips;
+  for (std::size_t i = 0; i < s.Kind.size(); ++i)
+  {
+    if (s.Kind[i] == SampleKind::Tip)
+    {
+      tips.push_back(Point(s.Positions.data(), static_cast<Index>(i)));
+    }
+  }
+  std::printf("angle defects %.2f %.2f %.2f rad, %zu tips\n", AngleDefect(topology, mesh.Points.data(), a),
+    AngleDefect(topology, mesh.Points.data(), b), AngleDefect(topology, mesh.Points.data(), far), tips.size());
+  ASSERT_GT(AngleDefect(topology, mesh.Points.data(), b), options.TipAngleDefect); // b alone would be one
+  ASSERT_EQ(tips.size(), 2u);
+  const bool atA = (tips[0] - mesh.Point(a)).norm() < 1e-12 || (tips[1] - mesh.Point(a)).norm() < 1e-12;
+  const bool atFar = (tips[0] - mesh.Point(far)).norm() < 1e-12 || (tips[1] - mesh.Point(far)).norm() < 1e-12;
+  EXPECT_TRUE(atA && atFar); // the sharper of the two neighbours, and the far one
 }
