@@ -329,9 +329,18 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
   }
   const beltrami::RemeshResult& remesh = driven.Remesh;
   const std::int64_t count = driven.Counts.empty() ? this->NumberOfVertices : driven.Counts.back();
+  // Where the count cannot keep the input (a thin part, a component), the
+  // message names one that does (with the count given, not the error-driven mode's).
+  const bool missing = this->MaximumDeviation <= 0.0 &&
+    (!remesh.Error.empty() || remesh.DeviationFromInput * remesh.Diagonal > remesh.Spacing);
+  const std::int64_t keeping = missing ? beltrami::CountThatKeepsTheInput(topology, points, atlas, weights, options) : 0;
+  const std::string advice = !missing ? std::string()
+    : keeping > 0 ? " A remesh with " + std::to_string(keeping) + " vertices keeps every part of the input within its spacing."
+                  : " Neither do remeshes with 2, 4 or 8 times the count.";
   if (!remesh.Error.empty())
   {
-    vtkErrorMacro(<< "Cannot remesh with " << count << " vertices: " << remesh.Error << ". The output is empty.");
+    vtkErrorMacro(<< "Cannot remesh with " << count << " vertices: " << remesh.Error << "." << advice
+                  << " The output is empty.");
     return 0;
   }
   const double diagonal = remesh.Diagonal;
@@ -350,7 +359,7 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
                     << "farther from it than its spacing (" << remesh.Spacing << "): the input point ("
                     << p[0] << ", " << p[1] << ", " << p[2] << ") is " << remesh.DeviationFromInput * diagonal
                     << " away (" << 100.0 * remesh.DeviationFromInput
-                    << "% of the diagonal; field array RemeshDeviation).");
+                    << "% of the diagonal; field array RemeshDeviation)." << advice);
   }
   WriteRemesh(input, topology, remesh, atlas.Charts.size(), output);
   WriteControlMap(remesh.Samples, vtkMultiBlockDataSet::SafeDownCast(this->GetOutputDataObject(1)));

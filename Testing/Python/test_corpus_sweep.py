@@ -185,7 +185,7 @@ CGAL_HAUSDORFF = {
     "sphere966.off": (0.136, 0.063), "three_peaks.off": (1.347, 0.3), "spiky-sphere": (0.395, 0.216),
     "comb": (0.667, 0.363), "dumbbell": (0.806, 0.219), "torus-thin-handle": (1.14, 0.35),
     "sphere-with-speck": (0.075, 0.028), "thin-plate": (0.0, 0.0), "huge-sphere": (0.152, 0.054),
-    "tiny-sphere": (0.152, 0.057), "decimated-bone": (0.713, 0.306),
+    "tiny-sphere": (0.152, 0.057), "decimated-bone": (0.713, 0.324),
 }
 # Ours may be farther than CGAL's by a quarter (remesh to remesh the
 # deviation varies by 10-20%); named, the cases beyond that, with the

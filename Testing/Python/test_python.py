@@ -1,5 +1,6 @@
 """The beltrami package from /usr/bin/python3: filter and OFF I/O on real meshes."""
 import os
+import re
 import tempfile
 import unittest
 
@@ -712,8 +713,19 @@ class RemeshingFromPython(unittest.TestCase):
     def test_bad_requests_are_errors_not_crashes(self):
         _, f = self.remesher()
         f.SetNumberOfVertices(10)  # fewer than the chart boundaries need
-        f.GlobalWarningDisplayOff()
+        log = vtkStringOutputWindow()
+        vtkOutputWindow.SetInstance(log)
         failed = f.GetExecutive().Update() == 0
+        # The error names a count that keeps the input, which does.
+        said = re.search(r"A remesh with (\d+) vertices keeps every part of the input", log.GetOutput())
+        self.assertIsNotNone(said, log.GetOutput())
+        f.SetNumberOfVertices(int(said.group(1)))
+        log = vtkStringOutputWindow()
+        vtkOutputWindow.SetInstance(log)
+        self.assertEqual(f.GetExecutive().Update(), 1, log.GetOutput())
+        self.assertEqual(f.GetOutput().GetNumberOfPoints(), int(said.group(1)))
+        self.assertNotIn("farther from it than its spacing", log.GetOutput())
+        f.GlobalWarningDisplayOff()
         f.SetNumberOfVertices(1000)
         f.SetImportance(vtkSurfaceRemeshing.POINT_ARRAY)  # no array selected
         failed_array = f.GetExecutive().Update() == 0

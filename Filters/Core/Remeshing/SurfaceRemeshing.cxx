@@ -546,6 +546,23 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
 }
 
 
+std::int64_t CountThatKeepsTheInput(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
+  const double* importance, const RemeshOptions& options)
+{
+  RemeshOptions larger = options;
+  const std::int64_t most = MostVerticesPerInputVertex * static_cast<std::int64_t>(topology.NumberOfVertices());
+  for (std::int64_t factor = 2; factor <= 8 && factor * options.NumberOfVertices <= most; factor *= 2)
+  {
+    larger.NumberOfVertices = factor * options.NumberOfVertices;
+    const RemeshResult r = RemeshSurface(topology, points, atlas, importance, larger);
+    if (r.Error.empty() && r.DeviationFromInput * r.Diagonal <= r.Spacing)
+    {
+      return larger.NumberOfVertices;
+    }
+  }
+  return 0;
+}
+
 DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
   const double* importance, const RemeshOptions& options, double maximumDeviation, int maximumRounds)
 {

@@ -175,6 +175,15 @@ void CheckFidelity(const MeshTopology& topology, const double* points, const Rem
 RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
   const double* importance, const RemeshOptions& options = {});
 
+/// Where a remesh with options.NumberOfVertices fails (Error) or leaves an
+/// input point farther than its spacing: the smallest of 2, 4 and 8 times
+/// that count whose remesh (the same settings otherwise) keeps the input's
+/// topology with every input point within its spacing, for the message
+/// that names it; 0 where none of them does (or the count is more than
+/// MostVerticesPerInputVertex per input vertex: beyond what the input can use).
+std::int64_t CountThatKeepsTheInput(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
+  const double* importance, const RemeshOptions& options);
+
 /// The error-driven mode (as MMG's -hausd; the thesis' future work):
 /// remeshes until the remesh is within `maximumDeviation` (a fraction of the
 /// input's bounding-box diagonal) of the input both ways (RemeshResult's
