@@ -176,10 +176,11 @@ int Optimizer::FoldsAround(Index v, const Vec3& x, const Vec3& inputNormal) cons
 }
 
 /// With v at x (where the input's normal is inputNormal): every face around
-/// v stays within 60 degrees of `normal` (FanNormal(v) before the move) and
+/// v stays within acos(cosine) of `normal` (FanNormal(v) before the move) and
 /// none folds (no fold); where faces around v are folded already (a lifted
 /// chart map that is far from linear at the spacing folds some), fewer are.
-bool Optimizer::KeepsSurface(Index v, const Vec3& x, const Vec3& normal, const Vec3& inputNormal) const
+bool Optimizer::KeepsSurface(
+  Index v, const Vec3& x, const Vec3& normal, const Vec3& inputNormal, double cosine) const
 {
   const int before = FoldsAround(v, M.Position(v), InputNormals[v]), after = FoldsAround(v, x, inputNormal);
   if (before > 0)
@@ -189,20 +190,22 @@ bool Optimizer::KeepsSurface(Index v, const Vec3& x, const Vec3& normal, const V
   bool valid = normal.allFinite() && after == 0;
   M.ForEachOutgoing(v, [&](Index h) {
     const Vec3 n = (M.Position(M.Head(h)) - x).cross(M.Position(M.Tail(HalfEdgeMesh::Prev(h))) - x);
-    valid = valid && n.dot(normal) > SurfaceCosine * n.norm() && n.norm() > 0.0;
+    valid = valid && n.dot(normal) > cosine * n.norm() && n.norm() > 0.0;
   });
   return valid;
 }
 
 /// Moves vertex v to (triangle, w) of the input if no face around it flips
-/// (in its chart, or on the surface while stitching: `normal` is v's
-/// FanNormal where the caller has it); `moved` gets the 3D distance.
-bool Optimizer::Place(Index v, Index triangle, const double* w, double& moved, const Vec3* normal)
+/// (in its chart, or on the surface while stitching: KeepsSurface with
+/// `normal`, v's FanNormal where the caller has it, and `cosine`); `moved`
+/// gets the 3D distance.
+bool Optimizer::Place(Index v, Index triangle, const double* w, double& moved, const Vec3* normal, double cosine)
 {
   const Vec3 x = SurfacePoint(Topology, Points, triangle, w), inputNormal = InputNormalOf(triangle);
   std::vector<std::pair<Index, std::array<double, 2>>>& corners = ThreadBuffers().Corners;
   corners.clear();
-  if (Stitching ? !KeepsSurface(v, x, normal ? *normal : FanNormal(v), inputNormal) : !KeepsPlane(v, triangle, w))
+  if (Stitching ? !KeepsSurface(v, x, normal ? *normal : FanNormal(v), inputNormal, cosine)
+                : !KeepsPlane(v, triangle, w))
   {
     return false;
   }
@@ -409,16 +412,7 @@ bool Optimizer::MoveOnSurface(Index v, double& moved)
   shift -= shift.dot(normal) * normal;
   if (FoldsAround(v, x, InputNormals[v]) > 0)
   {
-    // Folded faces around v: their Voronoi parts and normal mean nothing;
-    // towards the middle of v's neighbours in the input's tangent plane.
-    Vec3 middle = Vec3::Zero();
-    int count = 0;
-    M.ForEachOutgoing(v, [&](Index h) {
-      middle += M.Position(M.Head(h));
-      ++count;
-    });
-    shift = middle / count - x;
-    shift -= shift.dot(InputNormals[v]) * InputNormals[v];
+    shift = ShiftToNeighbours(v); // (folded faces: their Voronoi parts and normal mean nothing)
   }
   for (double step = OverRelaxation; step > 0.1; step *= 0.5)
   {
@@ -627,39 +621,40 @@ double Optimizer::LargestCosineAround(Index v, const Vec3& x) const
   return largest;
 }
 
-/// A free vertex towards the middle of its neighbours (in the input's
-/// tangent plane, put back on the input), the whole way or a half or a
-/// quarter of it, where that raises the smallest angle of its faces.
-bool Optimizer::MoveToRounder(Index v)
+/// The move of v to the middle of its neighbours, in the plane of the
+/// input under it.
+Vec3 Optimizer::ShiftToNeighbours(Index v) const
 {
-  const Vec3 x = M.Position(v);
   Vec3 middle = Vec3::Zero();
   int count = 0;
   M.ForEachOutgoing(v, [&](Index h) {
     middle += M.Position(M.Head(h));
     ++count;
   });
-  Vec3 shift = middle / std::max(1, count) - x;
-  shift -= shift.dot(InputNormals[v]) * InputNormals[v];
+  const Vec3 shift = middle / std::max(1, count) - M.Position(v);
+  return shift - shift.dot(InputNormals[v]) * InputNormals[v];
+}
+
+/// A free vertex towards the middle of its neighbours (ShiftToNeighbours,
+/// put back on the input), the whole way or a half or a quarter of it,
+/// where that raises the smallest angle of its faces.
+bool Optimizer::MoveToRounder(Index v)
+{
+  const Vec3 x = M.Position(v), shift = ShiftToNeighbours(v), normal = FanNormal(v);
   const double before = LargestCosineAround(v, x);
-  const Vec3 normal = FanNormal(v);
-  // (Its faces within 120 degrees of their fan's normal rather than 60:
-  // the fans at tips thinner than the spacing turn that far, and the move
-  // only makes rounder triangles, folding none.)
-  const double cosine = SurfaceCosine;
-  SurfaceCosine = -0.5;
   for (double step = 1.0; step > 0.2; step *= 0.5)
   {
     double w[3], moved = 0.0;
     const Index t = NearestOnSurface(x + step * shift, R.Triangle[v], step * shift.norm(), w);
+    // (Its faces within 120 degrees of their fan's normal rather than 60:
+    // the fans at tips thinner than the spacing turn that far, and the move
+    // only makes rounder triangles, folding none.)
     if (t >= 0 && LargestCosineAround(v, SurfacePoint(Topology, Points, t, w)) < before - 1e-9 &&
-      Place(v, t, w, moved, &normal))
+      Place(v, t, w, moved, &normal, -0.5))
     {
-      SurfaceCosine = cosine;
       return true;
     }
   }
-  SurfaceCosine = cosine;
   return false;
 }
 

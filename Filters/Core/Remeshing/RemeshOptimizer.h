@@ -78,7 +78,6 @@ public:
   double Relax();
   Index BeginStitching(const std::uint8_t* featureEdges);
   int NumberOfThreads = 0;
-  double SurfaceCosine = 0.5; ///< KeepsSurface: faces within acos(this) of the fan's normal
   double OverRelaxation = 1.0; ///< the first try of a move off a path, of the way to its target
 
 private:
@@ -115,15 +114,16 @@ private:
   bool MoveOnPath(Index v, double& moved);
   bool MoveOnSurface(Index v, double& moved);
   double LargestCosineAround(Index v, const Vec3& x) const;
+  Vec3 ShiftToNeighbours(Index v) const;
   bool MoveToRounder(Index v);
   Index NearestOnSurface(const Vec3& p, Index start, double radius, double* w);
   bool KeepsPlane(Index v, Index triangle, const double* w);
   Vec3 FanNormal(Index v) const;
-  bool KeepsSurface(Index v, const Vec3& x, const Vec3& normal, const Vec3& inputNormal) const;
+  bool KeepsSurface(Index v, const Vec3& x, const Vec3& normal, const Vec3& inputNormal, double cosine) const;
   Vec3 InputNormalOf(Index triangle) const;
   int FoldsAround(Index v, const Vec3& x, const Vec3& inputNormal) const;
   int FoldsOfFlip(Index h, bool flipped) const;
-  bool Place(Index v, Index triangle, const double* w, double& moved, const Vec3* normal = nullptr);
+  bool Place(Index v, Index triangle, const double* w, double& moved, const Vec3* normal = nullptr, double cosine = 0.5);
   void Move(Index v, double& moved);
   void ColourVertices();
   void Prefetch(Index v) const;
