@@ -336,7 +336,7 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
   const std::int64_t keeping = missing ? beltrami::CountThatKeepsTheInput(topology, points, atlas, weights, options) : 0;
   const std::string advice = !missing ? std::string()
     : keeping > 0 ? " A remesh with " + std::to_string(keeping) + " vertices keeps every part of the input within its spacing."
-                  : " Neither do remeshes with 2, 4 or 8 times the count.";
+                  : " Neither do remeshes with up to 8 times the count (at most 64 per input vertex).";
   if (!remesh.Error.empty())
   {
     vtkErrorMacro(<< "Cannot remesh with " << count << " vertices: " << remesh.Error << "." << advice

@@ -63,9 +63,9 @@ bool Optimizer::FlipKeepsSurface(Index h) const
   const Index t = M.Twin(h);
   const Vec3 pa = M.Position(M.Tail(h)), pb = M.Position(M.Head(h));
   const Vec3 pc = M.Position(M.Tail(HalfEdgeMesh::Prev(h))), pd = M.Position(M.Tail(HalfEdgeMesh::Prev(t)));
-  const Vec3 before3 = ((pb - pa).cross(pc - pa) + (pa - pb).cross(pd - pb)).normalized();
+  const Vec3 mean = ((pb - pa).cross(pc - pa) + (pa - pb).cross(pd - pb)).normalized();
   const Vec3 n0 = (pa - pc).cross(pd - pc).normalized(), n1 = (pb - pd).cross(pc - pd).normalized();
-  return after == 0 && n0.dot(before3) > 0.5 && n1.dot(before3) > 0.5;
+  return after == 0 && n0.dot(mean) > 0.5 && n1.dot(mean) > 0.5;
 }
 
 void Optimizer::Flip(Index h)

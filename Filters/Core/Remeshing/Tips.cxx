@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <iterator>
 #include <unordered_map>
 
 namespace beltrami
@@ -149,26 +150,28 @@ std::vector<Index> TipVertices(const MeshTopology& topology, const double* point
     {
       continue;
     }
-    const double defect = threshold > 0.0 ? AngleDefect(topology, points, v) : 0.0;
     if (pinned && pinned[v])
     {
       forced.push_back(v);
     }
-    else if (threshold > 0.0 && defect > threshold)
+    else if (threshold > 0.0)
     {
-      candidates.emplace_back(defect, v);
+      const double defect = AngleDefect(topology, points, v);
+      if (defect > threshold)
+      {
+        candidates.emplace_back(defect, v);
+      }
     }
   }
   std::stable_sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-  std::vector<Index> tips = density > 0.0
-    ? KeepApart(points, candidates, [&](Index v) { return SpacingAt(importance, density, v); })
-    : std::vector<Index>();
-  if (!(density > 0.0))
+  std::vector<Index> tips;
+  if (density > 0.0)
   {
-    for (const auto& [strength, v] : candidates)
-    {
-      tips.push_back(v);
-    }
+    tips = KeepApart(points, candidates, [&](Index v) { return SpacingAt(importance, density, v); });
+  }
+  else // (no spacing: every cone)
+  {
+    std::transform(candidates.begin(), candidates.end(), std::back_inserter(tips), [](const auto& c) { return c.second; });
   }
   tips.insert(tips.end(), forced.begin(), forced.end());
   return tips;
