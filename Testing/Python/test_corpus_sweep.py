@@ -256,9 +256,10 @@ def triangle_quality(points, triangles):
 #                        passes a corner of the charts straight, a flat
 #                        triangle of two of its samples and the corner;
 #   fandisk_large        18.2 deg, 0.83%, 77.0%.
-# Of the generated shapes, the decimated bone is held to the bars too (its
-# long slivers once made charts whose maps stretched threefold and more,
-# and remeshes folded over themselves, with angles of 0 degrees).
+# Of the generated shapes, the decimated bone is held to the bars too: its
+# long slivers make charts whose maps stretch threefold and more unless
+# they are split, and remeshes that fold over themselves, with angles of 0
+# degrees, unless the stitching unfolds them.
 QUALITY_SHAPES = {"decimated-bone"}
 QUALITY_EXCEPTIONS = {"elephant-with-holes.off": (0.0, 0.025, 0.75),
                       "mech-holes-shark.off": (0.0, 0.005, 0.78),
@@ -363,8 +364,9 @@ FILTERS = {
     "operators": (b.vtkBeltramiOperators, check_operators, "all", None),
     "fairing": (b.vtkImplicitFairing, check_fairing, "all", None),
     # (one order-2 step of 4 h^4: the defaults leave clean meshes as they
-    # are; the open meshes' held boundaries once left coarse rows without
-    # an operator: NaN points on elephant-with-holes and three_peaks)
+    # are; the open meshes' held boundaries leave coarse rows whose finer
+    # rows are all held, which must be identity rows, not NaN points, on
+    # elephant-with-holes and three_peaks)
     "fairing-geometric-multigrid": (inputs.filter_with(b.vtkImplicitFairing, Preconditioner=2, TimeStep=4.0),
                                     check_fairing, "all", None),
     "surface-data-denoising": (b.vtkSurfaceDataDenoising, check_data_denoising, "all", None),
