@@ -106,10 +106,11 @@ struct FairingOptions
   /// see Flows/FairingStepChoice.h); a clean mesh is left nearly as it is.
   /// Not with Taubin's passes (their steps are TaubinLambda and TaubinMu).
   double TimeStep = 0.0;
-  /// TimeStep 0: the input's noise (length) and median dihedral angle where
-  /// a run on the same input estimated them already (its FairingReport's
-  /// Noise and MedianDihedral); 0: estimated here.
-  double KnownNoise = 0.0, KnownMedianDihedral = 0.0;
+  /// TimeStep 0: the input's noise (length), its noise measured one ring
+  /// wider and median dihedral angle where a run on the same input estimated
+  /// them already (its FairingReport's Noise, WiderNoise and
+  /// MedianDihedral); 0: estimated here.
+  double KnownNoise = 0.0, KnownWiderNoise = 0.0, KnownMedianDihedral = 0.0;
   /// Unit of TimeStep and FeatureThreshold: the mean edge length h of the
   /// input (then the step is scaled by h^2 or h^4 and the threshold by 1/h),
   /// or the mesh's own units.
@@ -200,6 +201,8 @@ struct FairingReport
   /// after the run (length).  All 0 when the step was given.
   double Noise = 0.0;
   double MedianDihedral = 0.0;
+  /// The noise estimated with neighbourhoods one ring wider (SurfaceNoise).
+  double WiderNoise = 0.0;
   /// The noise per direction of the tangent planes the step's risk
   /// assumed (length): 0 (noise along the normals) or Noise (isotropic
   /// noise, where the estimate says so: Flows/FairingStepChoice.h).

@@ -77,6 +77,19 @@ RiskTerms TermsAt(const SmoothingRun& run, const std::vector<double>& x, const s
   return { sums[0], sums[1], sums[2], true };
 }
 
+/// The warning for a surface left as it is because its variation at the
+/// scale of the triangles looks like its shape rather than noise (only
+/// where the variation is one a user could see: CleanVariation).
+void WarnShapeDetail(double variation, double h, std::ostringstream& warn)
+{
+  if (variation >= CleanVariation * h)
+  {
+    warn << "The surface varies at the scale of its triangles by about " << variation
+         << " (standard deviation along the normals), which smoothing cannot tell from noise: it was left as it "
+            "is. Set TimeStep to smooth it. ";
+  }
+}
+
 } // namespace
 
 StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x, const std::vector<double>& perturbed,
@@ -164,6 +177,7 @@ FairingReport FairWithEitherOperator(const MeshTopology& topo, double* points, c
     opt.Operator = FairingOperator::CurvatureFlow;
     opt.KnownNoise = report.Noise; // (the same input)
     opt.KnownMedianDihedral = report.MedianDihedral;
+    opt.KnownWiderNoise = report.WiderNoise;
     FairingReport flow = FairSurface(topo, curvature.data(), opt, cons, progress, split);
     if (flow.Error.empty() && flow.EstimatedError <= report.EstimatedError)
     {
@@ -183,16 +197,24 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
   SurfaceNoise noise;
   noise.Deviation = opt.KnownNoise;
   noise.MedianDihedral = opt.KnownMedianDihedral;
+  noise.WiderDeviation = opt.KnownWiderNoise;
   if (!(noise.Deviation > 0.0))
   {
     noise = EstimateSurfaceNoise(topo, x, roles.Fixed.data(), split, opt.NumberOfThreads);
   }
   report.Noise = noise.Deviation;
   report.MedianDihedral = noise.MedianDihedral;
+  report.WiderNoise = noise.WiderDeviation;
   const double h = MeanEdgeLength(topo, x, split);
   if (!(noise.Deviation >= NoNoise * h)) // nothing to gain (and no runs to pay for)
   {
     report.EstimatedError = noise.Deviation;
+    return 0.0;
+  }
+  if (noise.WiderDeviation > ShapeGrowth * noise.Deviation) // the shape's own detail (ShapeGrowth)
+  {
+    report.EstimatedError = noise.Deviation;
+    WarnShapeDetail(noise.Deviation, h, warn);
     return 0.0;
   }
   GraphLaplacian L;
@@ -245,11 +267,9 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
          << " times its unit, h^(2k) for order k with h the mean edge length, 1 for the umbrella); a step "
             "beyond may be better: set TimeStep. ";
   }
-  if (choice.ShapeDetail && noise.Deviation >= CleanVariation * h)
+  if (choice.ShapeDetail)
   {
-    warn << "The surface varies at the scale of its triangles by about " << noise.Deviation
-         << " (standard deviation along the normals), which smoothing cannot tell from noise: it was left as it "
-            "is. Set TimeStep to smooth it. ";
+    WarnShapeDetail(noise.Deviation, h, warn);
   }
   return choice.TimeStep;
 }

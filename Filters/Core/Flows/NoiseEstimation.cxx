@@ -598,36 +598,45 @@ SurfaceNoise EstimateSurfaceNoise(
     return (!split || split->IsOwned(i)) && PointHash(x + 3 * static_cast<std::size_t>(i)) % stride == 0 &&
       !(skip && skip[i]);
   };
-  std::vector<double> residual(static_cast<std::size_t>(n), std::nan(""));
+  std::vector<double> residual(static_cast<std::size_t>(n), std::nan("")), wider(residual);
   ParallelFor(n, numThreads, [&](std::int64_t begin, std::int64_t end) {
     std::vector<int> stamp(static_cast<std::size_t>(n), -1);
     std::vector<Index> ring;
     std::vector<double> scratch;
+    int mark = 0;
     for (std::int64_t i = begin; i < end; ++i)
     {
       const Index v = static_cast<Index>(i);
-      if (sampled(v) && CollectRing(graph, v,
-                          RingsFor(std::max(result.MedianDihedral, VertexDihedral(topo, angles, v, scratch))),
-                          split, stamp, v, ring) && ring.size() >= 9)
+      if (!sampled(v))
+      {
+        continue;
+      }
+      const int rings = RingsFor(std::max(result.MedianDihedral, VertexDihedral(topo, angles, v, scratch)));
+      if (CollectRing(graph, v, rings, split, stamp, mark++, ring) && ring.size() >= 9)
       {
         residual[i] = QuadricResidual(x, v, ring);
+        if (CollectRing(graph, v, rings + 1, split, stamp, mark++, ring))
+        {
+          wider[i] = QuadricResidual(x, v, ring);
+        }
       }
     }
   }, {}, ResolveThreadCount(numThreads), 1);
-  std::vector<double> samples;
-  for (double r : residual)
-  {
-    if (std::isfinite(r))
+  const auto median = [&](const std::vector<double>& values) {
+    std::vector<double> samples;
+    for (double r : values)
     {
-      samples.push_back(r);
+      if (std::isfinite(r))
+      {
+        samples.push_back(r);
+      }
     }
-  }
-  const std::int64_t count = Total(samples.size(), split);
-  if (count >= 8)
-  {
-    result.Deviation = NthSmallest(samples, count / 2, split) / 0.6744897501960817;
-    result.Rings = RingsFor(result.MedianDihedral);
-  }
+    const std::int64_t count = Total(samples.size(), split);
+    return count >= 8 ? NthSmallest(samples, count / 2, split) / 0.6744897501960817 : 0.0;
+  };
+  result.Deviation = median(residual);
+  result.WiderDeviation = median(wider);
+  result.Rings = result.Deviation > 0.0 ? RingsFor(result.MedianDihedral) : 0;
   return result;
 }
 

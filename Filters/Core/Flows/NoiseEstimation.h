@@ -72,6 +72,10 @@ struct SurfaceNoise
   double Deviation = 0.0; ///< standard deviation of the points' normal displacements (length)
   int Rings = 0;          ///< the neighbourhoods' size in rings of edges (0: too few points)
   double MedianDihedral = 0.0; ///< degrees, between the normals of the triangles of an edge (median)
+  /// The same estimate with every neighbourhood one ring wider (0: too few
+  /// points).  White noise measures the same at both sizes; the shape's own
+  /// variation, which the quadrics do not fit, grows with the neighbourhood.
+  double WiderDeviation = 0.0;
 };
 
 /// The standard deviation of white noise along the normals of a triangle

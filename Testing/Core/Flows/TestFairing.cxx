@@ -804,6 +804,32 @@ TEST(Fairing, DefaultsLeaveACleanMeshWithoutSearching)
   }
 }
 
+TEST(Fairing, DefaultsLeaveDetailThatGrowsWithTheNeighbourhood)
+{
+  // White noise measures the same with neighbourhoods one ring wider; a
+  // coarse surface's own curvature (a torus whose tube is eight edges
+  // round, as the corpus' eight.off) measures more: such a surface with a
+  // little noise is left as it is, with the warning that names its
+  // variation, where smoothing would shrink the tube.
+  Mesh noisy = test::OctahedronSphere(5);
+  AddNormalNoise(noisy, 0.3 * MeanEdgeLength(noisy.Topology(), noisy.Points.data()), 5, true);
+  Mesh coarse = test::Torus(1.0, 0.3, 24, 8, 0.0, 1);
+  const double h = MeanEdgeLength(coarse.Topology(), coarse.Points.data());
+  AddNormalNoise(coarse, 0.02 * h, 7, true);
+  const std::vector<double> before = coarse.Points;
+  const FairingReport fine = Smooth(noisy, FairingOptions{});
+  const FairingReport tube = Smooth(coarse, FairingOptions{});
+  ASSERT_TRUE(fine.Completed && tube.Completed);
+  EXPECT_NEAR(fine.WiderNoise, fine.Noise, 0.15 * fine.Noise);
+  EXPECT_GT(fine.ChosenTimeStep, 0.0);
+  EXPECT_GT(tube.WiderNoise, detail::ShapeGrowth * tube.Noise);
+  EXPECT_EQ(tube.ChosenTimeStep, 0.0); // (without the bound: a step of 0.044, the tube shrunk)
+  EXPECT_EQ(coarse.Points, before);
+  EXPECT_NE(tube.Warning.find("varies at the scale of its triangles"), std::string::npos) << tube.Warning;
+  std::cout << "noise, wider: fine sphere " << fine.Noise << ", " << fine.WiderNoise << "; coarse torus "
+            << tube.Noise << ", " << tube.WiderNoise << " (h " << h << ")\n";
+}
+
 namespace
 {
 
