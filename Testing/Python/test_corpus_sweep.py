@@ -250,8 +250,9 @@ def triangle_quality(points, triangles):
 # bars a little below the figures measured, the meshes that do not meet it
 # yet (the hard shapes' needles and thin plate have angles far below 15
 # degrees themselves, and are measured only):
-#   elephant-with-holes  7.1 deg, 1.53%, 75.6%: 106 punched holes whose
-#                        jagged rims take a third of the vertices;
+#   elephant-with-holes  17.9 deg, 0.78%, 75.8%: 106 punched holes whose
+#                        jagged rims take a third of the vertices, sampled
+#                        more densely where they turn;
 #   mech-holes-shark     0.5 deg (0.27% below 30): where a sharp edge
 #                        passes a corner of the charts straight, a flat
 #                        triangle of two of its samples and the corner;
@@ -261,7 +262,7 @@ def triangle_quality(points, triangles):
 # they are split, and remeshes that fold over themselves, with angles of 0
 # degrees, unless the stitching unfolds them.
 QUALITY_SHAPES = {"decimated-bone"}
-QUALITY_EXCEPTIONS = {"elephant-with-holes.off": (0.0, 0.025, 0.75),
+QUALITY_EXCEPTIONS = {"elephant-with-holes.off": (15.0, 0.010, 0.75),
                       "mech-holes-shark.off": (0.0, 0.005, 0.78),
                       "fandisk_large.off": (14.0, 0.012, 0.76)}
 

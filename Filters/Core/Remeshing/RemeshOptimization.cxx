@@ -267,6 +267,7 @@ bool Optimizer::MoveInterior(Index v, double& moved)
 
 /// A vertex of a chart boundary path along it by the tangential part of the
 /// move to the weighted centroid of all its faces (on both sides of a seam),
+/// or on the surface's boundary towards the middle of its neighbours there,
 /// kept between its neighbours on the path.
 bool Optimizer::MoveOnPath(Index v, double& moved)
 {
@@ -299,7 +300,15 @@ bool Optimizer::MoveOnPath(Index v, double& moved)
   // the move goes as much nearer to the denser side as a 1D relaxation in
   // its refinement would (nothing where the refinement is 1).
   const std::optional<double> refined = RefinedMiddle(path, lo, hi);
-  const double shift = refined ? *refined - arc : (target / sum - M.Position(v)).dot(tangent.normalized());
+  // On the surface's boundary, the middle of its neighbours there: the
+  // relaxation's pull, from one side only, left samples of jagged rims
+  // unevenly spaced, with slivers on their short gaps (elephant-with-holes
+  // at 10k: 7.1 degrees and 1.5% of the triangles below 30, now 17.9 and
+  // 0.8%).
+  const bool rim = path.Charts[0] < 0 || path.Charts[1] < 0;
+  const double shift = refined ? *refined - arc
+    : rim                      ? 0.5 * (lo + hi) - arc
+                               : (target / sum - M.Position(v)).dot(tangent.normalized());
   // Between its neighbours, a fifth of the way from each at least (a tenth
   // where the line is refined, its gaps uneven by design): a bound of its
   // own gaps would let a sample pulled towards a corner creep, move after

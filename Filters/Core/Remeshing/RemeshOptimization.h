@@ -10,7 +10,8 @@
 // area-dispersion weights of 4.4.3 in Lloyd's form, which measured better:
 // valence 6 at 80% against 75%), vertices on chart boundaries sliding along
 // their path by the tangential part of the same relaxation across the seam
-// (fig. 4.10), corners fixed; each move over-relaxed (past the
+// (fig. 4.10), on the surface's boundary towards the middle of their
+// neighbours there, corners fixed; each move over-relaxed (past the
 // centroid, OverRelaxation) but along paths; every move and swap keeps all triangles
 // positively oriented in their chart's parameter plane.  Stitching rounds
 // (section 4.4.4) then free the seams: the same swaps over every edge and
