@@ -171,7 +171,7 @@ public:
   /// Where a sharp edge line or the surface's boundary bends, it gets more samples than the density
   /// gives: the chord between two of them departs from the line by at most this fraction of the
   /// remesh's spacing there (the rest of the surface gets correspondingly fewer; 0: the density's
-  /// spacing everywhere). Default: 0.025.
+  /// spacing everywhere). Default: 0.05.
   vtkSetClampMacro(MaximumLineSag, double, 0.0, 1.0);
   vtkGetMacro(MaximumLineSag, double);
   /// Where the surface bends tighter than the density can follow (a triangle of its spacing would
@@ -211,7 +211,7 @@ protected:
   std::vector<double> TransferFunction; ///< (x, importance) pairs
   bool SplitAtFeatures = false;
   double FeatureAngle = 60.0;
-  double MaximumLineSag = 0.025;
+  double MaximumLineSag = 0.05;
   double MaximumSurfaceSag = 0.1;
   int Iterations = 25;
   int NumberOfThreads = 0;

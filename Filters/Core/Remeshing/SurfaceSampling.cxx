@@ -182,25 +182,51 @@ Index EdgePoint(const MeshTopology& topology, Index a, Index b, double t, double
   return triangle;
 }
 
-/// A kept line's curvature at each of its vertices: the angle it turns
-/// there over half the length of its two edges (a closed loop's first
-/// vertex turns between its last edge and its first; 0 at a path's ends).
-std::vector<double> LineCurvature(const double* points, const std::vector<Index>& path)
+/// A kept line's curvature at each of its vertices at the scale of the
+/// spacing there (`spacing`, per path vertex): the angle between the chords
+/// to the line's points that spacing before and after it (or to the
+/// vertices before and after, where farther), over their mean length (a
+/// closed loop wraps around; towards a path's ends the chords shorten, and
+/// its ends count 0).  Per input edge instead, the jagged rims
+/// of holes punched into a scan, which turn at every vertex, took samples
+/// a twelfth of the spacing apart, with slivers beside them; a zigzag
+/// smaller than the spacing departs from its chords by less than its own
+/// size, which the remesh's fidelity allows.
+std::vector<double> LineCurvature(const double* points, const std::vector<Index>& path,
+  const std::vector<double>& spacing)
 {
-  std::vector<double> curvature(path.size(), 0.0);
-  const bool loop = path.front() == path.back();
   const std::size_t n = path.size();
-  for (std::size_t i = 0; i < n && n > 2; ++i)
+  std::vector<double> curvature(n, 0.0), arc(n, 0.0);
+  for (std::size_t i = 1; i < n; ++i)
+  {
+    arc[i] = arc[i - 1] + (Point(points, path[i]) - Point(points, path[i - 1])).norm();
+  }
+  const bool loop = path.front() == path.back();
+  const double total = arc.back();
+  const auto pointAt = [&](double at) { // the line's point at arc length `at`
+    at = loop ? at - total * std::floor(at / total) : std::clamp(at, 0.0, total);
+    const std::size_t k = std::min<std::size_t>(n - 2,
+      static_cast<std::size_t>(std::upper_bound(arc.begin(), arc.end(), at) - arc.begin()) - 1);
+    const double span = arc[k + 1] - arc[k];
+    const double t = span > 0.0 ? std::clamp((at - arc[k]) / span, 0.0, 1.0) : 0.0;
+    return Vec3((1.0 - t) * Point(points, path[k]) + t * Point(points, path[k + 1]));
+  };
+  for (std::size_t i = 0; i < n && n > 2 && total > 0.0; ++i)
   {
     if ((i == 0 || i + 1 == n) && !loop)
     {
       continue;
     }
-    const std::size_t before = i == 0 ? n - 2 : i - 1, after = i + 1 == n ? 1 : i + 1;
-    const Vec3 in = Point(points, path[i]) - Point(points, path[before]);
-    const Vec3 out = Point(points, path[after]) - Point(points, path[i]);
+    // (at least to the vertices before and after: a line of edges longer
+    // than the spacing turns at its vertices, as the line itself)
+    const double edgeIn = i > 0 ? arc[i] - arc[i - 1] : total - arc[n - 2];
+    const double edgeOut = i + 1 < n ? arc[i + 1] - arc[i] : arc[1];
+    const double most = loop ? 0.5 * total : total;
+    const Vec3 in = Point(points, path[i]) - pointAt(arc[i] - std::min(most, std::max(spacing[i], edgeIn)));
+    const Vec3 out = pointAt(arc[i] + std::min(most, std::max(spacing[i], edgeOut))) - Point(points, path[i]);
     const double lengths = in.norm() + out.norm();
-    curvature[i] = lengths > 0.0 ? std::atan2(in.cross(out).norm(), in.dot(out)) / (0.5 * lengths) : 0.0;
+    curvature[i] = in.norm() > 0.0 && out.norm() > 0.0 ? std::atan2(in.cross(out).norm(), in.dot(out)) / (0.5 * lengths)
+                                                        : 0.0;
   }
   return curvature;
 }
@@ -248,8 +274,13 @@ void SampleBoundaries(const MeshTopology& topology, const double* points, const 
     }
     path.Arc.assign(vertices.size(), 0.0);
     std::vector<double> cumulative(vertices.size(), 0.0);
+    std::vector<double> spacing(vertices.size());
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+    {
+      spacing[i] = 1.0 / std::max(1e-300, lambda(vertices[i]));
+    }
     const std::vector<double> curvature = maxSag > 0.0 && IsKeptEdge(edges, first, featureEdges)
-      ? LineCurvature(points, vertices)
+      ? LineCurvature(points, vertices, spacing)
       : std::vector<double>(vertices.size(), 0.0);
     const auto along = [&](std::size_t i) {
       const double l = lambda(vertices[i]);
