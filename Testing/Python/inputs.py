@@ -243,6 +243,49 @@ def torus_with_thin_handle(n=48):
     return ring + offset * thin[:, None], t
 
 
+def punched(points, triangles, holes=60, seed=0, radii=(1.5, 4.0)):
+    """A scan with small holes punched into it, as scanners leave them: the
+    triangles within a random 1.5-4 mean edge lengths of `holes` random
+    vertices removed, the largest piece kept (jagged rims, holes smaller
+    than most remeshes' spacing); the first seed from `seed` on whose holes
+    leave a manifold surface."""
+    points, triangles = np.asarray(points, float), np.asarray(triangles)
+    edge = np.linalg.norm(points[triangles[:, 0]] - points[triangles[:, 1]], axis=1).mean()
+    centres = points[triangles].mean(axis=1)
+    for attempt in range(seed, seed + 20):
+        rng = np.random.default_rng(attempt)
+        keep = np.ones(len(triangles), dtype=bool)
+        for c in rng.choice(len(points), holes, replace=False):
+            keep &= np.linalg.norm(centres - points[c], axis=1) > rng.uniform(*radii) * edge
+        p, t = largest_piece(points, triangles[keep])
+        if topology(p, t)["manifold"]:
+            return p, t
+    raise RuntimeError("no punched surface is manifold")
+
+
+def largest_piece(points, triangles):
+    """The largest edge-connected piece of a triangle list, compacted."""
+    parent = np.arange(len(points))
+
+    def root(a):
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+    for a, b, c in triangles:
+        for u, v in ((a, b), (b, c)):
+            ru, rv = root(u), root(v)
+            if ru != rv:
+                parent[ru] = rv
+    roots = np.array([root(a) for a in triangles[:, 0]])
+    values, counts = np.unique(roots, return_counts=True)
+    kept = triangles[roots == values[np.argmax(counts)]]
+    used = np.unique(kept)
+    index = np.full(len(points), -1)
+    index[used] = np.arange(len(used))
+    return points[used], index[kept]
+
+
 def decimated_bone(n=160, keep=0.1):
     """A genus-2 bone (a shaft between two flat ends, each with a hole
     through it) as a decimated scan gives it: the marching-cubes surface of

@@ -3,6 +3,7 @@
 #include "Maps/ChartPartition.h"
 #include "Maps/GeometryImages.h"
 #include "Mesh/Geometry.h"
+#include "Remeshing/BoundaryChords.h"
 #include "Remeshing/ErrorDiffusion.h"
 #include "Remeshing/SqueezedParts.h"
 #include "Remeshing/Tips.h"
@@ -718,6 +719,7 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
     SampleBoundaries(topology, points, importance, atlas.ChartOfTriangle, boundaries, out.Density,
       options.FeatureEdges, 0.0, out);
   }
+  SeparateCrossingChords(topology, points, atlas, out);
   out.BoundarySamples = static_cast<std::int64_t>(out.Kind.size());
   if (out.BoundarySamples > options.NumberOfSamples)
   {

@@ -1,0 +1,186 @@
+#include "Remeshing/BoundaryChords.h"
+
+#include "Remeshing/Remesh.h"
+
+#include <algorithm>
+#include <array>
+#include <set>
+#include <utility>
+#include <vector>
+
+namespace beltrami
+{
+
+namespace
+{
+
+using PlanePoint = std::array<double, 2>;
+
+/// The parameter positions of a path's vertices in one chart (empty where
+/// a vertex is not in it).
+std::vector<PlanePoint> PathInChart(const SamplePath& path, const AtlasChart& chart)
+{
+  std::vector<PlanePoint> uv(path.Vertices.size());
+  for (std::size_t i = 0; i < path.Vertices.size(); ++i)
+  {
+    const auto at = std::lower_bound(chart.Vertices.begin(), chart.Vertices.end(), path.Vertices[i]);
+    if (at == chart.Vertices.end() || *at != path.Vertices[i])
+    {
+      return {};
+    }
+    const std::size_t local = static_cast<std::size_t>(at - chart.Vertices.begin());
+    uv[i] = { chart.UV[2 * local], chart.UV[2 * local + 1] };
+  }
+  return uv;
+}
+
+/// The path's point at arc length `arc` in the chart (vertex positions uv).
+PlanePoint AtArc(const SamplePath& path, const std::vector<PlanePoint>& uv, double arc)
+{
+  const std::size_t n = path.Arc.size();
+  const std::size_t k = std::min<std::size_t>(n - 2,
+    static_cast<std::size_t>(std::upper_bound(path.Arc.begin(), path.Arc.end(), arc) - path.Arc.begin()) - 1);
+  const double span = path.Arc[k + 1] - path.Arc[k];
+  const double t = span > 0.0 ? std::clamp((arc - path.Arc[k]) / span, 0.0, 1.0) : 0.0;
+  return { (1.0 - t) * uv[k][0] + t * uv[k + 1][0], (1.0 - t) * uv[k][1] + t * uv[k + 1][1] };
+}
+
+double Orient(const PlanePoint& a, const PlanePoint& b, const PlanePoint& c)
+{
+  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+/// Proper crossing of segments ab and cd (not at a shared end).
+bool Cross(const PlanePoint& a, const PlanePoint& b, const PlanePoint& c, const PlanePoint& d)
+{
+  const double o1 = Orient(a, b, c), o2 = Orient(a, b, d), o3 = Orient(c, d, a), o4 = Orient(c, d, b);
+  return ((o1 > 0.0 && o2 < 0.0) || (o1 < 0.0 && o2 > 0.0)) && ((o3 > 0.0 && o4 < 0.0) || (o3 < 0.0 && o4 > 0.0));
+}
+
+/// A chord of a chart: path p's samples j, j + 1, and its ends' sample ids.
+struct Chord
+{
+  int Path;
+  std::size_t Number;
+  PlanePoint A, B;
+  Index SampleA, SampleB;
+};
+
+/// The chords of chart c's boundary paths whose chords cross another's,
+/// as (path, chord index) pairs.
+std::set<std::pair<int, std::size_t>> CrossingChords(const AtlasChart& chart, int c, const SurfaceSamples& out,
+  std::vector<std::vector<PlanePoint>>& uvOfPath)
+{
+  std::vector<Chord> chords;
+  for (std::size_t p = 0; p < out.Paths.size(); ++p)
+  {
+    const SamplePath& path = out.Paths[p];
+    if (path.Charts[0] != c && path.Charts[1] != c)
+    {
+      continue;
+    }
+    uvOfPath[p] = PathInChart(path, chart);
+    if (uvOfPath[p].size() < 2)
+    {
+      continue;
+    }
+    for (std::size_t j = 0; j + 1 < path.Samples.size(); ++j)
+    {
+      chords.push_back({ static_cast<int>(p), j, AtArc(path, uvOfPath[p], path.SampleArc[j]),
+        AtArc(path, uvOfPath[p], path.SampleArc[j + 1]), path.Samples[j], path.Samples[j + 1] });
+    }
+  }
+  std::sort(chords.begin(), chords.end(),
+    [](const Chord& x, const Chord& y) { return std::min(x.A[0], x.B[0]) < std::min(y.A[0], y.B[0]); });
+  std::set<std::pair<int, std::size_t>> crossing;
+  for (std::size_t i = 0; i < chords.size(); ++i)
+  {
+    const Chord& x = chords[i];
+    const double right = std::max(x.A[0], x.B[0]);
+    for (std::size_t k = i + 1; k < chords.size() && std::min(chords[k].A[0], chords[k].B[0]) <= right; ++k)
+    {
+      const Chord& y = chords[k];
+      const bool shareEnd = x.SampleA == y.SampleA || x.SampleA == y.SampleB || x.SampleB == y.SampleA ||
+        x.SampleB == y.SampleB;
+      if (!shareEnd && Cross(x.A, x.B, y.A, y.B))
+      {
+        crossing.insert({ x.Path, x.Number });
+        crossing.insert({ y.Path, y.Number });
+      }
+    }
+  }
+  return crossing;
+}
+
+/// The path vertex strictly between chord j's samples farthest from the
+/// chord in the chart (-1: none).
+std::ptrdiff_t FarthestVertex(const SamplePath& path, const std::vector<PlanePoint>& uv, std::size_t j)
+{
+  const PlanePoint a = AtArc(path, uv, path.SampleArc[j]), b = AtArc(path, uv, path.SampleArc[j + 1]);
+  std::ptrdiff_t best = -1;
+  double farthest = -1.0;
+  for (std::size_t i = 0; i < path.Vertices.size(); ++i)
+  {
+    if (path.Arc[i] > path.SampleArc[j] && path.Arc[i] < path.SampleArc[j + 1])
+    {
+      const double d = std::abs(Orient(a, b, uv[i]));
+      if (d > farthest)
+      {
+        farthest = d;
+        best = static_cast<std::ptrdiff_t>(i);
+      }
+    }
+  }
+  return best;
+}
+
+} // namespace
+
+std::int64_t SeparateCrossingChords(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
+  SurfaceSamples& out)
+{
+  std::int64_t added = 0;
+  for (int round = 0; round < 16; ++round)
+  {
+    // (path, vertex) to sample, from every chart's crossings
+    std::set<std::pair<int, std::size_t>> wanted;
+    std::vector<std::vector<PlanePoint>> uvOfPath(out.Paths.size());
+    for (int c = 0; c < static_cast<int>(atlas.Charts.size()); ++c)
+    {
+      for (const auto& [p, j] : CrossingChords(atlas.Charts[c], c, out, uvOfPath))
+      {
+        const std::ptrdiff_t i = FarthestVertex(out.Paths[p], uvOfPath[p], j);
+        if (i >= 0)
+        {
+          wanted.insert({ p, static_cast<std::size_t>(i) });
+        }
+      }
+    }
+    if (wanted.empty())
+    {
+      break;
+    }
+    for (const auto& [p, i] : wanted)
+    {
+      SamplePath& path = out.Paths[p];
+      const double arc = path.Arc[i];
+      const std::size_t at =
+        static_cast<std::size_t>(std::upper_bound(path.SampleArc.begin(), path.SampleArc.end(), arc) -
+          path.SampleArc.begin());
+      double w[3];
+      const Index triangle = LocateOnPath(topology, path, arc, w);
+      const Vec3 x = SurfacePoint(topology, points, triangle, w);
+      path.Samples.insert(path.Samples.begin() + static_cast<std::ptrdiff_t>(at), static_cast<Index>(out.Kind.size()));
+      path.SampleArc.insert(path.SampleArc.begin() + static_cast<std::ptrdiff_t>(at), arc);
+      out.Triangle.push_back(triangle);
+      out.Barycentric.insert(out.Barycentric.end(), w, w + 3);
+      out.Positions.insert(out.Positions.end(), { x.x(), x.y(), x.z() });
+      out.Kind.push_back(SampleKind::Boundary);
+      out.Chart.push_back(-1);
+      ++added;
+    }
+  }
+  return added;
+}
+
+} // namespace beltrami
