@@ -250,9 +250,6 @@ def triangle_quality(points, triangles):
 # bars a little below the figures measured, the meshes that do not meet it
 # yet (the hard shapes' needles and thin plate have angles far below 15
 # degrees themselves, and are measured only):
-#   elephant-with-holes  22.8 deg, 0.32%, 75.2% of valence 6: 106 punched
-#                        holes whose jagged rims take a third of the
-#                        vertices;
 #   mech-holes-shark     0.6 deg (0.18% below 30): where a sharp edge
 #                        passes a corner of the charts straight, a flat
 #                        triangle of two of its samples and the corner;
@@ -261,8 +258,7 @@ def triangle_quality(points, triangles):
 # they are split, and remeshes that fold over themselves, with angles of 0
 # degrees, unless the stitching unfolds them.
 QUALITY_SHAPES = {"decimated-bone"}
-QUALITY_EXCEPTIONS = {"elephant-with-holes.off": (15.0, 0.005, 0.74),
-                      "mech-holes-shark.off": (0.0, 0.005, 0.78)}
+QUALITY_EXCEPTIONS = {"mech-holes-shark.off": (0.0, 0.005, 0.78)}
 
 
 def check_quality(path, points, triangles):

@@ -1,6 +1,7 @@
 // Beltrami core: the optimisation of a remesh (thesis sections 4.4.2-4.4.4)
 // with its vertices kept, in two passes.  Chart rounds: edge swaps inside
-// charts that bring valences to 6 (4 on the surface's boundary) and improve
+// charts that bring valences to 6 (on the surface's boundary one more than
+// the vertex's angle in sixties: 4 on a straight stretch) and improve
 // the triangles' area/perimeter^2 ratio in 3D, alternated with a relaxation
 // of the vertices in their chart's parameter plane: Lloyd's step, each
 // vertex to the centroid of its Voronoi cell (the mixed areas of section 2.3

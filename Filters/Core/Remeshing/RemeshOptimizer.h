@@ -106,7 +106,12 @@ private:
   bool CanSwap(Index h) const { return M.CanFlip(h) && (Stitching || FlipKeepsCharts(h)) && FlipKeepsSurface(h); }
   void Flip(Index h);
   std::pair<double, double> Roundnesses(Index h) const;
-  int Target(Index v) const { return M.IsBoundaryVertex(v) ? 4 : 6; }
+  /// The valence that gives v's triangles angles near 60 degrees: 6
+  /// inside; on the surface's boundary one more than its angle (the sum of
+  /// its corners) in sixties, 4 on a straight stretch (UpdateBoundaryTargets).
+  int Target(Index v) const { return M.IsBoundaryVertex(v) ? BoundaryTarget[v] : 6; }
+  void UpdateBoundaryTargets();
+  std::vector<int> BoundaryTarget;
   double Importance(Index f) const;
   double ImportanceAt(Index v) const;
   double Weight(Index f) const;
