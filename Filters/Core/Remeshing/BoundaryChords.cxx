@@ -1,7 +1,5 @@
 #include "Remeshing/BoundaryChords.h"
 
-#include "Remeshing/Remesh.h"
-
 #include <algorithm>
 #include <array>
 #include <set>
@@ -37,11 +35,7 @@ std::vector<PlanePoint> PathInChart(const SamplePath& path, const AtlasChart& ch
 /// The path's point at arc length `arc` in the chart (vertex positions uv).
 PlanePoint AtArc(const SamplePath& path, const std::vector<PlanePoint>& uv, double arc)
 {
-  const std::size_t n = path.Arc.size();
-  const std::size_t k = std::min<std::size_t>(n - 2,
-    static_cast<std::size_t>(std::upper_bound(path.Arc.begin(), path.Arc.end(), arc) - path.Arc.begin()) - 1);
-  const double span = path.Arc[k + 1] - path.Arc[k];
-  const double t = span > 0.0 ? std::clamp((arc - path.Arc[k]) / span, 0.0, 1.0) : 0.0;
+  const auto [k, t] = EdgeAtArc(path.Arc, arc);
   return { (1.0 - t) * uv[k][0] + t * uv[k + 1][0], (1.0 - t) * uv[k][1] + t * uv[k + 1][1] };
 }
 
@@ -169,14 +163,9 @@ std::int64_t SeparateCrossingChords(const MeshTopology& topology, const double* 
           path.SampleArc.begin());
       double w[3];
       const Index triangle = LocateOnPath(topology, path, arc, w);
-      const Vec3 x = SurfacePoint(topology, points, triangle, w);
       path.Samples.insert(path.Samples.begin() + static_cast<std::ptrdiff_t>(at), static_cast<Index>(out.Kind.size()));
       path.SampleArc.insert(path.SampleArc.begin() + static_cast<std::ptrdiff_t>(at), arc);
-      out.Triangle.push_back(triangle);
-      out.Barycentric.insert(out.Barycentric.end(), w, w + 3);
-      out.Positions.insert(out.Positions.end(), { x.x(), x.y(), x.z() });
-      out.Kind.push_back(SampleKind::Boundary);
-      out.Chart.push_back(-1);
+      AddSample(topology, points, triangle, w, SampleKind::Boundary, -1, out);
       ++added;
     }
   }

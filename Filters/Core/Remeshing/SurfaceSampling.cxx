@@ -5,6 +5,7 @@
 #include "Mesh/Geometry.h"
 #include "Remeshing/BoundaryChords.h"
 #include "Remeshing/ErrorDiffusion.h"
+#include "Remeshing/Remesh.h"
 #include "Remeshing/SqueezedParts.h"
 #include "Remeshing/Tips.h"
 
@@ -141,28 +142,21 @@ BoundaryPaths ChartBoundaries(const MeshTopology& topology, const double* points
   return result;
 }
 
-/// The surface point in `triangle` at barycentric weights w (of its corners).
-Vec3 SurfacePointAt(const MeshTopology& topology, const double* points, Index triangle, const double* w)
-{
-  Vec3 x = Vec3::Zero();
-  for (int k = 0; k < 3; ++k)
-  {
-    x += w[k] * Point(points, topology.CornerVertex(3 * triangle + k));
-  }
-  return x;
-}
+} // namespace
 
-/// A sample in `triangle` at barycentric weights w (of its corners).
 void AddSample(const MeshTopology& topology, const double* points, Index triangle, const double* w, SampleKind kind,
   int chart, SurfaceSamples& out)
 {
-  const Vec3 x = SurfacePointAt(topology, points, triangle, w);
+  const Vec3 x = SurfacePoint(topology, points, triangle, w);
   out.Triangle.push_back(triangle);
   out.Barycentric.insert(out.Barycentric.end(), w, w + 3);
   out.Positions.insert(out.Positions.end(), { x.x(), x.y(), x.z() });
   out.Kind.push_back(kind);
   out.Chart.push_back(chart);
 }
+
+namespace
+{
 
 /// The triangle with the edge (a, b) (b == a: one with the vertex a) and the
 /// weights of the point at fraction t of the way from a to b.
@@ -183,8 +177,9 @@ Index EdgePoint(const MeshTopology& topology, Index a, Index b, double t, double
   return triangle;
 }
 
-/// A kept line's curvature at each of its vertices at the scale of the
-/// spacing there (`spacing`, per path vertex): the angle between the chords
+/// A kept line's curvature at each of its vertices (`arc`: their arc
+/// lengths) at the scale of the spacing there (`spacing`, per path
+/// vertex): the angle between the chords
 /// to the line's points that spacing before and after it (or to the
 /// vertices before and after, where farther), over their mean length (a
 /// closed loop wraps around; towards a path's ends the chords shorten, and
@@ -194,22 +189,14 @@ Index EdgePoint(const MeshTopology& topology, Index a, Index b, double t, double
 /// smaller than the spacing departs from its chords by less than its own
 /// size, which the remesh's fidelity allows.
 std::vector<double> LineCurvature(const double* points, const std::vector<Index>& path,
-  const std::vector<double>& spacing)
+  const std::vector<double>& arc, const std::vector<double>& spacing)
 {
   const std::size_t n = path.size();
-  std::vector<double> curvature(n, 0.0), arc(n, 0.0);
-  for (std::size_t i = 1; i < n; ++i)
-  {
-    arc[i] = arc[i - 1] + (Point(points, path[i]) - Point(points, path[i - 1])).norm();
-  }
+  std::vector<double> curvature(n, 0.0);
   const bool loop = path.front() == path.back();
   const double total = arc.back();
   const auto pointAt = [&](double at) { // the line's point at arc length `at`
-    at = loop ? at - total * std::floor(at / total) : std::clamp(at, 0.0, total);
-    const std::size_t k = std::min<std::size_t>(n - 2,
-      static_cast<std::size_t>(std::upper_bound(arc.begin(), arc.end(), at) - arc.begin()) - 1);
-    const double span = arc[k + 1] - arc[k];
-    const double t = span > 0.0 ? std::clamp((at - arc[k]) / span, 0.0, 1.0) : 0.0;
+    const auto [k, t] = EdgeAtArc(arc, loop ? at - total * std::floor(at / total) : at);
     return Vec3((1.0 - t) * Point(points, path[k]) + t * Point(points, path[k + 1]));
   };
   for (std::size_t i = 0; i < n && n > 2 && total > 0.0; ++i)
@@ -274,14 +261,15 @@ void SampleBoundaries(const MeshTopology& topology, const double* points, const 
       k += corner >= 0;
     }
     path.Arc.assign(vertices.size(), 0.0);
-    std::vector<double> cumulative(vertices.size(), 0.0);
-    std::vector<double> spacing(vertices.size());
+    std::vector<double> spacing(vertices.size()), edge(vertices.size(), 0.0); // edge i: from vertex i - 1
     for (std::size_t i = 0; i < vertices.size(); ++i)
     {
+      edge[i] = i > 0 ? (Point(points, vertices[i]) - Point(points, vertices[i - 1])).norm() : 0.0;
+      path.Arc[i] = i > 0 ? path.Arc[i - 1] + edge[i] : 0.0;
       spacing[i] = 1.0 / std::max(1e-300, lambda(vertices[i]));
     }
     const std::vector<double> curvature = maxSag > 0.0 && IsKeptEdge(edges, first, featureEdges)
-      ? LineCurvature(points, vertices, spacing)
+      ? LineCurvature(points, vertices, path.Arc, spacing)
       : std::vector<double>(vertices.size(), 0.0);
     const auto along = [&](std::size_t i) {
       const double l = lambda(vertices[i]);
@@ -295,11 +283,10 @@ void SampleBoundaries(const MeshTopology& topology, const double* points, const 
         path.Refinement[i] = along(i) / lambda(vertices[i]);
       }
     }
+    std::vector<double> cumulative(vertices.size(), 0.0);
     for (std::size_t i = 1; i < vertices.size(); ++i)
     {
-      const double length = (Point(points, vertices[i]) - Point(points, vertices[i - 1])).norm();
-      path.Arc[i] = path.Arc[i - 1] + length;
-      cumulative[i] = cumulative[i - 1] + 0.5 * (along(i) + along(i - 1)) * length;
+      cumulative[i] = cumulative[i - 1] + 0.5 * (along(i) + along(i - 1)) * edge[i];
     }
     const double total = cumulative.back();
     const bool loop = vertices.front() == vertices.back();
@@ -401,7 +388,7 @@ void GiveEveryChartAnInteriorSample(
     // follow the boundary samples, whose ids the paths hold).
     const std::size_t s = static_cast<std::size_t>(last[donor]);
     const double w[3] = { 1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0 };
-    const Vec3 x = SurfacePointAt(topology, points, largest, w);
+    const Vec3 x = SurfacePoint(topology, points, largest, w);
     out.Triangle[s] = largest;
     std::copy(w, w + 3, &out.Barycentric[3 * s]);
     std::copy(x.data(), x.data() + 3, &out.Positions[3 * s]);
@@ -590,19 +577,16 @@ const std::vector<ChartLocator>& RemeshCache::Locators(const AtlasResult& atlas)
 namespace
 {
 
-/// The path's edge (its first vertex's index) at arc length `arc` and the
-/// fraction of the way along it.
-std::pair<std::size_t, double> EdgeAtArc(const SamplePath& path, double arc)
-{
-  const std::size_t last = path.Vertices.size() - 1;
-  std::size_t node = static_cast<std::size_t>(
-    std::upper_bound(path.Arc.begin(), path.Arc.end(), arc) - path.Arc.begin());
-  node = std::clamp<std::size_t>(node, 1, last) - 1;
-  const double span = path.Arc[node + 1] - path.Arc[node];
-  return { node, span > 0.0 ? std::clamp((arc - path.Arc[node]) / span, 0.0, 1.0) : 0.0 };
-}
-
 } // namespace
+
+std::pair<std::size_t, double> EdgeAtArc(const std::vector<double>& arcs, double arc)
+{
+  const std::size_t last = arcs.size() - 1;
+  std::size_t node = static_cast<std::size_t>(std::upper_bound(arcs.begin(), arcs.end(), arc) - arcs.begin());
+  node = std::clamp<std::size_t>(node, 1, last) - 1;
+  const double span = arcs[node + 1] - arcs[node];
+  return { node, span > 0.0 ? std::clamp((arc - arcs[node]) / span, 0.0, 1.0) : 0.0 };
+}
 
 double SpacingAt(const double* importance, double density, Index v)
 {
@@ -611,7 +595,7 @@ double SpacingAt(const double* importance, double density, Index v)
 
 Index LocateOnPath(const MeshTopology& topology, const SamplePath& path, double arc, double barycentric[3])
 {
-  const auto [node, t] = EdgeAtArc(path, arc);
+  const auto [node, t] = EdgeAtArc(path.Arc, arc);
   return EdgePoint(topology, path.Vertices[node], path.Vertices[node + 1], t, barycentric);
 }
 
@@ -624,7 +608,7 @@ std::optional<double> RefinedMiddle(const SamplePath& path, double lo, double hi
   // The refinement, linear on each edge, at the ends and at the vertices
   // between them; the integral by the trapezoid rule.
   const auto at = [&](double arc) {
-    const auto [i, t] = EdgeAtArc(path, arc);
+    const auto [i, t] = EdgeAtArc(path.Arc, arc);
     return (1.0 - t) * path.Refinement[i] + t * path.Refinement[i + 1];
   };
   std::vector<double> arcs = { lo };

@@ -22,6 +22,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace beltrami
@@ -161,6 +162,15 @@ inline double SpacingOf(double density, double importance)
 
 /// SpacingOf at surface vertex v (importance: per vertex, or null: uniform).
 double SpacingAt(const double* importance, double density, Index v);
+
+/// The edge (its first vertex's index) of a polyline with cumulative arc
+/// lengths `arcs` at arc length `arc`, and the fraction of the way along it.
+std::pair<std::size_t, double> EdgeAtArc(const std::vector<double>& arcs, double arc);
+
+/// A sample in `triangle` at barycentric weights w (of its corners),
+/// appended to `out`.
+void AddSample(const MeshTopology& topology, const double* points, Index triangle, const double* w, SampleKind kind,
+  int chart, SurfaceSamples& out);
 
 /// The point at arc length `arc` along `path`: a surface triangle with the
 /// path's edge there and the barycentric weights of its corners.
