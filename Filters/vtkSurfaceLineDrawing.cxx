@@ -107,10 +107,6 @@ int vtkSurfaceLineDrawing::RequestData(
 
 int vtkSurfaceLineDrawing::DrawSplit(vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  if (this->Visibility != ALL_LINES)
-  {
-    return -1; // (the visibility rays need every triangle: the whole surface on rank 0)
-  }
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* lines = vtkPolyData::GetData(outputVector, 0);
   vtkPolyData* surface = vtkPolyData::GetData(outputVector, 1);
@@ -327,7 +323,7 @@ int vtkSurfaceLineDrawing::DrawView(vtkPolyData* output, vtkPolyData* surface)
     values[k] = array->GetPointer(0);
   }
   beltrami::LineSet lines = beltrami::DrawLines(geometry, view, options, { values[0], values[1], values[2] });
-  if (options.Visibility != beltrami::LineVisibility::All && !geometry.Split)
+  if (options.Visibility != beltrami::LineVisibility::All) // (split: collective)
   {
     beltrami::VisibilityOptions visibility;
     visibility.KeepHidden = options.Visibility == beltrami::LineVisibility::VisibleAndHidden;

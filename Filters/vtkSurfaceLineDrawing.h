@@ -70,14 +70,16 @@
  * vtkLineDrawingWriter.
  *
  * Distributed runs (pvbatch, pvserver): a surface split over the ranks is
- * drawn where it lies (with Visibility on, gathered on rank 0 and drawn
- * there).  The ranks exchange the triangles around their
+ * drawn where it lies.  The ranks exchange the triangles around their
  * common points (so that every point of a piece has its whole 1-ring),
  * each computes the curvatures and their derivatives of its piece and
  * takes its neighbours' values for the ring, and finds the segments of the
  * triangles and edges it owns; only the segments travel, to rank 0, which
  * chains them and holds the polylines (the serial drawing up to the order
- * of the lines).  Output 1 is each rank's piece with its arrays; field
+ * of the lines).  With Visibility, every rank casts rank 0's rays through
+ * its own triangles (with the stars of its ghost points from their owners)
+ * and the answers are combined: the serial visible and hidden lines, the
+ * surface never gathered.  Output 1 is each rank's piece with its arrays; field
  * array LineDrawingDistribution: the rank's owned points, ghost points,
  * triangles with the ring, values sent per exchange.  Pieces that come with
  * ghost cells are gathered on rank 0.

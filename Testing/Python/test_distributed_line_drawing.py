@@ -14,8 +14,10 @@ closed ones, points, lengths, strengths: every point of each drawing within
 1e-9 of the diagonal of a point of the other), the per-point arrays of
 output 1 (CurvatureDerivative, NdotV, RadialCurvature...) on every piece;
 a new camera re-runs only the per-view pass; a rank with an empty piece; a
-NaN point (no hang); Visibility (the surface gathered on rank 0: the serial
-visible and hidden lines) and the Line Drawing Writer (one page, by rank 0);
+NaN point (no hang); Visibility (each rank casts the rays through its own
+triangles: the serial visible and hidden lines, also where one rank's
+sphere hides another's, and no rank holds more than its piece) and the
+Line Drawing Writer (one page, by rank 0);
 what each rank holds (with 4 ranks no rank more than a third of the points
 and triangles)."""
 import builtins  # (ParaView's programmable filters put numpy_interface's max, abs... in __main__)
@@ -170,14 +172,30 @@ if ranks > 1:
     run("bunny00.off", "bunny on %d of %d ranks" % (empty_rank_partitions(ranks), ranks), bunny_cameras[:1],
         partitions=empty_rank_partitions(ranks))
 
-# Visibility: the rays need every triangle, so the surface is gathered on
-# rank 0 and drawn there: the serial visible and hidden lines. The Line
-# Drawing Writer writes them once, on rank 0.
+# Visibility: each rank casts rank 0's rays through its own triangles, so
+# the surface is not gathered: the serial visible and hidden lines.  The
+# Line Drawing Writer writes them once, on rank 0.
 SETTINGS["Visibility"] = vtkSurfaceLineDrawing.VISIBLE_AND_HIDDEN_LINES
+
+
+def hidden_lines(drawing):
+    hidden = servermanager.Fetch(drawing).GetCellData().GetArray("Hidden")
+    return [hidden.GetValue(i) for i in range(hidden.GetNumberOfTuples())] if hidden else []
+
+
+# A sphere per rank, in a row seen along it: the nearest hides the others.
+spheres, _ = run(piecewise_source(DISJOINT_SPHERES), "spheres in a row, visibility", ((20.0, 0.6, 0.4),))
+flags = hidden_lines(spheres)
+check((ranks == 1 and flags == [0]) or ranks - 1 <= builtins.sum(flags) < len(flags),
+      "the spheres in a row: %d of %d lines hidden over %d rank(s)" % (builtins.sum(flags), len(flags), ranks))
 drawing, whole = run("bunny00.off", "bunny with visibility", bunny_cameras[:1])
-hidden = servermanager.Fetch(drawing).GetCellData().GetArray("Hidden")
-check(hidden is not None and 0 < builtins.sum(hidden.GetValue(i) for i in range(hidden.GetNumberOfTuples()))
-      < hidden.GetNumberOfTuples(), "visible and hidden lines over %d rank(s)" % ranks)
+flags = hidden_lines(drawing)
+check(0 < builtins.sum(flags) < len(flags), "visible and hidden lines over %d rank(s)" % ranks)
+if ranks == 4:
+    owned, ghosts, triangles = rank_rows(OutputPort(drawing, 1), "LineDrawingDistribution", ("Owned", "Ghosts", "Triangles"))
+    check((owned + ghosts).max() <= whole.GetNumberOfPoints() / 3 and triangles.max() <= whole.GetNumberOfCells() / 3,
+          "with visibility no rank holds more than a third: points %s of %d, triangles %s of %d"
+          % (owned + ghosts, whole.GetNumberOfPoints(), triangles, whole.GetNumberOfCells()))
 folder = os.environ.get("BELTRAMI_TEST_OUTPUT_DIR", "/tmp")
 page, serial_page = (os.path.join(folder, "distributed_drawing_%s.svg" % k) for k in (ranks, "%d_serial" % ranks))
 SaveData(page, proxy=drawing)  # (rank 0 writes)

@@ -767,9 +767,10 @@ ViewSegments CollectViewSegments(const LineDrawingGeometry& geo, const LineView&
   return segments;
 }
 
-ViewSegments GatherViewSegments(const ViewSegments& mine, const Partition& split)
+ViewSegments GatherViewSegments(const ViewSegments& mine, const LineDrawingGeometry& geo)
 {
-  // Per process and line type: the count, the keys (their bits), the ends.
+  // Per process and line type: the count, the keys (their bits), the ends,
+  // the corners of the faces (global rows: exact in doubles).
   constexpr int perSegment = 2 * ViewSegments::ValuesPerEnd;
   std::vector<double> packed;
   for (int type = 0; type < NumberOfLineTypes; ++type)
@@ -782,8 +783,15 @@ ViewSegments GatherViewSegments(const ViewSegments& mine, const Partition& split
       packed.push_back(bits);
     }
     packed.insert(packed.end(), mine.Ends[type].begin(), mine.Ends[type].end());
+    for (const Index f : mine.Faces[type])
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        packed.push_back(static_cast<double>(geo.KeyId(geo.Triangles[3 * static_cast<std::int64_t>(f) + c])));
+      }
+    }
   }
-  const std::vector<double> all = split.GatherOnFirst(packed); // (the others return no lines)
+  const std::vector<double> all = geo.Split->GatherOnFirst(packed); // (the others return no lines)
   ViewSegments segments;
   for (std::size_t at = 0; at < all.size();)
   {
@@ -798,6 +806,14 @@ ViewSegments GatherViewSegments(const ViewSegments& mine, const Partition& split
       }
       segments.Ends[type].insert(segments.Ends[type].end(), all.begin() + at, all.begin() + at + perSegment * count);
       at += perSegment * count;
+      for (std::size_t k = 0; k < count; ++k)
+      {
+        segments.Faces[type].push_back(static_cast<Index>(segments.FaceCorners.size() / 3));
+        for (int c = 0; c < 3; ++c)
+        {
+          segments.FaceCorners.push_back(static_cast<std::int64_t>(all[at++]));
+        }
+      }
     }
   }
   return segments;
@@ -818,6 +834,7 @@ LineSet ChainViewSegments(const ViewSegments& segments, const LineDrawingOptions
     return filter;
   };
   LineSet lines;
+  lines.FaceCorners = segments.FaceCorners;
   LineFilter contours; // (contours: no threshold, the length alone)
   contours.MinimumLength = options.MinimumLength * size;
   AddLines(segments, LineType::Contour, lines, contours);
@@ -837,7 +854,7 @@ LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const Li
   ViewSegments segments = CollectViewSegments(geo, view, options, fields);
   if (geo.Split)
   {
-    segments = GatherViewSegments(segments, *geo.Split); // (collective)
+    segments = GatherViewSegments(segments, geo); // (collective)
     if (geo.Split->Rank() != 0)
     {
       return LineSet();

@@ -266,9 +266,13 @@ struct LineSet
   /// the hidden parts kept; empty: none tested).
   std::vector<std::uint8_t> Hidden;
   /// Per entry of Connectivity: the face that the piece from that point to
-  /// the next lies in (-1: the last point of a line, or not known: split
-  /// runs' lines, chained from every process' segments).
+  /// the next lies in (-1: the last point of a line, or not known).
   std::vector<Index> EdgeFace;
+  /// Split runs (process 0's lines, chained from every process' segments):
+  /// the key ids (LineDrawingGeometry::KeyId) of the corners of the faces
+  /// that EdgeFace names, 3 per face; empty: EdgeFace names the geometry's
+  /// own triangles.
+  std::vector<std::int64_t> FaceCorners;
   Index NumberOfLines() const { return static_cast<Index>(Type.size()); }
 };
 
@@ -280,8 +284,11 @@ struct ViewSegments
   static constexpr int ValuesPerEnd = 7;
   std::vector<std::int64_t> Keys[NumberOfLineTypes];
   std::vector<double> Ends[NumberOfLineTypes];
-  /// The face of each segment (this process' numbering; not gathered).
+  /// The face of each segment: this process' numbering; after a gather,
+  /// an index into FaceCorners.
   std::vector<Index> Faces[NumberOfLineTypes];
+  /// Gathered segments: the key ids of the corners of their faces, 3 each.
+  std::vector<std::int64_t> FaceCorners;
 };
 
 /// The per-view pass: the segments of this process' faces and edges
@@ -292,8 +299,9 @@ LineSet DrawLines(const LineDrawingGeometry& geometry, const LineView& view,
   const LineDrawingOptions& options, const ViewFields& fields = {});
 ViewSegments CollectViewSegments(const LineDrawingGeometry& geometry, const LineView& view,
   const LineDrawingOptions& options, const ViewFields& fields = {});
-/// Every process' segments on process 0 (collective); the others get none.
-ViewSegments GatherViewSegments(const ViewSegments& mine, const Partition& split);
+/// Every process' segments on process 0, with their faces as corner key
+/// ids (collective); the others get none.
+ViewSegments GatherViewSegments(const ViewSegments& mine, const LineDrawingGeometry& geometry);
 /// `size`: the feature size the segments were found with.
 LineSet ChainViewSegments(const ViewSegments& segments, const LineDrawingOptions& options, double size);
 

@@ -32,7 +32,11 @@ struct VisibilityOptions
 /// `lines` (drawn on `geometry` for `view`: their EdgeFace known) split into
 /// their visible and hidden parts.  The result's Hidden says which each line
 /// is; a closed line that no other part of the surface hides stays closed.
-/// Lines of unknown faces (EdgeFace -1) are kept as visible.
+/// Lines of unknown faces (EdgeFace -1) are kept as visible.  Split runs
+/// (`geometry` split over the processes; collective): each process casts
+/// every process' rays through its own triangles, with the stars of its
+/// ghost vertices from their owners, so the surface is never gathered;
+/// the lines are process 0's (DrawLines), the others pass none.
 LineSet SplitByVisibility(const LineSet& lines, const LineDrawingGeometry& geometry, const LineView& view,
   const VisibilityOptions& options = {});
 

@@ -8,6 +8,7 @@
 // algorithms that run over the processes (flows, the parameterization, the
 // line drawing) are checked the same way against their serial runs.
 #include "Drawing/LineDrawing.h"
+#include "Drawing/Visibility.h"
 #include "Flows/GraphFlow.h"
 #include "Flows/NoiseEstimation.h"
 #include "Maps/Parameterization.h"
@@ -819,6 +820,45 @@ TEST(Partition, DistributedParameterizationIsTheSerialOne)
   EXPECT_NE(c.Error.find("non-finite"), std::string::npos) << c.Error;
 }
 
+/// Per type: the lines' count, their points (each within 1e-9 of one of
+/// the other's), strengths and Hidden flags.
+void ExpectSameLines(const LineSet& ours, const LineSet& serial)
+{
+  for (int type = 0; type < NumberOfLineTypes; ++type)
+  {
+    std::vector<Index> mineLines, theirLines;
+    const auto pointsOf = [type](const LineSet& lines, std::vector<Index>& count) {
+      std::vector<std::array<double, 5>> out; // x, y, z, strength, hidden
+      for (Index l = 0; l < lines.NumberOfLines(); ++l)
+      {
+        if (lines.Type[l] == type)
+        {
+          count.push_back(l);
+          for (Index k = lines.Offsets[l]; k < lines.Offsets[l + 1]; ++k)
+          {
+            const Index p = lines.Connectivity[k];
+            out.push_back({ lines.Points[3 * p], lines.Points[3 * p + 1], lines.Points[3 * p + 2],
+              lines.PointStrength[p], lines.Hidden.empty() ? 0.0 : double(lines.Hidden[l]) });
+          }
+        }
+      }
+      std::sort(out.begin(), out.end());
+      return out;
+    };
+    const auto x = pointsOf(ours, mineLines), y = pointsOf(serial, theirLines);
+    std::printf("type %d: %zu lines, %zu points\n", type, theirLines.size(), y.size());
+    EXPECT_EQ(mineLines.size(), theirLines.size()) << "type " << type;
+    ASSERT_EQ(x.size(), y.size()) << "type " << type;
+    for (std::size_t k = 0; k < x.size(); ++k)
+    {
+      for (int c = 0; c < 5; ++c)
+      {
+        EXPECT_NEAR(x[k][c], y[k][c], 1e-9) << "type " << type;
+      }
+    }
+  }
+}
+
 TEST(Partition, DistributedLineDrawingIsTheSerialOne)
 {
   // The line drawing of a height field split over the processes (the last
@@ -859,44 +899,26 @@ TEST(Partition, DistributedLineDrawingIsTheSerialOne)
   LineView view;
   view.Position = Vec3(0.5, -1.5, 1.2);
   const LineSet serial = DrawLines(a, view, o), ours = DrawLines(b, view, o);
+  // Visibility, seen from low over the field (its crests hide the troughs
+  // behind them): each process casts the rays through its own triangles.
+  LineView low;
+  low.Position = Vec3(0.5, -1.0, 0.25);
+  VisibilityOptions keep;
+  keep.KeepHidden = true;
+  keep.NumberOfThreads = 1;
+  const LineSet serialSeen = SplitByVisibility(DrawLines(a, low, o), a, low, keep);
+  const LineSet oursSeen = SplitByVisibility(DrawLines(b, low, o), b, low, keep); // (collective)
   if (rank != 0)
   {
     EXPECT_EQ(ours.NumberOfLines(), 0);
+    EXPECT_EQ(oursSeen.NumberOfLines(), 0);
     return;
   }
-  // Per type: the lines' count, their points (each within 1e-12 of one of
-  // the other's) and strengths.
-  for (int type = 0; type < NumberOfLineTypes; ++type)
-  {
-    std::vector<Index> mineLines, theirLines;
-    const auto pointsOf = [type](const LineSet& lines, std::vector<Index>& count) {
-      std::vector<std::array<double, 4>> out; // x, y, z, strength
-      for (Index l = 0; l < lines.NumberOfLines(); ++l)
-      {
-        if (lines.Type[l] == type)
-        {
-          count.push_back(l);
-          for (Index k = lines.Offsets[l]; k < lines.Offsets[l + 1]; ++k)
-          {
-            const Index p = lines.Connectivity[k];
-            out.push_back({ lines.Points[3 * p], lines.Points[3 * p + 1], lines.Points[3 * p + 2], lines.PointStrength[p] });
-          }
-        }
-      }
-      std::sort(out.begin(), out.end());
-      return out;
-    };
-    const auto x = pointsOf(ours, mineLines), y = pointsOf(serial, theirLines);
-    std::printf("type %d: %zu lines, %zu points\n", type, theirLines.size(), y.size());
-    EXPECT_EQ(mineLines.size(), theirLines.size()) << "type " << type;
-    ASSERT_EQ(x.size(), y.size()) << "type " << type;
-    for (std::size_t k = 0; k < x.size(); ++k)
-    {
-      for (int c = 0; c < 4; ++c)
-      {
-        EXPECT_NEAR(x[k][c], y[k][c], 1e-9) << "type " << type;
-      }
-    }
-  }
+  ExpectSameLines(ours, serial);
+  ExpectSameLines(oursSeen, serialSeen);
+  const auto hidden = std::count(serialSeen.Hidden.begin(), serialSeen.Hidden.end(), 1);
+  std::printf("visibility: %zu lines, %d hidden\n", serialSeen.Hidden.size(), int(hidden));
+  EXPECT_GT(hidden, 5);
+  EXPECT_LT(hidden, serialSeen.NumberOfLines() - 5);
   EXPECT_GT(serial.NumberOfLines(), 10);
 }
