@@ -55,6 +55,7 @@ struct vtkSurfaceLineDrawing::Kept
   vtkSmartPointer<vtkDoubleArray> ViewArrays[3];
   const void* Input = nullptr;
   vtkMTimeType InputTime = 0;
+  beltrami::FieldSmoothingOptions Smoothing; ///< the settings it was built with
 };
 
 vtkSurfaceLineDrawing::vtkSurfaceLineDrawing()
@@ -77,6 +78,7 @@ void vtkSurfaceLineDrawing::CopySettings(beltrami::LineDrawingOptions& o, vtkBel
     BeltramiCopySetting(*draw[type], o.Draw[type], direction);
   }
   BeltramiCopySetting(this->FeatureSize, o.FeatureSize, direction);
+  BeltramiCopySetting(this->CurvatureSmoothing, o.CurvatureSmoothing, direction);
   BeltramiCopySetting(this->SuggestiveContourThreshold, o.SuggestiveThreshold, direction);
   BeltramiCopySetting(this->SuggestiveContourAngle, o.SuggestiveAngle, direction);
   BeltramiCopySetting(this->RidgeThreshold, o.RidgeThreshold, direction);
@@ -223,9 +225,19 @@ vtkMTimeType ChangeTime(vtkPolyData* input)
 
 } // namespace
 
+beltrami::FieldSmoothingOptions vtkSurfaceLineDrawing::Smoothing() const
+{
+  beltrami::FieldSmoothingOptions smoothing;
+  smoothing.Amount = this->CurvatureSmoothing;
+  smoothing.FeatureSize = this->CurvatureSmoothing > 0.0 ? this->FeatureSize : 0.0;
+  return smoothing;
+}
+
 bool vtkSurfaceLineDrawing::Keeps(vtkPolyData* input) const
 {
-  return this->Cache && this->Cache->Input == input && this->Cache->InputTime == ChangeTime(input);
+  const beltrami::FieldSmoothingOptions smoothing = this->Smoothing();
+  return this->Cache && this->Cache->Input == input && this->Cache->InputTime == ChangeTime(input) &&
+    this->Cache->Smoothing.Amount == smoothing.Amount && this->Cache->Smoothing.FeatureSize == smoothing.FeatureSize;
 }
 
 int vtkSurfaceLineDrawing::UpdateGeometry(vtkPolyData* input, bool& ready)
@@ -253,9 +265,15 @@ void vtkSurfaceLineDrawing::KeepGeometry(const vtkBeltramiSurface& surface, vtkP
   this->Cache.reset();
   auto kept = std::make_unique<Kept>();
   const auto partition = split ? surface.SplitPieces().SharedSplit() : nullptr;
+  kept->Smoothing = this->Smoothing();
   surface.Dispatch([&](const auto* points) {
-    kept->Geometry.Build(surface.Topology(), points, this->NumberOfThreads, partition);
+    kept->Geometry.Build(surface.Topology(), points, this->NumberOfThreads, partition, kept->Smoothing);
   });
+  if (!kept->Geometry.SmoothingWarning.empty() && (!partition || partition->Rank() == 0))
+  {
+    vtkWarningMacro("Curvature Smoothing could not smooth the surface (" << kept->Geometry.SmoothingWarning
+                                                                          << "): the lines are found on the surface itself.");
+  }
   kept->InputPoints = input ? input->GetNumberOfPoints() : 0;
   const auto& derivatives = kept->Geometry.Derivatives;
   kept->Derivatives = NewArray("CurvatureDerivative", 4, kept->InputPoints);
@@ -362,6 +380,7 @@ void vtkSurfaceLineDrawing::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "ViewUp: " << this->ViewUp[0] << " " << this->ViewUp[1] << " " << this->ViewUp[2] << "\n"
      << indent << "ParallelProjection: " << this->ParallelProjection << "\n"
      << indent << "Visibility: " << this->Visibility << "\n"
+     << indent << "CurvatureSmoothing: " << this->CurvatureSmoothing << "\n"
      << indent << "Contours: " << this->Contours << "\n"
      << indent << "SuggestiveContours: " << this->SuggestiveContours << "\n"
      << indent << "SuggestiveHighlights: " << this->SuggestiveHighlights << "\n"

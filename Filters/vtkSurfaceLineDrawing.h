@@ -97,6 +97,7 @@ class vtkBeltramiSurface;
 namespace beltrami
 {
 struct LineDrawingOptions;
+struct FieldSmoothingOptions;
 }
 
 class BELTRAMIFILTERS_EXPORT vtkSurfaceLineDrawing : public vtkPolyDataAlgorithm
@@ -184,6 +185,12 @@ public:
   /// 0.
   vtkSetClampMacro(FeatureSize, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(FeatureSize, double);
+  /// The normals and curvatures the lines are found from are measured on a copy of the surface
+  /// smoothed over this many Feature Size (one implicit curvature-flow step), and the lines drawn
+  /// on the surface itself: the noise of raw scans no longer breaks them into dashes. 0: measured
+  /// on the surface itself. Default: 0.5.
+  vtkSetClampMacro(CurvatureSmoothing, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(CurvatureSmoothing, double);
   /// Suggestive contours and highlights are drawn where the derivative of the radial curvature
   /// times Feature Size^2 exceeds this. Default: 0.1.
   vtkSetClampMacro(SuggestiveContourThreshold, double, 0.0, VTK_DOUBLE_MAX);
@@ -261,6 +268,7 @@ protected:
   bool Creases = true;
   bool ApparentRidges = false;
   double FeatureSize = 0.0;
+  double CurvatureSmoothing = 0.0;
   double SuggestiveContourThreshold = 0.0;
   double SuggestiveContourAngle = 0.0;
   double RidgeThreshold = 0.0;
@@ -288,6 +296,8 @@ private:
   int UpdateGeometry(vtkPolyData* input, bool& ready);
   /// Whether the kept view-independent pass is the one of `input`.
   bool Keeps(vtkPolyData* input) const;
+  /// The view-independent pass' smoothing of the current settings.
+  beltrami::FieldSmoothingOptions Smoothing() const;
   /// Builds the view-independent pass of `surface` (the topology of `input`;
   /// split: over the ranks, collective) and keeps it.
   void KeepGeometry(const vtkBeltramiSurface& surface, vtkPolyData* input, bool split);

@@ -201,12 +201,15 @@ LINE_COLOURS = ((0.0, 0.0, 0.0), (0.10, 0.25, 0.75), (0.95, 0.55, 0.05), (0.80, 
                 (0.10, 0.55, 0.20), (0.0, 0.0, 0.0), (0.35, 0.35, 0.35), (0.55, 0.15, 0.65))
 
 
-def line_drawing(mesh_path, ridges=False, valleys=False, highlights=False, minimum_length=0.0, hysteresis=1.0):
+def line_drawing(mesh_path, ridges=False, valleys=False, highlights=False, minimum_length=0.0, hysteresis=1.0,
+                 smoothing=0.0):
     """vtkSurfaceLineDrawing on an OFF mesh (contours, suggestive contours,
     boundaries and creases; ridges, valleys and highlights on request;
     lines shorter than minimum_length feature sizes dropped, curvature lines
-    traced down to hysteresis times their thresholds where they pass them:
-    by default every piece, 0 and 1, where the filter's defaults are 2 and 0.5);
+    traced down to hysteresis times their thresholds where they pass them,
+    the curvatures measured on a copy smoothed over `smoothing` feature
+    sizes: by default every piece of the surface's own lines, 0, 1 and 0,
+    where the filter's defaults are 2, 0.5 and 0.5);
     returns the filter, not yet updated: its camera is set by
     render_line_drawing."""
     reader = vtkOFFReader()
@@ -218,6 +221,7 @@ def line_drawing(mesh_path, ridges=False, valleys=False, highlights=False, minim
     drawing.SetSuggestiveHighlights(highlights)
     drawing.SetMinimumLineLength(minimum_length)
     drawing.SetHysteresisRatio(hysteresis)
+    drawing.SetCurvatureSmoothing(smoothing)
     return drawing
 
 

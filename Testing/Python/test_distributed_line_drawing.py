@@ -92,14 +92,20 @@ def serial(polydata, camera):
 
 
 def compare(label, drawing, whole, camera, diagonal):
-    """The split drawing against the serial one; returns the fetched lines."""
+    """The split drawing against the serial one; returns the fetched lines.
+    With Curvature Smoothing (the default) the fields come from a faired
+    copy, which the distributed solve gives to its tolerance (residual
+    reduced by 1e-8, mixed precision): the lines agree to 1e-7 of the
+    diagonal (measured: 5e-9) and their strengths to 1e-5, without it to
+    1e-9 and 1e-7."""
+    close = 1e-9 if SETTINGS.get("CurvatureSmoothing", 0.5) == 0 else 1e-7
     lines = servermanager.Fetch(drawing)
     reference = serial(whole, camera)
     ours, theirs = per_type(lines), per_type(reference.GetOutput())
     check(sorted(ours) == sorted(theirs) and len(theirs) >= 1, "%s: the same line types %s" % (label, sorted(ours)))
     for kind in theirs:
         a, b = ours[kind], theirs[kind]
-        check(a[:3] == b[:3] and builtins.abs(a[3] - b[3]) <= 1e-9 * b[3],
+        check(a[:3] == b[:3] and builtins.abs(a[3] - b[3]) <= close * b[3],
               "%s over %d rank(s), type %d: %d polylines (%d closed), %d points, length %.6f as serial %s %.6f"
               % (label, ranks, kind, a[0], a[1], a[2], a[3], b[:3], b[3]))
         there, index = nearest(b[4], a[4])
@@ -108,9 +114,10 @@ def compare(label, drawing, whole, camera, diagonal):
         # point takes the one the chain comes from, which follows the
         # direction the chain is walked in, so the values are compared as sets.)
         same = (np.array_equal(np.unique(np.round(a[5], 4)), np.unique(np.round(b[5], 4))) if kind == 6
-                else np.abs(a[5] - b[5][index]).max() <= 1e-7 * builtins.max(1.0, np.abs(b[5]).max()))
-        check(builtins.max(there.max(), back.max()) <= 1e-9 * diagonal and same,
-              "%s, type %d: every point and strength as serial" % (label, kind), quiet=True)
+                else np.abs(a[5] - b[5][index]).max() <= 100 * close * builtins.max(1.0, np.abs(b[5]).max()))
+        far = builtins.max(there.max(), back.max()) / diagonal
+        check(far <= close and same, "%s, type %d: every point (within %.1e of the diagonal) and strength as serial"
+              % (label, kind, far), quiet=True)
     # Output 1: every piece with its arrays, as the serial surface's.
     pieces = servermanager.Fetch(drawing, idx=1)
     whole_out = reference.GetOutput(1)
@@ -119,8 +126,13 @@ def compare(label, drawing, whole, camera, diagonal):
         a = vtk_to_numpy(pieces.GetPointData().GetArray(name)).astype(float)
         b = vtk_to_numpy(whole_out.GetPointData().GetArray(name))[index]
         both = np.isfinite(a) & np.isfinite(b)
-        check((np.isfinite(a) == np.isfinite(b)).all() and np.abs(a[both] - b[both]).max() <= 1e-8 * builtins.max(1.0, np.abs(b[both]).max()),
-              "%s: %s on every piece as serial" % (label, name), quiet=True)
+        off = np.abs(a[both] - b[both]).max() / builtins.max(1.0, np.abs(b[both]).max())
+        # (With Curvature Smoothing: the faired copy's normals and
+        # derivatives, which the distributed solve gives to its tolerance
+        # times the system's condition: measured up to 1.1e-5, on fandisk's
+        # rounded creases.)
+        check((np.isfinite(a) == np.isfinite(b)).all() and off <= 1000 * close,
+              "%s: %s on every piece as serial (%.1e of its largest)" % (label, name, off), quiet=True)
     return lines
 
 

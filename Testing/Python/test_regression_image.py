@@ -153,11 +153,16 @@ for label, importance in (("uniform", 0), ("mean_curvature", 1)):
                  lambda png: pipelines.render_wireframe(remeshed.GetOutput(), png, size=(400, 400))) and ok
 # Line drawings from fixed cameras: the bunny (contours, suggestive contours,
 # ridges and valleys) and the CAD part fandisk (contours, suggestive
-# contours, creases).
-for mesh, direction, zoom, extra in (("bunny00", (0.8, 0.2, 1), 1.2, dict(ridges=True, valleys=True)),
-                                     ("fandisk", (1, 0.6, 0.8), 0.9, {})):
+# contours, creases), every piece of the surface's own lines and at the
+# filter's defaults (curvature smoothing, hysteresis, minimum length).
+DEFAULTS = dict(minimum_length=2.0, hysteresis=0.5, smoothing=0.5)
+for name, mesh, direction, zoom, extra in (
+        ("bunny00", "bunny00", (0.8, 0.2, 1), 1.2, dict(ridges=True, valleys=True)),
+        ("fandisk", "fandisk", (1, 0.6, 0.8), 0.9, {}),
+        ("bunny00_defaults", "bunny00", (0.8, 0.2, 1), 1.2, dict(ridges=True, valleys=True, **DEFAULTS)),
+        ("fandisk_defaults", "fandisk", (1, 0.6, 0.8), 0.9, DEFAULTS)):
     drawing = pipelines.line_drawing(os.path.join(DATA, mesh + ".off"), **extra)
-    ok = compare("%s_line_drawing.png" % mesh,
+    ok = compare("%s_line_drawing.png" % name,
                  lambda png: pipelines.render_line_drawing(drawing, png, size=(400, 400), direction=direction,
                                                            zoom=zoom)[0]) and ok
 # Drawings for print: the bunny's lines alone, hidden by the visibility pass

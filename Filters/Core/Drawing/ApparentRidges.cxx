@@ -59,7 +59,7 @@ ApparentCurvature ComputeApparentCurvature(const LineDrawingGeometry& geo, const
     for (std::int64_t i = begin; i < end; ++i)
     {
       const Index v = static_cast<Index>(i);
-      const Vec3 p = Point(geo.Points.data(), v);
+      const Vec3 p = Point(geo.FieldPoints(), v);
       const Vec3 eye = view.Perspective ? Vec3((view.Position - p).normalized()) : toward;
       Vec3 t1;
       if (ViewCurvature(Point(geo.Normals.data(), v), geo.K1[i], geo.K2[i], Point(geo.E1.data(), v),
@@ -86,7 +86,7 @@ ApparentCurvature ComputeApparentCurvature(const LineDrawingGeometry& geo, const
     {
       continue;
     }
-    const Vec3 p[3] = { Point(geo.Points.data(), v[0]), Point(geo.Points.data(), v[1]), Point(geo.Points.data(), v[2]) };
+    const Vec3 p[3] = { Point(geo.FieldPoints(), v[0]), Point(geo.FieldPoints(), v[1]), Point(geo.FieldPoints(), v[2]) };
     const double a = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm();
     const Vec3 g = a * FaceGradient(p, q);
     for (int k = 0; k < 3; ++k)
@@ -145,7 +145,7 @@ SegmentList ApparentRidgeSegments(const LineDrawingGeometry& geo, const Apparent
       {
         return; // (no crossing, or a corner without q1: not facing the viewer)
       }
-      const Vec3 p[3] = { Point(geo.Points.data(), v[0]), Point(geo.Points.data(), v[1]), Point(geo.Points.data(), v[2]) };
+      const Vec3 p[3] = { Point(geo.FieldPoints(), v[0]), Point(geo.FieldPoints(), v[1]), Point(geo.FieldPoints(), v[2]) };
       if (FaceGradient(p, g).dot(t[0] + t[1] + t[2]) < 0.0 && Clip(s, test))
       {
         out[0].push_back(s); // a maximum along t1, strong enough

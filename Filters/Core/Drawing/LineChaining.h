@@ -1,4 +1,6 @@
-// Beltrami core: segments joined into polylines where they share an end.
+// Beltrami core: segments joined into polylines where they share an end
+// (and, in LineChaining.cxx, a view's segments gathered and chained into
+// the LineSet of DrawLines).
 #pragma once
 
 #include "Drawing/LineDrawing.h"

@@ -2,7 +2,7 @@
 
 #include "Drawing/ApparentRidges.h"
 #include "Drawing/FaceZeroSets.h"
-#include "Drawing/LineChaining.h"
+#include "Drawing/FieldSmoothing.h"
 #include "Mesh/CurvatureDerivatives.h"
 #include "Mesh/Curvatures.h"
 #include "Mesh/RingGeometry.h"
@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <functional>
 #include <limits>
 #include <mutex>
@@ -62,8 +61,8 @@ void CopyPoints(const MeshTopology& topology, const T* points, int numThreads, d
 } // namespace
 
 template <typename T>
-void LineDrawingGeometry::Build(
-  const MeshTopology& topology, const T* points, int numThreads, std::shared_ptr<const Partition> split)
+void LineDrawingGeometry::Build(const MeshTopology& topology, const T* points, int numThreads,
+  std::shared_ptr<const Partition> split, const FieldSmoothingOptions& smoothing)
 {
   const Index n = topology.NumberOfVertices();
   Thresholded[0].Valid = Thresholded[1].Valid = CreaseEdges.Valid = false;
@@ -95,6 +94,21 @@ void LineDrawingGeometry::Build(
   SharpestCosine.resize(n);
   double box[6]; // -lo, hi of the used points (for the feature size)
   CopyPoints(topology, points, numThreads, Points.data(), box);
+  if (Split)
+  {
+    Split->Max(box, 6);
+  }
+  const Vec3 extent(box[3] + box[0], box[4] + box[1], box[5] + box[2]);
+  DefaultFeatureSize = extent.allFinite() ? 0.01 * extent.norm() : 0.0;
+  SmoothingWarning.clear();
+  FairedPoints.clear();
+  NearSharpestCosine.clear();
+  Smoothed = false;
+  if (smoothing.Amount > 0.0)
+  {
+    FindFeatureEdges(topology, numThreads, true); // (the surface's creases, not the copy's)
+    Fair(topology, numThreads, smoothing);
+  }
   CurvatureOptions options;
   options.NumberOfThreads = numThreads;
   CurvatureOutputs out;
@@ -103,35 +117,94 @@ void LineDrawingGeometry::Build(
   out.MinimumCurvature = K2.data();
   out.PrincipalDirection1 = E1.data();
   out.PrincipalDirection2 = E2.data();
-  out.SharpestEdgeCosine = SharpestCosine.data(); // (the regular vertices': FindFeatureEdges does the others)
-  ComputeCurvatures(topology, points, options, out);
+  if (!Smoothed)
+  {
+    out.SharpestEdgeCosine = SharpestCosine.data(); // (the regular vertices': FindFeatureEdges does the others)
+    ComputeCurvatures(topology, points, options, out);
+  }
+  else
+  {
+    ComputeCurvatures(topology, FairedPoints.data(), options, out);
+  }
   ShareCurvatures(topology);
   Derivatives.resize(4 * static_cast<std::size_t>(n)); // (every vertex written)
   const CurvatureTensors tensors{ Normals.data(), K1.data(), K2.data(), E1.data(), E2.data() };
-  ComputeCurvatureDerivatives(topology, Points.data(), tensors, Derivatives.data(), numThreads);
+  ComputeCurvatureDerivatives(topology, FieldPoints(), tensors, Derivatives.data(), numThreads);
   if (Split)
   {
     Split->UpdateGhosts(Derivatives.data(), 4);
   }
-
-  if (Split)
-  {
-    Split->Max(box, 6);
-  }
-  const Vec3 extent(box[3] + box[0], box[4] + box[1], box[5] + box[2]);
-  DefaultFeatureSize = extent.allFinite() ? 0.01 * extent.norm() : 0.0;
   Threads = numThreads;
   RidgesFound = false; // (found when first drawn: RidgeCandidates)
   Occlusion.reset();    // (built when first asked for: Occluders)
   Ridges[0] = SegmentList();
   Ridges[1] = SegmentList();
-  FindFeatureEdges(topology, numThreads);
+  if (!Smoothed)
+  {
+    FindFeatureEdges(topology, numThreads, false); // (collective: Smoothed is the same everywhere)
+  }
+}
+
+void LineDrawingGeometry::Fair(const MeshTopology& topology, int numThreads, const FieldSmoothingOptions& smoothing)
+{
+  const double size = smoothing.FeatureSize > 0.0 ? smoothing.FeatureSize : DefaultFeatureSize;
+  const std::vector<double> faired =
+    FairedCopy(topology, Points.data(), smoothing.Amount * size, numThreads, Split.get(), SmoothingWarning);
+  FairedPoints.assign(faired.begin(), faired.end());
+  Smoothed = SmoothingWarning.empty(); // (the same on every process; a process may hold no points)
+  if (!Smoothed)
+  {
+    return;
+  }
+  // The faired copy rounds a crease over about the smoothing's length, and
+  // its curvatures there are the rounding's: the zone that AtCrease keeps
+  // the curvature lines out of grows by as many rings.
+  const MeshTopology::VertexGraph& graph = topology.Graph();
+  double sum[2] = { 0.0, 0.0 }; // edge lengths, edges
+  for (Index a = 0; a < NumberOfVertices(); ++a)
+  {
+    for (std::int64_t k = graph.NeighborOffsets[a]; k < graph.NeighborOffsets[a + 1]; ++k)
+    {
+      const Index b = graph.Neighbors[k];
+      const double length = (Point(Points.data(), b) - Point(Points.data(), a)).norm();
+      if (a < b && std::isfinite(length) && (!Split || Split->CountsEdge(a, b)))
+      {
+        sum[0] += length;
+        sum[1] += 1.0;
+      }
+    }
+  }
+  if (Split)
+  {
+    Split->Sum(sum, 2);
+  }
+  const double rings = std::ceil(smoothing.Amount * size * sum[1] / std::max(sum[0], 1e-300));
+  std::vector<double> near(SharpestCosine.begin(), SharpestCosine.end()), next(near.size());
+  for (int ring = 0; ring < static_cast<int>(std::min(rings, 1e6)); ++ring)
+  {
+    ParallelFor(NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t a = begin; a < end; ++a)
+      {
+        next[a] = near[a];
+        for (std::int64_t k = graph.NeighborOffsets[a]; k < graph.NeighborOffsets[a + 1]; ++k)
+        {
+          next[a] = std::min(next[a], near[graph.Neighbors[k]]);
+        }
+      }
+    });
+    if (Split)
+    {
+      Split->UpdateGhosts(next.data(), 1);
+    }
+    near.swap(next);
+  }
+  NearSharpestCosine.assign(near.begin(), near.end());
 }
 
 template void LineDrawingGeometry::Build<float>(
-  const MeshTopology&, const float*, int, std::shared_ptr<const Partition>);
+  const MeshTopology&, const float*, int, std::shared_ptr<const Partition>, const FieldSmoothingOptions&);
 template void LineDrawingGeometry::Build<double>(
-  const MeshTopology&, const double*, int, std::shared_ptr<const Partition>);
+  const MeshTopology&, const double*, int, std::shared_ptr<const Partition>, const FieldSmoothingOptions&);
 
 void LineDrawingGeometry::ShareCurvatures(const MeshTopology& topology)
 {
@@ -192,7 +265,7 @@ void LineDrawingGeometry::FindRidges() const
       for (int k = 0; k < 3; ++k)
       {
         __builtin_prefetch(frames.data() + Stride * static_cast<std::int64_t>(v[3 * Ahead + k]));
-        __builtin_prefetch(Points.data() + 3 * static_cast<std::int64_t>(v[3 * Ahead + k]));
+        __builtin_prefetch(FieldPoints() + 3 * static_cast<std::int64_t>(v[3 * Ahead + k]));
       }
     }
     for (int valleys = 0; valleys < 2; ++valleys)
@@ -213,7 +286,8 @@ void LineDrawingGeometry::FindRidges() const
       {
         continue;
       }
-      const Vec3 p[3] = { Point(Points.data(), v[0]), Point(Points.data(), v[1]), Point(Points.data(), v[2]) };
+      const double* at = FieldPoints();
+      const Vec3 p[3] = { Point(at, v[0]), Point(at, v[1]), Point(at, v[2]) };
       // A maximum along e: the derivative decreases along e.
       if (FaceGradient(p, g).dot(e[0] + e[1] + e[2]) < 0.0)
       {
@@ -255,7 +329,7 @@ Vec3 LineDrawingGeometry::FaceCross(Index f, Index a) const
   return (Point(Points.data(), v[(k + 1) % 3]) - p).cross(Point(Points.data(), v[(k + 2) % 3]) - p);
 }
 
-void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int numThreads)
+void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int numThreads, bool everyVertex)
 {
   // SharpestCosine has the values of the vertices with a regular fan
   // (ComputeCurvatures); here the others' from their edges
@@ -266,7 +340,7 @@ void LineDrawingGeometry::FindFeatureEdges(const MeshTopology& topology, int num
     Index A, B, Face;
   };
   const auto boundary = CollectSegments<Edge>(NumberOfVertices(), numThreads, 1, [&](Index a, std::vector<Edge>* out) {
-    if (topology.VertexFlags(a) == VertexRegular)
+    if (topology.VertexFlags(a) == VertexRegular && !everyVertex)
     {
       return;
     }
@@ -439,20 +513,12 @@ void ComputeViewFields(const LineDrawingGeometry& geo, const LineView& view, int
 {
   const Vec3 toward = -view.Direction.normalized();
   ParallelFor(geo.NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
-    (view.Perspective ? ViewFieldRange<true> : ViewFieldRange<false>)(begin, end, geo.Points.data(),
+    (view.Perspective ? ViewFieldRange<true> : ViewFieldRange<false>)(begin, end, geo.FieldPoints(),
       geo.Normals.data(), geo.E1.data(), geo.E2.data(), geo.K1.data(), geo.K2.data(), geo.Derivatives.data(),
       view.Position.data(), toward.data(), ndotv, kr, drkr, signs);
   });
 }
 
-
-/// What a curvature line must reach to be kept: its length, and its
-/// largest point strength (the hysteresis' full threshold; -inf: any).
-struct LineFilter
-{
-  double MinimumLength = 0.0;
-  double MinimumPeak = -std::numeric_limits<double>::infinity();
-};
 
 /// Appends `segments` of `type` to `out` with their ends resolved (see
 /// ViewSegments; strength(segment, corners, values) gives a segment's
@@ -479,80 +545,22 @@ void Resolve(const LineDrawingGeometry& geo, const SegmentList& segments, LineTy
       for (int e = 0; e < 2; ++e)
       {
         const LineEnd& end = s.End[e];
-        Vec3 p = Vec3::Zero(), n = Vec3::Zero();
+        Vec3 p = Vec3::Zero(), n = Vec3::Zero(), q = Vec3::Zero();
         for (int k = 0; k < 3; ++k)
         {
           p += end.W[k] * Point(geo.Points.data(), v[k]);
           n += end.W[k] * Point(geo.Normals.data(), v[k]);
+          q += end.W[k] * Point(geo.FieldPoints(), v[k]);
         }
         n.normalize();
         const std::size_t at = first + 2 * static_cast<std::size_t>(i) + e;
         keys[at] = end.Key;
         const double values[ViewSegments::ValuesPerEnd] = { p[0], p[1], p[2], n[0], n[1], n[2],
-          Interpolate(end, corners) };
+          Interpolate(end, corners), q[0], q[1], q[2] };
         std::copy(values, values + ViewSegments::ValuesPerEnd, ends.begin() + ViewSegments::ValuesPerEnd * at);
       }
     }
   });
-}
-
-/// Turns the segments of `type` into polylines with their points'
-/// positions, normals and strengths; polylines that do not pass `filter`
-/// are left out.
-void AddLines(const ViewSegments& segments, LineType type, LineSet& lines, const LineFilter& filter = {})
-{
-  const std::vector<double>& ends = segments.Ends[static_cast<int>(type)];
-  const std::vector<Index>& faces = segments.Faces[static_cast<int>(type)];
-  const auto faceOf = [&](const ChainPoint& cp) { return faces.empty() ? Index(-1) : faces[cp.Segment]; };
-  for (const SegmentChain& chain : ChainSegments(segments.Keys[static_cast<int>(type)]))
-  {
-    const std::size_t firstValue = lines.PointStrength.size();
-    const Index first = static_cast<Index>(lines.Points.size() / 3);
-    double sum = 0.0, length = 0.0, peak = -std::numeric_limits<double>::infinity();
-    for (const ChainPoint& cp : chain.Points)
-    {
-      const double* end = ends.data() + ViewSegments::ValuesPerEnd * (2 * static_cast<std::int64_t>(cp.Segment) + cp.End);
-      const Vec3 p(end[0], end[1], end[2]);
-      const double value = end[6];
-      if (lines.PointStrength.size() > firstValue)
-      {
-        length += (p - Point(lines.Points.data(), static_cast<Index>(lines.PointStrength.size() - 1))).norm();
-        lines.EdgeFace.back() = faceOf(cp); // (the piece from the previous point: this segment's)
-      }
-      lines.EdgeFace.push_back(-1);
-      lines.Points.insert(lines.Points.end(), end, end + 3);
-      lines.Normals.insert(lines.Normals.end(), end + 3, end + 6);
-      lines.PointStrength.push_back(value);
-      lines.Connectivity.push_back(static_cast<Index>(lines.PointStrength.size() - 1));
-      sum += value;
-      peak = std::max(peak, value);
-    }
-    if (chain.Closed && lines.PointStrength.size() > firstValue)
-    {
-      length += (Point(lines.Points.data(), first) -
-        Point(lines.Points.data(), static_cast<Index>(lines.PointStrength.size() - 1))).norm();
-    }
-    if (length < filter.MinimumLength || !(peak >= filter.MinimumPeak))
-    {
-      // Too short or too weak: its points go again (they were appended above).
-      lines.Points.resize(3 * firstValue);
-      lines.Normals.resize(3 * firstValue);
-      lines.PointStrength.resize(firstValue);
-      lines.Connectivity.resize(static_cast<std::size_t>(lines.Offsets.back()));
-      lines.EdgeFace.resize(lines.Connectivity.size());
-      continue;
-    }
-    if (chain.Closed)
-    {
-      lines.EdgeFace.back() = faces.empty() ? Index(-1) : faces[chain.ClosingSegment]; // (the closing piece)
-      lines.Connectivity.push_back(first);
-      lines.EdgeFace.push_back(-1);
-    }
-    lines.Offsets.push_back(static_cast<Index>(lines.Connectivity.size()));
-    lines.Type.push_back(static_cast<std::uint8_t>(type));
-    lines.Closed.push_back(chain.Closed);
-    lines.Strength.push_back(sum / chain.Points.size());
-  }
 }
 
 /// The feature size of a drawing: the option's, else the automatic one.
@@ -765,87 +773,6 @@ ViewSegments CollectViewSegments(const LineDrawingGeometry& geo, const LineView&
       vertexStrength(apparent.Q1.data(), size), segments, threads);
   }
   return segments;
-}
-
-ViewSegments GatherViewSegments(const ViewSegments& mine, const LineDrawingGeometry& geo)
-{
-  // Per process and line type: the count, the keys (their bits), the ends,
-  // the corners of the faces (global rows: exact in doubles).
-  constexpr int perSegment = 2 * ViewSegments::ValuesPerEnd;
-  std::vector<double> packed;
-  for (int type = 0; type < NumberOfLineTypes; ++type)
-  {
-    packed.push_back(static_cast<double>(mine.Keys[type].size() / 2));
-    for (const std::int64_t key : mine.Keys[type])
-    {
-      double bits;
-      std::memcpy(&bits, &key, sizeof bits);
-      packed.push_back(bits);
-    }
-    packed.insert(packed.end(), mine.Ends[type].begin(), mine.Ends[type].end());
-    for (const Index f : mine.Faces[type])
-    {
-      for (int c = 0; c < 3; ++c)
-      {
-        packed.push_back(static_cast<double>(geo.KeyId(geo.Triangles[3 * static_cast<std::int64_t>(f) + c])));
-      }
-    }
-  }
-  const std::vector<double> all = geo.Split->GatherOnFirst(packed); // (the others return no lines)
-  ViewSegments segments;
-  for (std::size_t at = 0; at < all.size();)
-  {
-    for (int type = 0; type < NumberOfLineTypes; ++type)
-    {
-      const std::size_t count = static_cast<std::size_t>(all[at++]);
-      for (std::size_t k = 0; k < 2 * count; ++k)
-      {
-        std::int64_t key;
-        std::memcpy(&key, &all[at++], sizeof key);
-        segments.Keys[type].push_back(key);
-      }
-      segments.Ends[type].insert(segments.Ends[type].end(), all.begin() + at, all.begin() + at + perSegment * count);
-      at += perSegment * count;
-      for (std::size_t k = 0; k < count; ++k)
-      {
-        segments.Faces[type].push_back(static_cast<Index>(segments.FaceCorners.size() / 3));
-        for (int c = 0; c < 3; ++c)
-        {
-          segments.FaceCorners.push_back(static_cast<std::int64_t>(all[at++]));
-        }
-      }
-    }
-  }
-  return segments;
-}
-
-LineSet ChainViewSegments(const ViewSegments& segments, const LineDrawingOptions& options, double size)
-{
-  // The curvature lines: long enough, and past the full threshold somewhere
-  // where they were traced below it.
-  const double hysteresis = HysteresisFactor(options);
-  const auto curvatureLines = [&](double threshold) {
-    LineFilter filter;
-    filter.MinimumLength = options.MinimumLength * size;
-    if (hysteresis < 1.0)
-    {
-      filter.MinimumPeak = threshold;
-    }
-    return filter;
-  };
-  LineSet lines;
-  lines.FaceCorners = segments.FaceCorners;
-  LineFilter contours; // (contours: no threshold, the length alone)
-  contours.MinimumLength = options.MinimumLength * size;
-  AddLines(segments, LineType::Contour, lines, contours);
-  AddLines(segments, LineType::SuggestiveContour, lines, curvatureLines(options.SuggestiveThreshold));
-  AddLines(segments, LineType::SuggestiveHighlight, lines, curvatureLines(options.SuggestiveThreshold));
-  AddLines(segments, LineType::Ridge, lines, curvatureLines(options.RidgeThreshold));
-  AddLines(segments, LineType::Valley, lines, curvatureLines(options.RidgeThreshold));
-  AddLines(segments, LineType::Boundary, lines);
-  AddLines(segments, LineType::Crease, lines);
-  AddLines(segments, LineType::ApparentRidge, lines, curvatureLines(options.ApparentRidgeThreshold));
-  return lines;
 }
 
 LineSet DrawLines(const LineDrawingGeometry& geo, const LineView& view, const LineDrawingOptions& options,

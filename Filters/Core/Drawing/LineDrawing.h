@@ -31,6 +31,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace beltrami
@@ -76,6 +77,11 @@ struct LineDrawingOptions
   /// The length that makes the thresholds scale-free; 0: automatic (1% of
   /// the bounding-box diagonal).
   double FeatureSize = 0.0;
+  /// The normals and curvatures are measured on a copy of the surface
+  /// faired over this many FeatureSize (Drawing/FieldSmoothing.h; 0: on the
+  /// surface itself); the lines lie on the surface.  Applied by the
+  /// view-independent pass (the caller passes it to Build).
+  double CurvatureSmoothing = 0.5;
   /// Suggestive contours (highlights) are drawn where D_r kappa_r (its
   /// negative) times FeatureSize^2 exceeds this ...
   double SuggestiveThreshold = 0.1;
@@ -132,6 +138,17 @@ struct LineSegment
 /// The segments of a whole surface (a large array: see LargeBuffer.h).
 using SegmentList = LargeVector<LineSegment>;
 
+/// The view-independent pass' smoothing of the curvature fields
+/// (Drawing/FieldSmoothing.h).
+struct FieldSmoothingOptions
+{
+  /// The normals, curvatures and their derivatives are measured on a copy
+  /// of the surface faired over Amount feature sizes, and the lines placed
+  /// on the surface itself (0: measured on the surface).
+  double Amount = 0.0;
+  double FeatureSize = 0.0; ///< 0: the automatic one
+};
+
 /// The view-independent pass, kept while only the view or thresholds change.
 class LineDrawingGeometry
 {
@@ -143,9 +160,12 @@ public:
   /// size is the whole surface's, and each face, boundary and crease edge is
   /// drawn by one process (Partition::CountsTriangle, CountsEdge): DrawLines
   /// then gathers the segments and chains them on process 0.
+  /// With `smoothing`, the fields are measured on a faired copy (creases
+  /// are still found on the surface); where the fairing cannot run, on the
+  /// surface, and SmoothingWarning says why.
   template <typename T>
   void Build(const MeshTopology& topology, const T* points, int numThreads = 0,
-    std::shared_ptr<const Partition> split = nullptr);
+    std::shared_ptr<const Partition> split = nullptr, const FieldSmoothingOptions& smoothing = {});
 
   Index NumberOfVertices() const { return static_cast<Index>(K1.size()); }
   Index NumberOfFaces() const { return static_cast<Index>(Triangles.size() / 3); }
@@ -158,6 +178,16 @@ public:
   /// Vertices of triangles whose curvature is undefined (boundary,
   /// non-manifold, NaN or degenerate 1-rings; over all processes).
   Index UndefinedVertices = 0;
+  /// Non-empty where the smoothing asked for could not run.
+  std::string SmoothingWarning;
+  /// Whether the fields were measured on a faired copy, FairedPoints (3 per
+  /// vertex), or on the surface itself.
+  bool Smoothed = false;
+  UninitializedVector<double> FairedPoints;
+  /// The points the normals, curvatures and view fields belong to: the
+  /// lines are their zero sets on this surface (visibility included), drawn
+  /// at the same places of the triangles of Points.
+  const double* FieldPoints() const { return Smoothed ? FairedPoints.data() : Points.data(); }
   /// Split runs: the points over the processes, and per face whether this
   /// process draws it (empty: not split, every face).
   std::shared_ptr<const Partition> Split;
@@ -174,6 +204,10 @@ public:
   /// two of its triangles that share an edge (1 without such edges;
   /// NormalCosine, in single precision).
   LargeVector<float> SharpestCosine;
+  /// Fields measured on a faired copy: per vertex the smallest
+  /// SharpestCosine within as many rings as the smoothing's length spans
+  /// (AtCrease's test; empty: SharpestCosine's).
+  LargeVector<float> NearSharpestCosine;
   /// The cosine of a crease angle (degrees): edges whose cosine is below
   /// it are creases.
   static float CreaseCosine(double angle);
@@ -196,8 +230,8 @@ public:
   bool AtCrease(Index f, float creaseCosine) const
   {
     const Index* v = Triangles.data() + 3 * static_cast<std::int64_t>(f);
-    return SharpestCosine[v[0]] < creaseCosine || SharpestCosine[v[1]] < creaseCosine ||
-      SharpestCosine[v[2]] < creaseCosine;
+    const LargeVector<float>& sharpest = NearSharpestCosine.empty() ? SharpestCosine : NearSharpestCosine;
+    return sharpest[v[0]] < creaseCosine || sharpest[v[1]] < creaseCosine || sharpest[v[2]] < creaseCosine;
   }
   /// The segment along edge a-b of `face`, its ends keyed by the vertices.
   LineSegment EdgeSegment(Index a, Index b, Index face) const;
@@ -229,7 +263,11 @@ private:
   int Threads = 0;                           // Build's thread count, for FindRidges
   mutable bool RidgesFound = false;          // FindRidges ran since Build
   mutable SegmentList Ridges[2];             // ridges, valleys (RidgeCandidates)
-  void FindFeatureEdges(const MeshTopology& topology, int numThreads);
+  /// (everyVertex: also the regular vertices' SharpestCosine, which
+  /// ComputeCurvatures gives when it measures the surface itself.)
+  void FindFeatureEdges(const MeshTopology& topology, int numThreads, bool everyVertex);
+  /// FairedPoints and NearSharpestCosine made (SharpestCosine known).
+  void Fair(const MeshTopology& topology, int numThreads, const FieldSmoothingOptions& smoothing);
   /// A x B of face f at its vertex a (A, B: its edges from a to the next
   /// and the previous vertex), as the 1-ring loops compute it.
   Vec3 FaceCross(Index f, Index a) const;
@@ -257,6 +295,10 @@ struct ViewFields
 struct LineSet
 {
   std::vector<double> Points, Normals; ///< 3 per point
+  /// 3 per point: the point on the copy of the surface the fields were
+  /// measured on (LineDrawingGeometry::FieldPoints; Points without one),
+  /// where the visibility rays start.
+  std::vector<double> FieldPoints;
   std::vector<double> PointStrength;   ///< the tested quantity (1 for contours, boundaries)
   std::vector<Index> Offsets{ 0 }, Connectivity;
   std::vector<std::uint8_t> Type;      ///< LineType per line
@@ -278,10 +320,11 @@ struct LineSet
 
 /// One view's segments with their ends resolved, so that they chain on any
 /// process: per line type, 2 keys (LineEnd::Key) and 2 x ValuesPerEnd values
-/// (position, unit normal, the tested strength) per segment.
+/// (position, unit normal, the tested strength, the position on the copy
+/// the fields were measured on) per segment.
 struct ViewSegments
 {
-  static constexpr int ValuesPerEnd = 7;
+  static constexpr int ValuesPerEnd = 10;
   std::vector<std::int64_t> Keys[NumberOfLineTypes];
   std::vector<double> Ends[NumberOfLineTypes];
   /// The face of each segment: this process' numbering; after a gather,

@@ -20,7 +20,7 @@ struct OcclusionIndex
 {
   explicit OcclusionIndex(const LineDrawingGeometry& geo)
     : Geo(geo)
-    , Tree(geo.Points.data(), geo.Triangles.data(), geo.Triangles.size() / 3)
+    , Tree(geo.FieldPoints(), geo.Triangles.data(), geo.Triangles.size() / 3)
   {
     // The faces around each vertex (CSR).
     Offsets.assign(static_cast<std::size_t>(geo.NumberOfVertices()) + 1, 0);
@@ -256,6 +256,13 @@ private:
   Vec3 Toward;
 };
 
+/// Where the rays of the lines' points start: on the surface the fields
+/// were measured on (FieldPoints).
+const double* RayPoints(const LineSet& lines)
+{
+  return lines.FieldPoints.size() == lines.Points.size() ? lines.FieldPoints.data() : lines.Points.data();
+}
+
 /// Where the visibility changes along a piece of a line: (entry of
 /// Connectivity that starts the piece, parameter along it), sorted.
 using Switches = std::vector<std::pair<Index, double>>;
@@ -279,8 +286,8 @@ std::vector<Change> SampleChanges(const LineSet& lines, const Eye& eye, double s
   for (Index k = 0; k < static_cast<Index>(lines.Connectivity.size()); ++k)
   {
     const Index f = lines.EdgeFace[k];
-    const Vec3 a = Point(lines.Points.data(), lines.Connectivity[k]);
-    const Vec3 b = Point(lines.Points.data(), lines.Connectivity[f >= 0 ? k + 1 : k]);
+    const Vec3 a = Point(RayPoints(lines), lines.Connectivity[k]);
+    const Vec3 b = Point(RayPoints(lines), lines.Connectivity[f >= 0 ? k + 1 : k]);
     const int samples = static_cast<int>(std::clamp(std::ceil((b - a).norm() / spacing), 1.0, 1e4));
     if (f < 0 || (samples == 1 && seenAt[k] == seenAt[k + 1]))
     {
@@ -328,7 +335,7 @@ void TestPieces(const LineSet& lines, const Eye& eye, double spacing, std::vecto
     const Index sides[2] = { k > 0 ? lines.EdgeFace[k - 1] : -1, lines.EdgeFace[k] }; // (-1 past a line's ends)
     if (sides[0] >= 0 || sides[1] >= 0)
     {
-      queries.push_back(eye.At(Point(lines.Points.data(), lines.Connectivity[k]), sides));
+      queries.push_back(eye.At(Point(RayPoints(lines), lines.Connectivity[k]), sides));
       tested.push_back(k);
     }
   }
@@ -344,8 +351,8 @@ void TestPieces(const LineSet& lines, const Eye& eye, double spacing, std::vecto
     queries.clear();
     for (const Change& c : changes)
     {
-      const Vec3 a = Point(lines.Points.data(), lines.Connectivity[c.K]);
-      const Vec3 b = Point(lines.Points.data(), lines.Connectivity[c.K + 1]);
+      const Vec3 a = Point(RayPoints(lines), lines.Connectivity[c.K]);
+      const Vec3 b = Point(RayPoints(lines), lines.Connectivity[c.K + 1]);
       const Index sides[2] = { lines.EdgeFace[c.K], -1 };
       queries.push_back(eye.At(a + (0.5 * (c.Lo + c.Hi)) * (b - a), sides));
     }
@@ -364,11 +371,11 @@ void TestPieces(const LineSet& lines, const Eye& eye, double spacing, std::vecto
   std::sort(switches.begin(), switches.end());
 }
 
-/// A point of a part being built: position, normal, strength, and the face
+/// A point of a part being built: position, normal, strength, field point, and the face
 /// of the piece from it to the next point.
 struct PartPoint
 {
-  double Values[7];
+  double Values[10]; // position, normal, strength, field point
   Index Face;
 };
 struct Part
@@ -384,6 +391,7 @@ PartPoint PointOf(const LineSet& lines, Index entry, Index face)
   std::copy(lines.Points.begin() + 3 * i, lines.Points.begin() + 3 * i + 3, p.Values);
   std::copy(lines.Normals.begin() + 3 * i, lines.Normals.begin() + 3 * i + 3, p.Values + 3);
   p.Values[6] = lines.PointStrength[i];
+  std::copy(RayPoints(lines) + 3 * i, RayPoints(lines) + 3 * i + 3, p.Values + 7);
   p.Face = face;
   return p;
 }
@@ -392,7 +400,7 @@ PartPoint PointOf(const LineSet& lines, Index entry, Index face)
 PartPoint Between(const PartPoint& a, const PartPoint& b, double t)
 {
   PartPoint p;
-  for (int k = 0; k < 7; ++k)
+  for (int k = 0; k < 10; ++k)
   {
     p.Values[k] = (1.0 - t) * a.Values[k] + t * b.Values[k];
   }
@@ -464,6 +472,7 @@ void AppendPart(const Part& part, std::uint8_t type, bool closed, LineSet& out)
     {
       out.Points.insert(out.Points.end(), p.Values, p.Values + 3);
       out.Normals.insert(out.Normals.end(), p.Values + 3, p.Values + 6);
+      out.FieldPoints.insert(out.FieldPoints.end(), p.Values + 7, p.Values + 10);
       out.PointStrength.push_back(p.Values[6]);
       sum += p.Values[6];
     }

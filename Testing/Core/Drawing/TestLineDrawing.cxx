@@ -1,10 +1,11 @@
 // Line drawings: curvature derivatives against analytic surfaces,
 // suggestive contours on a Gaussian bump, contours on spheres, ridges and
 // valleys of an ellipsoid, suggestive contours meeting contours on a torus,
-// chaining, no curvature lines along the creases of a CAD part, and bad
-// input.
+// chaining, no curvature lines along the creases of a CAD part, the
+// smoothing of the fields, and bad input.
 #include "TestMeshes.h"
 
+#include "Drawing/FieldSmoothing.h"
 #include "Drawing/LineChaining.h"
 #include "Drawing/LineDrawing.h"
 #include "Mesh/CurvatureDerivatives.h"
@@ -12,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <numeric>
@@ -521,4 +523,81 @@ TEST(LineDrawing, HysteresisJoinsTheBrokenCurvatureLinesOfAScan)
   {
     EXPECT_EQ(PointsOf(joined, type), PointsOf(plain, type)) << int(type);
   }
+}
+
+TEST(LineDrawing, SmoothedFieldsKeepTheShapesLinesOnTheSurface)
+{
+  // Curvature smoothing (the fields of a faired copy, 0.5 feature sizes).
+  // A sphere's faired copy is a smaller sphere, so its contour stays the
+  // great circle, and the lines lie on the surface itself (|p| = 1 within
+  // the chords' sag, as without smoothing).  bunny00, a raw scan: the
+  // suggestive contours of its noise go (at least half of the pieces),
+  // while the contours, the shape's own lines, stay within a feature size
+  // of those of the surface itself.  The copy is faired at the scale of
+  // its length by a power of two: 2^300 times the points give 2^300 times
+  // the copy, bit for bit.
+  const Mesh m = test::OctahedronSphere(5);
+  const MeshTopology topology = m.Topology(0);
+  FieldSmoothingOptions smoothing;
+  smoothing.Amount = 4.0; // (a copy well inside the chords' sag: the test can tell)
+  LineDrawingGeometry sphere;
+  sphere.Build(topology, m.Points.data(), 0, nullptr, smoothing);
+  ASSERT_TRUE(sphere.Smoothed) << sphere.SmoothingWarning;
+  const Vec3 d = Vec3(1, 2, 3).normalized();
+  const std::vector<Vec3> contour = PointsOf(DrawLines(sphere, Orthographic(d), LineDrawingOptions{}), LineType::Contour);
+  double offPlane = 0.0, offSphere = 0.0, shrunk = 0.0;
+  for (const Vec3& p : contour)
+  {
+    offPlane = std::max(offPlane, std::abs(p.dot(d)));
+    offSphere = std::max(offSphere, 1.0 - p.norm());
+  }
+  for (Index v = 0; v < sphere.NumberOfVertices(); ++v)
+  {
+    shrunk = std::max(shrunk, 1.0 - Point(sphere.FairedPoints.data(), v).norm());
+  }
+  std::printf("smoothed sphere: %zu contour points, worst |p.d| %.5f, 1 - |p| %.5f; the copy shrank by %.5f\n",
+    contour.size(), offPlane, offSphere, shrunk);
+  EXPECT_GT(contour.size(), 100u);
+  EXPECT_LT(offPlane, 0.01);
+  EXPECT_LT(offSphere, 0.002);    // on the triangles (the chords' sag), not on the copy
+  EXPECT_GT(shrunk, 2 * offSphere);
+
+  std::vector<double> huge(m.Points.begin(), m.Points.end());
+  for (double& x : huge)
+  {
+    x = std::ldexp(x, 300);
+  }
+  std::string warning;
+  const std::vector<double> a = FairedCopy(topology, m.Points.data(), 0.05, 0, nullptr, warning);
+  const std::vector<double> b = FairedCopy(topology, huge.data(), std::ldexp(0.05, 300), 0, nullptr, warning);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k)
+  {
+    ASSERT_EQ(std::ldexp(a[k], 300), b[k]) << k;
+  }
+
+  const LineDrawingGeometry raw = ScanGeometry();
+  std::string error;
+  const Mesh scan = test::ReadMesh("bunny00.off", error);
+  LineDrawingGeometry smoothed;
+  smoothing.Amount = 0.5;
+  smoothed.Build(scan.Topology(0), scan.Points.data(), 0, nullptr, smoothing);
+  LineDrawingOptions o = CurvatureLines();
+  o.MinimumLength = 0.0;
+  o.HysteresisRatio = 1.0;
+  const LineSet before = DrawLines(raw, ScanFront(), o), after = DrawLines(smoothed, ScanFront(), o);
+  const Index pieces[2] = { CountLines(before, LineType::SuggestiveContour),
+    CountLines(after, LineType::SuggestiveContour) };
+  std::vector<double> near;
+  for (const Vec3& p : PointsOf(after, LineType::Contour))
+  {
+    near.push_back(DistanceToLines(before, LineType::Contour, p) / raw.AutomaticFeatureSize());
+  }
+  std::sort(near.begin(), near.end());
+  const double within = near[near.size() * 9 / 10];
+  std::printf("bunny00: %d suggestive contour pieces -> %d smoothed; 90%% of its contours' points within %.2f "
+              "feature sizes of the raw ones (median %.2f)\n",
+    int(pieces[0]), int(pieces[1]), within, near[near.size() / 2]);
+  EXPECT_LT(2 * pieces[1], pieces[0]);
+  EXPECT_LT(within, 1.0);
 }
