@@ -5,6 +5,7 @@
 #include "Drawing/FieldSmoothing.h"
 #include "Mesh/CurvatureDerivatives.h"
 #include "Mesh/Curvatures.h"
+#include "Mesh/MeshMeasures.h"
 #include "Mesh/RingGeometry.h"
 #include "Solvers/Partition.h"
 #include "Support/Vectorization.h"
@@ -159,28 +160,16 @@ void LineDrawingGeometry::Fair(const MeshTopology& topology, int numThreads, con
   // The faired copy rounds a crease over about the smoothing's length, and
   // its curvatures there are the rounding's: the zone that AtCrease keeps
   // the curvature lines out of grows by as many rings.
+  const double rings = std::ceil(smoothing.Amount * size / MeanEdgeLength(topology, Points.data(), Split.get()));
+  SpreadCreases(topology, rings, numThreads);
+}
+
+void LineDrawingGeometry::SpreadCreases(const MeshTopology& topology, double rings, int numThreads)
+{
   const MeshTopology::VertexGraph& graph = topology.Graph();
-  double sum[2] = { 0.0, 0.0 }; // edge lengths, edges
-  for (Index a = 0; a < NumberOfVertices(); ++a)
-  {
-    for (std::int64_t k = graph.NeighborOffsets[a]; k < graph.NeighborOffsets[a + 1]; ++k)
-    {
-      const Index b = graph.Neighbors[k];
-      const double length = (Point(Points.data(), b) - Point(Points.data(), a)).norm();
-      if (a < b && std::isfinite(length) && (!Split || Split->CountsEdge(a, b)))
-      {
-        sum[0] += length;
-        sum[1] += 1.0;
-      }
-    }
-  }
-  if (Split)
-  {
-    Split->Sum(sum, 2);
-  }
-  const double rings = std::ceil(smoothing.Amount * size * sum[1] / std::max(sum[0], 1e-300));
+  const double vertices = Split ? static_cast<double>(Split->TotalRows()) : NumberOfVertices();
   std::vector<double> near(SharpestCosine.begin(), SharpestCosine.end()), next(near.size());
-  for (int ring = 0; ring < static_cast<int>(std::min(rings, 1e6)); ++ring)
+  for (double ring = 0.0; ring < std::min(rings, vertices); ++ring) // (no graph is wider than its vertices)
   {
     ParallelFor(NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
       for (std::int64_t a = begin; a < end; ++a)

@@ -268,6 +268,8 @@ private:
   void FindFeatureEdges(const MeshTopology& topology, int numThreads, bool everyVertex);
   /// FairedPoints and NearSharpestCosine made (SharpestCosine known).
   void Fair(const MeshTopology& topology, int numThreads, const FieldSmoothingOptions& smoothing);
+  /// NearSharpestCosine: SharpestCosine's smallest within `rings` rings.
+  void SpreadCreases(const MeshTopology& topology, double rings, int numThreads);
   /// A x B of face f at its vertex a (A, B: its edges from a to the next
   /// and the previous vertex), as the 1-ring loops compute it.
   Vec3 FaceCross(Index f, Index a) const;

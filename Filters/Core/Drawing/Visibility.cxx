@@ -18,9 +18,9 @@ namespace beltrami
 /// vertex next to a corner of f (the two rings of faces around f).
 struct OcclusionIndex
 {
-  explicit OcclusionIndex(const LineDrawingGeometry& geo)
+  OcclusionIndex(const LineDrawingGeometry& geo, int numThreads)
     : Geo(geo)
-    , Tree(geo.FieldPoints(), geo.Triangles.data(), geo.Triangles.size() / 3)
+    , Tree(geo.FieldPoints(), geo.Triangles.data(), geo.Triangles.size() / 3, numThreads)
   {
     // The faces around each vertex (CSR).
     Offsets.assign(static_cast<std::size_t>(geo.NumberOfVertices()) + 1, 0);
@@ -139,7 +139,7 @@ const OcclusionIndex& LineDrawingGeometry::Occluders() const
 {
   if (!Occlusion)
   {
-    Occlusion = std::make_shared<const OcclusionIndex>(*this); // (split: collective)
+    Occlusion = std::make_shared<const OcclusionIndex>(*this, Threads); // (split: collective)
   }
   return *Occlusion;
 }

@@ -1,5 +1,7 @@
 #include "Mesh/TriangleTree.h"
 
+#include "Support/Parallel.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -55,7 +57,8 @@ float Above(double x)
 
 } // namespace
 
-TriangleTree::TriangleTree(const double* points, const Index* triangles, std::size_t numberOfTriangles)
+TriangleTree::TriangleTree(
+  const double* points, const Index* triangles, std::size_t numberOfTriangles, int numThreads)
   : Points(points)
   , Triangles(triangles)
 {
@@ -86,27 +89,65 @@ TriangleTree::TriangleTree(const double* points, const Index* triangles, std::si
   {
     slot[Order[k]] = static_cast<Index>(k);
   }
+  const Builder build{ boxes, slot, Order };
+  // The top levels here, then the subtrees below them in parallel, each in
+  // its own nodes, appended in order (the same splits whatever the threads).
+  const int threads = ResolveThreadCount(numThreads);
+  const std::int32_t size = static_cast<std::int32_t>(Order.size());
+  const std::int32_t chunk = threads > 1 ? std::max(LeafSize, size / (4 * threads)) : 0;
+  Nodes.reserve(2 * Order.size() / LeafSize + 1);
+  std::vector<Subtree> deferred;
+  build.Grow(Nodes, 0, size, chunk, deferred);
+  std::vector<std::vector<Node>> parts(deferred.size());
+  ParallelFor(static_cast<std::int64_t>(deferred.size()), threads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t i = begin; i < end; ++i)
+    {
+      std::vector<Subtree> none;
+      build.Grow(parts[i], deferred[i].Begin, deferred[i].End, 0, none);
+    }
+  }, {}, 0, 1);
+  for (std::size_t i = 0; i < parts.size(); ++i)
+  {
+    // Part node k > 0 goes to base + k - 1, its root to the node it grows from.
+    const std::int32_t base = static_cast<std::int32_t>(Nodes.size());
+    for (Node& node : parts[i])
+    {
+      node.First = node.Count == 0 ? base + node.First - 1 : node.First;
+    }
+    Nodes[deferred[i].Node] = parts[i][0];
+    Nodes.insert(Nodes.end(), parts[i].begin() + 1, parts[i].end());
+  }
+}
+
+void TriangleTree::Builder::Grow(std::vector<Node>& nodes, std::int32_t first, std::int32_t last, std::int32_t chunk,
+  std::vector<Subtree>& deferred) const
+{
   const auto centre = [&](Index t, int axis) {
-    const double* b = &boxes[6 * static_cast<std::size_t>(slot[t])];
+    const double* b = &Boxes[6 * static_cast<std::size_t>(Slot[t])];
     return b[axis] + b[3 + axis];
   };
   // Top down: a node's triangles split at the median of their centres along
-  // the longest side of the centres' box.
-  Nodes.reserve(2 * Order.size() / LeafSize + 1);
-  Nodes.emplace_back();
-  std::vector<std::pair<std::int32_t, std::int32_t>> pending{ { 0, static_cast<std::int32_t>(Order.size()) } };
-  std::vector<std::int32_t> nodeOf{ 0 };
+  // the longest side of the centres' box; ranges of `chunk` triangles or
+  // fewer (and more than a leaf's; chunk 0: none) are left to `deferred`.
+  nodes.emplace_back();
+  std::vector<std::pair<std::int32_t, std::int32_t>> pending{ { first, last } };
+  std::vector<std::int32_t> nodeOf{ static_cast<std::int32_t>(nodes.size()) - 1 };
   while (!pending.empty())
   {
     const auto [begin, end] = pending.back();
     const std::int32_t id = nodeOf.back();
     pending.pop_back();
     nodeOf.pop_back();
+    if (end - begin > LeafSize && end - begin <= chunk)
+    {
+      deferred.push_back({ id, begin, end });
+      continue;
+    }
     Vec3 lo = Vec3::Constant(HUGE_VAL), hi = Vec3::Constant(-HUGE_VAL);
     Vec3 clo = lo, chi = hi;
     for (std::int32_t k = begin; k < end; ++k)
     {
-      const double* b = &boxes[6 * static_cast<std::size_t>(slot[Order[k]])];
+      const double* b = &Boxes[6 * static_cast<std::size_t>(Slot[Order[k]])];
       for (int a = 0; a < 3; ++a)
       {
         lo[a] = std::min(lo[a], b[a]);
@@ -117,13 +158,13 @@ TriangleTree::TriangleTree(const double* points, const Index* triangles, std::si
     }
     for (int a = 0; a < 3; ++a)
     {
-      Nodes[id].Lo[a] = Below(lo[a]);
-      Nodes[id].Hi[a] = Above(hi[a]);
+      nodes[id].Lo[a] = Below(lo[a]);
+      nodes[id].Hi[a] = Above(hi[a]);
     }
     if (end - begin <= LeafSize)
     {
-      Nodes[id].First = begin;
-      Nodes[id].Count = end - begin;
+      nodes[id].First = begin;
+      nodes[id].Count = end - begin;
       continue;
     }
     int axis = 0;
@@ -131,11 +172,11 @@ TriangleTree::TriangleTree(const double* points, const Index* triangles, std::si
     const std::int32_t middle = begin + (end - begin) / 2;
     std::nth_element(Order.begin() + begin, Order.begin() + middle, Order.begin() + end,
       [&](Index x, Index y) { return centre(x, axis) < centre(y, axis); });
-    const std::int32_t children = static_cast<std::int32_t>(Nodes.size());
-    Nodes[id].First = children;
-    Nodes[id].Count = 0;
-    Nodes.emplace_back();
-    Nodes.emplace_back();
+    const std::int32_t children = static_cast<std::int32_t>(nodes.size());
+    nodes[id].First = children;
+    nodes[id].Count = 0;
+    nodes.emplace_back();
+    nodes.emplace_back();
     pending.emplace_back(begin, middle);
     nodeOf.push_back(children);
     pending.emplace_back(middle, end);
