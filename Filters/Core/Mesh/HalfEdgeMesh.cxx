@@ -91,8 +91,10 @@ bool HalfEdgeMesh::CanFlip(Index h) const
   {
     return false;
   }
+  // (Both ways: where c-d is an edge of the boundary, only one of its
+  // half-edges exists, and the flip would make it an edge of three faces.)
   const Index c = Tri[Prev(h)], d = Tri[Prev(Opposite[h])];
-  return c != d && FindHalfEdge(c, d) < 0;
+  return c != d && FindHalfEdge(c, d) < 0 && FindHalfEdge(d, c) < 0;
 }
 
 bool HalfEdgeMesh::FlipEdge(Index h)

@@ -116,6 +116,16 @@ TEST(HalfEdgeMesh, FlipTurnsTheDiagonalOfAQuadAndRefusesWhatItCannot)
     EXPECT_FALSE(closed.FlipEdge(h));
   }
   EXPECT_EQ(closed.CheckConsistency(), "");
+  // A disk whose quad (0, 1, 2), (1, 0, 3) has its other diagonal 2-3 on
+  // the boundary (its one half-edge runs 3 -> 2): the flip would make it
+  // an edge of three faces.  (Met while stitching a pleat of folded caps.)
+  HalfEdgeMesh strip = Build(Small({ { 0, 0, 0 }, { 1, 0, 0 }, { 0.5, 1, 0 }, { 0.5, -1, 0 }, { 1.5, 0, 1 } },
+    { 0, 1, 2, 1, 0, 3, 2, 1, 4, 1, 3, 4, 4, 3, 2 }));
+  ASSERT_GE(strip.FindHalfEdge(3, 2), 0);
+  ASSERT_LT(strip.FindHalfEdge(2, 3), 0);
+  EXPECT_FALSE(strip.CanFlip(strip.FindHalfEdge(0, 1)));
+  EXPECT_FALSE(strip.FlipEdge(strip.FindHalfEdge(0, 1)));
+  EXPECT_EQ(strip.CheckConsistency(), "");
 }
 
 TEST(HalfEdgeMesh, ManyRandomFlipsKeepEveryInvariant)
