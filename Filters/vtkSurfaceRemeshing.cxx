@@ -4,6 +4,7 @@
 
 #include "Maps/Atlas.h"
 #include "Mesh/MeshMeasures.h"
+#include "Remeshing/RemeshMetric.h"
 #include "Remeshing/SurfaceRemeshing.h"
 
 #include <vtkCellArray.h>
@@ -52,8 +53,10 @@ struct vtkSurfaceRemeshing::Kept
 vtkSurfaceRemeshing::vtkSurfaceRemeshing()
 {
   this->SetNumberOfOutputPorts(2);
-  // Input array 0: the importance of POINT_ARRAY (a point array).
+  // Input array 0: the importance of POINT_ARRAY (a point array); 1: the
+  // metric of TENSOR_ARRAY.
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, static_cast<const char*>(nullptr));
+  this->SetInputArrayToProcess(1, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, static_cast<const char*>(nullptr));
 }
 
 vtkSurfaceRemeshing::~vtkSurfaceRemeshing() = default;
@@ -238,6 +241,53 @@ void vtkSurfaceRemeshing::RemoveAllTransferFunctionPoints()
   }
 }
 
+bool vtkSurfaceRemeshing::BuildMetric(const std::uint8_t* featureEdges, std::vector<double>& metric)
+{
+  const beltrami::MeshTopology& topology = this->Cache->Surface.Topology();
+  const double* points = this->Cache->Points;
+  if (this->Anisotropy == TENSOR_ARRAY)
+  {
+    std::string error;
+    vtkDataArray* array = this->Cache->Surface.SelectedPointArray(this, 1, 6, "metric", error);
+    if (!array)
+    {
+      vtkErrorMacro(<< (error.empty() ? std::string("Anisotropy TENSOR_ARRAY needs a 6-component point array (input "
+                                                    "array 1).")
+                                      : error)
+                    << " The output is empty.");
+      return false;
+    }
+    metric.resize(6 * static_cast<std::size_t>(topology.NumberOfVertices()));
+    for (beltrami::Index v = 0; v < topology.NumberOfVertices(); ++v)
+    {
+      for (int c = 0; c < 6; ++c)
+      {
+        metric[6 * v + c] = array->GetComponent(v, c);
+      }
+      if (!(beltrami::MetricDensity(&metric[6 * v]) > 0.0) || !std::isfinite(beltrami::MetricDensity(&metric[6 * v])))
+      {
+        vtkErrorMacro(<< "Anisotropy TENSOR_ARRAY: the tensor of point " << v << " is not positive definite in its "
+                      << "tangent plane. The output is empty.");
+        return false;
+      }
+    }
+    return true;
+  }
+  beltrami::MetricOptions options;
+  options.MaximumAnisotropy = this->MaximumAnisotropy;
+  options.Minimum = this->MinimumImportance;
+  options.Gradation = this->Gradation; // (0: the remesher grades it over its spacing, RemeshOptions::MetricGradation)
+  options.FeatureEdges = featureEdges;
+  options.NumberOfThreads = this->NumberOfThreads;
+  beltrami::MetricResult result = beltrami::CurvatureMetric(topology, points, options);
+  if (!result.Warning.empty())
+  {
+    vtkWarningMacro(<< "Anisotropy: " << result.Warning << ".");
+  }
+  metric = std::move(result.Metric);
+  return true;
+}
+
 int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
 {
   output->Initialize(); // a defined output: empty
@@ -299,8 +349,16 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
     vtkErrorMacro(<< "No atlas: " << atlas.Error << ". The output is empty.");
     return 0;
   }
+  std::vector<double> metric;
+  if (this->Anisotropy != ISOTROPIC &&
+    !this->BuildMetric(atlas.FeatureEdges.empty() ? nullptr : atlas.FeatureEdges.data(), metric))
+  {
+    return 0;
+  }
   beltrami::RemeshOptions options;
   options.NumberOfVertices = this->NumberOfVertices;
+  options.Metric = metric.empty() ? nullptr : metric.data();
+  options.MetricGradation = this->Gradation > 0.0 ? 0.0 : 1.0;
   // The first fifth of the rounds in the charts' planes, the rest stitching
   // across the seams on the surface (beltrami::RemeshOptimization).
   options.Iterations = this->Iterations / 5;
@@ -362,6 +420,26 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
                     << "% of the diagonal; field array RemeshDeviation)." << advice);
   }
   WriteRemesh(input, topology, remesh, atlas.Charts.size(), output);
+  if (!metric.empty())
+  {
+    const beltrami::MetricQuality q = beltrami::MeasureInMetric(topology, points,
+      remesh.GradedMetric.empty() ? metric.data() : remesh.GradedMetric.data(), remesh.Points,
+      remesh.Triangles, remesh.SourceTriangle, remesh.SourceBarycentric);
+    vtkNew<vtkDoubleArray> figures;
+    figures->SetName("RemeshMetricQuality");
+    for (const double value : { q.MedianEdgeLength, q.EdgesWithin20Percent, q.MinimumAngle, q.MeanMinimumAngle,
+           q.TrianglesBelow30 })
+    {
+      figures->InsertNextValue(value);
+    }
+    output->GetFieldData()->AddArray(figures);
+    vtkNew<vtkDoubleArray> pointMetric;
+    pointMetric->SetName("Metric");
+    pointMetric->SetNumberOfComponents(6);
+    pointMetric->SetNumberOfTuples(static_cast<vtkIdType>(q.PointMetric.size() / 6));
+    std::copy(q.PointMetric.begin(), q.PointMetric.end(), pointMetric->GetPointer(0));
+    output->GetPointData()->AddArray(pointMetric);
+  }
   WriteControlMap(remesh.Samples, vtkMultiBlockDataSet::SafeDownCast(this->GetOutputDataObject(1)));
   if (!driven.Counts.empty())
   {
@@ -383,6 +461,8 @@ void vtkSurfaceRemeshing::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "MaximumDeviation: " << this->MaximumDeviation << "\n"
      << indent << "MaximumDeviationRounds: " << this->MaximumDeviationRounds << "\n"
      << indent << "Importance: " << this->Importance << "\n"
+     << indent << "Anisotropy: " << this->Anisotropy << "\n"
+     << indent << "MaximumAnisotropy: " << this->MaximumAnisotropy << "\n"
      << indent << "Gamma: " << this->Gamma << "\n"
      << indent << "MinimumImportance: " << this->MinimumImportance << "\n"
      << indent << "Gradation: " << this->Gradation << "\n"

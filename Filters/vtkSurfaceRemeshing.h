@@ -1,8 +1,8 @@
 /**
  * @class   vtkSurfaceRemeshing
  * @brief   Remeshes a triangle surface of any genus, open or closed, with
- *          exactly NumberOfVertices vertices (thesis chapter 4): uniform or
- *          adapted to curvature or to a point array.
+ *          exactly NumberOfVertices vertices (thesis chapter 4): uniform,
+ *          adapted to curvature or to a point array, or anisotropic.
  *
  * The surface's atlas (vtkSurfaceAtlas's core with natural chart boundaries
  * and area-balanced charts, section 4.2.4; sharp edges kept as chart
@@ -43,6 +43,19 @@
  * surface (a uniform remesh of the bunny at 10k vertices: Hausdorff distance
  * 0.51% -> 0.31% of the diagonal, edge-length variation 0.089 both;
  * MaximumSurfaceSag 0: the density as given).
+ *
+ * Anisotropy PRINCIPAL_CURVATURES (the thesis' future work, section 6.2)
+ * remeshes in a metric from the curvature tensor: wanted edge lengths
+ * proportional to |k_i|^(-1/2) along the principal directions (at most
+ * MaximumAnisotropy times longer one way; MinimumImportance: the least
+ * density), graded over the remesh's spacing; TENSOR_ARRAY takes the metric
+ * from input array 1 (6 components: xx, yy, zz, xy, yz, xz).  The density
+ * follows the metric (times the importance), chart boundaries and kept lines
+ * are sampled at its length along them (kept lines no sparser than a
+ * uniform remesh's), and the swaps, the relaxation (Lloyd's step in the
+ * metric; the first half of the stitching rounds pulled towards a lattice
+ * aligned with it) and the sliver repair measure in it.  Output point array
+ * Metric (scaled to the count) and field array RemeshMetricQuality.
  *
  * Output 0: the remesh (triangles), the input's point arrays interpolated at
  * its vertices (barycentric in the input triangle under each), point array
@@ -92,7 +105,8 @@
 #include "BeltramiFiltersModule.h"
 #include <vtkPolyDataAlgorithm.h>
 
-#include <memory> // for the kept atlas
+#include <cstdint> // for the feature flags
+#include <memory>  // for the kept atlas
 #include <vector> // for the transfer function
 
 namespace beltrami
@@ -116,6 +130,12 @@ public:
     MAXIMUM_CURVATURE = 4,
     POINT_ARRAY = 5
   };
+  enum AnisotropyType
+  {
+    ISOTROPIC = 0,
+    PRINCIPAL_CURVATURES = 1,
+    TENSOR_ARRAY = 2
+  };
 
   /// The vertices of the remesh, met exactly. With a Maximum Deviation, the least count (0: as few
   /// as the deviation takes). Default: 10000.
@@ -137,6 +157,23 @@ public:
   /// curvature max|k|, 5 Point array. Default: Uniform.
   vtkSetClampMacro(Importance, int, UNIFORM, POINT_ARRAY);
   vtkGetMacro(Importance, int);
+  /// The anisotropic mode (the thesis' future work, section 6.2): triangles stretched along the
+  /// directions the surface bends least in, sampled, triangulated and optimised in a metric, a
+  /// symmetric tensor per point (an edge d is of unit length where d^T T d = 1). From the principal
+  /// curvatures, the wanted edge length along each principal direction is proportional to
+  /// |k_i|^(-1/2), so that the chordal error is even, at most Maximum Anisotropy times longer one
+  /// way than the other, with a density of at least Minimum Importance times the mean, graded over
+  /// the remesh's spacing (or over Gradation when it is set); or the Metric Array. The metric's
+  /// density times the importance is the vertex density; output point array Metric (the metric
+  /// scaled to the count) and field array RemeshMetricQuality (in the metric: median edge length,
+  /// share of edges within 20% of 1, smallest and mean smallest angle, share of triangles below 30
+  /// degrees). Values: 0 Isotropic, 1 Principal curvatures, 2 Tensor array. Default: Isotropic.
+  vtkSetClampMacro(Anisotropy, int, ISOTROPIC, TENSOR_ARRAY);
+  vtkGetMacro(Anisotropy, int);
+  /// The anisotropic mode's longest over shortest wanted edge length at a point, at most (1:
+  /// isotropic, with the density of the curvature's geometric mean). Default: 6.
+  vtkSetClampMacro(MaximumAnisotropy, double, 1.0, 100.0);
+  vtkGetMacro(MaximumAnisotropy, double);
   /// Exponent of the transfer function: 0 gives a uniform mesh, larger values adapt more to the
   /// importance. Default: 1.0.
   vtkSetClampMacro(Gamma, double, 0.0, 10.0);
@@ -144,7 +181,8 @@ public:
   /// Smooth gradation of the vertex density (section 4.3.1): the importance low-pass filtered over
   /// the surface by the heat kernel of this standard deviation, in the surface's units (0: none). A
   /// few mean edge lengths of the remesh calm a noisy curvature; the importance's integral is kept.
-  /// Default: 0.
+  /// In the anisotropic mode, the metric's components are filtered so instead (0: over the remesh's
+  /// spacing). Default: 0.
   vtkSetClampMacro(Gradation, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(Gradation, double);
   /// The transfer function as a piecewise-linear function of x = |value| /
@@ -153,8 +191,8 @@ public:
   void AddTransferFunctionPoint(double x, double importance);
   void RemoveAllTransferFunctionPoints();
   int GetNumberOfTransferFunctionPoints() const { return static_cast<int>(this->TransferFunction.size() / 2); }
-  /// The least importance, relative to the mean: flat regions keep at least this density. Default:
-  /// 0.05.
+  /// The least importance, relative to the mean: flat regions keep at least this density (in the
+  /// anisotropic mode, the least density of the metric from the curvatures). Default: 0.05.
   vtkSetClampMacro(MinimumImportance, double, 0.0, 1.0);
   vtkGetMacro(MinimumImportance, double);
   /// Keep sharp edges (normals differing by more than Feature Angle) as chart boundaries, sampled
@@ -178,7 +216,9 @@ public:
   /// depart from the surface by more than this fraction of the spacing, about spacing^2 x curvature
   /// / 8 with the larger principal curvature), the density is raised there, smoothly over one
   /// spacing, so the remesh keeps to the surface; a uniform remesh stays uniform wherever the
-  /// spacing follows the surface (0: the density as given). Default: 0.1.
+  /// spacing follows the surface (0: the density as given). In the anisotropic mode, the same bound
+  /// for the metric's shortest edges, along the most curved direction (tubes and fins thinner than
+  /// them). Default: 0.1.
   vtkSetClampMacro(MaximumSurfaceSag, double, 0.0, 1.0);
   vtkGetMacro(MaximumSurfaceSag, double);
   /// Rounds of edge swaps and relaxation after the triangulation, the first fifth in the charts'
@@ -205,6 +245,8 @@ protected:
   double MaximumDeviation = 0.0;
   int MaximumDeviationRounds = 8;
   int Importance = UNIFORM;
+  int Anisotropy = ISOTROPIC;
+  double MaximumAnisotropy = 6.0;
   double Gamma = 1.0;
   double MinimumImportance = 0.05;
   double Gradation = 0.0;
@@ -222,6 +264,9 @@ private:
   void operator=(const vtkSurfaceRemeshing&) = delete;
 
   int Build(vtkPolyData* input, vtkPolyData* output);
+  /// The anisotropic mode's metric (6 per input vertex) into `metric`;
+  /// false on error (reported).
+  bool BuildMetric(const std::uint8_t* featureEdges, std::vector<double>& metric);
   /// Keeps the input's surface (Cache), or the one kept while the input's
   /// geometry is the one it was built from: 1, -1 for an empty input
   /// (warned), 0 on error (reported).

@@ -149,16 +149,20 @@ def surface_atlas(mesh_path, charts=0, split_at_features=False):
 
 
 def remesh(mesh_path, vertices=10000, importance=0, gamma=1.0, split_at_features=False, gradation=0.0,
-           transfer_function=()):
+           transfer_function=(), anisotropy=0, maximum_deviation=0.0):
     """vtkSurfaceRemeshing on an OFF mesh (importance: vtkSurfaceRemeshing's
     UNIFORM, MEAN_CURVATURE, ...; transfer_function: (x, importance) pairs
-    used instead of gamma); returns (filter, seconds)."""
+    used instead of gamma; anisotropy: ISOTROPIC, PRINCIPAL_CURVATURES;
+    maximum_deviation > 0: the error-driven mode, `vertices` its least
+    count); returns (filter, seconds)."""
     f = vtkSurfaceRemeshing()
     f.SetNumberOfVertices(vertices)
     f.SetImportance(importance)
     f.SetGamma(gamma)
     f.SetSplitAtFeatures(split_at_features)
     f.SetGradation(gradation)
+    f.SetAnisotropy(anisotropy)
+    f.SetMaximumDeviation(maximum_deviation)
     for x, y in transfer_function:
         f.AddTransferFunctionPoint(x, y)
     return run_on_off(mesh_path, f)
@@ -183,16 +187,28 @@ def render_wireframe(polydata, png_path, size=(800, 800), view_up=(0, 1, 0), dir
     return snapshot(wireframe_actor(polydata), png_path, size, view_up=view_up, direction=direction, zoom=zoom)
 
 
-def render_flat_meshes(meshes, png_path, size=(1200, 600), gap=0.2):
-    """Flat meshes (points (u, v, 0)) side by side at one scale, left to right."""
+def render_side_by_side(meshes, png_path, size=(1200, 600), gap=0.2, view_up=(0, 1, 0), direction=(0, 0, 1),
+                        zoom=1.9):
+    """Meshes in wireframe side by side at one scale, left to right as the
+    camera (looking from `direction`) sees them, `gap` (the meshes' units)
+    apart."""
+    up, towards = np.array(view_up, float), np.array(direction, float)
+    right = np.cross(up, towards)
+    right /= np.linalg.norm(right)
     actors, x = [], 0.0
     for mesh in meshes:
-        bounds = mesh.GetBounds()
+        corners = np.array(np.meshgrid(*np.array(mesh.GetBounds()).reshape(3, 2), indexing="ij")).reshape(3, -1).T
+        extent = corners @ right
         actor = wireframe_actor(mesh)
-        actor.SetPosition(x - bounds[0], 0.0, 0.0)
+        actor.SetPosition(*((x - extent.min()) * right))
         actors.append(actor)
-        x += bounds[1] - bounds[0] + gap
-    return capture(framed_renderer(actors, zoom=1.9), png_path, size)
+        x += extent.max() - extent.min() + gap
+    return capture(framed_renderer(actors, view_up, direction, zoom), png_path, size)
+
+
+def render_flat_meshes(meshes, png_path, size=(1200, 600), gap=0.2):
+    """Flat meshes (points (u, v, 0)) side by side at one scale, left to right."""
+    return render_side_by_side(meshes, png_path, size, gap)
 
 
 # Colours of vtkSurfaceLineDrawing's line types (contour, suggestive contour,

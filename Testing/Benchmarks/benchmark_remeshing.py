@@ -201,6 +201,18 @@ def corpus_table(counts):
                  "about the count.")
 
 
+def remesher(data, features, **settings):
+    """A quiet vtkSurfaceRemeshing on `data` (sharp edges kept where
+    `features`) with the settings given by name."""
+    f = vtkSurfaceRemeshing()
+    f.SetInputData(data)
+    f.SetSplitAtFeatures(features)
+    f.GlobalWarningDisplayOff()
+    for key, value in settings.items():
+        getattr(f, "Set" + key)(value)
+    return f
+
+
 def smallest_count(run, bound, start, tries=6):
     """(vertices, deviation %) of the fewest vertices found within `bound`
     (%) by run(count) -> (vertices, deviation %), over `tries` counts: each
@@ -249,16 +261,7 @@ def deviation_table(bound):
         diagonal = np.linalg.norm(bounds[1::2] - bounds[::2])
         features = name in CAD
 
-        def remesher(**settings):
-            f = vtkSurfaceRemeshing()
-            f.SetInputData(data)
-            f.SetSplitAtFeatures(features)
-            f.GlobalWarningDisplayOff()
-            for key, value in settings.items():
-                getattr(f, "Set" + key)(value)
-            return f
-
-        f = remesher(NumberOfVertices=0, MaximumDeviation=bound)
+        f = remesher(data, features, NumberOfVertices=0, MaximumDeviation=bound)
         start = time.perf_counter()
         f.Update()
         seconds = time.perf_counter() - start
@@ -268,7 +271,7 @@ def deviation_table(bound):
             vertices, deviation, rounds.GetNumberOfTuples(), seconds)
         cells = []
         for mode in ({}, {"Importance": vtkSurfaceRemeshing.MAXIMUM_CURVATURE, "Gamma": 0.5}):
-            g = remesher(**mode)  # one filter a mode: its atlas kept between the counts
+            g = remesher(data, features, **mode)  # one filter a mode: its atlas kept between the counts
 
             def run(count, g=g):
                 g.SetNumberOfVertices(count)

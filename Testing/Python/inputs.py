@@ -392,6 +392,39 @@ def orient_consistently(points, triangles):
     return points, np.array(tris)
 
 
+def swept(nu, nv, section):
+    """A tube swept along z: section(t, v) -> (x, y, z) arrays for t in
+    [0, 2 pi) around and v in [0, 1] along; open at both ends, its quads'
+    diagonals alternating."""
+    t, v = np.meshgrid(2.0 * np.pi * np.arange(nu) / nu, np.linspace(0.0, 1.0, nv), indexing="ij")
+    points = np.stack(section(t, v), axis=-1).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(nu), np.arange(nv - 1), indexing="ij")
+    a, b = i * nv + j, ((i + 1) % nu) * nv + j
+    c, d = b + 1, a + 1
+    even = ((i + j) % 2 == 0)[..., None]
+    first = np.where(even, np.stack([a, b, d], -1), np.stack([a, b, c], -1)).reshape(-1, 3)
+    second = np.where(even, np.stack([b, c, d], -1), np.stack([a, c, d], -1)).reshape(-1, 3)
+    return points, np.concatenate([first, second])
+
+
+def tube(radius=1.0, length=4.0, nu=256, nv=200):
+    """An open cylinder of revolution about z (principal curvatures 1 / radius and 0)."""
+    return swept(nu, nv, lambda t, v: (radius * np.cos(t), radius * np.sin(t), length * (v - 0.5)))
+
+
+def blade(nu=240, nv=500, span=5.0, chord=1.0, thickness=0.2, camber=0.15, twist=0.6):
+    """A turbine-blade-like surface: a cambered, rounded section of the
+    chord and thickness given, swept along z over the span and twisted by
+    `twist` radians; open at both ends (flat sides, a tight leading and
+    trailing edge: curvature ratios far above 3 almost everywhere)."""
+    def section(t, v):
+        x = 0.5 * chord * np.cos(t)
+        y = thickness * np.sin(t) * (1.0 + 0.3 * np.cos(t)) + camber * np.cos(t) ** 2
+        turn = twist * v
+        return x * np.cos(turn) - y * np.sin(turn), x * np.sin(turn) + y * np.cos(turn), span * v
+    return swept(nu, nv, section)
+
+
 def hard_shapes():
     """name -> (points, triangles): the shapes made to break a remesher."""
     shapes = {

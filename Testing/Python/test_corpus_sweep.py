@@ -280,6 +280,18 @@ def check_remesh_10k(mesh, out, top, path):
     return problem or check_quality(path, *inputs.arrays_of(out))
 
 
+def check_remesh_anisotropic(mesh, out, top, path=""):
+    """The anisotropic mode at 2,000 vertices: the count, the input's
+    topology and a deviation within CGAL's isotropic one at about the count
+    (as check_remesh), and the metric's figures."""
+    figures = out.GetFieldData().GetArray("RemeshMetricQuality")
+    if figures is None or out.GetPointData().GetArray("Metric") is None:
+        return "no RemeshMetricQuality or Metric array"
+    print("    in the metric: median edge %.3f, %.1f%% of the edges within 20%% of 1, mean smallest angle %.1f deg"
+          % (figures.GetValue(0), 100 * figures.GetValue(1), figures.GetValue(3)))
+    return check_remesh(mesh, out, top, 2000, path)
+
+
 DEVIATION = 0.005  # the error-driven sweep's bound (fraction of the diagonal)
 # The CAD parts: their sharp edges kept (SplitAtFeatures), as a user remeshing them would.
 CAD = {"cube.off", "fandisk.off", "fandisk_large.off", "mech-holes-shark.off", "cylinder_locally_refined.off",
@@ -370,6 +382,8 @@ FILTERS = {
     "remeshing": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=2000), check_remesh, "all", None),
     "remeshing-10k": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=10000), check_remesh_10k, "all",
                       None),
+    "remeshing-anisotropic": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=2000, Anisotropy=1),
+                              check_remesh_anisotropic, "all", None),
     "remeshing-deviation": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=0,
                                                MaximumDeviation=DEVIATION), check_deviation, "all", None),
     # (visible and hidden lines: the drawing, and the visibility rays that split it)
@@ -406,7 +420,8 @@ def sweep(name, meshes):
             status = "refused: " + first[:200]
         else:
             problem = first[:200] if said.errors else \
-                (check(mesh, out, top, path=path) if check in (check_remesh, check_remesh_10k) else check(mesh, out, top))
+                (check(mesh, out, top, path=path) if check in (check_remesh, check_remesh_10k, check_remesh_anisotropic)
+                 else check(mesh, out, top))
             failed += problem is not None
             passed += problem is None
             status = "ok" if problem is None else "FAILED: " + problem

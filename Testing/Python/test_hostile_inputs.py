@@ -45,6 +45,8 @@ def filters():
         "parameterization": (b.vtkIntrinsicParameterization, ("surface",)),
         "atlas": (b.vtkSurfaceAtlas, ("surface",)),
         "remeshing": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=300), ("surface",)),
+        "remeshing-anisotropic": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=300, Anisotropy=1),
+                                  ("surface",)),
         "line-drawing": (inputs.filter_with(b.vtkSurfaceLineDrawing, Visibility=2), ("surface",)),
         "vector-fields": (b.vtkSurfaceVectorFieldDecomposition, ("surface-with-vectors",)),
         "tetgen": (b.vtkTetGenTetrahedralizer, ("surface",)),

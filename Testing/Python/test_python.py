@@ -760,6 +760,73 @@ class RemeshingFromPython(unittest.TestCase):
         self.assertTrue(failed and failed_array)
         self.assertEqual(f.GetOutput().GetNumberOfPoints(), 0)
 
+    def test_anisotropic_mode_from_the_curvature_and_from_a_tensor_array(self):
+        # An ellipsoid (semi-axes 1, 1, 3): the remesh's edges of unit
+        # length and its triangles near equilateral in the metric (its
+        # figures and the metric per point in the output), and closer to
+        # the ellipsoid than the isotropic remesh of the same count.
+        import inputs
+        p, t = inputs.sphere(48)
+        ellipsoid = inputs.polydata(p * np.array([1.0, 1.0, 3.0]), t)
+        f = vtkSurfaceRemeshing()
+        f.SetInputData(ellipsoid)
+        f.SetNumberOfVertices(2000)
+        self.assertEqual((f.GetAnisotropy(), f.GetMaximumAnisotropy()), (vtkSurfaceRemeshing.ISOTROPIC, 6.0))
+        f.Update()
+        isotropic = max(f.GetOutput().GetFieldData().GetArray("RemeshDeviation").GetValue(k) for k in range(2))
+        f.SetAnisotropy(vtkSurfaceRemeshing.PRINCIPAL_CURVATURES)
+        f.Update()
+        out = f.GetOutput()
+        self.assertEqual(out.GetNumberOfPoints(), 2000)
+        figures = out.GetFieldData().GetArray("RemeshMetricQuality")
+        median, within, _, mean_smallest, _ = (figures.GetValue(k) for k in range(5))
+        self.assertAlmostEqual(median, 1.0, delta=0.1)
+        self.assertGreater(within, 0.85)
+        self.assertGreater(mean_smallest, 48.0)
+        self.assertEqual(out.GetPointData().GetArray("Metric").GetNumberOfComponents(), 6)
+        deviation = max(out.GetFieldData().GetArray("RemeshDeviation").GetValue(k) for k in range(2))
+        self.assertLess(deviation, 0.7 * isotropic)
+        self.assertEqual(f.GetAtlasBuilds(), 1)
+        # A square with a constant tensor of 1 along x and 1/16 along y:
+        # edges four times longer along y (the root-mean-square of their
+        # y over their x extents), where the isotropic remesh's are even.
+        n = 60
+        u, v = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n), indexing="ij")
+        grid = np.stack([u.ravel(), v.ravel(), np.zeros(n * n)], axis=1)
+        ids = np.arange(n * n).reshape(n, n)
+        quads = np.stack([ids[:-1, :-1], ids[1:, :-1], ids[1:, 1:], ids[:-1, 1:]], axis=-1).reshape(-1, 4)
+        square = inputs.polydata(grid, np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]))
+        tensor = numpy_to_vtk(np.tile([1.0, 1.0 / 16.0, 0.0, 0.0, 0.0, 0.0], (n * n, 1)), deep=1)
+        tensor.SetName("Wanted")
+        square.GetPointData().AddArray(tensor)
+        g = vtkSurfaceRemeshing()
+        g.SetInputData(square)
+        g.SetNumberOfVertices(1500)
+
+        def stretch():
+            self.assertEqual(g.GetExecutive().Update(), 1)
+            q, tri = inputs.arrays_of(g.GetOutput())
+            d = np.concatenate([q[tri[:, k]] - q[tri[:, (k + 1) % 3]] for k in range(3)])
+            return np.sqrt((d[:, 1] ** 2).sum() / (d[:, 0] ** 2).sum())
+        even = stretch()
+        g.SetAnisotropy(vtkSurfaceRemeshing.TENSOR_ARRAY)
+        g.SetInputArrayToProcess(1, 0, 0, 0, "Wanted")
+        self.assertAlmostEqual(stretch(), 4.0, delta=0.6)
+        self.assertAlmostEqual(even, 1.0, delta=0.15)
+        # Without a tensor array, or with one not positive in the tangent
+        # plane: an error and an empty output.
+        for name, values in (("", None), ("Flat", [0.0, 0.0, 1.0, 0.0, 0.0, 0.0])):
+            if values is not None:
+                bad = numpy_to_vtk(np.tile(values, (n * n, 1)), deep=1)
+                bad.SetName(name)
+                square.GetPointData().AddArray(bad)
+            g.SetInputArrayToProcess(1, 0, 0, 0, name)
+            log = vtkStringOutputWindow()
+            vtkOutputWindow.SetInstance(log)
+            self.assertEqual(g.GetExecutive().Update(), 0, name)
+            self.assertIn("TENSOR_ARRAY", log.GetOutput())
+            self.assertEqual(g.GetOutput().GetNumberOfPoints(), 0)
+
     def test_bad_input_is_an_error_or_a_warning_with_an_empty_output(self):
         # Non-manifold and NaN input: a clear error; empty and lines-only
         # input: a warning; in every case an empty remesh, never a crash.

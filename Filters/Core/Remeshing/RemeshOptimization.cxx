@@ -4,6 +4,7 @@
 #include "Support/Parallel.h"
 #include "Support/Vectorization.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -223,24 +224,44 @@ bool Optimizer::Place(Index v, Index triangle, const double* w, double& moved, c
   {
     VertexImportance[v] = ImportanceAt(v);
   }
+  if (!VertexMetric.empty())
+  {
+    VertexMetric[v] = MetricAt(v);
+  }
   return true;
 }
 
 /// An interior vertex towards the weighted centroid of its faces in its
-/// chart (halving the step while a face would flip).
+/// chart (halving the step while a face would flip); with a metric, the
+/// centroid of its Voronoi cell in the metric at v, carried into the plane
+/// (PlaneMetricFactor).
 bool Optimizer::MoveInterior(Index v, double& moved)
 {
   double sum = 0.0, target[2] = { 0.0, 0.0 };
   int chart = -1;
   const double* p = nullptr;
+  const bool metric = !VertexMetric.empty();
+  const Eigen::Matrix2d u = metric ? PlaneMetricFactor(v) : Eigen::Matrix2d::Identity();
   M.ForEachOutgoing(v, [&](Index h) {
-    // The face's share of v's Voronoi cell in the plane, weighted by the
-    // face's 3D area (times importance) per unit of its area in the plane.
     const double* q[3] = { UVAt(h), UVAt(HalfEdgeMesh::Next(h)), UVAt(HalfEdgeMesh::Prev(h)) };
-    const double planeArea = 0.5 * std::abs(Cross2(q[0], q[1], q[2]));
-    double c[2];
-    const double part = VoronoiPart(q[0], q[1], q[2], c);
-    const double w = planeArea > 0.0 ? Weight(h / 3) / planeArea * part : 0.0;
+    double c[2], w = 0.0;
+    if (metric)
+    {
+      // The face's share of v's Voronoi cell in the metric (the plane's
+      // coordinates relative to v mapped by u), times its importance.
+      const Eigen::Vector2d a = u * Eigen::Vector2d(q[1][0] - q[0][0], q[1][1] - q[0][1]),
+                            b = u * Eigen::Vector2d(q[2][0] - q[0][0], q[2][1] - q[0][1]);
+      const double origin[2] = { 0.0, 0.0 };
+      w = VoronoiPart(origin, a.data(), b.data(), c) * Importance(h / 3);
+    }
+    else
+    {
+      // The face's share of v's Voronoi cell in the plane, weighted by the
+      // face's 3D area (times importance) per unit of its area in the plane.
+      const double planeArea = 0.5 * std::abs(Cross2(q[0], q[1], q[2]));
+      const double part = VoronoiPart(q[0], q[1], q[2], c);
+      w = planeArea > 0.0 ? Weight(h / 3) / planeArea * part : 0.0;
+    }
     target[0] += w * c[0];
     target[1] += w * c[1];
     sum += w;
@@ -252,6 +273,12 @@ bool Optimizer::MoveInterior(Index v, double& moved)
     return false;
   }
   const double start[2] = { p[0], p[1] };
+  if (metric) // (the metric's centroid is relative to v)
+  {
+    const Eigen::Vector2d back = u.triangularView<Eigen::Upper>().solve(Eigen::Vector2d(target[0], target[1]) / sum);
+    target[0] = (start[0] + back[0]) * sum;
+    target[1] = (start[1] + back[1]) * sum;
+  }
   for (double step = OverRelaxation; step > 0.1; step *= 0.5)
   {
     const double uv[2] = { start[0] + step * (target[0] / sum - start[0]), start[1] + step * (target[1] / sum - start[1]) };
@@ -397,17 +424,21 @@ Index Optimizer::NearestOnSurface(const Vec3& p, Index start, double radius, dou
 
 /// A free vertex while stitching: towards the centroid of its Voronoi cell
 /// on the surface (each face's part in its own plane, weighted by the face's
-/// importance), tangentially, then onto the input at the nearest point
-/// (halving the step while a face would fold).
+/// importance; with a metric, in the metric at v), tangentially, then onto
+/// the input at the nearest point (halving the step while a face would
+/// fold).
 bool Optimizer::MoveOnSurface(Index v, double& moved)
 {
   double sum = 0.0;
   Vec3 target = Vec3::Zero(), normal = Vec3::Zero();
   const Vec3 x = M.Position(v);
+  const bool metric = !VertexMetric.empty();
+  const Mat3 u = metric ? MetricFactor({ v }) : Mat3::Identity();
   M.ForEachOutgoing(v, [&](Index h) {
     const Vec3 a = M.Position(M.Head(h)), b = M.Position(M.Tail(HalfEdgeMesh::Prev(h)));
     Vec3 c = Vec3::Zero();
-    const double w = VoronoiPart3D(x, a, b, c) * Importance(h / 3);
+    const double part = metric ? VoronoiPart3D(Vec3::Zero(), u * (a - x), u * (b - x), c) : VoronoiPart3D(x, a, b, c);
+    const double w = part * Importance(h / 3);
     target += w * c;
     sum += w;
     normal += (a - x).cross(b - x);
@@ -417,7 +448,14 @@ bool Optimizer::MoveOnSurface(Index v, double& moved)
     return false;
   }
   normal.normalize();
-  Vec3 shift = target / sum - x;
+  Vec3 shift = metric ? Vec3(u.triangularView<Eigen::Upper>().solve(target / sum)) : Vec3(target / sum - x);
+  if (metric && LatticeWeight > 0.0)
+  {
+    double weight = 0.0;
+    const Vec3 lattice = LatticeShift(v, u, weight);
+    weight *= LatticeWeight;
+    shift = (1.0 - weight) * shift + weight * Vec3(u.triangularView<Eigen::Upper>().solve(lattice));
+  }
   shift -= shift.dot(normal) * normal;
   if (FoldsAround(v, x, InputNormals[v]) > 0)
   {
@@ -620,12 +658,16 @@ double Optimizer::Relax()
   return total / std::max<Index>(1, M.NumberOfVertices());
 }
 
-/// The cosine of the smallest angle of v's faces with v at x.
+/// The cosine of the smallest angle of v's faces with v at x (in the
+/// metric at v, if any).
 double Optimizer::LargestCosineAround(Index v, const Vec3& x) const
 {
   double largest = -1.0;
+  const bool metric = !VertexMetric.empty();
+  const Mat3 u = metric ? MetricFactor({ v }) : Mat3::Identity();
   M.ForEachOutgoing(v, [&](Index h) {
-    largest = std::max(largest, LargestCosine(x, M.Position(M.Head(h)), M.Position(M.Tail(HalfEdgeMesh::Prev(h)))));
+    const Vec3 a = M.Position(M.Head(h)), b = M.Position(M.Tail(HalfEdgeMesh::Prev(h)));
+    largest = std::max(largest, metric ? LargestCosine(Vec3::Zero(), u * (a - x), u * (b - x)) : LargestCosine(x, a, b));
   });
   return largest;
 }
@@ -680,7 +722,7 @@ std::int64_t Optimizer::MendSlivers(double degrees)
     for (Index f = 0; f < M.NumberOfFaces(); ++f)
     {
       const Index v[3] = { M.Tail(3 * f), M.Tail(3 * f + 1), M.Tail(3 * f + 2) };
-      if (LargestCosine(M.Position(v[0]), M.Position(v[1]), M.Position(v[2])) <= bound)
+      if (FaceLargestCosine(f) <= bound)
       {
         continue;
       }
@@ -709,7 +751,8 @@ RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& 
   {
     return stats;
   }
-  detail::Optimizer optimizer(remesh, topology, points, atlas, samples, options.Importance, options.Cache);
+  detail::Optimizer optimizer(
+    remesh, topology, points, atlas, samples, options.Importance, options.Metric, options.Cache);
   optimizer.NumberOfThreads = options.NumberOfThreads;
   optimizer.OverRelaxation = std::max(1.0, options.OverRelaxation);
   const int rounds = std::max(0, options.Iterations) + std::max(0, options.StitchingIterations);
@@ -725,6 +768,11 @@ RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& 
     }
     stats.ShapeSwaps += optimizer.SwapForShape();
     stats.ValenceSwaps += optimizer.SwapForValence();
+    // With a metric, the first half of the stitching rounds pull the
+    // vertices towards a lattice aligned with it (LatticeShift), the rest
+    // are Lloyd's, which keeps the lattice's orientation and evens it.
+    const int stitched = i - std::max(0, options.Iterations);
+    optimizer.LatticeWeight = options.Metric && stitched >= 0 && 2 * stitched < options.StitchingIterations ? 1.0 : 0.0;
     stats.MeanDisplacement = optimizer.Relax();
   }
   if (rounds > 0)

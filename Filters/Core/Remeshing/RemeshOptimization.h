@@ -54,6 +54,12 @@ struct RemeshOptimizationOptions
   double OverRelaxation = 1.8;
   /// One value >= 0 per input vertex weighting the relaxation (null: uniform).
   const double* Importance = nullptr;
+  /// The anisotropic mode: a metric per input vertex (6 numbers, as
+  /// Remeshing/RemeshMetric's; null: none).  Swaps, slivers and the
+  /// relaxation (Lloyd's step in the metric frozen at the vertex: the
+  /// anisotropic centroidal Voronoi tessellation of Du and Wang) measure
+  /// edges and angles in it.
+  const double* Metric = nullptr;
   /// One flag per edge of topology.Edges(): feature edges (sharp or marked)
   /// whose samples stay on their paths while stitching (null: none).
   const std::uint8_t* FeatureEdges = nullptr;

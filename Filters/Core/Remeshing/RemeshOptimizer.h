@@ -1,19 +1,24 @@
 // Beltrami core, private to Remeshing/RemeshOptimization: the optimiser of
-// a remesh (section 4.4), its edge swaps (RemeshSwaps.cxx) and its vertex
-// moves and stitching (RemeshOptimization.cxx).
+// a remesh (section 4.4), its edge swaps (RemeshSwaps.cxx), its vertex
+// moves and stitching (RemeshOptimization.cxx) and its measures in an
+// anisotropic remesh's metric (RemeshOptimizerMetric.cxx).
 #pragma once
 
 #include "Remeshing/RemeshOptimization.h"
 
 #include "Maps/GeometryImages.h"
 
+#include <array>
 #include <cstdint>
+#include <initializer_list>
 #include <unordered_set>
 #include <utility>
 #include <vector>
 
 namespace beltrami::detail
 {
+
+using Mat3 = Eigen::Matrix3d;
 
 /// Area / perimeter^2 of a 3D triangle, over its value for the equilateral
 /// triangle (1: equilateral, 0: degenerate).
@@ -41,9 +46,9 @@ class Optimizer
 {
 public:
   Optimizer(Remesh& remesh, const MeshTopology& topology, const double* points, const AtlasResult& atlas,
-    const SurfaceSamples& samples, const double* importance, RemeshCache* cache)
+    const SurfaceSamples& samples, const double* importance, const double* metric, RemeshCache* cache)
     : R(remesh), M(remesh.Mesh), Topology(topology), Points(points), Atlas(atlas), Samples(samples),
-      ImportanceValues(importance), Locators((cache ? *cache : LocalCache).Locators(atlas))
+      ImportanceValues(importance), MetricValues(metric), Locators((cache ? *cache : LocalCache).Locators(atlas))
   {
     Valence.resize(M.NumberOfVertices());
     for (Index v = 0; v < M.NumberOfVertices(); ++v)
@@ -57,6 +62,10 @@ public:
     for (Index v = 0; v < M.NumberOfVertices(); ++v)
     {
       InputNormals.push_back(InputNormalOf(R.Triangle[v]));
+    }
+    for (Index v = 0; MetricValues && v < M.NumberOfVertices(); ++v)
+    {
+      VertexMetric.push_back(MetricAt(v));
     }
     PathIndex.assign(M.NumberOfVertices(), -1);
     for (const SamplePath& path : samples.Paths)
@@ -79,6 +88,9 @@ public:
   Index BeginStitching(const std::uint8_t* featureEdges);
   int NumberOfThreads = 0;
   double OverRelaxation = 1.0; ///< the first try of a move off a path, of the way to its target
+  /// With a metric: the share of the lattice's pull in the moves while
+  /// stitching (LatticeShift; the rest Lloyd's in the metric).
+  double LatticeWeight = 0.0;
 
 private:
   const double* UVAt(Index h) const { return &R.CornerUV[2 * h]; }
@@ -106,6 +118,16 @@ private:
   bool CanSwap(Index h) const { return M.CanFlip(h) && (Stitching || FlipKeepsCharts(h)) && FlipKeepsSurface(h); }
   void Flip(Index h);
   std::pair<double, double> Roundnesses(Index h) const;
+  /// The quad of h's edge (a, b, c, d: faces (a, b, c), (b, a, d)); with a
+  /// metric, relative to a and in it (MetricFactor of the four).
+  std::array<Vec3, 4> Quad(Index h) const;
+  /// The tangent metric at v's place (RemeshMetric's TangentMetric).
+  Mat3 MetricAt(Index v) const;
+  /// U with U^T U the mean metric of `vertices` (its Cholesky factor): U d
+  /// is d as the metric measures it.  Only with a metric.
+  Mat3 MetricFactor(std::initializer_list<Index> vertices) const;
+  /// The cosine of the smallest angle of face f (in the metric, if any).
+  double FaceLargestCosine(Index f) const;
   /// The valence that gives v's triangles angles near 60 degrees: 6
   /// inside; on the surface's boundary one more than its angle (the sum of
   /// its corners) in sixties, 4 on a straight stretch (UpdateBoundaryTargets).
@@ -116,6 +138,8 @@ private:
   double ImportanceAt(Index v) const;
   double Weight(Index f) const;
   bool MoveInterior(Index v, double& moved);
+  Eigen::Matrix2d PlaneMetricFactor(Index v) const;
+  Vec3 LatticeShift(Index v, const Mat3& u, double& weight) const;
   bool MoveOnPath(Index v, double& moved);
   bool MoveOnSurface(Index v, double& moved);
   double LargestCosineAround(Index v, const Vec3& x) const;
@@ -140,12 +164,14 @@ private:
   const AtlasResult& Atlas;
   const SurfaceSamples& Samples;
   const double* ImportanceValues;
+  const double* MetricValues; ///< 6 per input vertex (anisotropic mode), or null
   RemeshCache LocalCache; ///< where the caller keeps none
   const std::vector<ChartLocator>& Locators;
   std::vector<Index> Valence;
   std::vector<Index> PathIndex; ///< per vertex: its index in its path's Samples
   std::vector<double> VertexImportance; ///< per vertex: ImportanceAt (empty without an importance)
   std::vector<Vec3> InputNormals; ///< per vertex: the unit normal of the input triangle it lies in
+  std::vector<Mat3> VertexMetric; ///< per vertex: MetricAt (empty without a metric)
   bool Stitching = false;
   std::vector<std::uint8_t> Moves;     ///< per vertex while stitching: its Mobility
   std::unordered_set<std::uint64_t> KeptEdges; ///< EdgeKey of the remesh's edges along kept paths

@@ -91,12 +91,11 @@ void Optimizer::Flip(Index h)
   ++Valence[d];
 }
 
-/// The smaller area/perimeter^2 ratio of h's two faces (in 3D) before and
-/// after the flip of h's edge.
+/// The smaller area/perimeter^2 ratio of h's two faces (in 3D, or in the
+/// metric) before and after the flip of h's edge.
 std::pair<double, double> Optimizer::Roundnesses(Index h) const
 {
-  const Vec3 a = M.Position(M.Tail(h)), b = M.Position(M.Head(h));
-  const Vec3 c = M.Position(M.Tail(HalfEdgeMesh::Prev(h))), d = M.Position(M.Tail(HalfEdgeMesh::Prev(M.Twin(h))));
+  const auto [a, b, c, d] = Quad(h);
   return { std::min(Roundness(a, b, c), Roundness(b, a, d)), std::min(Roundness(c, a, d), Roundness(d, b, c)) };
 }
 
@@ -212,8 +211,7 @@ std::int64_t Optimizer::SwapSlivers()
 {
   const double cos30 = 0.5 * std::sqrt(3.0);
   const auto mends = [&](Index h) {
-    const Vec3 a = M.Position(M.Tail(h)), b = M.Position(M.Head(h));
-    const Vec3 c = M.Position(M.Tail(HalfEdgeMesh::Prev(h))), d = M.Position(M.Tail(HalfEdgeMesh::Prev(M.Twin(h))));
+    const auto [a, b, c, d] = Quad(h);
     if (std::max(LargestCosine(a, b, c), LargestCosine(b, a, d)) <= cos30)
     {
       return false;

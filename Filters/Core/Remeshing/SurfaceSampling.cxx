@@ -6,6 +6,7 @@
 #include "Remeshing/BoundaryChords.h"
 #include "Remeshing/ErrorDiffusion.h"
 #include "Remeshing/Remesh.h"
+#include "Remeshing/RemeshMetric.h"
 #include "Remeshing/SqueezedParts.h"
 #include "Remeshing/Tips.h"
 
@@ -49,22 +50,36 @@ bool IsKeptEdge(const MeshTopology::EdgeTable& edges, std::int64_t e, const std:
   return IsOpenEdge(edges, e) || (featureEdges && featureEdges[e]);
 }
 
+/// StretchAlong at the i-th vertex of path `vertices` (its direction
+/// there: between its neighbours on the path).
+double AlongPath(const double* points, const std::vector<Index>& vertices, std::size_t i, const double* metric)
+{
+  const std::size_t before = i > 0 ? i - 1 : i, after = i + 1 < vertices.size() ? i + 1 : i;
+  return StretchAlong(metric + 6 * static_cast<std::int64_t>(vertices[i]),
+    Point(points, vertices[after]) - Point(points, vertices[before]));
+}
+
 /// Whether the kept line through v (along its kept edges to a and b) turns
 /// there by more than SharpTurnDegrees, with both edges at least half the
 /// density's spacing long: a corner of a jagged hole's rim, whose chord
 /// would cut the corner and leave slivers beside it.  (Shorter edges: the
-/// line's bends are sampled by MaximumLineSag instead.)
+/// line's bends are sampled by MaximumLineSag instead.)  With a metric (6
+/// per surface vertex), the spacing along the line (RemeshMetric's
+/// StretchAlong).
 constexpr double SharpTurnDegrees = 45.0;
-bool IsSharpTurn(const double* points, const double* importance, double density, Index a, Index v, Index b)
+bool IsSharpTurn(const double* points, const double* importance, const double* metric, double density, Index a,
+  Index v, Index b)
 {
   const Vec3 in = Point(points, v) - Point(points, a), out = Point(points, b) - Point(points, v);
-  const double shortest = 0.5 * SpacingAt(importance, density, v);
+  const double* m = metric ? metric + 6 * static_cast<std::int64_t>(v) : nullptr;
+  const double shortest =
+    0.5 * SpacingAt(importance, density, v) / (m ? std::max(StretchAlong(m, in), StretchAlong(m, out)) : 1.0);
   return in.norm() >= shortest && out.norm() >= shortest &&
     std::atan2(in.cross(out).norm(), in.dot(out)) > SharpTurnDegrees * M_PI / 180.0;
 }
 
 BoundaryPaths ChartBoundaries(const MeshTopology& topology, const double* points, const double* importance,
-  double density, const std::vector<int>& chartOfTriangle, const std::uint8_t* featureEdges,
+  const double* metric, double density, const std::vector<int>& chartOfTriangle, const std::uint8_t* featureEdges,
   const std::uint8_t* pinned)
 {
   const MeshTopology::EdgeTable& edges = topology.Edges();
@@ -90,7 +105,8 @@ BoundaryPaths ChartBoundaries(const MeshTopology& topology, const double* points
   {
     valence[v] += valence[v] == 2 && kept[v] == 1; // a kept line's end inside a path: a corner
     valence[v] += valence[v] == 2 && ((pinned && pinned[v]) ||
-      (kept[v] == 2 && IsSharpTurn(points, importance, density, keptEnds[2 * v], v, keptEnds[2 * v + 1])));
+      (kept[v] == 2 &&
+        IsSharpTurn(points, importance, metric, density, keptEnds[2 * v], v, keptEnds[2 * v + 1])));
   }
   BoundaryPaths result;
   std::vector<std::uint8_t> done(boundary.size(), 0);
@@ -226,10 +242,12 @@ std::vector<double> LineCurvature(const double* points, const std::vector<Index>
 /// bend: a chord between samples s apart on a line of curvature k departs
 /// from it by s^2 k / 8, at most maxSag (0: no bound) times the spacing
 /// 1 / lambda of the density, so at least sqrt(k lambda / (8 maxSag))
-/// samples per length.
+/// samples per length.  With a metric (6 per surface vertex), the density
+/// along a path is its length along the path over its mean length times the
+/// density's (AlongPath).
 void SampleBoundaries(const MeshTopology& topology, const double* points, const double* importance,
   const std::vector<int>& chartOfTriangle, const BoundaryPaths& boundaries, double density,
-  const std::uint8_t* featureEdges, double maxSag, SurfaceSamples& out)
+  const std::uint8_t* featureEdges, double maxSag, const double* metric, SurfaceSamples& out)
 {
   const auto lambda = [&](Index v) { return std::sqrt(density * (importance ? std::max(0.0, importance[v]) : 1.0)); };
   std::vector<Index> cornerSample(topology.NumberOfVertices(), -1);
@@ -261,26 +279,29 @@ void SampleBoundaries(const MeshTopology& topology, const double* points, const 
       k += corner >= 0;
     }
     path.Arc.assign(vertices.size(), 0.0);
+    const bool kept = IsKeptEdge(edges, first, featureEdges);
     std::vector<double> spacing(vertices.size()), edge(vertices.size(), 0.0); // edge i: from vertex i - 1
+    std::vector<double> lambdas(vertices.size()); // samples per length at each vertex
     for (std::size_t i = 0; i < vertices.size(); ++i)
     {
       edge[i] = i > 0 ? (Point(points, vertices[i]) - Point(points, vertices[i - 1])).norm() : 0.0;
       path.Arc[i] = i > 0 ? path.Arc[i - 1] + edge[i] : 0.0;
-      spacing[i] = 1.0 / std::max(1e-300, lambda(vertices[i]));
+      lambdas[i] = lambda(vertices[i]) * (metric ? AlongPath(points, vertices, i, metric) : 1.0);
+      spacing[i] = 1.0 / std::max(1e-300, lambdas[i]);
     }
-    const std::vector<double> curvature = maxSag > 0.0 && IsKeptEdge(edges, first, featureEdges)
+    const std::vector<double> curvature = maxSag > 0.0 && kept
       ? LineCurvature(points, vertices, path.Arc, spacing)
       : std::vector<double>(vertices.size(), 0.0);
     const auto along = [&](std::size_t i) {
-      const double l = lambda(vertices[i]);
+      const double l = lambdas[i];
       return std::max(l, std::sqrt(curvature[i] * l / (8.0 * maxSag)));
     };
     for (std::size_t i = 0; i < vertices.size(); ++i)
     {
-      if (along(i) > lambda(vertices[i]))
+      if (along(i) > lambdas[i])
       {
         path.Refinement.resize(vertices.size(), 1.0);
-        path.Refinement[i] = along(i) / lambda(vertices[i]);
+        path.Refinement[i] = along(i) / lambdas[i];
       }
     }
     std::vector<double> cumulative(vertices.size(), 0.0);
@@ -690,10 +711,10 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
   // by the map's mass.
   out.Density = options.NumberOfSamples / mass;
   const BoundaryPaths boundaries =
-    ChartBoundaries(topology, points, importance, out.Density, atlas.ChartOfTriangle, options.FeatureEdges,
-      options.PinnedVertices);
+    ChartBoundaries(topology, points, importance, options.Metric, out.Density, atlas.ChartOfTriangle,
+      options.FeatureEdges, options.PinnedVertices);
   SampleBoundaries(topology, points, importance, atlas.ChartOfTriangle, boundaries, out.Density, options.FeatureEdges,
-    options.MaximumLineSag, out);
+    options.MaximumLineSag, options.Metric, out);
   if (options.MaximumLineSag > 0.0 && static_cast<std::int64_t>(out.Kind.size()) > options.NumberOfSamples)
   {
     // Lines that bend at every vertex (the jagged rims of a scan's many
@@ -701,7 +722,7 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
     // them instead.
     ClearSamples(out);
     SampleBoundaries(topology, points, importance, atlas.ChartOfTriangle, boundaries, out.Density,
-      options.FeatureEdges, 0.0, out);
+      options.FeatureEdges, 0.0, options.Metric, out);
   }
   SeparateCrossingChords(topology, points, atlas, out);
   out.BoundarySamples = static_cast<std::int64_t>(out.Kind.size());

@@ -92,6 +92,11 @@ struct SamplingOptions
   /// from the remesh).  0.1 gave the same triangles and left that crease as
   /// the density's spacing cuts it at 5k too.
   double MaximumLineSag = 0.05;
+  /// The anisotropic remesh's metric (6 per surface vertex; null: none):
+  /// the chart boundaries are sampled at its lengths along them (a seam
+  /// along the direction of short edges takes more samples than the
+  /// density's mean spacing gives).
+  const double* Metric = nullptr;
   /// Input vertices inside a chart whose angle defect (2 pi minus the sum
   /// of their corners' angles) exceeds this many radians - the tips of
   /// spikes, horns and fingers, cones narrower than about 57 degrees at 1 -
