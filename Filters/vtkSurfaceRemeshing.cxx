@@ -24,6 +24,7 @@
 #include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,8 @@ struct vtkSurfaceRemeshing::Kept
   double FeatureSpacing = 0.0; // the shortest feature chain kept
   std::vector<double> Curvatures; // of the measure CurvatureImportance (-1: none yet)
   int CurvatureImportance = -1;
+  std::vector<double> Metric; // from the principal curvatures, with the settings in MetricKey
+  std::array<double, 4> MetricKey{}; // MaximumAnisotropy, MinimumImportance, Gradation, AtlasBuilds
 };
 
 vtkSurfaceRemeshing::vtkSurfaceRemeshing()
@@ -273,6 +276,15 @@ bool vtkSurfaceRemeshing::BuildMetric(const std::uint8_t* featureEdges, std::vec
     }
     return true;
   }
+  // (Kept while the surface, its feature lines and these settings stay: a
+  // new count re-runs the sampling only.)
+  const std::array<double, 4> key = { this->MaximumAnisotropy, this->MinimumImportance, this->Gradation,
+    static_cast<double>(this->AtlasBuilds) };
+  if (!this->Cache->Metric.empty() && this->Cache->MetricKey == key)
+  {
+    metric = this->Cache->Metric;
+    return true;
+  }
   beltrami::MetricOptions options;
   options.MaximumAnisotropy = this->MaximumAnisotropy;
   options.Minimum = this->MinimumImportance;
@@ -285,6 +297,8 @@ bool vtkSurfaceRemeshing::BuildMetric(const std::uint8_t* featureEdges, std::vec
     vtkWarningMacro(<< "Anisotropy: " << result.Warning << ".");
   }
   metric = std::move(result.Metric);
+  this->Cache->Metric = metric;
+  this->Cache->MetricKey = key;
   return true;
 }
 

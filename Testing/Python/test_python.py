@@ -786,7 +786,18 @@ class RemeshingFromPython(unittest.TestCase):
         self.assertEqual(out.GetPointData().GetArray("Metric").GetNumberOfComponents(), 6)
         deviation = max(out.GetFieldData().GetArray("RemeshDeviation").GetValue(k) for k in range(2))
         self.assertLess(deviation, 0.7 * isotropic)
+        # Another count re-runs the sampling only (the atlas and the metric
+        # kept): the remesh of a fresh filter.
+        f.SetNumberOfVertices(1500)
+        f.Update()
         self.assertEqual(f.GetAtlasBuilds(), 1)
+        fresh = vtkSurfaceRemeshing()
+        fresh.SetInputData(ellipsoid)
+        fresh.SetNumberOfVertices(1500)
+        fresh.SetAnisotropy(vtkSurfaceRemeshing.PRINCIPAL_CURVATURES)
+        fresh.Update()
+        np.testing.assert_array_equal(vtk_to_numpy(fresh.GetOutput().GetPoints().GetData()),
+                                      vtk_to_numpy(f.GetOutput().GetPoints().GetData()))
         # A square with a constant tensor of 1 along x and 1/16 along y:
         # edges four times longer along y (the root-mean-square of their
         # y over their x extents), where the isotropic remesh's are even.
