@@ -344,6 +344,19 @@ graded = servermanager.Fetch(remesher).GetFieldData().GetArray("RemeshEdgeLength
 check(adapted > 1.3 * uniform_variation and graded < 1.2 * uniform_variation,
       "an edited transfer function adapts the remesh (edge-length variation %.3f -> %.3f), a wide gradation "
       "evens it out (%.3f)" % (uniform_variation, adapted, graded))
+# The anisotropic mode through the panel's properties, on the split elephant.
+remesher.Gradation = 0.0
+remesher.TransferFunction = []
+remesher.Importance = "Uniform"
+remesher.Anisotropy = "Principal curvatures"
+remesher.UpdatePipeline()
+anisotropic = servermanager.Fetch(remesher)
+figures = anisotropic.GetFieldData().GetArray("RemeshMetricQuality")
+check(anisotropic.GetNumberOfPoints() == 4000 and anisotropic.GetNumberOfCells() == same_genus
+      and figures is not None and 0.8 < figures.GetValue(0) < 1.2
+      and anisotropic.GetPointData().GetArray("Metric").GetNumberOfComponents() == 6,
+      "anisotropic remesh of the elephant over %d partition(s): 4000 vertices, the same Euler characteristic, "
+      "median edge %.2f in the metric" % (partitions, figures.GetValue(0) if figures else -1))
 
 # Image denoising: the camera picture (8-bit greyscale) through the plugin.
 image = PNGSeriesReader(FileNames=[os.path.join(DATA, "camera.png")])
