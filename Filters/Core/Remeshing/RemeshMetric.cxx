@@ -4,7 +4,6 @@
 #include "Mesh/Laplacian.h"
 #include "Mesh/SurfaceDistance.h"
 #include "Remeshing/SurfaceRemeshing.h"
-#include "Support/Parallel.h"
 
 #include <Eigen/Dense>
 
@@ -124,10 +123,8 @@ std::vector<double> ShortestEdgeCurvatures(const double* metric, const std::vect
   std::vector<double> out(maximumCurvature.size());
   for (std::size_t v = 0; v < out.size(); ++v)
   {
-    const double* t = metric + 6 * v;
-    Eigen::Matrix3d m;
-    m << t[0], t[3], t[5], t[3], t[1], t[4], t[5], t[4], t[2];
-    const Eigen::Vector3d values = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m, Eigen::EigenvaluesOnly).eigenvalues();
+    const Eigen::Vector3d values =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(Full(metric + 6 * v), Eigen::EigenvaluesOnly).eigenvalues();
     // (The two largest are the tangent ones: a smoothed metric has a little normal part.)
     const double ratio = values[2] > 0.0 ? std::max(0.0, values[1]) / values[2] : 1.0;
     out[v] = maximumCurvature[v] * std::sqrt(std::sqrt(ratio));
@@ -137,11 +134,9 @@ std::vector<double> ShortestEdgeCurvatures(const double* metric, const std::vect
 
 void TangentMetric(const double* t, const double* n, double* out)
 {
-  Eigen::Matrix3d m;
-  m << t[0], t[3], t[5], t[3], t[1], t[4], t[5], t[4], t[2];
   const Eigen::Vector3d normal(n[0], n[1], n[2]);
   const Eigen::Matrix3d p = Eigen::Matrix3d::Identity() - normal * normal.transpose();
-  Eigen::Matrix3d tangent = p * m * p;
+  Eigen::Matrix3d tangent = p * Full(t) * p;
   tangent += std::max(0.0, tangent.trace()) * normal * normal.transpose();
   for (int r = 0; r < 3; ++r)
   {
