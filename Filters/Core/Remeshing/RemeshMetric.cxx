@@ -4,6 +4,7 @@
 #include "Mesh/Laplacian.h"
 #include "Mesh/SurfaceDistance.h"
 #include "Remeshing/SurfaceRemeshing.h"
+#include "Remeshing/SurfaceSampling.h"
 
 #include <Eigen/Dense>
 
@@ -22,6 +23,30 @@ Eigen::Matrix3d Full(const double* t)
   Eigen::Matrix3d m;
   m << t[0], t[3], t[5], t[3], t[1], t[4], t[5], t[4], t[2];
   return m;
+}
+
+/// The metric's density integrated over the surface (per triangle, its
+/// area times its corners' mean density), and in `area` the area counted
+/// (the triangles where both are finite).
+double DensityIntegral(const MeshTopology& topology, const double* points, const double* metric, double& area)
+{
+  double integral = 0.0;
+  area = 0.0;
+  const IndexArray& triangles = topology.TriangleList();
+  for (Index t = 0; t < topology.NumberOfTriangles(); ++t)
+  {
+    const Index* c = triangles.data() + 3 * static_cast<std::size_t>(t);
+    const double a =
+      0.5 * (Point(points, c[1]) - Point(points, c[0])).cross(Point(points, c[2]) - Point(points, c[0])).norm();
+    const double d =
+      (MetricDensity(metric + 6 * c[0]) + MetricDensity(metric + 6 * c[1]) + MetricDensity(metric + 6 * c[2])) / 3.0;
+    if (std::isfinite(a * d))
+    {
+      area += a;
+      integral += a * d;
+    }
+  }
+  return integral;
 }
 
 /// a e e^T + b f f^T into the six components.
@@ -196,16 +221,8 @@ MetricQuality MeasureInMetric(const MeshTopology& topology, const double* points
 {
   MetricQuality quality;
   // The scale: the density's integral is the count times sqrt(3) / 2.
-  double integral = 0.0;
-  for (Index t = 0; t < topology.NumberOfTriangles(); ++t)
-  {
-    const Index* c = topology.TriangleList().data() + 3 * t;
-    const double area =
-      0.5 * (Point(points, c[1]) - Point(points, c[0])).cross(Point(points, c[2]) - Point(points, c[0])).norm();
-    const double density = (MetricDensity(metric + 6 * c[0]) + MetricDensity(metric + 6 * c[1]) +
-                             MetricDensity(metric + 6 * c[2])) / 3.0;
-    integral += std::isfinite(area * density) ? area * density : 0.0;
-  }
+  double area = 0.0;
+  const double integral = DensityIntegral(topology, points, metric, area);
   const std::size_t vertices = remeshPoints.size() / 3, triangles = remeshTriangles.size() / 3;
   if (!(integral > 0.0) || vertices == 0 || triangles == 0)
   {
@@ -261,27 +278,14 @@ MetricQuality MeasureInMetric(const MeshTopology& topology, const double* points
 void RaiseMetricOnKeptLines(const MeshTopology& topology, const double* points, const std::uint8_t* featureEdges,
   std::vector<double>& metric)
 {
-  double area = 0.0, integral = 0.0;
-  const IndexArray& triangles = topology.TriangleList();
-  for (Index t = 0; t < topology.NumberOfTriangles(); ++t)
-  {
-    const Index* c = triangles.data() + 3 * static_cast<std::size_t>(t);
-    const double a =
-      0.5 * (Point(points, c[1]) - Point(points, c[0])).cross(Point(points, c[2]) - Point(points, c[0])).norm();
-    const double d = (MetricDensity(&metric[6 * c[0]]) + MetricDensity(&metric[6 * c[1]]) +
-                       MetricDensity(&metric[6 * c[2]])) / 3.0;
-    if (std::isfinite(a * d))
-    {
-      area += a;
-      integral += a * d;
-    }
-  }
+  double area = 0.0;
+  const double integral = DensityIntegral(topology, points, metric.data(), area);
   const double mean = area > 0.0 ? integral / area : 0.0;
   const MeshTopology::EdgeTable& edges = topology.Edges();
   std::vector<std::uint8_t> kept(static_cast<std::size_t>(topology.NumberOfVertices()), 0);
   for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
   {
-    if (edges.FaceCount[e] != 2 || (featureEdges && featureEdges[e]))
+    if (IsKeptEdge(edges, e, featureEdges))
     {
       kept[edges.Vertices[2 * e]] = kept[edges.Vertices[2 * e + 1]] = 1;
     }

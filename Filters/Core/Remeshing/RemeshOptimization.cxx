@@ -481,7 +481,7 @@ Index Optimizer::BeginStitching(const std::uint8_t* featureEdges)
 {
   const MeshTopology::EdgeTable& edges = Topology.Edges();
   std::vector<std::uint8_t> kept(Topology.NumberOfVertices(), 0); // surface vertices on a kept edge
-  const auto isKept = [&](std::int64_t e) { return edges.FaceCount[e] != 2 || (featureEdges && featureEdges[e]); };
+  const auto isKept = [&](std::int64_t e) { return IsKeptEdge(edges, e, featureEdges); };
   for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
   {
     if (isKept(e))

@@ -22,6 +22,16 @@
 namespace beltrami
 {
 
+bool IsOpenEdge(const MeshTopology::EdgeTable& edges, std::int64_t e)
+{
+  return edges.OppositeCorners[2 * e] < 0 || edges.OppositeCorners[2 * e + 1] < 0;
+}
+
+bool IsKeptEdge(const MeshTopology::EdgeTable& edges, std::int64_t e, const std::uint8_t* featureEdges)
+{
+  return IsOpenEdge(edges, e) || (featureEdges && featureEdges[e]);
+}
+
 namespace
 {
 
@@ -36,19 +46,6 @@ struct BoundaryPaths
   std::vector<std::vector<Index>> Paths;
   std::vector<Index> Corners;
 };
-
-/// Whether edge e lies on the surface's boundary.
-bool IsOpenEdge(const MeshTopology::EdgeTable& edges, std::int64_t e)
-{
-  return edges.OppositeCorners[2 * e] < 0 || edges.OppositeCorners[2 * e + 1] < 0;
-}
-
-/// Whether a chart boundary along edge e is kept as a line (its samples
-/// stay on it): the surface's boundary or a feature, not a plain seam.
-bool IsKeptEdge(const MeshTopology::EdgeTable& edges, std::int64_t e, const std::uint8_t* featureEdges)
-{
-  return IsOpenEdge(edges, e) || (featureEdges && featureEdges[e]);
-}
 
 /// StretchAlong at the i-th vertex of path `vertices` (its direction
 /// there: between its neighbours on the path).

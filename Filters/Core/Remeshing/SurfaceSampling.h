@@ -158,6 +158,14 @@ struct SurfaceSamples
   std::vector<std::uint8_t> Halftone; ///< 1 per texel holding an interior sample
 };
 
+/// Whether edge e lies on the surface's boundary.
+bool IsOpenEdge(const MeshTopology::EdgeTable& edges, std::int64_t e);
+
+/// Whether edge e is kept as a line by the remesher (its samples stay on
+/// it): the surface's boundary or a feature (`featureEdges`: one flag per
+/// edge of topology.Edges(), may be null).
+bool IsKeptEdge(const MeshTopology::EdgeTable& edges, std::int64_t e, const std::uint8_t* featureEdges);
+
 /// The spacing of `density` samples per unit area where the importance is
 /// 1, where it is `importance` (none at importance 0: a spacing beyond any).
 inline double SpacingOf(double density, double importance)
