@@ -190,13 +190,13 @@ void vtkSurfaceVectorFieldDecomposition::AddArrays(vtkBeltramiSurface& surface, 
         ? std::vector<double>()
         : beltrami::PointValuesFromTriangles(topo, r.Areas, o.Values.data(), o.Components);
       const std::vector<double>& perPoint = o.Point ? o.Values : values;
-      vtkDoubleArray* a = AddArray(output->GetPointData(), o.Name, o.Components, np);
+      double* a = AddArray(output->GetPointData(), o.Name, o.Components, np)->GetPointer(0);
       for (vtkIdType i = 0; i < np; ++i)
       {
         const beltrami::Index v = static_cast<beltrami::Index>(topologyPoint(i));
         for (int d = 0; d < o.Components; ++d)
         {
-          a->SetComponent(i, d, topo.Valence(v) > 0 ? perPoint[o.Components * v + d] : NaN);
+          a[o.Components * i + d] = topo.Valence(v) > 0 ? perPoint[o.Components * v + d] : NaN;
         }
       }
       continue;
@@ -209,12 +209,12 @@ void vtkSurfaceVectorFieldDecomposition::AddArrays(vtkBeltramiSurface& surface, 
         sums[o.Components * cellOf[k] + d] += weight[k] * o.Values[o.Components * k + d];
       }
     }
-    vtkDoubleArray* a = AddArray(output->GetCellData(), o.Name, o.Components, nc);
+    double* a = AddArray(output->GetCellData(), o.Name, o.Components, nc)->GetPointer(0);
     for (vtkIdType c = 0; c < nc; ++c)
     {
       for (int d = 0; d < o.Components; ++d)
       {
-        a->SetComponent(c, d, cellArea[c] > 0.0 ? sums[o.Components * c + d] / cellArea[c] : NaN);
+        a[o.Components * c + d] = cellArea[c] > 0.0 ? sums[o.Components * c + d] / cellArea[c] : NaN;
       }
     }
   }
@@ -297,8 +297,10 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
       prepared.Points.assign(points, points + 3 * static_cast<std::size_t>(topo.NumberOfVertices()));
       prepared.Topology = std::make_unique<beltrami::MeshTopology>(
         topo.NumberOfVertices(), beltrami::IndexArray(topo.TriangleList()), threads);
+      beltrami::VectorFieldOptions many = options;
+      many.ManyFields = true;
       prepared.Decomposer =
-        std::make_unique<beltrami::VectorFieldDecomposer>(*prepared.Topology, prepared.Points.data(), options);
+        std::make_unique<beltrami::VectorFieldDecomposer>(*prepared.Topology, prepared.Points.data(), many);
     }
     else if (key != prepared.Key)
     {

@@ -156,7 +156,7 @@ int EdgeNeighbors(const MeshTopology::EdgeTable& edges, const IndexArray& triang
 
 } // namespace
 
-void EdgeGraph::Build(const MeshTopology& topo)
+void EdgeGraph::Build(const MeshTopology& topo, bool neighbors)
 {
   const MeshTopology::EdgeTable& edges = topo.Edges();
   const IndexArray& tri = topo.TriangleList();
@@ -170,6 +170,10 @@ void EdgeGraph::Build(const MeshTopology& topo)
         edges.Find(tri[MeshTopology::Next(corner)], tri[MeshTopology::Prev(corner)]));
     }
   });
+  if (!neighbors)
+  {
+    return;
+  }
   Offsets.assign(static_cast<std::size_t>(ne) + 1, 0);
   Index row[4];
   for (Index e = 0; e < ne; ++e)

@@ -106,8 +106,9 @@ struct EdgeGraph
   IndexArray Neighbors;              ///< the other edges of the edge's triangles, ascending
   IndexArray TriangleEdges;          ///< 3 per triangle: the edge opposite corner 3t + k
   /// Builds the graph of `topology`'s edges (edges in three or more
-  /// triangles are coupled to all of their triangles' edges).
-  void Build(const MeshTopology& topology);
+  /// triangles are coupled to all of their triangles' edges); without
+  /// `neighbors`, TriangleEdges alone.
+  void Build(const MeshTopology& topology, bool neighbors = true);
 };
 void AssembleNonconformingLaplacian(const MeshTopology& topology, const EdgeGraph& graph,
   const double* points, GraphLaplacian& laplacian, int numThreads = 0);

@@ -74,6 +74,14 @@ struct VectorFieldOptions
   /// integrated across the triangles instead of solved (the same to the
   /// first solve's accuracy, in a fraction of the time); false: solved.
   bool Integrate = true;
+  /// The decomposer will take many fields on the same surface (time
+  /// steps): the vertices' system is factorized once, and each field costs
+  /// its triangular solves. Otherwise, on surfaces of at least
+  /// MultigridVertices vertices, it is solved by conjugate gradients on the
+  /// surface's geometric multigrid: less time and memory for one field (a
+  /// factorization where that misses the tolerance).
+  bool ManyFields = false;
+  Index MultigridVertices = 50000;
   int NumberOfThreads = 0;
 };
 

@@ -2,7 +2,8 @@
 // (Mesh/VectorFields): spherical-harmonic fields recovered with errors that
 // fall linearly with the edge length, the torus' harmonic fields, exact
 // orthogonality, exact recovery of discrete gradients and rotated gradients,
-// and the boundary conditions of open surfaces.
+// the boundary conditions of open surfaces, and the multigrid solve against
+// the factorization.
 #include "TestMeshes.h"
 
 #include "Mesh/VectorFields.h"
@@ -10,6 +11,7 @@
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <random>
 
 namespace beltrami
@@ -371,6 +373,143 @@ TEST(VectorFields, OpenSurfacesKeepOrthogonalityUnderBothBoundaryConditions)
       }
       EXPECT_EQ(loops.size(), 2u);
       EXPECT_LT(tangential, 1e-10 * largest);
+    }
+  }
+}
+
+/// The largest difference between two decompositions' parts, relative to
+/// the largest tangent vector.
+double LargestPartDifference(const VectorFieldDecomposition& a, const VectorFieldDecomposition& b)
+{
+  double difference = 0.0, size = 0.0;
+  for (std::size_t k = 0; k < a.Tangent.size(); ++k)
+  {
+    size = std::max(size, std::abs(a.Tangent[k]));
+    for (const auto part : { &VectorFieldDecomposition::CurlFree, &VectorFieldDecomposition::DivergenceFree,
+           &VectorFieldDecomposition::Harmonic })
+    {
+      difference = std::max(difference, std::abs((a.*part)[k] - (b.*part)[k]));
+    }
+  }
+  return difference / size;
+}
+
+TEST(VectorFields, MultigridSolveEqualsTheFactorizedOne)
+{
+  // The vertices' system by conjugate gradients on the geometric multigrid
+  // (one field on a large surface) gives the factorization's parts: the
+  // bunny scan (irregular, obtuse triangles), two spheres (a floating
+  // potential per component), a jittered torus (the edges' system
+  // factorized beside it) and an open cylinder under both conditions (fixed
+  // boundary rows).
+  std::string error;
+  const test::Mesh bunny = test::ReadMesh("bunny00.off", error);
+  ASSERT_TRUE(error.empty()) << error;
+  const test::Mesh spheres = test::Merged(test::OctahedronSphere(5), test::OctahedronSphere(4, 0.5), { 3.0, 0.0, 0.0 });
+  const test::Mesh torus = test::Torus(1.0, 0.3, 96, 40, 0.3, 9);
+  const test::Mesh cylinder = test::Cylinder(0.5, 1.5, 80, 60);
+  struct Case
+  {
+    const test::Mesh* M;
+    VectorFieldBoundary Boundary;
+  };
+  for (const Case& c : { Case{ &bunny, VectorFieldBoundary::TangentDivergenceFree },
+         Case{ &spheres, VectorFieldBoundary::TangentDivergenceFree },
+         Case{ &torus, VectorFieldBoundary::TangentDivergenceFree },
+         Case{ &cylinder, VectorFieldBoundary::TangentDivergenceFree },
+         Case{ &cylinder, VectorFieldBoundary::NormalCurlFree } })
+  {
+    const test::Mesh& m = *c.M;
+    std::vector<double> field(m.Triangles.size());
+    std::mt19937 rng(21);
+    std::normal_distribution<double> normal;
+    for (double& x : field)
+    {
+      x = normal(rng);
+    }
+    const MeshTopology topo = m.Topology();
+    VectorFieldOptions o;
+    o.Boundary = c.Boundary;
+    o.MultigridVertices = 0;
+    VectorFieldDecomposition multigrid, factorized;
+    DecomposeVectorField(topo, m.Points.data(), field.data(), o, multigrid);
+    o.ManyFields = true;
+    DecomposeVectorField(topo, m.Points.data(), field.data(), o, factorized);
+    SCOPED_TRACE(m.NumberOfVertices());
+    std::printf("%lld vertices: %d multigrid iterations, parts differ by %.1e of the field\n",
+      static_cast<long long>(m.NumberOfVertices()), multigrid.Iterations, LargestPartDifference(multigrid, factorized));
+    EXPECT_TRUE(multigrid.Converged);
+    EXPECT_GT(multigrid.Iterations, 0); // solved iteratively
+    EXPECT_LT(multigrid.Iterations, 40);
+    EXPECT_EQ(factorized.Iterations, 0); // by the factorization
+    EXPECT_LE(multigrid.Residual, o.Tolerance);
+    EXPECT_LT(LargestPartDifference(multigrid, factorized), 1e-8);
+    for (const double inner : multigrid.InnerProducts)
+    {
+      EXPECT_LT(std::abs(inner), 1e-9 * multigrid.Energy[0]);
+    }
+  }
+}
+
+TEST(VectorFields, MultigridSolveHoldsOnHostileSurfaces)
+{
+  // Coordinates of 1e30 and 1e-30, far off (1e6 for a sphere of 1e-3), a
+  // speck of a component far away, zero-area triangles (collapsed
+  // corners): the multigrid solve converges and gives the factorization's
+  // parts, both leaving the same triangles out.
+  const test::Mesh sphere = test::OctahedronSphere(4);
+  std::vector<test::Mesh> meshes;
+  for (const double scale : { 1e30, 1e-30 })
+  {
+    test::Mesh m = sphere;
+    for (double& x : m.Points)
+    {
+      x *= scale;
+    }
+    meshes.push_back(m);
+  }
+  test::Mesh offset = sphere;
+  for (double& x : offset.Points)
+  {
+    x = 1e-3 * x + 1e6;
+  }
+  meshes.push_back(offset);
+  test::Mesh speck = test::OctahedronSphere(1, 1e-6);
+  meshes.push_back(test::Merged(sphere, speck, { 1e3, 0.0, 0.0 }));
+  test::Mesh collapsed = sphere;
+  for (std::size_t t = 0; t < collapsed.Triangles.size(); t += 3 * 97)
+  {
+    const Index a = collapsed.Triangles[t], b = collapsed.Triangles[t + 1];
+    for (int d = 0; d < 3; ++d)
+    {
+      collapsed.Points[3 * b + d] = collapsed.Points[3 * a + d];
+    }
+  }
+  meshes.push_back(collapsed);
+  for (const test::Mesh& m : meshes)
+  {
+    std::vector<double> field(m.Triangles.size());
+    std::mt19937 rng(5);
+    std::normal_distribution<double> normal;
+    for (double& x : field)
+    {
+      x = normal(rng);
+    }
+    const MeshTopology topo = m.Topology();
+    VectorFieldOptions o;
+    o.MultigridVertices = 0;
+    VectorFieldDecomposition multigrid, factorized;
+    ASSERT_NO_THROW(DecomposeVectorField(topo, m.Points.data(), field.data(), o, multigrid));
+    o.ManyFields = true;
+    DecomposeVectorField(topo, m.Points.data(), field.data(), o, factorized);
+    SCOPED_TRACE(m.Point(0).transpose());
+    EXPECT_TRUE(multigrid.Converged);
+    EXPECT_GT(multigrid.Energy[1], 0.1 * multigrid.Energy[0]); // solved, not left out
+    EXPECT_EQ(multigrid.DegenerateTriangles, factorized.DegenerateTriangles);
+    EXPECT_LT(LargestPartDifference(multigrid, factorized), 1e-8);
+    for (const double x : multigrid.CurlFree)
+    {
+      ASSERT_TRUE(std::isfinite(x));
     }
   }
 }
