@@ -319,9 +319,8 @@ void ShiftedProduct(const ShiftedLaplacianProblem& pb, double t, const double* x
   });
 }
 
-/// One V-cycle z = B r of D + t K (`factor`), the rows in `held` kept: on
-/// the surface's hierarchy (GeometricMultigrid with points or a hierarchy,
-/// serial) or BoomerAMG's.
+/// One V-cycle z = B r of D + t K (`factor`), the rows in `held` kept:
+/// BoomerAMG's.
 using Cycle = std::function<void(const double* r, double* z, int columns)>;
 
 /// Whether pb is preconditioned on the surface's hierarchy (serial only).
@@ -341,20 +340,64 @@ std::shared_ptr<const SurfaceHierarchy> HierarchyOf(const ShiftedLaplacianProble
 
 Cycle MultigridCycle(const ShiftedLaplacianProblem& pb, double factor, const std::vector<std::uint8_t>& held)
 {
-  if (OnSurfaceHierarchy(pb))
-  {
-    auto mg = std::make_shared<SurfaceMultigrid>(HierarchyOf(pb), pb.Offsets, pb.Neighbors, pb.Weights,
-      pb.Diagonal, pb.Shift, factor, held.data(), pb.NumberOfThreads);
-    return [mg](const double* r, double* z, int columns) { mg->Apply(r, z, columns); };
-  }
   auto amg = std::make_shared<AlgebraicMultigrid>(
     pb.Rows, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, pb.Shift, factor, held.data(), pb.Split);
   return [amg](const double* r, double* z, int columns) { amg->Apply(r, z, columns); };
 }
 
+/// SolveShiftedMultigrid on the surface's hierarchy. The conjugate
+/// gradients run in the hierarchy's order, where a row's neighbours are
+/// near in memory and a cycle gathers nothing, on the correction d:
+/// A d = b - A x, d = 0 on the held rows. (A Loop-subdivided fandisk, 1M
+/// vertices numbered by edge, 14 iterations: 2.07 -> 1.90 s with set-up.)
+ConjugateGradientResult SolveShiftedOnHierarchy(
+  const ShiftedLaplacianProblem& pb, const std::vector<std::uint8_t>& held, const double* b, double* x)
+{
+  const std::shared_ptr<const SurfaceHierarchy> hierarchy = HierarchyOf(pb);
+  const SurfaceMultigrid mg(hierarchy, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, pb.Shift, pb.Factor,
+    held.data(), pb.NumberOfThreads);
+  const int nc = pb.Columns;
+  const std::int64_t size = static_cast<std::int64_t>(pb.Rows) * nc;
+  const Index* order = hierarchy->Order().data();
+  LargeVector<double> product(size), residual(size), d(size, 0.0);
+  std::vector<std::uint8_t> heldInOrder(static_cast<std::size_t>(pb.Rows));
+  ShiftedProduct(pb, pb.Factor, x, product.data());
+  ParallelForStatic(pb.Rows, pb.NumberOfThreads, [&](std::int64_t s, std::int64_t e) {
+    for (std::int64_t i = s; i < e; ++i)
+    {
+      const std::int64_t v = order[i];
+      heldInOrder[i] = held[v];
+      for (int c = 0; c < nc; ++c)
+      {
+        residual[i * nc + c] = held[v] ? 0.0 : b[v * nc + c] - product[v * nc + c];
+      }
+    }
+  });
+  ConjugateGradientProblem cg = MultigridProblem(pb, held);
+  cg.Fixed = heldInOrder.data();
+  cg.Apply = [&](const double* in, double* out) { mg.MultiplyInOrder(in, out, nc); };
+  cg.Preconditioner = [&](const double* r, double* z) { mg.ApplyInOrder(r, z, nc); };
+  const ConjugateGradientResult result = SolveConjugateGradient(cg, residual.data(), d.data());
+  ParallelForStatic(pb.Rows, pb.NumberOfThreads, [&](std::int64_t s, std::int64_t e) {
+    for (std::int64_t i = s; i < e; ++i)
+    {
+      const std::int64_t v = order[i];
+      for (int c = 0; c < nc; ++c)
+      {
+        x[v * nc + c] += d[i * nc + c];
+      }
+    }
+  });
+  return result;
+}
+
 ConjugateGradientResult SolveShiftedMultigrid(const ShiftedLaplacianProblem& pb, const double* b, double* x)
 {
   const std::vector<std::uint8_t> held = HeldRows(pb, false);
+  if (OnSurfaceHierarchy(pb))
+  {
+    return SolveShiftedOnHierarchy(pb, held, b, x);
+  }
   const Cycle cycle = MultigridCycle(pb, pb.Factor, held);
   ConjugateGradientProblem cg = MultigridProblem(pb, held);
   cg.Apply = [&](const double* in, double* out) { ShiftedProduct(pb, pb.Factor, in, out); };

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cmath>
 #include <complex>
+#include <stdexcept>
 #include <type_traits>
 #include <utility>
 
@@ -306,6 +307,32 @@ void Residual(const LevelView<T>& a, const T* b, const T* x, T* r, int threads)
           r[i * W + c] -= Times(a.Values[k], xj[c]);
         }
       }
+    }
+  });
+}
+
+/// y = A x.
+template <int W>
+void Product(const LevelView<double>& a, const double* x, double* y, int threads)
+{
+  const LevelMatrix& m = *a.Pattern;
+  ParallelForStatic(a.Rows(), threads, [&](std::int64_t lo, std::int64_t hi) {
+    for (std::int64_t i = lo; i < hi; ++i)
+    {
+      double sum[W];
+      for (int c = 0; c < W; ++c)
+      {
+        sum[c] = a.Diagonal[i] * x[i * W + c];
+      }
+      for (std::int64_t k = m.Offsets[i]; k < m.Offsets[i + 1]; ++k)
+      {
+        const double* xj = x + static_cast<std::int64_t>(m.Columns[k]) * W;
+        for (int c = 0; c < W; ++c)
+        {
+          sum[c] += a.Values[k] * xj[c];
+        }
+      }
+      std::copy(sum, sum + W, y + i * W);
     }
   });
 }
@@ -616,6 +643,41 @@ void SurfaceMultigrid::Apply(const double* r, double* z, int columns) const
       }
     });
   }
+}
+
+void SurfaceMultigrid::ApplyInOrder(const double* r, double* z, int columns) const
+{
+  const std::int64_t size = static_cast<std::int64_t>(S->H->Rows(0)) * columns;
+  if (columns < 1 || columns > MostColumns)
+  {
+    throw std::invalid_argument("SurfaceMultigrid::ApplyInOrder: 1 to 8 columns");
+  }
+  S->Reserve(columns);
+  double* b = S->B[0].data();
+  const double* x = S->X[0].data();
+  const std::uint8_t* held = S->Held.data();
+  ParallelForStatic(size, S->Threads, [&](std::int64_t s, std::int64_t e) {
+    for (std::int64_t k = s; k < e; ++k)
+    {
+      b[k] = held[k / columns] ? 0.0 : r[k];
+    }
+  });
+  WithCount<MostColumns>(columns, [&](auto k) { S->Cycle<double, decltype(k)::value>(0); });
+  ParallelForStatic(size, S->Threads, [&](std::int64_t s, std::int64_t e) {
+    for (std::int64_t k = s; k < e; ++k)
+    {
+      z[k] = held[k / columns] ? 0.0 : x[k];
+    }
+  });
+}
+
+void SurfaceMultigrid::MultiplyInOrder(const double* x, double* y, int columns) const
+{
+  if (columns < 1 || columns > MostColumns)
+  {
+    throw std::invalid_argument("SurfaceMultigrid::MultiplyInOrder: 1 to 8 columns");
+  }
+  WithCount<MostColumns>(columns, [&](auto k) { Product<decltype(k)::value>(S->ViewOf<double>(0), x, y, S->Threads); });
 }
 
 void SurfaceMultigrid::SetImaginaryFactor(double a)

@@ -113,6 +113,14 @@ public:
   /// values per row, in the input's order; held rows of z are 0.
   void Apply(const double* r, double* z, int columns) const;
 
+  /// Apply with r and z in the hierarchy's Order() (no gathering), at most
+  /// 8 columns.
+  void ApplyInOrder(const double* r, double* z, int columns) const;
+  /// y = A x in the hierarchy's Order(), at most 8 columns: the held rows
+  /// are identity rows and A has no couplings to them (x zero there: the
+  /// product of the free rows).
+  void MultiplyInOrder(const double* x, double* y, int columns) const;
+
   /// The complex symmetric A = D + i a K (the same D and K): prepares its
   /// levels for ApplyComplexInOrder.
   void SetImaginaryFactor(double a);
