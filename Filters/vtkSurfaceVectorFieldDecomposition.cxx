@@ -18,6 +18,7 @@
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <exception>
@@ -331,6 +332,12 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
   {
     vtkWarningMacro(<< r.DegenerateTriangles
                     << " triangles have zero area or NaN coordinates: their field is left out (parts 0).");
+  }
+  const auto infinite = [](double x) { return std::isinf(x); };
+  if (std::any_of(r.Potential.begin(), r.Potential.end(), infinite) || std::any_of(r.Energy, r.Energy + 4, infinite))
+  {
+    vtkWarningMacro("The potentials or energies exceed the range of doubles (the vectors times the coordinates, or "
+                    "their squares, beyond 1e308): those values are infinite; the parts are not affected.");
   }
 
   this->AddArrays(surface, topo, kept, points, r, onPoints);

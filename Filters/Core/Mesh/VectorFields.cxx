@@ -543,6 +543,22 @@ void HarmonicPart(const TriangleFrames& f, int threads, VectorFieldDecomposition
   std::copy(sums.begin() + 4, sums.end(), r.InnerProducts);
 }
 
+/// The results of the points times 2^-e and the field times 2^-f back to
+/// their scales.
+void ScaleBack(int e, int f, VectorFieldDecomposition& r)
+{
+  for (std::vector<double>* part : { &r.Tangent, &r.CurlFree, &r.DivergenceFree, &r.Harmonic })
+  {
+    TimesPowerOfTwo(part->data(), part->size(), f);
+  }
+  TimesPowerOfTwo(r.Potential.data(), r.Potential.size(), e + f);
+  TimesPowerOfTwo(r.StreamFunction.data(), r.StreamFunction.size(), e + f);
+  TimesPowerOfTwo(r.Divergence.data(), r.Divergence.size(), f - e);
+  TimesPowerOfTwo(r.Curl.data(), r.Curl.size(), f - e);
+  TimesPowerOfTwo(r.Energy, 4, 2 * (e + f));
+  TimesPowerOfTwo(r.InnerProducts, 3, 2 * (e + f));
+}
+
 } // namespace
 
 struct VectorFieldDecomposer::Internals
@@ -550,7 +566,13 @@ struct VectorFieldDecomposer::Internals
   Internals(const MeshTopology& topo, const double* points, const VectorFieldOptions& o);
 
   const MeshTopology& Topology;
-  const double* Points;
+  /// Coordinates far from unit size (FarScaleExponent e != 0) are worked
+  /// on as the points times 2^-e (exactly), and the results scaled back:
+  /// otherwise squared areas overflow or vanish (all triangles zero-area
+  /// beyond about 1e+-77).
+  int Exponent;
+  std::vector<double> Scaled; ///< the points times 2^-Exponent (when not 0)
+  const double* Points;       ///< those worked on
   VectorFieldOptions Options;
   TriangleFrames Frames;
   Index DegenerateTriangles = 0;
@@ -564,17 +586,19 @@ struct VectorFieldDecomposer::Internals
 
 VectorFieldDecomposer::Internals::Internals(const MeshTopology& topo, const double* points, const VectorFieldOptions& o)
   : Topology(topo)
-  , Points(points)
+  , Exponent(FarScaleExponent(UsedPointsBox(topo, points)))
+  , Scaled(Exponent ? PointsTimesPowerOfTwo(points, topo.NumberOfVertices(), -Exponent) : std::vector<double>())
+  , Points(Exponent ? Scaled.data() : points)
   , Options(o)
-  , Frames(MakeFrames(topo, points, o.NumberOfThreads))
+  , Frames(MakeFrames(topo, Points, o.NumberOfThreads))
   , DegenerateTriangles(static_cast<Index>(std::count(Frames.Areas.begin(), Frames.Areas.end(), 0.0)))
   , Component(topo.ComponentRoots())
 {
   const Index nv = topo.NumberOfVertices();
-  const Eigen::AlignedBox3d box = UsedPointsBox(topo, points);
+  const Eigen::AlignedBox3d box = UsedPointsBox(topo, Points);
   Extent = box.isEmpty() ? 1.0 : std::max(box.diagonal().norm(), 1e-300);
   GraphLaplacian cotangent;
-  AssembleSurfaceLaplacian(topo, points, LaplacianWeights::Cotangent, cotangent, o.NumberOfThreads);
+  AssembleSurfaceLaplacian(topo, Points, LaplacianWeights::Cotangent, cotangent, o.NumberOfThreads);
   std::vector<std::uint8_t> fixed(nv);
   for (Index i = 0; i < nv; ++i)
   {
@@ -587,7 +611,7 @@ VectorFieldDecomposer::Internals::Internals(const MeshTopology& topo, const doub
   // 38k) but makes each further field's solve a tenth of it.
   const bool multigrid = !o.ManyFields && nv >= o.MultigridVertices;
   Potential =
-    std::make_unique<PoissonSystem>(std::move(cotangent), std::move(fixed), Component, points, multigrid, o);
+    std::make_unique<PoissonSystem>(std::move(cotangent), std::move(fixed), Component, Points, multigrid, o);
   Integrate = o.Integrate && ClosedGenusZero(topo, Component, DegenerateTriangles);
   Graph.Build(topo, !Integrate); // the integration needs each triangle's edges alone
   if (Integrate)
@@ -597,7 +621,7 @@ VectorFieldDecomposer::Internals::Internals(const MeshTopology& topo, const doub
   const MeshTopology::EdgeTable& edges = topo.Edges();
   const Index ne = static_cast<Index>(edges.NumberOfEdges());
   GraphLaplacian nonconforming;
-  AssembleNonconformingLaplacian(topo, Graph, points, nonconforming, o.NumberOfThreads);
+  AssembleNonconformingLaplacian(topo, Graph, Points, nonconforming, o.NumberOfThreads);
   std::vector<std::uint8_t> fixedEdges(ne);
   std::vector<Index> component(ne);
   std::vector<double> midpoints(3 * static_cast<std::size_t>(ne));
@@ -605,7 +629,7 @@ VectorFieldDecomposer::Internals::Internals(const MeshTopology& topo, const doub
   {
     const Index a = edges.Vertices[2 * static_cast<std::int64_t>(e)], b = edges.Vertices[2 * static_cast<std::int64_t>(e) + 1];
     component[e] = Component[a];
-    Store(&midpoints[3 * static_cast<std::size_t>(e)], 0.5 * (Point(points, a) + Point(points, b)));
+    Store(&midpoints[3 * static_cast<std::size_t>(e)], 0.5 * (Point(Points, a) + Point(Points, b)));
     const bool boundary = edges.FaceCount[e] == 1;
     fixedEdges[e] = !(nonconforming.Diagonal[e] > 0.0) || edges.FaceCount[e] > 2 ||
       (boundary && o.Boundary == VectorFieldBoundary::TangentDivergenceFree);
@@ -634,7 +658,16 @@ void VectorFieldDecomposer::Decompose(const double* vectors, VectorFieldDecompos
   {
     largest = std::max(largest, std::abs(x));
   }
-  const double scale = largest * I->Extent;
+  // A field far from unit size (whose squared norms overflow or vanish) is
+  // decomposed as the field times 2^-f, exactly; the results scaled back.
+  int f = 0;
+  if (largest > 0.0 && std::isfinite(largest))
+  {
+    std::frexp(largest, &f);
+    f = std::abs(f) > 60 ? f : 0;
+  }
+  TimesPowerOfTwo(r.Tangent.data(), r.Tangent.size(), -f);
+  const double scale = std::ldexp(largest, -f) * I->Extent;
   r.Potential = I->Potential->Solve(PotentialRightHandSide(topo, I->Points, I->Frames, threads, r), scale, r);
   GradientPart(topo, I->Points, I->Frames, threads, r);
   r.StreamFunction = I->Integrate ? IntegrateStreamFunction(topo, I->Points, I->Frames, I->Graph, r)
@@ -642,6 +675,7 @@ void VectorFieldDecomposer::Decompose(const double* vectors, VectorFieldDecompos
   RotatedGradientPart(topo, I->Points, I->Frames, I->Graph, threads, r);
   HarmonicPart(I->Frames, threads, r);
   r.Areas = I->Frames.Areas;
+  ScaleBack(I->Exponent, f, r);
 }
 
 void DecomposeVectorField(const MeshTopology& topo, const double* points, const double* vectors,

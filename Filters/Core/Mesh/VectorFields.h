@@ -95,7 +95,10 @@ struct VectorFieldDecomposition
   std::vector<double> Harmonic;       ///< the rest
   std::vector<double> Potential;      ///< u, 1 per vertex (0 at a vertex of each closed component)
   std::vector<double> StreamFunction; ///< v, 1 per edge (MeshTopology::Edges() order)
-  std::vector<double> Areas;          ///< 1 per triangle (0: zero area or NaN coordinates)
+  /// 1 per triangle (0: zero area or NaN coordinates), the weights of
+  /// point values; for coordinates far from unit size those of the points
+  /// times 2^-FarScaleExponent (an area may overflow where its weight does not).
+  std::vector<double> Areas;
   std::vector<double> Divergence;     ///< 1 per vertex (NaN where the vertex has no area)
   std::vector<double> Curl;           ///< 1 per vertex (NaN where the vertex has no area)
   /// Integrals over the surface: |Tangent|^2, |CurlFree|^2, |DivergenceFree|^2, |Harmonic|^2.

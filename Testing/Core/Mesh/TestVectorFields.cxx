@@ -2,8 +2,8 @@
 // (Mesh/VectorFields): spherical-harmonic fields recovered with errors that
 // fall linearly with the edge length, the torus' harmonic fields, exact
 // orthogonality, exact recovery of discrete gradients and rotated gradients,
-// the boundary conditions of open surfaces, and the multigrid solve against
-// the factorization.
+// the boundary conditions of open surfaces, the multigrid solve against
+// the factorization, and coordinates and fields far from unit size.
 #include "TestMeshes.h"
 
 #include "Mesh/VectorFields.h"
@@ -510,6 +510,95 @@ TEST(VectorFields, MultigridSolveHoldsOnHostileSurfaces)
     for (const double x : multigrid.CurlFree)
     {
       ASSERT_TRUE(std::isfinite(x));
+    }
+  }
+}
+
+TEST(VectorFields, FarCoordinatesGiveTheParts)
+{
+  // Coordinates of 1e+-100 and 1e+-200 (squared areas overflow or vanish):
+  // the parts of the unit sphere's field, potentials scaled with the
+  // coordinates, divergence against them, energies with the area (where it
+  // is a double).
+  const test::Mesh unit = test::OctahedronSphere(4);
+  std::vector<double> field(unit.Triangles.size());
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  for (double& x : field)
+  {
+    x = normal(rng);
+  }
+  const MeshTopology topo = unit.Topology();
+  VectorFieldDecomposition reference;
+  DecomposeVectorField(topo, unit.Points.data(), field.data(), VectorFieldOptions(), reference);
+  for (const double scale : { 1e200, 1e100, 1e-100, 1e-200 })
+  {
+    std::vector<double> points = unit.Points;
+    for (double& x : points)
+    {
+      x *= scale;
+    }
+    VectorFieldDecomposition r;
+    DecomposeVectorField(topo, points.data(), field.data(), VectorFieldOptions(), r);
+    SCOPED_TRACE(scale);
+    EXPECT_EQ(r.DegenerateTriangles, 0);
+    EXPECT_LT(LargestPartDifference(r, reference), 1e-12);
+    for (std::size_t i = 0; i < r.Potential.size(); ++i)
+    {
+      ASSERT_NEAR(r.Potential[i] / scale, reference.Potential[i], 1e-12);
+      ASSERT_NEAR(r.Divergence[i] * scale, reference.Divergence[i], 1e-10 * std::abs(reference.Divergence[i]) + 1e-12);
+    }
+    if (std::isnormal(scale * scale))
+    {
+      EXPECT_NEAR(r.Energy[1] / (scale * scale), reference.Energy[1], 1e-12 * reference.Energy[0]);
+    }
+  }
+}
+
+TEST(VectorFields, FarFieldValuesGiveTheParts)
+{
+  // Vectors of 1e250 and 1e-250 (squared norms overflow or vanish), also on
+  // coordinates of 1e-200: the unit field's parts and potentials, scaled
+  // (where a potential is a double).
+  const test::Mesh unit = test::OctahedronSphere(4);
+  std::vector<double> field(unit.Triangles.size());
+  std::mt19937 rng(4);
+  std::normal_distribution<double> normal;
+  for (double& x : field)
+  {
+    x = normal(rng);
+  }
+  const MeshTopology topo = unit.Topology();
+  VectorFieldDecomposition reference;
+  DecomposeVectorField(topo, unit.Points.data(), field.data(), VectorFieldOptions(), reference);
+  for (const double length : { 1.0, 1e-200 })
+  {
+    std::vector<double> points = unit.Points;
+    for (double& x : points)
+    {
+      x *= length;
+    }
+    for (const double size : { 1e250, 1e-250 })
+    {
+      std::vector<double> scaled = field;
+      for (double& x : scaled)
+      {
+        x *= size;
+      }
+      VectorFieldDecomposition r;
+      DecomposeVectorField(topo, points.data(), scaled.data(), VectorFieldOptions(), r);
+      SCOPED_TRACE(length);
+      SCOPED_TRACE(size);
+      EXPECT_TRUE(r.Converged);
+      for (std::size_t k = 0; k < r.CurlFree.size(); ++k)
+      {
+        ASSERT_NEAR(r.CurlFree[k] / size, reference.CurlFree[k], 1e-10);
+        ASSERT_NEAR(r.DivergenceFree[k] / size, reference.DivergenceFree[k], 1e-10);
+      }
+      for (std::size_t i = 0; std::isnormal(size * length) && i < r.Potential.size(); ++i)
+      {
+        ASSERT_NEAR(r.Potential[i] / size / length, reference.Potential[i], 1e-10);
+      }
     }
   }
 }
