@@ -213,7 +213,8 @@ public:
   {
     JACOBI = 0,
     MULTIGRID = 1,
-    GEOMETRIC_MULTIGRID = 2
+    GEOMETRIC_MULTIGRID = 2,
+    AUTOMATIC_PRECONDITIONER = 3
   };
 
   /// Umbrella (eq. 3.7), scale-dependent umbrella (eq. 3.11), curvature flow (section 3.5),
@@ -278,17 +279,21 @@ public:
   /// The most conjugate-gradient iterations of each implicit step. Default: 1000.
   vtkSetClampMacro(MaximumSolverIterations, int, 1, VTK_INT_MAX);
   vtkGetMacro(MaximumSolverIterations, int);
-  /// Preconditioner of the order-1 and order-2 solves. Jacobi (default): mixed precision, the
-  /// faster for the default steps on the measured machines. Algebraic Multigrid: one V-cycle of
-  /// hypre's BoomerAMG per iteration; 3-4 iterations for a clean mesh's step of any size where
-  /// Jacobi needs 70-500, but each iteration and its set-up cost more. Geometric Multigrid: one
-  /// V-cycle on a hierarchy of the surface's own vertices (built once per run); 5-10 iterations for
-  /// a clean mesh's order-1 and order-2 steps whatever its size, more on noisy ones, the fastest
-  /// for large steps (the guide's benchmarks page). In a distributed run the multigrids work over
-  /// the ranks with the serial iteration counts (the algebraic hierarchy spans the ranks; Geometric
-  /// Multigrid takes it there; order-1 Jacobi solves are in double precision). Values: 0 Jacobi, 1
-  /// Algebraic Multigrid, 2 Geometric Multigrid. Default: Jacobi.
-  vtkSetClampMacro(Preconditioner, int, JACOBI, GEOMETRIC_MULTIGRID);
+  /// Preconditioner of the order-1 and order-2 solves. Automatic (default): Geometric Multigrid for
+  /// the steps where it was measured the faster (at least 20,000 vertices, serial, order-1 steps
+  /// from about 150 h^2 and order-2 steps from about 100 h^4, h the mean edge length, and any
+  /// order-2 step on 1.5 to 4 million vertices: one clean order-2 step of 400 h^4 on 1.2M triangles
+  /// takes 2.0 s instead of 5.9), otherwise Jacobi. Jacobi: mixed precision, the faster for the
+  /// default steps on the measured machines. Algebraic Multigrid: one V-cycle of hypre's BoomerAMG
+  /// per iteration; 3-4 iterations for a clean mesh's step of any size where Jacobi needs 70-500,
+  /// but each iteration and its set-up cost more. Geometric Multigrid: one V-cycle on a hierarchy
+  /// of the surface's own vertices (built once per run); 5-10 iterations for a clean mesh's order-1
+  /// and order-2 steps whatever its size, more on noisy ones, the fastest for large steps (the
+  /// guide's benchmarks page). In a distributed run the multigrids work over the ranks with the
+  /// serial iteration counts (the algebraic hierarchy spans the ranks; Geometric Multigrid takes it
+  /// there; Automatic takes Jacobi; order-1 Jacobi solves are in double precision). Values: 0
+  /// Jacobi, 1 Algebraic Multigrid, 2 Geometric Multigrid, 3 Automatic. Default: Automatic.
+  vtkSetClampMacro(Preconditioner, int, JACOBI, AUTOMATIC_PRECONDITIONER);
   vtkGetMacro(Preconditioner, int);
   /// Quantity restored by scaling after each step (section 3.3). Automatic: the volume for closed
   /// surfaces without fixed points, nothing otherwise. Values: 0 Automatic, 1 None, 2 Volume, 3

@@ -119,9 +119,12 @@ struct FairingOptions
   double SolverTolerance = 1e-4; ///< reduction of the solver residual (see ConjugateGradient.h)
   int MaximumSolverIterations = 1000;
   /// Of the graph solvers (orders 1 and 2 without constraints): Jacobi,
-  /// algebraic multigrid (see Solvers/AlgebraicMultigrid.h for when it pays)
-  /// or geometric multigrid (Solvers/SurfaceMultigrid.h).
-  Preconditioning Preconditioner = Preconditioning::Jacobi;
+  /// algebraic multigrid (see Solvers/AlgebraicMultigrid.h for when it pays),
+  /// geometric multigrid (Solvers/SurfaceMultigrid.h), or Automatic: the
+  /// geometric multigrid for large steps on large surfaces, where it was
+  /// measured the faster (Solvers/GraphSolvers.h, ChosenPreconditioner), else
+  /// Jacobi.
+  Preconditioning Preconditioner = Preconditioning::Automatic;
   /// GeometricMultigrid: the hierarchy of the run's surface, built once by
   /// the fairing (from the input's points) for all its solves; not a setting.
   std::shared_ptr<const SurfaceHierarchy> Hierarchy;

@@ -45,7 +45,8 @@ enum class Preconditioning
 {
   Jacobi,            ///< mixed precision, renumbered rows
   Multigrid,         ///< one V-cycle of BoomerAMG per iteration
-  GeometricMultigrid ///< one V-cycle on the surface's own hierarchy (SurfaceMultigrid)
+  GeometricMultigrid, ///< one V-cycle on the surface's own hierarchy (SurfaceMultigrid)
+  Automatic           ///< GeometricMultigrid where it was measured the faster (ChosenPreconditioner), else Jacobi
 };
 
 class AlgebraicMultigrid

@@ -456,13 +456,53 @@ ConjugateGradientResult SolveSquaredMultigrid(const ShiftedLaplacianProblem& pb,
 
 } // namespace
 
-bool UsesMultigrid(const ShiftedLaplacianProblem& pb)
+Preconditioning ChosenPreconditioner(const ShiftedLaplacianProblem& pb, bool squared)
 {
-  return pb.Preconditioner != Preconditioning::Jacobi;
+  if (pb.Preconditioner != Preconditioning::Automatic)
+  {
+    return pb.Preconditioner;
+  }
+  if (pb.Split || pb.Rows < AutomaticMultigridRows || !(pb.Hierarchy || pb.Points) || !(pb.Factor > 0.0))
+  {
+    return Preconditioning::Jacobi;
+  }
+  if (!pb.Shift ||
+    (squared && pb.Rows >= AutomaticMultigridRowsOrder2[0] && pb.Rows < AutomaticMultigridRowsOrder2[1]))
+  {
+    return Preconditioning::GeometricMultigrid;
+  }
+  // The step over the median D_ii (a point's area: about h^2), over a
+  // sample of the rows. (The median of t K_ii / D_ii grew with noise, whose
+  // obtuse triangles raise K_ii, and chose the multigrid where it lost.)
+  const Index stride = std::max<Index>(1, pb.Rows / 20000);
+  std::vector<double> areas;
+  for (Index i = 0; i < pb.Rows; i += stride)
+  {
+    if (pb.Shift[i] > 0.0 && !(pb.Fixed && pb.Fixed[i]))
+    {
+      areas.push_back(pb.Shift[i]);
+    }
+  }
+  if (areas.empty())
+  {
+    return Preconditioning::Jacobi;
+  }
+  const auto middle = areas.begin() + static_cast<std::ptrdiff_t>(areas.size() / 2);
+  std::nth_element(areas.begin(), middle, areas.end());
+  const double step = (squared ? std::sqrt(pb.Factor) : pb.Factor) / *middle;
+  return step >= AutomaticMultigridStep[squared ? 1 : 0] ? Preconditioning::GeometricMultigrid
+                                                         : Preconditioning::Jacobi;
 }
 
-ConjugateGradientResult SolveSquaredLaplacian(const ShiftedLaplacianProblem& pb, const double* b, double* x)
+bool UsesMultigrid(const ShiftedLaplacianProblem& pb, bool squared)
 {
+  return ChosenPreconditioner(pb, squared) != Preconditioning::Jacobi;
+}
+
+ConjugateGradientResult SolveSquaredLaplacian(const ShiftedLaplacianProblem& given, const double* b, double* x)
+{
+  ShiftedLaplacianProblem pb = given;
+  pb.Preconditioner = ChosenPreconditioner(given, true);
   const int nc = pb.Columns;
   if (nc < 1 || nc > 4 || static_cast<int>(pb.Scale.size()) != nc || !(pb.Factor >= 0.0) ||
     (pb.Rows > 0 && (!pb.Offsets || !pb.Neighbors || !pb.Weights || !pb.Diagonal || !pb.Shift)))
@@ -497,8 +537,10 @@ ConjugateGradientResult SolveSquaredLaplacian(const ShiftedLaplacianProblem& pb,
 }
 
 ConjugateGradientResult SolveShiftedLaplacian(
-  const ShiftedLaplacianProblem& pb, const double* b, double* x)
+  const ShiftedLaplacianProblem& given, const double* b, double* x)
 {
+  ShiftedLaplacianProblem pb = given;
+  pb.Preconditioner = ChosenPreconditioner(given);
   const int nc = pb.Columns;
   if (nc < 1 || nc > 8 || static_cast<int>(pb.Scale.size()) != nc ||
     (pb.Rows > 0 && (!pb.Offsets || !pb.Neighbors || !pb.Weights || !pb.Diagonal)))

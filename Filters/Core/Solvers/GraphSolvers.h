@@ -62,8 +62,32 @@ struct ShiftedLaplacianProblem
   const Partition* Split = nullptr;
 };
 
+/// The preconditioner the graph solvers take for `problem` (for the order-2
+/// system D + t K D^-1 K of SolveSquaredLaplacian when `squared`): the given
+/// one, or for Automatic the geometric multigrid where it was measured
+/// faster than Jacobi for one step, its set-up included (bunny00
+/// Loop-subdivided to 300k and 1.2M triangles, clean and with noise of 0.3%
+/// of the diagonal, 2 threads), else Jacobi. The multigrid is taken for a
+/// serial solve of at least AutomaticMultigridRows rows with points or a
+/// hierarchy whose step is large: s / median(D_ii) at least
+/// AutomaticMultigridStep, s = t (order 1) or sqrt(t) (order 2), D_ii a
+/// point's area (on the bunny 135 per 100 h^2, h the mean edge length; 176
+/// with the noise): order 1 from about 150 h^2, order 2 from about 100 h^4.
+/// At 1.2M triangles one clean step of 300 h^2 took 1.80 s instead of
+/// Jacobi's 2.11, one of 400 h^4 2.00 s instead of 5.86. D = 0 (harmonic
+/// extensions) is an infinite step. Order-2 systems of
+/// AutomaticMultigridRowsOrder2 rows take it for any step (the default step
+/// of 4 h^4 on 4.8M triangles: 12.9 s against 14.5 s, with noise of 0.3%
+/// 95 s where Jacobi stopped short of the tolerance after 161 s; on 1.2M
+/// triangles Jacobi was the faster); larger ones keep Jacobi, whose time and
+/// memory were measured there (the multigrid's levels hold more).
+Preconditioning ChosenPreconditioner(const ShiftedLaplacianProblem& problem, bool squared = false);
+constexpr Index AutomaticMultigridRows = 20000;
+constexpr Index AutomaticMultigridRowsOrder2[2] = { 1500000, 4000000 }; ///< from, below
+constexpr double AutomaticMultigridStep[2] = { 200.0, 15.0 }; ///< orders 1 and 2
+
 /// Whether the graph solvers precondition `problem` by multigrid.
-bool UsesMultigrid(const ShiftedLaplacianProblem& problem);
+bool UsesMultigrid(const ShiftedLaplacianProblem& problem, bool squared = false);
 
 ConjugateGradientResult SolveShiftedLaplacian(
   const ShiftedLaplacianProblem& problem, const double* b, double* x);

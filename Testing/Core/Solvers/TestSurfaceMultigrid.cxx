@@ -327,3 +327,45 @@ TEST(SurfaceMultigrid, SolvesAsJacobiOnRealAndIrregularMeshes)
   }
 }
 
+
+TEST(SurfaceMultigrid, AutomaticTakesItForLargeStepsOnLargeSurfaces)
+{
+  // Automatic: the geometric multigrid for steps from about 100 h^2 (order
+  // 1) or 40 h^4 (order 2) on surfaces of at least AutomaticMultigridRows
+  // rows with points, and for D = 0; Jacobi for the default steps, small
+  // surfaces and without points. Its solution is the chosen solver's.
+  const MeshSystem s(ReadOrFail("bunny00.off")); // 37,706 vertices
+  const double h2 = s.H * s.H;
+  const auto chosen = [&](double t, bool squared) {
+    return ChosenPreconditioner(s.Problem(t, 3, Preconditioning::Automatic), squared);
+  };
+  EXPECT_EQ(chosen(10.0 * h2, false), Preconditioning::Jacobi);
+  EXPECT_EQ(chosen(30.0 * h2, false), Preconditioning::Jacobi);
+  EXPECT_EQ(chosen(300.0 * h2, false), Preconditioning::GeometricMultigrid);
+  EXPECT_EQ(chosen(4.0 * h2 * h2, true), Preconditioning::Jacobi);
+  EXPECT_EQ(chosen(400.0 * h2 * h2, true), Preconditioning::GeometricMultigrid);
+  ShiftedLaplacianProblem harmonic = s.Problem(1.0, 1, Preconditioning::Automatic);
+  harmonic.Shift = nullptr;
+  EXPECT_EQ(ChosenPreconditioner(harmonic), Preconditioning::GeometricMultigrid);
+  ShiftedLaplacianProblem unplaced = s.Problem(300.0 * h2, 3, Preconditioning::Automatic);
+  unplaced.Points = nullptr;
+  EXPECT_EQ(ChosenPreconditioner(unplaced), Preconditioning::Jacobi);
+  const MeshSystem small(test::OctahedronSphere(5)); // 4,098 vertices
+  EXPECT_EQ(ChosenPreconditioner(small.Problem(300.0 * small.H * small.H, 3, Preconditioning::Automatic)),
+    Preconditioning::Jacobi);
+  EXPECT_EQ(ChosenPreconditioner(s.Problem(300.0 * h2, 3, Preconditioning::Jacobi)), Preconditioning::Jacobi);
+
+  const Index n = s.L.NumberOfVertices;
+  std::vector<double> b(3 * static_cast<std::size_t>(n));
+  for (std::size_t k = 0; k < b.size(); ++k)
+  {
+    b[k] = s.Mass[k / 3] * s.Mesh.Points[k];
+  }
+  for (const Preconditioning m : { Preconditioning::Automatic, Preconditioning::GeometricMultigrid })
+  {
+    std::vector<double> x = s.Mesh.Points;
+    const ConjugateGradientResult r = SolveShiftedLaplacian(s.Problem(300.0 * h2, 3, m), b.data(), x.data());
+    EXPECT_TRUE(r.Converged);
+    EXPECT_LT(r.Iterations, 20); // Jacobi: about 250
+  }
+}
