@@ -21,6 +21,29 @@ namespace
 
 using Eigen::Vector3d;
 
+/// 3 random normal components per triangle of m (a field, not tangent).
+std::vector<double> RandomField(const test::Mesh& m, unsigned seed)
+{
+  std::vector<double> field(m.Triangles.size());
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> normal;
+  for (double& x : field)
+  {
+    x = normal(rng);
+  }
+  return field;
+}
+
+/// values times factor.
+std::vector<double> Scaled(std::vector<double> values, double factor)
+{
+  for (double& x : values)
+  {
+    x *= factor;
+  }
+  return values;
+}
+
 /// Per triangle: the centroid and the area.
 struct Centroids
 {
@@ -228,13 +251,7 @@ TEST(VectorFields, HarmonicFieldsSpanTwiceTheGenus)
   EXPECT_LT(torus[2], 1e-12 * torus[0]);
   const test::Mesh sphere = test::OctahedronSphere(4);
   const Centroids c(sphere);
-  std::vector<double> field(sphere.Triangles.size());
-  std::mt19937 rng(4);
-  std::normal_distribution<double> normal;
-  for (double& x : field)
-  {
-    x = normal(rng);
-  }
+  const std::vector<double> field = RandomField(sphere, 4);
   VectorFieldDecomposition r;
   DecomposeVectorField(sphere.Topology(), sphere.Points.data(), field.data(), VectorFieldOptions(), r);
   EXPECT_LT(r.Energy[3], 1e-20 * r.Energy[0]) << "a sphere has no harmonic fields";
@@ -301,13 +318,7 @@ TEST(VectorFields, IntegratedStreamFunctionEqualsTheSolvedOne)
   // Two closed genus-0 components (no harmonic fields): the stream function
   // integrated across the triangles is the solved one.
   const test::Mesh m = test::Merged(test::OctahedronSphere(4), test::OctahedronSphere(3, 0.5), { 3.0, 0.0, 0.0 });
-  std::vector<double> field(m.Triangles.size());
-  std::mt19937 rng(12);
-  std::normal_distribution<double> normal;
-  for (double& x : field)
-  {
-    x = normal(rng);
-  }
+  const std::vector<double> field = RandomField(m, 12);
   const MeshTopology topo = m.Topology();
   VectorFieldOptions o;
   VectorFieldDecomposition integrated, solved;
@@ -333,13 +344,7 @@ TEST(VectorFields, OpenSurfacesKeepOrthogonalityUnderBothBoundaryConditions)
 {
   const test::Mesh m = test::Cylinder(0.5, 1.5, 40, 30);
   const MeshTopology topo = m.Topology();
-  std::vector<double> field(m.Triangles.size());
-  std::mt19937 rng(8);
-  std::normal_distribution<double> normal;
-  for (double& x : field)
-  {
-    x = normal(rng);
-  }
+  const std::vector<double> field = RandomField(m, 8);
   for (const VectorFieldBoundary boundary :
     { VectorFieldBoundary::TangentDivergenceFree, VectorFieldBoundary::NormalCurlFree })
   {
@@ -420,13 +425,7 @@ TEST(VectorFields, MultigridSolveEqualsTheFactorizedOne)
          Case{ &cylinder, VectorFieldBoundary::NormalCurlFree } })
   {
     const test::Mesh& m = *c.M;
-    std::vector<double> field(m.Triangles.size());
-    std::mt19937 rng(21);
-    std::normal_distribution<double> normal;
-    for (double& x : field)
-    {
-      x = normal(rng);
-    }
+    const std::vector<double> field = RandomField(m, 21);
     const MeshTopology topo = m.Topology();
     VectorFieldOptions o;
     o.Boundary = c.Boundary;
@@ -488,13 +487,7 @@ TEST(VectorFields, MultigridSolveHoldsOnHostileSurfaces)
   meshes.push_back(collapsed);
   for (const test::Mesh& m : meshes)
   {
-    std::vector<double> field(m.Triangles.size());
-    std::mt19937 rng(5);
-    std::normal_distribution<double> normal;
-    for (double& x : field)
-    {
-      x = normal(rng);
-    }
+    const std::vector<double> field = RandomField(m, 5);
     const MeshTopology topo = m.Topology();
     VectorFieldOptions o;
     o.MultigridVertices = 0;
@@ -514,90 +507,46 @@ TEST(VectorFields, MultigridSolveHoldsOnHostileSurfaces)
   }
 }
 
-TEST(VectorFields, FarCoordinatesGiveTheParts)
+TEST(VectorFields, FarCoordinatesAndFieldsGiveTheParts)
 {
-  // Coordinates of 1e+-100 and 1e+-200 (squared areas overflow or vanish):
-  // the parts of the unit sphere's field, potentials scaled with the
-  // coordinates, divergence against them, energies with the area (where it
-  // is a double).
+  // Coordinates of 1e+-100 and 1e+-200 and vectors of 1e+-250 (squared
+  // areas or norms overflow or vanish): the unit sphere's parts of the unit
+  // field, scaled with the field; potentials scaled with both, divergence
+  // with the field over the coordinates, energies with the squares (where
+  // they are doubles).
   const test::Mesh unit = test::OctahedronSphere(4);
-  std::vector<double> field(unit.Triangles.size());
-  std::mt19937 rng(3);
-  std::normal_distribution<double> normal;
-  for (double& x : field)
-  {
-    x = normal(rng);
-  }
+  const std::vector<double> field = RandomField(unit, 3);
   const MeshTopology topo = unit.Topology();
   VectorFieldDecomposition reference;
   DecomposeVectorField(topo, unit.Points.data(), field.data(), VectorFieldOptions(), reference);
-  for (const double scale : { 1e200, 1e100, 1e-100, 1e-200 })
+  for (const double length : { 1.0, 1e200, 1e100, 1e-100, 1e-200 })
   {
-    std::vector<double> points = unit.Points;
-    for (double& x : points)
+    const std::vector<double> points = Scaled(unit.Points, length);
+    for (const double size : { 1.0, 1e250, 1e-250 })
     {
-      x *= scale;
-    }
-    VectorFieldDecomposition r;
-    DecomposeVectorField(topo, points.data(), field.data(), VectorFieldOptions(), r);
-    SCOPED_TRACE(scale);
-    EXPECT_EQ(r.DegenerateTriangles, 0);
-    EXPECT_LT(LargestPartDifference(r, reference), 1e-12);
-    for (std::size_t i = 0; i < r.Potential.size(); ++i)
-    {
-      ASSERT_NEAR(r.Potential[i] / scale, reference.Potential[i], 1e-12);
-      ASSERT_NEAR(r.Divergence[i] * scale, reference.Divergence[i], 1e-10 * std::abs(reference.Divergence[i]) + 1e-12);
-    }
-    if (std::isnormal(scale * scale))
-    {
-      EXPECT_NEAR(r.Energy[1] / (scale * scale), reference.Energy[1], 1e-12 * reference.Energy[0]);
-    }
-  }
-}
-
-TEST(VectorFields, FarFieldValuesGiveTheParts)
-{
-  // Vectors of 1e250 and 1e-250 (squared norms overflow or vanish), also on
-  // coordinates of 1e-200: the unit field's parts and potentials, scaled
-  // (where a potential is a double).
-  const test::Mesh unit = test::OctahedronSphere(4);
-  std::vector<double> field(unit.Triangles.size());
-  std::mt19937 rng(4);
-  std::normal_distribution<double> normal;
-  for (double& x : field)
-  {
-    x = normal(rng);
-  }
-  const MeshTopology topo = unit.Topology();
-  VectorFieldDecomposition reference;
-  DecomposeVectorField(topo, unit.Points.data(), field.data(), VectorFieldOptions(), reference);
-  for (const double length : { 1.0, 1e-200 })
-  {
-    std::vector<double> points = unit.Points;
-    for (double& x : points)
-    {
-      x *= length;
-    }
-    for (const double size : { 1e250, 1e-250 })
-    {
-      std::vector<double> scaled = field;
-      for (double& x : scaled)
-      {
-        x *= size;
-      }
+      const std::vector<double> scaled = Scaled(field, size);
       VectorFieldDecomposition r;
       DecomposeVectorField(topo, points.data(), scaled.data(), VectorFieldOptions(), r);
       SCOPED_TRACE(length);
       SCOPED_TRACE(size);
       EXPECT_TRUE(r.Converged);
+      EXPECT_EQ(r.DegenerateTriangles, 0);
       for (std::size_t k = 0; k < r.CurlFree.size(); ++k)
       {
         ASSERT_NEAR(r.CurlFree[k] / size, reference.CurlFree[k], 1e-10);
         ASSERT_NEAR(r.DivergenceFree[k] / size, reference.DivergenceFree[k], 1e-10);
       }
-      for (std::size_t i = 0; std::isnormal(size * length) && i < r.Potential.size(); ++i)
+      for (std::size_t i = 0; std::isnormal(size * length) && std::isnormal(size / length) && i < r.Potential.size();
+           ++i)
       {
-        ASSERT_NEAR(r.Potential[i] / size / length, reference.Potential[i], 1e-10);
+        ASSERT_NEAR(r.Potential[i] / (size * length), reference.Potential[i], 1e-10);
+        ASSERT_NEAR(r.Divergence[i] / (size / length), reference.Divergence[i],
+          1e-10 * std::abs(reference.Divergence[i]) + 1e-12);
+      }
+      const double area = size * length * size * length;
+      if (std::isnormal(area))
+      {
+        EXPECT_NEAR(r.Energy[1] / area, reference.Energy[1], 1e-12 * reference.Energy[0]);
       }
     }
   }
