@@ -425,6 +425,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
   const Index n = topo.NumberOfVertices();
   const int threads = opt.NumberOfThreads;
   const Partition* split = pieces.Split;
+  opt.KeptHierarchy = std::make_shared<std::shared_ptr<const SurfaceHierarchy>>(); // this run's
   if (opt.Preconditioner == Preconditioning::GeometricMultigrid && !split && !opt.Hierarchy && n > 0)
   {
     const MeshTopology::VertexGraph& graph = topo.Graph();

@@ -126,8 +126,11 @@ struct FairingOptions
   /// Jacobi.
   Preconditioning Preconditioner = Preconditioning::Automatic;
   /// GeometricMultigrid: the hierarchy of the run's surface, built once by
-  /// the fairing (from the input's points) for all its solves; not a setting.
+  /// the fairing (from the input's points) for all its solves; Automatic:
+  /// built by the first solve that takes the multigrid, kept for the others
+  /// (KeptHierarchy, made per run). Not settings.
   std::shared_ptr<const SurfaceHierarchy> Hierarchy;
+  std::shared_ptr<std::shared_ptr<const SurfaceHierarchy>> KeptHierarchy;
   FairingInvariant Invariant = FairingInvariant::Automatic;
   /// HeightFieldVolume: the normal of the reference plane; RevolutionVolume:
   /// the direction of the axis (through the initial area centroid).

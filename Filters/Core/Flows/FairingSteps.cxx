@@ -307,6 +307,7 @@ ConjugateGradientResult SolveStep(
   sl.NumberOfThreads = opt.NumberOfThreads;
   sl.Preconditioner = opt.Preconditioner;
   sl.Hierarchy = opt.Hierarchy;
+  sl.KeptHierarchy = opt.KeptHierarchy.get();
   sl.Points = x; // (without a hierarchy) read before the solve moves them
   sl.Split = st.Split;
   if (Constrained(st) || (st.Split && p.Pure(1) && !UsesMultigrid(sl)))

@@ -330,12 +330,26 @@ bool OnSurfaceHierarchy(const ShiftedLaplacianProblem& pb)
     (pb.Hierarchy ? pb.Hierarchy->Rows(0) == pb.Rows : pb.Points != nullptr);
 }
 
-/// pb's hierarchy, given or built from its graph and points.
+/// pb's hierarchy: given, kept from an earlier solve, or built from its
+/// graph and points (and kept where asked).
 std::shared_ptr<const SurfaceHierarchy> HierarchyOf(const ShiftedLaplacianProblem& pb)
 {
-  return pb.Hierarchy
-    ? pb.Hierarchy
-    : std::make_shared<const SurfaceHierarchy>(pb.Rows, pb.Offsets, pb.Neighbors, pb.Points, pb.NumberOfThreads);
+  if (pb.Hierarchy)
+  {
+    return pb.Hierarchy;
+  }
+  std::shared_ptr<const SurfaceHierarchy>* kept = pb.KeptHierarchy;
+  if (kept && *kept && (*kept)->Rows(0) == pb.Rows)
+  {
+    return *kept;
+  }
+  auto built =
+    std::make_shared<const SurfaceHierarchy>(pb.Rows, pb.Offsets, pb.Neighbors, pb.Points, pb.NumberOfThreads);
+  if (kept)
+  {
+    *kept = built;
+  }
+  return built;
 }
 
 Cycle MultigridCycle(const ShiftedLaplacianProblem& pb, double factor, const std::vector<std::uint8_t>& held)
@@ -462,7 +476,10 @@ Preconditioning ChosenPreconditioner(const ShiftedLaplacianProblem& pb, bool squ
   {
     return pb.Preconditioner;
   }
-  if (pb.Split || pb.Rows < AutomaticMultigridRows || !(pb.Hierarchy || pb.Points) || !(pb.Factor > 0.0))
+  // On a surface's graph: about 6 neighbours a row (the curves of the
+  // fairing's boundary and feature stages have 2 or none).
+  if (pb.Split || pb.Rows < AutomaticMultigridRows || !(pb.Hierarchy || pb.Points) || !(pb.Factor > 0.0) ||
+    !pb.Offsets || pb.Offsets[pb.Rows] < 4 * static_cast<std::int64_t>(pb.Rows))
   {
     return Preconditioning::Jacobi;
   }

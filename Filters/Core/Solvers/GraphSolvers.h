@@ -53,6 +53,10 @@ struct ShiftedLaplacianProblem
   /// Split, GeometricMultigrid takes BoomerAMG.
   const double* Points = nullptr;
   std::shared_ptr<const SurfaceHierarchy> Hierarchy;
+  /// Optional, without Hierarchy: where a hierarchy this solve builds from
+  /// Points is left, and the next solve of the same graph takes it from (a
+  /// flow's steps when Automatic chooses the multigrid).
+  std::shared_ptr<const SurfaceHierarchy>* KeptHierarchy = nullptr;
   /// Optional: the rows split over processes (a collective solve, see
   /// ConjugateGradientProblem::Split): multigrid with the hierarchy spanning
   /// the processes, or for SolveSquaredLaplacian also the Jacobi COCG.
@@ -69,7 +73,8 @@ struct ShiftedLaplacianProblem
 /// Loop-subdivided to 300k and 1.2M triangles, clean and with noise of 0.3%
 /// of the diagonal, 2 threads), else Jacobi. The multigrid is taken for a
 /// serial solve of at least AutomaticMultigridRows rows with points or a
-/// hierarchy whose step is large: s / median(D_ii) at least
+/// hierarchy, on a surface's graph (4 or more neighbours a row on average),
+/// whose step is large: s / median(D_ii) at least
 /// AutomaticMultigridStep, s = t (order 1) or sqrt(t) (order 2), D_ii a
 /// point's area (on the bunny 135 per 100 h^2, h the mean edge length; 176
 /// with the noise): order 1 from about 150 h^2, order 2 from about 100 h^4.

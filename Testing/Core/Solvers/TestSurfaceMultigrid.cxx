@@ -330,10 +330,11 @@ TEST(SurfaceMultigrid, SolvesAsJacobiOnRealAndIrregularMeshes)
 
 TEST(SurfaceMultigrid, AutomaticTakesItForLargeStepsOnLargeSurfaces)
 {
-  // Automatic: the geometric multigrid for steps from about 100 h^2 (order
-  // 1) or 40 h^4 (order 2) on surfaces of at least AutomaticMultigridRows
+  // Automatic: the geometric multigrid for steps from about 150 h^2 (order
+  // 1) or 100 h^4 (order 2) on surfaces of at least AutomaticMultigridRows
   // rows with points, and for D = 0; Jacobi for the default steps, small
-  // surfaces and without points. Its solution is the chosen solver's.
+  // surfaces, curves and without points. Its solution is the chosen
+  // solver's.
   const MeshSystem s(ReadOrFail("bunny00.off")); // 37,706 vertices
   const double h2 = s.H * s.H;
   const auto chosen = [&](double t, bool squared) {
@@ -354,6 +355,35 @@ TEST(SurfaceMultigrid, AutomaticTakesItForLargeStepsOnLargeSurfaces)
   EXPECT_EQ(ChosenPreconditioner(small.Problem(300.0 * small.H * small.H, 3, Preconditioning::Automatic)),
     Preconditioning::Jacobi);
   EXPECT_EQ(ChosenPreconditioner(s.Problem(300.0 * h2, 3, Preconditioning::Jacobi)), Preconditioning::Jacobi);
+  // A curve's graph (the fairing's boundary stage), however large the step:
+  // a path of 30,000 points.
+  const Index m = 30000;
+  std::vector<std::int64_t> offsets(1, 0);
+  std::vector<Index> neighbors;
+  std::vector<double> weights, diagonal(m, 2.0), shift(m, 1e-6), line(3 * static_cast<std::size_t>(m), 0.0);
+  for (Index i = 0; i < m; ++i)
+  {
+    for (const Index j : { i - 1, i + 1 })
+    {
+      if (j >= 0 && j < m)
+      {
+        neighbors.push_back(j);
+        weights.push_back(1.0);
+      }
+    }
+    offsets.push_back(static_cast<std::int64_t>(neighbors.size()));
+    line[3 * static_cast<std::size_t>(i)] = i;
+  }
+  ShiftedLaplacianProblem path;
+  path.Rows = m;
+  path.Offsets = offsets.data();
+  path.Neighbors = neighbors.data();
+  path.Weights = weights.data();
+  path.Diagonal = diagonal.data();
+  path.Shift = shift.data();
+  path.Points = line.data();
+  path.Preconditioner = Preconditioning::Automatic;
+  EXPECT_EQ(ChosenPreconditioner(path), Preconditioning::Jacobi);
 
   const Index n = s.L.NumberOfVertices;
   std::vector<double> b(3 * static_cast<std::size_t>(n));
@@ -361,11 +391,19 @@ TEST(SurfaceMultigrid, AutomaticTakesItForLargeStepsOnLargeSurfaces)
   {
     b[k] = s.Mass[k / 3] * s.Mesh.Points[k];
   }
-  for (const Preconditioning m : { Preconditioning::Automatic, Preconditioning::GeometricMultigrid })
+  std::shared_ptr<const SurfaceHierarchy> kept; // built by the first solve, taken by the next
+  const SurfaceHierarchy* first = nullptr;
+  for (const Preconditioning m : { Preconditioning::Automatic, Preconditioning::Automatic })
   {
     std::vector<double> x = s.Mesh.Points;
-    const ConjugateGradientResult r = SolveShiftedLaplacian(s.Problem(300.0 * h2, 3, m), b.data(), x.data());
+    ShiftedLaplacianProblem pb = s.Problem(300.0 * h2, 3, m);
+    pb.KeptHierarchy = &kept;
+    const ConjugateGradientResult r = SolveShiftedLaplacian(pb, b.data(), x.data());
     EXPECT_TRUE(r.Converged);
     EXPECT_LT(r.Iterations, 20); // Jacobi: about 250
+    ASSERT_TRUE(kept);
+    EXPECT_EQ(kept->Rows(0), s.L.NumberOfVertices);
+    first = first ? first : kept.get();
+    EXPECT_EQ(kept.get(), first);
   }
 }
