@@ -15,9 +15,10 @@ chosen from the noise) on every mesh of the shared corpus with Gaussian noise of
 best step and windowed sinc's best pass band (both chosen with the clean mesh),
 error and time per case in one table (also written for the guide's benchmarks page).
 With --defaults --isotropic: the same with the noise in every coordinate.
-With --preconditioners [--big]: the three preconditioners of the implicit
-solves (Jacobi, hypre's algebraic multigrid, the geometric multigrid on the
-surface's hierarchy) on bunny00 Loop-subdivided 0-2 times (75k-1.2M
+With --preconditioners [--big]: the preconditioners of the implicit solves
+(Jacobi, hypre's algebraic multigrid, the geometric multigrid on the
+surface's hierarchy, and Automatic, the default, which takes one of the
+first and last) on bunny00 Loop-subdivided 0-2 times (75k-1.2M
 triangles; --big adds 4.8M), clean and with noise of 0.3% of the diagonal:
 one order-1 step of 10 h^2 and of 1000 h^2 and one order-2 step of 4 h^4
 (OperatorMollification 0: one solve each), time and iterations of each,
@@ -156,7 +157,7 @@ def preconditioner_table(levels):
     reader = vtkOFFReader()
     reader.SetFileName(os.path.join(DATA, "bunny00.off"))
     reader.Update()
-    names = ("Jacobi", "algebraic multigrid", "geometric multigrid")
+    names = ("Jacobi", "algebraic multigrid", "geometric multigrid", "Automatic (default)")
     steps = ((1, 10.0, "order 1, 10 h^2"), (1, 1000.0, "order 1, 1000 h^2"), (2, 4.0, "order 2, 4 h^4"))
     rows = []
     slow = {}  # (mesh, step, preconditioner): its time over Jacobi's at the last size
@@ -170,7 +171,7 @@ def preconditioner_table(levels):
             t_sinc = time.perf_counter() - start
             for order, step, text in steps:
                 row = [m.GetNumberOfPolys(), label, text]
-                for preconditioner in range(3):
+                for preconditioner in range(len(names)):
                     key = (label, text, preconditioner)
                     if slow.get(key, 0.0) > 10.0:
                         row += ["skipped (%.0fx Jacobi's time on the last mesh)" % slow[key], "-"]
@@ -194,7 +195,9 @@ def preconditioner_table(levels):
                  columns + ["windowed sinc s"], rows,
                  "One step of vtkImplicitFairing (curvature flow, OperatorMollification 0, 2 threads), the whole "
                  "filter's time (the multigrid set-up included). Order 2 with Jacobi or the geometric multigrid: "
-                 "COCG on D + i sqrt(t) K; with the algebraic multigrid: CG on the real system.")
+                 "COCG on D + i sqrt(t) K; with the algebraic multigrid: CG on the real system. Automatic: the "
+                 "geometric multigrid for order-1 steps from about 150 h^2 and order-2 steps from about 100 h^4 "
+                 "(and any order-2 step on 1.5M to 4M vertices), else Jacobi.")
 
 
 if "--preconditioners" in sys.argv:
