@@ -613,38 +613,6 @@ void SurfaceMultigrid::SetFactor(double factor)
   S->Combine(factor);
 }
 
-void SurfaceMultigrid::Apply(const double* r, double* z, int columns) const
-{
-  const Index n = S->H->Rows(0);
-  const Index* order = S->H->Order().data();
-  S->Reserve(std::min(MostColumns, columns));
-  for (int first = 0; first < columns; first += MostColumns)
-  {
-    const int w = std::min(MostColumns, columns - first);
-    ParallelForStatic(n, S->Threads, [&](std::int64_t s, std::int64_t e) {
-      for (std::int64_t i = s; i < e; ++i)
-      {
-        const std::int64_t v = order[i];
-        for (int c = 0; c < w; ++c)
-        {
-          S->B[0][i * w + c] = S->Held[i] ? 0.0 : r[v * columns + first + c];
-        }
-      }
-    });
-    WithCount<MostColumns>(w, [&](auto k) { S->Cycle<double, decltype(k)::value>(0); });
-    ParallelForStatic(n, S->Threads, [&](std::int64_t s, std::int64_t e) {
-      for (std::int64_t i = s; i < e; ++i)
-      {
-        const std::int64_t v = order[i];
-        for (int c = 0; c < w; ++c)
-        {
-          z[v * columns + first + c] = S->Held[i] ? 0.0 : S->X[0][i * w + c];
-        }
-      }
-    });
-  }
-}
-
 void SurfaceMultigrid::ApplyInOrder(const double* r, double* z, int columns) const
 {
   const std::int64_t size = static_cast<std::int64_t>(S->H->Rows(0)) * columns;

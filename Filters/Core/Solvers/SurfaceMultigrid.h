@@ -109,12 +109,8 @@ public:
   void SetFactor(double factor);
 
   /// z = B r with B ~ A^-1 one symmetric V-cycle from zero (symmetric
-  /// positive definite: a preconditioner for CG), `columns` interleaved
-  /// values per row, in the input's order; held rows of z are 0.
-  void Apply(const double* r, double* z, int columns) const;
-
-  /// Apply with r and z in the hierarchy's Order() (no gathering), at most
-  /// 8 columns.
+  /// positive definite: a preconditioner for CG), 1 to 8 interleaved values
+  /// per row, r and z in the hierarchy's Order(); held rows of z are 0.
   void ApplyInOrder(const double* r, double* z, int columns) const;
   /// y = A x in the hierarchy's Order(), at most 8 columns: the held rows
   /// are identity rows and A has no couplings to them (x zero there: the

@@ -228,15 +228,20 @@ TEST(SurfaceMultigrid, CycleReducesTheResidualBySizeIndependentFactors)
       const ShiftedLaplacianProblem pb = s.Problem(t, 1, Preconditioning::GeometricMultigrid);
       auto h = std::make_shared<const SurfaceHierarchy>(pb.Rows, pb.Offsets, pb.Neighbors, pb.Points, 2);
       const SurfaceMultigrid mg(h, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, pb.Shift, t, nullptr, 2);
-      std::vector<double> x(n, 0.0), z(n);
+      std::vector<double> x(n, 0.0), rIn(n), zIn(n);
+      const std::vector<Index>& order = h->Order(); // the cycle's rows
       const double r0 = Norm(b);
       for (int cycle = 0; cycle < 5; ++cycle)
       {
         const std::vector<double> r = s.Residual(t, b, x);
-        mg.Apply(r.data(), z.data(), 1);
         for (Index i = 0; i < n; ++i)
         {
-          x[i] += z[i];
+          rIn[i] = r[order[i]];
+        }
+        mg.ApplyInOrder(rIn.data(), zIn.data(), 1);
+        for (Index i = 0; i < n; ++i)
+        {
+          x[order[i]] += zIn[i];
         }
       }
       factors[big].push_back(std::pow(Norm(s.Residual(t, b, x)) / r0, 1.0 / 5.0));
