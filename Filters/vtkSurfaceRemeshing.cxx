@@ -31,19 +31,16 @@
 vtkStandardNewMacro(vtkSurfaceRemeshing);
 
 /// What a re-run with other sampling settings reuses: the input's surface
-/// (topology with its edge table, points as doubles) and its curvatures
-/// while the input's geometry stays, and its atlas while the feature
-/// settings stay too (and, with sharp edges kept, the count: the feature
-/// fragments it drops depend on the spacing).
-struct vtkSurfaceRemeshing::Kept
+/// (topology with its edge table, points as doubles), and per layout (the
+/// input's points, or their denoised copy where the input's charts failed)
+/// its curvatures while the input's geometry stays, and its atlas while the
+/// feature settings stay too (and, with sharp edges kept, the count: the
+/// feature fragments it drops depend on the spacing).
+struct vtkSurfaceRemeshing::Layout
 {
-  const void* Input = nullptr;
-  vtkMTimeType InputTime = 0;
-  vtkBeltramiSurface Surface;
-  std::vector<double> Storage; // the points as doubles, where they are not
   const double* Points = nullptr;
   std::unique_ptr<beltrami::AtlasResult> Atlas;
-  beltrami::RemeshCache Remeshing; // of this surface and atlas
+  beltrami::RemeshCache Remeshing; // of these points and atlas
   bool SplitAtFeatures = false;
   double FeatureAngle = 0.0;
   double FeatureSpacing = 0.0; // the shortest feature chain kept
@@ -51,6 +48,20 @@ struct vtkSurfaceRemeshing::Kept
   int CurvatureImportance = -1;
   std::vector<double> Metric; // from the principal curvatures, with the settings in MetricKey
   std::array<double, 4> MetricKey{}; // MaximumAnisotropy, MinimumImportance, Gradation, AtlasBuilds
+};
+
+struct vtkSurfaceRemeshing::Kept
+{
+  const void* Input = nullptr;
+  vtkMTimeType InputTime = 0;
+  vtkBeltramiSurface Surface;
+  std::vector<double> Storage; // the points as doubles, where they are not
+  const double* Points = nullptr; // the input's
+  Layout Layouts[2];  // 0: on the input's points, 1: on Denoised
+  int Active = 0;     // the layout of the run
+  bool DenoisedTried = false;
+  std::vector<double> Denoised; // DenoisedLayout (empty: none found or not tried yet)
+  Layout& Laid() { return this->Layouts[this->Active]; }
 };
 
 vtkSurfaceRemeshing::vtkSurfaceRemeshing()
@@ -97,6 +108,7 @@ int vtkSurfaceRemeshing::KeepSurface(vtkPolyData* input)
     return ready == vtkBeltramiSurface::Readiness::Empty ? -1 : 0;
   }
   kept->Points = kept->Surface.PointsAsDouble(kept->Storage);
+  kept->Layouts[0].Points = kept->Points;
   kept->Input = input;
   kept->InputTime = time;
   this->Cache = std::move(kept);
@@ -105,13 +117,14 @@ int vtkSurfaceRemeshing::KeepSurface(vtkPolyData* input)
 
 const beltrami::AtlasResult& vtkSurfaceRemeshing::Atlas()
 {
-  Kept& kept = *this->Cache;
+  Kept& surface = *this->Cache;
+  Layout& kept = surface.Laid();
   // With sharp edges kept, their fragments shorter than the spacing of the
   // requested count are dropped (the error-driven mode's count is not known
   // yet: all are kept there).
   const double spacing = this->SplitAtFeatures && this->MaximumDeviation <= 0.0 && this->NumberOfVertices > 0
     ? beltrami::UniformSpacing(
-        beltrami::SurfaceArea(kept.Surface.Topology(), kept.Points, this->NumberOfThreads), this->NumberOfVertices)
+        beltrami::SurfaceArea(surface.Surface.Topology(), kept.Points, this->NumberOfThreads), this->NumberOfVertices)
     : 0.0;
   if (!kept.Atlas || kept.SplitAtFeatures != this->SplitAtFeatures || kept.FeatureAngle != this->FeatureAngle ||
     kept.FeatureSpacing != spacing)
@@ -121,7 +134,7 @@ const beltrami::AtlasResult& vtkSurfaceRemeshing::Atlas()
     options.FeatureAngle = this->FeatureAngle;
     options.NumberOfThreads = this->NumberOfThreads;
     kept.Atlas = std::make_unique<beltrami::AtlasResult>(
-      beltrami::BuildAtlas(kept.Surface.Topology(), kept.Points, options));
+      beltrami::BuildAtlas(surface.Surface.Topology(), kept.Points, options));
     kept.Remeshing.Clear();
     kept.SplitAtFeatures = this->SplitAtFeatures;
     kept.FeatureAngle = this->FeatureAngle;
@@ -247,7 +260,7 @@ void vtkSurfaceRemeshing::RemoveAllTransferFunctionPoints()
 bool vtkSurfaceRemeshing::BuildMetric(const std::uint8_t* featureEdges, std::vector<double>& metric)
 {
   const beltrami::MeshTopology& topology = this->Cache->Surface.Topology();
-  const double* points = this->Cache->Points;
+  const double* points = this->Cache->Laid().Points;
   if (this->Anisotropy == TENSOR_ARRAY)
   {
     std::string error;
@@ -280,9 +293,10 @@ bool vtkSurfaceRemeshing::BuildMetric(const std::uint8_t* featureEdges, std::vec
   // new count re-runs the sampling only.)
   const std::array<double, 4> key = { this->MaximumAnisotropy, this->MinimumImportance, this->Gradation,
     static_cast<double>(this->AtlasBuilds) };
-  if (!this->Cache->Metric.empty() && this->Cache->MetricKey == key)
+  Layout& kept = this->Cache->Laid();
+  if (!kept.Metric.empty() && kept.MetricKey == key)
   {
-    metric = this->Cache->Metric;
+    metric = kept.Metric;
     return true;
   }
   beltrami::MetricOptions options;
@@ -297,8 +311,148 @@ bool vtkSurfaceRemeshing::BuildMetric(const std::uint8_t* featureEdges, std::vec
     vtkWarningMacro(<< "Anisotropy: " << result.Warning << ".");
   }
   metric = std::move(result.Metric);
-  this->Cache->Metric = metric;
-  this->Cache->MetricKey = key;
+  kept.Metric = metric;
+  kept.MetricKey = key;
+  return true;
+}
+
+/// One remesh of the kept surface with the filter's settings, on the active
+/// layout: its importance, metric and options, and the result.
+struct vtkSurfaceRemeshing::Run
+{
+  std::vector<double> Importance; // per input vertex (empty: uniform)
+  std::vector<double> Metric;     // 6 per input vertex (empty: isotropic)
+  beltrami::RemeshOptions Options;
+  beltrami::DeviationRemeshResult Driven;
+  /// Laid out on the denoised copy: the largest distance of its points from
+  /// the remesh there, before it was moved onto the input (whose noise is no
+  /// lost part); else -1.
+  double LaidDistance = -1.0;
+  const double* Weights() const { return this->Importance.empty() ? nullptr : this->Importance.data(); }
+};
+
+bool vtkSurfaceRemeshing::BuildImportance(std::vector<double>& importance)
+{
+  vtkBeltramiSurface& surface = this->Cache->Surface;
+  const beltrami::MeshTopology& topology = surface.Topology();
+  Layout& kept = this->Cache->Laid();
+  std::vector<double> values;
+  if (this->Importance == POINT_ARRAY)
+  {
+    std::string error;
+    vtkDataArray* array = surface.SelectedPointArray(this, 0, 1, "importance", error);
+    if (!array)
+    {
+      vtkErrorMacro(<< (error.empty() ? std::string("Importance POINT_ARRAY needs a point array (input array 0).") : error)
+                    << " The output is empty.");
+      return false;
+    }
+    values.resize(topology.NumberOfVertices());
+    for (beltrami::Index v = 0; v < topology.NumberOfVertices(); ++v)
+    {
+      values[v] = array->GetComponent(v, 0);
+    }
+  }
+  else if (this->Importance != UNIFORM)
+  {
+    if (kept.CurvatureImportance != this->Importance)
+    {
+      kept.Curvatures = beltrami::CurvatureValues(
+        topology, kept.Points, static_cast<beltrami::CurvatureMeasure>(this->Importance), this->NumberOfThreads);
+      kept.CurvatureImportance = this->Importance;
+    }
+    values = kept.Curvatures;
+  }
+  if (!values.empty())
+  {
+    beltrami::ImportanceOptions transfer;
+    transfer.Gamma = this->Gamma;
+    transfer.TransferFunction = this->TransferFunction;
+    transfer.Gradation = this->Gradation;
+    transfer.Minimum = this->MinimumImportance;
+    beltrami::ImportanceResult result =
+      beltrami::ImportanceFromValues(topology, kept.Points, values, transfer, this->NumberOfThreads);
+    if (!result.Warning.empty())
+    {
+      vtkWarningMacro(<< "Importance: " << result.Warning << ".");
+    }
+    importance = std::move(result.Importance);
+  }
+  return true;
+}
+
+bool vtkSurfaceRemeshing::RemeshLayout(Run& run)
+{
+  const beltrami::MeshTopology& topology = this->Cache->Surface.Topology();
+  const double* points = this->Cache->Laid().Points;
+  if (!this->BuildImportance(run.Importance))
+  {
+    return false;
+  }
+  const beltrami::AtlasResult& atlas = this->Atlas();
+  if (!atlas.Error.empty())
+  {
+    vtkErrorMacro(<< "No atlas: " << atlas.Error << ". The output is empty.");
+    return false;
+  }
+  if (this->Anisotropy != ISOTROPIC &&
+    !this->BuildMetric(atlas.FeatureEdges.empty() ? nullptr : atlas.FeatureEdges.data(), run.Metric))
+  {
+    return false;
+  }
+  beltrami::RemeshOptions& options = run.Options;
+  options.NumberOfVertices = this->NumberOfVertices;
+  options.Metric = run.Metric.empty() ? nullptr : run.Metric.data();
+  options.MetricGradation = this->Gradation > 0.0 ? 0.0 : 1.0;
+  // The first fifth of the rounds in the charts' planes, the rest stitching
+  // across the seams on the surface (beltrami::RemeshOptimization).
+  options.Iterations = this->Iterations / 5;
+  options.StitchingIterations = this->Iterations - options.Iterations;
+  options.FeatureAngle = this->SplitAtFeatures ? this->FeatureAngle : 0.0;
+  options.MaximumLineSag = this->MaximumLineSag;
+  options.MaximumSurfaceSag = this->MaximumSurfaceSag;
+  options.NumberOfThreads = this->NumberOfThreads;
+  options.Cache = &this->Cache->Laid().Remeshing;
+  if (this->MaximumDeviation > 0.0)
+  {
+    run.Driven = beltrami::RemeshToDeviation(
+      topology, points, atlas, run.Weights(), options, this->MaximumDeviation, this->MaximumDeviationRounds);
+  }
+  else
+  {
+    run.Driven.Remesh = beltrami::RemeshSurface(topology, points, atlas, run.Weights(), options);
+  }
+  return true;
+}
+
+bool vtkSurfaceRemeshing::LayOutOnDenoisedCopy()
+{
+  Kept& kept = *this->Cache;
+  if (!kept.DenoisedTried)
+  {
+    kept.DenoisedTried = true;
+    kept.Denoised = beltrami::DenoisedLayout(kept.Surface.Topology(), kept.Points, this->NumberOfThreads);
+    kept.Layouts[1].Points = kept.Denoised.data();
+  }
+  kept.Active = kept.Denoised.empty() ? 0 : 1;
+  return kept.Active == 1;
+}
+
+bool vtkSurfaceRemeshing::RemeshDenoised(Run& run)
+{
+  if (!this->LayOutOnDenoisedCopy() || !this->Atlas().Error.empty())
+  {
+    return false;
+  }
+  Run denoised;
+  if (!this->RemeshLayout(denoised) || !denoised.Driven.Remesh.Error.empty())
+  {
+    return false;
+  }
+  denoised.LaidDistance = denoised.Driven.Remesh.DeviationFromInput * denoised.Driven.Remesh.Diagonal;
+  beltrami::MoveOntoInput(this->Cache->Surface.Topology(), this->Cache->Points, denoised.Options,
+    denoised.Driven.Remesh);
+  run = std::move(denoised);
   return true;
 }
 
@@ -310,102 +464,56 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
   {
     return surfaceKept < 0 ? 1 : 0; // nothing to remesh (warned), or an error
   }
-  vtkBeltramiSurface& surface = this->Cache->Surface;
-  const beltrami::MeshTopology& topology = surface.Topology();
-  const double* points = this->Cache->Points;
-  std::vector<double> values;
-  if (this->Importance == POINT_ARRAY)
-  {
-    std::string error;
-    vtkDataArray* array = surface.SelectedPointArray(this, 0, 1, "importance", error);
-    if (!array)
-    {
-      vtkErrorMacro(<< (error.empty() ? std::string("Importance POINT_ARRAY needs a point array (input array 0).") : error)
-                    << " The output is empty.");
-      return 0;
-    }
-    values.resize(topology.NumberOfVertices());
-    for (beltrami::Index v = 0; v < topology.NumberOfVertices(); ++v)
-    {
-      values[v] = array->GetComponent(v, 0);
-    }
-  }
-  else if (this->Importance != UNIFORM)
-  {
-    Kept& kept = *this->Cache;
-    if (kept.CurvatureImportance != this->Importance)
-    {
-      kept.Curvatures = beltrami::CurvatureValues(
-        topology, points, static_cast<beltrami::CurvatureMeasure>(this->Importance), this->NumberOfThreads);
-      kept.CurvatureImportance = this->Importance;
-    }
-    values = kept.Curvatures;
-  }
-  std::vector<double> importance;
-  if (!values.empty())
-  {
-    beltrami::ImportanceOptions transfer;
-    transfer.Gamma = this->Gamma;
-    transfer.TransferFunction = this->TransferFunction;
-    transfer.Gradation = this->Gradation;
-    transfer.Minimum = this->MinimumImportance;
-    beltrami::ImportanceResult result =
-      beltrami::ImportanceFromValues(topology, points, values, transfer, this->NumberOfThreads);
-    if (!result.Warning.empty())
-    {
-      vtkWarningMacro(<< "Importance: " << result.Warning << ".");
-    }
-    importance = std::move(result.Importance);
-  }
-  const beltrami::AtlasResult& atlas = this->Atlas();
-  if (!atlas.Error.empty())
-  {
-    vtkErrorMacro(<< "No atlas: " << atlas.Error << ". The output is empty.");
-    return 0;
-  }
-  std::vector<double> metric;
-  if (this->Anisotropy != ISOTROPIC &&
-    !this->BuildMetric(atlas.FeatureEdges.empty() ? nullptr : atlas.FeatureEdges.data(), metric))
-  {
-    return 0;
-  }
-  beltrami::RemeshOptions options;
-  options.NumberOfVertices = this->NumberOfVertices;
-  options.Metric = metric.empty() ? nullptr : metric.data();
-  options.MetricGradation = this->Gradation > 0.0 ? 0.0 : 1.0;
-  // The first fifth of the rounds in the charts' planes, the rest stitching
-  // across the seams on the surface (beltrami::RemeshOptimization).
-  options.Iterations = this->Iterations / 5;
-  options.StitchingIterations = this->Iterations - options.Iterations;
-  options.FeatureAngle = this->SplitAtFeatures ? this->FeatureAngle : 0.0;
-  options.MaximumLineSag = this->MaximumLineSag;
-  options.MaximumSurfaceSag = this->MaximumSurfaceSag;
-  options.NumberOfThreads = this->NumberOfThreads;
-  options.Cache = &this->Cache->Remeshing;
-  const double* weights = importance.empty() ? nullptr : importance.data();
   if (this->MaximumDeviation <= 0.0 && this->NumberOfVertices < 3)
   {
     vtkErrorMacro(<< "NumberOfVertices " << this->NumberOfVertices << ": a remesh needs at least 3 vertices, or a "
                   << "MaximumDeviation to choose the count. The output is empty.");
     return 0;
   }
-  beltrami::DeviationRemeshResult driven;
-  if (this->MaximumDeviation > 0.0)
+  Kept& kept = *this->Cache;
+  const beltrami::MeshTopology& topology = kept.Surface.Topology();
+  kept.Active = 0;
+  Run run;
+  if (!this->RemeshLayout(run))
   {
-    driven = beltrami::RemeshToDeviation(
-      topology, points, atlas, weights, options, this->MaximumDeviation, this->MaximumDeviationRounds);
+    return 0;
   }
-  else
+  // Where the input's own charts fail because of noise (a scan whose noise
+  // is as large as its edges), the remesh is laid out on a denoised copy and
+  // moved onto the input.
+  const std::string inputError = run.Driven.Remesh.Error;
+  if (!inputError.empty())
   {
-    driven.Remesh = beltrami::RemeshSurface(topology, points, atlas, weights, options);
+    if (this->RemeshDenoised(run))
+    {
+      vtkWarningMacro(<< "The input's own charts cannot be remeshed with " << this->NumberOfVertices << " vertices ("
+                      << inputError << "): the remesh was laid out on a smoothed copy of the input and moved onto "
+                      << "it, so its vertices lie on the input and its triangles follow the input's noise. For a "
+                      << "remesh of the smoothed surface, smooth the input first (vtkImplicitFairing).");
+    }
+    else
+    {
+      kept.Active = 0; // the input's error stands
+    }
   }
+  return this->Report(input, run, output);
+}
+
+int vtkSurfaceRemeshing::Report(vtkPolyData* input, const Run& run, vtkPolyData* output)
+{
+  const beltrami::MeshTopology& topology = this->Cache->Surface.Topology();
+  const double* points = this->Cache->Laid().Points;
+  const beltrami::AtlasResult& atlas = *this->Cache->Laid().Atlas;
+  const beltrami::DeviationRemeshResult& driven = run.Driven;
   const beltrami::RemeshResult& remesh = driven.Remesh;
   const std::int64_t count = driven.Counts.empty() ? this->NumberOfVertices : driven.Counts.back();
   // Where the count cannot keep the input (a thin part, a component), the
   // message names one that does (with the count given, not the error-driven mode's).
-  const bool missing = this->MaximumDeviation <= 0.0 &&
-    (!remesh.Error.empty() || remesh.DeviationFromInput * remesh.Diagonal > remesh.Spacing);
-  const std::int64_t keeping = missing ? beltrami::CountThatKeepsTheInput(topology, points, atlas, weights, options) : 0;
+  const bool far =
+    (run.LaidDistance >= 0.0 ? run.LaidDistance : remesh.DeviationFromInput * remesh.Diagonal) > remesh.Spacing;
+  const bool missing = this->MaximumDeviation <= 0.0 && (!remesh.Error.empty() || far);
+  const std::int64_t keeping =
+    missing ? beltrami::CountThatKeepsTheInput(topology, points, atlas, run.Weights(), run.Options) : 0;
   const std::string advice = !missing ? std::string()
     : keeping > 0 ? " A remesh with " + std::to_string(keeping) + " vertices keeps every part of the input within its spacing."
                   : " Neither do remeshes with up to 8 times the count (at most 64 per input vertex).";
@@ -424,7 +532,7 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
                     << "MaximumDeviation of " << 100.0 * this->MaximumDeviation << "% (MaximumDeviationRounds "
                     << this->MaximumDeviationRounds << ").");
   }
-  else if (this->MaximumDeviation <= 0.0 && remesh.DeviationFromInput * diagonal > remesh.Spacing)
+  else if (this->MaximumDeviation <= 0.0 && far)
   {
     const beltrami::Vec3& p = remesh.FarthestInputPoint;
     vtkWarningMacro(<< "The remesh with " << count << " vertices leaves parts of the input "
@@ -434,10 +542,10 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
                     << "% of the diagonal; field array RemeshDeviation)." << advice);
   }
   WriteRemesh(input, topology, remesh, atlas.Charts.size(), output);
-  if (!metric.empty())
+  if (!run.Metric.empty())
   {
     const beltrami::MetricQuality q = beltrami::MeasureInMetric(topology, points,
-      remesh.GradedMetric.empty() ? metric.data() : remesh.GradedMetric.data(), remesh.Points,
+      remesh.GradedMetric.empty() ? run.Metric.data() : remesh.GradedMetric.data(), remesh.Points,
       remesh.Triangles, remesh.SourceTriangle, remesh.SourceBarycentric);
     vtkNew<vtkDoubleArray> figures;
     figures->SetName("RemeshMetricQuality");

@@ -263,7 +263,24 @@ private:
   vtkSurfaceRemeshing(const vtkSurfaceRemeshing&) = delete;
   void operator=(const vtkSurfaceRemeshing&) = delete;
 
+  struct Layout;
+  struct Run;
   int Build(vtkPolyData* input, vtkPolyData* output);
+  /// One remesh of the active layout into `run`; false on error (reported)
+  /// before any remesh.
+  bool RemeshLayout(Run& run);
+  /// The importance per input vertex of the settings (empty: uniform);
+  /// false on error (reported).
+  bool BuildImportance(std::vector<double>& importance);
+  /// Makes the input's denoised copy the active layout (made once per
+  /// input); false where the fairing finds no noise to remove.
+  bool LayOutOnDenoisedCopy();
+  /// The remesh laid out on the denoised copy and moved onto the input into
+  /// `run` (the copy stays the active layout); false where there is no copy
+  /// or it cannot be remeshed either.
+  bool RemeshDenoised(Run& run);
+  /// The run's messages and, without an error, its remesh into `output`.
+  int Report(vtkPolyData* input, const Run& run, vtkPolyData* output);
   /// The anisotropic mode's metric (6 per input vertex) into `metric`;
   /// false on error (reported).
   bool BuildMetric(const std::uint8_t* featureEdges, std::vector<double>& metric);

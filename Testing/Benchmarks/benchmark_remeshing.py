@@ -3,7 +3,7 @@
 isotropic_remeshing, in the same run, on the same meshes and vertex counts.
 
     source build/beltrami-env.sh
-    /usr/bin/python3 Testing/Benchmarks/benchmark_remeshing.py [--big | --corpus | --deviation D]
+    /usr/bin/python3 Testing/Benchmarks/benchmark_remeshing.py [--big | --corpus [--noise N] | --deviation D]
 
 CGAL runs through build/bin/beltrami-benchmark-cgal-isotropic-remeshing
 (built when Debian's libcgal-dev is installed): 5 iterations, the target edge
@@ -23,7 +23,9 @@ about 100k vertices.  --corpus instead writes one table of every real mesh
 and every generated hard shape at 2,000 and 10,000 vertices, ours and
 CGAL's side by side at about the same count (CGAL's target edge length
 calibrated by a first run; Hausdorff both ways; the CAD parts' sharp edges
-kept), for the guide's benchmarks page.  --deviation D (a fraction of the
+kept), for the guide's benchmarks page; with --noise N (e.g. 0.003) the
+real meshes with Gaussian noise of N times the diagonal along their normals
+instead (synthetic noisy scans).  --deviation D (a fraction of the
 diagonal, e.g. 0.005) writes the table of the vertex counts that keep every
 mesh within D both ways: the error-driven mode (MaximumDeviation D, the count
 left to it), and the smallest count found for the uniform mode, the
@@ -148,17 +150,21 @@ def line(name, seconds, q):
                                                q["below30"], q["valence6"], q["cv"], q["hausdorff"]))
 
 
-def corpus_table(counts):
+def corpus_table(counts, noise=0.0):
     """Every real mesh (the shared corpus and Testing/Data) and the shapes
     made to break a remesher, uniform at each count, ours and CGAL's: one
     Markdown table (Hausdorff both ways in % of the diagonal: the remesh's
     vertices and triangle centres to the input, the input's vertices to the
-    remesh)."""
+    remesh).  noise > 0: the real meshes only, each with that noise along
+    its normals (a fraction of the diagonal; test_corpus_sweep.noisy)."""
     sys.path.insert(0, os.path.join(HERE, "..", "Python"))
     import inputs
+    from test_corpus_sweep import CAD, noisy
     meshes = [(os.path.basename(p), inputs.read_off(p)) for p in inputs.corpus_paths()]
-    meshes += [(name, inputs.polydata(*shape)) for name, shape in inputs.hard_shapes().items()]
-    from test_corpus_sweep import CAD
+    if noise > 0.0:
+        meshes = [(name, noisy(data, noise)) for name, data in meshes]
+    else:
+        meshes += [(name, inputs.polydata(*shape)) for name, shape in inputs.hard_shapes().items()]
     columns = ["mesh", "count", "remesher", "vertices", "to input %", "from input %", "worst angle",
                "mean min angle", "<30 deg %", "valence 6 %", "seconds"]
     print("| " + " | ".join(columns) + " |")
@@ -191,6 +197,13 @@ def corpus_table(counts):
                 table.append(row)
                 print("| " + " | ".join(map(str, row)) + " |")
             sys.stdout.flush()
+    if noise > 0.0:
+        results.save("remeshing_noisy_corpus", "Remeshing", "Isotropic remeshing of every corpus mesh, noisy",
+                     "CGAL 5.5 isotropic_remeshing (5 iterations, the equilateral target edge length of the count)",
+                     "the shared corpus and Testing/Data, each with Gaussian noise of %g%% of its diagonal along its "
+                     "normals (seed 1); the CAD parts with their edges sharper than 60 degrees kept" % (100 * noise),
+                     columns, table, "As the corpus table; the deviations are to the noisy input.")
+        return
     results.save("remeshing_corpus", "Remeshing", "Isotropic remeshing of every corpus mesh and hard shape",
                  "CGAL 5.5 isotropic_remeshing (5 iterations, the equilateral target edge length of the count)",
                  "the shared corpus, Testing/Data and the generated hard shapes (spikes, fingers, a thin neck and "
@@ -294,7 +307,7 @@ def main(argv):
         deviation_table(float(argv[argv.index("--deviation") + 1]))
         return 0
     if "--corpus" in argv:
-        corpus_table([2000, 10000])
+        corpus_table([2000, 10000], float(argv[argv.index("--noise") + 1]) if "--noise" in argv else 0.0)
         return 0
     cases = [("bunny00.off", 0, 10000, False), ("mushroom.off", 0, 10000, False), ("eight.off", 0, 10000, False),
              ("fandisk.off", 0, 10000, True), ("bunny00.off", 0, 2000, False)]

@@ -4,7 +4,8 @@ checkerboard mapped by its natural conformal parameterization, the bunny
 after an implicit curvature-flow step (mean curvature colours), the bunny's
 atlas (a checkerboard through its packed UV: seams, one texel density), the
 bunny remeshed with 2,000 vertices, uniformly and adapted to its mean
-curvature (chapter 4: the triangles drawn), line drawings of the bunny
+curvature (chapter 4: the triangles drawn, compared blurred: the density of
+their lines), line drawings of the bunny
 and of fandisk, the bunny's lines hidden by the visibility pass alone and
 fandisk's SVG page rasterised, and the
 denoising demo's results on the noisy camera (greyscale) and coffee (colour)
@@ -107,6 +108,43 @@ def compare_pixels(name, render):
     return True
 
 
+def blurred(grey, sigma):
+    """A Gaussian blur of a 2D image (separable, edges clamped)."""
+    radius = int(3 * sigma)
+    kernel = np.exp(-0.5 * (np.arange(-radius, radius + 1) / sigma) ** 2)
+    kernel /= kernel.sum()
+    for axis in (0, 1):
+        padded = np.pad(grey, [(radius, radius) if a == axis else (0, 0) for a in (0, 1)], mode="edge")
+        grey = sum(kernel[k] * np.take(padded, np.arange(k, k + grey.shape[axis]), axis=axis)
+                   for k in range(len(kernel)))
+    return grey
+
+
+def compare_density(name, render):
+    """A remesh's wireframe: its triangles follow the last bits of the solves
+    (one CPU's BLAS kernels against another's give another layout of the
+    same density), so the images are compared blurred (6 pixels), where the
+    lines' local density is the grey level: the mean difference at most 1.2
+    levels and 99% of the pixels within 11 (measured: the same density laid
+    out on another CPU 0.67 and 7.3; the uniform remesh against the
+    curvature-adapted one 1.76 and 15.9)."""
+    image, baseline = render_with_baseline(name, render)
+    if baseline is None:
+        return True
+    grey = []
+    for data in (image, baseline):
+        dims = data.GetDimensions()
+        pixels = vtk_to_numpy(data.GetPointData().GetScalars()).reshape(dims[1], dims[0], -1)
+        grey.append(blurred(pixels[..., :3].astype(float).mean(axis=2), 6.0))
+    off = np.abs(grey[0] - grey[1])
+    mean, p99 = off.mean(), np.percentile(off, 99)
+    print("%s: blurred difference mean %.2f, 99th percentile %.2f levels (limits 1.2, 11)" % (name, mean, p99))
+    if mean > 1.2 or p99 > 11.0:
+        print("FAILED: %s differs from the baseline; see %s" % (name, os.path.join(out_dir, name)))
+        return False
+    return True
+
+
 def denoised_crop(name, rows, cols):
     def render(png):
         clean = pipelines.read_png(os.path.join(DATA, name + ".png"))
@@ -149,7 +187,7 @@ ok = compare("bunny00_atlas_checkerboard.png",
                                                        view_up=(0, 1, 0), direction=(0, 0.2, 1))) and ok
 for label, importance in (("uniform", 0), ("mean_curvature", 1)):
     remeshed, _ = pipelines.remesh(os.path.join(DATA, "bunny00.off"), 2000, importance)
-    ok = compare("bunny00_remesh_%s.png" % label,
+    ok = compare_density("bunny00_remesh_%s.png" % label,
                  lambda png: pipelines.render_wireframe(remeshed.GetOutput(), png, size=(400, 400))) and ok
 # Line drawings from fixed cameras: the bunny (contours, suggestive contours,
 # ridges and valleys) and the CAD part fandisk (contours, suggestive

@@ -1,5 +1,6 @@
 #include "Remeshing/SurfaceRemeshing.h"
 
+#include "Flows/Fairing.h"
 #include "Mesh/Curvatures.h"
 #include "Mesh/Laplacian.h"
 #include "Mesh/MeshMeasures.h"
@@ -571,6 +572,42 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   return out;
 }
 
+
+std::vector<double> DenoisedLayout(const MeshTopology& topology, const double* points, int numThreads)
+{
+  std::vector<double> layout(points, points + 3 * static_cast<std::size_t>(topology.NumberOfVertices()));
+  FairingOptions umbrella;
+  umbrella.Operator = FairingOperator::Umbrella;
+  umbrella.TimeStep = DenoisedLayoutStep;
+  umbrella.Invariant = FairingInvariant::None;
+  umbrella.NumberOfThreads = numThreads;
+  const FairingReport report = FairSurface(topology, layout.data(), umbrella);
+  if (!report.Error.empty() || !report.Completed || std::equal(layout.begin(), layout.end(), points) ||
+    !std::all_of(layout.begin(), layout.end(), [](double x) { return std::isfinite(x); }))
+  {
+    layout.clear();
+  }
+  return layout;
+}
+
+void MoveOntoInput(const MeshTopology& topology, const double* points, const RemeshOptions& options,
+  RemeshResult& out)
+{
+  for (std::size_t v = 0; v < out.SourceTriangle.size(); ++v)
+  {
+    const double* b = &out.SourceBarycentric[3 * v];
+    for (int c = 0; c < 3; ++c)
+    {
+      double x = 0.0;
+      for (int k = 0; k < 3; ++k)
+      {
+        x += b[k] * points[3 * topology.CornerVertex(3 * out.SourceTriangle[v] + k) + c];
+      }
+      out.Points[3 * v + c] = x;
+    }
+  }
+  CheckFidelity(topology, points, options, out);
+}
 
 std::int64_t CountThatKeepsTheInput(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
   const double* importance, const RemeshOptions& options)
