@@ -688,7 +688,12 @@ Vec3 Optimizer::ShiftToNeighbours(Index v) const
 
 /// A free vertex towards the middle of its neighbours (ShiftToNeighbours,
 /// put back on the input), the whole way or a half or a quarter of it,
-/// where that raises the smallest angle of its faces.
+/// where that raises the smallest angle of its faces; where none does,
+/// towards one of its neighbours (a half, a quarter or an eighth of the
+/// way, in the plane of the input under it), the move that raises it most:
+/// a vertex in the middle of a cap's long side whose edge cannot be swapped
+/// (the other diagonal is an edge already: the few vertices around a
+/// needle's tip) leaves the line towards the needle's other side.
 bool Optimizer::MoveToRounder(Index v)
 {
   const Vec3 x = M.Position(v), shift = ShiftToNeighbours(v), normal = FanNormal(v);
@@ -702,6 +707,39 @@ bool Optimizer::MoveToRounder(Index v)
     // only makes rounder triangles, folding none.)
     if (t >= 0 && LargestCosineAround(v, SurfacePoint(Topology, Points, t, w)) < before - 1e-9 &&
       Place(v, t, w, moved, &normal, -0.5))
+    {
+      return true;
+    }
+  }
+  struct Candidate
+  {
+    double Cosine;
+    Index Triangle;
+    double W[3];
+  };
+  std::vector<Candidate> candidates;
+  M.ForEachOutgoing(v, [&](Index h) {
+    const Vec3 towards = M.Position(M.Head(h)) - x;
+    const Vec3 along = towards - towards.dot(InputNormals[v]) * InputNormals[v];
+    for (double step = 0.5; step > 0.1; step *= 0.5)
+    {
+      Candidate c;
+      c.Triangle = NearestOnSurface(x + step * along, R.Triangle[v], step * along.norm(), c.W);
+      c.Cosine = c.Triangle >= 0 ? LargestCosineAround(v, SurfacePoint(Topology, Points, c.Triangle, c.W)) : 1.0;
+      if (c.Cosine < before - 1e-9)
+      {
+        candidates.push_back(c);
+      }
+    }
+  });
+  // (the roundest first that folds nothing: the roundest may turn a cap
+  // inside out)
+  std::sort(candidates.begin(), candidates.end(),
+    [](const Candidate& a, const Candidate& b) { return a.Cosine < b.Cosine; });
+  for (const Candidate& c : candidates)
+  {
+    double moved = 0.0;
+    if (Place(v, c.Triangle, c.W, moved, &normal, -0.5))
     {
       return true;
     }
