@@ -471,25 +471,29 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
     return 0;
   }
   Kept& kept = *this->Cache;
-  const beltrami::MeshTopology& topology = kept.Surface.Topology();
   kept.Active = 0;
   Run run;
   if (!this->RemeshLayout(run))
   {
     return 0;
   }
-  // Where the input's own charts fail because of noise (a scan whose noise
-  // is as large as its edges), the remesh is laid out on a denoised copy and
-  // moved onto the input.
+  // Where the input's own charts fail (a scan whose noise is as large as its
+  // edges), the remesh is laid out on a smoothed copy and moved onto the
+  // input.
   const std::string inputError = run.Driven.Remesh.Error;
+  const std::vector<std::int64_t> inputCounts = run.Driven.Counts;
   if (!inputError.empty())
   {
     if (this->RemeshDenoised(run))
     {
-      vtkWarningMacro(<< "The input's own charts cannot be remeshed with " << this->NumberOfVertices << " vertices ("
-                      << inputError << "): the remesh was laid out on a smoothed copy of the input and moved onto "
-                      << "it, so its vertices lie on the input and its triangles follow the input's noise. For a "
-                      << "remesh of the smoothed surface, smooth the input first (vtkImplicitFairing).");
+      vtkWarningMacro(<< "The input's own charts cannot be remeshed with "
+                      << (inputCounts.empty() ? this->NumberOfVertices : inputCounts.back()) << " vertices (" << inputError
+                      << "): the remesh was laid out on a smoothed copy of the input and moved onto it, so its "
+                      << "vertices lie on the input and its triangles follow the input's noise"
+                      << (this->MaximumDeviation > 0.0 ? " (MaximumDeviation holds on the smoothed copy; "
+                                                         "RemeshDeviation is measured on the input, noise included)"
+                                                       : "")
+                      << ". For a remesh of the smoothed surface, smooth the input first (vtkImplicitFairing).");
     }
     else
     {

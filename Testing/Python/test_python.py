@@ -737,6 +737,33 @@ class RemeshingFromPython(unittest.TestCase):
                              (before["euler"], before["loops"], before["components"]), count)
             self.assertTrue(after["manifold"] and after["oriented"], count)
 
+    def test_a_noisy_scan_is_laid_out_on_a_smoothed_copy(self):
+        # bunny00 with noise of 0.3% of its diagonal along its normals (as
+        # large as its edges): its own charts' boundaries cross, or need
+        # more samples than the count, at every count.  The remesh is laid
+        # out on a smoothed copy, with a warning, and lies on the noisy input.
+        import inputs
+        from beltrami.pipelines import noisy_along_normals
+        scan = inputs.read_off(os.path.join(DATA, "bunny00.off"))
+        points, triangles = inputs.arrays_of(scan)
+        noisy = noisy_along_normals(inputs.polydata(points, triangles), 0.003 * inputs.diagonal(points), seed=1)
+        f = vtkSurfaceRemeshing()
+        f.SetInputData(noisy)
+        for count in (2000, 10000):
+            f.SetNumberOfVertices(count)
+            log = vtkStringOutputWindow()
+            vtkOutputWindow.SetInstance(log)
+            self.assertEqual(f.GetExecutive().Update(), 1, log.GetOutput())
+            self.assertIn("laid out on a smoothed copy of the input", log.GetOutput())
+            out = f.GetOutput()
+            self.assertEqual(out.GetNumberOfPoints(), count)
+            p = vtk_to_numpy(out.GetPoints().GetData())
+            self.assertLess(inputs.distances_to(noisy, p).max(), 1e-12 * inputs.diagonal(points))
+            after = inputs.topology(*inputs.arrays_of(out))
+            self.assertEqual((after["euler"], after["components"], after["loops"]), (2, 1, 0))
+            self.assertGreater(out.GetFieldData().GetArray("RemeshMinimumAngle").GetValue(0), 15.0)
+            self.assertGreater(out.GetFieldData().GetArray("RemeshMeanMinimumAngle").GetValue(0), 49.0)
+
     def test_bad_requests_are_errors_not_crashes(self):
         _, f = self.remesher()
         f.SetNumberOfVertices(10)  # fewer than the chart boundaries need
