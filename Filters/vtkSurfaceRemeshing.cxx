@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <array>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -57,10 +58,11 @@ struct vtkSurfaceRemeshing::Kept
   vtkBeltramiSurface Surface;
   std::vector<double> Storage; // the points as doubles, where they are not
   const double* Points = nullptr; // the input's
-  Layout Layouts[2];  // 0: on the input's points, 1: on Denoised
-  int Active = 0;     // the layout of the run
-  bool DenoisedTried = false;
-  std::vector<double> Denoised; // DenoisedLayout (empty: none found or not tried yet)
+  static constexpr int Copies = static_cast<int>(std::size(beltrami::DenoisedLayoutSteps));
+  Layout Layouts[1 + Copies]; // 0: on the input's points, 1 + k: on Denoised[k]
+  int Active = 0;             // the layout of the run
+  bool DenoisedTried[Copies] = {};
+  std::vector<double> Denoised[Copies]; // DenoisedLayout of each step (empty: none, or not tried yet)
   Layout& Laid() { return this->Layouts[this->Active]; }
 };
 
@@ -425,35 +427,37 @@ bool vtkSurfaceRemeshing::RemeshLayout(Run& run)
   return true;
 }
 
-bool vtkSurfaceRemeshing::LayOutOnDenoisedCopy()
+bool vtkSurfaceRemeshing::LayOutOnDenoisedCopy(int k)
 {
   Kept& kept = *this->Cache;
-  if (!kept.DenoisedTried)
+  if (!kept.DenoisedTried[k])
   {
-    kept.DenoisedTried = true;
-    kept.Denoised = beltrami::DenoisedLayout(kept.Surface.Topology(), kept.Points, this->NumberOfThreads);
-    kept.Layouts[1].Points = kept.Denoised.data();
+    kept.DenoisedTried[k] = true;
+    kept.Denoised[k] = beltrami::DenoisedLayout(
+      kept.Surface.Topology(), kept.Points, beltrami::DenoisedLayoutSteps[k], this->NumberOfThreads);
+    kept.Layouts[1 + k].Points = kept.Denoised[k].data();
   }
-  kept.Active = kept.Denoised.empty() ? 0 : 1;
-  return kept.Active == 1;
+  kept.Active = kept.Denoised[k].empty() ? 0 : 1 + k;
+  return kept.Active > 0;
 }
 
 bool vtkSurfaceRemeshing::RemeshDenoised(Run& run)
 {
-  if (!this->LayOutOnDenoisedCopy() || !this->Atlas().Error.empty())
+  for (int k = 0; k < Kept::Copies; ++k)
   {
-    return false;
+    Run denoised;
+    if (!this->LayOutOnDenoisedCopy(k) || !this->Atlas().Error.empty() || !this->RemeshLayout(denoised) ||
+      !denoised.Driven.Remesh.Error.empty())
+    {
+      continue;
+    }
+    denoised.LaidDistance = denoised.Driven.Remesh.DeviationFromInput * denoised.Driven.Remesh.Diagonal;
+    beltrami::MoveOntoInput(this->Cache->Surface.Topology(), this->Cache->Points, denoised.Options,
+      denoised.Driven.Remesh);
+    run = std::move(denoised);
+    return true;
   }
-  Run denoised;
-  if (!this->RemeshLayout(denoised) || !denoised.Driven.Remesh.Error.empty())
-  {
-    return false;
-  }
-  denoised.LaidDistance = denoised.Driven.Remesh.DeviationFromInput * denoised.Driven.Remesh.Diagonal;
-  beltrami::MoveOntoInput(this->Cache->Surface.Topology(), this->Cache->Points, denoised.Options,
-    denoised.Driven.Remesh);
-  run = std::move(denoised);
-  return true;
+  return false;
 }
 
 int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)

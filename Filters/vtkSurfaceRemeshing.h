@@ -272,12 +272,13 @@ private:
   /// The importance per input vertex of the settings (empty: uniform);
   /// false on error (reported).
   bool BuildImportance(std::vector<double>& importance);
-  /// Makes the input's denoised copy the active layout (made once per
-  /// input); false where the fairing finds no noise to remove.
-  bool LayOutOnDenoisedCopy();
-  /// The remesh laid out on the denoised copy and moved onto the input into
-  /// `run` (the copy stays the active layout); false where there is no copy
-  /// or it cannot be remeshed either.
+  /// Makes the input's smoothed copy of the k-th step of
+  /// beltrami::DenoisedLayoutSteps the active layout (made once per input);
+  /// false where there is none.
+  bool LayOutOnDenoisedCopy(int k);
+  /// The remesh laid out on the first smoothed copy that can be remeshed
+  /// and moved onto the input into `run` (that copy stays the active
+  /// layout); false where none can.
   bool RemeshDenoised(Run& run);
   /// The run's messages and, without an error, its remesh into `output`.
   int Report(vtkPolyData* input, const Run& run, vtkPolyData* output);

@@ -573,13 +573,14 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
 }
 
 
-std::vector<double> DenoisedLayout(const MeshTopology& topology, const double* points, int numThreads)
+std::vector<double> DenoisedLayout(const MeshTopology& topology, const double* points, double step, int numThreads)
 {
   std::vector<double> layout(points, points + 3 * static_cast<std::size_t>(topology.NumberOfVertices()));
   FairingOptions umbrella;
   umbrella.Operator = FairingOperator::Umbrella;
-  umbrella.TimeStep = DenoisedLayoutStep;
+  umbrella.TimeStep = step;
   umbrella.Invariant = FairingInvariant::None;
+  umbrella.Boundary = FairingBoundary::SmoothCurve;
   umbrella.NumberOfThreads = numThreads;
   const FairingReport report = FairSurface(topology, layout.data(), umbrella);
   if (!report.Error.empty() || !report.Completed || std::equal(layout.begin(), layout.end(), points) ||

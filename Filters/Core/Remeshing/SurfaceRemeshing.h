@@ -208,21 +208,26 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
 std::int64_t CountThatKeepsTheInput(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
   const double* importance, const RemeshOptions& options);
 
-/// The step of DenoisedLayout's smoothing: order 2, umbrella operator,
-/// dimensionless.  On bunny00 with noise of 0.1-0.6% of the diagonal along
-/// its normals (whose own charts fail from 0.2%: boundaries that cross, or
-/// that take more samples than the count) steps of 2, 8 and 32 all made it
-/// remeshable at 2,000 and 10,000 vertices.
-constexpr double DenoisedLayoutStep = 8.0;
+/// The steps of DenoisedLayout's smoothing a remesh tries, one after the
+/// other (order 2, umbrella operator, dimensionless).  On bunny00 with
+/// noise along its normals of 0.1-0.6% of the diagonal (whose own charts
+/// fail from 0.2%: boundaries that cross, or that take more samples than
+/// the count) each of 2, 8 and 32 made it remeshable at 2,000 and 10,000
+/// vertices; with isotropic noise of 0.6% (triangles folded by the noise in
+/// their planes) a step of 8 left charts that did not join at 2,000, 32
+/// and more did.
+constexpr double DenoisedLayoutSteps[3] = { 8.0, 32.0, 128.0 };
 
 /// A copy of `points` for laying a remesh out on where the input's own
 /// charts fail (a scan whose noise is as large as its edges: its charts'
 /// boundaries are jagged, cross, or take more samples than the count): the
-/// surface after one implicit umbrella step of order 2 (DenoisedLayoutStep;
-/// Flows/Fairing.h), whose uniform weights do not depend on the noisy
-/// triangles' shapes, same triangles.  Empty where the step cannot run or
-/// leaves the points as they are.
-std::vector<double> DenoisedLayout(const MeshTopology& topology, const double* points, int numThreads = 0);
+/// surface after one implicit umbrella step of order 2 of `step`
+/// (DenoisedLayoutSteps; Flows/Fairing.h), whose uniform weights do not
+/// depend on the noisy triangles' shapes, its boundary loops smoothed as
+/// curves; same triangles.  Empty where the step cannot run or leaves the
+/// points as they are.
+std::vector<double> DenoisedLayout(const MeshTopology& topology, const double* points, double step,
+  int numThreads = 0);
 
 /// A remesh laid out on a copy of the surface's points with the same
 /// triangles (DenoisedLayout) moved onto `points`: every vertex to the same
