@@ -94,7 +94,12 @@
  * reported as errors with an empty output, and so is a remesh whose
  * topology (Euler characteristic, components, boundary loops) is not the
  * input's: a filter that cannot keep a part says so rather than return a
- * mesh without it.  Charts far smaller than the spacing (a speck of a
+ * mesh without it.  Where the input's own charts fail (a scan whose noise is
+ * as large as its edges), the remesh is laid out on a smoothed copy (one
+ * implicit umbrella step, beltrami::DenoisedLayout, of the steps
+ * beltrami::DenoisedLayoutSteps in turn) and moved onto the input, with a
+ * warning: its vertices lie on the input, its triangles follow the noise.
+ * Charts far smaller than the spacing (a speck of a
  * scan) keep one interior sample each, so their components stay closed.  The remesher
  * needs the whole surface: split data are gathered on rank 0, which holds
  * the remesh.
