@@ -415,6 +415,11 @@ bool vtkSurfaceRemeshing::RemeshLayout(Run& run)
   options.MaximumSurfaceSag = this->MaximumSurfaceSag;
   options.NumberOfThreads = this->NumberOfThreads;
   options.Cache = &this->Cache->Laid().Remeshing;
+  if (this->Cache->Active > 0) // a smoothed copy: the remesh is moved onto the input and shaped there
+  {
+    options.FinalSurface = this->Cache->Points;
+    options.FinalCache = &this->Cache->Layouts[0].Remeshing;
+  }
   if (this->MaximumDeviation > 0.0)
   {
     run.Driven = beltrami::RemeshToDeviation(
@@ -451,9 +456,9 @@ bool vtkSurfaceRemeshing::RemeshDenoised(Run& run)
     {
       continue;
     }
-    denoised.LaidDistance = denoised.Driven.Remesh.DeviationFromInput * denoised.Driven.Remesh.Diagonal;
-    beltrami::MoveOntoInput(this->Cache->Surface.Topology(), this->Cache->Points, denoised.Options,
-      denoised.Driven.Remesh);
+    beltrami::RemeshResult& remesh = denoised.Driven.Remesh;
+    denoised.LaidDistance = remesh.DeviationFromInput * remesh.Diagonal;
+    beltrami::CheckFidelity(this->Cache->Surface.Topology(), this->Cache->Points, denoised.Options, remesh);
     run = std::move(denoised);
     return true;
   }
@@ -492,8 +497,8 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
     {
       vtkWarningMacro(<< "The input's own charts cannot be remeshed with "
                       << (inputCounts.empty() ? this->NumberOfVertices : inputCounts.back()) << " vertices (" << inputError
-                      << "): the remesh was laid out on a smoothed copy of the input and moved onto it, so its "
-                      << "vertices lie on the input and its triangles follow the input's noise"
+                      << "): the remesh was laid out on a smoothed copy of the input and moved onto it, its "
+                      << "triangles then shaped on the input: its vertices lie on the input and follow its noise"
                       << (this->MaximumDeviation > 0.0 ? " (MaximumDeviation holds on the smoothed copy; "
                                                          "RemeshDeviation is measured on the input, noise included)"
                                                        : "")

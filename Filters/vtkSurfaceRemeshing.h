@@ -97,8 +97,9 @@
  * mesh without it.  Where the input's own charts fail (a scan whose noise is
  * as large as its edges), the remesh is laid out on a smoothed copy (one
  * implicit umbrella step, beltrami::DenoisedLayout, of the steps
- * beltrami::DenoisedLayoutSteps in turn) and moved onto the input, with a
- * warning: its vertices lie on the input, its triangles follow the noise.
+ * beltrami::DenoisedLayoutSteps in turn), moved onto the input and its
+ * triangles shaped there by a few stitching rounds, with a warning: its
+ * vertices lie on the input and follow its noise.
  * Charts far smaller than the spacing (a speck of a
  * scan) keep one interior sample each, so their components stay closed.  The remesher
  * needs the whole surface: split data are gathered on rank 0, which holds

@@ -434,6 +434,23 @@ std::int64_t RaiseWhereFar(const MeshTopology& topology, const double* points, c
   return std::min(static_cast<std::int64_t>(std::ceil(static_cast<double>(count) * std::max(1.1, growth))), most);
 }
 
+/// The remesh made on a smoothed copy moved onto options.FinalSurface
+/// (RemeshOptions::FinalSurface) and its triangles shaped there by
+/// stitching rounds alone.
+void ShapeOnFinalSurface(const MeshTopology& topology, const AtlasResult& atlas, const RemeshOptions& options,
+  const SurfaceSamples& samples, RemeshOptimizationOptions optimization, Remesh& remesh)
+{
+  for (Index v = 0; v < remesh.Mesh.NumberOfVertices(); ++v)
+  {
+    remesh.Mesh.SetPosition(v, SurfacePoint(topology, options.FinalSurface, remesh.Triangle[v], &remesh.Barycentric[3 * v]));
+  }
+  RemeshCache local;
+  optimization.Iterations = 0;
+  optimization.StitchingIterations = options.FinalIterations;
+  optimization.Cache = options.FinalCache ? options.FinalCache : &local;
+  OptimizeRemesh(remesh, topology, options.FinalSurface, atlas, samples, optimization);
+}
+
 } // namespace
 
 void CheckFidelity(const MeshTopology& topology, const double* points, const RemeshOptions& options, RemeshResult& out)
@@ -564,11 +581,19 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   out.OptimizationSeconds = SecondsSince(start);
   out.Points = remesh.Mesh.Points();
   out.Triangles = remesh.Mesh.Triangles();
-  out.SourceTriangle = std::move(remesh.Triangle);
-  out.SourceBarycentric = std::move(remesh.Barycentric);
   start = std::chrono::steady_clock::now();
   CheckFidelity(topology, points, options, out);
   out.FidelitySeconds = SecondsSince(start);
+  if (options.FinalSurface)
+  {
+    start = std::chrono::steady_clock::now();
+    ShapeOnFinalSurface(topology, atlas, options, out.Samples, optimization, remesh);
+    out.Points = remesh.Mesh.Points();
+    out.Triangles = remesh.Mesh.Triangles();
+    out.OptimizationSeconds += SecondsSince(start);
+  }
+  out.SourceTriangle = std::move(remesh.Triangle);
+  out.SourceBarycentric = std::move(remesh.Barycentric);
   return out;
 }
 
@@ -589,25 +614,6 @@ std::vector<double> DenoisedLayout(const MeshTopology& topology, const double* p
     layout.clear();
   }
   return layout;
-}
-
-void MoveOntoInput(const MeshTopology& topology, const double* points, const RemeshOptions& options,
-  RemeshResult& out)
-{
-  for (std::size_t v = 0; v < out.SourceTriangle.size(); ++v)
-  {
-    const double* b = &out.SourceBarycentric[3 * v];
-    for (int c = 0; c < 3; ++c)
-    {
-      double x = 0.0;
-      for (int k = 0; k < 3; ++k)
-      {
-        x += b[k] * points[3 * topology.CornerVertex(3 * out.SourceTriangle[v] + k) + c];
-      }
-      out.Points[3 * v + c] = x;
-    }
-  }
-  CheckFidelity(topology, points, options, out);
 }
 
 std::int64_t CountThatKeepsTheInput(const MeshTopology& topology, const double* points, const AtlasResult& atlas,

@@ -53,6 +53,17 @@ struct RemeshOptions
   double MetricGradation = 1.0;
   int NumberOfThreads = 0;
   RemeshCache* Cache = nullptr; ///< optional: kept between calls on the same surface and atlas (RemeshCache)
+  /// Optional: the points of the surface the remesh must lie on, where the
+  /// remesher's `points` are a smoothed copy of them (DenoisedLayout, same
+  /// triangles).  The remesh is made on the copy; then every vertex goes to
+  /// the same barycentric place of its triangle on these points, and
+  /// FinalIterations stitching rounds (swaps and relaxation) shape its
+  /// triangles there.  Its fidelity (RemeshResult's Deviation*, Error) is
+  /// that of the remesh on the copy, before it moved (the error-driven
+  /// mode's bound holds on the copy: the noise's spikes are no lost parts).
+  const double* FinalSurface = nullptr;
+  int FinalIterations = 5;
+  RemeshCache* FinalCache = nullptr; ///< optional: RemeshCache of FinalSurface
 };
 
 struct RemeshResult
@@ -228,13 +239,6 @@ constexpr double DenoisedLayoutSteps[3] = { 8.0, 32.0, 128.0 };
 /// points as they are.
 std::vector<double> DenoisedLayout(const MeshTopology& topology, const double* points, double step,
   int numThreads = 0);
-
-/// A remesh laid out on a copy of the surface's points with the same
-/// triangles (DenoisedLayout) moved onto `points`: every vertex to the same
-/// barycentric place on its source triangle, so that it lies on the input;
-/// its fidelity measured again against `points` (CheckFidelity).
-void MoveOntoInput(const MeshTopology& topology, const double* points, const RemeshOptions& options,
-  RemeshResult& out);
 
 /// The error-driven mode (as MMG's -hausd; the thesis' future work):
 /// remeshes until the remesh is within `maximumDeviation` (a fraction of the
