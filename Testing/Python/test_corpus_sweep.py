@@ -261,15 +261,17 @@ def triangle_quality(points, triangles):
 # yet (the hard shapes' needles and thin plate have angles far below 15
 # degrees themselves, and are held only to no degenerate triangle, none
 # below 1 degree: measured 2.8-3.2):
-#   mech-holes-shark     0.6 deg (0.18% below 30): where a sharp edge
-#                        passes a corner of the charts straight, a flat
-#                        triangle of two of its samples and the corner;
+#   mech-holes-shark     3.9 deg (0.08% below 30): two of its sharp edges
+#                        meet at 5 degrees (a sliver face of the part).
+#                        Its two inverted triangles are folds, not sharp
+#                        edges (SharpEdges): as sharp edges they made a
+#                        knot of short feature lines and 0.6 degrees.
 # Of the generated shapes, the decimated bone is held to the bars too: its
 # long slivers make charts whose maps stretch threefold and more unless
 # they are split, and remeshes that fold over themselves, with angles of 0
 # degrees, unless the stitching unfolds them.
 QUALITY_SHAPES = {"decimated-bone"}
-QUALITY_EXCEPTIONS = {"mech-holes-shark.off": (0.0, 0.005, 0.78)}
+QUALITY_EXCEPTIONS = {"mech-holes-shark.off": (2.0, 0.0025, 0.78)}
 
 
 def check_quality(path, points, triangles):

@@ -279,6 +279,22 @@ std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, 
     }
     return false;
   };
+  // A triangle turned over against two of its neighbours or more (a fold
+  // of the input: normals within MostFoldAngle of opposite) has no normal to
+  // speak of either: mech-holes-shark's two inverted triangles made a knot
+  // of short sharp lines, and triangles of 0.6 degrees along them.
+  const double foldCosine = std::cos(MostFoldAngle * M_PI / 180.0);
+  std::vector<std::uint8_t> folds(tri.size() / 3, 0);
+  for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
+  {
+    const Index c0 = e.OppositeCorners[2 * k], c1 = e.OppositeCorners[2 * k + 1];
+    if (e.FaceCount[k] == 2 && c0 >= 0 && c1 >= 0 && normal(c0).dot(normal(c1)) < foldCosine)
+    {
+      ++folds[c0 / 3];
+      ++folds[c1 / 3];
+    }
+  }
+  const auto turned = [&](Index corner) { return folds[corner / 3] >= 2; };
   std::vector<std::uint8_t> sharp(e.NumberOfEdges(), 0);
   for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
   {
@@ -286,7 +302,7 @@ std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, 
     if (e.FaceCount[k] == 2 && c0 >= 0 && c1 >= 0)
     {
       // (false for NaN: degenerate triangles)
-      sharp[k] = normal(c0).dot(normal(c1)) < cosine && !cap(c0) && !cap(c1);
+      sharp[k] = normal(c0).dot(normal(c1)) < cosine && !cap(c0) && !cap(c1) && !turned(c0) && !turned(c1);
     }
   }
   return sharp;

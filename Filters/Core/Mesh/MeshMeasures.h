@@ -49,9 +49,12 @@ double SurfaceArea(const MeshTopology& topology, const double* points, int numTh
 /// vtkFeatureEdges' FeatureAngle); boundary and non-manifold edges: 0, and
 /// the edges of caps (a triangle with an angle above MostCapAngle, whose
 /// normal is not defined by its shape: cylinder_locally_refined's three
-/// caps of 174-179 degrees made sharp edges, and charts, of their own).
+/// caps of 174-179 degrees made sharp edges, and charts, of their own) and
+/// of triangles turned over (a dihedral angle above MostFoldAngle at two of
+/// their edges or three: a fold of the input, not a crease).
 std::vector<std::uint8_t> SharpEdges(const MeshTopology& topology, const double* points, double angleDegrees);
 constexpr double MostCapAngle = 170.0;
+constexpr double MostFoldAngle = 150.0;
 /// Drops from `features` (1 per edge of topology.Edges()) the dangling
 /// chains shorter than `minimumLength`: runs of feature edges from an end
 /// (a vertex with one feature edge) to the next vertex with other than two,

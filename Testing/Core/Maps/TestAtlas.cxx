@@ -545,11 +545,11 @@ TEST(Atlas, FeatureFragmentsShorterThanTheLengthAsked)
     kept.Charts.size(), static_cast<long long>(kept.CutEdges), all.Charts.size(), static_cast<long long>(all.CutEdges));
 }
 
-TEST(Atlas, CapsHaveNoSharpEdges)
+TEST(Atlas, CapsAndFoldsHaveNoSharpEdges)
 {
   // A triangle folded back between its neighbours (its normal opposite
-  // theirs): three sharp edges, unless it is a cap (its middle corner 0.01
-  // off its long edge: 178.9 degrees), whose normal means nothing.
+  // theirs): a fold of the input, whose normal means nothing, as a cap's
+  // (its middle corner 0.01 off its long edge: 178.9 degrees) does not.
   for (const double offset : { 0.5, 0.01 })
   {
     Mesh fold;
@@ -564,8 +564,20 @@ TEST(Atlas, CapsHaveNoSharpEdges)
     fold.AddTriangle(0, 4, 1);
     const MeshTopology topology = fold.Topology();
     const std::vector<std::uint8_t> sharp = SharpEdges(topology, fold.Points.data(), 60.0);
-    EXPECT_EQ(std::count(sharp.begin(), sharp.end(), std::uint8_t(1)), offset > 0.1 ? 3 : 0) << offset;
+    EXPECT_EQ(std::count(sharp.begin(), sharp.end(), std::uint8_t(1)), 0) << offset;
   }
+  // A knife edge (two triangles at 169 degrees, each turned at one edge
+  // only) is sharp.
+  Mesh knife;
+  for (const Eigen::Vector3d& p :
+    { Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, 0, 0), Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(1, 1, 0.2) })
+  {
+    knife.AddPoint(p);
+  }
+  knife.AddTriangle(0, 1, 2);
+  knife.AddTriangle(1, 0, 3);
+  const std::vector<std::uint8_t> sharp = SharpEdges(knife.Topology(), knife.Points.data(), 60.0);
+  EXPECT_EQ(std::count(sharp.begin(), sharp.end(), std::uint8_t(1)), 1);
 }
 
 TEST(Atlas, MaximumChartAreaIsKept)
