@@ -133,8 +133,9 @@ public:
   vtkBooleanMacro(BalanceAreas, bool);
   /// Keep sharp edges (normals of the two triangles differing by more than Feature Angle) as chart
   /// boundaries, as for CAD parts (section 4.2.3). A sharp edge that ends inside a chart splits it.
-  /// Off by default: coarse organic meshes have scattered sharp edges (the elephant: 167 above 60
-  /// degrees, 233 charts instead of 36). Default: off.
+  /// A triangle turned over against two of its neighbours (a fold of the input, not a crease) makes
+  /// none. Off by default: coarse organic meshes have scattered sharp edges (the elephant: 167
+  /// above 60 degrees, 233 charts instead of 36). Default: off.
   vtkSetMacro(SplitAtFeatures, bool);
   vtkGetMacro(SplitAtFeatures, bool);
   vtkBooleanMacro(SplitAtFeatures, bool);

@@ -204,8 +204,9 @@ public:
   /// Keep sharp edges (normals differing by more than Feature Angle) as chart boundaries, sampled
   /// along them so that the remesh reproduces them (CAD parts, section 4.2.3). Dangling runs of
   /// sharp edges shorter than the remesh's spacing are not kept (a crease that crosses the input's
-  /// edges at a slant shows as such fragments); with Maximum Deviation every run is kept. Default:
-  /// off.
+  /// edges at a slant shows as such fragments); with Maximum Deviation every run is kept. A
+  /// triangle turned over against two of its neighbours (a fold of the input, not a crease) makes
+  /// no sharp edge. Default: off.
   vtkSetMacro(SplitAtFeatures, bool);
   vtkGetMacro(SplitAtFeatures, bool);
   vtkBooleanMacro(SplitAtFeatures, bool);

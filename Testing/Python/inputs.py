@@ -286,53 +286,104 @@ def largest_piece(points, triangles):
     return points[used], index[kept]
 
 
-def decimated_bone(n=160, keep=0.1):
-    """A genus-2 bone (a shaft between two flat ends, each with a hole
-    through it) as a decimated scan gives it: the marching-cubes surface of
-    its distance function on an n^3 grid, quadric-decimated to `keep` of
-    its triangles, which leaves long slivers along the shaft."""
+def _segment(x, a, b, ra, rb=None):
+    """Signed distance to the capsule from a to b, of radius ra at a and rb at b."""
+    rb = ra if rb is None else rb
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    s = np.clip((x - a) @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0)
+    return np.linalg.norm(x - (a + s[..., None] * (b - a)), axis=-1) - (ra + (rb - ra) * s)
+
+
+def _ellipsoid(x, centre, radii):
+    q = (x - np.asarray(centre, float)) / np.asarray(radii, float)
+    return (np.linalg.norm(q, axis=-1) - 1) * min(radii)
+
+
+def _blend(a, b, k=0.05):
+    """A smooth minimum of two distances (a union with a fillet of about k)."""
+    h = np.clip(0.5 + 0.5 * (b - a) / k, 0.0, 1.0)
+    return b * (1 - h) + a * h - k * h * (1 - h)
+
+
+def implicit_surface(distance, n=160, keep=None, extent=1.5):
+    """The marching-cubes surface (its largest piece) of a signed distance
+    function on an n^3 grid over [-extent, extent]^3, as a scan gives it,
+    quadric-decimated to `keep` of its triangles where set (which leaves
+    long slivers): (points, triangles)."""
     from vtkmodules.vtkFiltersCore import vtkFlyingEdges3D, vtkPolyDataConnectivityFilter, vtkQuadricDecimation
 
-    def segment(x, a, b, radius):
-        a, b = np.asarray(a, float), np.asarray(b, float)
-        s = np.clip((x - a) @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0)
-        return np.linalg.norm(x - (a + s[..., None] * (b - a)), axis=-1) - radius
-
-    def blend(a, b, k=0.05):  # a smooth minimum
-        h = np.clip(0.5 + 0.5 * (b - a) / k, 0.0, 1.0)
-        return b * (1 - h) + a * h - k * h * (1 - h)
-
-    def distance(x):
-        d = segment(x, (-0.8, 0, 0), (0.8, 0, 0), 0.08)
-        for end in (-0.85, 0.85):
-            q = (x - (end, 0, 0)) / (0.2, 0.25, 0.08)
-            d = blend(d, (np.linalg.norm(q, axis=-1) - 1) * 0.08)
-            d = np.maximum(d, -segment(x, (end, 0, -0.3), (end, 0, 0.3), 0.07))
-        return d
-
-    g = np.linspace(-1.5, 1.5, n)
+    g = np.linspace(-extent, extent, n)
     d = np.concatenate([distance(np.stack(np.meshgrid(g[i:i + 16], g, g, indexing="ij"), axis=-1))
                         for i in range(0, n, 16)])
     image = vtkImageData()
     image.SetDimensions(n, n, n)
-    image.SetOrigin(-1.5, -1.5, -1.5)
-    image.SetSpacing(*([3.0 / (n - 1)] * 3))
+    image.SetOrigin(-extent, -extent, -extent)
+    image.SetSpacing(*([2.0 * extent / (n - 1)] * 3))
     image.GetPointData().SetScalars(numpy_to_vtk(d.transpose(2, 1, 0).ravel().copy(), deep=True))
     surface = vtkFlyingEdges3D()
     surface.SetInputData(image)
     surface.SetValue(0, 0.0)
-    largest = vtkPolyDataConnectivityFilter()
-    largest.SetInputConnection(surface.GetOutputPort())
-    largest.SetExtractionModeToLargestRegion()
-    decimate = vtkQuadricDecimation()
-    decimate.SetInputConnection(largest.GetOutputPort())
-    decimate.SetTargetReduction(1.0 - keep)
-    decimate.Update()
-    p, t = arrays_of(decimate.GetOutput())
+    last = vtkPolyDataConnectivityFilter()
+    last.SetInputConnection(surface.GetOutputPort())
+    last.SetExtractionModeToLargestRegion()
+    if keep:
+        decimate = vtkQuadricDecimation()
+        decimate.SetInputConnection(last.GetOutputPort())
+        decimate.SetTargetReduction(1.0 - keep)
+        last = decimate
+    last.Update()
+    p, t = arrays_of(last.GetOutput())
     used = np.unique(t)
     remap = np.zeros(len(p), dtype=np.int64)
     remap[used] = np.arange(len(used))
     return p[used], remap[t]
+
+
+def decimated_bone(n=160, keep=0.1):
+    """A genus-2 bone (a shaft between two flat ends, each with a hole
+    through it) as a decimated scan gives it (implicit_surface), which
+    leaves long slivers along the shaft."""
+    def distance(x):
+        d = _segment(x, (-0.8, 0, 0), (0.8, 0, 0), 0.08)
+        for end in (-0.85, 0.85):
+            d = _blend(d, _ellipsoid(x, (end, 0, 0), (0.2, 0.25, 0.08)), 0.05)
+            d = np.maximum(d, -_segment(x, (end, 0, -0.3), (end, 0, 0.3), 0.07))
+        return d
+    return implicit_surface(distance, n, keep)
+
+
+def quadruped(n=160, keep=0.2):
+    """An animal as a decimated scan gives it: a body on four thin legs, a
+    long neck, a head with two horns that taper to a point and a thin tail
+    (implicit_surface)."""
+    def distance(x):
+        d = _ellipsoid(x, (0, 0, 0), (0.6, 0.25, 0.25))
+        for sx in (-0.45, 0.45):
+            for sy in (-0.15, 0.15):
+                d = _blend(d, _segment(x, (sx, sy, -0.1), (sx, sy, -0.9), 0.05, 0.035), 0.03)
+        d = _blend(d, _segment(x, (0.5, 0, 0.1), (0.8, 0, 0.6), 0.08, 0.06), 0.03)
+        d = _blend(d, _ellipsoid(x, (0.9, 0, 0.65), (0.18, 0.09, 0.09)), 0.03)
+        for sy in (-0.06, 0.06):
+            d = _blend(d, _segment(x, (0.85, sy, 0.72), (0.75, 3 * sy, 1.05), 0.03, 0.006), 0.01)
+        return _blend(d, _segment(x, (-0.55, 0, 0.05), (-1.1, 0, -0.3), 0.03, 0.01), 0.02)
+    return implicit_surface(distance, n, keep)
+
+
+def turbine_disk(n=160, blades=12):
+    """A disk with a bore and thin twisted blades (torus topology), its
+    marching-cubes surface: the blades' rims are about a spacing thick at
+    10,000 vertices (implicit_surface)."""
+    def distance(x):
+        r = np.linalg.norm(x[..., :2], axis=-1)
+        d = np.maximum(np.maximum(r - 0.5, np.abs(x[..., 2]) - 0.08), 0.12 - r)
+        for k in range(blades):
+            c, s = np.cos(2 * np.pi * k / blades), np.sin(2 * np.pi * k / blades)
+            u, v, w = x[..., 0] * c + x[..., 1] * s, x[..., 1] * c - x[..., 0] * s, x[..., 2]
+            twisted = v - 0.6 * (u - 0.5) * w
+            d = np.minimum(d, np.maximum(np.maximum(np.abs(u - 0.85) - 0.37, np.abs(twisted) - 0.015),
+                                         np.abs(w) - 0.07))
+        return d
+    return implicit_surface(distance, n)
 
 
 def sphere_with_speck(n=24, speck=1e-4, distance=5.0):
@@ -435,6 +486,8 @@ def hard_shapes():
         "sphere-with-speck": sphere_with_speck(),
         "thin-plate": orient_consistently(*thin_plate()),
         "decimated-bone": decimated_bone(),
+        "quadruped": quadruped(),
+        "turbine-disk": turbine_disk(),
     }
     p, t = sphere(24)
     shapes["huge-sphere"] = (p * 1e12 + 3e12, t)
