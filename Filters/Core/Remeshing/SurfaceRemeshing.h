@@ -40,6 +40,14 @@ struct RemeshOptions
   /// Input vertices that get a remesh vertex each, exactly there (one flag
   /// per surface vertex; null: none; SamplingOptions::PinnedVertices).
   const std::uint8_t* PinnedVertices = nullptr;
+  /// Where the remesh leaves input vertices farther than this many
+  /// spacings from it (each the farthest of its 1-ring: a tip, a hoof or a
+  /// corner the samples missed), those vertices are pinned and the remesh
+  /// made once more, with the same count; the second is kept where it is
+  /// closer to the input by a tenth and its triangles are as good
+  /// (FarPinGain, AsGoodTriangles).  0: one remesh.  Not with
+  /// PinnedVertices or FinalSurface.
+  double FarPinSpacings = 0.35;
   /// The anisotropic mode: a metric per input vertex (6 numbers, as
   /// Remeshing/RemeshMetric's; null: isotropic).  Its density (the square
   /// root of its tangent determinant) times the importance is the density,
@@ -205,6 +213,10 @@ constexpr double LostPartSpacings = 4.0;
 /// farther than LostPartSpacings from it.  RemeshSurface calls it.
 void CheckFidelity(const MeshTopology& topology, const double* points, const RemeshOptions& options,
   RemeshResult& out);
+
+/// The share of the first remesh's deviation the remesh with the far
+/// vertices pinned must be within to be kept (RemeshOptions::FarPinSpacings).
+constexpr double FarPinGain = 0.9;
 
 /// `importance`: one value >= 0 per input vertex (null: uniform).
 RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
