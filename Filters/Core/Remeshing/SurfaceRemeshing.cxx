@@ -629,7 +629,8 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   {
     return first;
   }
-  const TriangleGrid toInput(points, topology.TriangleList().data(), topology.NumberOfTriangles(), options.NumberOfThreads);
+  const TriangleGrid toInput(
+    points, topology.TriangleList().data(), topology.NumberOfTriangles(), options.NumberOfThreads);
   std::vector<std::uint8_t> pinned(static_cast<std::size_t>(topology.NumberOfVertices()), 0);
   LocalDeviations(topology, points, toInput, first, options.FarPinSpacings * first.Spacing, pinned,
     options.NumberOfThreads);
