@@ -555,6 +555,16 @@ int vtkSurfaceRemeshing::Report(vtkPolyData* input, const Run& run, vtkPolyData*
                     << "% of the diagonal; field array RemeshDeviation)." << advice);
   }
   WriteRemesh(input, topology, remesh, atlas.Charts.size(), output);
+  const double smallest = output->GetFieldData()->GetArray("RemeshMinimumAngle")->GetTuple1(0);
+  if (run.Metric.empty() && smallest < 1.0)
+  {
+    // (The spiky sphere and the comb at 2,000 vertices: a needle thinner
+    // than the spacing, its tip's samples on one line.)
+    vtkWarningMacro(<< "The remesh with " << count << " vertices has a triangle with an angle of " << smallest
+                    << " degrees (field array RemeshMinimumAngle): a part of the input thinner than its spacing "
+                    << "(a needle, a plate's rim) or sharp edges meeting at a small angle leave no room for a "
+                    << "rounder one. More vertices give them room.");
+  }
   if (!run.Metric.empty())
   {
     const beltrami::MetricQuality q = beltrami::MeasureInMetric(topology, points,

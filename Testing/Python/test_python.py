@@ -773,6 +773,24 @@ class RemeshingFromPython(unittest.TestCase):
             self.assertGreater(out.GetFieldData().GetArray("RemeshMinimumAngle").GetValue(0), smallest, count)
             self.assertLess(out.GetFieldData().GetArray("RemeshFractionBelow30").GetValue(0), below30, count)
 
+    def test_a_triangle_without_room_is_reported(self):
+        # A needle thinner than the spacing can leave its tip's samples on
+        # one line (the spiky sphere at 2,000 vertices: a flat triangle);
+        # the filter says so where the smallest angle is below 1 degree,
+        # and only there (at 10,000: 3 degrees, no warning).
+        import inputs
+        spiky = inputs.polydata(*inputs.hard_shapes()["spiky-sphere"])
+        for count in (2000, 10000):
+            f = vtkSurfaceRemeshing()
+            f.SetInputData(spiky)
+            f.SetNumberOfVertices(count)
+            log = vtkStringOutputWindow()
+            vtkOutputWindow.SetInstance(log)
+            self.assertEqual(f.GetExecutive().Update(), 1, log.GetOutput())
+            smallest = f.GetOutput().GetFieldData().GetArray("RemeshMinimumAngle").GetValue(0)
+            print("spiky sphere at %d: smallest angle %.3g degrees" % (count, smallest))
+            self.assertEqual("leave no room for a rounder one" in log.GetOutput(), smallest < 1.0, log.GetOutput())
+
     def test_bad_requests_are_errors_not_crashes(self):
         _, f = self.remesher()
         f.SetNumberOfVertices(10)  # fewer than the chart boundaries need
