@@ -612,6 +612,16 @@ class RemeshingFromPython(unittest.TestCase):
         f.SetInputConnection(reader.GetOutputPort())
         return reader, f
 
+    def remeshed(self, data, count):
+        """(output, what VTK printed) of a remesh of `data` with `count` vertices at the defaults."""
+        f = vtkSurfaceRemeshing()
+        f.SetInputData(data)
+        f.SetNumberOfVertices(count)
+        log = vtkStringOutputWindow()
+        vtkOutputWindow.SetInstance(log)
+        self.assertEqual(f.GetExecutive().Update(), 1, log.GetOutput())
+        return f.GetOutput(), log.GetOutput()
+
     def test_exact_count_point_data_and_the_kept_atlas(self):
         reader, f = self.remesher()
         reader.Update()
@@ -757,14 +767,8 @@ class RemeshingFromPython(unittest.TestCase):
         isotropic = noisy_isotropic(inputs.polydata(points, triangles), 0.006 * diagonal, seed=1)
         for noisy, count, smallest, below30 in ((along, 2000, 15.0, 0.005), (along, 10000, 15.0, 0.005),
                                                 (isotropic, 2000, 10.0, 0.02)):
-            f = vtkSurfaceRemeshing()
-            f.SetInputData(noisy)
-            f.SetNumberOfVertices(count)
-            log = vtkStringOutputWindow()
-            vtkOutputWindow.SetInstance(log)
-            self.assertEqual(f.GetExecutive().Update(), 1, log.GetOutput())
-            self.assertIn("laid out on a smoothed copy of the input", log.GetOutput())
-            out = f.GetOutput()
+            out, said = self.remeshed(noisy, count)
+            self.assertIn("laid out on a smoothed copy of the input", said)
             self.assertEqual(out.GetNumberOfPoints(), count)
             p = vtk_to_numpy(out.GetPoints().GetData())
             self.assertLess(inputs.distances_to(noisy, p).max(), 1e-12 * diagonal)
@@ -781,15 +785,10 @@ class RemeshingFromPython(unittest.TestCase):
         import inputs
         spiky = inputs.polydata(*inputs.hard_shapes()["spiky-sphere"])
         for count in (2000, 10000):
-            f = vtkSurfaceRemeshing()
-            f.SetInputData(spiky)
-            f.SetNumberOfVertices(count)
-            log = vtkStringOutputWindow()
-            vtkOutputWindow.SetInstance(log)
-            self.assertEqual(f.GetExecutive().Update(), 1, log.GetOutput())
-            smallest = f.GetOutput().GetFieldData().GetArray("RemeshMinimumAngle").GetValue(0)
+            out, said = self.remeshed(spiky, count)
+            smallest = out.GetFieldData().GetArray("RemeshMinimumAngle").GetValue(0)
             print("spiky sphere at %d: smallest angle %.3g degrees" % (count, smallest))
-            self.assertEqual("leave no room for a rounder one" in log.GetOutput(), smallest < 1.0, log.GetOutput())
+            self.assertEqual("leave no room for a rounder one" in said, smallest < 1.0, said)
 
     def test_bad_requests_are_errors_not_crashes(self):
         _, f = self.remesher()
