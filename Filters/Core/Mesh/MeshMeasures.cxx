@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <vector>
 
 namespace beltrami
@@ -279,6 +280,17 @@ std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, 
     }
     return false;
   };
+  // The cosine of every edge's dihedral angle (NaN: a boundary or
+  // non-manifold edge, or a degenerate triangle).
+  std::vector<double> dihedral(e.NumberOfEdges(), std::numeric_limits<double>::quiet_NaN());
+  for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
+  {
+    const Index c0 = e.OppositeCorners[2 * k], c1 = e.OppositeCorners[2 * k + 1];
+    if (e.FaceCount[k] == 2 && c0 >= 0 && c1 >= 0)
+    {
+      dihedral[k] = normal(c0).dot(normal(c1));
+    }
+  }
   // A triangle turned over against two of its neighbours or more (a fold
   // of the input: normals within MostFoldAngle of opposite) has no normal to
   // speak of either: mech-holes-shark's two inverted triangles made a knot
@@ -287,23 +299,18 @@ std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, 
   std::vector<std::uint8_t> folds(tri.size() / 3, 0);
   for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
   {
-    const Index c0 = e.OppositeCorners[2 * k], c1 = e.OppositeCorners[2 * k + 1];
-    if (e.FaceCount[k] == 2 && c0 >= 0 && c1 >= 0 && normal(c0).dot(normal(c1)) < foldCosine)
+    if (dihedral[k] < foldCosine)
     {
-      ++folds[c0 / 3];
-      ++folds[c1 / 3];
+      ++folds[e.OppositeCorners[2 * k] / 3];
+      ++folds[e.OppositeCorners[2 * k + 1] / 3];
     }
   }
-  const auto turned = [&](Index corner) { return folds[corner / 3] >= 2; };
+  const auto plain = [&](Index corner) { return !cap(corner) && folds[corner / 3] < 2; };
   std::vector<std::uint8_t> sharp(e.NumberOfEdges(), 0);
   for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
   {
-    const Index c0 = e.OppositeCorners[2 * k], c1 = e.OppositeCorners[2 * k + 1];
-    if (e.FaceCount[k] == 2 && c0 >= 0 && c1 >= 0)
-    {
-      // (false for NaN: degenerate triangles)
-      sharp[k] = normal(c0).dot(normal(c1)) < cosine && !cap(c0) && !cap(c1) && !turned(c0) && !turned(c1);
-    }
+    // (false for NaN)
+    sharp[k] = dihedral[k] < cosine && plain(e.OppositeCorners[2 * k]) && plain(e.OppositeCorners[2 * k + 1]);
   }
   return sharp;
 }
