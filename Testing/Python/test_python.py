@@ -612,11 +612,12 @@ class RemeshingFromPython(unittest.TestCase):
         f.SetInputConnection(reader.GetOutputPort())
         return reader, f
 
-    def remeshed(self, data, count):
+    def remeshed(self, data, count, features=False):
         """(output, what VTK printed) of a remesh of `data` with `count` vertices at the defaults."""
         f = vtkSurfaceRemeshing()
         f.SetInputData(data)
         f.SetNumberOfVertices(count)
+        f.SetSplitAtFeatures(features)
         log = vtkStringOutputWindow()
         vtkOutputWindow.SetInstance(log)
         self.assertEqual(f.GetExecutive().Update(), 1, log.GetOutput())
@@ -778,17 +779,38 @@ class RemeshingFromPython(unittest.TestCase):
             self.assertLess(out.GetFieldData().GetArray("RemeshFractionBelow30").GetValue(0), below30, count)
 
     def test_a_triangle_without_room_is_reported(self):
-        # A needle thinner than the spacing can leave its tip's samples on
-        # one line (the spiky sphere at 2,000 vertices: a flat triangle);
-        # the filter says so where the smallest angle is below 1 degree,
-        # and only there (at 10,000: 3 degrees, no warning).
+        # A plate thinner than the spacing with its sharp edges kept: every
+        # triangle on its rim has an angle of at most atan(thickness /
+        # spacing) (0.93 degrees at 1,000 vertices, 1.17 at 2,000); the
+        # filter says so where the smallest angle is below 1 degree, and
+        # only there.
         import inputs
-        spiky = inputs.polydata(*inputs.hard_shapes()["spiky-sphere"])
-        for count in (2000, 10000):
-            out, said = self.remeshed(spiky, count)
+        plate = inputs.polydata(*inputs.hard_shapes()["thin-plate"])
+        warned = []
+        for count in (1000, 2000):
+            out, said = self.remeshed(plate, count, features=True)
             smallest = out.GetFieldData().GetArray("RemeshMinimumAngle").GetValue(0)
-            print("spiky sphere at %d: smallest angle %.3g degrees" % (count, smallest))
+            print("thin plate at %d: smallest angle %.3g degrees" % (count, smallest))
             self.assertEqual("leave no room for a rounder one" in said, smallest < 1.0, said)
+            warned.append(smallest < 1.0)
+        self.assertEqual(warned, [True, False])
+
+    def test_needles_tips_have_room(self):
+        # A seam that runs up a needle and down again would leave a flat fin
+        # (triangles of 0 degrees at the spiky sphere's and the comb's tips
+        # at 2,000 vertices, 3 at 10,000); each narrow fan at the tip gets a
+        # sample (measured: spiky 9.9 and 10.7 degrees, comb 5.7 and 5.6).
+        import inputs
+        shapes = inputs.hard_shapes()
+        for name in ("spiky-sphere", "comb"):
+            data = inputs.polydata(*shapes[name])
+            for count in (2000, 10000):
+                out, said = self.remeshed(data, count)
+                smallest = out.GetFieldData().GetArray("RemeshMinimumAngle").GetValue(0)
+                print("%s at %d: smallest angle %.3g degrees" % (name, count, smallest))
+                self.assertEqual(out.GetNumberOfPoints(), count)
+                self.assertGreater(smallest, 5.0)
+                self.assertNotIn("leave no room", said)
 
     def test_bad_requests_are_errors_not_crashes(self):
         _, f = self.remesher()

@@ -215,14 +215,159 @@ void PinOnPath(const MeshTopology& topology, const double* points, Index v, Surf
   }
 }
 
+/// The nearest interior sample of `samples` (one chart's) to x moves to x
+/// (in `triangle` at barycentric weights w) as `kind`; false where none is left.
+bool PinNearestInterior(const std::vector<std::size_t>& samples, const Vec3& x, Index triangle, const double w[3],
+  SurfaceSamples& out, SampleKind kind = SampleKind::Tip)
+{
+  std::size_t nearest = out.Kind.size();
+  double best = HUGE_VAL;
+  for (std::size_t s : samples)
+  {
+    const double d = (Point(out.Positions.data(), static_cast<Index>(s)) - x).squaredNorm();
+    if (out.Kind[s] == SampleKind::Interior && d < best)
+    {
+      best = d;
+      nearest = s;
+    }
+  }
+  if (nearest == out.Kind.size())
+  {
+    return false;
+  }
+  out.Triangle[nearest] = triangle;
+  std::copy(w, w + 3, &out.Barycentric[3 * nearest]);
+  std::copy(x.data(), x.data() + 3, &out.Positions[3 * nearest]);
+  out.Kind[nearest] = kind;
+  return true;
+}
+
+/// The corner before corner a around a vertex (pairs: RingPairsBegin, a
+/// consistently oriented fan): the one whose next vertex is a's previous;
+/// `valence` if none.
+Index FanPredecessor(const Index* pairs, Index valence, Index a)
+{
+  Index p = 0;
+  while (p < valence && pairs[2 * p] != pairs[2 * a + 1])
+  {
+    ++p;
+  }
+  return p;
+}
+
+/// A fan narrower than this (radians) at a tip: a strip less than a spacing
+/// wide a spacing from the tip (2 sin(pi/6) = 1).  Needles (corners' angles
+/// summing to less than twice this: a cone sharper than 39 degrees) have
+/// their narrow fans sampled (PinFans).
+constexpr double NarrowFan = M_PI / 3.0;
+
+/// The point a `distance` from interior vertex v into the fan of its
+/// corners in `chart` (pairs, corner positions around v), halfway across
+/// the fan's angle (on the fan's triangle there, at most half way to its far
+/// edge): its triangle and barycentric weights.  -1: no corner in the chart,
+/// or a fan of NarrowFan or more.
+Index MiddleOfFan(const MeshTopology& topology, const double* points, const AtlasResult& atlas, Index v, int chart,
+  double distance, Vec3& x, double w[3])
+{
+  const Index valence = topology.Valence(v);
+  const Index* corners = topology.CornersBegin(v);
+  const Index* pairs = topology.RingPairsBegin(v);
+  const auto inChart = [&](Index k) { return k < valence && atlas.ChartOfTriangle[corners[k] / 3] == chart; };
+  Index start = 0; // a corner of the chart whose predecessor around v is not
+  while (start < valence && !(inChart(start) && !inChart(FanPredecessor(pairs, valence, start))))
+  {
+    ++start;
+  }
+  if (start == valence)
+  {
+    return -1; // (the whole fan: v is no chart boundary vertex)
+  }
+  const Vec3 p = Point(points, v);
+  const auto angle = [&](Index k) {
+    const Vec3 a = Point(points, pairs[2 * k + 1]) - p, b = Point(points, pairs[2 * k]) - p;
+    return std::atan2(a.cross(b).norm(), a.dot(b));
+  };
+  double total = 0.0;
+  for (Index k = start, steps = 0; inChart(k) && steps < valence;
+       k = MeshTopology::CornerAcross(pairs, valence, k), ++steps)
+  {
+    total += angle(k);
+  }
+  if (!(total > 0.0 && total < NarrowFan))
+  {
+    return -1;
+  }
+  Index k = start;
+  double before = 0.0;
+  while (before + angle(k) < 0.5 * total)
+  {
+    before += angle(k);
+    k = MeshTopology::CornerAcross(pairs, valence, k);
+  }
+  // In triangle (v, previous, next): from the edge to `previous`, turned towards `next`.
+  const Vec3 a = Point(points, pairs[2 * k + 1]) - p, b = Point(points, pairs[2 * k]) - p;
+  const Vec3 u = a.normalized(), side = (b - b.dot(u) * u).normalized();
+  const double phi = 0.5 * total - before;
+  const Vec3 direction = std::cos(phi) * u + std::sin(phi) * side;
+  // The ray p + r direction meets the far edge a..b at r = |a x b| / |direction x (b - a)|.
+  const double far = a.cross(b).norm() / std::max(direction.cross(b - a).norm(), 1e-300);
+  const double r = std::min(distance, 0.5 * far);
+  x = p + r * direction;
+  // Barycentric weights of x in (v, previous, next), in the triangle's corner order.
+  const double area = a.cross(b).norm();
+  if (!(area > 0.0))
+  {
+    return -1;
+  }
+  const Vec3 d = x - p;
+  const double wa = d.cross(b).norm() / area, wb = a.cross(d).norm() / area;
+  const Index corner = corners[k], t = corner / 3;
+  w[corner % 3] = 1.0 - wa - wb;
+  w[(corner + 2) % 3] = wa; // previous vertex
+  w[(corner + 1) % 3] = wb; // next vertex
+  return t;
+}
+
+/// Tip vertex v on a chart boundary: each chart whose fan at v is narrow
+/// (NarrowFan) and holds no interior sample within a spacing of v moves its
+/// nearest one to the middle of the fan, a spacing from v (the seam that
+/// runs up a needle and down again leaves a strip on either side too narrow
+/// for a sample; without one the needle's remesh is a flat fin, its
+/// triangles at the tip of angle 0).
+void PinFans(const MeshTopology& topology, const double* points, const AtlasResult& atlas, Index v, double spacing,
+  const std::vector<std::vector<std::size_t>>& interior, SurfaceSamples& out)
+{
+  std::vector<int> charts;
+  std::transform(topology.CornersBegin(v), topology.CornersEnd(v), std::back_inserter(charts),
+    [&](Index c) { return atlas.ChartOfTriangle[c / 3]; });
+  std::sort(charts.begin(), charts.end());
+  charts.erase(std::unique(charts.begin(), charts.end()), charts.end());
+  const Vec3 p = Point(points, v);
+  for (const int chart : charts)
+  {
+    const bool near = std::any_of(interior[chart].begin(), interior[chart].end(),
+      [&](std::size_t s) { return (Point(out.Positions.data(), static_cast<Index>(s)) - p).norm() < spacing; });
+    Vec3 x;
+    double w[3];
+    const Index t = near ? -1 : MiddleOfFan(topology, points, atlas, v, chart, spacing, x, w);
+    if (t >= 0)
+    {
+      PinNearestInterior(interior[chart], x, t, w, out, SampleKind::Interior);
+    }
+  }
+}
+
 } // namespace
 
 /// Every tip vertex (TipVertices) takes the nearest sample, exactly at the
 /// vertex, as a Tip (SamplingOptions::TipAngleDefect, PinnedVertices): an
 /// interior sample of its chart where all its triangles are in one, else,
-/// at a cone point, a sample of its chart boundary's path (PinOnPath).
+/// at a cone point, a sample of its chart boundary's path (PinOnPath) and,
+/// at a needle's tip with `needles`, an interior sample of each narrow fan
+/// around it (PinFans; the isotropic remesh's relaxation fills the place
+/// that sample leaves, where the anisotropic one's left a hole).
 void PinTips(const MeshTopology& topology, const double* points, const AtlasResult& atlas, double threshold,
-  const std::uint8_t* pinned, const double* importance, double density, SurfaceSamples& out)
+  const std::uint8_t* pinned, const double* importance, double density, bool needles, SurfaceSamples& out)
 {
   const std::vector<Index> tips = TipVertices(topology, points, threshold, pinned, importance, density);
   std::vector<std::vector<std::size_t>> interior(tips.empty() ? 0 : atlas.Charts.size()); // per chart
@@ -243,30 +388,15 @@ void PinTips(const MeshTopology& topology, const double* points, const AtlasResu
       if (threshold > 0.0 && AngleDefect(topology, points, v) > threshold)
       {
         PinOnPath(topology, points, v, out); // (a far vertex the error-driven mode pins: a path sample is near)
+        if (needles && density > 0.0 && AngleDefect(topology, points, v) > 2.0 * (M_PI - NarrowFan))
+        {
+          PinFans(topology, points, atlas, v, SpacingAt(importance, density, v), interior, out);
+        }
       }
       continue;
     }
-    const Vec3 x = Point(points, v);
-    std::size_t nearest = out.Kind.size();
-    double best = HUGE_VAL;
-    for (std::size_t s : interior[chart])
-    {
-      const double d = (Point(out.Positions.data(), static_cast<Index>(s)) - x).squaredNorm();
-      if (out.Kind[s] == SampleKind::Interior && d < best)
-      {
-        best = d;
-        nearest = s;
-      }
-    }
-    if (nearest == out.Kind.size())
-    {
-      continue; // no interior sample left in the chart
-    }
     const double w[3] = { corner % 3 == 0 ? 1.0 : 0.0, corner % 3 == 1 ? 1.0 : 0.0, corner % 3 == 2 ? 1.0 : 0.0 };
-    out.Triangle[nearest] = corner / 3;
-    std::copy(w, w + 3, &out.Barycentric[3 * nearest]);
-    std::copy(x.data(), x.data() + 3, &out.Positions[3 * nearest]);
-    out.Kind[nearest] = SampleKind::Tip;
+    PinNearestInterior(interior[chart], Point(points, v), corner / 3, w, out);
   }
 }
 
