@@ -391,6 +391,18 @@ def sphere_with_speck(n=24, speck=1e-4, distance=5.0):
     return merge(sphere(n), sphere(4, radius=speck, center=(distance, 0.0, 0.0)))
 
 
+def sphere_with_specks(count=40, seed=3):
+    """A unit sphere amid `count` specks (spheres of radius 1e-4 to 3e-2,
+    log-uniform, 1.2 to 3 from its centre), as a scan's debris."""
+    rng = np.random.default_rng(seed)
+    parts = [sphere(24)]
+    for _ in range(count):
+        c = rng.normal(size=3)
+        c *= rng.uniform(1.2, 3.0) / np.linalg.norm(c)
+        parts.append(sphere(4, radius=10 ** rng.uniform(-4, -1.5), center=tuple(c)))
+    return merge(*parts)
+
+
 def thin_plate(thickness=0.002, n=20):
     """A closed box 2 x 2 x thickness: thinner than any spacing (its faces
     made consistent by orient_consistently)."""
@@ -484,6 +496,7 @@ def hard_shapes():
         "dumbbell": dumbbell(),
         "torus-thin-handle": torus_with_thin_handle(),
         "sphere-with-speck": sphere_with_speck(),
+        "sphere-with-specks": sphere_with_specks(),
         "thin-plate": orient_consistently(*thin_plate()),
         "decimated-bone": decimated_bone(),
         "quadruped": quadruped(),
