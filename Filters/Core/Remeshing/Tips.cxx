@@ -328,14 +328,62 @@ Index MiddleOfFan(const MeshTopology& topology, const double* points, const Atla
   return t;
 }
 
+/// Of `samples` (one chart's interior samples), one of the closest pair of
+/// those still Interior and not `taken` (per sample): where the chart can
+/// best spare one (the nearest one to a needle's tip would leave a hole in
+/// the needle).  out.Kind.size() where fewer than two are left.
+std::size_t MostCrowded(
+  const std::vector<std::size_t>& samples, const std::vector<std::uint8_t>& taken, const SurfaceSamples& out)
+{
+  std::vector<std::size_t> free;
+  Eigen::AlignedBox3d box;
+  for (std::size_t s : samples)
+  {
+    if (out.Kind[s] == SampleKind::Interior && !taken[s])
+    {
+      free.push_back(s);
+      box.extend(Point(out.Positions.data(), static_cast<Index>(s)));
+    }
+  }
+  if (free.size() < 2)
+  {
+    return out.Kind.size();
+  }
+  int axis = 0; // the box's longest: a sweep along it meets few samples
+  box.sizes().maxCoeff(&axis);
+  const auto at = [&](std::size_t s) { return Point(out.Positions.data(), static_cast<Index>(s)); };
+  std::sort(free.begin(), free.end(), [&](std::size_t a, std::size_t b) { return at(a)[axis] < at(b)[axis]; });
+  std::size_t best = free[0];
+  double closest = HUGE_VAL;
+  for (std::size_t i = 0; i < free.size(); ++i)
+  {
+    for (std::size_t j = i + 1; j < free.size(); ++j)
+    {
+      const double gap = at(free[j])[axis] - at(free[i])[axis];
+      if (gap * gap >= closest)
+      {
+        break;
+      }
+      const double d = (at(free[j]) - at(free[i])).squaredNorm();
+      if (d < closest)
+      {
+        closest = d;
+        best = free[i];
+      }
+    }
+  }
+  return best;
+}
+
 /// Tip vertex v on a chart boundary: each chart whose fan at v is narrow
 /// (NarrowFan) and holds no interior sample within a spacing of v moves its
-/// nearest one to the middle of the fan, a spacing from v (the seam that
+/// most crowded one (not `taken` before; then taken) to the middle of the
+/// fan, a spacing from v (the seam that
 /// runs up a needle and down again leaves a strip on either side too narrow
 /// for a sample; without one the needle's remesh is a flat fin, its
 /// triangles at the tip of angle 0).
 void PinFans(const MeshTopology& topology, const double* points, const AtlasResult& atlas, Index v, double spacing,
-  const std::vector<std::vector<std::size_t>>& interior, SurfaceSamples& out)
+  const std::vector<std::vector<std::size_t>>& interior, std::vector<std::uint8_t>& taken, SurfaceSamples& out)
 {
   std::vector<int> charts;
   std::transform(topology.CornersBegin(v), topology.CornersEnd(v), std::back_inserter(charts),
@@ -352,7 +400,12 @@ void PinFans(const MeshTopology& topology, const double* points, const AtlasResu
     const Index t = near ? -1 : MiddleOfFan(topology, points, atlas, v, chart, spacing, x, w);
     if (t >= 0)
     {
-      PinNearestInterior(interior[chart], x, t, w, out, SampleKind::Interior);
+      const std::size_t moved = MostCrowded(interior[chart], taken, out);
+      if (moved < out.Kind.size())
+      {
+        PinNearestInterior({ moved }, x, t, w, out, SampleKind::Interior);
+        taken[moved] = 1;
+      }
     }
   }
 }
@@ -371,6 +424,7 @@ void PinTips(const MeshTopology& topology, const double* points, const AtlasResu
 {
   const std::vector<Index> tips = TipVertices(topology, points, threshold, pinned, importance, density);
   std::vector<std::vector<std::size_t>> interior(tips.empty() ? 0 : atlas.Charts.size()); // per chart
+  std::vector<std::uint8_t> taken(tips.empty() ? 0 : out.Kind.size(), 0); // moved into a needle's fan
   for (std::size_t s = 0; s < out.Kind.size() && !interior.empty(); ++s)
   {
     if (out.Kind[s] == SampleKind::Interior)
@@ -390,7 +444,7 @@ void PinTips(const MeshTopology& topology, const double* points, const AtlasResu
         PinOnPath(topology, points, v, out); // (a far vertex the error-driven mode pins: a path sample is near)
         if (needles && density > 0.0 && AngleDefect(topology, points, v) > 2.0 * (M_PI - NarrowFan))
         {
-          PinFans(topology, points, atlas, v, SpacingAt(importance, density, v), interior, out);
+          PinFans(topology, points, atlas, v, SpacingAt(importance, density, v), interior, taken, out);
         }
       }
       continue;

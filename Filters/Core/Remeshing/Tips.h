@@ -24,8 +24,8 @@ double AngleDefect(const MeshTopology& topology, const double* points, Index v);
 /// chart boundary's path.  With `needles` (the isotropic modes), at the tip
 /// of a needle (a cone sharper than 39 degrees) on a chart boundary, each
 /// chart whose fan there is narrower than 60 degrees and holds no interior
-/// sample within a spacing of the tip moves its nearest interior sample
-/// into the middle of that fan, a spacing from the tip: a seam that runs up
+/// sample within a spacing of the tip moves its most crowded interior
+/// sample into the middle of that fan, a spacing from the tip: a seam that runs up
 /// a needle and down again leaves a strip on either side too narrow for a
 /// sample, and the needle's remesh a flat fin of triangles with angles of 0.
 void PinTips(const MeshTopology& topology, const double* points, const AtlasResult& atlas, double threshold,
