@@ -197,7 +197,7 @@ CGAL_HAUSDORFF = {
 }
 # Ours may be farther than CGAL's by a quarter (remesh to remesh the
 # deviation varies by 10-20%); named, the cases beyond that, with the
-# ratio measured: the spiky sphere's needles at 2,000 vertices (1.48),
+# ratio measured: the spiky sphere's needles at 2,000 vertices (1.33),
 # the sphere beside its speck at 10,000 (1.29: on spheres CGAL's remesh is
 # the more regular, 98% of valence 6) and fandisk_large's sharp edges at
 # 2,000 (1.31: its creases cross its edges at a slant, and their fragments
@@ -212,7 +212,7 @@ CGAL_HAUSDORFF = {
 # BLAS kernels, within 1.25 with another's: 0.100% against 0.074%, at a
 # curved interior vertex, the sag between remesh vertices, whose largest
 # value over the input moves with the layout).
-CGAL_EXCEPTIONS = {("spiky-sphere", 2000): 1.6, ("sphere-with-speck", 10000): 1.4, ("fandisk_large.off", 2000): 1.4,
+CGAL_EXCEPTIONS = {("spiky-sphere", 2000): 1.45, ("sphere-with-speck", 10000): 1.4, ("fandisk_large.off", 2000): 1.4,
                    ("cylinder_locally_refined.off", 10000): 2.4, ("three_peaks.off", 10000): 1.35,
                    ("holes.off", 10000): 1.45}
 
