@@ -215,10 +215,9 @@ void PinOnPath(const MeshTopology& topology, const double* points, Index v, Surf
   }
 }
 
-/// The nearest interior sample of `samples` (one chart's) to x moves to x
-/// (in `triangle` at barycentric weights w) as `kind`; false where none is left.
-bool PinNearestInterior(const std::vector<std::size_t>& samples, const Vec3& x, Index triangle, const double w[3],
-  SurfaceSamples& out, SampleKind kind = SampleKind::Tip)
+/// The interior sample of `samples` (one chart's) nearest to x;
+/// out.Kind.size() where none is left.
+std::size_t NearestInterior(const std::vector<std::size_t>& samples, const Vec3& x, const SurfaceSamples& out)
 {
   std::size_t nearest = out.Kind.size();
   double best = HUGE_VAL;
@@ -231,15 +230,16 @@ bool PinNearestInterior(const std::vector<std::size_t>& samples, const Vec3& x, 
       nearest = s;
     }
   }
-  if (nearest == out.Kind.size())
-  {
-    return false;
-  }
-  out.Triangle[nearest] = triangle;
-  std::copy(w, w + 3, &out.Barycentric[3 * nearest]);
-  std::copy(x.data(), x.data() + 3, &out.Positions[3 * nearest]);
-  out.Kind[nearest] = kind;
-  return true;
+  return nearest;
+}
+
+/// Sample s moves to x (in `triangle` at barycentric weights w) as `kind`.
+void MoveSample(std::size_t s, const Vec3& x, Index triangle, const double w[3], SampleKind kind, SurfaceSamples& out)
+{
+  out.Triangle[s] = triangle;
+  std::copy(w, w + 3, &out.Barycentric[3 * s]);
+  std::copy(x.data(), x.data() + 3, &out.Positions[3 * s]);
+  out.Kind[s] = kind;
 }
 
 /// The corner before corner a around a vertex (pairs: RingPairsBegin, a
@@ -310,15 +310,14 @@ Index MiddleOfFan(const MeshTopology& topology, const double* points, const Atla
   const double phi = 0.5 * total - before;
   const Vec3 direction = std::cos(phi) * u + std::sin(phi) * side;
   // The ray p + r direction meets the far edge a..b at r = |a x b| / |direction x (b - a)|.
-  const double far = a.cross(b).norm() / std::max(direction.cross(b - a).norm(), 1e-300);
-  const double r = std::min(distance, 0.5 * far);
-  x = p + r * direction;
-  // Barycentric weights of x in (v, previous, next), in the triangle's corner order.
   const double area = a.cross(b).norm();
   if (!(area > 0.0))
   {
     return -1;
   }
+  const double far = area / std::max(direction.cross(b - a).norm(), 1e-300);
+  x = p + std::min(distance, 0.5 * far) * direction;
+  // Barycentric weights of x in (v, previous, next), in the triangle's corner order.
   const Vec3 d = x - p;
   const double wa = d.cross(b).norm() / area, wb = a.cross(d).norm() / area;
   const Index corner = corners[k], t = corner / 3;
@@ -403,7 +402,7 @@ void PinFans(const MeshTopology& topology, const double* points, const AtlasResu
       const std::size_t moved = MostCrowded(interior[chart], taken, out);
       if (moved < out.Kind.size())
       {
-        PinNearestInterior({ moved }, x, t, w, out, SampleKind::Interior);
+        MoveSample(moved, x, t, w, SampleKind::Interior, out);
         taken[moved] = 1;
       }
     }
@@ -439,10 +438,11 @@ void PinTips(const MeshTopology& topology, const double* points, const AtlasResu
     if (!std::all_of(topology.CornersBegin(v), topology.CornersEnd(v),
           [&](Index c) { return atlas.ChartOfTriangle[c / 3] == chart; }))
     {
-      if (threshold > 0.0 && AngleDefect(topology, points, v) > threshold)
+      const double defect = threshold > 0.0 ? AngleDefect(topology, points, v) : 0.0;
+      if (defect > threshold)
       {
         PinOnPath(topology, points, v, out); // (a far vertex the error-driven mode pins: a path sample is near)
-        if (needles && density > 0.0 && AngleDefect(topology, points, v) > 2.0 * (M_PI - NarrowFan))
+        if (needles && density > 0.0 && defect > 2.0 * (M_PI - NarrowFan))
         {
           PinFans(topology, points, atlas, v, SpacingAt(importance, density, v), interior, taken, out);
         }
@@ -450,7 +450,11 @@ void PinTips(const MeshTopology& topology, const double* points, const AtlasResu
       continue;
     }
     const double w[3] = { corner % 3 == 0 ? 1.0 : 0.0, corner % 3 == 1 ? 1.0 : 0.0, corner % 3 == 2 ? 1.0 : 0.0 };
-    PinNearestInterior(interior[chart], Point(points, v), corner / 3, w, out);
+    const std::size_t nearest = NearestInterior(interior[chart], Point(points, v), out);
+    if (nearest < out.Kind.size()) // (else no interior sample left in the chart)
+    {
+      MoveSample(nearest, Point(points, v), corner / 3, w, SampleKind::Tip, out);
+    }
   }
 }
 
