@@ -5,9 +5,9 @@ direct solver (SuperLU) for the two Poisson systems.  No VTK, ParaView or
 TTK filter decomposes a field on a surface; the peer is also an independent
 check of our numbers (the parts of both must agree to the solvers'
 accuracy).  Bunny scan Loop-subdivided 0 to 2 times, fandisk 4 times (1.66M
-vertices, ours alone) and the genus-2 eight 5 times (a rotation plus a
-source as cell data), 2 threads; writes the table for the guide's
-benchmarks page (results.py).
+vertices, ours alone), the genus-2 eight 5 times and the mushroom (a disk)
+4 times (a rotation plus a source as cell data), 2 threads; writes the table
+for the guide's benchmarks page (results.py).
 Run:  source build/beltrami-env.sh && /usr/bin/python3 Testing/Benchmarks/benchmark_vector_fields.py [levels]"""
 import os
 import sys
@@ -65,7 +65,8 @@ def ours(mesh):
 
 
 def scipy_decomposition(p, t, x):
-    """The same discretization with NumPy and SciPy (closed surfaces: one unknown pinned per system)."""
+    """The same discretization with NumPy and SciPy (one unknown pinned per system; on open surfaces the
+    stream function held at 0 on the boundary edges, the filter's default)."""
     a, b, c = p[t[:, 0]], p[t[:, 1]], p[t[:, 2]]
     cross = np.cross(b - a, c - a)
     twice = np.linalg.norm(cross, axis=1)
@@ -91,7 +92,7 @@ def scipy_decomposition(p, t, x):
     gradient = sum(u[t[:, k]][:, None] * np.cross(n, sides[k]) for k in range(3)) / twice[:, None]
     # Nonconforming: edges of the triangles, opposite each vertex.
     pairs = np.sort(np.stack([np.stack([t[:, (k + 1) % 3], t[:, (k + 2) % 3]], 1) for k in range(3)], 1), axis=2)
-    edges, index = np.unique(pairs.reshape(-1, 2), axis=0, return_inverse=True)
+    edges, index, uses = np.unique(pairs.reshape(-1, 2), axis=0, return_inverse=True, return_counts=True)
     index = index.reshape(-1, 3)
     rows, cols, vals = [], [], []
     for k in range(3):  # edges opposite k+1 and k+2 meet at vertex k: -2 cot(theta_k)
@@ -105,13 +106,14 @@ def scipy_decomposition(p, t, x):
     rhs = np.zeros(ne)
     for k in range(3):
         np.add.at(rhs, index[:, k], (x * sides[k]).sum(1))
-    v = pinned_solve(s, rhs)
+    v = pinned_solve(s, rhs, uses == 1)
     rotated = sum(v[index[:, k]][:, None] * sides[k] for k in range(3)) / (0.5 * twice)[:, None]
     return [gradient, rotated, x - gradient - rotated]
 
 
-def pinned_solve(s, rhs):
-    keep = np.arange(1, s.shape[0])
+def pinned_solve(s, rhs, fixed=None):
+    """s x = rhs with the fixed rows at 0 (none: the first row)."""
+    keep = np.flatnonzero(~fixed) if fixed is not None and fixed.any() else np.arange(1, s.shape[0])
     out = np.zeros(s.shape[0])
     out[keep] = spla.spsolve(s[keep][:, keep].tocsc(), rhs[keep])
     return out
@@ -120,8 +122,10 @@ def pinned_solve(s, rhs):
 def main(argv):
     levels = int(argv[1]) if len(argv) > 1 else 2
     rows = []
-    # The bunny and fandisk: closed, genus 0 (the stream function integrated); the eight: genus 2 (solved).
-    meshes = [("bunny00", k) for k in range(levels + 1)] + [("eight", 3 + levels), ("fandisk", 2 + levels)]
+    # The bunny and fandisk: closed, genus 0 (the stream function integrated); the eight: genus 2, and the
+    # mushroom: a disk (solved).
+    meshes = [("bunny00", k) for k in range(levels + 1)] + [("eight", 3 + levels), ("mushroom", 2 + levels),
+                                                             ("fandisk", 2 + levels)]
     for name, level in meshes:
         mesh = subdivided(name, level)
         p, t, field = with_field(mesh)
@@ -148,14 +152,15 @@ def main(argv):
     results.save("vector_fields", "Vector fields", "Helmholtz-Hodge decomposition",
                  "the same discretization in NumPy with SciPy's sparse direct solver (SuperLU)",
                  "bunny00 Loop-subdivided 0 to %d times and fandisk %d times (closed, genus 0), eight %d times "
-                 "(genus 2); a rotation plus a source per triangle" % (levels, 2 + levels, 3 + levels),
+                 "(genus 2), mushroom %d times (a disk); a rotation plus a source per triangle"
+                 % (levels, 2 + levels, 3 + levels, 2 + levels),
                  ["mesh", "vertices", "ours s (%d threads)" % THREADS, "NumPy + SciPy s", "SciPy / ours",
                   "parts differ (L2, of the field)", "largest inner product (of the energy)"], rows,
                  "Ours, one field per run: the vertices' system by conjugate gradients on the surface's "
                  "geometric multigrid from 50k vertices on (a sparse Cholesky factorization in nested-dissection "
                  "order below, and where the same surface comes again: time steps), the edges' system "
                  "factorized; relative residual at most 1e-10. On closed genus-0 surfaces one solve (the "
-                 "stream function integrated), on the eight two. "
+                 "stream function integrated), on the eight and the mushroom two. "
                  "The two implementations are independent: their parts agree to the solvers' accuracy.")
     return 0
 
