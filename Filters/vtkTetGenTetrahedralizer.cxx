@@ -173,19 +173,38 @@ bool RunTetGen(vtkAlgorithm* self, const std::string& switches, vtkIdType numPoi
   return true;
 }
 
-/// RunTetGen on a surface whose coincident points were merged (`merge`:
-/// vtkBeltramiSurface::MergedPoints, not empty): TetGen refuses coincident
-/// points, so the merged-away ones are left out of its input and come back
-/// unused at their places, the input's points first as always.
-bool RunTetGenMerged(vtkAlgorithm* self, const std::string& switches, vtkIdType numPoints, const double* points,
-  const beltrami::IndexArray& triangles, const std::vector<beltrami::Index>& merge, std::vector<double>& outputPoints,
-  std::vector<std::int32_t>& tets)
+/// RunTetGen on the points of the triangles alone: the points that
+/// coincident points were merged into (`merge`: vtkBeltramiSurface::
+/// MergedPoints; empty: none merged) and that some triangle uses. TetGen
+/// refuses coincident points and drops points outside the surface (a point
+/// of a line or vertex cell on the surface, a copy of a surface point: its
+/// answer then lacked input points), so the others are left out of its
+/// input and come back unused at their places, the input's points first as
+/// always.
+bool RunTetGenOnSurfacePoints(vtkAlgorithm* self, const std::string& switches, vtkIdType numPoints,
+  const double* points, const beltrami::IndexArray& triangles, const std::vector<beltrami::Index>& merge,
+  std::vector<double>& outputPoints, std::vector<std::int32_t>& tets)
 {
+  std::vector<std::uint8_t> used(static_cast<std::size_t>(numPoints), 0);
+  for (const beltrami::Index v : triangles)
+  {
+    used[v] = 1;
+  }
+  const auto keep = [&](vtkIdType p) { return used[p] && (merge.empty() || merge[p] == p); };
+  vtkIdType count = 0;
+  for (vtkIdType p = 0; p < numPoints; ++p)
+  {
+    count += keep(p) ? 1 : 0;
+  }
+  if (count == numPoints)
+  {
+    return RunTetGen(self, switches, numPoints, points, triangles, outputPoints, tets);
+  }
   std::vector<beltrami::Index> compact(static_cast<std::size_t>(numPoints), -1), original;
   std::vector<double> kept;
   for (vtkIdType p = 0; p < numPoints; ++p)
   {
-    if (merge[p] == p)
+    if (keep(p))
     {
       compact[p] = static_cast<beltrami::Index>(original.size());
       original.push_back(static_cast<beltrami::Index>(p));
@@ -332,10 +351,8 @@ int vtkTetGenTetrahedralizer::Mesh(
   std::vector<double> outputPoints;
   std::vector<std::int32_t> tets;
   this->UpdateProgress(0.0);
-  if (!(surface.MergedPoints().empty()
-          ? RunTetGen(this, switches, numPoints, points, topo.TriangleList(), outputPoints, tets)
-          : RunTetGenMerged(
-              this, switches, numPoints, points, topo.TriangleList(), surface.MergedPoints(), outputPoints, tets)))
+  if (!RunTetGenOnSurfacePoints(
+        this, switches, numPoints, points, topo.TriangleList(), surface.MergedPoints(), outputPoints, tets))
   {
     return 0;
   }

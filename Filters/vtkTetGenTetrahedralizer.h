@@ -16,7 +16,8 @@
  * Point data: the input points are the first output points with their data;
  * numeric point arrays are extended harmonically to the new (Steiner) points:
  * the volume Laplacian of the output (Tetrahedra.h) is zero there, with the
- * input points' values held - exact for linear fields.  An open, non-manifold or empty surface is an error
+ * input points' values held - exact for linear fields.  Points of no triangle (of line or vertex cells)
+ * are not meshed: they come back unused at their places.  An open, non-manifold or empty surface is an error
  * naming the defect.  TetGen runs in a helper process (build/lib/beltrami-tetgen,
  * Core/Support/HelperProcess.h), kept running between runs of the filter, because
  * libtet 1.5 crashes (frees its pools twice) when it meets a

@@ -10,7 +10,7 @@ import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkPolyData
-from vtkmodules.vtkFiltersCore import vtkAppendPolyData
+from vtkmodules.vtkFiltersCore import vtkAppendPolyData, vtkFeatureEdges
 from vtkmodules.vtkFiltersSources import vtkSphereSource
 
 from beltrami import vtkOFFReader, vtkTetGenTetrahedralizer, vtkTetrahedralBeltramiDenoising
@@ -107,6 +107,34 @@ class Quality(unittest.TestCase):
         rms = lambda v: np.sqrt(np.mean((v - clean) ** 2))  # noqa: E731
         print("elephant field: RMS error noisy %.3f -> %.3f" % (rms(noisy), rms(out)))
         self.assertLess(rms(out), 0.7 * rms(noisy))
+
+    def test_points_of_no_triangle_are_not_meshed(self):
+        # A closed sphere with its feature edges as line cells on copies of
+        # its points (an appended vtkFeatureEdges output): the copies were
+        # passed to TetGen, which dropped them, and the run failed
+        # ("malformed answer"). They come back unused at their places.
+        s = vtkSphereSource()
+        s.SetThetaResolution(16)
+        s.SetPhiResolution(16)
+        edges = vtkFeatureEdges()
+        edges.SetInputConnection(s.GetOutputPort())
+        edges.BoundaryEdgesOff()
+        edges.SetFeatureAngle(5.0)
+        both = vtkAppendPolyData()
+        both.AddInputConnection(s.GetOutputPort())
+        both.AddInputConnection(edges.GetOutputPort())
+        both.Update()
+        surface = both.GetOutput()
+        n = surface.GetNumberOfPoints()
+        self.assertGreater(surface.GetNumberOfLines(), 0)
+        grid = tetgen(surface)
+        signed, _ = tetrahedra(grid)
+        s.Update()
+        self.assertAlmostEqual(np.abs(signed).sum() / enclosed_volume(s.GetOutput()), 1.0, delta=1e-9)
+        q = vtk_to_numpy(grid.GetPoints().GetData())
+        self.assertTrue(np.array_equal(q[:n], vtk_to_numpy(surface.GetPoints().GetData())))
+        used = np.unique(vtk_to_numpy(grid.GetCells().GetConnectivityArray()))
+        self.assertFalse(np.isin(np.arange(s.GetOutput().GetNumberOfPoints(), n), used).any())
 
 
 class BadInput(unittest.TestCase):
