@@ -57,6 +57,25 @@ void vtkBeltramiGraphFlow::ReplaceArray(
   }
 }
 
+vtkSmartPointer<vtkDataArray> vtkBeltramiGraphFlow::ArrayLike(
+  vtkDataArray* like, const double* values, vtkIdType tuples)
+{
+  const int nc = like->GetNumberOfComponents();
+  vtkSmartPointer<vtkDataArray> out = vtkBeltramiSurface::NewArray(like->GetDataType(), like->GetName(), nc, tuples);
+  const vtkIdType count = tuples * nc;
+  switch (out->GetDataType())
+  {
+    vtkTemplateMacro(std::transform(values, values + count, static_cast<VTK_TT*>(out->GetVoidPointer(0)),
+      [](double v) { return ToValue<VTK_TT>(v); }));
+    default: // (no other types: the flows read numeric arrays)
+      for (vtkIdType j = 0; j < count; ++j)
+      {
+        out->SetComponent(j / nc, static_cast<int>(j % nc), values[j]);
+      }
+  }
+  return out;
+}
+
 void vtkBeltramiGraphFlow::AddReport(vtkFieldData* fd, const beltrami::GraphFlowResult& r)
 {
   const auto addInt = [fd](const char* name, int value) {
@@ -242,10 +261,7 @@ int vtkBeltramiGraphFlow::RunOnMesh(vtkAlgorithm* owner, vtkDataSet* input, vtkD
       }
     }
   }
-  vtkSmartPointer<vtkDataArray> smoothed = vtkBeltramiSurface::NewArray(VTK_DOUBLE, array->GetName(), nc, numPoints);
-  std::copy(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(numPoints) * nc,
-    vtkDoubleArray::SafeDownCast(smoothed)->GetPointer(0));
-  ReplaceArray(input, output, array, smoothed);
+  ReplaceArray(input, output, array, ArrayLike(array, values.data(), numPoints));
   AddReport(output->GetFieldData(), result);
   if (split && split->Split())
   {

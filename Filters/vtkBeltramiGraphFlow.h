@@ -12,14 +12,19 @@
 
 #include "Flows/GraphFlow.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <ostream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <vtkIndent.h>
+#include <vtkSmartPointer.h>
 
 class vtkAlgorithm;
 class vtkBeltramiPieces;
@@ -91,6 +96,24 @@ public:
   /// (same name), keeping it the active scalars if it was.
   static void ReplaceArray(
     vtkDataSet* input, vtkDataSet* output, vtkDataArray* original, vtkDataArray* smoothed);
+
+  /// v as a value of type T: integers rounded and clamped to T's range.
+  template <typename T>
+  static T ToValue(double v)
+  {
+    if (std::is_integral<T>::value)
+    {
+      v = std::round(v);
+      v = std::min<double>(std::max<double>(v, std::numeric_limits<T>::lowest()), std::numeric_limits<T>::max());
+    }
+    return static_cast<T>(v);
+  }
+
+  /// A new array of the type, name and components of `like` holding
+  /// `values` (`tuples` of them): the smoothed data keep their type (a
+  /// scan's colours stay unsigned char, which ParaView shows as colours),
+  /// integers rounded and clamped.
+  static vtkSmartPointer<vtkDataArray> ArrayLike(vtkDataArray* like, const double* values, vtkIdType tuples);
 
   /// Field arrays FlowIterations, FlowTime, FlowRMSChange, FlowArea (initial,
   /// final area of the graph surface), FlowSolverIterations,

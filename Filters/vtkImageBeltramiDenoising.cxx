@@ -58,17 +58,6 @@ void Extract(const T* src, vtkIdType count, int nc, int used, double scale, doub
   });
 }
 
-template <typename T>
-T ToValue(double v)
-{
-  if (std::is_integral<T>::value)
-  {
-    v = std::round(v);
-    v = std::min<double>(std::max<double>(v, std::numeric_limits<T>::lowest()), std::numeric_limits<T>::max());
-  }
-  return static_cast<T>(v);
-}
-
 /// Writes the output extent of the result (components >= used: copied from
 /// the input, e.g. an RGBA alpha), un-normalised, rounded for integers.
 /// Rows in parallel where only the smoothed components are written (the
@@ -84,7 +73,7 @@ void Store(T* dst, const int* outExt, const int* inExt, int nc, int used, double
     beltrami::ParallelFor(rows * width * nc, threads, [&](std::int64_t begin, std::int64_t end) {
       for (std::int64_t j = begin; j < end; ++j)
       {
-        dst[j] = ToValue<T>(range * values[j]);
+        dst[j] = vtkBeltramiGraphFlow::ToValue<T>(range * values[j]);
       }
     });
     return;
@@ -99,7 +88,7 @@ void Store(T* dst, const int* outExt, const int* inExt, int nc, int used, double
         for (int k = 0; k < nc; ++k)
         {
           dst[o * nc + k] =
-            k < used ? ToValue<T>(range * values[i * used + k]) : ToValue<T>(input->GetComponent(i, k));
+            k < used ? vtkBeltramiGraphFlow::ToValue<T>(range * values[i * used + k]) : vtkBeltramiGraphFlow::ToValue<T>(input->GetComponent(i, k));
         }
       }
     }

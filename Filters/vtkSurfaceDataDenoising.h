@@ -29,7 +29,7 @@
  * images); with PHYSICAL both are in the mesh's own units.
  *
  * Input array 0: the point array to smooth (default: the active scalars; any
- * numeric type, written back as double under the same name).  Input array 1
+ * numeric type, written back in its own type under the same name, integers rounded and clamped).  Input array 1
  * (optional, with UseFixedPointsArray): non-zero = point kept.  Non-manifold and isolated points, and
  * points without area, keep their values.  Polygons and strips are
  * triangulated internally; the output is the input with the new array.

@@ -23,7 +23,8 @@
  * linear fields are fixed points where the boundary values are held (mask).
  *
  * Input array 0: the point array to smooth (default: the active scalars;
- * written back as double under the same name).  Input array 1 (optional,
+ * written back in its own type under the same name, integers rounded and
+ * clamped).  Input array 1 (optional,
  * with UseFixedPointsArray): non-zero = point kept.  VTK_TETRA cells are
  * used, and VTK_VOXEL cells split into their six Kuhn tetrahedra (the split
  * of the 3D image path; e.g. the active voxels of a sparse OpenVDB grid from

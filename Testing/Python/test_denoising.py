@@ -395,6 +395,30 @@ class SurfaceData(unittest.TestCase):
         # The jump itself: values on either side stay apart.
         self.assertGreater(np.median(ours[near & (clean == 1)]) - np.median(ours[near & (clean == 0)]), 0.8)
 
+    def test_colours_of_a_scan_keep_their_type(self):
+        # RGB colours of a scan (unsigned char: what ParaView shows as
+        # colours, not through a colour map) come back unsigned char,
+        # rounded, closer to the clean colours than the noisy ones.
+        s = vtkSphereSource()
+        s.SetThetaResolution(80)
+        s.SetPhiResolution(80)
+        s.Update()
+        sphere = s.GetOutput()
+        pts = vtk_to_numpy(sphere.GetPoints().GetData())
+        clean = np.where(pts[:, 2:3] > 0.0, [200.0, 60.0, 40.0], [30.0, 90.0, 220.0])
+        noisy = np.clip(np.round(clean + np.random.default_rng(5).normal(0, 25, clean.shape)), 0, 255)
+        arr = numpy_to_vtk(noisy.astype(np.uint8), deep=1)
+        arr.SetName("RGB")
+        sphere.GetPointData().SetScalars(arr)
+        f = configured(vtkSurfaceDataDenoising(), sphere)
+        out = f.GetOutput().GetPointData().GetArray("RGB")
+        self.assertEqual(out.GetDataTypeAsString(), "unsigned char")
+        self.assertEqual(out.GetNumberOfComponents(), 3)
+        self.assertIs(f.GetOutput().GetPointData().GetScalars(), out)
+        rms = lambda v: np.sqrt(np.mean((v.astype(float) - clean) ** 2))  # noqa: E731
+        print("scan colours: RMS error noisy %.1f, denoised %.1f" % (rms(noisy), rms(vtk_to_numpy(out))))
+        self.assertLess(rms(vtk_to_numpy(out)), 0.6 * rms(noisy))
+
 
 class BadInput(unittest.TestCase):
     def setUp(self):
