@@ -354,6 +354,39 @@ std::vector<MapField> MapFields(
 
 } // namespace
 
+namespace
+{
+constexpr int MinimumMapResolution = 8;
+constexpr double MapBytesPerPixel = 44.0; ///< FaceId and five doubles, at least
+} // namespace
+
+int vtkSurfaceAtlas::ChartMapResolution(std::size_t charts, std::int64_t triangles)
+{
+  // The texels of MapResolution^2 maps for as many charts as the automatic
+  // count gives the surface (one per TrianglesPerChart triangles), and at
+  // least MinimumFullCharts: more charts (a scan's debris, many small
+  // components) share them.  2,000 separate octahedra made 2,000 charts
+  // and 11 GB of maps in 53 s.
+  constexpr double MinimumFullCharts = 64.0;
+  const double full = static_cast<double>(this->MapResolution) * this->MapResolution;
+  const double budget =
+    std::max(MinimumFullCharts, static_cast<double>(triangles) / beltrami::TrianglesPerChart) * full;
+  if (static_cast<double>(charts) * full <= budget)
+  {
+    return this->MapResolution;
+  }
+  const int resolution = std::min(this->MapResolution,
+    std::max(MinimumMapResolution, static_cast<int>(std::sqrt(budget / static_cast<double>(charts)))));
+  vtkWarningMacro(<< charts << " charts' maps of " << this->MapResolution << " x " << this->MapResolution
+                  << " pixels would take " << std::ceil(static_cast<double>(charts) * full * MapBytesPerPixel / 1e8) / 10
+                  << " GB or more: each chart's maps are "
+                  << resolution << " x " << resolution << " instead (as many pixels as "
+                  << static_cast<int>(budget / full) << " charts at full size). Set Map Layout to one atlas "
+                  << "image for a single " << this->MapResolution << " x " << this->MapResolution
+                  << " image of the whole surface.");
+  return resolution;
+}
+
 void vtkSurfaceAtlas::WriteMaps(vtkPolyData* input, const beltrami::MeshTopology& topology, const double* points,
   const beltrami::AtlasResult& atlas, const std::vector<vtkIdType>& triangleCell)
 {
@@ -383,11 +416,12 @@ void vtkSurfaceAtlas::WriteMaps(vtkPolyData* input, const beltrami::MeshTopology
     maps->GetMetaData(0u)->Set(vtkCompositeDataSet::NAME(), "Atlas");
     return;
   }
+  const int resolution = this->ChartMapResolution(atlas.Charts.size(), topology.NumberOfTriangles());
   maps->SetNumberOfBlocks(static_cast<unsigned int>(atlas.Charts.size()));
   for (std::size_t c = 0; c < atlas.Charts.size(); ++c)
   {
     maps->SetBlock(static_cast<unsigned int>(c),
-      ChartMaps(atlas.Charts[c], this->MapResolution, points, fields, triangleCell, raster, this->NumberOfThreads));
+      ChartMaps(atlas.Charts[c], resolution, points, fields, triangleCell, raster, this->NumberOfThreads));
     maps->GetMetaData(static_cast<unsigned int>(c))->Set(vtkCompositeDataSet::NAME(), ("Chart " + std::to_string(c)).c_str());
   }
 }

@@ -50,7 +50,9 @@
  *
  * Output 1 (MapResolution > 0): the geometry maps of every chart (section
  * 4.2.3), a vtkMultiBlockDataSet with one MapResolution^2 vtkImageData per
- * chart (block i = chart i, its pixel centres at ((i + 0.5) / n, (j + 0.5)
+ * chart (smaller, with a warning, where the charts outnumber both 64 and one
+ * per 2,000 triangles, e.g. many small components: they share the pixels of
+ * that many full-size maps; block i = chart i, its pixel centres at ((i + 0.5) / n, (j + 0.5)
  * / n) of the chart's square, ChartUV): point arrays FaceId (the input cell
  * under the pixel, -1 outside the chart), Embedding (the surface point, 3
  * components: M_x), AreaRatio (3D area per unit of map area: M_A),
@@ -78,7 +80,9 @@
 #include "BeltramiFiltersModule.h" // export macro
 #include "vtkPolyDataAlgorithm.h"
 
-#include <vector> // for WriteCutSurface
+#include <cstddef> // for ChartMapResolution
+#include <cstdint> // for ChartMapResolution
+#include <vector>  // for WriteCutSurface
 
 enum class vtkBeltramiCopy;
 class vtkBeltramiSurface;
@@ -144,7 +148,9 @@ public:
   vtkGetMacro(FeatureAngle, double);
   /// Pixels per side of every chart's geometry maps (the second output: FaceId, Embedding,
   /// AreaRatio, MeanCurvature, GaussianCurvature and the input's point arrays, sampled exactly in
-  /// the chart's square); 0: no maps. Default: 256.
+  /// the chart's square); 0: no maps. Where the charts outnumber both 64 and one per 2,000
+  /// triangles (many small components), they share the pixels of that many full-size maps: each is
+  /// smaller, with a warning. Default: 256.
   vtkSetClampMacro(MapResolution, int, 0, 16384);
   vtkGetMacro(MapResolution, int);
   enum MapLayoutType
@@ -194,6 +200,10 @@ private:
   void WriteCutSurface(vtkPolyData* input, const beltrami::AtlasResult& atlas,
     const std::vector<vtkIdType>& triangleCell, vtkPolyData* output);
   /// The geometry maps of every chart into output 1.
+  /// The pixels per side of each chart's maps: MapResolution, or less
+  /// (with a warning) where the charts are many more than the surface's
+  /// triangles make by default.
+  int ChartMapResolution(std::size_t charts, std::int64_t triangles);
   void WriteMaps(vtkPolyData* input, const beltrami::MeshTopology& topology, const double* points,
     const beltrami::AtlasResult& atlas, const std::vector<vtkIdType>& triangleCell);
   /// The seam labels (input array 0, a cell array) per kept triangle into

@@ -16,12 +16,14 @@
 #include <vtkInformation.h>
 #include <vtkMultiBlockDataSet.h>
 #include <vtkNew.h>
+#include <vtkPoints.h>
 #include <vtkPolyData.h>
 
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 using beltrami::test::AddPointField;
@@ -303,6 +305,68 @@ TEST(SurfaceAtlas, GeometryMapsOfEveryChart)
   EXPECT_LT(worstHeight, 1e-12 * diagonal);
   EXPECT_LT(worstOff, 1e-6 * diagonal);
   EXPECT_LT(outsideH, 1e-12);
+}
+
+TEST(SurfaceAtlas, ManyChartsShareTheMapsPixels)
+{
+  // 300 separate octahedra (a scan's debris): 600 charts, far more than
+  // one per 2,000 triangles. Their maps share the pixels of 64 charts at
+  // full size, with a warning (2,000 of them took 53 s and 11 GB).
+  const std::array<std::array<double, 3>, 6> corners{ { { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 },
+    { 0, 0, 1 }, { 0, 0, -1 } } };
+  const std::array<std::array<vtkIdType, 3>, 8> faces{ { { 0, 2, 4 }, { 2, 1, 4 }, { 1, 3, 4 }, { 3, 0, 4 },
+    { 2, 0, 5 }, { 1, 2, 5 }, { 3, 1, 5 }, { 0, 3, 5 } } };
+  constexpr int Count = 300;
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkCellArray> cells;
+  for (int k = 0; k < Count; ++k)
+  {
+    const double offset[3] = { 3.0 * (k % 10), 3.0 * ((k / 10) % 10), 3.0 * (k / 100) };
+    for (const auto& c : corners)
+    {
+      points->InsertNextPoint(c[0] + offset[0], c[1] + offset[1], c[2] + offset[2]);
+    }
+    for (auto f : faces)
+    {
+      for (vtkIdType& v : f)
+      {
+        v += 6 * k;
+      }
+      cells->InsertNextCell(3, f.data());
+    }
+  }
+  vtkNew<vtkPolyData> debris;
+  debris->SetPoints(points);
+  debris->SetPolys(cells);
+  vtkNew<vtkSurfaceAtlas> f;
+  vtkNew<MessageCollector> messages;
+  RunOn(f.Get(), debris, messages);
+  vtkMultiBlockDataSet* maps = vtkMultiBlockDataSet::SafeDownCast(f->GetOutputDataObject(1));
+  const double charts = f->GetOutput()->GetFieldData()->GetArray("AtlasCharts")->GetComponent(0, 0);
+  ASSERT_NE(maps, nullptr);
+  ASSERT_GE(charts, Count);
+  ASSERT_EQ(maps->GetNumberOfBlocks(), static_cast<unsigned int>(charts));
+  const int side = static_cast<int>(256.0 * std::sqrt(64.0 / charts));
+  vtkIdType inside = 0;
+  for (unsigned int c = 0; c < maps->GetNumberOfBlocks(); ++c)
+  {
+    vtkImageData* image = vtkImageData::SafeDownCast(maps->GetBlock(c));
+    ASSERT_NE(image, nullptr);
+    int dims[3];
+    image->GetDimensions(dims);
+    ASSERT_EQ(dims[0], side);
+    ASSERT_EQ(dims[1], side);
+    vtkDataArray* face = image->GetPointData()->GetArray("FaceId");
+    for (vtkIdType p = 0; p < image->GetNumberOfPoints(); ++p)
+    {
+      inside += face->GetComponent(p, 0) >= 0 ? 1 : 0;
+    }
+  }
+  std::printf("%d octahedra: %g charts, maps of %d x %d, %lld pixels inside\n", Count, charts, side, side,
+    static_cast<long long>(inside));
+  EXPECT_LE(charts * side * side, 64.0 * 256 * 256);
+  EXPECT_GT(inside, charts * side * side / 4); // every chart's map covers its chart
+  EXPECT_TRUE(messages->WarnedAbout("instead")) << (messages->Warnings.empty() ? "" : messages->Warnings[0]);
 }
 
 TEST(SurfaceAtlas, OneAtlasImageOfThePackedCharts)

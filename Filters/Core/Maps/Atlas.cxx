@@ -355,7 +355,7 @@ AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const
   }
   result.CutEdges = std::count(cut.begin(), cut.end(), std::uint8_t(1));
   const DualGraph graph(topology, points, cut.empty() ? nullptr : &cut);
-  int count = options.NumberOfCharts > 0 ? options.NumberOfCharts : std::max(1, nt / 2000);
+  int count = options.NumberOfCharts > 0 ? options.NumberOfCharts : std::max(1, nt / TrianglesPerChart);
   if (options.MaximumChartArea > 0.0) // start from enough charts (better shapes than halving large ones)
   {
     const double total = std::accumulate(graph.Areas.begin(), graph.Areas.end(), 0.0);

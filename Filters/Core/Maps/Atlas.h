@@ -20,6 +20,9 @@
 namespace beltrami
 {
 
+/// The automatic chart count's triangles per chart.
+constexpr int TrianglesPerChart = 2000;
+
 struct AtlasOptions
 {
   /// Charts to start from (splits add more); 0: automatic, about one per
