@@ -15,6 +15,8 @@ namespace
 constexpr std::int64_t LeafSize = 16;
 /// Subsets at least this large are split on a thread of their own.
 constexpr std::int64_t ParallelSize = 20000;
+/// Rows of more neighbours than this (and than 10 sqrt(n)) are dense.
+constexpr double DenseDegree = 64.0;
 
 struct Dissection
 {
@@ -114,10 +116,20 @@ struct Dissection
 std::vector<Index> NestedDissectionOrder(Index n, const std::int64_t* offsets, const Index* neighbors,
   const double* points, int numThreads)
 {
+  // Dense rows (the apex of a fan of thousands of triangles: a cone, a disk
+  // made of one fan, the pole of a latitude-longitude sphere) are left out
+  // of the dissection and eliminated last, as minimum-degree orders do
+  // (degree above 10 sqrt(n)): a split with such a vertex on one side made
+  // every vertex of the other a separator vertex, and the factorization of
+  // a double cone of 20,000 points a dense block of 10,000 (6 s instead of
+  // 0.02).  Their labels stay -1, so touching them separates nothing.
+  const double dense = std::max(DenseDegree, 10.0 * std::sqrt(static_cast<double>(n)));
   Dissection dissection{ offsets, neighbors, points, std::vector<std::int64_t>(static_cast<std::size_t>(n), -1) };
   std::vector<Index> order(static_cast<std::size_t>(n));
   std::iota(order.begin(), order.end(), 0);
-  dissection.Order(order.data(), n, 1, std::max(1, numThreads));
+  const auto sparse = std::stable_partition(
+    order.begin(), order.end(), [&](Index v) { return static_cast<double>(offsets[v + 1] - offsets[v]) <= dense; });
+  dissection.Order(order.data(), sparse - order.begin(), 1, std::max(1, numThreads));
   return order;
 }
 

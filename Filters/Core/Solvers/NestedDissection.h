@@ -22,7 +22,8 @@ namespace beltrami
 /// eliminated k-th; every vertex once, isolated ones included) from their
 /// positions (3 per vertex) and the symmetric adjacency in CSR form (as
 /// MeshTopology::EdgeTable's NeighborOffsets/Neighbors).  The order does not
-/// depend on numThreads.
+/// depend on numThreads.  Dense rows (more than 10 sqrt(n) and 64
+/// neighbours: a fan's apex) come last, in their own order.
 std::vector<Index> NestedDissectionOrder(Index numberOfVertices, const std::int64_t* offsets,
   const Index* neighbors, const double* points, int numThreads);
 
