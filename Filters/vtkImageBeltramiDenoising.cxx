@@ -87,8 +87,8 @@ void Store(T* dst, const int* outExt, const int* inExt, int nc, int used, double
         const vtkIdType i = vtkBeltramiGraphFlow::ExtentIndex(inExt, ijk);
         for (int k = 0; k < nc; ++k)
         {
-          dst[o * nc + k] =
-            k < used ? vtkBeltramiGraphFlow::ToValue<T>(range * values[i * used + k]) : vtkBeltramiGraphFlow::ToValue<T>(input->GetComponent(i, k));
+          const double v = k < used ? range * values[i * used + k] : input->GetComponent(i, k);
+          dst[o * nc + k] = vtkBeltramiGraphFlow::ToValue<T>(v);
         }
       }
     }

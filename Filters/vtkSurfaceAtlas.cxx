@@ -352,12 +352,9 @@ std::vector<MapField> MapFields(
   return fields;
 }
 
-} // namespace
-
-namespace
-{
 constexpr int MinimumMapResolution = 8;
 constexpr double MapBytesPerPixel = 44.0; ///< FaceId and five doubles, at least
+
 } // namespace
 
 int vtkSurfaceAtlas::ChartMapResolution(std::size_t charts, std::int64_t triangles)
@@ -365,7 +362,7 @@ int vtkSurfaceAtlas::ChartMapResolution(std::size_t charts, std::int64_t triangl
   // The texels of MapResolution^2 maps for as many charts as the automatic
   // count gives the surface (one per TrianglesPerChart triangles), and at
   // least MinimumFullCharts: more charts (a scan's debris, many small
-  // components) share them.  2,000 separate octahedra made 2,000 charts
+  // components) share them.  2,000 separate octahedra made 4,000 charts
   // and 11 GB of maps in 53 s.
   constexpr double MinimumFullCharts = 64.0;
   const double full = static_cast<double>(this->MapResolution) * this->MapResolution;
