@@ -22,8 +22,9 @@
  * neighbours' values; contrast scale 1.5 h / sigma; least-estimated-error
  * stop), except that the integration is SEMI_IMPLICIT with steps of 0.1 h^2
  * by default: on irregular meshes a few small triangles make the explicit
- * stability limit tiny (the least-error stop solves to 1e-8 so that the
- * probe run's difference is not solver error).  Units: with MEAN_EDGE_LENGTH
+ * stability limit tiny (with the least-error stop the main run solves to
+ * 1e-8, so that split runs stop at the same step, and the probe run solves
+ * its difference to the main run to the solver tolerance).  Units: with MEAN_EDGE_LENGTH
  * (default) the mesh is measured in units of its mean edge length h, so
  * TimeStep is in h^2 and alpha maps data units to h (as pixels do for
  * images); with PHYSICAL both are in the mesh's own units.

@@ -178,6 +178,14 @@ private:
   void SemiImplicitStep(FlowRun& run, double dt);
   void SolveOnGraph(FlowRun& run, const GraphLaplacian& graph, const std::vector<double>& scale);
   void SolveMatrixFree(FlowRun& run, const std::vector<double>& scale);
+  /// The solver tolerance: with the least-risk stop the main run's solves
+  /// go to 1e-8 (the stop then comes at the same step in every layout of a
+  /// split run); the probe's solve only resolves its change of the
+  /// difference to the main run (SemiImplicitStep), to the tolerance.
+  double SolveTolerance(const FlowRun& run) const
+  {
+    return &run == &Probe || Stop != GraphFlowStop::MinimumRisk ? O.SolverTolerance : std::min(O.SolverTolerance, 1e-8);
+  }
   /// Section 3.8.5: the step grows with the relative decrease of the area.
   void AdaptStep(double previousArea, double& dt, double& previousRate) const;
   /// The fraction of the last step (Next -> U) at which the change reaches the noise level.
@@ -424,7 +432,23 @@ void FlowIntegrator::SemiImplicitStep(FlowRun& run, double dt)
   {
     s = std::sqrt(s) + 1e-300;
   }
-  run.Next = run.U; // initial guess and fixed values
+  if (&run == &Probe)
+  {
+    // The initial guess: the main run's new state plus the probe's last
+    // difference to it.  The solve then only resolves how that difference
+    // changes, to the tolerance of its own size: the divergence of the risk
+    // needs the difference, not the states, to the solver's tolerance.
+    ParallelFor(static_cast<std::int64_t>(Size), Threads, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t k = b; k < e; ++k)
+      {
+        run.Next[k] = Main.U[k] + (run.U[k] - Main.Next[k]);
+      }
+    });
+  }
+  else
+  {
+    run.Next = run.U; // initial guess and fixed values
+  }
   const GraphLaplacian* graph = disc.Graph();
   if (graph && !Split) // (its renumbering is per process: split rows take the generic CG)
   {
@@ -434,13 +458,6 @@ void FlowIntegrator::SemiImplicitStep(FlowRun& run, double dt)
   {
     SolveMatrixFree(run, scale);
   }
-}
-
-/// The solver tolerance: the risk's probe differs from the data by 1% of
-/// the noise, and the solver's error must stay far below that.
-double Tolerance(const GraphFlowOptions& o, GraphFlowStop stop)
-{
-  return stop == GraphFlowStop::MinimumRisk ? std::min(o.SolverTolerance, 1e-8) : o.SolverTolerance;
 }
 
 void FlowIntegrator::SolveOnGraph(FlowRun& run, const GraphLaplacian& graph, const std::vector<double>& scale)
@@ -454,7 +471,7 @@ void FlowIntegrator::SolveOnGraph(FlowRun& run, const GraphLaplacian& graph, con
   }
   sl.Order = Order.data();
   sl.Scale = scale;
-  sl.Tolerance = Tolerance(O, Stop);
+  sl.Tolerance = SolveTolerance(run);
   sl.MaximumIterations = O.MaximumSolverIterations;
   sl.NumberOfThreads = Threads;
   Result.SolverIterations += SolveShiftedLaplacian(sl, Rhs.data(), run.Next.data()).Iterations;
@@ -476,7 +493,7 @@ void FlowIntegrator::SolveMatrixFree(FlowRun& run, const std::vector<double>& sc
   cg.Diagonal = Diag.data();
   cg.Fixed = disc.Fixed.data();
   cg.Scale = scale;
-  cg.Tolerance = Tolerance(O, Stop);
+  cg.Tolerance = SolveTolerance(run);
   cg.MaximumIterations = O.MaximumSolverIterations;
   cg.NumberOfThreads = Threads;
   cg.Split = Split;

@@ -418,6 +418,44 @@ TEST(SurfaceGraphFlow, SmoothsDataOnASphereAndKeepsConstantsAndFixedPoints)
   EXPECT_LT(RMS(constant, constant0), 1e-9);
 }
 
+TEST(LeastRiskStop, TheSemiImplicitProbeSolvesOnlyItsDifferenceToTheMainRun)
+{
+  // The risk's probe differs from the data by 1% of the noise; its solves
+  // start from the main run's new state plus the last difference, so the
+  // solver tolerance applies to the difference: the same estimated errors
+  // and stop at the default tolerance as at 1e-12, for fewer iterations
+  // than solving both runs to 1e-8.
+  const test::Mesh sphere = test::OctahedronSphere(5);
+  const MeshTopology topo = sphere.Topology();
+  const Index n = topo.NumberOfVertices();
+  std::mt19937 rng(4);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  std::vector<double> clean(n), noisy(n);
+  for (Index i = 0; i < n; ++i)
+  {
+    clean[i] = (sphere.Points[3 * i] > 0.1 ? 1.0 : 0.0) + std::sin(3.0 * sphere.Points[3 * i + 1]);
+    noisy[i] = clean[i] + noise(rng);
+  }
+  const auto run = [&](double tolerance, std::vector<double>& f) {
+    GraphFlowOptions o = GraphFlowOptions::ForMeshes();
+    o.NoiseLevel = 0.05;
+    o.SolverTolerance = tolerance;
+    f = noisy;
+    return RunSurfaceGraphFlow(topo, sphere.Points.data(), 1, f.data(), nullptr, o);
+  };
+  std::vector<double> f[3];
+  const GraphFlowResult strict = run(1e-12, f[0]), tight = run(1e-8, f[1]), loose = run(1e-4, f[2]);
+  std::printf("steps %d %d %d, estimated error %.6f %.6f %.6f (true %.6f), solver iterations %d %d %d\n",
+    strict.Iterations, tight.Iterations, loose.Iterations, strict.FinalRisk, tight.FinalRisk, loose.FinalRisk,
+    RMS(f[2], clean), strict.SolverIterations, tight.SolverIterations, loose.SolverIterations);
+  ASSERT_GT(strict.Iterations, 10);
+  EXPECT_EQ(loose.Iterations, strict.Iterations);
+  EXPECT_NEAR(loose.FinalRisk, strict.FinalRisk, 1e-4 * strict.FinalRisk);
+  EXPECT_LT(RMS(f[2], f[0]), 1e-5 * 0.05);
+  EXPECT_NEAR(strict.FinalRisk, RMS(f[0], clean), 0.1 * RMS(f[0], clean));
+  EXPECT_LT(loose.SolverIterations, 0.8 * tight.SolverIterations);
+}
+
 TEST(NoiseEstimation, WithinTenPercentOnASyntheticImageWithEdges)
 {
   // A 256 x 256 image with a ramp, a smooth bump and a step edge (the
