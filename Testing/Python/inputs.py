@@ -426,6 +426,18 @@ def thin_plate(thickness=0.002, n=20):
     return np.vstack([top, bottom]), np.array(tris)
 
 
+def fan_double_cone(n=2000):
+    """Two cones on one rim of n points, each a single fan of n slivers
+    around its apex (a CAD part's cone tip or cylinder cap as exported)."""
+    a = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    rim = np.stack([np.cos(a), np.sin(a), np.zeros(n)], axis=1)
+    points = np.vstack([rim, [[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]]])
+    i = np.arange(n)
+    up = np.stack([i, (i + 1) % n, np.full(n, n)], axis=1)
+    down = np.stack([(i + 1) % n, i, np.full(n, n + 1)], axis=1)
+    return points, np.vstack([up, down])
+
+
 def orient_consistently(points, triangles):
     """Flips faces so that the plate's faces agree (by breadth-first walk)."""
     from collections import defaultdict, deque
@@ -501,6 +513,7 @@ def hard_shapes():
         "decimated-bone": decimated_bone(),
         "quadruped": quadruped(),
         "turbine-disk": turbine_disk(),
+        "fan-double-cone": fan_double_cone(),
     }
     p, t = sphere(24)
     shapes["huge-sphere"] = (p * 1e12 + 3e12, t)

@@ -2,7 +2,7 @@
 the shared corpus and Testing/Data) and the shapes made to break them
 (inputs.hard_shapes: thin spikes, fingers, a thin neck and handle, a speck,
 forty specks, a thin plate, a decimated bone, an animal on thin legs, a turbine disk's
-thin blades, huge and tiny coordinates), each checked by what the filter
+thin blades, a double cone of two fans of 2,000 slivers, huge and tiny coordinates), each checked by what the filter
 promises:
 
   curvatures            finite values at interior vertices; Gauss-Bonnet on
