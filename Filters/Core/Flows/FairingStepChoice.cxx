@@ -218,8 +218,11 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
     return 0.0;
   }
   GraphLaplacian L;
+  // The runs solve to the filter's tolerance: the risk's divergence is the
+  // difference of two runs half the noise apart, far above the solver's
+  // error (over the corpus with noise of 0.1-1%, 75 cases, a tolerance of
+  // 1e-6 chose the same operators and results, 26% slower).
   FairingOptions o = opt;
-  o.SolverTolerance = std::min(opt.SolverTolerance, 1e-6); // (differences of two runs)
   const SmoothingRun run = [&](double dt, double* p) {
     o.TimeStep = dt;
     FairingReport scratch;
