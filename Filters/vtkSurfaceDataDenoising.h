@@ -24,10 +24,10 @@
  * by default: on irregular meshes a few small triangles make the explicit
  * stability limit tiny (with the least-error stop the main run solves to
  * 1e-8, so that split runs stop at the same step, and the probe run solves
- * its difference to the main run to the solver tolerance).  Units: with MEAN_EDGE_LENGTH
- * (default) the mesh is measured in units of its mean edge length h, so
- * TimeStep is in h^2 and alpha maps data units to h (as pixels do for
- * images); with PHYSICAL both are in the mesh's own units.
+ * its difference to the main run to the solver tolerance).  Units: with
+ * MEAN_EDGE_LENGTH (default) the mesh is measured in units of its mean
+ * edge length h, so TimeStep is in h^2 and alpha maps data units to h (as
+ * pixels do for images); with PHYSICAL both are in the mesh's own units.
  *
  * Input array 0: the point array to smooth (default: the active scalars; any
  * numeric type, written back in its own type under the same name, integers rounded and clamped).  Input array 1
