@@ -43,6 +43,15 @@ def denoise(a, spacing=(1.0, 1.0), **settings):
     return result, out.GetFieldData()
 
 
+def uv_sphere(n):
+    """A unit sphere of n x n latitude-longitude points (vtkSphereSource)."""
+    s = vtkSphereSource()
+    s.SetThetaResolution(n)
+    s.SetPhiResolution(n)
+    s.Update()
+    return s.GetOutput()
+
+
 def psnr(a, b, peak=1.0):
     return 10 * np.log10(peak ** 2 / np.mean((np.asarray(a, float) - np.asarray(b, float)) ** 2))
 
@@ -356,11 +365,7 @@ class TensorFields(unittest.TestCase):
 
 class SurfaceData(unittest.TestCase):
     def test_piecewise_constant_field_on_a_sphere_keeps_its_jump(self):
-        s = vtkSphereSource()
-        s.SetThetaResolution(120)
-        s.SetPhiResolution(120)
-        s.Update()
-        sphere = s.GetOutput()
+        sphere = uv_sphere(120)
         pts = vtk_to_numpy(sphere.GetPoints().GetData())
         clean = (pts[:, 2] > 0.1).astype(float)
         rng = np.random.default_rng(17)
@@ -399,11 +404,7 @@ class SurfaceData(unittest.TestCase):
         # RGB colours of a scan (unsigned char: what ParaView shows as
         # colours, not through a colour map) come back unsigned char,
         # rounded, closer to the clean colours than the noisy ones.
-        s = vtkSphereSource()
-        s.SetThetaResolution(80)
-        s.SetPhiResolution(80)
-        s.Update()
-        sphere = s.GetOutput()
+        sphere = uv_sphere(80)
         pts = vtk_to_numpy(sphere.GetPoints().GetData())
         clean = np.where(pts[:, 2:3] > 0.0, [200.0, 60.0, 40.0], [30.0, 90.0, 220.0])
         noisy = np.clip(np.round(clean + np.random.default_rng(5).normal(0, 25, clean.shape)), 0, 255)

@@ -34,6 +34,19 @@ double RMS(const std::vector<double>& a, const std::vector<double>& b)
   return std::sqrt(s / a.size());
 }
 
+/// Noise of `sigma` added where `noisy(k)` (the rest exactly as it is).
+std::vector<double> WithNoiseWhere(std::vector<double> values, double sigma, unsigned seed,
+  const std::function<bool(std::size_t)>& noisy)
+{
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, sigma);
+  for (std::size_t k = 0; k < values.size(); ++k)
+  {
+    values[k] += noisy(k) ? noise(rng) : 0.0;
+  }
+  return values;
+}
+
 TEST(ColorSpace, ReferenceColoursAndRoundTrip)
 {
   // White, black and sRGB red (D65): L*u*v* = (100, 0, 0), (0, 0, 0), (53.24, 175.01, 37.76), over 100.
@@ -428,14 +441,12 @@ TEST(LeastRiskStop, TheSemiImplicitProbeSolvesOnlyItsDifferenceToTheMainRun)
   const test::Mesh sphere = test::OctahedronSphere(5);
   const MeshTopology topo = sphere.Topology();
   const Index n = topo.NumberOfVertices();
-  std::mt19937 rng(4);
-  std::normal_distribution<double> noise(0.0, 0.05);
-  std::vector<double> clean(n), noisy(n);
+  std::vector<double> clean(n);
   for (Index i = 0; i < n; ++i)
   {
     clean[i] = (sphere.Points[3 * i] > 0.1 ? 1.0 : 0.0) + std::sin(3.0 * sphere.Points[3 * i + 1]);
-    noisy[i] = clean[i] + noise(rng);
   }
+  const std::vector<double> noisy = WithNoiseWhere(clean, 0.05, 4, [](std::size_t) { return true; });
   const auto run = [&](double tolerance, std::vector<double>& f) {
     GraphFlowOptions o = GraphFlowOptions::ForMeshes();
     o.NoiseLevel = 0.05;
@@ -498,19 +509,6 @@ TEST(NoiseEstimation, WithinTenPercentOnASyntheticImageWithEdges)
   EXPECT_EQ(EstimateImageNoise(tiny, 1, few.data()), 0.0);
 }
 
-
-/// Noise of `sigma` added where `noisy(k)` (the rest exactly as it is).
-std::vector<double> WithNoiseWhere(std::vector<double> values, double sigma, unsigned seed,
-  const std::function<bool(std::size_t)>& noisy)
-{
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> noise(0.0, sigma);
-  for (std::size_t k = 0; k < values.size(); ++k)
-  {
-    values[k] += noisy(k) ? noise(rng) : 0.0;
-  }
-  return values;
-}
 
 TEST(NoiseEstimation, FlatRegionsNeitherHideTheNoiseNorTurnCleanEdgesIntoNoise)
 {
