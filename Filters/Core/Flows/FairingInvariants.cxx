@@ -97,7 +97,7 @@ double MeasureInvariant(const InvariantState& s, const MeshTopology& topo, const
   }
 }
 
-double RestoreInvariant(const InvariantState& s, const MeshTopology& topo, double* x, int threads)
+double RestoreInvariant(const InvariantState& s, const MeshTopology& topo, double* x, int threads, bool measure)
 {
   Vec3 center;
   const double now = MeasureInvariant(s, topo, x, threads, &center);
@@ -144,7 +144,7 @@ double RestoreInvariant(const InvariantState& s, const MeshTopology& topo, doubl
     default:
       break;
   }
-  return MeasureInvariant(s, topo, x, threads, &center);
+  return measure ? MeasureInvariant(s, topo, x, threads, &center) : s.Initial;
 }
 
 } // namespace beltrami::detail
