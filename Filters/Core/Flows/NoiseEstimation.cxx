@@ -402,7 +402,7 @@ namespace
 
 /// Per edge, the angle (degrees) between the normals of its two triangles
 /// (NaN where it has not two, or a triangle has no area).
-std::vector<double> DihedralAngles(const MeshTopology& topo, const double* x)
+std::vector<double> DihedralAngles(const MeshTopology& topo, const double* x, int numThreads)
 {
   const MeshTopology::EdgeTable& edges = topo.Edges();
   const auto normal = [&](Index corner) {
@@ -412,18 +412,20 @@ std::vector<double> DihedralAngles(const MeshTopology& topo, const double* x)
     return Vec3((b - a).cross(c - a));
   };
   std::vector<double> angles(static_cast<std::size_t>(edges.NumberOfEdges()), std::nan(""));
-  for (std::int64_t e = 0; e < edges.NumberOfEdges(); ++e)
-  {
-    const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
-    if (c0 >= 0 && c1 >= 0 && edges.FaceCount[e] == 2)
+  ParallelFor(edges.NumberOfEdges(), numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t e = begin; e < end; ++e)
     {
-      const double cosine = NormalCosine(normal(c0), normal(c1)); // (NaN without a normal)
-      if (std::isfinite(cosine))
+      const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
+      if (c0 >= 0 && c1 >= 0 && edges.FaceCount[e] == 2)
       {
-        angles[e] = std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / 3.141592653589793;
+        const double cosine = NormalCosine(normal(c0), normal(c1)); // (NaN without a normal)
+        if (std::isfinite(cosine))
+        {
+          angles[e] = std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / 3.141592653589793;
+        }
       }
     }
-  }
+  });
   return angles;
 }
 
@@ -599,7 +601,7 @@ SurfaceNoise EstimateSurfaceNoise(
 {
   SurfaceNoise result;
   const Index n = topo.NumberOfVertices();
-  const std::vector<double> angles = DihedralAngles(topo, x);
+  const std::vector<double> angles = DihedralAngles(topo, x, numThreads);
   result.MedianDihedral = MedianDihedral(topo, angles, split);
   const MeshTopology::VertexGraph& graph = topo.Graph();
   const double rows = split ? static_cast<double>(split->TotalRows()) : static_cast<double>(n);
