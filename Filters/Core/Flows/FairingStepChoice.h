@@ -107,8 +107,9 @@ using SmoothingRun = std::function<bool(double timeStep, double* points)>;
 /// half the noise.  The steps tried are unit 2^(j/2): from j = 0 downhill
 /// by factors of 4 (between unit 2^-16 and unit 2^12), then refined at the
 /// vertex of the parabola through the risks of the last three (in j); 0 when
-/// no step is estimated to come closer than the input.  `moving`: per vertex, non-zero where the run may move it.
-/// Collective on a split surface (the sums over the owned points of all).
+/// no step is estimated to come closer than the input.  `moving`: per
+/// vertex, non-zero where the run may move it.  Collective on a split
+/// surface (the sums over the owned points of all).
 StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x, const std::vector<double>& perturbed,
   double epsilon, const std::vector<std::uint8_t>& moving, double noise, double tangential, double unit,
   const Partition* split);
