@@ -22,6 +22,7 @@ struct Shrinkage
   double Signal;
   std::vector<double> Clean, Noisy, Perturbed;
   double Epsilon = 0.5; // half the noise, as the filter's probe
+  mutable int Runs = 0;
 
   Shrinkage(int points, double signal)
     : Signal(signal)
@@ -46,10 +47,11 @@ struct Shrinkage
     return std::sqrt(Signal * (1.0 - keep) * (1.0 - keep) + keep * keep);
   }
 
-  detail::StepChoice Search(int& runs) const
+  /// The search over this run; Runs counts the runs it made.
+  detail::StepChoice Search() const
   {
     const detail::SmoothingRun shrink = [&](double dt, double* p) {
-      ++runs;
+      ++Runs;
       for (std::size_t k = 2; k < Noisy.size(); k += 3)
       {
         p[k] /= 1.0 + dt;
@@ -72,8 +74,7 @@ TEST(FairingStepChoice, TheSearchEndsNextToTheStepOfLeastRiskOfALinearShrinkage)
   // (uphill), and runs once more at the vertex of the parabola through the
   // three: 2.96, rounded to 3, whose risk is lower than 4's.
   const Shrinkage data(200000, 0.5);
-  int runs = 0;
-  const detail::StepChoice choice = data.Search(runs);
+  const detail::StepChoice choice = data.Search();
   const double best = data.ExpectedError(2.0);
   EXPECT_NEAR(best, 1.0 / std::sqrt(3.0), 1e-12);
   EXPECT_DOUBLE_EQ(choice.TimeStep, std::exp2(1.5));
@@ -82,7 +83,7 @@ TEST(FairingStepChoice, TheSearchEndsNextToTheStepOfLeastRiskOfALinearShrinkage)
   EXPECT_FALSE(choice.AtLimit);
   EXPECT_FALSE(choice.ShapeDetail);
   EXPECT_EQ(choice.Evaluations, 4);
-  EXPECT_EQ(runs, 2 * choice.Evaluations); // the points and the probe
+  EXPECT_EQ(data.Runs, 2 * choice.Evaluations); // the points and the probe
 }
 
 TEST(FairingStepChoice, TheParabolaLeansToTheFlatSideOfAnAsymmetricRisk)
@@ -96,8 +97,7 @@ TEST(FairingStepChoice, TheParabolaLeansToTheFlatSideOfAnAsymmetricRisk)
   // more).  The risk estimates of real meshes scatter more than that
   // (Refined in FairingStepChoice.cxx).
   const Shrinkage data(200000, 0.125);
-  int runs = 0;
-  const detail::StepChoice choice = data.Search(runs);
+  const detail::StepChoice choice = data.Search();
   const double best = data.ExpectedError(8.0);
   EXPECT_TRUE(choice.TimeStep == std::exp2(3.5) || choice.TimeStep == 16.0) << choice.TimeStep;
   EXPECT_LT(data.ExpectedError(choice.TimeStep), 1.015 * best);
@@ -110,8 +110,7 @@ TEST(FairingStepChoice, ABestStepThatLeavesMostOfTheNoiseIsTakenForShapeDetail)
   // Signal of mean square 4: the best step 1/4 = unit 2^(-4/2) leaves
   // sqrt(4/5) = 0.89 of the noise, above MostKeptNoise: no step.
   const Shrinkage data(100000, 4.0);
-  int runs = 0;
-  const detail::StepChoice choice = data.Search(runs);
+  const detail::StepChoice choice = data.Search();
   EXPECT_TRUE(choice.ShapeDetail);
   EXPECT_EQ(choice.TimeStep, 0.0);
   EXPECT_NEAR(choice.EstimatedError, 1.0, 1e-12); // the input's own (the noise)
@@ -123,8 +122,7 @@ TEST(FairingStepChoice, PureNoiseTakesTheLargestStepAndSaysSo)
   // Without signal the more a step shrinks the better: the search walks to
   // its largest step (unit 2^12) and says it stopped there.
   const Shrinkage data(50000, 0.0);
-  int runs = 0;
-  const detail::StepChoice choice = data.Search(runs);
+  const detail::StepChoice choice = data.Search();
   EXPECT_TRUE(choice.AtLimit);
   EXPECT_DOUBLE_EQ(choice.TimeStep, 4096.0);
   EXPECT_LT(choice.EstimatedError, 0.1);
