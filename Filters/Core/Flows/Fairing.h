@@ -50,7 +50,7 @@ enum class FairingOperator : int
                                 ///< scale-dependent umbrella (regularises the sampling)
   /// With a chosen time step (TimeStep 0, implicit, isotropic): the curvature
   /// flow or the umbrella, whichever reaches the lower estimated error (the
-  /// umbrella alone where the mesh is crumpled: median dihedral angle of 52
+  /// umbrella alone where the mesh is crumpled: median dihedral angle of 40
   /// degrees or more, where the cotangent weights are noise themselves);
   /// otherwise the curvature flow.  The umbrella's uniform weights do not
   /// see the noise and win on very noisy meshes, the curvature flow on

@@ -200,7 +200,7 @@ FairingReport FairWithEitherOperator(const MeshTopology& topo, double* points, c
   std::vector<double> umbrella(points, points + size);
   opt.Operator = FairingOperator::Umbrella;
   FairingReport report = FairSurface(topo, umbrella.data(), opt, cons, progress, split);
-  if (report.Completed && report.Error.empty() && report.MedianDihedral < 52.0)
+  if (report.Completed && report.Error.empty() && report.MedianDihedral < CrumpledDihedral)
   {
     std::vector<double> curvature(points, points + size);
     opt.Operator = FairingOperator::CurvatureFlow;
