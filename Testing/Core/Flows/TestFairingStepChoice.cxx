@@ -21,7 +21,7 @@ struct Shrinkage
 {
   double Signal;
   std::vector<double> Clean, Noisy, Perturbed;
-  double Epsilon = 0.5; // half the noise, as the filter's probe
+  double Epsilon = detail::ProbeDeviation; // the filter's probe (the noise's deviation is 1)
   mutable int Runs = 0;
 
   Shrinkage(int points, double signal)
