@@ -426,6 +426,22 @@ def thin_plate(thickness=0.002, n=20):
     return np.vstack([top, bottom]), np.array(tris)
 
 
+def decimated_cad(keep=0.1):
+    """fandisk_large (the shared corpus) quadric-decimated to `keep` of its
+    triangles: a CAD part whose creases run jagged and, in places, a
+    fraction of the spacing apart (None where the corpus is not at hand)."""
+    from vtkmodules.vtkFiltersCore import vtkQuadricDecimation
+
+    path = os.path.join(SHARED_MESHES, "fandisk_large.off")
+    if not os.path.exists(path):
+        return None
+    decimate = vtkQuadricDecimation()
+    decimate.SetInputData(read_off(path))
+    decimate.SetTargetReduction(1.0 - keep)
+    decimate.Update()
+    return arrays_of(decimate.GetOutput())
+
+
 def fan_double_cone(n=2000):
     """Two cones on one rim of n points, each a single fan of n slivers
     around its apex (a CAD part's cone tip or cylinder cap as exported)."""
@@ -515,6 +531,9 @@ def hard_shapes():
         "turbine-disk": turbine_disk(),
         "fan-double-cone": fan_double_cone(),
     }
+    cad = decimated_cad()
+    if cad is not None:
+        shapes["decimated-cad"] = cad
     p, t = sphere(24)
     shapes["huge-sphere"] = (p * 1e12 + 3e12, t)
     shapes["tiny-sphere"] = (p * 1e-12 + 1e-11, t)

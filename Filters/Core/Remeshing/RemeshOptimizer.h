@@ -107,15 +107,26 @@ private:
       return SameChart(h);
     }
     const Index a = M.Tail(h), b = M.Head(h);
-    return !M.IsBoundary(h) && (Moves[a] == Free || Moves[b] == Free || !KeptEdges.count(EdgeKey(a, b)));
+    return !M.IsBoundary(h) &&
+      (Moves[a] == Free || Moves[b] == Free || !KeptEdges.count(EdgeKey(a, b)) || VertexOnEdge(h) >= 0);
   }
+  /// The vertex c of a face of h's edge a-b that lies on it (the face's
+  /// angle at c above 179 degrees: a triangle of no area), or -1.  The
+  /// swap of a-b then leaves the surface as it is (the other face is split
+  /// at c) and removes that triangle; along a kept path, the path runs
+  /// a-c-b (Flip hands the edge's keeping to a-c and c-b).
+  Index VertexOnEdge(Index h) const;
+
   static std::uint64_t EdgeKey(Index a, Index b)
   {
     return static_cast<std::uint64_t>(std::min(a, b)) << 32 | static_cast<std::uint32_t>(std::max(a, b));
   }
   bool FlipKeepsCharts(Index h) const;
   bool FlipKeepsSurface(Index h) const;
-  bool CanSwap(Index h) const { return M.CanFlip(h) && (Stitching || FlipKeepsCharts(h)) && FlipKeepsSurface(h); }
+  bool CanSwap(Index h) const
+  {
+    return M.CanFlip(h) && (Stitching || FlipKeepsCharts(h)) && (FlipKeepsSurface(h) || VertexOnEdge(h) >= 0);
+  }
   void Flip(Index h);
   std::pair<double, double> Roundnesses(Index h) const;
   /// The quad of h's edge (a, b, c, d: faces (a, b, c), (b, a, d)); with a

@@ -68,10 +68,35 @@ bool Optimizer::FlipKeepsSurface(Index h) const
   return after == 0 && n0.dot(mean) > 0.5 && n1.dot(mean) > 0.5;
 }
 
+Index Optimizer::VertexOnEdge(Index h) const
+{
+  const Vec3 a = M.Position(M.Tail(h)), b = M.Position(M.Head(h));
+  for (const Index g : { HalfEdgeMesh::Prev(h), HalfEdgeMesh::Prev(M.Twin(h)) })
+  {
+    const Index c = M.Tail(g);
+    const Vec3 ca = a - M.Position(c), cb = b - M.Position(c);
+    if (ca.dot(cb) < -0.99985 * ca.norm() * cb.norm())
+    {
+      return c;
+    }
+  }
+  return -1;
+}
+
 void Optimizer::Flip(Index h)
 {
   const Index t = M.Twin(h);
   const Index a = M.Tail(h), b = M.Head(h), c = M.Tail(HalfEdgeMesh::Prev(h)), d = M.Tail(HalfEdgeMesh::Prev(t));
+  if (Stitching && KeptEdges.count(EdgeKey(a, b)))
+  {
+    const Index through = VertexOnEdge(h);
+    if (through >= 0)
+    {
+      KeptEdges.erase(EdgeKey(a, b));
+      KeptEdges.insert(EdgeKey(a, through));
+      KeptEdges.insert(EdgeKey(through, b));
+    }
+  }
   const double uv[4][2] = { { UVAt(h)[0], UVAt(h)[1] },
     { UVAt(HalfEdgeMesh::Next(h))[0], UVAt(HalfEdgeMesh::Next(h))[1] },
     { UVAt(HalfEdgeMesh::Prev(h))[0], UVAt(HalfEdgeMesh::Prev(h))[1] },

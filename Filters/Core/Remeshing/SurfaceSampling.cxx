@@ -773,8 +773,7 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
   }
   out.Halftone = std::move(halftone.Samples);
   GiveEveryChartAnInteriorSample(topology, points, atlas, out);
-  PinTips(topology, points, atlas, options.TipAngleDefect, options.PinnedVertices, importance, out.Density,
-    options.Metric == nullptr, out);
+  PinTips(topology, points, atlas, options.TipAngleDefect, options.PinnedVertices, importance, out.Density, out);
   return out;
 }
 

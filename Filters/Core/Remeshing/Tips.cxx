@@ -415,11 +415,10 @@ void PinFans(const MeshTopology& topology, const double* points, const AtlasResu
 /// vertex, as a Tip (SamplingOptions::TipAngleDefect, PinnedVertices): an
 /// interior sample of its chart where all its triangles are in one, else,
 /// at a cone point, a sample of its chart boundary's path (PinOnPath) and,
-/// at a needle's tip with `needles`, an interior sample of each narrow fan
-/// around it (PinFans; the isotropic remesh's relaxation fills the place
-/// that sample leaves, where the anisotropic one's left a hole).
+/// at a needle's tip, an interior sample of each narrow fan around it
+/// (PinFans).
 void PinTips(const MeshTopology& topology, const double* points, const AtlasResult& atlas, double threshold,
-  const std::uint8_t* pinned, const double* importance, double density, bool needles, SurfaceSamples& out)
+  const std::uint8_t* pinned, const double* importance, double density, SurfaceSamples& out)
 {
   const std::vector<Index> tips = TipVertices(topology, points, threshold, pinned, importance, density);
   std::vector<std::vector<std::size_t>> interior(tips.empty() ? 0 : atlas.Charts.size()); // per chart
@@ -442,7 +441,7 @@ void PinTips(const MeshTopology& topology, const double* points, const AtlasResu
       if (defect > threshold)
       {
         PinOnPath(topology, points, v, out); // (a far vertex the error-driven mode pins: a path sample is near)
-        if (needles && density > 0.0 && defect > 2.0 * (M_PI - NarrowFan))
+        if (density > 0.0 && defect > 2.0 * (M_PI - NarrowFan))
         {
           PinFans(topology, points, atlas, v, SpacingAt(importance, density, v), interior, taken, out);
         }

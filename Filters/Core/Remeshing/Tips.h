@@ -21,14 +21,16 @@ double AngleDefect(const MeshTopology& topology, const double* points, Index v);
 /// sample of `out`, exactly at the vertex, as a Tip (SamplingOptions::
 /// TipAngleDefect, PinnedVertices): an interior sample of its chart where
 /// all its triangles are in one, else, at a cone point, a sample of its
-/// chart boundary's path.  With `needles` (the isotropic modes), at the tip
-/// of a needle (a cone sharper than 39 degrees) on a chart boundary, each
-/// chart whose fan there is narrower than 60 degrees and holds no interior
-/// sample within a spacing of the tip moves its most crowded interior
-/// sample into the middle of that fan, a spacing from the tip: a seam that runs up
-/// a needle and down again leaves a strip on either side too narrow for a
-/// sample, and the needle's remesh a flat fin of triangles with angles of 0.
+/// chart boundary's path.  At the tip of a needle (a cone sharper than 39
+/// degrees) on a chart boundary, each chart whose fan there is narrower
+/// than 60 degrees and holds no interior sample within a spacing of the
+/// tip moves its most crowded interior sample into the middle of that fan,
+/// a spacing from the tip: a seam that runs up a needle and down again
+/// leaves a strip on either side too narrow for a sample, and the needle's
+/// remesh a flat fin of triangles with angles of 0 (in the anisotropic mode
+/// too: the comb's fingers at 2,000 and 10,000 vertices, 0.00 and 0.05
+/// degrees without these samples, 3.3 and 2.7 with them).
 void PinTips(const MeshTopology& topology, const double* points, const AtlasResult& atlas, double threshold,
-  const std::uint8_t* pinned, const double* importance, double density, bool needles, SurfaceSamples& out);
+  const std::uint8_t* pinned, const double* importance, double density, SurfaceSamples& out);
 
 } // namespace beltrami
