@@ -449,14 +449,14 @@ TEST(SurfaceRemeshing, SharpEdgesOfACadPartAreReproduced)
   // 161, the chart boundary goes on as a plain seam), so the remesh passes
   // through them.  The creases are sampled more densely where they bend
   // (MaximumLineSag): every end and middle of an input sharp edge lies
-  // within 0.105% of the diagonal of the remesh at 10k vertices and 0.088%
-  // at 5k at the default 0.05 (2-core x86-64); with the density's spacing
-  // along them (MaximumLineSag 0) the small round crease (22.5 degrees of
-  // turn per input edge) is cut between samples: 0.105% and 0.130% (at 10k
-  // the default's bound does not ask for more samples there); with the
-  // stricter 0.025, 0.078% and 0.099%.  (x86-64 machines whose BLAS and
-  // libm round the charts' maps differently measured up to a tenth apart
-  // here.)  Before the crease ends were corners:
+  // within 0.105-0.111% of the diagonal of the remesh at 10k vertices and
+  // 0.088-0.097% at 5k at the default 0.05 (2-core x86-64); with the
+  // density's spacing along them (MaximumLineSag 0) the small round crease
+  // (22.5 degrees of turn per input edge) is cut between samples: 0.105%
+  // and 0.130% (at 10k the default's bound does not ask for more samples
+  // there); with the stricter 0.025, 0.078% and 0.099%.  (x86-64 machines
+  // whose BLAS and libm round the charts' maps differently measured up to
+  // a tenth apart here.)  Before the crease ends were corners:
   // 0.16-0.19% and 0.43-0.44%, at vertex 161.  Without the features the
   // remesh cuts the creases: 0.83-0.94% and 1.14-1.39%.
   for (bool features : { true, false })
@@ -488,9 +488,10 @@ TEST(SurfaceRemeshing, SharpEdgesOfACadPartAreReproduced)
         static_cast<long long>(count), features ? "kept" : "off", 100.0 * distance);
       if (features)
       {
-        // (0.100-0.105% at both counts: the remesh follows the last bits of
-        // the solves, which differ between CPUs' BLAS kernels)
-        EXPECT_LE(distance, 0.0011) << count;
+        // (0.097-0.111% at both counts: the remesh follows the last bits of
+        // the solves, which differ between CPUs' BLAS kernels: 0.111% at
+        // 10k on one x86-64 CPU, 0.105% on another)
+        EXPECT_LE(distance, 0.0012) << count;
         const RemeshResult straight = RemeshWith(loaded, count, nullptr, features, 0.0);
         const RemeshResult strict = RemeshWith(loaded, count, nullptr, features, 0.025);
         const double cut = MaxDistanceToSurface(creases, straight.Points, straight.Triangles, 0.02 * diagonal) / diagonal;
