@@ -20,9 +20,10 @@
  *  - TimeStep 0 (default): chosen from the input.  The noise of the
  *    geometry is estimated (the height of each point above a quadric fitted
  *    to its 2- to 6-ring, robust to curvature and to sharp features, see
- *    beltrami::EstimateSurfaceNoise) and the step of least estimated error
- *    taken by Stein's unbiased risk estimate over steps h^(2k) 2^(j/2) (the
- *    whole run, its divergence by a random finite difference), so a clean
+ *    beltrami::EstimateSurfaceNoise) and the step chosen by generalized
+ *    cross-validation over steps h^(2k) 2^(j/2), its error estimated by
+ *    Stein's unbiased risk estimate (the whole run, its divergence by a
+ *    random finite difference), so a clean
  *    mesh is left nearly as it is and a noisy one smoothed as its noise
  *    needs.  Field data: FairingNoise (standard deviation along the normals,
  *    length), FairingTimeStep (the step, in Units; 0 when none helps) and
@@ -258,10 +259,11 @@ public:
   vtkSetClampMacro(Integration, int, IMPLICIT, TAUBIN_LAMBDA_MU);
   vtkGetMacro(Integration, int);
   /// lambda*dt of each step: the amount of smoothing (see Units). 0 (default): chosen from the
-  /// input - the noise of its geometry is estimated and the step of least estimated error taken
-  /// (Stein's unbiased risk estimate), so a clean mesh is left nearly as it is and a noisy one
-  /// smoothed as much as its noise needs; the field arrays FairingNoise, FairingTimeStep and
-  /// FairingEstimatedError report the choice. A positive value is used as given. Default: 0.
+  /// input - the noise of its geometry is estimated, the step chosen by generalized
+  /// cross-validation and its error estimated (Stein's unbiased risk estimate), so a clean mesh is
+  /// left nearly as it is and a noisy one smoothed as much as its noise needs; the field arrays
+  /// FairingNoise, FairingTimeStep and FairingEstimatedError report the choice. A positive value is
+  /// used as given. Default: 0.
   vtkSetClampMacro(TimeStep, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(TimeStep, double);
   /// Mean Edge Length: the time step is in units of h^(2k) for order k (h^2, h^4 for order 2; h the

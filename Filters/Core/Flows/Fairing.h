@@ -102,8 +102,9 @@ struct FairingOptions
   /// combination up to order K); the umbrella operator's step is dimensionless.
   /// 0 (default): chosen from the input for the given NumberOfIterations -
   /// the noise of its geometry estimated (EstimateSurfaceNoise) and the
-  /// step of least estimated error taken (Stein's unbiased risk estimate,
-  /// see Flows/FairingStepChoice.h); a clean mesh is left nearly as it is.
+  /// step chosen by generalized cross-validation, its error estimated by
+  /// Stein's unbiased risk estimate (Flows/FairingStepChoice.h); a clean
+  /// mesh is left nearly as it is.
   /// Not with Taubin's passes (their steps are TaubinLambda and TaubinMu).
   double TimeStep = 0.0;
   /// TimeStep 0: the input's noise (length), its noise measured one ring

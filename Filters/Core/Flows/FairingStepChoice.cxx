@@ -143,35 +143,43 @@ StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x,
   const double variance = noise * noise;
   const double directions = 1.0 + 2.0 * tangential * tangential; // the input's risk per point, in noise^2
   double points = 0.0;
-  std::map<int, double> risks; // by j, the step unit 2^(j/2)
-  const auto risk = [&](int j) {
-    const auto known = risks.find(j);
-    if (known != risks.end())
+  std::map<int, RiskTerms> terms; // by j, the step unit 2^(j/2)
+  const auto at = [&](int j) -> const RiskTerms& {
+    auto known = terms.find(j);
+    if (known == terms.end())
     {
-      return known->second;
+      known = terms.emplace(j, TermsAt(run, x, perturbed, epsilon, moving, split, unit * std::exp2(0.5 * j))).first;
+      ++choice.Evaluations;
+      points = std::max(points, known->second.Points);
     }
-    const RiskTerms t = TermsAt(run, x, perturbed, epsilon, moving, split, unit * std::exp2(0.5 * j));
-    ++choice.Evaluations;
-    points = std::max(points, t.Points);
-    return risks[j] = t.Defined ? t.Moved + 2.0 * variance * t.Divergence - directions * variance * t.Points
-                                : std::numeric_limits<double>::infinity();
+    return known->second;
+  };
+  constexpr double Undefined = std::numeric_limits<double>::infinity();
+  const auto sure = [&](int j) {
+    const RiskTerms& t = at(j);
+    return t.Defined ? t.Moved + 2.0 * variance * t.Divergence - directions * variance * t.Points : Undefined;
+  };
+  const auto gcv = [&](int j) { // generalized cross-validation (ChooseTimeStep)
+    const RiskTerms& t = at(j);
+    const double freedom = directions * t.Points - t.Divergence;
+    return t.Defined && freedom > 0.0 ? t.Moved / (freedom * freedom) : Undefined;
   };
   constexpr int Lowest = -32, Highest = 24;
   int best = 0;
-  const int direction = risk(4) < risk(0) ? 4 : -4;
-  while (best + direction >= Lowest && best + direction <= Highest && risk(best + direction) < risk(best))
+  const int direction = gcv(4) < gcv(0) ? 4 : -4;
+  while (best + direction >= Lowest && best + direction <= Highest && gcv(best + direction) < gcv(best))
   {
     best += direction;
   }
   choice.AtLimit = best == Lowest || best == Highest;
-  best = Refined(risk, best, Lowest, Highest);
+  best = Refined(gcv, best, Lowest, Highest);
   // The input's own risk is noise^2 per moving point and direction.  White
   // noise is what the flows remove best; where the best step is estimated to leave more
   // than MostKeptNoise of it, most of the "noise" is the shape's own detail
   // at the scale of the triangles (coarse meshes), which the flows cannot
   // tell from noise: the points are left as they are.
   const double input = noise * std::sqrt(directions);
-  const double error = points > 0.0 ? std::sqrt(std::max(0.0, risk(best)) / points) : input;
+  const double error = points > 0.0 ? std::sqrt(std::max(0.0, sure(best)) / points) : input;
   choice.ShapeDetail = points > 0.0 && error >= MostKeptNoise * input;
   if (points > 0.0 && !choice.ShapeDetail)
   {

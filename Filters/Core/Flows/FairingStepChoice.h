@@ -113,13 +113,25 @@ inline bool IsotropicNoise(double normal, double tangential, double h)
 using SmoothingRun = std::function<bool(double timeStep, double* points)>;
 
 /// The time step whose run brings the points `x` closest to the noise-free
-/// surface by Stein's unbiased risk estimate, for white noise of deviation
-/// `noise` along the normals and `tangential` times that in each direction
-/// of the tangent planes (0: none; 1: isotropic noise; f: the run, m the
-/// moving points, d = 1 + 2 tangential^2 the directions counted):
+/// surface by generalized cross-validation (Craven and Wahba 1979; f: the
+/// run, m the moving points, d = 1 + 2 tangential^2 the directions counted,
+/// `tangential` the noise in each direction of the tangent planes over that
+/// along the normals: 0 none, 1 isotropic noise):
+///     GCV = |f(x) - x|^2 / (d m - div f)^2,
+/// which needs no noise level: with the estimated one in Stein's unbiased
+/// risk estimate instead (for white noise of deviation `noise`),
 ///     E |f(x) - clean|^2 = |f(x) - x|^2 + 2 noise^2 div f - d noise^2 m,
-/// the divergence over the noise's directions estimated by a finite
-/// difference in a random direction (Monte-Carlo SURE, Ramani, Blu and
+/// the step followed the estimate's errors, too large where the coarse
+/// scans' detail inflated it.  Over the corpus with noise of 0.1-1% of the
+/// diagonal along the normals (75 cases), GCV's steps against SURE's: no
+/// further than the input 74 against 73, within 10% of the own best step
+/// 64 against 62, ahead of windowed sinc's best 57 against 55 (the cow and
+/// the elephant at 1% 9-11% nearer the clean mesh, nefertiti at 1% 13%
+/// further); with isotropic noise 75 against 73, 47 against 43 and 40
+/// against 33.  Stein's estimate with `noise` is the step's estimated error
+/// (StepChoice::EstimatedError), which decides the shape's detail and the
+/// operator.  The divergence over the noise's directions is estimated by a
+/// finite difference in a random direction (Monte-Carlo SURE, Ramani, Blu and
 /// Unser 2008): with `perturbed` = x + epsilon (b_i n_i + tangential t_i),
 /// b_i independent of unit variance and t_i a random tangent vector of
 /// unit variance per direction,
@@ -130,7 +142,7 @@ using SmoothingRun = std::function<bool(double timeStep, double* points)>;
 /// fixed was a fraction of the run's, and its risk 0 where the error was
 /// half the noise.  The steps tried are unit 2^(j/2): from j = 0 downhill
 /// by factors of 4 (between unit 2^-16 and unit 2^12), then refined at the
-/// vertex of the parabola through the risks of the last three (in j); 0 when
+/// vertex of the parabola through the GCV of the last three (in j); 0 when
 /// no step is estimated to come closer than the input.  `moving`: per
 /// vertex, non-zero where the run may move it.  Collective on a split
 /// surface (the sums over the owned points of all).
