@@ -3,7 +3,8 @@
 isotropic_remeshing, in the same run, on the same meshes and vertex counts.
 
     source build/beltrami-env.sh
-    /usr/bin/python3 Testing/Benchmarks/benchmark_remeshing.py [--big | --corpus [--noise N] | --deviation D]
+    /usr/bin/python3 Testing/Benchmarks/benchmark_remeshing.py [--big | --corpus [--noise N | --variants] |
+                                                                 --deviation D]
 
 CGAL runs through build/bin/beltrami-benchmark-cgal-isotropic-remeshing
 (built when Debian's libcgal-dev is installed): 5 iterations, the target edge
@@ -25,7 +26,10 @@ CGAL's side by side at about the same count (CGAL's target edge length
 calibrated by a first run; Hausdorff both ways; the CAD parts' sharp edges
 kept), for the guide's benchmarks page; with --noise N (e.g. 0.003) the
 real meshes with Gaussian noise of N times the diagonal along their normals
-instead (synthetic noisy scans).  --deviation D (a fraction of the
+instead (synthetic noisy scans); with --variants, shapes no setting was
+tuned on: each real mesh stretched 6 times along x, flattened to 0.15 of its
+height and quadric-decimated to a tenth of its triangles (where that stays
+manifold and oriented), printed only.  --deviation D (a fraction of the
 diagonal, e.g. 0.005) writes the table of the vertex counts that keep every
 mesh within D both ways: the error-driven mode (MaximumDeviation D, the count
 left to it), and the smallest count found for the uniform mode, the
@@ -150,7 +154,27 @@ def line(name, seconds, q):
                                                q["below30"], q["valence6"], q["cv"], q["hausdorff"]))
 
 
-def corpus_table(counts, noise=0.0):
+def variants_of(name, data):
+    """(name, polydata) of the shapes --variants makes of one real mesh."""
+    sys.path.insert(0, os.path.join(HERE, "..", "Python"))
+    import inputs
+    from vtkmodules.vtkFiltersCore import vtkQuadricDecimation
+    points, triangles = inputs.arrays_of(data)
+    points = points - points.mean(axis=0)
+    out = [(name + " stretched x6", inputs.polydata(points * [6.0, 1.0, 1.0], triangles)),
+           (name + " flattened 0.15", inputs.polydata(points * [1.0, 1.0, 0.15], triangles))]
+    decimate = vtkQuadricDecimation()
+    decimate.SetInputData(inputs.polydata(points, triangles))
+    decimate.SetTargetReduction(0.9)
+    decimate.Update()
+    p, t = inputs.arrays_of(decimate.GetOutput())
+    top = inputs.topology(p, t)
+    if top["manifold"] and top["oriented"]:
+        out.append((name + " decimated 0.1", inputs.polydata(p, t)))
+    return out
+
+
+def corpus_table(counts, noise=0.0, variants=False):
     """Every real mesh (the shared corpus and Testing/Data) and the shapes
     made to break a remesher, uniform at each count, ours and CGAL's: one
     Markdown table (Hausdorff both ways in % of the diagonal: the remesh's
@@ -163,6 +187,8 @@ def corpus_table(counts, noise=0.0):
     meshes = [(os.path.basename(p), inputs.read_off(p)) for p in inputs.corpus_paths()]
     if noise > 0.0:
         meshes = [(name, noisy(data, noise)) for name, data in meshes]
+    elif variants:
+        meshes = [variant for name, data in meshes for variant in variants_of(name, data)]
     else:
         meshes += [(name, inputs.polydata(*shape)) for name, shape in inputs.hard_shapes().items()]
     columns = ["mesh", "count", "remesher", "vertices", "to input %", "from input %", "worst angle",
@@ -178,12 +204,13 @@ def corpus_table(counts, noise=0.0):
             f = vtkSurfaceRemeshing()
             f.SetInputData(data)
             f.SetNumberOfVertices(count)
-            f.SetSplitAtFeatures(name in CAD)
+            features = name.split(" ")[0] in CAD
+            f.SetSplitAtFeatures(features)
             f.GlobalWarningDisplayOff()
             start = time.perf_counter()
             f.Update()
             rows.append(("ours", time.perf_counter() - start, f.GetOutput()))
-            peer = cgal(inputs.polydata(*inputs.arrays_of(data)), count, name in CAD, True)  # (triangles: its input)
+            peer = cgal(inputs.polydata(*inputs.arrays_of(data)), count, features, True)  # (triangles: its input)
             if peer:
                 rows.append(("CGAL", peer[0], peer[1]))
             for who, seconds, remesh in rows:
@@ -197,6 +224,8 @@ def corpus_table(counts, noise=0.0):
                 table.append(row)
                 print("| " + " | ".join(map(str, row)) + " |")
             sys.stdout.flush()
+    if variants:
+        return
     if noise > 0.0:
         results.save("remeshing_noisy_corpus", "Remeshing", "Isotropic remeshing of every corpus mesh, noisy",
                      "CGAL 5.5 isotropic_remeshing (5 iterations, the equilateral target edge length of the count)",
@@ -307,7 +336,8 @@ def main(argv):
         deviation_table(float(argv[argv.index("--deviation") + 1]))
         return 0
     if "--corpus" in argv:
-        corpus_table([2000, 10000], float(argv[argv.index("--noise") + 1]) if "--noise" in argv else 0.0)
+        corpus_table([2000, 10000], float(argv[argv.index("--noise") + 1]) if "--noise" in argv else 0.0,
+                     "--variants" in argv)
         return 0
     cases = [("bunny00.off", 0, 10000, False), ("mushroom.off", 0, 10000, False), ("eight.off", 0, 10000, False),
              ("fandisk.off", 0, 10000, True), ("bunny00.off", 0, 2000, False)]
