@@ -155,19 +155,14 @@ def line(name, seconds, q):
 
 
 def variants_of(name, data):
-    """(name, polydata) of the shapes --variants makes of one real mesh."""
-    sys.path.insert(0, os.path.join(HERE, "..", "Python"))
+    """(name, polydata) of the shapes --variants makes of one real mesh
+    (corpus_table has put Testing/Python on the path)."""
     import inputs
-    from vtkmodules.vtkFiltersCore import vtkQuadricDecimation
     points, triangles = inputs.arrays_of(data)
     points = points - points.mean(axis=0)
     out = [(name + " stretched x6", inputs.polydata(points * [6.0, 1.0, 1.0], triangles)),
            (name + " flattened 0.15", inputs.polydata(points * [1.0, 1.0, 0.15], triangles))]
-    decimate = vtkQuadricDecimation()
-    decimate.SetInputData(inputs.polydata(points, triangles))
-    decimate.SetTargetReduction(0.9)
-    decimate.Update()
-    p, t = inputs.arrays_of(decimate.GetOutput())
+    p, t = inputs.decimated(inputs.polydata(points, triangles), 0.1)
     top = inputs.topology(p, t)
     if top["manifold"] and top["oriented"]:
         out.append((name + " decimated 0.1", inputs.polydata(p, t)))

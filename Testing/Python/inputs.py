@@ -426,20 +426,23 @@ def thin_plate(thickness=0.002, n=20):
     return np.vstack([top, bottom]), np.array(tris)
 
 
+def decimated(mesh, keep):
+    """(points, triangles) of `mesh` quadric-decimated to `keep` of its triangles."""
+    from vtkmodules.vtkFiltersCore import vtkQuadricDecimation
+
+    decimate = vtkQuadricDecimation()
+    decimate.SetInputData(mesh)
+    decimate.SetTargetReduction(1.0 - keep)
+    decimate.Update()
+    return arrays_of(decimate.GetOutput())
+
+
 def decimated_cad(keep=0.1):
     """fandisk_large (the shared corpus) quadric-decimated to `keep` of its
     triangles: a CAD part whose creases run jagged and, in places, a
     fraction of the spacing apart (None where the corpus is not at hand)."""
-    from vtkmodules.vtkFiltersCore import vtkQuadricDecimation
-
     path = os.path.join(SHARED_MESHES, "fandisk_large.off")
-    if not os.path.exists(path):
-        return None
-    decimate = vtkQuadricDecimation()
-    decimate.SetInputData(read_off(path))
-    decimate.SetTargetReduction(1.0 - keep)
-    decimate.Update()
-    return arrays_of(decimate.GetOutput())
+    return decimated(read_off(path), keep) if os.path.exists(path) else None
 
 
 def fan_double_cone(n=2000):
