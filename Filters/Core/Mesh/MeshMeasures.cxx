@@ -255,31 +255,68 @@ TriangleQuality MeasureTriangleQuality(const MeshTopology& topo, const double* x
   return q;
 }
 
-std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, double angleDegrees)
+namespace
 {
-  const MeshTopology::EdgeTable& e = topo.Edges();
+
+/// Per triangle, the corner of its angle above MostCapAngle (a cap), or -1.
+std::vector<Index> CapCorners(const MeshTopology& topo, const double* x)
+{
   const IndexArray& tri = topo.TriangleList();
-  const double cosine = std::cos(angleDegrees * M_PI / 180.0);
-  const auto normal = [&](Index corner) {
-    const Index* v = &tri[corner - corner % 3];
-    return (Point(x, v[1]) - Point(x, v[0])).cross(Point(x, v[2]) - Point(x, v[0])).normalized();
-  };
-  // A cap (an angle near 180 degrees: its corners nearly on a line) has no
-  // normal to speak of: it turns about its long edge with the slightest
-  // move of the middle corner.
   const double capCosine = std::cos(MostCapAngle * M_PI / 180.0);
-  const auto cap = [&](Index corner) {
-    const Index* v = &tri[corner - corner % 3];
+  std::vector<Index> caps(tri.size() / 3, -1);
+  for (std::size_t t = 0; t < caps.size(); ++t)
+  {
+    const Index* v = &tri[3 * t];
     for (int k = 0; k < 3; ++k)
     {
       const Vec3 a = Point(x, v[(k + 1) % 3]) - Point(x, v[k]), b = Point(x, v[(k + 2) % 3]) - Point(x, v[k]);
       if (a.dot(b) < capCosine * a.norm() * b.norm())
       {
-        return true;
+        caps[t] = static_cast<Index>(3 * t) + k;
       }
     }
-    return false;
-  };
+  }
+  return caps;
+}
+
+/// Per triangle, the unit normal of its side of the surface: its own, or
+/// for a cap (whose normal turns with the slightest move of its middle
+/// corner) that of the triangle across its long edge, the next across if
+/// that is a cap too (CapHops at most; NaN where none is found or the
+/// triangle has no area).
+std::vector<Vec3> SideNormals(const MeshTopology& topo, const double* x)
+{
+  constexpr int CapHops = 4;
+  const IndexArray& tri = topo.TriangleList();
+  const MeshTopology::EdgeTable& e = topo.Edges();
+  const std::vector<Index> caps = CapCorners(topo, x);
+  std::vector<Vec3> normals(caps.size());
+  for (std::size_t t = 0; t < caps.size(); ++t)
+  {
+    Index at = static_cast<Index>(t);
+    for (int hop = 0; hop < CapHops && at >= 0 && caps[at] >= 0; ++hop)
+    {
+      const Index c = caps[at], first = c - c % 3;
+      const std::int64_t k = e.Find(tri[first + (c + 1) % 3], tri[first + (c + 2) % 3]);
+      const Index across = k < 0 || e.FaceCount[k] != 2 ? -1
+        : (e.OppositeCorners[2 * k] == c ? e.OppositeCorners[2 * k + 1] : e.OppositeCorners[2 * k]);
+      at = across >= 0 ? across / 3 : -1;
+    }
+    const Index* v = at >= 0 ? &tri[3 * static_cast<std::size_t>(at)] : nullptr;
+    normals[t] = v && caps[at] < 0 ? (Point(x, v[1]) - Point(x, v[0])).cross(Point(x, v[2]) - Point(x, v[0])).normalized()
+                                   : Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  }
+  return normals;
+}
+
+} // namespace
+
+std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, double angleDegrees)
+{
+  const MeshTopology::EdgeTable& e = topo.Edges();
+  const IndexArray& tri = topo.TriangleList();
+  const double cosine = std::cos(angleDegrees * M_PI / 180.0);
+  const std::vector<Vec3> normals = SideNormals(topo, x);
   // The cosine of every edge's dihedral angle (NaN: a boundary or
   // non-manifold edge, or a degenerate triangle).
   std::vector<double> dihedral(e.NumberOfEdges(), std::numeric_limits<double>::quiet_NaN());
@@ -288,7 +325,7 @@ std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, 
     const Index c0 = e.OppositeCorners[2 * k], c1 = e.OppositeCorners[2 * k + 1];
     if (e.FaceCount[k] == 2 && c0 >= 0 && c1 >= 0)
     {
-      dihedral[k] = normal(c0).dot(normal(c1));
+      dihedral[k] = normals[c0 / 3].dot(normals[c1 / 3]);
     }
   }
   // A triangle turned over against two of its neighbours or more (a fold
@@ -305,7 +342,7 @@ std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, 
       ++folds[e.OppositeCorners[2 * k + 1] / 3];
     }
   }
-  const auto plain = [&](Index corner) { return !cap(corner) && folds[corner / 3] < 2; };
+  const auto plain = [&](Index corner) { return folds[corner / 3] < 2; };
   std::vector<std::uint8_t> sharp(e.NumberOfEdges(), 0);
   for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
   {

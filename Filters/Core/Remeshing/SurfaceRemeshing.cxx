@@ -394,12 +394,15 @@ std::vector<double> LocalDeviations(const MeshTopology& topology, const double* 
 
 /// The next remesh's weights and count after one that left the input
 /// farther than `bound`, aiming at three quarters of it (each remesh's
-/// vertices fall elsewhere: its deviation varies by 10-20%).  The deviation
-/// falls with the square of the spacing: the density (`weight`, whose
-/// integral over the surface is `integral`) is raised by the ratio wherever
-/// the input is left farther within about two spacings (the input's
-/// vertices sample the remesh's sag unevenly: most lie near its vertices),
-/// and the count with the integral, by a tenth at least (a small raised
+/// vertices fall elsewhere: its deviation varies by 10-20%).  Where the
+/// surface is smooth the deviation falls with the square of the spacing,
+/// across a crease the remesh cuts (an edge sharper than its neighbours but
+/// not a kept feature, a decimated part's jagged creases) or a rim only
+/// with the spacing: the density (`weight`, whose integral over the surface
+/// is `integral`) is raised by the square of the ratio wherever the input is
+/// left farther within about two spacings (the input's vertices sample the
+/// remesh's sag unevenly: most lie near its vertices), and the count with
+/// the integral, by a tenth at least (a small raised
 /// spot moves the count less than the remeshes' deviation varies, and the
 /// rounds would creep); where no input vertex is (the remesh's triangles
 /// are the far ones), the count alone.  At most `most`.  The input's cone
@@ -417,9 +420,13 @@ std::int64_t RaiseWhereFar(const MeshTopology& topology, const double* points, c
   bool raised = false;
   for (double& f : factor)
   {
-    // (Raised a little beyond the ratio: a small raised spot moves the
-    // samples of error diffusion less than its share of the count.)
-    f = f > target ? std::min(16.0, std::pow(f / target, 1.5)) : 1.0;
+    // (By the ratio to the power 1.5, as for smooth parts a little beyond
+    // it, the creases of fandisk_large decimated to a tenth stayed above
+    // 0.5% of the diagonal after 8 rounds, their count growing by the tenth
+    // each round; over the corpus and the hard shapes at that bound the
+    // square took 119 rounds against 139, 26% less time, for 3% more
+    // vertices (geometric mean).)
+    f = f > target ? std::min(16.0, (f / target) * (f / target)) : 1.0;
     raised = raised || f > 1.0;
   }
   double growth = std::min(4.0, worst / target);

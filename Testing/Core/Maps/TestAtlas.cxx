@@ -580,6 +580,31 @@ TEST(Atlas, CapsAndFoldsHaveNoSharpEdges)
   EXPECT_EQ(std::count(sharp.begin(), sharp.end(), std::uint8_t(1)), 1);
 }
 
+TEST(Atlas, CapsInACreaseKeepTheCrease)
+{
+  // A right-angled crease along the x axis (one side in the plane z = 0,
+  // the other in y = 0) with a cap lying in it, as decimation leaves them:
+  // its middle corner 0.002 off the crease (179.7 degrees).  Its two short
+  // edges are the crease, its long edge is not.
+  Mesh crease;
+  for (const Eigen::Vector3d& p : { Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, -0.001, 0.001),
+         Eigen::Vector3d(2, 0, 0), Eigen::Vector3d(1, -1, 0), Eigen::Vector3d(1, 0, 1) })
+  {
+    crease.AddPoint(p);
+  }
+  crease.AddTriangle(0, 1, 2); // the cap
+  crease.AddTriangle(1, 0, 3); // the side z = 0
+  crease.AddTriangle(2, 1, 3);
+  crease.AddTriangle(0, 2, 4); // the side y = 0, across the cap's long edge
+  const MeshTopology topology = crease.Topology();
+  const std::vector<std::uint8_t> sharp = SharpEdges(topology, crease.Points.data(), 60.0);
+  const MeshTopology::EdgeTable& edges = topology.Edges();
+  EXPECT_EQ(std::count(sharp.begin(), sharp.end(), std::uint8_t(1)), 2);
+  EXPECT_EQ(sharp[edges.Find(0, 1)], 1);
+  EXPECT_EQ(sharp[edges.Find(1, 2)], 1);
+  EXPECT_EQ(sharp[edges.Find(0, 2)], 0);
+}
+
 TEST(Atlas, MaximumChartAreaIsKept)
 {
   std::string error;
