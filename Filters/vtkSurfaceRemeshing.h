@@ -153,7 +153,7 @@ public:
   /// the bound was not met within Maximum Deviation Rounds. Default: 0.
   vtkSetClampMacro(MaximumDeviation, double, 0.0, 1.0);
   vtkGetMacro(MaximumDeviation, double);
-  /// The most remeshes the error-driven mode makes to meet the Maximum Deviation. Default: 8.
+  /// The most remeshes the error-driven mode makes to meet the Maximum Deviation. Default: 12.
   vtkSetClampMacro(MaximumDeviationRounds, int, 1, 100);
   vtkGetMacro(MaximumDeviationRounds, int);
   /// What the vertex density follows: uniform (equal triangles), a curvature of chapter 2, or the
@@ -250,7 +250,7 @@ protected:
 
   vtkIdType NumberOfVertices = 10000;
   double MaximumDeviation = 0.0;
-  int MaximumDeviationRounds = 8;
+  int MaximumDeviationRounds = 12;
   int Importance = UNIFORM;
   int Anisotropy = ISOTROPIC;
   double MaximumAnisotropy = 6.0;

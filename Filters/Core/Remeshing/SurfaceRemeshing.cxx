@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 #include <sstream>
 
 namespace beltrami
@@ -392,17 +393,50 @@ std::vector<double> LocalDeviations(const MeshTopology& topology, const double* 
   return deviation;
 }
 
+/// RaiseWhereFar's power of the ratio of the deviation to its target where
+/// the remesh's spacing is longer than the input's edges: a little beyond
+/// the ratio of a smooth surface's sag (a small raised spot moves the
+/// samples of error diffusion less than its share of the count).  Where
+/// the spacing is shorter, the square: with 1.5 throughout, fandisk_large
+/// decimated to a tenth (remeshed at 0.5% of the diagonal with 5,000-8,500
+/// vertices, its input 2,600) stayed beyond the bound for 8 rounds, the
+/// count growing by the least tenth each; with the square throughout, the
+/// error-driven remesh of a fine cylinder at 0.05% took twice the vertices.
+constexpr double LocalRaise = 1.5;
+
+/// Per vertex, the mean length of its edges (0 at a vertex in none).
+std::vector<double> MeanEdgeAtVertices(const MeshTopology& topology, const double* points)
+{
+  const MeshTopology::EdgeTable& e = topology.Edges();
+  std::vector<double> sum(static_cast<std::size_t>(topology.NumberOfVertices()), 0.0), count(sum.size(), 0.0);
+  for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
+  {
+    const Index a = e.Vertices[2 * k], b = e.Vertices[2 * k + 1];
+    const double length = (Point(points, a) - Point(points, b)).norm();
+    sum[a] += length;
+    sum[b] += length;
+    count[a] += 1.0;
+    count[b] += 1.0;
+  }
+  for (std::size_t v = 0; v < sum.size(); ++v)
+  {
+    sum[v] = count[v] > 0.0 ? sum[v] / count[v] : 0.0;
+  }
+  return sum;
+}
+
 /// The next remesh's weights and count after one that left the input
 /// farther than `bound`, aiming at three quarters of it (each remesh's
 /// vertices fall elsewhere: its deviation varies by 10-20%).  Where the
-/// surface is smooth the deviation falls with the square of the spacing,
-/// across a crease the remesh cuts (an edge sharper than its neighbours but
-/// not a kept feature, a decimated part's jagged creases) or a rim only
-/// with the spacing: the density (`weight`, whose integral over the surface
-/// is `integral`) is raised by the square of the ratio wherever the input is
-/// left farther within about two spacings (the input's vertices sample the
-/// remesh's sag unevenly: most lie near its vertices), and the count with
-/// the integral, by a tenth at least (a small raised
+/// remesh's spacing is longer than the input's edges the deviation falls
+/// with the square of the spacing (the sag of a smooth surface), where it
+/// is shorter only with the spacing (the input is a polyhedron at that
+/// scale: its edges are creases the remesh cuts): the density (`weight`,
+/// whose integral over the surface is `integral`) is raised by the ratio to
+/// the power 1.5 or 2 (LocalRaise) wherever the input is left farther
+/// within about two spacings (the input's vertices sample the remesh's sag
+/// unevenly: most lie near its vertices), and the count with the integral,
+/// by a tenth at least (a small raised
 /// spot moves the count less than the remeshes' deviation varies, and the
 /// rounds would creep); where no input vertex is (the remesh's triangles
 /// are the far ones), the count alone.  At most `most`.  The input's cone
@@ -417,16 +451,14 @@ std::int64_t RaiseWhereFar(const MeshTopology& topology, const double* points, c
   std::vector<double> factor = LocalDeviations(topology, points, toInput, remesh, bound, pinned, numThreads);
   const int rings = static_cast<int>(std::min(32.0, std::ceil(2.0 * remesh.Spacing / std::max(meanEdge, 1e-300))));
   DilateOverRings(topology, rings, factor);
+  const std::vector<double> edges = MeanEdgeAtVertices(topology, points);
+  const double area = std::accumulate(mass.begin(), mass.end(), 0.0);
   bool raised = false;
-  for (double& f : factor)
+  for (std::size_t v = 0; v < factor.size(); ++v)
   {
-    // (By the ratio to the power 1.5, as for smooth parts a little beyond
-    // it, the creases of fandisk_large decimated to a tenth stayed above
-    // 0.5% of the diagonal after 8 rounds, their count growing by the tenth
-    // each round; over the corpus and the hard shapes at that bound the
-    // square took 119 rounds against 139, 26% less time, for 3% more
-    // vertices (geometric mean).)
-    f = f > target ? std::min(16.0, (f / target) * (f / target)) : 1.0;
+    double& f = factor[v];
+    const double spacing = remesh.Spacing * std::sqrt(integral / std::max(area * weight[v], 1e-300));
+    f = f > target ? std::min(16.0, std::pow(f / target, spacing < edges[v] ? 2.0 : LocalRaise)) : 1.0;
     raised = raised || f > 1.0;
   }
   double growth = std::min(4.0, worst / target);

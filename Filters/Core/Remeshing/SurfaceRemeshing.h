@@ -283,6 +283,6 @@ struct DeviationRemeshResult
   std::vector<std::int64_t> Counts; ///< the count of each round
 };
 DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
-  const double* importance, const RemeshOptions& options, double maximumDeviation, int maximumRounds = 8);
+  const double* importance, const RemeshOptions& options, double maximumDeviation, int maximumRounds = 12);
 
 } // namespace beltrami
