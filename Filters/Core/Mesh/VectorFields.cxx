@@ -435,12 +435,14 @@ void GradientPart(const MeshTopology& topo, const double* points, const Triangle
   });
 }
 
-/// Whether every component is closed, manifold, oriented and of genus 0
-/// (Euler characteristic 2), without zero-area triangles: no harmonic fields.
-bool ClosedGenusZero(const MeshTopology& topo, const std::vector<Index>& component, Index degenerate)
+/// Whether the surface is manifold and oriented, without zero-area
+/// triangles, and every component a closed surface of genus 0 or a disk
+/// (Euler characteristic 2 or 1; 2g + b - 1 harmonic fields with b boundary
+/// loops, 2g closed): no harmonic fields.
+bool NoHarmonicFields(const MeshTopology& topo, const std::vector<Index>& component, Index degenerate)
 {
   const TopologySummary& s = topo.Summary();
-  if (!s.IsClosed() || !s.IsManifold() || !s.IsOriented() || degenerate > 0)
+  if (!s.IsManifold() || !s.IsOriented() || degenerate > 0)
   {
     return false;
   }
@@ -460,7 +462,7 @@ bool ClosedGenusZero(const MeshTopology& topo, const std::vector<Index>& compone
   }
   for (Index v = 0; v < topo.NumberOfVertices(); ++v)
   {
-    if (component[v] == v && topo.Valence(v) > 0 && euler[v] != 2)
+    if (component[v] == v && topo.Valence(v) > 0 && euler[v] != 2 && euler[v] != 1)
     {
       return false;
     }
@@ -468,12 +470,16 @@ bool ClosedGenusZero(const MeshTopology& topo, const std::vector<Index>& compone
   return true;
 }
 
-/// On closed genus-0 components the rest X - grad u is all divergence-free:
-/// its stream function (grad v = J^T (X - grad u) = -n x (X - grad u) on each
-/// triangle) by integration from edge midpoint to edge midpoint, breadth
-/// first over the triangles from one edge per component, then zero mean.
+/// Where there are no harmonic fields (NoHarmonicFields) the rest X - grad u
+/// is all divergence-free: its stream function (grad v = J^T (X - grad u) =
+/// -n x (X - grad u) on each triangle) by integration from edge midpoint to
+/// edge midpoint, breadth first over the triangles of each component from
+/// one edge: on a disk with the stream function fixed on the boundary
+/// (TangentDivergenceFree) from a boundary edge at 0, the boundary's edges
+/// then set to 0 (the integration gives them 0 to the potential's accuracy);
+/// otherwise from any edge, then zero mean.
 std::vector<double> IntegrateStreamFunction(const MeshTopology& topo, const double* points, const TriangleFrames& f,
-  const EdgeGraph& graph, const VectorFieldDecomposition& r)
+  const EdgeGraph& graph, VectorFieldBoundary boundary, const VectorFieldDecomposition& r)
 {
   const MeshTopology::EdgeTable& edges = topo.Edges();
   const IndexArray& tri = topo.TriangleList();
@@ -483,17 +489,14 @@ std::vector<double> IntegrateStreamFunction(const MeshTopology& topo, const doub
   const auto midpoint = [&](Index c) -> Vec3 { // (a Vec3, not an expression of temporaries)
     return 0.5 * (Point(points, tri[MeshTopology::Next(c)]) + Point(points, tri[MeshTopology::Prev(c)]));
   };
+  const auto onBoundary = [&](Index e) { return edges.FaceCount[e] == 1; };
   std::vector<Index> queue, members;
-  for (Index start = 0; start < nt; ++start)
-  {
-    if (visited[start])
-    {
-      continue;
-    }
-    known[graph.TriangleEdges[3 * static_cast<std::int64_t>(start)]] = 1;
+  // One component from triangle `start`, v known at its edge `first`.
+  const auto integrate = [&](Index start, Index first, bool fixed) {
+    known[first] = 1;
     visited[start] = 1;
     queue.assign(1, start);
-    members.clear();
+    members.assign(1, first);
     for (std::size_t q = 0; q < queue.size(); ++q)
     {
       const std::int64_t t = queue[q];
@@ -515,17 +518,16 @@ std::vector<double> IntegrateStreamFunction(const MeshTopology& topo, const doub
         }
         for (int s = 0; s < 2; ++s)
         {
-          const Index across = edges.OppositeCorners[2 * static_cast<std::int64_t>(e) + s] / 3;
-          if (!visited[across])
+          const Index corner = edges.OppositeCorners[2 * static_cast<std::int64_t>(e) + s];
+          if (corner >= 0 && !visited[corner / 3])
           {
-            visited[across] = 1;
-            queue.push_back(across);
+            visited[corner / 3] = 1;
+            queue.push_back(corner / 3);
           }
         }
       }
     }
-    // Zero mean over the component (the lumped mass: a third of each triangle per edge).
-    double sum = 0.0, mass = 0.0;
+    double sum = 0.0, mass = 0.0; // over the component (the lumped mass: a third of each triangle per edge)
     for (const Index t : queue)
     {
       for (Index c = 3 * t; c < 3 * t + 3; ++c)
@@ -534,10 +536,26 @@ std::vector<double> IntegrateStreamFunction(const MeshTopology& topo, const doub
         mass += f.Areas[t] / 3.0;
       }
     }
-    members.push_back(graph.TriangleEdges[3 * static_cast<std::int64_t>(start)]);
     for (const Index e : members)
     {
-      v[e] -= sum / mass;
+      v[e] = fixed ? (onBoundary(e) ? 0.0 : v[e]) : v[e] - sum / mass;
+    }
+  };
+  for (Index t = 0; boundary == VectorFieldBoundary::TangentDivergenceFree && t < nt; ++t)
+  {
+    for (Index c = 3 * t; c < 3 * t + 3 && !visited[t]; ++c)
+    {
+      if (onBoundary(graph.TriangleEdges[c]))
+      {
+        integrate(t, graph.TriangleEdges[c], true);
+      }
+    }
+  }
+  for (Index t = 0; t < nt; ++t)
+  {
+    if (!visited[t])
+    {
+      integrate(t, graph.TriangleEdges[3 * static_cast<std::int64_t>(t)], false);
     }
   }
   return v;
@@ -672,7 +690,7 @@ VectorFieldDecomposer::Internals::Internals(const MeshTopology& topo, const doub
   const bool multigrid = !o.ManyFields && nv >= o.MultigridVertices;
   Potential =
     std::make_unique<PoissonSystem>(std::move(cotangent), std::move(fixed), Component, Points, multigrid, o);
-  Integrate = o.Integrate && ClosedGenusZero(topo, Component, DegenerateTriangles);
+  Integrate = o.Integrate && NoHarmonicFields(topo, Component, DegenerateTriangles);
   Graph.Build(topo, !Integrate); // the integration needs each triangle's edges alone
   if (Integrate)
   {
@@ -730,7 +748,8 @@ void VectorFieldDecomposer::Decompose(const double* vectors, VectorFieldDecompos
   const double scale = std::ldexp(largest, -f) * I->Extent;
   r.Potential = I->Potential->Solve(PotentialRightHandSide(topo, I->Points, I->Frames, threads, r), scale, r);
   GradientPart(topo, I->Points, I->Frames, threads, r);
-  r.StreamFunction = I->Integrate ? IntegrateStreamFunction(topo, I->Points, I->Frames, I->Graph, r)
+  r.Integrated = I->Integrate;
+  r.StreamFunction = I->Integrate ? IntegrateStreamFunction(topo, I->Points, I->Frames, I->Graph, I->Options.Boundary, r)
                                   : I->Stream->Solve(StreamRightHandSide(topo, I->Points, threads, r), scale, r);
   RotatedGradientPart(topo, I->Points, I->Frames, I->Graph, threads, r);
   HarmonicPart(I->Frames, threads, r);

@@ -14,8 +14,8 @@
 //   Laplacian.h's EdgeGraph), the fit of J^T X the same way;
 // - H, the harmonic part: the remainder, divergence- and curl-free.
 // Where there are no harmonic fields (every component closed and of genus
-// 0), X - grad u is all of J grad v: v is then integrated across the
-// triangles instead of solved (VectorFieldOptions::Integrate).
+// 0, or a disk), X - grad u is all of J grad v: v is then integrated across
+// the triangles instead of solved (VectorFieldOptions::Integrate).
 // grad u and J grad v are exactly orthogonal (on each edge u is continuous
 // and v's mean is shared), so both fits are the orthogonal projections and
 // on a closed surface of genus g the harmonic fields span exactly 2g
@@ -69,8 +69,8 @@ struct VectorFieldOptions
   VectorFieldBoundary Boundary = VectorFieldBoundary::TangentDivergenceFree;
   /// Relative residual of the two Poisson solves.
   double Tolerance = 1e-10;
-  /// Where every component is closed and of genus 0 (no harmonic fields),
-  /// X - grad u is all divergence-free and its stream function is
+  /// Where every component is closed and of genus 0, or a disk (no harmonic
+  /// fields), X - grad u is all divergence-free and its stream function is
   /// integrated across the triangles instead of solved (the same to the
   /// first solve's accuracy, in a fraction of the time); false: solved.
   bool Integrate = true;
@@ -109,6 +109,7 @@ struct VectorFieldDecomposition
   int Iterations = 0;            ///< of the conjugate gradients (0: the direct solves met the tolerance)
   double Residual = 0.0;         ///< the larger relative residual of the two solves
   bool Converged = true;
+  bool Integrated = false;       ///< the stream function integrated (no harmonic fields), not solved
 };
 
 /// The decomposition prepared for one surface: the frames of its triangles,

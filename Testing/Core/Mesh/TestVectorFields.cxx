@@ -340,6 +340,45 @@ TEST(VectorFields, IntegratedStreamFunctionEqualsTheSolvedOne)
   }
 }
 
+TEST(VectorFields, DisksIntegrateTheStreamFunctionUnderBothBoundaryConditions)
+{
+  // A bumpy disk (a square height field) beside a closed sphere: no
+  // harmonic fields (2g + b - 1 = 0 on each), so the stream function is
+  // integrated, and it is the solved one under either boundary condition
+  // (fixed at 0 on the disk's boundary, or free with zero mean).
+  const test::Mesh disk = test::HeightField(
+    [](double x, double y) { return 0.3 * std::sin(2 * x) * std::cos(3 * y); }, 1.0, 30, 0.3, true, 5);
+  const test::Mesh m = test::Merged(disk, test::OctahedronSphere(3, 0.5), { 3.0, 0.0, 0.0 });
+  const std::vector<double> field = RandomField(m, 9);
+  const MeshTopology topo = m.Topology();
+  for (const VectorFieldBoundary boundary :
+    { VectorFieldBoundary::TangentDivergenceFree, VectorFieldBoundary::NormalCurlFree })
+  {
+    VectorFieldOptions o;
+    o.Boundary = boundary;
+    VectorFieldDecomposition integrated, solved;
+    DecomposeVectorField(topo, m.Points.data(), field.data(), o, integrated);
+    o.Integrate = false;
+    DecomposeVectorField(topo, m.Points.data(), field.data(), o, solved);
+    double difference = 0.0, size = 0.0;
+    for (std::size_t e = 0; e < solved.StreamFunction.size(); ++e)
+    {
+      difference = std::max(difference, std::abs(integrated.StreamFunction[e] - solved.StreamFunction[e]));
+      size = std::max(size, std::abs(solved.StreamFunction[e]));
+    }
+    EXPECT_LT(difference, 1e-9 * size) << static_cast<int>(boundary);
+    EXPECT_LT(integrated.Energy[3], 1e-18 * integrated.Energy[0]) << static_cast<int>(boundary);
+    EXPECT_LT(solved.Energy[3], 1e-18 * solved.Energy[0]) << "a disk has no harmonic fields";
+    EXPECT_GT(integrated.Energy[2], 0.1 * integrated.Energy[0]);
+    EXPECT_TRUE(integrated.Integrated);
+    EXPECT_FALSE(solved.Integrated);
+    for (const double inner : integrated.InnerProducts)
+    {
+      EXPECT_LT(std::abs(inner), 1e-9 * integrated.Energy[0]);
+    }
+  }
+}
+
 TEST(VectorFields, OpenSurfacesKeepOrthogonalityUnderBothBoundaryConditions)
 {
   const test::Mesh m = test::Cylinder(0.5, 1.5, 40, 30);
