@@ -134,7 +134,7 @@ def main(argv):
     levels = int(argv[1]) if len(argv) > 1 else 2
     rows = []
     # The bunny and fandisk: closed, genus 0, and the mushroom: a disk (the stream function integrated);
-    # the eight: genus 2 (integrated after its harmonic part, from a basis of four).
+    # the eight: genus 2 (solved).
     # The latitude-longitude grid of a global climate model (0.5 degrees): long thin triangles at the poles.
     meshes = [("bunny00", k) for k in range(levels + 1)] + [("eight", 3 + levels), ("mushroom", 2 + levels),
                                                              ("latitude-longitude", 0), ("fandisk", 2 + levels)]
@@ -171,9 +171,8 @@ def main(argv):
                  "Ours, one field per run: the vertices' system by conjugate gradients on the surface's "
                  "geometric multigrid from 50k vertices on (a sparse Cholesky factorization in nested-dissection "
                  "order below, and where the same surface comes again: time steps), the edges' system "
-                 "factorized where it is solved; relative residual at most 1e-10. The stream function is "
-                 "integrated across the triangles: on closed genus-0 surfaces and disks after one solve, on "
-                 "the genus-2 eight after five (four for its harmonic fields' basis). On the latitude-longitude "
+                 "factorized; relative residual at most 1e-10. On closed genus-0 surfaces and disks one solve "
+                 "(the stream function integrated), on the eight two. On the latitude-longitude "
                  "sphere the multigrid converges slowly (its triangles are long and thin at the poles) and gives "
                  "way to the factorization after 30 iterations. "
                  "The two implementations are independent: their parts agree to the solvers' accuracy.")

@@ -495,29 +495,6 @@ void ScaleBack(int e, int f, VectorFieldDecomposition& r)
   TimesPowerOfTwo(r.InnerProducts, 3, 2 * (e + f));
 }
 
-/// The L2 inner product of two fields given per triangle (3 values each),
-/// weighted by `areas`.
-double AreaInner(const std::vector<double>& areas, const std::vector<double>& a, const std::vector<double>& b)
-{
-  double sum = 0.0;
-  for (std::size_t t = 0; t < areas.size(); ++t)
-  {
-    sum += areas[t] * (a[3 * t] * b[3 * t] + a[3 * t + 1] * b[3 * t + 1] + a[3 * t + 2] * b[3 * t + 2]);
-  }
-  return sum;
-}
-
-/// The most harmonic fields (twice the genus of a closed surface) whose
-/// basis is made so that the stream function can be integrated (a solve of
-/// the points' system each, and 3 values per triangle kept); beyond, the
-/// edges' system is solved.  Against that solve (a factorization): a torus
-/// of 640k points 3.2 s and 1.2 GB against 4.8 s and 2.6 GB; the genus-2
-/// eight Loop-subdivided 5 times (325k points) 4.5 s and 0.7 GB against
-/// 4.7 s and 1.4 GB, 6 times (1.3M) 21.1 s against 19.6 s (the multigrid
-/// takes 24 iterations and more there, each basis field's solve as long as
-/// the field's own).
-constexpr std::size_t MostHandleFields = 8;
-
 } // namespace
 
 struct VectorFieldDecomposer::Internals
@@ -539,18 +516,11 @@ struct VectorFieldDecomposer::Internals
   double Extent = 1.0;          ///< the bounding box's diagonal
   std::unique_ptr<PoissonSystem> Potential;
   EdgeGraph Graph;
-  bool Integrate = false;       ///< the stream function integrated (no harmonic fields, or their basis known)
-  /// Closed surfaces with handles: an orthonormal basis of the harmonic
-  /// fields (3 per triangle each; HarmonicBasis).
-  std::vector<std::vector<double>> Harmonic;
+  bool Integrate = false;       ///< no harmonic fields: the stream function integrated
   std::unique_ptr<PoissonSystem> Stream;
 
-  /// The harmonic parts of the handles' fields (detail::HandleFields), made
-  /// orthonormal; false where there are more than MostHandleFields or a
-  /// solve misses the tolerance.
-  bool HarmonicBasis();
-  /// The stream function of X - grad u (r's Tangent and CurlFree) less its
-  /// harmonic part, integrated (detail::IntegrateStreamFunction).
+  /// The stream function of X - grad u (r's Tangent and CurlFree),
+  /// integrated (detail::IntegrateStreamFunction).
   std::vector<double> IntegratedStreamFunction(const VectorFieldDecomposition& r) const;
 };
 
@@ -583,15 +553,11 @@ VectorFieldDecomposer::Internals::Internals(const MeshTopology& topo, const doub
   Potential =
     std::make_unique<PoissonSystem>(std::move(cotangent), std::move(fixed), Component, Points, multigrid, o);
   Integrate = o.Integrate && detail::NoHarmonicFields(topo, Component, DegenerateTriangles);
-  const bool handles =
-    !Integrate && o.Integrate && detail::ClosedWithoutDegenerateTriangles(topo, DegenerateTriangles);
-  Graph.Build(topo, !Integrate && !handles); // the integration needs each triangle's edges alone
-  Integrate = Integrate || (handles && HarmonicBasis());
+  Graph.Build(topo, !Integrate); // the integration needs each triangle's edges alone
   if (Integrate)
   {
     return;
   }
-  Graph.Build(topo, true);
   const MeshTopology::EdgeTable& edges = topo.Edges();
   const Index ne = static_cast<Index>(edges.NumberOfEdges());
   GraphLaplacian nonconforming;
@@ -612,54 +578,6 @@ VectorFieldDecomposer::Internals::Internals(const MeshTopology& topo, const doub
     std::move(nonconforming), std::move(fixedEdges), std::move(component), midpoints.data(), false, o);
 }
 
-bool VectorFieldDecomposer::Internals::HarmonicBasis()
-{
-  const int threads = Options.NumberOfThreads;
-  std::vector<std::vector<double>> fields = detail::HandleFields(Topology, Points, Frames, Graph, MostHandleFields);
-  const auto inner = [&](const std::vector<double>& a, const std::vector<double>& b) {
-    return AreaInner(Frames.Areas, a, b);
-  };
-  for (std::vector<double>& field : fields)
-  {
-    VectorFieldDecomposition part;
-    part.Tangent = field;
-    double largest = 0.0;
-    for (const double x : field)
-    {
-      largest = std::max(largest, std::abs(x));
-    }
-    part.Potential = Potential->Solve(PotentialRightHandSide(Topology, Points, Frames, threads, part), largest * Extent, part);
-    if (!part.Converged)
-    {
-      return false;
-    }
-    GradientPart(Topology, Points, Frames, threads, part);
-    for (std::size_t k = 0; k < field.size(); ++k)
-    {
-      field[k] -= part.CurlFree[k];
-    }
-    for (const std::vector<double>& earlier : Harmonic) // (modified Gram-Schmidt)
-    {
-      const double along = inner(field, earlier);
-      for (std::size_t k = 0; k < field.size(); ++k)
-      {
-        field[k] -= along * earlier[k];
-      }
-    }
-    const double norm = std::sqrt(inner(field, field));
-    if (!(norm > 0.0))
-    {
-      return false;
-    }
-    for (double& x : field)
-    {
-      x /= norm;
-    }
-    Harmonic.push_back(std::move(field));
-  }
-  return !fields.empty();
-}
-
 std::vector<double> VectorFieldDecomposer::Internals::IntegratedStreamFunction(
   const VectorFieldDecomposition& r) const
 {
@@ -667,14 +585,6 @@ std::vector<double> VectorFieldDecomposer::Internals::IntegratedStreamFunction(
   for (std::size_t k = 0; k < rest.size(); ++k)
   {
     rest[k] = r.Tangent[k] - r.CurlFree[k];
-  }
-  for (const std::vector<double>& h : Harmonic) // (orthonormal)
-  {
-    const double along = AreaInner(Frames.Areas, rest, h);
-    for (std::size_t k = 0; k < rest.size(); ++k)
-    {
-      rest[k] -= along * h[k];
-    }
   }
   return detail::IntegrateStreamFunction(Topology, Points, Frames, Graph, Options.Boundary, rest);
 }

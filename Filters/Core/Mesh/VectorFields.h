@@ -15,11 +15,7 @@
 // - H, the harmonic part: the remainder, divergence- and curl-free.
 // Where there are no harmonic fields (every component closed and of genus
 // 0, or a disk), X - grad u is all of J grad v: v is then integrated across
-// the triangles instead of solved (VectorFieldOptions::Integrate).  On a
-// closed surface with a few handles, so is the rest of X - grad u less its
-// projection on the harmonic fields, whose basis is made once from the
-// handles' closed fields (Mesh/VectorFieldsDetail.h's HandleFields), each
-// less its curl-free part.
+// the triangles instead of solved (VectorFieldOptions::Integrate).
 // grad u and J grad v are exactly orthogonal (on each edge u is continuous
 // and v's mean is shared), so both fits are the orthogonal projections and
 // on a closed surface of genus g the harmonic fields span exactly 2g
@@ -76,10 +72,7 @@ struct VectorFieldOptions
   /// Where every component is closed and of genus 0, or a disk (no harmonic
   /// fields), X - grad u is all divergence-free and its stream function is
   /// integrated across the triangles instead of solved (the same to the
-  /// first solve's accuracy, in a fraction of the time); on a closed surface
-  /// of genus 4 at most, after its harmonic part is removed (a solve of the
-  /// points' system per harmonic field of the basis, once: about as fast
-  /// as the edges' solve, or faster, in half the memory); false: solved.
+  /// first solve's accuracy, in a fraction of the time); false: solved.
   bool Integrate = true;
   /// The decomposer will take many fields on the same surface (time
   /// steps): the vertices' system is factorized once, and each field costs

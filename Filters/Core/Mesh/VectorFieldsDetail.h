@@ -1,7 +1,6 @@
-// Beltrami core, private to Mesh/VectorFields: the triangles' frames, the
-// stream function integrated across the triangles instead of solved, and
-// the closed fields of a closed surface's handles that give its harmonic
-// fields (Mesh/VectorFieldsIntegration.cxx).
+// Beltrami core, private to Mesh/VectorFields: the triangles' frames and
+// the stream function integrated across the triangles instead of solved
+// (Mesh/VectorFieldsIntegration.cxx).
 #pragma once
 
 #include "Mesh/Geometry.h"
@@ -9,7 +8,6 @@
 #include "Mesh/MeshTopology.h"
 #include "Mesh/VectorFields.h"
 
-#include <cstddef>
 #include <vector>
 
 namespace beltrami::detail
@@ -43,13 +41,9 @@ struct TriangleFrames
 /// `component`: per vertex, its component's id (a vertex id).
 bool NoHarmonicFields(const MeshTopology& topology, const std::vector<Index>& component, Index degenerate);
 
-/// Whether the surface is closed, manifold and oriented, without zero-area
-/// triangles: its harmonic fields are those of its handles (HandleFields).
-bool ClosedWithoutDegenerateTriangles(const MeshTopology& topology, Index degenerate);
-
 /// The stream function v (one value per edge) of `rest` (3 per triangle),
-/// a field with no curl-free and no harmonic part (X - grad u, less its
-/// harmonic part where there is one): grad v = J^T rest = -n x rest on
+/// a field with no curl-free and no harmonic part (X - grad u where there
+/// are no harmonic fields): grad v = J^T rest = -n x rest on
 /// each triangle, integrated from edge midpoint to edge midpoint, breadth
 /// first over the triangles of each component from one edge.  On a
 /// component with a boundary where the stream function is fixed there
@@ -59,22 +53,5 @@ bool ClosedWithoutDegenerateTriangles(const MeshTopology& topology, Index degene
 std::vector<double> IntegrateStreamFunction(const MeshTopology& topology, const double* points,
   const TriangleFrames& frames, const EdgeGraph& graph, VectorFieldBoundary boundary,
   const std::vector<double>& rest);
-
-/// On a closed, manifold, oriented surface: one field per triangle (3 per
-/// triangle) for each of the 2g handles' cycles of its components (g the
-/// genus), whose harmonic parts span its harmonic fields.  A tree-cotree
-/// decomposition (a spanning forest of the edges, then one of the
-/// triangles across the other edges; Eppstein 2003) leaves 2g edges; for
-/// each, the closed 1-form that is 1 on it, 0 on the others left and on the
-/// forest's edges, and on the triangles' forest's edges what makes it sum
-/// to 0 around every triangle (solved from the leaves up), as the gradient
-/// of the linear function on each triangle whose differences along its
-/// sides it gives.  Such a field is curl-free and orthogonal to every
-/// J grad v (along each edge its tangential part is shared by both
-/// triangles, and v's jump has zero mean), but not a gradient: less its
-/// curl-free part it is harmonic.  Empty where more than `most` edges are
-/// left (the stream function is then solved).
-std::vector<std::vector<double>> HandleFields(const MeshTopology& topology, const double* points,
-  const TriangleFrames& frames, const EdgeGraph& graph, std::size_t most);
 
 } // namespace beltrami::detail
