@@ -404,7 +404,17 @@ std::vector<double> LocalDeviations(const MeshTopology& topology, const double* 
 /// error-driven remesh of a fine cylinder at 0.05% took twice the vertices.
 constexpr double LocalRaise = 1.5;
 
-/// Per vertex, the mean length of its edges (0 at a vertex in none).
+/// The input's lengths RaiseWhereFar compares the remesh with, measured
+/// once for every round: its mean edge, per vertex the mean length of its
+/// edges (0 at a vertex in none), and its area.
+struct InputScales
+{
+  double MeanEdge = 0.0;
+  std::vector<double> VertexEdges;
+  double Area = 0.0;
+};
+
+/// InputScales::VertexEdges.
 std::vector<double> MeanEdgeAtVertices(const MeshTopology& topology, const double* points)
 {
   const MeshTopology::EdgeTable& e = topology.Edges();
@@ -444,21 +454,20 @@ std::vector<double> MeanEdgeAtVertices(const MeshTopology& topology, const doubl
 /// three quarters of it, they cost more vertices than they save).
 std::int64_t RaiseWhereFar(const MeshTopology& topology, const double* points, const TriangleGrid& toInput,
   const RemeshResult& remesh,
-  const LargeVector<double>& mass, double meanEdge, double bound, double worst, std::int64_t count,
+  const LargeVector<double>& mass, const InputScales& input, double bound, double worst, std::int64_t count,
   std::int64_t most, std::vector<double>& weight, double& integral, std::vector<std::uint8_t>& pinned, int numThreads)
 {
   const double target = 0.75 * bound;
   std::vector<double> factor = LocalDeviations(topology, points, toInput, remesh, bound, pinned, numThreads);
-  const int rings = static_cast<int>(std::min(32.0, std::ceil(2.0 * remesh.Spacing / std::max(meanEdge, 1e-300))));
+  const int rings =
+    static_cast<int>(std::min(32.0, std::ceil(2.0 * remesh.Spacing / std::max(input.MeanEdge, 1e-300))));
   DilateOverRings(topology, rings, factor);
-  const std::vector<double> edges = MeanEdgeAtVertices(topology, points);
-  const double area = std::accumulate(mass.begin(), mass.end(), 0.0);
   bool raised = false;
   for (std::size_t v = 0; v < factor.size(); ++v)
   {
     double& f = factor[v];
-    const double spacing = remesh.Spacing * std::sqrt(integral / std::max(area * weight[v], 1e-300));
-    f = f > target ? std::min(16.0, std::pow(f / target, spacing < edges[v] ? 2.0 : LocalRaise)) : 1.0;
+    const double spacing = remesh.Spacing * std::sqrt(integral / std::max(input.Area * weight[v], 1e-300));
+    f = f > target ? std::min(16.0, std::pow(f / target, spacing < input.VertexEdges[v] ? 2.0 : LocalRaise)) : 1.0;
     raised = raised || f > 1.0;
   }
   double growth = std::min(4.0, worst / target);
@@ -759,7 +768,8 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
       CountForDeviation(mass,
         options.Metric ? MetricDensities(options.Metric, static_cast<Index>(n)) : cache->MaximumCurvature, bound));
   }
-  const double meanEdge = MeanEdgeLength(topology, points);
+  const InputScales input{ MeanEdgeLength(topology, points), MeanEdgeAtVertices(topology, points),
+    std::accumulate(mass.begin(), mass.end(), 0.0) };
   // The input's grid, once for every round (its triangles stay).
   const TriangleGrid toInput(points, topology.TriangleList().data(), topology.NumberOfTriangles(), options.NumberOfThreads);
   std::vector<std::uint8_t> pinned(n, 0); // where a remesh left the input farthest
@@ -822,7 +832,7 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
     }
     else
     {
-      count = RaiseWhereFar(topology, points, toInput, out.Remesh, mass, meanEdge, bound, worst, count, most, weight,
+      count = RaiseWhereFar(topology, points, toInput, out.Remesh, mass, input, bound, worst, count, most, weight,
         integral, pinned, options.NumberOfThreads);
     }
   }
