@@ -457,18 +457,23 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
   {
     held[i] = fixed[i] || roles.Boundary[i];
   }
+  // Where the first step's solve starts: at x, or at the chosen step's own
+  // run from x in the search (its result, met at once; ChooseStep).
+  RunStart guess;
   if (opt.TimeStep == 0.0 && opt.Integration != FairingIntegration::TaubinLambdaMu && opt.NumberOfIterations > 0)
   {
     const OperatorAssembly assemble = [&](const double* p, const FairingOptions& o, GraphLaplacian& lap) {
       AssembleOperator(topo, p, held, weight, o, lap, split);
     };
-    opt.TimeStep = ChooseStep(topo, x, opt, roles, held, inv, assemble, stepUnit, order, split, warn, report);
+    StepChoice choice = ChooseStep(topo, x, opt, roles, held, inv, assemble, stepUnit, order, split, warn, report);
+    opt.TimeStep = choice.TimeStep;
     opt.NumberOfIterations = opt.TimeStep > 0.0 ? opt.NumberOfIterations : 0; // a clean mesh stays as it is
+    guess = std::move(choice.Start);
   }
+  std::vector<double> start;
   // A combination with a negative weight: each step's start, kept in case
   // the step is not defined there (section 3.2.6's amplification).
   const bool amplifies = !Powers::Of(opt).NonNegative();
-  std::vector<double> start;
   for (int step = 0; step < opt.NumberOfIterations; ++step)
   {
     if (amplifies)
@@ -533,8 +538,13 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     report.DegenerateTriangles = std::max(report.DegenerateTriangles, L.DegenerateTriangles);
     const Powers powers = Powers::Of(opt);
     const bool solves = opt.Integration == FairingIntegration::Implicit && (powers.Pure(1) || powers.Pure(2));
-    const Stage surface{ L, held, omega, solves && !split ? localOrder() : nullptr, &roles.Moves, split };
+    const double* from = step == 0 && !guess.Points.empty() && !opt.Anisotropic ? guess.Points.data() : nullptr;
+    const Stage surface{ L, held, omega, solves && !split ? localOrder() : nullptr, &roles.Moves, split, from };
     defined = defined && Integrate(surface, opt, x, report);
+    if (from && !report.Iterations.empty())
+    {
+      report.Iterations.back() += guess.Iterations; // (the result's iterations: the search's run and these)
+    }
     if (opt.Operator == FairingOperator::CurvatureFlowAndSampling)
     {
       RegulariseSampling(topo, x, surface.Fixed, weight, roles.Moves, opt, split);

@@ -47,11 +47,18 @@ struct RiskTerms
   bool Defined = true;
 };
 
+/// Where the next runs from x and from the perturbed points start
+/// (SmoothingRun's `start`).
+struct RunStarts
+{
+  RunStart F, G;
+};
+
 RiskTerms TermsAt(const SmoothingRun& run, const std::vector<double>& x, const std::vector<double>& perturbed,
-  double epsilon, const std::vector<std::uint8_t>& moving, const Partition* split, double dt)
+  double epsilon, const std::vector<std::uint8_t>& moving, const Partition* split, double dt, RunStarts& starts)
 {
   std::vector<double> f = x, g = perturbed;
-  if (!run(dt, f.data()) || !run(dt, g.data()))
+  if (!run(dt, f.data(), starts.F) || !run(dt, g.data(), starts.G))
   {
     RiskTerms undefined;
     undefined.Defined = false;
@@ -143,27 +150,35 @@ StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x,
   const double variance = noise * noise;
   const double directions = 1.0 + 2.0 * tangential * tangential; // the input's risk per point, in noise^2
   double points = 0.0;
+  constexpr double Undefined = std::numeric_limits<double>::infinity();
+  const auto gcvOf = [&](const RiskTerms& t) { // generalized cross-validation (ChooseTimeStep)
+    const double freedom = directions * t.Points - t.Divergence;
+    return t.Defined && freedom > 0.0 ? t.Moved / (freedom * freedom) : Undefined;
+  };
   std::map<int, RiskTerms> terms; // by j, the step unit 2^(j/2)
+  RunStarts starts;
+  double least = Undefined; // the least GCV so far, whose run's start is kept (the search ends there)
   const auto at = [&](int j) -> const RiskTerms& {
     auto known = terms.find(j);
     if (known == terms.end())
     {
-      known = terms.emplace(j, TermsAt(run, x, perturbed, epsilon, moving, split, unit * std::exp2(0.5 * j))).first;
+      known = terms.emplace(j, TermsAt(run, x, perturbed, epsilon, moving, split, unit * std::exp2(0.5 * j), starts))
+                .first;
       ++choice.Evaluations;
       points = std::max(points, known->second.Points);
+      if (gcvOf(known->second) < least)
+      {
+        least = gcvOf(known->second);
+        choice.Start = starts.F;
+      }
     }
     return known->second;
   };
-  constexpr double Undefined = std::numeric_limits<double>::infinity();
   const auto sure = [&](int j) {
     const RiskTerms& t = at(j);
     return t.Defined ? t.Moved + 2.0 * variance * t.Divergence - directions * variance * t.Points : Undefined;
   };
-  const auto gcv = [&](int j) { // generalized cross-validation (ChooseTimeStep)
-    const RiskTerms& t = at(j);
-    const double freedom = directions * t.Points - t.Divergence;
-    return t.Defined && freedom > 0.0 ? t.Moved / (freedom * freedom) : Undefined;
-  };
+  const auto gcv = [&](int j) { return gcvOf(at(j)); };
   constexpr int Lowest = -32, Highest = 24;
   int best = 0;
   const int direction = gcv(4) < gcv(0) ? 4 : -4;
@@ -189,6 +204,10 @@ StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x,
   else
   {
     choice.EstimatedError = input;
+  }
+  if (choice.TimeStep == 0.0 || least != gcv(best))
+  {
+    choice.Start = {};
   }
   return choice;
 }
@@ -226,7 +245,7 @@ FairingReport FairWithEitherOperator(const MeshTopology& topo, double* points, c
   return report;
 }
 
-double ChooseStep(const MeshTopology& topo, const double* x, const FairingOptions& opt, const VertexRoles& roles,
+StepChoice ChooseStep(const MeshTopology& topo, const double* x, const FairingOptions& opt, const VertexRoles& roles,
   const std::vector<std::uint8_t>& held, const InvariantState& inv, const OperatorAssembly& assemble, double unit,
   std::vector<Index>& order, const Partition* split, std::ostringstream& warn, FairingReport& report)
 {
@@ -246,13 +265,13 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
   if (!(noise.Deviation >= NoNoise * h)) // nothing to gain (and no runs to pay for)
   {
     report.EstimatedError = noise.Deviation;
-    return 0.0;
+    return {};
   }
   if (noise.WiderDeviation > ShapeGrowth * noise.Deviation) // the shape's own detail (ShapeGrowth)
   {
     report.EstimatedError = noise.Deviation;
     WarnShapeDetail(noise.Deviation, h, warn);
-    return 0.0;
+    return {};
   }
   GraphLaplacian L;
   // The runs solve to the filter's tolerance: the risk's divergence is the
@@ -260,9 +279,11 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
   // error (over the corpus with noise of 0.1-1%, 75 cases, a tolerance of
   // 1e-6 chose the same operators and results, 26% slower).
   FairingOptions o = opt;
-  const SmoothingRun run = [&](double dt, double* p) {
+  // (Runs of one step start from each other: SmoothingRun's `start`.)
+  const SmoothingRun run = [&](double dt, double* p, RunStart& start) {
     o.TimeStep = dt;
     FairingReport scratch;
+    const bool oneStep = o.NumberOfIterations == 1;
     for (int step = 0; step < o.NumberOfIterations; ++step)
     {
       assemble(p, o, L);
@@ -270,10 +291,17 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
       {
         order = LocalityOrder(n, L.Offsets, L.Neighbors);
       }
-      if (!Integrate(Stage{ L, held, roles.Weight, split ? nullptr : order.data(), &roles.Moves, split }, o, p,
-            scratch))
+      const double* guess = oneStep && !start.Points.empty() ? start.Points.data() : nullptr;
+      if (!Integrate(Stage{ L, held, roles.Weight, split ? nullptr : order.data(), &roles.Moves, split, guess }, o,
+            p, scratch))
       {
+        start = {};
         return false;
+      }
+      if (oneStep)
+      {
+        start.Points.assign(p, p + 3 * static_cast<std::size_t>(n));
+        start.Iterations = scratch.Iterations.empty() ? 0 : scratch.Iterations.back();
       }
       if (inv.Kind != FairingInvariant::None)
       {
@@ -296,7 +324,7 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
   {
     moving[i] = !held[i];
   }
-  const StepChoice choice =
+  StepChoice choice =
     ChooseTimeStep(run, points, perturbed, epsilon, moving, noise.Deviation, share, unit, split);
   report.ChosenTimeStep = choice.TimeStep;
   report.EstimatedError = choice.EstimatedError;
@@ -311,7 +339,7 @@ double ChooseStep(const MeshTopology& topo, const double* x, const FairingOption
   {
     WarnShapeDetail(noise.Deviation, h, warn);
   }
-  return choice.TimeStep;
+  return choice;
 }
 
 } // namespace beltrami::detail

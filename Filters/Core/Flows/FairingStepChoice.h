@@ -16,6 +16,14 @@
 namespace beltrami::detail
 {
 
+/// Where a run's solve may start (SmoothingRun): Points empty for the
+/// points themselves.
+struct RunStart
+{
+  std::vector<double> Points;
+  int Iterations = 0; ///< the solver's, of the run that left these Points
+};
+
 struct StepChoice
 {
   double TimeStep = 0.0;       ///< lambda*dt in the run's (physical) units; 0: leave the points
@@ -23,6 +31,9 @@ struct StepChoice
   int Evaluations = 0;         ///< time steps tried
   bool ShapeDetail = false;    ///< left as it is: the estimated noise is mostly the shape's detail
   bool AtLimit = false;        ///< the step is the largest or smallest tried, and the risk still fell there
+  /// Where the run of the chosen step from x may start (the search's own
+  /// run of it, SmoothingRun's `start`): the result of the same solve.
+  RunStart Start;
 };
 
 /// The largest fraction of the estimated noise a chosen step may be
@@ -109,8 +120,13 @@ inline bool IsotropicNoise(double normal, double tangential, double h)
 }
 
 /// The whole smoothing of `points` (3 per vertex, in place) with time step
-/// `timeStep`; false where it is not defined (nothing to compare).
-using SmoothingRun = std::function<bool(double timeStep, double* points)>;
+/// `timeStep`; false where it is not defined (nothing to compare).  `start`:
+/// where its solve may start, and on return where a run of the same points
+/// with a nearby step may start (its solve's result before the invariant is
+/// restored; none where the run has more than one step).  The search's runs
+/// from x (and from the perturbed points) at steps a factor of 2-4 apart
+/// start from each other.
+using SmoothingRun = std::function<bool(double timeStep, double* points, RunStart& start)>;
 
 /// The time step whose run brings the points `x` closest to the noise-free
 /// surface by generalized cross-validation (Craven and Wahba 1979; f: the
@@ -161,8 +177,9 @@ using OperatorAssembly = std::function<void(const double* p, const FairingOption
 /// searched below NoNoise; the noise is taken as isotropic where
 /// IsotropicNoise says so.  `order`: the solver's renumbering of the
 /// surface graph, computed here if empty.  `warn` gets the sentences for
-/// the user (a step at the search's end; a surface left as it is).
-double ChooseStep(const MeshTopology& topo, const double* x, const FairingOptions& opt, const VertexRoles& roles,
+/// the user (a step at the search's end; a surface left as it is).  The
+/// choice's Start: where the run of the chosen step may start.
+StepChoice ChooseStep(const MeshTopology& topo, const double* x, const FairingOptions& opt, const VertexRoles& roles,
   const std::vector<std::uint8_t>& held, const InvariantState& inv, const OperatorAssembly& assemble, double unit,
   std::vector<Index>& order, const Partition* split, std::ostringstream& warn, FairingReport& report);
 

@@ -324,6 +324,7 @@ ConjugateGradientResult SolveStep(
   ConjugateGradientResult r;
   if (p.Pure(2) && sys.UnitWeights)
   {
+    sl.Guess = st.Guess;
     r = SolveSquaredLaplacian(sl, b.data(), x);
   }
   if (!r.Converged)

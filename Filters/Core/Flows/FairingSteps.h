@@ -77,6 +77,9 @@ struct Stage
   /// solved with the other processes' (one collective conjugate gradient);
   /// the other rows are ghosts, copies of their owners' rows.
   const Partition* Split = nullptr;
+  /// Optional: where an order-2 solve starts (3 per row, near its result:
+  /// the same points' run with a nearby step; ShiftedLaplacianProblem::Guess).
+  const double* Guess = nullptr;
 };
 
 inline bool Constrained(const Stage& st)

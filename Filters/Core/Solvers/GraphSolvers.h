@@ -64,6 +64,13 @@ struct ShiftedLaplacianProblem
   /// there a Split needs multigrid (distributed order-1 Jacobi solves take
   /// SolveConjugateGradient, the same iteration in double precision).
   const Partition* Split = nullptr;
+  /// Optional, SolveSquaredLaplacian's COCG (Jacobi or the geometric
+  /// multigrid; the algebraic multigrid starts at x): where the solve starts on the free
+  /// rows (Columns per row, the caller's numbering), for example the
+  /// solution of a nearby step; the tolerance stays relative to the
+  /// residual at x, so the result is as accurate as the solve from x, in
+  /// fewer iterations the nearer the guess.
+  const double* Guess = nullptr;
 };
 
 /// The preconditioner the graph solvers take for `problem` (for the order-2

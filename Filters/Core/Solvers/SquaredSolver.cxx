@@ -172,6 +172,11 @@ private:
       Initial[c] = std::sqrt(std::max(0.0, Norms[c]));
       Threshold[c] = std::max(Pb.Tolerance * Initial[c], ResidualRoundOff * Pb.Scale[c]);
     }
+    if (Pb.Guess)
+    {
+      StartAtGuess();
+      Norms = RealResidual(true);
+    }
     double needed = Check();
     if (Result.Converged)
     {
@@ -197,6 +202,20 @@ private:
       }
       NewDirection(beta);
     }
+  }
+
+  /// The free rows of X from Pb.Guess (ShiftedLaplacianProblem::Guess).
+  void StartAtGuess()
+  {
+    ParallelForStatic(N, Threads, [&](std::int64_t s, std::int64_t e) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        if (IsFree(i))
+        {
+          std::copy_n(Pb.Guess + System.Row(i) * NC, NC, X + i * NC);
+        }
+      }
+    });
   }
 
   /// Distributed (Pb.Split): only the owned rows are unknowns; the ghost

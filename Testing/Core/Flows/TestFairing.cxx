@@ -687,7 +687,9 @@ TEST(Fairing, DefaultsAreTheFiltersInEdgeLengthUnits)
   // FairingOptions{} is vtkImplicitFairing's default: one implicit order-2
   // step of the operator and size chosen from the noise, reported in units
   // of h^4 (h the mean edge length; the umbrella's step is dimensionless);
-  // the same run spelled out in physical units gives the same points.
+  // the same run spelled out in physical units gives the same points to the
+  // solver's tolerance (the default run's solve starts where the step
+  // search's run of that step ended, the spelled-out one at the points).
   Mesh noisy = test::TwoRateSphere(1.0, 12, 48, 6, 24);
   AddNormalNoise(noisy, 0.01, 7, true);
   const double h = MeanEdgeLength(noisy.Topology(), noisy.Points.data());
@@ -708,16 +710,14 @@ TEST(Fairing, DefaultsAreTheFiltersInEdgeLengthUnits)
   Mesh spelledOut = noisy;
   const FairingReport given = Smooth(spelledOut, physical);
   EXPECT_EQ(given.ChosenTimeStep, 0.0); // (a given step is not reported as chosen)
-  for (std::size_t k = 0; k < noisy.Points.size(); ++k)
-  {
-    ASSERT_NEAR(byDefault.Points[k], spelledOut.Points[k], 1e-12);
-  }
-  double moved = 0.0;
+  double moved = 0.0, apart = 0.0;
   for (std::size_t k = 0; k < noisy.Points.size(); ++k)
   {
     moved = std::max(moved, std::abs(byDefault.Points[k] - noisy.Points[k]));
+    apart = std::max(apart, std::abs(byDefault.Points[k] - spelledOut.Points[k]));
   }
   EXPECT_GT(moved, 0.001); // the noise is 0.01
+  EXPECT_LT(apart, 0.002 * moved); // (measured: 1.9e-6, against a largest move of 0.033)
 
   // A mesh without length (all points at one place) cannot be measured in
   // edge lengths: an error, the points unchanged.

@@ -73,7 +73,7 @@ struct SpectralSmoothing
   /// (1: the truth); Runs counts the runs it made.
   detail::StepChoice Search(double noise = 1.0) const
   {
-    const detail::SmoothingRun smooth = [&](double dt, double* p) {
+    const detail::SmoothingRun smooth = [&](double dt, double* p, detail::RunStart&) {
       ++Runs;
       for (std::size_t i = 0; i < Lambda.size(); ++i)
       {
