@@ -1,7 +1,8 @@
-"""Benchmark (on demand): one step of vtkImplicitFairing with its
-defaults (order 2, 4 h^4, mollified operator, Jacobi-preconditioned CG,
-exact volume) on the bunny Loop-subdivided four times (19.2M triangles),
-clean and with normal noise of 0.075% of the bounding-box diagonal: time,
+"""Benchmark (on demand): vtkImplicitFairing with its defaults (the noise
+estimate, and where it finds noise the search for the step and the operator,
+one order-2 step, exact volume) on the bunny Loop-subdivided four times
+(19.3M triangles), clean and with normal noise of 0.075% of the bounding-box
+diagonal (2.4 edge lengths): time,
 iterations and the peak resident memory of the process that reads the mesh
 and smooths it (the subdivision runs in a process of its own first, so its
 peak does not count).  Optionally (--multigrid) the same step with hypre's

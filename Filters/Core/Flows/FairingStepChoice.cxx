@@ -291,7 +291,8 @@ StepChoice ChooseStep(const MeshTopology& topo, const double* x, const FairingOp
       {
         order = LocalityOrder(n, L.Offsets, L.Neighbors);
       }
-      const double* guess = oneStep && !start.Points.empty() ? start.Points.data() : nullptr;
+      const double* guess =
+        oneStep && o.Operator == FairingOperator::Umbrella && !start.Points.empty() ? start.Points.data() : nullptr;
       if (!Integrate(Stage{ L, held, roles.Weight, split ? nullptr : order.data(), &roles.Moves, split, guess }, o,
             p, scratch))
       {
