@@ -108,10 +108,10 @@ struct FairingOptions
   /// Not with Taubin's passes (their steps are TaubinLambda and TaubinMu).
   double TimeStep = 0.0;
   /// TimeStep 0: the input's noise (length), its noise measured one ring
-  /// wider and median dihedral angle where a run on the same input estimated
-  /// them already (its FairingReport's Noise, WiderNoise and
-  /// MedianDihedral); 0: estimated here.
-  double KnownNoise = 0.0, KnownWiderNoise = 0.0, KnownMedianDihedral = 0.0;
+  /// wider, on its first rings and median dihedral angle where a run on the
+  /// same input estimated them already (its FairingReport's Noise,
+  /// WiderNoise, LocalNoise and MedianDihedral); 0: estimated here.
+  double KnownNoise = 0.0, KnownWiderNoise = 0.0, KnownLocalNoise = 0.0, KnownMedianDihedral = 0.0;
   /// Unit of TimeStep and FeatureThreshold: the mean edge length h of the
   /// input (then the step is scaled by h^2 or h^4 and the threshold by 1/h),
   /// or the mesh's own units.
@@ -208,8 +208,9 @@ struct FairingReport
   /// after the run (length).  All 0 when the step was given.
   double Noise = 0.0;
   double MedianDihedral = 0.0;
-  /// The noise estimated with neighbourhoods one ring wider (SurfaceNoise).
-  double WiderNoise = 0.0;
+  /// The noise estimated with neighbourhoods one ring wider, and on the
+  /// first rings (SurfaceNoise::WiderDeviation, LocalDeviation).
+  double WiderNoise = 0.0, LocalNoise = 0.0;
   /// The noise per direction of the tangent planes the step's risk
   /// assumed (length): 0 (noise along the normals) or Noise (isotropic
   /// noise, where the estimate says so: Flows/FairingStepChoice.h).

@@ -234,6 +234,7 @@ FairingReport FairWithEitherOperator(const MeshTopology& topo, double* points, c
     opt.KnownNoise = report.Noise; // (the same input)
     opt.KnownMedianDihedral = report.MedianDihedral;
     opt.KnownWiderNoise = report.WiderNoise;
+    opt.KnownLocalNoise = report.LocalNoise;
     FairingReport flow = FairSurface(topo, curvature.data(), opt, cons, progress, split);
     if (flow.Error.empty() && flow.EstimatedError <= report.EstimatedError)
     {
@@ -254,6 +255,7 @@ StepChoice ChooseStep(const MeshTopology& topo, const double* x, const FairingOp
   noise.Deviation = opt.KnownNoise;
   noise.MedianDihedral = opt.KnownMedianDihedral;
   noise.WiderDeviation = opt.KnownWiderNoise;
+  noise.LocalDeviation = opt.KnownLocalNoise;
   if (!(noise.Deviation > 0.0))
   {
     noise = EstimateSurfaceNoise(topo, x, roles.Fixed.data(), split, opt.NumberOfThreads);
@@ -261,6 +263,7 @@ StepChoice ChooseStep(const MeshTopology& topo, const double* x, const FairingOp
   report.Noise = noise.Deviation;
   report.MedianDihedral = noise.MedianDihedral;
   report.WiderNoise = noise.WiderDeviation;
+  report.LocalNoise = noise.LocalDeviation;
   const double h = MeanEdgeLength(topo, x, split);
   if (!(noise.Deviation >= NoNoise * h)) // nothing to gain (and no runs to pay for)
   {
@@ -317,7 +320,8 @@ StepChoice ChooseStep(const MeshTopology& topo, const double* x, const FairingOp
   // planes; its part of the divergence comes from the same probe.
   const std::vector<double> normals = UnitNormals(topo, x, opt.NumberOfThreads);
   const double tangential = EstimateTangentialNoise(topo, x, normals.data(), roles.Fixed.data(), split);
-  const double share = IsotropicNoise(noise.Deviation, tangential, h) ? 1.0 : 0.0;
+  // (Compared on the same rings: LocalDeviation.)
+  const double share = IsotropicNoise(noise.LocalDeviation, tangential, h) ? 1.0 : 0.0;
   report.TangentialNoise = share * noise.Deviation;
   const std::vector<double> perturbed = PerturbedAlongNormals(normals, x, epsilon, share, split);
   std::vector<std::uint8_t> moving(static_cast<std::size_t>(n));

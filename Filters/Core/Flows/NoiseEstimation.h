@@ -76,6 +76,10 @@ struct SurfaceNoise
   /// points).  White noise measures the same at both sizes; the shape's own
   /// variation, which the quadrics do not fit, grows with the neighbourhood.
   double WiderDeviation = 0.0;
+  /// The estimate on the rings the median dihedral angle gives, before a
+  /// crumpled surface's is measured again on wider ones (the scale of the
+  /// tangential estimate, EstimateTangentialNoise, for their comparison).
+  double LocalDeviation = 0.0;
 };
 
 /// The standard deviation of white noise along the normals of a triangle
@@ -93,7 +97,10 @@ struct SurfaceNoise
 /// measured on 2-rings, all of it on 6-rings), while on a coarse mesh wider
 /// rings add the shape's detail.  The rings follow how crumpled the mesh
 /// is, by the median angle between the normals of adjacent triangles: below
-/// 35 degrees 2 rings, below 45 3, below 52 4, else 6.  On a coarse mesh
+/// 35 degrees 2 rings, below 45 3, below 52 4, else 6; from 45 degrees on
+/// (noise of an edge length and more tilts the fits' frames) it is measured
+/// again on 12-rings at fewer points and that estimate kept where it is
+/// more than a tenth larger (the wider estimate then the same).  On a coarse mesh
 /// whose shape varies at the scale of its triangles, that detail counts as
 /// noise (elephant: 0.13% of the diagonal without noise); where the noise
 /// crumples only part of a mesh (a locally refined region) it is measured
