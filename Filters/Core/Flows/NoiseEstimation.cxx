@@ -492,13 +492,13 @@ int RingsFor(double dihedral)
 constexpr double CrumpledDihedral = 45.0;
 constexpr double CrumpledGrowth = 1.1;
 constexpr int MostRings = 12;
-/// The crumpled surface's second estimate takes 2^32 / n of its n points,
+/// The crumpled surface's second estimate takes 2^30 / n of its n points,
 /// from CrumpledSamples (a median's relative error of about 1.8%) to the
 /// first estimate's 2^15: its wide rings cost about 0.5 s at 4096 points on
 /// 2 threads, and a small surface split over processes needs more (bunny00
 /// on 4 processes: 9% from the serial estimate at 4096).
 constexpr double CrumpledSamples = 4096.0;
-constexpr double CrumpledWork = 4294967296.0;
+constexpr double CrumpledWork = 1073741824.0;
 
 /// Points of more neighbours than this are taken into a ring but not
 /// expanded (unless they are its centre): the apex of a fan of 20,000
