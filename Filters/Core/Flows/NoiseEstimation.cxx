@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <cstring>
 #include <vector>
 
@@ -623,37 +624,46 @@ std::uint64_t PointHash(const double* point)
   return h;
 }
 
-SurfaceNoise EstimateSurfaceNoise(
-  const MeshTopology& topo, const double* x, const std::uint8_t* skip, const Partition* split, int numThreads)
+namespace
 {
-  SurfaceNoise result;
-  const Index n = topo.NumberOfVertices();
-  const std::vector<double> angles = DihedralAngles(topo, x, numThreads);
-  result.MedianDihedral = MedianDihedral(topo, angles, split);
-  const MeshTopology::VertexGraph& graph = topo.Graph();
-  const double rows = split ? static_cast<double>(split->TotalRows()) : static_cast<double>(n);
-  std::int64_t stride = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(rows / 32768.0)));
-  const auto sampled = [&](Index i) {
-    return (!split || split->IsOwned(i)) && PointHash(x + 3 * static_cast<std::size_t>(i)) % stride == 0 &&
-      !(skip && skip[i]);
-  };
-  const auto median = [&](const std::vector<double>& values) {
-    std::vector<double> samples;
-    for (double r : values)
+
+/// The median of the finite values over the processes, as the deviation of
+/// a normal law (MAD / 0.6745); 0 below 8 values.
+double RobustDeviation(const std::vector<double>& values, const Partition* split)
+{
+  std::vector<double> samples;
+  for (double r : values)
+  {
+    if (std::isfinite(r))
     {
-      if (std::isfinite(r))
-      {
-        samples.push_back(r);
-      }
+      samples.push_back(r);
     }
-    const std::int64_t count = Total(samples.size(), split);
-    return count >= 8 ? NthSmallest(samples, count / 2, split) / 0.6744897501960817 : 0.0;
-  };
-  // The estimate with every ring at least `least` wide (Deviation; with
-  // `wide` also WiderDeviation).
-  const auto measure = [&](int least, bool wide) {
+  }
+  const std::int64_t count = Total(samples.size(), split);
+  return count >= 8 ? NthSmallest(samples, count / 2, split) / 0.6744897501960817 : 0.0;
+}
+
+/// The quadric residuals of EstimateSurfaceNoise at the points a hash
+/// samples (one in `Stride`), owned and not skipped.
+struct RingResiduals
+{
+  const MeshTopology& Topo;
+  const double* X;
+  const std::vector<double>& Angles;
+  double MedianDihedral;
+  const std::uint8_t* Skip;
+  const Partition* Split;
+  int NumberOfThreads;
+  std::int64_t Stride = 1;
+
+  /// (Deviation, WiderDeviation) with every ring at least `least` wide
+  /// (the wider one only with `wide`, else the same).
+  std::pair<double, double> Measure(int least, bool wide) const
+  {
+    const Index n = Topo.NumberOfVertices();
+    const MeshTopology::VertexGraph& graph = Topo.Graph();
     std::vector<double> residual(static_cast<std::size_t>(n), std::nan("")), wider(residual);
-    ParallelFor(n, numThreads, [&](std::int64_t begin, std::int64_t end) {
+    ParallelFor(n, NumberOfThreads, [&](std::int64_t begin, std::int64_t end) {
       std::vector<int> stamp(static_cast<std::size_t>(n), -1);
       std::vector<Index> ring;
       std::vector<double> scratch;
@@ -661,47 +671,61 @@ SurfaceNoise EstimateSurfaceNoise(
       for (std::int64_t i = begin; i < end; ++i)
       {
         const Index v = static_cast<Index>(i);
-        if (!sampled(v))
+        if ((Split && !Split->IsOwned(v)) || PointHash(X + 3 * static_cast<std::size_t>(v)) % Stride != 0 ||
+          (Skip && Skip[v]))
         {
           continue;
         }
         const int rings =
-          std::max(least, RingsFor(std::max(result.MedianDihedral, VertexDihedral(topo, angles, v, scratch))));
-        if (CollectRing(graph, v, rings, split, stamp, mark++, ring) && ring.size() >= 9)
+          std::max(least, RingsFor(std::max(MedianDihedral, VertexDihedral(Topo, Angles, v, scratch))));
+        if (CollectRing(graph, v, rings, Split, stamp, mark++, ring) && ring.size() >= 9)
         {
-          residual[i] = QuadricResidual(x, v, ring);
-          if (wide && CollectRing(graph, v, rings + 1, split, stamp, mark++, ring))
+          residual[i] = QuadricResidual(X, v, ring);
+          if (wide && CollectRing(graph, v, rings + 1, Split, stamp, mark++, ring))
           {
-            wider[i] = QuadricResidual(x, v, ring);
+            wider[i] = QuadricResidual(X, v, ring);
           }
         }
       }
-    }, {}, ResolveThreadCount(numThreads), 1);
-    result.Deviation = median(residual);
-    result.WiderDeviation = wide ? median(wider) : result.Deviation;
-  };
-  measure(0, true);
+    }, {}, ResolveThreadCount(NumberOfThreads), 1);
+    const double deviation = RobustDeviation(residual, Split);
+    return { deviation, wide ? RobustDeviation(wider, Split) : deviation };
+  }
+};
+
+std::int64_t StrideFor(double rows, double samples)
+{
+  return std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(rows / samples)));
+}
+
+} // namespace
+
+SurfaceNoise EstimateSurfaceNoise(
+  const MeshTopology& topo, const double* x, const std::uint8_t* skip, const Partition* split, int numThreads)
+{
+  SurfaceNoise result;
+  const std::vector<double> angles = DihedralAngles(topo, x, numThreads);
+  result.MedianDihedral = MedianDihedral(topo, angles, split);
+  const double rows =
+    split ? static_cast<double>(split->TotalRows()) : static_cast<double>(topo.NumberOfVertices());
+  RingResiduals residuals{ topo, x, angles, result.MedianDihedral, skip, split, numThreads, StrideFor(rows, 32768.0) };
+  std::tie(result.Deviation, result.WiderDeviation) = residuals.Measure(0, true);
   result.LocalDeviation = result.Deviation;
-  int rings = RingsFor(result.MedianDihedral);
+  result.Rings = RingsFor(result.MedianDihedral);
   if (result.MedianDihedral >= CrumpledDihedral && result.Deviation > 0.0)
   {
     // Measured again on MostRings-rings (CrumpledDihedral), at fewer points
     // (CrumpledSamples), and taken where it grew (the wider estimate is then
     // the same: the growth is the frames', not the shape's).
-    const SurfaceNoise narrow = result;
-    const double samples = std::clamp(CrumpledWork / std::max(rows, 1.0), CrumpledSamples, 32768.0);
-    stride = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(rows / samples)));
-    measure(MostRings, false);
-    if (result.Deviation > CrumpledGrowth * narrow.Deviation)
+    residuals.Stride = StrideFor(rows, std::clamp(CrumpledWork / std::max(rows, 1.0), CrumpledSamples, 32768.0));
+    const double crumpled = residuals.Measure(MostRings, false).first;
+    if (crumpled > CrumpledGrowth * result.Deviation)
     {
-      rings = MostRings;
-    }
-    else
-    {
-      result = narrow;
+      result.Deviation = result.WiderDeviation = crumpled;
+      result.Rings = MostRings;
     }
   }
-  result.Rings = result.Deviation > 0.0 ? rings : 0;
+  result.Rings = result.Deviation > 0.0 ? result.Rings : 0;
   return result;
 }
 
