@@ -65,6 +65,15 @@ public:
     Distributed
   };
 
+  /// For the filters with a composite output besides their surface (the
+  /// atlas's and the remesher's maps), from their ProcessRequest: on
+  /// REQUEST_DATA_OBJECT, a new object for every composite output but the
+  /// first.  On a composite input the executive runs such a filter once per
+  /// block, gathering each block's outputs into composite outputs of the
+  /// input's structure; an output composite itself would otherwise be that
+  /// gathering object, emptied and refilled by every block.
+  static void NewCompositeOutputs(vtkInformation* request, vtkInformationVector* outputVector);
+
   /// The one way a surface filter's RequestData runs, serial or distributed:
   /// fetches the poly data input and output, passes the input through,
   /// builds the surface and calls `run(surface)` (the filter's work on

@@ -9,6 +9,7 @@
 #include <vtkAlgorithm.h>
 #include <vtkBoundingBox.h>
 #include <vtkCommunicator.h>
+#include <vtkCompositeDataSet.h>
 #include <vtkDataSetAttributes.h>
 #include <vtkDoubleArray.h>
 #include <vtkFloatArray.h>
@@ -287,6 +288,22 @@ int vtkBeltramiSurface::ExecuteDistributed(vtkAlgorithm* owner, vtkPolyData* inp
     return 0;
   }
   return run(surface) ? 1 : 0;
+}
+
+void vtkBeltramiSurface::NewCompositeOutputs(vtkInformation* request, vtkInformationVector* outputVector)
+{
+  if (!request->Has(vtkDemandDrivenPipeline::REQUEST_DATA_OBJECT()))
+  {
+    return;
+  }
+  for (int port = 1; port < outputVector->GetNumberOfInformationObjects(); ++port)
+  {
+    vtkInformation* info = outputVector->GetInformationObject(port);
+    if (vtkCompositeDataSet* maps = vtkCompositeDataSet::SafeDownCast(info->Get(vtkDataObject::DATA_OBJECT())))
+    {
+      info->Set(vtkDataObject::DATA_OBJECT(), vtkSmartPointer<vtkDataObject>::Take(maps->NewInstance()));
+    }
+  }
 }
 
 int vtkBeltramiSurface::RunOnWholeSurface(vtkAlgorithm* owner, vtkInformationVector** inputVector,

@@ -96,6 +96,13 @@ int vtkSurfaceAtlas::FillOutputPortInformation(int port, vtkInformation* info)
   return this->Superclass::FillOutputPortInformation(port, info);
 }
 
+vtkTypeBool vtkSurfaceAtlas::ProcessRequest(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkBeltramiSurface::NewCompositeOutputs(request, outputVector);
+  return this->Superclass::ProcessRequest(request, inputVector, outputVector);
+}
+
 int vtkSurfaceAtlas::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {

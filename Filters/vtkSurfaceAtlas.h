@@ -174,6 +174,8 @@ protected:
   ~vtkSurfaceAtlas() override = default;
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
+  /// (Composite inputs: vtkBeltramiSurface::NewCompositeOutputs.)
+  vtkTypeBool ProcessRequest(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   int MapResolution = 256;

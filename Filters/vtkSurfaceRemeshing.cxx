@@ -87,6 +87,13 @@ int vtkSurfaceRemeshing::FillOutputPortInformation(int port, vtkInformation* inf
   return this->Superclass::FillOutputPortInformation(port, info);
 }
 
+vtkTypeBool vtkSurfaceRemeshing::ProcessRequest(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkBeltramiSurface::NewCompositeOutputs(request, outputVector);
+  return this->Superclass::ProcessRequest(request, inputVector, outputVector);
+}
+
 int vtkSurfaceRemeshing::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {

@@ -246,6 +246,8 @@ protected:
   ~vtkSurfaceRemeshing() override;
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
+  /// (Composite inputs: vtkBeltramiSurface::NewCompositeOutputs.)
+  vtkTypeBool ProcessRequest(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   vtkIdType NumberOfVertices = 10000;
