@@ -6,8 +6,10 @@
 #include "Mesh/MeshMeasures.h"
 #include "Remeshing/RemeshMetric.h"
 #include "Remeshing/SurfaceRemeshing.h"
+#include "Mesh/SurfaceDistance.h"
 
 #include <vtkCellArray.h>
+#include <vtkCellData.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkIdList.h>
@@ -165,6 +167,42 @@ void AddField(vtkPolyData* output, const char* name, std::initializer_list<doubl
     array->InsertNextValue(v);
   }
   output->GetFieldData()->AddArray(array);
+}
+
+/// The input's cell arrays on the remesh `output`: each triangle takes the
+/// values of the input cell nearest its centre (labels stay labels);
+/// nothing where the input has none.
+void CopyCellData(vtkPolyData* input, const vtkBeltramiSurface& surface, const double* points,
+  const beltrami::RemeshResult& r, vtkPolyData* output)
+{
+  vtkCellData* in = input->GetCellData();
+  const beltrami::MeshTopology& topology = surface.Topology();
+  if (in->GetNumberOfArrays() == 0 || r.Triangles.empty())
+  {
+    return;
+  }
+  const beltrami::IndexArray& triangles = topology.TriangleList();
+  const beltrami::TriangleGrid grid(points, triangles.data(), triangles.size() / 3);
+  vtkCellData* out = output->GetCellData();
+  const vtkIdType count = static_cast<vtkIdType>(r.Triangles.size() / 3);
+  out->CopyAllocate(in, count);
+  for (vtkIdType t = 0; t < count; ++t)
+  {
+    const beltrami::Index* c = r.Triangles.data() + 3 * t;
+    const beltrami::Vec3 centre = (beltrami::Point(r.Points.data(), c[0]) + beltrami::Point(r.Points.data(), c[1]) +
+                                    beltrami::Point(r.Points.data(), c[2])) / 3.0;
+    double distance = 0.0;
+    const beltrami::Index nearest = grid.Nearest(centre, distance);
+    const vtkIdType cell = nearest < 0 ? -1 : surface.TriangleCell(topology.OriginalTriangleIds()[nearest]);
+    if (cell >= 0)
+    {
+      out->CopyData(in, cell, t);
+    }
+    else
+    {
+      out->NullData(t);
+    }
+  }
 }
 
 /// The remesh into `output`: points, triangles, the input's point data
@@ -562,6 +600,7 @@ int vtkSurfaceRemeshing::Report(vtkPolyData* input, const Run& run, vtkPolyData*
                     << "% of the diagonal; field array RemeshDeviation)." << advice);
   }
   WriteRemesh(input, topology, remesh, atlas.Charts.size(), output);
+  CopyCellData(input, this->Cache->Surface, this->Cache->Points, remesh, output);
   const double smallest = output->GetFieldData()->GetArray("RemeshMinimumAngle")->GetTuple1(0);
   if (run.Metric.empty() && smallest < 1.0)
   {

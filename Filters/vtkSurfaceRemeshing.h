@@ -58,7 +58,8 @@
  * Metric (scaled to the count) and field array RemeshMetricQuality.
  *
  * Output 0: the remesh (triangles), the input's point arrays interpolated at
- * its vertices (barycentric in the input triangle under each), point array
+ * its vertices (barycentric in the input triangle under each), its cell
+ * arrays from the input cell nearest each triangle's centre, point array
  * SampleKind (0 inside a chart, 1 on a chart boundary, 2 at a corner of the
  * chart boundaries, 3 pinned at a tip: an input vertex whose angle defect
  * exceeds 1 radian, a cone narrower than about 57 degrees - a spike's,

@@ -629,6 +629,12 @@ class RemeshingFromPython(unittest.TestCase):
         heights = numpy_to_vtk(vtk_to_numpy(reader.GetOutput().GetPoints().GetData())[:, 2].copy())
         heights.SetName("Height")
         reader.GetOutput().GetPointData().AddArray(heights)
+        # A cell label (the side of x = 0 of the triangle's centre): each remesh triangle takes the nearest input cell's.
+        xyz = vtk_to_numpy(reader.GetOutput().GetPoints().GetData())
+        cells = vtk_to_numpy(reader.GetOutput().GetPolys().GetConnectivityArray()).reshape(-1, 3)
+        side = numpy_to_vtk((xyz[cells].mean(axis=1)[:, 0] > 0).astype(np.int32))
+        side.SetName("Side")
+        reader.GetOutput().GetCellData().AddArray(side)
         f.SetInputData(reader.GetOutput())
         self.assertEqual((f.GetNumberOfVertices(), f.GetImportance(), f.GetIterations()), (10000, 0, 25))
         for count in (3000, 1234):
@@ -640,6 +646,11 @@ class RemeshingFromPython(unittest.TestCase):
             z = vtk_to_numpy(out.GetPoints().GetData())[:, 2]
             np.testing.assert_allclose(vtk_to_numpy(out.GetPointData().GetArray("Height")), z, atol=1e-9)
             self.assertGreater(out.GetFieldData().GetArray("RemeshMeanMinimumAngle").GetValue(0), 49.0)
+            centres = vtk_to_numpy(out.GetPoints().GetData())[
+                vtk_to_numpy(out.GetPolys().GetConnectivityArray()).reshape(-1, 3)].mean(axis=1)[:, 0]
+            labels = vtk_to_numpy(out.GetCellData().GetArray("Side"))
+            clear = np.abs(centres) > 0.02 * np.ptp(xyz[:, 0])  # (the cells beside x = 0: either side)
+            np.testing.assert_array_equal(labels[clear], (centres[clear] > 0).astype(np.int32))
         self.assertEqual(f.GetAtlasBuilds(), 1)  # only the sampling changed
         # The kept atlas, control-map rasters and chart locators give a fresh filter's remesh.
         fresh = vtkSurfaceRemeshing()

@@ -171,9 +171,18 @@ double TriangleGrid::TriangleDistance2(Index t, const Vec3& p) const
 
 double TriangleGrid::Distance(const Vec3& p) const
 {
+  double distance = HUGE_VAL;
+  Nearest(p, distance);
+  return distance;
+}
+
+Index TriangleGrid::Nearest(const Vec3& p, double& distance) const
+{
+  distance = HUGE_VAL;
+  Index nearest = -1;
   if (Items.empty() || !Finite(p))
   {
-    return HUGE_VAL;
+    return nearest;
   }
   const long c[3] = { CellIndex(p, 0), CellIndex(p, 1), CellIndex(p, 2) };
   const long rings = std::max({ Dims[0], Dims[1], Dims[2] });
@@ -192,7 +201,12 @@ double TriangleGrid::Distance(const Vec3& p) const
       }
       for (std::size_t k = Offsets[cell]; k < Offsets[cell + 1]; ++k)
       {
-        best = std::min(best, TriangleDistance2(Items[k], p));
+        const double d2 = TriangleDistance2(Items[k], p);
+        if (d2 < best)
+        {
+          best = d2;
+          nearest = Items[k];
+        }
       }
     };
     for (long x = x0; x <= x1; ++x)
@@ -235,7 +249,8 @@ double TriangleGrid::Distance(const Vec3& p) const
       break;
     }
   }
-  return std::sqrt(best);
+  distance = std::sqrt(best);
+  return nearest;
 }
 
 namespace

@@ -23,6 +23,9 @@ public:
   /// The distance from p to the nearest triangle (infinity when there is
   /// none, or p is not finite).
   double Distance(const Vec3& p) const;
+  /// The nearest triangle to p (-1 where Distance is infinite), its
+  /// distance in `distance`.
+  Index Nearest(const Vec3& p, double& distance) const;
 
 private:
   const double* Points;
