@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -105,9 +106,11 @@ struct Maps
 
   /// Adds the arrays to `output`: its point o takes the core's vertex
   /// source(o); the normal's base components go to the VTK axes `axes`.
-  void AddTo(vtkDataSet* output, const std::function<vtkIdType(vtkIdType)>& source, const int* axes) const
+  /// Returns the number of points given a NaN or infinite value.
+  vtkIdType AddTo(vtkDataSet* output, const std::function<vtkIdType(vtkIdType)>& source, const int* axes) const
   {
     const vtkIdType n = output->GetNumberOfPoints();
+    std::vector<std::uint8_t> nonFinite(static_cast<std::size_t>(n), 0);
     vtkPointData* pd = output->GetPointData();
     const auto add = [&](const std::vector<double>& from, const char* name, int width, int outWidth,
                        const std::function<int(int)>& slot) {
@@ -124,6 +127,7 @@ struct Maps
         for (int k = 0; k < width; ++k)
         {
           dst[static_cast<std::size_t>(o) * outWidth + slot(k)] = src[k];
+          nonFinite[o] = nonFinite[o] || !std::isfinite(src[k]);
         }
       }
       pd->AddArray(a);
@@ -135,8 +139,21 @@ struct Maps
     add(Mean, "MeanCurvature", 1, 1, same);
     add(Gauss, "GaussianCurvature", 1, 1, same);
     add(Indicator, "EdgeIndicator", 1, 1, same);
+    return static_cast<vtkIdType>(std::count(nonFinite.begin(), nonFinite.end(), 1));
   }
 };
+
+/// A warning where operators came out NaN or infinite: beside data that
+/// are, or where the data are so large that the metric's squares overflow.
+void WarnNonFiniteOperators(vtkBeltramiOperators* self, vtkIdType points)
+{
+  if (points > 0)
+  {
+    vtkWarningWithObjectMacro(self, << points << " points have NaN or infinite operators: their data or their "
+                                    << "neighbours' are NaN or infinite, or so large (beyond about 1e150) that the "
+                                    << "graph metric's squares exceed the range of doubles.");
+  }
+}
 
 void AddReport(vtkFieldData* fd, const beltrami::GraphOperatorReport& r)
 {
@@ -289,7 +306,8 @@ int vtkBeltramiOperators::RunMeshSplit(vtkUnstructuredGrid* input, vtkUnstructur
     return 0;
   }
   const int axes[3] = { 0, 1, 2 };
-  maps.AddTo(output, [](vtkIdType i) { return i; }, axes); // (the piece's points: the ring's are dropped)
+  // (The piece's points: the ring's are dropped.)
+  WarnNonFiniteOperators(this, maps.AddTo(output, [](vtkIdType i) { return i; }, axes));
   AddReport(output->GetFieldData(), r);
   return 1;
 }
@@ -334,7 +352,7 @@ bool vtkBeltramiOperators::RunSurface(vtkBeltramiSurface& surface)
     return false;
   }
   const int axes[3] = { 0, 1, 2 };
-  maps.AddTo(surface.Output(), [](vtkIdType o) { return o; }, axes);
+  WarnNonFiniteOperators(this, maps.AddTo(surface.Output(), [](vtkIdType o) { return o; }, axes));
   AddReport(surface.Output()->GetFieldData(), r);
   return true;
 }
@@ -382,7 +400,7 @@ int vtkBeltramiOperators::RunMesh(vtkDataSet* input, vtkDataSet* output, vtkUnst
     return 0;
   }
   const int axes[3] = { 0, 1, 2 };
-  maps.AddTo(output, [](vtkIdType i) { return i; }, axes);
+  WarnNonFiniteOperators(this, maps.AddTo(output, [](vtkIdType i) { return i; }, axes));
   AddReport(output->GetFieldData(), r);
   return 1;
 }
@@ -432,7 +450,7 @@ int vtkBeltramiOperators::RunImage(vtkImageData* input, vtkImageData* output, co
     return vtkBeltramiGraphFlow::ExtentIndex(inExt, ijk);
   };
   const int axes[3] = { grid.Volume ? 0 : grid.Axis0, grid.Volume ? 1 : grid.Axis1, 2 };
-  maps.AddTo(output, source, axes);
+  WarnNonFiniteOperators(this, maps.AddTo(output, source, axes));
   AddReport(output->GetFieldData(), r);
   return 1;
 }

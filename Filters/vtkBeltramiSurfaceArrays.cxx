@@ -94,9 +94,17 @@ std::vector<std::uint8_t> vtkBeltramiSurface::SelectedPointMask(
   if (vtkDataArray* a = SelectedPointArray(owner, input, idx, 1, what, error))
   {
     mask.resize(static_cast<std::size_t>(a->GetNumberOfTuples()));
+    vtkIdType nan = 0;
     for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i)
     {
-      mask[i] = a->GetComponent(i, 0) != 0.0;
+      const double value = a->GetComponent(i, 0);
+      mask[i] = value != 0.0;
+      nan += std::isnan(value) ? 1 : 0;
+    }
+    if (nan > 0)
+    {
+      vtkWarningWithObjectMacro(owner, << nan << " values of the " << what << " array are NaN: taken as marked "
+                                       << "(not zero).");
     }
   }
   return mask;

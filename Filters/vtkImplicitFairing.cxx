@@ -251,10 +251,17 @@ bool vtkImplicitFairing::GatherConstraints(vtkBeltramiSurface& surface, std::vec
          std::tuple{ this->UsePlaneNormalsArray, PLANE_NORMALS_ARRAY, "plane-normal", &normals } })
   {
     vtkDataArray* array = error.empty() && use ? surface.SelectedPointArray(this, idx, 3, what, error) : nullptr;
+    vtkIdType nonFinite = 0;
     for (vtkIdType i = 0; array && i < numPoints; ++i)
     {
       values->resize(3 * static_cast<std::size_t>(numPoints));
-      array->GetTuple(i, values->data() + 3 * i);
+      double* d = values->data() + 3 * i;
+      array->GetTuple(i, d);
+      nonFinite += std::isfinite(d[0]) && std::isfinite(d[1]) && std::isfinite(d[2]) ? 0 : 1;
+    }
+    if (nonFinite > 0)
+    {
+      vtkWarningMacro(<< nonFinite << " " << what << " vectors are NaN or infinite: those points move freely.");
     }
   }
   if (!error.empty())
@@ -265,9 +272,15 @@ bool vtkImplicitFairing::GatherConstraints(vtkBeltramiSurface& surface, std::vec
   if (weightArray)
   {
     weights.resize(numPoints);
+    vtkIdType outside = 0;
     for (vtkIdType i = 0; i < numPoints; ++i)
     {
       weights[i] = weightArray->GetComponent(i, 0);
+      outside += weights[i] >= 0.0 && weights[i] <= 1.0 ? 0 : 1;
+    }
+    if (outside > 0)
+    {
+      vtkWarningMacro(<< outside << " smoothing weights are outside [0, 1] or NaN: clamped to [0, 1] (NaN as 1).");
     }
   }
   return true;

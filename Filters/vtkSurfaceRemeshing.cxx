@@ -27,6 +27,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -395,9 +396,16 @@ bool vtkSurfaceRemeshing::BuildImportance(std::vector<double>& importance)
       return false;
     }
     values.resize(topology.NumberOfVertices());
+    beltrami::Index nonFinite = 0;
     for (beltrami::Index v = 0; v < topology.NumberOfVertices(); ++v)
     {
       values[v] = array->GetComponent(v, 0);
+      nonFinite += std::isfinite(values[v]) ? 0 : 1;
+    }
+    if (nonFinite > 0)
+    {
+      vtkWarningMacro(<< nonFinite << " importance values are NaN or infinite: those points take the mean "
+                      << "importance.");
     }
   }
   else if (this->Importance != UNIFORM)

@@ -281,6 +281,17 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
       vectors[3 * k + d] = value;
     }
   }
+  vtkIdType nonFinite = 0;
+  for (std::size_t k = 0; k < kept.size(); ++k)
+  {
+    const double* v = &vectors[3 * k];
+    nonFinite += std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]) ? 0 : 1;
+  }
+  if (nonFinite > 0)
+  {
+    vtkWarningMacro(<< nonFinite << " triangles have NaN or infinite vectors" << (onPoints ? " at a corner" : "")
+                    << ": their field is left out (parts 0).");
+  }
   beltrami::VectorFieldOptions options;
   this->CopySettings(options, vtkBeltramiCopy::ToCore);
   beltrami::VectorFieldDecomposition r;
