@@ -296,6 +296,27 @@ void vtkBeltramiSurface::Repair(int numberOfThreads)
       also() << merged << " coincident points were merged (an unwelded surface)";
     }
   }
+  if (Mesh->Summary().NumberOfDuplicateTriangles > 0)
+  {
+    const beltrami::IndexArray& list = Mesh->TriangleList();
+    const std::vector<Index> repeated = beltrami::RepeatedTriangles(list);
+    beltrami::IndexArray triangles;
+    std::vector<vtkIdType> keptCells;
+    for (Index t = 0, r = 0; t < Mesh->NumberOfTriangles(); ++t)
+    {
+      if (r < static_cast<Index>(repeated.size()) && repeated[r] == t)
+      {
+        ++r;
+        continue;
+      }
+      triangles.insert(triangles.end(), list.begin() + 3 * static_cast<std::ptrdiff_t>(t),
+        list.begin() + 3 * static_cast<std::ptrdiff_t>(t) + 3);
+      keptCells.push_back(cells[t]);
+    }
+    cells = std::move(keptCells);
+    adopt(std::make_unique<beltrami::MeshTopology>(Mesh->NumberOfVertices(), std::move(triangles), numberOfThreads));
+    also() << repeated.size() << " repeated triangles were dropped (the three points of an earlier one)";
+  }
   if (Mesh->Summary().NumberOfInconsistentEdges > 0)
   {
     std::vector<double> storage;

@@ -278,7 +278,8 @@ TEST(BadInput, TopologicalDefectsAreFlaggedNotFatal)
     { "non-manifold edge", { 1, 1, 1 }, { { 0, 2, 6 } }, "non-manifold edges", 0, 2 },
     { "non-manifold vertex", { 3, 0, 0, 3, 1, 0 }, { { 0, 6, 7 } }, "non-manifold vertices", 0, 2 },
     { "isolated point", { 5, 5, 5 }, {}, "used by no triangle", 6, 16 },
-    { "duplicate triangle", {}, { { 0, 2, 4 } }, "duplicate triangles", 0, 8 },
+    // (Repaired: the copy is dropped, and its points are regular.)
+    { "duplicate triangle", {}, { { 0, 2, 4 } }, "repeated triangles were dropped", -1, 0 },
     // (Repaired: the triangle is turned back, and its points are regular.)
     { "inconsistent orientation", {}, {}, "triangles were turned to orient the surface consistently", -1, 0 },
     { "bad point ids", {}, { { 0, 1, 99 }, { -4, 1, 2 } }, "out of range", -1, 0 },

@@ -591,6 +591,7 @@ def hostile_surfaces():
     cases["tiny-far-component"] = polydata(*sphere_with_speck(12))
     soup = p[t].reshape(-1, 3)
     cases["unwelded-soup"] = polydata(soup, np.arange(len(soup)).reshape(-1, 3))
+    cases["repeated-triangles"] = polydata(p, np.vstack([t, t[:20], t[20:30, ::-1]]))
     repeated = t.copy()
     repeated[3] = (repeated[3][0], repeated[3][0], repeated[3][1])
     cases["repeated-indices"] = polydata(p, repeated)

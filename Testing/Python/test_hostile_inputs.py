@@ -26,9 +26,9 @@ CASE_SECONDS = 90  # a hang is a case that takes longer (the slowest real case t
 MUST_SPEAK = {"nan-coordinate", "inf-coordinate", "index-out-of-range", "image-nan-value", "image-inf-value",
               "grid-nan-point", "mobius"}
 # The inputs every surface filter repairs (coincident points merged,
-# triangles turned to one orientation) and then processes: each must say
-# what it repaired, and none may refuse.
-REPAIRED = {"half-flipped-sphere", "unwelded-soup"}
+# repeated triangles dropped, triangles turned to one orientation) and then
+# processes: each must say what it repaired, and none may refuse.
+REPAIRED = {"half-flipped-sphere", "unwelded-soup", "repeated-triangles"}
 
 
 def filters():

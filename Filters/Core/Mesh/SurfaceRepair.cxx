@@ -12,6 +12,8 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <utility>
+#include <vector>
 
 namespace beltrami
 {
@@ -104,6 +106,29 @@ IndexArray MergePoints(const IndexArray& triangles, const std::vector<Index>& me
     merged[k] = merge[triangles[k]];
   }
   return merged;
+}
+
+std::vector<Index> RepeatedTriangles(const IndexArray& triangles)
+{
+  const std::size_t n = triangles.size() / 3;
+  std::vector<std::pair<std::array<Index, 3>, Index>> sorted(n);
+  for (std::size_t t = 0; t < n; ++t)
+  {
+    std::array<Index, 3> v{ triangles[3 * t], triangles[3 * t + 1], triangles[3 * t + 2] };
+    std::sort(v.begin(), v.end());
+    sorted[t] = { v, static_cast<Index>(t) };
+  }
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<Index> repeated;
+  for (std::size_t k = 1; k < n; ++k)
+  {
+    if (sorted[k].first == sorted[k - 1].first)
+    {
+      repeated.push_back(sorted[k].second); // (sorted by index within equal triples: the first one stays)
+    }
+  }
+  std::sort(repeated.begin(), repeated.end());
+  return repeated;
 }
 
 namespace

@@ -36,6 +36,11 @@ std::vector<Index> CoincidentBoundaryPoints(const MeshTopology& topology, const 
 /// `triangles` with every vertex id replaced by merge[id] (merge as above).
 IndexArray MergePoints(const IndexArray& triangles, const std::vector<Index>& merge);
 
+/// The triangles (3 ids each in `triangles`) whose three vertices, in any
+/// order, are those of an earlier triangle: their indices, ascending (a
+/// triangle and its copy, as STL exports and careless merges leave).
+std::vector<Index> RepeatedTriangles(const IndexArray& triangles);
+
 /// What OrientConsistently did.
 struct OrientationRepair
 {

@@ -163,3 +163,14 @@ TEST(SurfaceRepair, OpenSurfaceKeepsItsMajorityAndMoebiusIsLeft)
   EXPECT_EQ(none.NonOrientableComponents, 1);
   EXPECT_FALSE(none.Changed());
 }
+
+TEST(SurfaceRepair, RepeatedTrianglesAreFoundInAnyOrderAndTheFirstKept)
+{
+  // Three faces of a tetrahedron, {0, 1, 2} repeated three times (twice
+  // turned) and {1, 2, 3} once turned: the repeats are found, never the
+  // first of each; the tetrahedron's four faces have none.
+  const IndexArray triangles = { 0, 2, 1, 0, 1, 3, 0, 1, 2, 1, 2, 3, 2, 1, 0, 1, 3, 2, 0, 2, 1 };
+  EXPECT_EQ(RepeatedTriangles(triangles), (std::vector<Index>{ 2, 4, 5, 6 }));
+  EXPECT_TRUE(RepeatedTriangles({ 0, 1, 2, 0, 1, 3, 0, 2, 3, 1, 2, 3 }).empty());
+  EXPECT_TRUE(RepeatedTriangles({}).empty());
+}
