@@ -280,7 +280,8 @@ bool vtkImplicitFairing::GatherConstraints(vtkBeltramiSurface& surface, std::vec
     }
     if (outside > 0)
     {
-      vtkWarningMacro(<< outside << " smoothing weights are outside [0, 1] or NaN: clamped to [0, 1] (NaN as 1).");
+      vtkWarningMacro(<< outside << " smoothing weights are outside [0, 1], NaN or infinite: clamped to [0, 1] "
+                      << "(NaN and infinite values as 1).");
     }
   }
   return true;
