@@ -17,21 +17,33 @@ namespace beltrami::detail
 namespace
 {
 
-/// x with each point moved by epsilon times a vector of random signs (from a
-/// hash of the point and the coordinate, so a split surface draws the serial
-/// ones): its part along the normal, and `tangentialShare` of its part in the
-/// tangent plane; a perturbation of deviation epsilon along the normals (and
-/// tangentialShare epsilon across) for the risk's divergence.
+/// x with each point moved by epsilon times a sign along its unit normal
+/// and, times `tangentialShare`, times signs along two unit vectors of its
+/// tangent plane (the signs from a hash of the point, so a split surface
+/// draws the serial ones): a perturbation of deviation epsilon along the
+/// normals (and tangentialShare epsilon across) for the risk's divergence,
+/// of the same length at every point.
 std::vector<double> PerturbedAlongNormals(const std::vector<double>& normals, const double* x, double epsilon,
   double tangentialShare, const Partition* split)
 {
   const std::size_t size = normals.size();
-  std::vector<double> perturbed(x, x + size), probe(size);
-  for (std::size_t k = 0; k < size; ++k)
+  std::vector<double> perturbed(x, x + size);
+  for (std::size_t i = 0; i < size; i += 3)
   {
-    probe[k] = (PointHash(x + k - k % 3) >> (60 + k % 3)) & 1 ? epsilon : -epsilon;
+    const Vec3 n = Point(normals.data(), static_cast<Index>(i / 3));
+    if (!n.allFinite() || !(n.squaredNorm() > 0.25))
+    {
+      continue; // (no normal: not perturbed, and not counted in RiskTerms::Probe)
+    }
+    const Vec3 t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+    const std::uint64_t hash = PointHash(x + i);
+    const auto sign = [&](int bit) { return (hash >> bit) & 1 ? epsilon : -epsilon; };
+    const Vec3 move = sign(0) * n + tangentialShare * (sign(1) * t1 + sign(2) * t2);
+    for (int c = 0; c < 3; ++c)
+    {
+      perturbed[i + c] += move[c];
+    }
   }
-  MoveAlongNormals(normals, perturbed.data(), probe.data(), Keep::Normal, tangentialShare);
   if (split)
   {
     split->UpdateGhosts(perturbed.data(), 3); // the ghosts' normals are not all here
@@ -40,10 +52,12 @@ std::vector<double> PerturbedAlongNormals(const std::vector<double>& normals, co
 }
 
 /// The sums of the risk over the moving points this process owns (and over
-/// the processes): |f(x) - x|^2, the divergence, the points.
+/// the processes): |f(x) - x|^2, the divergence, the points, and the
+/// probe's |perturbed - x|^2 / epsilon^2 (the same estimate of the trace of
+/// the identity: d per point that has a normal).
 struct RiskTerms
 {
-  double Moved = 0.0, Divergence = 0.0, Points = 0.0;
+  double Moved = 0.0, Divergence = 0.0, Points = 0.0, Probe = 0.0;
   bool Defined = true;
 };
 
@@ -64,7 +78,7 @@ RiskTerms TermsAt(const SmoothingRun& run, const std::vector<double>& x, const s
     undefined.Defined = false;
     return undefined;
   }
-  double sums[3] = { 0.0, 0.0, 0.0 };
+  double sums[4] = { 0.0, 0.0, 0.0, 0.0 };
   for (std::size_t i = 0; i < moving.size(); ++i)
   {
     if (moving[i] && (!split || split->IsOwned(static_cast<Index>(i))))
@@ -73,6 +87,7 @@ RiskTerms TermsAt(const SmoothingRun& run, const std::vector<double>& x, const s
       {
         sums[0] += (f[k] - x[k]) * (f[k] - x[k]);
         sums[1] += (perturbed[k] - x[k]) * (g[k] - f[k]) / (epsilon * epsilon);
+        sums[3] += (perturbed[k] - x[k]) * (perturbed[k] - x[k]) / (epsilon * epsilon);
       }
       sums[2] += 1.0;
     }
@@ -81,7 +96,7 @@ RiskTerms TermsAt(const SmoothingRun& run, const std::vector<double>& x, const s
   {
     s = split ? split->Sum(s) : s;
   }
-  return { sums[0], sums[1], sums[2], true };
+  return { sums[0], sums[1], sums[2], sums[3], true };
 }
 
 /// The warning for a surface left as it is because its variation at the
@@ -152,7 +167,7 @@ StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x,
   double points = 0.0;
   constexpr double Undefined = std::numeric_limits<double>::infinity();
   const auto gcvOf = [&](const RiskTerms& t) { // generalized cross-validation (ChooseTimeStep)
-    const double freedom = directions * t.Points - t.Divergence;
+    const double freedom = t.Probe - t.Divergence; // the trace of (I - f') by the same probe
     return t.Defined && freedom > 0.0 ? t.Moved / (freedom * freedom) : Undefined;
   };
   std::map<int, RiskTerms> terms; // by j, the step unit 2^(j/2)
