@@ -181,7 +181,9 @@ using SmoothingRun = std::function<bool(double timeStep, double* points, RunStar
 /// half the noise.  The steps tried are unit 2^(j/2): from j = 0 downhill
 /// by factors of 4 (between unit 2^-16 and unit 2^12), then refined at the
 /// vertex of the parabola through the GCV of the last three (in j); 0 when
-/// no step is estimated to come closer than the input.  `moving`: per
+/// no step is estimated to come closer than the input (with `noise`, or
+/// where Stein's estimate with it is above the input's risk, with GCV's
+/// own estimate of the noise at the step where that is larger).  `moving`: per
 /// vertex, non-zero where the run may move it.  Collective on a split
 /// surface (the sums over the owned points of all).
 StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x, const std::vector<double>& perturbed,

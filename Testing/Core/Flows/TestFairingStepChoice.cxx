@@ -123,6 +123,22 @@ TEST(FairingStepChoice, TheStepDoesNotFollowTheNoiseEstimatesError)
   EXPECT_LT(inflated.EstimatedError, truth.EstimatedError);
 }
 
+TEST(FairingStepChoice, ANoiseEstimateTooLowForWhatTheStepRemovesIsRaised)
+{
+  // The noise taken as 0.3 of its deviation (as noise that crumples part of
+  // a surface is measured): with it Stein's risk of the best step is above
+  // the input's, which would leave the points as they are; the noise is
+  // then cross-validation's own estimate at the step, and the step and its
+  // estimated error are the truth's.
+  const SpectralSmoothing data(100000, 0.1);
+  const detail::StepChoice truth = data.Search(1.0), low = data.Search(0.3);
+  std::printf("noise taken as 0.3: step %g (truth %g), estimated error %.4f (truth %.4f)\n", low.TimeStep,
+    truth.TimeStep, low.EstimatedError, truth.EstimatedError);
+  EXPECT_FALSE(low.ShapeDetail);
+  EXPECT_EQ(low.TimeStep, truth.TimeStep);
+  EXPECT_NEAR(low.EstimatedError, truth.EstimatedError, 0.1 * truth.EstimatedError);
+}
+
 TEST(FairingStepChoice, ABestStepThatLeavesMostOfTheNoiseIsTakenForShapeDetail)
 {
   // A shape ten times stronger: the best step leaves 0.92 of the noise,
