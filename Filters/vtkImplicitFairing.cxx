@@ -94,6 +94,7 @@ void vtkImplicitFairing::CopySettings(beltrami::FairingOptions& o, vtkBeltramiCo
   BeltramiCopySetting(this->TaubinLambda, o.TaubinLambda, direction);
   BeltramiCopySetting(this->TaubinMu, o.TaubinMu, direction);
   BeltramiCopySetting(this->NumberOfThreads, o.NumberOfThreads, direction);
+  BeltramiCopySetting(this->StepSearchPoints, o.StepSearchPoints, direction);
 }
 
 
@@ -338,7 +339,8 @@ void vtkImplicitFairing::WriteOutput(
            std::pair{ "FairingTimeStep", report.ChosenTimeStep },
            std::pair{ "FairingTangentialNoise", report.TangentialNoise },
            std::pair{ "FairingEstimatedError", report.EstimatedError },
-           std::pair{ "FairingOperator", static_cast<double>(report.OperatorUsed) } })
+           std::pair{ "FairingOperator", static_cast<double>(report.OperatorUsed) },
+           std::pair{ "FairingSampledPoints", static_cast<double>(report.SampledPoints) } })
     {
       vtkNew<vtkDoubleArray> a;
       a->SetName(name);

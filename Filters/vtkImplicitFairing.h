@@ -29,7 +29,9 @@
  *    length), FairingTimeStep (the step, in Units; 0 when none helps) and
  *    FairingEstimatedError (RMS distance of the moving points to the
  *    noise-free surface, estimated).  A positive TimeStep is used as given.
- *    Costs about ten runs per operator tried.
+ *    Costs about ten runs per operator tried (on a surface of more than
+ *    four times StepSearchPoints points, runs of a sample of that many, the
+ *    field array FairingSampledPoints its size, then one of the whole).
  *  - Order 1 (L), 2 (L^2, section 3.2.6; default: the sharper low-pass
  *    filter, which removes noise at the scale of the triangles and keeps
  *    larger shapes), 3 or 4 (closer still to an ideal low-pass, figure 3.4a;
@@ -266,6 +268,15 @@ public:
   /// used as given. Default: 0.
   vtkSetClampMacro(TimeStep, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(TimeStep, double);
+  /// With TimeStep 0, on a surface of more than four times this many points the step (and the
+  /// operator) is chosen on a sample of this many of them, eight balls of the surface around points
+  /// spread over it (the same sample in a distributed run), and the whole surface is then smoothed
+  /// once with it; the field array FairingSampledPoints holds the sample's size (0: the whole
+  /// surface searched). Each step tried costs two runs of the sample instead of the surface: on a
+  /// 1.2M-triangle scan with noise of 0.075% of the diagonal 7.2 s instead of 71 s, as near the
+  /// clean surface. 0: the whole surface is searched. Default: 131072.
+  vtkSetClampMacro(StepSearchPoints, vtkIdType, 0, VTK_ID_MAX);
+  vtkGetMacro(StepSearchPoints, vtkIdType);
   /// Mean Edge Length: the time step is in units of h^(2k) for order k (h^2, h^4 for order 2; h the
   /// mean edge length; h^(2K) for a combination up to order K) and the feature threshold in units
   /// of 1/h. Physical: length^(2k) and 1/length (the umbrella's step is dimensionless). Values: 0
@@ -437,6 +448,7 @@ protected:
   double TaubinLambda;
   double TaubinMu;
   int NumberOfThreads;
+  vtkIdType StepSearchPoints;
   bool UseFixedPointsArray = true;
   std::vector<vtkIdType> FixedPointIds;
   bool UseSmoothingWeightsArray = true;

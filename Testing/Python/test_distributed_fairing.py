@@ -13,7 +13,7 @@ height-field and revolution volumes, axis and plane constraints, the
 feature curves of anisotropic smoothing on fandisk (each run where the
 pieces are); a rank with an empty piece;
 a piece that owns no point; a NaN point in one piece; a noisy scan (within
-1e-4 of the diagonal); multigrid over the ranks (the serial iteration
+1e-4 of the diagonal), its step chosen over the ranks and on a sample; multigrid over the ranks (the serial iteration
 counts); and the counts each rank reports: with 4 ranks no rank holds more
 than a third of the points or triangles."""
 import builtins  # (ParaView's programmable filters put numpy_interface's all, max, sum... in __main__)
@@ -184,6 +184,23 @@ check(abs(noise[held][0] / serial_values[0] - 1) < 0.1 and serial_values[1] > 0.
       % (noise[held][0], step[held][0], operator[held][0], *serial_values))
 split_run(bunny, "noisy bunny, the step chosen over the ranks", 1e-4, diagonal_of, prepare=isotropic_noisy_scan,
           TimeStep=float(step[held][0]), Operator=int(operator[held][0]))
+# The step chosen on a sample of the surface (StepSearchPoints: here 4,096
+# of the bunny's 34,834 points, by default 131,072 of surfaces of more than
+# four times that): the sample is gathered on the first rank, so the noise,
+# the step and the operator are the serial ones, and the points the serial
+# ones to the solver tolerance.
+SAMPLED = ("FairingNoise", "FairingTimeStep", "FairingOperator", "FairingSampledPoints")
+on_sample = ImplicitFairing(Input=noisy_split, StepSearchPoints=4096)
+on_sample.UpdatePipeline()
+over_ranks = [rank_rows(on_sample, name, ("value",))[0] for name in SAMPLED]
+on_sample_serial = serial(whole_noisy, TimeStep=0.0, StepSearchPoints=4096)
+serial_sampled = [on_sample_serial.GetFieldData().GetArray(name).GetValue(0) for name in SAMPLED]
+held = over_ranks[0] >= 0
+check(serial_sampled[3] > 3800 and builtins.all(np.allclose(v[held], s, rtol=1e-9, atol=0) for v, s in zip(over_ranks, serial_sampled)),
+      "on a sample of %d points: noise %s, step %s, operator %s over the ranks; serial %.6g, %.4g, %d"
+      % (serial_sampled[3], over_ranks[0][held], over_ranks[1][held], over_ranks[2][held], *serial_sampled[:3]))
+split_run(bunny, "noisy bunny, the step chosen on a sample", 1e-4, diagonal_of, prepare=isotropic_noisy_scan,
+          TimeStep=0.0, StepSearchPoints=4096)
 
 
 def enclosed_volume(polydata):

@@ -607,6 +607,10 @@ std::string DistributedFairingLimitation(const FairingOptions& opt)
 FairingReport FairSurface(const MeshTopology& topo, double* points, const FairingOptions& options,
   const FairingConstraints& cons, const ProgressCallback& progress, const Partition* split)
 {
+  if (std::optional<FairingReport> sampled = FairWithSampledSearch(topo, points, options, cons, progress, split))
+  {
+    return std::move(*sampled);
+  }
   if (options.Operator == FairingOperator::LeastEstimatedError)
   {
     return FairWithEitherOperator(topo, points, options, cons, progress, split);

@@ -161,6 +161,11 @@ struct FairingOptions
   bool KeepFirstOperator = false;
   double TaubinLambda = 0.6307, TaubinMu = -0.6732; ///< figure 3.5(d)
   int NumberOfThreads = 0;
+  /// TimeStep 0 on a surface of more than SampledSearchRatio times this
+  /// many points: the step (and the operator) chosen on a sample of this
+  /// many of them, then one run of the whole surface (0: the whole surface
+  /// searched; Flows/FairingStepChoice.h, FairWithSampledSearch).
+  std::int64_t StepSearchPoints = std::int64_t(1) << 17;
 };
 
 /// Section 3.2.7.  Axis and plane constraints are kept during the solves
@@ -218,6 +223,12 @@ struct FairingReport
   FairingOperator OperatorUsed = FairingOperator::CurvatureFlow; ///< the operator the run used
   double ChosenTimeStep = 0.0;
   double EstimatedError = 0.0;
+  /// The sentences of the step's choice in Warning (a step at the search's
+  /// end, a surface left as it is).
+  std::string StepWarning;
+  /// The step was chosen on a sample of this many points of the surface
+  /// (0: on the whole surface; Flows/FairingStepChoice.h, SampledSearchFrom).
+  Index SampledPoints = 0;
 };
 
 /// Smooths `points` (3 doubles per vertex, in place) of the surface `topology`.

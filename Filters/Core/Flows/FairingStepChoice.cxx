@@ -111,13 +111,16 @@ RiskTerms TermsAt(const SmoothingRun& run, const std::vector<double>& x, const s
 /// The warning for a surface left as it is because its variation at the
 /// scale of the triangles looks like its shape rather than noise (only
 /// where the variation is one a user could see: CleanVariation).
-void WarnShapeDetail(double variation, double h, std::ostringstream& warn)
+void WarnShapeDetail(double variation, double h, std::ostringstream& warn, FairingReport& report)
 {
   if (variation >= CleanVariation * h)
   {
-    warn << "The surface varies at the scale of its triangles by about " << variation
+    std::ostringstream said;
+    said << "The surface varies at the scale of its triangles by about " << variation
          << " (standard deviation along the normals), which smoothing cannot tell from noise: it was left as it "
             "is. Set TimeStep to smooth it. ";
+    warn << said.str();
+    report.StepWarning += said.str();
   }
 }
 
@@ -313,7 +316,7 @@ StepChoice ChooseStep(const MeshTopology& topo, const double* x, const FairingOp
   if (noise.WiderDeviation > ShapeGrowth * noise.Deviation) // the shape's own detail (ShapeGrowth)
   {
     report.EstimatedError = noise.Deviation;
-    WarnShapeDetail(noise.Deviation, h, warn);
+    WarnShapeDetail(noise.Deviation, h, warn, report);
     return {};
   }
   GraphLaplacian L;
@@ -375,14 +378,17 @@ StepChoice ChooseStep(const MeshTopology& topo, const double* x, const FairingOp
   report.EstimatedError = choice.EstimatedError;
   if (choice.AtLimit && choice.TimeStep > 0.0)
   {
-    warn << "The time step chosen is the " << (choice.TimeStep > unit ? "largest" : "smallest")
+    std::ostringstream said;
+    said << "The time step chosen is the " << (choice.TimeStep > unit ? "largest" : "smallest")
          << " the search tries (" << (choice.TimeStep > unit ? "4096" : "1/65536")
          << " times its unit, h^(2k) for order k with h the mean edge length, 1 for the umbrella); a step "
             "beyond may be better: set TimeStep. ";
+    warn << said.str();
+    report.StepWarning += said.str();
   }
   if (choice.ShapeDetail)
   {
-    WarnShapeDetail(noise.Deviation, h, warn);
+    WarnShapeDetail(noise.Deviation, h, warn, report);
   }
   return choice;
 }
