@@ -23,7 +23,7 @@ namespace
 /// or global row), its point and its constraints (fixed, weight, axis, plane).
 constexpr std::size_t Width = 14;
 
-/// A point's hash as two doubles (exact) and back.
+/// A point's hash as two doubles (exact).
 std::array<double, 2> Halves(std::uint64_t h)
 {
   return { static_cast<double>(h >> 32), static_cast<double>(h & 0xffffffffull) };
@@ -105,8 +105,8 @@ std::vector<std::uint8_t> Inside(Index n, const double* x, std::int64_t count, c
   return inside;
 }
 
-/// The sample cut out of the surface, its points ordered by their hash (and
-/// point) and its triangles by their points, so that a split surface gives
+/// The sample cut out of the surface, its points and triangles in an order
+/// from their coordinates alone (Assemble), so that a split surface gives
 /// the whole one's sample exactly.
 struct Sample
 {
@@ -116,30 +116,23 @@ struct Sample
   FairingConstraints Constraints;
 };
 
-/// The sample from its points' records (Width doubles each, any order) and
-/// its triangles (three ids each); `given`: which constraints the surface has.
-Sample Assemble(const std::vector<double>& records, const std::vector<double>& triangles, const FairingConstraints& given,
-  int threads)
+/// The records (Width doubles each) of the points of `triangles` (three ids
+/// each), along a Morton curve of their box (near in the sample where they
+/// are near on the surface, for the solves), then by hash.
+std::vector<std::size_t> AlongCurve(const std::vector<double>& records, const std::vector<double>& triangles)
 {
   std::vector<double> used(triangles); // (points of no sampled triangle are left out)
   std::sort(used.begin(), used.end());
   std::vector<std::size_t> order;
+  Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity()), high = -low;
   for (std::size_t r = 0; r < records.size() / Width; ++r)
   {
     if (std::binary_search(used.begin(), used.end(), records[Width * r + 2]))
     {
       order.push_back(r);
+      low = low.cwiseMin(Vec3(&records[Width * r + 3]));
+      high = high.cwiseMax(Vec3(&records[Width * r + 3]));
     }
-  }
-  const std::size_t count = order.size();
-  // Points along a Morton curve of their box (near in the sample where they
-  // are near on the surface, for the solves), then by hash.
-  Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity()), high = -low;
-  for (const std::size_t r : order)
-  {
-    const Vec3 p(records[Width * r + 3], records[Width * r + 4], records[Width * r + 5]);
-    low = low.cwiseMin(p);
-    high = high.cwiseMax(p);
   }
   const Vec3 scale = (high - low).cwiseMax(Vec3::Constant(1e-300)).cwiseInverse() * 2097151.0; // 21 bits
   std::vector<std::array<std::uint64_t, 3>> keys(records.size() / Width);
@@ -154,53 +147,68 @@ Sample Assemble(const std::vector<double>& records, const std::vector<double>& t
         morton |= ((q >> b) & 1) << (3 * b + a);
       }
     }
-    keys[r] = { morton, static_cast<std::uint64_t>(records[Width * r]), static_cast<std::uint64_t>(records[Width * r + 1]) };
+    keys[r] = { morton, static_cast<std::uint64_t>(records[Width * r]),
+      static_cast<std::uint64_t>(records[Width * r + 1]) };
   }
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return keys[a] < keys[b]; });
-  // The triangles in sample points, each from its least point (the same
-  // orientation), in order.
-  const auto listFor = [&](const std::vector<std::size_t>& pointOrder) {
-    std::vector<std::pair<double, Index>> index(count); // (id, sample point) by id
-    for (std::size_t r = 0; r < count; ++r)
-    {
-      index[r] = { records[Width * pointOrder[r] + 2], static_cast<Index>(r) };
-    }
-    std::sort(index.begin(), index.end());
-    const auto at = [&](double id) {
-      return std::lower_bound(index.begin(), index.end(), std::pair<double, Index>(id, -1))->second;
-    };
-    std::vector<std::array<Index, 3>> sorted;
-    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3)
-    {
-      std::array<Index, 3> c = { at(triangles[t]), at(triangles[t + 1]), at(triangles[t + 2]) };
-      std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
-      sorted.push_back(c);
-    }
-    std::sort(sorted.begin(), sorted.end());
-    IndexArray list;
-    for (const auto& c : sorted)
-    {
-      list.insert(list.end(), c.begin(), c.end());
-    }
-    return list;
-  };
-  // Then breadth-first from there (the solves run a third faster than along
-  // the curve: 5.8 s against 8.1 s for the search on bunny00 Loop-subdivided
-  // twice with noise of 0.075% of the diagonal).
+  return order;
+}
+
+/// The triangles (three ids each) in sample points (`order`: the records of
+/// the sample's points), each from its least point (the same orientation),
+/// in order.
+IndexArray SampleTriangles(
+  const std::vector<double>& records, const std::vector<double>& triangles, const std::vector<std::size_t>& order)
+{
+  std::vector<std::pair<double, Index>> index(order.size()); // (id, sample point) by id
+  for (std::size_t r = 0; r < order.size(); ++r)
   {
-    const MeshTopology curve(static_cast<Index>(count), listFor(order), threads);
+    index[r] = { records[Width * order[r] + 2], static_cast<Index>(r) };
+  }
+  std::sort(index.begin(), index.end());
+  const auto at = [&](double id) {
+    return std::lower_bound(index.begin(), index.end(), std::pair<double, Index>(id, -1))->second;
+  };
+  std::vector<std::array<Index, 3>> sorted;
+  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3)
+  {
+    std::array<Index, 3> c = { at(triangles[t]), at(triangles[t + 1]), at(triangles[t + 2]) };
+    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+    sorted.push_back(c);
+  }
+  std::sort(sorted.begin(), sorted.end());
+  IndexArray list;
+  for (const auto& c : sorted)
+  {
+    list.insert(list.end(), c.begin(), c.end());
+  }
+  return list;
+}
+
+/// The sample from its points' records (Width doubles each, any order) and
+/// its triangles (three ids each); `given`: which constraints the surface
+/// has.  Its points along the curve (AlongCurve), then breadth-first from
+/// there (the solves run a third faster than along the curve: 5.8 s against
+/// 8.1 s for the search on bunny00 Loop-subdivided twice with noise of
+/// 0.075% of the diagonal).
+Sample Assemble(const std::vector<double>& records, const std::vector<double>& triangles, const FairingConstraints& given,
+  int threads)
+{
+  std::vector<std::size_t> order = AlongCurve(records, triangles);
+  const Index count = static_cast<Index>(order.size());
+  {
+    const MeshTopology curve(count, SampleTriangles(records, triangles, order), threads);
     const MeshTopology::VertexGraph& graph = curve.Graph();
-    const std::vector<Index> breadth =
-      LocalityOrder(static_cast<Index>(count), graph.NeighborOffsets.data(), graph.Neighbors.data());
-    std::vector<std::size_t> reordered(count);
-    for (std::size_t r = 0; r < count; ++r)
+    const std::vector<Index> breadth = LocalityOrder(count, graph.NeighborOffsets.data(), graph.Neighbors.data());
+    std::vector<std::size_t> reordered(order.size());
+    for (std::size_t r = 0; r < order.size(); ++r)
     {
       reordered[r] = order[breadth[r]];
     }
     order.swap(reordered);
   }
   Sample s;
-  s.Topology = std::make_unique<MeshTopology>(static_cast<Index>(count), listFor(order), threads);
+  s.Topology = std::make_unique<MeshTopology>(count, SampleTriangles(records, triangles, order), threads);
   for (const std::size_t r : order)
   {
     const double* p = &records[Width * r];
