@@ -185,7 +185,7 @@ check(abs(noise[held][0] / serial_values[0] - 1) < 0.1 and serial_values[1] > 0.
 split_run(bunny, "noisy bunny, the step chosen over the ranks", 1e-4, diagonal_of, prepare=isotropic_noisy_scan,
           TimeStep=float(step[held][0]), Operator=int(operator[held][0]))
 # The step chosen on a sample of the surface (StepSearchPoints: here 4,096
-# of the bunny's 34,834 points, by default 131,072 of surfaces of more than
+# of the bunny's 37,706 points, by default 131,072 of surfaces of more than
 # four times that): the sample is gathered on the first rank, so the noise,
 # the step and the operator are the serial ones, and the points the serial
 # ones to the solver tolerance.

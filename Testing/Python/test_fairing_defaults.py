@@ -118,7 +118,7 @@ for name in ("eight.off", "double-torus-example.off"):
         check(r["defaults"] <= r["input"] * (1 + 1e-9), "%s: no further from the clean mesh than the input" % label)
         check(r["step"] == 0 and r["warned"], "%s: left as it is, with the warning" % label)
 # Noise that crumples the refined part of a locally refined mesh (1% of the
-# diagonal, 0.7 of its mean edge length) is estimated at half its size; the
+# diagonal, 1.8 times its mean edge length) is estimated at half its size; the
 # step's risk with that estimate is above the input's, so the noise is
 # taken from the cross-validation (1.00 of it) and the mesh is smoothed to
 # its best step (left as it was, 4 times further from the clean mesh).

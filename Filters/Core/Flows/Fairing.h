@@ -227,7 +227,7 @@ struct FairingReport
   /// end, a surface left as it is).
   std::string StepWarning;
   /// The step was chosen on a sample of this many points of the surface
-  /// (0: on the whole surface; Flows/FairingStepChoice.h, SampledSearchFrom).
+  /// (0: on the whole surface; FairingOptions::StepSearchPoints).
   Index SampledPoints = 0;
 };
 

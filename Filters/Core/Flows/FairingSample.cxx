@@ -141,7 +141,8 @@ std::vector<std::size_t> AlongCurve(const std::vector<double>& records, const st
     std::uint64_t morton = 0;
     for (int a = 0; a < 3; ++a)
     {
-      const auto q = static_cast<std::uint64_t>((records[Width * r + 3 + a] - low[a]) * scale[a]);
+      const double t = (records[Width * r + 3 + a] - low[a]) * scale[a]; // (NaN where the box overflows)
+      const auto q = static_cast<std::uint64_t>(t >= 0.0 ? std::min(t, 2097151.0) : 0.0);
       for (int b = 0; b < 21; ++b)
       {
         morton |= ((q >> b) & 1) << (3 * b + a);
@@ -279,6 +280,7 @@ std::vector<double> ChooseOnSample(const Sample& s, const FairingOptions& option
   o.Invariant = FairingInvariant::None; // (a ball encloses nothing)
   o.Hierarchy = nullptr;
   o.KeptHierarchy = nullptr;
+  o.StepSearchPoints = 0; // (the sample searched whole)
   std::vector<double> sample(s.Points);
   const FairingReport r = FairSurface(*s.Topology, sample.data(), o, s.Constraints, nullptr, nullptr);
   std::vector<double> pack = { r.Error.empty() ? 1.0 : 0.0, static_cast<double>(r.OperatorUsed),
@@ -305,6 +307,13 @@ std::optional<FairingReport> FairWithSampledSearch(const MeshTopology& topo, dou
   const std::vector<std::uint8_t> inside = Inside(topo.NumberOfVertices(), points, options.StepSearchPoints, split);
   std::vector<double> records, triangles;
   Records(topo, points, cons, inside, split, records, triangles);
+  // (Balls of infinite radius - coordinates whose squares overflow - or of
+  // many points at one distance would take more: the whole surface instead.)
+  const double count = static_cast<double>(records.size() / Width);
+  if ((split ? split->Sum(count) : count) > 2.0 * static_cast<double>(options.StepSearchPoints))
+  {
+    return std::nullopt;
+  }
   if (split)
   {
     records = split->GatherOnFirst(records);
@@ -328,6 +337,10 @@ std::optional<FairingReport> FairWithSampledSearch(const MeshTopology& topo, dou
   FairingOptions o = options;
   o.Operator = static_cast<FairingOperator>(static_cast<int>(pack[1]));
   o.TimeStep = pack[2] / StepUnit(topo, points, options, o.Operator, split);
+  if (!std::isfinite(o.TimeStep))
+  {
+    return std::nullopt; // (a length unit that overflows: the whole surface's path says so)
+  }
   o.NumberOfIterations = o.TimeStep > 0.0 ? options.NumberOfIterations : 0;
   FairingReport report = FairSurface(topo, points, o, cons, progress, split);
   report.Noise = pack[3];

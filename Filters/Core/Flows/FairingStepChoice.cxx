@@ -215,11 +215,6 @@ StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x,
   }
   choice.AtLimit = best == Lowest || best == Highest;
   best = Refined(gcv, best, Lowest, Highest);
-  // The input's own risk is noise^2 per moving point and direction.  White
-  // noise is what the flows remove best; where the best step is estimated to leave more
-  // than MostKeptNoise of it, most of the "noise" is the shape's own detail
-  // at the scale of the triangles (coarse meshes), which the flows cannot
-  // tell from noise: the points are left as they are.
   // Where Stein's risk of the best step exceeds the input's, the noise
   // estimate is too low to account for what the step removes (noise that
   // crumples part of the surface, EstimateSurfaceNoise): the noise is taken
@@ -236,6 +231,11 @@ StepChoice ChooseTimeStep(const SmoothingRun& run, const std::vector<double>& x,
     variance = std::max(variance, RiskNoise(at(best)) * RiskNoise(at(best)));
     noise = std::sqrt(variance);
   }
+  // The input's own risk is noise^2 per moving point and direction.  White
+  // noise is what the flows remove best; where the best step is estimated to leave more
+  // than MostKeptNoise of it, most of the "noise" is the shape's own detail
+  // at the scale of the triangles (coarse meshes), which the flows cannot
+  // tell from noise: the points are left as they are.
   const double input = noise * std::sqrt(directions);
   const double error = points > 0.0 ? std::sqrt(std::max(0.0, sure(best)) / points) : input;
   choice.ShapeDetail = points > 0.0 && error >= MostKeptNoise * input;

@@ -77,7 +77,7 @@ double Rms(const std::vector<double>& a, const std::vector<double>& b, double di
 
 TEST(FairingSample, TheStepChosenOnASampleEndsAsNearAsTheWholeSurfacesSearch)
 {
-  // bunny00 (34,834 points) with noise of 0.1%, 0.3% and 1% of its
+  // bunny00 (37,706 points) with noise of 0.1%, 0.3% and 1% of its
   // diagonal: a sample of 4,096 points (eight balls) chooses a step that
   // ends within 10% of the whole surface's search in RMS from the clean
   // surface (a step of sqrt 2 more or less moves it a few percent).
@@ -143,4 +143,27 @@ TEST(FairingSample, TheSampleDoesNotDependOnThePointsOrder)
     }
   }
   EXPECT_LT(largest, 1e-3 * 0.003 * diagonal); // (the solves' tolerance, of the move)
+}
+
+TEST(FairingSample, ASampleThatWouldNotBeSmallerIsNotTaken)
+{
+  // Coordinates of 1e300, whose squared distances overflow (balls of
+  // infinite radius, the sample the whole surface), and a surface whose
+  // points are all one point: the whole surface's path (its report, no
+  // sample), not a sample of it searched again and again.
+  double diagonal = 0.0;
+  test::Mesh huge = NoisyBunny(0.003, diagonal), same = huge;
+  for (double& c : huge.Points)
+  {
+    c *= 1e300;
+  }
+  std::fill(same.Points.begin(), same.Points.end(), 1.0);
+  for (const test::Mesh* m : { &huge, &same })
+  {
+    std::vector<double> a, b;
+    const FairingReport whole = Faired(*m, 0, a), sampled = Faired(*m, 4096, b);
+    EXPECT_EQ(sampled.SampledPoints, 0);
+    EXPECT_EQ(sampled.Error, whole.Error);
+    EXPECT_EQ(sampled.ChosenTimeStep, whole.ChosenTimeStep);
+  }
 }
