@@ -539,7 +539,8 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     const Powers powers = Powers::Of(opt);
     const bool solves = opt.Integration == FairingIntegration::Implicit && (powers.Pure(1) || powers.Pure(2));
     const double* from = step == 0 && !guess.Points.empty() && !opt.Anisotropic ? guess.Points.data() : nullptr;
-    const Stage surface{ L, held, omega, solves && !split ? localOrder() : nullptr, &roles.Moves, split, from };
+    const Stage surface{ L, held, std::move(omega), solves && !split ? localOrder() : nullptr, &roles.Moves, split,
+      from };
     defined = defined && Integrate(surface, opt, x, report);
     if (from && !report.Iterations.empty())
     {

@@ -161,7 +161,7 @@ double StabilityLimit(const Stage& st, const Powers& p)
 /// that do not move, the size of the solution per column.
 struct StepSystem
 {
-  std::vector<double> Diagonal, InverseMass;
+  std::vector<double> Diagonal;
   std::vector<std::uint8_t> Fixed;
   std::vector<double> Scale;
   /// N = (M W^-1)^-1 on the moving rows and 0 on the others: then the step
@@ -213,6 +213,27 @@ ConjugateGradientResult SolveProjected(const Stage& st, const std::function<void
   return r;
 }
 
+/// The inner N = M^-1 of the powers: zero at held rows, where L is taken
+/// as 0 (distributed: the ghosts' too).
+double InnerInverseMass(const Stage& st, Index i)
+{
+  return st.L.Mass[i] > 0.0 && !st.Fixed[i] ? 1.0 / st.L.Mass[i] : 0.0;
+}
+
+std::vector<double> InnerInverseMass(const Stage& st)
+{
+  std::vector<double> inverse(static_cast<std::size_t>(st.L.NumberOfVertices));
+  for (Index i = 0; i < st.L.NumberOfVertices; ++i)
+  {
+    inverse[i] = InnerInverseMass(st, i);
+  }
+  if (st.Split)
+  {
+    st.Split->UpdateGhosts(inverse);
+  }
+  return inverse;
+}
+
 /// (StepSystem) x = b for the polynomial p, through the system's action,
 /// Jacobi-preconditioned (the diagonal of S N S exactly, higher powers
 /// estimated from it; with |c_k| the preconditioner stays positive).
@@ -223,7 +244,7 @@ ConjugateGradientResult SolvePolynomial(const Stage& st, const Powers& p, double
   const Index n = L.NumberOfVertices;
   const int threads = opt.NumberOfThreads;
   const std::vector<double>& m = sys.Diagonal;
-  const std::vector<double>& invMass = sys.InverseMass;
+  const std::vector<double> invMass = InnerInverseMass(st);
   std::vector<double> power(3 * static_cast<std::size_t>(n)), tmp(power.size()), diag(n);
   for (Index i = 0; i < n; ++i)
   {
@@ -454,20 +475,18 @@ bool ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, Fairing
     }
   }
   sys.Diagonal.assign(n, 0.0);
-  sys.InverseMass.assign(n, 0.0);
   Index numFree = 0;
   for (Index i = 0; i < n; ++i)
   {
-    // The inner M^-1 of the powers: zero at held vertices, where L is taken as 0.
-    sys.InverseMass[i] = L.Mass[i] > 0.0 && !st.Fixed[i] ? 1.0 / L.Mass[i] : 0.0;
+    const double inverseMass = InnerInverseMass(st, i);
     if (sys.Fixed[i] || !(st.Omega[i] > 0.0) || !(L.Mass[i] > 0.0))
     {
       sys.Fixed[i] = 1;
-      sys.UnitWeights = sys.UnitWeights && sys.InverseMass[i] == 0.0;
+      sys.UnitWeights = sys.UnitWeights && inverseMass == 0.0;
       continue;
     }
     sys.Diagonal[i] = L.Mass[i] / st.Omega[i];
-    sys.UnitWeights = sys.UnitWeights && std::abs(sys.Diagonal[i] * sys.InverseMass[i] - 1.0) <= 1e-12;
+    sys.UnitWeights = sys.UnitWeights && std::abs(sys.Diagonal[i] * inverseMass - 1.0) <= 1e-12;
     ++numFree;
   }
   // (Distributed: over the owned rows of all processes, so that every
@@ -485,7 +504,6 @@ bool ImplicitStep(const Stage& st, const FairingOptions& opt, double* x, Fairing
   if (st.Split)
   {
     st.Split->Sum(totals, 6);
-    st.Split->UpdateGhosts(sys.InverseMass);
   }
   sys.UnitWeights = totals[1] == 0.0;
   if (totals[0] == 0.0)

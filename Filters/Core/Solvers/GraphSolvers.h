@@ -71,6 +71,13 @@ struct ShiftedLaplacianProblem
   /// residual at x, so the result is as accurate as the solve from x, in
   /// fewer iterations the nearer the guess.
   const double* Guess = nullptr;
+  /// SolveSquaredLaplacian's serial Jacobi COCG from this many rows, asked
+  /// for a reduction of at most 1e-5: in mixed precision (double-precision
+  /// residuals of this matrix, single-precision corrections on a renumbered
+  /// copy), half the memory of the double-precision solve; where the
+  /// corrections stop reducing the residual (rows whose D_ii is tiny against
+  /// sqrt(t) K_ii: slivers, specks), on in double precision from there.
+  Index MixedPrecisionRows = 1000000;
 };
 
 /// The preconditioner the graph solvers take for `problem` (for the order-2

@@ -31,10 +31,11 @@ inline const Index* OrderOf(const ShiftedLaplacianProblem& pb, std::vector<Index
 /// pb's graph renumbered by `order` (row i is the caller's row order[i]):
 /// offsets, neighbours and each entry's value(k) (k: the caller's entry);
 /// rows with keep(v) false get no entries.  Returns the new position of
-/// each of the caller's rows.
-template <typename T, typename Keep, typename ValueOf>
+/// each of the caller's rows.  (Containers of the LargeVector kind; those of
+/// UninitializedAllocator are first touched by the threads that fill them.)
+template <typename Offsets, typename Neighbors, typename Values, typename Keep, typename ValueOf>
 std::vector<Index> RenumberEntries(const ShiftedLaplacianProblem& pb, const Index* order, Keep&& keep,
-  ValueOf&& value, LargeVector<std::int64_t>& offsets, LargeVector<Index>& neighbors, LargeVector<T>& values)
+  ValueOf&& value, Offsets& offsets, Neighbors& neighbors, Values& values)
 {
   const std::int64_t n = pb.Rows;
   std::vector<Index> position(static_cast<std::size_t>(n));

@@ -12,22 +12,22 @@ namespace
 /// with no memcpy calls for the accumulators).  Rows split statically: the
 /// iterative solvers that call it in a loop find their rows in the same
 /// core's cache each time.
-template <int C>
+template <int C, class T>
 void ApplyStiffnessColumns(Index rows, const std::int64_t* offsets, const Index* neighbors,
-  const double* weights, const double* diagonal, const double* x, double* y, int numThreads)
+  const T* weights, const T* diagonal, const T* x, T* y, int numThreads)
 {
   ParallelForStatic(rows, numThreads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t i = begin; i < end; ++i)
     {
-      double acc[C];
+      T acc[C];
       for (int c = 0; c < C; ++c)
       {
         acc[c] = diagonal[i] * x[i * C + c];
       }
       for (std::int64_t k = offsets[i]; k < offsets[i + 1]; ++k)
       {
-        const double w = weights[k];
-        const double* xj = x + static_cast<std::int64_t>(neighbors[k]) * C;
+        const T w = weights[k];
+        const T* xj = x + static_cast<std::int64_t>(neighbors[k]) * C;
         for (int c = 0; c < C; ++c)
         {
           acc[c] -= w * xj[c];
@@ -40,10 +40,10 @@ void ApplyStiffnessColumns(Index rows, const std::int64_t* offsets, const Index*
     }
   });
 }
-} // namespace
 
-void ApplyGraphStiffness(Index rows, const std::int64_t* offsets, const Index* neighbors,
-  const double* weights, const double* diagonal, const double* x, double* y, int columns, int numThreads)
+template <class T>
+void ApplyStiffness(Index rows, const std::int64_t* offsets, const Index* neighbors, const T* weights,
+  const T* diagonal, const T* x, T* y, int columns, int numThreads)
 {
   if (columns < 1 || columns > 8)
   {
@@ -52,6 +52,19 @@ void ApplyGraphStiffness(Index rows, const std::int64_t* offsets, const Index* n
   WithCount<8>(columns, [&](auto k) {
     ApplyStiffnessColumns<decltype(k)::value>(rows, offsets, neighbors, weights, diagonal, x, y, numThreads);
   });
+}
+} // namespace
+
+void ApplyGraphStiffness(Index rows, const std::int64_t* offsets, const Index* neighbors,
+  const double* weights, const double* diagonal, const double* x, double* y, int columns, int numThreads)
+{
+  ApplyStiffness(rows, offsets, neighbors, weights, diagonal, x, y, columns, numThreads);
+}
+
+void ApplyGraphStiffness(Index rows, const std::int64_t* offsets, const Index* neighbors,
+  const float* weights, const float* diagonal, const float* x, float* y, int columns, int numThreads)
+{
+  ApplyStiffness(rows, offsets, neighbors, weights, diagonal, x, y, columns, numThreads);
 }
 
 std::vector<Index> LocalityOrder(Index rows, const std::int64_t* offsets, const Index* neighbors)

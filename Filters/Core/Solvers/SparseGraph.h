@@ -18,6 +18,9 @@ namespace beltrami
 /// rows every call (ParallelForStatic).
 void ApplyGraphStiffness(Index rows, const std::int64_t* offsets, const Index* neighbors,
   const double* weights, const double* diagonal, const double* x, double* y, int columns, int numThreads);
+/// The same in single precision (the mixed-precision solvers' corrections).
+void ApplyGraphStiffness(Index rows, const std::int64_t* offsets, const Index* neighbors,
+  const float* weights, const float* diagonal, const float* x, float* y, int columns, int numThreads);
 
 /// Breadth-first order of the rows of a graph (one component after another):
 /// Order[new] = old.

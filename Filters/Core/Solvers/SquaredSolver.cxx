@@ -1,12 +1,26 @@
 // Beltrami core: the order-2 graph solver, SolveSquaredLaplacian's
 // COCG on D + i sqrt(t) K (see GraphSolvers.h), preconditioned by Jacobi
 // or by a V-cycle of the same complex operator (SurfaceMultigrid).
+//
+// The serial Jacobi solve works in mixed precision, as the order-1 solver
+// does: the residual of the real system in double precision, from the
+// caller's matrix in the caller's order, and COCG corrections of it in
+// single precision on a renumbered single-precision copy of D + i sqrt(t) K,
+// restarted from the true residual until it is small enough.  On the bunny
+// Loop-subdivided four times (19.3M triangles) a double-precision copy and
+// vectors would take 2.9 GB at the default fairing step's peak, these take
+// 1.6 GB (and where page faults are slow, first touching fresh memory
+// costs 1.5-2 s per GB).
 #include "Solvers/GraphSolversDetail.h"
 #include "Solvers/Partition.h"
 
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <memory>
+#include <new>
+#include <stdexcept>
+#include <type_traits>
 
 namespace beltrami
 {
@@ -14,12 +28,11 @@ namespace beltrami
 namespace
 {
 
-/// y = K x for W values per row, all rows.
-template <int W>
-void StiffnessProduct(const ShiftedLaplacianProblem& pb, const double* x, double* y)
-{
-  ApplyGraphStiffness(pb.Rows, pb.Offsets, pb.Neighbors, pb.Weights, pb.Diagonal, x, y, W, pb.NumberOfThreads);
-}
+/// The smallest residual reduction the mixed-precision solve is asked for
+/// (ShiftedLaplacianProblem::MixedPrecisionRows); tighter ones are solved in
+/// double precision (asked for 1e-6, single-precision corrections of an
+/// ill-conditioned system stalled at 4e-6).
+constexpr double MixedPrecisionTolerance = 1e-5;
 
 /// a b without the checks of std::complex's operator* for infinities
 /// (a library call per product unless -fcx-limited-range).
@@ -28,115 +41,133 @@ inline std::complex<double> Times(std::complex<double> a, std::complex<double> b
   return { a.real() * b.real() - a.imag() * b.imag(), a.real() * b.imag() + a.imag() * b.real() };
 }
 
-/// The rows a SquaredSolver works on: the caller's (distributed), or a copy
-/// renumbered in LocalityOrder (pb.Order, or computed), whose products find
-/// a row's neighbours near in memory: one default fairing step on the bunny
-/// Loop-subdivided three times (4.8M triangles) took 27-33 s in the mesh's
-/// order and 18-22 s renumbered.  X: the solution in the working order (the
-/// caller's x when not renumbered); B: the caller's right-hand side, whose
-/// row for working row i is Row(i).
+/// The rows COCG works on, in precision Real: the caller's (distributed;
+/// double only), or a copy renumbered in LocalityOrder (pb.Order, or
+/// computed), whose products find a row's neighbours near in memory: one
+/// default fairing step on the bunny Loop-subdivided three times (4.8M
+/// triangles) took 27-33 s in the mesh's order and 18-22 s renumbered.
+/// Dx: the correction of the caller's x, per working row.
+template <class Real>
 class SquaredSystem
 {
 public:
-  SquaredSystem(const ShiftedLaplacianProblem& pb, const double* b, double* x)
-    : Problem(pb)
-    , B(b)
-    , X(x)
+  SquaredSystem(const ShiftedLaplacianProblem& pb)
   {
-    if (!pb.Split && pb.Rows > 0)
+    const std::int64_t n = pb.Rows;
+    const int threads = pb.NumberOfThreads;
+    if (pb.Split)
     {
-      Renumber(pb, x);
+      if constexpr (std::is_same_v<Real, double>)
+      {
+        Offsets = pb.Offsets, Neighbors = pb.Neighbors, Weights = pb.Weights, Diagonal = pb.Diagonal;
+        Shift = pb.Shift, Fixed = pb.Fixed;
+      }
+      else
+      {
+        throw std::logic_error("SquaredSystem: a distributed system in single precision");
+      }
     }
+    else
+    {
+      Renumber(pb);
+    }
+    Dx.resize(static_cast<std::size_t>(n) * pb.Columns);
+    Clear(threads);
   }
 
   /// The caller's row of working row i.
   std::int64_t Row(std::int64_t i) const { return Order ? Order[i] : i; }
 
-  /// The working solution into the caller's x.
-  void Return(double* x) const
+  /// x += sign Dx (the caller's rows).
+  void Fold(double* x, int nc, int threads, double sign = 1.0) const
   {
-    const int nc = Problem.Columns;
-    if (Order)
-    {
-      ParallelForStatic(Problem.Rows, Problem.NumberOfThreads, [&](std::int64_t s, std::int64_t e) {
-        for (std::int64_t i = s; i < e; ++i)
+    ParallelForStatic(static_cast<std::int64_t>(Dx.size() / nc), threads, [&](std::int64_t s, std::int64_t e) {
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        for (int c = 0; c < nc; ++c)
         {
-          std::copy_n(X + i * nc, nc, x + static_cast<std::int64_t>(Order[i]) * nc);
+          x[Row(i) * nc + c] += sign * Dx[i * nc + c];
         }
-      });
-    }
+      }
+    });
   }
 
-  ShiftedLaplacianProblem Problem; ///< the working rows
-  const double* B;
-  double* X;
+  /// Dx = 0.
+  void Clear(int threads)
+  {
+    const std::int64_t size = static_cast<std::int64_t>(Dx.size());
+    ParallelForStatic(size, threads, [&](std::int64_t s, std::int64_t e) { std::fill(Dx.begin() + s, Dx.begin() + e, Real(0)); });
+  }
+
+  const std::int64_t* Offsets = nullptr;
+  const Index* Neighbors = nullptr;
+  const Real *Weights = nullptr, *Diagonal = nullptr, *Shift = nullptr;
+  const std::uint8_t* Fixed = nullptr;
+  UninitializedVector<Real> Dx;
 
 private:
-  void Renumber(const ShiftedLaplacianProblem& pb, const double* x)
+  void Renumber(const ShiftedLaplacianProblem& pb)
   {
     const std::int64_t n = pb.Rows;
-    const int nc = pb.Columns;
     Order = detail::OrderOf(pb, Computed);
-    detail::RenumberEntries(pb, Order, [](Index) { return true; }, [&](std::int64_t k) { return pb.Weights[k]; }, Offsets,
-      Neighbors, Weights);
-    Diagonal.resize(n);
-    Shift.resize(n);
-    Fixed.resize(pb.Fixed ? n : 0);
-    Solution.resize(n * nc);
+    detail::RenumberEntries(pb, Order, [](Index) { return true; },
+      [&](std::int64_t k) { return static_cast<Real>(pb.Weights[k]); }, OwnOffsets, OwnNeighbors, OwnWeights);
+    OwnDiagonal.resize(n);
+    OwnShift.resize(n);
+    OwnFixed.resize(pb.Fixed ? n : 0);
     ParallelForStatic(n, pb.NumberOfThreads, [&](std::int64_t s, std::int64_t e) {
       for (std::int64_t i = s; i < e; ++i)
       {
         const std::int64_t v = Order[i];
-        Diagonal[i] = pb.Diagonal[v];
-        Shift[i] = pb.Shift[v];
+        OwnDiagonal[i] = static_cast<Real>(pb.Diagonal[v]);
+        OwnShift[i] = static_cast<Real>(pb.Shift[v]);
         if (pb.Fixed)
         {
-          Fixed[i] = pb.Fixed[v];
+          OwnFixed[i] = pb.Fixed[v];
         }
-        std::copy_n(x + v * nc, nc, Solution.data() + i * nc);
       }
     });
-    Problem.Offsets = Offsets.data();
-    Problem.Neighbors = Neighbors.data();
-    Problem.Weights = Weights.data();
-    Problem.Diagonal = Diagonal.data();
-    Problem.Shift = Shift.data();
-    Problem.Fixed = pb.Fixed ? Fixed.data() : nullptr;
-    Problem.Order = nullptr;
-    X = Solution.data();
+    Offsets = OwnOffsets.data();
+    Neighbors = OwnNeighbors.data();
+    Weights = OwnWeights.data();
+    Diagonal = OwnDiagonal.data();
+    Shift = OwnShift.data();
+    Fixed = pb.Fixed ? OwnFixed.data() : nullptr;
   }
 
   std::vector<Index> Computed;
   const Index* Order = nullptr; ///< working row i is the caller's row Order[i]
-  LargeVector<std::int64_t> Offsets;
-  LargeVector<Index> Neighbors;
-  LargeVector<double> Weights, Diagonal, Shift, Solution;
-  LargeVector<std::uint8_t> Fixed;
+  UninitializedVector<std::int64_t> OwnOffsets;
+  UninitializedVector<Index> OwnNeighbors;
+  UninitializedVector<Real> OwnWeights, OwnDiagonal, OwnShift;
+  UninitializedVector<std::uint8_t> OwnFixed;
 };
 
-/// The solve of SolveSquaredLaplacian for NC columns: one COCG run on
-/// (D + i a K_ff) dz = res (res: the initial real residual); x = x0 + Re dz,
-/// accumulated into x as it goes (only Re dz is ever needed).
-/// The real residual of Re dz is the complex one amplified (by up to
-/// ~ a ||K|| / D), so the complex residual is first asked for two orders of
-/// magnitude more than the real one needs; where that was not enough, the
-/// same run goes on with a tighter target (no restart).  Vectors: the
-/// complex R, P and Q = A P (Q also the scratch of the real residual), and
-/// the Jacobi inverses; Z = M^-1 R is formed where it is used.
-template <int NC>
+/// The solve of SolveSquaredLaplacian for NC columns: COCG on
+/// (D + i a K_ff) dz = res (res: the real residual); x += Re dz (only Re dz
+/// is ever needed), folded into the caller's x where the real residual is
+/// measured, in double precision from the caller's matrix.  The real
+/// residual of Re dz is the complex one amplified (by up to ~ a ||K|| / D),
+/// so the complex residual is first asked for two orders of magnitude more
+/// than the real one needs.  In double precision (Real), where that was not
+/// enough the same run goes on with a tighter target; in single precision
+/// (mixed) it restarts from the true residual, each run asked for no more
+/// than single precision resolves.  Vectors: the complex R, P and Q = A P
+/// (the Jacobi inverses and Z = M^-1 R formed where they are used).
+template <int NC, class Real>
 class SquaredSolver
 {
 public:
   using Complex = std::complex<double>;
   static constexpr int W = 2 * NC; // complex vectors: per row NC real parts, then NC imaginary parts
+  static constexpr bool Mixed = !std::is_same_v<Real, double>;
 
   SquaredSolver(const ShiftedLaplacianProblem& pb, const double* b, double* x, const detail::ComplexCycle& cycle)
     : Cycle(cycle)
-    , System(pb, b, x)
-    , Pb(System.Problem)
-    , B(System.B)
-    , X(System.X)
-    , Xout(x)
+    , Pb(pb)
+    , System(pb)
+    , B(b)
+    , X(x)
     , N(pb.Rows)
     , Threads(pb.NumberOfThreads)
     , T(pb.Factor)
@@ -146,30 +177,27 @@ public:
     , P(2 * Size)
     , KP(2 * Size)
     , Z(cycle ? 2 * Size : 0)
-    , Inverse(static_cast<std::size_t>(pb.Rows))
   {
-    ParallelForStatic(N, Threads, [&](std::int64_t s, std::int64_t e) { // Jacobi: 1 / (D_i + i a K_ii)
-      for (std::int64_t i = s; i < e; ++i)
-      {
-        Inverse[i] = IsFree(i) ? 1.0 / Complex(Pb.Shift[i], A * Pb.Diagonal[i]) : Complex(0.0);
-      }
-    });
   }
 
-  ConjugateGradientResult Run()
+  /// The solve; `initial`: the column norms of the residual the tolerance
+  /// is relative to, where an earlier run from the caller's start left x.
+  ConjugateGradientResult Run(const double* initial = nullptr)
   {
-    Iterate();
-    System.Return(Xout);
+    Iterate(initial); // (its corrections folded into x where it returns)
     return Result;
   }
 
+  /// The column norms of the residual at the caller's start.
+  const double* InitialNorms() const { return Initial; }
+
 private:
-  void Iterate()
+  void Iterate(const double* initial)
   {
     Norms = RealResidual(true);
     for (int c = 0; c < NC; ++c)
     {
-      Initial[c] = std::sqrt(std::max(0.0, Norms[c]));
+      Initial[c] = initial ? initial[c] : std::sqrt(std::max(0.0, Norms[c]));
       Threshold[c] = std::max(Pb.Tolerance * Initial[c], ResidualRoundOff * Pb.Scale[c]);
     }
     if (Pb.Guess)
@@ -183,7 +211,9 @@ private:
       return;
     }
     Start();
-    double target = 0.01 * needed, lastRelative = Result.RelativeResidual;
+    // (A run that goes on where an earlier one stopped - `initial` - is not
+    // held to halving the residual it starts from by its first check.)
+    double target = FirstTarget(needed), lastRelative = initial ? HUGE_VAL : Result.RelativeResidual;
     while (Result.Iterations < Pb.MaximumIterations)
     {
       Complex alpha[NC], beta[NC];
@@ -191,28 +221,52 @@ private:
       const bool reached = Advance(alpha, beta, target);
       if (reached || Stalled || Result.Iterations >= Pb.MaximumIterations)
       {
-        Norms = RealResidual(false);
+        const std::vector<double> before = Norms;
+        System.Fold(X, NC, Threads);
+        Norms = RealResidual(Mixed);
         needed = Check();
-        if (Result.Converged || Stalled || !(Result.RelativeResidual < 0.5 * lastRelative))
+        if (Mixed && !Result.Converged && !(Result.RelativeResidual < lastRelative))
+        {
+          // Single-precision corrections that left x farther: taken back
+          // (the caller goes on in double precision).
+          System.Fold(X, NC, Threads, -1.0);
+          Norms = before;
+          Check();
+          return;
+        }
+        System.Clear(Threads);
+        if (Result.Converged || Stalled || !(Result.RelativeResidual < 0.5 * lastRelative) ||
+          Result.Iterations >= Pb.MaximumIterations)
         {
           return; // not converged: no progress left in this run, the caller decides
         }
         lastRelative = Result.RelativeResidual;
+        if constexpr (Mixed)
+        {
+          target = FirstTarget(needed);
+          Start(); // from the true residual
+          continue;
+        }
         target *= std::max(1e-4, 0.1 * needed);
       }
       NewDirection(beta);
     }
   }
 
-  /// The free rows of X from Pb.Guess (ShiftedLaplacianProblem::Guess).
+  /// The complex residual asked of a run: two orders of magnitude below the
+  /// fraction of the real one still needed, in single precision not below
+  /// what it resolves.
+  static double FirstTarget(double needed) { return Mixed ? std::max(1e-7, 0.01 * needed) : 0.01 * needed; }
+
+  /// The free rows of x from Pb.Guess (ShiftedLaplacianProblem::Guess).
   void StartAtGuess()
   {
     ParallelForStatic(N, Threads, [&](std::int64_t s, std::int64_t e) {
-      for (std::int64_t i = s; i < e; ++i)
+      for (std::int64_t v = s; v < e; ++v)
       {
-        if (IsFree(i))
+        if (IsFreeRow(v))
         {
-          std::copy_n(Pb.Guess + System.Row(i) * NC, NC, X + i * NC);
+          std::copy_n(Pb.Guess + v * NC, NC, X + v * NC);
         }
       }
     });
@@ -220,9 +274,12 @@ private:
 
   /// Distributed (Pb.Split): only the owned rows are unknowns; the ghost
   /// rows of an operand are refreshed before each product, sums are summed
-  /// over the processes.
+  /// over the processes.  Working rows (IsFree, IsHeld) and the caller's
+  /// (IsFreeRow, IsHeldRow).
   bool IsFree(std::int64_t i) const { return IsHeld(i) ? false : !Pb.Split || Pb.Split->IsOwned(static_cast<Index>(i)); }
-  bool IsHeld(std::int64_t i) const { return Pb.Fixed && Pb.Fixed[i]; }
+  bool IsHeld(std::int64_t i) const { return System.Fixed && System.Fixed[i]; }
+  bool IsHeldRow(std::int64_t v) const { return Pb.Fixed && Pb.Fixed[v]; }
+  bool IsFreeRow(std::int64_t v) const { return IsHeldRow(v) ? false : !Pb.Split || Pb.Split->IsOwned(static_cast<Index>(v)); }
   std::vector<double> Total(std::vector<double> sums) const
   {
     if (Pb.Split)
@@ -231,51 +288,116 @@ private:
     }
     return sums;
   }
-  void Refresh(double* v, int columns) const
+  template <class V>
+  void Refresh(V* v, int columns) const
   {
-    if (Pb.Split)
+    if constexpr (std::is_same_v<V, double>)
     {
-      Pb.Split->UpdateGhosts(v, columns);
+      if (Pb.Split)
+      {
+        Pb.Split->UpdateGhosts(v, columns);
+      }
     }
   }
 
-  /// b - A x on the free rows, also into R (real parts; imaginary parts 0)
-  /// when `start`; returns the column norms.  The products use KP as scratch.
+  /// b - A x on the caller's free rows, in double precision from the
+  /// caller's matrix, also into R (real parts; imaginary parts 0) when
+  /// `start`; returns the column norms.  (Its products: ResidualScratch.)
   std::vector<double> RealResidual(bool start)
   {
-    double* kx = KP.data();
-    double* nkx = KP.data() + Size;
+    double* y = ResidualScratch();
     Refresh(X, NC);
-    StiffnessProduct<NC>(Pb, X, kx);
+    ApplyGraphStiffness(N, Pb.Offsets, Pb.Neighbors, Pb.Weights, Pb.Diagonal, X, y, NC, Threads);
     ParallelForStatic(N, Threads, [&](std::int64_t s, std::int64_t e) {
-      for (std::int64_t i = s; i < e; ++i)
+      for (std::int64_t v = s; v < e; ++v)
       {
-        const double f = IsHeld(i) ? 0.0 : 1.0 / Pb.Shift[i];
+        const double f = IsHeldRow(v) ? 0.0 : 1.0 / Pb.Shift[v];
         for (int c = 0; c < NC; ++c)
         {
-          nkx[i * NC + c] = f * kx[i * NC + c];
+          y[v * NC + c] *= f;
         }
       }
     });
-    Refresh(nkx, NC); // the ghosts' rows of K x are not all here
-    StiffnessProduct<NC>(Pb, nkx, kx);
+    Refresh(y, NC); // the ghosts' rows of K x are not all here
     return Total(ParallelSum(N, NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
-      for (std::int64_t i = s; i < e; ++i)
+      for (std::int64_t i = s; i < e; ++i) // (working rows: R's writes in order, the caller's rows read whole)
       {
-        const bool f = IsFree(i);
+        const std::int64_t v = System.Row(i);
+        double ky[NC];
         for (int c = 0; c < NC; ++c)
         {
-          const std::int64_t k = i * NC + c;
-          const double res = f ? B[System.Row(i) * NC + c] - Pb.Shift[i] * X[k] - T * kx[k] : 0.0;
+          ky[c] = Pb.Diagonal[v] * y[v * NC + c];
+        }
+        for (std::int64_t k = Pb.Offsets[v]; k < Pb.Offsets[v + 1]; ++k)
+        {
+          const double* yj = y + static_cast<std::int64_t>(Pb.Neighbors[k]) * NC;
+          for (int c = 0; c < NC; ++c)
+          {
+            ky[c] -= Pb.Weights[k] * yj[c];
+          }
+        }
+        const bool f = IsFreeRow(v);
+        for (int c = 0; c < NC; ++c)
+        {
+          const double res = f ? B[v * NC + c] - Pb.Shift[v] * X[v * NC + c] - T * ky[c] : 0.0;
           if (start)
           {
-            R[i * W + c] = res;
-            R[i * W + NC + c] = 0.0;
+            R[i * W + c] = static_cast<Real>(res);
+            R[i * W + NC + c] = Real(0);
           }
           acc[c] += res * res;
         }
       }
     }));
+  }
+
+  /// Room for NC doubles a row while the real residual is formed: KP in
+  /// double precision; in single precision P, whose bytes hold as many (it
+  /// is set anew from R after each residual: Start), as doubles for this
+  /// while (their lifetime begun there, and P's ended, by default-initialising
+  /// construction).
+  double* ResidualScratch()
+  {
+    if constexpr (Mixed)
+    {
+      static_assert(2 * sizeof(Real) == sizeof(double), "two single-precision values hold one double");
+      double* room = reinterpret_cast<double*>(P.data());
+      std::uninitialized_default_construct_n(room, Size); // (no code: a new lifetime, values unspecified)
+      return std::launder(room);
+    }
+    else
+    {
+      return KP.data();
+    }
+  }
+
+  /// Starts P's values' lifetime again in its bytes after ResidualScratch.
+  void ReclaimP()
+  {
+    if constexpr (Mixed)
+    {
+      std::uninitialized_default_construct_n(P.data(), 2 * Size);
+    }
+  }
+
+  /// z = M^-1 R by the cycle (double precision only).
+  void ApplyCycle(Real* z) const
+  {
+    if constexpr (Mixed)
+    {
+      throw std::logic_error("SquaredSolver: a V-cycle in single precision");
+    }
+    else
+    {
+      Cycle(R.data(), z, W);
+    }
+  }
+
+  /// Jacobi: 1 / (D_i + i a K_ii) on the free rows, 0 on the others.
+  Complex InverseAt(std::int64_t i) const
+  {
+    const double d = System.Shift[i], k = A * System.Diagonal[i], scale = IsFree(i) ? 1.0 / (d * d + k * k) : 0.0;
+    return { d * scale, -k * scale };
   }
 
   /// Whether every column is below its threshold (Result.Converged) and the
@@ -306,32 +428,31 @@ private:
   /// The COCG start from the real residual in R: P = M^-1 R.
   void Start()
   {
+    ReclaimP();
+    std::vector<double> sums;
     if (Cycle)
     {
-      Cycle(R.data(), P.data(), W);
-      const std::vector<double> sums = RhoAndNorms(P.data());
-      for (int c = 0; c < NC; ++c)
-      {
-        Rho[c] = Complex(sums[2 * c], sums[2 * c + 1]);
-        StartNorm[c] = std::sqrt(sums[2 * NC + c]);
-      }
-      return;
+      ApplyCycle(P.data());
+      sums = RhoAndNorms(P.data());
     }
-    const std::vector<double> sums = Total(ParallelSum(N, 3 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
-      for (std::int64_t i = s; i < e; ++i)
-      {
-        for (int c = 0; c < NC; ++c)
+    else
+    {
+      sums = Total(ParallelSum(N, 3 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+        for (std::int64_t i = s; i < e; ++i)
         {
-          const double r = R[i * W + c];
-          const Complex z = Times(Inverse[i], r);
-          P[i * W + c] = z.real();
-          P[i * W + NC + c] = z.imag();
-          acc[2 * c] += r * z.real(); // rho = r^T z, unconjugated
-          acc[2 * c + 1] += r * z.imag();
-          acc[2 * NC + c] += r * r;
+          for (int c = 0; c < NC; ++c)
+          {
+            const double r = R[i * W + c];
+            const Complex z = Times(InverseAt(i), r);
+            P[i * W + c] = static_cast<Real>(z.real());
+            P[i * W + NC + c] = static_cast<Real>(z.imag());
+            acc[2 * c] += r * z.real(); // rho = r^T z, unconjugated
+            acc[2 * c + 1] += r * z.imag();
+            acc[2 * NC + c] += r * r;
+          }
         }
-      }
-    }));
+      }));
+    }
     for (int c = 0; c < NC; ++c)
     {
       Rho[c] = Complex(sums[2 * c], sums[2 * c + 1]);
@@ -343,8 +464,10 @@ private:
   void ApplyOperator(Complex* alpha)
   {
     Refresh(P.data(), W);
-    StiffnessProduct<W>(Pb, P.data(), KP.data());
+    ApplyGraphStiffness(N, System.Offsets, System.Neighbors, System.Weights, System.Diagonal, P.data(), KP.data(), W,
+      Threads);
     const std::vector<double> pq = Total(ParallelSum(N, 2 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+      double local[2 * NC] = {};
       for (std::int64_t i = s; i < e; ++i)
       {
         const bool f = IsFree(i);
@@ -352,13 +475,17 @@ private:
         {
           const std::int64_t re = i * W + c, im = re + NC;
           const Complex p(P[re], P[im]);
-          const Complex q = f ? Pb.Shift[i] * p + Complex(-A * KP[im], A * KP[re]) : Complex(0.0);
-          KP[re] = q.real();
-          KP[im] = q.imag();
+          const Complex q = f ? static_cast<double>(System.Shift[i]) * p + Complex(-A * KP[im], A * KP[re]) : Complex(0.0);
+          KP[re] = static_cast<Real>(q.real());
+          KP[im] = static_cast<Real>(q.imag());
           const Complex product = Times(p, q);
-          acc[2 * c] += f ? product.real() : 0.0;
-          acc[2 * c + 1] += f ? product.imag() : 0.0;
+          local[2 * c] += f ? product.real() : 0.0;
+          local[2 * c + 1] += f ? product.imag() : 0.0;
         }
+      }
+      for (int k = 0; k < 2 * NC; ++k)
+      {
+        acc[k] += local[k];
       }
     }));
     for (int c = 0; c < NC; ++c)
@@ -368,33 +495,41 @@ private:
     }
   }
 
-  /// x += Re(alpha P) on the free rows, R -= alpha Q, the new rho (with
+  /// Dx += Re(alpha P) on the free rows, R -= alpha Q, the new rho (with
   /// Z = M^-1 R) and beta; true when every column's complex residual
   /// reached `target` of its start.
   bool Advance(const Complex* alpha, Complex* beta, double target)
   {
+    Real* dx = System.Dx.data();
+    const bool jacobi = !Cycle;
     std::vector<double> sums = Total(ParallelSum(N, 3 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
+      double local[3 * NC] = {}; // (not through acc: its stores would not leave the loop)
       for (std::int64_t i = s; i < e; ++i)
       {
         const bool f = IsFree(i);
+        const Complex inverse = InverseAt(i);
         for (int c = 0; c < NC; ++c)
         {
           const std::int64_t re = i * W + c, im = re + NC;
-          X[i * NC + c] += f ? alpha[c].real() * P[re] - alpha[c].imag() * P[im] : 0.0;
+          dx[i * NC + c] += static_cast<Real>(f ? alpha[c].real() * P[re] - alpha[c].imag() * P[im] : 0.0);
           const Complex r = Complex(R[re], R[im]) - Times(alpha[c], Complex(KP[re], KP[im]));
-          R[re] = r.real();
-          R[im] = r.imag();
-          const Complex rz = Cycle ? Complex(0.0) : Times(r, Times(Inverse[i], r));
-          acc[2 * c] += f ? rz.real() : 0.0;
-          acc[2 * c + 1] += f ? rz.imag() : 0.0;
-          acc[2 * NC + c] += f ? std::norm(r) : 0.0;
+          R[re] = static_cast<Real>(r.real());
+          R[im] = static_cast<Real>(r.imag());
+          const Complex rz = jacobi ? Times(r, Times(inverse, r)) : Complex(0.0);
+          local[2 * c] += f ? rz.real() : 0.0;
+          local[2 * c + 1] += f ? rz.imag() : 0.0;
+          local[2 * NC + c] += f ? std::norm(r) : 0.0;
         }
+      }
+      for (int k = 0; k < 3 * NC; ++k)
+      {
+        acc[k] += local[k];
       }
     }));
     ++Result.Iterations;
     if (Cycle)
     {
-      Cycle(R.data(), Z.data(), W);
+      ApplyCycle(Z.data());
       const std::vector<double> rz = RhoAndNorms(Z.data());
       std::copy(rz.begin(), rz.begin() + 2 * NC, sums.begin());
     }
@@ -420,10 +555,10 @@ private:
         for (int c = 0; c < NC; ++c)
         {
           const std::int64_t re = i * W + c, im = re + NC;
-          const Complex z = Cycle ? Complex(Z[re], Z[im]) : Times(Inverse[i], Complex(R[re], R[im]));
+          const Complex z = Cycle ? Complex(Z[re], Z[im]) : Times(InverseAt(i), Complex(R[re], R[im]));
           const Complex p = z + Times(beta[c], Complex(P[re], P[im]));
-          P[re] = p.real();
-          P[im] = p.imag();
+          P[re] = static_cast<Real>(p.real());
+          P[im] = static_cast<Real>(p.imag());
         }
       }
     });
@@ -431,7 +566,7 @@ private:
 
   /// With a preconditioner: the sums r^T z (unconjugated; real and
   /// imaginary part per column) over the free rows, then ||r||^2 per column.
-  std::vector<double> RhoAndNorms(const double* z) const
+  std::vector<double> RhoAndNorms(const Real* z) const
   {
     return Total(ParallelSum(N, 3 * NC, Threads, [&](std::int64_t s, std::int64_t e, double* acc) {
       for (std::int64_t i = s; i < e; ++i)
@@ -454,17 +589,15 @@ private:
   }
 
   const detail::ComplexCycle& Cycle;
-  SquaredSystem System;
   const ShiftedLaplacianProblem& Pb;
+  SquaredSystem<Real> System;
   const double* B;
-  double* X;
-  double* Xout;
+  double* X; ///< the caller's x
   const std::int64_t N;
   const int Threads;
   const double T, A;
   const std::size_t Size;
-  LargeVector<double> R, P, KP, Z; // Z = M^-1 R with a preconditioner
-  LargeVector<Complex> Inverse;
+  UninitializedVector<Real> R, P, KP, Z; // Z = M^-1 R with a preconditioner
   ConjugateGradientResult Result;
   std::vector<double> Norms;
   double Initial[NC] = {}, Threshold[NC] = {}, StartNorm[NC] = {};
@@ -477,7 +610,32 @@ private:
 ConjugateGradientResult detail::SolveSquaredComplex(
   const ShiftedLaplacianProblem& pb, const double* b, double* x, const ComplexCycle& cycle)
 {
-  return WithCount<4>(pb.Columns, [&](auto k) { return SquaredSolver<decltype(k)::value>(pb, b, x, cycle).Run(); });
+  return WithCount<4>(pb.Columns, [&](auto k) {
+    constexpr int nc = decltype(k)::value;
+    if (cycle || pb.Split || pb.Tolerance < MixedPrecisionTolerance || pb.Rows < pb.MixedPrecisionRows)
+    {
+      return SquaredSolver<nc, double>(pb, b, x, cycle).Run();
+    }
+    double initial[nc];
+    ConjugateGradientResult mixed;
+    {
+      SquaredSolver<nc, float> solver(pb, b, x, cycle);
+      mixed = solver.Run();
+      std::copy_n(solver.InitialNorms(), nc, initial);
+    } // (its buffers freed)
+    if (mixed.Converged || mixed.Iterations >= pb.MaximumIterations)
+    {
+      return mixed;
+    }
+    // Single precision made no more progress (an operator whose real part
+    // the corrections' round-off hides): on in double precision from there.
+    ShiftedLaplacianProblem rest = pb;
+    rest.Guess = nullptr;
+    rest.MaximumIterations -= mixed.Iterations;
+    ConjugateGradientResult r = SquaredSolver<nc, double>(rest, b, x, cycle).Run(initial);
+    r.Iterations += mixed.Iterations;
+    return r;
+  });
 }
 
 } // namespace beltrami

@@ -412,3 +412,77 @@ TEST(SurfaceMultigrid, AutomaticTakesItForLargeStepsOnLargeSurfaces)
     EXPECT_EQ(kept.get(), first);
   }
 }
+
+TEST(SurfaceMultigrid, SquaredJacobiSolveInMixedPrecisionReachesTheTolerance)
+{
+  // The serial Jacobi order-2 solve asked for a reduction single precision
+  // resolves works in mixed precision (double-precision residuals of the
+  // caller's matrix, single-precision corrections), and where those stall
+  // goes on in double precision: at every step, on a real mesh, on a mesh
+  // with slivers and on a sphere with a far speck, the independent
+  // double-precision residual of every column is within the tolerance of
+  // the one at the start, and the solution within it of the
+  // double-precision solve to 1e-9.
+  std::vector<std::pair<std::string, test::Mesh>> meshes;
+  meshes.emplace_back("bunny00.off", ReadOrFail("bunny00.off"));
+  meshes.emplace_back("irregular with slivers", test::FlatIrregular(120, 7));
+  meshes.emplace_back("sphere with a speck",
+    test::Merged(test::OctahedronSphere(4), test::OctahedronSphere(1, 1e-4), { 5.0, 0.0, 0.0 }));
+  for (const auto& [name, mesh] : meshes)
+  {
+    const MeshSystem s(mesh);
+    const std::size_t size = 3 * static_cast<std::size_t>(s.L.NumberOfVertices);
+    std::vector<double> b(size);
+    for (std::size_t k = 0; k < size; ++k)
+    {
+      b[k] = s.Mass[k / 3] * s.Mesh.Points[k];
+    }
+    const auto residualNorms = [&](double t, const std::vector<double>& x) {
+      std::vector<double> y(size), z(size), norms(3, 0.0);
+      s.L.ApplyStiffness(x.data(), y.data(), 3, 2);
+      for (std::size_t k = 0; k < size; ++k)
+      {
+        y[k] /= s.Mass[k / 3];
+      }
+      s.L.ApplyStiffness(y.data(), z.data(), 3, 2);
+      for (std::size_t k = 0; k < size; ++k)
+      {
+        const double r = b[k] - s.Mass[k / 3] * x[k] - t * z[k];
+        norms[k % 3] += r * r;
+      }
+      return norms;
+    };
+    for (const double steps : { 4.0, 400.0 })
+    {
+      const double t = steps * std::pow(s.H, 4);
+      ShiftedLaplacianProblem pb = s.Problem(t, 3, Preconditioning::Jacobi);
+      pb.MixedPrecisionRows = 0; // (from the default's million rows)
+      pb.Tolerance = 1e-9;
+      std::vector<double> exact = s.Mesh.Points;
+      ASSERT_TRUE(SolveSquaredLaplacian(pb, b.data(), exact.data()).Converged);
+      const std::vector<double> start = residualNorms(t, s.Mesh.Points);
+      for (const double tolerance : { 1e-4, 1e-5 })
+      {
+        pb.Tolerance = tolerance;
+        std::vector<double> x = s.Mesh.Points;
+        const ConjugateGradientResult r = SolveSquaredLaplacian(pb, b.data(), x.data());
+        EXPECT_TRUE(r.Converged) << name << ", " << steps << " h^4, tolerance " << tolerance;
+        const std::vector<double> end = residualNorms(t, x);
+        double change = 0.0, error = 0.0;
+        for (std::size_t k = 0; k < size; ++k)
+        {
+          change = std::max(change, std::abs(exact[k] - s.Mesh.Points[k]));
+          error = std::max(error, std::abs(x[k] - exact[k]));
+        }
+        for (int c = 0; c < 3; ++c)
+        {
+          EXPECT_LE(std::sqrt(end[c]), 1.0001 * tolerance * std::sqrt(start[c]))
+            << name << ", " << steps << " h^4, tolerance " << tolerance << ", column " << c;
+        }
+        EXPECT_LE(error, 10.0 * tolerance * change) << name << ", " << steps << " h^4, tolerance " << tolerance;
+        std::cout << name << ", " << steps << " h^4, tolerance " << tolerance << ": " << r.Iterations
+                  << " iterations, error " << error / change << " of the change\n";
+      }
+    }
+  }
+}
