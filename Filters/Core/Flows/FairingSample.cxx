@@ -33,16 +33,22 @@ std::array<double, 2> Halves(std::uint64_t h)
 /// points with `split`): the centres of the sample's balls.
 std::vector<Vec3> Seeds(Index n, const double* x, const Partition* split)
 {
+  // The least (hash, id) pairs, kept sorted as the points pass (a copy of
+  // all of them took a second on 10M points).
   std::vector<std::pair<std::uint64_t, Index>> hashes;
   for (Index v = 0; v < n; ++v)
   {
     if ((!split || split->IsOwned(v)) && Point(x, v).allFinite())
     {
-      hashes.emplace_back(PointHash(x + 3 * static_cast<std::int64_t>(v)), v);
+      const std::pair<std::uint64_t, Index> h(PointHash(x + 3 * static_cast<std::int64_t>(v)), v);
+      if (hashes.size() < SampledPatches || h < hashes.back())
+      {
+        hashes.insert(std::upper_bound(hashes.begin(), hashes.end(), h), h);
+        hashes.resize(std::min(hashes.size(), SampledPatches));
+      }
     }
   }
-  const std::size_t mine = std::min(SampledPatches, hashes.size());
-  std::partial_sort(hashes.begin(), hashes.begin() + static_cast<std::ptrdiff_t>(mine), hashes.end());
+  const std::size_t mine = hashes.size();
   std::vector<double> candidates;
   for (std::size_t s = 0; s < mine; ++s)
   {
@@ -70,20 +76,32 @@ std::vector<Vec3> Seeds(Index n, const double* x, const Partition* split)
 
 /// Per point (ghosts too), whether it is in the sample: the `count` points
 /// (of all) nearest to the seeds, balls of one radius.
-std::vector<std::uint8_t> Inside(Index n, const double* x, std::int64_t count, const Partition* split)
+std::vector<std::uint8_t> Inside(Index n, const double* x, std::int64_t count, const Partition* split, int threads)
 {
   const std::vector<Vec3> seeds = Seeds(n, x, split);
   std::vector<double> nearest(static_cast<std::size_t>(n), std::numeric_limits<double>::infinity()), owned;
-  for (Index v = 0; v < n; ++v)
+  ParallelFor(n, threads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t v = begin; v < end; ++v)
+    {
+      for (const Vec3& c : seeds)
+      {
+        nearest[v] = std::min(nearest[v], (Point(x, v) - c).squaredNorm()); // (a NaN point stays out)
+      }
+    }
+  });
+  if (split)
   {
-    for (const Vec3& c : seeds)
+    for (Index v = 0; v < n; ++v)
     {
-      nearest[v] = std::min(nearest[v], (Point(x, v) - c).squaredNorm()); // (a NaN point stays out)
+      if (split->IsOwned(v))
+      {
+        owned.push_back(nearest[v]);
+      }
     }
-    if (!split || split->IsOwned(v))
-    {
-      owned.push_back(nearest[v]);
-    }
+  }
+  else
+  {
+    owned = nearest;
   }
   const std::int64_t total = split ? split->TotalRows() : n;
   const std::int64_t k = std::min<std::int64_t>(count, total - 1);
@@ -304,7 +322,8 @@ std::optional<FairingReport> FairWithSampledSearch(const MeshTopology& topo, dou
   {
     return std::nullopt;
   }
-  const std::vector<std::uint8_t> inside = Inside(topo.NumberOfVertices(), points, options.StepSearchPoints, split);
+  const std::vector<std::uint8_t> inside =
+    Inside(topo.NumberOfVertices(), points, options.StepSearchPoints, split, options.NumberOfThreads);
   std::vector<double> records, triangles;
   Records(topo, points, cons, inside, split, records, triangles);
   // (Balls of infinite radius - coordinates whose squares overflow - or of
