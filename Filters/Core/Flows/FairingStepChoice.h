@@ -220,8 +220,8 @@ StepChoice ChooseStep(const MeshTopology& topo, const double* x, const FairingOp
 /// noise of 0.3%: 256 on three, 181 on one, the whole surface's 256).  With
 /// the sample: 7.2 s, 0.249 of the noise from the clean surface in RMS (the
 /// whole search 0.252); 2.3 s at 0.3% (8.2 s), the same step; Loop-
-/// subdivided four times (19.3M triangles) with noise of 0.075%, 21.9-22.6 s
-/// and 6.3 GB instead of 116-119 s and 9.05 GB.
+/// subdivided four times (19.3M triangles) with noise of 0.075%, 20-27 s
+/// and 5.0 GB instead of 116-119 s and 9.05 GB.
 constexpr std::int64_t SampledSearchRatio = 4;
 constexpr std::size_t SampledPatches = 8;
 
