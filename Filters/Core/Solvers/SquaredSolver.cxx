@@ -34,6 +34,38 @@ namespace
 /// ill-conditioned system stalled at 4e-6).
 constexpr double MixedPrecisionTolerance = 1e-5;
 
+/// Whether the values of the single-precision copy and residuals stay far
+/// from its overflow and underflow: D_ii and sqrt(t) K_ii of the free rows,
+/// and the right-hand side, within 1e-25 to 1e25 (coordinates of 1e20 or
+/// 1e-20: double precision).
+bool FitsSinglePrecision(const ShiftedLaplacianProblem& pb, const double* b)
+{
+  const double a = std::sqrt(pb.Factor);
+  const std::vector<double> range = ParallelPartials(pb.Rows, 2, pb.NumberOfThreads,
+    [&](std::int64_t s, std::int64_t e, double* partial) { // (the smallest as its negative: maxima alone)
+      partial[0] = partial[1] = -HUGE_VAL;
+      for (std::int64_t i = s; i < e; ++i)
+      {
+        double largest = 0.0;
+        for (int c = 0; c < pb.Columns; ++c)
+        {
+          largest = std::max(largest, std::abs(b[i * pb.Columns + c]));
+        }
+        const bool free = !(pb.Fixed && pb.Fixed[i]) && pb.Shift[i] > 0.0;
+        const double k = a * std::abs(pb.Diagonal[i]);
+        partial[0] = std::max({ partial[0], largest, free ? pb.Shift[i] : 0.0, free ? k : 0.0 });
+        partial[1] = std::max(partial[1], free ? -std::min(pb.Shift[i], k > 0.0 ? k : HUGE_VAL) : -HUGE_VAL);
+      }
+    });
+  double largest = 0.0, smallest = HUGE_VAL;
+  for (std::size_t c = 0; c < range.size(); c += 2)
+  {
+    largest = std::max(largest, range[c]);
+    smallest = std::min(smallest, -range[c + 1]);
+  }
+  return std::isfinite(largest) && largest <= 1e25 && (smallest == HUGE_VAL || smallest >= 1e-25);
+}
+
 /// a b without the checks of std::complex's operator* for infinities
 /// (a library call per product unless -fcx-limited-range).
 inline std::complex<double> Times(std::complex<double> a, std::complex<double> b)
@@ -153,7 +185,8 @@ private:
 /// enough the same run goes on with a tighter target; in single precision
 /// (mixed) it restarts from the true residual, each run asked for no more
 /// than single precision resolves.  Vectors: the complex R, P and Q = A P
-/// (the Jacobi inverses and Z = M^-1 R formed where they are used).
+/// (the Jacobi inverses formed where they are used), with a V-cycle also
+/// Z = M^-1 R.
 template <int NC, class Real>
 class SquaredSolver
 {
@@ -225,13 +258,15 @@ private:
         System.Fold(X, NC, Threads);
         Norms = RealResidual(Mixed);
         needed = Check();
-        if (Mixed && !Result.Converged && !(Result.RelativeResidual < lastRelative))
+        const bool finite = std::all_of(Norms.begin(), Norms.end(), [](double v) { return std::isfinite(v); });
+        if (Mixed && (!finite || (!Result.Converged && !(Result.RelativeResidual < lastRelative))))
         {
-          // Single-precision corrections that left x farther: taken back
-          // (the caller goes on in double precision).
+          // Single-precision corrections that left x farther (or not
+          // finite): taken back (the caller goes on in double precision).
           System.Fold(X, NC, Threads, -1.0);
           Norms = before;
           Check();
+          Result.Converged = false;
           return;
         }
         System.Clear(Threads);
@@ -612,7 +647,8 @@ ConjugateGradientResult detail::SolveSquaredComplex(
 {
   return WithCount<4>(pb.Columns, [&](auto k) {
     constexpr int nc = decltype(k)::value;
-    if (cycle || pb.Split || pb.Tolerance < MixedPrecisionTolerance || pb.Rows < pb.MixedPrecisionRows)
+    if (cycle || pb.Split || pb.Tolerance < MixedPrecisionTolerance || pb.Rows < pb.MixedPrecisionRows ||
+      !FitsSinglePrecision(pb, b))
     {
       return SquaredSolver<nc, double>(pb, b, x, cycle).Run();
     }

@@ -419,7 +419,8 @@ TEST(SurfaceMultigrid, SquaredJacobiSolveInMixedPrecisionReachesTheTolerance)
   // resolves works in mixed precision (double-precision residuals of the
   // caller's matrix, single-precision corrections), and where those stall
   // goes on in double precision: at every step, on a real mesh, on a mesh
-  // with slivers and on a sphere with a far speck, the independent
+  // with slivers, on a sphere with a far speck and on spheres whose values
+  // single precision cannot hold, the independent
   // double-precision residual of every column is within the tolerance of
   // the one at the start, and the solution within it of the
   // double-precision solve to 1e-9.
@@ -428,6 +429,9 @@ TEST(SurfaceMultigrid, SquaredJacobiSolveInMixedPrecisionReachesTheTolerance)
   meshes.emplace_back("irregular with slivers", test::FlatIrregular(120, 7));
   meshes.emplace_back("sphere with a speck",
     test::Merged(test::OctahedronSphere(4), test::OctahedronSphere(1, 1e-4), { 5.0, 0.0, 0.0 }));
+  // (Beyond single precision's range: solved in double precision.)
+  meshes.emplace_back("sphere of radius 1e-20", test::OctahedronSphere(4, 1e-20));
+  meshes.emplace_back("sphere of radius 1e20", test::OctahedronSphere(4, 1e20));
   for (const auto& [name, mesh] : meshes)
   {
     const MeshSystem s(mesh);
@@ -458,6 +462,15 @@ TEST(SurfaceMultigrid, SquaredJacobiSolveInMixedPrecisionReachesTheTolerance)
       ShiftedLaplacianProblem pb = s.Problem(t, 3, Preconditioning::Jacobi);
       pb.MixedPrecisionRows = 0; // (from the default's million rows)
       pb.Tolerance = 1e-9;
+      for (int c = 0; c < 3; ++c) // (the round-off floor in the right-hand side's units, as the fairing's)
+      {
+        double squares = 0.0;
+        for (std::size_t k = c; k < size; k += 3)
+        {
+          squares += b[k] * b[k];
+        }
+        pb.Scale[c] = std::sqrt(squares);
+      }
       std::vector<double> exact = s.Mesh.Points;
       ASSERT_TRUE(SolveSquaredLaplacian(pb, b.data(), exact.data()).Converged);
       const std::vector<double> start = residualNorms(t, s.Mesh.Points);
