@@ -493,6 +493,18 @@ TEST(SurfaceMultigrid, SquaredJacobiSolveInMixedPrecisionReachesTheTolerance)
             << name << ", " << steps << " h^4, tolerance " << tolerance << ", column " << c;
         }
         EXPECT_LE(error, 10.0 * tolerance * change) << name << ", " << steps << " h^4, tolerance " << tolerance;
+        for (const int threads : { 1, 3 }) // (the same numbers on any number of threads; one case a mesh)
+        {
+          if (steps != 4.0 || tolerance != 1e-4)
+          {
+            break;
+          }
+          ShiftedLaplacianProblem other = pb;
+          other.NumberOfThreads = threads;
+          std::vector<double> y = s.Mesh.Points;
+          SolveSquaredLaplacian(other, b.data(), y.data());
+          EXPECT_EQ(y, x) << name << ", " << threads << " threads";
+        }
         std::cout << name << ", " << steps << " h^4, tolerance " << tolerance << ": " << r.Iterations
                   << " iterations, error " << error / change << " of the change\n";
       }
