@@ -20,19 +20,7 @@ void ApplyStiffnessColumns(Index rows, const std::int64_t* offsets, const Index*
     for (std::int64_t i = begin; i < end; ++i)
     {
       T acc[C];
-      for (int c = 0; c < C; ++c)
-      {
-        acc[c] = diagonal[i] * x[i * C + c];
-      }
-      for (std::int64_t k = offsets[i]; k < offsets[i + 1]; ++k)
-      {
-        const T w = weights[k];
-        const T* xj = x + static_cast<std::int64_t>(neighbors[k]) * C;
-        for (int c = 0; c < C; ++c)
-        {
-          acc[c] -= w * xj[c];
-        }
-      }
+      StiffnessRow<C>(i, offsets, neighbors, weights, diagonal, x, acc);
       for (int c = 0; c < C; ++c)
       {
         y[i * C + c] = acc[c];

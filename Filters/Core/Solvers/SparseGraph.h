@@ -12,6 +12,26 @@
 namespace beltrami
 {
 
+/// Row i of y = K x below (C values, into out).
+template <int C, class T>
+inline void StiffnessRow(std::int64_t i, const std::int64_t* offsets, const Index* neighbors, const T* weights,
+  const T* diagonal, const T* x, T* out)
+{
+  for (int c = 0; c < C; ++c)
+  {
+    out[c] = diagonal[i] * x[i * C + c];
+  }
+  for (std::int64_t k = offsets[i]; k < offsets[i + 1]; ++k)
+  {
+    const T w = weights[k];
+    const T* xj = x + static_cast<std::int64_t>(neighbors[k]) * C;
+    for (int c = 0; c < C; ++c)
+    {
+      out[c] -= w * xj[c];
+    }
+  }
+}
+
 /// y = K x for a graph Laplacian stiffness in CSR form (K_ii = diagonal[i],
 /// K_ij = -weights[k] for the entry k of row i, j = neighbors[k]) and
 /// `columns` (1 to 8) interleaved values per row; each thread takes the same

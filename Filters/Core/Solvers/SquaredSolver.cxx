@@ -359,18 +359,7 @@ private:
       {
         const std::int64_t v = System.Row(i);
         double ky[NC];
-        for (int c = 0; c < NC; ++c)
-        {
-          ky[c] = Pb.Diagonal[v] * y[v * NC + c];
-        }
-        for (std::int64_t k = Pb.Offsets[v]; k < Pb.Offsets[v + 1]; ++k)
-        {
-          const double* yj = y + static_cast<std::int64_t>(Pb.Neighbors[k]) * NC;
-          for (int c = 0; c < NC; ++c)
-          {
-            ky[c] -= Pb.Weights[k] * yj[c];
-          }
-        }
+        StiffnessRow<NC>(v, Pb.Offsets, Pb.Neighbors, Pb.Weights, Pb.Diagonal, y, ky);
         const bool f = IsFreeRow(v);
         for (int c = 0; c < NC; ++c)
         {
