@@ -638,9 +638,8 @@ FairingReport FairSurface(const MeshTopology& topo, double* points, const Fairin
     return failed;
   }
   const DistributedSurface pieces(topo, points, split, opt.NumberOfThreads);
-  // The unit of the time step in the mean edge length h: h^(2k) for L^k (a
-  // combination's terms are c_k (h^2 L)^k), 1 for the dimensionless umbrella;
-  // also the scale a chosen step is searched at.
+  // The unit of the time step in the mean edge length h (StepUnitOf), also
+  // the scale a chosen step is searched at.
   double h = 0.0, unit = 1.0;
   const bool scaled = opt.Units == LengthUnit::MeanEdgeLength;
   if ((scaled || opt.TimeStep == 0.0) && (split || topo.NumberOfTriangles() > 0))
@@ -652,10 +651,7 @@ FairingReport FairSurface(const MeshTopology& topo, double* points, const Fairin
       failed.Error = "The mean edge length of the input is " + std::to_string(h) + ": cannot scale the time step.";
       return failed;
     }
-    for (int k = 0; k < 2 * degree && opt.Operator != FairingOperator::Umbrella; ++k)
-    {
-      unit *= h;
-    }
+    unit = StepUnitOf(h, degree, opt.Operator);
   }
   if (scaled && h > 0.0)
   {

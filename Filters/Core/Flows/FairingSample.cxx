@@ -285,7 +285,7 @@ double StepUnit(
   {
     return 1.0;
   }
-  return std::pow(MeanEdgeLength(topo, x, split), 2 * Powers::Of(opt).Degree);
+  return StepUnitOf(MeanEdgeLength(topo, x, split), Powers::Of(opt).Degree, op);
 }
 
 /// The choice on the sample, as doubles: whether it ran, the operator, the

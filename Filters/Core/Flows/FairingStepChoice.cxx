@@ -108,6 +108,14 @@ RiskTerms TermsAt(const SmoothingRun& run, const std::vector<double>& x, const s
   return { sums[0], sums[1], sums[2], sums[3], true };
 }
 
+/// A warning of the step's choice: to the run's warnings and the report's
+/// StepWarning (which a sampled choice carries to the whole surface).
+void WarnOfStep(const std::string& said, std::ostringstream& warn, FairingReport& report)
+{
+  warn << said;
+  report.StepWarning += said;
+}
+
 /// The warning for a surface left as it is because its variation at the
 /// scale of the triangles looks like its shape rather than noise (only
 /// where the variation is one a user could see: CleanVariation).
@@ -119,8 +127,7 @@ void WarnShapeDetail(double variation, double h, std::ostringstream& warn, Fairi
     said << "The surface varies at the scale of its triangles by about " << variation
          << " (standard deviation along the normals), which smoothing cannot tell from noise: it was left as it "
             "is. Set TimeStep to smooth it. ";
-    warn << said.str();
-    report.StepWarning += said.str();
+    WarnOfStep(said.str(), warn, report);
   }
 }
 
@@ -383,8 +390,7 @@ StepChoice ChooseStep(const MeshTopology& topo, const double* x, const FairingOp
          << " the search tries (" << (choice.TimeStep > unit ? "4096" : "1/65536")
          << " times its unit, h^(2k) for order k with h the mean edge length, 1 for the umbrella); a step "
             "beyond may be better: set TimeStep. ";
-    warn << said.str();
-    report.StepWarning += said.str();
+    WarnOfStep(said.str(), warn, report);
   }
   if (choice.ShapeDetail)
   {

@@ -225,6 +225,19 @@ StepChoice ChooseStep(const MeshTopology& topo, const double* x, const FairingOp
 constexpr std::int64_t SampledSearchRatio = 4;
 constexpr std::size_t SampledPatches = 8;
 
+/// The unit of the time step for mean edge length h: h^(2k) for an operator
+/// of degree k (a combination's terms are c_k (h^2 L)^k), 1 for the
+/// dimensionless umbrella.
+inline double StepUnitOf(double h, int degree, FairingOperator op)
+{
+  double unit = 1.0;
+  for (int k = 0; k < 2 * degree && op != FairingOperator::Umbrella; ++k)
+  {
+    unit *= h;
+  }
+  return unit;
+}
+
 /// FairSurface with TimeStep 0 on a surface of more than SampledSearchRatio
 /// times StepSearchPoints points: the step, and with LeastEstimatedError the
 /// operator, chosen on a sample of it (the sample's own run with the
