@@ -61,8 +61,10 @@
  *    the algebraic multigrid run over the ranks with the serial iteration
  *    counts (the hierarchy spans the ranks; the order-2 Jacobi solve is the
  *    same complex-shift COCG; order-1 Jacobi solves are in double precision,
- *    without the serial renumbering); the geometric multigrid takes the
- *    algebraic one there.
+ *    without the serial renumbering); the geometric multigrid cycles on each
+ *    rank's hierarchy of its own points, joined by a coarse level of every
+ *    rank's coarsest one (Solvers/RankCoarseSpace.h), in 2-3 times the
+ *    serial iterations.
  *  - OperatorMollification (default 1; 0: off): the operator of each step is
  *    evaluated on a mollified copy of the points - each moved by the normal
  *    part of one implicit umbrella step of this (dimensionless) time -
@@ -302,10 +304,12 @@ public:
   /// but each iteration and its set-up cost more. Geometric Multigrid: one V-cycle on a hierarchy
   /// of the surface's own vertices (built once per run); 5-10 iterations for a clean mesh's order-1
   /// and order-2 steps whatever its size, more on noisy ones, the fastest for large steps (the
-  /// guide's benchmarks page). In a distributed run the multigrids work over the ranks with the
-  /// serial iteration counts (the algebraic hierarchy spans the ranks; Geometric Multigrid takes it
-  /// there; Automatic takes Jacobi; order-1 Jacobi solves are in double precision). Values: 0
-  /// Jacobi, 1 Algebraic Multigrid, 2 Geometric Multigrid, 3 Automatic. Default: Automatic.
+  /// guide's benchmarks page). In a distributed run every preconditioner gives the serial numbers:
+  /// the algebraic hierarchy spans the ranks (the serial iteration counts); Geometric Multigrid
+  /// cycles on each rank's hierarchy of its own points, joined by a coarse level made of every
+  /// rank's coarsest one (2-3 times the serial iterations on 2-4 ranks); Automatic takes Jacobi
+  /// there; order-1 Jacobi solves are in double precision. Values: 0 Jacobi, 1 Algebraic Multigrid,
+  /// 2 Geometric Multigrid, 3 Automatic. Default: Automatic.
   vtkSetClampMacro(Preconditioner, int, JACOBI, AUTOMATIC_PRECONDITIONER);
   vtkGetMacro(Preconditioner, int);
   /// Quantity restored by scaling after each step (section 3.3). Automatic: the volume for closed

@@ -49,8 +49,9 @@ struct ShiftedLaplacianProblem
   Preconditioning Preconditioner = Preconditioning::Jacobi;
   /// The rows' points (3 per row), for GeometricMultigrid: its hierarchy is
   /// built from the graph and the points, or taken from Hierarchy (built
-  /// for the same graph, kept across solves).  Without either, or with a
-  /// Split, GeometricMultigrid takes BoomerAMG.
+  /// for the same graph, kept across solves).  Without either,
+  /// GeometricMultigrid takes BoomerAMG; with a Split, each process's
+  /// hierarchy of its own rows (RankCoarseSpace joins them).
   const double* Points = nullptr;
   std::shared_ptr<const SurfaceHierarchy> Hierarchy;
   /// Optional, without Hierarchy: where a hierarchy this solve builds from
@@ -58,8 +59,9 @@ struct ShiftedLaplacianProblem
   /// flow's steps when Automatic chooses the multigrid).
   std::shared_ptr<const SurfaceHierarchy>* KeptHierarchy = nullptr;
   /// Optional: the rows split over processes (a collective solve, see
-  /// ConjugateGradientProblem::Split): multigrid with the hierarchy spanning
-  /// the processes, or for SolveSquaredLaplacian also the Jacobi COCG.
+  /// ConjugateGradientProblem::Split): the algebraic multigrid spanning the
+  /// processes, the geometric one on each process's own rows joined by a
+  /// coarse level, or for SolveSquaredLaplacian also the Jacobi COCG.
   /// SolveShiftedLaplacian's Jacobi solver renumbers its rows per process:
   /// there a Split needs multigrid (distributed order-1 Jacobi solves take
   /// SolveConjugateGradient, the same iteration in double precision).

@@ -688,9 +688,67 @@ void SurfaceMultigrid::ApplyComplexInOrder(const double* r, double* z, int colum
   }
 }
 
+void SurfaceMultigrid::RestrictToCoarsest(const double* r, double* rc, int reals) const
+{
+  const SurfaceHierarchy& h = *S->H;
+  const std::int64_t n = h.Rows(0);
+  if (reals < 1 || reals > MostColumns)
+  {
+    throw std::invalid_argument("SurfaceMultigrid::RestrictToCoarsest: 1 to 8 values a row");
+  }
+  std::vector<double> level(r, r + n * reals), coarser;
+  for (std::int64_t i = 0; i < n; ++i)
+  {
+    std::fill_n(level.data() + i * reals, S->Held[i] ? reals : 0, 0.0);
+  }
+  for (int l = 0; l + 1 < Levels(); ++l)
+  {
+    coarser.resize(static_cast<std::size_t>(h.Rows(l + 1)) * reals);
+    WithCount<MostColumns>(reals, [&](auto k) {
+      Multiply<decltype(k)::value>(h.Restriction(l), level.data(), coarser.data(), false, S->Threads);
+    });
+    level.swap(coarser);
+  }
+  std::copy(level.begin(), level.end(), rc);
+}
+
+void SurfaceMultigrid::AddProlongedFromCoarsest(const double* yc, double* z, int reals) const
+{
+  const SurfaceHierarchy& h = *S->H;
+  if (reals < 1 || reals > MostColumns)
+  {
+    throw std::invalid_argument("SurfaceMultigrid::AddProlongedFromCoarsest: 1 to 8 values a row");
+  }
+  const int last = Levels() - 1;
+  std::vector<double> level(yc, yc + static_cast<std::int64_t>(h.Rows(last)) * reals), finer;
+  for (int l = last - 1; l >= 0; --l)
+  {
+    finer.resize(static_cast<std::size_t>(h.Rows(l)) * reals);
+    WithCount<MostColumns>(reals, [&](auto k) {
+      Multiply<decltype(k)::value>(h.Prolongation(l), level.data(), finer.data(), false, S->Threads);
+    });
+    level.swap(finer);
+  }
+  const std::int64_t n = h.Rows(0);
+  for (std::int64_t k = 0; k < n * reals; ++k)
+  {
+    z[k] += S->Held[k / reals] ? 0.0 : level[k];
+  }
+}
+
 int SurfaceMultigrid::Levels() const
 {
   return S->Levels();
+}
+
+LevelMatrix SurfaceMultigrid::ShiftOperator(int level) const
+{
+  const LevelPair& p = S->Pairs[level];
+  LevelMatrix d = p.K;
+  d.Values.assign(p.DValues.begin(), p.DValues.end());
+  d.Values.resize(p.K.Values.size(), 0.0); // (the finest level's D is diagonal)
+  d.Diagonal.assign(p.DDiagonal.begin(), p.DDiagonal.end());
+  return d;
 }
 
 const LevelMatrix& SurfaceMultigrid::Operator(int level) const

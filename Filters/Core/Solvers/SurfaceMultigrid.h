@@ -126,7 +126,17 @@ public:
   /// `columns` imaginary parts.
   void ApplyComplexInOrder(const double* r, double* z, int columns) const;
 
+  /// rc = the restriction of r to the coarsest level, and z += the
+  /// prolongation of yc from it (the products of every level's restriction
+  /// or prolongation), `reals` (1 to 8) real values per row, r and z in the
+  /// hierarchy's Order(), the held rows taking no part: the coarse space a
+  /// distributed solve joins over the processes (RankCoarseSpace).
+  void RestrictToCoarsest(const double* r, double* rc, int reals) const;
+  void AddProlongedFromCoarsest(const double* yc, double* z, int reals) const;
+
   int Levels() const;
+  /// Level l's P^T D P in the pattern of Operator(l) (D: the shift).
+  LevelMatrix ShiftOperator(int level) const;
   /// Level l's stiffness P^T K P (the finest: K renumbered in the
   /// hierarchy's order, without the held rows' couplings), whose pattern
   /// is the level's operator's.

@@ -27,6 +27,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <numeric>
 #include <set>
 #include <stdexcept>
 #include <tuple>
@@ -241,6 +242,67 @@ TEST(Partition, DistributedSolvesGiveTheSerialSolution)
     if (m == Preconditioning::Multigrid)
     {
       EXPECT_LE(std::abs(rd.Iterations - rs.Iterations), 2) << "the hierarchy spans the processes";
+    }
+  }
+}
+
+TEST(Partition, DistributedGeometricMultigridGivesTheSerialSolution)
+{
+  // Each process cycles on its own rows' hierarchy, and a coarse level made
+  // of every process's coarsest one joins them. Split over two processes,
+  // the 40 x 40 grid's pieces (800 rows and their ghosts) are each a single
+  // level, so the joining level is the whole operator and the balanced
+  // cycle solves exactly: a wrong coupling between the processes would show
+  // in the iterations as well as in the solution. One process: the serial
+  // grid's two levels.
+  const auto [rank, size] = RankAndSize();
+  const MPI_Comm world = MPI_COMM_WORLD;
+  const Grid g(40);
+  const Piece piece(g, rank, size);
+  const Partition split(&world, piece.Rows(), piece.OwnerRank.data(), piece.OwnerRow.data());
+  const auto pointsOf = [&](const std::vector<Index>& rows) {
+    std::vector<double> p;
+    for (const Index i : rows)
+    {
+      p.insert(p.end(), { static_cast<double>(i % g.N), static_cast<double>(i / g.N), 0.0 });
+    }
+    return p;
+  };
+  std::vector<Index> all(g.Diagonal.size());
+  std::iota(all.begin(), all.end(), 0);
+  const std::vector<double> wholePoints = pointsOf(all), piecePoints = pointsOf(piece.Global);
+  for (const bool squared : { false, true })
+  {
+    ShiftedLaplacianProblem whole = ProblemOf(static_cast<Index>(g.Diagonal.size()), g.Offsets.data(),
+      g.Neighbors.data(), g.Weights.data(), g.Diagonal.data(), g.Shift.data(), g.Fixed.data());
+    ShiftedLaplacianProblem local = ProblemOf(piece.Rows(), piece.Offsets.data(), piece.Neighbors.data(),
+      piece.Weights.data(), piece.Diagonal.data(), piece.Shift.data(), piece.Fixed.data());
+    whole.Preconditioner = local.Preconditioner = Preconditioning::GeometricMultigrid;
+    whole.Factor = local.Factor = squared ? 400.0 : 50.0;
+    whole.Tolerance = local.Tolerance = 1e-11;
+    whole.Points = wholePoints.data();
+    local.Points = piecePoints.data();
+    local.Split = &split;
+    const auto solve = squared ? SolveSquaredLaplacian : SolveShiftedLaplacian;
+    std::vector<double> serial(g.B.size(), 0.25), ours(piece.Rows(), 0.25);
+    const ConjugateGradientResult rs = solve(whole, g.B.data(), serial.data());
+    const ConjugateGradientResult rd = solve(local, piece.B.data(), ours.data());
+    EXPECT_TRUE(rs.Converged && rd.Converged);
+    double worst = 0.0, largest = 0.0;
+    for (Index l = 0; l < piece.Rows(); ++l)
+    {
+      worst = std::max(worst, std::abs(ours[l] - serial[piece.Global[l]]));
+      largest = std::max(largest, std::abs(serial[piece.Global[l]]));
+    }
+    EXPECT_LT(worst, 1e-9 * std::max(1.0, largest)) << (squared ? "order 2" : "order 1") << " on " << size << " processes";
+    if (size > 1)
+    {
+      EXPECT_LE(rd.Iterations, 2) << (squared ? "order 2" : "order 1") << ": the joining level is the whole operator"
+                                  << " (serial " << rs.Iterations << ")";
+    }
+    else
+    {
+      EXPECT_LE(rd.Iterations, rs.Iterations + 2) << (squared ? "order 2" : "order 1");
     }
   }
 }
