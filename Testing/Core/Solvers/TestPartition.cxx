@@ -188,6 +188,39 @@ ConjugateGradientResult SolveGeneric(
   return SolveConjugateGradient(cg, b, x);
 }
 
+/// The grid's system solved whole and as this process's piece over
+/// `split`, both set up by `setUp(problem)` and solved by `solve`: the two
+/// results, and the largest difference of the piece's rows (ghosts too:
+/// their owners' results) from the serial solution, and of the serial
+/// solution itself there.
+struct BothWays
+{
+  ConjugateGradientResult Serial, Distributed;
+  double Difference = 0.0, Largest = 0.0;
+};
+
+template <class SetUp, class Solve>
+BothWays SolvedBothWays(const Grid& g, const Piece& piece, const Partition& split, SetUp setUp, Solve solve)
+{
+  ShiftedLaplacianProblem whole = ProblemOf(static_cast<Index>(g.Diagonal.size()), g.Offsets.data(),
+    g.Neighbors.data(), g.Weights.data(), g.Diagonal.data(), g.Shift.data(), g.Fixed.data());
+  ShiftedLaplacianProblem local = ProblemOf(piece.Rows(), piece.Offsets.data(), piece.Neighbors.data(),
+    piece.Weights.data(), piece.Diagonal.data(), piece.Shift.data(), piece.Fixed.data());
+  local.Split = &split;
+  setUp(whole);
+  setUp(local);
+  std::vector<double> serial(g.B.size(), 0.25), ours(piece.Rows(), 0.25);
+  BothWays r;
+  r.Serial = solve(whole, g.B.data(), serial.data());
+  r.Distributed = solve(local, piece.B.data(), ours.data());
+  for (Index l = 0; l < piece.Rows(); ++l)
+  {
+    r.Difference = std::max(r.Difference, std::abs(ours[l] - serial[piece.Global[l]]));
+    r.Largest = std::max(r.Largest, std::abs(serial[piece.Global[l]]));
+  }
+  return r;
+}
+
 } // namespace
 
 TEST(Partition, DistributedSolvesGiveTheSerialSolution)
@@ -219,35 +252,21 @@ TEST(Partition, DistributedSolvesGiveTheSerialSolution)
 
   for (Preconditioning m : { Preconditioning::Jacobi, Preconditioning::Multigrid })
   {
-    ShiftedLaplacianProblem whole = ProblemOf(static_cast<Index>(g.Diagonal.size()), g.Offsets.data(),
-      g.Neighbors.data(), g.Weights.data(), g.Diagonal.data(), g.Shift.data(), g.Fixed.data());
-    ShiftedLaplacianProblem local = ProblemOf(piece.Rows(), piece.Offsets.data(), piece.Neighbors.data(),
-      piece.Weights.data(), piece.Diagonal.data(), piece.Shift.data(), piece.Fixed.data());
-    whole.Preconditioner = local.Preconditioner = m;
-    local.Split = &split;
-    std::vector<double> serial(g.B.size(), 0.25), ours(piece.Rows(), 0.25);
-    const auto solve = [&](const ShiftedLaplacianProblem& pb, const double* b, double* x) {
-      return m == Preconditioning::Multigrid ? SolveShiftedLaplacian(pb, b, x) : SolveGeneric(pb, pb.Split, b, x);
-    };
-    const ConjugateGradientResult rs = solve(whole, g.B.data(), serial.data());
-    const ConjugateGradientResult rd = solve(local, piece.B.data(), ours.data());
+    const BothWays r = SolvedBothWays(
+      g, piece, split, [&](ShiftedLaplacianProblem& pb) { pb.Preconditioner = m; },
+      [&](const ShiftedLaplacianProblem& pb, const double* b, double* x) {
+        return m == Preconditioning::Multigrid ? SolveShiftedLaplacian(pb, b, x) : SolveGeneric(pb, pb.Split, b, x);
+      });
+    const ConjugateGradientResult &rs = r.Serial, &rd = r.Distributed;
     EXPECT_TRUE(rs.Converged && rd.Converged);
-    double worst = 0.0;
-    for (Index l = 0; l < piece.Rows(); ++l) // ghosts too: their owners' results
-    {
-      worst = std::max(worst, std::abs(ours[l] - serial[piece.Global[l]]));
-    }
-    EXPECT_LT(worst, 1e-9) << (m == Preconditioning::Multigrid ? "multigrid" : "Jacobi") << " on " << size
-                           << " processes, iterations " << rd.Iterations << " (serial " << rs.Iterations << ")";
+    EXPECT_LT(r.Difference, 1e-9) << (m == Preconditioning::Multigrid ? "multigrid" : "Jacobi") << " on " << size
+                                  << " processes, iterations " << rd.Iterations << " (serial " << rs.Iterations << ")";
     if (m == Preconditioning::Multigrid)
     {
       EXPECT_LE(std::abs(rd.Iterations - rs.Iterations), 2) << "the hierarchy spans the processes";
     }
   }
-}
 
-TEST(Partition, DistributedGeometricMultigridGivesTheSerialSolution)
-{
   // Each process cycles on its own rows' hierarchy, and a coarse level made
   // of every process's coarsest one joins them. Split over two processes,
   // the 40 x 40 grid's pieces (800 rows and their ghosts) are each a single
@@ -255,11 +274,6 @@ TEST(Partition, DistributedGeometricMultigridGivesTheSerialSolution)
   // cycle solves exactly: a wrong coupling between the processes would show
   // in the iterations as well as in the solution. One process: the serial
   // grid's two levels.
-  const auto [rank, size] = RankAndSize();
-  const MPI_Comm world = MPI_COMM_WORLD;
-  const Grid g(40);
-  const Piece piece(g, rank, size);
-  const Partition split(&world, piece.Rows(), piece.OwnerRank.data(), piece.OwnerRow.data());
   const auto pointsOf = [&](const std::vector<Index>& rows) {
     std::vector<double> p;
     for (const Index i : rows)
@@ -273,28 +287,19 @@ TEST(Partition, DistributedGeometricMultigridGivesTheSerialSolution)
   const std::vector<double> wholePoints = pointsOf(all), piecePoints = pointsOf(piece.Global);
   for (const bool squared : { false, true })
   {
-    ShiftedLaplacianProblem whole = ProblemOf(static_cast<Index>(g.Diagonal.size()), g.Offsets.data(),
-      g.Neighbors.data(), g.Weights.data(), g.Diagonal.data(), g.Shift.data(), g.Fixed.data());
-    ShiftedLaplacianProblem local = ProblemOf(piece.Rows(), piece.Offsets.data(), piece.Neighbors.data(),
-      piece.Weights.data(), piece.Diagonal.data(), piece.Shift.data(), piece.Fixed.data());
-    whole.Preconditioner = local.Preconditioner = Preconditioning::GeometricMultigrid;
-    whole.Factor = local.Factor = squared ? 400.0 : 50.0;
-    whole.Tolerance = local.Tolerance = 1e-11;
-    whole.Points = wholePoints.data();
-    local.Points = piecePoints.data();
-    local.Split = &split;
-    const auto solve = squared ? SolveSquaredLaplacian : SolveShiftedLaplacian;
-    std::vector<double> serial(g.B.size(), 0.25), ours(piece.Rows(), 0.25);
-    const ConjugateGradientResult rs = solve(whole, g.B.data(), serial.data());
-    const ConjugateGradientResult rd = solve(local, piece.B.data(), ours.data());
+    const BothWays r = SolvedBothWays(
+      g, piece, split,
+      [&](ShiftedLaplacianProblem& pb) {
+        pb.Preconditioner = Preconditioning::GeometricMultigrid;
+        pb.Factor = squared ? 400.0 : 50.0;
+        pb.Tolerance = 1e-11;
+        pb.Points = pb.Split ? piecePoints.data() : wholePoints.data();
+      },
+      squared ? SolveSquaredLaplacian : SolveShiftedLaplacian);
+    const ConjugateGradientResult &rs = r.Serial, &rd = r.Distributed;
     EXPECT_TRUE(rs.Converged && rd.Converged);
-    double worst = 0.0, largest = 0.0;
-    for (Index l = 0; l < piece.Rows(); ++l)
-    {
-      worst = std::max(worst, std::abs(ours[l] - serial[piece.Global[l]]));
-      largest = std::max(largest, std::abs(serial[piece.Global[l]]));
-    }
-    EXPECT_LT(worst, 1e-9 * std::max(1.0, largest)) << (squared ? "order 2" : "order 1") << " on " << size << " processes";
+    EXPECT_LT(r.Difference, 1e-9 * std::max(1.0, r.Largest)) << (squared ? "order 2" : "order 1") << " on " << size
+                                                             << " processes";
     if (size > 1)
     {
       EXPECT_LE(rd.Iterations, 2) << (squared ? "order 2" : "order 1") << ": the joining level is the whole operator"
