@@ -580,9 +580,18 @@ int vtkSurfaceRemeshing::Report(vtkPolyData* input, const Run& run, vtkPolyData*
   const bool missing = this->MaximumDeviation <= 0.0 && (!remesh.Error.empty() || far);
   const std::int64_t keeping =
     missing ? beltrami::CountThatKeepsTheInput(topology, points, atlas, run.Weights(), run.Options) : 0;
+  // Where the count fails, the smallest that remeshes (below the one that keeps every part).
+  beltrami::RemeshOptions asked = run.Options;
+  asked.NumberOfVertices = count;
+  const std::int64_t remeshing = missing && !remesh.Error.empty()
+    ? beltrami::CountThatRemeshes(topology, points, atlas, run.Weights(), asked, remesh) : 0;
+  const std::string succeeds = remeshing > 0 && (keeping == 0 || remeshing < keeping)
+    ? " A remesh with " + std::to_string(remeshing) + " vertices succeeds." : std::string();
   const std::string advice = !missing ? std::string()
-    : keeping > 0 ? " A remesh with " + std::to_string(keeping) + " vertices keeps every part of the input within its spacing."
-                  : " Neither do remeshes with up to 8 times the count (at most 64 per input vertex).";
+    : succeeds + (keeping > 0 ? " A remesh with " + std::to_string(keeping) +
+                     " vertices keeps every part of the input within its spacing."
+                              : " No remesh with up to 8 times the count (at most 64 per input vertex) keeps every "
+                                "part of the input within its spacing.");
   if (!remesh.Error.empty())
   {
     vtkErrorMacro(<< "Cannot remesh with " << count << " vertices: " << remesh.Error << "." << advice

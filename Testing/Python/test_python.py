@@ -847,6 +847,48 @@ class RemeshingFromPython(unittest.TestCase):
         self.assertTrue(failed and failed_array)
         self.assertEqual(f.GetOutput().GetNumberOfPoints(), 0)
 
+    def test_isosurface_specks_name_a_count_that_remeshes(self):
+        # An isosurface of a real MRI volume (flying edges): 112 components,
+        # most of them specks of a few voxels, 48 boundary loops.  At 1,000
+        # vertices the charts' boundaries take more; at 2,000 they leave
+        # fewer samples than charts (296 of 430 with none inside: measured).
+        # Each error names a count that remeshes, which does, keeping every
+        # component and loop.
+        import inputs
+        from vtkmodules.vtkFiltersCore import vtkCleanPolyData, vtkFlyingEdges3D
+        from vtkmodules.vtkIOXML import vtkXMLImageDataReader
+        reader = vtkXMLImageDataReader()
+        reader.SetFileName(os.path.join(DATA, "mri_s0_10slices.vti"))
+        reader.Update()
+        low, high = reader.GetOutput().GetPointData().GetArray("MRI").GetRange()
+        contour = vtkFlyingEdges3D()
+        contour.SetInputConnection(reader.GetOutputPort())
+        contour.SetInputArrayToProcess(0, 0, 0, 0, "MRI")
+        contour.SetValue(0, low + 0.4 * (high - low))
+        contour.ComputeNormalsOff()
+        clean = vtkCleanPolyData()
+        clean.SetInputConnection(contour.GetOutputPort())
+        clean.Update()
+        surface = clean.GetOutput()
+        top = inputs.topology(*inputs.arrays_of(surface))
+        self.assertEqual((top["components"], top["loops"]), (112, 48))
+        for count, reason in ((1000, "the chart boundaries need"), (2000, "charts one inside")):
+            f = vtkSurfaceRemeshing()
+            f.SetInputData(surface)
+            f.SetNumberOfVertices(count)
+            log = vtkStringOutputWindow()
+            vtkOutputWindow.SetInstance(log)
+            self.assertEqual(f.GetExecutive().Update(), 0)
+            self.assertEqual(f.GetOutput().GetNumberOfPoints(), 0)
+            self.assertIn(reason, log.GetOutput())
+            said = re.search(r"A remesh with (\d+) vertices succeeds", log.GetOutput())
+            self.assertIsNotNone(said, log.GetOutput())
+            out, _ = self.remeshed(surface, int(said.group(1)))
+            self.assertEqual(out.GetNumberOfPoints(), int(said.group(1)))
+            got = inputs.topology(*inputs.arrays_of(out))
+            for key in ("euler", "components", "loops", "manifold", "oriented"):
+                self.assertEqual(got[key], top[key], key)
+
     def test_anisotropic_mode_from_the_curvature_and_from_a_tensor_array(self):
         # An ellipsoid (semi-axes 1, 1, 3): the remesh's edges of unit
         # length and its triangles near equilateral in the metric (its

@@ -676,6 +676,16 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   const double* importance, const RemeshOptions& options)
 {
   RemeshResult first = RemeshOnce(topology, points, atlas, importance, options);
+  const SurfaceSamples& samples = first.Samples;
+  if (!first.Error.empty() && samples.ChartsWithoutSample > 0)
+  {
+    // (Many specks of an isosurface at a count their charts' boundaries
+    // nearly take: charts without a sample inside made the same triangles.)
+    first.Error = "the chart boundaries need " + std::to_string(samples.BoundarySamples) + " samples and each of the " +
+      std::to_string(atlas.Charts.size()) + " charts one inside (" + std::to_string(samples.ChartsWithoutSample) +
+      " have none): " + std::to_string(samples.NeededSamples) + ", more than the " +
+      std::to_string(options.NumberOfVertices) + " requested (" + first.Error + ")";
+  }
   if (options.FarPinSpacings <= 0.0 || options.PinnedVertices || options.FinalSurface || !first.Error.empty())
   {
     return first;
@@ -721,6 +731,34 @@ std::vector<double> DenoisedLayout(const MeshTopology& topology, const double* p
     layout.clear();
   }
   return layout;
+}
+
+std::int64_t CountThatRemeshes(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
+  const double* importance, const RemeshOptions& options, const RemeshResult& failed)
+{
+  RemeshOptions larger = options;
+  const std::int64_t most = MostVerticesPerInputVertex * static_cast<std::int64_t>(topology.NumberOfVertices());
+  std::int64_t needed = failed.Samples.NeededSamples, count = options.NumberOfVertices;
+  for (int k = 0; k < 4; ++k)
+  {
+    // A tenth above what the boundaries and charts need, a quarter more
+    // than the count tried at least, in two significant digits.
+    const double wanted = std::max(1.1 * static_cast<double>(needed), 1.25 * static_cast<double>(count));
+    const double unit = std::pow(10.0, std::floor(std::log10(wanted)) - 1.0);
+    count = static_cast<std::int64_t>(std::ceil(wanted / unit) * unit);
+    if (count > most)
+    {
+      return 0;
+    }
+    larger.NumberOfVertices = count;
+    const RemeshResult r = RemeshSurface(topology, points, atlas, importance, larger);
+    if (r.Error.empty())
+    {
+      return count;
+    }
+    needed = r.Samples.NeededSamples;
+  }
+  return 0;
 }
 
 std::int64_t CountThatKeepsTheInput(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
@@ -786,14 +824,16 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
     out.Rounds = r + 1;
     if (!out.Remesh.Error.empty())
     {
-      // The chart boundaries need more samples, or a thin part was lost
-      // (tried twice more with twice the count: beyond, more vertices fail as these did).
-      const bool boundaries = out.Remesh.Samples.BoundarySamples >= count;
+      // The chart boundaries (and a sample inside each chart) need more
+      // samples, or a thin part was lost (tried twice more with twice the
+      // count: beyond, more vertices fail as these did).
+      const SurfaceSamples& samples = out.Remesh.Samples;
+      const bool boundaries = samples.BoundarySamples >= count || samples.ChartsWithoutSample > 0;
       if (!boundaries && ++failures > 2)
       {
         break;
       }
-      count = 2 * std::max(count, out.Remesh.Samples.BoundarySamples);
+      count = 2 * std::max(count, samples.BoundarySamples >= count ? samples.BoundarySamples : samples.NeededSamples);
       continue;
     }
     const double worst = std::max(out.Remesh.DeviationToInput, out.Remesh.DeviationFromInput) * diagonal;

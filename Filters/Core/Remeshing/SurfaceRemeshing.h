@@ -231,6 +231,14 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
 std::int64_t CountThatKeepsTheInput(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
   const double* importance, const RemeshOptions& options);
 
+/// Where a remesh with options.NumberOfVertices `failed`: the smallest
+/// count found that remeshes the input (from the samples the failed
+/// remesh's boundaries and charts need, a quarter more each try, four
+/// tries, rounded to two significant digits), for the message that names
+/// it; 0 where none does within MostVerticesPerInputVertex per input vertex.
+std::int64_t CountThatRemeshes(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
+  const double* importance, const RemeshOptions& options, const RemeshResult& failed);
+
 /// The steps of DenoisedLayout's smoothing a remesh tries, one after the
 /// other (order 2, umbrella operator, dimensionless).  On bunny00 with
 /// noise along its normals of 0.1-0.6% of the diagonal (whose own charts

@@ -381,8 +381,9 @@ Index InnermostTriangle(const MeshTopology& topology, const double* points, cons
 /// thin limb's tip).  Every chart without one gets one interior sample, at
 /// the centre of its innermost triangle, taken from the chart with the most
 /// (its last one): the count stays, and a component too small for the
-/// spacing is kept as a closed mesh of a few vertices.
-void GiveEveryChartAnInteriorSample(
+/// spacing is kept as a closed mesh of a few vertices.  Returns how many
+/// charts are left without one (the interior samples fewer than the charts).
+std::size_t GiveEveryChartAnInteriorSample(
   const MeshTopology& topology, const double* points, const AtlasResult& atlas, SurfaceSamples& out)
 {
   std::vector<std::int64_t> count(atlas.Charts.size(), 0), last(atlas.Charts.size(), -1);
@@ -421,6 +422,7 @@ void GiveEveryChartAnInteriorSample(
     }
     last[c] = static_cast<std::int64_t>(s);
   }
+  return static_cast<std::size_t>(std::count(count.begin(), count.end(), 0));
 }
 
 /// Drops every sample and path of `out` (to sample the boundaries again).
@@ -723,6 +725,7 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
   }
   SeparateCrossingChords(topology, points, atlas, out);
   out.BoundarySamples = static_cast<std::int64_t>(out.Kind.size());
+  out.NeededSamples = out.BoundarySamples + static_cast<std::int64_t>(atlas.Charts.size());
   if (out.BoundarySamples > options.NumberOfSamples)
   {
     out.Error = "the chart boundaries need " + std::to_string(out.BoundarySamples) + " samples, more than the " +
@@ -772,7 +775,8 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
       squeezed.Chart[s], out);
   }
   out.Halftone = std::move(halftone.Samples);
-  GiveEveryChartAnInteriorSample(topology, points, atlas, out);
+  out.ChartsWithoutSample =
+    static_cast<std::int64_t>(GiveEveryChartAnInteriorSample(topology, points, atlas, out));
   PinTips(topology, points, atlas, options.TipAngleDefect, options.PinnedVertices, importance, out.Density, out);
   return out;
 }

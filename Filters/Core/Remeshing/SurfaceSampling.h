@@ -153,6 +153,13 @@ struct SurfaceSamples
   int Resolution = 0;              ///< of the control map
   double Density = 0.0;            ///< samples per unit area where the importance is 1
   std::int64_t BoundarySamples = 0;///< samples on chart boundaries (corners included)
+  /// The boundary samples and one inside each chart: with at least this
+  /// many samples (at this density) every chart gets one inside.
+  std::int64_t NeededSamples = 0;
+  /// Charts left without a sample inside (fewer interior samples than
+  /// charts): each triangulates its boundary samples alone, and where a
+  /// neighbour does too both can make the same triangles.
+  std::int64_t ChartsWithoutSample = 0;
   std::vector<SamplePath> Paths;   ///< the chart boundaries with their samples
   LargeVector<double> ControlMap;  ///< expected samples per texel (Resolution^2, NaN outside the charts)
   std::vector<std::uint8_t> Halftone; ///< 1 per texel holding an interior sample
