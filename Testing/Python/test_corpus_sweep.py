@@ -70,10 +70,13 @@ def has_polygons(mesh):
 
 
 def interior(mesh):
-    """A mask of the vertices away from the boundary."""
+    """A mask of the vertices of triangles away from the boundary (a point
+    of no triangle, as isosurfaces cleaned of their degenerate triangles
+    have, has no value either)."""
     p, t = inputs.arrays_of(mesh)
     edges, counts = inputs.edge_counts(t)
-    mask = np.ones(len(p), dtype=bool)
+    mask = np.zeros(len(p), dtype=bool)
+    mask[np.unique(t)] = True
     mask[np.unique(edges[counts != 2])] = False
     return mask
 
@@ -452,7 +455,8 @@ def check_vector_fields(mesh, out, top):
                                                          "DivergenceFreeHarmonicInnerProduct"))
     parts = [vtk_to_numpy(pd.GetArray(k)) for k in ("TangentField", "CurlFreePart", "DivergenceFreePart",
                                                     "HarmonicPart")]
-    if top["manifold"] and top["oriented"] and not np.isfinite(np.concatenate(parts)).all():
+    used = np.unique(inputs.arrays_of(mesh)[1])
+    if top["manifold"] and top["oriented"] and not np.isfinite(np.concatenate([x[used] for x in parts])).all():
         return "NaN parts on a manifold, oriented surface"
     if np.nanmax(np.abs(parts[0] - parts[1] - parts[2] - parts[3])) > 1e-9 * np.nanmax(np.abs(parts[0])):
         return "the parts do not sum to the tangent field"
