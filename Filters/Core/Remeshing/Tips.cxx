@@ -131,7 +131,12 @@ std::vector<Index> Spikes(const MeshTopology& topology, const double* points, co
 /// vertices with an angle defect above `threshold` (0: none), sharpest
 /// first, each a spacing from every spike and sharper one kept (two pinned
 /// samples closer than the spacing would leave slivers beside their short
-/// edge), and every `pinned` one (per vertex; may be null).
+/// edge), and every `pinned` one (per vertex; may be null) a twentieth of
+/// a spacing from those and each other (with `density` > 0: an
+/// isosurface's cluster of vertices 0.005 apart, where its level passes a
+/// grid point, gave two pinned samples one place in their chart's map; a
+/// quarter of a spacing changed the error-driven counts on the corpus by
+/// -50% to +12%, a tenth by up to +61%, this one the comb's by 4%).
 std::vector<Index> TipVertices(const MeshTopology& topology, const double* points, double threshold,
   const std::uint8_t* pinned, const double* importance, double density)
 {
@@ -165,16 +170,23 @@ std::vector<Index> TipVertices(const MeshTopology& topology, const double* point
   }
   std::stable_sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   std::vector<Index> tips;
-  if (density > 0.0)
-  {
-    tips = KeepApart(points, candidates, [&](Index v) { return SpacingAt(importance, density, v); });
-  }
-  else // (no spacing: every cone)
+  if (density <= 0.0) // (no spacing: every cone, every pinned vertex)
   {
     std::transform(candidates.begin(), candidates.end(), std::back_inserter(tips), [](const auto& c) { return c.second; });
+    tips.insert(tips.end(), forced.begin(), forced.end());
+    return tips;
   }
-  tips.insert(tips.end(), forced.begin(), forced.end());
-  return tips;
+  tips = KeepApart(points, candidates, [&](Index v) { return SpacingAt(importance, density, v); });
+  std::vector<std::pair<double, Index>> all; // the kept tips first, then the pinned vertices
+  for (const Index v : tips)
+  {
+    all.emplace_back(HUGE_VAL, v);
+  }
+  for (const Index v : forced)
+  {
+    all.emplace_back(0.0, v);
+  }
+  return KeepApart(points, all, [&](Index v) { return 0.05 * SpacingAt(importance, density, v); });
 }
 
 /// Tip vertex v on a chart boundary: the sample of its path nearest to it
