@@ -519,6 +519,35 @@ def blade(nu=240, nv=500, span=5.0, chord=1.0, thickness=0.2, camber=0.15, twist
     return swept(nu, nv, section)
 
 
+def isosurface(largest=False, level=0.4):
+    """The flying-edges contour of a real MRI volume (Testing/Data) at
+    `level` of its range, cleaned (as ParaView's Contour and Clean give it):
+    112 components, most of them specks of a few voxels, 48 boundary loops
+    where it meets the volume's sides; `largest`: its largest component (681
+    points, 5 loops), where the level passes grid points and clusters of
+    vertices 0.005 apart lie around them."""
+    from vtkmodules.vtkFiltersCore import vtkCleanPolyData, vtkFlyingEdges3D, vtkPolyDataConnectivityFilter
+    from vtkmodules.vtkIOXML import vtkXMLImageDataReader
+    reader = vtkXMLImageDataReader()
+    reader.SetFileName(os.path.join(DATA, "mri_s0_10slices.vti"))
+    reader.Update()
+    low, high = reader.GetOutput().GetPointData().GetArray("MRI").GetRange()
+    contour = vtkFlyingEdges3D()
+    contour.SetInputConnection(reader.GetOutputPort())
+    contour.SetInputArrayToProcess(0, 0, 0, 0, "MRI")
+    contour.SetValue(0, low + level * (high - low))
+    contour.ComputeNormalsOff()
+    last = contour
+    if largest:
+        last = vtkPolyDataConnectivityFilter()
+        last.SetInputConnection(contour.GetOutputPort())
+        last.SetExtractionModeToLargestRegion()
+    clean = vtkCleanPolyData()
+    clean.SetInputConnection(last.GetOutputPort())
+    clean.Update()
+    return clean.GetOutput()
+
+
 def hard_shapes():
     """name -> (points, triangles): the shapes made to break a remesher."""
     shapes = {
@@ -533,6 +562,7 @@ def hard_shapes():
         "quadruped": quadruped(),
         "turbine-disk": turbine_disk(),
         "fan-double-cone": fan_double_cone(),
+        "isosurface": arrays_of(isosurface(largest=True)),
     }
     cad = decimated_cad()
     if cad is not None:

@@ -847,31 +847,6 @@ class RemeshingFromPython(unittest.TestCase):
         self.assertTrue(failed and failed_array)
         self.assertEqual(f.GetOutput().GetNumberOfPoints(), 0)
 
-    @staticmethod
-    def isosurface(largest=False):
-        """The flying-edges contour of a real MRI volume at 0.4 of its range
-        (cleaned; its largest component)."""
-        from vtkmodules.vtkFiltersCore import vtkCleanPolyData, vtkFlyingEdges3D, vtkPolyDataConnectivityFilter
-        from vtkmodules.vtkIOXML import vtkXMLImageDataReader
-        reader = vtkXMLImageDataReader()
-        reader.SetFileName(os.path.join(DATA, "mri_s0_10slices.vti"))
-        reader.Update()
-        low, high = reader.GetOutput().GetPointData().GetArray("MRI").GetRange()
-        contour = vtkFlyingEdges3D()
-        contour.SetInputConnection(reader.GetOutputPort())
-        contour.SetInputArrayToProcess(0, 0, 0, 0, "MRI")
-        contour.SetValue(0, low + 0.4 * (high - low))
-        contour.ComputeNormalsOff()
-        last = contour
-        if largest:
-            last = vtkPolyDataConnectivityFilter()
-            last.SetInputConnection(contour.GetOutputPort())
-            last.SetExtractionModeToLargestRegion()
-        clean = vtkCleanPolyData()
-        clean.SetInputConnection(last.GetOutputPort())
-        clean.Update()
-        return clean.GetOutput()
-
     def test_isosurface_specks_name_a_count_that_remeshes(self):
         # An isosurface of a real MRI volume (flying edges): 112 components,
         # most of them specks of a few voxels, 48 boundary loops.  At 1,000
@@ -880,7 +855,7 @@ class RemeshingFromPython(unittest.TestCase):
         # Each error names a count that remeshes, which does, keeping every
         # component and loop.
         import inputs
-        surface = self.isosurface()
+        surface = inputs.isosurface()
         top = inputs.topology(*inputs.arrays_of(surface))
         self.assertEqual((top["components"], top["loops"]), (112, 48))
         for count, reason in ((1000, "the chart boundaries need"), (2000, "charts one inside")):
@@ -908,7 +883,7 @@ class RemeshingFromPython(unittest.TestCase):
         # 14,000 vertices on every remesh failed, and the last one, laid out
         # on a smoothed copy, stayed 0.87% from the input (measured).
         import inputs
-        surface = self.isosurface(largest=True)
+        surface = inputs.isosurface(largest=True)
         f = vtkSurfaceRemeshing()
         f.SetInputData(surface)
         f.SetNumberOfVertices(0)
