@@ -260,20 +260,26 @@ void vtkBeltramiSurface::Repair(int numberOfThreads)
 {
   std::ostringstream said;
   const auto also = [&said]() -> std::ostream& { return said << (said.tellp() > 0 ? "; " : ""); };
-  std::vector<vtkIdType> cells(static_cast<std::size_t>(Mesh->NumberOfTriangles()));
+  std::vector<vtkIdType> cells(static_cast<std::size_t>(Mesh->NumberOfTriangles())); // per kept triangle
   for (Index t = 0; t < Mesh->NumberOfTriangles(); ++t)
   {
     cells[t] = TriangleCell(Mesh->OriginalTriangleIds()[t]);
   }
-  // The repaired topology replaces Mesh; `cells` follows its triangles.
-  const auto adopt = [&](std::unique_ptr<beltrami::MeshTopology> repaired) {
-    std::vector<vtkIdType> kept(static_cast<std::size_t>(repaired->NumberOfTriangles()));
+  // The repaired topology, made of the triangles whose cells are `listed`,
+  // replaces Mesh; `cells` follows its kept triangles (the topology drops
+  // those a merge made degenerate: a parametric surface's seam and poles),
+  // and `listed` is what TriangleCell gives (by the index into its list).
+  std::vector<vtkIdType> listed;
+  bool adopted = false;
+  const auto adopt = [&](std::unique_ptr<beltrami::MeshTopology> repaired, std::vector<vtkIdType> byList) {
+    cells.resize(static_cast<std::size_t>(repaired->NumberOfTriangles()));
     for (Index t = 0; t < repaired->NumberOfTriangles(); ++t)
     {
-      kept[t] = cells[repaired->OriginalTriangleIds()[t]];
+      cells[t] = byList[repaired->OriginalTriangleIds()[t]];
     }
-    cells = std::move(kept);
+    listed = std::move(byList);
     Mesh = std::move(repaired);
+    adopted = true;
   };
   const beltrami::TopologySummary before = Mesh->Summary();
   Index merged = 0;
@@ -291,7 +297,7 @@ void vtkBeltramiSurface::Repair(int numberOfThreads)
       after.NumberOfNonManifoldVertices <= before.NumberOfNonManifoldVertices &&
       after.NumberOfDuplicateTriangles <= before.NumberOfDuplicateTriangles)
     {
-      adopt(std::move(welded));
+      adopt(std::move(welded), cells);
       Merge = std::move(merge);
       also() << merged << " coincident points were merged (an unwelded surface)";
     }
@@ -313,8 +319,8 @@ void vtkBeltramiSurface::Repair(int numberOfThreads)
         list.begin() + 3 * static_cast<std::ptrdiff_t>(t) + 3);
       keptCells.push_back(cells[t]);
     }
-    cells = std::move(keptCells);
-    adopt(std::make_unique<beltrami::MeshTopology>(Mesh->NumberOfVertices(), std::move(triangles), numberOfThreads));
+    adopt(std::make_unique<beltrami::MeshTopology>(Mesh->NumberOfVertices(), std::move(triangles), numberOfThreads),
+      std::move(keptCells));
     also() << repeated.size() << " repeated triangles were dropped (the three points of an earlier one)";
   }
   if (Mesh->Summary().NumberOfInconsistentEdges > 0)
@@ -324,7 +330,8 @@ void vtkBeltramiSurface::Repair(int numberOfThreads)
     const beltrami::OrientationRepair turned = beltrami::OrientConsistently(*Mesh, PointsAsDouble(storage), triangles);
     if (turned.Changed())
     {
-      adopt(std::make_unique<beltrami::MeshTopology>(Mesh->NumberOfVertices(), std::move(triangles), numberOfThreads));
+      adopt(std::make_unique<beltrami::MeshTopology>(Mesh->NumberOfVertices(), std::move(triangles), numberOfThreads),
+        cells);
       also() << turned.FlippedTriangles << " triangles were turned to orient the surface consistently";
     }
     if (turned.NonOrientableComponents > 0)
@@ -334,9 +341,12 @@ void vtkBeltramiSurface::Repair(int numberOfThreads)
              << " not orientable (as a Moebius strip) and left as it is";
     }
   }
+  if (adopted)
+  {
+    CellOfTriangle = std::move(listed);
+  }
   if (said.tellp() > 0)
   {
-    CellOfTriangle = std::move(cells);
     RepairText = "The input surface was repaired: " + said.str() + ".";
   }
 }

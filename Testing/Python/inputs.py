@@ -589,6 +589,19 @@ def _mobius(n=24):
     return np.array(pts), np.array(tris)
 
 
+def unwelded_grid_sphere(columns=24, rows=12):
+    """A unit sphere as a parametric source gives it unwelded: a grid of
+    (columns + 1) x (rows + 1) points, its seam column repeated and each
+    pole one point per column, so that welding it leaves the triangles at
+    the poles with two corners on one point (degenerate, dropped)."""
+    u, v = np.meshgrid(np.linspace(0.0, 2.0 * np.pi, columns + 1), np.linspace(0.0, np.pi, rows + 1), indexing="ij")
+    points = np.stack([np.sin(v) * np.cos(u), np.sin(v) * np.sin(u), np.cos(v)], axis=-1).reshape(-1, 3)
+    points[np.isclose(np.abs(points[:, 2]), 1.0), :2] = 0.0  # (the poles exactly on one point)
+    ids = np.arange(len(points)).reshape(columns + 1, rows + 1)
+    a, b, c, d = ids[:-1, :-1].ravel(), ids[1:, :-1].ravel(), ids[1:, 1:].ravel(), ids[:-1, 1:].ravel()
+    return points, np.concatenate([np.stack([a, d, c], axis=1), np.stack([a, c, b], axis=1)])
+
+
 def hostile_surfaces():
     """name -> vtkPolyData, each a way a real surface goes wrong."""
     p, t = sphere(12)
@@ -621,6 +634,7 @@ def hostile_surfaces():
     cases["tiny-far-component"] = polydata(*sphere_with_speck(12))
     soup = p[t].reshape(-1, 3)
     cases["unwelded-soup"] = polydata(soup, np.arange(len(soup)).reshape(-1, 3))
+    cases["unwelded-grid"] = polydata(*unwelded_grid_sphere())
     cases["repeated-triangles"] = polydata(p, np.vstack([t, t[:20], t[20:30, ::-1]]))
     repeated = t.copy()
     repeated[3] = (repeated[3][0], repeated[3][0], repeated[3][1])

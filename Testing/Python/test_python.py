@@ -431,6 +431,33 @@ class ParameterizationFromPython(unittest.TestCase):
         self.assertAlmostEqual(angle.mean(), f.GetMeanAngleDistortion(), delta=1e-9)
         self.assertEqual(f.GetNumberOfFlippedTriangles(), 0)
 
+    def test_unwelded_grid_keeps_its_cells_values(self):
+        # A disk as a parametric source gives it unwelded: its seam repeated
+        # and its centre one point per column.  Welding it leaves the 24
+        # triangles at the centre with two corners on one point, which the
+        # topology drops; each cell's distortion is its own triangle's (it
+        # had been looked up past the dropped ones: a crash, on the
+        # parametric Kuen surface too), NaN at the dropped ones alone.
+        import inputs
+        columns, rows = 24, 8
+        u, r = np.meshgrid(np.linspace(0.0, 2.0 * np.pi, columns + 1), np.linspace(0.0, 1.0, rows + 1), indexing="ij")
+        points = np.stack([r * np.cos(u), r * np.sin(u), 0.3 * r * r], axis=-1).reshape(-1, 3)
+        ids = np.arange(len(points)).reshape(columns + 1, rows + 1)
+        a, b, c, d = ids[:-1, :-1].ravel(), ids[1:, :-1].ravel(), ids[1:, 1:].ravel(), ids[:-1, 1:].ravel()
+        triangles = np.concatenate([np.stack([a, b, c], axis=1), np.stack([a, c, d], axis=1)])
+        triangles = triangles[np.random.default_rng(1).permutation(len(triangles))]
+        f = vtkIntrinsicParameterization()
+        f.SetInputData(inputs.polydata(points, triangles))
+        f.Update()
+        angle = vtk_to_numpy(f.GetOutput().GetCellData().GetArray("AngleDistortion"))
+        corners = points[triangles]
+        collapsed = np.zeros(len(triangles), dtype=bool)
+        for k in range(3):
+            collapsed |= (corners[:, k] == corners[:, (k + 1) % 3]).all(axis=1)
+        self.assertEqual(collapsed.sum(), columns)
+        np.testing.assert_array_equal(np.isnan(angle), collapsed)
+        self.assertLess(angle[~collapsed].max(), 1.0)  # (0.69 measured)
+
     def test_constraints_from_an_array_and_the_api(self):
         mesh = self.mushroom()
         targets = vtkDoubleArray()
