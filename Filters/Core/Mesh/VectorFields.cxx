@@ -539,10 +539,23 @@ VectorFieldDecomposer::Internals::Internals(const MeshTopology& topo, const doub
   Extent = box.isEmpty() ? 1.0 : std::max(box.diagonal().norm(), 1e-300);
   GraphLaplacian cotangent;
   AssembleSurfaceLaplacian(topo, Points, LaplacianWeights::Cotangent, cotangent, o.NumberOfThreads);
+  // The boundary of what is decomposed: the surface's, and the rims of the
+  // triangles left out (zero area), where the boundary condition holds too
+  // (else the parts are not orthogonal: 0.15 of the energy on a Bohemian
+  // dome with 158 such triangles).
+  std::vector<std::uint8_t> rim(nv, 0);
+  const IndexArray& tri = topo.TriangleList();
+  for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
+  {
+    for (int k = 0; k < 3 && Frames.Areas[t] == 0.0; ++k)
+    {
+      rim[tri[3 * static_cast<std::int64_t>(t) + k]] = 1;
+    }
+  }
   std::vector<std::uint8_t> fixed(nv);
   for (Index i = 0; i < nv; ++i)
   {
-    const bool boundary = (topo.VertexFlags(i) & VertexBoundary) != 0;
+    const bool boundary = rim[i] || (topo.VertexFlags(i) & VertexBoundary) != 0;
     fixed[i] = !(cotangent.Diagonal[i] > 0.0) || (boundary && o.Boundary == VectorFieldBoundary::NormalCurlFree);
   }
   // One field on many vertices: multigrid. A factorization costs more
@@ -570,7 +583,13 @@ VectorFieldDecomposer::Internals::Internals(const MeshTopology& topo, const doub
     const Index a = edges.Vertices[2 * static_cast<std::int64_t>(e)], b = edges.Vertices[2 * static_cast<std::int64_t>(e) + 1];
     component[e] = Component[a];
     Store(&midpoints[3 * static_cast<std::size_t>(e)], 0.5 * (Point(Points, a) + Point(Points, b)));
-    const bool boundary = edges.FaceCount[e] == 1;
+    int faces = 0; // with an area
+    for (int k = 0; k < 2; ++k)
+    {
+      const Index corner = edges.OppositeCorners[2 * static_cast<std::int64_t>(e) + k];
+      faces += corner >= 0 && Frames.Areas[corner / 3] > 0.0;
+    }
+    const bool boundary = faces == 1;
     fixedEdges[e] = !(nonconforming.Diagonal[e] > 0.0) || edges.FaceCount[e] > 2 ||
       (boundary && o.Boundary == VectorFieldBoundary::TangentDivergenceFree);
   }
