@@ -548,6 +548,25 @@ def isosurface(largest=False, level=0.4):
     return clean.GetOutput()
 
 
+def parametric_surface(name, resolution=80):
+    """One of VTK's parametric surfaces (ParaView's Sources > Parametric
+    Surfaces: "BohemianDome", "Kuen", ...) at `resolution` x `resolution`,
+    cleaned and triangulated."""
+    import vtkmodules.vtkCommonComputationalGeometry as geometry
+    from vtkmodules.vtkFiltersCore import vtkCleanPolyData, vtkTriangleFilter
+    from vtkmodules.vtkFiltersSources import vtkParametricFunctionSource
+    source = vtkParametricFunctionSource()
+    source.SetParametricFunction(getattr(geometry, "vtkParametric" + name)())
+    source.SetUResolution(resolution)
+    source.SetVResolution(resolution)
+    clean = vtkCleanPolyData()
+    clean.SetInputConnection(source.GetOutputPort())
+    triangles = vtkTriangleFilter()
+    triangles.SetInputConnection(clean.GetOutputPort())
+    triangles.Update()
+    return triangles.GetOutput()
+
+
 def hard_shapes():
     """name -> (points, triangles): the shapes made to break a remesher."""
     shapes = {

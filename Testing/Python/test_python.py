@@ -195,19 +195,8 @@ class FairingFromPython(unittest.TestCase):
         # 4e-10 against an area of 20.  Restoring that volume by scaling
         # shrank it to 3-13% of its size (steps of 0.05-4, orders 1 and 2);
         # the filter says it keeps no invariant, and the dome keeps its size.
-        import vtkmodules.vtkCommonComputationalGeometry as geometry
-        from vtkmodules.vtkFiltersCore import vtkCleanPolyData, vtkTriangleFilter
-        from vtkmodules.vtkFiltersSources import vtkParametricFunctionSource
-        source = vtkParametricFunctionSource()
-        source.SetParametricFunction(geometry.vtkParametricBohemianDome())
-        source.SetUResolution(80)
-        source.SetVResolution(80)
-        clean = vtkCleanPolyData()
-        clean.SetInputConnection(source.GetOutputPort())
-        triangles = vtkTriangleFilter()
-        triangles.SetInputConnection(clean.GetOutputPort())
-        triangles.Update()
-        dome = triangles.GetOutput()
+        import inputs
+        dome = inputs.parametric_surface("BohemianDome")
         extent = np.ptp(np.array(dome.GetBounds()).reshape(3, 2), axis=1).max()
         for order in (1, 2):
             f = vtkImplicitFairing()
@@ -489,6 +478,14 @@ class ParameterizationFromPython(unittest.TestCase):
         self.assertEqual(collapsed.sum(), columns)
         np.testing.assert_array_equal(np.isnan(angle), collapsed)
         self.assertLess(angle[~collapsed].max(), 1.0)  # (0.69 measured)
+        # The parametric Kuen surface (ParaView's Sources), cleaned: the
+        # repair merges 79 points, and 79 triangles are dropped.
+        kuen = inputs.parametric_surface("Kuen")
+        f.SetInputData(kuen)
+        self.assertEqual(f.GetExecutive().Update(), 1)
+        angle = vtk_to_numpy(f.GetOutput().GetCellData().GetArray("AngleDistortion"))
+        self.assertEqual(len(angle), kuen.GetNumberOfCells())
+        self.assertEqual(np.isnan(angle).sum(), 79)
 
     def test_constraints_from_an_array_and_the_api(self):
         mesh = self.mushroom()

@@ -267,19 +267,7 @@ class BadInput(unittest.TestCase):
         # triangles of zero area along its singular lines, left out.  Their
         # rims bound what is decomposed, and each boundary condition holds
         # there too: the parts were 0.15 of the energy from orthogonal.
-        import vtkmodules.vtkCommonComputationalGeometry as geometry
-        from vtkmodules.vtkFiltersCore import vtkCleanPolyData, vtkTriangleFilter
-        from vtkmodules.vtkFiltersSources import vtkParametricFunctionSource
-        source = vtkParametricFunctionSource()
-        source.SetParametricFunction(geometry.vtkParametricBohemianDome())
-        source.SetUResolution(80)
-        source.SetVResolution(80)
-        clean = vtkCleanPolyData()
-        clean.SetInputConnection(source.GetOutputPort())
-        triangles = vtkTriangleFilter()
-        triangles.SetInputConnection(clean.GetOutputPort())
-        triangles.Update()
-        dome = inputs.with_vectors(triangles.GetOutput())
+        dome = inputs.with_vectors(inputs.parametric_surface("BohemianDome"))
         for boundary in (0, 1):
             out, said = decompose(dome, "Vectors", BoundaryCondition=boundary)
             self.assertTrue(any("158 triangles have zero area" in w for w in said.warnings), said.warnings)
