@@ -931,6 +931,29 @@ class RemeshingFromPython(unittest.TestCase):
             for key in ("euler", "components", "loops", "manifold", "oriented"):
                 self.assertEqual(got[key], top[key], key)
 
+    def test_wavelet_contour_remeshes(self):
+        # ParaView's Wavelet source over [-20, 20]^3 contoured at 157 (11
+        # components, 34 boundary loops, marching-cubes slivers): a sliver's
+        # chart map stretched across it made the band beside its chart
+        # boundary cover the whole control map, and 5,000 vertices failed
+        # ("the image holds between 0 and 0").
+        import inputs
+        from vtkmodules.vtkFiltersCore import vtkContourFilter
+        from vtkmodules.vtkImagingCore import vtkRTAnalyticSource
+        wavelet = vtkRTAnalyticSource()
+        wavelet.SetWholeExtent(-20, 20, -20, 20, -20, 20)
+        contour = vtkContourFilter()
+        contour.SetInputConnection(wavelet.GetOutputPort())
+        contour.SetValue(0, 157.0)
+        contour.Update()
+        surface = contour.GetOutput()
+        out, _ = self.remeshed(surface, 5000)
+        self.assertEqual(out.GetNumberOfPoints(), 5000)
+        top, got = (inputs.topology(*inputs.arrays_of(m)) for m in (surface, out))
+        self.assertEqual((top["components"], top["loops"]), (11, 34))
+        for key in ("euler", "components", "loops", "manifold", "oriented"):
+            self.assertEqual(got[key], top[key], key)
+
     def test_isosurface_within_a_deviation(self):
         # The isosurface's largest component (681 points, 5 boundary loops):
         # where its level passes a grid point, five vertices lie within
