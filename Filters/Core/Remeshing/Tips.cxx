@@ -189,10 +189,10 @@ std::vector<Index> TipVertices(const MeshTopology& topology, const double* point
   return KeepApart(points, all, [&](Index v) { return 0.05 * SpacingAt(importance, density, v); });
 }
 
-/// Tip vertex v on a chart boundary: the sample of its path nearest to it
-/// (not a corner; a corner at v is there already) moves onto it, as a Tip
-/// that the optimisation leaves (a seam that runs up a needle and down
-/// again would otherwise leave its tip between two samples).
+/// Tip vertex v on a chart boundary: the nearer of its path's samples on
+/// either side of it (not a corner; a corner at v is there already) moves
+/// onto it, as a Tip that the optimisation leaves (a seam that runs up a
+/// needle and down again would otherwise leave its tip between two samples).
 void PinOnPath(const MeshTopology& topology, const double* points, Index v, SurfaceSamples& out)
 {
   for (SamplePath& path : out.Paths)
@@ -203,9 +203,13 @@ void PinOnPath(const MeshTopology& topology, const double* points, Index v, Surf
       {
         continue;
       }
+      // Of the samples on either side of the vertex (the order along the
+      // path is kept: a farther one would cross them), the nearer movable one.
+      const std::size_t above = static_cast<std::size_t>(
+        std::upper_bound(path.SampleArc.begin(), path.SampleArc.end(), path.Arc[i]) - path.SampleArc.begin());
       std::size_t nearest = 0;
       double best = HUGE_VAL;
-      for (std::size_t k = 0; k < path.Samples.size(); ++k)
+      for (std::size_t k = above > 0 ? above - 1 : 0; k <= above && k < path.Samples.size(); ++k)
       {
         const double d = std::abs(path.SampleArc[k] - path.Arc[i]);
         if (d < best && (out.Kind[path.Samples[k]] == SampleKind::Boundary || d == 0.0))
