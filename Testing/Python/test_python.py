@@ -963,6 +963,19 @@ class RemeshingFromPython(unittest.TestCase):
                 self.assertIn("64 vertices per input vertex", log.GetOutput())
                 self.assertIn("SplitAtFeatures keeps them", log.GetOutput())
 
+    @staticmethod
+    def wavelet_contour(level):
+        """ParaView's Wavelet source over [-20, 20]^3 contoured at `level`."""
+        from vtkmodules.vtkFiltersCore import vtkContourFilter
+        from vtkmodules.vtkImagingCore import vtkRTAnalyticSource
+        wavelet = vtkRTAnalyticSource()
+        wavelet.SetWholeExtent(-20, 20, -20, 20, -20, 20)
+        contour = vtkContourFilter()
+        contour.SetInputConnection(wavelet.GetOutputPort())
+        contour.SetValue(0, level)
+        contour.Update()
+        return contour.GetOutput()
+
     def test_wavelet_contour_remeshes(self):
         # ParaView's Wavelet source over [-20, 20]^3 contoured at 157 (11
         # components, 34 boundary loops, marching-cubes slivers): a sliver's
@@ -974,15 +987,7 @@ class RemeshingFromPython(unittest.TestCase):
         # ("two boundary segments cross"); 12,000 and 15,000 fell back on a
         # smoothed copy.
         import inputs
-        from vtkmodules.vtkFiltersCore import vtkContourFilter
-        from vtkmodules.vtkImagingCore import vtkRTAnalyticSource
-        wavelet = vtkRTAnalyticSource()
-        wavelet.SetWholeExtent(-20, 20, -20, 20, -20, 20)
-        contour = vtkContourFilter()
-        contour.SetInputConnection(wavelet.GetOutputPort())
-        contour.SetValue(0, 157.0)
-        contour.Update()
-        surface = contour.GetOutput()
+        surface = self.wavelet_contour(157.0)
         top = inputs.topology(*inputs.arrays_of(surface))
         self.assertEqual((top["components"], top["loops"]), (11, 34))
         for count in (5000, 10000):
@@ -992,6 +997,25 @@ class RemeshingFromPython(unittest.TestCase):
             got = inputs.topology(*inputs.arrays_of(out))
             for key in ("euler", "components", "loops", "manifold", "oriented"):
                 self.assertEqual(got[key], top[key], key)
+
+    def test_tips_cut_off_by_one_chord_keep_apart(self):
+        # The Wavelet contoured at 180, anisotropic at 2,000 vertices: two
+        # pinned tips of one chart lay outside its boundary's chords and were
+        # both moved to the centre of the nearest triangle ("1 points
+        # coincide with others"), and the remesh failed.
+        import inputs
+        surface = self.wavelet_contour(180.0)
+        f = vtkSurfaceRemeshing()
+        f.SetInputData(surface)
+        f.SetNumberOfVertices(2000)
+        f.SetAnisotropy(1)
+        log = vtkStringOutputWindow()
+        vtkOutputWindow.SetInstance(log)
+        self.assertEqual(f.GetExecutive().Update(), 1, log.GetOutput())
+        self.assertEqual(f.GetOutput().GetNumberOfPoints(), 2000)
+        top, got = (inputs.topology(*inputs.arrays_of(m)) for m in (surface, f.GetOutput()))
+        for key in ("euler", "components", "loops", "manifold", "oriented"):
+            self.assertEqual(got[key], top[key], key)
 
     def test_isosurface_within_a_deviation(self):
         # The isosurface's largest component (681 points, 5 boundary loops):

@@ -76,10 +76,12 @@ ChartPoints GatherChart(const MeshTopology& topology, const AtlasChart& chart, c
 }
 
 /// Moves each unused interior point to the centroid of the kept triangle
-/// whose centroid is nearest (strictly inside the domain); false if a
+/// whose centroid is nearest (strictly inside the domain), one point per
+/// triangle (two tips cut off by one chord went to one place); false if a
 /// boundary point is unused (the domain is broken).
 bool MoveInside(const DomainTriangulation& cdt, std::size_t firstInterior, ChartPoints& points)
 {
+  std::vector<std::uint8_t> taken(cdt.Triangles.size() / 3, 0);
   for (Index u : cdt.Unused)
   {
     if (static_cast<std::size_t>(u) < firstInterior || cdt.Triangles.empty())
@@ -87,8 +89,13 @@ bool MoveInside(const DomainTriangulation& cdt, std::size_t firstInterior, Chart
       return false;
     }
     double best = HUGE_VAL, target[2] = { 0.0, 0.0 };
+    std::size_t nearest = taken.size();
     for (std::size_t t = 0; t < cdt.Triangles.size(); t += 3)
     {
+      if (taken[t / 3])
+      {
+        continue;
+      }
       double c[2] = { 0.0, 0.0 };
       for (int k = 0; k < 3; ++k)
       {
@@ -99,10 +106,16 @@ bool MoveInside(const DomainTriangulation& cdt, std::size_t firstInterior, Chart
       if (d < best)
       {
         best = d;
+        nearest = t / 3;
         target[0] = c[0];
         target[1] = c[1];
       }
     }
+    if (nearest == taken.size())
+    {
+      return false;
+    }
+    taken[nearest] = 1;
     points.UV[2 * u] = target[0];
     points.UV[2 * u + 1] = target[1];
   }
