@@ -773,20 +773,22 @@ def topology(points, triangles):
             "manifold": manifold_edges and vertex_fans_are_disks(triangles, len(points)), "oriented": oriented}
 
 
-def vertex_fans_are_disks(triangles, n):
-    """Every vertex's faces form one fan (no bowtie)."""
+def vertex_fans(triangles):
+    """vertex -> its faces in fans (lists of face ids linked by the edges
+    through the vertex), for every used vertex."""
     from collections import defaultdict
     around = defaultdict(list)
     for f, t in enumerate(triangles):
         for k in range(3):
             around[t[k]].append(f)
+    fans = {}
     for vertex, faces in around.items():
         # Faces around `vertex` linked by the edges through it.
         link = defaultdict(list)
         for f in faces:
-            others = [x for x in triangles[f] if x != vertex]
-            for x in others:
-                link[x].append(f)
+            for x in triangles[f]:
+                if x != vertex:
+                    link[x].append(f)
         parent = {f: f for f in faces}
 
         def find(x):
@@ -796,9 +798,29 @@ def vertex_fans_are_disks(triangles, n):
         for fs in link.values():
             for g in fs[1:]:
                 parent[find(g)] = find(fs[0])
-        if len({find(f) for f in faces}) > 1:
-            return False
-    return True
+        groups = defaultdict(list)
+        for f in faces:
+            groups[find(f)].append(f)
+        fans[vertex] = sorted(groups.values())
+    return fans
+
+
+def vertex_fans_are_disks(triangles, n):
+    """Every vertex's faces form one fan (no bowtie)."""
+    return all(len(groups) == 1 for groups in vertex_fans(triangles).values())
+
+
+def split_pinched(points, triangles):
+    """(points, triangles) with every pinched vertex (several fans) split:
+    one copy of its point per fan after the first."""
+    points, triangles = np.array(points, dtype=np.float64), np.array(triangles)
+    copies = []
+    for vertex, groups in vertex_fans(triangles).items():
+        for fan in groups[1:]:
+            copies.append(points[vertex])
+            for f in fan:
+                triangles[f][triangles[f] == vertex] = len(points) + len(copies) - 1
+    return (np.vstack([points] + [np.array(copies)]) if copies else points), triangles
 
 
 def diagonal(points):

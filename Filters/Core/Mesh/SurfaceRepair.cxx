@@ -108,6 +108,59 @@ IndexArray MergePoints(const IndexArray& triangles, const std::vector<Index>& me
   return merged;
 }
 
+std::vector<Index> SplitPinchedVertices(const MeshTopology& topology, IndexArray& triangles)
+{
+  triangles = topology.TriangleList();
+  std::vector<Index> copied;
+  std::vector<Index> fan; // per incident corner of one vertex: union-find over the corners
+  std::vector<std::pair<Index, Index>> neighbours; // (ring vertex, corner position)
+  for (Index v = 0; v < topology.NumberOfVertices(); ++v)
+  {
+    if (!(topology.VertexFlags(v) & VertexNonManifold))
+    {
+      continue;
+    }
+    const Index valence = topology.Valence(v);
+    const Index* pairs = topology.RingPairsBegin(v);
+    fan.resize(static_cast<std::size_t>(valence));
+    std::iota(fan.begin(), fan.end(), Index(0));
+    neighbours.clear();
+    for (Index k = 0; k < valence; ++k)
+    {
+      neighbours.emplace_back(pairs[2 * k], k);
+      neighbours.emplace_back(pairs[2 * k + 1], k);
+    }
+    // Corners that share a ring vertex share the edge to it: one fan.
+    std::sort(neighbours.begin(), neighbours.end());
+    for (std::size_t i = 1; i < neighbours.size(); ++i)
+    {
+      if (neighbours[i].first == neighbours[i - 1].first)
+      {
+        fan[FindRoot(fan, neighbours[i].second)] = FindRoot(fan, neighbours[i - 1].second);
+      }
+    }
+    // The fan of the first corner keeps v; each other fan takes a new vertex.
+    std::vector<std::pair<Index, Index>> vertexOfFan; // (root, vertex)
+    for (Index k = 0; k < valence; ++k)
+    {
+      const Index root = FindRoot(fan, k);
+      auto at = std::find_if(vertexOfFan.begin(), vertexOfFan.end(), [root](const auto& f) { return f.first == root; });
+      if (at == vertexOfFan.end())
+      {
+        const Index id = vertexOfFan.empty() ? v : topology.NumberOfVertices() + static_cast<Index>(copied.size());
+        if (id != v)
+        {
+          copied.push_back(v);
+        }
+        vertexOfFan.emplace_back(root, id);
+        at = vertexOfFan.end() - 1;
+      }
+      triangles[topology.CornersBegin(v)[k]] = at->second;
+    }
+  }
+  return copied;
+}
+
 std::vector<Index> RepeatedTriangles(const IndexArray& triangles)
 {
   const std::size_t n = triangles.size() / 3;

@@ -41,6 +41,16 @@ IndexArray MergePoints(const IndexArray& triangles, const std::vector<Index>& me
 /// triangle and its copy, as STL exports and careless merges leave).
 std::vector<Index> RepeatedTriangles(const IndexArray& triangles);
 
+/// Splits every pinched vertex, where separate fans of triangles meet at one
+/// point (a scan with holes, a surface that touches itself at a corner),
+/// into one vertex per fan: the first fan keeps the vertex, each other one
+/// gets a new vertex (numbered from topology.NumberOfVertices() on).
+/// `triangles` is the topology's triangle list (same order) with those
+/// corners renumbered; the result gives, for every new vertex, the vertex it
+/// copies (empty: nothing pinched).  Triangles joined by an edge stay in one
+/// fan, so a vertex on an edge of three or more triangles stays as it is.
+std::vector<Index> SplitPinchedVertices(const MeshTopology& topology, IndexArray& triangles);
+
 /// What OrientConsistently did.
 struct OrientationRepair
 {

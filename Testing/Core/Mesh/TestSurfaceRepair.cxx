@@ -174,3 +174,28 @@ TEST(SurfaceRepair, RepeatedTrianglesAreFoundInAnyOrderAndTheFirstKept)
   EXPECT_TRUE(RepeatedTriangles({ 0, 1, 2, 0, 1, 3, 0, 2, 3, 1, 2, 3 }).empty());
   EXPECT_TRUE(RepeatedTriangles({}).empty());
 }
+
+TEST(SurfaceRepair, PinchedVerticesAreSplitOneVertexPerFan)
+{
+  // Two fans of two triangles each meet at vertex 0 only (a bowtie of
+  // quads), and a third fan touches it too: vertex 0 becomes three, one per
+  // fan, and the surface is manifold; the other vertices keep their ids.
+  const IndexArray bowtie = { 0, 1, 2, 0, 2, 3, 0, 4, 5, 0, 5, 6, 7, 8, 0 };
+  const MeshTopology pinched = TopologyOf(9, bowtie);
+  ASSERT_EQ(pinched.Summary().NumberOfNonManifoldVertices, 1);
+  IndexArray split;
+  const std::vector<Index> copied = SplitPinchedVertices(pinched, split);
+  EXPECT_EQ(copied, (std::vector<Index>{ 0, 0 }));
+  const IndexArray expected = { 0, 1, 2, 0, 2, 3, 9, 4, 5, 9, 5, 6, 7, 8, 10 };
+  EXPECT_EQ(std::vector<Index>(split.begin(), split.end()), std::vector<Index>(expected.begin(), expected.end()));
+  const MeshTopology repaired = TopologyOf(11, split);
+  EXPECT_TRUE(repaired.Summary().IsManifold());
+  EXPECT_EQ(repaired.CountComponents(), 3);
+  EXPECT_EQ(repaired.Summary().NumberOfBoundaryLoops, 3);
+
+  // A vertex on an edge of three triangles is not pinched: nothing splits.
+  const MeshTopology fin = TopologyOf(5, { 0, 1, 2, 1, 0, 3, 0, 1, 4 });
+  EXPECT_TRUE(SplitPinchedVertices(fin, split).empty());
+  // Nor does a manifold surface.
+  EXPECT_TRUE(SplitPinchedVertices(TopologyOf(4, { 0, 1, 2, 0, 2, 3 }), split).empty());
+}
