@@ -452,13 +452,65 @@ vtkIdType vtkBeltramiSurface::NumberOfTopologyPoints() const
 
 const double* vtkBeltramiSurface::PointsAsDouble(std::vector<double>& storage) const
 {
-  if (Doubles)
+  if (Doubles && Copied.empty())
   {
     return Doubles;
   }
   const std::size_t n = Mesh ? static_cast<std::size_t>(Mesh->NumberOfVertices()) : 0;
-  storage.assign(Floats, Floats + 3 * n);
+  if (Copied.empty())
+  {
+    storage.assign(Floats, Floats + 3 * n);
+    return storage.data();
+  }
+  storage.resize(3 * n);
+  for (std::size_t v = 0; v < n; ++v)
+  {
+    const std::size_t p = static_cast<std::size_t>(InputPoint(static_cast<Index>(v)));
+    for (std::size_t k = 0; k < 3; ++k)
+    {
+      storage[3 * v + k] = Doubles ? Doubles[3 * p + k] : static_cast<double>(Floats[3 * p + k]);
+    }
+  }
   return storage.data();
+}
+
+std::string vtkBeltramiSurface::SplitNonManifold(int numberOfThreads)
+{
+  beltrami::IndexArray triangles;
+  Index cut = 0;
+  std::vector<Index> copied = Mesh && Mesh->Summary().NumberOfNonManifoldVertices > 0 && Copied.empty()
+    ? beltrami::SplitPinchedVertices(*Mesh, triangles, cut)
+    : std::vector<Index>();
+  if (copied.empty())
+  {
+    return {};
+  }
+  // (No triangle is dropped: the cells follow the topology's triangles.)
+  std::vector<vtkIdType> cells(static_cast<std::size_t>(Mesh->NumberOfTriangles()));
+  for (Index t = 0; t < Mesh->NumberOfTriangles(); ++t)
+  {
+    cells[t] = TriangleCell(Mesh->OriginalTriangleIds()[t]);
+  }
+  Mesh = std::make_unique<beltrami::MeshTopology>(
+    Mesh->NumberOfVertices() + static_cast<Index>(copied.size()), std::move(triangles), numberOfThreads);
+  CellOfTriangle = std::move(cells);
+  Copied = std::move(copied);
+  std::vector<Index> distinct(Copied);
+  std::sort(distinct.begin(), distinct.end());
+  const auto split = std::unique(distinct.begin(), distinct.end()) - distinct.begin();
+  std::ostringstream os;
+  os << split << (split == 1 ? " point is" : " points are") << " shared by separate parts of the surface";
+  if (cut > 0)
+  {
+    os << " (at the ends of " << cut << (cut == 1 ? " edge" : " edges")
+       << " of three or more triangles, or pinched: parts meet there)";
+  }
+  else
+  {
+    os << " (pinched: they meet there)";
+  }
+  os << ": each part got its own copy of them";
+  return os.str();
 }
 
 std::string vtkBeltramiSurface::TopologyWarning() const

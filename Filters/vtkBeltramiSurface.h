@@ -201,9 +201,24 @@ public:
   /// `consequence`.  Returns that count.
   static vtkIdType WarnNonFinitePoints(vtkAlgorithm* owner, vtkDataSet* input, const char* consequence);
 
-  /// The points as 3 doubles each: the input's own array when it is double,
-  /// else a converted copy kept in `storage`.
+  /// The points as 3 doubles each: the input's own array when it is double
+  /// (and nothing was split), else a converted copy kept in `storage`.
   const double* PointsAsDouble(std::vector<double>& storage) const;
+
+  /// For the filters that need a manifold surface and write new points (the
+  /// atlas, the remesher), after Build: where separate parts of the surface
+  /// meet at a point or along an edge of three or more triangles, each part
+  /// gets its own copies of the points (beltrami::SplitPinchedVertices).
+  /// Topology() is then the split surface, whose vertices from
+  /// NumberOfInputPoints() on are copies (InputPoint), with their points in
+  /// PointsAsDouble.  What was split, for a warning (empty: nothing).
+  std::string SplitNonManifold(int numberOfThreads);
+  /// The input point of vertex v of Topology(): v, or the point a copy of
+  /// SplitNonManifold copies.
+  beltrami::Index InputPoint(beltrami::Index v) const
+  {
+    return v < static_cast<beltrami::Index>(NumberOfInputPoints()) ? v : Copied[v - NumberOfInputPoints()];
+  }
 
   /// Calls f(const T* points) with the points' native precision.
   template <typename F>
@@ -307,6 +322,7 @@ private:
   vtkIdType InvalidCells = 0;
   std::string ErrorText;
   std::vector<beltrami::Index> Merge; // MergedPoints
+  std::vector<beltrami::Index> Copied; // SplitNonManifold's copies: the input point of each
   std::string RepairText;
 };
 

@@ -119,6 +119,11 @@ int vtkSurfaceAtlas::Build(vtkPolyData* input, vtkPolyData* output)
   {
     return ready == vtkBeltramiSurface::Readiness::Empty ? 1 : 0;
   }
+  const std::string split = surface.SplitNonManifold(this->NumberOfThreads);
+  if (!split.empty())
+  {
+    vtkWarningMacro(<< split << ", and the atlas keeps the parts apart.");
+  }
   const beltrami::MeshTopology& topology = surface.Topology();
   std::vector<double> storage;
   const double* points = surface.PointsAsDouble(storage);
@@ -151,18 +156,18 @@ int vtkSurfaceAtlas::Build(vtkPolyData* input, vtkPolyData* output)
   {
     triangleCell[t] = surface.TriangleCell(topology.OriginalTriangleIds()[t]);
   }
-  this->WriteCutSurface(input, atlas, triangleCell, output);
+  this->WriteCutSurface(input, surface, atlas, triangleCell, output);
   this->UpdateProgress(0.5);
   if (this->MapResolution > 0)
   {
-    this->WriteMaps(input, topology, points, atlas, triangleCell);
+    this->WriteMaps(input, surface, points, atlas, triangleCell);
   }
   this->UpdateProgress(1.0);
   return 1;
 }
 
-void vtkSurfaceAtlas::WriteCutSurface(vtkPolyData* input, const beltrami::AtlasResult& atlas,
-  const std::vector<vtkIdType>& triangleCell, vtkPolyData* output)
+void vtkSurfaceAtlas::WriteCutSurface(vtkPolyData* input, const vtkBeltramiSurface& surface,
+  const beltrami::AtlasResult& atlas, const std::vector<vtkIdType>& triangleCell, vtkPolyData* output)
 {
   vtkIdType numPoints = 0, numTriangles = 0;
   for (const beltrami::AtlasChart& chart : atlas.Charts)
@@ -197,8 +202,9 @@ void vtkSurfaceAtlas::WriteCutSurface(vtkPolyData* input, const beltrami::AtlasR
     for (std::size_t v = 0; v < chart.Vertices.size(); ++v)
     {
       const vtkIdType id = first + static_cast<vtkIdType>(v);
-      cutPoints->SetPoint(id, input->GetPoint(chart.Vertices[v]));
-      pointIds->SetValue(id, chart.Vertices[v]);
+      const vtkIdType point = surface.InputPoint(chart.Vertices[v]);
+      cutPoints->SetPoint(id, input->GetPoint(point));
+      pointIds->SetValue(id, point);
       double packed[2];
       beltrami::AtlasUV(chart, static_cast<beltrami::Index>(v), packed);
       uv->SetTypedTuple(id, packed);
@@ -325,9 +331,10 @@ vtkSmartPointer<vtkImageData> ChartMaps(const beltrami::AtlasChart& chart, int n
 /// (boundary points from their interior neighbours) and the input's numeric
 /// point arrays, as doubles.
 std::vector<MapField> MapFields(
-  vtkPolyData* input, const beltrami::MeshTopology& topology, const double* points, int numThreads)
+  vtkPolyData* input, const vtkBeltramiSurface& surface, const double* points, int numThreads)
 {
-  const vtkIdType numPoints = input->GetNumberOfPoints();
+  const beltrami::MeshTopology& topology = surface.Topology();
+  const vtkIdType numPoints = topology.NumberOfVertices(); // (the input's, and split points' copies)
   std::vector<double> meanCurvature(numPoints), gaussianCurvature(numPoints);
   beltrami::CurvatureOptions curvatureOptions;
   curvatureOptions.Boundary = beltrami::BoundaryPolicy::InteriorAverage;
@@ -350,7 +357,7 @@ std::vector<MapField> MapFields(
       {
         for (int c = 0; c < f.Components; ++c)
         {
-          f.Values[i * f.Components + c] = array->GetComponent(i, c);
+          f.Values[i * f.Components + c] = array->GetComponent(surface.InputPoint(i), c);
         }
       }
       fields.push_back(std::move(f));
@@ -391,7 +398,7 @@ int vtkSurfaceAtlas::ChartMapResolution(std::size_t charts, std::int64_t triangl
   return resolution;
 }
 
-void vtkSurfaceAtlas::WriteMaps(vtkPolyData* input, const beltrami::MeshTopology& topology, const double* points,
+void vtkSurfaceAtlas::WriteMaps(vtkPolyData* input, const vtkBeltramiSurface& surface, const double* points,
   const beltrami::AtlasResult& atlas, const std::vector<vtkIdType>& triangleCell)
 {
   vtkMultiBlockDataSet* maps = vtkMultiBlockDataSet::SafeDownCast(this->GetOutputDataObject(1));
@@ -399,7 +406,8 @@ void vtkSurfaceAtlas::WriteMaps(vtkPolyData* input, const beltrami::MeshTopology
   {
     return;
   }
-  const std::vector<MapField> fields = MapFields(input, topology, points, this->NumberOfThreads);
+  const beltrami::MeshTopology& topology = surface.Topology();
+  const std::vector<MapField> fields = MapFields(input, surface, points, this->NumberOfThreads);
   beltrami::ChartRaster raster; // one for every chart: its memory is reused
   if (this->MapLayout == ATLAS)
   {

@@ -199,14 +199,14 @@ private:
   int Build(vtkPolyData* input, vtkPolyData* output);
   /// The cut surface of `atlas` (built on `input`, whose triangle t came from
   /// input cell triangleCell[t]) into `output`.
-  void WriteCutSurface(vtkPolyData* input, const beltrami::AtlasResult& atlas,
+  void WriteCutSurface(vtkPolyData* input, const vtkBeltramiSurface& surface, const beltrami::AtlasResult& atlas,
     const std::vector<vtkIdType>& triangleCell, vtkPolyData* output);
   /// The geometry maps of every chart into output 1.
   /// The pixels per side of each chart's maps: MapResolution, or less
   /// (with a warning) where the charts are many more than the surface's
   /// triangles make by default.
   int ChartMapResolution(std::size_t charts, std::int64_t triangles);
-  void WriteMaps(vtkPolyData* input, const beltrami::MeshTopology& topology, const double* points,
+  void WriteMaps(vtkPolyData* input, const vtkBeltramiSurface& surface, const double* points,
     const beltrami::AtlasResult& atlas, const std::vector<vtkIdType>& triangleCell);
   /// The seam labels (input array 0, a cell array) per kept triangle into
   /// `options`; false (error reported) when the array is unusable.

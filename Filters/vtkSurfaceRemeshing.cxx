@@ -7,7 +7,6 @@
 #include "Remeshing/RemeshMetric.h"
 #include "Remeshing/SurfaceRemeshing.h"
 #include "Mesh/SurfaceDistance.h"
-#include "Mesh/SurfaceRepair.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -60,55 +59,14 @@ struct vtkSurfaceRemeshing::Kept
   const void* Input = nullptr;
   vtkMTimeType InputTime = 0;
   vtkBeltramiSurface Surface;
-  std::vector<double> Storage; // the points as doubles, where they are not (and the pinched points' copies)
+  std::vector<double> Storage; // the points as doubles, where they are not (or points were split)
   const double* Points = nullptr; // the input's
-  /// The input with its pinched points split (SplitPinched; null: none).
-  std::unique_ptr<beltrami::MeshTopology> Split;
-  std::vector<beltrami::Index> Copied; // the input point of each split copy (numbered after the input's)
   static constexpr int Copies = static_cast<int>(std::size(beltrami::DenoisedLayoutSteps));
   Layout Layouts[1 + Copies]; // 0: on the input's points, 1 + k: on Denoised[k]
   int Active = 0;             // the layout of the run
   bool DenoisedTried[Copies] = {};
   std::vector<double> Denoised[Copies]; // DenoisedLayout of each step (empty: none, or not tried yet)
   Layout& Laid() { return this->Layouts[this->Active]; }
-  /// The surface the remesh works on: the input's, pinched points split.
-  const beltrami::MeshTopology& Topology() const { return this->Split ? *this->Split : this->Surface.Topology(); }
-  /// The input point of vertex v of Topology().
-  beltrami::Index InputPoint(beltrami::Index v) const
-  {
-    const beltrami::Index n = this->Surface.Topology().NumberOfVertices();
-    return v < n ? v : this->Copied[v - n];
-  }
-  /// Where separate parts of the surface meet at a point (pinched points: a
-  /// scan with holes punched next to each other), each part gets its own
-  /// copy of the point (SplitPinchedVertices): the atlas needs a manifold
-  /// surface.  The number of points split.
-  std::size_t SplitPinched(int numberOfThreads)
-  {
-    const beltrami::MeshTopology& input = this->Surface.Topology();
-    beltrami::IndexArray triangles;
-    std::vector<beltrami::Index> copied = input.Summary().NumberOfNonManifoldVertices > 0
-      ? beltrami::SplitPinchedVertices(input, triangles)
-      : std::vector<beltrami::Index>();
-    if (copied.empty())
-    {
-      return 0;
-    }
-    const std::size_t n = 3 * static_cast<std::size_t>(input.NumberOfVertices());
-    std::vector<double> points(this->Points, this->Points + n);
-    for (const beltrami::Index v : copied)
-    {
-      points.insert(points.end(), this->Points + 3 * v, this->Points + 3 * v + 3);
-    }
-    this->Storage = std::move(points);
-    this->Points = this->Storage.data();
-    this->Split = std::make_unique<beltrami::MeshTopology>(
-      input.NumberOfVertices() + static_cast<beltrami::Index>(copied.size()), std::move(triangles), numberOfThreads);
-    this->Copied = std::move(copied);
-    std::vector<beltrami::Index> distinct(this->Copied);
-    std::sort(distinct.begin(), distinct.end());
-    return static_cast<std::size_t>(std::unique(distinct.begin(), distinct.end()) - distinct.begin());
-  }
 };
 
 vtkSurfaceRemeshing::vtkSurfaceRemeshing()
@@ -161,13 +119,12 @@ int vtkSurfaceRemeshing::KeepSurface(vtkPolyData* input)
   {
     return ready == vtkBeltramiSurface::Readiness::Empty ? -1 : 0;
   }
-  kept->Points = kept->Surface.PointsAsDouble(kept->Storage);
-  if (const std::size_t split = kept->SplitPinched(this->NumberOfThreads))
+  const std::string split = kept->Surface.SplitNonManifold(this->NumberOfThreads);
+  if (!split.empty())
   {
-    vtkWarningMacro(<< split << (split == 1 ? " point is" : " points are")
-                    << " pinched (separate parts of the surface meet there): each part got its own copy of it, and "
-                    << "the remesh keeps the parts apart.");
+    vtkWarningMacro(<< split << ", and the remesh keeps the parts apart.");
   }
+  kept->Points = kept->Surface.PointsAsDouble(kept->Storage);
   kept->Layouts[0].Points = kept->Points;
   kept->Input = input;
   kept->InputTime = time;
@@ -184,7 +141,7 @@ const beltrami::AtlasResult& vtkSurfaceRemeshing::Atlas()
   // yet: all are kept there).
   const double spacing = this->SplitAtFeatures && this->MaximumDeviation <= 0.0 && this->NumberOfVertices > 0
     ? beltrami::UniformSpacing(
-        beltrami::SurfaceArea(surface.Topology(), kept.Points, this->NumberOfThreads), this->NumberOfVertices)
+        beltrami::SurfaceArea(surface.Surface.Topology(), kept.Points, this->NumberOfThreads), this->NumberOfVertices)
     : 0.0;
   if (!kept.Atlas || kept.SplitAtFeatures != this->SplitAtFeatures || kept.FeatureAngle != this->FeatureAngle ||
     kept.FeatureSpacing != spacing)
@@ -194,7 +151,7 @@ const beltrami::AtlasResult& vtkSurfaceRemeshing::Atlas()
     options.FeatureAngle = this->FeatureAngle;
     options.NumberOfThreads = this->NumberOfThreads;
     kept.Atlas = std::make_unique<beltrami::AtlasResult>(
-      beltrami::BuildAtlas(surface.Topology(), kept.Points, options));
+      beltrami::BuildAtlas(surface.Surface.Topology(), kept.Points, options));
     kept.Remeshing.Clear();
     kept.SplitAtFeatures = this->SplitAtFeatures;
     kept.FeatureAngle = this->FeatureAngle;
@@ -256,8 +213,8 @@ void CopyCellData(vtkPolyData* input, const vtkBeltramiSurface& surface, const d
 
 /// The remesh into `output`: points, triangles, the input's point data
 /// interpolated, the kind of every vertex and the quality figures.
-void WriteRemesh(vtkPolyData* input, const beltrami::MeshTopology& topology, const std::vector<beltrami::Index>& copied,
-  const beltrami::RemeshResult& r, std::size_t charts, vtkPolyData* output)
+void WriteRemesh(vtkPolyData* input, const vtkBeltramiSurface& surface, const beltrami::RemeshResult& r,
+  std::size_t charts, vtkPolyData* output)
 {
   const vtkIdType n = static_cast<vtkIdType>(r.Points.size() / 3);
   vtkNew<vtkPoints> points;
@@ -278,15 +235,13 @@ void WriteRemesh(vtkPolyData* input, const beltrami::MeshTopology& topology, con
   vtkPointData* in = input->GetPointData();
   vtkPointData* out = output->GetPointData();
   out->InterpolateAllocate(in, n);
-  vtkNew<vtkIdList> corners; // (input points: a pinched point's copies are the point)
+  vtkNew<vtkIdList> corners;
   corners->SetNumberOfIds(3);
-  const beltrami::Index inputPoints = topology.NumberOfVertices() - static_cast<beltrami::Index>(copied.size());
   for (vtkIdType v = 0; v < n; ++v)
   {
     for (int k = 0; k < 3; ++k)
     {
-      const beltrami::Index c = topology.CornerVertex(3 * r.SourceTriangle[v] + k);
-      corners->SetId(k, c < inputPoints ? c : copied[c - inputPoints]);
+      corners->SetId(k, surface.InputPoint(surface.Topology().CornerVertex(3 * r.SourceTriangle[v] + k)));
     }
     out->InterpolatePoint(in, v, corners, const_cast<double*>(&r.SourceBarycentric[3 * v]));
   }
@@ -357,7 +312,7 @@ void vtkSurfaceRemeshing::RemoveAllTransferFunctionPoints()
 
 bool vtkSurfaceRemeshing::BuildMetric(const std::uint8_t* featureEdges, std::vector<double>& metric)
 {
-  const beltrami::MeshTopology& topology = this->Cache->Topology();
+  const beltrami::MeshTopology& topology = this->Cache->Surface.Topology();
   const double* points = this->Cache->Laid().Points;
   if (this->Anisotropy == TENSOR_ARRAY)
   {
@@ -376,7 +331,7 @@ bool vtkSurfaceRemeshing::BuildMetric(const std::uint8_t* featureEdges, std::vec
     {
       for (int c = 0; c < 6; ++c)
       {
-        metric[6 * v + c] = array->GetComponent(this->Cache->InputPoint(v), c);
+        metric[6 * v + c] = array->GetComponent(this->Cache->Surface.InputPoint(v), c);
       }
       if (!(beltrami::MetricDensity(&metric[6 * v]) > 0.0) || !std::isfinite(beltrami::MetricDensity(&metric[6 * v])))
       {
@@ -432,7 +387,7 @@ struct vtkSurfaceRemeshing::Run
 bool vtkSurfaceRemeshing::BuildImportance(std::vector<double>& importance)
 {
   vtkBeltramiSurface& surface = this->Cache->Surface;
-  const beltrami::MeshTopology& topology = this->Cache->Topology();
+  const beltrami::MeshTopology& topology = surface.Topology();
   Layout& kept = this->Cache->Laid();
   std::vector<double> values;
   if (this->Importance == POINT_ARRAY)
@@ -449,7 +404,7 @@ bool vtkSurfaceRemeshing::BuildImportance(std::vector<double>& importance)
     beltrami::Index nonFinite = 0;
     for (beltrami::Index v = 0; v < topology.NumberOfVertices(); ++v)
     {
-      values[v] = array->GetComponent(this->Cache->InputPoint(v), 0);
+      values[v] = array->GetComponent(surface.InputPoint(v), 0);
       nonFinite += std::isfinite(values[v]) ? 0 : 1;
     }
     if (nonFinite > 0)
@@ -488,7 +443,7 @@ bool vtkSurfaceRemeshing::BuildImportance(std::vector<double>& importance)
 
 bool vtkSurfaceRemeshing::RemeshLayout(Run& run)
 {
-  const beltrami::MeshTopology& topology = this->Cache->Topology();
+  const beltrami::MeshTopology& topology = this->Cache->Surface.Topology();
   const double* points = this->Cache->Laid().Points;
   if (!this->BuildImportance(run.Importance))
   {
@@ -542,7 +497,7 @@ bool vtkSurfaceRemeshing::LayOutOnDenoisedCopy(int k)
   {
     kept.DenoisedTried[k] = true;
     kept.Denoised[k] = beltrami::DenoisedLayout(
-      kept.Topology(), kept.Points, beltrami::DenoisedLayoutSteps[k], this->NumberOfThreads);
+      kept.Surface.Topology(), kept.Points, beltrami::DenoisedLayoutSteps[k], this->NumberOfThreads);
     kept.Layouts[1 + k].Points = kept.Denoised[k].data();
   }
   kept.Active = kept.Denoised[k].empty() ? 0 : 1 + k;
@@ -561,7 +516,7 @@ bool vtkSurfaceRemeshing::RemeshDenoised(Run& run)
     }
     beltrami::RemeshResult& remesh = denoised.Driven.Remesh;
     denoised.LaidDistance = remesh.DeviationFromInput * remesh.Diagonal;
-    beltrami::CheckFidelity(this->Cache->Topology(), this->Cache->Points, denoised.Options, remesh);
+    beltrami::CheckFidelity(this->Cache->Surface.Topology(), this->Cache->Points, denoised.Options, remesh);
     run = std::move(denoised);
     return true;
   }
@@ -617,7 +572,7 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
 
 int vtkSurfaceRemeshing::Report(vtkPolyData* input, const Run& run, vtkPolyData* output)
 {
-  const beltrami::MeshTopology& topology = this->Cache->Topology();
+  const beltrami::MeshTopology& topology = this->Cache->Surface.Topology();
   const double* points = this->Cache->Laid().Points;
   const beltrami::AtlasResult& atlas = *this->Cache->Laid().Atlas;
   const beltrami::DeviationRemeshResult& driven = run.Driven;
@@ -679,7 +634,7 @@ int vtkSurfaceRemeshing::Report(vtkPolyData* input, const Run& run, vtkPolyData*
                     << " away (" << 100.0 * remesh.DeviationFromInput
                     << "% of the diagonal; field array RemeshDeviation)." << advice);
   }
-  WriteRemesh(input, topology, this->Cache->Copied, remesh, atlas.Charts.size(), output);
+  WriteRemesh(input, this->Cache->Surface, remesh, atlas.Charts.size(), output);
   CopyCellData(input, this->Cache->Surface, this->Cache->Points, remesh, output);
   const double smallest = output->GetFieldData()->GetArray("RemeshMinimumAngle")->GetTuple1(0);
   if (run.Metric.empty() && smallest < 1.0)

@@ -148,7 +148,43 @@ TEST(SurfaceAtlas, BadInputIsReportedWithAnEmptyOutput)
   EXPECT_EQ(RunOn(f.Get(), empty, warnings)->GetNumberOfPoints(), 0);
   EXPECT_FALSE(warnings->Warnings.empty());
 
-  // Three triangles on one edge: not manifold.
+  // A Moebius strip (12 quads, its last one joined with a half turn): not
+  // orientable, an error.
+  vtkNew<vtkPoints> strip;
+  const int n = 12;
+  for (int i = 0; i < n; ++i)
+  {
+    const double angle = 2.0 * vtkMath::Pi() * i / n;
+    for (const double side : { -0.3, 0.3 })
+    {
+      const double r = 1.0 + side * std::cos(0.5 * angle);
+      strip->InsertNextPoint(r * std::cos(angle), r * std::sin(angle), side * std::sin(0.5 * angle));
+    }
+  }
+  vtkNew<vtkCellArray> quads;
+  for (int i = 0; i < n; ++i)
+  {
+    const vtkIdType a = 2 * i, b = 2 * i + 1;
+    const vtkIdType c = i + 1 < n ? 2 * i + 2 : 1, d = i + 1 < n ? 2 * i + 3 : 0; // (the half turn)
+    const vtkIdType first[3] = { a, c, b }, second[3] = { b, c, d };
+    quads->InsertNextCell(3, first);
+    quads->InsertNextCell(3, second);
+  }
+  vtkNew<vtkPolyData> moebius;
+  moebius->SetPoints(strip);
+  moebius->SetPolys(quads);
+  vtkNew<vtkSurfaceAtlas> g;
+  vtkNew<MessageCollector> errors;
+  EXPECT_EQ(RunOn(g.Get(), moebius, errors)->GetNumberOfPoints(), 0);
+  ASSERT_FALSE(errors->Errors.empty());
+  EXPECT_NE(errors->Errors[0].find("consistently oriented"), std::string::npos) << errors->Errors[0];
+}
+
+TEST(SurfaceAtlas, ThreeTrianglesOnAnEdgeAreCutApart)
+{
+  // A fin: three triangles on one edge, which joins none of them.  Each
+  // becomes a chart of its own, its points copies of the input's, with a
+  // warning.
   vtkNew<vtkPoints> points;
   for (const auto& p : { std::array<double, 3>{ 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 }, { 0, 0, 1 } })
   {
@@ -162,11 +198,27 @@ TEST(SurfaceAtlas, BadInputIsReportedWithAnEmptyOutput)
   vtkNew<vtkPolyData> fins;
   fins->SetPoints(points);
   fins->SetPolys(cells);
-  vtkNew<vtkSurfaceAtlas> g;
-  vtkNew<MessageCollector> errors;
-  EXPECT_EQ(RunOn(g.Get(), fins, errors)->GetNumberOfPoints(), 0);
-  ASSERT_FALSE(errors->Errors.empty());
-  EXPECT_NE(errors->Errors[0].find("manifold"), std::string::npos) << errors->Errors[0];
+  vtkNew<vtkSurfaceAtlas> f;
+  vtkNew<MessageCollector> warnings;
+  const auto out = RunOn(f.Get(), fins, warnings);
+  ASSERT_EQ(out->GetNumberOfCells(), 3);
+  EXPECT_EQ(out->GetNumberOfPoints(), 9);
+  ASSERT_FALSE(warnings->Warnings.empty());
+  EXPECT_NE(warnings->Warnings[0].find("1 edge of three or more triangles"), std::string::npos)
+    << warnings->Warnings[0];
+  vtkDataArray* original = out->GetPointData()->GetArray("vtkOriginalPointIds");
+  ASSERT_NE(original, nullptr);
+  for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i)
+  {
+    const vtkIdType o = static_cast<vtkIdType>(original->GetComponent(i, 0));
+    ASSERT_GE(o, 0);
+    ASSERT_LT(o, 5);
+    double a[3], b[3];
+    out->GetPoint(i, a);
+    fins->GetPoint(o, b);
+    EXPECT_EQ(vtkMath::Distance2BetweenPoints(a, b), 0.0);
+  }
+  EXPECT_EQ(out->GetFieldData()->GetArray("AtlasCharts")->GetComponent(0, 0), 3.0);
 }
 
 TEST(SurfaceAtlas, SeamLabelsAndSharpEdgesBoundTheCharts)

@@ -774,8 +774,8 @@ def topology(points, triangles):
 
 
 def vertex_fans(triangles):
-    """vertex -> its faces in fans (lists of face ids linked by the edges
-    through the vertex), for every used vertex."""
+    """vertex -> its faces in fans (lists of face ids linked by the edges of
+    two faces through the vertex), for every used vertex."""
     from collections import defaultdict
     around = defaultdict(list)
     for f, t in enumerate(triangles):
@@ -796,8 +796,8 @@ def vertex_fans(triangles):
                 x = parent[x]
             return x
         for fs in link.values():
-            for g in fs[1:]:
-                parent[find(g)] = find(fs[0])
+            if len(fs) == 2:  # (an edge of three or more faces joins none)
+                parent[find(fs[1])] = find(fs[0])
         groups = defaultdict(list)
         for f in faces:
             groups[find(f)].append(f)
@@ -812,7 +812,8 @@ def vertex_fans_are_disks(triangles, n):
 
 def split_pinched(points, triangles):
     """(points, triangles) with every pinched vertex (several fans) split:
-    one copy of its point per fan after the first."""
+    one copy of its point per fan after the first (cut along edges of three
+    or more faces)."""
     points, triangles = np.array(points, dtype=np.float64), np.array(triangles)
     copies = []
     for vertex, groups in vertex_fans(triangles).items():

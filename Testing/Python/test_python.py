@@ -1031,13 +1031,36 @@ class RemeshingFromPython(unittest.TestCase):
         self.assertFalse(inputs.topology(points, triangles[keep])["manifold"])
         out, log = self.remeshed(holed, 10000)
         self.assertEqual(out.GetNumberOfPoints(), 10000)
-        self.assertIn("8 points are pinched", log)
+        self.assertIn("8 points are shared by separate parts of the surface (pinched", log)
         expected = inputs.topology(*inputs.split_pinched(points, triangles[keep]))
         got = inputs.topology(*inputs.arrays_of(out))
         for key in ("euler", "components", "loops", "manifold", "oriented"):
             self.assertEqual(got[key], expected[key], key)
         deviation = out.GetFieldData().GetArray("RemeshDeviation")
         self.assertLess(max(deviation.GetValue(0), deviation.GetValue(1)), 0.01)  # (0.30% / 0.58% measured)
+
+    def test_edges_of_three_triangles_are_cut(self):
+        # VTK's quadric decimation of the shared cow to a fifth of its
+        # triangles folds it along 2 edges, each in three or more triangles:
+        # the atlas refused it.  The surface is now cut along them and their
+        # ends split, and the remesh has the cut input's topology.
+        import inputs
+        from vtkmodules.vtkFiltersCore import vtkQuadricDecimation
+        decimation = vtkQuadricDecimation()
+        decimation.SetInputData(inputs.read_off(os.path.join(inputs.SHARED_MESHES, "cow.off")))
+        decimation.SetTargetReduction(0.8)
+        decimation.Update()
+        points, triangles = inputs.arrays_of(decimation.GetOutput())
+        self.assertFalse(inputs.topology(points, triangles)["manifold"])
+        out, log = self.remeshed(decimation.GetOutput(), 10000)
+        self.assertEqual(out.GetNumberOfPoints(), 10000)
+        self.assertIn("at the ends of 2 edges of three or more triangles", log)
+        expected = inputs.topology(*inputs.split_pinched(points, triangles))
+        got = inputs.topology(*inputs.arrays_of(out))
+        for key in ("euler", "components", "loops", "manifold", "oriented"):
+            self.assertEqual(got[key], expected[key], key)
+        deviation = out.GetFieldData().GetArray("RemeshDeviation")
+        self.assertLess(max(deviation.GetValue(0), deviation.GetValue(1)), 0.01)  # (0.40% / 0.43% measured)
 
     def test_isosurface_within_a_deviation(self):
         # The isosurface's largest component (681 points, 5 boundary loops):
@@ -1141,8 +1164,10 @@ class RemeshingFromPython(unittest.TestCase):
             self.assertEqual(g.GetOutput().GetNumberOfPoints(), 0)
 
     def test_bad_input_is_an_error_or_a_warning_with_an_empty_output(self):
-        # Non-manifold and NaN input: a clear error; empty and lines-only
-        # input: a warning; in every case an empty remesh, never a crash.
+        # Non-orientable and NaN input: a clear error; empty and lines-only
+        # input: a warning; in every case an empty remesh, never a crash.  A
+        # third triangle on an edge: the surface is cut there, with a warning.
+        import inputs
         reader, _ = self.remesher()
         reader.Update()
         mushroom = reader.GetOutput()
@@ -1160,7 +1185,11 @@ class RemeshingFromPython(unittest.TestCase):
         lines.GetPoints().InsertNextPoint(1.0, 0.0, 0.0)
         lines.SetLines(vtkCellArray())
         lines.GetLines().InsertNextCell(2, [0, 1])
-        for data, succeeds, message in ((non_manifold, False, "non-manifold edges"),
+        out, log = self.remeshed(non_manifold, 2000)
+        self.assertEqual(out.GetNumberOfPoints(), 2000)
+        self.assertIn("at the ends of 1 edge of three or more triangles", log)
+        self.assertTrue(inputs.topology(*inputs.arrays_of(out))["manifold"])
+        for data, succeeds, message in ((inputs.hostile_surfaces()["mobius"], False, "consistently oriented surface"),
                                         (with_nan, False, "NaN or infinite point coordinates"),
                                         (vtkPolyData(), True, "Input has no points"),
                                         (lines, True, "no polygons or triangle strips")):

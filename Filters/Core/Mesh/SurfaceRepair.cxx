@@ -108,9 +108,10 @@ IndexArray MergePoints(const IndexArray& triangles, const std::vector<Index>& me
   return merged;
 }
 
-std::vector<Index> SplitPinchedVertices(const MeshTopology& topology, IndexArray& triangles)
+std::vector<Index> SplitPinchedVertices(const MeshTopology& topology, IndexArray& triangles, Index& cutEdges)
 {
   triangles = topology.TriangleList();
+  cutEdges = 0;
   std::vector<Index> copied;
   std::vector<Index> fan; // per incident corner of one vertex: union-find over the corners
   std::vector<std::pair<Index, Index>> neighbours; // (ring vertex, corner position)
@@ -130,13 +131,22 @@ std::vector<Index> SplitPinchedVertices(const MeshTopology& topology, IndexArray
       neighbours.emplace_back(pairs[2 * k], k);
       neighbours.emplace_back(pairs[2 * k + 1], k);
     }
-    // Corners that share a ring vertex share the edge to it: one fan.
+    // Two corners that share a ring vertex share the edge to it: one fan,
+    // unless more triangles share it (the edge is cut).
     std::sort(neighbours.begin(), neighbours.end());
-    for (std::size_t i = 1; i < neighbours.size(); ++i)
+    for (std::size_t i = 0, j = 0; i < neighbours.size(); i = j)
     {
-      if (neighbours[i].first == neighbours[i - 1].first)
+      while (j < neighbours.size() && neighbours[j].first == neighbours[i].first)
       {
-        fan[FindRoot(fan, neighbours[i].second)] = FindRoot(fan, neighbours[i - 1].second);
+        ++j;
+      }
+      if (j - i == 2)
+      {
+        fan[FindRoot(fan, neighbours[i + 1].second)] = FindRoot(fan, neighbours[i].second);
+      }
+      else if (j - i > 2 && v < neighbours[i].first)
+      {
+        ++cutEdges;
       }
     }
     // The fan of the first corner keeps v; each other fan takes a new vertex.

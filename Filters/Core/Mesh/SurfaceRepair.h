@@ -44,12 +44,13 @@ std::vector<Index> RepeatedTriangles(const IndexArray& triangles);
 /// Splits every pinched vertex, where separate fans of triangles meet at one
 /// point (a scan with holes, a surface that touches itself at a corner),
 /// into one vertex per fan: the first fan keeps the vertex, each other one
-/// gets a new vertex (numbered from topology.NumberOfVertices() on).
-/// `triangles` is the topology's triangle list (same order) with those
-/// corners renumbered; the result gives, for every new vertex, the vertex it
-/// copies (empty: nothing pinched).  Triangles joined by an edge stay in one
-/// fan, so a vertex on an edge of three or more triangles stays as it is.
-std::vector<Index> SplitPinchedVertices(const MeshTopology& topology, IndexArray& triangles);
+/// gets a new vertex (numbered from topology.NumberOfVertices() on).  An
+/// edge of three or more triangles (a fin, a decimation's fold) joins none
+/// of them: the surface is cut along it (`cutEdges` of them), and its ends
+/// split.  `triangles` is the topology's triangle list (same order) with
+/// those corners renumbered; the result gives, for every new vertex, the
+/// vertex it copies (empty: nothing split).
+std::vector<Index> SplitPinchedVertices(const MeshTopology& topology, IndexArray& triangles, Index& cutEdges);
 
 /// What OrientConsistently did.
 struct OrientationRepair

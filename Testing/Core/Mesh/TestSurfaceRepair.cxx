@@ -184,18 +184,35 @@ TEST(SurfaceRepair, PinchedVerticesAreSplitOneVertexPerFan)
   const MeshTopology pinched = TopologyOf(9, bowtie);
   ASSERT_EQ(pinched.Summary().NumberOfNonManifoldVertices, 1);
   IndexArray split;
-  const std::vector<Index> copied = SplitPinchedVertices(pinched, split);
+  Index cut = -1;
+  const std::vector<Index> copied = SplitPinchedVertices(pinched, split, cut);
   EXPECT_EQ(copied, (std::vector<Index>{ 0, 0 }));
+  EXPECT_EQ(cut, 0);
   const IndexArray expected = { 0, 1, 2, 0, 2, 3, 9, 4, 5, 9, 5, 6, 7, 8, 10 };
   EXPECT_EQ(std::vector<Index>(split.begin(), split.end()), std::vector<Index>(expected.begin(), expected.end()));
   const MeshTopology repaired = TopologyOf(11, split);
   EXPECT_TRUE(repaired.Summary().IsManifold());
   EXPECT_EQ(repaired.CountComponents(), 3);
   EXPECT_EQ(repaired.Summary().NumberOfBoundaryLoops, 3);
+  // A manifold surface is left as it is.
+  EXPECT_TRUE(SplitPinchedVertices(TopologyOf(4, { 0, 1, 2, 0, 2, 3 }), split, cut).empty());
+}
 
-  // A vertex on an edge of three triangles is not pinched: nothing splits.
-  const MeshTopology fin = TopologyOf(5, { 0, 1, 2, 1, 0, 3, 0, 1, 4 });
-  EXPECT_TRUE(SplitPinchedVertices(fin, split).empty());
-  // Nor does a manifold surface.
-  EXPECT_TRUE(SplitPinchedVertices(TopologyOf(4, { 0, 1, 2, 0, 2, 3 }), split).empty());
+TEST(SurfaceRepair, EdgesOfThreeTrianglesAreCut)
+{
+  // A fin: edge 0-1 in three triangles, and a fourth triangle joined to the
+  // first across edge 1-2.  The edge is cut and its ends split: three
+  // manifold pieces, the first two triangles still joined.
+  const IndexArray fin = { 0, 1, 2, 1, 0, 3, 0, 1, 4, 2, 1, 5 };
+  const MeshTopology folded = TopologyOf(6, fin);
+  ASSERT_EQ(folded.Summary().NumberOfNonManifoldEdges, 1);
+  IndexArray split;
+  Index cut = 0;
+  const std::vector<Index> copied = SplitPinchedVertices(folded, split, cut);
+  EXPECT_EQ(cut, 1);
+  EXPECT_EQ(copied, (std::vector<Index>{ 0, 0, 1, 1 }));
+  const MeshTopology repaired = TopologyOf(10, split);
+  EXPECT_TRUE(repaired.Summary().IsManifold());
+  EXPECT_EQ(repaired.CountComponents(), 3);
+  EXPECT_EQ(repaired.Summary().NumberOfBoundaryLoops, 3);
 }
