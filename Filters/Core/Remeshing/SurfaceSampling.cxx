@@ -437,8 +437,11 @@ void ClearSamples(SurfaceSamples& out)
 }
 
 /// Marks the texels (of an n x n image, coordinates in texels) whose centre
-/// lies within `radius` of the segment from a to b as Outside.
-void MarkAroundSegment(const double* a, const double* b, double radius, int n, std::vector<std::uint8_t>& roles)
+/// lies within `radius` of the segment from a to b, and for which `keep`
+/// holds (the texel's index), as Outside.
+template <typename Keep>
+void MarkAroundSegment(const double* a, const double* b, double radius, int n, const Keep& keep,
+  std::vector<std::uint8_t>& roles)
 {
   const double dx = b[0] - a[0], dy = b[1] - a[1], length2 = dx * dx + dy * dy;
   const int x0 = std::max(0, static_cast<int>(std::floor(std::min(a[0], b[0]) - radius)));
@@ -451,9 +454,10 @@ void MarkAroundSegment(const double* a, const double* b, double radius, int n, s
     {
       const double px = x + 0.5 - a[0], py = y + 0.5 - a[1];
       const double s = length2 > 0.0 ? std::clamp((px * dx + py * dy) / length2, 0.0, 1.0) : 0.0;
-      if ((px - s * dx) * (px - s * dx) + (py - s * dy) * (py - s * dy) <= radius * radius)
+      const std::size_t p = static_cast<std::size_t>(y) * n + x;
+      if ((px - s * dx) * (px - s * dx) + (py - s * dy) * (py - s * dy) <= radius * radius && keep(p))
       {
-        roles[static_cast<std::size_t>(y) * n + x] = static_cast<std::uint8_t>(PixelRole::Outside);
+        roles[p] = static_cast<std::uint8_t>(PixelRole::Outside);
       }
     }
   }
@@ -466,11 +470,13 @@ void MarkAroundSegment(const double* a, const double* b, double radius, int n, s
 constexpr double MostBandStretch = 64.0;
 
 /// Marks the texels within half a sample spacing of every chart boundary
-/// edge (in each chart it bounds) as outside the halftone: the boundary
-/// samples stand for that band.
+/// edge (in each chart it bounds, of that chart) as outside the halftone:
+/// the boundary samples stand for that band.
 void ExcludeBoundaryBand(const MeshTopology& topology, const double* points, const double* importance,
-  const AtlasResult& atlas, const BoundaryPaths& boundaries, double density, int n, std::vector<std::uint8_t>& roles)
+  const AtlasResult& atlas, const AtlasChart& packed, const ChartRaster& raster, const BoundaryPaths& boundaries,
+  double density, std::vector<std::uint8_t>& roles)
 {
+  const int n = raster.Resolution;
   for (const std::vector<Index>& path : boundaries.Paths)
   {
     for (std::size_t i = 0; i + 1 < path.size(); ++i)
@@ -487,12 +493,13 @@ void ExcludeBoundaryBand(const MeshTopology& topology, const double* points, con
         {
           continue;
         }
-        const AtlasChart& chart = atlas.Charts[atlas.ChartOfTriangle[corner / 3]];
-        const Index c = topology.CornerVertex(corner);
+        const int c = atlas.ChartOfTriangle[corner / 3];
+        const AtlasChart& chart = atlas.Charts[c];
+        const Index apex = topology.CornerVertex(corner);
         double uv[3][2];
         for (int k = 0; k < 3; ++k)
         {
-          const Index v = k == 0 ? a : (k == 1 ? b : c);
+          const Index v = k == 0 ? a : (k == 1 ? b : apex);
           const Index local = static_cast<Index>(
             std::lower_bound(chart.Vertices.begin(), chart.Vertices.end(), v) - chart.Vertices.begin());
           AtlasUV(chart, local, uv[k]);
@@ -505,14 +512,20 @@ void ExcludeBoundaryBand(const MeshTopology& topology, const double* points, con
         // wider than half a spacing on the surface.  At most MostBandStretch
         // times the scale along it: a sliver of next to no height in 3D (an
         // isosurface's, where its level passes a grid point) made a band
-        // over the whole image, and no texel was left for the halftone.
+        // over the whole image.  Only the chart's own texels: where its map
+        // widens towards its boundary (80 times, a chart of a triply periodic
+        // surface cut by a box), the band reached over its neighbours in the
+        // packing, and 31 of 93 charts were left without a sample inside.
         const double lengthPx = std::hypot(uv[1][0] - uv[0][0], uv[1][1] - uv[0][1]);
         const double areaPx = std::abs((uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1]) - (uv[1][1] - uv[0][1]) * (uv[2][0] - uv[0][0]));
-        const double area3D = (Point(points, b) - Point(points, a)).cross(Point(points, c) - Point(points, a)).norm();
+        const double area3D = (Point(points, b) - Point(points, a)).cross(Point(points, apex) - Point(points, a)).norm();
         const double along = lengthPx / length3D;
         const double scale = area3D > 0.0 && lengthPx > 0.0
           ? std::min((areaPx / lengthPx) / (area3D / length3D), MostBandStretch * along) : along;
-        MarkAroundSegment(uv[0], uv[1], 0.5 * spacing3D * scale, n, roles);
+        const auto own = [&](std::size_t p) {
+          return raster.Face[p] >= 0 && atlas.ChartOfTriangle[packed.Triangles[raster.Face[p]]] == c;
+        };
+        MarkAroundSegment(uv[0], uv[1], 0.5 * spacing3D * scale, n, own, roles);
       }
     }
   }
@@ -749,7 +762,7 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
     roles[p] = static_cast<std::uint8_t>(raster.Face[p] >= 0 ? PixelRole::Free : PixelRole::Outside);
     out.ControlMap[p] *= out.Density;
   }
-  ExcludeBoundaryBand(topology, points, importance, atlas, boundaries, out.Density, n, roles);
+  ExcludeBoundaryBand(topology, points, importance, atlas, packed, raster, boundaries, out.Density, roles);
   // The parts the charts' maps squeeze past the texels are sampled on the
   // surface (Remeshing/SqueezedParts), and their texels left out.
   const SqueezedSamples squeezed = SampleSqueezedParts(
