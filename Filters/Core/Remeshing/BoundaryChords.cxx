@@ -60,19 +60,15 @@ struct Chord
   Index SampleA, SampleB;
 };
 
-/// The chords of chart c's boundary paths whose chords cross another's,
-/// as (path, chord index) pairs.
-std::set<std::pair<int, std::size_t>> CrossingChords(const AtlasChart& chart, int c, const SurfaceSamples& out,
-  std::vector<std::vector<PlanePoint>>& uvOfPath)
+/// The chords of a chart's boundary paths (`paths`, their ids) whose
+/// chords cross another's, as (path, chord index) pairs.
+std::set<std::pair<int, std::size_t>> CrossingChords(const AtlasChart& chart, const std::vector<int>& paths,
+  const SurfaceSamples& out, std::vector<std::vector<PlanePoint>>& uvOfPath)
 {
   std::vector<Chord> chords;
-  for (std::size_t p = 0; p < out.Paths.size(); ++p)
+  for (const int p : paths)
   {
     const SamplePath& path = out.Paths[p];
-    if (path.Charts[0] != c && path.Charts[1] != c)
-    {
-      continue;
-    }
     uvOfPath[p] = PathInChart(path, chart);
     if (uvOfPath[p].size() < 2)
     {
@@ -134,6 +130,17 @@ std::int64_t SeparateCrossingChords(const MeshTopology& topology, const double* 
   SurfaceSamples& out)
 {
   std::int64_t added = 0;
+  std::vector<std::vector<int>> pathsOfChart(atlas.Charts.size()); // (a scan's many rims: not every path per chart)
+  for (int p = 0; p < static_cast<int>(out.Paths.size()); ++p)
+  {
+    for (const int c : out.Paths[p].Charts)
+    {
+      if (c >= 0 && (pathsOfChart[c].empty() || pathsOfChart[c].back() != p))
+      {
+        pathsOfChart[c].push_back(p);
+      }
+    }
+  }
   for (int round = 0; round < 16; ++round)
   {
     // (path, vertex) to sample, from every chart's crossings
@@ -141,7 +148,7 @@ std::int64_t SeparateCrossingChords(const MeshTopology& topology, const double* 
     std::vector<std::vector<PlanePoint>> uvOfPath(out.Paths.size());
     for (int c = 0; c < static_cast<int>(atlas.Charts.size()); ++c)
     {
-      for (const auto& [p, j] : CrossingChords(atlas.Charts[c], c, out, uvOfPath))
+      for (const auto& [p, j] : CrossingChords(atlas.Charts[c], pathsOfChart[c], out, uvOfPath))
       {
         const std::ptrdiff_t i = FarthestVertex(out.Paths[p], uvOfPath[p], j);
         if (i >= 0)
