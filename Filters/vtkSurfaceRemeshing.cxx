@@ -546,15 +546,17 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
   }
   // Where the input's own charts fail (a scan whose noise is as large as its
   // edges), the remesh is laid out on a smoothed copy and moved onto the
-  // input.
+  // input; not where the rims of its holes alone take more samples than the
+  // count (a scan with many holes), which every copy keeps.
   const std::string inputError = run.Driven.Remesh.Error;
   const std::vector<std::int64_t> inputCounts = run.Driven.Counts;
-  if (!inputError.empty())
+  const std::int64_t tried = inputCounts.empty() ? this->NumberOfVertices : inputCounts.back();
+  if (!inputError.empty() && run.Driven.Remesh.Samples.RimSamples <= tried)
   {
     if (this->RemeshDenoised(run))
     {
       vtkWarningMacro(<< "The input's own charts cannot be remeshed with "
-                      << (inputCounts.empty() ? this->NumberOfVertices : inputCounts.back()) << " vertices (" << inputError
+                      << tried << " vertices (" << inputError
                       << "): the remesh was laid out on a smoothed copy of the input and moved onto it, its "
                       << "triangles then shaped on the input: its vertices lie on the input and follow its noise"
                       << (this->MaximumDeviation > 0.0 ? " (MaximumDeviation holds on the smoothed copy; "
@@ -583,13 +585,11 @@ int vtkSurfaceRemeshing::Report(vtkPolyData* input, const Run& run, vtkPolyData*
   const bool far =
     (run.LaidDistance >= 0.0 ? run.LaidDistance : remesh.DeviationFromInput * remesh.Diagonal) > remesh.Spacing;
   const bool missing = this->MaximumDeviation <= 0.0 && (!remesh.Error.empty() || far);
-  const std::int64_t keeping =
-    missing ? beltrami::CountThatKeepsTheInput(topology, points, atlas, run.Weights(), run.Options) : 0;
-  // Where the count fails, the smallest that remeshes (below the one that keeps every part).
   beltrami::RemeshOptions asked = run.Options;
   asked.NumberOfVertices = count;
-  const std::int64_t remeshing = missing && !remesh.Error.empty()
-    ? beltrami::CountThatRemeshes(topology, points, atlas, run.Weights(), asked, remesh) : 0;
+  const beltrami::CountAdvice counts = missing
+    ? beltrami::AdviseCounts(topology, points, atlas, run.Weights(), asked, remesh) : beltrami::CountAdvice();
+  const std::int64_t keeping = counts.Keeps, remeshing = counts.Remeshes;
   const std::string succeeds = remeshing > 0 && (keeping == 0 || remeshing < keeping)
     ? " A remesh with " + std::to_string(remeshing) + " vertices succeeds." : std::string();
   const std::string advice = !missing ? std::string()

@@ -733,49 +733,67 @@ std::vector<double> DenoisedLayout(const MeshTopology& topology, const double* p
   return layout;
 }
 
-std::int64_t CountThatRemeshes(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
-  const double* importance, const RemeshOptions& options, const RemeshResult& failed)
+namespace
 {
-  RemeshOptions larger = options;
-  const std::int64_t most = MostVerticesPerInputVertex * static_cast<std::int64_t>(topology.NumberOfVertices());
-  std::int64_t needed = failed.Samples.NeededSamples, count = options.NumberOfVertices;
-  for (int k = 0; k < 4; ++k)
-  {
-    // A tenth above what the boundaries and charts need, a quarter more
-    // than the count tried at least, in two significant digits.
-    const double wanted = std::max(1.1 * static_cast<double>(needed), 1.25 * static_cast<double>(count));
-    const double unit = std::pow(10.0, std::floor(std::log10(wanted)) - 1.0);
-    count = static_cast<std::int64_t>(std::ceil(wanted / unit) * unit);
-    if (count > most)
-    {
-      return 0;
-    }
-    larger.NumberOfVertices = count;
-    const RemeshResult r = RemeshSurface(topology, points, atlas, importance, larger);
-    if (r.Error.empty())
-    {
-      return count;
-    }
-    needed = r.Samples.NeededSamples;
-  }
-  return 0;
+
+/// Whether a remesh succeeded with every input point within its spacing.
+bool KeepsTheInput(const RemeshResult& r)
+{
+  return r.Error.empty() && r.DeviationFromInput * r.Diagonal <= r.Spacing;
 }
 
-std::int64_t CountThatKeepsTheInput(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
-  const double* importance, const RemeshOptions& options)
+/// Two significant digits, rounded up.
+std::int64_t RoundedUp(double count)
 {
+  const double unit = std::pow(10.0, std::floor(std::log10(count)) - 1.0);
+  return static_cast<std::int64_t>(std::ceil(count / unit) * unit);
+}
+
+} // namespace
+
+CountAdvice AdviseCounts(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
+  const double* importance, const RemeshOptions& options, const RemeshResult& result)
+{
+  CountAdvice out;
   RemeshOptions larger = options;
   const std::int64_t most = MostVerticesPerInputVertex * static_cast<std::int64_t>(topology.NumberOfVertices());
-  for (std::int64_t factor = 2; factor <= 8 && factor * options.NumberOfVertices <= most; factor *= 2)
+  const auto tryCount = [&](std::int64_t count) {
+    larger.NumberOfVertices = count;
+    return RemeshSurface(topology, points, atlas, importance, larger);
+  };
+  std::int64_t count = options.NumberOfVertices;
+  if (!result.Error.empty())
   {
-    larger.NumberOfVertices = factor * options.NumberOfVertices;
-    const RemeshResult r = RemeshSurface(topology, points, atlas, importance, larger);
-    if (r.Error.empty() && r.DeviationFromInput * r.Diagonal <= r.Spacing)
+    std::int64_t needed = result.Samples.NeededSamples;
+    for (int k = 0; k < 4 && out.Remeshes == 0; ++k)
     {
-      return larger.NumberOfVertices;
+      // A tenth above what the boundaries and charts need, a quarter more
+      // than the count tried at least.
+      count = RoundedUp(std::max(1.1 * static_cast<double>(needed), 1.25 * static_cast<double>(count)));
+      if (count > most)
+      {
+        return out;
+      }
+      const RemeshResult r = tryCount(count);
+      out.Remeshes = r.Error.empty() ? count : 0;
+      out.Keeps = KeepsTheInput(r) ? count : 0;
+      needed = r.Samples.NeededSamples;
+    }
+    if (out.Remeshes == 0 || out.Keeps > 0)
+    {
+      return out;
     }
   }
-  return 0;
+  // 2, 4 and 8 times the count, above the one found to remesh.
+  for (std::int64_t factor = 2; factor <= 8 && factor * options.NumberOfVertices <= most; factor *= 2)
+  {
+    if (factor * options.NumberOfVertices > out.Remeshes && KeepsTheInput(tryCount(factor * options.NumberOfVertices)))
+    {
+      out.Keeps = factor * options.NumberOfVertices;
+      break;
+    }
+  }
+  return out;
 }
 
 DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const double* points, const AtlasResult& atlas,

@@ -222,22 +222,25 @@ constexpr double FarPinGain = 0.9;
 RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
   const double* importance, const RemeshOptions& options = {});
 
-/// Where a remesh with options.NumberOfVertices fails (Error) or leaves an
-/// input point farther than its spacing: the smallest of 2, 4 and 8 times
-/// that count whose remesh (the same settings otherwise) keeps the input's
-/// topology with every input point within its spacing, for the message
-/// that names it; 0 where none of them does (or the count is more than
-/// MostVerticesPerInputVertex per input vertex: beyond what the input can use).
-std::int64_t CountThatKeepsTheInput(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
-  const double* importance, const RemeshOptions& options);
+/// Counts named where a remesh with options.NumberOfVertices fails or
+/// leaves an input point farther than its spacing (0: none found).
+struct CountAdvice
+{
+  /// Where it failed: the smallest count found that remeshes (from the
+  /// samples the failed remesh's boundaries and charts need, a quarter
+  /// more each try, four tries, two significant digits).
+  std::int64_t Remeshes = 0;
+  /// The smallest count found whose remesh (the same settings otherwise)
+  /// keeps every input point within its spacing: Remeshes where its remesh
+  /// does, else the smallest of 2, 4 and 8 times the count above it.
+  std::int64_t Keeps = 0;
+};
 
-/// Where a remesh with options.NumberOfVertices `failed`: the smallest
-/// count found that remeshes the input (from the samples the failed
-/// remesh's boundaries and charts need, a quarter more each try, four
-/// tries, rounded to two significant digits), for the message that names
-/// it; 0 where none does within MostVerticesPerInputVertex per input vertex.
-std::int64_t CountThatRemeshes(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
-  const double* importance, const RemeshOptions& options, const RemeshResult& failed);
+/// The counts to name in the message about `result`, a remesh of
+/// options.NumberOfVertices; none beyond MostVerticesPerInputVertex per
+/// input vertex (more than the input's resolution can use).
+CountAdvice AdviseCounts(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
+  const double* importance, const RemeshOptions& options, const RemeshResult& result);
 
 /// The steps of DenoisedLayout's smoothing a remesh tries, one after the
 /// other (order 2, umbrella operator, dimensionless).  On bunny00 with

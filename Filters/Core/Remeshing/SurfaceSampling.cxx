@@ -750,6 +750,13 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
   SeparateCrossingChords(topology, points, atlas, out);
   out.BoundarySamples = static_cast<std::int64_t>(out.Kind.size());
   out.NeededSamples = out.BoundarySamples + static_cast<std::int64_t>(atlas.Charts.size());
+  for (const SamplePath& path : out.Paths)
+  {
+    if ((path.Charts[0] < 0 || path.Charts[1] < 0) && !path.Samples.empty())
+    {
+      out.RimSamples += static_cast<std::int64_t>(path.Samples.size()) - 1; // (corners shared with the next path)
+    }
+  }
   if (out.BoundarySamples > options.NumberOfSamples)
   {
     out.Error = "the chart boundaries need " + std::to_string(out.BoundarySamples) + " samples, more than the " +

@@ -156,6 +156,9 @@ struct SurfaceSamples
   /// The boundary samples and one inside each chart: with at least this
   /// many samples (at this density) every chart gets one inside.
   std::int64_t NeededSamples = 0;
+  /// Of BoundarySamples, those on the surface's own boundary loops (the rims
+  /// of its holes), which no other layout of the same surface makes fewer.
+  std::int64_t RimSamples = 0;
   /// Charts left without a sample inside (fewer interior samples than
   /// charts): each triangulates its boundary samples alone, and where a
   /// neighbour does too both can make the same triangles.

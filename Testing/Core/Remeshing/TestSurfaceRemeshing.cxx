@@ -578,3 +578,57 @@ TEST(SurfaceRemeshing, EarsOnBothSidesOfASeamAreSplit)
       q.MinimumAngle, q.MeanMinimumAngle);
   }
 }
+
+TEST(SurfaceRemeshing, ACountTheRimsOfManyHolesTakeNamesOneThatKeepsThem)
+{
+  // bunny00 with a hole for every few triangles (each a triangle whose
+  // corners touch no other hole): the rims alone take more samples than
+  // 2,000; the counts named for the message remesh, the one that keeps the
+  // input leaves every input point within its spacing.
+  std::string error;
+  test::Mesh holed = test::ReadMesh("bunny00.off", error);
+  ASSERT_EQ(error, "");
+  std::vector<std::uint8_t> touched(holed.Points.size() / 3, 0);
+  std::vector<Index> kept;
+  std::int64_t holes = 0;
+  for (std::size_t t = 0; 3 * t < holed.Triangles.size(); ++t)
+  {
+    const Index* c = &holed.Triangles[3 * t];
+    const bool hole = t % 16 == 0 && !touched[c[0]] && !touched[c[1]] && !touched[c[2]];
+    holes += hole ? 1 : 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      touched[c[k]] |= hole ? 1 : 0;
+      if (!hole)
+      {
+        kept.push_back(c[k]);
+      }
+    }
+  }
+  holed.Triangles = kept;
+  const MeshTopology topology = holed.Topology();
+  const AtlasResult atlas = BuildAtlas(topology, holed.Points.data(), RemeshAtlas(false));
+  ASSERT_EQ(atlas.Error, "");
+  RemeshOptions options;
+  options.NumberOfVertices = 2000;
+  const RemeshResult failed = RemeshSurface(topology, holed.Points.data(), atlas, nullptr, options);
+  std::printf("%lld holes: %lld samples on their rims\n", static_cast<long long>(holes),
+    static_cast<long long>(failed.Samples.RimSamples));
+  EXPECT_NE(failed.Error, "");
+  EXPECT_GE(failed.Samples.RimSamples, 3 * holes);
+  EXPECT_LE(failed.Samples.RimSamples, failed.Samples.BoundarySamples);
+  const CountAdvice counts = AdviseCounts(topology, holed.Points.data(), atlas, nullptr, options, failed);
+  std::printf("remeshes with %lld, keeps the input with %lld\n", static_cast<long long>(counts.Remeshes),
+    static_cast<long long>(counts.Keeps));
+  ASSERT_GT(counts.Keeps, failed.Samples.RimSamples);
+  EXPECT_TRUE(counts.Remeshes > 0 && counts.Remeshes <= counts.Keeps);
+  options.NumberOfVertices = counts.Keeps;
+  const RemeshResult keeping = RemeshSurface(topology, holed.Points.data(), atlas, nullptr, options);
+  ASSERT_EQ(keeping.Error, "");
+  EXPECT_EQ(static_cast<std::int64_t>(keeping.Points.size() / 3), counts.Keeps);
+  EXPECT_LE(keeping.DeviationFromInput * keeping.Diagonal, keeping.Spacing);
+  const TopologySummary& before = topology.Summary();
+  const TopologySummary& after = TopologyOf(keeping).Summary();
+  EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic);
+  EXPECT_EQ(after.NumberOfBoundaryLoops, before.NumberOfBoundaryLoops);
+}
