@@ -832,8 +832,10 @@ class RemeshingFromPython(unittest.TestCase):
 
     def test_a_noisy_scan_is_laid_out_on_a_smoothed_copy(self):
         # bunny00 with noise of 0.3% of its diagonal along its normals (as
-        # large as its edges): its own charts' boundaries cross, or need
-        # more samples than the count, at every count.  The remesh is laid
+        # large as its edges, 11.7% of its edges folded): its own charts'
+        # boundaries need more samples than the count at 2,000; at 10,000
+        # they remesh, poorly (1.7% of the diagonal from the input, 8.7% of
+        # the triangles below 30 degrees: measured).  The remesh is laid
         # out on a smoothed copy, with a warning, and lies on the noisy input.
         # With isotropic noise of 0.6% (the triangles folded in their
         # planes) the first smoothed copy's charts do not join at 2,000
@@ -1108,6 +1110,28 @@ class RemeshingFromPython(unittest.TestCase):
         deviation = f.GetOutput().GetFieldData().GetArray("RemeshDeviation")
         self.assertLessEqual(max(deviation.GetValue(0), deviation.GetValue(1)), 0.005)
         self.assert_topology_kept(surface, f.GetOutput())
+
+    def test_seams_round_thin_charts_and_specks_keep_their_side(self):
+        # The isosurface at a fifth of the range, anisotropic.  Its largest
+        # component (genus 23, 16 boundary loops) at 2,000 vertices: a
+        # chart of three triangles had a seam with no sample between its
+        # corners that bent round the chart's other corners; its chord
+        # passed on their far side, the chart's polygon of chords turned
+        # inside out and its triangles faced the other way ("4 edges with
+        # inconsistent orientation"): a chord whose stretch of path holds
+        # another boundary sample gets a sample on it.  All of its 181
+        # components at 5,500: a speck of eight triangles whose seam loop
+        # had two of its samples moved onto the speck's tips (the chord
+        # check then runs again, an interior sample taking the new place),
+        # and a chart's diagonal cutting off a thin corner between the two
+        # ends of its neighbour's rim chord (three triangles on one edge:
+        # the diagonal is flipped).
+        import inputs
+        for surface, count in ((inputs.isosurface(largest=True, level=0.2), 2000),
+                               (inputs.isosurface(level=0.2), 5500)):
+            out, _ = self.remeshed(surface, count, Anisotropy=vtkSurfaceRemeshing.PRINCIPAL_CURVATURES)
+            self.assertEqual(out.GetNumberOfPoints(), count)
+            self.assert_topology_kept(surface, out)
 
     def test_anisotropic_mode_from_the_curvature_and_from_a_tensor_array(self):
         # An ellipsoid (semi-axes 1, 1, 3): the remesh's edges of unit

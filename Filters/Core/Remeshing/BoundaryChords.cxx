@@ -1,6 +1,7 @@
 #include "Remeshing/BoundaryChords.h"
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <set>
 #include <utility>
@@ -60,8 +61,76 @@ struct Chord
   Index SampleA, SampleB;
 };
 
-/// The chords of a chart's boundary paths (`paths`, their ids) whose
-/// chords cross another's, as (path, chord index) pairs.
+/// Whether q lies inside the polygon `ring` (even-odd rule).
+bool Inside(const std::vector<PlanePoint>& ring, const PlanePoint& q)
+{
+  bool inside = false;
+  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++)
+  {
+    const PlanePoint& a = ring[i];
+    const PlanePoint& b = ring[j];
+    if ((a[1] > q[1]) != (b[1] > q[1]) && q[0] < a[0] + (q[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]))
+    {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+/// The chords whose lune (the chord and the stretch of its path between
+/// its samples) holds another of the chords' ends: the chord passes on the
+/// far side of that sample, and the chart's polygon of chords would turn
+/// inside out there (a seam that bends round a thin chart's corners).
+void ChordsAroundSamples(const SurfaceSamples& out, const std::vector<std::vector<PlanePoint>>& uvOfPath,
+  const std::vector<Chord>& chords, std::set<std::pair<int, std::size_t>>& separate)
+{
+  std::vector<std::pair<PlanePoint, Index>> ends; // by x
+  for (const Chord& c : chords)
+  {
+    ends.push_back({ c.A, c.SampleA });
+    ends.push_back({ c.B, c.SampleB });
+  }
+  std::sort(ends.begin(), ends.end());
+  std::vector<PlanePoint> lune;
+  for (const Chord& c : chords)
+  {
+    const SamplePath& path = out.Paths[c.Path];
+    const std::vector<PlanePoint>& uv = uvOfPath[c.Path];
+    lune.assign(1, c.A);
+    for (std::size_t i = 0; i < path.Vertices.size(); ++i)
+    {
+      if (path.Arc[i] > path.SampleArc[c.Number] && path.Arc[i] < path.SampleArc[c.Number + 1])
+      {
+        lune.push_back(uv[i]);
+      }
+    }
+    lune.push_back(c.B);
+    if (lune.size() < 3)
+    {
+      continue;
+    }
+    PlanePoint low = lune[0], high = lune[0];
+    for (const PlanePoint& q : lune)
+    {
+      low = { std::min(low[0], q[0]), std::min(low[1], q[1]) };
+      high = { std::max(high[0], q[0]), std::max(high[1], q[1]) };
+    }
+    for (auto e = std::lower_bound(ends.begin(), ends.end(), std::make_pair(low, Index(-1)));
+         e != ends.end() && e->first[0] <= high[0]; ++e)
+    {
+      if (e->second != c.SampleA && e->second != c.SampleB && e->first[1] >= low[1] && e->first[1] <= high[1] &&
+        Inside(lune, e->first))
+      {
+        separate.insert({ c.Path, c.Number });
+        break;
+      }
+    }
+  }
+}
+
+/// The chords of a chart's boundary paths (`paths`, their ids) to separate
+/// (as (path, chord index) pairs): those that cross another chord, and
+/// those whose lune holds another chord's end (ChordsAroundSamples).
 std::set<std::pair<int, std::size_t>> CrossingChords(const AtlasChart& chart, const std::vector<int>& paths,
   const SurfaceSamples& out, std::vector<std::vector<PlanePoint>>& uvOfPath)
 {
@@ -99,6 +168,7 @@ std::set<std::pair<int, std::size_t>> CrossingChords(const AtlasChart& chart, co
       }
     }
   }
+  ChordsAroundSamples(out, uvOfPath, chords, crossing);
   return crossing;
 }
 
@@ -124,10 +194,31 @@ std::ptrdiff_t FarthestVertex(const SamplePath& path, const std::vector<PlanePoi
   return best;
 }
 
+/// The interior sample of chart charts[0] or charts[1] nearest to x (-1:
+/// none).
+Index NearestInteriorSample(const SurfaceSamples& out, const int charts[2], const Vec3& x)
+{
+  Index nearest = -1;
+  double best = HUGE_VAL;
+  for (std::size_t s = 0; s < out.Kind.size(); ++s)
+  {
+    if (out.Kind[s] == SampleKind::Interior && out.Chart[s] >= 0 && (out.Chart[s] == charts[0] || out.Chart[s] == charts[1]))
+    {
+      const double d = (Point(out.Positions.data(), static_cast<Index>(s)) - x).squaredNorm();
+      if (d < best)
+      {
+        best = d;
+        nearest = static_cast<Index>(s);
+      }
+    }
+  }
+  return nearest;
+}
+
 } // namespace
 
 std::int64_t SeparateCrossingChords(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
-  SurfaceSamples& out)
+  SurfaceSamples& out, bool keepCount)
 {
   std::int64_t added = 0;
   std::vector<std::vector<int>> pathsOfChart(atlas.Charts.size()); // (a scan's many rims: not every path per chart)
@@ -157,23 +248,46 @@ std::int64_t SeparateCrossingChords(const MeshTopology& topology, const double* 
         }
       }
     }
-    if (wanted.empty())
-    {
-      break;
-    }
+    std::int64_t before = added;
     for (const auto& [p, i] : wanted)
     {
       SamplePath& path = out.Paths[p];
       const double arc = path.Arc[i];
+      double w[3];
+      const Index triangle = LocateOnPath(topology, path, arc, w);
+      const Index reused = keepCount ? NearestInteriorSample(out, path.Charts, Point(points, path.Vertices[i])) : -1;
+      if (keepCount && reused < 0)
+      {
+        continue; // (no interior sample beside it to take the place of)
+      }
       const std::size_t at =
         static_cast<std::size_t>(std::upper_bound(path.SampleArc.begin(), path.SampleArc.end(), arc) -
           path.SampleArc.begin());
-      double w[3];
-      const Index triangle = LocateOnPath(topology, path, arc, w);
-      path.Samples.insert(path.Samples.begin() + static_cast<std::ptrdiff_t>(at), static_cast<Index>(out.Kind.size()));
+      path.Samples.insert(path.Samples.begin() + static_cast<std::ptrdiff_t>(at),
+        keepCount ? reused : static_cast<Index>(out.Kind.size()));
       path.SampleArc.insert(path.SampleArc.begin() + static_cast<std::ptrdiff_t>(at), arc);
-      AddSample(topology, points, triangle, w, SampleKind::Boundary, -1, out);
+      if (keepCount)
+      {
+        Vec3 x = Vec3::Zero();
+        for (int k = 0; k < 3; ++k)
+        {
+          x += w[k] * Point(points, topology.CornerVertex(3 * triangle + k));
+        }
+        out.Triangle[reused] = triangle;
+        std::copy(w, w + 3, &out.Barycentric[3 * reused]);
+        std::copy(x.data(), x.data() + 3, &out.Positions[3 * reused]);
+        out.Kind[reused] = SampleKind::Boundary;
+        out.Chart[reused] = -1;
+      }
+      else
+      {
+        AddSample(topology, points, triangle, w, SampleKind::Boundary, -1, out);
+      }
       ++added;
+    }
+    if (added == before)
+    {
+      break;
     }
   }
   return added;

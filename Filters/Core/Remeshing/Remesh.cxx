@@ -383,7 +383,10 @@ void SplitDoubleEars(JoinedTriangles& joined)
 /// (a needle whose seam runs up one side and down the other: each chart
 /// fans the same two samples), the first chart's is flipped anyway; its
 /// triangles may be inverted in its plane, and the stitching rounds, on the
-/// surface, repair them (as after SplitDoubleEars).
+/// surface, repair them (as after SplitDoubleEars).  Likewise where one
+/// chart's diagonal joins two samples that another chart's boundary chord
+/// joins (three triangles on the edge: a rim's chord in one chart, a
+/// diagonal cutting off a thin corner of its neighbour).
 using FacesOnEdges = std::unordered_map<std::uint64_t, std::vector<std::size_t>>;
 
 /// Flips the diagonal a-b of face `first`'s chart (FlipSharedDiagonals):
@@ -464,7 +467,7 @@ void FlipSharedDiagonals(JoinedTriangles& j)
   std::vector<std::pair<std::uint64_t, std::vector<std::size_t>>> shared;
   for (const auto& [edge, on] : facesOn)
   {
-    if (on.size() == 4)
+    if (on.size() == 3 || on.size() == 4)
     {
       shared.emplace_back(edge, on);
     }

@@ -502,9 +502,8 @@ void ShapeOnFinalSurface(const MeshTopology& topology, const AtlasResult& atlas,
   OptimizeRemesh(remesh, topology, options.FinalSurface, atlas, samples, optimization);
 }
 
-/// Whether the triangles of `second` are as good as those of `first`: a
-/// smallest angle as large (or of 15 degrees at least) and no more than a
-/// thousandth more of them below 30 degrees.
+} // namespace
+
 bool AsGoodTriangles(const RemeshResult& second, const RemeshResult& first, int numThreads)
 {
   const auto quality = [&](const RemeshResult& r) {
@@ -515,8 +514,6 @@ bool AsGoodTriangles(const RemeshResult& second, const RemeshResult& first, int 
   const TriangleQuality a = quality(first), b = quality(second);
   return b.MinimumAngle >= std::min(a.MinimumAngle, 15.0) && b.FractionBelow30 <= a.FractionBelow30 + 1e-3;
 }
-
-} // namespace
 
 void CheckFidelity(const MeshTopology& topology, const double* points, const RemeshOptions& options, RemeshResult& out)
 {
@@ -714,87 +711,6 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   return std::move(kept);
 }
 
-
-std::vector<double> DenoisedLayout(const MeshTopology& topology, const double* points, double step, int numThreads)
-{
-  std::vector<double> layout(points, points + 3 * static_cast<std::size_t>(topology.NumberOfVertices()));
-  FairingOptions umbrella;
-  umbrella.Operator = FairingOperator::Umbrella;
-  umbrella.TimeStep = step;
-  umbrella.Invariant = FairingInvariant::None;
-  umbrella.Boundary = FairingBoundary::SmoothCurve;
-  umbrella.NumberOfThreads = numThreads;
-  const FairingReport report = FairSurface(topology, layout.data(), umbrella);
-  if (!report.Error.empty() || !report.Completed || std::equal(layout.begin(), layout.end(), points) ||
-    !std::all_of(layout.begin(), layout.end(), [](double x) { return std::isfinite(x); }))
-  {
-    layout.clear();
-  }
-  return layout;
-}
-
-namespace
-{
-
-/// Whether a remesh succeeded with every input point within its spacing.
-bool KeepsTheInput(const RemeshResult& r)
-{
-  return r.Error.empty() && r.DeviationFromInput * r.Diagonal <= r.Spacing;
-}
-
-/// Two significant digits, rounded up.
-std::int64_t RoundedUp(double count)
-{
-  const double unit = std::pow(10.0, std::floor(std::log10(count)) - 1.0);
-  return static_cast<std::int64_t>(std::ceil(count / unit) * unit);
-}
-
-} // namespace
-
-CountAdvice AdviseCounts(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
-  const double* importance, const RemeshOptions& options, const RemeshResult& result)
-{
-  CountAdvice out;
-  RemeshOptions larger = options;
-  const std::int64_t most = MostVerticesPerInputVertex * static_cast<std::int64_t>(topology.NumberOfVertices());
-  const auto tryCount = [&](std::int64_t count) {
-    larger.NumberOfVertices = count;
-    return RemeshSurface(topology, points, atlas, importance, larger);
-  };
-  std::int64_t count = options.NumberOfVertices;
-  if (!result.Error.empty())
-  {
-    std::int64_t needed = result.Samples.NeededSamples;
-    for (int k = 0; k < 4 && out.Remeshes == 0; ++k)
-    {
-      // A tenth above what the boundaries and charts need, a quarter more
-      // than the count tried at least.
-      count = RoundedUp(std::max(1.1 * static_cast<double>(needed), 1.25 * static_cast<double>(count)));
-      if (count > most)
-      {
-        return out;
-      }
-      const RemeshResult r = tryCount(count);
-      out.Remeshes = r.Error.empty() ? count : 0;
-      out.Keeps = KeepsTheInput(r) ? count : 0;
-      needed = r.Samples.NeededSamples;
-    }
-    if (out.Remeshes == 0 || out.Keeps > 0)
-    {
-      return out;
-    }
-  }
-  // 2, 4 and 8 times the count, above the one found to remesh.
-  for (std::int64_t factor = 2; factor <= 8 && factor * options.NumberOfVertices <= most; factor *= 2)
-  {
-    if (factor * options.NumberOfVertices > out.Remeshes && KeepsTheInput(tryCount(factor * options.NumberOfVertices)))
-    {
-      out.Keeps = factor * options.NumberOfVertices;
-      break;
-    }
-  }
-  return out;
-}
 
 DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
   const double* importance, const RemeshOptions& options, double maximumDeviation, int maximumRounds)

@@ -252,6 +252,43 @@ CountAdvice AdviseCounts(const MeshTopology& topology, const double* points, con
 /// and more did.
 constexpr double DenoisedLayoutSteps[3] = { 8.0, 32.0, 128.0 };
 
+/// Whether the triangles of `second` are as good as those of `first`: a
+/// smallest angle as large (or of 15 degrees at least) and no more than a
+/// thousandth more of them below 30 degrees.
+bool AsGoodTriangles(const RemeshResult& second, const RemeshResult& first, int numThreads = 0);
+
+/// The share of the interior edges whose two triangles face more than 90
+/// degrees apart: noise as large as the edges folds a tenth of them and
+/// more (bunny00 with noise along its normals of 0.1, 0.2 and 0.3% of its
+/// diagonal: 0.9, 5.8 and 11.7%; isosurfaces of real MRI volumes 0.2-7.7%;
+/// the shared meshes 2% at most).
+double FoldedEdgeShare(const MeshTopology& topology, const double* points);
+
+/// At this share of folded edges and above, a remesh of the input's own
+/// charts that is poor (PoorRemesh) is made again on a smoothed copy
+/// (DenoisedLayout), and that one kept where KeepCopysRemesh says so: the
+/// charts of a noisy scan have jagged boundaries, their remesh slivers
+/// beside them and parts far from the input (bunny00 with noise of 0.2%
+/// of its diagonal at 2,000 vertices: 4.8% of the diagonal from it and
+/// 3.5% of its triangles below 30 degrees; on the copy 1.2% and none).
+constexpr double CrumpledShare = 0.02;
+
+/// Whether a remesh failed, leaves an input point farther than its
+/// spacing, or has an angle below 15 degrees or more than 0.5% of its
+/// triangles below 30.
+bool PoorRemesh(const RemeshResult& remesh, int numThreads = 0);
+
+/// A remesh laid out on a smoothed copy of the input may be this many
+/// times as far from the input as the input's own (both follow its noise;
+/// the copy's triangles are the better ones).
+constexpr double CopyDeviationAllowance = 1.25;
+
+/// Whether `copy` (laid out on a smoothed copy, moved onto the input) is
+/// kept over `own` (the input's own charts): it succeeded, its triangles
+/// are as good (AsGoodTriangles) and it is at most CopyDeviationAllowance
+/// times as far from the input.
+bool KeepCopysRemesh(const RemeshResult& copy, const RemeshResult& own, int numThreads = 0);
+
 /// A copy of `points` for laying a remesh out on where the input's own
 /// charts fail (a scan whose noise is as large as its edges: its charts'
 /// boundaries are jagged, cross, or take more samples than the count): the

@@ -808,7 +808,13 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
   out.Halftone = std::move(halftone.Samples);
   out.ChartsWithoutSample =
     static_cast<std::int64_t>(GiveEveryChartAnInteriorSample(topology, points, atlas, out));
-  PinTips(topology, points, atlas, options.TipAngleDefect, options.PinnedVertices, importance, out.Density, out);
+  if (PinTips(topology, points, atlas, options.TipAngleDefect, options.PinnedVertices, importance, out.Density, out) > 0)
+  {
+    // (A path sample moved onto a tip can leave a chord on the far side of
+    // another: a speck of eight triangles whose seam loop went round its
+    // two tips.)
+    SeparateCrossingChords(topology, points, atlas, out, true);
+  }
   return out;
 }
 

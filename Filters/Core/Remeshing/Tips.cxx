@@ -193,8 +193,9 @@ std::vector<Index> TipVertices(const MeshTopology& topology, const double* point
 /// either side of it (not a corner; a corner at v is there already) moves
 /// onto it, as a Tip that the optimisation leaves (a seam that runs up a
 /// needle and down again would otherwise leave its tip between two samples).
-void PinOnPath(const MeshTopology& topology, const double* points, Index v, SurfaceSamples& out)
+bool PinOnPath(const MeshTopology& topology, const double* points, Index v, SurfaceSamples& out)
 {
+  bool moved = false;
   for (SamplePath& path : out.Paths)
   {
     for (std::size_t i = 0; i < path.Vertices.size(); ++i)
@@ -226,9 +227,11 @@ void PinOnPath(const MeshTopology& topology, const double* points, Index v, Surf
         std::copy(x.data(), x.data() + 3, &out.Positions[3 * s]);
         path.SampleArc[nearest] = path.Arc[i];
         out.Kind[s] = SampleKind::Tip;
+        moved = true;
       }
     }
   }
+  return moved;
 }
 
 /// The interior sample of `samples` (one chart's) nearest to x;
@@ -433,9 +436,10 @@ void PinFans(const MeshTopology& topology, const double* points, const AtlasResu
 /// at a cone point, a sample of its chart boundary's path (PinOnPath) and,
 /// at a needle's tip, an interior sample of each narrow fan around it
 /// (PinFans).
-void PinTips(const MeshTopology& topology, const double* points, const AtlasResult& atlas, double threshold,
+std::int64_t PinTips(const MeshTopology& topology, const double* points, const AtlasResult& atlas, double threshold,
   const std::uint8_t* pinned, const double* importance, double density, SurfaceSamples& out)
 {
+  std::int64_t onPaths = 0;
   const std::vector<Index> tips = TipVertices(topology, points, threshold, pinned, importance, density);
   std::vector<std::vector<std::size_t>> interior(tips.empty() ? 0 : atlas.Charts.size()); // per chart
   std::vector<std::uint8_t> taken(tips.empty() ? 0 : out.Kind.size(), 0); // moved into a needle's fan
@@ -456,7 +460,7 @@ void PinTips(const MeshTopology& topology, const double* points, const AtlasResu
       const double defect = threshold > 0.0 ? AngleDefect(topology, points, v) : 0.0;
       if (defect > threshold)
       {
-        PinOnPath(topology, points, v, out); // (a far vertex the error-driven mode pins: a path sample is near)
+        onPaths += PinOnPath(topology, points, v, out) ? 1 : 0; // (a far vertex the error-driven mode pins: a path sample is near)
         if (density > 0.0 && defect > 2.0 * (M_PI - NarrowFan))
         {
           PinFans(topology, points, atlas, v, SpacingAt(importance, density, v), interior, taken, out);
@@ -471,6 +475,7 @@ void PinTips(const MeshTopology& topology, const double* points, const AtlasResu
       MoveSample(nearest, Point(points, v), corner / 3, w, SampleKind::Tip, out);
     }
   }
+  return onPaths;
 }
 
 } // namespace beltrami

@@ -632,3 +632,22 @@ TEST(SurfaceRemeshing, ACountTheRimsOfManyHolesTakeNamesOneThatKeepsThem)
   EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic);
   EXPECT_EQ(after.NumberOfBoundaryLoops, before.NumberOfBoundaryLoops);
 }
+
+TEST(SurfaceRemeshing, FoldedEdgesAreCountedOnTheInteriorEdges)
+{
+  // A height field of unit spacing: smooth, none folded; with every other
+  // row of vertices raised by far more than the spacing (a washboard), the
+  // triangles on either side of each ridge face apart by more than 90
+  // degrees wherever an edge runs along a ridge or a valley.
+  const test::Mesh flat = test::HeightField([](double, double) { return 0.0; }, 5.5, 12, 0.0, false, 1);
+  EXPECT_EQ(FoldedEdgeShare(flat.Topology(), flat.Points.data()), 0.0);
+  test::Mesh folded = flat;
+  for (Index v = 0; v < folded.NumberOfVertices(); ++v)
+  {
+    folded.Points[3 * v + 2] = std::fmod(std::round(folded.Points[3 * v + 1] + 5.5), 2.0) == 0.0 ? 0.0 : 5.0;
+  }
+  const double share = FoldedEdgeShare(folded.Topology(), folded.Points.data());
+  std::printf("washboard: %.1f%% of the interior edges folded\n", 100.0 * share);
+  EXPECT_GT(share, 0.2);
+  EXPECT_LT(share, 0.5);
+}
