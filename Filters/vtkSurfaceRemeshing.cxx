@@ -531,6 +531,63 @@ bool vtkSurfaceRemeshing::RemeshDenoised(Run& run)
   return kept >= 0 && this->LayOutOnDenoisedCopy(kept);
 }
 
+namespace
+{
+
+/// The end of both warnings that a remesh was laid out on a smoothed copy.
+const char* const OnCopy = "the remesh was laid out on a smoothed copy of the input and moved onto it, its triangles "
+                           "then shaped on the input: its vertices lie on the input and follow its noise";
+const char* const SmoothFirst = ". For a remesh of the smoothed surface, smooth the input first (vtkImplicitFairing).";
+
+} // namespace
+
+void vtkSurfaceRemeshing::LayOutNoisyInputOnCopy(Run& run)
+{
+  // Where the input's own charts fail (a scan whose noise is as large as its
+  // edges), the remesh is laid out on a smoothed copy and moved onto the
+  // input; not where the rims of its holes alone take more samples than the
+  // count (a scan with many holes), which every copy keeps.  Where they
+  // remesh, but poorly, on a crumpled input, the copy's is kept where it is
+  // better.
+  Kept& kept = *this->Cache;
+  const std::string inputError = run.Driven.Remesh.Error;
+  const std::int64_t tried = run.Driven.Counts.empty() ? this->NumberOfVertices : run.Driven.Counts.back();
+  if (!inputError.empty() && run.Driven.Remesh.Samples.RimSamples <= tried)
+  {
+    if (this->RemeshDenoised(run))
+    {
+      vtkWarningMacro(<< "The input's own charts cannot be remeshed with " << tried << " vertices (" << inputError
+                      << "): " << OnCopy
+                      << (this->MaximumDeviation > 0.0 ? " (MaximumDeviation holds on the smoothed copy; "
+                                                         "RemeshDeviation is measured on the input, noise included)"
+                                                       : "")
+                      << SmoothFirst);
+    }
+    else
+    {
+      kept.Active = 0; // the input's error stands
+    }
+    return;
+  }
+  if (!inputError.empty() || this->MaximumDeviation > 0.0 || !beltrami::PoorRemesh(run.Driven.Remesh, this->NumberOfThreads))
+  {
+    return;
+  }
+  const double folded = beltrami::FoldedEdgeShare(kept.Surface.Topology(), kept.Points);
+  Run denoised;
+  if (folded >= beltrami::CrumpledShare && this->RemeshDenoised(denoised) &&
+    beltrami::KeepCopysRemesh(denoised.Driven.Remesh, run.Driven.Remesh, this->NumberOfThreads))
+  {
+    run = std::move(denoised);
+    vtkWarningMacro(<< "The input is noisy (" << 100.0 * folded << "% of its neighbouring triangles face more than 90 "
+                    << "degrees apart) and the remesh of its own charts was poor: " << OnCopy << SmoothFirst);
+  }
+  else
+  {
+    kept.Active = 0; // the input's own remesh stands
+  }
+}
+
 int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
 {
   output->Initialize(); // a defined output: empty
@@ -552,52 +609,7 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
   {
     return 0;
   }
-  // Where the input's own charts fail (a scan whose noise is as large as its
-  // edges), the remesh is laid out on a smoothed copy and moved onto the
-  // input; not where the rims of its holes alone take more samples than the
-  // count (a scan with many holes), which every copy keeps.
-  const std::string inputError = run.Driven.Remesh.Error;
-  const std::vector<std::int64_t> inputCounts = run.Driven.Counts;
-  const std::int64_t tried = inputCounts.empty() ? this->NumberOfVertices : inputCounts.back();
-  if (!inputError.empty() && run.Driven.Remesh.Samples.RimSamples <= tried)
-  {
-    if (this->RemeshDenoised(run))
-    {
-      vtkWarningMacro(<< "The input's own charts cannot be remeshed with "
-                      << tried << " vertices (" << inputError
-                      << "): the remesh was laid out on a smoothed copy of the input and moved onto it, its "
-                      << "triangles then shaped on the input: its vertices lie on the input and follow its noise"
-                      << (this->MaximumDeviation > 0.0 ? " (MaximumDeviation holds on the smoothed copy; "
-                                                         "RemeshDeviation is measured on the input, noise included)"
-                                                       : "")
-                      << ". For a remesh of the smoothed surface, smooth the input first (vtkImplicitFairing).");
-    }
-    else
-    {
-      kept.Active = 0; // the input's error stands
-    }
-  }
-  else if (this->MaximumDeviation <= 0.0 && beltrami::PoorRemesh(run.Driven.Remesh, this->NumberOfThreads) &&
-    beltrami::FoldedEdgeShare(kept.Surface.Topology(), kept.Points) >= beltrami::CrumpledShare)
-  {
-    // A noisy scan whose own charts remesh, but poorly: the copy's is kept
-    // where it is better.
-    Run denoised;
-    if (this->RemeshDenoised(denoised) &&
-      beltrami::KeepCopysRemesh(denoised.Driven.Remesh, run.Driven.Remesh, this->NumberOfThreads))
-    {
-      run = std::move(denoised);
-      vtkWarningMacro(<< "The input is noisy (" << 100.0 * beltrami::FoldedEdgeShare(kept.Surface.Topology(), kept.Points)
-                      << "% of its neighbouring triangles face more than 90 degrees apart) and the remesh of its own "
-                      << "charts was poor: the remesh was laid out on a smoothed copy of the input and moved onto it, "
-                      << "its triangles then shaped on the input: its vertices lie on the input and follow its noise. "
-                      << "For a remesh of the smoothed surface, smooth the input first (vtkImplicitFairing).");
-    }
-    else
-    {
-      kept.Active = 0; // the input's own remesh stands
-    }
-  }
+  this->LayOutNoisyInputOnCopy(run);
   return this->Report(input, run, output);
 }
 

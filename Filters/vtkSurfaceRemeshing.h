@@ -287,9 +287,13 @@ private:
   /// false where there is none.
   bool LayOutOnDenoisedCopy(int k);
   /// The remesh laid out on the first smoothed copy that can be remeshed
-  /// and moved onto the input into `run` (that copy stays the active
-  /// layout); false where none can.
+  /// (where its remesh is poor, on the next ones too, the better kept:
+  /// beltrami::KeepCopysRemesh) and moved onto the input into `run` (that
+  /// copy stays the active layout); false where none can.
   bool RemeshDenoised(Run& run);
+  /// Where the input's own charts fail, or remesh poorly on a noisy input,
+  /// `run` laid out on a smoothed copy (RemeshDenoised), with a warning.
+  void LayOutNoisyInputOnCopy(Run& run);
   /// The run's messages and, without an error, its remesh into `output`.
   int Report(vtkPolyData* input, const Run& run, vtkPolyData* output);
   /// The anisotropic mode's metric (6 per input vertex) into `metric`;

@@ -1,8 +1,8 @@
 #include "Remeshing/BoundaryChords.h"
 
 #include <algorithm>
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <set>
 #include <utility>
 #include <vector>
@@ -248,7 +248,7 @@ std::int64_t SeparateCrossingChords(const MeshTopology& topology, const double* 
         }
       }
     }
-    std::int64_t before = added;
+    const std::int64_t before = added;
     for (const auto& [p, i] : wanted)
     {
       SamplePath& path = out.Paths[p];
