@@ -72,10 +72,13 @@ std::vector<double> DenoisedLayout(const MeshTopology& topology, const double* p
 namespace
 {
 
-/// Whether a remesh succeeded with every input point within its spacing.
+/// Whether a remesh succeeded with every input point within its spacing of
+/// it and it within its spacing of the input: a run at its count, which
+/// keeps a second remesh (RemeshOptions::FarPinSpacings) only where that is
+/// closer both ways by a tenth, keeps the input too.
 bool KeepsTheInput(const RemeshResult& r)
 {
-  return r.Error.empty() && r.DeviationFromInput * r.Diagonal <= r.Spacing;
+  return r.Error.empty() && std::max(r.DeviationFromInput, r.DeviationToInput) * r.Diagonal <= r.Spacing;
 }
 
 /// Two significant digits, rounded up.
@@ -92,6 +95,7 @@ CountAdvice AdviseCounts(const MeshTopology& topology, const double* points, con
 {
   CountAdvice out;
   RemeshOptions larger = options;
+  larger.FarPinSpacings = 0.0; // (one remesh a try: KeepsTheInput)
   const std::int64_t most = MostVerticesPerInputVertex * static_cast<std::int64_t>(topology.NumberOfVertices());
   const auto tryCount = [&](std::int64_t count) {
     larger.NumberOfVertices = count;

@@ -230,9 +230,10 @@ struct CountAdvice
   /// samples the failed remesh's boundaries and charts need, a quarter
   /// more each try, four tries, two significant digits).
   std::int64_t Remeshes = 0;
-  /// The smallest count found whose remesh (the same settings otherwise)
-  /// keeps every input point within its spacing: Remeshes where its remesh
-  /// does, else the smallest of 2, 4 and 8 times the count above it.
+  /// The smallest count found whose remesh (the same settings otherwise,
+  /// without the second remesh of FarPinSpacings) keeps every input point
+  /// within its spacing and lies within it of the input: Remeshes where its
+  /// remesh does, else the smallest of 2, 4 and 8 times the count above it.
   std::int64_t Keeps = 0;
 };
 
