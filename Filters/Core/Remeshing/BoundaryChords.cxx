@@ -1,5 +1,7 @@
 #include "Remeshing/BoundaryChords.h"
 
+#include "Remeshing/Remesh.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -194,27 +196,6 @@ std::ptrdiff_t FarthestVertex(const SamplePath& path, const std::vector<PlanePoi
   return best;
 }
 
-/// The interior sample of chart charts[0] or charts[1] nearest to x (-1:
-/// none).
-Index NearestInteriorSample(const SurfaceSamples& out, const int charts[2], const Vec3& x)
-{
-  Index nearest = -1;
-  double best = HUGE_VAL;
-  for (std::size_t s = 0; s < out.Kind.size(); ++s)
-  {
-    if (out.Kind[s] == SampleKind::Interior && out.Chart[s] >= 0 && (out.Chart[s] == charts[0] || out.Chart[s] == charts[1]))
-    {
-      const double d = (Point(out.Positions.data(), static_cast<Index>(s)) - x).squaredNorm();
-      if (d < best)
-      {
-        best = d;
-        nearest = static_cast<Index>(s);
-      }
-    }
-  }
-  return nearest;
-}
-
 } // namespace
 
 std::int64_t SeparateCrossingChords(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
@@ -230,6 +211,14 @@ std::int64_t SeparateCrossingChords(const MeshTopology& topology, const double* 
       {
         pathsOfChart[c].push_back(p);
       }
+    }
+  }
+  std::vector<std::vector<std::size_t>> interior(keepCount ? atlas.Charts.size() : 0); // per chart
+  for (std::size_t s = 0; keepCount && s < out.Kind.size(); ++s)
+  {
+    if (out.Kind[s] == SampleKind::Interior && out.Chart[s] >= 0)
+    {
+      interior[out.Chart[s]].push_back(s);
     }
   }
   for (int round = 0; round < 16; ++round)
@@ -255,8 +244,17 @@ std::int64_t SeparateCrossingChords(const MeshTopology& topology, const double* 
       const double arc = path.Arc[i];
       double w[3];
       const Index triangle = LocateOnPath(topology, path, arc, w);
-      const Index reused = keepCount ? NearestInteriorSample(out, path.Charts, Point(points, path.Vertices[i])) : -1;
-      if (keepCount && reused < 0)
+      // (keepCount: the nearest interior sample of the path's charts takes the place)
+      std::vector<std::size_t> candidates;
+      for (const int c : path.Charts)
+      {
+        if (keepCount && c >= 0)
+        {
+          candidates.insert(candidates.end(), interior[c].begin(), interior[c].end());
+        }
+      }
+      const std::size_t reused = NearestInterior(candidates, Point(points, path.Vertices[i]), out);
+      if (keepCount && reused == out.Kind.size())
       {
         continue; // (no interior sample beside it to take the place of)
       }
@@ -264,19 +262,11 @@ std::int64_t SeparateCrossingChords(const MeshTopology& topology, const double* 
         static_cast<std::size_t>(std::upper_bound(path.SampleArc.begin(), path.SampleArc.end(), arc) -
           path.SampleArc.begin());
       path.Samples.insert(path.Samples.begin() + static_cast<std::ptrdiff_t>(at),
-        keepCount ? reused : static_cast<Index>(out.Kind.size()));
+        static_cast<Index>(keepCount ? reused : out.Kind.size()));
       path.SampleArc.insert(path.SampleArc.begin() + static_cast<std::ptrdiff_t>(at), arc);
       if (keepCount)
       {
-        Vec3 x = Vec3::Zero();
-        for (int k = 0; k < 3; ++k)
-        {
-          x += w[k] * Point(points, topology.CornerVertex(3 * triangle + k));
-        }
-        out.Triangle[reused] = triangle;
-        std::copy(w, w + 3, &out.Barycentric[3 * reused]);
-        std::copy(x.data(), x.data() + 3, &out.Positions[3 * reused]);
-        out.Kind[reused] = SampleKind::Boundary;
+        MoveSample(reused, SurfacePoint(topology, points, triangle, w), triangle, w, SampleKind::Boundary, out);
         out.Chart[reused] = -1;
       }
       else

@@ -4,7 +4,6 @@
 #include "Remeshing/SurfaceRemeshing.h"
 
 #include "Flows/Fairing.h"
-#include "Mesh/MeshMeasures.h"
 
 #include <algorithm>
 #include <cmath>
@@ -39,9 +38,7 @@ bool PoorRemesh(const RemeshResult& remesh, int numThreads)
   {
     return true;
   }
-  const MeshTopology t(static_cast<Index>(remesh.Points.size() / 3),
-    IndexArray(remesh.Triangles.begin(), remesh.Triangles.end()), numThreads);
-  const TriangleQuality q = MeasureTriangleQuality(t, remesh.Points.data());
+  const TriangleQuality q = RemeshQuality(remesh, numThreads);
   return q.MinimumAngle < 15.0 || q.FractionBelow30 > 0.005;
 }
 

@@ -504,14 +504,16 @@ void ShapeOnFinalSurface(const MeshTopology& topology, const AtlasResult& atlas,
 
 } // namespace
 
+TriangleQuality RemeshQuality(const RemeshResult& r, int numThreads)
+{
+  const MeshTopology t(static_cast<Index>(r.Points.size() / 3), IndexArray(r.Triangles.begin(), r.Triangles.end()),
+    numThreads);
+  return MeasureTriangleQuality(t, r.Points.data());
+}
+
 bool AsGoodTriangles(const RemeshResult& second, const RemeshResult& first, int numThreads)
 {
-  const auto quality = [&](const RemeshResult& r) {
-    const MeshTopology t(static_cast<Index>(r.Points.size() / 3), IndexArray(r.Triangles.begin(), r.Triangles.end()),
-      numThreads);
-    return MeasureTriangleQuality(t, r.Points.data());
-  };
-  const TriangleQuality a = quality(first), b = quality(second);
+  const TriangleQuality a = RemeshQuality(first, numThreads), b = RemeshQuality(second, numThreads);
   const bool withinBar = b.MinimumAngle >= 15.0 && b.FractionBelow30 <= 0.005;
   return withinBar || (b.MinimumAngle >= std::min(a.MinimumAngle, 15.0) && b.FractionBelow30 <= a.FractionBelow30 + 1e-3);
 }

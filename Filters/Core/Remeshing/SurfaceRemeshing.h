@@ -6,6 +6,7 @@
 // that change only sampling parameters (count, importance) reuse it.
 #pragma once
 
+#include "Mesh/MeshMeasures.h"
 #include "Remeshing/RemeshOptimization.h"
 
 #include <cstdint>
@@ -252,6 +253,9 @@ CountAdvice AdviseCounts(const MeshTopology& topology, const double* points, con
 /// their planes) a step of 8 left charts that did not join at 2,000, 32
 /// and more did.
 constexpr double DenoisedLayoutSteps[3] = { 8.0, 32.0, 128.0 };
+
+/// The triangle quality of a remesh (Mesh/MeshMeasures).
+TriangleQuality RemeshQuality(const RemeshResult& remesh, int numThreads = 0);
 
 /// Whether the triangles of `second` are as good as those of `first` (a
 /// smallest angle as large, or of 15 degrees at least, and no more than a

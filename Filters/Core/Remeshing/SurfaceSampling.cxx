@@ -168,6 +168,30 @@ void AddSample(const MeshTopology& topology, const double* points, Index triangl
   out.Chart.push_back(chart);
 }
 
+std::size_t NearestInterior(const std::vector<std::size_t>& samples, const Vec3& x, const SurfaceSamples& out)
+{
+  std::size_t nearest = out.Kind.size();
+  double best = HUGE_VAL;
+  for (std::size_t s : samples)
+  {
+    const double d = (Point(out.Positions.data(), static_cast<Index>(s)) - x).squaredNorm();
+    if (out.Kind[s] == SampleKind::Interior && d < best)
+    {
+      best = d;
+      nearest = s;
+    }
+  }
+  return nearest;
+}
+
+void MoveSample(std::size_t s, const Vec3& x, Index triangle, const double w[3], SampleKind kind, SurfaceSamples& out)
+{
+  out.Triangle[s] = triangle;
+  std::copy(w, w + 3, &out.Barycentric[3 * s]);
+  std::copy(x.data(), x.data() + 3, &out.Positions[3 * s]);
+  out.Kind[s] = kind;
+}
+
 namespace
 {
 

@@ -190,6 +190,13 @@ double SpacingAt(const double* importance, double density, Index v);
 /// lengths `arcs` at arc length `arc`, and the fraction of the way along it.
 std::pair<std::size_t, double> EdgeAtArc(const std::vector<double>& arcs, double arc);
 
+/// The interior sample of `samples` (ids into `out`) nearest to x;
+/// out.Kind.size() where none of them is one.
+std::size_t NearestInterior(const std::vector<std::size_t>& samples, const Vec3& x, const SurfaceSamples& out);
+
+/// Sample s moves to x (in `triangle` at barycentric weights w) as `kind`.
+void MoveSample(std::size_t s, const Vec3& x, Index triangle, const double w[3], SampleKind kind, SurfaceSamples& out);
+
 /// A sample in `triangle` at barycentric weights w (of its corners),
 /// appended to `out`.
 void AddSample(const MeshTopology& topology, const double* points, Index triangle, const double* w, SampleKind kind,
