@@ -739,6 +739,17 @@ def edge_counts(triangles):
     return unique, counts
 
 
+def smallest_angles(points, triangles):
+    """Each triangle's smallest angle, in degrees."""
+    p = points[triangles]
+    smallest = np.full(len(triangles), 180.0)
+    for k in range(3):
+        u, v = p[:, (k + 1) % 3] - p[:, k], p[:, (k + 2) % 3] - p[:, k]
+        angle = np.degrees(np.arctan2(np.linalg.norm(np.cross(u, v), axis=1), np.einsum("ij,ij->i", u, v)))
+        smallest = np.minimum(smallest, angle)
+    return smallest
+
+
 def components(n, edges):
     parent = np.arange(n)
 

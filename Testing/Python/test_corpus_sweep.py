@@ -270,12 +270,7 @@ DEGENERATE = 0.5
 def triangle_quality(points, triangles):
     """(smallest angle in degrees, share of triangles whose smallest angle is
     below 30 degrees, share of interior vertices of valence 6)."""
-    p = points[triangles]
-    smallest = np.full(len(triangles), 180.0)
-    for k in range(3):
-        u, v = p[:, (k + 1) % 3] - p[:, k], p[:, (k + 2) % 3] - p[:, k]
-        angle = np.degrees(np.arctan2(np.linalg.norm(np.cross(u, v), axis=1), np.einsum("ij,ij->i", u, v)))
-        smallest = np.minimum(smallest, angle)
+    smallest = inputs.smallest_angles(points, triangles)
     edges, counts = inputs.edge_counts(triangles)
     boundary = np.zeros(len(points), dtype=bool)
     boundary[edges[counts == 1].ravel()] = True

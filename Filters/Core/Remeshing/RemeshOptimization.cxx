@@ -21,6 +21,10 @@ namespace detail
 namespace
 {
 
+/// Stitching rounds after RoundRimCorners moved corners, with the boundary
+/// fixed: the triangles beside them follow.
+constexpr int RimRounds = 3;
+
 /// The part of the plane triangle (p, a, b) nearer to p than to a and b
 /// (p's Voronoi region in it; in an obtuse triangle the circumcentre is
 /// replaced by the middle of the longest edge, the mixed area of thesis
@@ -827,6 +831,16 @@ RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& 
     const int stitched = i - std::max(0, options.Iterations);
     optimizer.LatticeWeight = options.Metric && stitched >= 0 && 2 * stitched < options.StitchingIterations ? 1.0 : 0.0;
     stats.MeanDisplacement = optimizer.Relax();
+  }
+  if (rounds > std::max(0, options.Iterations) &&
+    optimizer.RoundRimCorners(options.FeatureEdges, options.PinnedVertices, options.MaximumLineSag) > 0)
+  {
+    for (int i = 0; i < detail::RimRounds; ++i) // (the triangles beside the corners moved)
+    {
+      stats.ShapeSwaps += optimizer.SwapForShape();
+      stats.ValenceSwaps += optimizer.SwapForValence();
+      stats.MeanDisplacement = optimizer.Relax();
+    }
   }
   if (rounds > 0)
   {

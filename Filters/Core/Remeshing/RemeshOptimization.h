@@ -63,6 +63,14 @@ struct RemeshOptimizationOptions
   /// One flag per edge of topology.Edges(): feature edges (sharp or marked)
   /// whose samples stay on their paths while stitching (null: none).
   const std::uint8_t* FeatureEdges = nullptr;
+  /// One flag per surface vertex: vertices the sampling pinned
+  /// (SamplingOptions::PinnedVertices), whose corners on the boundary stay
+  /// (null: none).
+  const std::uint8_t* PinnedVertices = nullptr;
+  /// The sampling's bound on the chords of the surface's boundary
+  /// (SamplingOptions::MaximumLineSag), which the corners moved along it
+  /// keep (Optimizer::RoundRimCorners).
+  double MaximumLineSag = 0.05;
   int NumberOfThreads = 0; ///< for the relaxation (by colours: the same result for any count)
   RemeshCache* Cache = nullptr; ///< optional: the charts' locators kept between calls
 };

@@ -1,7 +1,8 @@
 // Beltrami core, private to Remeshing/RemeshOptimization: the optimiser of
 // a remesh (section 4.4), its edge swaps (RemeshSwaps.cxx), its vertex
-// moves and stitching (RemeshOptimization.cxx) and its measures in an
-// anisotropic remesh's metric (RemeshOptimizerMetric.cxx).
+// moves and stitching (RemeshOptimization.cxx), its corners on the
+// surface's boundary (RemeshRims.cxx) and its measures in an anisotropic
+// remesh's metric (RemeshOptimizerMetric.cxx).
 #pragma once
 
 #include "Remeshing/RemeshOptimization.h"
@@ -19,6 +20,14 @@ namespace beltrami::detail
 {
 
 using Mat3 = Eigen::Matrix3d;
+
+/// A corner that a seam's end made on the surface's boundary, one of whose
+/// triangles has an angle below this many degrees, slides along the
+/// boundary to the place between its neighbours there where its triangles
+/// are roundest (Optimizer::RoundRimCorners).  Two seams reaching a rim at
+/// nearly one point left two corners a fiftieth of a spacing apart, fixed,
+/// with triangles of 1-2 degrees beside them (isosurfaces' rims).
+constexpr double RimCornerDegrees = 20.0;
 
 /// Area / perimeter^2 of a 3D triangle, over its value for the equilateral
 /// triangle (1: equilateral, 0: degenerate).
@@ -86,6 +95,15 @@ public:
   std::int64_t SwapWhere(Wanted&& wanted, Accept&& accept);
   double Relax();
   Index BeginStitching(const std::uint8_t* featureEdges);
+  /// After the stitching rounds: each corner on the surface's boundary that
+  /// may slide along it (SlidingRimCorner), beside a triangle with an angle
+  /// below RimCornerDegrees, moves along it between its neighbours there,
+  /// where its triangles' smallest angle is largest (if larger than where
+  /// it is), its chords to them departing from the boundary by at most
+  /// maxSag times their mean length or by what they do now (a corner of the
+  /// rim is not cut).  Where any moved, every vertex on the boundary is
+  /// then fixed for the rounds after.  Returns the corners moved.
+  std::int64_t RoundRimCorners(const std::uint8_t* featureEdges, const std::uint8_t* pinned, double maxSag);
   int NumberOfThreads = 0;
   double OverRelaxation = 1.0; ///< the first try of a move off a path, of the way to its target
   /// With a metric: the share of the lattice's pull in the moves while
@@ -152,6 +170,7 @@ private:
   Eigen::Matrix2d PlaneMetricFactor(Index v) const;
   Vec3 LatticeShift(Index v, const Mat3& u, double& weight) const;
   bool MoveOnPath(Index v, double& moved);
+  bool SlidingRimCorner(Index v, const std::uint8_t* featureEdges, const std::uint8_t* pinned) const;
   bool MoveOnSurface(Index v, double& moved);
   double LargestCosineAround(Index v, const Vec3& x) const;
   Vec3 ShiftToNeighbours(Index v) const;

@@ -644,6 +644,8 @@ RemeshResult RemeshOnce(const MeshTopology& topology, const double* points, cons
   optimization.Importance = importance;
   optimization.Metric = metric;
   optimization.FeatureEdges = features;
+  optimization.PinnedVertices = options.PinnedVertices;
+  optimization.MaximumLineSag = options.MaximumLineSag;
   optimization.Cache = cache;
   out.Optimization = OptimizeRemesh(remesh, topology, points, atlas, out.Samples, optimization);
   out.OptimizationSeconds = SecondsSince(start);
