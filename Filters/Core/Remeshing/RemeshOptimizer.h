@@ -132,7 +132,9 @@ private:
   /// angle at c above 179 degrees: a triangle of no area), or -1.  The
   /// swap of a-b then leaves the surface as it is (the other face is split
   /// at c) and removes that triangle; along a kept path, the path runs
-  /// a-c-b (Flip hands the edge's keeping to a-c and c-b).
+  /// a-c-b (Flip hands the edge's keeping to a-c and c-b, and c, if free,
+  /// stays where it is: relaxed off the line, it left the faces on either
+  /// side of a crease joined across it).
   Index VertexOnEdge(Index h) const;
 
   static std::uint64_t EdgeKey(Index a, Index b)

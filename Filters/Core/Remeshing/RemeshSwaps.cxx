@@ -95,6 +95,7 @@ void Optimizer::Flip(Index h)
       KeptEdges.erase(EdgeKey(a, b));
       KeptEdges.insert(EdgeKey(a, through));
       KeptEdges.insert(EdgeKey(through, b));
+      Moves[through] = Moves[through] == Free ? Fixed : Moves[through]; // (the line now runs through it)
     }
   }
   const double uv[4][2] = { { UVAt(h)[0], UVAt(h)[1] },
