@@ -63,6 +63,7 @@ double AlongPath(const double* points, const std::vector<Index>& vertices, std::
 /// line's bends are sampled by MaximumLineSag instead.)  With a metric (6
 /// per surface vertex), the spacing along the line (RemeshMetric's
 /// StretchAlong).
+constexpr double SharpTurnDegrees = 45.0;
 bool IsSharpTurn(const double* points, const double* importance, const double* metric, double density, Index a,
   Index v, Index b)
 {

@@ -168,11 +168,6 @@ struct SurfaceSamples
   std::vector<std::uint8_t> Halftone; ///< 1 per texel holding an interior sample
 };
 
-/// A kept line (a feature, the surface's boundary) whose edges at a vertex
-/// turn by more than this many degrees has a corner there (where both edges
-/// are at least half the spacing long: SurfaceSampling.cxx's IsSharpTurn).
-constexpr double SharpTurnDegrees = 45.0;
-
 /// Whether edge e lies on the surface's boundary.
 bool IsOpenEdge(const MeshTopology::EdgeTable& edges, std::int64_t e);
 
