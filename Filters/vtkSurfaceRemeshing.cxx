@@ -471,6 +471,7 @@ bool vtkSurfaceRemeshing::RemeshLayout(Run& run)
   options.FeatureAngle = this->SplitAtFeatures ? this->FeatureAngle : 0.0;
   options.MaximumLineSag = this->MaximumLineSag;
   options.MaximumSurfaceSag = this->MaximumSurfaceSag;
+  options.FarPinRounds = this->FidelityRounds;
   options.NumberOfThreads = this->NumberOfThreads;
   options.Cache = &this->Cache->Laid().Remeshing;
   if (this->Cache->Active > 0) // a smoothed copy: the remesh is moved onto the input and shaped there
@@ -748,6 +749,7 @@ void vtkSurfaceRemeshing::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "FeatureAngle: " << this->FeatureAngle << "\n"
      << indent << "MaximumLineSag: " << this->MaximumLineSag << "\n"
      << indent << "MaximumSurfaceSag: " << this->MaximumSurfaceSag << "\n"
+     << indent << "FidelityRounds: " << this->FidelityRounds << "\n"
      << indent << "Iterations: " << this->Iterations << "\n"
      << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

@@ -229,6 +229,16 @@ public:
   /// them). Default: 0.1.
   vtkSetClampMacro(MaximumSurfaceSag, double, 0.0, 1.0);
   vtkGetMacro(MaximumSurfaceSag, double);
+  /// Where the remesh leaves input vertices farther from it than 0.15 of its spacing (corners, tips
+  /// and hooves its samples missed: the density keeps a smooth surface within a tenth of the
+  /// spacing), the remesh is made again with a vertex pinned at each of them, up to this many times
+  /// (each time also at those the closest remesh so far leaves far); the closest with triangles as
+  /// good is kept. 0: one remesh, the fastest. Each round costs about one remesh; over the shared
+  /// corpus at 10,000 vertices the rounds bring the two-sided deviation down by about a tenth in
+  /// geometric mean, by a quarter to a half on coarse scans. RemeshDeviation reports the one kept.
+  /// Not in the error-driven mode (Maximum Deviation), which pins vertices its own way. Default: 3.
+  vtkSetClampMacro(FidelityRounds, int, 0, 100);
+  vtkGetMacro(FidelityRounds, int);
   /// Rounds of edge swaps and relaxation after the triangulation, the first fifth in the charts'
   /// parameter planes and the rest stitching the charts on the surface (0: the constrained Delaunay
   /// triangulation as it is). Default: 25.
@@ -265,6 +275,7 @@ protected:
   double FeatureAngle = 60.0;
   double MaximumLineSag = 0.05;
   double MaximumSurfaceSag = 0.1;
+  int FidelityRounds = 3;
   int Iterations = 25;
   int NumberOfThreads = 0;
   int AtlasBuilds = 0;

@@ -44,8 +44,8 @@ bool PoorRemesh(const RemeshResult& remesh, int numThreads)
 
 bool KeepCopysRemesh(const RemeshResult& copy, const RemeshResult& own, int numThreads)
 {
-  const auto worst = [](const RemeshResult& r) { return std::max(r.DeviationToInput, r.DeviationFromInput); };
-  return copy.Error.empty() && AsGoodTriangles(copy, own, numThreads) && worst(copy) <= CopyDeviationAllowance * worst(own);
+  return copy.Error.empty() && AsGoodTriangles(copy, own, numThreads) &&
+    WorstDeviation(copy) <= CopyDeviationAllowance * WorstDeviation(own);
 }
 
 std::vector<double> DenoisedLayout(const MeshTopology& topology, const double* points, double step, int numThreads)
@@ -71,11 +71,11 @@ namespace
 
 /// Whether a remesh succeeded with every input point within its spacing of
 /// it and it within its spacing of the input: a run at its count, which
-/// keeps a second remesh (RemeshOptions::FarPinSpacings) only where that is
-/// closer both ways by a tenth, keeps the input too.
+/// keeps a remesh with far vertices pinned (RemeshOptions::FarPinSpacings)
+/// only where that is closer, keeps the input too.
 bool KeepsTheInput(const RemeshResult& r)
 {
-  return r.Error.empty() && std::max(r.DeviationFromInput, r.DeviationToInput) * r.Diagonal <= r.Spacing;
+  return r.Error.empty() && WorstDeviation(r) * r.Diagonal <= r.Spacing;
 }
 
 /// Two significant digits, rounded up.

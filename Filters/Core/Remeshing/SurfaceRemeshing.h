@@ -44,11 +44,16 @@ struct RemeshOptions
   /// Where the remesh leaves input vertices farther than this many
   /// spacings from it (each the farthest of its 1-ring: a tip, a hoof or a
   /// corner the samples missed), those vertices are pinned and the remesh
-  /// made once more, with the same count; the second is kept where it is
-  /// closer to the input by a tenth and its triangles are as good
-  /// (FarPinGain, AsGoodTriangles).  0: one remesh.  Not with
-  /// PinnedVertices or FinalSurface.
-  double FarPinSpacings = 0.35;
+  /// made once more, with the same count, up to FarPinRounds times (each
+  /// round pins the far vertices of the closest remesh so far too); a
+  /// remesh is kept where it is closer to the input than the one before by
+  /// 2% and its triangles are as good (FarPinGain, AsGoodTriangles).  The
+  /// density keeps a smooth surface's sag within MaximumSurfaceSag (a tenth)
+  /// of the spacing: a vertex farther is a corner of the input the samples
+  /// missed.  0: one remesh.  Not with PinnedVertices or FinalSurface.
+  double FarPinSpacings = 0.15;
+  /// The most remeshes after the first (FarPinSpacings; 0: one remesh).
+  int FarPinRounds = 3;
   /// The anisotropic mode: a metric per input vertex (6 numbers, as
   /// Remeshing/RemeshMetric's; null: isotropic).  Its density (the square
   /// root of its tangent determinant) times the importance is the density,
@@ -215,9 +220,12 @@ constexpr double LostPartSpacings = 4.0;
 void CheckFidelity(const MeshTopology& topology, const double* points, const RemeshOptions& options,
   RemeshResult& out);
 
-/// The share of the first remesh's deviation the remesh with the far
+/// The larger of a remesh's two deviations (to and from the input).
+double WorstDeviation(const RemeshResult& r);
+
+/// The share of the closest remesh's deviation a remesh with more far
 /// vertices pinned must be within to be kept (RemeshOptions::FarPinSpacings).
-constexpr double FarPinGain = 0.9;
+constexpr double FarPinGain = 0.98;
 
 /// `importance`: one value >= 0 per input vertex (null: uniform).
 RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,

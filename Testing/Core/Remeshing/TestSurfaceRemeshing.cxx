@@ -268,14 +268,15 @@ TEST(SurfaceRemeshing, SurfaceSagRaisesTheDensityWhereTheSpacingCannotFollow)
   EXPECT_GE(q1.FractionValence6, 0.8);
 }
 
-TEST(SurfaceRemeshing, FarInputVerticesArePinnedInASecondRemesh)
+TEST(SurfaceRemeshing, FarInputVerticesArePinnedInMoreRemeshes)
 {
-  // Where the first remesh leaves input vertices farther than a third of
-  // its spacing (the elephant's trunk and feet at 10k), they are pinned and
-  // the remesh made once more: the closer of the two is kept, its triangles
-  // as good.  Measured: elephant 10k 0.483% -> 0.350% of the diagonal,
-  // three_peaks 10k 0.376% -> 0.325%; at 2k the second is farther or its
-  // triangles worse, and the first stays.
+  // Where a remesh leaves input vertices farther than 0.15 of its spacing
+  // (the elephant's trunk and feet, the peaks' tips), they are pinned and
+  // the remesh made again, up to three times: the closest is kept, its
+  // triangles within the quality bar (no angle below 15 degrees, at most
+  // 0.5% below 30) or as good as the first's.  Measured: elephant 10k
+  // 0.514% -> 0.376% of the diagonal, three_peaks 2k 0.905% -> 0.508%,
+  // 10k 0.377% -> 0.237%; elephant at 2k keeps its first remesh.
   int closer = 0;
   for (const char* name : { "elephant.off", "three_peaks.off" })
   {
@@ -303,11 +304,11 @@ TEST(SurfaceRemeshing, FarInputVerticesArePinnedInASecondRemesh)
       {
         ++closer;
         EXPECT_GE(q1.MinimumAngle, std::min(q0.MinimumAngle, 15.0)) << name << " " << count;
-        EXPECT_LE(q1.FractionBelow30, q0.FractionBelow30 + 1e-3) << name << " " << count;
+        EXPECT_LE(q1.FractionBelow30, std::max(q0.FractionBelow30 + 1e-3, 0.005)) << name << " " << count;
       }
     }
   }
-  EXPECT_GE(closer, 1);
+  EXPECT_GE(closer, 3);
 }
 
 TEST(SurfaceRemeshing, EdgeLengthsFollowTheCurvatureToTheRequestedGamma)
