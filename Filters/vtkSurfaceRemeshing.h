@@ -234,9 +234,9 @@ public:
   /// spacing), the remesh is made again with a vertex pinned at each of them, up to this many times
   /// (each time also at those the closest remesh so far leaves far); the closest with triangles as
   /// good is kept. 0: one remesh, the fastest. Each round costs about one remesh; over the shared
-  /// corpus at 10,000 vertices the rounds bring the two-sided deviation down by about a tenth in
-  /// geometric mean, by a quarter to a half on coarse scans. RemeshDeviation reports the one kept.
-  /// Not in the error-driven mode (Maximum Deviation), which pins vertices its own way. Default: 3.
+  /// corpus at 10,000 vertices the rounds bring the two-sided deviation down by 8% in geometric
+  /// mean, by a quarter to a half on coarse scans. RemeshDeviation reports the one kept. Not in the
+  /// error-driven mode (Maximum Deviation), which pins vertices its own way. Default: 3.
   vtkSetClampMacro(FidelityRounds, int, 0, 100);
   vtkGetMacro(FidelityRounds, int);
   /// Rounds of edge swaps and relaxation after the triangulation, the first fifth in the charts'
