@@ -47,7 +47,9 @@ struct RemeshOptions
   /// made once more, with the same count, up to FarPinRounds times (each
   /// round pins the far vertices of the closest remesh so far too); a
   /// remesh is kept where it is closer to the input than the one before by
-  /// 2% and its triangles are as good (FarPinGain, AsGoodTriangles).  The
+  /// 2% and its triangles are within the bar or as good as the first's
+  /// (FarPinGain, AsGoodTriangles; measured in the metric in the
+  /// anisotropic mode).  The
   /// density keeps a smooth surface's sag within MaximumSurfaceSag (a tenth)
   /// of the spacing: a vertex farther is a corner of the input the samples
   /// missed.  0: one remesh.  Not with PinnedVertices or FinalSurface.
