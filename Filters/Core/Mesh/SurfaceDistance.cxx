@@ -253,11 +253,6 @@ Index TriangleGrid::Nearest(const Vec3& p, double& distance) const
   return nearest;
 }
 
-namespace
-{
-
-/// The largest distance from the samples of `from` (its used vertices,
-/// its triangle centres, or both) to `to`, and the sample where it is.
 double FarthestFrom(const double* points, const Index* triangles, std::size_t count, DeviationSamples samples,
   const TriangleGrid& to, int numThreads, Vec3& where)
 {
@@ -311,8 +306,6 @@ double FarthestFrom(const double* points, const Index* triangles, std::size_t co
   }
   return worst;
 }
-
-} // namespace
 
 SurfaceDeviation MeasureDeviation(const double* firstPoints, const Index* firstTriangles, std::size_t firstCount,
   DeviationSamples firstSamples, const double* secondPoints, const Index* secondTriangles, std::size_t secondCount,

@@ -59,6 +59,12 @@ struct SurfaceDeviation
   Vec3 FarthestOfSecond = Vec3::Zero(); ///< and the other way
 };
 
+/// The largest distance from the samples of a surface (`points`, `count`
+/// `triangles`: its used vertices, its triangle centres, or both) to the
+/// surface of `to`, and the sample where it is.
+double FarthestFrom(const double* points, const Index* triangles, std::size_t count, DeviationSamples samples,
+  const TriangleGrid& to, int numThreads, Vec3& where);
+
 SurfaceDeviation MeasureDeviation(const double* firstPoints, const Index* firstTriangles, std::size_t firstCount,
   DeviationSamples firstSamples, const double* secondPoints, const Index* secondTriangles, std::size_t secondCount,
   DeviationSamples secondSamples, int numThreads = 0);

@@ -546,6 +546,17 @@ Index Optimizer::BeginStitching(const std::uint8_t* featureEdges)
   return freed;
 }
 
+void Optimizer::OptimizationRound(RemeshOptimizationStatistics& stats)
+{
+  if (Stitching)
+  {
+    stats.FoldSwaps += SwapFolds();
+  }
+  stats.ShapeSwaps += SwapForShape();
+  stats.ValenceSwaps += SwapForValence();
+  stats.MeanDisplacement = Relax();
+}
+
 /// Moves vertex v as its kind and the pass allow; `moved`: the 3D distance.
 void Optimizer::Move(Index v, double& moved)
 {
@@ -664,7 +675,10 @@ double Optimizer::Relax()
             Prefetch(ColourVerticesList[ColourOffsets[c] + i + 4]);
           }
           const Index v = ColourVerticesList[ColourOffsets[c] + i];
-          Move(v, moved[v]);
+          if (Active.empty() || Active[v])
+          {
+            Move(v, moved[v]);
+          }
         }
       },
       {}, 0, 256);
@@ -819,18 +833,12 @@ RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& 
     {
       stats.FreedVertices = optimizer.BeginStitching(options.FeatureEdges);
     }
-    if (i >= std::max(0, options.Iterations))
-    {
-      stats.FoldSwaps += optimizer.SwapFolds();
-    }
-    stats.ShapeSwaps += optimizer.SwapForShape();
-    stats.ValenceSwaps += optimizer.SwapForValence();
     // With a metric, the first half of the stitching rounds pull the
     // vertices towards a lattice aligned with it (LatticeShift), the rest
     // are Lloyd's, which keeps the lattice's orientation and evens it.
     const int stitched = i - std::max(0, options.Iterations);
     optimizer.LatticeWeight = options.Metric && stitched >= 0 && 2 * stitched < options.StitchingIterations ? 1.0 : 0.0;
-    stats.MeanDisplacement = optimizer.Relax();
+    optimizer.OptimizationRound(stats);
   }
   if (rounds > std::max(0, options.Iterations) &&
     optimizer.RoundRimCorners(options.FeatureEdges, options.PinnedVertices, options.MaximumLineSag) > 0)

@@ -86,4 +86,20 @@ struct RemeshOptimizationStatistics
 RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& topology, const double* points,
   const AtlasResult& atlas, const SurfaceSamples& samples, const RemeshOptimizationOptions& options = {});
 
+/// The fidelity rounds' move (RemeshOptions::FarPinRounds), after
+/// OptimizeRemesh: for each input vertex of `targets` (with the remesh face
+/// nearest to it; the farthest first) the free vertex of that face nearest
+/// to it moves exactly onto it and stays there, as the sampling pins one
+/// (a Tip), where no face around it folds or turns by 90
+/// degrees; then `rounds` stitching rounds settle the vertices around them
+/// and the slivers are mended.
+struct PinnedVertices
+{
+  std::vector<Index> Reached; ///< the input vertices of `targets` a vertex was moved onto
+  Index Unreached = 0;        ///< the targets none could be moved onto
+};
+PinnedVertices PinNearestVertices(Remesh& remesh, const MeshTopology& topology, const double* points,
+  const AtlasResult& atlas, const SurfaceSamples& samples, const std::vector<std::pair<Index, Index>>& targets,
+  const RemeshOptimizationOptions& options, int rounds);
+
 } // namespace beltrami

@@ -104,6 +104,21 @@ public:
   /// rim is not cut).  Where any moved, every vertex on the boundary is
   /// then fixed for the rounds after.  Returns the corners moved.
   std::int64_t RoundRimCorners(const std::uint8_t* featureEdges, const std::uint8_t* pinned, double maxSag);
+  /// One round: shape and valence swaps (while stitching, unfolding swaps
+  /// first), then the relaxation (LatticeWeight as set); adds to `stats`.
+  void OptimizationRound(RemeshOptimizationStatistics& stats);
+  /// While stitching: free vertex v moves exactly onto input vertex
+  /// `vertex` (at a corner of one of its triangles) and stays there, as a
+  /// Tip, where no face around it folds or turns by 90 degrees
+  /// (Place); false where it cannot.
+  bool PinAt(Index v, Index vertex);
+  /// The free vertex nearest to input vertex `vertex` among those of
+  /// remesh face f and its corners' neighbours that PinAt can move onto
+  /// it, moved so (-1 if none can).
+  Index PinNear(Index f, Index vertex);
+  /// Per vertex: the relaxation moves it and the swaps take its edges
+  /// (empty: all).
+  std::vector<std::uint8_t> Active;
   int NumberOfThreads = 0;
   double OverRelaxation = 1.0; ///< the first try of a move off a path, of the way to its target
   /// With a metric: the share of the lattice's pull in the moves while

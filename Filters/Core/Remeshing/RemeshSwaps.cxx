@@ -140,7 +140,8 @@ std::int64_t Optimizer::SwapWhere(Wanted&& wanted, Accept&& accept)
   ParallelFor(halfEdges, NumberOfThreads, [&](std::int64_t begin, std::int64_t end) {
     for (Index h = static_cast<Index>(begin); h < end; ++h)
     {
-      first[h] = M.Twin(h) > h && Swappable(h) && wanted(h);
+      first[h] = M.Twin(h) > h && (Active.empty() || Active[M.Tail(h)] || Active[M.Head(h)]) && Swappable(h) &&
+        wanted(h);
     }
   }, {}, 0, 4096);
   // A swap changes its two faces and the valences of their four vertices:

@@ -43,18 +43,22 @@ struct RemeshOptions
   const std::uint8_t* PinnedVertices = nullptr;
   /// Where the remesh leaves input vertices farther than this many
   /// spacings from it (each the farthest of its 1-ring: a tip, a hoof or a
-  /// corner the samples missed), those vertices are pinned and the remesh
-  /// made once more, with the same count, up to FarPinRounds times (each
-  /// round pins the far vertices of the closest remesh so far too); a
-  /// remesh is kept where it is closer to the input than the one before by
-  /// 2% and its triangles are within the bar or as good as the first's
-  /// (FarPinGain, AsGoodTriangles; measured in the metric in the
-  /// anisotropic mode).  The
-  /// density keeps a smooth surface's sag within MaximumSurfaceSag (a tenth)
-  /// of the spacing: a vertex farther is a corner of the input the samples
-  /// missed.  0: one remesh.  Not with PinnedVertices or FinalSurface.
+  /// corner the samples missed), the vertex of the remesh nearest to each
+  /// that can move there without a fold is moved onto it and kept there,
+  /// the rings around it settled by stitching rounds, up to FarPinRounds
+  /// times (each round measures again); a round is kept where the remesh
+  /// comes closer to the input by 2% and its triangles stay within the bar
+  /// or as good as the first's (FarPinGain, AsGoodTriangles; measured in
+  /// the metric in the anisotropic mode).  Where far vertices are left that
+  /// no vertex could reach, or whose moves brought it no closer, the remesh
+  /// is made again with them pinned, up to FarPinRounds times, on the same
+  /// terms (RemeshSurface).  The density keeps a smooth surface's sag
+  /// within MaximumSurfaceSag (a tenth) of the spacing: a vertex farther is
+  /// a corner of the input the samples missed.  0: one remesh as made.
+  /// Not with PinnedVertices or FinalSurface.
   double FarPinSpacings = 0.15;
-  /// The most remeshes after the first (FarPinSpacings; 0: one remesh).
+  /// The most fidelity rounds, and remeshes after the first
+  /// (FarPinSpacings; 0: one remesh as made).
   int FarPinRounds = 3;
   /// The anisotropic mode: a metric per input vertex (6 numbers, as
   /// Remeshing/RemeshMetric's; null: isotropic).  Its density (the square
@@ -102,6 +106,12 @@ struct RemeshResult
   double DeviationToInput = 0.0, DeviationFromInput = 0.0;
   Vec3 FarthestInputPoint = Vec3::Zero();
   double Spacing = 0.0, Diagonal = 0.0; ///< of the input (its bounding box)
+  /// The far input vertices (RemeshOptions::FarPinSpacings) the fidelity
+  /// rounds moved a vertex of the remesh onto; whether far input vertices
+  /// are left that no vertex could be moved onto, or whose moves did not
+  /// bring the remesh closer (RemeshSurface then remeshes with them pinned).
+  std::vector<Index> ReachedFarVertices;
+  bool FarVerticesLeft = false;
   double SamplingSeconds = 0.0, TriangulationSeconds = 0.0, OptimizationSeconds = 0.0, FidelitySeconds = 0.0;
 };
 
@@ -218,7 +228,8 @@ constexpr double LostPartSpacings = 4.0;
 /// Error where its topology is not the input's (Euler characteristic,
 /// components, boundary loops, a manifold oriented mesh: a thin part
 /// bridged or cut off, or a component lost) or an input point is left
-/// farther than LostPartSpacings from it.  RemeshSurface calls it.
+/// farther than LostPartSpacings from it.  RemeshSurface measures its
+/// remeshes so (CheckFidelityInRounds).
 void CheckFidelity(const MeshTopology& topology, const double* points, const RemeshOptions& options,
   RemeshResult& out);
 
