@@ -243,17 +243,18 @@ void CheckFidelity(const MeshTopology& topology, const double* points, const Rem
   }
 }
 
-/// The input vertices farther than `pin` from the remesh (`deviation`, per
-/// input vertex, and the remesh triangle `nearest` to it), each the
-/// farthest of its 1-ring (FarthestOfRing), with that triangle; the
-/// farthest first.
+/// The input vertices farther from the remesh (`deviation`, per input
+/// vertex, and the remesh triangle `nearest` to it) than `bound(v)`, each
+/// the farthest of its 1-ring (FarthestOfRing) where `ring`, with that
+/// triangle; the farthest first.
+template <typename Bound>
 std::vector<std::pair<Index, Index>> FarInputVertices(const MeshTopology& topology,
-  const std::vector<double>& deviation, const std::vector<Index>& nearest, double pin)
+  const std::vector<double>& deviation, const std::vector<Index>& nearest, bool ring, Bound&& bound)
 {
   std::vector<std::pair<double, std::pair<Index, Index>>> far;
   for (Index v = 0; v < topology.NumberOfVertices(); ++v)
   {
-    if (nearest[v] >= 0 && FarthestOfRing(topology, deviation, pin, v))
+    if (nearest[v] >= 0 && (ring ? FarthestOfRing(topology, deviation, bound(v), v) : deviation[v] > bound(v)))
     {
       far.push_back({ deviation[v], { v, nearest[v] } });
     }
@@ -264,6 +265,23 @@ std::vector<std::pair<Index, Index>> FarInputVertices(const MeshTopology& topolo
   std::vector<std::pair<Index, Index>> targets(far.size());
   std::transform(far.begin(), far.end(), targets.begin(), [](const auto& f) { return f.second; });
   return targets;
+}
+
+/// How far input vertex v may lie off a remesh (`nearest`: the remesh
+/// triangle nearest to it) before it is a corner at the remesh's scale
+/// (RemeshOptions::FarPinSpacings): CornerSagRatio times the sag of that
+/// triangle's longest edge on a sphere of the input's curvature there (the
+/// largest |kappa|, `curvature`), and CornerPinSpacings of the spacing.
+double CornerBound(const RemeshResult& remesh, Index nearest, double curvature)
+{
+  const Index* c = remesh.Triangles.data() + 3 * static_cast<std::size_t>(nearest);
+  double longest = 0.0;
+  for (int k = 0; k < 3; ++k)
+  {
+    const Vec3 edge = Point(remesh.Points.data(), c[k]) - Point(remesh.Points.data(), c[(k + 1) % 3]);
+    longest = std::max(longest, edge.norm());
+  }
+  return std::max(CornerPinSpacings * remesh.Spacing, CornerSagRatio * longest * longest * curvature / 8.0);
 }
 
 /// The stitching rounds after the far vertices' pins (PinNearestVertices).
@@ -290,22 +308,31 @@ void CheckFidelityInRounds(const MeshTopology& topology, const double* points, c
   std::vector<Index> nearest;
   std::vector<double> distances = InputToRemesh(topology, points, out, &nearest, threads);
   CheckFidelity(topology, points, options, toInput, distances, out);
-  if (options.FarPinSpacings <= 0.0 || options.PinnedVertices || options.FinalSurface || !out.Error.empty())
+  if (options.FarPinSpacings <= 0.0 || options.FarPinRounds <= 0 || options.PinnedVertices || options.FinalSurface ||
+    !out.Error.empty())
   {
     return;
   }
   out.SourceTriangle = remesh.Triangle; // (ShapeFigures' metric needs them)
   out.SourceBarycentric = remesh.Barycentric;
   const auto first = ShapeFigures(topology, points, out, threads);
+  const std::vector<double> none;
+  const std::vector<double>& curvature = optimization.Cache ? optimization.Cache->MaximumCurvature : none;
   for (int round = 0; round < options.FarPinRounds; ++round)
   {
-    const std::vector<std::pair<Index, Index>> far =
-      FarInputVertices(topology, distances, nearest, options.FarPinSpacings * out.Spacing);
+    std::vector<std::pair<Index, Index>> far = FarInputVertices(
+      topology, distances, nearest, true, [&](Index) { return options.FarPinSpacings * out.Spacing; });
+    const bool corners = far.empty() && !curvature.empty(); // (none that far: the corners)
+    if (corners)
+    {
+      far = FarInputVertices(
+        topology, distances, nearest, false, [&](Index v) { return CornerBound(out, nearest[v], curvature[v]); });
+    }
     Remesh next = remesh;
     const PinnedVertices pins = far.empty()
       ? PinnedVertices()
       : PinNearestVertices(next, topology, points, atlas, out.Samples, far, optimization, PinnedStitchingRounds);
-    out.FarVerticesLeft = pins.Unreached > 0 || (round == 0 && !far.empty());
+    out.FarVerticesLeft = !corners && (pins.Unreached > 0 || (round == 0 && !far.empty()));
     if (pins.Reached.empty())
     {
       return;

@@ -43,7 +43,9 @@ std::pair<double, double> ShapeFigures(
 /// on it: up to FarPinRounds times, each input vertex the remesh leaves
 /// farther than FarPinSpacings spacings (the farthest of its 1-ring) takes
 /// the nearest free vertex of the remesh that can move onto it without a
-/// fold, kept there, the rings around settled (PinNearestVertices); a round
+/// fold, kept there, the rings around settled (PinNearestVertices); where
+/// none is that far, the input's corners at the remesh's scale
+/// (CornerPinSpacings, CornerSagRatio), all of them; a round
 /// is kept where the remesh comes closer to the input by FarPinGain and
 /// its triangles stay within the bar or as good as the first's (AsGood, in
 /// the metric for an anisotropic remesh: ShapeFigures).  Not with

@@ -240,6 +240,18 @@ double WorstDeviation(const RemeshResult& r);
 /// vertices pinned must be within to be kept (RemeshOptions::FarPinSpacings).
 constexpr double FarPinGain = 0.98;
 
+/// Where no input vertex is left farther than RemeshOptions::FarPinSpacings
+/// spacings, a fidelity round takes all those farther than this share of
+/// the spacing and than CornerSagRatio times the sag of the nearest remesh
+/// triangle's longest edge on a sphere of the input's largest |kappa|
+/// there: corners of the input at the remesh's scale, where the density's
+/// smooth surface is not the input's (the shared coarse polyhedral spheres
+/// under a remesh of 10,000 vertices: their vertices were left 0.06
+/// spacings off, 3-24% beyond CGAL's deviation; moved onto, 30-40%
+/// within it).
+constexpr double CornerPinSpacings = 0.03;
+constexpr double CornerSagRatio = 4.0;
+
 /// `importance`: one value >= 0 per input vertex (null: uniform).
 RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
   const double* importance, const RemeshOptions& options = {});

@@ -326,6 +326,36 @@ TEST(SurfaceRemeshing, FarInputVerticesArePinnedInMoreRemeshes)
   EXPECT_GE(reached, 1u);
 }
 
+TEST(SurfaceRemeshing, TheCornersOfACoarsePolyhedronAreMovedOnto)
+{
+  // A sphere of 1,026 vertices remeshed at 10,000: its vertices are corners
+  // at the remesh's scale (the density follows the sphere, not its facets),
+  // left 0.06 spacings off, below FarPinSpacings but beyond CornerPinSpacings
+  // and four times the sag of a spacing on it.  Once no input vertex is
+  // farther, a round moves remesh vertices onto them (all beyond the bound,
+  // not only the farthest of their rings): measured 0.054% -> 0.037% of
+  // the diagonal, 641 corners reached.
+  const test::Mesh sphere = test::OctahedronSphere(4);
+  const MeshTopology input = sphere.Topology();
+  const AtlasResult atlas = BuildAtlas(input, sphere.Points.data(), RemeshingAtlasOptions());
+  ASSERT_EQ(atlas.Error, "");
+  RemeshOptions options;
+  options.NumberOfVertices = 10000;
+  const RemeshResult pinned = RemeshSurface(input, sphere.Points.data(), atlas, nullptr, options);
+  options.FarPinSpacings = 0.0;
+  const RemeshResult once = RemeshSurface(input, sphere.Points.data(), atlas, nullptr, options);
+  ASSERT_EQ(pinned.Error, "");
+  ASSERT_EQ(once.Error, "");
+  const double before = WorstDeviation(once), after = WorstDeviation(pinned);
+  const TriangleQuality q = MeasureTriangleQuality(TopologyOf(pinned), pinned.Points.data());
+  std::printf("deviation %.4f%% -> %.4f%%, %zu corners reached, smallest angle %.1f, below 30 %.2f%%\n",
+    100.0 * before, 100.0 * after, pinned.ReachedFarVertices.size(), q.MinimumAngle, 100.0 * q.FractionBelow30);
+  EXPECT_LT(after, 0.85 * before);
+  EXPECT_GT(pinned.ReachedFarVertices.size(), 100u);
+  EXPECT_GE(q.MinimumAngle, 15.0);
+  EXPECT_LE(q.FractionBelow30, 0.005);
+}
+
 TEST(SurfaceRemeshing, EdgeLengthsFollowTheCurvatureToTheRequestedGamma)
 {
   // Density proportional to the importance kappa^gamma makes the local edge
