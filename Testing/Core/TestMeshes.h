@@ -89,8 +89,6 @@ inline Mesh ReadMesh(const std::string& name, std::string& error)
   return m;
 }
 
-/// Unit sphere from an octahedron, quadrisected and re-projected `levels`
-/// times (thesis section 2.7.1): 6, 18, 66, 258, 1026, 4098, 16386 vertices.
 /// `a` and a copy of `b` moved by `shift`: two components.
 inline Mesh Merged(Mesh a, const Mesh& b, const Eigen::Vector3d& shift)
 {
@@ -118,6 +116,8 @@ inline void KeepGraph(GraphLaplacian& L, std::vector<std::int64_t>& offsets, std
   L.Neighbors = neighbors.data();
 }
 
+/// Unit sphere from an octahedron, quadrisected and re-projected `levels`
+/// times (thesis section 2.7.1): 6, 18, 66, 258, 1026, 4098, 16386 vertices.
 inline Mesh OctahedronSphere(int levels, double radius = 1.0)
 {
   Mesh m;

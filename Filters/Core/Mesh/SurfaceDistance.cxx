@@ -162,6 +162,21 @@ double TriangleGrid::BoxDistance2(const Vec3& p, long x, long y, long z) const
   return d2;
 }
 
+double TriangleGrid::BoundsDistance2(Index t, const Vec3& p) const
+{
+  const double* a = Points + 3 * static_cast<std::int64_t>(Triangles[3 * t]);
+  const double* b = Points + 3 * static_cast<std::int64_t>(Triangles[3 * t + 1]);
+  const double* c = Points + 3 * static_cast<std::int64_t>(Triangles[3 * t + 2]);
+  double d2 = 0.0;
+  for (int d = 0; d < 3; ++d)
+  {
+    const double lo = std::min({ a[d], b[d], c[d] }), hi = std::max({ a[d], b[d], c[d] });
+    const double out = p[d] < lo ? lo - p[d] : (p[d] > hi ? p[d] - hi : 0.0);
+    d2 += out * out;
+  }
+  return d2;
+}
+
 double TriangleGrid::TriangleDistance2(Index t, const Vec3& p) const
 {
   double w[3];
@@ -176,9 +191,9 @@ double TriangleGrid::Distance(const Vec3& p) const
   return distance;
 }
 
-Index TriangleGrid::Nearest(const Vec3& p, double& distance) const
+Index TriangleGrid::Nearest(const Vec3& p, double& distance, double within) const
 {
-  distance = HUGE_VAL;
+  distance = within;
   Index nearest = -1;
   if (Items.empty() || !Finite(p))
   {
@@ -186,7 +201,7 @@ Index TriangleGrid::Nearest(const Vec3& p, double& distance) const
   }
   const long c[3] = { CellIndex(p, 0), CellIndex(p, 1), CellIndex(p, 2) };
   const long rings = std::max({ Dims[0], Dims[1], Dims[2] });
-  double best = HUGE_VAL;
+  double best = within * within;
   for (long r = 0; r <= rings; ++r)
   {
     // The cells at Chebyshev distance r from p's cell (clipped to the grid).
@@ -201,6 +216,10 @@ Index TriangleGrid::Nearest(const Vec3& p, double& distance) const
       }
       for (std::size_t k = Offsets[cell]; k < Offsets[cell + 1]; ++k)
       {
+        if (BoundsDistance2(Items[k], p) >= best)
+        {
+          continue; // (its box no nearer: the cheaper test)
+        }
         const double d2 = TriangleDistance2(Items[k], p);
         if (d2 < best)
         {
@@ -249,7 +268,7 @@ Index TriangleGrid::Nearest(const Vec3& p, double& distance) const
       break;
     }
   }
-  distance = std::sqrt(best);
+  distance = nearest >= 0 ? std::sqrt(best) : within;
   return nearest;
 }
 

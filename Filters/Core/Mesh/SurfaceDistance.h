@@ -6,6 +6,7 @@
 
 #include "Mesh/Geometry.h"
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -24,8 +25,9 @@ public:
   /// none, or p is not finite).
   double Distance(const Vec3& p) const;
   /// The nearest triangle to p (-1 where Distance is infinite), its
-  /// distance in `distance`.
-  Index Nearest(const Vec3& p, double& distance) const;
+  /// distance in `distance`; with `within`, only a triangle nearer than
+  /// that (-1 and `within` where none is: a search that stops there).
+  Index Nearest(const Vec3& p, double& distance, double within = HUGE_VAL) const;
 
 private:
   const double* Points;
@@ -37,6 +39,9 @@ private:
   std::vector<Index> Items;         ///< triangle ids
   long CellIndex(const Vec3& p, int axis) const;
   double TriangleDistance2(Index t, const Vec3& p) const;
+  /// The squared distance from p to the bounding box of triangle t (no
+  /// more than TriangleDistance2).
+  double BoundsDistance2(Index t, const Vec3& p) const;
   /// The squared distance from p to the box of cell (x, y, z).
   double BoxDistance2(const Vec3& p, long x, long y, long z) const;
 };

@@ -65,29 +65,96 @@ void DilateOverRings(const MeshTopology& topology, int rings, std::vector<double
   }
 }
 
-/// The distance of every input vertex to the remesh (0 at one in no
-/// triangle or not finite) and, where `nearest` is given, the remesh triangle nearest to it.
-std::vector<double> InputToRemesh(const MeshTopology& topology, const double* points, const RemeshResult& remesh,
-  std::vector<Index>* nearest, int numThreads)
+/// The distances of the input vertices to the remesh (its triangles in
+/// `grid`) into `d` (RemeshDistances), where `redo` holds for them.
+template <typename Redo>
+void InputVerticesTo(const MeshTopology& topology, const double* points, const TriangleGrid& grid, Redo&& redo,
+  RemeshDistances& d, int numThreads)
 {
-  const TriangleGrid toRemesh(remesh.Points.data(), remesh.Triangles.data(), remesh.Triangles.size() / 3, numThreads);
-  std::vector<double> deviation(static_cast<std::size_t>(topology.NumberOfVertices()), 0.0);
-  if (nearest)
-  {
-    nearest->assign(deviation.size(), -1);
-  }
   ParallelFor(topology.NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
     for (Index v = static_cast<Index>(begin); v < end; ++v)
     {
       const Vec3 p = Point(points, v);
-      const Index t = topology.Valence(v) > 0 && p.allFinite() ? toRemesh.Nearest(p, deviation[v]) : -1;
-      if (nearest)
+      if (redo(v))
       {
-        (*nearest)[v] = t;
+        d.Nearest[v] = topology.Valence(v) > 0 && p.allFinite() ? grid.Nearest(p, d.FromInput[v]) : -1;
+        d.FromInput[v] = d.Nearest[v] < 0 ? 0.0 : d.FromInput[v];
       }
     }
   });
-  return deviation;
+}
+
+/// The distances of the remesh's triangle centres to the input into `d`
+/// (RemeshDistances), where `redo` holds for them.
+template <typename Redo>
+void CentresTo(const RemeshResult& remesh, const TriangleGrid& toInput, Redo&& redo, RemeshDistances& d,
+  int numThreads)
+{
+  const double* x = remesh.Points.data();
+  ParallelFor(static_cast<std::int64_t>(d.FromCentres.size()), numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t t = begin; t < end; ++t)
+    {
+      const Index* c = remesh.Triangles.data() + 3 * t;
+      const Vec3 p = (Point(x, c[0]) + Point(x, c[1]) + Point(x, c[2])) / 3.0;
+      if (redo(t))
+      {
+        d.FromCentres[t] = p.allFinite() ? toInput.Distance(p) : 0.0;
+      }
+    }
+  });
+}
+
+/// `d`, the distances of remesh `before`, made those of `after`, the same
+/// mesh with vertices moved and edges swapped (PinNearestVertices):
+/// measured again at the centres of the triangles that changed and, for the
+/// input vertices, to those triangles alone (the nearest of the others
+/// stays) or, where the nearest changed, to all; measured anew where the
+/// counts differ or a quarter of the triangles changed.
+void UpdateDistances(const MeshTopology& topology, const double* points, const TriangleGrid& toInput,
+  const RemeshResult& before, const RemeshResult& after, RemeshDistances& d, int numThreads)
+{
+  const std::size_t triangles = after.Triangles.size() / 3;
+  std::vector<std::uint8_t> changed(triangles, 0);
+  std::vector<Index> corners; // of the triangles that changed
+  std::vector<Index> which;   // their ids
+  for (std::size_t t = 0; t < triangles && before.Triangles.size() == after.Triangles.size() &&
+       before.Points.size() == after.Points.size();
+       ++t)
+  {
+    for (std::size_t c = 3 * t; c < 3 * t + 3 && !changed[t]; ++c)
+    {
+      const Index v = after.Triangles[c];
+      changed[t] = v != before.Triangles[c] || Point(after.Points.data(), v) != Point(before.Points.data(), v);
+    }
+    if (changed[t])
+    {
+      corners.insert(corners.end(), after.Triangles.begin() + 3 * t, after.Triangles.begin() + 3 * t + 3);
+      which.push_back(static_cast<Index>(t));
+    }
+  }
+  if (before.Triangles.size() != after.Triangles.size() || before.Points.size() != after.Points.size() ||
+    4 * which.size() > triangles)
+  {
+    d = MeasureDistances(topology, points, toInput, after, numThreads);
+    return;
+  }
+  CentresTo(after, toInput, [&](std::int64_t t) { return changed[t] != 0; }, d, numThreads);
+  const TriangleGrid whole(after.Points.data(), after.Triangles.data(), triangles, numThreads);
+  InputVerticesTo(
+    topology, points, whole, [&](Index v) { return d.Nearest[v] >= 0 && changed[d.Nearest[v]]; }, d, numThreads);
+  const TriangleGrid moved(after.Points.data(), corners.data(), which.size(), numThreads);
+  ParallelFor(topology.NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (Index v = static_cast<Index>(begin); v < end; ++v)
+    {
+      double distance = 0.0;
+      const Index t = d.Nearest[v] >= 0 ? moved.Nearest(Point(points, v), distance, d.FromInput[v]) : -1;
+      if (t >= 0)
+      {
+        d.Nearest[v] = which[t];
+        d.FromInput[v] = distance;
+      }
+    }
+  });
 }
 
 /// Input vertex v is farther than `pin` from the remesh and the farthest of
@@ -195,10 +262,9 @@ std::int64_t RaiseWhereFar(const MeshTopology& topology, const double* points, c
   return std::min(static_cast<std::int64_t>(std::ceil(static_cast<double>(count) * std::max(1.1, growth))), most);
 }
 
-/// CheckFidelity with the input's grid and the distances of its vertices
-/// to the remesh (InputToRemesh) given.
+/// CheckFidelity with the remesh's distances from the input given.
 void CheckFidelity(const MeshTopology& topology, const double* points, const RemeshOptions& options,
-  const TriangleGrid& toInput, const std::vector<double>& distances, RemeshResult& out)
+  const RemeshDistances& distances, RemeshResult& out)
 {
   const MeshTopology remesh(static_cast<Index>(out.Points.size() / 3),
     IndexArray(out.Triangles.begin(), out.Triangles.end()), options.NumberOfThreads);
@@ -213,14 +279,15 @@ void CheckFidelity(const MeshTopology& topology, const double* points, const Rem
   }
   const double diagonal = UsedBoundingBoxDiagonal(points, topology.TriangleList().data(), topology.NumberOfTriangles());
   SurfaceDeviation deviation;
-  const auto farthest = std::max_element(distances.begin(), distances.end());
-  if (farthest != distances.end())
+  const std::vector<double>& from = distances.FromInput;
+  const auto farthest = std::max_element(from.begin(), from.end());
+  if (farthest != from.end())
   {
     deviation.FirstToSecond = *farthest;
-    deviation.FarthestOfFirst = Point(points, static_cast<Index>(farthest - distances.begin()));
+    deviation.FarthestOfFirst = Point(points, static_cast<Index>(farthest - from.begin()));
   }
-  deviation.SecondToFirst = FarthestFrom(out.Points.data(), out.Triangles.data(), out.Triangles.size() / 3,
-    DeviationSamples::Centres, toInput, options.NumberOfThreads, deviation.FarthestOfSecond);
+  const std::vector<double>& centres = distances.FromCentres;
+  deviation.SecondToFirst = centres.empty() ? 0.0 : *std::max_element(centres.begin(), centres.end());
   const double scale = diagonal > 0.0 ? diagonal : 1.0;
   out.Diagonal = diagonal;
   out.DeviationFromInput = deviation.FirstToSecond / scale;
@@ -287,10 +354,26 @@ double CornerBound(const RemeshResult& remesh, Index nearest, double curvature)
 /// The stitching rounds after the far vertices' pins (PinNearestVertices).
 constexpr int PinnedStitchingRounds = 5;
 
-/// `next`'s points, triangles and places on the input in a copy of `out`.
-RemeshResult ResultOf(const Remesh& next, const RemeshResult& out)
+/// Triangles whose smallest angle and share below 30 degrees are within
+/// the bar or as good as the first remesh's (`firstAngle`, `firstBelow30`).
+bool AsGood(double angle, double below30, double firstAngle, double firstBelow30)
 {
+  const bool withinBar = angle >= 15.0 && below30 <= 0.005;
+  return withinBar || (angle >= std::min(firstAngle, 15.0) && below30 <= firstBelow30 + 1e-3);
+}
+
+/// `next`'s points, triangles and places on the input with `out`'s other
+/// figures; its samples and graded metric (large) moved from `out` (and
+/// back with GiveBack).
+RemeshResult ResultOf(const Remesh& next, RemeshResult& out)
+{
+  SurfaceSamples samples;
+  std::vector<double> metric;
+  std::swap(samples, out.Samples);
+  std::swap(metric, out.GradedMetric);
   RemeshResult result = out;
+  result.Samples = std::move(samples);
+  result.GradedMetric = std::move(metric);
   result.Points = next.Mesh.Points();
   result.Triangles = next.Mesh.Triangles();
   result.SourceTriangle = next.Triangle;
@@ -298,16 +381,51 @@ RemeshResult ResultOf(const Remesh& next, const RemeshResult& out)
   return result;
 }
 
+/// What ResultOf took from `out`, given back from the round's `candidate`
+/// (not kept).
+void GiveBack(RemeshResult& candidate, RemeshResult& out)
+{
+  out.Samples = std::move(candidate.Samples);
+  out.GradedMetric = std::move(candidate.GradedMetric);
+}
+
 } // namespace
+
+RemeshDistances MeasureDistances(const MeshTopology& topology, const double* points, const TriangleGrid& toInput,
+  const RemeshResult& remesh, int numThreads)
+{
+  RemeshDistances d;
+  d.FromInput.assign(static_cast<std::size_t>(topology.NumberOfVertices()), 0.0);
+  d.Nearest.assign(d.FromInput.size(), -1);
+  d.FromCentres.assign(remesh.Triangles.size() / 3, 0.0);
+  const auto all = [](auto) { return true; };
+  InputVerticesTo(topology, points,
+    TriangleGrid(remesh.Points.data(), remesh.Triangles.data(), remesh.Triangles.size() / 3, numThreads), all, d,
+    numThreads);
+  CentresTo(remesh, toInput, all, d, numThreads);
+  return d;
+}
+
+bool KeptOver(const MeshTopology& topology, const double* points, const RemeshResult& next, const RemeshResult& best,
+  const std::pair<double, double>& first, int numThreads)
+{
+  if (!next.Error.empty() || !(WorstDeviation(next) < FarPinGain * WorstDeviation(best)))
+  {
+    return false;
+  }
+  const auto figures = ShapeFigures(topology, points, next, numThreads);
+  return AsGood(figures.first, figures.second, first.first, first.second);
+}
 
 void CheckFidelityInRounds(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
   const RemeshOptions& options, const RemeshOptimizationOptions& optimization, Remesh& remesh, RemeshResult& out)
 {
   const int threads = options.NumberOfThreads;
-  const TriangleGrid toInput(points, topology.TriangleList().data(), topology.NumberOfTriangles(), threads);
-  std::vector<Index> nearest;
-  std::vector<double> distances = InputToRemesh(topology, points, out, &nearest, threads);
-  CheckFidelity(topology, points, options, toInput, distances, out);
+  RemeshCache local;
+  RemeshCache& cache = optimization.Cache ? *optimization.Cache : local;
+  const TriangleGrid& toInput = cache.SurfaceGrid(topology, points, threads);
+  RemeshDistances distances = MeasureDistances(topology, points, toInput, out, threads);
+  CheckFidelity(topology, points, options, distances, out);
   if (options.FarPinSpacings <= 0.0 || options.FarPinRounds <= 0 || options.PinnedVertices || options.FinalSurface ||
     !out.Error.empty())
   {
@@ -316,46 +434,40 @@ void CheckFidelityInRounds(const MeshTopology& topology, const double* points, c
   out.SourceTriangle = remesh.Triangle; // (ShapeFigures' metric needs them)
   out.SourceBarycentric = remesh.Barycentric;
   const auto first = ShapeFigures(topology, points, out, threads);
-  const std::vector<double> none;
-  const std::vector<double>& curvature = optimization.Cache ? optimization.Cache->MaximumCurvature : none;
+  const std::vector<double>& curvature = cache.MaximumCurvature;
   for (int round = 0; round < options.FarPinRounds; ++round)
   {
-    std::vector<std::pair<Index, Index>> far = FarInputVertices(
-      topology, distances, nearest, true, [&](Index) { return options.FarPinSpacings * out.Spacing; });
-    const bool corners = far.empty() && !curvature.empty(); // (none that far: the corners)
+    const std::vector<double>& far = distances.FromInput;
+    const std::vector<Index>& nearest = distances.Nearest;
+    std::vector<std::pair<Index, Index>> targets =
+      FarInputVertices(topology, far, nearest, true, [&](Index) { return options.FarPinSpacings * out.Spacing; });
+    const bool corners = targets.empty() && !curvature.empty(); // (none that far: the corners)
     if (corners)
     {
-      far = FarInputVertices(
-        topology, distances, nearest, false, [&](Index v) { return CornerBound(out, nearest[v], curvature[v]); });
+      targets = FarInputVertices(
+        topology, far, nearest, false, [&](Index v) { return CornerBound(out, nearest[v], curvature[v]); });
     }
     Remesh next = remesh;
-    const PinnedVertices pins = far.empty()
+    const PinnedVertices pins = targets.empty()
       ? PinnedVertices()
-      : PinNearestVertices(next, topology, points, atlas, out.Samples, far, optimization, PinnedStitchingRounds);
-    out.FarVerticesLeft = !corners && (pins.Unreached > 0 || (round == 0 && !far.empty()));
+      : PinNearestVertices(next, topology, points, atlas, out.Samples, targets, optimization, PinnedStitchingRounds);
+    out.FarVerticesLeft = !corners && (pins.Unreached > 0 || (round == 0 && !targets.empty()));
     if (pins.Reached.empty())
     {
       return;
     }
     RemeshResult candidate = ResultOf(next, out);
-    std::vector<Index> closest;
-    std::vector<double> apart = InputToRemesh(topology, points, candidate, &closest, threads);
-    CheckFidelity(topology, points, options, toInput, apart, candidate);
-    if (!candidate.Error.empty() || !(WorstDeviation(candidate) < FarPinGain * WorstDeviation(out)))
+    UpdateDistances(topology, points, toInput, out, candidate, distances, threads); // (a round not kept ends them)
+    CheckFidelity(topology, points, options, distances, candidate);
+    if (!KeptOver(topology, points, candidate, out, first, threads))
     {
-      return;
-    }
-    const auto figures = ShapeFigures(topology, points, candidate, threads);
-    if (!AsGood(figures.first, figures.second, first.first, first.second))
-    {
+      GiveBack(candidate, out);
       return;
     }
     remesh = std::move(next);
     out = std::move(candidate);
     out.ReachedFarVertices.insert(out.ReachedFarVertices.end(), pins.Reached.begin(), pins.Reached.end());
     out.FarVerticesLeft = false; // (measured in the next round)
-    distances = std::move(apart);
-    nearest = std::move(closest);
   }
 }
 
@@ -363,21 +475,13 @@ std::vector<double> LocalDeviations(const MeshTopology& topology, const double* 
   const RemeshResult& remesh, double pin, std::vector<std::uint8_t>& pinned, int numThreads)
 {
   const std::size_t triangles = remesh.Triangles.size() / 3;
-  std::vector<double> deviation = InputToRemesh(topology, points, remesh, nullptr, numThreads);
+  RemeshDistances d = MeasureDistances(topology, points, toInput, remesh, numThreads);
+  std::vector<double> deviation = std::move(d.FromInput);
   for (Index v = 0; v < topology.NumberOfVertices(); ++v)
   {
     pinned[v] = pinned[v] || FarthestOfRing(topology, deviation, pin, v);
   }
-  std::vector<double> centre(triangles);
-  ParallelFor(static_cast<std::int64_t>(triangles), numThreads, [&](std::int64_t begin, std::int64_t end) {
-    for (std::int64_t t = begin; t < end; ++t)
-    {
-      const Index* c = remesh.Triangles.data() + 3 * t;
-      centre[t] = toInput.Distance(
-        (Point(remesh.Points.data(), c[0]) + Point(remesh.Points.data(), c[1]) + Point(remesh.Points.data(), c[2])) /
-        3.0);
-    }
-  });
+  const std::vector<double>& centre = d.FromCentres;
   const IndexArray& input = topology.TriangleList();
   for (std::size_t t = 0; t < triangles; ++t)
   {
@@ -401,12 +505,6 @@ TriangleQuality RemeshQuality(const RemeshResult& r, int numThreads)
   return MeasureTriangleQuality(t, r.Points.data());
 }
 
-bool AsGood(double angle, double below30, double firstAngle, double firstBelow30)
-{
-  const bool withinBar = angle >= 15.0 && below30 <= 0.005;
-  return withinBar || (angle >= std::min(firstAngle, 15.0) && below30 <= firstBelow30 + 1e-3);
-}
-
 std::pair<double, double> ShapeFigures(
   const MeshTopology& topology, const double* points, const RemeshResult& r, int numThreads)
 {
@@ -428,10 +526,11 @@ bool AsGoodTriangles(const RemeshResult& second, const RemeshResult& first, int 
 
 void CheckFidelity(const MeshTopology& topology, const double* points, const RemeshOptions& options, RemeshResult& out)
 {
+  // (Not options.Cache's grid: a smoothed copy's remesh is measured against the input.)
   const TriangleGrid toInput(
     points, topology.TriangleList().data(), topology.NumberOfTriangles(), options.NumberOfThreads);
-  CheckFidelity(
-    topology, points, options, toInput, InputToRemesh(topology, points, out, nullptr, options.NumberOfThreads), out);
+  CheckFidelity(topology, points, options, MeasureDistances(topology, points, toInput, out, options.NumberOfThreads),
+    out);
 }
 
 double WorstDeviation(const RemeshResult& r)
@@ -470,7 +569,7 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
   const InputScales input{ MeanEdgeLength(topology, points), MeanEdgeAtVertices(topology, points),
     std::accumulate(mass.begin(), mass.end(), 0.0) };
   // The input's grid, once for every round (its triangles stay).
-  const TriangleGrid toInput(points, topology.TriangleList().data(), topology.NumberOfTriangles(), options.NumberOfThreads);
+  const TriangleGrid& toInput = cache->SurfaceGrid(topology, points, options.NumberOfThreads);
   std::vector<std::uint8_t> pinned(n, 0); // where a remesh left the input farthest
   RemeshOptions round = options;
   round.Cache = cache;

@@ -28,8 +28,17 @@ void KeepCurvatures(const MeshTopology& topology, const double* points, int numT
 std::vector<double> LocalDeviations(const MeshTopology& topology, const double* points, const TriangleGrid& toInput,
   const RemeshResult& remesh, double pin, std::vector<std::uint8_t>& pinned, int numThreads);
 
-/// AsGoodTriangles' rule on (smallest angle, share below 30 degrees).
-bool AsGood(double angle, double below30, double firstAngle, double firstBelow30);
+/// A remesh's distances from its input, both ways.
+struct RemeshDistances
+{
+  std::vector<double> FromInput;   ///< per input vertex, to the remesh (0 at one in no triangle or not finite)
+  std::vector<Index> Nearest;      ///< per input vertex, the remesh triangle nearest to it (-1: none)
+  std::vector<double> FromCentres; ///< per remesh triangle, its centre's to the input (0 where not finite)
+};
+
+/// The distances of `remesh` from the input (its triangles in `toInput`).
+RemeshDistances MeasureDistances(const MeshTopology& topology, const double* points, const TriangleGrid& toInput,
+  const RemeshResult& remesh, int numThreads);
 
 /// A remesh's smallest angle and share of angles below 30 degrees, measured
 /// in its metric where it has one (an anisotropic remesh's triangles are
@@ -37,6 +46,14 @@ bool AsGood(double angle, double below30, double firstAngle, double firstBelow30
 /// never kept).
 std::pair<double, double> ShapeFigures(
   const MeshTopology& topology, const double* points, const RemeshResult& r, int numThreads);
+
+/// Whether remesh `next` is kept over `best` (RemeshSurface's remeshes,
+/// the fidelity rounds' moves): measured without error, closer to the input
+/// by FarPinGain, its triangles within the bar or as good as the first
+/// remesh's `first` figures (ShapeFigures: AsGoodTriangles' rule, in the
+/// metric for an anisotropic remesh).
+bool KeptOver(const MeshTopology& topology, const double* points, const RemeshResult& next, const RemeshResult& best,
+  const std::pair<double, double>& first, int numThreads);
 
 /// CheckFidelity of `out`, made from `remesh` (optimised with
 /// `optimization`), then the fidelity rounds (RemeshOptions::FarPinSpacings)

@@ -440,8 +440,11 @@ void AddTimes(RemeshResult& kept, const RemeshResult& other)
 /// times the time of one remesh; the moves first, remeshes only where they
 /// fall short, by 12% and 21% in 1.3 times.)
 RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, const AtlasResult& atlas,
-  const double* importance, const RemeshOptions& options)
+  const double* importance, const RemeshOptions& given)
 {
+  RemeshCache local; // (the remeshes' rasters and the input's grid shared, where the caller keeps none)
+  RemeshOptions options = given;
+  options.Cache = given.Cache ? given.Cache : &local;
   RemeshResult best = RemeshOnce(topology, points, atlas, importance, options);
   const SurfaceSamples& samples = best.Samples;
   if (!best.Error.empty() && samples.ChartsWithoutSample > 0)
@@ -458,8 +461,7 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
   {
     return best;
   }
-  const TriangleGrid toInput(
-    points, topology.TriangleList().data(), topology.NumberOfTriangles(), options.NumberOfThreads);
+  const TriangleGrid& toInput = options.Cache->SurfaceGrid(topology, points, options.NumberOfThreads);
   std::vector<std::uint8_t> pinned(static_cast<std::size_t>(topology.NumberOfVertices()), 0);
   for (const Index v : best.ReachedFarVertices)
   {
@@ -480,12 +482,7 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
     RemeshOptions again = options;
     again.PinnedVertices = pinned.data();
     RemeshResult next = RemeshOnce(topology, points, atlas, importance, again);
-    bool closer = next.Error.empty() && WorstDeviation(next) < FarPinGain * WorstDeviation(best);
-    if (closer)
-    {
-      const auto figures = ShapeFigures(topology, points, next, options.NumberOfThreads);
-      closer = AsGood(figures.first, figures.second, first.first, first.second);
-    }
+    const bool closer = KeptOver(topology, points, next, best, first, options.NumberOfThreads);
     AddTimes(closer ? next : best, closer ? best : next);
     if (!closer)
     {

@@ -352,10 +352,19 @@ const std::vector<ChartLocator>& RemeshCache::Locators(const AtlasResult& atlas)
   return ChartLocators;
 }
 
-namespace
+const TriangleGrid& RemeshCache::SurfaceGrid(const MeshTopology& topology, const double* points, int numThreads)
 {
-
-} // namespace
+  const Index* triangles = topology.TriangleList().data();
+  const std::size_t count = static_cast<std::size_t>(topology.NumberOfTriangles());
+  if (!Grid || GridPoints != points || GridTriangles != triangles || GridCount != count)
+  {
+    Grid = std::make_unique<TriangleGrid>(points, triangles, count, numThreads);
+    GridPoints = points;
+    GridTriangles = triangles;
+    GridCount = count;
+  }
+  return *Grid;
+}
 
 std::pair<std::size_t, double> EdgeAtArc(const std::vector<double>& arcs, double arc)
 {

@@ -14,6 +14,7 @@
 #include "Maps/Atlas.h"
 #include "Maps/GeometryImages.h"
 #include "Mesh/Laplacian.h"
+#include "Mesh/SurfaceDistance.h"
 
 #include <algorithm>
 #include <cmath>
@@ -52,6 +53,10 @@ struct RemeshCache
   GraphLaplacian SurfaceLaplacian;      ///< the surface's cotangent Laplacian, with MaximumCurvature
   /// One per chart of `atlas` (built on first use).
   const std::vector<ChartLocator>& Locators(const AtlasResult& atlas);
+  /// The surface's triangles in a grid, for the distances to it of the
+  /// remeshes' fidelity checks (built on first use; again where the
+  /// points or triangles are others).
+  const TriangleGrid& SurfaceGrid(const MeshTopology& topology, const double* points, int numThreads);
   void Clear()
   {
     Packed.reset();
@@ -59,10 +64,15 @@ struct RemeshCache
     MaximumCurvature.clear();
     SurfaceLaplacian = GraphLaplacian();
     ChartLocators.clear();
+    Grid.reset();
   }
 
 private:
   std::vector<ChartLocator> ChartLocators;
+  std::unique_ptr<TriangleGrid> Grid;
+  const double* GridPoints = nullptr;
+  const Index* GridTriangles = nullptr;
+  std::size_t GridCount = 0;
 };
 
 struct SamplingOptions

@@ -5,6 +5,7 @@
 // edges kept as chart boundaries (fandisk).
 #include "Mesh/Laplacian.h"
 #include "Mesh/MeshMeasures.h"
+#include "Mesh/SurfaceDistance.h"
 #include "Remeshing/SurfaceRemeshing.h"
 #include "Maps/MeshWithAtlas.h"
 #include "TestMeshes.h"
@@ -352,6 +353,14 @@ TEST(SurfaceRemeshing, TheCornersOfACoarsePolyhedronAreMovedOnto)
     100.0 * before, 100.0 * after, pinned.ReachedFarVertices.size(), q.MinimumAngle, 100.0 * q.FractionBelow30);
   EXPECT_LT(after, 0.85 * before);
   EXPECT_GT(pinned.ReachedFarVertices.size(), 100u);
+  // The deviations the rounds report (measured again where they moved the
+  // remesh) are those measured anew: the input's vertices to the remesh,
+  // the remesh's triangle centres to the input.
+  const SurfaceDeviation measured = MeasureDeviation(sphere.Points.data(), sphere.Triangles.data(),
+    sphere.Triangles.size() / 3, DeviationSamples::Vertices, pinned.Points.data(), pinned.Triangles.data(),
+    pinned.Triangles.size() / 3, DeviationSamples::Centres);
+  EXPECT_NEAR(pinned.DeviationFromInput * pinned.Diagonal, measured.FirstToSecond, 1e-14);
+  EXPECT_NEAR(pinned.DeviationToInput * pinned.Diagonal, measured.SecondToFirst, 1e-14);
   EXPECT_GE(q.MinimumAngle, 15.0);
   EXPECT_LE(q.FractionBelow30, 0.005);
 }
