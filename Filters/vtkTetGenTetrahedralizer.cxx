@@ -76,7 +76,8 @@ beltrami::PersistentHelperProcess& TetGenHelper()
 /// libtet is diagnosed by TetGen's self-intersection check.  False after
 /// an error on `self`.
 bool RunTetGen(vtkAlgorithm* self, const std::string& switches, vtkIdType numPoints, const double* points,
-  const beltrami::IndexArray& triangles, std::vector<double>& outputPoints, std::vector<std::int32_t>& tets)
+  const beltrami::IndexArray& triangles, const std::vector<beltrami::Vec3>& holes, std::vector<double>& outputPoints,
+  std::vector<std::int32_t>& tets)
 {
   // The request for the TetGen helper (Filters/Tools/beltrami_tetgen.cxx).
   std::vector<char> request;
@@ -94,6 +95,12 @@ bool RunTetGen(vtkAlgorithm* self, const std::string& switches, vtkIdType numPoi
   put(points, 3 * sizeof(double) * static_cast<std::size_t>(numPoints));
   put(&triangleCount, 4);
   put(triangles.data(), triangles.size() * sizeof(beltrami::Index));
+  const std::int32_t holeCount = static_cast<std::int32_t>(holes.size());
+  put(&holeCount, 4);
+  for (const beltrami::Vec3& p : holes)
+  {
+    put(p.data(), 3 * sizeof(double));
+  }
 
   // The answer: at most ~64 points and ~400 tetrahedra per input point even
   // with small volume bounds; more means a damaged answer.
@@ -183,7 +190,7 @@ bool RunTetGen(vtkAlgorithm* self, const std::string& switches, vtkIdType numPoi
 /// always.
 bool RunTetGenOnSurfacePoints(vtkAlgorithm* self, const std::string& switches, vtkIdType numPoints,
   const double* points, const beltrami::IndexArray& triangles, const std::vector<beltrami::Index>& merge,
-  std::vector<double>& outputPoints, std::vector<std::int32_t>& tets)
+  const std::vector<beltrami::Vec3>& holes, std::vector<double>& outputPoints, std::vector<std::int32_t>& tets)
 {
   std::vector<std::uint8_t> used(static_cast<std::size_t>(numPoints), 0);
   for (const beltrami::Index v : triangles)
@@ -198,7 +205,7 @@ bool RunTetGenOnSurfacePoints(vtkAlgorithm* self, const std::string& switches, v
   }
   if (count == numPoints)
   {
-    return RunTetGen(self, switches, numPoints, points, triangles, outputPoints, tets);
+    return RunTetGen(self, switches, numPoints, points, triangles, holes, outputPoints, tets);
   }
   std::vector<beltrami::Index> compact(static_cast<std::size_t>(numPoints), -1), original;
   std::vector<double> kept;
@@ -217,7 +224,8 @@ bool RunTetGenOnSurfacePoints(vtkAlgorithm* self, const std::string& switches, v
     renumbered[k] = compact[triangles[k]];
   }
   std::vector<double> meshed;
-  if (!RunTetGen(self, switches, static_cast<vtkIdType>(original.size()), kept.data(), renumbered, meshed, tets))
+  if (!RunTetGen(
+        self, switches, static_cast<vtkIdType>(original.size()), kept.data(), renumbered, holes, meshed, tets))
   {
     return false;
   }
@@ -351,8 +359,10 @@ int vtkTetGenTetrahedralizer::Mesh(
   std::vector<double> outputPoints;
   std::vector<std::int32_t> tets;
   this->UpdateProgress(0.0);
-  if (!RunTetGenOnSurfacePoints(
-        this, switches, numPoints, points, topo.TriangleList(), surface.MergedPoints(), outputPoints, tets))
+  // (A hollow solid's voids left empty: their walls face into them.)
+  const std::vector<beltrami::Vec3> cavities = beltrami::CavityPoints(topo, points);
+  if (!RunTetGenOnSurfacePoints(this, switches, numPoints, points, topo.TriangleList(), surface.MergedPoints(),
+        cavities, outputPoints, tets))
   {
     return 0;
   }

@@ -6,7 +6,8 @@
 // A request (little-endian): "BTET1", the switches (uint32 length +
 // characters), the number of points (int32) and their coordinates (3
 // doubles each), the number of triangles (int32) and their point ids (3
-// int32 each).  The answer: "BTET1", a status (int32: 0, or TetGen's error
+// int32 each), the number of hole points (int32: one inside each cavity)
+// and their coordinates (3 doubles each).  The answer: "BTET1", a status (int32: 0, or TetGen's error
 // code followed by a message), then the points (int32 count, 3 doubles
 // each) and the tetrahedra (int32 count, 4 int32 each).
 //
@@ -140,6 +141,19 @@ Answer Process(const std::vector<char>& bytes, bool intersections)
   }
   std::vector<std::int32_t> triangles(3 * static_cast<std::size_t>(numTriangles));
   if (!request.Take(triangles.data(), triangles.size() * sizeof(std::int32_t)))
+  {
+    answer.Fail(10, "malformed request");
+    return answer;
+  }
+  std::int32_t numHoles = 0;
+  if (!request.Take(&numHoles, 4) || numHoles < 0 || numHoles > numTriangles)
+  {
+    answer.Fail(10, "malformed request");
+    return answer;
+  }
+  in.numberofholes = numHoles;
+  in.holelist = new REAL[3 * static_cast<std::size_t>(numHoles) + 1];
+  if (!request.Take(in.holelist, 3 * sizeof(double) * static_cast<std::size_t>(numHoles)))
   {
     answer.Fail(10, "malformed request");
     return answer;

@@ -1,11 +1,14 @@
 #include "Mesh/MeshMeasures.h"
 
+#include "Mesh/TriangleTree.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <vector>
 
 namespace beltrami
@@ -430,6 +433,59 @@ double VolumeAbovePlane(const MeshTopology& topo, const double* points, const do
   Vec3 nn(normal[0], normal[1], normal[2]);
   nn.normalize();
   return HeightVolume(topo, points, Vec3(origin[0], origin[1], origin[2]), nn, numThreads);
+}
+
+std::vector<Vec3> CavityPoints(const MeshTopology& topology, const double* points)
+{
+  struct Component
+  {
+    double Volume = 0.0, Largest = -1.0;
+    Index Triangle = -1; // the largest
+  };
+  const std::vector<Index> roots = topology.ComponentRoots();
+  const IndexArray& tri = topology.TriangleList();
+  std::map<Index, Component> components;
+  const Vec3 origin = VertexCentroid(topology, points); // (for accuracy)
+  double total = 0.0;
+  for (Index t = 0; t < topology.NumberOfTriangles(); ++t)
+  {
+    const Vec3 a = Point(points, tri[3 * t]) - origin, b = Point(points, tri[3 * t + 1]) - origin,
+               c = Point(points, tri[3 * t + 2]) - origin;
+    Component& component = components[roots[tri[3 * t]]];
+    const double volume = a.dot(b.cross(c)) / 6.0, twice = (b - a).cross(c - a).norm();
+    component.Volume += volume;
+    total += volume;
+    if (twice > component.Largest)
+    {
+      component.Largest = twice;
+      component.Triangle = t;
+    }
+  }
+  std::vector<Vec3> cavities;
+  if (components.size() < 2 || !(std::abs(total) > 0.0) || !std::isfinite(total))
+  {
+    return cavities;
+  }
+  const TriangleTree tree(points, tri.data(), tri.size() / 3);
+  for (const auto& [root, component] : components)
+  {
+    if (!(component.Volume * total < 0.0) || component.Triangle < 0)
+    {
+      continue;
+    }
+    const Index t = component.Triangle;
+    const Vec3 a = Point(points, tri[3 * t]), b = Point(points, tri[3 * t + 1]), c = Point(points, tri[3 * t + 2]);
+    const Vec3 normal = (total > 0.0 ? 1.0 : -1.0) * (b - a).cross(c - a).normalized();
+    const Vec3 middle = (a + b + c) / 3.0;
+    double reach = std::max({ (b - a).norm(), (c - b).norm(), (a - c).norm() });
+    for (int halving = 0; halving < 64 && tree.Blocks(middle, reach * normal, 0.0, [t](Index u) { return u == t; });
+         ++halving)
+    {
+      reach *= 0.5;
+    }
+    cavities.push_back(middle + 0.5 * reach * normal);
+  }
+  return cavities;
 }
 
 std::string CoordinateRangeProblem(const MeshTopology& topology, const double* points)

@@ -32,6 +32,13 @@ enum class LengthUnit : int
 /// and the volume between the surface and the plane through `origin` with unit
 /// normal `normal` (the surface projected on the plane times its height).
 double EnclosedVolume(const MeshTopology& topology, const double* points, int numThreads = 0);
+/// A point inside each cavity of a closed oriented surface (TetGen's hole
+/// list): a component whose enclosed volume has the sign opposite to the
+/// whole surface's is a wall facing into a void within the solid (a hollow
+/// ball's inner sphere); its point lies off the middle of its largest
+/// triangle on the side the triangle faces, half way to the nearest other
+/// triangle there at most (none where the surface encloses no volume).
+std::vector<Vec3> CavityPoints(const MeshTopology& topology, const double* points);
 /// Empty where the coordinates of the vertices used by triangles are finite
 /// and within the range whose products the geometry can form (magnitudes
 /// and a bounding box within 1e-75 to 1e75 units: areas and cotangents

@@ -1,8 +1,9 @@
-// The triangle grid of the distances between surfaces: every nearest
+// The triangle grid of the distances between surfaces (every nearest
 // triangle as found by testing all of them, with and without a bound on
-// the search.
+// the search) and the points inside a closed surface's cavities.
 #include "TestMeshes.h"
 
+#include "Mesh/MeshMeasures.h"
 #include "Mesh/SurfaceDistance.h"
 
 #include <gtest/gtest.h>
@@ -49,4 +50,28 @@ TEST(TriangleGrid, FindsTheNearestTriangleAsEveryTriangleWithinAnyBound)
   EXPECT_EQ(grid.Nearest(Vec3(100.0, -50.0, 20.0), distance), grid.Nearest(Vec3(100.0, -50.0, 20.0), distance, 1e3));
   EXPECT_EQ(grid.Nearest(Vec3(HUGE_VAL, 0.0, 0.0), distance), -1);
   EXPECT_EQ(distance, HUGE_VAL);
+}
+
+TEST(CavityPoints, OneInsideEachInnerWallFacingInwards)
+{
+  // A hollow ball: a sphere with one of half its radius inside, facing
+  // inwards (the void's wall), its point inside the small sphere and off
+  // its surface; the same inner sphere facing outwards (a solid within a
+  // solid), a lone sphere, and a lone inner wall have none.
+  const test::Mesh outer = test::OctahedronSphere(3);
+  test::Mesh inner = test::OctahedronSphere(3, 0.5);
+  const test::Mesh solids = test::Merged(outer, inner, Vec3::Zero());
+  for (std::size_t t = 0; t < inner.Triangles.size(); t += 3)
+  {
+    std::swap(inner.Triangles[t + 1], inner.Triangles[t + 2]);
+  }
+  const test::Mesh hollow = test::Merged(outer, inner, Vec3(0.1, 0.0, 0.0));
+  const std::vector<Vec3> cavities = CavityPoints(hollow.Topology(), hollow.Points.data());
+  ASSERT_EQ(cavities.size(), 1u);
+  const double radius = (cavities[0] - Vec3(0.1, 0.0, 0.0)).norm();
+  EXPECT_LT(radius, 0.5 * 0.97);
+  EXPECT_GT(radius, 0.3);
+  EXPECT_TRUE(CavityPoints(solids.Topology(), solids.Points.data()).empty());
+  EXPECT_TRUE(CavityPoints(outer.Topology(), outer.Points.data()).empty());
+  EXPECT_TRUE(CavityPoints(inner.Topology(), inner.Points.data()).empty());
 }
