@@ -457,6 +457,59 @@ def fan_double_cone(n=2000):
     return points, np.vstack([up, down])
 
 
+def needle(length=2.8, radius=0.02, around=12, along=400):
+    """A closed tube 140 radii long (a wire, a probe): narrower than the
+    spacing at 2,000 vertices, each end a flat fan."""
+    x = np.repeat(np.linspace(-length / 2, length / 2, along + 1), around)
+    a = np.tile(2.0 * np.pi * np.arange(around) / around, along + 1)
+    points = np.vstack([np.stack([x, radius * np.cos(a), radius * np.sin(a)], axis=1),
+                        [[-length / 2, 0.0, 0.0], [length / 2, 0.0, 0.0]]])
+    j, i = np.meshgrid(np.arange(along), np.arange(around), indexing="ij")
+    a, b = j * around + i, j * around + (i + 1) % around
+    side = np.concatenate([np.stack([a, b, b + around], -1), np.stack([a, b + around, a + around], -1)]).reshape(-1, 3)
+    i = np.arange(around)
+    ends = (len(points) - 2, len(points) - 1)
+    caps = np.vstack([np.stack([np.full(around, ends[0]), (i + 1) % around, i], axis=1),
+                      np.stack([np.full(around, ends[1]), along * around + i, along * around + (i + 1) % around],
+                               axis=1)])
+    return points, np.vstack([side, caps])
+
+
+def knife_edge_washer(n=120, m=24, width=0.3, thickness=0.01):
+    """A torus whose tube is an ellipse 30 times wider than thick: a washer
+    whose rims turn through about 150 degrees within one edge (a blade's or
+    a fin's knife edge, where SplitAtFeatures is not set)."""
+    u = np.repeat(2.0 * np.pi * np.arange(n) / n, m)
+    v = np.tile(2.0 * np.pi * np.arange(m) / m, n)
+    r = 1.0 + width * np.cos(v)
+    points = np.stack([r * np.cos(u), r * np.sin(u), thickness * np.sin(v)], axis=1)
+    i, j = np.meshgrid(np.arange(n), np.arange(m), indexing="ij")
+    a, b = i * m + j, i * m + (j + 1) % m
+    c, d = ((i + 1) % n) * m + j, ((i + 1) % n) * m + (j + 1) % m
+    return points, np.concatenate([np.stack([a, c, d], -1), np.stack([a, d, b], -1)]).reshape(-1, 3)
+
+
+def slab_with_holes(n=120):
+    """A slab 2.6 x 1.6 x 0.24 with six round holes through it (genus 6) as
+    a scan gives it (implicit_surface)."""
+    centres = [(x, y) for y in (-0.4, 0.4) for x in (-0.9, 0.0, 0.9)]
+
+    def distance(x):
+        d = np.maximum(np.maximum(np.abs(x[..., 0]) - 1.3, np.abs(x[..., 1]) - 0.8), np.abs(x[..., 2]) - 0.12)
+        for cx, cy in centres:
+            d = np.maximum(d, 0.22 - np.hypot(x[..., 0] - cx, x[..., 1] - cy))
+        return d
+    return implicit_surface(distance, n=n)
+
+
+def nested_spheres():
+    """A sphere with one of half its radius inside, facing inwards (a hollow
+    ball's two walls): one component within another."""
+    p, t = sphere(24)
+    q, s = sphere(16)
+    return np.vstack([p, 0.5 * q]), np.vstack([t, s[:, ::-1] + len(p)])
+
+
 def orient_consistently(points, triangles):
     """Flips faces so that the plate's faces agree (by breadth-first walk)."""
     from collections import defaultdict, deque
@@ -582,6 +635,10 @@ def hard_shapes():
         "turbine-disk": turbine_disk(),
         "fan-double-cone": fan_double_cone(),
         "isosurface": arrays_of(isosurface(largest=True)),
+        "needle": needle(),
+        "knife-edge-washer": knife_edge_washer(),
+        "slab-six-holes": slab_with_holes(),
+        "nested-spheres": nested_spheres(),
     }
     cad = decimated_cad()
     if cad is not None:
