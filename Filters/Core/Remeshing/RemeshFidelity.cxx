@@ -75,10 +75,14 @@ void InputVerticesTo(const MeshTopology& topology, const double* points, const T
     for (Index v = static_cast<Index>(begin); v < end; ++v)
     {
       const Vec3 p = Point(points, v);
-      if (redo(v))
+      if (redo(v) && topology.Valence(v) > 0 && p.allFinite())
       {
-        d.Nearest[v] = topology.Valence(v) > 0 && p.allFinite() ? grid.Nearest(p, d.FromInput[v]) : -1;
-        d.FromInput[v] = d.Nearest[v] < 0 ? 0.0 : d.FromInput[v];
+        d.Nearest[v] = grid.Nearest(p, d.FromInput[v]); // (infinite where the remesh has no triangle)
+      }
+      else if (redo(v))
+      {
+        d.Nearest[v] = -1;
+        d.FromInput[v] = 0.0;
       }
     }
   });

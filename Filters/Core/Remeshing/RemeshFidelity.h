@@ -31,7 +31,8 @@ std::vector<double> LocalDeviations(const MeshTopology& topology, const double* 
 /// A remesh's distances from its input, both ways.
 struct RemeshDistances
 {
-  std::vector<double> FromInput;   ///< per input vertex, to the remesh (0 at one in no triangle or not finite)
+  std::vector<double> FromInput;   ///< per input vertex, to the remesh (0 at one in no triangle or not finite;
+                                   ///< infinite where the remesh has no triangle)
   std::vector<Index> Nearest;      ///< per input vertex, the remesh triangle nearest to it (-1: none)
   std::vector<double> FromCentres; ///< per remesh triangle, its centre's to the input (0 where not finite)
 };
