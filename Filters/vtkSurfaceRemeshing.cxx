@@ -580,8 +580,9 @@ void vtkSurfaceRemeshing::LayOutNoisyInputOnCopy(Run& run)
     beltrami::KeepCopysRemesh(denoised.Driven.Remesh, run.Driven.Remesh, this->NumberOfThreads))
   {
     run = std::move(denoised);
-    vtkWarningMacro(<< "The input is noisy (" << 100.0 * folded << "% of its neighbouring triangles face more than 90 "
-                    << "degrees apart) and the remesh of its own charts was poor: " << OnCopy << SmoothFirst);
+    vtkWarningMacro(<< "The input folds (" << 100.0 * folded << "% of its neighbouring triangles face more than 90 "
+                    << "degrees apart: noise, or knife edges, which SplitAtFeatures keeps) and the remesh of its own "
+                    << "charts was poor: " << OnCopy << SmoothFirst);
   }
   else
   {
