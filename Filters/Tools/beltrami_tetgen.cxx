@@ -7,9 +7,10 @@
 // characters), the number of points (int32) and their coordinates (3
 // doubles each), the number of triangles (int32) and their point ids (3
 // int32 each), the number of hole points (int32: one inside each cavity)
-// and their coordinates (3 doubles each).  The answer: "BTET1", a status (int32: 0, or TetGen's error
-// code followed by a message), then the points (int32 count, 3 doubles
-// each) and the tetrahedra (int32 count, 4 int32 each).
+// and their coordinates (3 doubles each).  The answer: "BTET1", a status
+// (int32: 0, or TetGen's error code followed by a message), then the
+// points (int32 count, 3 doubles each) and the tetrahedra (int32 count, 4
+// int32 each).
 //
 //   beltrami-tetgen                  one request on stdin, its answer on stdout
 //   beltrami-tetgen --serve          requests and answers as frames (uint64

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <memory>
 #include <vector>
 
 namespace beltrami
@@ -466,19 +467,23 @@ std::vector<Vec3> CavityPoints(const MeshTopology& topology, const double* point
   {
     return cavities;
   }
-  const TriangleTree tree(points, tri.data(), tri.size() / 3);
+  std::unique_ptr<TriangleTree> tree; // (built for the first cavity)
   for (const auto& [root, component] : components)
   {
     if (!(component.Volume * total < 0.0) || component.Triangle < 0)
     {
       continue;
     }
+    if (!tree)
+    {
+      tree = std::make_unique<TriangleTree>(points, tri.data(), tri.size() / 3);
+    }
     const Index t = component.Triangle;
     const Vec3 a = Point(points, tri[3 * t]), b = Point(points, tri[3 * t + 1]), c = Point(points, tri[3 * t + 2]);
     const Vec3 normal = (total > 0.0 ? 1.0 : -1.0) * (b - a).cross(c - a).normalized();
     const Vec3 middle = (a + b + c) / 3.0;
     double reach = std::max({ (b - a).norm(), (c - b).norm(), (a - c).norm() });
-    for (int halving = 0; halving < 64 && tree.Blocks(middle, reach * normal, 0.0, [t](Index u) { return u == t; });
+    for (int halving = 0; halving < 64 && tree->Blocks(middle, reach * normal, 0.0, [t](Index u) { return u == t; });
          ++halving)
     {
       reach *= 0.5;
