@@ -266,12 +266,18 @@ std::int64_t RaiseWhereFar(const MeshTopology& topology, const double* points, c
   return std::min(static_cast<std::int64_t>(std::ceil(static_cast<double>(count) * std::max(1.1, growth))), most);
 }
 
-/// CheckFidelity with the remesh's distances from the input given.
-void CheckFidelity(const MeshTopology& topology, const double* points, const RemeshOptions& options,
-  const RemeshDistances& distances, RemeshResult& out)
+/// The topology of a remesh's triangles.
+MeshTopology TopologyOfRemesh(const RemeshResult& r, int numThreads)
 {
-  const MeshTopology remesh(static_cast<Index>(out.Points.size() / 3),
-    IndexArray(out.Triangles.begin(), out.Triangles.end()), options.NumberOfThreads);
+  return MeshTopology(
+    static_cast<Index>(r.Points.size() / 3), IndexArray(r.Triangles.begin(), r.Triangles.end()), numThreads);
+}
+
+/// CheckFidelity with the remesh's distances from the input and its
+/// topology (`remesh`) given.
+void CheckFidelity(const MeshTopology& topology, const double* points, const RemeshOptions& options,
+  const RemeshDistances& distances, const MeshTopology& remesh, RemeshResult& out)
+{
   const TopologySummary &a = topology.Summary(), &b = remesh.Summary();
   std::string differences;
   CompareCount("Euler characteristic", a.EulerCharacteristic, b.EulerCharacteristic, differences);
@@ -411,13 +417,13 @@ RemeshDistances MeasureDistances(const MeshTopology& topology, const double* poi
 }
 
 bool KeptOver(const MeshTopology& topology, const double* points, const RemeshResult& next, const RemeshResult& best,
-  const std::pair<double, double>& first, int numThreads)
+  const std::pair<double, double>& first, int numThreads, const MeshTopology* nextTopology)
 {
   if (!next.Error.empty() || !(WorstDeviation(next) < FarPinGain * WorstDeviation(best)))
   {
     return false;
   }
-  const auto figures = ShapeFigures(topology, points, next, numThreads);
+  const auto figures = ShapeFigures(topology, points, next, numThreads, nextTopology);
   return AsGood(figures.first, figures.second, first.first, first.second);
 }
 
@@ -429,7 +435,8 @@ void CheckFidelityInRounds(const MeshTopology& topology, const double* points, c
   RemeshCache& cache = optimization.Cache ? *optimization.Cache : local;
   const TriangleGrid& toInput = cache.SurfaceGrid(topology, points, threads);
   RemeshDistances distances = MeasureDistances(topology, points, toInput, out, threads);
-  CheckFidelity(topology, points, options, distances, out);
+  const MeshTopology outTopology = TopologyOfRemesh(out, threads);
+  CheckFidelity(topology, points, options, distances, outTopology, out);
   if (options.FarPinSpacings <= 0.0 || options.FarPinRounds <= 0 || options.PinnedVertices || options.FinalSurface ||
     !out.Error.empty())
   {
@@ -437,7 +444,7 @@ void CheckFidelityInRounds(const MeshTopology& topology, const double* points, c
   }
   out.SourceTriangle = remesh.Triangle; // (ShapeFigures' metric needs them)
   out.SourceBarycentric = remesh.Barycentric;
-  const auto first = ShapeFigures(topology, points, out, threads);
+  const auto first = ShapeFigures(topology, points, out, threads, &outTopology);
   const std::vector<double>& curvature = cache.MaximumCurvature;
   for (int round = 0; round < options.FarPinRounds; ++round)
   {
@@ -462,8 +469,9 @@ void CheckFidelityInRounds(const MeshTopology& topology, const double* points, c
     }
     RemeshResult candidate = ResultOf(next, out);
     UpdateDistances(topology, points, toInput, out, candidate, distances, threads); // (a round not kept ends them)
-    CheckFidelity(topology, points, options, distances, candidate);
-    if (!KeptOver(topology, points, candidate, out, first, threads))
+    const MeshTopology candidateTopology = TopologyOfRemesh(candidate, threads);
+    CheckFidelity(topology, points, options, distances, candidateTopology, candidate);
+    if (!KeptOver(topology, points, candidate, out, first, threads, &candidateTopology))
     {
       GiveBack(candidate, out);
       return;
@@ -504,17 +512,16 @@ std::vector<double> LocalDeviations(const MeshTopology& topology, const double* 
 
 TriangleQuality RemeshQuality(const RemeshResult& r, int numThreads)
 {
-  const MeshTopology t(static_cast<Index>(r.Points.size() / 3), IndexArray(r.Triangles.begin(), r.Triangles.end()),
-    numThreads);
-  return MeasureTriangleQuality(t, r.Points.data());
+  return MeasureTriangleQuality(TopologyOfRemesh(r, numThreads), r.Points.data());
 }
 
-std::pair<double, double> ShapeFigures(
-  const MeshTopology& topology, const double* points, const RemeshResult& r, int numThreads)
+std::pair<double, double> ShapeFigures(const MeshTopology& topology, const double* points, const RemeshResult& r,
+  int numThreads, const MeshTopology* remeshTopology)
 {
   if (r.GradedMetric.empty())
   {
-    const TriangleQuality q = RemeshQuality(r, numThreads);
+    const TriangleQuality q =
+      remeshTopology ? MeasureTriangleQuality(*remeshTopology, r.Points.data()) : RemeshQuality(r, numThreads);
     return { q.MinimumAngle, q.FractionBelow30 };
   }
   const MetricQuality q = MeasureInMetric(
@@ -534,7 +541,7 @@ void CheckFidelity(const MeshTopology& topology, const double* points, const Rem
   const TriangleGrid toInput(
     points, topology.TriangleList().data(), topology.NumberOfTriangles(), options.NumberOfThreads);
   CheckFidelity(topology, points, options, MeasureDistances(topology, points, toInput, out, options.NumberOfThreads),
-    out);
+    TopologyOfRemesh(out, options.NumberOfThreads), out);
 }
 
 double WorstDeviation(const RemeshResult& r)

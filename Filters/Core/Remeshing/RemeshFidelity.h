@@ -44,9 +44,9 @@ RemeshDistances MeasureDistances(const MeshTopology& topology, const double* poi
 /// A remesh's smallest angle and share of angles below 30 degrees, measured
 /// in its metric where it has one (an anisotropic remesh's triangles are
 /// long and thin by design: measured in space, its fidelity rounds were
-/// never kept).
-std::pair<double, double> ShapeFigures(
-  const MeshTopology& topology, const double* points, const RemeshResult& r, int numThreads);
+/// never kept).  `remeshTopology`: the remesh's, where the caller has it.
+std::pair<double, double> ShapeFigures(const MeshTopology& topology, const double* points, const RemeshResult& r,
+  int numThreads, const MeshTopology* remeshTopology = nullptr);
 
 /// Whether remesh `next` is kept over `best` (RemeshSurface's remeshes,
 /// the fidelity rounds' moves): measured without error, closer to the input
@@ -54,7 +54,7 @@ std::pair<double, double> ShapeFigures(
 /// remesh's `first` figures (ShapeFigures: AsGoodTriangles' rule, in the
 /// metric for an anisotropic remesh).
 bool KeptOver(const MeshTopology& topology, const double* points, const RemeshResult& next, const RemeshResult& best,
-  const std::pair<double, double>& first, int numThreads);
+  const std::pair<double, double>& first, int numThreads, const MeshTopology* nextTopology = nullptr);
 
 /// CheckFidelity of `out`, made from `remesh` (optimised with
 /// `optimization`), then the fidelity rounds (RemeshOptions::FarPinSpacings)
