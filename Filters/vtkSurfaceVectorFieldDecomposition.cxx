@@ -4,6 +4,7 @@
 #include "vtkBeltramiSurface.h"
 
 #include "Mesh/VectorFields.h"
+#include "Solvers/Partition.h"
 
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -24,6 +25,7 @@
 #include <exception>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <vector>
 
 BELTRAMI_SAME_ENUM(vtkSurfaceVectorFieldDecomposition::TANGENT_DIVERGENCE_FREE,
@@ -59,9 +61,12 @@ void vtkSurfaceVectorFieldDecomposition::CopySettings(beltrami::VectorFieldOptio
 int vtkSurfaceVectorFieldDecomposition::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  // The two Poisson solves couple the whole surface.
+  // The two Poisson solves couple the whole surface: data split over the
+  // ranks of a distributed run are solved over the ranks, each rank holding
+  // its piece and the rings around it (pieces with ghost cells are gathered
+  // on rank 0).
   return vtkBeltramiSurface::Execute(this, inputVector, outputVector, this->NumberOfThreads,
-    vtkBeltramiSurface::Needs::WholeSurface, [this](vtkBeltramiSurface& surface) { return this->Compute(surface); });
+    vtkBeltramiSurface::Needs::Distributed, [this](vtkBeltramiSurface& surface) { return this->Compute(surface); });
 }
 
 namespace
@@ -73,40 +78,56 @@ constexpr std::uint8_t Defects = beltrami::VertexNonManifold | beltrami::VertexI
 
 /// The triangles of `topology` (ids into it) kept for the decomposition:
 /// none with a vertex at a non-manifold point, an inconsistent orientation
-/// or a duplicate triangle, repeated until the kept ones have none.
-std::unique_ptr<beltrami::MeshTopology> ManifoldPart(
-  const beltrami::MeshTopology& topo, std::vector<beltrami::Index>& kept, int threads)
+/// or a duplicate triangle, repeated until the kept ones have none.  Split
+/// over ranks (`split`), the defects are those found at the points of a
+/// piece (its first `pieceRows` rows, whose whole stars it holds), made known
+/// to every rank that holds the point, so that all leave out the same
+/// triangles.  Null when all are kept.
+std::unique_ptr<beltrami::MeshTopology> ManifoldPart(const beltrami::MeshTopology& topo,
+  std::vector<beltrami::Index>& kept, int threads, const beltrami::Partition* split, beltrami::Index pieceRows)
 {
   kept.resize(topo.NumberOfTriangles());
-  for (beltrami::Index t = 0; t < topo.NumberOfTriangles(); ++t)
-  {
-    kept[t] = t;
-  }
+  std::iota(kept.begin(), kept.end(), 0);
   std::unique_ptr<beltrami::MeshTopology> part;
   const beltrami::MeshTopology* current = &topo;
-  while (!current->Summary().IsManifold() || !current->Summary().IsOriented())
+  const beltrami::Index nv = topo.NumberOfVertices();
+  for (;;)
   {
+    std::vector<double> bad(nv, 0.0);
+    double count = 0.0;
+    for (beltrami::Index v = 0; v < nv; ++v)
+    {
+      bad[v] = (current->VertexFlags(v) & Defects) && (!split || v < pieceRows) ? 1.0 : 0.0;
+    }
+    if (split)
+    {
+      split->SumToOwners(bad.data(), 1);
+      split->UpdateGhosts(bad.data(), 1);
+    }
+    for (beltrami::Index v = 0; v < nv; ++v)
+    {
+      count += bad[v] > 0.0 && (!split || split->IsOwned(v));
+    }
+    if ((split ? split->Sum(count) : count) == 0.0)
+    {
+      return part;
+    }
     std::vector<beltrami::Index> next;
     beltrami::IndexArray triangles;
     const beltrami::IndexArray& list = current->TriangleList();
     for (beltrami::Index t = 0; t < current->NumberOfTriangles(); ++t)
     {
       const beltrami::Index* v = &list[3 * static_cast<std::int64_t>(t)];
-      if (!((current->VertexFlags(v[0]) | current->VertexFlags(v[1]) | current->VertexFlags(v[2])) & Defects))
+      if (bad[v[0]] == 0.0 && bad[v[1]] == 0.0 && bad[v[2]] == 0.0)
       {
         next.push_back(kept[t]);
         triangles.insert(triangles.end(), v, v + 3);
       }
     }
-    if (next.size() == kept.size())
-    {
-      break; // (nothing left to remove: cannot happen, defects are flagged on triangles' vertices)
-    }
     kept.swap(next);
-    part = std::make_unique<beltrami::MeshTopology>(topo.NumberOfVertices(), std::move(triangles), threads);
+    part = std::make_unique<beltrami::MeshTopology>(nv, std::move(triangles), threads);
     current = part.get();
   }
-  return part;
 }
 
 /// A 64-bit hash of the surface (its points and triangles) and the settings.
@@ -149,8 +170,7 @@ vtkDoubleArray* AddArray(vtkDataSetAttributes* data, const char* name, int compo
 } // namespace
 
 void vtkSurfaceVectorFieldDecomposition::AddArrays(vtkBeltramiSurface& surface, const beltrami::MeshTopology& topo,
-  const std::vector<beltrami::Index>& kept, const double* points, const beltrami::VectorFieldDecomposition& r,
-  bool onPoints)
+  const std::vector<vtkIdType>& cellOf, const beltrami::VectorFieldDecomposition& r, bool onPoints)
 {
   vtkPolyData* output = surface.Output();
   const vtkIdType np = output->GetNumberOfPoints();
@@ -170,15 +190,12 @@ void vtkSurfaceVectorFieldDecomposition::AddArrays(vtkBeltramiSurface& surface, 
     { "CurlFreePart", r.CurlFree, 3, false }, { "DivergenceFreePart", r.DivergenceFree, 3, false },
     { "HarmonicPart", r.Harmonic, 3, false } };
   // Cell values: the area-weighted mean of the cell's triangles.
-  const beltrami::MeshTopology& whole = surface.Topology();
   const vtkIdType nc = output->GetNumberOfCells();
-  std::vector<vtkIdType> cellOf(kept.size());
-  std::vector<double> weight(kept.size()), cellArea(onPoints ? 0 : nc, 0.0);
-  for (std::size_t k = 0; k < kept.size(); ++k)
+  std::vector<double> weight(cellOf.size()), cellArea(onPoints ? 0 : nc, 0.0);
+  for (std::size_t k = 0; k < cellOf.size(); ++k)
   {
     weight[k] = r.Areas[k] > 0.0 ? r.Areas[k] : 1e-300; // a lone zero-area triangle keeps its 0
-    cellOf[k] = surface.TriangleCell(whole.OriginalTriangleIds()[kept[k]]);
-    if (!onPoints)
+    if (!onPoints && cellOf[k] >= 0)
     {
       cellArea[cellOf[k]] += weight[k];
     }
@@ -203,9 +220,9 @@ void vtkSurfaceVectorFieldDecomposition::AddArrays(vtkBeltramiSurface& surface, 
       continue;
     }
     std::vector<double> sums(static_cast<std::size_t>(o.Components) * nc, 0.0);
-    for (std::size_t k = 0; k < kept.size(); ++k)
+    for (std::size_t k = 0; k < cellOf.size(); ++k)
     {
-      for (int d = 0; d < o.Components; ++d)
+      for (int d = 0; d < o.Components && cellOf[k] >= 0; ++d)
       {
         sums[o.Components * cellOf[k] + d] += weight[k] * o.Values[o.Components * k + d];
       }
@@ -224,47 +241,110 @@ void vtkSurfaceVectorFieldDecomposition::AddArrays(vtkBeltramiSurface& surface, 
   output->GetPointData()->SetActiveScalars("Potential");
 }
 
+bool vtkSurfaceVectorFieldDecomposition::Decompose(const beltrami::MeshTopology& topo, const double* points,
+  const double* vectors, const beltrami::VectorFieldOptions& options, beltrami::VectorFieldDecomposition& r)
+{
+  // A surface seen twice in a row is prepared once and kept (the
+  // factorizations); a single run keeps nothing.
+  const std::uint64_t key = SurfaceKey(topo, points, options);
+  vtkPrepared& prepared = *this->Prepared;
+  const bool reused = key == prepared.Key && prepared.Decomposer;
+  if (key == prepared.Key && !prepared.Decomposer)
+  {
+    prepared.Points.assign(points, points + 3 * static_cast<std::size_t>(topo.NumberOfVertices()));
+    prepared.Topology = std::make_unique<beltrami::MeshTopology>(
+      topo.NumberOfVertices(), beltrami::IndexArray(topo.TriangleList()), this->NumberOfThreads);
+    beltrami::VectorFieldOptions many = options;
+    many.ManyFields = true;
+    prepared.Decomposer =
+      std::make_unique<beltrami::VectorFieldDecomposer>(*prepared.Topology, prepared.Points.data(), many);
+  }
+  else if (key != prepared.Key)
+  {
+    prepared = vtkPrepared();
+    prepared.Key = key;
+  }
+  if (prepared.Decomposer)
+  {
+    prepared.Decomposer->Decompose(vectors, r);
+  }
+  else
+  {
+    beltrami::DecomposeVectorField(topo, points, vectors, options, r);
+  }
+  return reused;
+}
+
 bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
 {
   vtkPolyData* input = surface.Input();
-  vtkPolyData* output = surface.Output();
+  const beltrami::Partition* split = surface.Split(); // a distributed run: every rank runs, an empty piece's too
+  const bool empty = split && input->GetNumberOfPoints() == 0;
   int association = -1;
   vtkDataArray* array = this->GetInputArrayToProcess(0, input, association);
-  if (!array || array->GetNumberOfComponents() != 3 ||
-    (association != vtkDataObject::FIELD_ASSOCIATION_POINTS && association != vtkDataObject::FIELD_ASSOCIATION_CELLS))
+  const bool selected = array && array->GetNumberOfComponents() == 3 &&
+    (association == vtkDataObject::FIELD_ASSOCIATION_POINTS || association == vtkDataObject::FIELD_ASSOCIATION_CELLS);
+  if (!selected && !empty)
   {
     vtkErrorMacro("Select a point or cell array of 3 components, the vector field to decompose"
       << (array ? " (the selected one has " + std::to_string(array->GetNumberOfComponents()) + ")" : std::string())
       << ": SetInputArrayToProcess(0, 0, 0, association, name), or give the points active vectors.");
+  }
+  if (!surface.AllAgree(selected || empty))
+  {
     return false;
   }
   const bool onPoints = association == vtkDataObject::FIELD_ASSOCIATION_POINTS;
+  const bool reports = !split || split->Rank() == 0; // (the warnings about the whole surface)
   const beltrami::MeshTopology& whole = surface.Topology();
-  if (whole.NumberOfTriangles() == 0)
+  const double triangles = static_cast<double>(whole.NumberOfTriangles());
+  if ((split ? split->Sum(triangles) : triangles) == 0.0)
   {
-    vtkWarningMacro("Input has no polygons or triangle strips: there is no field to decompose.");
+    if (reports)
+    {
+      vtkWarningMacro("Input has no polygons or triangle strips: there is no field to decompose.");
+    }
     return true;
   }
   const int threads = this->NumberOfThreads;
   std::vector<beltrami::Index> kept;
-  const std::unique_ptr<beltrami::MeshTopology> part = ManifoldPart(whole, kept, threads);
+  const std::unique_ptr<beltrami::MeshTopology> part =
+    ManifoldPart(whole, kept, threads, split, static_cast<beltrami::Index>(surface.NumberOfInputPoints()));
   const beltrami::MeshTopology& topo = part ? *part : whole;
+  // Kept triangles of this piece (a split run's topology has the rings of
+  // the pieces around it too: their cells -1).
+  std::vector<vtkIdType> cellOf(kept.size());
+  for (std::size_t k = 0; k < kept.size(); ++k)
+  {
+    cellOf[k] = surface.TriangleCell(whole.OriginalTriangleIds()[kept[k]]);
+  }
+  const auto ofPiece = [](vtkIdType cell) { return cell >= 0; };
+  std::vector<vtkIdType> cells(whole.NumberOfTriangles());
+  for (beltrami::Index t = 0; t < whole.NumberOfTriangles(); ++t)
+  {
+    cells[t] = surface.TriangleCell(whole.OriginalTriangleIds()[t]);
+  }
+  double excluded = static_cast<double>(std::count_if(cells.begin(), cells.end(), ofPiece) -
+    std::count_if(cellOf.begin(), cellOf.end(), ofPiece));
+  excluded = split ? split->Sum(excluded) : excluded;
   if (surface.NumberOfInvalidCells())
   {
     vtkWarningMacro(<< surface.NumberOfInvalidCells() << " cells with point ids out of range are left out.");
   }
-  if (part)
+  if (part && reports)
   {
-    vtkWarningMacro(<< surface.TopologyWarning() << ": the " << whole.NumberOfTriangles() - topo.NumberOfTriangles()
-                    << " triangles at those points are left out (their parts are NaN).");
+    vtkWarningMacro(<< (split ? std::string("Non-manifold points, inconsistent orientation or duplicate triangles")
+                              : surface.TopologyWarning())
+                    << ": the " << excluded << " triangles at those points are left out (their parts are NaN).");
   }
   // The field per kept triangle.
-  std::vector<double> pointStorage, vectors(3 * kept.size());
+  std::vector<double> pointStorage, vectors(3 * kept.size(), 0.0);
   const double* points = surface.PointsAsDouble(pointStorage);
   const beltrami::IndexArray& list = whole.TriangleList();
+  vtkIdType nonFinite = 0;
   for (std::size_t k = 0; k < kept.size(); ++k)
   {
-    for (int d = 0; d < 3; ++d)
+    for (int d = 0; d < 3 && cellOf[k] >= 0; ++d)
     {
       double value = 0.0;
       if (onPoints)
@@ -276,14 +356,10 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
       }
       else
       {
-        value = array->GetComponent(surface.TriangleCell(whole.OriginalTriangleIds()[kept[k]]), d);
+        value = array->GetComponent(cellOf[k], d);
       }
       vectors[3 * k + d] = value;
     }
-  }
-  vtkIdType nonFinite = 0;
-  for (std::size_t k = 0; k < kept.size(); ++k)
-  {
     const double* v = &vectors[3 * k];
     nonFinite += std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]) ? 0 : 1;
   }
@@ -292,6 +368,15 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
     vtkWarningMacro(<< nonFinite << " triangles have NaN or infinite vectors" << (onPoints ? " at a corner" : "")
                     << ": their field is left out (parts 0).");
   }
+  if (split)
+  {
+    // The rings' triangles get the vectors of the pieces they belong to:
+    // from there to the triangle's owner, and on to every rank holding it.
+    const std::unique_ptr<beltrami::Partition> shared =
+      beltrami::Partition::OfItems(*split, topo.NumberOfTriangles(), 3, topo.TriangleList().data());
+    shared->SumToOwners(vectors.data(), 3);
+    shared->UpdateGhosts(vectors.data(), 3);
+  }
   beltrami::VectorFieldOptions options;
   this->CopySettings(options, vtkBeltramiCopy::ToCore);
   beltrami::VectorFieldDecomposition r;
@@ -299,33 +384,14 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
   this->UpdateProgress(0.0);
   try
   {
-    // A surface seen twice in a row is prepared once and kept (the
-    // factorizations); a single run keeps nothing.
-    const std::uint64_t key = SurfaceKey(topo, points, options);
-    vtkPrepared& prepared = *this->Prepared;
-    reused = key == prepared.Key && prepared.Decomposer;
-    if (key == prepared.Key && !prepared.Decomposer)
+    if (split)
     {
-      prepared.Points.assign(points, points + 3 * static_cast<std::size_t>(topo.NumberOfVertices()));
-      prepared.Topology = std::make_unique<beltrami::MeshTopology>(
-        topo.NumberOfVertices(), beltrami::IndexArray(topo.TriangleList()), threads);
-      beltrami::VectorFieldOptions many = options;
-      many.ManyFields = true;
-      prepared.Decomposer =
-        std::make_unique<beltrami::VectorFieldDecomposer>(*prepared.Topology, prepared.Points.data(), many);
-    }
-    else if (key != prepared.Key)
-    {
-      prepared = vtkPrepared();
-      prepared.Key = key;
-    }
-    if (prepared.Decomposer)
-    {
-      prepared.Decomposer->Decompose(vectors.data(), r);
+      *this->Prepared = vtkPrepared(); // (a split run keeps nothing)
+      beltrami::DecomposeVectorField(topo, points, vectors.data(), options, *split, r);
     }
     else
     {
-      beltrami::DecomposeVectorField(topo, points, vectors.data(), options, r);
+      reused = this->Decompose(topo, points, vectors.data(), options, r);
     }
   }
   catch (const std::exception& e)
@@ -334,12 +400,12 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
     return false;
   }
   this->UpdateProgress(1.0);
-  if (!r.Converged)
+  if (!r.Converged && reports)
   {
     vtkWarningMacro("The Poisson solves did not reach their tolerance (" << r.Iterations
                     << " iterations): the parts are approximate.");
   }
-  if (r.DegenerateTriangles)
+  if (r.DegenerateTriangles && reports)
   {
     vtkWarningMacro(<< r.DegenerateTriangles
                     << " triangles have zero area or NaN coordinates: their field is left out (parts 0).");
@@ -351,8 +417,8 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
                     "their squares, beyond 1e308): those values are infinite; the parts are not affected.");
   }
 
-  this->AddArrays(surface, topo, kept, points, r, onPoints);
-  vtkFieldData* fd = output->GetFieldData();
+  this->AddArrays(surface, topo, cellOf, r, onPoints);
+  vtkFieldData* fd = surface.Output()->GetFieldData();
   AddScalar(fd, "TangentEnergy", r.Energy[0]);
   AddScalar(fd, "CurlFreeEnergy", r.Energy[1]);
   AddScalar(fd, "DivergenceFreeEnergy", r.Energy[2]);
@@ -360,7 +426,7 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
   AddScalar(fd, "CurlFreeDivergenceFreeInnerProduct", r.InnerProducts[0]);
   AddScalar(fd, "CurlFreeHarmonicInnerProduct", r.InnerProducts[1]);
   AddScalar(fd, "DivergenceFreeHarmonicInnerProduct", r.InnerProducts[2]);
-  AddScalar(fd, "ExcludedTriangles", static_cast<double>(whole.NumberOfTriangles() - topo.NumberOfTriangles()));
+  AddScalar(fd, "ExcludedTriangles", excluded);
   AddScalar(fd, "SolverIterations", r.Iterations);
   AddScalar(fd, "SolverResidual", r.Residual);
   AddScalar(fd, "PreparedSystemsReused", reused ? 1.0 : 0.0);

@@ -32,9 +32,12 @@
  *
  * Triangles at non-manifold points, with inconsistent orientation or
  * duplicated are left out (their parts NaN, with a warning), as are
- * zero-area triangles and NaN vectors (parts 0).  The whole surface is
- * solved at once: split data of a distributed run are gathered on rank 0,
- * and every rank gets the values of its piece.
+ * zero-area triangles and NaN vectors (parts 0).  Data split over the ranks
+ * of a distributed run are decomposed over the ranks, each holding its piece
+ * and the rings of triangles around it (the systems solved by multigrids
+ * that span the ranks): every rank gets the serial values of its piece, to
+ * the solvers' tolerance.  Pieces that come with ghost cells are gathered
+ * on rank 0 and decomposed there.
  */
 #ifndef vtkSurfaceVectorFieldDecomposition_h
 #define vtkSurfaceVectorFieldDecomposition_h
@@ -43,7 +46,7 @@
 #include "vtkPolyDataAlgorithm.h"
 
 #include <memory> // the prepared decomposition
-#include <vector> // kept triangles
+#include <vector> // the triangles' cells
 
 class vtkBeltramiSurface;
 enum class vtkBeltramiCopy;
@@ -104,11 +107,15 @@ private:
   std::unique_ptr<vtkPrepared> Prepared;
   /// RequestData's work on the prepared surface (vtkBeltramiSurface::Execute).
   bool Compute(vtkBeltramiSurface& surface);
-  /// The output arrays from the decomposition on `topology` (the input's
-  /// triangles `kept`).
+  /// The serial decomposition, with the systems of a surface seen twice in
+  /// a row kept (Prepared); true when they were reused.
+  bool Decompose(const beltrami::MeshTopology& topology, const double* points, const double* vectors,
+    const beltrami::VectorFieldOptions& options, beltrami::VectorFieldDecomposition& result);
+  /// The output arrays from the decomposition on `topology`, whose triangle
+  /// k came from the input cell cellOf[k] (-1: a triangle of another
+  /// piece's, in a distributed run).
   void AddArrays(vtkBeltramiSurface& surface, const beltrami::MeshTopology& topology,
-    const std::vector<int>& kept, const double* points, const beltrami::VectorFieldDecomposition& result,
-    bool onPoints);
+    const std::vector<vtkIdType>& cellOf, const beltrami::VectorFieldDecomposition& result, bool onPoints);
   vtkSurfaceVectorFieldDecomposition(const vtkSurfaceVectorFieldDecomposition&) = delete;
   void operator=(const vtkSurfaceVectorFieldDecomposition&) = delete;
 };

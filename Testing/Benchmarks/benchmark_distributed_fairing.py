@@ -101,20 +101,24 @@ out.GetPointData().AddArray(a)
               flush=True)
 
 
-def driver():
-    import numpy as np
+def loop_bunny(levels=2):
+    """bunny00 Loop-subdivided `levels` times (2: 603k points, 1.2M triangles)."""
     from vtkmodules.vtkFiltersModeling import vtkLoopSubdivisionFilter
-    from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
     from beltrami import vtkOFFReader
-    from beltrami.pipelines import noisy_along_normals
-    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
     reader = vtkOFFReader()
     reader.SetFileName(os.path.join(os.path.dirname(HERE), "..", "Data", "bunny00.off"))
     loop = vtkLoopSubdivisionFilter()
     loop.SetInputConnection(reader.GetOutputPort())
-    loop.SetNumberOfSubdivisions(2)
+    loop.SetNumberOfSubdivisions(levels)
     loop.Update()
-    mesh = loop.GetOutput()
+    return loop.GetOutput()
+
+
+def driver():
+    import numpy as np
+    from beltrami.pipelines import noisy_along_normals, write_vtp
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    mesh = loop_bunny()
     p = vtk_to_numpy(mesh.GetPoints().GetData())
     print("Bunny: %d points, %d triangles; default step (order 2, 4 h^4), one thread per rank"
           % (mesh.GetNumberOfPoints(), mesh.GetNumberOfCells()))
@@ -127,10 +131,7 @@ def driver():
             f.SetName("f")
             noisy.GetPointData().AddArray(f)
             mesh_file = os.path.join(tmp, "noisy.vtp")
-            w = vtkXMLPolyDataWriter()
-            w.SetInputData(noisy)
-            w.SetFileName(mesh_file)
-            w.Write()
+            write_vtp(noisy, mesh_file)
             for ranks in (1, 2, 4):
                 out = subprocess.run(["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks),
                                       "pvbatch", HERE, "--worker", mesh_file, repr(noise)]

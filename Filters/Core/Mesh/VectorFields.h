@@ -46,6 +46,8 @@
 namespace beltrami
 {
 
+class Partition;
+
 /// Which function is fixed at 0 on the boundary of an open surface.
 enum class VectorFieldBoundary : int
 {
@@ -137,6 +139,24 @@ private:
 /// not); NaN vectors count as zero.
 void DecomposeVectorField(const MeshTopology& topology, const double* points, const double* vectors,
   const VectorFieldOptions& options, VectorFieldDecomposition& result);
+
+/// DecomposeVectorField on a surface split over processes (collective:
+/// every process of `split` calls it, one whose part is empty too).
+/// `topology` is this process's part: the rows of `split` its points, the
+/// whole star of each point it owns among its triangles (a piece with the
+/// rings of the pieces around it), and `vectors` given on every triangle
+/// of it.  The systems are solved by conjugate gradients on BoomerAMG
+/// spanning the processes; where there are no harmonic fields
+/// (VectorFieldOptions::Integrate) the stream function is integrated, each
+/// process across its part, the parts joined by constants from the edges
+/// they share (ManyFields is not used: nothing is kept).  The
+/// results are the serial ones to the solvers' tolerance, on every point,
+/// edge and triangle of the part (the parts' values on triangles whose
+/// vectors were given); the energies, inner products, degenerate triangles,
+/// iterations and residual are those of the whole surface, the same on
+/// every process.
+void DecomposeVectorField(const MeshTopology& topology, const double* points, const double* vectors,
+  const VectorFieldOptions& options, const Partition& split, VectorFieldDecomposition& result);
 
 /// Values given per triangle (`components` each) as values per vertex: the
 /// mean over the vertex's triangles weighted by `areas` (one per triangle,

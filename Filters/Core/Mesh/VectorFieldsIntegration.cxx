@@ -39,55 +39,67 @@ bool NoHarmonicFields(const MeshTopology& topo, const std::vector<Index>& compon
   return true;
 }
 
+std::vector<Index> IntegrateAcross(const MeshTopology& topo, const double* points, const TriangleFrames& f,
+  const EdgeGraph& graph, const std::vector<double>& rest, Index start, Index first, std::vector<double>& v,
+  std::vector<std::uint8_t>& known, std::vector<std::uint8_t>& visited, std::vector<Index>* triangles)
+{
+  const MeshTopology::EdgeTable& edges = topo.Edges();
+  const IndexArray& tri = topo.TriangleList();
+  const auto midpoint = [&](Index c) -> Vec3 { // (a Vec3, not an expression of temporaries)
+    return 0.5 * (Point(points, tri[MeshTopology::Next(c)]) + Point(points, tri[MeshTopology::Prev(c)]));
+  };
+  known[first] = 1;
+  visited[start] = 1;
+  std::vector<Index> queue(1, start), members(1, first);
+  for (std::size_t q = 0; q < queue.size(); ++q)
+  {
+    const std::int64_t t = queue[q];
+    const Vec3 n(&f.Normals[3 * t]);
+    const Vec3 gradient = -n.cross(Vec3(&rest[3 * t]));
+    Index from = static_cast<Index>(3 * t);
+    while (!known[graph.TriangleEdges[from]])
+    {
+      ++from;
+    }
+    for (Index c = static_cast<Index>(3 * t); c < 3 * t + 3; ++c)
+    {
+      const Index e = graph.TriangleEdges[c];
+      if (!known[e])
+      {
+        v[e] = v[graph.TriangleEdges[from]] + gradient.dot(midpoint(c) - midpoint(from));
+        known[e] = 1;
+        members.push_back(e);
+      }
+      for (int s = 0; s < 2; ++s)
+      {
+        const Index corner = edges.OppositeCorners[2 * static_cast<std::int64_t>(e) + s];
+        if (corner >= 0 && !visited[corner / 3])
+        {
+          visited[corner / 3] = 1;
+          queue.push_back(corner / 3);
+        }
+      }
+    }
+  }
+  if (triangles)
+  {
+    triangles->swap(queue);
+  }
+  return members;
+}
+
 std::vector<double> IntegrateStreamFunction(const MeshTopology& topo, const double* points, const TriangleFrames& f,
   const EdgeGraph& graph, VectorFieldBoundary boundary, const std::vector<double>& rest)
 {
   const MeshTopology::EdgeTable& edges = topo.Edges();
-  const IndexArray& tri = topo.TriangleList();
   const Index nt = topo.NumberOfTriangles();
   std::vector<double> v(static_cast<std::size_t>(edges.NumberOfEdges()), 0.0);
   std::vector<std::uint8_t> known(v.size(), 0), visited(nt, 0);
-  const auto midpoint = [&](Index c) -> Vec3 { // (a Vec3, not an expression of temporaries)
-    return 0.5 * (Point(points, tri[MeshTopology::Next(c)]) + Point(points, tri[MeshTopology::Prev(c)]));
-  };
   const auto onBoundary = [&](Index e) { return edges.FaceCount[e] == 1; };
-  std::vector<Index> queue, members;
+  std::vector<Index> queue;
   // One component from triangle `start`, v known at its edge `first`.
   const auto integrate = [&](Index start, Index first, bool fixed) {
-    known[first] = 1;
-    visited[start] = 1;
-    queue.assign(1, start);
-    members.assign(1, first);
-    for (std::size_t q = 0; q < queue.size(); ++q)
-    {
-      const std::int64_t t = queue[q];
-      const Vec3 n(&f.Normals[3 * t]);
-      const Vec3 gradient = -n.cross(Vec3(&rest[3 * t]));
-      Index from = static_cast<Index>(3 * t);
-      while (!known[graph.TriangleEdges[from]])
-      {
-        ++from;
-      }
-      for (Index c = static_cast<Index>(3 * t); c < 3 * t + 3; ++c)
-      {
-        const Index e = graph.TriangleEdges[c];
-        if (!known[e])
-        {
-          v[e] = v[graph.TriangleEdges[from]] + gradient.dot(midpoint(c) - midpoint(from));
-          known[e] = 1;
-          members.push_back(e);
-        }
-        for (int s = 0; s < 2; ++s)
-        {
-          const Index corner = edges.OppositeCorners[2 * static_cast<std::int64_t>(e) + s];
-          if (corner >= 0 && !visited[corner / 3])
-          {
-            visited[corner / 3] = 1;
-            queue.push_back(corner / 3);
-          }
-        }
-      }
-    }
+    const std::vector<Index> members = IntegrateAcross(topo, points, f, graph, rest, start, first, v, known, visited, &queue);
     double sum = 0.0, mass = 0.0; // over the component (the lumped mass: a third of each triangle per edge)
     for (const Index t : queue)
     {

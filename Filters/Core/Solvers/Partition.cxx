@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <array>
 #include <numeric>
 #include <stdexcept>
 #include <type_traits>
@@ -62,6 +63,7 @@ Partition::Partition(const void* communicator, Index rows, const int* ownerRank,
   const int P = Processes;
   Owned.assign(rows, 0);
   Global.assign(rows, -1);
+  Owners.assign(ownerRank, ownerRank + rows);
   int bad = 0;
   std::vector<Index> ordinal(rows, 0);
   for (Index i = 0; i < rows; ++i)
@@ -138,19 +140,118 @@ std::int64_t Partition::SentPerUpdate() const
   return static_cast<std::int64_t>(Plan->SendRows.size());
 }
 
+namespace
+{
+
+/// The values of rows `from` (grouped by process, `fromCounts`) sent to the
+/// processes, which set (or, with `add`, add to) their rows `to` (grouped
+/// by the sending process, `toCounts`).
+void Send(MPI_Comm comm, double* values, int columns, const std::vector<Index>& from,
+  const std::vector<int>& fromCounts, const std::vector<Index>& to, const std::vector<int>& toCounts, bool add)
+{
+  std::vector<double> send(from.size() * columns), receive;
+  for (std::size_t k = 0; k < from.size(); ++k)
+  {
+    std::copy_n(values + static_cast<std::size_t>(from[k]) * columns, columns, send.data() + k * columns);
+  }
+  AllToAll(comm, send, fromCounts, receive, toCounts, columns);
+  for (std::size_t k = 0; k < to.size(); ++k)
+  {
+    double* row = values + static_cast<std::size_t>(to[k]) * columns;
+    for (int c = 0; c < columns; ++c)
+    {
+      row[c] = add ? row[c] + receive[k * columns + c] : receive[k * columns + c];
+    }
+  }
+}
+
+} // namespace
+
 void Partition::UpdateGhosts(double* values, int columns) const
 {
   const Exchange& x = *Plan;
-  std::vector<double> send(x.SendRows.size() * columns), receive;
-  for (std::size_t k = 0; k < x.SendRows.size(); ++k)
+  Send(x.Comm, values, columns, x.SendRows, x.SendCounts, x.ReceiveRows, x.ReceiveCounts, false);
+}
+
+void Partition::SumToOwners(double* values, int columns) const
+{
+  const Exchange& x = *Plan;
+  Send(x.Comm, values, columns, x.ReceiveRows, x.ReceiveCounts, x.SendRows, x.SendCounts, true);
+}
+
+std::unique_ptr<Partition> Partition::OfItems(const Partition& rows, Index count, int arity, const Index* ends)
+{
+  // An item's key: its rows' global numbers, ascending.  The owner of the
+  // lowest is asked, per item that another process holds, for its local
+  // number there.
+  if (arity < 1 || arity > 3)
   {
-    std::copy_n(values + static_cast<std::size_t>(x.SendRows[k]) * columns, columns, send.data() + k * columns);
+    throw std::invalid_argument("Partition::OfItems: items of 1 to 3 rows");
   }
-  AllToAll(x.Comm, send, x.SendCounts, receive, x.ReceiveCounts, columns);
-  for (std::size_t k = 0; k < x.ReceiveRows.size(); ++k)
+  const int P = rows.Processes;
+  const MPI_Comm comm = rows.Plan->Comm;
+  std::vector<int> ownerRank(count);
+  std::vector<Index> ownerRow(count, -1);
+  std::vector<std::int64_t> keys(static_cast<std::size_t>(count) * arity);
+  using Key = std::array<std::int64_t, 4>; // (arity at most 3, padded with -1), the local item last
+  std::vector<Key> mine;
+  const auto keyOf = [arity](const std::int64_t* key, std::int64_t item) {
+    Key k{ -1, -1, -1, item };
+    std::copy_n(key, arity, k.begin());
+    return k;
+  };
+  std::vector<int> askCounts(P, 0);
+  for (Index k = 0; k < count; ++k)
   {
-    std::copy_n(receive.data() + k * columns, columns, values + static_cast<std::size_t>(x.ReceiveRows[k]) * columns);
+    std::int64_t* key = &keys[static_cast<std::size_t>(k) * arity];
+    for (int m = 0; m < arity; ++m)
+    {
+      key[m] = rows.Global[ends[static_cast<std::size_t>(k) * arity + m]];
+    }
+    std::sort(key, key + arity);
+    const Index low = *std::min_element(ends + static_cast<std::size_t>(k) * arity,
+      ends + static_cast<std::size_t>(k + 1) * arity, [&rows](Index a, Index b) { return rows.Global[a] < rows.Global[b]; });
+    ownerRank[k] = rows.Owners[low];
+    if (ownerRank[k] == rows.RankId)
+    {
+      ownerRow[k] = k;
+      mine.push_back(keyOf(key, k));
+    }
+    else
+    {
+      ++askCounts[ownerRank[k]];
+    }
   }
+  std::vector<int> offsets = OffsetsOf(askCounts), fill(offsets), answerCounts(P, 0);
+  std::vector<std::int64_t> asked(static_cast<std::size_t>(offsets.back() + askCounts.back()) * arity), received;
+  std::vector<Index> askers(asked.size() / arity);
+  for (Index k = 0; k < count; ++k)
+  {
+    if (ownerRank[k] != rows.RankId)
+    {
+      const int at = fill[ownerRank[k]]++;
+      std::copy_n(&keys[static_cast<std::size_t>(k) * arity], arity, &asked[static_cast<std::size_t>(at) * arity]);
+      askers[at] = k;
+    }
+  }
+  std::sort(mine.begin(), mine.end());
+  MPI_Alltoall(askCounts.data(), 1, MPI_INT, answerCounts.data(), 1, MPI_INT, comm);
+  AllToAll(comm, asked, askCounts, received, answerCounts, arity);
+  std::vector<Index> answers(received.size() / arity), rowsBack;
+  for (std::size_t a = 0; a < answers.size(); ++a)
+  {
+    const Key key = keyOf(&received[a * arity], -1);
+    const auto found = std::lower_bound(mine.begin(), mine.end(), key);
+    const bool held = found != mine.end() && std::equal(key.begin(), key.begin() + 3, found->begin());
+    answers[a] = held ? static_cast<Index>((*found)[3]) : -1;
+  }
+  AllToAll(comm, answers, answerCounts, rowsBack, askCounts, 1);
+  for (std::size_t a = 0; a < rowsBack.size(); ++a)
+  {
+    ownerRow[askers[a]] = rowsBack[a];
+  }
+  // (A row of -1 makes the constructor throw on every process.)
+  return std::make_unique<Partition>(&comm, count, ownerRank.data(), ownerRow.data());
 }
 
 void Partition::Sum(double* values, int count) const

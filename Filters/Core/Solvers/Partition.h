@@ -32,6 +32,15 @@ public:
   /// = i).  Throws std::runtime_error, on every process, when some process
   /// names a row that its owner does not own.
   Partition(const void* communicator, Index rows, const int* ownerRank, const Index* ownerRow);
+  /// The partition of `count` items over the same processes, each item
+  /// named by `arity` rows of `rows` (ends[arity * k + m]: local rows; e.g.
+  /// the edges or triangles of a surface whose vertices `rows` splits) and
+  /// owned by the owner of its row with the lowest global number, which
+  /// must hold it too (it holds the whole star of that row: CountsEdge,
+  /// CountsTriangle).  Every process must list each item it holds once.
+  /// Throws std::runtime_error, on every process, when an owner does not
+  /// hold an item that another process names.
+  static std::unique_ptr<Partition> OfItems(const Partition& rows, Index count, int arity, const Index* ends);
   ~Partition();
   Partition(const Partition&) = delete;
   Partition& operator=(const Partition&) = delete;
@@ -73,6 +82,11 @@ public:
     UpdateGhosts(v.data(), 1);
     std::copy(v.begin(), v.end(), values.begin());
   }
+  /// The reverse of UpdateGhosts: each owned row of `values` gets the values
+  /// of its ghosts on the other processes added (an assembly whose terms
+  /// are computed where they are held: a term known on one process, 0 on
+  /// the others, reaches the owner); the ghost rows are left as they are.
+  void SumToOwners(double* values, int columns) const;
   /// values[k] replaced by its sum (or largest value) over the processes.
   void Sum(double* values, int count) const;
   void Max(double* values, int count) const;
@@ -105,6 +119,7 @@ private:
   std::vector<std::int64_t> Global;
   std::int64_t First = 0, Total = 0;
   Index OwnedCount = 0;
+  std::vector<int> Owners; ///< per local row, its owner's rank
   int RankId = 0, Processes = 1;
 };
 

@@ -17,6 +17,7 @@
 #include "Solvers/GraphSolvers.h"
 #include "Solvers/Partition.h"
 #include "Solvers/SparseGraph.h"
+#include "Solvers/TestMPI.h"
 
 #include <gtest/gtest.h>
 #include <mpi.h>
@@ -37,15 +38,6 @@ using namespace beltrami;
 
 namespace
 {
-
-/// This process's rank and the number of processes (MPI_COMM_WORLD).
-std::pair<int, int> RankAndSize()
-{
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  return { rank, size };
-}
 
 /// D + t K on an n x n grid graph (4 neighbours, weights varying over the
 /// grid), row-major, and a right-hand side; rows of the first column fixed.
