@@ -368,15 +368,6 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
     vtkWarningMacro(<< nonFinite << " triangles have NaN or infinite vectors" << (onPoints ? " at a corner" : "")
                     << ": their field is left out (parts 0).");
   }
-  if (split)
-  {
-    // The rings' triangles get the vectors of the pieces they belong to:
-    // from there to the triangle's owner, and on to every rank holding it.
-    const std::unique_ptr<beltrami::Partition> shared =
-      beltrami::Partition::OfItems(*split, topo.NumberOfTriangles(), 3, topo.TriangleList().data());
-    shared->SumToOwners(vectors.data(), 3);
-    shared->UpdateGhosts(vectors.data(), 3);
-  }
   beltrami::VectorFieldOptions options;
   this->CopySettings(options, vtkBeltramiCopy::ToCore);
   beltrami::VectorFieldDecomposition r;
@@ -386,6 +377,13 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
   {
     if (split)
     {
+      // The rings' triangles get the vectors of the pieces they belong to:
+      // from there to the triangle's owner, and on to every rank holding
+      // it.  (OfItems throws on every rank alike.)
+      const std::unique_ptr<beltrami::Partition> shared =
+        beltrami::Partition::OfItems(*split, topo.NumberOfTriangles(), 3, topo.TriangleList().data());
+      shared->SumToOwners(vectors.data(), 3);
+      shared->UpdateGhosts(vectors.data(), 3);
       *this->Prepared = vtkPrepared(); // (a split run keeps nothing)
       beltrami::DecomposeVectorField(topo, points, vectors.data(), options, *split, r);
     }

@@ -69,8 +69,11 @@ def cell_index(result, reference):
     return np.array([locator.FindClosestPoint(*x) for x in vtk_to_numpy(centres[0].GetPoints().GetData())], dtype=int)
 
 
-def split_run(label, path, on_cells=False, boundary=0, partitions=0):
+def split_run(label, path, on_cells=False, boundary=0, partitions=0, scale=1.0):
     source = OpenDataFile(path)
+    if scale != 1.0:
+        source = Transform(Input=source)
+        source.Transform.Scale = [scale] * 3
     redistributed = RedistributeDataSet(Input=source)
     redistributed.NumberOfPartitions = partitions
     decomposition = SurfaceVectorFieldDecomposition(Input=with_wind(ExtractSurface(Input=redistributed), on_cells))
@@ -123,6 +126,10 @@ check(eight.GetFieldData().GetArray("HarmonicEnergy").GetValue(0) >
       1e-3 * eight.GetFieldData().GetArray("TangentEnergy").GetValue(0), "the eight has a harmonic part")
 for boundary in (0, 1):
     split_run("open patch, boundary condition %d" % boundary, os.path.join(DATA, "patch-01.off"), boundary=boundary)
+# Coordinates far from unit size (and vectors as large): the whole surface's
+# scale, the same on every rank.  (RedistributeDataSet itself aborts
+# beyond about 1e100.)
+split_run("bunny at 1e30", os.path.join(DATA, "bunny00.off"), scale=1e30)
 # A fin on the bunny: a triangle hanging from one of its points, which is
 # non-manifold there; every rank leaves out the same triangles (those at
 # that point) as the serial run.
