@@ -413,12 +413,15 @@ void DecomposeVectorField(const MeshTopology& topo, const double* points, const 
   const IndexArray& tri = topo.TriangleList();
   // Coordinates far from unit size: as the serial decomposer, the points of
   // the whole surface times one power of two.
-  const int e = FarScaleExponent(WholeBox(topo, points, split));
+  const Eigen::AlignedBox3d box = WholeBox(topo, points, split);
+  const int e = FarScaleExponent(box);
   const std::vector<double> scaled =
     e ? PointsTimesPowerOfTwo(points, topo.NumberOfVertices(), -e) : std::vector<double>();
   const double* p = e ? scaled.data() : points;
-  const Eigen::AlignedBox3d box = WholeBox(topo, p, split);
-  const double extent = box.isEmpty() ? 1.0 : std::max(box.diagonal().norm(), 1e-300);
+  // (The scaled points' box: the box's corners times 2^-e, exactly.)
+  const auto scaledBy = [e](double x) { return std::ldexp(x, -e); };
+  const Eigen::Vector3d diagonal = box.max().unaryExpr(scaledBy) - box.min().unaryExpr(scaledBy);
+  const double extent = box.isEmpty() ? 1.0 : std::max(diagonal.norm(), 1e-300);
   const TriangleFrames frames = MakeFrames(topo, p, threads);
   std::vector<std::uint8_t> counted(nt); // each triangle summed on one process
   double degenerate = 0.0;

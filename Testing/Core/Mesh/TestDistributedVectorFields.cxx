@@ -224,13 +224,13 @@ TEST(Partition, DistributedVectorFieldDecompositionIsTheSerialOne)
   const MPI_Comm world = MPI_COMM_WORLD;
   for (const Shape shape : { Shape::Torus, Shape::Annulus, Shape::Sphere, Shape::Cap })
   {
-    const SplitSurface torus(shape, 64, size);
-    const SurfacePiece mine(torus.Triangles, torus.Points, torus.RankOf, rank, size);
+    const SplitSurface surface(shape, 64, size);
+    const SurfacePiece mine(surface.Triangles, surface.Points, surface.RankOf, rank, size);
     const Partition split(&world, mine.Rows(), mine.OwnerRank.data(), mine.OwnerRow.data());
-    const MeshTopology whole(static_cast<Index>(torus.Points.size() / 3),
-      IndexArray(torus.Triangles.begin(), torus.Triangles.end()), 1);
+    const MeshTopology whole(static_cast<Index>(surface.Points.size() / 3),
+      IndexArray(surface.Triangles.begin(), surface.Triangles.end()), 1);
     const MeshTopology piece(mine.Rows(), IndexArray(mine.Triangles.begin(), mine.Triangles.end()), 1);
-    const std::vector<double> field = torus.Field();
+    const std::vector<double> field = surface.Field();
     std::vector<double> vectors;
     for (const Index t : mine.WholeTriangle)
     {
@@ -243,7 +243,7 @@ TEST(Partition, DistributedVectorFieldDecompositionIsTheSerialOne)
       o.Boundary = boundary;
       o.NumberOfThreads = 1;
       VectorFieldDecomposition a, b;
-      DecomposeVectorField(whole, torus.Points.data(), field.data(), o, a);
+      DecomposeVectorField(whole, surface.Points.data(), field.data(), o, a);
       DecomposeVectorField(piece, mine.Points.data(), vectors.data(), o, split, b);
       const auto largest = [](const std::vector<double>& v) {
         double m = 0.0;
