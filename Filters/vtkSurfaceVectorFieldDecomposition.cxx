@@ -65,8 +65,20 @@ int vtkSurfaceVectorFieldDecomposition::RequestData(
   // ranks of a distributed run are solved over the ranks, each rank holding
   // its piece and the rings around it (pieces with ghost cells are gathered
   // on rank 0).
-  return vtkBeltramiSurface::Execute(this, inputVector, outputVector, this->NumberOfThreads,
-    vtkBeltramiSurface::Needs::Distributed, [this](vtkBeltramiSurface& surface) { return this->Compute(surface); });
+  // Where the pieces turn out not to hold the stars of their points (points
+  // of one coordinate that the pieces join but a piece keeps apart, at
+  // non-manifold points: every rank finds it alike), the surface is
+  // gathered on rank 0 instead.
+  const auto compute = [this](vtkBeltramiSurface& surface) { return this->Compute(surface); };
+  this->PiecesDisagree = false;
+  const int done = vtkBeltramiSurface::Execute(
+    this, inputVector, outputVector, this->NumberOfThreads, vtkBeltramiSurface::Needs::Distributed, compute);
+  if (!this->PiecesDisagree)
+  {
+    return done;
+  }
+  return vtkBeltramiSurface::Execute(
+    this, inputVector, outputVector, this->NumberOfThreads, vtkBeltramiSurface::Needs::WholeSurface, compute);
 }
 
 namespace
@@ -391,6 +403,17 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
     {
       reused = this->Decompose(topo, points, vectors.data(), options, r);
     }
+  }
+  catch (const beltrami::InconsistentOwnership&)
+  {
+    if (reports)
+    {
+      vtkWarningMacro("The pieces do not hold the whole neighbourhood of every point (coincident points kept "
+                      "apart within a piece, at non-manifold points): the surface is gathered on rank 0 and "
+                      "decomposed there.");
+    }
+    this->PiecesDisagree = true;
+    return false;
   }
   catch (const std::exception& e)
   {

@@ -105,6 +105,10 @@ private:
   /// cost two triangular solves each).
   struct vtkPrepared;
   std::unique_ptr<vtkPrepared> Prepared;
+  /// Set by a split run whose pieces do not hold the stars of their points
+  /// (beltrami::InconsistentOwnership, on every rank): RequestData then
+  /// gathers the surface instead.
+  bool PiecesDisagree = false;
   /// RequestData's work on the prepared surface (vtkBeltramiSurface::Execute).
   bool Compute(vtkBeltramiSurface& surface);
   /// The serial decomposition, with the systems of a surface seen twice in

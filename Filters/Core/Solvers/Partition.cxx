@@ -124,7 +124,7 @@ Partition::Partition(const void* communicator, Index rows, const int* ownerRank,
   MPI_Allreduce(&bad, &anyBad, 1, MPI_INT, MPI_MAX, x.Comm);
   if (anyBad)
   {
-    throw std::runtime_error("Partition: a row's owner does not own it (inconsistent ownership of the pieces' points)");
+    throw InconsistentOwnership("Partition: a row's owner does not own it (inconsistent ownership of the pieces' points)");
   }
 }
 

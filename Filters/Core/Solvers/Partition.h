@@ -18,10 +18,21 @@
 
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 namespace beltrami
 {
+
+/// What a Partition throws, on every process, when some process names a
+/// row (or item) that its owner does not hold: the pieces do not hold the
+/// stars they should (e.g. points of one input counted as one point where
+/// pieces meet but as several within a piece).
+class InconsistentOwnership : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
 
 class Partition
 {
@@ -29,8 +40,8 @@ public:
   /// `communicator` points to an MPI_Comm (MPI initialised by the caller);
   /// local row i is owned by process ownerRank[i], where it is local row
   /// ownerRow[i] (for an owned row: ownerRank[i] = this process, ownerRow[i]
-  /// = i).  Throws std::runtime_error, on every process, when some process
-  /// names a row that its owner does not own.
+  /// = i).  Throws InconsistentOwnership, on every process, when some
+  /// process names a row that its owner does not own.
   Partition(const void* communicator, Index rows, const int* ownerRank, const Index* ownerRow);
   /// The partition of `count` items over the same processes, each item
   /// named by `arity` rows of `rows` (ends[arity * k + m]: local rows; e.g.
@@ -38,7 +49,7 @@ public:
   /// owned by the owner of its row with the lowest global number, which
   /// must hold it too (it holds the whole star of that row: CountsEdge,
   /// CountsTriangle).  Every process must list each item it holds once.
-  /// Throws std::runtime_error, on every process, when an owner does not
+  /// Throws InconsistentOwnership, on every process, when an owner does not
   /// hold an item that another process names.
   static std::unique_ptr<Partition> OfItems(const Partition& rows, Index count, int arity, const Index* ends);
   ~Partition();
