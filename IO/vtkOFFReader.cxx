@@ -36,12 +36,22 @@ int vtkOFFReader::CanReadFile(const char* fileName)
   {
     return 0;
   }
+  // The first line that is neither blank nor a comment (CGAL's files start
+  // with "# Output of a CGAL tool" lines) names the format: OFF, COFF,
+  // NOFF, STOFF, 4OFF...  (Within the first 64 lines.)
   std::ifstream in(fileName, std::ios::binary);
-  char head[64] = {};
-  in.read(head, sizeof(head) - 1);
-  const std::string text(head, static_cast<std::size_t>(in.gcount()));
-  const std::size_t pos = text.find("OFF");
-  return pos != std::string::npos && pos < 16 ? 1 : 0;
+  std::string line;
+  for (int k = 0; k < 64 && std::getline(in, line); ++k)
+  {
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#')
+    {
+      continue;
+    }
+    const std::size_t pos = line.find("OFF", first);
+    return pos != std::string::npos && pos < first + 16 ? 1 : 0;
+  }
+  return 0;
 }
 
 namespace

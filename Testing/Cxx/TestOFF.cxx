@@ -136,6 +136,14 @@ TEST(OFFReader, ReadsEveryRealMesh)
     EXPECT_EQ(r.Output->GetNumberOfPolys(), m.Faces);
   }
   EXPECT_EQ(vtkOFFReader::CanReadFile(DataFile("eight.off").c_str()), 1);
+  // Comment lines before the header (CGAL's tools write them): ParaView
+  // picks the reader by CanReadFile.
+  const std::string commented = TempFile("commented.off");
+  WriteText(commented, "# Output of a CGAL tool\n#CBP\n\n  COFF\n3 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2\n");
+  EXPECT_EQ(vtkOFFReader::CanReadFile(commented.c_str()), 1);
+  const std::string text = TempFile("not-off.txt");
+  WriteText(text, "# a comment\nsolid cube\nOFF later\n");
+  EXPECT_EQ(vtkOFFReader::CanReadFile(text.c_str()), 0);
 }
 
 TEST(OFFWriter, RoundTripIsExact)
