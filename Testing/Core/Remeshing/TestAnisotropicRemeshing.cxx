@@ -13,6 +13,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -59,9 +60,13 @@ test::Mesh Ellipsoid()
   return m;
 }
 
-/// The mean angle (degrees) between the cylinder's remesh edges, in the
-/// tangent plane, and the nearer of the axis and the circle around it.
-double MeanDeviationFromThePrincipalDirections(const RemeshResult& r)
+/// The mean angle (degrees) between the remesh edges of a surface of
+/// revolution about z, in the tangent plane, and the nearer of its
+/// principal directions (the meridian and the circle around the axis),
+/// over the edges where the ratio of the principal curvatures exceeds 3:
+/// the cylinder of radius 1 (c = 0) or the spheroid of semi-axes (1, 1, c),
+/// where the ratio is sin^2 b + c^2 cos^2 b at reduced latitude b.
+double MeanDeviationFromThePrincipalDirections(const RemeshResult& r, double c = 0.0)
 {
   double sum = 0.0;
   int count = 0;
@@ -70,15 +75,25 @@ double MeanDeviationFromThePrincipalDirections(const RemeshResult& r)
     for (int k = 0; k < 3; ++k)
     {
       const Vec3 a = Point(r.Points.data(), r.Triangles[t + k]), b = Point(r.Points.data(), r.Triangles[t + (k + 1) % 3]);
-      const Vec3 n = Vec3(a[0] + b[0], a[1] + b[1], 0.0).normalized();
+      const Vec3 m = 0.5 * (a + b);
+      if (c > 0.0)
+      {
+        const double sine = std::clamp(m[2] / c, -1.0, 1.0);
+        if (sine * sine + c * c * (1.0 - sine * sine) <= 3.0)
+        {
+          continue;
+        }
+      }
+      const Vec3 n = Vec3(m[0], m[1], c > 0.0 ? m[2] / (c * c) : 0.0).normalized();
+      const Vec3 around = Vec3(-m[1], m[0], 0.0).normalized();
       Vec3 d = b - a;
       d = (d - d.dot(n) * n).normalized();
-      const double toAxis = std::acos(std::min(1.0, std::abs(d[2]))) * 180.0 / M_PI;
-      sum += std::min(toAxis, 90.0 - toAxis);
+      const double toCircle = std::acos(std::min(1.0, std::abs(d.dot(around)))) * 180.0 / M_PI;
+      sum += std::min(toCircle, 90.0 - toCircle);
       ++count;
     }
   }
-  return sum / count;
+  return sum / std::max(1, count);
 }
 
 } // namespace
@@ -128,16 +143,19 @@ TEST(AnisotropicRemeshing, FlatSurfaceGetsAnIsotropicUniformMetric)
 TEST(AnisotropicRemeshing, RemeshesAreStretchedAlongTheLeastCurvedDirectionsAndCloser)
 {
   // The cylinder and an ellipsoid at 2,000 vertices: edges of unit length
-  // and triangles near equilateral in the metric, the cylinder's edges
-  // along its axis and around it, and both closer to the input than the
-  // isotropic remesh of the same count.
+  // and triangles near equilateral in the metric, the edges along the
+  // principal directions (the axis or meridian and the circle around it)
+  // where the principal curvatures' ratio exceeds 3, and both closer to
+  // the input than the isotropic remesh of the same count.
   struct Case
   {
     const char* Name;
     test::Mesh Mesh;
     double Closer; ///< the anisotropic deviation at most this share of the isotropic
+    double Axis;   ///< the spheroid's semi-axis along z (0: the cylinder)
   };
-  const Case cases[] = { { "cylinder", test::Cylinder(1.0, 4.0, 200, 160), 0.5 }, { "ellipsoid", Ellipsoid(), 0.7 } };
+  const Case cases[] = { { "cylinder", test::Cylinder(1.0, 4.0, 200, 160), 0.5, 0.0 },
+    { "ellipsoid", Ellipsoid(), 0.7, 3.0 } };
   for (const Case& c : cases)
   {
     const Surface surface(c.Mesh);
@@ -163,17 +181,21 @@ TEST(AnisotropicRemeshing, RemeshesAreStretchedAlongTheLeastCurvedDirectionsAndC
     EXPECT_GE(q.MeanMinimumAngle, 50.0) << c.Name;
     EXPECT_LE(q.TrianglesBelow30, 0.01) << c.Name;
     EXPECT_LE(Deviation(r), c.Closer * Deviation(isotropic)) << c.Name;
-    if (std::string(c.Name) == "cylinder")
-    {
-      // A lattice aligned with the metric, its edges of 3D length ratio 6,
-      // deviates by atan(tan(30 deg) / 6) = 5.5 deg on two edges of three
-      // (3.7 deg on average); the isotropic remesh's edges 22.5 (random).
-      const double aligned = MeanDeviationFromThePrincipalDirections(r);
-      const double random = MeanDeviationFromThePrincipalDirections(isotropic);
-      std::printf("  edges' mean deviation from the principal directions %.1f deg (isotropic %.1f)\n", aligned, random);
-      EXPECT_LE(aligned, 12.0);
-      EXPECT_GE(random, 18.0);
-    }
+    // Where the ratio of the principal curvatures exceeds 3.  A lattice
+    // aligned with the metric (one edge of three along the strongest
+    // direction) deviates by atan(tan(30 deg) / r) on the other two, r the
+    // metric's edge ratio: on the cylinder r = 6 (the cap), 3.7 deg on
+    // average; on the ellipsoid r = sqrt(ratio), 3 at the equator and 1.7
+    // where the ratio is 3, 8.3 deg on average over that band.  The
+    // isotropic remesh's edges about 22.5 (random).  Measured 10.8 and
+    // 14.6: the atlas's seams (33 charts on the cylinder, half the samples
+    // on them) and the lattice's defects (a vertex in five of valence 5 or
+    // 7) turn the short edges.
+    const double aligned = MeanDeviationFromThePrincipalDirections(r, c.Axis);
+    const double random = MeanDeviationFromThePrincipalDirections(isotropic, c.Axis);
+    std::printf("  edges' mean deviation from the principal directions %.1f deg (isotropic %.1f)\n", aligned, random);
+    EXPECT_LE(aligned, c.Axis > 0.0 ? 16.0 : 12.0) << c.Name;
+    EXPECT_GE(random, 18.0) << c.Name;
   }
 }
 
