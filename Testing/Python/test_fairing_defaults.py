@@ -10,8 +10,8 @@ Gaussian noise of 0, 0.1%, 0.3% and 1% of the diagonal along the normals
   - a noisy one never ends further from the clean mesh than the noisy input,
     and within 10% of the filter's own best step (the curvature flow's and
     the umbrella's, swept with the clean mesh);
-  - noise that crumples the refined part of a locally refined mesh, which
-    the estimate measures at half its size, is smoothed to its best step;
+  - noise that crumples the refined part of a locally refined mesh is
+    measured within 15% and smoothed to its best step;
   - coarse meshes whose shape varies at the scale of their triangles (eight,
     double-torus-example: tubes a few edges round) are left as they are,
     with the warning, at every level (the noise estimate grows with the
@@ -118,10 +118,11 @@ for name in ("eight.off", "double-torus-example.off"):
         check(r["defaults"] <= r["input"] * (1 + 1e-9), "%s: no further from the clean mesh than the input" % label)
         check(r["step"] == 0 and r["warned"], "%s: left as it is, with the warning" % label)
 # Noise that crumples the refined part of a locally refined mesh (1% of the
-# diagonal, 1.8 times its mean edge length) is estimated at half its size; the
-# step's risk with that estimate is above the input's, so the noise is
-# taken from the cross-validation (1.00 of it) and the mesh is smoothed to
-# its best step (left as it was, 4 times further from the clean mesh).
+# diagonal, 1.8 times its mean edge length) tilts the fits' frames there:
+# measured again in the frames of 12-rings' vector areas, within 15% of it
+# (0.94; half of it by fits on the 12-rings themselves), and the mesh is
+# smoothed to its best step (left as it was, 4 times further from the clean
+# mesh).
 mesh = oracles.read_triangles(os.path.join(inputs.SHARED_MESHES, "cylinder_locally_refined.off"))
 r = oracles.case(mesh, 0.01)
 label = "cylinder_locally_refined.off, noise 1%"
@@ -129,6 +130,8 @@ print("%s: input %.5f, defaults %.5f (step %.3g), own best %.5f, noise estimated
       % (label, r["input"], r["defaults"], r["step"], r["own best"], r["estimated noise"] / 0.01))
 check(r["step"] > 0 and r["defaults"] <= 1.1 * r["own best"], "%s: smoothed to within 10%% of the own best step "
       "(%.3f)" % (label, r["defaults"] / r["own best"]))
+check(abs(r["estimated noise"] / 0.01 - 1) <= 0.15, "%s: the noise estimate within 15%% (%.2f)"
+      % (label, r["estimated noise"] / 0.01))
 # Isotropic noise (in every direction, of that deviation per coordinate):
 # found so where it stands out of the meshes' own irregular sampling, and
 # then brought as near the clean mesh as windowed sinc's best; below, taken

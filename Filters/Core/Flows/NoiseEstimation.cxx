@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <tuple>
 #include <cstring>
 #include <vector>
@@ -475,24 +476,28 @@ int RingsFor(double dihedral)
 }
 
 /// From this median dihedral angle (degrees) on, the noise crumples the
-/// surface (it is an edge length or more): the fits' frames tilt with it
-/// and the rings RingsFor gives measure a fraction of it (bunny00
-/// Loop-subdivided three and four times with noise of 2.4 edge lengths
-/// along the normals, median angle 51.5 degrees: 0.30 and 0.27 of it on
-/// 4-rings, and the defaults left those meshes as they were; twice
-/// subdivided, median angle 52 degrees, 0.51 on 6-rings).  There it is
-/// measured again on MostRings-rings, at CrumpledSamples points, and that
-/// estimate is taken where it is more than CrumpledGrowth times the first
-/// (those three: 0.91-1.01 of the noise; with noise of 1.2 edge lengths
-/// 1.01-1.08).  On the corpus with noise of 0.1-1% of the diagonal along
-/// the normals four meshes at 1% are crumpled enough; their results are
-/// the same, their estimates of the noise 1.02 -> 1.12 (bunny00),
-/// 0.09 -> 0.50 (cylinder_locally_refined), and where the wider rings take
-/// in the shape's detail 1.25 -> 4.76 (cow) and 1.08 -> 1.36
-/// (fandisk_large).
+/// surface (it is an edge length or more): the fits' frames (the principal
+/// axes of their rings' points) tilt with it, and the tilt lets the fits
+/// take up part of the noise (bunny00 Loop-subdivided three and four times
+/// with noise of 2.4 edge lengths along the normals, median angle 51.5
+/// degrees: 0.30 and 0.27 of it on the 4-rings RingsFor gives).  There it
+/// is measured again, at CrumpledSamples points, by fits on
+/// CrumpledFitRings-rings in the frame of the vector area of the point's
+/// MostRings-ring (the sum of its triangles' area vectors, which depends
+/// only on the ring's boundary: the noise hardly tilts it), and that
+/// estimate is taken where it is more than CrumpledGrowth times the first.
+/// bunny00 Loop-subdivided 2, 3 and 4 times with noise of 2.4 edge lengths:
+/// 0.98, 0.96 and 0.92 of it (fits on the 12-rings themselves in their
+/// principal axes: 1.02, 0.95 and 0.65); 3 times with 1.2 edge lengths
+/// 0.99.  On the corpus with noise of 0.1-1% of the diagonal along the
+/// normals four meshes at 1% are crumpled enough: bunny00 1.02, the
+/// locally refined cylinder (its refined part crumpled) 0.94, and, where
+/// fits on 12-rings took in the shape's detail (cow 4.76, fandisk_large
+/// 1.36), cow 1.25 and fandisk_large 1.08.
 constexpr double CrumpledDihedral = 45.0;
 constexpr double CrumpledGrowth = 1.1;
 constexpr int MostRings = 12;
+constexpr int CrumpledFitRings = 2;
 /// The crumpled surface's second estimate takes 2^30 / n of its n points,
 /// from CrumpledSamples (a median's relative error of about 1.8%) to the
 /// first estimate's 2^15: its wide rings cost about 0.5 s at 4096 points on
@@ -546,9 +551,10 @@ bool CollectRing(const MeshTopology::VertexGraph& graph, Index centre, int rings
 }
 
 /// The height of x_centre above the least-squares quadric through the ring's
-/// points, over its noise gain (a noise sample); NaN where the fit is not
-/// determined.
-double QuadricResidual(const double* x, Index centre, const std::vector<Index>& ring)
+/// points, over its noise gain (a noise sample), in the frame of `normal`
+/// (unit) where given, else of the ring's principal axes; NaN where the fit
+/// is not determined.
+double QuadricResidual(const double* x, Index centre, const std::vector<Index>& ring, const Vec3* normal = nullptr)
 {
   const Vec3 o = Point(x, centre);
   Vec3 mean = Vec3::Zero();
@@ -564,7 +570,13 @@ double QuadricResidual(const double* x, Index centre, const std::vector<Index>& 
     cov += d * d.transpose();
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> pca(cov);
-  const Vec3 axisU = pca.eigenvectors().col(2), axisV = pca.eigenvectors().col(1), axisN = pca.eigenvectors().col(0);
+  Vec3 axisU = pca.eigenvectors().col(2), axisV = pca.eigenvectors().col(1), axisN = pca.eigenvectors().col(0);
+  if (normal)
+  {
+    axisN = *normal;
+    axisU = (std::abs(axisN[0]) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(axisN).normalized();
+    axisV = axisN.cross(axisU);
+  }
   double radius = 0.0;
   for (Index v : ring)
   {
@@ -655,9 +667,49 @@ struct RingResiduals
   const Partition* Split;
   int NumberOfThreads;
   std::int64_t Stride = 1;
+  /// Where positive: every fit on a CrumpledFitRings-ring in the frame of
+  /// the vector area of this ring (Frame), not on the rings of Measure's
+  /// `least` in their principal axes.
+  int FrameRings = 0;
+
+  /// The sum of the area vectors of v's triangles.
+  Vec3 AreaVector(Index v) const
+  {
+    Vec3 sum = Vec3::Zero();
+    for (const Index* c = Topo.CornersBegin(v); c < Topo.CornersEnd(v); ++c)
+    {
+      const Index t = *c / 3;
+      const Vec3 a = Point(X, Topo.CornerVertex(3 * t));
+      sum += (Point(X, Topo.CornerVertex(3 * t + 1)) - a).cross(Point(X, Topo.CornerVertex(3 * t + 2)) - a);
+    }
+    return sum;
+  }
+
+  /// In `normal`, the unit normal of the vector area of v's `ring` (three
+  /// times its triangles' area vectors, those at its edge partly), or none
+  /// where that is less than a tenth of their total area (a ring around a
+  /// thin tube or a small closed component, whose vector area is nearly 0:
+  /// the fit's principal axes instead).
+  void Frame(Index v, const std::vector<Index>& ring, std::optional<Vec3>& normal) const
+  {
+    Vec3 sum = AreaVector(v);
+    double total = sum.norm();
+    for (const Index w : ring)
+    {
+      const Vec3 a = AreaVector(w);
+      sum += a;
+      total += a.norm();
+    }
+    normal.reset();
+    if (sum.norm() > 0.1 * total && sum.allFinite())
+    {
+      normal = sum.normalized();
+    }
+  }
 
   /// (Deviation, WiderDeviation) with every ring at least `least` wide
-  /// (the wider one only with `wide`, else the same).
+  /// (the wider one only with `wide`, else the same), or in FrameRings'
+  /// frames.
   std::pair<double, double> Measure(int least, bool wide) const
   {
     const Index n = Topo.NumberOfVertices();
@@ -676,11 +728,21 @@ struct RingResiduals
         {
           continue;
         }
-        const int rings =
-          std::max(least, RingsFor(std::max(MedianDihedral, VertexDihedral(Topo, Angles, v, scratch))));
+        std::optional<Vec3> normal;
+        if (FrameRings > 0)
+        {
+          if (!CollectRing(graph, v, FrameRings, Split, stamp, mark++, ring))
+          {
+            continue;
+          }
+          Frame(v, ring, normal);
+        }
+        const int rings = FrameRings > 0
+          ? CrumpledFitRings
+          : std::max(least, RingsFor(std::max(MedianDihedral, VertexDihedral(Topo, Angles, v, scratch))));
         if (CollectRing(graph, v, rings, Split, stamp, mark++, ring) && ring.size() >= 9)
         {
-          residual[i] = QuadricResidual(X, v, ring);
+          residual[i] = QuadricResidual(X, v, ring, normal ? &*normal : nullptr);
           if (wide && CollectRing(graph, v, rings + 1, Split, stamp, mark++, ring))
           {
             wider[i] = QuadricResidual(X, v, ring);
@@ -714,11 +776,12 @@ SurfaceNoise EstimateSurfaceNoise(
   result.Rings = RingsFor(result.MedianDihedral);
   if (result.MedianDihedral >= CrumpledDihedral && result.Deviation > 0.0)
   {
-    // Measured again on MostRings-rings (CrumpledDihedral), at fewer points
-    // (CrumpledSamples), and taken where it grew (the wider estimate is then
-    // the same: the growth is the frames', not the shape's).
+    // Measured again in the frames of MostRings-rings (CrumpledDihedral), at
+    // fewer points (CrumpledSamples), and taken where it grew (the wider
+    // estimate is then the same: the growth is the frames', not the shape's).
     residuals.Stride = StrideFor(rows, std::clamp(CrumpledWork / std::max(rows, 1.0), CrumpledSamples, 32768.0));
-    const double crumpled = residuals.Measure(MostRings, false).first;
+    residuals.FrameRings = MostRings;
+    const double crumpled = residuals.Measure(0, false).first;
     if (crumpled > CrumpledGrowth * result.Deviation)
     {
       result.Deviation = result.WiderDeviation = crumpled;

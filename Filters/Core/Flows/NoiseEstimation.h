@@ -98,13 +98,14 @@ struct SurfaceNoise
 /// rings add the shape's detail.  The rings follow how crumpled the mesh
 /// is, by the median angle between the normals of adjacent triangles: below
 /// 35 degrees 2 rings, below 45 3, below 52 4, else 6; from 45 degrees on
-/// (noise of an edge length and more tilts the fits' frames) it is measured
-/// again on 12-rings at fewer points and that estimate kept where it is
-/// more than a tenth larger (the wider estimate then the same).  On a coarse mesh
-/// whose shape varies at the scale of its triangles, that detail counts as
-/// noise (elephant: 0.13% of the diagonal without noise); where the noise
-/// crumples only part of a mesh (a locally refined region) it is measured
-/// too low.  Points marked in `skip` and points with fewer than 9 others in
+/// (noise of an edge length and more tilts the fits' frames, the principal
+/// axes of their points) it is measured again at fewer points by fits on
+/// 2-rings in the frame of the vector area of the 12-ring (the sum of its
+/// triangles' area vectors, which the noise hardly tilts), and that
+/// estimate kept where it is more than a tenth larger (the wider estimate
+/// then the same).  On a coarse mesh whose shape varies at the scale of its
+/// triangles, that detail counts as noise (elephant: 0.13% of the diagonal
+/// without noise).  Points marked in `skip` and points with fewer than 9 others in
 /// the ring do not count; beyond 2^15 points they are sampled (by PointHash).  split (optional, collective): a surface split over processes,
 /// each with the stars of the points it owns; a point counts where its
 /// whole k-ring is on its owner (an estimate close to the serial one).
