@@ -574,8 +574,7 @@ double QuadricResidual(const double* x, Index centre, const std::vector<Index>& 
   if (normal)
   {
     axisN = *normal;
-    axisU = (std::abs(axisN[0]) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(axisN).normalized();
-    axisV = axisN.cross(axisU);
+    TangentFrame(axisN, axisU, axisV);
   }
   double radius = 0.0;
   for (Index v : ring)
