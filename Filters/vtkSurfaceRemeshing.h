@@ -203,11 +203,12 @@ public:
   vtkSetClampMacro(MinimumImportance, double, 0.0, 1.0);
   vtkGetMacro(MinimumImportance, double);
   /// Keep sharp edges (normals differing by more than Feature Angle) as chart boundaries, sampled
-  /// along them so that the remesh reproduces them (CAD parts, section 4.2.3). Dangling runs of
-  /// sharp edges shorter than the remesh's spacing are not kept (a crease that crosses the input's
-  /// edges at a slant shows as such fragments); with Maximum Deviation every run is kept. A
-  /// triangle turned over against two of its neighbours (a fold of the input, not a crease) makes
-  /// no sharp edge. Default: off.
+  /// along them so that the remesh reproduces them (CAD parts, section 4.2.3). A crease that
+  /// crosses the input's edges at a slant is sharp on only some of them: the ends of its fragments
+  /// are joined along the sharpest edges above half the Feature Angle where the path is no longer
+  /// than the remesh's spacing, and dangling runs still shorter than the spacing are not kept; with
+  /// Maximum Deviation every run is kept as it is. A triangle turned over against two of its
+  /// neighbours (a fold of the input, not a crease) makes no sharp edge. Default: off.
   vtkSetMacro(SplitAtFeatures, bool);
   vtkGetMacro(SplitAtFeatures, bool);
   vtkBooleanMacro(SplitAtFeatures, bool);

@@ -344,6 +344,7 @@ AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const
   if (options.SplitAtFeatures)
   {
     result.FeatureEdges = SharpEdges(topology, points, options.FeatureAngle);
+    BridgeFeatureGaps(topology, points, 0.5 * options.FeatureAngle, options.LongestFeatureGap, result.FeatureEdges);
     DropShortFeatureChains(topology, points, options.MinimumFeatureLength, result.FeatureEdges);
     cut = result.FeatureEdges;
   }

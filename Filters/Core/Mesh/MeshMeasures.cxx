@@ -1,6 +1,7 @@
 #include "Mesh/MeshMeasures.h"
 
 #include "Mesh/TriangleTree.h"
+#include "Support/DisjointSets.h"
 
 #include <Eigen/Geometry>
 
@@ -9,6 +10,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <memory>
 #include <vector>
 
@@ -313,16 +315,17 @@ std::vector<Vec3> SideNormals(const MeshTopology& topo, const double* x)
   return normals;
 }
 
-} // namespace
-
-std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, double angleDegrees)
+/// The cosine of every edge's dihedral angle between the side normals of
+/// its two triangles (SideNormals); NaN at a boundary or non-manifold edge,
+/// an edge of a degenerate triangle, and the edges of a triangle turned over
+/// against two of its neighbours or more (a fold of the input: normals
+/// within MostFoldAngle of opposite), which has no normal to speak of
+/// either: mech-holes-shark's two inverted triangles made a knot of short
+/// sharp lines, and triangles of 0.6 degrees along them.
+std::vector<double> DihedralCosines(const MeshTopology& topo, const double* x)
 {
   const MeshTopology::EdgeTable& e = topo.Edges();
-  const IndexArray& tri = topo.TriangleList();
-  const double cosine = std::cos(angleDegrees * M_PI / 180.0);
   const std::vector<Vec3> normals = SideNormals(topo, x);
-  // The cosine of every edge's dihedral angle (NaN: a boundary or
-  // non-manifold edge, or a degenerate triangle).
   std::vector<double> dihedral(e.NumberOfEdges(), std::numeric_limits<double>::quiet_NaN());
   for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
   {
@@ -332,12 +335,8 @@ std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, 
       dihedral[k] = normals[c0 / 3].dot(normals[c1 / 3]);
     }
   }
-  // A triangle turned over against two of its neighbours or more (a fold
-  // of the input: normals within MostFoldAngle of opposite) has no normal to
-  // speak of either: mech-holes-shark's two inverted triangles made a knot
-  // of short sharp lines, and triangles of 0.6 degrees along them.
   const double foldCosine = std::cos(MostFoldAngle * M_PI / 180.0);
-  std::vector<std::uint8_t> folds(tri.size() / 3, 0);
+  std::vector<std::uint8_t> folds(topo.TriangleList().size() / 3, 0);
   for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
   {
     if (dihedral[k] < foldCosine)
@@ -346,14 +345,118 @@ std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, 
       ++folds[e.OppositeCorners[2 * k + 1] / 3];
     }
   }
-  const auto plain = [&](Index corner) { return folds[corner / 3] < 2; };
-  std::vector<std::uint8_t> sharp(e.NumberOfEdges(), 0);
   for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
   {
-    // (false for NaN)
-    sharp[k] = dihedral[k] < cosine && plain(e.OppositeCorners[2 * k]) && plain(e.OppositeCorners[2 * k + 1]);
+    if (!std::isnan(dihedral[k]) && (folds[e.OppositeCorners[2 * k] / 3] >= 2 || folds[e.OppositeCorners[2 * k + 1] / 3] >= 2))
+    {
+      dihedral[k] = std::numeric_limits<double>::quiet_NaN();
+    }
+  }
+  return dihedral;
+}
+
+} // namespace
+
+std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, double angleDegrees)
+{
+  const double cosine = std::cos(angleDegrees * M_PI / 180.0);
+  const std::vector<double> dihedral = DihedralCosines(topo, x);
+  std::vector<std::uint8_t> sharp(dihedral.size(), 0);
+  for (std::size_t k = 0; k < dihedral.size(); ++k)
+  {
+    sharp[k] = dihedral[k] < cosine; // (false for NaN)
   }
   return sharp;
+}
+
+namespace
+{
+
+/// The path from `end` along the sharpest edge (dihedral cosine below
+/// `weak`, not a feature) at each vertex, never back to a vertex of the path,
+/// up to `longestGap` long, to the first vertex with a feature edge (the
+/// path's edges and that vertex; none and -1 where none is reached).
+std::pair<std::vector<std::int64_t>, Index> GapPath(const MeshTopology& topo, const double* x, const std::vector<double>& dihedral,
+  double weak, double longestGap, const std::vector<std::uint8_t>& features, const std::vector<int>& degree, Index end)
+{
+  const MeshTopology::EdgeTable& e = topo.Edges();
+  std::vector<std::int64_t> path;
+  std::vector<Index> visited{ end };
+  double length = 0.0;
+  for (Index v = end; length <= longestGap;)
+  {
+    std::int64_t best = -1;
+    for (std::int64_t i = e.NeighborOffsets[v]; i < e.NeighborOffsets[v + 1]; ++i)
+    {
+      const std::int64_t k = e.NeighborEdges[i];
+      const Index w = e.Vertices[2 * k] == v ? e.Vertices[2 * k + 1] : e.Vertices[2 * k];
+      if (!features[k] && dihedral[k] < weak && (best < 0 || dihedral[k] < dihedral[best]) &&
+        std::find(visited.begin(), visited.end(), w) == visited.end())
+      {
+        best = k;
+      }
+    }
+    if (best < 0)
+    {
+      break;
+    }
+    const Index w = e.Vertices[2 * best] == v ? e.Vertices[2 * best + 1] : e.Vertices[2 * best];
+    length += (Point(x, w) - Point(x, v)).norm();
+    path.push_back(best);
+    visited.push_back(w);
+    v = w;
+    if (degree[v] > 0)
+    {
+      return length <= longestGap ? std::make_pair(path, v) : std::make_pair(std::vector<std::int64_t>(), Index(-1));
+    }
+  }
+  return { {}, -1 };
+}
+
+} // namespace
+
+std::int64_t BridgeFeatureGaps(const MeshTopology& topo, const double* x, double weakAngleDegrees, double longestGap,
+  std::vector<std::uint8_t>& features)
+{
+  const MeshTopology::EdgeTable& e = topo.Edges();
+  const Index n = topo.NumberOfVertices();
+  const double weak = std::cos(weakAngleDegrees * M_PI / 180.0);
+  const std::vector<double> dihedral = DihedralCosines(topo, x);
+  std::vector<int> degree(n, 0);
+  std::vector<Index> chain(n); // (union-find: the feature lines' vertices)
+  std::iota(chain.begin(), chain.end(), Index(0));
+  const auto add = [&](std::int64_t k) {
+    features[k] = 1;
+    ++degree[e.Vertices[2 * k]];
+    ++degree[e.Vertices[2 * k + 1]];
+    chain[FindRoot(chain, e.Vertices[2 * k])] = FindRoot(chain, e.Vertices[2 * k + 1]);
+  };
+  for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
+  {
+    if (features[k])
+    {
+      add(k);
+    }
+  }
+  std::int64_t added = 0;
+  for (Index end = 0; end < n && longestGap > 0.0; ++end)
+  {
+    if (degree[end] != 1)
+    {
+      continue;
+    }
+    const auto [path, reached] = GapPath(topo, x, dihedral, weak, longestGap, features, degree, end);
+    // Only to the end of another line: a path to the middle of a line makes
+    // a junction (a corner of the remesh's lines) of what are often two rows
+    // of a crease's fragments side by side, and one back to its own line a
+    // loop.
+    if (reached >= 0 && degree[reached] == 1 && FindRoot(chain, reached) != FindRoot(chain, end))
+    {
+      std::for_each(path.begin(), path.end(), add);
+      added += static_cast<std::int64_t>(path.size());
+    }
+  }
+  return added;
 }
 
 std::int64_t DropShortFeatureChains(

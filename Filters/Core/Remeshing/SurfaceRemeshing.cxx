@@ -37,6 +37,7 @@ AtlasOptions RemeshingAtlasOptions(double spacing)
   options.MaximumStretchedShare = 0.3;
   options.MeasureDistortion = false;
   options.MinimumFeatureLength = spacing;
+  options.LongestFeatureGap = spacing;
   return options;
 }
 

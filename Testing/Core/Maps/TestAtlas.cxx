@@ -545,6 +545,74 @@ TEST(Atlas, FeatureFragmentsShorterThanTheLengthAsked)
     kept.Charts.size(), static_cast<long long>(kept.CutEdges), all.Charts.size(), static_cast<long long>(all.CutEdges));
 }
 
+TEST(Atlas, CreaseFragmentsJoined)
+{
+  // A roof on a 32 x 32 grid, its crease (a bend of 113 degrees) at 30
+  // degrees to the grid's lines: the triangles it crosses share the bend,
+  // so that only some of its edges are sharper than 60 degrees, in
+  // fragments.  Joined along edges sharper than 30 degrees over gaps of up
+  // to three cells, the crease is one line from border to border: no end
+  // inside, no junction, every edge beside the crease.
+  constexpr int n = 32;
+  const double slant = M_PI / 6.0;
+  const auto across = [&](double x, double y) {
+    return x * std::sin(slant) - y * std::cos(slant) + 0.5 * (std::cos(slant) - std::sin(slant)) + 0.013;
+  };
+  Mesh roof;
+  for (int i = 0; i <= n; ++i)
+  {
+    for (int j = 0; j <= n; ++j)
+    {
+      const double x = double(i) / n, y = double(j) / n;
+      roof.AddPoint(Eigen::Vector3d(x, y, 1.5 * std::abs(across(x, y))));
+    }
+  }
+  for (int i = 0; i < n; ++i)
+  {
+    for (int j = 0; j < n; ++j)
+    {
+      const Index a = i * (n + 1) + j, b = a + n + 1;
+      roof.AddTriangle(a, b, b + 1);
+      roof.AddTriangle(a, b + 1, a + 1);
+    }
+  }
+  const MeshTopology topology = roof.Topology();
+  const MeshTopology::EdgeTable& e = topology.Edges();
+  // (vertices with one feature edge inside the grid, with three or more)
+  const auto endsAndJunctions = [&](const std::vector<std::uint8_t>& features) {
+    std::vector<int> degree(roof.NumberOfVertices(), 0);
+    for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
+    {
+      degree[e.Vertices[2 * k]] += features[k];
+      degree[e.Vertices[2 * k + 1]] += features[k];
+    }
+    int ends = 0, junctions = 0;
+    for (Index v = 0; v < roof.NumberOfVertices(); ++v)
+    {
+      const Eigen::Vector3d p = roof.Point(v);
+      ends += degree[v] == 1 && std::min({ p[0], p[1], 1.0 - p[0], 1.0 - p[1] }) > 1e-9;
+      junctions += degree[v] > 2;
+    }
+    return std::pair<int, int>(ends, junctions);
+  };
+  std::vector<std::uint8_t> features = SharpEdges(topology, roof.Points.data(), 60.0);
+  const auto [endsBefore, junctionsBefore] = endsAndJunctions(features);
+  EXPECT_GE(endsBefore, 20);
+  EXPECT_EQ(junctionsBefore, 0);
+  std::vector<std::uint8_t> unchanged = features;
+  EXPECT_EQ(BridgeFeatureGaps(topology, roof.Points.data(), 30.0, 0.0, unchanged), 0);
+  EXPECT_EQ(unchanged, features);
+  const std::int64_t added = BridgeFeatureGaps(topology, roof.Points.data(), 30.0, 3.0 / n, features);
+  EXPECT_GT(added, 0);
+  EXPECT_EQ(endsAndJunctions(features), std::make_pair(0, 0));
+  for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
+  {
+    const Eigen::Vector3d middle = 0.5 * (roof.Point(e.Vertices[2 * k]) + roof.Point(e.Vertices[2 * k + 1]));
+    EXPECT_TRUE(!features[k] || std::abs(across(middle[0], middle[1])) < 1.0 / n) << k;
+  }
+  std::printf("roof: %d ends of crease fragments inside, %lld edges added\n", endsBefore, static_cast<long long>(added));
+}
+
 TEST(Atlas, CapsAndFoldsHaveNoSharpEdges)
 {
   // A triangle folded back between its neighbours (its normal opposite
