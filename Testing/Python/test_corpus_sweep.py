@@ -292,6 +292,12 @@ def triangle_quality(points, triangles):
 #                        Its two inverted triangles are folds, not sharp
 #                        edges (SharpEdges): as sharp edges they made a
 #                        knot of short feature lines and 0.6 degrees.
+#   fandisk_large        78.1% of valence 6 (22.8 deg, 0.15% below 30): its
+#                        creases, crossing its edges at a slant, are lines
+#                        of 892 edges with 111 ends (joined fragments:
+#                        BridgeFeatureGaps), each end and corner a vertex
+#                        off valence 6; 77.2-78.9% over 9,000-11,000
+#                        vertices (77.7-79.0% with the fragments dropped).
 # Of the generated shapes, the scan-like ones are held to the bars too: the
 # decimated bone, whose long slivers make charts whose maps stretch
 # threefold and more unless they are split, and remeshes that fold over
@@ -299,7 +305,7 @@ def triangle_quality(points, triangles):
 # the animal on thin legs (20 degrees, 0.06% below 30) and the turbine
 # disk, whose blades are about a spacing thick (27 degrees, 0.01%).
 QUALITY_SHAPES = {"decimated-bone", "quadruped", "turbine-disk", "sphere-with-specks"}
-QUALITY_EXCEPTIONS = {"mech-holes-shark.off": (2.0, 0.0025, 0.78)}
+QUALITY_EXCEPTIONS = {"mech-holes-shark.off": (2.0, 0.0025, 0.78), "fandisk_large.off": (15.0, 0.005, 0.77)}
 
 
 def check_quality(path, points, triangles):
