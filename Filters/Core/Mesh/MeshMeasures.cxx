@@ -10,8 +10,8 @@
 #include <cstdio>
 #include <limits>
 #include <map>
-#include <numeric>
 #include <memory>
+#include <numeric>
 #include <vector>
 
 namespace beltrami
@@ -347,7 +347,9 @@ std::vector<double> DihedralCosines(const MeshTopology& topo, const double* x)
   }
   for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
   {
-    if (!std::isnan(dihedral[k]) && (folds[e.OppositeCorners[2 * k] / 3] >= 2 || folds[e.OppositeCorners[2 * k + 1] / 3] >= 2))
+    const bool folded = !std::isnan(dihedral[k]) &&
+      (folds[e.OppositeCorners[2 * k] / 3] >= 2 || folds[e.OppositeCorners[2 * k + 1] / 3] >= 2);
+    if (folded)
     {
       dihedral[k] = std::numeric_limits<double>::quiet_NaN();
     }
@@ -376,8 +378,9 @@ namespace
 /// `weak`, not a feature) at each vertex, never back to a vertex of the path,
 /// up to `longestGap` long, to the first vertex with a feature edge (the
 /// path's edges and that vertex; none and -1 where none is reached).
-std::pair<std::vector<std::int64_t>, Index> GapPath(const MeshTopology& topo, const double* x, const std::vector<double>& dihedral,
-  double weak, double longestGap, const std::vector<std::uint8_t>& features, const std::vector<int>& degree, Index end)
+std::pair<std::vector<std::int64_t>, Index> GapPath(const MeshTopology& topo, const double* x,
+  const std::vector<double>& dihedral, double weak, double longestGap, const std::vector<std::uint8_t>& features,
+  const std::vector<int>& degree, Index end)
 {
   const MeshTopology::EdgeTable& e = topo.Edges();
   std::vector<std::int64_t> path;

@@ -75,12 +75,12 @@ constexpr double MostFoldAngle = 150.0;
 /// each vertex (never back to a vertex of the path), the path is added
 /// where it reaches the end of another line within a length of
 /// `longestGap`: hysteresis, as Canny's edge detector links its weak edges
-/// to its strong ones.  (Not to the middle of a line, nor back to its own:
+/// to its strong ones.  Not to the middle of a line, nor back to its own:
 /// the fragments often lie in two rows side by side, and a path between
-/// them would make a junction or a loop.)  (fandisk_large's 689 edges above 60 degrees
-/// have 419 ends; joined over paths above 30 degrees no longer than the
-/// spacing of 2,000 vertices, 137.)
-/// Returns the number of edges added.
+/// them would make a junction or a loop.  (fandisk_large's 689 edges above
+/// 60 degrees have 419 ends; joined over paths above 30 degrees no longer
+/// than the spacing of 2,000 vertices, 137.)  Returns the number of edges
+/// added.
 std::int64_t BridgeFeatureGaps(const MeshTopology& topology, const double* points, double weakAngleDegrees,
   double longestGap, std::vector<std::uint8_t>& features);
 /// Drops from `features` (1 per edge of topology.Edges()) the dangling

@@ -610,7 +610,8 @@ TEST(Atlas, CreaseFragmentsJoined)
     const Eigen::Vector3d middle = 0.5 * (roof.Point(e.Vertices[2 * k]) + roof.Point(e.Vertices[2 * k + 1]));
     EXPECT_TRUE(!features[k] || std::abs(across(middle[0], middle[1])) < 1.0 / n) << k;
   }
-  std::printf("roof: %d ends of crease fragments inside, %lld edges added\n", endsBefore, static_cast<long long>(added));
+  std::printf(
+    "roof: %d ends of crease fragments inside, %lld edges added\n", endsBefore, static_cast<long long>(added));
 }
 
 TEST(Atlas, CapsAndFoldsHaveNoSharpEdges)
