@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cstdint>
 
 namespace beltrami
@@ -53,6 +54,14 @@ inline void TangentFrame(const Vec3& n, Vec3& u, Vec3& v)
 inline Vec2 UV(const double* uv, Index i)
 {
   return LoadPoint<2>(uv, 2, i);
+}
+
+/// The distance of p from the segment a-b.
+inline double SegmentDistance(const Vec3& p, const Vec3& a, const Vec3& b)
+{
+  const Vec3 d = b - a;
+  const double t = d.squaredNorm() > 0.0 ? std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+  return (p - a - t * d).norm();
 }
 
 /// The point of the triangle (a, b, c) nearest to p (Ericson, Real-Time

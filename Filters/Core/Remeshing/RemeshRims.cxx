@@ -115,14 +115,6 @@ Vec3 LoopPoint(const MeshTopology& topology, const double* points, const SampleP
   return SurfacePoint(topology, points, t, w);
 }
 
-/// The distance of p from the segment a-b.
-double SegmentDistance(const Vec3& p, const Vec3& a, const Vec3& b)
-{
-  const Vec3 d = b - a;
-  const double t = d.squaredNorm() > 0.0 ? std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
-  return (p - a - t * d).norm();
-}
-
 /// The largest distance of the vertices of loop `rim` between arcs `from`
 /// and from + span (forwards) from the chords of a vertex at x (at arc
 /// `place` between them) to the loop's points at from and from + span.

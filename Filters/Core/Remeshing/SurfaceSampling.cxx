@@ -203,6 +203,28 @@ void MarkAroundSegment(const double* a, const double* b, double radius, int n, c
 /// slivers', within CGAL's deviation).
 constexpr double MostBandStretch = 64.0;
 
+/// How far on the surface, in spacings, a texel of a chart boundary's band
+/// may lie from the boundary edge (the band is half a spacing wide in the
+/// map).  The band's width in the map follows the map's scale across the
+/// edge at the triangle beside it; where the map squeezes the chart right
+/// behind that triangle (a blade's tip beside a triangle the map stretches a
+/// thousandfold), the band's texels lay several spacings from the boundary
+/// on the surface, and covered the tip: no sample inside it, the remesh cut
+/// it off.  A spacing rather than half: where the map is even, the band is
+/// as it was.
+constexpr double BandReach = 1.0;
+
+/// The distance on the surface of texel p's point (of `packed`'s
+/// triangle there) to the edge from surface vertex a to b.
+double SurfaceDistanceToEdge(const MeshTopology& topology, const double* points, const AtlasChart& packed,
+  const ChartRaster& raster, std::size_t p, Index a, Index b)
+{
+  double w[3];
+  PixelBarycentric(packed, raster, p, w);
+  const Index triangle = packed.Triangles[raster.Face[p]];
+  return SegmentDistance(SurfacePoint(topology, points, triangle, w), Point(points, a), Point(points, b));
+}
+
 /// Marks the texels within half a sample spacing of every chart boundary
 /// edge (in each chart it bounds, of that chart) as outside the halftone:
 /// the boundary samples stand for that band.
@@ -257,7 +279,8 @@ void ExcludeBoundaryBand(const MeshTopology& topology, const double* points, con
         const double scale = area3D > 0.0 && lengthPx > 0.0
           ? std::min((areaPx / lengthPx) / (area3D / length3D), MostBandStretch * along) : along;
         const auto own = [&](std::size_t p) {
-          return raster.Face[p] >= 0 && atlas.ChartOfTriangle[packed.Triangles[raster.Face[p]]] == c;
+          return raster.Face[p] >= 0 && atlas.ChartOfTriangle[packed.Triangles[raster.Face[p]]] == c &&
+            SurfaceDistanceToEdge(topology, points, packed, raster, p, a, b) <= BandReach * spacing3D;
         };
         MarkAroundSegment(uv[0], uv[1], 0.5 * spacing3D * scale, n, own, roles);
       }
