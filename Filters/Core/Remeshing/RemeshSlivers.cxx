@@ -43,11 +43,13 @@ Vec3 Optimizer::ShiftToNeighbours(Index v) const
 /// A free vertex towards the middle of its neighbours (ShiftToNeighbours,
 /// put back on the input), the whole way or a half or a quarter of it,
 /// where that raises the smallest angle of its faces; where none does,
-/// towards one of its neighbours (a half, a quarter or an eighth of the
-/// way, in the plane of the input under it), the move that raises it most:
-/// a vertex in the middle of a cap's long side whose edge cannot be swapped
-/// (the other diagonal is an edge already: the few vertices around a
-/// needle's tip) leaves the line towards the needle's other side.
+/// towards one of its neighbours or away from it (a half, a quarter or an
+/// eighth of the way, in the plane of the input under it), the move that
+/// raises it most: a vertex in the middle of a cap's long side whose edge
+/// cannot be swapped (the other diagonal is an edge already: the few
+/// vertices around a needle's tip) leaves the line towards the needle's
+/// other side, or, where that would fold the cap (three samples of a seam
+/// straight along a finger thinner than the spacing), away from it.
 bool Optimizer::MoveToRounder(Index v)
 {
   const Vec3 x = M.Position(v), shift = ShiftToNeighbours(v), normal = FanNormal(v);
@@ -77,12 +79,15 @@ bool Optimizer::MoveToRounder(Index v)
     const Vec3 along = towards - towards.dot(InputNormals[v]) * InputNormals[v];
     for (double step = 0.5; step > 0.1; step *= 0.5)
     {
-      Candidate c;
-      c.Triangle = NearestOnSurface(x + step * along, R.Triangle[v], step * along.norm(), c.W);
-      c.Cosine = c.Triangle >= 0 ? LargestCosineAround(v, SurfacePoint(Topology, Points, c.Triangle, c.W)) : 1.0;
-      if (c.Cosine < before - 1e-9)
+      for (const double sign : { 1.0, -1.0 })
       {
-        candidates.push_back(c);
+        Candidate c;
+        c.Triangle = NearestOnSurface(x + sign * step * along, R.Triangle[v], step * along.norm(), c.W);
+        c.Cosine = c.Triangle >= 0 ? LargestCosineAround(v, SurfacePoint(Topology, Points, c.Triangle, c.W)) : 1.0;
+        if (c.Cosine < before - 1e-9)
+        {
+          candidates.push_back(c);
+        }
       }
     }
   });
