@@ -646,6 +646,8 @@ def hard_shapes():
     p, t = sphere(24)
     shapes["huge-sphere"] = (p * 1e12 + 3e12, t)
     shapes["tiny-sphere"] = (p * 1e-12 + 1e-11, t)
+    # (a scan in a map's coordinates: metres of it, millions from the origin)
+    shapes["far-sphere"] = (p + np.array([5e5, 5e6, 100.0]), t)
     return shapes
 
 

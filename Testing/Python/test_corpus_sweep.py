@@ -1,11 +1,11 @@
 """Every mesh filter at its defaults over every real mesh (inputs.corpus_paths:
 the shared corpus and Testing/Data) and the shapes made to break them
 (inputs.hard_shapes: thin spikes, fingers, a thin neck and handle, a speck,
-forty specks, a thin plate, a decimated bone, an animal on thin legs, a turbine disk's
-thin blades, a double cone of two fans of 2,000 slivers, huge and tiny coordinates, an
-isosurface of a real MRI volume, a needle, a washer with knife-edge rims, a slab of
-genus six, a hollow ball), each checked by what the filter
-promises:
+forty specks, a thin plate, a decimated bone, an animal on thin legs, a turbine
+disk's thin blades, a double cone of two fans of 2,000 slivers, huge and tiny
+coordinates, a sphere millions from the origin, an isosurface of a real MRI
+volume, a needle, a washer with knife-edge rims, a slab of genus six, a hollow
+ball), each checked by what the filter promises:
 
   curvatures            finite values at interior vertices; Gauss-Bonnet on
                         closed meshes (sum K A = 2 pi chi)
@@ -57,8 +57,12 @@ def point_array(data, name):
 
 
 def volume(mesh):
-    """The enclosed volume of the polygons (fans: inputs.arrays_of)."""
+    """The enclosed volume of the polygons (fans: inputs.arrays_of), summed
+    about their first corner's point: about the origin, a small surface far
+    from it (a scan in a map's coordinates) sums terms a billion times its
+    volume, and the sum is rounding."""
     p, t = inputs.arrays_of(mesh)
+    p = p - p[t[0, 0]] if len(t) else p
     a, b_, c = p[t[:, 0]], p[t[:, 1]], p[t[:, 2]]
     return float(np.einsum("ij,ij->i", a, np.cross(b_, c)).sum() / 6.0)
 
@@ -203,7 +207,7 @@ CGAL_HAUSDORFF = {
     "sphere-with-speck": (0.069, 0.029), "sphere-with-specks": (0.289, 0.289), "thin-plate": (0, 0),
     "decimated-bone": (0.568, 0.324), "quadruped": (0.816, 0.396), "turbine-disk": (1.852, 0.74),
     "fan-double-cone": (1.393, 0.566), "decimated-cad": (1.198, 0.509), "huge-sphere": (0.165, 0.058),
-    "tiny-sphere": (0.155, 0.059), "isosurface": (1.628, 0.769), "needle": (0.244, 0.069),
+    "tiny-sphere": (0.155, 0.059), "far-sphere": (0.143, 0.067), "isosurface": (1.628, 0.769), "needle": (0.244, 0.069),
     "knife-edge-washer": (2.606, 0.581), "slab-six-holes": (1.815, 0.837), "nested-spheres": (0.21, 0.102),
 }
 # (CGAL's calibration ends 19% short on the needle at 2,000, at 1,621
