@@ -83,6 +83,7 @@ bool ReadData(vtkBeltramiOperators* self, vtkDataArray* array, int association, 
 struct Maps
 {
   std::vector<double> Normal, Beltrami, Mean, Gauss, Indicator;
+  std::vector<std::uint8_t> Undefined; ///< per core vertex: the operators are not defined there (NaN by design)
   int Base = 3, Components = 1;
   bool Gaussian = true;
 
@@ -101,12 +102,15 @@ struct Maps
     out.MeanCurvature = take(f->GetComputeMeanCurvature(), Mean, 1);
     out.GaussianCurvature = take(Gaussian, Gauss, 1);
     out.EdgeIndicator = take(f->GetComputeEdgeIndicator(), Indicator, 1);
+    Undefined.assign(static_cast<std::size_t>(n), 0);
+    out.Undefined = Undefined.data();
     return out;
   }
 
   /// Adds the arrays to `output`: its point o takes the core's vertex
   /// source(o); the normal's base components go to the VTK axes `axes`.
-  /// Returns the number of points given a NaN or infinite value.
+  /// Returns the number of points given a NaN or infinite value where the
+  /// operators are defined (not at boundary points: NaN there by design).
   vtkIdType AddTo(vtkDataSet* output, const std::function<vtkIdType(vtkIdType)>& source, const int* axes) const
   {
     const vtkIdType n = output->GetNumberOfPoints();
@@ -123,11 +127,12 @@ struct Maps
       std::fill(dst, dst + static_cast<std::size_t>(n) * outWidth, 0.0);
       for (vtkIdType o = 0; o < n; ++o)
       {
-        const double* src = &from[static_cast<std::size_t>(source(o)) * width];
+        const std::size_t row = static_cast<std::size_t>(source(o));
+        const double* src = &from[row * width];
         for (int k = 0; k < width; ++k)
         {
           dst[static_cast<std::size_t>(o) * outWidth + slot(k)] = src[k];
-          nonFinite[o] = nonFinite[o] || !std::isfinite(src[k]);
+          nonFinite[o] = nonFinite[o] || (!std::isfinite(src[k]) && !Undefined[row]);
         }
       }
       pd->AddArray(a);

@@ -70,6 +70,10 @@ public:
 
   void Defined(Index o, const double* k, double gaussian, double indicator) const
   {
+    if (Out.Undefined)
+    {
+      Out.Undefined[o] = 0;
+    }
     double norm2 = 0.0;
     for (int a = 0; a < N; ++a)
     {
@@ -105,6 +109,10 @@ public:
     const double nan = std::numeric_limits<double>::quiet_NaN();
     std::vector<double> k(N, nan);
     Defined(o, k.data(), nan, nan);
+    if (Out.Undefined)
+    {
+      Out.Undefined[o] = 1;
+    }
   }
 
 private:

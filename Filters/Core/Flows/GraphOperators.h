@@ -31,6 +31,7 @@
 
 #include "Flows/GraphFlow.h"
 
+#include <cstdint>
 #include <string>
 
 namespace beltrami
@@ -56,6 +57,9 @@ struct GraphOperatorOutputs
   double* MeanCurvature = nullptr;       ///< |K| / d (unsigned: R^N has no side)
   double* GaussianCurvature = nullptr;   ///< 2-manifolds only
   double* EdgeIndicator = nullptr;       ///< base measure / graph measure = 1/W
+  /// Per vertex, 1 where the operators are not defined (meshes: boundary and
+  /// non-manifold vertices, vertices without measure; NaN written), else 0.
+  std::uint8_t* Undefined = nullptr;
 };
 
 struct GraphOperatorReport
