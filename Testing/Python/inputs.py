@@ -426,6 +426,37 @@ def thin_plate(thickness=0.002, n=20):
     return np.vstack([top, bottom]), np.array(tris)
 
 
+def flattened(points, triangles, share=0.001, seed=0):
+    """A copy of the points with `share` of the triangles flattened: one
+    corner moved onto the middle of its opposite edge (a triangle of no area,
+    its other triangles folded beside it), no point moved twice."""
+    rng = np.random.default_rng(seed)
+    p, t = np.array(points, float), np.asarray(triangles)
+    used = np.zeros(len(p), dtype=bool)
+    for k in rng.choice(len(t), int(share * len(t)), replace=False):
+        a, b, c = t[k]
+        if not used[[a, b, c]].any():
+            used[[a, b, c]] = True
+            p[c] = 0.5 * (p[a] + p[b])
+    return p
+
+
+def collapsed(points, triangles, share=0.01, seed=7):
+    """A copy of the points with the first edges of `share` of the triangles
+    collapsed in place (one end moved onto the other: coincident points
+    inside the surface and triangles of no area, as decimations and marching
+    cubes at grid points leave them), no point moved twice."""
+    rng = np.random.default_rng(seed)
+    p, t = np.array(points, float), np.asarray(triangles)
+    used = np.zeros(len(p), dtype=bool)
+    for k in rng.choice(len(t), int(share * len(t)), replace=False):
+        a, c = t[k][0], t[k][1]
+        if not used[[a, c]].any():
+            used[[a, c]] = True
+            p[c] = p[a]
+    return p
+
+
 def decimated(mesh, keep):
     """(points, triangles) of `mesh` quadric-decimated to `keep` of its triangles."""
     from vtkmodules.vtkFiltersCore import vtkQuadricDecimation
