@@ -194,8 +194,8 @@ int vtkDiscreteCurvatures::Compute(vtkBeltramiSurface& surface)
   if (report.DegenerateTriangleVertices)
   {
     vtkWarningMacro(<< report.DegenerateTriangleVertices
-                    << " points touch zero-area triangles, which were left out of their 1-ring "
-                       "(VertexStatus bit 32).");
+                    << " points touch zero-area triangles, whose cotangents and areas were left out of "
+                       "their 1-ring (their angles count: pi shared where two corners coincide; VertexStatus bit 32).");
   }
   return 1;
 }

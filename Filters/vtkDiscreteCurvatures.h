@@ -20,8 +20,10 @@
  *  - VertexStatus (unsigned char bit field): 0 regular interior vertex;
  *    1 boundary; 2 non-manifold (edge in 3+ triangles, or a pinched fan);
  *    4 inconsistent triangle orientation; 8 in a duplicate triangle;
- *    16 used by no triangle; 32 invalid geometry (a zero-area triangle was
- *    left out, or NaN/inf coordinates in the 1-ring).
+ *    16 used by no triangle; 32 invalid geometry (a zero-area triangle,
+ *    whose cotangents and area were left out and whose angles count, pi
+ *    shared where two of its corners coincide, so that Gauss-Bonnet holds;
+ *    or NaN/inf coordinates in the 1-ring).
  *
  * Boundary and non-manifold points: the thesis' operators need a closed
  * 1-ring, so curvatures there are undefined.  By default they are NaN

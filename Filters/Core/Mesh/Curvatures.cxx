@@ -393,7 +393,7 @@ struct CurvatureKernel
         sums.CotangentSum -= ring.Get(F::Px, c);
         sums.MixedArea += ring(F::MixedArea, c);
         const double twiceArea = ring(F::TwiceArea, c);
-        sums.AddAngle(ring(F::AB, c), twiceArea);
+        sums.AddCornerAngle(ring(F::AA, c), ring(F::BB, c), ring(F::AB, c), twiceArea);
         const bool degenerate = ring(F::Degenerate, c) != 0.0;
         sums.Degenerate += degenerate;
         finite = finite && ring(F::Finite, c) != 0.0;
