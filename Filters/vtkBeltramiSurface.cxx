@@ -281,26 +281,50 @@ void vtkBeltramiSurface::Repair(int numberOfThreads)
     Mesh = std::move(repaired);
     adopted = true;
   };
-  const beltrami::TopologySummary before = Mesh->Summary();
-  Index merged = 0;
-  std::vector<Index> merge = before.NumberOfBoundaryEdges == 0 ? std::vector<Index>()
-    : Dispatch([&](const auto* x) { return beltrami::CoincidentBoundaryPoints(*Mesh, x, merged); });
-  if (!merge.empty())
-  {
-    auto welded = std::make_unique<beltrami::MeshTopology>(
-      Mesh->NumberOfVertices(), beltrami::MergePoints(Mesh->TriangleList(), merge), numberOfThreads);
-    const beltrami::TopologySummary& after = welded->Summary();
-    // Kept only where it joins edges without making the surface non-manifold
-    // (two sheets that touch at a point, a triangle and its copy).
-    if (after.NumberOfBoundaryEdges < before.NumberOfBoundaryEdges &&
-      after.NumberOfNonManifoldEdges <= before.NumberOfNonManifoldEdges &&
-      after.NumberOfNonManifoldVertices <= before.NumberOfNonManifoldVertices &&
-      after.NumberOfDuplicateTriangles <= before.NumberOfDuplicateTriangles)
+  // A merge of points (`into`: per point, the point it joins) adopted where
+  // `gains` holds for the summaries before and after it and it makes the
+  // surface no less manifold (two sheets that touch at a point, a triangle
+  // and its copy); Merge then goes on to where `into` takes its points.
+  const auto mergeWhere = [&](std::vector<Index> into, const auto& gains) {
+    if (into.empty())
     {
-      adopt(std::move(welded), cells);
-      Merge = std::move(merge);
-      also() << merged << " coincident points were merged (an unwelded surface)";
+      return false;
     }
+    auto joined = std::make_unique<beltrami::MeshTopology>(
+      Mesh->NumberOfVertices(), beltrami::MergePoints(Mesh->TriangleList(), into), numberOfThreads);
+    const beltrami::TopologySummary &now = Mesh->Summary(), &after = joined->Summary();
+    if (!gains(now, after) || after.NumberOfNonManifoldEdges > now.NumberOfNonManifoldEdges ||
+      after.NumberOfNonManifoldVertices > now.NumberOfNonManifoldVertices ||
+      after.NumberOfDuplicateTriangles > now.NumberOfDuplicateTriangles)
+    {
+      return false;
+    }
+    adopt(std::move(joined), cells);
+    for (Index& p : Merge)
+    {
+      p = into[p];
+    }
+    if (Merge.empty())
+    {
+      Merge = std::move(into);
+    }
+    return true;
+  };
+  using Summary = beltrami::TopologySummary;
+  Index merged = 0;
+  if (Mesh->Summary().NumberOfBoundaryEdges > 0 &&
+    mergeWhere(Dispatch([&](const auto* x) { return beltrami::CoincidentBoundaryPoints(*Mesh, x, merged); }),
+      [](const Summary& now, const Summary& after) { return after.NumberOfBoundaryEdges < now.NumberOfBoundaryEdges; }))
+  {
+    also() << merged << " coincident points were merged (an unwelded surface)";
+  }
+  // (Each collapse keeps the surface manifold and its Euler characteristic by
+  // the link condition: checked as a whole all the same.)
+  Index collapsed = 0;
+  if (mergeWhere(Dispatch([&](const auto* x) { return beltrami::CollapsedEdges(*Mesh, x, collapsed); }),
+        [](const Summary& now, const Summary& after) { return after.EulerCharacteristic == now.EulerCharacteristic; }))
+  {
+    also() << collapsed << " edges of zero length were collapsed (coincident points joined by an edge)";
   }
   if (Mesh->Summary().NumberOfDuplicateTriangles > 0)
   {
@@ -378,9 +402,17 @@ void vtkBeltramiSurface::SpreadToMergedPoints() const
   }
   for (vtkDataArray* array : targets)
   {
+    // A point's share of the area (the curvatures' MixedArea) stays with the
+    // point it was merged into, so that sums over the points (Gauss-Bonnet,
+    // the total area) count it once.
+    const bool share = array->GetName() && std::string(array->GetName()) == "MixedArea";
     for (std::size_t p = 0; p < Merge.size(); ++p)
     {
-      if (Merge[p] != static_cast<Index>(p))
+      if (Merge[p] != static_cast<Index>(p) && share)
+      {
+        array->SetComponent(static_cast<vtkIdType>(p), 0, 0.0);
+      }
+      else if (Merge[p] != static_cast<Index>(p))
       {
         array->SetTuple(static_cast<vtkIdType>(p), Merge[p], array);
       }

@@ -246,8 +246,9 @@ public:
 
   /// What Build repaired on a whole surface (serial, or gathered on one
   /// rank; a piece of split data is left as it is): exactly coincident
-  /// boundary points merged (an unwelded triangle soup) and triangles turned
-  /// to a consistent orientation (SurfaceRepair.h).  Empty when nothing was
+  /// boundary points merged (an unwelded triangle soup), edges of zero
+  /// length collapsed, repeated triangles dropped and triangles turned to a
+  /// consistent orientation (SurfaceRepair.h).  Empty when nothing was
   /// repaired; a sentence for a warning otherwise.
   const std::string& RepairWarning() const { return RepairText; }
   /// For every input point, the one it was merged into (itself when kept);
@@ -256,7 +257,8 @@ public:
   const std::vector<beltrami::Index>& MergedPoints() const { return Merge; }
   /// After a filter has written its point results on Output(): the arrays it
   /// added (those not passed through from the input) and its new points get,
-  /// at every merged-away point, the values of the point it was merged into.
+  /// at every merged-away point, the values of the point it was merged into
+  /// (MixedArea, a share of the area: 0).
   void SpreadToMergedPoints() const;
 
 private:

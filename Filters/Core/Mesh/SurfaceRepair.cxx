@@ -98,6 +98,79 @@ std::vector<Index> CoincidentBoundaryPoints(const MeshTopology& topology, const 
 template std::vector<Index> CoincidentBoundaryPoints<float>(const MeshTopology&, const float*, Index&);
 template std::vector<Index> CoincidentBoundaryPoints<double>(const MeshTopology&, const double*, Index&);
 
+namespace
+{
+
+/// Whether the ends a and b of edge e (of two triangles) share no neighbour
+/// but the two vertices opposite it.
+bool LinkConditionHolds(const MeshTopology& topology, std::int64_t e, Index a, Index b)
+{
+  const MeshTopology::EdgeTable& edges = topology.Edges();
+  const Index opposite[2] = { topology.CornerVertex(edges.OppositeCorners[2 * e]),
+    topology.CornerVertex(edges.OppositeCorners[2 * e + 1]) };
+  const Index* na = edges.Neighbors.data() + edges.NeighborOffsets[a];
+  const Index* ea = edges.Neighbors.data() + edges.NeighborOffsets[a + 1];
+  const Index* nb = edges.Neighbors.data() + edges.NeighborOffsets[b];
+  const Index* eb = edges.Neighbors.data() + edges.NeighborOffsets[b + 1];
+  int common = 0;
+  while (na != ea && nb != eb) // (the rings are ascending)
+  {
+    if (*na < *nb)
+    {
+      ++na;
+    }
+    else if (*nb < *na)
+    {
+      ++nb;
+    }
+    else
+    {
+      if (*na != opposite[0] && *na != opposite[1])
+      {
+        return false;
+      }
+      ++common;
+      ++na;
+      ++nb;
+    }
+  }
+  return common == 2 && opposite[0] != opposite[1];
+}
+
+} // namespace
+
+template <typename T>
+std::vector<Index> CollapsedEdges(const MeshTopology& topology, const T* points, Index& merged)
+{
+  merged = 0;
+  const double tolerance = CoincidenceTolerance(topology, points);
+  const MeshTopology::EdgeTable& edges = topology.Edges();
+  std::vector<Index> merge(static_cast<std::size_t>(topology.NumberOfVertices()));
+  std::iota(merge.begin(), merge.end(), Index(0));
+  std::vector<std::uint8_t> taken(merge.size(), 0);
+  for (std::int64_t e = 0; tolerance > 0.0 && std::isfinite(tolerance) && e < edges.NumberOfEdges(); ++e)
+  {
+    const Index a = edges.Vertices[2 * e], b = edges.Vertices[2 * e + 1];
+    const T* x = points + 3 * static_cast<std::size_t>(a);
+    const T* y = points + 3 * static_cast<std::size_t>(b);
+    const Vec3 d(static_cast<double>(x[0]) - y[0], static_cast<double>(x[1]) - y[1], static_cast<double>(x[2]) - y[2]);
+    const std::uint8_t topological = VertexBoundary | VertexNonManifold | VertexInconsistent | VertexDuplicateFace;
+    const bool interior = ((topology.VertexFlags(a) | topology.VertexFlags(b)) & topological) == 0;
+    if (!(d.norm() <= tolerance) || taken[a] || taken[b] || !interior || edges.FaceCount[e] != 2 ||
+      !LinkConditionHolds(topology, e, a, b))
+    {
+      continue;
+    }
+    taken[a] = taken[b] = 1;
+    merge[b] = a; // (a < b)
+    ++merged;
+  }
+  return merged ? merge : std::vector<Index>();
+}
+
+template std::vector<Index> CollapsedEdges<float>(const MeshTopology&, const float*, Index&);
+template std::vector<Index> CollapsedEdges<double>(const MeshTopology&, const double*, Index&);
+
 IndexArray MergePoints(const IndexArray& triangles, const std::vector<Index>& merge)
 {
   IndexArray merged(triangles.size());

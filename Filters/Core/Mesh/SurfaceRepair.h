@@ -3,6 +3,9 @@
 // do), each reported so that the filter can say what it changed:
 //   - coincident points merged: an unwelded triangle soup (STL files, meshes
 //     split along texture seams) becomes one connected surface;
+//   - edges of zero length collapsed: the coincident ends of an edge inside
+//     the surface (a decimation's or marching cubes' leftovers) become one
+//     point, and the triangles of no area beside the edge go;
 //   - orientation made consistent: every component's triangles are turned to
 //     agree with their neighbours across each manifold edge, closed
 //     components facing outwards (positive enclosed volume), open ones
@@ -32,6 +35,17 @@ constexpr double NearlyCoincident = 1e-10;
 /// away.
 template <typename T>
 std::vector<Index> CoincidentBoundaryPoints(const MeshTopology& topology, const T* points, Index& merged);
+
+/// For every point, the point it is merged into (itself when kept): the two
+/// ends of every edge of `topology` no longer than the coincidence tolerance
+/// (NearlyCoincident: an edge collapsed in place, as decimations and
+/// marching cubes at grid points leave them, with triangles of no area
+/// beside it), where the collapse keeps the surface manifold: a manifold
+/// edge whose ends have no common neighbours but the vertices opposite it
+/// (the link condition), neither end in another collapse or on the
+/// boundary.  Empty when none; `merged` gets their number.
+template <typename T>
+std::vector<Index> CollapsedEdges(const MeshTopology& topology, const T* points, Index& merged);
 
 /// `triangles` with every vertex id replaced by merge[id] (merge as above).
 IndexArray MergePoints(const IndexArray& triangles, const std::vector<Index>& merge);

@@ -93,6 +93,36 @@ TEST(SurfaceRepair, InteriorPointsAreNeverMerged)
   EXPECT_EQ(merged, 0);
 }
 
+TEST(SurfaceRepair, EdgesOfZeroLengthAreCollapsedWhereTheSurfaceStaysManifold)
+{
+  // Two edges collapsed in place (one end moved onto the other): each pair
+  // of points becomes one, the two triangles of no area beside the edge go,
+  // and the sphere stays a closed manifold of Euler characteristic 2.  Two
+  // spheres that touch at a coincident point share no edge: not merged.
+  test::Mesh m = test::OctahedronSphere(3);
+  const Index a = m.Triangles[0], b = m.Triangles[1];
+  const Index c = m.Triangles[3 * 40], d = m.Triangles[3 * 40 + 2];
+  ASSERT_TRUE(a != c && a != d && b != c && b != d);
+  m.SetPoint(std::max(a, b), m.Point(std::min(a, b)));
+  m.SetPoint(std::max(c, d), m.Point(std::min(c, d)));
+  Index merged = 0;
+  const std::vector<Index> merge = CollapsedEdges(m.Topology(), m.Points.data(), merged);
+  ASSERT_EQ(merged, 2);
+  EXPECT_EQ(merge[std::max(a, b)], std::min(a, b));
+  EXPECT_EQ(merge[std::max(c, d)], std::min(c, d));
+  const MeshTopology joined(m.NumberOfVertices(), MergePoints(m.Topology().TriangleList(), merge));
+  EXPECT_EQ(joined.NumberOfTriangles(), m.Topology().NumberOfTriangles() - 4);
+  EXPECT_TRUE(joined.Summary().IsManifold());
+  EXPECT_EQ(joined.Summary().EulerCharacteristic, 2);
+  EXPECT_EQ(joined.Summary().NumberOfBoundaryEdges, 0);
+
+  test::Mesh twice = test::OctahedronSphere(1);
+  const Index n = twice.NumberOfVertices();
+  twice = test::Merged(twice, twice, { 2.0, 0.0, 0.0 });
+  ASSERT_EQ(twice.NumberOfVertices(), 2 * n);
+  EXPECT_TRUE(CollapsedEdges(twice.Topology(), twice.Points.data(), merged).empty());
+}
+
 TEST(SurfaceRepair, HalfFlippedSphereFacesOutwards)
 {
   for (const bool inside : { false, true })
