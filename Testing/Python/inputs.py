@@ -679,6 +679,9 @@ def hard_shapes():
     shapes["tiny-sphere"] = (p * 1e-12 + 1e-11, t)
     # (a scan in a map's coordinates: metres of it, millions from the origin)
     shapes["far-sphere"] = (p + np.array([5e5, 5e6, 100.0]), t)
+    # (a decimation's leftovers: coincident points inside the surface)
+    bunny = arrays_of(read_off(os.path.join(DATA, "bunny00.off")))
+    shapes["collapsed-bunny"] = (collapsed(*bunny), bunny[1])
     return shapes
 
 

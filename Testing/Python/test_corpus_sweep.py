@@ -5,7 +5,8 @@ forty specks, a thin plate, a decimated bone, an animal on thin legs, a turbine
 disk's thin blades, a double cone of two fans of 2,000 slivers, huge and tiny
 coordinates, a sphere millions from the origin, an isosurface of a real MRI
 volume, a needle, a washer with knife-edge rims, a slab of genus six, a hollow
-ball), each checked by what the filter promises:
+ball, a bunny with a hundredth of its edges collapsed in place), each checked
+by what the filter promises:
 
   curvatures            finite values at interior vertices; Gauss-Bonnet on
                         closed meshes (sum K A = 2 pi chi)
