@@ -884,7 +884,7 @@ class RemeshingFromPython(unittest.TestCase):
         # A seam that runs up a needle and down again would leave a flat fin
         # (triangles of 0 degrees at the spiky sphere's and the comb's tips
         # at 2,000 vertices, 3 at 10,000); each narrow fan at the tip gets a
-        # sample (measured: spiky 12.6 and 9.6 degrees, comb 5.4 and 5.8).
+        # sample (measured: spiky 13.0 and 12.9 degrees, comb 5.9 and 5.9).
         import inputs
         shapes = inputs.hard_shapes()
         for name in ("spiky-sphere", "comb"):
