@@ -26,6 +26,7 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <sstream>
 #include <vector>
 
 BELTRAMI_SAME_ENUM(vtkSurfaceVectorFieldDecomposition::TANGENT_DIVERGENCE_FREE,
@@ -423,8 +424,25 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
   this->UpdateProgress(1.0);
   if (!r.Converged && reports)
   {
-    vtkWarningMacro("The Poisson solves did not reach their tolerance (" << r.Iterations
-                    << " iterations): the parts are approximate.");
+    // The parts of a decomposition are orthogonal: their energies sum to the
+    // field's.  Far from that the parts are not approximate but wrong (a
+    // sphere with 1% of its triangles flattened beside folds: 1e13 times).
+    const double sum = r.Energy[1] + r.Energy[2] + r.Energy[3];
+    const double ratio = r.Energy[0] > 0.0 ? sum / r.Energy[0] : 1.0;
+    std::ostringstream said;
+    said << "The Poisson solves did not reach their tolerance (" << r.Iterations << " iterations, relative residual "
+         << r.Residual << "): ";
+    if (std::abs(ratio - 1.0) > 0.01 || !std::isfinite(ratio))
+    {
+      said << "the parts are wrong: their energies sum to " << ratio
+           << " times the field's. Triangles of next to no area beside folded ones make the solves "
+              "ill-conditioned; repair or smooth the surface first.";
+    }
+    else
+    {
+      said << "the parts are approximate.";
+    }
+    vtkWarningMacro(<< said.str());
   }
   if (r.DegenerateTriangles && reports)
   {

@@ -283,6 +283,19 @@ class BadInput(unittest.TestCase):
                 out, said = decompose(surface, "Vectors", BoundaryCondition=boundary)
                 self.assert_orthogonal(out, said, said_of_it)
 
+    def test_solves_that_fail_on_folds_say_the_parts_are_wrong(self):
+        # A hundredth of a sphere's triangles flattened (a corner moved onto
+        # its opposite edge, the triangles beside it folded): the Poisson
+        # solves stop at their iteration limit, and the parts' energies sum to
+        # 4.8e10 times the field's.  Said so, not that the parts are
+        # approximate.
+        p, t = inputs.sphere(24)
+        folded = inputs.with_vectors(inputs.polydata(inputs.flattened(p, t, 0.01), t))
+        out, said = decompose(folded, "Vectors")
+        self.assertTrue(any("the parts are wrong" in w for w in said.warnings), said.warnings)
+        energy = [field_data(out, k + "Energy") for k in ("Tangent", "CurlFree", "DivergenceFree", "Harmonic")]
+        self.assertGreater(sum(energy[1:]) / energy[0], 1.01)
+
     def assert_orthogonal(self, out, said, said_of_it):
         """The parts of `out` orthogonal and their energies summing to the
         field's; a warning holding `said_of_it`."""
