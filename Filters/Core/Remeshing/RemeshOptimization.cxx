@@ -185,9 +185,10 @@ int Optimizer::FoldsAround(Index v, const Vec3& x, const Vec3& inputNormal) cons
 /// none folds (no fold); where faces around v are folded already (a lifted
 /// chart map that is far from linear at the spacing folds some), fewer are.
 bool Optimizer::KeepsSurface(
-  Index v, const Vec3& x, const Vec3& normal, const Vec3& inputNormal, double cosine) const
+  Index v, const Vec3& x, const Vec3& normal, const Vec3& inputNormal, double cosine, int foldsBefore) const
 {
-  const int before = FoldsAround(v, M.Position(v), InputNormals[v]), after = FoldsAround(v, x, inputNormal);
+  const int before = foldsBefore >= 0 ? foldsBefore : FoldsAround(v, M.Position(v), InputNormals[v]);
+  const int after = FoldsAround(v, x, inputNormal);
   if (before > 0)
   {
     return after < before;
@@ -204,12 +205,13 @@ bool Optimizer::KeepsSurface(
 /// (in its chart, or on the surface while stitching: KeepsSurface with
 /// `normal`, v's FanNormal where the caller has it, and `cosine`); `moved`
 /// gets the 3D distance.
-bool Optimizer::Place(Index v, Index triangle, const double* w, double& moved, const Vec3* normal, double cosine)
+bool Optimizer::Place(
+  Index v, Index triangle, const double* w, double& moved, const Vec3* normal, double cosine, int foldsBefore)
 {
   const Vec3 x = SurfacePoint(Topology, Points, triangle, w), inputNormal = InputNormalOf(triangle);
   std::vector<std::pair<Index, std::array<double, 2>>>& corners = ThreadBuffers().Corners;
   corners.clear();
-  if (Stitching ? !KeepsSurface(v, x, normal ? *normal : FanNormal(v), inputNormal, cosine)
+  if (Stitching ? !KeepsSurface(v, x, normal ? *normal : FanNormal(v), inputNormal, cosine, foldsBefore)
                 : !KeepsPlane(v, triangle, w))
   {
     return false;
@@ -476,7 +478,8 @@ bool Optimizer::MoveOnSurface(Index v, double& moved)
     shift = (1.0 - weight) * shift + weight * Vec3(u.triangularView<Eigen::Upper>().solve(lattice));
   }
   shift -= shift.dot(normal) * normal;
-  if (FoldsAround(v, x, InputNormals[v]) > 0)
+  const int folds = FoldsAround(v, x, InputNormals[v]);
+  if (folds > 0)
   {
     shift = ShiftToNeighbours(v); // (folded faces: their Voronoi parts and normal mean nothing)
   }
@@ -484,7 +487,7 @@ bool Optimizer::MoveOnSurface(Index v, double& moved)
   {
     double w[3];
     const Index t = NearestOnSurface(x + step * shift, R.Triangle[v], step * shift.norm(), w);
-    if (t >= 0 && Place(v, t, w, moved, &normal)) // (normal: FanNormal(v), the same sums)
+    if (t >= 0 && Place(v, t, w, moved, &normal, 0.5, folds)) // (normal: FanNormal(v), the same sums)
     {
       return true;
     }

@@ -93,6 +93,7 @@ public:
   std::int64_t MendSlivers(double degrees);
   template <typename Wanted, typename Accept>
   std::int64_t SwapWhere(Wanted&& wanted, Accept&& accept);
+  std::vector<Index> ActiveHalfEdges() const;
   double Relax();
   Index BeginStitching(const std::uint8_t* featureEdges);
   /// After the stitching rounds: each corner on the surface's boundary that
@@ -195,11 +196,14 @@ private:
   Index NearestOnSurface(const Vec3& p, Index start, double radius, double* w);
   bool KeepsPlane(Index v, Index triangle, const double* w);
   Vec3 FanNormal(Index v) const;
-  bool KeepsSurface(Index v, const Vec3& x, const Vec3& normal, const Vec3& inputNormal, double cosine) const;
+  bool KeepsSurface(
+    Index v, const Vec3& x, const Vec3& normal, const Vec3& inputNormal, double cosine, int foldsBefore) const;
   Vec3 InputNormalOf(Index triangle) const;
   int FoldsAround(Index v, const Vec3& x, const Vec3& inputNormal) const;
   int FoldsOfFlip(Index h, bool flipped) const;
-  bool Place(Index v, Index triangle, const double* w, double& moved, const Vec3* normal = nullptr, double cosine = 0.5);
+  /// (foldsBefore: FoldsAround v where it is, if the caller has it; -1: not.)
+  bool Place(Index v, Index triangle, const double* w, double& moved, const Vec3* normal = nullptr, double cosine = 0.5,
+    int foldsBefore = -1);
   void Move(Index v, double& moved);
   void ColourVertices();
   void Prefetch(Index v) const;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <queue>
 
 namespace beltrami::detail
 {
@@ -125,46 +126,110 @@ std::pair<double, double> Optimizer::Roundnesses(Index h) const
   return { std::min(Roundness(a, b, c), Roundness(b, a, d)), std::min(Roundness(c, a, d), Roundness(d, b, c)) };
 }
 
-/// One sweep of swaps over the edges in order: an edge is swapped where
-/// it is Swappable, wanted(h) holds (a test of its two faces and their
-/// vertices' valences) and then accept(h).  Swappable and wanted are
-/// evaluated for every edge at once (in parallel) on the mesh before the
-/// sweep, and again for an edge when its turn comes if a swap of this sweep
-/// replaced one of its faces or changed a valence there: the swaps of the
-/// plain serial sweep, for any thread count.
+/// With Active set: the edges with an active end, each once (the half of
+/// smaller index, as the sweep takes it), ascending.
+std::vector<Index> Optimizer::ActiveHalfEdges() const
+{
+  std::vector<Index> edges;
+  for (Index v = 0; v < M.NumberOfVertices(); ++v)
+  {
+    if (Active[v])
+    {
+      M.ForEachOutgoing(v, [&](Index h) {
+        for (const Index e : { h, HalfEdgeMesh::Prev(h) }) // (v's edges in h's face)
+        {
+          if (M.Twin(e) >= 0)
+          {
+            edges.push_back(std::min(e, M.Twin(e)));
+          }
+        }
+      });
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
+}
+
+/// One sweep of swaps over the edges in order (each interior edge once, as
+/// its half of smaller index): an edge is swapped where it is Swappable,
+/// wanted(h) holds (a test of its two faces and their vertices' valences)
+/// and then accept(h).  Swappable and wanted are evaluated for every edge
+/// at once (in parallel; with Active set, for the edges with an active end)
+/// on the mesh before the sweep, and again for an edge when its turn comes
+/// if a swap of this sweep replaced one of its faces or changed a valence
+/// there: the swaps of the plain serial sweep, for any thread count.  With
+/// Active set, the sweep visits only the edges it may swap (those tested,
+/// and those of the faces a swap changed, kept in a heap): the same swaps
+/// as a sweep over all, where a fidelity round moved a few vertices (a
+/// sweep over the 300,000 edges of a 100,000-vertex remesh took 6 ms,
+/// three sweeps a round).
 template <typename Wanted, typename Accept>
 std::int64_t Optimizer::SwapWhere(Wanted&& wanted, Accept&& accept)
 {
-  const Index halfEdges = M.NumberOfHalfEdges();
-  std::vector<std::uint8_t> first(halfEdges, 0);
-  ParallelFor(halfEdges, NumberOfThreads, [&](std::int64_t begin, std::int64_t end) {
-    for (Index h = static_cast<Index>(begin); h < end; ++h)
+  const bool all = Active.empty();
+  const std::vector<Index> listed = all ? std::vector<Index>() : ActiveHalfEdges();
+  const std::int64_t count = all ? M.NumberOfHalfEdges() : static_cast<std::int64_t>(listed.size());
+  std::vector<std::uint8_t> first(static_cast<std::size_t>(count), 0);
+  ParallelFor(count, NumberOfThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t i = begin; i < end; ++i)
     {
-      first[h] = M.Twin(h) > h && (Active.empty() || Active[M.Tail(h)] || Active[M.Head(h)]) && Swappable(h) &&
-        wanted(h);
+      const Index h = all ? static_cast<Index>(i) : listed[i];
+      first[i] = M.Twin(h) > h && (all || Active[M.Tail(h)] || Active[M.Head(h)]) && Swappable(h) && wanted(h);
     }
   }, {}, 0, 4096);
   // A swap changes its two faces and the valences of their four vertices:
   // every face around those is marked (an edge's two faces hold its quad).
   std::vector<std::uint8_t> changed(M.NumberOfFaces(), 0);
+  std::priority_queue<Index, std::vector<Index>, std::greater<Index>> later; // (with Active: marked faces' edges)
   std::int64_t swaps = 0;
-  for (Index h = 0; h < halfEdges; ++h)
-  {
+  const auto visit = [&](Index h, bool tested) {
     const Index t = M.Twin(h);
-    if (t < h || !(first[h] || changed[h / 3] || changed[t / 3]))
+    const bool redo = t > h && (changed[h / 3] || changed[t / 3]);
+    if (!(t > h && (tested || redo)) || !((redo ? Swappable(h) && wanted(h) : true) && accept(h)))
     {
-      continue;
+      return;
     }
-    if ((changed[h / 3] || changed[t / 3] ? Swappable(h) && wanted(h) : true) && accept(h))
+    const Index quad[4] = { M.Tail(h), M.Head(h), M.Tail(HalfEdgeMesh::Prev(h)), M.Tail(HalfEdgeMesh::Prev(t)) };
+    Flip(h);
+    for (const Index v : quad)
     {
-      const Index quad[4] = { M.Tail(h), M.Head(h), M.Tail(HalfEdgeMesh::Prev(h)), M.Tail(HalfEdgeMesh::Prev(t)) };
-      Flip(h);
-      for (const Index v : quad)
-      {
-        M.ForEachOutgoing(v, [&](Index g) { changed[g / 3] = 1; });
-      }
-      ++swaps;
+      M.ForEachOutgoing(v, [&](Index g) {
+        changed[g / 3] = 1;
+        for (Index e = 3 * (g / 3); !all && e < 3 * (g / 3) + 3; ++e)
+        {
+          for (const Index x : { e, M.Twin(e) })
+          {
+            if (x > h)
+            {
+              later.push(x);
+            }
+          }
+        }
+      });
     }
+    ++swaps;
+  };
+  if (all)
+  {
+    for (Index h = 0; h < count; ++h)
+    {
+      visit(h, first[h] != 0);
+    }
+    return swaps;
+  }
+  std::size_t i = 0;
+  for (Index previous = -1; i < listed.size() || !later.empty();)
+  {
+    const bool fromList = i < listed.size() && (later.empty() || listed[i] <= later.top());
+    const Index h = fromList ? listed[i] : later.top();
+    const bool tested = fromList && first[i];
+    fromList ? static_cast<void>(++i) : later.pop();
+    if (h != previous)
+    {
+      visit(h, tested);
+    }
+    previous = h;
   }
   return swaps;
 }

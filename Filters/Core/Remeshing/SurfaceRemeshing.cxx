@@ -438,7 +438,8 @@ void AddTimes(RemeshResult& kept, const RemeshResult& other)
 
 /// One remesh with its fidelity rounds (CheckFidelityInRounds); where they
 /// leave far input vertices that no vertex could be moved onto, or whose
-/// moves did not bring it closer (FarVerticesLeft), up to FarPinRounds
+/// moves did not bring it closer (FarVerticesLeft), and while the closest
+/// remesh so far is farther than FarRemeshSpacings, up to FarPinRounds
 /// remeshes more, each with the input vertices the closest remesh so far
 /// leaves farther than FarPinSpacings spacings pinned too (with those the
 /// rounds reached, and the pins of the remeshes before); the closest kept,
@@ -465,8 +466,9 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
       " have none): " + std::to_string(samples.NeededSamples) + ", more than the " +
       std::to_string(options.NumberOfVertices) + " requested (" + best.Error + ")";
   }
+  const auto nearEnough = [&] { return WorstDeviation(best) * best.Diagonal <= FarRemeshSpacings * best.Spacing; };
   if (!best.FarVerticesLeft || options.FarPinSpacings <= 0.0 || options.PinnedVertices ||
-    options.FinalSurface || !best.Error.empty())
+    options.FinalSurface || !best.Error.empty() || nearEnough())
   {
     return best;
   }
@@ -498,6 +500,10 @@ RemeshResult RemeshSurface(const MeshTopology& topology, const double* points, c
       break;
     }
     best = std::move(next);
+    if (nearEnough())
+    {
+      break;
+    }
   }
   return best;
 }
