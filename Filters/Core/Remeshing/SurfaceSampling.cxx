@@ -389,6 +389,25 @@ const TriangleGrid& RemeshCache::SurfaceGrid(const MeshTopology& topology, const
   return *Grid;
 }
 
+const std::vector<double>& RemeshCache::AngleDefects(const MeshTopology& topology, const double* points, int numThreads)
+{
+  const Index* triangles = topology.TriangleList().data();
+  const Index n = topology.NumberOfVertices();
+  if (Defects.size() != static_cast<std::size_t>(n) || DefectPoints != points || DefectTriangles != triangles)
+  {
+    Defects.assign(n, 0.0);
+    ParallelFor(n, numThreads, [&](std::int64_t begin, std::int64_t end) {
+      for (Index v = static_cast<Index>(begin); v < end; ++v)
+      {
+        Defects[v] = topology.IsInterior(v) && topology.Valence(v) > 0 ? AngleDefect(topology, points, v) : 0.0;
+      }
+    });
+    DefectPoints = points;
+    DefectTriangles = triangles;
+  }
+  return Defects;
+}
+
 std::pair<std::size_t, double> EdgeAtArc(const std::vector<double>& arcs, double arc)
 {
   const std::size_t last = arcs.size() - 1;
@@ -574,7 +593,9 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
   out.Halftone = std::move(halftone.Samples);
   out.ChartsWithoutSample =
     static_cast<std::int64_t>(GiveEveryChartAnInteriorSample(topology, points, atlas, out));
-  if (PinTips(topology, points, atlas, options.TipAngleDefect, options.PinnedVertices, importance, out.Density, out) > 0)
+  const std::vector<double>& defects = cache.AngleDefects(topology, points, options.NumberOfThreads);
+  if (PinTips(topology, points, atlas, options.TipAngleDefect, defects.data(), options.PinnedVertices, importance,
+        out.Density, out) > 0)
   {
     // (A path sample moved onto a tip can leave a chord on the far side of
     // another: a speck of eight triangles whose seam loop went round its

@@ -57,6 +57,10 @@ struct RemeshCache
   /// remeshes' fidelity checks (built on first use; again where the
   /// points or triangles are others).
   const TriangleGrid& SurfaceGrid(const MeshTopology& topology, const double* points, int numThreads);
+  /// The angle defect of every interior surface vertex (AngleDefect; 0 at
+  /// the others), for the tips (computed on first use, on the threads;
+  /// again where the points or triangles are others).
+  const std::vector<double>& AngleDefects(const MeshTopology& topology, const double* points, int numThreads);
   void Clear()
   {
     Packed.reset();
@@ -65,6 +69,7 @@ struct RemeshCache
     SurfaceLaplacian = GraphLaplacian();
     ChartLocators.clear();
     Grid.reset();
+    Defects.clear();
   }
 
 private:
@@ -73,6 +78,9 @@ private:
   const double* GridPoints = nullptr;
   const Index* GridTriangles = nullptr;
   std::size_t GridCount = 0;
+  std::vector<double> Defects;
+  const double* DefectPoints = nullptr;
+  const Index* DefectTriangles = nullptr;
 };
 
 struct SamplingOptions

@@ -138,7 +138,7 @@ std::vector<Index> Spikes(const MeshTopology& topology, const double* points, co
 /// quarter of a spacing changed the error-driven counts on the corpus by
 /// -50% to +12%, a tenth by up to +61%, this one the comb's by 4%).
 std::vector<Index> TipVertices(const MeshTopology& topology, const double* points, double threshold,
-  const std::uint8_t* pinned, const double* importance, double density)
+  const double* defects, const std::uint8_t* pinned, const double* importance, double density)
 {
   std::vector<Index> spikes = density > 0.0 ? Spikes(topology, points, importance, density) : std::vector<Index>();
   std::vector<std::uint8_t> taken(static_cast<std::size_t>(topology.NumberOfVertices()), 0);
@@ -161,10 +161,9 @@ std::vector<Index> TipVertices(const MeshTopology& topology, const double* point
     }
     else if (threshold > 0.0)
     {
-      const double defect = AngleDefect(topology, points, v);
-      if (defect > threshold)
+      if (defects[v] > threshold)
       {
-        candidates.emplace_back(defect, v);
+        candidates.emplace_back(defects[v], v);
       }
     }
   }
@@ -410,10 +409,10 @@ void PinFans(const MeshTopology& topology, const double* points, const AtlasResu
 /// at a needle's tip, an interior sample of each narrow fan around it
 /// (PinFans).
 std::int64_t PinTips(const MeshTopology& topology, const double* points, const AtlasResult& atlas, double threshold,
-  const std::uint8_t* pinned, const double* importance, double density, SurfaceSamples& out)
+  const double* defects, const std::uint8_t* pinned, const double* importance, double density, SurfaceSamples& out)
 {
   std::int64_t onPaths = 0;
-  const std::vector<Index> tips = TipVertices(topology, points, threshold, pinned, importance, density);
+  const std::vector<Index> tips = TipVertices(topology, points, threshold, defects, pinned, importance, density);
   std::vector<std::vector<std::size_t>> interior(tips.empty() ? 0 : atlas.Charts.size()); // per chart
   std::vector<std::uint8_t> taken(tips.empty() ? 0 : out.Kind.size(), 0); // moved into a needle's fan
   for (std::size_t s = 0; s < out.Kind.size() && !interior.empty(); ++s)
@@ -430,7 +429,7 @@ std::int64_t PinTips(const MeshTopology& topology, const double* points, const A
     if (!std::all_of(topology.CornersBegin(v), topology.CornersEnd(v),
           [&](Index c) { return atlas.ChartOfTriangle[c / 3] == chart; }))
     {
-      const double defect = threshold > 0.0 ? AngleDefect(topology, points, v) : 0.0;
+      const double defect = threshold > 0.0 ? defects[v] : 0.0;
       if (defect > threshold)
       {
         onPaths += PinOnPath(topology, points, v, out) ? 1 : 0; // (a far vertex the error-driven mode pins: a path sample is near)

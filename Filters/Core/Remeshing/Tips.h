@@ -29,9 +29,10 @@ double AngleDefect(const MeshTopology& topology, const double* points, Index v);
 /// leaves a strip on either side too narrow for a sample, and the needle's
 /// remesh a flat fin of triangles with angles of 0 (in the anisotropic mode
 /// too: the comb's fingers at 2,000 and 10,000 vertices, 0.00 and 0.05
-/// degrees without these samples, 3.3 and 2.7 with them).  Returns the
+/// degrees without these samples, 3.3 and 2.7 with them).  `defects`: the
+/// angle defect of every vertex (RemeshCache::AngleDefects).  Returns the
 /// number of path samples moved onto tips.
 std::int64_t PinTips(const MeshTopology& topology, const double* points, const AtlasResult& atlas, double threshold,
-  const std::uint8_t* pinned, const double* importance, double density, SurfaceSamples& out);
+  const double* defects, const std::uint8_t* pinned, const double* importance, double density, SurfaceSamples& out);
 
 } // namespace beltrami
