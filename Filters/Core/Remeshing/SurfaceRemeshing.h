@@ -52,9 +52,9 @@ struct RemeshOptions
   /// the metric in the anisotropic mode).  Where far vertices are left that
   /// no vertex could reach, or whose moves brought it no closer, the remesh
   /// is made again with them pinned, up to FarPinRounds times, on the same
-  /// terms (RemeshSurface; only beyond FarRemeshSpacings).  The density keeps a smooth surface's sag
-  /// within MaximumSurfaceSag (a tenth) of the spacing: a vertex farther is
-  /// a corner of the input the samples missed.  0: one remesh as made.
+  /// terms (RemeshSurface; only beyond FarRemeshSpacings).  The density
+  /// keeps a smooth surface's sag within MaximumSurfaceSag (a tenth) of the
+  /// spacing: a vertex farther is a corner of the input the samples missed.  0: one remesh as made.
   /// Not with PinnedVertices or FinalSurface.
   double FarPinSpacings = 0.15;
   /// The most fidelity rounds, and remeshes after the first
@@ -245,9 +245,9 @@ constexpr double FarPinGain = 0.98;
 /// spacings: over the corpus and the generated shapes at 2,000 and 10,000
 /// vertices, no remesh again came closer where the first was within 0.2
 /// spacings (a cone's tip 0.17, a needle 0.19; the 1.2M-triangle bunny at
-/// 100,000 vertices 0.17, where the remesh again took 4.5 s, as long as the
-/// first), and where one was at 0.24-0.27 (a CAD part with holes) it came
-/// 13-25% closer.
+/// 100,000 vertices 0.17 in one order of the moves, where the remesh again
+/// took 4.5 s, as long as the first), and where one was at 0.24-0.27 (a CAD
+/// part with holes) it came 13-25% closer.
 constexpr double FarRemeshSpacings = 0.2;
 
 /// Where no input vertex is left farther than RemeshOptions::FarPinSpacings
