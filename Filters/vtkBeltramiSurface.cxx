@@ -402,17 +402,17 @@ void vtkBeltramiSurface::SpreadToMergedPoints() const
   }
   for (vtkDataArray* array : targets)
   {
-    // A point's share of the area (the curvatures' MixedArea) stays with the
-    // point it was merged into, so that sums over the points (Gauss-Bonnet,
-    // the total area) count it once.
-    const bool share = array->GetName() && std::string(array->GetName()) == "MixedArea";
+    // A point's share of a measure stays with the point it was merged into,
+    // so that sums over the points (Gauss-Bonnet, the total area) count it
+    // once.
+    const bool share = std::find(Shares.begin(), Shares.end(), array) != Shares.end();
     for (std::size_t p = 0; p < Merge.size(); ++p)
     {
-      if (Merge[p] != static_cast<Index>(p) && share)
+      for (int k = 0; share && Merge[p] != static_cast<Index>(p) && k < array->GetNumberOfComponents(); ++k)
       {
-        array->SetComponent(static_cast<vtkIdType>(p), 0, 0.0);
+        array->SetComponent(static_cast<vtkIdType>(p), k, 0.0);
       }
-      else if (Merge[p] != static_cast<Index>(p))
+      if (!share && Merge[p] != static_cast<Index>(p))
       {
         array->SetTuple(static_cast<vtkIdType>(p), Merge[p], array);
       }

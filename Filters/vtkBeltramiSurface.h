@@ -255,10 +255,14 @@ public:
   /// empty when no point was merged.  The merged-away points are used by no
   /// triangle of Topology().
   const std::vector<beltrami::Index>& MergedPoints() const { return Merge; }
+  /// A point array of Output() that holds each point's share of a measure
+  /// (an area): SpreadToMergedPoints gives it 0 at the merged-away points,
+  /// so that its sum over the points counts the measure once.
+  void MarkShareOfMeasure(vtkDataArray* array) { Shares.push_back(array); }
   /// After a filter has written its point results on Output(): the arrays it
   /// added (those not passed through from the input) and its new points get,
   /// at every merged-away point, the values of the point it was merged into
-  /// (MixedArea, a share of the area: 0).
+  /// (the shares of a measure, MarkShareOfMeasure: 0).
   void SpreadToMergedPoints() const;
 
 private:
@@ -324,6 +328,7 @@ private:
   vtkIdType InvalidCells = 0;
   std::string ErrorText;
   std::vector<beltrami::Index> Merge; // MergedPoints
+  std::vector<vtkDataArray*> Shares;  // MarkShareOfMeasure
   std::vector<beltrami::Index> Copied; // SplitNonManifold's copies: the input point of each
   std::string RepairText;
 };

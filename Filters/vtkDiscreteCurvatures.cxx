@@ -124,6 +124,10 @@ int vtkDiscreteCurvatures::Compute(vtkBeltramiSurface& surface)
   auto meanCurvatureNormal =
     AddArray(pd, this->ComputeMeanCurvatureNormal, "MeanCurvatureNormal", 3, numPoints);
   auto mixedArea = AddArray(pd, this->ComputeMixedArea, "MixedArea", 1, numPoints);
+  if (mixedArea)
+  {
+    surface.MarkShareOfMeasure(mixedArea); // (a point's share of the area)
+  }
   auto meanCurvature = AddArray(pd, this->ComputeMeanCurvature, "MeanCurvature", 1, numPoints);
   auto gaussian = AddArray(pd, this->ComputeGaussianCurvature, "GaussianCurvature", 1, numPoints);
   auto maximum = AddArray(pd, this->ComputePrincipalCurvatures, "MaximumCurvature", 1, numPoints);

@@ -52,8 +52,7 @@ double LargestMove(const std::vector<double>& copy, const double* points, double
 FairingReport FairOnce(const MeshTopology& topology, std::vector<double>& copy, double length, int exponent,
   bool mollified, int numThreads, const Partition* split)
 {
-  FairingOptions options;
-  const double operatorMollification = options.OperatorMollification;
+  FairingOptions options; // (its OperatorMollification where `mollified`)
   options.Operator = FairingOperator::CurvatureFlow;
   options.Order = 1;
   options.Integration = FairingIntegration::Implicit;
@@ -62,7 +61,7 @@ FairingReport FairOnce(const MeshTopology& topology, std::vector<double>& copy, 
   options.Invariant = FairingInvariant::None;
   options.Boundary = FairingBoundary::Fixed;
   options.SolverTolerance = 1e-8; // (split runs: the serial copy to about 1e-9 of the diagonal)
-  options.OperatorMollification = mollified ? operatorMollification : 0.0;
+  options.OperatorMollification = mollified ? options.OperatorMollification : 0.0;
   options.NumberOfThreads = numThreads;
   return FairSurface(topology, copy.data(), options, {}, {}, split);
 }

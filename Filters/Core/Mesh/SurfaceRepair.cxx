@@ -148,13 +148,13 @@ std::vector<Index> CollapsedEdges(const MeshTopology& topology, const T* points,
   std::vector<Index> merge(static_cast<std::size_t>(topology.NumberOfVertices()));
   std::iota(merge.begin(), merge.end(), Index(0));
   std::vector<std::uint8_t> taken(merge.size(), 0);
+  const std::uint8_t topological = VertexBoundary | VertexNonManifold | VertexInconsistent | VertexDuplicateFace;
   for (std::int64_t e = 0; tolerance > 0.0 && std::isfinite(tolerance) && e < edges.NumberOfEdges(); ++e)
   {
     const Index a = edges.Vertices[2 * e], b = edges.Vertices[2 * e + 1];
     const T* x = points + 3 * static_cast<std::size_t>(a);
     const T* y = points + 3 * static_cast<std::size_t>(b);
     const Vec3 d(static_cast<double>(x[0]) - y[0], static_cast<double>(x[1]) - y[1], static_cast<double>(x[2]) - y[2]);
-    const std::uint8_t topological = VertexBoundary | VertexNonManifold | VertexInconsistent | VertexDuplicateFace;
     const bool interior = ((topology.VertexFlags(a) | topology.VertexFlags(b)) & topological) == 0;
     if (!(d.norm() <= tolerance) || taken[a] || taken[b] || !interior || edges.FaceCount[e] != 2 ||
       !LinkConditionHolds(topology, e, a, b))
