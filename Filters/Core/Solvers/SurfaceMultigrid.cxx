@@ -252,6 +252,73 @@ void Combined(const std::vector<LevelPair>& pairs, T s, std::vector<LevelValues<
   }
 }
 
+/// sum[c] += Sign (row's entries [first, last) of `values` times the
+/// values at(k)[c] they multiply), in two partial sums over alternate
+/// entries: half the chain of dependent additions a row waits on (the 14
+/// iterations of a 1M-vertex fandisk's solve: 1.1 s with one sum, 0.85 s
+/// with two, the arrays in locals as RowsOf holds them).
+template <int Sign, int W, typename T, typename At>
+inline void AddRow(std::int64_t first, std::int64_t last, const T* values, const At& at, T* sum)
+{
+  const auto accumulate = [](T& to, T product) {
+    if constexpr (Sign > 0)
+    {
+      to += product;
+    }
+    else
+    {
+      to -= product;
+    }
+  };
+  T other[W] = {};
+  std::int64_t k = first;
+  for (; k + 1 < last; k += 2)
+  {
+    const T* xj = at(k);
+    const T* xl = at(k + 1);
+    for (int c = 0; c < W; ++c)
+    {
+      accumulate(sum[c], Times(values[k], xj[c]));
+      accumulate(other[c], Times(values[k + 1], xl[c]));
+    }
+  }
+  if (k < last)
+  {
+    const T* xj = at(k);
+    for (int c = 0; c < W; ++c)
+    {
+      accumulate(sum[c], Times(values[k], xj[c]));
+    }
+  }
+  for (int c = 0; c < W; ++c)
+  {
+    sum[c] += other[c];
+  }
+}
+
+/// A level's arrays as the kernels' loops read them: held in locals, the
+/// compiler reloaded them from the level at every entry (a write of x may
+/// alias them as far as it knows).
+template <typename T>
+struct RowsOf
+{
+  explicit RowsOf(const LevelView<T>& a)
+    : Offsets(a.Pattern->Offsets.data())
+    , Columns(a.Pattern->Columns.data())
+    , Values(a.Values)
+  {
+  }
+  RowsOf(const LevelMatrix& m)
+    : Offsets(m.Offsets.data())
+    , Columns(m.Columns.data())
+    , Values(m.Values.data())
+  {
+  }
+  const std::int64_t* Offsets;
+  const Index* Columns;
+  const T* Values;
+};
+
 /// One Gauss-Seidel sweep of A x = b on every block of ParallelChunkSize rows
 /// (forward or backward within the block, with the smoother's diagonal),
 /// the other blocks' values from `old` (x at the sweep's start).
@@ -259,29 +326,28 @@ template <typename T, int W>
 void Sweep(const LevelView<T>& a, const T* b, T* x, T* old, bool forward, int threads)
 {
   const std::int64_t n = a.Rows();
-  const LevelMatrix& m = *a.Pattern;
   std::copy(x, x + n * W, old);
-  ParallelForStatic(n, threads, [&](std::int64_t lo, std::int64_t hi) {
+  ParallelForStatic(n, threads, [&a, b, x, old, forward](std::int64_t lo, std::int64_t hi) {
+    const RowsOf<T> m(a);
+    const T* extra = a.Extra;
+    const T* inverse = a.Inverse;
+    const std::uint64_t size = static_cast<std::uint64_t>(hi - lo);
+    const auto at = [&](std::int64_t k) {
+      const std::int64_t j = m.Columns[k];
+      return (static_cast<std::uint64_t>(j - lo) < size ? x : old) + j * W;
+    };
     for (std::int64_t s = 0; s < hi - lo; ++s)
     {
       const std::int64_t i = forward ? lo + s : hi - 1 - s;
       T sum[W];
       for (int c = 0; c < W; ++c)
       {
-        sum[c] = b[i * W + c] + Times(a.Extra[i], x[i * W + c]);
+        sum[c] = b[i * W + c] + Times(extra[i], x[i * W + c]);
       }
-      for (std::int64_t k = m.Offsets[i]; k < m.Offsets[i + 1]; ++k)
-      {
-        const std::int64_t j = m.Columns[k];
-        const T* xj = (j >= lo && j < hi ? x : old) + j * W;
-        for (int c = 0; c < W; ++c)
-        {
-          sum[c] -= Times(a.Values[k], xj[c]);
-        }
-      }
+      AddRow<-1, W>(m.Offsets[i], m.Offsets[i + 1], m.Values, at, sum);
       for (int c = 0; c < W; ++c)
       {
-        x[i * W + c] = Times(sum[c], a.Inverse[i]);
+        x[i * W + c] = Times(sum[c], inverse[i]);
       }
     }
   });
@@ -291,22 +357,19 @@ void Sweep(const LevelView<T>& a, const T* b, T* x, T* old, bool forward, int th
 template <typename T, int W>
 void Residual(const LevelView<T>& a, const T* b, const T* x, T* r, int threads)
 {
-  const LevelMatrix& m = *a.Pattern;
-  ParallelForStatic(a.Rows(), threads, [&](std::int64_t lo, std::int64_t hi) {
+  ParallelForStatic(a.Rows(), threads, [&a, b, x, r](std::int64_t lo, std::int64_t hi) {
+    const RowsOf<T> m(a);
+    const T* diagonal = a.Diagonal;
+    const auto at = [&](std::int64_t k) { return x + static_cast<std::int64_t>(m.Columns[k]) * W; };
     for (std::int64_t i = lo; i < hi; ++i)
     {
+      T sum[W];
       for (int c = 0; c < W; ++c)
       {
-        r[i * W + c] = b[i * W + c] - Times(a.Diagonal[i], x[i * W + c]);
+        sum[c] = b[i * W + c] - Times(diagonal[i], x[i * W + c]);
       }
-      for (std::int64_t k = m.Offsets[i]; k < m.Offsets[i + 1]; ++k)
-      {
-        const T* xj = x + static_cast<std::int64_t>(m.Columns[k]) * W;
-        for (int c = 0; c < W; ++c)
-        {
-          r[i * W + c] -= Times(a.Values[k], xj[c]);
-        }
-      }
+      AddRow<-1, W>(m.Offsets[i], m.Offsets[i + 1], m.Values, at, sum);
+      std::copy(sum, sum + W, r + i * W);
     }
   });
 }
@@ -315,23 +378,18 @@ void Residual(const LevelView<T>& a, const T* b, const T* x, T* r, int threads)
 template <int W>
 void Product(const LevelView<double>& a, const double* x, double* y, int threads)
 {
-  const LevelMatrix& m = *a.Pattern;
-  ParallelForStatic(a.Rows(), threads, [&](std::int64_t lo, std::int64_t hi) {
+  ParallelForStatic(a.Rows(), threads, [&a, x, y](std::int64_t lo, std::int64_t hi) {
+    const RowsOf<double> m(a);
+    const double* diagonal = a.Diagonal;
+    const auto at = [&](std::int64_t k) { return x + static_cast<std::int64_t>(m.Columns[k]) * W; };
     for (std::int64_t i = lo; i < hi; ++i)
     {
       double sum[W];
       for (int c = 0; c < W; ++c)
       {
-        sum[c] = a.Diagonal[i] * x[i * W + c];
+        sum[c] = diagonal[i] * x[i * W + c];
       }
-      for (std::int64_t k = m.Offsets[i]; k < m.Offsets[i + 1]; ++k)
-      {
-        const double* xj = x + static_cast<std::int64_t>(m.Columns[k]) * W;
-        for (int c = 0; c < W; ++c)
-        {
-          sum[c] += a.Values[k] * xj[c];
-        }
-      }
+      AddRow<1, W>(m.Offsets[i], m.Offsets[i + 1], m.Values, at, sum);
       std::copy(sum, sum + W, y + i * W);
     }
   });
@@ -340,24 +398,21 @@ void Product(const LevelView<double>& a, const double* x, double* y, int threads
 /// y = M x (M stored without diagonal: a prolongation or restriction), or
 /// y += M x with `add`.
 template <int W>
-void Multiply(const LevelMatrix& m, const double* x, double* y, bool add, int threads)
+void Multiply(const LevelMatrix& matrix, const double* x, double* y, bool add, int threads)
 {
-  ParallelForStatic(static_cast<std::int64_t>(m.Offsets.size()) - 1, threads, [&](std::int64_t lo, std::int64_t hi) {
+  const std::int64_t rows = static_cast<std::int64_t>(matrix.Offsets.size()) - 1;
+  ParallelForStatic(rows, threads, [&matrix, x, y, add](std::int64_t lo, std::int64_t hi) {
+    const RowsOf<double> m(matrix);
+    const auto at = [&](std::int64_t k) { return x + static_cast<std::int64_t>(m.Columns[k]) * W; };
     for (std::int64_t i = lo; i < hi; ++i)
     {
-      double sum[W] = {};
-      for (std::int64_t k = m.Offsets[i]; k < m.Offsets[i + 1]; ++k)
-      {
-        const double* xj = x + static_cast<std::int64_t>(m.Columns[k]) * W;
-        for (int c = 0; c < W; ++c)
-        {
-          sum[c] += m.Values[k] * xj[c];
-        }
-      }
+      double sum[W];
       for (int c = 0; c < W; ++c)
       {
-        y[i * W + c] = (add ? y[i * W + c] : 0.0) + sum[c];
+        sum[c] = add ? y[i * W + c] : 0.0;
       }
+      AddRow<1, W>(m.Offsets[i], m.Offsets[i + 1], m.Values, at, sum);
+      std::copy(sum, sum + W, y + i * W);
     }
   });
 }
