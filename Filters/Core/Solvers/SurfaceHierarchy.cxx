@@ -112,7 +112,7 @@ std::vector<Index> NearestSamples(const PointGraph& g, const std::vector<Index>&
 
 /// The coarse graph: samples joined where their regions touch.
 PointGraph CoarseGraph(const PointGraph& g, const std::vector<Index>& coarse, const std::vector<Index>& region,
-  Index count)
+  Index count, int threads)
 {
   // The rows of each region: the transpose of the rows' regions.
   LevelMatrix inRegion;
@@ -124,30 +124,45 @@ PointGraph CoarseGraph(const PointGraph& g, const std::vector<Index>& coarse, co
   PointGraph c;
   c.Points.resize(3 * static_cast<std::size_t>(count));
   c.Offsets.resize(static_cast<std::size_t>(count) + 1, 0);
-  std::vector<Index> touching;
-  for (Index a = 0; a < count; ++a)
-  {
-    touching.clear();
-    for (std::int64_t m = members.Offsets[a]; m < members.Offsets[a + 1]; ++m)
+  // Blocks of coarse rows in parallel, each with its own neighbour list,
+  // joined in order.
+  constexpr Index block = 4096;
+  std::vector<std::vector<Index>> parts(static_cast<std::size_t>((count + block - 1) / block));
+  ParallelFor(static_cast<std::int64_t>(parts.size()), threads, [&](std::int64_t first, std::int64_t last) {
+    std::vector<Index> touching;
+    for (std::int64_t part = first; part < last; ++part)
     {
-      const Index i = members.Columns[m];
-      if (coarse[i] == a)
+      for (Index a = static_cast<Index>(part * block); a < std::min<Index>(count, static_cast<Index>((part + 1) * block)); ++a)
       {
-        std::copy(&g.Points[3 * i], &g.Points[3 * i] + 3, &c.Points[3 * a]);
-      }
-      for (std::int64_t k = g.Offsets[i]; k < g.Offsets[i + 1]; ++k)
-      {
-        const Index b = region[g.Neighbors[k]];
-        if (b != a)
+        touching.clear();
+        for (std::int64_t m = members.Offsets[a]; m < members.Offsets[a + 1]; ++m)
         {
-          touching.push_back(b);
+          const Index i = members.Columns[m];
+          if (coarse[i] == a)
+          {
+            std::copy(&g.Points[3 * i], &g.Points[3 * i] + 3, &c.Points[3 * a]);
+          }
+          for (std::int64_t k = g.Offsets[i]; k < g.Offsets[i + 1]; ++k)
+          {
+            const Index b = region[g.Neighbors[k]];
+            if (b != a)
+            {
+              touching.push_back(b);
+            }
+          }
         }
+        std::sort(touching.begin(), touching.end());
+        touching.erase(std::unique(touching.begin(), touching.end()), touching.end());
+        parts[part].insert(parts[part].end(), touching.begin(), touching.end());
+        c.Offsets[a + 1] = static_cast<std::int64_t>(touching.size());
       }
     }
-    std::sort(touching.begin(), touching.end());
-    touching.erase(std::unique(touching.begin(), touching.end()), touching.end());
-    c.Neighbors.insert(c.Neighbors.end(), touching.begin(), touching.end());
-    c.Offsets[a + 1] = static_cast<std::int64_t>(c.Neighbors.size());
+  }, {}, 0, 1);
+  std::partial_sum(c.Offsets.begin(), c.Offsets.end(), c.Offsets.begin());
+  c.Neighbors.reserve(static_cast<std::size_t>(c.Offsets.back()));
+  for (const std::vector<Index>& part : parts)
+  {
+    c.Neighbors.insert(c.Neighbors.end(), part.begin(), part.end());
   }
   return c;
 }
@@ -355,7 +370,7 @@ SurfaceHierarchy::SurfaceHierarchy(
       break;
     }
     const std::vector<Index> region = NearestSamples(g, coarse, threads);
-    PointGraph c = CoarseGraph(g, coarse, region, count);
+    PointGraph c = CoarseGraph(g, coarse, region, count, threads);
     Prolongations.push_back(ProlongationOf(g, c, coarse, region, threads));
     Restrictions.push_back(Transposed(Prolongations.back(), count));
     Sizes.push_back(count);
