@@ -20,6 +20,7 @@
 #include <vtkPolyData.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <exception>
@@ -202,52 +203,72 @@ void vtkSurfaceVectorFieldDecomposition::AddArrays(vtkBeltramiSurface& surface, 
     { "NormalComponent", r.Normal, 1, false }, { "TangentField", r.Tangent, 3, false },
     { "CurlFreePart", r.CurlFree, 3, false }, { "DivergenceFreePart", r.DivergenceFree, 3, false },
     { "HarmonicPart", r.Harmonic, 3, false } };
-  // Cell values: the area-weighted mean of the cell's triangles.
+  // Cell values: the area-weighted mean of the cell's triangles, summed in
+  // their order (the kept triangles of each cell: `members` from `first`).
   const vtkIdType nc = output->GetNumberOfCells();
-  std::vector<double> weight(cellOf.size()), cellArea(onPoints ? 0 : nc, 0.0);
+  const int threads = this->NumberOfThreads;
+  std::vector<double> weight(cellOf.size());
+  std::vector<vtkIdType> first(onPoints ? 0 : nc + 1, 0), members;
   for (std::size_t k = 0; k < cellOf.size(); ++k)
   {
     weight[k] = r.Areas[k] > 0.0 ? r.Areas[k] : 1e-300; // a lone zero-area triangle keeps its 0
     if (!onPoints && cellOf[k] >= 0)
     {
-      cellArea[cellOf[k]] += weight[k];
+      ++first[cellOf[k] + 1];
+    }
+  }
+  std::partial_sum(first.begin(), first.end(), first.begin());
+  members.resize(onPoints ? 0 : static_cast<std::size_t>(first.back()));
+  std::vector<vtkIdType> next(first.begin(), first.end() - (onPoints ? 0 : 1));
+  for (std::size_t k = 0; !onPoints && k < cellOf.size(); ++k)
+  {
+    if (cellOf[k] >= 0)
+    {
+      members[next[cellOf[k]]++] = static_cast<vtkIdType>(k);
     }
   }
   for (const Output& o : outputs)
   {
+    const int nk = o.Components;
     if (o.Point || onPoints)
     {
       const std::vector<double> values = o.Point
         ? std::vector<double>()
-        : beltrami::PointValuesFromTriangles(topo, r.Areas, o.Values.data(), o.Components);
+        : beltrami::PointValuesFromTriangles(topo, r.Areas, o.Values.data(), nk);
       const std::vector<double>& perPoint = o.Point ? o.Values : values;
-      double* a = AddArray(output->GetPointData(), o.Name, o.Components, np)->GetPointer(0);
-      for (vtkIdType i = 0; i < np; ++i)
-      {
-        const beltrami::Index v = static_cast<beltrami::Index>(topologyPoint(i));
-        for (int d = 0; d < o.Components; ++d)
+      double* a = AddArray(output->GetPointData(), o.Name, nk, np)->GetPointer(0);
+      beltrami::ParallelFor(np, threads, [&](std::int64_t begin, std::int64_t end) {
+        for (vtkIdType i = begin; i < end; ++i)
         {
-          a[o.Components * i + d] = topo.Valence(v) > 0 ? perPoint[o.Components * v + d] : NaN;
+          const beltrami::Index v = static_cast<beltrami::Index>(topologyPoint(i));
+          for (int d = 0; d < nk; ++d)
+          {
+            a[nk * i + d] = topo.Valence(v) > 0 ? perPoint[nk * v + d] : NaN;
+          }
         }
-      }
+      });
       continue;
     }
-    std::vector<double> sums(static_cast<std::size_t>(o.Components) * nc, 0.0);
-    for (std::size_t k = 0; k < cellOf.size(); ++k)
-    {
-      for (int d = 0; d < o.Components && cellOf[k] >= 0; ++d)
+    double* a = AddArray(output->GetCellData(), o.Name, nk, nc)->GetPointer(0);
+    beltrami::ParallelFor(nc, threads, [&](std::int64_t begin, std::int64_t end) {
+      for (vtkIdType c = begin; c < end; ++c)
       {
-        sums[o.Components * cellOf[k] + d] += weight[k] * o.Values[o.Components * k + d];
+        double area = 0.0, sum[3] = { 0.0, 0.0, 0.0 };
+        for (vtkIdType m = first[c]; m < first[c + 1]; ++m)
+        {
+          const vtkIdType k = members[m];
+          area += weight[k];
+          for (int d = 0; d < nk; ++d)
+          {
+            sum[d] += weight[k] * o.Values[nk * k + d];
+          }
+        }
+        for (int d = 0; d < nk; ++d)
+        {
+          a[nk * c + d] = area > 0.0 ? sum[d] / area : NaN;
+        }
       }
-    }
-    double* a = AddArray(output->GetCellData(), o.Name, o.Components, nc)->GetPointer(0);
-    for (vtkIdType c = 0; c < nc; ++c)
-    {
-      for (int d = 0; d < o.Components; ++d)
-      {
-        a[o.Components * c + d] = cellArea[c] > 0.0 ? sums[o.Components * c + d] / cellArea[c] : NaN;
-      }
-    }
+    });
   }
   (onPoints ? static_cast<vtkDataSetAttributes*>(output->GetPointData()) : output->GetCellData())
     ->SetActiveVectors("TangentField");
@@ -354,28 +375,32 @@ bool vtkSurfaceVectorFieldDecomposition::Compute(vtkBeltramiSurface& surface)
   std::vector<double> pointStorage, vectors(3 * kept.size(), 0.0);
   const double* points = surface.PointsAsDouble(pointStorage);
   const beltrami::IndexArray& list = whole.TriangleList();
-  vtkIdType nonFinite = 0;
-  for (std::size_t k = 0; k < kept.size(); ++k)
-  {
-    for (int d = 0; d < 3 && cellOf[k] >= 0; ++d)
+  std::atomic<vtkIdType> nonFinite{ 0 };
+  beltrami::ParallelFor(static_cast<std::int64_t>(kept.size()), threads, [&](std::int64_t begin, std::int64_t end) {
+    vtkIdType bad = 0;
+    for (std::int64_t k = begin; k < end; ++k)
     {
-      double value = 0.0;
-      if (onPoints)
+      for (int d = 0; d < 3 && cellOf[k] >= 0; ++d)
       {
-        for (int c = 0; c < 3; ++c)
+        double value = 0.0;
+        if (onPoints)
         {
-          value += array->GetComponent(list[3 * static_cast<std::int64_t>(kept[k]) + c], d) / 3.0;
+          for (int c = 0; c < 3; ++c)
+          {
+            value += array->GetComponent(list[3 * static_cast<std::int64_t>(kept[k]) + c], d) / 3.0;
+          }
         }
+        else
+        {
+          value = array->GetComponent(cellOf[k], d);
+        }
+        vectors[3 * k + d] = value;
       }
-      else
-      {
-        value = array->GetComponent(cellOf[k], d);
-      }
-      vectors[3 * k + d] = value;
+      const double* v = &vectors[3 * k];
+      bad += std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]) ? 0 : 1;
     }
-    const double* v = &vectors[3 * k];
-    nonFinite += std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]) ? 0 : 1;
-  }
+    nonFinite += bad;
+  });
   if (nonFinite > 0)
   {
     vtkWarningMacro(<< nonFinite << " triangles have NaN or infinite vectors" << (onPoints ? " at a corner" : "")
