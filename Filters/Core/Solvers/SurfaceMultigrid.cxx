@@ -320,37 +320,55 @@ struct RowsOf
 };
 
 /// One Gauss-Seidel sweep of A x = b on every block of ParallelChunkSize rows
-/// (forward or backward within the block, with the smoother's diagonal),
-/// the other blocks' values from `old` (x at the sweep's start).
+/// (forward or backward within the block, with the smoother's diagonal)
+/// from x = `in` into `out`: the rows of the block already swept read from
+/// `out`, the others (and the other blocks) from `in`: the values of an
+/// in-place sweep with the other blocks' from a copy of x, without the
+/// copy (the 1M-vertex fandisk's decomposition: 3.30 -> 3.16 s).
 template <typename T, int W>
-void Sweep(const LevelView<T>& a, const T* b, T* x, T* old, bool forward, int threads)
+void Sweep(const LevelView<T>& a, const T* b, const T* in, T* out, bool forward, int threads)
 {
-  const std::int64_t n = a.Rows();
-  std::copy(x, x + n * W, old);
-  ParallelForStatic(n, threads, [&a, b, x, old, forward](std::int64_t lo, std::int64_t hi) {
+  ParallelForStatic(a.Rows(), threads, [&a, b, in, out, forward](std::int64_t lo, std::int64_t hi) {
     const RowsOf<T> m(a);
     const T* extra = a.Extra;
     const T* inverse = a.Inverse;
-    const std::uint64_t size = static_cast<std::uint64_t>(hi - lo);
-    const auto at = [&](std::int64_t k) {
-      const std::int64_t j = m.Columns[k];
-      return (static_cast<std::uint64_t>(j - lo) < size ? x : old) + j * W;
-    };
     for (std::int64_t s = 0; s < hi - lo; ++s)
     {
       const std::int64_t i = forward ? lo + s : hi - 1 - s;
+      const std::int64_t first = forward ? lo : i + 1; // the rows swept: [first, first + s)
+      const auto at = [&](std::int64_t k) {
+        const std::int64_t j = m.Columns[k];
+        return (static_cast<std::uint64_t>(j - first) < static_cast<std::uint64_t>(s) ? out : in) + j * W;
+      };
       T sum[W];
       for (int c = 0; c < W; ++c)
       {
-        sum[c] = b[i * W + c] + Times(extra[i], x[i * W + c]);
+        sum[c] = b[i * W + c] + Times(extra[i], in[i * W + c]);
       }
       AddRow<-1, W>(m.Offsets[i], m.Offsets[i + 1], m.Values, at, sum);
       for (int c = 0; c < W; ++c)
       {
-        x[i * W + c] = Times(sum[c], inverse[i]);
+        out[i * W + c] = Times(sum[c], inverse[i]);
       }
     }
   });
+}
+
+/// `sweeps` sweeps of A x = b in one direction, x updated (through `work`).
+template <typename T, int W>
+void Smooth(const LevelView<T>& a, const T* b, T* x, T* work, bool forward, int sweeps, int threads)
+{
+  T* from = x;
+  T* to = work;
+  for (int s = 0; s < sweeps; ++s)
+  {
+    Sweep<T, W>(a, b, from, to, forward, threads);
+    std::swap(from, to);
+  }
+  if (from != x)
+  {
+    std::copy(from, from + static_cast<std::int64_t>(a.Rows()) * W, x);
+  }
 }
 
 /// r = b - A x.
@@ -566,8 +584,8 @@ void SurfaceMultigrid::State::CoarsestSolve() const
   std::fill(x, x + static_cast<std::int64_t>(n) * W, T(0.0));
   for (int s = 0; s < 4; ++s)
   {
-    Sweep<T, W>(ViewOf<T>(l), b, x, Work<T>(R, l), true, Threads);
-    Sweep<T, W>(ViewOf<T>(l), b, x, Work<T>(R, l), false, Threads);
+    Smooth<T, W>(ViewOf<T>(l), b, x, Work<T>(R, l), true, 1, Threads);
+    Smooth<T, W>(ViewOf<T>(l), b, x, Work<T>(R, l), false, 1, Threads);
   }
 }
 
@@ -587,18 +605,12 @@ void SurfaceMultigrid::State::Cycle(int l) const
   T* b = Work<T>(B, l);
   T* r = Work<T>(R, l);
   std::fill(x, x + static_cast<std::int64_t>(a.Rows()) * W, T(0.0));
-  for (int s = 0; s < Sweeps; ++s)
-  {
-    Sweep<T, W>(a, b, x, r, true, Threads);
-  }
+  Smooth<T, W>(a, b, x, r, true, Sweeps, Threads);
   Residual<T, W>(a, b, x, r, Threads);
   Multiply<Reals>(H->Restriction(l), R[l].data(), B[l + 1].data(), false, Threads);
   Cycle<T, W>(l + 1);
   Multiply<Reals>(H->Prolongation(l), X[l + 1].data(), X[l].data(), true, Threads);
-  for (int s = 0; s < Sweeps; ++s)
-  {
-    Sweep<T, W>(a, b, x, r, false, Threads);
-  }
+  Smooth<T, W>(a, b, x, r, false, Sweeps, Threads);
 }
 
 SurfaceMultigrid::SurfaceMultigrid(std::shared_ptr<const SurfaceHierarchy> hierarchy, const std::int64_t* offsets,
