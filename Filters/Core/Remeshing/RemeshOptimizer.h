@@ -228,6 +228,9 @@ private:
   std::unordered_set<std::uint64_t> KeptEdges; ///< EdgeKey of the remesh's edges along kept paths
   std::vector<std::int64_t> ColourOffsets; ///< CSR of the colours over ColourVerticesList
   std::vector<Index> ColourVerticesList;
+  std::vector<int> Colour; ///< per vertex: ColourVertices' colour (empty: none yet)
+  std::vector<Index> Recolour; ///< the vertices whose neighbours a swap changed since
+  std::vector<std::uint8_t> Pending; ///< ColourVertices' marks (all 0 between calls)
 };
 
 } // namespace beltrami::detail

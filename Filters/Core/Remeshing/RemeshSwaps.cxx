@@ -105,6 +105,7 @@ void Optimizer::Flip(Index h)
     { UVAt(HalfEdgeMesh::Prev(t))[0], UVAt(HalfEdgeMesh::Prev(t))[1] } };
   const Index g = 3 * (h / 3), k = 3 * (t / 3);
   M.FlipEdge(h); // faces (c, a, d) at g and (d, b, c) at k
+  Recolour.insert(Recolour.end(), { a, b, c, d });
   const int order[6] = { 2, 0, 3, 3, 1, 2 };
   for (int i = 0; i < 6; ++i)
   {
