@@ -278,16 +278,19 @@ MeshTopology TopologyOfRemesh(const RemeshResult& r, int numThreads)
 void CheckFidelity(const MeshTopology& topology, const double* points, const RemeshOptions& options,
   const RemeshDistances& distances, const MeshTopology& remesh, RemeshResult& out)
 {
+  RemeshCache local;
+  const RemeshCache::SurfaceFigures& input =
+    (options.Cache ? *options.Cache : local).Figures(topology, points, options.NumberOfThreads);
   const TopologySummary &a = topology.Summary(), &b = remesh.Summary();
   std::string differences;
   CompareCount("Euler characteristic", a.EulerCharacteristic, b.EulerCharacteristic, differences);
-  CompareCount("components", topology.CountComponents(), remesh.CountComponents(), differences);
+  CompareCount("components", input.Components, remesh.CountComponents(), differences);
   CompareCount("boundary loops", a.NumberOfBoundaryLoops, b.NumberOfBoundaryLoops, differences);
   if (!b.IsManifold() || !b.IsOriented() || remesh.NumberOfDroppedTriangles() > 0)
   {
     differences += (differences.empty() ? "" : ", ") + std::string("not a manifold, oriented mesh");
   }
-  const double diagonal = UsedBoundingBoxDiagonal(points, topology.TriangleList().data(), topology.NumberOfTriangles());
+  const double diagonal = input.Diagonal;
   SurfaceDeviation deviation;
   const std::vector<double>& from = distances.FromInput;
   const auto farthest = std::max_element(from.begin(), from.end());
@@ -303,7 +306,7 @@ void CheckFidelity(const MeshTopology& topology, const double* points, const Rem
   out.DeviationFromInput = deviation.FirstToSecond / scale;
   out.DeviationToInput = deviation.SecondToFirst / scale;
   out.FarthestInputPoint = deviation.FarthestOfFirst;
-  out.Spacing = UniformSpacing(SurfaceArea(topology, points, options.NumberOfThreads), options.NumberOfVertices);
+  out.Spacing = UniformSpacing(input.Area, options.NumberOfVertices);
   if (!differences.empty())
   {
     out.Error = "the remesh does not keep the input's topology (" + differences + ")";

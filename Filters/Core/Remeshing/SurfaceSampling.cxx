@@ -2,6 +2,8 @@
 
 #include "Maps/GeometryImages.h"
 #include "Mesh/Geometry.h"
+#include "Mesh/MeshMeasures.h"
+#include "Mesh/SurfaceDistance.h"
 #include "Remeshing/BoundaryChords.h"
 #include "Remeshing/BoundarySampling.h"
 #include "Remeshing/ErrorDiffusion.h"
@@ -387,6 +389,22 @@ const TriangleGrid& RemeshCache::SurfaceGrid(const MeshTopology& topology, const
     GridCount = count;
   }
   return *Grid;
+}
+
+const RemeshCache::SurfaceFigures& RemeshCache::Figures(
+  const MeshTopology& topology, const double* points, int numThreads)
+{
+  const Index* triangles = topology.TriangleList().data();
+  if (FiguresPoints != points || FiguresTriangles != triangles || FiguresCount != topology.NumberOfTriangles())
+  {
+    KeptFigures.Diagonal = UsedBoundingBoxDiagonal(points, triangles, topology.NumberOfTriangles());
+    KeptFigures.Area = SurfaceArea(topology, points, numThreads);
+    KeptFigures.Components = topology.CountComponents();
+    FiguresPoints = points;
+    FiguresTriangles = triangles;
+    FiguresCount = topology.NumberOfTriangles();
+  }
+  return KeptFigures;
 }
 
 const std::vector<double>& RemeshCache::AngleDefects(const MeshTopology& topology, const double* points, int numThreads)

@@ -61,6 +61,15 @@ struct RemeshCache
   /// the others), for the tips (computed on first use, on the threads;
   /// again where the points or triangles are others).
   const std::vector<double>& AngleDefects(const MeshTopology& topology, const double* points, int numThreads);
+  /// The surface's figures the fidelity checks compare each remesh with
+  /// (computed on first use; again where the points or triangles are others).
+  struct SurfaceFigures
+  {
+    double Diagonal = 0.0;  ///< of the bounding box of the used points
+    double Area = 0.0;
+    Index Components = 0;
+  };
+  const SurfaceFigures& Figures(const MeshTopology& topology, const double* points, int numThreads);
   void Clear()
   {
     Packed.reset();
@@ -70,6 +79,7 @@ struct RemeshCache
     ChartLocators.clear();
     Grid.reset();
     Defects.clear();
+    FiguresPoints = nullptr;
   }
 
 private:
@@ -81,6 +91,10 @@ private:
   std::vector<double> Defects;
   const double* DefectPoints = nullptr;
   const Index* DefectTriangles = nullptr;
+  SurfaceFigures KeptFigures;
+  const double* FiguresPoints = nullptr;
+  const Index* FiguresTriangles = nullptr;
+  Index FiguresCount = 0;
 };
 
 struct SamplingOptions
