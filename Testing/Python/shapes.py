@@ -464,6 +464,18 @@ def swept(nu, nv, section):
     return points, np.concatenate([first, second])
 
 
+def ribbon(length=10.0, width=0.01, turns=2, along=800, across=4):
+    """An open strip `length` long and `width` wide along x, twisted by
+    `turns` full turns about its axis (its charts' maps: long thin boxes)."""
+    x, y = np.meshgrid(np.linspace(0.0, length, along), np.linspace(-width / 2, width / 2, across), indexing="ij")
+    turn = 2.0 * np.pi * turns * x / length
+    points = np.stack([x, y * np.cos(turn), y * np.sin(turn)], axis=-1).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(along - 1), np.arange(across - 1), indexing="ij")
+    a = (i * across + j).ravel()
+    b = a + across
+    return points, np.concatenate([np.stack([a, b, a + 1], -1), np.stack([a + 1, b, b + 1], -1)])
+
+
 def tube(radius=1.0, length=4.0, nu=256, nv=200):
     """An open cylinder of revolution about z (principal curvatures 1 / radius and 0)."""
     return swept(nu, nv, lambda t, v: (radius * np.cos(t), radius * np.sin(t), length * (v - 0.5)))

@@ -36,6 +36,7 @@ class RemeshingFromPython(unittest.TestCase):
         log = vtkStringOutputWindow()
         vtkOutputWindow.SetInstance(log)
         self.assertEqual(f.GetExecutive().Update(), 1, log.GetOutput())
+        self.last_control_map_dimensions = f.GetOutputDataObject(1).GetBlock(0).GetDimensions()
         return f.GetOutput(), log.GetOutput()
 
     def assert_topology_kept(self, surface, out):
@@ -252,6 +253,25 @@ class RemeshingFromPython(unittest.TestCase):
                 self.assertEqual(out.GetNumberOfPoints(), count)
                 self.assertGreater(smallest, 5.0)
                 self.assertNotIn("leave no room", said)
+
+    def test_a_long_narrow_ribbon_has_a_small_control_map(self):
+        # Its two charts' maps were boxes 250 times longer than wide: packed
+        # into the atlas's square, they left it nearly empty, and the control
+        # map at 10,000 vertices took 5159^2 texels (2.8 s, 1.1 GB); the
+        # atlas splits charts longer than 100 times their width (12 charts,
+        # 967^2 texels, 0.35 s, 0.16 GB; smallest angle 27.5 degrees, was
+        # 29.9: the cuts across the strip put corners on its rims).
+        import inputs
+        strip = inputs.polydata(*inputs.ribbon())
+        out, said = self.remeshed(strip, 10000)
+        self.assertEqual(out.GetNumberOfPoints(), 10000)
+        self.assert_topology_kept(strip, out)
+        texels = self.last_control_map_dimensions
+        print("ribbon at 10,000: control map %dx%d, smallest angle %.3g degrees" % (
+            texels[0], texels[1], out.GetFieldData().GetArray("RemeshMinimumAngle").GetValue(0)))
+        self.assertLessEqual(texels[0], 4096)
+        self.assertGreater(out.GetFieldData().GetArray("RemeshMinimumAngle").GetValue(0), 15.0)
+        self.assertLess(max(out.GetFieldData().GetArray("RemeshDeviation").GetValue(k) for k in range(2)), 1e-4)
 
     def test_bad_requests_are_errors_not_crashes(self):
         _, f = self.remesher()

@@ -106,6 +106,20 @@ bool TooDistorted(
 /// Maps the chart `mesh` onto its own square by DCP into `chart` (its
 /// triangles and vertices moved there); false (mesh kept) when the map
 /// fails or flips a triangle.
+/// The bounding box of the map `uv` is more than `aspect` times longer
+/// than wide (aspect 0: never).
+bool TooLong(const std::vector<double>& uv, double aspect)
+{
+  double lo[2] = { HUGE_VAL, HUGE_VAL }, hi[2] = { -HUGE_VAL, -HUGE_VAL };
+  for (std::size_t k = 0; k < uv.size(); ++k)
+  {
+    lo[k % 2] = std::min(lo[k % 2], uv[k]);
+    hi[k % 2] = std::max(hi[k % 2], uv[k]);
+  }
+  const double a = hi[0] - lo[0], b = hi[1] - lo[1];
+  return aspect > 0.0 && std::max(a, b) > aspect * std::min(a, b);
+}
+
 bool MapChart(ChartMesh& mesh, const double* points, const AtlasOptions& atlasOptions, AtlasChart& chart)
 {
   std::vector<double> local(3 * mesh.Vertices.size());
@@ -136,7 +150,8 @@ bool MapChart(ChartMesh& mesh, const double* points, const AtlasOptions& atlasOp
   }
   if (map.UV.empty() ||
     TooDistorted(chartTopology, local.data(), map.UV.data(), atlasOptions.MaximumSqueezedShare,
-      atlasOptions.MaximumStretchedShare))
+      atlasOptions.MaximumStretchedShare) ||
+    TooLong(map.UV, atlasOptions.MaximumChartAspect))
   {
     return false;
   }

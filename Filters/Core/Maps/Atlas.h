@@ -79,6 +79,12 @@ struct AtlasOptions
   /// stretches a long chart like that; the remesher's samples, spread
   /// evenly on the map, would then lie in rows on the surface.
   double MaximumStretchedShare = 0.0;
+  /// Split a chart whose map's bounding box is more than this many times
+  /// longer than wide (0: never).  A strip narrower than the charts are
+  /// long (a ribbon, a flat band) maps to one long thin box; packed into
+  /// the atlas's square it leaves it nearly empty, and an image of the
+  /// charts at the texel density the remesher needs then takes gigabytes.
+  double MaximumChartAspect = 0.0;
   /// Each chart's mean angle and area distortion (AtlasChart); the remesher
   /// does without (a tenth of the charts' mapping time).
   bool MeasureDistortion = true;

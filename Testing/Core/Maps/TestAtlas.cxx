@@ -704,3 +704,66 @@ TEST(Atlas, MaximumChartAreaIsKept)
   EXPECT_EQ(atlas.Charts.size(), static_cast<std::size_t>(coarse.NumberOfTriangles()));
   EXPECT_NE(atlas.Warning, "");
 }
+
+TEST(Atlas, LongStripsAreSplitToTheAspectAsked)
+{
+  // A twisted ribbon 1,000 times longer than wide: two charts whose maps'
+  // boxes are 250 times longer than wide, packed into a square they leave
+  // nearly empty (0.4% packing; the remesher's control map of it at 10,000
+  // vertices, 8192^2 texels, took 1 GB).
+  Mesh ribbon;
+  const int along = 800, across = 4;
+  for (int i = 0; i < along; ++i)
+  {
+    const double x = 10.0 * i / (along - 1), turn = 4.0 * 3.141592653589793 * x / 10.0;
+    for (int j = 0; j < across; ++j)
+    {
+      const double y = 0.01 * (j / (across - 1.0) - 0.5);
+      ribbon.Points.insert(ribbon.Points.end(), { x, y * std::cos(turn), y * std::sin(turn) });
+    }
+  }
+  for (int i = 0; i + 1 < along; ++i)
+  {
+    for (int j = 0; j + 1 < across; ++j)
+    {
+      const Index a = i * across + j, b = a + across;
+      ribbon.Triangles.insert(ribbon.Triangles.end(), { a, b, a + 1, a + 1, b, b + 1 });
+    }
+  }
+  const MeshTopology topology = ribbon.Topology();
+  const auto longest = [](const AtlasChart& chart) {
+    double lo[2] = { HUGE_VAL, HUGE_VAL }, hi[2] = { -HUGE_VAL, -HUGE_VAL };
+    for (std::size_t k = 0; k < chart.UV.size(); ++k)
+    {
+      lo[k % 2] = std::min(lo[k % 2], chart.UV[k]);
+      hi[k % 2] = std::max(hi[k % 2], chart.UV[k]);
+    }
+    return std::max(hi[0] - lo[0], hi[1] - lo[1]) / std::min(hi[0] - lo[0], hi[1] - lo[1]);
+  };
+  AtlasOptions options;
+  options.ChartBoundary = ParameterizationBoundary::Natural;
+  const AtlasResult whole = BuildAtlas(topology, ribbon.Points.data(), options);
+  ASSERT_EQ(whole.Error, "");
+  double worst = 0.0;
+  for (const AtlasChart& chart : whole.Charts)
+  {
+    worst = std::max(worst, longest(chart));
+  }
+  EXPECT_GT(worst, 200.0);
+  options.MaximumChartAspect = 100.0;
+  const AtlasResult split = BuildAtlas(topology, ribbon.Points.data(), options);
+  ASSERT_EQ(split.Error, "");
+  std::vector<int> seen(topology.NumberOfTriangles(), 0);
+  for (const AtlasChart& chart : split.Charts)
+  {
+    EXPECT_LE(longest(chart), 100.0);
+    for (const Index t : chart.Triangles)
+    {
+      ++seen[t];
+    }
+  }
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), topology.NumberOfTriangles());
+  EXPECT_GT(split.PackingEfficiency, 10.0 * whole.PackingEfficiency);
+  std::printf("ribbon: %zu charts, longest %.0f:1, packing %.2f%%; at most 100:1: %zu charts, packing %.2f%%\n",
+    whole.Charts.size(), worst, 100.0 * whole.PackingEfficiency, split.Charts.size(), 100.0 * split.PackingEfficiency);
+}
