@@ -476,21 +476,6 @@ def ribbon(length=10.0, width=0.01, turns=2, along=800, across=4):
     return points, np.concatenate([np.stack([a, b, a + 1], -1), np.stack([a + 1, b, b + 1], -1)])
 
 
-def jagged_disk(teeth=2000, depth=0.01):
-    """A flat unit disk whose rim has `teeth` teeth `depth` deep (3.3 times
-    the circle's length at the defaults: a scan's ragged edge), its inner
-    triangles fanning out from the centre and a ring at half the radius."""
-    angle = np.linspace(0.0, 2.0 * np.pi, teeth, endpoint=False)
-    radius = 1.0 + depth * (np.arange(teeth) % 2)
-    rim = np.stack([radius * np.cos(angle), radius * np.sin(angle), np.zeros(teeth)], axis=-1)
-    points = np.concatenate([[[0.0, 0.0, 0.0]], 0.5 * rim, rim])
-    i = np.arange(teeth)
-    j = (i + 1) % teeth
-    fan = np.stack([np.zeros(teeth, dtype=int), 1 + i, 1 + j], -1)
-    ring = np.concatenate([np.stack([1 + i, 1 + teeth + i, 1 + teeth + j], -1), np.stack([1 + i, 1 + teeth + j, 1 + j], -1)])
-    return points, np.concatenate([fan, ring])
-
-
 def tube(radius=1.0, length=4.0, nu=256, nv=200):
     """An open cylinder of revolution about z (principal curvatures 1 / radius and 0)."""
     return swept(nu, nv, lambda t, v: (radius * np.cos(t), radius * np.sin(t), length * (v - 0.5)))

@@ -273,24 +273,6 @@ class RemeshingFromPython(unittest.TestCase):
         self.assertGreater(out.GetFieldData().GetArray("RemeshMinimumAngle").GetValue(0), 15.0)
         self.assertLess(max(out.GetFieldData().GetArray("RemeshDeviation").GetValue(k) for k in range(2)), 1e-4)
 
-    def test_a_rim_jagged_below_the_spacing_is_sampled_by_its_chords(self):
-        # 2,000 teeth as deep as 3 times their width: along the rim's arc,
-        # 3.3 times the circle's length, the samples crowded a few teeth
-        # apart and a third of the triangles had an angle below 30 degrees
-        # (the smallest 7.0) at 2,000 vertices; spaced by the rim's chords,
-        # none (34.0).
-        import inputs
-        disk = inputs.polydata(*inputs.jagged_disk())
-        out, said = self.remeshed(disk, 2000)
-        self.assertEqual(out.GetNumberOfPoints(), 2000)
-        self.assert_topology_kept(disk, out)
-        fd = out.GetFieldData()
-        print("jagged disk at 2,000: smallest angle %.3g degrees, %.2f%% below 30" % (
-            fd.GetArray("RemeshMinimumAngle").GetValue(0), 100 * fd.GetArray("RemeshFractionBelow30").GetValue(0)))
-        self.assertGreater(fd.GetArray("RemeshMinimumAngle").GetValue(0), 25.0)
-        self.assertLessEqual(fd.GetArray("RemeshFractionBelow30").GetValue(0), 0.005)
-        self.assertLess(max(fd.GetArray("RemeshDeviation").GetValue(k) for k in range(2)), 0.005)
-
     def test_bad_requests_are_errors_not_crashes(self):
         _, f = self.remesher()
         f.SetNumberOfVertices(10)  # fewer than the chart boundaries need

@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <map>
 #include <utility>
 
@@ -39,14 +38,6 @@ double AlongPath(const double* points, const std::vector<Index>& vertices, std::
 /// per surface vertex), the spacing along the line (RemeshMetric's
 /// StretchAlong).
 constexpr double SharpTurnDegrees = 45.0;
-
-/// A path covers this many times more spacings along its arc than by its
-/// chords (ChordCumulative), or more: sampled by its chords.  (A disk's rim
-/// of 2,000 teeth as deep as wide, 1.4 times its circle's length, keeps
-/// its triangles above 25 degrees sampled along its arc; 3.3 times, below
-/// 30 degrees a third of them at 2,000 vertices.)
-constexpr double JaggedArcRatio = 2.0;
-constexpr double JaggedSpacings = 4.0;
 bool IsSharpTurn(const double* points, const double* importance, const double* metric, double density, Index a,
   Index v, Index b)
 {
@@ -98,44 +89,6 @@ std::vector<double> LineCurvature(const double* points, const std::vector<Index>
                                                         : 0.0;
   }
   return curvature;
-}
-
-/// The spacings (1 / along, samples per length at each path vertex) the
-/// path covers measured by chords: a walk that puts a knot where the chord
-/// from the last one reaches the spacing there; at each vertex, the knots
-/// before it and the largest share of a spacing its chord from the last
-/// knot reached since (never decreasing).  A rim jagged at a finer scale
-/// than the spacing covers far fewer spacings so than along its arc.
-std::vector<double> ChordCumulative(
-  const double* points, const std::vector<Index>& vertices, const std::function<double(std::size_t)>& along)
-{
-  std::vector<double> cumulative(vertices.size(), 0.0);
-  Vec3 knot = Point(points, vertices[0]);
-  double knots = 0.0, reached = 0.0;
-  for (std::size_t i = 1; i < vertices.size(); ++i)
-  {
-    const Vec3 a = Point(points, vertices[i - 1]), b = Point(points, vertices[i]), d = b - a;
-    const double spacing = 1.0 / std::max(1e-300, along(i - 1));
-    // Each knot on this edge: where the chord from the last leaves the ball
-    // of the spacing (the larger root of |a + t d - knot| = spacing).
-    for (double t = 0.0; (b - knot).norm() >= spacing && d.squaredNorm() > 0.0;)
-    {
-      const Vec3 f = a - knot;
-      const double q = d.squaredNorm(), h = f.dot(d), c = f.squaredNorm() - spacing * spacing;
-      const double root = std::min((-h + std::sqrt(std::max(0.0, h * h - q * c))) / q, 1.0);
-      if (!(root > t))
-      {
-        break; // (a spacing below the rounding of the edge's points)
-      }
-      t = root;
-      knot = a + t * d;
-      knots += 1.0;
-      reached = 0.0;
-    }
-    reached = std::min(std::max(reached, (b - knot).norm() / spacing), 1.0);
-    cumulative[i] = knots + reached;
-  }
-  return cumulative;
 }
 
 } // namespace
@@ -300,29 +253,6 @@ void SampleBoundaries(const MeshTopology& topology, const double* points, const 
     for (std::size_t i = 1; i < vertices.size(); ++i)
     {
       cumulative[i] = cumulative[i - 1] + 0.5 * (along(i) + along(i - 1)) * edge[i];
-    }
-    // A rim jagged below the spacing (teeth deeper than wide: twice the
-    // spacings along its arc than by its chords, or more, over at least
-    // JaggedSpacings of them) is sampled at the density's spacing by chords:
-    // along its arc the samples crowd a few teeth apart, and they stay on
-    // the rim.  (Not a seam: its samples are free to move once the charts
-    // are joined, and a seam may turn back on itself within a few
-    // spacings, round a thin chart, where it needs its samples.)
-    if (path.Charts[1] < 0)
-    {
-      const auto plain = [&](std::size_t i) { return lambdas[i]; };
-      std::vector<double> chords = ChordCumulative(points, vertices, plain);
-      double arc = 0.0;
-      for (std::size_t i = 1; i < vertices.size(); ++i)
-      {
-        arc += 0.5 * (lambdas[i] + lambdas[i - 1]) * edge[i];
-      }
-      if (chords.back() >= JaggedSpacings && arc > JaggedArcRatio * chords.back())
-      {
-        cumulative = chords;
-        path.Measure = std::move(chords);
-        path.Refinement.clear();
-      }
     }
     const double total = cumulative.back();
     const bool loop = vertices.front() == vertices.back();

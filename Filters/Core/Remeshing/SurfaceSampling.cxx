@@ -448,20 +448,6 @@ Index LocateOnPath(const MeshTopology& topology, const SamplePath& path, double 
 
 std::optional<double> RefinedMiddle(const SamplePath& path, double lo, double hi)
 {
-  if (!path.Measure.empty() && hi > lo)
-  {
-    const auto measure = [&](double arc) {
-      const auto [i, t] = EdgeAtArc(path.Arc, arc);
-      return (1.0 - t) * path.Measure[i] + t * path.Measure[i + 1];
-    };
-    const double half = 0.5 * (measure(lo) + measure(hi));
-    const std::size_t k = std::max<std::size_t>(1,
-      std::min(path.Measure.size() - 1,
-        static_cast<std::size_t>(std::lower_bound(path.Measure.begin(), path.Measure.end(), half) - path.Measure.begin())));
-    const double m0 = path.Measure[k - 1], m1 = path.Measure[k];
-    const double t = m1 > m0 ? std::clamp((half - m0) / (m1 - m0), 0.0, 1.0) : 0.0;
-    return std::clamp(path.Arc[k - 1] + t * (path.Arc[k] - path.Arc[k - 1]), lo, hi);
-  }
   if (path.Refinement.empty() || !(hi > lo))
   {
     return std::nullopt;

@@ -171,10 +171,6 @@ struct SamplePath
   /// there than the density asks, where it turns (SamplingOptions::
   /// MaximumLineTurn; empty: 1 everywhere).
   std::vector<double> Refinement;
-  /// Per vertex, on a rim jagged below the spacing: the spacings covered
-  /// up to it, measured by chords (BoundarySampling's ChordCumulative),
-  /// by which its samples are spread (empty: by the arc).
-  std::vector<double> Measure;
   int Charts[2] = { -1, -1 };      ///< the charts on its two sides (-1: none, on the surface's boundary)
 };
 
@@ -244,8 +240,7 @@ Index LocateOnPath(const MeshTopology& topology, const SamplePath& path, double 
 
 /// The arc length between lo and hi that halves the integral of the path's
 /// Refinement over [lo, hi]: where a sample between neighbours at lo and hi
-/// goes to keep the line's refined spacing (none where it is 1 throughout);
-/// on a path with a Measure, the arc halfway between lo and hi by it.
+/// goes to keep the line's refined spacing (none where it is 1 throughout).
 std::optional<double> RefinedMiddle(const SamplePath& path, double lo, double hi);
 
 /// `importance`: one value >= 0 per surface vertex (null: uniform).
