@@ -103,9 +103,11 @@ bool TooDistorted(
     (stretchedShare > 0.0 && stretched > stretchedShare * total3D);
 }
 
-/// Maps the chart `mesh` onto its own square by DCP into `chart` (its
-/// triangles and vertices moved there); false (mesh kept) when the map
-/// fails or flips a triangle.
+/// Charts of fewer triangles are not split for their length (TooLong): a
+/// needle's few slivers can be longer than MaximumChartAspect on their own,
+/// and halving such a chart down to one triangle would leave it so.
+constexpr std::size_t LongChartTriangles = 64;
+
 /// The bounding box of the map `uv` is more than `aspect` times longer
 /// than wide (aspect 0: never).
 bool TooLong(const std::vector<double>& uv, double aspect)
@@ -120,6 +122,10 @@ bool TooLong(const std::vector<double>& uv, double aspect)
   return aspect > 0.0 && std::max(a, b) > aspect * std::min(a, b);
 }
 
+/// Maps the chart `mesh` onto its own square by DCP into `chart` (its
+/// triangles and vertices moved there); false (mesh kept) when the map
+/// fails, flips a triangle, distorts too much (TooDistorted) or is too
+/// long (TooLong).
 bool MapChart(ChartMesh& mesh, const double* points, const AtlasOptions& atlasOptions, AtlasChart& chart)
 {
   std::vector<double> local(3 * mesh.Vertices.size());
@@ -151,7 +157,7 @@ bool MapChart(ChartMesh& mesh, const double* points, const AtlasOptions& atlasOp
   if (map.UV.empty() ||
     TooDistorted(chartTopology, local.data(), map.UV.data(), atlasOptions.MaximumSqueezedShare,
       atlasOptions.MaximumStretchedShare) ||
-    TooLong(map.UV, atlasOptions.MaximumChartAspect))
+    (mesh.Triangles.size() >= LongChartTriangles && TooLong(map.UV, atlasOptions.MaximumChartAspect)))
   {
     return false;
   }

@@ -84,6 +84,8 @@ struct AtlasOptions
   /// long (a ribbon, a flat band) maps to one long thin box; packed into
   /// the atlas's square it leaves it nearly empty, and an image of the
   /// charts at the texel density the remesher needs then takes gigabytes.
+  /// (Charts of fewer than 64 triangles are kept: a needle's few slivers
+  /// can be that long on their own.)
   double MaximumChartAspect = 0.0;
   /// Each chart's mean angle and area distortion (AtlasChart); the remesher
   /// does without (a tenth of the charts' mapping time).
