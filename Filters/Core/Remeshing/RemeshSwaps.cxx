@@ -321,4 +321,116 @@ std::int64_t Optimizer::SwapFolds()
   return SwapWhere([&](Index h) { return FoldsOfFlip(h, false) > 0; }, [&](Index h) { return CanSwap(h); });
 }
 
+namespace
+{
+
+/// The smallest colour none of v's neighbours below v has (`colour`, -1
+/// where none): the greedy colour of v in id order.
+int LowestFreeColour(const HalfEdgeMesh& mesh, const std::vector<int>& colour, Index v)
+{
+  std::uint64_t taken = 0; // bit k: colour k taken by a neighbour (more than 64: first free beyond)
+  std::vector<int> above; // neighbours' colours beyond 63 (rare)
+  mesh.ForEachOutgoing(v, [&](Index h) {
+    for (const Index x : { mesh.Head(h), mesh.Tail(HalfEdgeMesh::Prev(h)) }) // (the previous: boundary fans)
+    {
+      const int c = x < v ? colour[x] : -1;
+      if (c >= 64)
+      {
+        above.push_back(c);
+      }
+      else if (c >= 0)
+      {
+        taken |= std::uint64_t(1) << c;
+      }
+    }
+  });
+  int c = 0;
+  while (c < 64 && (taken >> c & 1))
+  {
+    ++c;
+  }
+  while (c >= 64 && std::find(above.begin(), above.end(), c) != above.end())
+  {
+    ++c;
+  }
+  return c;
+}
+
+} // namespace
+
+/// The vertices by colour (greedy, in id order): no two neighbours share
+/// one, so the moves of a colour touch disjoint faces and run in parallel
+/// (Gauss-Seidel by colours: the same result for any thread count).  After
+/// the first, only the vertices whose neighbours a swap changed
+/// (Recolour) are coloured again, in id order, and those above them whose
+/// neighbours below changed colour: each vertex's colour depends on its
+/// neighbours below it only, so the colours are those of colouring all.
+void Optimizer::ColourVertices()
+{
+  const Index n = M.NumberOfVertices();
+  bool changed = Colour.size() != static_cast<std::size_t>(n);
+  if (changed)
+  {
+    Colour.assign(n, -1);
+    for (Index v = 0; v < n; ++v)
+    {
+      Colour[v] = LowestFreeColour(M, Colour, v);
+    }
+  }
+  else
+  {
+    // (A mark per vertex, swept upwards: a vertex marks only those above it.)
+    Pending.resize(n, 0);
+    Index from = n;
+    for (const Index v : Recolour)
+    {
+      Pending[v] = 1;
+      from = std::min(from, v);
+    }
+    for (Index v = from; v < n; ++v)
+    {
+      v = static_cast<Index>(std::find(Pending.begin() + v, Pending.end(), std::uint8_t(1)) - Pending.begin());
+      if (v == n)
+      {
+        break;
+      }
+      Pending[v] = 0;
+      const int c = LowestFreeColour(M, Colour, v);
+      if (c == Colour[v])
+      {
+        continue;
+      }
+      Colour[v] = c;
+      changed = true;
+      M.ForEachOutgoing(v, [&](Index h) {
+        for (const Index x : { M.Head(h), M.Tail(HalfEdgeMesh::Prev(h)) })
+        {
+          Pending[x] = x > v ? 1 : Pending[x];
+        }
+      });
+    }
+  }
+  Recolour.clear();
+  if (!changed)
+  {
+    return;
+  }
+  const int colours = 1 + *std::max_element(Colour.begin(), Colour.end());
+  ColourOffsets.assign(colours + 1, 0);
+  for (Index v = 0; v < n; ++v)
+  {
+    ++ColourOffsets[Colour[v] + 1];
+  }
+  for (int c = 0; c < colours; ++c)
+  {
+    ColourOffsets[c + 1] += ColourOffsets[c];
+  }
+  ColourVerticesList.resize(n);
+  std::vector<std::int64_t> next(ColourOffsets.begin(), ColourOffsets.end() - 1);
+  for (Index v = 0; v < n; ++v)
+  {
+    ColourVerticesList[next[Colour[v]]++] = v;
+  }
+}
+
 } // namespace beltrami::detail
