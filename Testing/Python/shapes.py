@@ -476,6 +476,27 @@ def ribbon(length=10.0, width=0.01, turns=2, along=800, across=4):
     return points, np.concatenate([np.stack([a, b, a + 1], -1), np.stack([a + 1, b, b + 1], -1)])
 
 
+def knotted_tube(radius=0.03, along=600, around=10):
+    """A closed tube of the radius given along a trefoil knot (its length
+    about 17, 90 times its girth): a torus far thinner than it is long."""
+    u = 2.0 * np.pi * np.arange(along) / along
+    centre = np.stack([np.sin(u) + 2 * np.sin(2 * u), np.cos(u) - 2 * np.cos(2 * u), -np.sin(3 * u)], axis=-1)
+    tangent = np.stack([np.cos(u) + 4 * np.cos(2 * u), -np.sin(u) + 4 * np.sin(2 * u), -3 * np.cos(3 * u)], axis=-1)
+    tangent /= np.linalg.norm(tangent, axis=1)[:, None]
+    normal = np.cross(tangent, [0.0, 0.0, 1.0])
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    binormal = np.cross(tangent, normal)
+    v = 2.0 * np.pi * np.arange(around) / around
+    points = (centre[:, None, :] + radius * (np.cos(v)[None, :, None] * normal[:, None, :] +
+                                             np.sin(v)[None, :, None] * binormal[:, None, :])).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(along), np.arange(around), indexing="ij")
+    a = (i * around + j).ravel()
+    b = (((i + 1) % along) * around + j).ravel()
+    c = (i * around + (j + 1) % around).ravel()
+    d = (((i + 1) % along) * around + (j + 1) % around).ravel()
+    return points, np.concatenate([np.stack([a, b, c], -1), np.stack([c, b, d], -1)])
+
+
 def tube(radius=1.0, length=4.0, nu=256, nv=200):
     """An open cylinder of revolution about z (principal curvatures 1 / radius and 0)."""
     return swept(nu, nv, lambda t, v: (radius * np.cos(t), radius * np.sin(t), length * (v - 0.5)))

@@ -273,6 +273,23 @@ class RemeshingFromPython(unittest.TestCase):
         self.assertGreater(out.GetFieldData().GetArray("RemeshMinimumAngle").GetValue(0), 15.0)
         self.assertLess(max(out.GetFieldData().GetArray("RemeshDeviation").GetValue(k) for k in range(2)), 1e-4)
 
+    def test_a_long_thin_tube_is_cut_along_its_length(self):
+        # A knotted tube 90 times longer than its girth: its atlas halved the
+        # tube pieces along their length until they were rings a triangle
+        # or two wide (about 400 charts of 12,000 triangles), whose
+        # boundaries took 2,052 samples, more than the 2,000 vertices asked
+        # for; cut along the length, 202 charts, and 2,000 vertices remesh
+        # it (as CGAL does).
+        import inputs
+        tube = inputs.polydata(*inputs.knotted_tube())
+        out, said = self.remeshed(tube, 2000)
+        self.assertEqual(out.GetNumberOfPoints(), 2000)
+        self.assert_topology_kept(tube, out)
+        charts = out.GetFieldData().GetArray("RemeshCharts").GetValue(0)
+        print("knotted tube at 2,000: %d charts" % charts)
+        self.assertLess(charts, 300)
+        self.assertLess(max(out.GetFieldData().GetArray("RemeshDeviation").GetValue(k) for k in range(2)), 0.01)
+
     def test_bad_requests_are_errors_not_crashes(self):
         _, f = self.remesher()
         f.SetNumberOfVertices(10)  # fewer than the chart boundaries need

@@ -469,7 +469,11 @@ std::pair<Index, Index> detail::FarthestPair(const DualGraph& graph, const std::
   return { a, b };
 }
 
-std::vector<std::vector<Index>> SplitRegion(const DualGraph& graph, const std::vector<Index>& triangles)
+/// A tube (annulus) at least this many times longer than its girth is cut
+/// along its length (SplitRegion).
+constexpr double LongTubeRatio = 4.0;
+
+std::vector<std::vector<Index>> SplitRegion(const DualGraph& graph, const std::vector<Index>& triangles, bool annulus)
 {
   std::vector<Index> localOf(graph.NumberOfTriangles(), -1);
   for (std::size_t k = 0; k < triangles.size(); ++k)
@@ -477,12 +481,37 @@ std::vector<std::vector<Index>> SplitRegion(const DualGraph& graph, const std::v
     localOf[triangles[k]] = static_cast<Index>(k);
   }
   std::vector<double> fromA, distance;
-  const auto [a, b] = FarthestPair(graph, triangles, localOf, 0, fromA);
+  auto [a, b] = FarthestPair(graph, triangles, localOf, 0, fromA);
   std::vector<std::vector<Index>> halves(2);
   if (a == b)
   {
     halves[0] = triangles;
     return halves;
+  }
+  if (annulus)
+  {
+    // a and b at the tube's two ends: the rim triangle on a's side farthest
+    // from a lies across the tube from it, and the two halves nearer each
+    // are the tube cut along its length.
+    std::vector<double> fromB;
+    NearestWithin(graph, triangles, localOf, { b }, fromB, nullptr);
+    Index across = -1;
+    for (std::size_t k = 0; k < triangles.size(); ++k)
+    {
+      const Index* n = &graph.Neighbors[3 * static_cast<std::int64_t>(triangles[k])];
+      const bool rim = std::any_of(n, n + 3, [&](Index u) { return u < 0 || localOf[u] < 0; });
+      if (rim && fromA[k] < fromB[k] && (across < 0 || fromA[k] > fromA[across]))
+      {
+        across = static_cast<Index>(k);
+      }
+    }
+    // Only a tube much longer than round (its length at least
+    // LongTubeRatio times its girth, twice the way across): a shorter one's
+    // halves along are disks soon enough.
+    if (across >= 0 && across != a && fromA[b] >= LongTubeRatio * 2.0 * fromA[across])
+    {
+      b = across;
+    }
   }
   std::vector<int> label;
   NearestWithin(graph, triangles, localOf, { a, b }, distance, &label);
@@ -552,7 +581,9 @@ bool SplitIntoDisks(const MeshTopology& topology, const DualGraph& graph, std::v
       disks.push_back(std::move(chart));
       continue;
     }
-    std::vector<std::vector<Index>> halves = SplitRegion(graph, part);
+    const TopologySummary& shape = chart.Topology->Summary();
+    std::vector<std::vector<Index>> halves = SplitRegion(graph, part,
+      shape.IsManifold() && shape.NumberOfBoundaryLoops == 2 && shape.EulerCharacteristic == 0);
     if (halves[1].empty())
     {
       error = "A single triangle is not a disk: the surface is not manifold where it should be.";
