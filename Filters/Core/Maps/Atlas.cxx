@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 
@@ -108,17 +109,24 @@ bool TooDistorted(
 /// and halving such a chart down to one triangle would leave it so.
 constexpr std::size_t LongChartTriangles = 64;
 
+/// The bounding box of a map's `uv` (2 per vertex): min u, min v, max u, max v.
+std::array<double, 4> BoundsOf(const std::vector<double>& uv)
+{
+  std::array<double, 4> box = { HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL };
+  for (std::size_t v = 0; v < uv.size() / 2; ++v)
+  {
+    box = { std::min(box[0], uv[2 * v]), std::min(box[1], uv[2 * v + 1]), std::max(box[2], uv[2 * v]),
+      std::max(box[3], uv[2 * v + 1]) };
+  }
+  return box;
+}
+
 /// The bounding box of the map `uv` is more than `aspect` times longer
 /// than wide (aspect 0: never).
 bool TooLong(const std::vector<double>& uv, double aspect)
 {
-  double lo[2] = { HUGE_VAL, HUGE_VAL }, hi[2] = { -HUGE_VAL, -HUGE_VAL };
-  for (std::size_t k = 0; k < uv.size(); ++k)
-  {
-    lo[k % 2] = std::min(lo[k % 2], uv[k]);
-    hi[k % 2] = std::max(hi[k % 2], uv[k]);
-  }
-  const double a = hi[0] - lo[0], b = hi[1] - lo[1];
+  const std::array<double, 4> box = BoundsOf(uv);
+  const double a = box[2] - box[0], b = box[3] - box[1];
   return aspect > 0.0 && std::max(a, b) > aspect * std::min(a, b);
 }
 
@@ -185,15 +193,10 @@ struct Box
 Box BoxOf(const AtlasChart& chart)
 {
   Box box;
-  double maxU = -HUGE_VAL, maxV = -HUGE_VAL;
-  box.MinU = box.MinV = HUGE_VAL;
-  for (std::size_t v = 0; v < chart.UV.size() / 2; ++v)
-  {
-    box.MinU = std::min(box.MinU, chart.UV[2 * v]);
-    box.MinV = std::min(box.MinV, chart.UV[2 * v + 1]);
-    maxU = std::max(maxU, chart.UV[2 * v]);
-    maxV = std::max(maxV, chart.UV[2 * v + 1]);
-  }
+  const std::array<double, 4> bounds = BoundsOf(chart.UV);
+  box.MinU = bounds[0];
+  box.MinV = bounds[1];
+  const double maxU = bounds[2], maxV = bounds[3];
   double area2D = 0.0;
   for (std::size_t t = 0; t < chart.Corners.size() / 3; ++t)
   {

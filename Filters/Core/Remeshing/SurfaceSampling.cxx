@@ -377,16 +377,20 @@ const std::vector<ChartLocator>& RemeshCache::Locators(const AtlasResult& atlas)
   return ChartLocators;
 }
 
+bool SurfaceKey::Renew(const MeshTopology& topology, const double* points)
+{
+  const SurfaceKey now{ points, topology.TriangleList().data(), topology.NumberOfTriangles() };
+  const bool other = now.Points != Points || now.Triangles != Triangles || now.Count != Count;
+  *this = now;
+  return other;
+}
+
 const TriangleGrid& RemeshCache::SurfaceGrid(const MeshTopology& topology, const double* points, int numThreads)
 {
-  const Index* triangles = topology.TriangleList().data();
-  const std::size_t count = static_cast<std::size_t>(topology.NumberOfTriangles());
-  if (!Grid || GridPoints != points || GridTriangles != triangles || GridCount != count)
+  if (GridKey.Renew(topology, points) || !Grid)
   {
-    Grid = std::make_unique<TriangleGrid>(points, triangles, count, numThreads);
-    GridPoints = points;
-    GridTriangles = triangles;
-    GridCount = count;
+    Grid = std::make_unique<TriangleGrid>(
+      points, topology.TriangleList().data(), static_cast<std::size_t>(topology.NumberOfTriangles()), numThreads);
   }
   return *Grid;
 }
@@ -394,24 +398,20 @@ const TriangleGrid& RemeshCache::SurfaceGrid(const MeshTopology& topology, const
 const RemeshCache::SurfaceFigures& RemeshCache::Figures(
   const MeshTopology& topology, const double* points, int numThreads)
 {
-  const Index* triangles = topology.TriangleList().data();
-  if (FiguresPoints != points || FiguresTriangles != triangles || FiguresCount != topology.NumberOfTriangles())
+  if (FiguresKey.Renew(topology, points))
   {
-    KeptFigures.Diagonal = UsedBoundingBoxDiagonal(points, triangles, topology.NumberOfTriangles());
+    KeptFigures.Diagonal =
+      UsedBoundingBoxDiagonal(points, topology.TriangleList().data(), topology.NumberOfTriangles());
     KeptFigures.Area = SurfaceArea(topology, points, numThreads);
     KeptFigures.Components = topology.CountComponents();
-    FiguresPoints = points;
-    FiguresTriangles = triangles;
-    FiguresCount = topology.NumberOfTriangles();
   }
   return KeptFigures;
 }
 
 const std::vector<double>& RemeshCache::AngleDefects(const MeshTopology& topology, const double* points, int numThreads)
 {
-  const Index* triangles = topology.TriangleList().data();
   const Index n = topology.NumberOfVertices();
-  if (Defects.size() != static_cast<std::size_t>(n) || DefectPoints != points || DefectTriangles != triangles)
+  if (DefectsKey.Renew(topology, points) || Defects.size() != static_cast<std::size_t>(n))
   {
     Defects.assign(n, 0.0);
     ParallelFor(n, numThreads, [&](std::int64_t begin, std::int64_t end) {
@@ -420,8 +420,6 @@ const std::vector<double>& RemeshCache::AngleDefects(const MeshTopology& topolog
         Defects[v] = topology.IsInterior(v) && topology.Valence(v) > 0 ? AngleDefect(topology, points, v) : 0.0;
       }
     });
-    DefectPoints = points;
-    DefectTriangles = triangles;
   }
   return Defects;
 }

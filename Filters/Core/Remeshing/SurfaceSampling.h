@@ -38,6 +38,17 @@ namespace beltrami
 /// transfer function then skips the curvature, the rasterization and the
 /// locators' set-up.  The caller empties it when the surface or the atlas
 /// changes.
+/// The surface a kept value was computed for (its points and triangles).
+struct SurfaceKey
+{
+  const double* Points = nullptr;
+  const Index* Triangles = nullptr;
+  Index Count = -1;
+  /// True where the key is of another surface than (topology, points):
+  /// the value is to be computed again, and the key is now this surface's.
+  bool Renew(const MeshTopology& topology, const double* points);
+};
+
 struct RemeshCache
 {
   struct Raster
@@ -79,22 +90,15 @@ struct RemeshCache
     ChartLocators.clear();
     Grid.reset();
     Defects.clear();
-    FiguresPoints = nullptr;
+    GridKey = DefectsKey = FiguresKey = SurfaceKey();
   }
 
 private:
   std::vector<ChartLocator> ChartLocators;
   std::unique_ptr<TriangleGrid> Grid;
-  const double* GridPoints = nullptr;
-  const Index* GridTriangles = nullptr;
-  std::size_t GridCount = 0;
   std::vector<double> Defects;
-  const double* DefectPoints = nullptr;
-  const Index* DefectTriangles = nullptr;
   SurfaceFigures KeptFigures;
-  const double* FiguresPoints = nullptr;
-  const Index* FiguresTriangles = nullptr;
-  Index FiguresCount = 0;
+  SurfaceKey GridKey, DefectsKey, FiguresKey;
 };
 
 struct SamplingOptions
