@@ -441,7 +441,7 @@ bool vtkSurfaceRemeshing::BuildImportance(std::vector<double>& importance)
   return true;
 }
 
-bool vtkSurfaceRemeshing::RemeshLayout(Run& run)
+bool vtkSurfaceRemeshing::RemeshLayout(Run& run, bool sparserSeams)
 {
   const beltrami::MeshTopology& topology = this->Cache->Surface.Topology();
   const double* points = this->Cache->Laid().Points;
@@ -470,6 +470,7 @@ bool vtkSurfaceRemeshing::RemeshLayout(Run& run)
   options.StitchingIterations = this->Iterations - options.Iterations;
   options.FeatureAngle = this->SplitAtFeatures ? this->FeatureAngle : 0.0;
   options.MaximumLineSag = this->MaximumLineSag;
+  options.SparserSeams = sparserSeams;
   options.MaximumSurfaceSag = this->MaximumSurfaceSag;
   options.FarPinRounds = this->FidelityRounds;
   options.NumberOfThreads = this->NumberOfThreads;
@@ -590,6 +591,30 @@ void vtkSurfaceRemeshing::LayOutNoisyInputOnCopy(Run& run)
   }
 }
 
+void vtkSurfaceRemeshing::LayOutWithSparserSeams(Run& run)
+{
+  // Last, so that a noisy scan whose own charts fail is laid out on a
+  // smoothed copy first (its remesh there is better).
+  const beltrami::SurfaceSamples& samples = run.Driven.Remesh.Samples;
+  if (run.Driven.Remesh.Error.empty() || this->MaximumDeviation > 0.0 || this->Cache->Active != 0 ||
+    samples.BoundarySamples <= this->NumberOfVertices)
+  {
+    return;
+  }
+  Run sparser;
+  if (!this->RemeshLayout(sparser, true) || !sparser.Driven.Remesh.Error.empty())
+  {
+    return; // (the first error stands)
+  }
+  const beltrami::SurfaceSamples& sparse = sparser.Driven.Remesh.Samples;
+  vtkWarningMacro(<< "The chart boundaries of the input need " << samples.BoundarySamples << " samples at the spacing of "
+                  << this->NumberOfVertices << " vertices (" << this->Atlas().Charts.size()
+                  << " charts), more than the count: the seams between its charts were "
+                  << "sampled " << sparse.SeamSpacing << " times as sparsely (" << sparse.BoundarySamples
+                  << " samples) and the remesh evened across them. More vertices give its triangles more room.");
+  run = std::move(sparser);
+}
+
 int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
 {
   output->Initialize(); // a defined output: empty
@@ -612,6 +637,7 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
     return 0;
   }
   this->LayOutNoisyInputOnCopy(run);
+  this->LayOutWithSparserSeams(run);
   return this->Report(input, run, output);
 }
 

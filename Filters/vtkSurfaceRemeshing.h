@@ -293,9 +293,10 @@ private:
   struct Layout;
   struct Run;
   int Build(vtkPolyData* input, vtkPolyData* output);
-  /// One remesh of the active layout into `run`; false on error (reported)
-  /// before any remesh.
-  bool RemeshLayout(Run& run);
+  /// One remesh of the active layout into `run` (its seams sampled sparser
+  /// where they take more than the count: beltrami::SamplingOptions::
+  /// SparserSeams); false on error (reported) before any remesh.
+  bool RemeshLayout(Run& run, bool sparserSeams = false);
   /// The importance per input vertex of the settings (empty: uniform);
   /// false on error (reported).
   bool BuildImportance(std::vector<double>& importance);
@@ -311,6 +312,9 @@ private:
   /// Where the input's own charts fail, or remesh poorly on a noisy input,
   /// `run` laid out on a smoothed copy (RemeshDenoised), with a warning.
   void LayOutNoisyInputOnCopy(Run& run);
+  /// Where the input's own chart boundaries still take more samples than
+  /// the count, `run` again with its seams sampled sparser, with a warning.
+  void LayOutWithSparserSeams(Run& run);
   /// The run's messages and, without an error, its remesh into `output`.
   int Report(vtkPolyData* input, const Run& run, vtkPolyData* output);
   /// The anisotropic mode's metric (6 per input vertex) into `metric`;

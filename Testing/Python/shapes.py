@@ -497,6 +497,29 @@ def knotted_tube(radius=0.03, along=600, around=10):
     return points, np.concatenate([np.stack([a, b, c], -1), np.stack([c, b, d], -1)])
 
 
+def lattice(cells=2, bar=0.1, n=80):
+    """The surface of a cubic lattice of round bars (cells^3 cells, the bars
+    along every edge of them, of radius `bar`, in [-1, 1]^3), as marching
+    cubes on an n^3 grid gives it: of genus 3 cells (cells + 1)^2 - (cells +
+    1)^3 + 1 (the bars' graph's cycles; 2 cells: 28)."""
+    g = np.linspace(-1.0, 1.0, cells + 1)
+
+    def distance(x):
+        d = None
+        for axis in range(3):
+            o = [k for k in range(3) if k != axis]
+            for i in g:
+                for j in g:
+                    a, b = np.zeros(3), np.zeros(3)
+                    a[o[0]] = b[o[0]] = i
+                    a[o[1]] = b[o[1]] = j
+                    a[axis], b[axis] = -1.0, 1.0
+                    s = _segment(x, a, b, bar)
+                    d = s if d is None else np.minimum(d, s)
+        return d
+    return implicit_surface(distance, n=n, extent=1.2)
+
+
 def tube(radius=1.0, length=4.0, nu=256, nv=200):
     """An open cylinder of revolution about z (principal curvatures 1 / radius and 0)."""
     return swept(nu, nv, lambda t, v: (radius * np.cos(t), radius * np.sin(t), length * (v - 0.5)))

@@ -192,7 +192,7 @@ Index EdgePoint(const MeshTopology& topology, Index a, Index b, double t, double
 
 void SampleBoundaries(const MeshTopology& topology, const double* points, const double* importance,
   const std::vector<int>& chartOfTriangle, const BoundaryPaths& boundaries, double density,
-  const std::uint8_t* featureEdges, double maxSag, const double* metric, SurfaceSamples& out)
+  const std::uint8_t* featureEdges, double maxSag, const double* metric, SurfaceSamples& out, double seamSpacing)
 {
   const auto lambda = [&](Index v) { return std::sqrt(density * (importance ? std::max(0.0, importance[v]) : 1.0)); };
   std::vector<Index> cornerSample(topology.NumberOfVertices(), -1);
@@ -231,7 +231,8 @@ void SampleBoundaries(const MeshTopology& topology, const double* points, const 
     {
       edge[i] = i > 0 ? (Point(points, vertices[i]) - Point(points, vertices[i - 1])).norm() : 0.0;
       path.Arc[i] = i > 0 ? path.Arc[i - 1] + edge[i] : 0.0;
-      lambdas[i] = lambda(vertices[i]) * (metric ? AlongPath(points, vertices, i, metric) : 1.0);
+      lambdas[i] =
+        lambda(vertices[i]) * (metric ? AlongPath(points, vertices, i, metric) : 1.0) / (kept ? 1.0 : seamSpacing);
       spacing[i] = 1.0 / std::max(1e-300, lambdas[i]);
     }
     const std::vector<double> curvature = maxSag > 0.0 && kept

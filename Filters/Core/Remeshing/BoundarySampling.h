@@ -44,9 +44,11 @@ Index EdgePoint(const MeshTopology& topology, Index a, Index b, double t, double
 /// 1 / lambda of the density, so at least sqrt(k lambda / (8 maxSag))
 /// samples per length.  With a metric (6 per surface vertex), the density
 /// along a path is its length along the path over its mean length times the
-/// density's (AlongPath).
+/// density's (AlongPath).  Seams (chart boundaries that are no kept line)
+/// are sampled seamSpacing times sparser.
 void SampleBoundaries(const MeshTopology& topology, const double* points, const double* importance,
   const std::vector<int>& chartOfTriangle, const BoundaryPaths& boundaries, double density,
-  const std::uint8_t* featureEdges, double maxSag, const double* metric, SurfaceSamples& out);
+  const std::uint8_t* featureEdges, double maxSag, const double* metric, SurfaceSamples& out,
+  double seamSpacing = 1.0);
 
 } // namespace beltrami

@@ -377,6 +377,7 @@ RemeshResult RemeshOnce(const MeshTopology& topology, const double* points, cons
   sampling.NumberOfSamples = options.NumberOfVertices;
   sampling.Resolution = options.Resolution;
   sampling.MaximumLineSag = options.MaximumLineSag;
+  sampling.SparserSeams = options.SparserSeams;
   sampling.Metric = metric;
   sampling.PinnedVertices = options.PinnedVertices;
   sampling.NumberOfThreads = options.NumberOfThreads;

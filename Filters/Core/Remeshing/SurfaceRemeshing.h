@@ -31,6 +31,8 @@ struct RemeshOptions
   /// Feature lines and the surface's boundary sampled more densely where
   /// they bend (SamplingOptions::MaximumLineSag).
   double MaximumLineSag = 0.05;
+  /// SamplingOptions::SparserSeams.
+  bool SparserSeams = false;
   /// The same bound for the surface (0: none): where a triangle of the
   /// density's spacing s would depart from the surface by more than this
   /// fraction of s (about s^2 kappa / 8, kappa the larger principal

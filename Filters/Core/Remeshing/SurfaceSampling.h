@@ -151,6 +151,12 @@ struct SamplingOptions
   /// surface's boundary, as corners: where a remesh left the input
   /// farthest, the error-driven mode puts a vertex (RemeshToDeviation).
   const std::uint8_t* PinnedVertices = nullptr;
+  /// Where the boundaries at the density take more samples than the count
+  /// (the seams of a surface of many handles: a lattice of bars at a low
+  /// count), its seams (no kept line) are sampled twice, then three times
+  /// as sparsely (SurfaceSamples::SeamSpacing), until every chart has room
+  /// for a sample inside (or as sparsely as that).
+  bool SparserSeams = false;
   int NumberOfThreads = 0;
   RemeshCache* Cache = nullptr; ///< optional: kept between calls by the caller
 };
@@ -195,6 +201,8 @@ struct SurfaceSamples
   /// Of BoundarySamples, those on the surface's own boundary loops (the rims
   /// of its holes), which no other layout of the same surface makes fewer.
   std::int64_t RimSamples = 0;
+  /// The seams' spacing over the density's (SamplingOptions::SparserSeams).
+  double SeamSpacing = 1.0;
   /// Charts left without a sample inside (fewer interior samples than
   /// charts): each triangulates its boundary samples alone, and where a
   /// neighbour does too both can make the same triangles.
