@@ -287,6 +287,11 @@ protected:
   int AtlasBuilds = 0;
 
 private:
+  /// The error-driven mode keeps the sharp edges of this run (where the
+  /// bound was missed without them: KeepSharpEdgesWhereMissed).
+  bool KeepingSharpEdges = false;
+  bool SharpEdgesTried = false; ///< and not kept: they did not bring the remesh closer
+  bool SplitsAtFeatures() const { return this->SplitAtFeatures || this->KeepingSharpEdges; }
   vtkSurfaceRemeshing(const vtkSurfaceRemeshing&) = delete;
   void operator=(const vtkSurfaceRemeshing&) = delete;
 
@@ -315,6 +320,10 @@ private:
   /// Where the input's own chart boundaries still take more samples than
   /// the count, `run` again with its seams sampled sparser, with a warning.
   void LayOutWithSparserSeams(Run& run);
+  /// Where the error-driven mode missed its bound with the input's sharp
+  /// edges rounded off, `run` again with them kept, with a warning, where
+  /// that meets the bound or comes closer.
+  void KeepSharpEdgesWhereMissed(Run& run);
   /// The run's messages and, without an error, its remesh into `output`.
   int Report(vtkPolyData* input, const Run& run, vtkPolyData* output);
   /// The anisotropic mode's metric (6 per input vertex) into `metric`;
