@@ -1,6 +1,4 @@
-#include "vtkSurfaceRemeshing.h"
-
-#include "vtkBeltramiSurface.h"
+#include "vtkSurfaceRemeshingInternals.h"
 
 #include "Maps/Atlas.h"
 #include "Mesh/MeshMeasures.h"
@@ -33,41 +31,6 @@
 #include <vector>
 
 vtkStandardNewMacro(vtkSurfaceRemeshing);
-
-/// What a re-run with other sampling settings reuses: the input's surface
-/// (topology with its edge table, points as doubles), and per layout (the
-/// input's points, or their denoised copy where the input's charts failed)
-/// its curvatures while the input's geometry stays, and its atlas while the
-/// feature settings stay too (and, with sharp edges kept, the count: the
-/// feature fragments it drops depend on the spacing).
-struct vtkSurfaceRemeshing::Layout
-{
-  const double* Points = nullptr;
-  std::unique_ptr<beltrami::AtlasResult> Atlas;
-  beltrami::RemeshCache Remeshing; // of these points and atlas
-  bool SplitAtFeatures = false;
-  double FeatureAngle = 0.0;
-  double FeatureSpacing = 0.0; // the shortest feature chain kept
-  std::vector<double> Curvatures; // of the measure CurvatureImportance (-1: none yet)
-  int CurvatureImportance = -1;
-  std::vector<double> Metric; // from the principal curvatures, with the settings in MetricKey
-  std::array<double, 4> MetricKey{}; // MaximumAnisotropy, MinimumImportance, Gradation, AtlasBuilds
-};
-
-struct vtkSurfaceRemeshing::Kept
-{
-  const void* Input = nullptr;
-  vtkMTimeType InputTime = 0;
-  vtkBeltramiSurface Surface;
-  std::vector<double> Storage; // the points as doubles, where they are not (or points were split)
-  const double* Points = nullptr; // the input's
-  static constexpr int Copies = static_cast<int>(std::size(beltrami::DenoisedLayoutSteps));
-  Layout Layouts[1 + Copies]; // 0: on the input's points, 1 + k: on Denoised[k]
-  int Active = 0;             // the layout of the run
-  bool DenoisedTried[Copies] = {};
-  std::vector<double> Denoised[Copies]; // DenoisedLayout of each step (empty: none, or not tried yet)
-  Layout& Laid() { return this->Layouts[this->Active]; }
-};
 
 vtkSurfaceRemeshing::vtkSurfaceRemeshing()
 {
@@ -369,21 +332,6 @@ bool vtkSurfaceRemeshing::BuildMetric(const std::uint8_t* featureEdges, std::vec
   return true;
 }
 
-/// One remesh of the kept surface with the filter's settings, on the active
-/// layout: its importance, metric and options, and the result.
-struct vtkSurfaceRemeshing::Run
-{
-  std::vector<double> Importance; // per input vertex (empty: uniform)
-  std::vector<double> Metric;     // 6 per input vertex (empty: isotropic)
-  beltrami::RemeshOptions Options;
-  beltrami::DeviationRemeshResult Driven;
-  /// Laid out on the denoised copy: the largest distance of its points from
-  /// the remesh there, before it was moved onto the input (whose noise is no
-  /// lost part); else -1.
-  double LaidDistance = -1.0;
-  const double* Weights() const { return this->Importance.empty() ? nullptr : this->Importance.data(); }
-};
-
 bool vtkSurfaceRemeshing::BuildImportance(std::vector<double>& importance)
 {
   vtkBeltramiSurface& surface = this->Cache->Surface;
@@ -490,164 +438,6 @@ bool vtkSurfaceRemeshing::RemeshLayout(Run& run, bool sparserSeams)
     run.Driven.Remesh = beltrami::RemeshSurface(topology, points, atlas, run.Weights(), options);
   }
   return true;
-}
-
-bool vtkSurfaceRemeshing::LayOutOnDenoisedCopy(int k)
-{
-  Kept& kept = *this->Cache;
-  if (!kept.DenoisedTried[k])
-  {
-    kept.DenoisedTried[k] = true;
-    kept.Denoised[k] = beltrami::DenoisedLayout(
-      kept.Surface.Topology(), kept.Points, beltrami::DenoisedLayoutSteps[k], this->NumberOfThreads);
-    kept.Layouts[1 + k].Points = kept.Denoised[k].data();
-  }
-  kept.Active = kept.Denoised[k].empty() ? 0 : 1 + k;
-  return kept.Active > 0;
-}
-
-bool vtkSurfaceRemeshing::RemeshDenoised(Run& run)
-{
-  // The first copy that remeshes; where its remesh is poor, the next ones
-  // too, the better kept (isotropic noise of 0.6% of the diagonal on
-  // bunny00: the first copy's remesh at 2,000 vertices has 3.2% of its
-  // triangles below 30 degrees, the second's 0.3%).
-  int kept = -1;
-  for (int k = 0; k < Kept::Copies && (kept < 0 || beltrami::PoorRemesh(run.Driven.Remesh, this->NumberOfThreads)); ++k)
-  {
-    Run denoised;
-    if (!this->LayOutOnDenoisedCopy(k) || !this->Atlas().Error.empty() || !this->RemeshLayout(denoised) ||
-      !denoised.Driven.Remesh.Error.empty())
-    {
-      continue;
-    }
-    beltrami::RemeshResult& remesh = denoised.Driven.Remesh;
-    denoised.LaidDistance = remesh.DeviationFromInput * remesh.Diagonal;
-    beltrami::CheckFidelity(this->Cache->Surface.Topology(), this->Cache->Points, denoised.Options, remesh);
-    if (kept < 0 || beltrami::KeepCopysRemesh(remesh, run.Driven.Remesh, this->NumberOfThreads))
-    {
-      run = std::move(denoised);
-      kept = k;
-    }
-  }
-  return kept >= 0 && this->LayOutOnDenoisedCopy(kept);
-}
-
-namespace
-{
-
-/// The end of both warnings that a remesh was laid out on a smoothed copy.
-const char* const OnCopy = "the remesh was laid out on a smoothed copy of the input and moved onto it, its triangles "
-                           "then shaped on the input: its vertices lie on the input and follow its noise";
-const char* const SmoothFirst = ". For a remesh of the smoothed surface, smooth the input first (vtkImplicitFairing).";
-
-} // namespace
-
-void vtkSurfaceRemeshing::LayOutNoisyInputOnCopy(Run& run)
-{
-  // Where the input's own charts fail (a scan whose noise is as large as its
-  // edges), the remesh is laid out on a smoothed copy and moved onto the
-  // input; not where the rims of its holes alone take more samples than the
-  // count (a scan with many holes), which every copy keeps.  Where they
-  // remesh, but poorly, on a crumpled input, the copy's is kept where it is
-  // better.
-  Kept& kept = *this->Cache;
-  const std::string inputError = run.Driven.Remesh.Error;
-  const std::int64_t tried = run.Driven.Counts.empty() ? this->NumberOfVertices : run.Driven.Counts.back();
-  if (!inputError.empty() && run.Driven.Remesh.Samples.RimSamples <= tried)
-  {
-    if (this->RemeshDenoised(run))
-    {
-      vtkWarningMacro(<< "The input's own charts cannot be remeshed with " << tried << " vertices (" << inputError
-                      << "): " << OnCopy
-                      << (this->MaximumDeviation > 0.0 ? " (MaximumDeviation holds on the smoothed copy; "
-                                                         "RemeshDeviation is measured on the input, noise included)"
-                                                       : "")
-                      << SmoothFirst);
-    }
-    else
-    {
-      kept.Active = 0; // the input's error stands
-    }
-    return;
-  }
-  if (!inputError.empty() || this->MaximumDeviation > 0.0 || !beltrami::PoorRemesh(run.Driven.Remesh, this->NumberOfThreads))
-  {
-    return;
-  }
-  const double folded = beltrami::FoldedEdgeShare(kept.Surface.Topology(), kept.Points);
-  Run denoised;
-  if (folded >= beltrami::CrumpledShare && this->RemeshDenoised(denoised) &&
-    beltrami::KeepCopysRemesh(denoised.Driven.Remesh, run.Driven.Remesh, this->NumberOfThreads))
-  {
-    run = std::move(denoised);
-    vtkWarningMacro(<< "The input folds (" << 100.0 * folded << "% of its neighbouring triangles face more than 90 "
-                    << "degrees apart: noise, or knife edges, which SplitAtFeatures keeps) and the remesh of its own "
-                    << "charts was poor: " << OnCopy << SmoothFirst);
-  }
-  else
-  {
-    kept.Active = 0; // the input's own remesh stands
-  }
-}
-
-void vtkSurfaceRemeshing::LayOutWithSparserSeams(Run& run)
-{
-  // Last, so that a noisy scan whose own charts fail is laid out on a
-  // smoothed copy first (its remesh there is better).
-  const beltrami::SurfaceSamples& samples = run.Driven.Remesh.Samples;
-  if (run.Driven.Remesh.Error.empty() || this->MaximumDeviation > 0.0 || this->Cache->Active != 0 ||
-    samples.BoundarySamples <= this->NumberOfVertices)
-  {
-    return;
-  }
-  Run sparser;
-  if (!this->RemeshLayout(sparser, true) || !sparser.Driven.Remesh.Error.empty())
-  {
-    return; // (the first error stands)
-  }
-  const beltrami::SurfaceSamples& sparse = sparser.Driven.Remesh.Samples;
-  vtkWarningMacro(<< "The chart boundaries of the input need " << samples.BoundarySamples << " samples at the spacing of "
-                  << this->NumberOfVertices << " vertices (" << this->Atlas().Charts.size()
-                  << " charts), more than the count: the seams between its charts were "
-                  << "sampled " << sparse.SeamSpacing << " times as sparsely (" << sparse.BoundarySamples
-                  << " samples) and the remesh evened across them. More vertices give its triangles more room.");
-  run = std::move(sparser);
-}
-
-void vtkSurfaceRemeshing::KeepSharpEdgesWhereMissed(Run& run)
-{
-  // (As MMG's Hausdorff mode keeps ridges.  Rounded off, the sharp rims of
-  // a cylinder of 64 segments took 16,384 vertices, 64 per input vertex,
-  // and stayed 0.54% of the diagonal from it; kept, 228 meet 0.5%.)
-  const beltrami::DeviationRemeshResult& driven = run.Driven;
-  if (this->MaximumDeviation <= 0.0 || this->SplitAtFeatures || driven.Met || !driven.Remesh.Error.empty() ||
-    this->Cache->Active != 0)
-  {
-    return;
-  }
-  const std::vector<std::uint8_t> sharp =
-    beltrami::SharpEdges(this->Cache->Surface.Topology(), this->Cache->Points, this->FeatureAngle);
-  if (std::find(sharp.begin(), sharp.end(), 1) == sharp.end())
-  {
-    return;
-  }
-  this->KeepingSharpEdges = true;
-  Run kept;
-  if (this->RemeshLayout(kept) && kept.Driven.Remesh.Error.empty() &&
-    (kept.Driven.Met || beltrami::WorstDeviation(kept.Driven.Remesh) < beltrami::WorstDeviation(driven.Remesh)))
-  {
-    const std::int64_t before = driven.Counts.empty() ? 0 : driven.Counts.back();
-    vtkWarningMacro(<< "The remesh with the input's edges sharper than FeatureAngle rounded off was "
-                    << 100.0 * beltrami::WorstDeviation(driven.Remesh) << "% of the diagonal from it with " << before
-                    << " vertices, more than the MaximumDeviation of " << 100.0 * this->MaximumDeviation
-                    << "%: those edges are kept (as SplitAtFeatures keeps them).");
-    run = std::move(kept);
-    return;
-  }
-  this->KeepingSharpEdges = false;
-  this->SharpEdgesTried = true;
-  this->Atlas(); // (again the one of the run kept)
 }
 
 int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
