@@ -100,7 +100,14 @@
  * implicit umbrella step, beltrami::DenoisedLayout, of the steps
  * beltrami::DenoisedLayoutSteps in turn), moved onto the input and its
  * triangles shaped there by a few stitching rounds, with a warning: its
- * vertices lie on the input and follow its noise.
+ * vertices lie on the input and follow its noise.  Where no copy remeshes
+ * and the chart boundaries still take more than the count (a surface of
+ * many handles at a low count), the seams between charts are sampled two,
+ * then three times as sparsely, with a warning; only counts they cannot
+ * hold even so are errors.  Where the error-driven mode misses its bound
+ * with SplitAtFeatures off, it runs again with the edges sharper than
+ * FeatureAngle kept, with a warning, and keeps that remesh where it meets
+ * the bound or comes closer.
  * Charts far smaller than the spacing (a speck of a
  * scan) keep one interior sample each, so their components stay closed.  The remesher
  * needs the whole surface: split data are gathered on rank 0, which holds
