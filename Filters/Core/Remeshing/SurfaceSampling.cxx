@@ -543,20 +543,28 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
   const BoundaryPaths boundaries =
     ChartBoundaries(topology, points, importance, options.Metric, out.Density, atlas.ChartOfTriangle,
       options.FeatureEdges, options.PinnedVertices);
-  SampleBoundaries(topology, points, importance, atlas.ChartOfTriangle, boundaries, out.Density, options.FeatureEdges,
-    options.MaximumLineSag, options.Metric, out);
+  // The boundaries sampled afresh (the line sag bound, the seams' spacing
+  // over the density's); whether they leave fewer than `room` samples.
   double sag = options.MaximumLineSag;
-  if (sag > 0.0 && static_cast<std::int64_t>(out.Kind.size()) > options.NumberOfSamples)
+  const auto sample = [&](double seamSpacing) {
+    ClearSamples(out);
+    SampleBoundaries(topology, points, importance, atlas.ChartOfTriangle, boundaries, out.Density,
+      options.FeatureEdges, sag, options.Metric, out, seamSpacing);
+    out.SeamSpacing = seamSpacing;
+  };
+  const auto exceeds = [&](std::size_t room) {
+    return static_cast<std::int64_t>(out.Kind.size() + room) > options.NumberOfSamples;
+  };
+  sample(1.0);
+  if (sag > 0.0 && exceeds(0))
   {
     // Lines that bend at every vertex (the jagged rims of a scan's many
     // holes) would take more than the count: the density's spacing along
     // them instead.
-    ClearSamples(out);
     sag = 0.0;
-    SampleBoundaries(topology, points, importance, atlas.ChartOfTriangle, boundaries, out.Density,
-      options.FeatureEdges, sag, options.Metric, out);
+    sample(1.0);
   }
-  if (options.SparserSeams && static_cast<std::int64_t>(out.Kind.size()) > options.NumberOfSamples)
+  if (options.SparserSeams && exceeds(0))
   {
     // The seams of a surface of many handles (a lattice of bars, a block
     // drilled through: many charts) take more than the count: sparser,
@@ -564,11 +572,8 @@ SurfaceSamples SampleSurface(const MeshTopology& topology, const double* points,
     // rounds free their samples and even the remesh across them.
     for (const double sparser : SparserSeamSpacings)
     {
-      ClearSamples(out);
-      SampleBoundaries(topology, points, importance, atlas.ChartOfTriangle, boundaries, out.Density,
-        options.FeatureEdges, sag, options.Metric, out, sparser);
-      out.SeamSpacing = sparser;
-      if (static_cast<std::int64_t>(out.Kind.size() + atlas.Charts.size()) <= options.NumberOfSamples)
+      sample(sparser);
+      if (!exceeds(atlas.Charts.size()))
       {
         break;
       }
