@@ -298,18 +298,22 @@ public:
   /// the steps where it was measured the faster (at least 20,000 vertices, serial, order-1 steps
   /// from about 150 h^2 and order-2 steps from about 100 h^4, h the mean edge length, and any
   /// order-2 step on 1.5 to 4 million vertices: one clean order-2 step of 400 h^4 on 1.2M triangles
-  /// takes 2.0 s instead of 5.9), otherwise Jacobi. Jacobi: mixed precision, the faster for the
-  /// default steps on the measured machines. Algebraic Multigrid: one V-cycle of hypre's BoomerAMG
-  /// per iteration; 3-4 iterations for a clean mesh's step of any size where Jacobi needs 70-500,
-  /// but each iteration and its set-up cost more. Geometric Multigrid: one V-cycle on a hierarchy
-  /// of the surface's own vertices (built once per run); 5-10 iterations for a clean mesh's order-1
-  /// and order-2 steps whatever its size, more on noisy ones, the fastest for large steps (the
-  /// guide's benchmarks page). In a distributed run every preconditioner gives the serial numbers:
-  /// the algebraic hierarchy spans the ranks (the serial iteration counts); Geometric Multigrid
-  /// cycles on each rank's hierarchy of its own points, joined by a coarse level made of every
-  /// rank's coarsest one (2-3 times the serial iterations on 2-4 ranks); Automatic takes Jacobi
-  /// there; order-1 Jacobi solves are in double precision. Values: 0 Jacobi, 1 Algebraic Multigrid,
-  /// 2 Geometric Multigrid, 3 Automatic. Default: Automatic.
+  /// takes 2.0 s instead of 5.9), otherwise Jacobi; where the one it chose stops short of
+  /// SolverTolerance when MaximumSolverIterations run out (a fan of thousands of slivers round one
+  /// point), the solve goes on from there with the multigrid it did not choose (after Jacobi,
+  /// Geometric Multigrid from 20,000 points in a serial run, else Algebraic Multigrid), up to as
+  /// many iterations again. Jacobi: mixed precision, the faster for the default steps on the
+  /// measured machines. Algebraic Multigrid: one V-cycle of hypre's BoomerAMG per iteration; 3-4
+  /// iterations for a clean mesh's step of any size where Jacobi needs 70-500, but each iteration
+  /// and its set-up cost more. Geometric Multigrid: one V-cycle on a hierarchy of the surface's own
+  /// vertices (built once per run); 5-10 iterations for a clean mesh's order-1 and order-2 steps
+  /// whatever its size, more on noisy ones, the fastest for large steps (the guide's benchmarks
+  /// page). In a distributed run every preconditioner gives the serial numbers: the algebraic
+  /// hierarchy spans the ranks (the serial iteration counts); Geometric Multigrid cycles on each
+  /// rank's hierarchy of its own points, joined by a coarse level made of every rank's coarsest one
+  /// (2-3 times the serial iterations on 2-4 ranks); Automatic takes Jacobi there; order-1 Jacobi
+  /// solves are in double precision. Values: 0 Jacobi, 1 Algebraic Multigrid, 2 Geometric
+  /// Multigrid, 3 Automatic. Default: Automatic.
   vtkSetClampMacro(Preconditioner, int, JACOBI, AUTOMATIC_PRECONDITIONER);
   vtkGetMacro(Preconditioner, int);
   /// Quantity restored by scaling after each step (section 3.3). Automatic: the volume for closed

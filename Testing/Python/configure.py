@@ -198,6 +198,39 @@ def make(piece, pieces):
 """
 
 
+# A flat disk whose ragged rim (2,000 points, every other one 1% further out)
+# is fanned from one centre point through a ring, with noise of 0.3% across
+# it (seed 11): long slivers round a point of valence 2,000, as a hole filled
+# by a fan.  The whole on piece 0 (RedistributeDataSet splits it).
+FANNED_DISK = """
+def make(piece, pieces):
+    import numpy as np
+    from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+    out = vtkPolyData()
+    if piece != 0:
+        return out
+    n = 2000
+    a = 2 * np.pi * np.arange(n) / n
+    rim = 1.0 + 0.01 * (np.arange(n) % 2)
+    p = np.vstack([[[0.0, 0.0, 0.0]], np.c_[0.5 * np.cos(a), 0.5 * np.sin(a), np.zeros(n)],
+                   np.c_[rim * np.cos(a), rim * np.sin(a), np.zeros(n)]])
+    p[:, 2] = np.random.default_rng(11).normal(0.0, 0.003, len(p))
+    i = np.arange(n)
+    j = (i + 1) % n
+    t = np.vstack([np.c_[np.zeros(n, dtype=np.int64), 1 + i, 1 + j], np.c_[1 + i, 1 + n + i, 1 + n + j],
+                   np.c_[1 + i, 1 + n + j, 1 + j]]).astype(np.int64)
+    points = vtkPoints()
+    points.SetData(numpy_to_vtk(p, deep=True))
+    cells = vtkCellArray()
+    cells.SetData(numpy_to_vtkIdTypeArray(np.arange(0, 3 * len(t) + 1, 3, dtype=np.int64), deep=True),
+                  numpy_to_vtkIdTypeArray(t.ravel(), deep=True))
+    out.SetPoints(points)
+    out.SetPolys(cells)
+    return out
+"""
+
 def lone_triangle_whole():
     """The whole height field as one poly data (for the serial run)."""
     from vtkmodules.vtkFiltersCore import vtkCleanPolyData

@@ -12,7 +12,9 @@ anisotropy, the sampling regularisation, boundaries smoothed as curves, the
 height-field and revolution volumes, axis and plane constraints, the
 feature curves of anisotropic smoothing on fandisk (each run where the
 pieces are); a rank with an empty piece;
-a piece that owns no point; a NaN point in one piece; a noisy scan (within
+a piece that owns no point; a NaN point in one piece; a fan where Jacobi
+stops short of the tolerance (Automatic goes on with the algebraic multigrid
+over the ranks); a noisy scan (within
 1e-4 of the diagonal), its step chosen over the ranks and on a sample; the
 algebraic multigrid over the ranks (the serial iteration counts) and the
 geometric one (each rank's hierarchy, joined by a coarse level); and the
@@ -28,7 +30,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from configure import (DISJOINT_SPHERES, check, empty_rank_partitions, lone_triangle_source,  # noqa: E402
+from configure import (DISJOINT_SPHERES, FANNED_DISK, check, empty_rank_partitions, lone_triangle_source,  # noqa: E402
                        lone_triangle_whole, moved_points, piecewise_source, rank_rows, with_point_arrays)
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data")
@@ -239,6 +241,15 @@ for partitions in ([0, empty_rank_partitions(ranks)] if ranks > 1 else [0]):
         ours, theirs = iterations(result), iterations(reference)
         check(len(ours) == len(theirs) and builtins.all(a <= 3.5 * b for a, b in zip(ours, theirs)),
               "geometric multigrid iterations over the ranks %s, serial %s" % (ours, theirs))
+
+# A fan where Jacobi stops short of the tolerance (the order-2 step's 1,000
+# iterations run out): Automatic goes on with the algebraic multigrid over
+# the ranks, to the serial result.
+_, result, reference, _ = split_run(piecewise_source(FANNED_DISK), "fanned disk, Automatic", 1e-4, move_of)
+ours, theirs = iterations(result), iterations(reference)
+check(builtins.min(ours + theirs) > 1000 and builtins.max(ours + theirs) < 1100,
+      "fanned disk: Jacobi's 1,000 iterations, then the algebraic multigrid's, over the ranks %s, serial %s"
+      % (ours, theirs))
 
 # What each rank holds: its own points, the ghost points of the rings, its
 # triangles (field data FairingDistribution, one row per rank).

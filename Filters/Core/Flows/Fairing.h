@@ -124,7 +124,8 @@ struct FairingOptions
   /// geometric multigrid (Solvers/SurfaceMultigrid.h), or Automatic: the
   /// geometric multigrid for large steps on large surfaces, where it was
   /// measured the faster (Solvers/GraphSolvers.h, ChosenPreconditioner), else
-  /// Jacobi.
+  /// Jacobi, going on with a multigrid where that stops short of the
+  /// tolerance (SolveShiftedLaplacian).
   Preconditioning Preconditioner = Preconditioning::Automatic;
   /// GeometricMultigrid: the hierarchy of the run's surface, built once by
   /// the fairing (from the input's points) for all its solves; Automatic:

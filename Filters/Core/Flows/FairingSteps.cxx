@@ -331,9 +331,23 @@ ConjugateGradientResult SolveStep(
   sl.KeptHierarchy = opt.KeptHierarchy.get();
   sl.Points = x; // (without a hierarchy) read before the solve moves them
   sl.Split = st.Split;
-  if (Constrained(st) || (st.Split && p.Pure(1) && !UsesMultigrid(sl)))
+  if (Constrained(st))
   {
     return SolvePolynomial(st, p, dt, sys, opt, b, x);
+  }
+  if (st.Split && p.Pure(1) && !UsesMultigrid(sl))
+  {
+    // Distributed order 1 with Jacobi; where it stops short, Automatic goes
+    // on from there as SolveShiftedLaplacian's does (the algebraic multigrid).
+    const ConjugateGradientResult r = SolvePolynomial(st, p, dt, sys, opt, b, x);
+    if (r.Converged || opt.Preconditioner != Preconditioning::Automatic)
+    {
+      return r;
+    }
+    sl.Preconditioner = Preconditioning::Multigrid;
+    ConjugateGradientResult more = SolveShiftedLaplacian(sl, b.data(), x);
+    more.Iterations += r.Iterations;
+    return more;
   }
   sl.Order = st.Order; // the graph solvers' renumbering, if known
   if (p.Pure(1))

@@ -602,6 +602,36 @@ ConjugateGradientResult SolveSquaredMultigrid(const ShiftedLaplacianProblem& pb,
   return SolveConjugateGradient(cg, b, x);
 }
 
+/// Automatic's way on where its choice stops short: where the preconditioner
+/// it chose leaves the solve short of the tolerance when the iterations run
+/// out, `solve` goes on from the x reached with the multigrid it did not
+/// choose, up to as many iterations again: after Jacobi the geometric one on
+/// a serial surface of AutomaticMultigridRows rows or more (its set-up and
+/// memory grow as the surface's), else the algebraic one, as after the
+/// geometric one.  (A flat disk whose 2,000 rim points are fanned from one
+/// point: the default order-2 step stopped at a relative residual of 1e-3
+/// after Jacobi's 1,000 iterations; BoomerAMG's cycles reach the tolerance
+/// in 20 more.)
+ConjugateGradientResult GoOnWhereShort(const ShiftedLaplacianProblem& given, const ShiftedLaplacianProblem& chosen,
+  const ConjugateGradientResult& first, const double* b, double* x,
+  ConjugateGradientResult (*solve)(const ShiftedLaplacianProblem&, const double*, double*))
+{
+  // (Collective where distributed: Converged is the same on every process.)
+  if (first.Converged || given.Preconditioner != Preconditioning::Automatic ||
+    chosen.Preconditioner == Preconditioning::Multigrid)
+  {
+    return first;
+  }
+  ShiftedLaplacianProblem pb = chosen;
+  const bool large = !pb.Split && pb.Rows >= AutomaticMultigridRows && (pb.Hierarchy || pb.Points);
+  pb.Preconditioner = chosen.Preconditioner == Preconditioning::Jacobi && large ? Preconditioning::GeometricMultigrid
+                                                                                : Preconditioning::Multigrid;
+  pb.Guess = nullptr; // (from x)
+  ConjugateGradientResult r = solve(pb, b, x);
+  r.Iterations += first.Iterations;
+  return r;
+}
+
 } // namespace
 
 Preconditioning ChosenPreconditioner(const ShiftedLaplacianProblem& pb, bool squared)
@@ -666,6 +696,7 @@ ConjugateGradientResult SolveSquaredLaplacian(const ShiftedLaplacianProblem& giv
     none.Converged = true;
     return none;
   }
+  ConjugateGradientResult r;
   if (OnSurfaceHierarchy(pb))
   {
     // (Distributed, the solver keeps the caller's rows.)
@@ -673,13 +704,13 @@ ConjugateGradientResult SolveSquaredLaplacian(const ShiftedLaplacianProblem& giv
     ShiftedLaplacianProblem work = pb;
     work.Order = pb.Split ? nullptr : hierarchy->Order().data();
     const Cycle cycle = HierarchyCycle(pb, hierarchy, std::sqrt(pb.Factor), HeldRows(pb, true), true);
-    return detail::SolveSquaredComplex(work, b, x, cycle);
+    r = detail::SolveSquaredComplex(work, b, x, cycle);
   }
-  if (UsesMultigrid(pb))
+  else
   {
-    return SolveSquaredMultigrid(pb, b, x);
+    r = UsesMultigrid(pb) ? SolveSquaredMultigrid(pb, b, x) : detail::SolveSquaredComplex(pb, b, x);
   }
-  return detail::SolveSquaredComplex(pb, b, x);
+  return GoOnWhereShort(given, pb, r, b, x, SolveSquaredLaplacian);
 }
 
 ConjugateGradientResult SolveShiftedLaplacian(
@@ -703,15 +734,10 @@ ConjugateGradientResult SolveShiftedLaplacian(
     none.Converged = true;
     return none;
   }
-  if (UsesMultigrid(pb))
-  {
-    return SolveShiftedMultigrid(pb, b, x);
-  }
-  if (nc > 4)
-  {
-    return SolveShifted<8>(pb, b, x); // 5 to 7 columns padded to 8
-  }
-  return WithCount<4>(nc, [&](auto k) { return SolveShifted<decltype(k)::value>(pb, b, x); });
+  const ConjugateGradientResult r = UsesMultigrid(pb) ? SolveShiftedMultigrid(pb, b, x)
+    : nc > 4 ? SolveShifted<8>(pb, b, x) // 5 to 7 columns padded to 8
+             : WithCount<4>(nc, [&](auto k) { return SolveShifted<decltype(k)::value>(pb, b, x); });
+  return GoOnWhereShort(given, pb, r, b, x, SolveShiftedLaplacian);
 }
 
 } // namespace beltrami

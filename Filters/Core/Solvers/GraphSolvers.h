@@ -110,6 +110,12 @@ constexpr double AutomaticMultigridStep[2] = { 200.0, 15.0 }; ///< orders 1 and 
 /// Whether the graph solvers precondition `problem` by multigrid.
 bool UsesMultigrid(const ShiftedLaplacianProblem& problem, bool squared = false);
 
+/// A x = b for A = D + t K (ShiftedLaplacianProblem), preconditioned as
+/// ChosenPreconditioner says.  With Automatic, where the preconditioner it
+/// chose stops short of the tolerance when the iterations run out, the
+/// solve goes on from the x reached with the multigrid it did not choose,
+/// up to MaximumIterations more (GraphSolvers.cxx, GoOnWhereShort; so does
+/// SolveSquaredLaplacian).
 ConjugateGradientResult SolveShiftedLaplacian(
   const ShiftedLaplacianProblem& problem, const double* b, double* x);
 

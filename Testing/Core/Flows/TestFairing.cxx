@@ -351,6 +351,68 @@ TEST(Fairing, ImplicitLargeStepsAreStableAndIterationCountsAreModest)
   }
 }
 
+/// A flat disk whose ragged rim (n points, every other one 1% further out)
+/// is fanned from one centre point through a ring of radius 0.5: long
+/// slivers round a vertex of valence n, as a hole filled by a fan.
+Mesh FannedDisk(int n)
+{
+  Mesh m;
+  m.AddPoint({ 0.0, 0.0, 0.0 });
+  for (double radius : { 0.5, 1.0 })
+  {
+    for (int i = 0; i < n; ++i)
+    {
+      const double a = 2.0 * M_PI * i / n, r = radius * (radius < 1.0 ? 1.0 : 1.0 + 0.01 * (i % 2));
+      m.AddPoint({ r * std::cos(a), r * std::sin(a), 0.0 });
+    }
+  }
+  for (int i = 0; i < n; ++i)
+  {
+    const int j = (i + 1) % n;
+    m.AddTriangle(0, 1 + i, 1 + j);
+    m.AddTriangle(1 + i, 1 + n + i, 1 + n + j);
+    m.AddTriangle(1 + i, 1 + n + j, 1 + j);
+  }
+  return m;
+}
+
+TEST(Fairing, AutomaticGoesOnWhereJacobiStopsShort)
+{
+  // The fan's ring is a stiff chain (cotangents of about 300 along it): the
+  // default order-2 step's conjugate gradients with Jacobi stop short of the
+  // tolerance when their iterations run out (and so does the matrix-free
+  // solve after them); Automatic goes on from there with the algebraic
+  // multigrid and ends where the algebraic multigrid alone ends, to the
+  // tolerance.  (Order-1 steps up to 400 h^2 reach it with Jacobi here.)
+  Mesh disk = FannedDisk(2000);
+  AddNormalNoise(disk, 0.003, 11, true);
+  const double h = MeanEdgeLength(disk);
+  FairingOptions o;
+  o.Order = 2;
+  o.TimeStep = 4.0; // h^4
+  o.FeatureThreshold = 1.0;
+  std::map<Preconditioning, std::pair<Mesh, FairingReport>> runs;
+  for (Preconditioning p : { Preconditioning::Jacobi, Preconditioning::Automatic, Preconditioning::Multigrid })
+  {
+    o.Preconditioner = p;
+    Mesh m = disk;
+    const FairingReport r = Smooth(m, o);
+    ASSERT_EQ(r.Error, "");
+    runs.emplace(p, std::make_pair(m, r));
+  }
+  const FairingReport& jacobi = runs[Preconditioning::Jacobi].second;
+  const FairingReport& automatic = runs[Preconditioning::Automatic].second;
+  const double apart = MaxDisplacement(runs[Preconditioning::Automatic].first, runs[Preconditioning::Multigrid].first);
+  std::printf("Jacobi %d iterations, residual %.3g; Automatic %d iterations, residual %.3g, %.2g h from the "
+              "algebraic multigrid's\n",
+    jacobi.Iterations.front(), jacobi.LargestResidual, automatic.Iterations.front(), automatic.LargestResidual,
+    apart / h);
+  EXPECT_FALSE(jacobi.Converged); // (the case this is about)
+  EXPECT_TRUE(automatic.Converged);
+  EXPECT_LE(automatic.LargestResidual, o.SolverTolerance);
+  EXPECT_LT(apart, 1e-3 * h);
+}
+
 TEST(Fairing, ResultsDoNotDependOnTheThreadCount)
 {
   Mesh torus = test::Torus(1.0, 0.4, 120, 60, 0.3, 1);
