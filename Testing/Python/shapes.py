@@ -265,6 +265,19 @@ def turbine_disk(n=160, blades=12):
     return implicit_surface(distance, n)
 
 
+def hairy_sphere(n=64, hairs=100, length=0.5, seed=1):
+    """A UV sphere with `hairs` of its vertices (the nearest to random
+    directions) pulled out along them to 1 + `length`: needles one input
+    vertex wide, their sides slivers."""
+    rng = np.random.default_rng(seed)
+    p, t = sphere(n)
+    pulled = p.copy()
+    directions = rng.normal(size=(hairs, 3))
+    for d in directions / np.linalg.norm(directions, axis=1)[:, None]:
+        pulled[np.argmax(p @ d)] = (1.0 + length) * d
+    return pulled, t
+
+
 def sphere_with_speck(n=24, speck=1e-4, distance=5.0):
     """A unit sphere and a far-away speck (a sphere of radius `speck`)."""
     return merge(sphere(n), sphere(4, radius=speck, center=(distance, 0.0, 0.0)))

@@ -307,6 +307,24 @@ class RemeshingFromPython(unittest.TestCase):
         self.assertLess(max(out.GetFieldData().GetArray("RemeshDeviation").GetValue(k) for k in range(2)), 0.05)
         self.assertGreater(out.GetFieldData().GetArray("RemeshMinimumAngle").GetValue(0), 5.0)
 
+    def test_a_triangle_below_a_degree_is_said_in_both_modes(self):
+        # A sphere with 100 needles one input vertex wide, at 2,000 vertices:
+        # the isotropic remesh (laid out on a smoothed copy: its own chart
+        # boundaries take 2,242 samples) has no angle below 5 degrees; the
+        # anisotropic one had five triangles of 0 degrees (three seam
+        # samples in a line along a needle's ridge from its tip, which no
+        # move or swap could mend), unsaid.  Either mode says an angle below
+        # a degree (RemeshMinimumAngle, in space).
+        import inputs
+        hairy = inputs.polydata(*inputs.hairy_sphere())
+        for anisotropy in (0, 1):
+            out, said = self.remeshed(hairy, 2000, Anisotropy=anisotropy)
+            smallest = out.GetFieldData().GetArray("RemeshMinimumAngle").GetValue(0)
+            self.assertEqual(out.GetNumberOfPoints(), 2000)
+            self.assertEqual(smallest < 1.0, "has a triangle with an angle of" in said, (anisotropy, smallest, said))
+            if anisotropy == 0:
+                self.assertGreater(smallest, 5.0)
+
     def test_bad_requests_are_errors_not_crashes(self):
         _, f = self.remesher()
         f.SetNumberOfVertices(5)  # fewer than the chart boundaries need (sampled sparser, 9)
