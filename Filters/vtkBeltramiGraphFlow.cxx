@@ -120,15 +120,18 @@ std::string vtkBeltramiGraphFlow::RunWarnings(
       << ": the data may be under-smoothed. Raise "
       << (o.Stop == beltrami::GraphFlowStop::Iterations ? "NumberOfIterations" : "MaximumNumberOfIterations")
       << " or use a larger TimeStep.";
-    if (r.UnstableSteps > 0)
-    {
-      s << " ";
-    }
+  }
+  if (!r.SolverConverged)
+  {
+    s << (s.tellp() > 0 ? " " : "") << "The linear solver of the semi-implicit steps stopped short of its "
+      << "tolerance (relative residual " << r.LargestSolverResidual
+      << "): the result is approximate; a smaller TimeStep gives better-conditioned steps.";
   }
   if (r.UnstableSteps == 0)
   {
     return s.str();
   }
+  s << (s.tellp() > 0 ? " " : "");
   s << r.UnstableSteps << " explicit step(s) of " << (o.TimeStep > 0.0 ? o.TimeStep : r.LastTimeStep)
     << " exceeded the stability limit (" << r.SmallestStableStep
     << " at the steepest point); the result may oscillate. Use AdaptiveTimeStep, the semi-implicit "

@@ -122,8 +122,9 @@ public:
   /// FlowEstimatedError (estimated RMS error to the clean data: input, result).
   static void AddReport(vtkFieldData* fd, const beltrami::GraphFlowResult& result);
 
-  /// Warnings for explicit steps beyond the stability limit and for a
-  /// rule-based stop cut short by the iteration limit (empty if none).
+  /// Warnings for explicit steps beyond the stability limit, for a
+  /// rule-based stop cut short by the iteration limit and for semi-implicit
+  /// solves that stopped short of their tolerance (empty if none).
   static std::string RunWarnings(
     const beltrami::GraphFlowOptions& options, const beltrami::GraphFlowResult& result);
 

@@ -301,6 +301,32 @@ inline Mesh FlatIrregular(int n, unsigned seed)
 }
 
 
+/// A flat disk whose ragged rim (n points, every other one 1% further out)
+/// is fanned from one centre point through a ring of radius 0.5: long
+/// slivers round a vertex of valence n, as a hole filled by a fan (a stiff
+/// chain along the ring for the cotangent Laplacian: weights of about 300).
+inline Mesh FannedDisk(int n)
+{
+  Mesh m;
+  m.AddPoint({ 0.0, 0.0, 0.0 });
+  for (double radius : { 0.5, 1.0 })
+  {
+    for (int i = 0; i < n; ++i)
+    {
+      const double a = 2.0 * M_PI * i / n, r = radius * (radius < 1.0 ? 1.0 : 1.0 + 0.01 * (i % 2));
+      m.AddPoint({ r * std::cos(a), r * std::sin(a), 0.0 });
+    }
+  }
+  for (int i = 0; i < n; ++i)
+  {
+    const int j = (i + 1) % n;
+    m.AddTriangle(0, 1 + i, 1 + j);
+    m.AddTriangle(1 + i, 1 + n + i, 1 + n + j);
+    m.AddTriangle(1 + i, 1 + n + j, 1 + j);
+  }
+  return m;
+}
+
 /// Sphere of radius R made of latitude rings: `upper` rings of `upperCount`
 /// points above the equator, `lower` rings of `lowerCount` below (figure
 /// 3.10's two sampling rates), zipped together; outward orientation.

@@ -145,6 +145,11 @@ struct GraphFlowResult
   double SmallestStableStep = 0.0;
   int UnstableSteps = 0;      ///< explicit steps larger than that limit
   int SolverIterations = 0;   ///< semi-implicit: CG iterations, all steps
+  /// Semi-implicit: whether every solve reached SolverTolerance within
+  /// MaximumSolverIterations, and the largest relative residual of those
+  /// that did not.
+  bool SolverConverged = true;
+  double LargestSolverResidual = 0.0;
   /// MinimumRisk: the estimated root mean squared error to the clean data
   /// (data units) at the input and at the result.
   double InitialRisk = 0.0;

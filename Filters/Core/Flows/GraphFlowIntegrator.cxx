@@ -178,6 +178,8 @@ private:
   void SemiImplicitStep(FlowRun& run, double dt);
   void SolveOnGraph(FlowRun& run, const GraphLaplacian& graph, const std::vector<double>& scale);
   void SolveMatrixFree(FlowRun& run, const std::vector<double>& scale);
+  /// Counts a solve's iterations, and whether it reached the tolerance.
+  void Solved(const ConjugateGradientResult& r);
   /// The solver tolerance: with the least-risk stop the main run's solves
   /// go to 1e-8 (the stop then comes at the same step in every layout of a
   /// split run); the probe's solve only resolves its change of the
@@ -474,7 +476,8 @@ void FlowIntegrator::SolveOnGraph(FlowRun& run, const GraphLaplacian& graph, con
   sl.Tolerance = SolveTolerance(run);
   sl.MaximumIterations = O.MaximumSolverIterations;
   sl.NumberOfThreads = Threads;
-  Result.SolverIterations += SolveShiftedLaplacian(sl, Rhs.data(), run.Next.data()).Iterations;
+  sl.Preconditioner = Preconditioning::Automatic; // (Jacobi, going on with the algebraic multigrid where it stops short)
+  Solved(SolveShiftedLaplacian(sl, Rhs.data(), run.Next.data()));
 }
 
 void FlowIntegrator::SolveMatrixFree(FlowRun& run, const std::vector<double>& scale)
@@ -509,7 +512,17 @@ void FlowIntegrator::SolveMatrixFree(FlowRun& run, const std::vector<double>& sc
       }
     });
   };
-  Result.SolverIterations += SolveConjugateGradient(cg, Rhs.data(), run.Next.data()).Iterations;
+  Solved(SolveConjugateGradient(cg, Rhs.data(), run.Next.data()));
+}
+
+void FlowIntegrator::Solved(const ConjugateGradientResult& r)
+{
+  Result.SolverIterations += r.Iterations;
+  if (!r.Converged)
+  {
+    Result.SolverConverged = false;
+    Result.LargestSolverResidual = std::max(Result.LargestSolverResidual, r.RelativeResidual);
+  }
 }
 
 void FlowIntegrator::AdaptStep(double previousArea, double& dt, double& previousRate) const

@@ -351,31 +351,6 @@ TEST(Fairing, ImplicitLargeStepsAreStableAndIterationCountsAreModest)
   }
 }
 
-/// A flat disk whose ragged rim (n points, every other one 1% further out)
-/// is fanned from one centre point through a ring of radius 0.5: long
-/// slivers round a vertex of valence n, as a hole filled by a fan.
-Mesh FannedDisk(int n)
-{
-  Mesh m;
-  m.AddPoint({ 0.0, 0.0, 0.0 });
-  for (double radius : { 0.5, 1.0 })
-  {
-    for (int i = 0; i < n; ++i)
-    {
-      const double a = 2.0 * M_PI * i / n, r = radius * (radius < 1.0 ? 1.0 : 1.0 + 0.01 * (i % 2));
-      m.AddPoint({ r * std::cos(a), r * std::sin(a), 0.0 });
-    }
-  }
-  for (int i = 0; i < n; ++i)
-  {
-    const int j = (i + 1) % n;
-    m.AddTriangle(0, 1 + i, 1 + j);
-    m.AddTriangle(1 + i, 1 + n + i, 1 + n + j);
-    m.AddTriangle(1 + i, 1 + n + j, 1 + j);
-  }
-  return m;
-}
-
 TEST(Fairing, AutomaticGoesOnWhereJacobiStopsShort)
 {
   // The fan's ring is a stiff chain (cotangents of about 300 along it): the
@@ -384,7 +359,7 @@ TEST(Fairing, AutomaticGoesOnWhereJacobiStopsShort)
   // solve after them); Automatic goes on from there with the algebraic
   // multigrid and ends where the algebraic multigrid alone ends, to the
   // tolerance.  (Order-1 steps up to 400 h^2 reach it with Jacobi here.)
-  Mesh disk = FannedDisk(2000);
+  Mesh disk = test::FannedDisk(2000);
   AddNormalNoise(disk, 0.003, 11, true);
   const double h = MeanEdgeLength(disk);
   FairingOptions o;

@@ -431,6 +431,39 @@ TEST(SurfaceGraphFlow, SmoothsDataOnASphereAndKeepsConstantsAndFixedPoints)
   EXPECT_LT(RMS(constant, constant0), 1e-9);
 }
 
+TEST(SurfaceGraphFlow, SemiImplicitSolvesReachTheirToleranceOrSaySo)
+{
+  // Data on a fan of 2,000 slivers round one point (test::FannedDisk), at
+  // the defaults (the least-risk stop, its solves to 1e-8): Jacobi alone
+  // stopped short of the tolerance in some of them, unsaid; the solves go
+  // on with the algebraic multigrid there.  With too few iterations for
+  // any solve, the result says so.
+  const test::Mesh disk = test::FannedDisk(2000);
+  const MeshTopology topo = disk.Topology();
+  const Index n = topo.NumberOfVertices();
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.1);
+  std::vector<double> values(n);
+  for (Index i = 0; i < n; ++i)
+  {
+    values[i] = disk.Points[3 * i] + noise(rng);
+  }
+  GraphFlowOptions o;
+  o.Integration = GraphFlowIntegration::SemiImplicit;
+  for (int most : { 500, 2 })
+  {
+    o.MaximumSolverIterations = most;
+    std::vector<double> f = values;
+    const GraphFlowResult r = RunSurfaceGraphFlow(topo, disk.Points.data(), 1, f.data(), nullptr, o);
+    ASSERT_EQ(r.Error, "");
+    std::printf("at most %d iterations a solve: %d steps, %d iterations, %s (largest residual %.3g)\n", most,
+      r.Iterations, r.SolverIterations, r.SolverConverged ? "converged" : "short", r.LargestSolverResidual);
+    EXPECT_GT(r.Iterations, 0);
+    EXPECT_EQ(r.SolverConverged, most == 500);
+    EXPECT_EQ(r.LargestSolverResidual > 0.0, most == 2);
+  }
+}
+
 TEST(LeastRiskStop, TheSemiImplicitProbeSolvesOnlyItsDifferenceToTheMainRun)
 {
   // The risk's probe differs from the data by 1% of the noise; its solves
