@@ -265,6 +265,22 @@ def turbine_disk(n=160, blades=12):
     return implicit_surface(distance, n)
 
 
+def octopus(n=160):
+    """A head with eight curling, tapering tentacles blended on (marching
+    cubes on an n^3 grid: an isosurface's irregular triangles)."""
+    def distance(x):
+        d = _ellipsoid(x, (0, 0, 0.5), (0.55, 0.55, 0.7))
+        for k in range(8):
+            a = 2 * math.pi * k / 8
+            centres = [np.array(((0.3 + s) * math.cos(a + 1.2 * s * s), (0.3 + s) * math.sin(a + 1.2 * s * s),
+                                 0.1 - 0.6 * s + 0.5 * s ** 3)) for s in np.linspace(0, 1, 9)]
+            for j in range(8):
+                d = _blend(d, _segment(x, centres[j], centres[j + 1], 0.16 * (1 - j / 8) + 0.02,
+                                       0.16 * (1 - (j + 1) / 8) + 0.02), 0.03)
+        return d
+    return implicit_surface(distance, n=n, extent=1.6)
+
+
 def hairy_sphere(n=64, hairs=100, length=0.5, seed=1):
     """A UV sphere with `hairs` of its vertices (the nearest to random
     directions) pulled out along them to 1 + `length`: needles one input

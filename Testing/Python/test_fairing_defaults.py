@@ -136,12 +136,17 @@ check(abs(r["estimated noise"] / 0.01 - 1) <= 0.15, "%s: the noise estimate with
 # found so where it stands out of the meshes' own irregular sampling, and
 # then brought as near the clean mesh as windowed sinc's best; below, taken
 # as noise along the normals, never further than the input; and noise along
-# the normals of an irregular mesh is not taken for isotropic noise.
+# the normals of an irregular mesh is not taken for isotropic noise (an
+# isosurface, shapes.octopus, at 0.1%: its sampling shows 1.11 times that
+# noise in the tangent planes; taken as isotropic, the umbrella left it 1.43
+# times further from the clean mesh than the input).
 for name, level, isotropic, found in (("bunny00.off", 0.003, True, True), ("bunny00.off", 0.01, True, True),
                                       ("holes.off", 0.01, True, True), ("mech-holes-shark.off", 0.01, True, True),
                                       ("bunny00.off", 0.001, True, False), ("fandisk.off", 0.003, True, False),
-                                      ("plane.off", 0.001, False, False), ("plane.off", 0.003, False, False)):
-    mesh = oracles.read_triangles(os.path.join(inputs.SHARED_MESHES, name))
+                                      ("plane.off", 0.001, False, False), ("plane.off", 0.003, False, False),
+                                      ("octopus", 0.001, False, False), ("octopus", 0.001, True, False)):
+    mesh = inputs.polydata(*inputs.octopus()) if name == "octopus" else \
+        oracles.read_triangles(os.path.join(inputs.SHARED_MESHES, name))
     r = oracles.case(mesh, level, isotropic=isotropic, own=False)
     label = "%s, %s noise %g%%" % (name, "isotropic" if isotropic else "normal", 100 * level)
     print("%s: input %.5f, defaults %.5f (step %.3g, tangential noise %.2f of the normal), windowed sinc %.5f"
