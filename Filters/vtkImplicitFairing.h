@@ -226,9 +226,11 @@ public:
   /// curvature flow plus the tangential part of the umbrella, which evens out the triangles
   /// (section 3.6), or Least Estimated Error (default): with the automatic time step, the curvature
   /// flow or the umbrella, whichever ends at the lower estimated error (field array
-  /// FairingOperator); with a given time step, the curvature flow. Values: 0 Umbrella, 1
-  /// Scale-Dependent Umbrella, 2 Curvature Flow, 3 Curvature Flow And Sampling, 4 Least Estimated
-  /// Error. Default: Least Estimated Error.
+  /// FairingOperator; where a search leaves the points as they are, their error is the larger of
+  /// the two noises the searches found: noise that one search saw more of is there for both); with
+  /// a given time step, the curvature flow. Values: 0 Umbrella, 1 Scale-Dependent Umbrella, 2
+  /// Curvature Flow, 3 Curvature Flow And Sampling, 4 Least Estimated Error. Default: Least
+  /// Estimated Error.
   vtkSetClampMacro(Operator, int, UMBRELLA, LEAST_ESTIMATED_ERROR);
   vtkGetMacro(Operator, int);
   /// Order of the operator (section 3.2.6): L^2 (default) is a sharper low-pass filter: it removes

@@ -554,6 +554,18 @@ def tube(radius=1.0, length=4.0, nu=256, nv=200):
     return swept(nu, nv, lambda t, v: (radius * np.cos(t), radius * np.sin(t), length * (v - 0.5)))
 
 
+def graded_plane(n=60):
+    """An open bumpy square (z = 0.05 sin 6x sin 6y) whose grid is graded as
+    the cube of its index: triangles a hundredfold smaller towards one
+    corner, where noise of 1% of the diagonal is hundreds of their edges."""
+    s = np.linspace(0.0, 1.0, n) ** 3
+    x, y = np.meshgrid(s, s, indexing="ij")
+    points = np.c_[x.ravel(), y.ravel(), (0.05 * np.sin(6 * x) * np.sin(6 * y)).ravel()]
+    a = (np.arange(n - 1)[:, None] * n + np.arange(n - 1)[None, :]).ravel()
+    triangles = np.r_[np.c_[a, a + n, a + n + 1], np.c_[a, a + n + 1, a + 1]]
+    return points, triangles
+
+
 def blade(nu=240, nv=500, span=5.0, chord=1.0, thickness=0.2, camber=0.15, twist=0.6):
     """A turbine-blade-like surface: a cambered, rounded section of the
     chord and thickness given, swept along z over the span and twisted by

@@ -224,6 +224,10 @@ struct FairingReport
   FairingOperator OperatorUsed = FairingOperator::CurvatureFlow; ///< the operator the run used
   double ChosenTimeStep = 0.0;
   double EstimatedError = 0.0;
+  /// The estimated error of leaving the points as they are (length): the
+  /// noise the step's risk used, over every direction it counts (the noise
+  /// estimate, or more where the risk of the best step showed more).
+  double InputError = 0.0;
   /// The sentences of the step's choice in Warning (a step at the search's
   /// end, a surface left as it is).
   std::string StepWarning;

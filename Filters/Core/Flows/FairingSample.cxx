@@ -289,8 +289,8 @@ double StepUnit(
 }
 
 /// The choice on the sample, as doubles: whether it ran, the operator, the
-/// step (in length units), the noise figures, the estimated error, the
-/// sample's points and the warning's characters.
+/// step (in length units), the noise figures, the estimated errors (of the
+/// step and of the input), the sample's points and the warning's characters.
 std::vector<double> ChooseOnSample(const Sample& s, const FairingOptions& options)
 {
   FairingOptions o = options;
@@ -303,7 +303,7 @@ std::vector<double> ChooseOnSample(const Sample& s, const FairingOptions& option
   const FairingReport r = FairSurface(*s.Topology, sample.data(), o, s.Constraints, nullptr, nullptr);
   std::vector<double> pack = { r.Error.empty() ? 1.0 : 0.0, static_cast<double>(r.OperatorUsed),
     r.ChosenTimeStep * StepUnit(*s.Topology, s.Points.data(), options, r.OperatorUsed, nullptr), r.Noise,
-    r.MedianDihedral, r.WiderNoise, r.LocalNoise, r.TangentialNoise, r.EstimatedError,
+    r.MedianDihedral, r.WiderNoise, r.LocalNoise, r.TangentialNoise, r.EstimatedError, r.InputError,
     static_cast<double>(s.Topology->NumberOfVertices()) };
   pack.insert(pack.end(), r.StepWarning.begin(), r.StepWarning.end());
   return pack;
@@ -369,8 +369,9 @@ std::optional<FairingReport> FairWithSampledSearch(const MeshTopology& topo, dou
   report.TangentialNoise = pack[7];
   report.ChosenTimeStep = o.TimeStep;
   report.EstimatedError = pack[8];
-  report.SampledPoints = static_cast<Index>(pack[9]);
-  for (auto c = pack.begin() + 10; c != pack.end(); ++c)
+  report.InputError = pack[9];
+  report.SampledPoints = static_cast<Index>(pack[10]);
+  for (auto c = pack.begin() + 11; c != pack.end(); ++c)
   {
     report.StepWarning.push_back(static_cast<char>(*c));
   }

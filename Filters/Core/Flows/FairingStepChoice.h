@@ -29,6 +29,7 @@ struct StepChoice
 {
   double TimeStep = 0.0;       ///< lambda*dt in the run's (physical) units; 0: leave the points
   double EstimatedError = 0.0; ///< RMS distance of the moving points to the noise-free ones, estimated
+  double InputError = 0.0;     ///< the same of the points left as they are (the input's risk)
   int Evaluations = 0;         ///< time steps tried
   bool ShapeDetail = false;    ///< left as it is: the estimated noise is mostly the shape's detail
   bool AtLimit = false;        ///< the step is the largest or smallest tried, and the risk still fell there
