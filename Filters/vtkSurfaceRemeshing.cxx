@@ -412,6 +412,10 @@ bool vtkSurfaceRemeshing::RemeshLayout(Run& run, bool sparserSeams)
   options.NumberOfVertices = this->NumberOfVertices;
   options.Metric = run.Metric.empty() ? nullptr : run.Metric.data();
   options.MetricGradation = this->Gradation > 0.0 ? 0.0 : 1.0;
+  if (this->Gradation > 0.0)
+  {
+    options.ImportanceGradation = 0.0; // (ImportanceFromValues graded it)
+  }
   // The first fifth of the rounds in the charts' planes, the rest stitching
   // across the seams on the surface (beltrami::RemeshOptimization).
   options.Iterations = this->Iterations / 5;

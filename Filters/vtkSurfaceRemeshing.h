@@ -193,10 +193,13 @@ public:
   vtkSetClampMacro(Gamma, double, 0.0, 10.0);
   vtkGetMacro(Gamma, double);
   /// Smooth gradation of the vertex density (section 4.3.1): the importance low-pass filtered over
-  /// the surface by the heat kernel of this standard deviation, in the surface's units (0: none). A
-  /// few mean edge lengths of the remesh calm a noisy curvature; the importance's integral is kept.
-  /// In the anisotropic mode, the metric's components are filtered so instead (0: over the remesh's
-  /// spacing). Default: 0.
+  /// the surface by the heat kernel of this standard deviation, in the surface's units (0: instead,
+  /// the importance is raised where the spacing it gives would grow faster than a fifth of the
+  /// distance, as mesh generators grade their sizes, so that the triangles grow gradually away from
+  /// a curvature's peaks at creases and rims rather than leave slivers between fine and coarse
+  /// ones; the peaks keep their density). A few mean edge lengths of the remesh calm a noisy
+  /// curvature; the importance's integral is kept. In the anisotropic mode, the metric's components
+  /// are filtered so instead (0: over the remesh's spacing). Default: 0.
   vtkSetClampMacro(Gradation, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(Gradation, double);
   /// The transfer function as a piecewise-linear function of x = |value| /

@@ -588,6 +588,23 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
   RemeshOptions round = options;
   round.Cache = cache;
   round.PinnedVertices = pinned.data();
+  // The importance graded once, for the first count: the rounds raise it
+  // where the remesh is far, spots that stay as raised.
+  if (!options.Metric && importance && options.ImportanceGradation > 0.0)
+  {
+    const std::vector<double> graded = GradedImportance(
+      topology, points, importance, count, options.ImportanceGradation, options.NumberOfThreads, *cache);
+    if (!graded.empty())
+    {
+      weight = graded;
+      integral = 0.0;
+      for (std::size_t v = 0; v < n; ++v)
+      {
+        integral += mass[v] * weight[v];
+      }
+    }
+  }
+  round.ImportanceGradation = 0.0;
   int failures = 0, stalled = 0, doublings = 0;
   double closest = HUGE_VAL;
   for (int r = 0; r < maximumRounds && !out.Met; ++r)

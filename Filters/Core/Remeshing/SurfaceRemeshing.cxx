@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <queue>
 #include <sstream>
 
 namespace beltrami
@@ -214,6 +215,61 @@ ImportanceResult ImportanceFromValues(const MeshTopology& topology, const double
   return out;
 }
 
+std::vector<double> GradedImportance(const MeshTopology& topology, const double* points, const double* importance,
+  std::int64_t count, double growth, int numThreads, RemeshCache& cache)
+{
+  const std::size_t n = static_cast<std::size_t>(topology.NumberOfVertices());
+  const auto [least, most] = std::minmax_element(importance, importance + n);
+  if (n == 0 || count <= 0 || !(growth > 0.0) || !(*most > *least) || !(*least > 0.0))
+  {
+    return {};
+  }
+  KeepCurvatures(topology, points, numThreads, cache);
+  const GraphLaplacian& graph = cache.SurfaceLaplacian;
+  double integral = 0.0;
+  for (std::size_t v = 0; v < n; ++v)
+  {
+    integral += graph.Mass[v] * importance[v];
+  }
+  // The spacing of equilateral triangles at the density count I / integral,
+  // lowered where a neighbour's plus growth times the distance is less
+  // (Dijkstra's order: each vertex final when it is the least left).
+  std::vector<double> spacing(n);
+  using Entry = std::pair<double, Index>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  for (std::size_t v = 0; v < n; ++v)
+  {
+    spacing[v] = std::sqrt(2.0 * integral / (std::sqrt(3.0) * static_cast<double>(count) * importance[v]));
+    queue.push({ spacing[v], static_cast<Index>(v) });
+  }
+  while (!queue.empty())
+  {
+    const auto [h, v] = queue.top();
+    queue.pop();
+    if (h > spacing[v])
+    {
+      continue; // (an entry superseded)
+    }
+    for (std::int64_t k = graph.Offsets[v]; k < graph.Offsets[v + 1]; ++k)
+    {
+      const Index w = graph.Neighbors[k];
+      const double reach = h + growth * (Point(points, w) - Point(points, v)).norm();
+      if (reach < spacing[w])
+      {
+        spacing[w] = reach;
+        queue.push({ reach, w });
+      }
+    }
+  }
+  std::vector<double> graded(n);
+  for (std::size_t v = 0; v < n; ++v)
+  {
+    graded[v] = 2.0 * integral / (std::sqrt(3.0) * static_cast<double>(count) * spacing[v] * spacing[v]);
+    graded[v] = std::isfinite(graded[v]) ? std::max(importance[v], graded[v]) : importance[v];
+  }
+  return graded;
+}
+
 std::vector<double> RaiseImportanceForSag(const MeshTopology& topology, const double* points,
   const double* importance, const std::vector<double>& maximumCurvature, const std::uint8_t* featureEdges,
   std::int64_t count, double sag, int numThreads, const GraphLaplacian* surfaceLaplacian)
@@ -362,6 +418,12 @@ RemeshResult RemeshOnce(const MeshTopology& topology, const double* points, cons
       density[v] *= std::max(0.0, importance[v]);
     }
     importance = density.data();
+  }
+  else if (importance && options.ImportanceGradation > 0.0)
+  {
+    density = GradedImportance(
+      topology, points, importance, options.NumberOfVertices, options.ImportanceGradation, options.NumberOfThreads, *cache);
+    importance = density.empty() ? importance : density.data();
   }
   if (options.MaximumSurfaceSag > 0.0)
   {

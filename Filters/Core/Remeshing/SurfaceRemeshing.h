@@ -73,6 +73,19 @@ struct RemeshOptions
   /// count (GradeMetric; 0: as given), so that its lengths grade from one
   /// region to the next at the remesh's own scale.
   double MetricGradation = 1.0;
+  /// Without a metric: the most a non-constant importance's spacing may
+  /// grow per unit of distance (GradedImportance; 0: as given), so that the
+  /// triangles grow gradually away from its peaks: a curvature's importance
+  /// jumps at creases and rims.  Mean curvature on fandisk at 2,000
+  /// vertices, its sharp edges kept: 42% of the triangles below 30 degrees
+  /// as given, 2.4% at 0.2 (12% at 0.5; the heat kernel over one spacing,
+  /// which lowers the peaks too, 1.5%).  Over the corpus and 28 generated
+  /// shapes at 2,000 and 10,000 (mean curvature), the remeshes below the
+  /// uniform mode's bar on triangles 48 -> 32 of 98, the deviation 0.93
+  /// times in geometric mean; at equal deviation the curvature modes' best
+  /// count on fandisk, the blade and the bunny 6%, 15% and -5% more (the
+  /// heat kernel: 7%, 44% and 17%).
+  double ImportanceGradation = 0.2;
   int NumberOfThreads = 0;
   RemeshCache* Cache = nullptr; ///< optional: kept between calls on the same surface and atlas (RemeshCache)
   /// Optional: the points of the surface the remesh must lie on, where the
@@ -164,6 +177,15 @@ std::vector<double> CurvatureValues(const MeshTopology& topology, const double* 
 /// converge.
 bool SmoothOverSurface(const MeshTopology& topology, const double* points, const GraphLaplacian& laplacian,
   double width, int steps, double tolerance, std::vector<double>& values, int numThreads, int columns = 1);
+
+/// A non-constant, positive `importance` (one per vertex) raised where the
+/// spacing it gives a remesh of `count` vertices would grow faster than
+/// `growth` times the distance along the surface's edges (a Lipschitz
+/// gradation of the sizes, as mesh generators grade theirs: MMG's -hgrad);
+/// never lowered, so the dense parts keep their density; empty where it is
+/// constant.  The cache's surface Laplacian gives the edges and areas.
+std::vector<double> GradedImportance(const MeshTopology& topology, const double* points, const double* importance,
+  std::int64_t count, double growth, int numThreads, RemeshCache& cache);
 
 /// How values per vertex become the importance (thesis section 4.3.1).
 struct ImportanceOptions
