@@ -312,7 +312,7 @@ int vtkBeltramiOperators::RunMeshSplit(vtkUnstructuredGrid* input, vtkUnstructur
   }
   const int axes[3] = { 0, 1, 2 };
   // (The piece's points: the ring's are dropped.)
-  WarnNonFiniteOperators(this, maps.AddTo(output, [](vtkIdType i) { return i; }, axes));
+  WarnNonFiniteOperators(this, maps.AddTo(output, [](vtkIdType i) { return i; }, axes) + r.OverflowVertices);
   AddReport(output->GetFieldData(), r);
   return 1;
 }
@@ -357,7 +357,7 @@ bool vtkBeltramiOperators::RunSurface(vtkBeltramiSurface& surface)
     return false;
   }
   const int axes[3] = { 0, 1, 2 };
-  WarnNonFiniteOperators(this, maps.AddTo(surface.Output(), [](vtkIdType o) { return o; }, axes));
+  WarnNonFiniteOperators(this, maps.AddTo(surface.Output(), [](vtkIdType o) { return o; }, axes) + r.OverflowVertices);
   AddReport(surface.Output()->GetFieldData(), r);
   return true;
 }
@@ -405,7 +405,7 @@ int vtkBeltramiOperators::RunMesh(vtkDataSet* input, vtkDataSet* output, vtkUnst
     return 0;
   }
   const int axes[3] = { 0, 1, 2 };
-  WarnNonFiniteOperators(this, maps.AddTo(output, [](vtkIdType i) { return i; }, axes));
+  WarnNonFiniteOperators(this, maps.AddTo(output, [](vtkIdType i) { return i; }, axes) + r.OverflowVertices);
   AddReport(output->GetFieldData(), r);
   return 1;
 }
@@ -455,7 +455,7 @@ int vtkBeltramiOperators::RunImage(vtkImageData* input, vtkImageData* output, co
     return vtkBeltramiGraphFlow::ExtentIndex(inExt, ijk);
   };
   const int axes[3] = { grid.Volume ? 0 : grid.Axis0, grid.Volume ? 1 : grid.Axis1, 2 };
-  WarnNonFiniteOperators(this, maps.AddTo(output, source, axes));
+  WarnNonFiniteOperators(this, maps.AddTo(output, source, axes) + r.OverflowVertices);
   AddReport(output->GetFieldData(), r);
   return 1;
 }

@@ -8,6 +8,7 @@
 #include "Mesh/Tetrahedra.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -343,6 +344,7 @@ GraphOperatorReport ComputeVolumeGraphOperators(const VoxelGrid& grid, int compo
   std::unique_ptr<TetrahedralMesh> mesh;
   Index builtPlanes = 0;
   const double cell = sx * sy * sz;
+  std::atomic<Index> overflowed{ 0 };
   for (std::int64_t z0 = 0; z0 < grid.Depth; z0 += slab)
   {
     const Index planes = static_cast<Index>(std::min<std::int64_t>(slab, grid.Depth - z0) + 2);
@@ -379,6 +381,7 @@ GraphOperatorReport ComputeVolumeGraphOperators(const VoxelGrid& grid, int compo
         if (!(mass > 0.0))
         {
           writer.Undefined(o);
+          ++overflowed; // (a voxel's own volume is positive)
           continue;
         }
         for (int a = 0; a < n; ++a)
@@ -389,6 +392,7 @@ GraphOperatorReport ComputeVolumeGraphOperators(const VoxelGrid& grid, int compo
       }
     });
   }
+  report.OverflowVertices = overflowed;
   return report;
 }
 
@@ -462,6 +466,7 @@ GraphOperatorReport SurfaceGraphOperatorsAtScale(const MeshTopology& topology, c
     if (split && report.Error.empty())
     {
       report.UndefinedVertices = static_cast<Index>(split->Sum(0.0)); // the other processes' sum
+      report.OverflowVertices = static_cast<Index>(split->Sum(0.0));
     }
     return report;
   }
@@ -471,18 +476,21 @@ GraphOperatorReport SurfaceGraphOperatorsAtScale(const MeshTopology& topology, c
   ComputeBeltramiOperator(topology, embedded.data(), n, n, kn.data(), area.data(), defect.data(), threads);
   ComputeBeltramiOperator(topology, points, 3, 3, nullptr, base.data(), nullptr, threads);
   const Writer writer(outputs, 3, components, alpha, 2);
-  double undefined = 0.0; // (split: at owned rows)
+  double undefined = 0.0, overflowed = 0.0; // (split: at owned rows)
   for (Index i = 0; i < size; ++i)
   {
     if (unusable[i] || !(area[i] > 0.0) || !(base[i] > 0.0))
     {
       writer.Undefined(i);
-      undefined += !split || split->IsOwned(i);
+      const bool owned = !split || split->IsOwned(i);
+      undefined += owned;
+      overflowed += owned && !unusable[i] && base[i] > 0.0; // (the data's doing: the surface has area there)
       continue;
     }
     writer.Defined(i, &kn[static_cast<std::size_t>(i) * n], defect[i] / area[i], base[i] / area[i]);
   }
   report.UndefinedVertices = static_cast<Index>(split ? split->Sum(undefined) : undefined);
+  report.OverflowVertices = static_cast<Index>(split ? split->Sum(overflowed) : overflowed);
   return report;
 }
 
@@ -507,6 +515,7 @@ GraphOperatorReport ComputeTetrahedralGraphOperators(const TetrahedralMesh& mesh
     if (split && report.Error.empty())
     {
       report.UndefinedVertices = static_cast<Index>(split->Sum(0.0)); // the other processes' sum
+      report.OverflowVertices = static_cast<Index>(split->Sum(0.0));
     }
     return report;
   }
@@ -518,14 +527,16 @@ GraphOperatorReport ComputeTetrahedralGraphOperators(const TetrahedralMesh& mesh
   std::vector<double> kx(embedded.size()), k(n);
   graph.ApplyStiffness(embedded.data(), kx.data(), n, threads);
   const Writer writer(outputs, 3, components, alpha, 3);
-  double undefined = 0.0; // (split: at owned rows)
+  double undefined = 0.0, overflowed = 0.0; // (split: at owned rows)
   for (Index i = 0; i < size; ++i)
   {
     const double mass = graph.Mass[i];
     if (boundary[i] || !(mass > 0.0) || !(base.Mass[i] > 0.0))
     {
       writer.Undefined(i);
-      undefined += !split || split->IsOwned(i);
+      const bool owned = !split || split->IsOwned(i);
+      undefined += owned;
+      overflowed += owned && !boundary[i] && base.Mass[i] > 0.0; // (the data's doing: the mesh has volume there)
       continue;
     }
     for (int a = 0; a < n; ++a)
@@ -535,6 +546,7 @@ GraphOperatorReport ComputeTetrahedralGraphOperators(const TetrahedralMesh& mesh
     writer.Defined(i, k.data(), std::numeric_limits<double>::quiet_NaN(), base.Mass[i] / mass);
   }
   report.UndefinedVertices = static_cast<Index>(split ? split->Sum(undefined) : undefined);
+  report.OverflowVertices = static_cast<Index>(split ? split->Sum(overflowed) : overflowed);
   return report;
 }
 

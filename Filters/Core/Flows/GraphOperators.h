@@ -69,6 +69,10 @@ struct GraphOperatorReport
   double NoiseLevel = 0.0;           ///< sigma behind an automatic alpha (given or estimated)
   double EstimatedNoiseLevel = 0.0;  ///< from the data (0 when not needed or too small)
   Index UndefinedVertices = 0;       ///< meshes: NaN written (boundary, non-manifold, no measure)
+  /// Points (of the undefined ones, on meshes) where the data's graph has
+  /// no finite measure though the domain's has: data so large (beyond about
+  /// 1e150) that the graph metric's squares overflow.  NaN written.
+  Index OverflowVertices = 0;
 };
 
 /// `components` (1 to 6) interleaved values per pixel, row-major.
