@@ -389,11 +389,13 @@ std::vector<double> DenoisedLayout(const MeshTopology& topology, const double* p
 /// spacing, with the count raised in proportion (by a tenth at least), so
 /// that the density elsewhere stays, and the input's vertices farthest
 /// from it are pinned (SamplingOptions::PinnedVertices); where two rounds
-/// in a row bring the remesh no closer, the count is doubled instead (twice
-/// at most); with a metric (options.Metric), whose lengths keep the
-/// deviation even, the count alone is raised, by the ratio of the deviation
-/// to 0.85 of the bound, and the farthest input vertices are pinned.  At
-/// most `maximumRounds` remeshes, fewer where the doubled
+/// in a row bring the remesh no closer, the count is raised everywhere
+/// instead, by the square of the deviation over the bound, a quarter more
+/// to twice (twice at most); with a metric (options.Metric), whose lengths
+/// keep the deviation even, the count alone is raised, by the ratio of the
+/// deviation to 0.85 of the bound, and the farthest input vertices are
+/// pinned.  The importance is graded once first (ImportanceGradation).  At
+/// most `maximumRounds` remeshes, fewer where the raised
 /// counts do not help either or the count reaches
 /// MostVerticesPerInputVertex times the input's vertices.  The result is
 /// the last remesh; Rounds and Met say how it went.
