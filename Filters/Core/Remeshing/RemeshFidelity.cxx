@@ -563,13 +563,6 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
   const LargeVector<double>& mass = cache->SurfaceLaplacian.Mass;
   const double diagonal = UsedBoundingBoxDiagonal(points, topology.TriangleList().data(), topology.NumberOfTriangles());
   const double bound = maximumDeviation * diagonal;
-  std::vector<double> weight(n, 1.0);
-  double integral = 0.0; // of the weight over the surface
-  for (std::size_t v = 0; v < n; ++v)
-  {
-    weight[v] = importance ? importance[v] : 1.0;
-    integral += mass[v] * weight[v];
-  }
   std::int64_t count = options.NumberOfVertices;
   if (count <= 0)
   {
@@ -580,6 +573,20 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
       CountForDeviation(mass,
         options.Metric ? MetricDensities(options.Metric, static_cast<Index>(n)) : cache->MaximumCurvature, bound));
   }
+  // The importance, graded once for the first count (ImportanceGradation):
+  // the rounds raise it where the remesh is far, spots that stay as raised.
+  std::vector<double> weight = !options.Metric && importance
+    ? GradedImportance(topology, points, importance, count, options.ImportanceGradation, options.NumberOfThreads, *cache)
+    : std::vector<double>();
+  if (weight.empty())
+  {
+    weight = importance ? std::vector<double>(importance, importance + n) : std::vector<double>(n, 1.0);
+  }
+  double integral = 0.0; // of the weight over the surface
+  for (std::size_t v = 0; v < n; ++v)
+  {
+    integral += mass[v] * weight[v];
+  }
   const InputScales input{ MeanEdgeLength(topology, points), MeanEdgeAtVertices(topology, points),
     std::accumulate(mass.begin(), mass.end(), 0.0) };
   // The input's grid, once for every round (its triangles stay).
@@ -588,22 +595,6 @@ DeviationRemeshResult RemeshToDeviation(const MeshTopology& topology, const doub
   RemeshOptions round = options;
   round.Cache = cache;
   round.PinnedVertices = pinned.data();
-  // The importance graded once, for the first count: the rounds raise it
-  // where the remesh is far, spots that stay as raised.
-  if (!options.Metric && importance && options.ImportanceGradation > 0.0)
-  {
-    const std::vector<double> graded = GradedImportance(
-      topology, points, importance, count, options.ImportanceGradation, options.NumberOfThreads, *cache);
-    if (!graded.empty())
-    {
-      weight = graded;
-      integral = 0.0;
-      for (std::size_t v = 0; v < n; ++v)
-      {
-        integral += mass[v] * weight[v];
-      }
-    }
-  }
   round.ImportanceGradation = 0.0;
   int failures = 0, stalled = 0, doublings = 0;
   double closest = HUGE_VAL;
