@@ -34,7 +34,9 @@ Gaussian noise of 0, 0.1%, 0.3% and 1% of the diagonal along the normals
     is never below 0.85 of the noise (the detail adds to it);
   - noise hundreds of times larger than the triangles of part of a surface
     (a plane graded a hundredfold, at 1%) is smoothed, to within 10% of
-    windowed sinc's best.
+    windowed sinc's best;
+  - needles one vertex wide (a hairy sphere) are not taken for noise: never
+    further than the input, smoothed at 0.1% and 0.3%.
 
 Prints one row per case."""
 import os
@@ -174,5 +176,22 @@ print("graded plane, normal noise 1%%: input %.5f, defaults %.5f (step %.3g), wi
 check(r["defaults"] <= 0.5 * r["input"], "graded plane at 1%%: smoothed (%.2f of the input)" % (r["defaults"] / r["input"]))
 check(r["defaults"] <= 1.1 * r["sinc best"], "graded plane at 1%%: within 10%% of windowed sinc's best (%.3f)"
       % (r["defaults"] / r["sinc best"]))
+# Needles one input vertex wide (shapes.hairy_sphere: 100 of them on a
+# sphere, each 8.6 mean edge lengths long) look like outliers of the noise
+# to cross-validation: at 1% of the diagonal its own estimate of the noise,
+# with the needles' shrinking counted as noise, was 1.48 times the added
+# noise, the needles were flattened and the mesh ended 1.08 times as far
+# from the clean one as the input.  Its estimate counts the moves of white
+# noise only (not those 32-64 times the median move): left as it is.
+mesh = inputs.polydata(*inputs.hairy_sphere())
+for level in (0.001, 0.003, 0.01):
+    r = oracles.case(mesh, level, own=False)
+    label = "hairy sphere, normal noise %g%%" % (100 * level)
+    print("%s: input %.5f, defaults %.5f (step %.3g), windowed sinc %.5f"
+          % (label, r["input"], r["defaults"], r["step"], r["sinc best"]))
+    check(r["defaults"] <= r["input"] * (1 + 1e-9), "%s: no further from the clean mesh than the input" % label)
+    if level < 0.01:
+        check(r["defaults"] <= 0.8 * r["input"] and r["defaults"] < r["sinc best"],
+              "%s: smoothed, nearer than windowed sinc's best (%.2f of the input)" % (label, r["defaults"] / r["input"]))
 print("%d check(s) failed" % len(failures) if failures else "fairing defaults test passed")
 sys.exit(1 if failures else 0)

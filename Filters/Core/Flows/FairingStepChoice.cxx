@@ -6,6 +6,7 @@
 #include "Solvers/SparseGraph.h"
 
 #include <algorithm>
+#include <array>
 #include <utility>
 #include <cmath>
 #include <limits>
@@ -51,6 +52,15 @@ std::vector<double> PerturbedAlongNormals(const std::vector<double>& normals, co
   return perturbed;
 }
 
+/// The octaves of a point's |f(x)_i - x_i|^2 over the mean of all that
+/// RiskTerms counts (from 2^-MoveOctaves/2 of the mean; the last open).
+constexpr int MoveOctaves = 64;
+
+/// Octaves above the median's that RiskNoise still counts as noise (a
+/// point's move 32-64 times the median move: white noise's square moves
+/// lie beyond in one case of 10^4).
+constexpr int NoiseOctaves = 5;
+
 /// The sums of the risk over the moving points this process owns (and over
 /// the processes): |f(x) - x|^2, the divergence, the points, and the
 /// probe's |perturbed - x|^2 / epsilon^2 (the same estimate of the trace of
@@ -59,6 +69,9 @@ struct RiskTerms
 {
   double Moved = 0.0, Divergence = 0.0, Points = 0.0, Probe = 0.0;
   bool Defined = true;
+  /// The points' |f(x)_i - x_i|^2 by octave of their ratio to the mean
+  /// (MoveOctaves): how many in each, and their sum.
+  std::array<double, 2 * MoveOctaves> Octaves{};
 };
 
 /// Where the next runs from x and from the perturbed points start
@@ -70,11 +83,37 @@ struct RunStarts
 
 /// The deviation of the noise, per direction, that cross-validation's
 /// terms imply: |f(x) - x|^2 over the trace of the identity less f's (the
-/// residual's expected part of white noise; Wahba 1990, 4.7).
+/// residual's expected part of white noise; Wahba 1990, 4.7), of the
+/// points whose moves are white noise's: those more than NoiseOctaves
+/// octaves above the median move are the shape's outliers (needles one
+/// vertex wide, which every step shrinks), and the trace is taken in
+/// proportion to the points counted.  On a sphere with 100 such needles
+/// and noise of 1% of the diagonal along the normals, the needles' moves
+/// were half of |f(x) - x|^2 at the chosen step and took the estimate to
+/// 1.48 times the added noise, and the step that flattened them left the
+/// mesh 1.08 times as far from the clean one as the input; without them
+/// 1.0 times, and the mesh is left as it is.  Over the corpus with noise
+/// along the normals or in every direction (150 cases) and 16 other
+/// generated shapes with noise along the normals (48), nothing else changes.
 double RiskNoise(const RiskTerms& t)
 {
   const double freedom = t.Probe - t.Divergence;
-  return t.Defined && freedom > 0.0 ? std::sqrt(t.Moved / freedom) : 0.0;
+  if (!t.Defined || !(freedom > 0.0) || !(t.Points > 0.0))
+  {
+    return 0.0;
+  }
+  int median = 0;
+  for (double below = t.Octaves[0]; below < 0.5 * t.Points && median + 1 < MoveOctaves;)
+  {
+    below += t.Octaves[++median];
+  }
+  double points = 0.0, moved = 0.0;
+  for (int k = 0; k <= std::min(median + NoiseOctaves, MoveOctaves - 1); ++k)
+  {
+    points += t.Octaves[k];
+    moved += t.Octaves[MoveOctaves + k];
+  }
+  return points > 0.0 ? std::sqrt(moved / (freedom * points / t.Points)) : 0.0;
 }
 
 RiskTerms TermsAt(const SmoothingRun& run, const std::vector<double>& x, const std::vector<double>& perturbed,
@@ -105,7 +144,23 @@ RiskTerms TermsAt(const SmoothingRun& run, const std::vector<double>& x, const s
   {
     s = split ? split->Sum(s) : s;
   }
-  return { sums[0], sums[1], sums[2], sums[3], true };
+  RiskTerms terms{ sums[0], sums[1], sums[2], sums[3], true };
+  const double mean = sums[2] > 0.0 ? sums[0] / sums[2] : 0.0;
+  for (std::size_t i = 0; mean > 0.0 && i < moving.size(); ++i)
+  {
+    if (moving[i] && (!split || split->IsOwned(static_cast<Index>(i))))
+    {
+      const double move = (Point(f.data(), static_cast<Index>(i)) - Point(x.data(), static_cast<Index>(i))).squaredNorm();
+      const int octave = move > 0.0 ? std::clamp(std::ilogb(move / mean) + MoveOctaves / 2, 0, MoveOctaves - 1) : 0;
+      terms.Octaves[octave] += 1.0;
+      terms.Octaves[MoveOctaves + octave] += move;
+    }
+  }
+  if (split)
+  {
+    split->Sum(terms.Octaves.data(), 2 * MoveOctaves);
+  }
+  return terms;
 }
 
 /// A warning of the step's choice: to the run's warnings and the report's
