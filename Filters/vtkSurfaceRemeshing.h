@@ -217,8 +217,10 @@ public:
   /// crosses the input's edges at a slant is sharp on only some of them: the ends of its fragments
   /// are joined along the sharpest edges above half the Feature Angle where the path is no longer
   /// than the remesh's spacing, and dangling runs still shorter than the spacing are not kept; with
-  /// Maximum Deviation every run is kept as it is. A triangle turned over against two of its
-  /// neighbours (a fold of the input, not a crease) makes no sharp edge. Default: off.
+  /// Maximum Deviation every run is kept as it is. A line whose crease fades out is continued along
+  /// the sharpest edges above half the Feature Angle that turn it by at most 30 degrees. A triangle
+  /// turned over against two of its neighbours (a fold of the input, not a crease) makes no sharp
+  /// edge. Default: off.
   vtkSetMacro(SplitAtFeatures, bool);
   vtkGetMacro(SplitAtFeatures, bool);
   vtkBooleanMacro(SplitAtFeatures, bool);

@@ -370,6 +370,10 @@ AtlasResult BuildAtlas(const MeshTopology& topology, const double* points, const
     result.FeatureEdges = SharpEdges(topology, points, options.FeatureAngle);
     BridgeFeatureGaps(topology, points, 0.5 * options.FeatureAngle, options.LongestFeatureGap, result.FeatureEdges);
     DropShortFeatureChains(topology, points, options.MinimumFeatureLength, result.FeatureEdges);
+    if (options.MostFeatureTurn > 0.0)
+    {
+      ExtendFeatureEnds(topology, points, 0.5 * options.FeatureAngle, options.MostFeatureTurn, result.FeatureEdges);
+    }
     cut = result.FeatureEdges;
   }
   if (!options.SeamLabels.empty())

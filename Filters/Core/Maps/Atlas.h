@@ -54,6 +54,10 @@ struct AtlasOptions
   /// cross at a slant shows as fragments a few edges long, each of which
   /// would split a chart.  0: every sharp edge is one.
   double MinimumFeatureLength = 0.0;
+  /// Feature lines continued where their crease fades out, along edges
+  /// sharper than half the FeatureAngle that turn them by at most this many
+  /// degrees (ExtendFeatureEnds; 0: not continued).
+  double MostFeatureTurn = 0.0;
   /// Fragments of a crease joined (BridgeFeatureGaps: paths up to this long
   /// along edges sharper than half the FeatureAngle) before short chains
   /// are dropped.  0: none.

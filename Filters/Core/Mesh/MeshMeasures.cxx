@@ -462,6 +462,67 @@ std::int64_t BridgeFeatureGaps(const MeshTopology& topo, const double* x, double
   return added;
 }
 
+std::int64_t ExtendFeatureEnds(const MeshTopology& topo, const double* x, double weakAngleDegrees,
+  double mostTurnDegrees, std::vector<std::uint8_t>& features)
+{
+  const MeshTopology::EdgeTable& e = topo.Edges();
+  const Index n = topo.NumberOfVertices();
+  const double weak = std::cos(weakAngleDegrees * M_PI / 180.0);
+  const double straight = std::cos(mostTurnDegrees * M_PI / 180.0);
+  const std::vector<double> dihedral = DihedralCosines(topo, x);
+  std::vector<int> degree(n, 0);
+  for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
+  {
+    degree[e.Vertices[2 * k]] += features[k];
+    degree[e.Vertices[2 * k + 1]] += features[k];
+  }
+  const auto other = [&](std::int64_t k, Index v) { return e.Vertices[2 * k] == v ? e.Vertices[2 * k + 1] : e.Vertices[2 * k]; };
+  std::int64_t added = 0;
+  std::vector<Index> ends;
+  for (Index v = 0; v < n; ++v)
+  {
+    if (degree[v] == 1)
+    {
+      ends.push_back(v);
+    }
+  }
+  for (Index v : ends)
+  {
+    std::int64_t last = -1; // the line's edge at v
+    for (std::int64_t i = e.NeighborOffsets[v]; i < e.NeighborOffsets[v + 1]; ++i)
+    {
+      last = features[e.NeighborEdges[i]] ? e.NeighborEdges[i] : last;
+    }
+    while (degree[v] == 1 && last >= 0)
+    {
+      const Vec3 along = (Point(x, v) - Point(x, other(last, v))).normalized();
+      std::int64_t best = -1;
+      for (std::int64_t i = e.NeighborOffsets[v]; i < e.NeighborOffsets[v + 1]; ++i)
+      {
+        const std::int64_t k = e.NeighborEdges[i];
+        const Index w = other(k, v);
+        if (!features[k] && dihedral[k] < weak && degree[w] == 0 &&
+          (Point(x, w) - Point(x, v)).normalized().dot(along) >= straight &&
+          (best < 0 || dihedral[k] < dihedral[best]))
+        {
+          best = k;
+        }
+      }
+      if (best < 0)
+      {
+        break;
+      }
+      features[best] = 1;
+      ++degree[v];
+      ++degree[other(best, v)];
+      ++added;
+      v = other(best, v);
+      last = best;
+    }
+  }
+  return added;
+}
+
 std::int64_t DropShortFeatureChains(
   const MeshTopology& topo, const double* x, double minimumLength, std::vector<std::uint8_t>& features)
 {

@@ -83,6 +83,18 @@ constexpr double MostFoldAngle = 150.0;
 /// added.
 std::int64_t BridgeFeatureGaps(const MeshTopology& topology, const double* points, double weakAngleDegrees,
   double longestGap, std::vector<std::uint8_t>& features);
+/// Extends each dangling feature line of `features` (1 per edge of
+/// topology.Edges(); an end: a vertex with one feature edge) where its
+/// crease fades out: along the sharpest edge above `weakAngleDegrees` at
+/// each vertex that turns the line by at most `mostTurnDegrees`, up to the
+/// first edge below that angle or a vertex of another line (hysteresis:
+/// the weak edges that continue a strong line are part of it).  fandisk's
+/// crease that ends at 60 degrees runs on for seven edges, its dihedral
+/// angle falling by about 4 degrees an edge to 30; a remesh whose line
+/// stopped at 60 cut it there by 0.17 of its spacing at 10,000 vertices.
+/// Returns the number of edges added.
+std::int64_t ExtendFeatureEnds(const MeshTopology& topology, const double* points, double weakAngleDegrees,
+  double mostTurnDegrees, std::vector<std::uint8_t>& features);
 /// Drops from `features` (1 per edge of topology.Edges()) the dangling
 /// chains shorter than `minimumLength`: runs of feature edges from an end
 /// (a vertex with one feature edge) to the next vertex with other than two,

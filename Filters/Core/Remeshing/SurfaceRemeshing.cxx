@@ -42,6 +42,14 @@ AtlasOptions RemeshingAtlasOptions(double spacing)
   options.MeasureDistortion = false;
   options.MinimumFeatureLength = spacing;
   options.LongestFeatureGap = spacing;
+  // (Creases that fade out followed to half the feature angle: fandisk's
+  // remesh at 10,000 vertices cut one 0.19% of the diagonal from the input,
+  // CGAL's 0.17%; followed 0.14%.  Over the corpus's CAD parts and the
+  // generated ones at 2,000 and 10,000 vertices, the larger of the two
+  // deviations 0.90 times as large in geometric mean (0.69-1.0), none
+  // further; 15 or 45 degrees of turn instead of 30 changed single cases
+  // either way.)
+  options.MostFeatureTurn = 30.0;
   return options;
 }
 

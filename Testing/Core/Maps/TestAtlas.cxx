@@ -614,6 +614,58 @@ TEST(Atlas, CreaseFragmentsJoined)
     "roof: %d ends of crease fragments inside, %lld edges added\n", endsBefore, static_cast<long long>(added));
 }
 
+TEST(Atlas, CreasesThatFadeOutAreFollowed)
+{
+  // A roof on a 40 x 40 grid, z = s(x) |y - 1/2| with the slope s falling
+  // from 1 at x = 0 to 0 at x = 1: its crease along y = 1/2 bends by
+  // 2 atan(s), 90 degrees at x = 0, 60 at x = 0.42, 30 at x = 0.73.  The
+  // edges sharper than 60 degrees stop at 0.42; continued along edges
+  // sharper than 30 that turn the line by at most 30 degrees, the line
+  // runs on to 0.73, on the crease only (the hysteresis of Canny's edge
+  // detector).
+  constexpr int n = 40;
+  Mesh roof;
+  for (int i = 0; i <= n; ++i)
+  {
+    for (int j = 0; j <= n; ++j)
+    {
+      const double x = double(i) / n, y = double(j) / n;
+      roof.AddPoint(Eigen::Vector3d(x, y, (1.0 - x) * std::abs(y - 0.5)));
+    }
+  }
+  for (int i = 0; i < n; ++i)
+  {
+    for (int j = 0; j < n; ++j)
+    {
+      const Index a = i * (n + 1) + j, b = a + n + 1;
+      roof.AddTriangle(a, b, b + 1);
+      roof.AddTriangle(a, b + 1, a + 1);
+    }
+  }
+  const MeshTopology topology = roof.Topology();
+  const MeshTopology::EdgeTable& e = topology.Edges();
+  std::vector<std::uint8_t> features = SharpEdges(topology, roof.Points.data(), 60.0);
+  // (the largest x of the crease's feature edges; none off the crease)
+  const auto reach = [&](const std::vector<std::uint8_t>& f) {
+    double farthest = 0.0;
+    for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
+    {
+      const Eigen::Vector3d a = roof.Point(e.Vertices[2 * k]), b = roof.Point(e.Vertices[2 * k + 1]);
+      EXPECT_TRUE(!f[k] || (std::abs(a[1] - 0.5) < 1e-12 && std::abs(b[1] - 0.5) < 1e-12)) << k;
+      farthest = f[k] ? std::max({ farthest, a[0], b[0] }) : farthest;
+    }
+    return farthest;
+  };
+  const double before = reach(features);
+  EXPECT_NEAR(before, 0.42, 0.03);
+  const std::int64_t added = ExtendFeatureEnds(topology, roof.Points.data(), 30.0, 30.0, features);
+  EXPECT_NEAR(reach(features), 0.73, 0.03);
+  EXPECT_EQ(added, std::lround((reach(features) - before) * n)); // (one edge a cell)
+  // Extended again, nothing changes: the line's end is where the crease is
+  // below 30 degrees.
+  EXPECT_EQ(ExtendFeatureEnds(topology, roof.Points.data(), 30.0, 30.0, features), 0);
+}
+
 TEST(Atlas, CapsAndFoldsHaveNoSharpEdges)
 {
   // A triangle folded back between its neighbours (its normal opposite

@@ -550,11 +550,12 @@ TEST(SurfaceRemeshing, SharpEdgesOfACadPartAreReproduced)
         static_cast<long long>(count), features ? "kept" : "off", 100.0 * distance);
       if (features)
       {
-        // (0.097-0.124% at both counts: the remesh follows the last bits of
+        // (0.097-0.128% at both counts: the remesh follows the last bits of
         // the solves, which differ between CPUs' BLAS kernels: 0.111% at
         // 10k on one x86-64 CPU, 0.105% on another, 0.124% with OpenBLAS's
-        // generic x86-64 kernels)
-        EXPECT_LE(distance, 0.0013) << count;
+        // generic x86-64 kernels; 0.128% there with the creases continued
+        // where they fade out)
+        EXPECT_LE(distance, 0.0014) << count;
         const RemeshResult straight = RemeshWith(loaded, count, nullptr, features, 0.0);
         const RemeshResult strict = RemeshWith(loaded, count, nullptr, features, 0.025);
         const double cut = MaxDistanceToSurface(creases, straight.Points, straight.Triangles, 0.02 * diagonal) / diagonal;
@@ -563,12 +564,16 @@ TEST(SurfaceRemeshing, SharpEdgesOfACadPartAreReproduced)
           100.0 * cut, 100.0 * tight);
         EXPECT_LE(distance, cut) << count;
         EXPECT_GT(cut, 1.2 * tight) << count;
-        // A remesh vertex on every crease's end (a vertex with one sharp edge).
+        // A remesh vertex on every crease's end (a vertex with one sharp
+        // edge), where the crease fades out below half the feature angle
+        // (ExtendFeatureEnds: two of fandisk's ends at 60 degrees move).
+        std::vector<std::uint8_t> lines = sharp;
+        EXPECT_GT(ExtendFeatureEnds(loaded.Topology, loaded.Points(), 30.0, 30.0, lines), 0);
         std::vector<int> sharpAt(loaded.Topology.NumberOfVertices(), 0);
-        for (std::size_t e = 0; e < sharp.size(); ++e)
+        for (std::size_t e = 0; e < lines.size(); ++e)
         {
-          sharpAt[loaded.Topology.Edges().Vertices[2 * e]] += sharp[e];
-          sharpAt[loaded.Topology.Edges().Vertices[2 * e + 1]] += sharp[e];
+          sharpAt[loaded.Topology.Edges().Vertices[2 * e]] += lines[e];
+          sharpAt[loaded.Topology.Edges().Vertices[2 * e + 1]] += lines[e];
         }
         int ends = 0;
         for (Index v = 0; v < loaded.Topology.NumberOfVertices(); ++v)
