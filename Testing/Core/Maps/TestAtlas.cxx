@@ -108,6 +108,32 @@ void ExpectValidAtlas(const Mesh& mesh, const AtlasResult& atlas, const char* na
     100.0 * atlas.PackingEfficiency);
 }
 
+/// The unit square on an n x n grid (two triangles a cell), lifted to the
+/// height z(x, y).
+template <typename Height>
+Mesh HeightGrid(int n, Height&& z)
+{
+  Mesh grid;
+  for (int i = 0; i <= n; ++i)
+  {
+    for (int j = 0; j <= n; ++j)
+    {
+      const double x = double(i) / n, y = double(j) / n;
+      grid.AddPoint(Eigen::Vector3d(x, y, z(x, y)));
+    }
+  }
+  for (int i = 0; i < n; ++i)
+  {
+    for (int j = 0; j < n; ++j)
+    {
+      const Index a = i * (n + 1) + j, b = a + n + 1;
+      grid.AddTriangle(a, b, b + 1);
+      grid.AddTriangle(a, b + 1, a + 1);
+    }
+  }
+  return grid;
+}
+
 } // namespace
 
 TEST(Atlas, ClosedSurfacesOfGenusZeroOneAndTwo)
@@ -558,24 +584,7 @@ TEST(Atlas, CreaseFragmentsJoined)
   const auto across = [&](double x, double y) {
     return x * std::sin(slant) - y * std::cos(slant) + 0.5 * (std::cos(slant) - std::sin(slant)) + 0.013;
   };
-  Mesh roof;
-  for (int i = 0; i <= n; ++i)
-  {
-    for (int j = 0; j <= n; ++j)
-    {
-      const double x = double(i) / n, y = double(j) / n;
-      roof.AddPoint(Eigen::Vector3d(x, y, 1.5 * std::abs(across(x, y))));
-    }
-  }
-  for (int i = 0; i < n; ++i)
-  {
-    for (int j = 0; j < n; ++j)
-    {
-      const Index a = i * (n + 1) + j, b = a + n + 1;
-      roof.AddTriangle(a, b, b + 1);
-      roof.AddTriangle(a, b + 1, a + 1);
-    }
-  }
+  const Mesh roof = HeightGrid(n, [&](double x, double y) { return 1.5 * std::abs(across(x, y)); });
   const MeshTopology topology = roof.Topology();
   const MeshTopology::EdgeTable& e = topology.Edges();
   // (vertices with one feature edge inside the grid, with three or more)
@@ -624,24 +633,7 @@ TEST(Atlas, CreasesThatFadeOutAreFollowed)
   // runs on to 0.73, on the crease only (the hysteresis of Canny's edge
   // detector).
   constexpr int n = 40;
-  Mesh roof;
-  for (int i = 0; i <= n; ++i)
-  {
-    for (int j = 0; j <= n; ++j)
-    {
-      const double x = double(i) / n, y = double(j) / n;
-      roof.AddPoint(Eigen::Vector3d(x, y, (1.0 - x) * std::abs(y - 0.5)));
-    }
-  }
-  for (int i = 0; i < n; ++i)
-  {
-    for (int j = 0; j < n; ++j)
-    {
-      const Index a = i * (n + 1) + j, b = a + n + 1;
-      roof.AddTriangle(a, b, b + 1);
-      roof.AddTriangle(a, b + 1, a + 1);
-    }
-  }
+  const Mesh roof = HeightGrid(n, [](double x, double y) { return (1.0 - x) * std::abs(y - 0.5); });
   const MeshTopology topology = roof.Topology();
   const MeshTopology::EdgeTable& e = topology.Edges();
   std::vector<std::uint8_t> features = SharpEdges(topology, roof.Points.data(), 60.0);
