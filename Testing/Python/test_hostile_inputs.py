@@ -47,6 +47,8 @@ def filters():
         "remeshing": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=300), ("surface",)),
         "remeshing-anisotropic": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=300, Anisotropy=1),
                                   ("surface",)),
+        "remeshing-sharp-edges": (inputs.filter_with(b.vtkSurfaceRemeshing, NumberOfVertices=300, SplitAtFeatures=True),
+                                  ("surface",)),
         "line-drawing": (inputs.filter_with(b.vtkSurfaceLineDrawing, Visibility=2), ("surface",)),
         "vector-fields": (b.vtkSurfaceVectorFieldDecomposition, ("surface-with-vectors",)),
         "tetgen": (b.vtkTetGenTetrahedralizer, ("surface",)),
