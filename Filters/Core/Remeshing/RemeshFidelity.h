@@ -50,7 +50,9 @@ std::pair<double, double> ShapeFigures(const MeshTopology& topology, const doubl
 
 /// Whether remesh `next` is kept over `best` (RemeshSurface's remeshes,
 /// the fidelity rounds' moves): measured without error, closer to the input
-/// by FarPinGain, its triangles within the bar or as good as the first
+/// by FarPinGain in the larger of its two deviations (or no farther in it
+/// and closer by FarPinGain in their sum), its triangles within the bar or
+/// as good as the first
 /// remesh's `first` figures (ShapeFigures: AsGoodTriangles' rule, in the
 /// metric for an anisotropic remesh).
 bool KeptOver(const MeshTopology& topology, const double* points, const RemeshResult& next, const RemeshResult& best,
@@ -64,7 +66,7 @@ bool KeptOver(const MeshTopology& topology, const double* points, const RemeshRe
 /// fold, kept there, the rings around settled (PinNearestVertices); where
 /// none is that far, the input's corners at the remesh's scale
 /// (CornerPinSpacings, CornerSagRatio), all of them; a round
-/// is kept where the remesh comes closer to the input by FarPinGain and
+/// is kept where the remesh comes closer to the input by FarPinGain (KeptOver) and
 /// its triangles stay within the bar or as good as the first's (AsGood, in
 /// the metric for an anisotropic remesh: ShapeFigures).  Not with
 /// options.PinnedVertices or FinalSurface.

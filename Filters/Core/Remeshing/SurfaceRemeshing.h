@@ -49,7 +49,8 @@ struct RemeshOptions
   /// that can move there without a fold is moved onto it and kept there,
   /// the rings around it settled by stitching rounds, up to FarPinRounds
   /// times (each round measures again); a round is kept where the remesh
-  /// comes closer to the input by 2% and its triangles stay within the bar
+  /// comes closer to the input by 2% (in the larger of its deviations, or
+  /// no farther in that and by 2% in both together) and its triangles stay within the bar
   /// or as good as the first's (FarPinGain, AsGoodTriangles; measured in
   /// the metric in the anisotropic mode).  Where far vertices are left that
   /// no vertex could reach, or whose moves brought it no closer, the remesh
@@ -260,8 +261,10 @@ void CheckFidelity(const MeshTopology& topology, const double* points, const Rem
 /// The larger of a remesh's two deviations (to and from the input).
 double WorstDeviation(const RemeshResult& r);
 
-/// The share of the closest remesh's deviation a remesh with more far
-/// vertices pinned must be within to be kept (RemeshOptions::FarPinSpacings).
+/// The share of the closest remesh's deviation (the larger of the two, or
+/// their sum where the larger is no farther) a remesh with more far
+/// vertices pinned must be within to be kept (RemeshOptions::FarPinSpacings,
+/// KeptOver).
 constexpr double FarPinGain = 0.98;
 
 /// A remesh is made again with the far vertices pinned (RemeshSurface) only

@@ -120,13 +120,14 @@ double RelativeHausdorff(const test::Mesh& input, const RemeshResult& r)
 
 RemeshResult RemeshWith(const test::MeshWithAtlas& loaded, std::int64_t count, const double* importance = nullptr,
   bool features = false, double lineSag = RemeshOptions().MaximumLineSag,
-  double surfaceSag = RemeshOptions().MaximumSurfaceSag)
+  double surfaceSag = RemeshOptions().MaximumSurfaceSag, double farPin = RemeshOptions().FarPinSpacings)
 {
   RemeshOptions options;
   options.NumberOfVertices = count;
   options.FeatureAngle = features ? RemeshAtlas(true).FeatureAngle : 0.0;
   options.MaximumLineSag = lineSag;
   options.MaximumSurfaceSag = surfaceSag;
+  options.FarPinSpacings = farPin;
   return RemeshSurface(loaded.Topology, loaded.Points(), loaded.Atlas, importance, options);
 }
 
@@ -256,13 +257,18 @@ TEST(SurfaceRemeshing, SurfaceSagRaisesTheDensityWhereTheSpacingCannotFollow)
   EXPECT_LE(*hi / *lo, 1.02);
   // The bunny at 10k: its ears' rims (and the scan's bumps) are curved
   // tighter than the uniform spacing follows.  Raised there, the remesh is
-  // closer (0.51% -> 0.31% of the diagonal with one CPU's BLAS kernels,
-  // 0.43% -> 0.33% with another's: the largest distance moves with the
-  // layout), its triangles as regular as the uniform ones.
+  // closer, its triangles as regular as the uniform ones.  (Measured
+  // without the fidelity rounds, which pin the farthest input vertices of
+  // both: 0.371% of the diagonal -> 0.313%, 0.84 times; with them 0.363%
+  // -> 0.313%.  The largest distance moves with the layout, which follows
+  // one CPU's BLAS kernels or another's: with the rounds, before they kept
+  // a round no farther in the larger deviation, 0.51% -> 0.31% on one,
+  // 0.43% -> 0.33% on another.)
   const test::MeshWithAtlas loaded("bunny00.off", RemeshAtlas(false));
   ASSERT_EQ(loaded.Error, "");
-  const RemeshResult uniform = RemeshWith(loaded, 10000, nullptr, false, 0.025, 0.0);
-  const RemeshResult raised = RemeshWith(loaded, 10000);
+  const RemeshResult uniform = RemeshWith(loaded, 10000, nullptr, false, 0.025, 0.0, 0.0);
+  const RemeshResult raised =
+    RemeshWith(loaded, 10000, nullptr, false, RemeshOptions().MaximumLineSag, RemeshOptions().MaximumSurfaceSag, 0.0);
   const double before = RelativeHausdorff(loaded.Surface, uniform), after = RelativeHausdorff(loaded.Surface, raised);
   const TriangleQuality q0 = MeasureTriangleQuality(TopologyOf(uniform), uniform.Points.data());
   const TriangleQuality q1 = MeasureTriangleQuality(TopologyOf(raised), raised.Points.data());
@@ -270,7 +276,7 @@ TEST(SurfaceRemeshing, SurfaceSagRaisesTheDensityWhereTheSpacingCannotFollow)
               "valence 6 %.1f%% -> %.1f%%, min angle mean %.2f -> %.2f\n",
     100.0 * before, 100.0 * after, q0.EdgeLengthVariation, q1.EdgeLengthVariation, 100.0 * q0.FractionValence6,
     100.0 * q1.FractionValence6, q0.MeanMinimumAngle, q1.MeanMinimumAngle);
-  EXPECT_LE(after, 0.85 * before);
+  EXPECT_LE(after, 0.9 * before);
   EXPECT_LE(q1.EdgeLengthVariation, 0.1);
   EXPECT_GE(q1.FractionValence6, 0.8);
 }
