@@ -374,6 +374,25 @@ std::vector<std::uint8_t> SharpEdges(const MeshTopology& topo, const double* x, 
 namespace
 {
 
+/// The end of edge k of `e` other than v.
+Index OtherEnd(const MeshTopology::EdgeTable& e, std::int64_t k, Index v)
+{
+  return e.Vertices[2 * k] == v ? e.Vertices[2 * k + 1] : e.Vertices[2 * k];
+}
+
+/// The number of feature edges (`features`, 1 per edge) at each vertex.
+std::vector<int> FeatureDegrees(const MeshTopology& topo, const std::vector<std::uint8_t>& features)
+{
+  const MeshTopology::EdgeTable& e = topo.Edges();
+  std::vector<int> degree(static_cast<std::size_t>(topo.NumberOfVertices()), 0);
+  for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
+  {
+    degree[e.Vertices[2 * k]] += features[k];
+    degree[e.Vertices[2 * k + 1]] += features[k];
+  }
+  return degree;
+}
+
 /// The path from `end` along the sharpest edge (dihedral cosine below
 /// `weak`, not a feature) at each vertex, never back to a vertex of the path,
 /// up to `longestGap` long, to the first vertex with a feature edge (the
@@ -392,7 +411,7 @@ std::pair<std::vector<std::int64_t>, Index> GapPath(const MeshTopology& topo, co
     for (std::int64_t i = e.NeighborOffsets[v]; i < e.NeighborOffsets[v + 1]; ++i)
     {
       const std::int64_t k = e.NeighborEdges[i];
-      const Index w = e.Vertices[2 * k] == v ? e.Vertices[2 * k + 1] : e.Vertices[2 * k];
+      const Index w = OtherEnd(e, k, v);
       if (!features[k] && dihedral[k] < weak && (best < 0 || dihedral[k] < dihedral[best]) &&
         std::find(visited.begin(), visited.end(), w) == visited.end())
       {
@@ -403,7 +422,7 @@ std::pair<std::vector<std::int64_t>, Index> GapPath(const MeshTopology& topo, co
     {
       break;
     }
-    const Index w = e.Vertices[2 * best] == v ? e.Vertices[2 * best + 1] : e.Vertices[2 * best];
+    const Index w = OtherEnd(e, best, v);
     length += (Point(x, w) - Point(x, v)).norm();
     path.push_back(best);
     visited.push_back(w);
@@ -470,13 +489,7 @@ std::int64_t ExtendFeatureEnds(const MeshTopology& topo, const double* x, double
   const double weak = std::cos(weakAngleDegrees * M_PI / 180.0);
   const double straight = std::cos(mostTurnDegrees * M_PI / 180.0);
   const std::vector<double> dihedral = DihedralCosines(topo, x);
-  std::vector<int> degree(n, 0);
-  for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
-  {
-    degree[e.Vertices[2 * k]] += features[k];
-    degree[e.Vertices[2 * k + 1]] += features[k];
-  }
-  const auto other = [&](std::int64_t k, Index v) { return e.Vertices[2 * k] == v ? e.Vertices[2 * k + 1] : e.Vertices[2 * k]; };
+  std::vector<int> degree = FeatureDegrees(topo, features);
   std::int64_t added = 0;
   std::vector<Index> ends;
   for (Index v = 0; v < n; ++v)
@@ -495,12 +508,12 @@ std::int64_t ExtendFeatureEnds(const MeshTopology& topo, const double* x, double
     }
     while (degree[v] == 1 && last >= 0)
     {
-      const Vec3 along = (Point(x, v) - Point(x, other(last, v))).normalized();
+      const Vec3 along = (Point(x, v) - Point(x, OtherEnd(e, last, v))).normalized();
       std::int64_t best = -1;
       for (std::int64_t i = e.NeighborOffsets[v]; i < e.NeighborOffsets[v + 1]; ++i)
       {
         const std::int64_t k = e.NeighborEdges[i];
-        const Index w = other(k, v);
+        const Index w = OtherEnd(e, k, v);
         if (!features[k] && dihedral[k] < weak && degree[w] == 0 &&
           (Point(x, w) - Point(x, v)).normalized().dot(along) >= straight &&
           (best < 0 || dihedral[k] < dihedral[best]))
@@ -514,9 +527,9 @@ std::int64_t ExtendFeatureEnds(const MeshTopology& topo, const double* x, double
       }
       features[best] = 1;
       ++degree[v];
-      ++degree[other(best, v)];
+      ++degree[OtherEnd(e, best, v)];
       ++added;
-      v = other(best, v);
+      v = OtherEnd(e, best, v);
       last = best;
     }
   }
@@ -528,12 +541,7 @@ std::int64_t DropShortFeatureChains(
 {
   const MeshTopology::EdgeTable& e = topo.Edges();
   const Index n = topo.NumberOfVertices();
-  std::vector<int> degree(n, 0);
-  for (std::int64_t k = 0; k < e.NumberOfEdges(); ++k)
-  {
-    degree[e.Vertices[2 * k]] += features[k];
-    degree[e.Vertices[2 * k + 1]] += features[k];
-  }
+  std::vector<int> degree = FeatureDegrees(topo, features);
   // The feature edge at v other than `except` (-1: none).
   const auto nextEdge = [&](Index v, std::int64_t except) {
     for (std::int64_t k = e.NeighborOffsets[v]; k < e.NeighborOffsets[v + 1]; ++k)
@@ -562,7 +570,7 @@ std::int64_t DropShortFeatureChains(
       for (std::int64_t k = nextEdge(v, -1); k >= 0 && length < minimumLength; k = degree[v] == 2 ? nextEdge(v, k) : -1)
       {
         chain.push_back(k);
-        const Index w = e.Vertices[2 * k] == v ? e.Vertices[2 * k + 1] : e.Vertices[2 * k];
+        const Index w = OtherEnd(e, k, v);
         length += (Point(x, w) - Point(x, v)).norm();
         v = w;
       }
