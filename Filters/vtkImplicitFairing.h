@@ -62,9 +62,9 @@
  *    counts (the hierarchy spans the ranks; the order-2 Jacobi solve is the
  *    same complex-shift COCG; order-1 Jacobi solves are in double precision,
  *    without the serial renumbering); the geometric multigrid cycles on each
- *    rank's hierarchy of its own points, joined by a coarse level of every
- *    rank's coarsest one (Solvers/RankCoarseSpace.h), in 2-3 times the
- *    serial iterations.
+ *    rank's hierarchy of its own points, joined by a coarse level made of a
+ *    level of every rank's (Solvers/RankCoarseSpace.h), in 1-1.25 times the
+ *    serial iterations at order 1 and about 2 times at order 2.
  *  - OperatorMollification (default 1; 0: off): the operator of each step is
  *    evaluated on a mollified copy of the points - each moved by the normal
  *    part of one implicit umbrella step of this (dimensionless) time -
@@ -312,10 +312,11 @@ public:
   /// whatever its size, more on noisy ones, the fastest for large steps (the guide's benchmarks
   /// page). In a distributed run every preconditioner gives the serial numbers: the algebraic
   /// hierarchy spans the ranks (the serial iteration counts); Geometric Multigrid cycles on each
-  /// rank's hierarchy of its own points, joined by a coarse level made of every rank's coarsest one
-  /// (2-3 times the serial iterations on 2-4 ranks); Automatic takes Jacobi there; order-1 Jacobi
-  /// solves are in double precision. Values: 0 Jacobi, 1 Algebraic Multigrid, 2 Geometric
-  /// Multigrid, 3 Automatic. Default: Automatic.
+  /// rank's hierarchy of its own points, joined by a coarse level made of a level of every rank's
+  /// (for order 1 the finest that keeps it within 12,000 rows: 1-1.25 times the serial iterations
+  /// of a bunny's step on 2-4 ranks; for order 2 the coarsest: about 2 times); Automatic takes
+  /// Jacobi there; order-1 Jacobi solves are in double precision. Values: 0 Jacobi, 1 Algebraic
+  /// Multigrid, 2 Geometric Multigrid, 3 Automatic. Default: Automatic.
   vtkSetClampMacro(Preconditioner, int, JACOBI, AUTOMATIC_PRECONDITIONER);
   vtkGetMacro(Preconditioner, int);
   /// Quantity restored by scaling after each step (section 3.3). Automatic: the volume for closed

@@ -228,18 +228,20 @@ for partitions in ([0, empty_rank_partitions(ranks)] if ranks > 1 else [0]):
           "multigrid iterations over the ranks %s, serial %s" % (ours, theirs))
 
 # Geometric multigrid over the ranks: each rank cycles on its own points'
-# hierarchy, joined by a coarse level made of every rank's coarsest one: the
+# hierarchy, joined by a coarse level made of one level of every rank's: the
 # serial result, in iterations that stay within 3.5 times the serial count
-# (2-2.7 times measured on 2 and 4 ranks; each rank's cycles alone, without
-# the joining level, took 8-10 times for the order-1 step), an empty rank
-# included.
+# on the complex systems of order 2, where the ranks join their coarsest
+# levels (1.9-2 times measured on 2 to 4 ranks), and within 1.5 times on the
+# real ones of order 1, where they join finer levels (1-1.25 times; 2.4-2.6
+# times on their coarsest levels, and each rank's cycles alone, without the
+# joining level, 8-10 times), an empty rank included.
 for partitions in ([0, empty_rank_partitions(ranks)] if ranks > 1 else [0]):
-    for settings in (dict(), dict(Order=1, TimeStep=4000.0)):
+    for settings, most in ((dict(), 3.5), (dict(Order=1, TimeStep=4000.0), 1.5)):
         _, result, reference, _ = split_run(bunny, "bunny, geometric multigrid %s, %d partitions"
                                             % (settings, partitions or ranks), 1e-9, extent_of, partitions=partitions,
                                             Preconditioner=2, SolverTolerance=1e-10, **settings)
         ours, theirs = iterations(result), iterations(reference)
-        check(len(ours) == len(theirs) and builtins.all(a <= 3.5 * b for a, b in zip(ours, theirs)),
+        check(len(ours) == len(theirs) and builtins.all(a <= most * b for a, b in zip(ours, theirs)),
               "geometric multigrid iterations over the ranks %s, serial %s" % (ours, theirs))
 
 # A fan where Jacobi stops short of the tolerance (the order-2 step's 1,000

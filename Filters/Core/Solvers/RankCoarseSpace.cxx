@@ -20,16 +20,16 @@ namespace
 
 using Complex = std::complex<double>;
 using ComplexMatrix = Eigen::SparseMatrix<Complex, Eigen::ColMajor, int>;
-/// A row of the prolongation from the coarsest level: (coarse row, weight).
+/// A row of the prolongation from the joining level: (coarse row, weight).
 using CompositeRow = std::vector<std::pair<std::int64_t, double>>;
 
-/// The product of every level's prolongation, row `position` of the finest
-/// level (in the hierarchy's order): its weights on the coarsest level's
-/// rows, numbered from `first`.
-CompositeRow CompositeRowOf(const SurfaceHierarchy& h, Index position, std::int64_t first)
+/// The product of the prolongations down to level `coarse`, row `position`
+/// of the finest level (in the hierarchy's order): its weights on that
+/// level's rows, numbered from `first`.
+CompositeRow CompositeRowOf(const SurfaceHierarchy& h, int coarse, Index position, std::int64_t first)
 {
   CompositeRow row{ { position, 1.0 } }, next;
-  for (int l = 0; l + 1 < h.Levels(); ++l)
+  for (int l = 0; l < coarse; ++l)
   {
     const LevelMatrix& p = h.Prolongation(l);
     next.clear();
@@ -59,6 +59,28 @@ CompositeRow CompositeRowOf(const SurfaceHierarchy& h, Index position, std::int6
     e.first += first;
   }
   return row;
+}
+
+/// The level of a process's hierarchy that joins the `processes`: for the
+/// real systems the finest whose rows, over all of them, stay within
+/// JoinedRows (the coarsest where none does), for the complex ones the
+/// coarsest.  (The 0.075%-noisy bunny Loop-subdivided once, 151k vertices,
+/// on 2 processes: order-1 steps of 4000 h^2 took 9-10 iterations instead
+/// of 17-18 on the levels of 1,000 rows a process rather than 126 (serial
+/// 5-8); twice, on 2 processes, 8 and 17 instead of 13 and 21 on levels of
+/// 4,300 rows rather than 510, each factorized in 0.04-0.06 s.  The complex
+/// systems of order 2 took 13 and 44 instead of 15 and 50 but longer, each
+/// solve with the complex factors of 8,700 rows costing more than the
+/// iterations saved.)
+int JoiningLevel(const SurfaceHierarchy& h, int processes, bool complex)
+{
+  constexpr double JoinedRows = 12000.0;
+  int level = complex ? h.Levels() - 1 : 0;
+  while (level + 1 < h.Levels() && static_cast<double>(h.Rows(level)) * processes > JoinedRows)
+  {
+    ++level;
+  }
+  return level;
 }
 
 /// The coarse operator's entries this process adds: (row, column) -> the
@@ -100,8 +122,10 @@ struct RankCoarseSpace::State
 {
   const Partition* Split = nullptr;
   const SurfaceMultigrid* Mg = nullptr;
+  int Level = 0;                               ///< this process's level that joins the processes
   std::int64_t First = 0, Rows = 0, Total = 0; ///< this process's coarse rows, and all
   bool IsComplex = false, Factored = false;
+  SparseFactorization::Matrix RealOperator;
   SparseFactorization Real;
   ComplexMatrix ComplexOperator;
   Eigen::SparseLU<ComplexMatrix> Lu;
@@ -112,12 +136,10 @@ struct RankCoarseSpace::State
   void Factorize(const std::vector<double>& quadruples, double factor, int threads);
 };
 
-/// The block of this process's coarse rows: its coarsest level's Galerkin
-/// operators.
+/// The block of this process's coarse rows: its level's Galerkin operators.
 void RankCoarseSpace::State::AddOwnBlock(CoarseEntries& entries) const
 {
-  const int last = Mg->Levels() - 1;
-  const LevelMatrix k = Mg->Operator(last), d = Mg->ShiftOperator(last);
+  const LevelMatrix k = Mg->Operator(Level), d = Mg->ShiftOperator(Level);
   for (std::int64_t i = 0; i < Rows; ++i)
   {
     entries.Add(First + i, First + i, d.Diagonal[i], k.Diagonal[i]);
@@ -150,7 +172,7 @@ void RankCoarseSpace::State::AddBorders(const ShiftedLaplacianProblem& pb, const
     {
       continue;
     }
-    const CompositeRow& row = border[v] = CompositeRowOf(*h, h->Position()[v], First);
+    const CompositeRow& row = border[v] = CompositeRowOf(*h, Level, h->Position()[v], First);
     for (const auto& [c, w] : row)
     {
       sent.insert(sent.end(), { static_cast<double>(split.GlobalRow(v)), static_cast<double>(c), w });
@@ -198,6 +220,8 @@ void RankCoarseSpace::State::Factorize(const std::vector<double>& quadruples, do
   SparseFactorization::Matrix dm(Total, Total), km(Total, Total);
   dm.setFromTriplets(d.begin(), d.end());
   km.setFromTriplets(k.begin(), k.end());
+  bool shifted = true; // (every row has a part of D)
+  double largest = 0.0;
   for (int i = 0; i < Total; ++i)
   {
     // A coarse row with no operator (its finer rows all held): an identity row.
@@ -205,6 +229,21 @@ void RankCoarseSpace::State::Factorize(const std::vector<double>& quadruples, do
     {
       dm.coeffRef(i, i) = 1.0;
     }
+    shifted = shifted && dm.coeff(i, i) > 0.0;
+    largest = std::max(largest, dm.coeff(i, i) + factor * km.coeff(i, i));
+  }
+  // With D on every row the coarse operator is definite on the range of P,
+  // but P can have dependent columns: a coarse row whose sample is a ghost
+  // (held) keeps only the fine rows it shares with others, and two such
+  // rows can be proportional (the bunny on 4 processes, on levels of 1,100
+  // rows: D and K shared a null vector, and the factors were rounding
+  // noise).  What P maps to zero does not matter to P (P^T A P)^-1 P^T, so
+  // a ridge of 1e-10 of the largest diagonal entry makes the matrix
+  // definite, and moves its other eigenvalues by that much: a
+  // preconditioner's rounding.
+  for (int i = 0; shifted && i < Total; ++i)
+  {
+    dm.coeffRef(i, i) += 1e-10 * largest;
   }
   if (IsComplex)
   {
@@ -214,9 +253,9 @@ void RankCoarseSpace::State::Factorize(const std::vector<double>& quadruples, do
     Factored = Lu.info() == Eigen::Success;
     return;
   }
-  SparseFactorization::Matrix a = dm + factor * km;
-  a.makeCompressed();
-  Factored = Real.Compute(a, true, {}, false, threads);
+  RealOperator = dm + factor * km; // (the factorization may refer to it: kept)
+  RealOperator.makeCompressed();
+  Factored = Real.Compute(RealOperator, true, {}, false, threads, shifted ? 0.0 : 1e-13);
 }
 
 RankCoarseSpace::RankCoarseSpace(const ShiftedLaplacianProblem& pb, const SurfaceHierarchy* hierarchy,
@@ -227,7 +266,8 @@ RankCoarseSpace::RankCoarseSpace(const ShiftedLaplacianProblem& pb, const Surfac
   S->Split = &split;
   S->Mg = mg;
   S->IsComplex = complex;
-  S->Rows = mg ? hierarchy->Rows(mg->Levels() - 1) : 0;
+  S->Level = mg ? JoiningLevel(*hierarchy, split.Size(), complex) : 0;
+  S->Rows = mg ? hierarchy->Rows(S->Level) : 0;
   const std::vector<double> counts = split.AllGather({ static_cast<double>(S->Rows) });
   for (int p = 0; p < split.Size(); ++p)
   {
@@ -254,7 +294,7 @@ void RankCoarseSpace::Add(const double* r, double* z, int columns) const
   std::vector<double> mine(static_cast<std::size_t>(S->Rows) * columns);
   if (S->Mg)
   {
-    S->Mg->RestrictToCoarsest(r, mine.data(), columns);
+    S->Mg->RestrictToLevel(S->Level, r, mine.data(), columns);
   }
   const std::vector<double> all = S->Split->AllGather(mine);
   const int parts = S->IsComplex ? 2 : 1, nc = columns / parts;
@@ -287,7 +327,7 @@ void RankCoarseSpace::Add(const double* r, double* z, int columns) const
       mine[i * columns + c] = solution(S->First + i, c);
     }
   }
-  S->Mg->AddProlongedFromCoarsest(mine.data(), z, columns);
+  S->Mg->AddProlongedFromLevel(S->Level, mine.data(), z, columns);
 }
 
 } // namespace beltrami

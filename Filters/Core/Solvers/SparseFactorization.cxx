@@ -559,14 +559,15 @@ SparseFactorization::~SparseFactorization()
 }
 
 bool SparseFactorization::Compute(
-  const Matrix& a, bool symmetric, const std::vector<int>& order, bool twinPairs, int numThreads)
+  const Matrix& a, bool symmetric, const std::vector<int>& order, bool twinPairs, int numThreads, double leastPivotRatio)
 {
   return Compute(MatrixView(a.rows(), a.cols(), a.nonZeros(), a.outerIndexPtr(), a.innerIndexPtr(), a.valuePtr()),
-    symmetric, order, twinPairs, numThreads);
+    symmetric, order, twinPairs, numThreads, leastPivotRatio);
 }
 
 bool SparseFactorization::Compute(
-  const MatrixView& a, bool symmetric, const std::vector<int>& order, bool twinPairs, int numThreads)
+  const MatrixView& a, bool symmetric, const std::vector<int>& order, bool twinPairs, int numThreads,
+  double leastPivotRatio)
 {
   SerialOpenMPRegions serial;
   Internals& in = *Internal;
@@ -608,7 +609,7 @@ bool SparseFactorization::Compute(
     const auto d = in.Reduced.diagonal().cwiseAbs();
     rcond = std::min(rcond, std::pow(d.minCoeff() / d.maxCoeff(), 2));
   }
-  return rcond > 1e-13;
+  return rcond > leastPivotRatio;
 }
 
 int SparseFactorization::CoupledPairs() const

@@ -54,7 +54,8 @@ public:
   /// (the LU refers to it).  With `symmetric`, a Cholesky factorization of
   /// the lower triangle is tried first (falling back to LU when `a` is not
   /// positive definite).  Returns false when `a` is singular, numerically too
-  /// (pivots at rounding level), or memory ran out.
+  /// (the pivots' ratio estimate below `leastPivotRatio`: rounding level),
+  /// or memory ran out.
   ///
   /// `order`, if not empty, is the elimination order (order[k] = the unknown
   /// eliminated k-th, e.g. NestedDissectionOrder's) of the Cholesky or the
@@ -70,10 +71,10 @@ public:
   /// about 4 sqrt(pairs), as on a disk's boundary; other matrices take the
   /// general path).
   bool Compute(const MatrixView& a, bool symmetric, const std::vector<int>& order = {}, bool twinPairs = false,
-    int numThreads = 0);
+    int numThreads = 0, double leastPivotRatio = 1e-13);
   /// The same for a matrix in Eigen's own storage.
   bool Compute(const Matrix& a, bool symmetric, const std::vector<int>& order = {}, bool twinPairs = false,
-    int numThreads = 0);
+    int numThreads = 0, double leastPivotRatio = 1e-13);
   /// With the twin-pair path of Compute: the number of coupled pairs; -1
   /// when Compute took another path.
   int CoupledPairs() const;

@@ -755,20 +755,20 @@ void SurfaceMultigrid::ApplyComplexInOrder(const double* r, double* z, int colum
   }
 }
 
-void SurfaceMultigrid::RestrictToCoarsest(const double* r, double* rc, int reals) const
+void SurfaceMultigrid::RestrictToLevel(int coarse, const double* r, double* rc, int reals) const
 {
   const SurfaceHierarchy& h = *S->H;
   const std::int64_t n = h.Rows(0);
   if (reals < 1 || reals > MostColumns)
   {
-    throw std::invalid_argument("SurfaceMultigrid::RestrictToCoarsest: 1 to 8 values a row");
+    throw std::invalid_argument("SurfaceMultigrid::RestrictToLevel: 1 to 8 values a row");
   }
   std::vector<double> level(r, r + n * reals), coarser;
   for (std::int64_t i = 0; i < n; ++i)
   {
     std::fill_n(level.data() + i * reals, S->Held[i] ? reals : 0, 0.0);
   }
-  for (int l = 0; l + 1 < Levels(); ++l)
+  for (int l = 0; l < coarse; ++l)
   {
     coarser.resize(static_cast<std::size_t>(h.Rows(l + 1)) * reals);
     WithCount<MostColumns>(reals, [&](auto k) {
@@ -779,16 +779,15 @@ void SurfaceMultigrid::RestrictToCoarsest(const double* r, double* rc, int reals
   std::copy(level.begin(), level.end(), rc);
 }
 
-void SurfaceMultigrid::AddProlongedFromCoarsest(const double* yc, double* z, int reals) const
+void SurfaceMultigrid::AddProlongedFromLevel(int coarse, const double* yc, double* z, int reals) const
 {
   const SurfaceHierarchy& h = *S->H;
   if (reals < 1 || reals > MostColumns)
   {
-    throw std::invalid_argument("SurfaceMultigrid::AddProlongedFromCoarsest: 1 to 8 values a row");
+    throw std::invalid_argument("SurfaceMultigrid::AddProlongedFromLevel: 1 to 8 values a row");
   }
-  const int last = Levels() - 1;
-  std::vector<double> level(yc, yc + static_cast<std::int64_t>(h.Rows(last)) * reals), finer;
-  for (int l = last - 1; l >= 0; --l)
+  std::vector<double> level(yc, yc + static_cast<std::int64_t>(h.Rows(coarse)) * reals), finer;
+  for (int l = coarse - 1; l >= 0; --l)
   {
     finer.resize(static_cast<std::size_t>(h.Rows(l)) * reals);
     WithCount<MostColumns>(reals, [&](auto k) {

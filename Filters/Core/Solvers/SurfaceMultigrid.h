@@ -126,13 +126,13 @@ public:
   /// `columns` imaginary parts.
   void ApplyComplexInOrder(const double* r, double* z, int columns) const;
 
-  /// rc = the restriction of r to the coarsest level, and z += the
-  /// prolongation of yc from it (the products of every level's restriction
-  /// or prolongation), `reals` (1 to 8) real values per row, r and z in the
-  /// hierarchy's Order(), the held rows taking no part: the coarse space a
-  /// distributed solve joins over the processes (RankCoarseSpace).
-  void RestrictToCoarsest(const double* r, double* rc, int reals) const;
-  void AddProlongedFromCoarsest(const double* yc, double* z, int reals) const;
+  /// rc = the restriction of r to level `level`, and z += the prolongation
+  /// of yc from it (the products of the levels' restrictions or
+  /// prolongations down to it), `reals` (1 to 8) real values per row, r and
+  /// z in the hierarchy's Order(), the held rows taking no part: the coarse
+  /// space a distributed solve joins over the processes (RankCoarseSpace).
+  void RestrictToLevel(int level, const double* r, double* rc, int reals) const;
+  void AddProlongedFromLevel(int level, const double* yc, double* z, int reals) const;
 
   int Levels() const;
   /// Level l's P^T D P in the pattern of Operator(l) (D: the shift).
