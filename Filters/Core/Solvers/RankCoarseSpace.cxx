@@ -253,7 +253,10 @@ void RankCoarseSpace::State::Factorize(const std::vector<double>& quadruples, do
     Factored = Lu.info() == Eigen::Success;
     return;
   }
-  RealOperator = dm + factor * km; // (the factorization may refer to it: kept)
+  // (The factorization may refer to the matrix: kept.  With the ridge, its
+  // pivots' ratio is no test of singularity: the ridge's definite matrix
+  // passes whatever it is.)
+  RealOperator = dm + factor * km;
   RealOperator.makeCompressed();
   Factored = Real.Compute(RealOperator, true, {}, false, threads, shifted ? 0.0 : 1e-13);
 }
