@@ -104,7 +104,10 @@
  * and the chart boundaries still take more than the count (a surface of
  * many handles at a low count), the seams between charts are sampled two,
  * then three times as sparsely, with a warning; only counts they cannot
- * hold even so are errors.  Where the error-driven mode misses its bound
+ * hold even so are errors.  On an input that does not fold, so too where a
+ * copy's remesh is farther from the input than its spacing (the copy
+ * rounded off thin parts or sharp edges) and the sparser seams' comes
+ * closer.  Where the error-driven mode misses its bound
  * with SplitAtFeatures off, it runs again with the edges sharper than
  * FeatureAngle kept, with a warning, and keeps that remesh where it meets
  * the bound or comes closer.
@@ -126,6 +129,7 @@
 namespace beltrami
 {
 struct AtlasResult;
+struct RemeshResult;
 }
 
 class BELTRAMIFILTERS_EXPORT vtkSurfaceRemeshing : public vtkPolyDataAlgorithm
@@ -332,6 +336,11 @@ private:
   /// Where the input's own chart boundaries still take more samples than
   /// the count, `run` again with its seams sampled sparser, with a warning.
   void LayOutWithSparserSeams(Run& run);
+  /// `run` again with the input's seams sampled sparser, with a warning
+  /// (its chart boundaries needed `needed` samples), where that remeshes
+  /// (and, given a `rival`, comes closer to the input than it); false
+  /// otherwise, `run` unchanged.  Not in the error-driven mode.
+  bool RemeshWithSparserSeams(Run& run, std::int64_t needed, const beltrami::RemeshResult* rival);
   /// Where the error-driven mode missed its bound with the input's sharp
   /// edges rounded off, `run` again with them kept, with a warning, where
   /// that meets the bound or comes closer.

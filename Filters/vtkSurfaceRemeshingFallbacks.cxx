@@ -74,8 +74,23 @@ void vtkSurfaceRemeshing::LayOutNoisyInputOnCopy(Run& run)
   const std::int64_t tried = run.Driven.Counts.empty() ? this->NumberOfVertices : run.Driven.Counts.back();
   if (!inputError.empty() && run.Driven.Remesh.Samples.RimSamples <= tried)
   {
+    const std::int64_t needed = run.Driven.Remesh.Samples.BoundarySamples;
     if (this->RemeshDenoised(run))
     {
+      // On an input that does not fold (not noisy), a copy's remesh that
+      // leaves it farther than its spacing has lost parts the smoothing
+      // rounded off (the thin hairs of a sphere, a flattened CAD part's
+      // edges): the input's own charts with sparser seams are kept where
+      // they come closer.
+      const int copy = kept.Active;
+      kept.Active = 0;
+      if (beltrami::WorstDeviation(run.Driven.Remesh) * run.Driven.Remesh.Diagonal > run.Driven.Remesh.Spacing &&
+        beltrami::FoldedEdgeShare(kept.Surface.Topology(), kept.Points) < beltrami::CrumpledShare &&
+        this->RemeshWithSparserSeams(run, needed, &run.Driven.Remesh))
+      {
+        return;
+      }
+      kept.Active = copy;
       vtkWarningMacro(<< "The input's own charts cannot be remeshed with " << tried << " vertices (" << inputError
                       << "): " << OnCopy
                       << (this->MaximumDeviation > 0.0 ? " (MaximumDeviation holds on the smoothed copy; "
@@ -119,18 +134,27 @@ void vtkSurfaceRemeshing::LayOutWithSparserSeams(Run& run)
   {
     return;
   }
+  this->RemeshWithSparserSeams(run, samples.BoundarySamples, nullptr); // (else the first error stands)
+}
+
+bool vtkSurfaceRemeshing::RemeshWithSparserSeams(Run& run, std::int64_t needed, const beltrami::RemeshResult* rival)
+{
   Run sparser;
-  if (!this->RemeshLayout(sparser, true) || !sparser.Driven.Remesh.Error.empty())
+  if (this->MaximumDeviation > 0.0 || !this->RemeshLayout(sparser, true) || !sparser.Driven.Remesh.Error.empty() ||
+    (rival && !(beltrami::WorstDeviation(sparser.Driven.Remesh) < beltrami::WorstDeviation(*rival))))
   {
-    return; // (the first error stands)
+    return false;
   }
   const beltrami::SurfaceSamples& sparse = sparser.Driven.Remesh.Samples;
-  vtkWarningMacro(<< "The chart boundaries of the input need " << samples.BoundarySamples << " samples at the spacing of "
+  vtkWarningMacro(<< "The chart boundaries of the input need " << needed << " samples at the spacing of "
                   << this->NumberOfVertices << " vertices (" << this->Atlas().Charts.size()
                   << " charts), more than the count: the seams between its charts were "
                   << "sampled " << sparse.SeamSpacing << " times as sparsely (" << sparse.BoundarySamples
-                  << " samples) and the remesh evened across them. More vertices give its triangles more room.");
+                  << " samples) and the remesh evened across them. More vertices give its triangles more room."
+                  << (rival ? " (Laid out on a smoothed copy of the input instead, the remesh was farther from it.)"
+                            : ""));
   run = std::move(sparser);
+  return true;
 }
 
 void vtkSurfaceRemeshing::KeepSharpEdgesWhereMissed(Run& run)
