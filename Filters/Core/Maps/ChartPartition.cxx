@@ -383,17 +383,15 @@ std::vector<Index> CentreSeeds(const DualGraph& graph, const std::vector<int>& l
   }
   std::vector<Index> centre(regions, -1);
   ParallelFor(static_cast<std::int64_t>(regions), numThreads, [&](std::int64_t begin, std::int64_t end) {
-    thread_local std::vector<Index> localOf; // all -1 between uses (as in RebalancePair)
-    localOf.resize(graph.NumberOfTriangles(), -1);
     std::vector<Index> sources;
     std::vector<double> inward;
     for (std::int64_t r = begin; r < end; ++r)
     {
       const std::vector<Index>& region = members[r];
+      const detail::RegionIds ids(graph, region);
       sources.clear();
       for (std::size_t k = 0; k < region.size(); ++k)
       {
-        localOf[region[k]] = static_cast<Index>(k);
         for (int j = 0; j < 3; ++j)
         {
           const Index n = graph.Neighbors[3 * region[k] + j];
@@ -406,7 +404,7 @@ std::vector<Index> CentreSeeds(const DualGraph& graph, const std::vector<int>& l
       }
       if (!sources.empty())
       {
-        NearestWithin(graph, region, localOf, sources, inward, nullptr);
+        NearestWithin(graph, region, ids.Of(), sources, inward, nullptr);
       }
       std::size_t best = 0;
       for (std::size_t k = 1; k < region.size() && !sources.empty(); ++k)
@@ -414,10 +412,6 @@ std::vector<Index> CentreSeeds(const DualGraph& graph, const std::vector<int>& l
         best = inward[k] > inward[best] ? k : best;
       }
       centre[r] = region.empty() ? -1 : region[best];
-      for (const Index t : region)
-      {
-        localOf[t] = -1;
-      }
     }
   }, {}, 0, 1);
   return centre;
@@ -458,6 +452,36 @@ std::vector<int> GrowRegions(const DualGraph& graph, const std::vector<Index>& s
   return label;
 }
 
+namespace
+{
+
+std::vector<Index>& ThreadRegionIds()
+{
+  thread_local std::vector<Index> ids;
+  return ids;
+}
+
+} // namespace
+
+detail::RegionIds::RegionIds(const DualGraph& graph, const std::vector<Index>& region)
+  : Ids(ThreadRegionIds())
+  , Region(region)
+{
+  Ids.resize(graph.NumberOfTriangles(), -1);
+  for (std::size_t k = 0; k < Region.size(); ++k)
+  {
+    Ids[Region[k]] = static_cast<Index>(k);
+  }
+}
+
+detail::RegionIds::~RegionIds()
+{
+  for (const Index t : Region)
+  {
+    Ids[t] = -1;
+  }
+}
+
 std::pair<Index, Index> detail::FarthestPair(const DualGraph& graph, const std::vector<Index>& region,
   const std::vector<Index>& localOf, Index start, std::vector<double>& fromA)
 {
@@ -475,11 +499,8 @@ constexpr double LongTubeRatio = 4.0;
 
 std::vector<std::vector<Index>> SplitRegion(const DualGraph& graph, const std::vector<Index>& triangles, bool annulus)
 {
-  std::vector<Index> localOf(graph.NumberOfTriangles(), -1);
-  for (std::size_t k = 0; k < triangles.size(); ++k)
-  {
-    localOf[triangles[k]] = static_cast<Index>(k);
-  }
+  const detail::RegionIds ids(graph, triangles);
+  const std::vector<Index>& localOf = ids.Of();
   std::vector<double> fromA, distance;
   auto [a, b] = FarthestPair(graph, triangles, localOf, 0, fromA);
   std::vector<std::vector<Index>> halves(2);

@@ -21,6 +21,25 @@ namespace detail
 void NearestWithin(const DualGraph& graph, const std::vector<Index>& region, const std::vector<Index>& localOf,
   const std::vector<Index>& sources, std::vector<double>& distance, std::vector<int>* label);
 
+/// The calling thread's triangle -> local id map of one region (NearestWithin's
+/// localOf: region[k] -> k, -1 elsewhere) while it lives, one at a time per
+/// thread: made once per thread at the graph's size and -1 again after each
+/// use, so a region costs its own size, not the surface's (regions are split
+/// and measured on several threads at once).
+class RegionIds
+{
+public:
+  RegionIds(const DualGraph& graph, const std::vector<Index>& region);
+  ~RegionIds();
+  RegionIds(const RegionIds&) = delete;
+  RegionIds& operator=(const RegionIds&) = delete;
+  const std::vector<Index>& Of() const { return Ids; }
+
+private:
+  std::vector<Index>& Ids;
+  const std::vector<Index> Region;
+};
+
 /// The two triangles of a region (local ids) farthest apart along it: the
 /// farthest from `start`, and the farthest from that one (fromA: the
 /// distances from the first).

@@ -38,16 +38,8 @@ double RegionArea(const DualGraph& graph, const std::vector<Index>& region)
 /// distant triangles; the line is a smooth seam between them).  True (the pair replaced) when both halves are disks.
 bool RebalancePair(const MeshTopology& topology, const DualGraph& graph, ChartMesh& first, ChartMesh& second)
 {
-  // The thread's triangle -> local id map (all -1 between uses: the pairs
-  // of other threads must not show through it).
-  thread_local std::vector<Index> localOf;
-  localOf.resize(graph.NumberOfTriangles(), -1);
   std::vector<Index> both = first.Triangles;
   both.insert(both.end(), second.Triangles.begin(), second.Triangles.end());
-  for (std::size_t k = 0; k < both.size(); ++k)
-  {
-    localOf[both[k]] = static_cast<Index>(k);
-  }
   // The union's two most distant triangles, by a double sweep from the
   // triangle of the first chart farthest from the second (a start that does
   // not depend on the order of the triangles).
@@ -55,16 +47,18 @@ bool RebalancePair(const MeshTopology& topology, const DualGraph& graph, ChartMe
   std::vector<Index> ofSecond(both.size() - split);
   std::iota(ofSecond.begin(), ofSecond.end(), static_cast<Index>(split));
   std::vector<double> fromSecond, fromA, fromB;
-  NearestWithin(graph, both, localOf, ofSecond, fromSecond, nullptr);
-  const Index start =
-    static_cast<Index>(std::max_element(fromSecond.begin(), fromSecond.begin() + split) - fromSecond.begin());
-  const Index b = FarthestPair(graph, both, localOf, start, fromA).second;
-  NearestWithin(graph, both, localOf, { b }, fromB, nullptr);
+  {
+    const RegionIds ids(graph, both);
+    NearestWithin(graph, both, ids.Of(), ofSecond, fromSecond, nullptr);
+    const Index start =
+      static_cast<Index>(std::max_element(fromSecond.begin(), fromSecond.begin() + split) - fromSecond.begin());
+    const Index b = FarthestPair(graph, both, ids.Of(), start, fromA).second;
+    NearestWithin(graph, both, ids.Of(), { b }, fromB, nullptr);
+  }
   std::vector<std::pair<double, Index>> order(both.size()); // (d_a - d_b, triangle)
   for (std::size_t k = 0; k < both.size(); ++k)
   {
     order[k] = { fromA[k] - fromB[k], both[k] };
-    localOf[both[k]] = -1;
   }
   std::sort(order.begin(), order.end());
   for (std::size_t k = 0; k < both.size(); ++k)
