@@ -15,7 +15,7 @@
  *    or LEAST_ESTIMATED_ERROR (default): with the automatic time step, the
  *    curvature flow or the umbrella, whichever ends at the lower estimated
  *    error (the umbrella alone on a crumpled mesh, median dihedral angle
- *    40 degrees or more); with a given time step the curvature flow.  The
+ *    37 degrees or more); with a given time step the curvature flow.  The
  *    field array FairingOperator holds the operator used.
  *  - TimeStep 0 (default): chosen from the input.  The noise of the
  *    geometry is estimated (the height of each point above a quadric fitted
