@@ -82,15 +82,18 @@ void vtkSurfaceRemeshing::LayOutNoisyInputOnCopy(Run& run)
       // rounded off (the thin hairs of a sphere, a flattened CAD part's
       // edges): the input's own charts with sparser seams are kept where
       // they come closer.
-      const int copy = kept.Active;
-      kept.Active = 0;
-      if (beltrami::WorstDeviation(run.Driven.Remesh) * run.Driven.Remesh.Diagonal > run.Driven.Remesh.Spacing &&
-        beltrami::FoldedEdgeShare(kept.Surface.Topology(), kept.Points) < beltrami::CrumpledShare &&
-        this->RemeshWithSparserSeams(run, needed, &run.Driven.Remesh))
+      const beltrami::RemeshResult& laid = run.Driven.Remesh;
+      if (beltrami::WorstDeviation(laid) * laid.Diagonal > laid.Spacing &&
+        beltrami::FoldedEdgeShare(kept.Surface.Topology(), kept.Points) < beltrami::CrumpledShare)
       {
-        return;
+        const int copy = kept.Active;
+        kept.Active = 0;
+        if (this->RemeshWithSparserSeams(run, needed, &laid))
+        {
+          return;
+        }
+        kept.Active = copy;
       }
-      kept.Active = copy;
       vtkWarningMacro(<< "The input's own charts cannot be remeshed with " << tried << " vertices (" << inputError
                       << "): " << OnCopy
                       << (this->MaximumDeviation > 0.0 ? " (MaximumDeviation holds on the smoothed copy; "
@@ -129,8 +132,7 @@ void vtkSurfaceRemeshing::LayOutWithSparserSeams(Run& run)
   // Last, so that a noisy scan whose own charts fail is laid out on a
   // smoothed copy first (its remesh there is better).
   const beltrami::SurfaceSamples& samples = run.Driven.Remesh.Samples;
-  if (run.Driven.Remesh.Error.empty() || this->MaximumDeviation > 0.0 || this->Cache->Active != 0 ||
-    samples.BoundarySamples <= this->NumberOfVertices)
+  if (run.Driven.Remesh.Error.empty() || this->Cache->Active != 0 || samples.BoundarySamples <= this->NumberOfVertices)
   {
     return;
   }

@@ -25,7 +25,8 @@ void NearestWithin(const DualGraph& graph, const std::vector<Index>& region, con
 /// localOf: region[k] -> k, -1 elsewhere) while it lives, one at a time per
 /// thread: made once per thread at the graph's size and -1 again after each
 /// use, so a region costs its own size, not the surface's (regions are split
-/// and measured on several threads at once).
+/// and measured on several threads at once).  `region` must outlive it
+/// unchanged.
 class RegionIds
 {
 public:
@@ -37,7 +38,7 @@ public:
 
 private:
   std::vector<Index>& Ids;
-  const std::vector<Index> Region;
+  const std::vector<Index>& Region;
 };
 
 /// The two triangles of a region (local ids) farthest apart along it: the

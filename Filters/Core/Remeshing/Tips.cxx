@@ -444,20 +444,13 @@ std::int64_t PinTips(const MeshTopology& topology, const double* points, const A
       interior[out.Chart[s]].push_back(s);
     }
   }
-  const auto onBoundary = [&](Index v) {
-    const int chart = atlas.ChartOfTriangle[*topology.CornersBegin(v) / 3];
-    return !std::all_of(topology.CornersBegin(v), topology.CornersEnd(v),
-      [&](Index c) { return atlas.ChartOfTriangle[c / 3] == chart; });
-  };
-  std::vector<Index> onPathTips;
-  std::copy_if(tips.begin(), tips.end(), std::back_inserter(onPathTips),
-    [&](Index v) { return onBoundary(v) && threshold > 0.0 && defects[v] > threshold; });
-  const auto places = PathPlaces(onPathTips, out);
+  const auto places = PathPlaces(tips, out);
   for (const Index v : tips)
   {
     const Index corner = *topology.CornersBegin(v);
     const int chart = atlas.ChartOfTriangle[corner / 3];
-    if (onBoundary(v))
+    if (!std::all_of(topology.CornersBegin(v), topology.CornersEnd(v),
+          [&](Index c) { return atlas.ChartOfTriangle[c / 3] == chart; }))
     {
       const double defect = threshold > 0.0 ? defects[v] : 0.0;
       if (defect > threshold)
