@@ -462,7 +462,13 @@ int vtkSurfaceRemeshing::Build(vtkPolyData* input, vtkPolyData* output)
   }
   Kept& kept = *this->Cache;
   kept.Active = 0;
+  kept.DenoisedRun.reset();
+  kept.DenoisedCopy = -1;
   Run run;
+  if (this->LayOutFoldedInputOnCopyFirst(run))
+  {
+    return this->Report(input, run, output);
+  }
   if (!this->RemeshLayout(run))
   {
     return 0;

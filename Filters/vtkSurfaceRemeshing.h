@@ -100,7 +100,10 @@
  * implicit umbrella step, beltrami::DenoisedLayout, of the steps
  * beltrami::DenoisedLayoutSteps in turn), moved onto the input and its
  * triangles shaped there by a few stitching rounds, with a warning: its
- * vertices lie on the input and follow its noise.  Where no copy remeshes
+ * vertices lie on the input and follow its noise; on an input whose noise
+ * folds a tenth of its edges and more (beltrami::HeavilyFoldedShare) the
+ * copy comes first, and its remesh is kept where it is not poor, without
+ * the input's own charts.  Where no copy remeshes
  * and the chart boundaries still take more than the count (a surface of
  * many handles at a low count), the seams between charts are sampled two,
  * then three times as sparsely, with a warning; only counts they cannot
@@ -328,8 +331,13 @@ private:
   /// The remesh laid out on the first smoothed copy that can be remeshed
   /// (where its remesh is poor, on the next ones too, the better kept:
   /// beltrami::KeepCopysRemesh) and moved onto the input into `run` (that
-  /// copy stays the active layout); false where none can.
+  /// copy stays the active layout); false where none can.  Made once per
+  /// update (Kept::DenoisedRun), which its fallbacks share.
   bool RemeshDenoised(Run& run);
+  /// On an input that folds heavily (beltrami::HeavilyFoldedShare), `run`
+  /// laid out on a smoothed copy first (RemeshDenoised), with a warning,
+  /// where that remesh is not poor; false otherwise.
+  bool LayOutFoldedInputOnCopyFirst(Run& run);
   /// Where the input's own charts fail, or remesh poorly on a noisy input,
   /// `run` laid out on a smoothed copy (RemeshDenoised), with a warning.
   void LayOutNoisyInputOnCopy(Run& run);

@@ -30,25 +30,37 @@ bool vtkSurfaceRemeshing::RemeshDenoised(Run& run)
   // too, the better kept (isotropic noise of 0.6% of the diagonal on
   // bunny00: the first copy's remesh at 2,000 vertices has 3.2% of its
   // triangles below 30 degrees, the second's 0.3%).
-  int kept = -1;
-  for (int k = 0; k < Kept::Copies && (kept < 0 || beltrami::PoorRemesh(run.Driven.Remesh, this->NumberOfThreads)); ++k)
+  Kept& cache = *this->Cache;
+  if (!cache.DenoisedRun)
   {
-    Run denoised;
-    if (!this->LayOutOnDenoisedCopy(k) || !this->Atlas().Error.empty() || !this->RemeshLayout(denoised) ||
-      !denoised.Driven.Remesh.Error.empty())
+    cache.DenoisedRun = std::make_unique<Run>();
+    Run& best = *cache.DenoisedRun;
+    for (int k = 0; k < Kept::Copies &&
+         (cache.DenoisedCopy < 0 || beltrami::PoorRemesh(best.Driven.Remesh, this->NumberOfThreads));
+         ++k)
     {
-      continue;
-    }
-    beltrami::RemeshResult& remesh = denoised.Driven.Remesh;
-    denoised.LaidDistance = remesh.DeviationFromInput * remesh.Diagonal;
-    beltrami::CheckFidelity(this->Cache->Surface.Topology(), this->Cache->Points, denoised.Options, remesh);
-    if (kept < 0 || beltrami::KeepCopysRemesh(remesh, run.Driven.Remesh, this->NumberOfThreads))
-    {
-      run = std::move(denoised);
-      kept = k;
+      Run denoised;
+      if (!this->LayOutOnDenoisedCopy(k) || !this->Atlas().Error.empty() || !this->RemeshLayout(denoised) ||
+        !denoised.Driven.Remesh.Error.empty())
+      {
+        continue;
+      }
+      beltrami::RemeshResult& remesh = denoised.Driven.Remesh;
+      denoised.LaidDistance = remesh.DeviationFromInput * remesh.Diagonal;
+      beltrami::CheckFidelity(this->Cache->Surface.Topology(), this->Cache->Points, denoised.Options, remesh);
+      if (cache.DenoisedCopy < 0 || beltrami::KeepCopysRemesh(remesh, best.Driven.Remesh, this->NumberOfThreads))
+      {
+        best = std::move(denoised);
+        cache.DenoisedCopy = k;
+      }
     }
   }
-  return kept >= 0 && this->LayOutOnDenoisedCopy(kept);
+  if (cache.DenoisedCopy < 0)
+  {
+    return false;
+  }
+  run = *cache.DenoisedRun;
+  return this->LayOutOnDenoisedCopy(cache.DenoisedCopy);
 }
 
 namespace
@@ -60,6 +72,23 @@ const char* const OnCopy = "the remesh was laid out on a smoothed copy of the in
 const char* const SmoothFirst = ". For a remesh of the smoothed surface, smooth the input first (vtkImplicitFairing).";
 
 } // namespace
+
+bool vtkSurfaceRemeshing::LayOutFoldedInputOnCopyFirst(Run& run)
+{
+  Kept& kept = *this->Cache;
+  const double folded = beltrami::FoldedEdgeShare(kept.Surface.Topology(), kept.Points);
+  if (this->MaximumDeviation > 0.0 || folded < beltrami::HeavilyFoldedShare || !this->RemeshDenoised(run) ||
+    beltrami::PoorRemesh(run.Driven.Remesh, this->NumberOfThreads))
+  {
+    kept.Active = 0;
+    run = Run();
+    return false;
+  }
+  vtkWarningMacro(<< "The input folds (" << 100.0 * folded << "% of its neighbouring triangles face more than 90 "
+                  << "degrees apart: noise larger than its edges, on which its own charts fail or remesh poorly): "
+                  << OnCopy << SmoothFirst);
+  return true;
+}
 
 void vtkSurfaceRemeshing::LayOutNoisyInputOnCopy(Run& run)
 {

@@ -35,21 +35,6 @@ struct vtkSurfaceRemeshing::Layout
   std::array<double, 4> MetricKey{}; // MaximumAnisotropy, MinimumImportance, Gradation, AtlasBuilds
 };
 
-struct vtkSurfaceRemeshing::Kept
-{
-  const void* Input = nullptr;
-  vtkMTimeType InputTime = 0;
-  vtkBeltramiSurface Surface;
-  std::vector<double> Storage; // the points as doubles, where they are not (or points were split)
-  const double* Points = nullptr; // the input's
-  static constexpr int Copies = static_cast<int>(std::size(beltrami::DenoisedLayoutSteps));
-  Layout Layouts[1 + Copies]; // 0: on the input's points, 1 + k: on Denoised[k]
-  int Active = 0;             // the layout of the run
-  bool DenoisedTried[Copies] = {};
-  std::vector<double> Denoised[Copies]; // DenoisedLayout of each step (empty: none, or not tried yet)
-  Layout& Laid() { return this->Layouts[this->Active]; }
-};
-
 /// One remesh of the kept surface with the filter's settings, on the active
 /// layout: its importance, metric and options, and the result.
 struct vtkSurfaceRemeshing::Run
@@ -63,6 +48,25 @@ struct vtkSurfaceRemeshing::Run
   /// lost part); else -1.
   double LaidDistance = -1.0;
   const double* Weights() const { return this->Importance.empty() ? nullptr : this->Importance.data(); }
+};
+
+struct vtkSurfaceRemeshing::Kept
+{
+  const void* Input = nullptr;
+  vtkMTimeType InputTime = 0;
+  vtkBeltramiSurface Surface;
+  std::vector<double> Storage; // the points as doubles, where they are not (or points were split)
+  const double* Points = nullptr; // the input's
+  static constexpr int Copies = static_cast<int>(std::size(beltrami::DenoisedLayoutSteps));
+  Layout Layouts[1 + Copies]; // 0: on the input's points, 1 + k: on Denoised[k]
+  int Active = 0;             // the layout of the run
+  bool DenoisedTried[Copies] = {};
+  std::vector<double> Denoised[Copies]; // DenoisedLayout of each step (empty: none, or not tried yet)
+  /// This update's remesh on the smoothed copies (RemeshDenoised; null: not
+  /// made yet), on copy DenoisedCopy (-1: none remeshed).
+  std::unique_ptr<Run> DenoisedRun;
+  int DenoisedCopy = -1;
+  Layout& Laid() { return this->Layouts[this->Active]; }
 };
 
 #endif

@@ -25,8 +25,10 @@ double FoldedEdgeShare(const MeshTopology& topology, const double* points)
     const Index c0 = edges.OppositeCorners[2 * e], c1 = edges.OppositeCorners[2 * e + 1];
     if (c0 >= 0 && c1 >= 0 && edges.FaceCount[e] == 2)
     {
+      // (Beyond round-off: the faces of a box meet at 90 degrees exactly.)
       ++interior;
-      folded += normal(c0).dot(normal(c1)) < 0.0 ? 1 : 0;
+      const Vec3 n0 = normal(c0), n1 = normal(c1);
+      folded += n0.dot(n1) < -1e-9 * n0.norm() * n1.norm() ? 1 : 0;
     }
   }
   return interior > 0 ? static_cast<double>(folded) / static_cast<double>(interior) : 0.0;

@@ -352,6 +352,21 @@ double FoldedEdgeShare(const MeshTopology& topology, const double* points);
 /// 3.5% of its triangles below 30 degrees; on the copy 1.2% and none).
 constexpr double CrumpledShare = 0.02;
 
+/// At this share of folded edges and above (FoldedEdgeShare: noise larger
+/// than the edges), the remesh is laid out on a smoothed copy first
+/// (DenoisedLayout) and kept there where it is not poor (PoorRemesh),
+/// before the input's own charts are tried: they fail or remesh poorly
+/// there, after their atlas.  The 1.2M-triangle bunny with noise of 0.075%
+/// of its diagonal along its normals (10.2% folded) at 100,000 vertices:
+/// 11.8 s on its own 28,368 charts, which take more samples than the count,
+/// then the copy's remesh; 29.6 s -> 17.4 s (CGAL 20.3 s), the same remesh.
+/// bunny00 with 0.3% (11.7%) at 10,000 vertices: 3.3 s -> 0.6 s.  Over the
+/// corpus with noise of 0.3% and 1% of the diagonal (14 cases fold
+/// 10-30%) the same remeshes; from 5%, three coarse meshes with 1% at
+/// 2,000 vertices (hand, knot1, sphere966: 6.4-6.5% and 5.2%) came out 1.4
+/// to 2.1 times farther from the input on the copy than on their own charts.
+constexpr double HeavilyFoldedShare = 0.1;
+
 /// Whether a remesh failed, leaves an input point farther than its
 /// spacing, or has an angle below 15 degrees or more than 0.5% of its
 /// triangles below 30.

@@ -724,4 +724,15 @@ TEST(SurfaceRemeshing, FoldedEdgesAreCountedOnTheInteriorEdges)
   std::printf("washboard: %.1f%% of the interior edges folded\n", 100.0 * share);
   EXPECT_GT(share, 0.2);
   EXPECT_LT(share, 0.5);
+  // A cube's faces meet at 90 degrees: none folded, turned any way (their
+  // normals' product is round-off there, of either sign: 5 of its 18 edges
+  // counted, and a third of the corpus' cube's).
+  test::Mesh cube = test::CubeSurface(1);
+  const Eigen::Matrix3d turn = (Eigen::AngleAxisd(0.3, Eigen::Vector3d(1.0, 2.0, 3.0).normalized()) *
+    Eigen::AngleAxisd(1.1, Eigen::Vector3d(-2.0, 0.5, 1.0).normalized())).toRotationMatrix();
+  for (Index v = 0; v < cube.NumberOfVertices(); ++v)
+  {
+    Eigen::Map<Eigen::Vector3d>(&cube.Points[3 * v]) = turn * Eigen::Vector3d(Point(cube.Points.data(), v));
+  }
+  EXPECT_EQ(FoldedEdgeShare(cube.Topology(), cube.Points.data()), 0.0);
 }
