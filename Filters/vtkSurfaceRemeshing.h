@@ -336,7 +336,8 @@ private:
   bool RemeshDenoised(Run& run);
   /// On an input that folds heavily (beltrami::HeavilyFoldedShare), `run`
   /// laid out on a smoothed copy first (RemeshDenoised), with a warning,
-  /// where that remesh is not poor; false otherwise.
+  /// where that remesh is not poor; false otherwise, and with sharp edges
+  /// kept or in the error-driven mode.
   bool LayOutFoldedInputOnCopyFirst(Run& run);
   /// Where the input's own charts fail, or remesh poorly on a noisy input,
   /// `run` laid out on a smoothed copy (RemeshDenoised), with a warning.
