@@ -359,7 +359,7 @@ constexpr double CrumpledShare = 0.02;
 /// there, after their atlas.  The 1.2M-triangle bunny with noise of 0.075%
 /// of its diagonal along its normals (10.2% folded) at 100,000 vertices:
 /// 11.8 s on its own 28,368 charts, which take more samples than the count,
-/// then the copy's remesh; 29.6 s -> 17.4 s (CGAL 20.3 s), the same remesh.
+/// then the copy's remesh; 29.6 s -> 17.4-18.0 s (CGAL 21.0 s), the same remesh.
 /// bunny00 with 0.3% (11.7%) at 10,000 vertices: 3.3 s -> 0.6 s.  Over the
 /// corpus with noise of 0.3% and 1% of the diagonal (14 cases fold
 /// 10-30%) the same remeshes; from 5%, three coarse meshes with 1% at
