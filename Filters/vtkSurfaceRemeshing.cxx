@@ -500,7 +500,7 @@ int vtkSurfaceRemeshing::Report(vtkPolyData* input, const Run& run, vtkPolyData*
   // of its edges folded, at 50,000 vertices: 1.24 spacings away, and 1.47,
   // 1.09 and 1.72 at 2, 4 and 8 times the count, 32 s of remeshes to say so).
   const double folded = missing && remesh.Error.empty() && count >= topology.NumberOfVertices()
-    ? beltrami::FoldedEdgeShare(topology, this->Cache->Points) : 0.0;
+    ? this->Cache->FoldedShare() : 0.0;
   const beltrami::CountAdvice counts = missing && folded < beltrami::CrumpledShare
     ? beltrami::AdviseCounts(topology, points, atlas, run.Weights(), asked, remesh) : beltrami::CountAdvice();
   const std::int64_t keeping = counts.Keeps, remeshing = counts.Remeshes;

@@ -80,7 +80,7 @@ bool vtkSurfaceRemeshing::LayOutFoldedInputOnCopyFirst(Run& run)
   // remesh poorly: 0.2 -> 1.2 s at 10,000 vertices for the same remesh.)
   Kept& kept = *this->Cache;
   const double folded = this->MaximumDeviation > 0.0 || this->SplitsAtFeatures()
-    ? 0.0 : beltrami::FoldedEdgeShare(kept.Surface.Topology(), kept.Points);
+    ? 0.0 : kept.FoldedShare();
   if (folded < beltrami::HeavilyFoldedShare || !this->RemeshDenoised(run) ||
     beltrami::PoorRemesh(run.Driven.Remesh, this->NumberOfThreads))
   {
@@ -117,7 +117,7 @@ void vtkSurfaceRemeshing::LayOutNoisyInputOnCopy(Run& run)
       // they come closer.
       const beltrami::RemeshResult& laid = run.Driven.Remesh;
       if (beltrami::WorstDeviation(laid) * laid.Diagonal > laid.Spacing &&
-        beltrami::FoldedEdgeShare(kept.Surface.Topology(), kept.Points) < beltrami::CrumpledShare)
+        kept.FoldedShare() < beltrami::CrumpledShare)
       {
         const int copy = kept.Active;
         kept.Active = 0;
@@ -144,7 +144,7 @@ void vtkSurfaceRemeshing::LayOutNoisyInputOnCopy(Run& run)
   {
     return;
   }
-  const double folded = beltrami::FoldedEdgeShare(kept.Surface.Topology(), kept.Points);
+  const double folded = kept.FoldedShare();
   Run denoised;
   if (folded >= beltrami::CrumpledShare && this->RemeshDenoised(denoised) &&
     beltrami::KeepCopysRemesh(denoised.Driven.Remesh, run.Driven.Remesh, this->NumberOfThreads))

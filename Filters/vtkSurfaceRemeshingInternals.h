@@ -67,6 +67,18 @@ struct vtkSurfaceRemeshing::Kept
   std::unique_ptr<Run> DenoisedRun;
   int DenoisedCopy = -1;
   Layout& Laid() { return this->Layouts[this->Active]; }
+  /// beltrami::FoldedEdgeShare of the input's points, measured once.
+  double FoldedShare()
+  {
+    if (this->Folded < 0.0)
+    {
+      this->Folded = beltrami::FoldedEdgeShare(this->Surface.Topology(), this->Points);
+    }
+    return this->Folded;
+  }
+
+private:
+  double Folded = -1.0;
 };
 
 #endif
