@@ -15,6 +15,11 @@ chosen from the noise) on every mesh of the shared corpus with Gaussian noise of
 best step and windowed sinc's best pass band (both chosen with the clean mesh),
 error and time per case in one table (also written for the guide's benchmarks page).
 With --defaults --isotropic: the same with the noise in every coordinate.
+With --defaults --variants: the defaults on shapes no setting was tuned on,
+each corpus mesh stretched 6 times, flattened to 0.15 and decimated to a
+tenth (inputs.variants_of), clean (how far the defaults move it, in mean
+edge lengths) and with the same noise, against the same oracles: printed
+only.
 With --preconditioners [--big]: the preconditioners of the implicit solves
 (Jacobi, hypre's algebraic multigrid, the geometric multigrid on the
 surface's hierarchy, and Automatic, the default, which takes one of the
@@ -152,6 +157,37 @@ def defaults_table(isotropic=False):
                  "Errors: RMS distance to the clean mesh over the bounding-box diagonal. " + summary)
 
 
+def variants_table():
+    """The defaults on the corpus meshes' variants (see the docstring)."""
+    import inputs
+    print("Fairing defaults on shapes no setting was tuned on: RMS distance to the clean mesh / diagonal (clean: "
+          "the move in mean edge lengths h); own best and sinc as --defaults")
+    counts = {"cases": 0, "no further": 0, "within 10%": 0, "ahead of sinc": 0, "clean": 0, "clean kept": 0}
+    for path in sorted(p for p in inputs.corpus_paths() if p.startswith(inputs.SHARED_MESHES)):
+        for name, mesh in inputs.variants_of(os.path.basename(path), oracles.read_triangles(path)):
+            if mesh.GetNumberOfPoints() < 50:
+                continue
+            moved = oracles.case(mesh, 0.0, oracles=False)["moved"] / oracles.mean_edge_length(mesh)
+            counts["clean"] += 1
+            counts["clean kept"] += moved < 0.1
+            print(f"{name:42s} clean: moved {moved:.3f} h{'  (over 0.1 h)' if moved >= 0.1 else ''}", flush=True)
+            for level in (0.001, 0.003, 0.01):
+                r = oracles.case(mesh, level)
+                flags = [("further than the input", r["defaults"] > r["input"] * (1 + 1e-9)),
+                         ("beyond 1.1 x own best", r["defaults"] > 1.1 * r["own best"]),
+                         ("behind sinc", r["defaults"] >= r["sinc best"])]
+                counts["cases"] += 1
+                counts["no further"] += not flags[0][1]
+                counts["within 10%"] += not flags[1][1]
+                counts["ahead of sinc"] += not flags[2][1]
+                print(f"{name:42s} {100 * level:5.1f}% {r['input']:8.5f} {r['defaults']:8.5f} {r['own best']:8.5f} "
+                      f"{r['sinc best']:8.5f} noise {r['estimated noise'] / level:5.2f}  "
+                      + ", ".join(text for text, bad in flags if bad), flush=True)
+    print(f"Clean, moved under 0.1 h: {counts['clean kept']} of {counts['clean']}. Noisy: no further than the input "
+          f"{counts['no further']} of {counts['cases']}; within 10% of the own best {counts['within 10%']}; ahead "
+          f"of windowed sinc's best {counts['ahead of sinc']}.")
+
+
 def preconditioner_table(levels):
     """Time and iterations of one step per preconditioner (see the docstring)."""
     reader = vtkOFFReader()
@@ -209,6 +245,10 @@ def preconditioner_table(levels):
 
 if "--preconditioners" in sys.argv:
     preconditioner_table([0, 1, 2, 3] if "--big" in sys.argv else [0, 1, 2])
+    sys.exit(0)
+
+if "--defaults" in sys.argv and "--variants" in sys.argv:
+    variants_table()
     sys.exit(0)
 
 if "--defaults" in sys.argv:

@@ -160,21 +160,6 @@ def line(name, seconds, q):
                                                q["below30"], q["valence6"], q["cv"], q["hausdorff"]))
 
 
-def variants_of(name, data):
-    """(name, polydata) of the shapes --variants makes of one real mesh
-    (corpus_table has put Testing/Python on the path)."""
-    import inputs
-    points, triangles = inputs.arrays_of(data)
-    points = points - points.mean(axis=0)
-    out = [(name + " stretched x6", inputs.polydata(points * [6.0, 1.0, 1.0], triangles)),
-           (name + " flattened 0.15", inputs.polydata(points * [1.0, 1.0, 0.15], triangles))]
-    p, t = inputs.decimated(inputs.polydata(points, triangles), 0.1)
-    top = inputs.topology(p, t)
-    if top["manifold"] and top["oriented"]:
-        out.append((name + " decimated 0.1", inputs.polydata(p, t)))
-    return out
-
-
 def corpus_table(counts, noise=0.0, variants=False):
     """Every real mesh (the shared corpus and Testing/Data) and the shapes
     made to break a remesher, uniform at each count, ours and CGAL's: one
@@ -189,7 +174,7 @@ def corpus_table(counts, noise=0.0, variants=False):
     if noise > 0.0:
         meshes = [(name, noisy(data, noise)) for name, data in meshes]
     elif variants:
-        meshes = [variant for name, data in meshes for variant in variants_of(name, data)]
+        meshes = [variant for name, data in meshes for variant in inputs.variants_of(name, data)]
     else:
         meshes += [(name, inputs.polydata(*shape)) for name, shape in inputs.hard_shapes().items()]
     columns = ["mesh", "count", "remesher", "vertices", "to input %", "from input %", "worst angle",

@@ -432,3 +432,19 @@ class Messages:
 
 # The generated surfaces, kept in their own module (it reads the helpers above).
 from shapes import *  # noqa: E402,F401,F403
+
+
+def variants_of(name, data):
+    """(name, polydata) of shapes no setting was tuned on, made of one real
+    mesh: stretched 6 times along x, flattened to 0.15 of its height, and
+    quadric-decimated to a tenth of its triangles (where that stays manifold
+    and oriented): the benchmarks' --variants."""
+    points, triangles = arrays_of(data)
+    points = points - points.mean(axis=0)
+    out = [(name + " stretched x6", polydata(points * [6.0, 1.0, 1.0], triangles)),
+           (name + " flattened 0.15", polydata(points * [1.0, 1.0, 0.15], triangles))]
+    p, t = decimated(polydata(points, triangles), 0.1)
+    top = topology(p, t)
+    if top["manifold"] and top["oriented"]:
+        out.append((name + " decimated 0.1", polydata(p, t)))
+    return out
