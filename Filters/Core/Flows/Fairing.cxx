@@ -383,6 +383,31 @@ void UndefinedStep(int step, int steps, std::ostringstream& warn, FairingReport&
   report.Completed = false;
 }
 
+/// A chosen step's run whose moves are coherent (MoveCoherence above
+/// MostCoherentMove) changed the shape rather than removing noise: the
+/// points go back to `input`, as where the step's choice leaves them.
+void LeaveCoherentMoves(const MeshTopology& topo, const std::vector<double>& input,
+  const std::vector<std::uint8_t>& held, const Partition* split, double* x, std::ostringstream& warn,
+  FairingReport& report)
+{
+  const double coherence = MoveCoherence(topo, input.data(), x, held, split);
+  if (!(coherence > MostCoherentMove))
+  {
+    return;
+  }
+  std::copy(input.begin(), input.end(), x);
+  report.ChosenTimeStep = 0.0;
+  report.EstimatedError = report.InputError;
+  report.Iterations.clear();
+  report.FinalInvariant = report.InitialInvariant;
+  std::ostringstream said;
+  said << "The step chosen moved neighbouring points together (their moves' correlation over the edges "
+       << coherence << ", where removing noise moves them independently): it changed the shape, whose detail "
+          "smoothing cannot tell from noise here, so the surface was left as it is. Set TimeStep to smooth it. ";
+  warn << said.str();
+  report.StepWarning += said.str();
+}
+
 /// The counts and the warning sentence of a finished run.
 void FinishReport(const MeshTopology& topo, const VertexRoles& roles, const FairingOptions& opt,
   const Partition* split, std::ostringstream& warn, FairingReport& report)
@@ -481,6 +506,7 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
   // Where the first step's solve starts: at x, or at the chosen step's own
   // run from x in the search (its result, met at once; ChooseStep).
   RunStart guess;
+  std::vector<double> input; // the points before a chosen step's run (MostCoherentMove)
   if (opt.TimeStep == 0.0 && opt.Integration != FairingIntegration::TaubinLambdaMu && opt.NumberOfIterations > 0)
   {
     const OperatorAssembly assemble = [&](const double* p, const FairingOptions& o, GraphLaplacian& lap) {
@@ -490,6 +516,10 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
     opt.TimeStep = choice.TimeStep;
     opt.NumberOfIterations = opt.TimeStep > 0.0 ? opt.NumberOfIterations : 0; // a clean mesh stays as it is
     guess = std::move(choice.Start);
+    if (opt.TimeStep > 0.0)
+    {
+      input.assign(x, x + 3 * static_cast<std::size_t>(n));
+    }
   }
   std::vector<double> start;
   // A combination with a negative weight: each step's start, kept in case
@@ -591,6 +621,10 @@ FairingReport FairClosedOrFixed(const MeshTopology& topo, double* x, const Fairi
       report.Completed = false;
       break;
     }
+  }
+  if (!input.empty() && report.Completed)
+  {
+    LeaveCoherentMoves(topo, input, held, split, x, warn, report);
   }
   FinishReport(topo, roles, opt, split, warn, report);
   return report;

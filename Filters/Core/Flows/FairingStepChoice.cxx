@@ -373,6 +373,41 @@ FairingReport FairWithEitherOperator(const MeshTopology& topo, double* points, c
   return report;
 }
 
+double MoveCoherence(const MeshTopology& topo, const double* before, const double* after,
+  const std::vector<std::uint8_t>& held, const Partition* split)
+{
+  const MeshTopology::VertexGraph& graph = topo.Graph();
+  const auto move = [&](Index v) -> Vec3 { return Point(after, v) - Point(before, v); };
+  double sums[4] = { 0.0, 0.0, 0.0, 0.0 }; // d_a . d_b, edges, |d_a|^2, points
+  for (Index a = 0; a < topo.NumberOfVertices(); ++a)
+  {
+    if (held[a])
+    {
+      continue;
+    }
+    const Vec3 da = move(a);
+    if (!split || split->IsOwned(a))
+    {
+      sums[2] += da.squaredNorm();
+      sums[3] += 1.0;
+    }
+    for (std::int64_t k = graph.NeighborOffsets[a]; k < graph.NeighborOffsets[a + 1]; ++k)
+    {
+      const Index b = graph.Neighbors[k];
+      if (b > a && !held[b] && (!split || split->CountsEdge(a, b)))
+      {
+        sums[0] += da.dot(move(b));
+        sums[1] += 1.0;
+      }
+    }
+  }
+  if (split)
+  {
+    split->Sum(sums, 4);
+  }
+  return sums[1] > 0.0 && sums[2] > 0.0 && std::isfinite(sums[0]) ? (sums[0] / sums[1]) / (sums[2] / sums[3]) : 0.0;
+}
+
 StepChoice ChooseStep(const MeshTopology& topo, const double* x, const FairingOptions& opt, const VertexRoles& roles,
   const std::vector<std::uint8_t>& held, const InvariantState& inv, const OperatorAssembly& assemble, double unit,
   std::vector<Index>& order, const Partition* split, std::ostringstream& warn, FairingReport& report)

@@ -2,6 +2,7 @@
 // is known in closed form: a smoothing of noisy heights in the eigenbasis of
 // a Laplacian (each height one eigen-coefficient).
 #include "Flows/FairingStepChoice.h"
+#include "TestMeshes.h"
 
 #include <gtest/gtest.h>
 
@@ -160,4 +161,32 @@ TEST(FairingStepChoice, PureNoiseTakesTheLargestStepAndSaysSo)
   EXPECT_TRUE(choice.AtLimit);
   EXPECT_DOUBLE_EQ(choice.TimeStep, 4096.0);
   EXPECT_LT(choice.EstimatedError, 0.1);
+}
+
+// MoveCoherence: white noise's moves are about independent over the edges
+// (the filter keeps runs below MostCoherentMove), a shrinking or a
+// translation moves neighbours together, and held points do not count.
+TEST(FairingStepChoice, MovesOfNoiseAreIncoherentAndAShrinkingIsCoherent)
+{
+  const test::Mesh sphere = test::OctahedronSphere(4);
+  const MeshTopology topo = sphere.Topology();
+  const std::vector<double>& x = sphere.Points;
+  const std::vector<std::uint8_t> free(x.size() / 3, 0);
+  std::mt19937 random(7);
+  std::normal_distribution<double> normal(0.0, 1e-3);
+  std::vector<double> noise = x, shrunk = x, moved = x;
+  for (std::size_t k = 0; k < x.size(); ++k)
+  {
+    noise[k] += normal(random);
+    shrunk[k] *= 0.99;
+    moved[k] += k % 3 == 0 ? 0.01 : 0.0;
+  }
+  const double white = detail::MoveCoherence(topo, x.data(), noise.data(), free, nullptr);
+  EXPECT_LT(std::abs(white), 0.05);
+  EXPECT_LT(white, detail::MostCoherentMove);
+  EXPECT_GT(detail::MoveCoherence(topo, x.data(), shrunk.data(), free, nullptr), 0.9);
+  EXPECT_NEAR(detail::MoveCoherence(topo, x.data(), moved.data(), free, nullptr), 1.0, 1e-12);
+  EXPECT_EQ(detail::MoveCoherence(topo, x.data(), x.data(), free, nullptr), 0.0);
+  const std::vector<std::uint8_t> held(x.size() / 3, 1);
+  EXPECT_EQ(detail::MoveCoherence(topo, x.data(), noise.data(), held, nullptr), 0.0);
 }
