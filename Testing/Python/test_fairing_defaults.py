@@ -201,7 +201,7 @@ for level in (0.001, 0.003, 0.01):
               "%s: smoothed, nearer than windowed sinc's best (%.2f of the input)" % (label, r["defaults"] / r["input"]))
 # A coarse mesh decimated from a scan (the elephant and three_peaks
 # quadric-decimated to a tenth: 273 and 193 points, triangles of very
-# different sizes), its detail taken for noise 3-30 times the added noise:
+# different sizes), its detail taken for noise 1.5-30 times the added noise:
 # the step chosen moves neighbouring points together (MostCoherentMove),
 # shrinking the limbs rather than removing noise, and the surface is left
 # as it is with a warning (smoothed, they ended 1.2-17.6 times further
