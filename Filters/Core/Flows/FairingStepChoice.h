@@ -135,7 +135,7 @@ inline bool IsotropicNoise(double normal, double tangential, double h)
 /// The largest correlation of a chosen step's moves over the surface's
 /// edges (MoveCoherence) for the run to be kept.  Removing white noise
 /// moves neighbouring points independently (the moves are the noise's high
-/// frequencies: -0.22 to 0.09 over the corpus with noise of 0.1-1% of the
+/// frequencies: -0.23 to 0.09 over the corpus with noise of 0.1-1% of the
 /// diagonal along the normals, 75 cases, none of which it changes); where
 /// the run moves neighbours together it shrinks limbs and rounds the shape,
 /// detail that the noise estimate took for noise: over the corpus meshes
@@ -143,9 +143,9 @@ inline bool IsotropicNoise(double normal, double tangential, double h)
 /// flattened to 0.15 (201 cases with noise of 0.1-1% and 67 clean,
 /// inputs.variants_of), 13 of the runs above it ended 1.2-17.6 times
 /// further from the clean mesh than their noisy input (the decimated
-/// elephant with noise of 0.1%: 0.52, its estimate 30 times the noise), the
+/// elephant with noise of 0.1%: 0.53, its estimate 30 times the noise), the
 /// clean decimated elephant moved by 0.27 of its mean edge length, and one
-/// ended 0.92 times as far (the decimated bunny at 0.1%, 0.155).  Of the
+/// ended 0.92 times as far (the decimated bunny at 0.1%, 0.16).  Of the
 /// generated hard shapes (inputs.hard_shapes) with the same noise, it leaves
 /// a closed plate thinner than its triangles (collapsed: 23-40 times
 /// further) and a sphere amid 40 specks smaller than the noise at 0.1%
