@@ -58,11 +58,16 @@ struct RemeshOptions
   /// terms (RemeshSurface; only beyond FarRemeshSpacings).  The density
   /// keeps a smooth surface's sag within MaximumSurfaceSag (a tenth) of the
   /// spacing: a vertex farther is a corner of the input the samples missed.  0: one remesh as made.
-  /// Not with PinnedVertices or FinalSurface.
+  /// Not with FinalSurface, nor with PinnedVertices unless
+  /// RoundsWithPinnedVertices.
   double FarPinSpacings = 0.15;
   /// The most fidelity rounds, and remeshes after the first
   /// (FarPinSpacings; 0: one remesh as made).
   int FarPinRounds = 3;
+  /// The fidelity rounds also on a remesh with PinnedVertices (the
+  /// error-driven mode's remeshes, whose pins are its own; the remeshes
+  /// made again with the far vertices pinned take none).
+  bool RoundsWithPinnedVertices = false;
   /// The anisotropic mode: a metric per input vertex (6 numbers, as
   /// Remeshing/RemeshMetric's; null: isotropic).  Its density (the square
   /// root of its tangent determinant) times the importance is the density,
@@ -400,8 +405,11 @@ std::vector<double> DenoisedLayout(const MeshTopology& topology, const double* p
 /// Deviation*).  options.NumberOfVertices: the least count to use, or 0 for
 /// as few as the deviation takes, estimated first from the curvature (a
 /// triangle of spacing s departs about s^2 kappa / 8 from a surface of
-/// largest principal curvature kappa).  After each remesh the importance
-/// (`importance`, null: uniform) is raised at the input's vertices left
+/// largest principal curvature kappa).  Null `importance` starts from the
+/// density that curvature needs where it is more than twice its mean
+/// (WeightsForDeviation), 1 elsewhere.  Each remesh takes its fidelity
+/// rounds (RoundsWithPinnedVertices).  After each remesh the importance
+/// is raised at the input's vertices left
 /// farther than the bound, by the ratio of their distance to it (the
 /// deviation falls with the square of the spacing), spread over the
 /// spacing, with the count raised in proportion (by a tenth at least), so
