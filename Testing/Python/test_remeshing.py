@@ -687,6 +687,23 @@ class RemeshingFromPython(unittest.TestCase):
         deviation = out.GetFieldData().GetArray("RemeshDeviation")
         self.assertLess(max(deviation.GetValue(0), deviation.GetValue(1)), 0.005)
 
+    def test_a_new_count_on_a_kept_filter(self):
+        # The filter keeps its atlas and caches over a new count.  The
+        # knife-edged washer at 1,668 and then 6,672 vertices: the second
+        # count lays the remesh out on another atlas with as many charts,
+        # and the charts' locators of the first were used on it (a
+        # triangle index past the chart's: the process crashed).
+        import inputs
+        washer = inputs.polydata(*inputs.hard_shapes()["knife-edge-washer"])
+        f = vtkSurfaceRemeshing()
+        f.SetInputData(washer)
+        f.GlobalWarningDisplayOff()
+        for count in (1668, 6672):
+            f.SetNumberOfVertices(count)
+            f.Update()
+            self.assertEqual(f.GetOutput().GetNumberOfPoints(), count)
+            self.assert_topology_kept(washer, f.GetOutput())
+
     def test_error_driven_mode_takes_few_vertices(self):
         # The error-driven mode with nothing else set starts from the
         # density the curvature needs (where it exceeds twice its mean) and

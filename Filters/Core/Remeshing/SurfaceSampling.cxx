@@ -15,6 +15,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -367,12 +368,40 @@ double Quantile(const LargeVector<double>& values, double q)
   return *at;
 }
 
+/// A hash of the atlas's charts, a 64-bit word at a time (FNV-1a's
+/// steps): their triangles and maps, and where they lie in memory (the
+/// locators point into them).
+std::uint64_t AtlasKey(const AtlasResult& atlas)
+{
+  std::uint64_t key = 1469598103934665603ULL;
+  const auto add = [&key](std::uint64_t word) { key = (key ^ word) * 1099511628211ULL; };
+  for (const AtlasChart& chart : atlas.Charts)
+  {
+    add(reinterpret_cast<std::uintptr_t>(&chart));
+    add(reinterpret_cast<std::uintptr_t>(chart.UV.data()));
+    add(chart.Triangles.size());
+    for (const Index t : chart.Triangles)
+    {
+      add(static_cast<std::uint64_t>(t));
+    }
+    for (const double u : chart.UV)
+    {
+      std::uint64_t bits;
+      std::memcpy(&bits, &u, sizeof(bits));
+      add(bits);
+    }
+  }
+  return key;
+}
+
 } // namespace
 
 const std::vector<ChartLocator>& RemeshCache::Locators(const AtlasResult& atlas)
 {
-  if (ChartLocators.size() != atlas.Charts.size())
+  const std::uint64_t key = AtlasKey(atlas);
+  if (ChartLocators.size() != atlas.Charts.size() || key != LocatorsKey)
   {
+    LocatorsKey = key;
     ChartLocators.clear();
     ChartLocators.reserve(atlas.Charts.size());
     for (const AtlasChart& chart : atlas.Charts)

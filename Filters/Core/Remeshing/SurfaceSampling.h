@@ -62,7 +62,9 @@ struct RemeshCache
   std::map<int, Raster> Rasters;
   std::vector<double> MaximumCurvature; ///< max |kappa_i| per surface vertex (empty: not yet)
   GraphLaplacian SurfaceLaplacian;      ///< the surface's cotangent Laplacian, with MaximumCurvature
-  /// One per chart of `atlas` (built on first use).
+  /// One per chart of `atlas` (built on first use; again where the
+  /// charts' triangles or maps are others: a filter that keeps its cache
+  /// over a new count may remesh on another atlas with as many charts).
   const std::vector<ChartLocator>& Locators(const AtlasResult& atlas);
   /// The surface's triangles in a grid, for the distances to it of the
   /// remeshes' fidelity checks (built on first use; again where the
@@ -88,6 +90,7 @@ struct RemeshCache
     MaximumCurvature.clear();
     SurfaceLaplacian = GraphLaplacian();
     ChartLocators.clear();
+    LocatorsKey = 0;
     Grid.reset();
     Defects.clear();
     GridKey = DefectsKey = FiguresKey = SurfaceKey();
@@ -95,6 +98,7 @@ struct RemeshCache
 
 private:
   std::vector<ChartLocator> ChartLocators;
+  std::uint64_t LocatorsKey = 0; ///< AtlasKey of the atlas they were built for
   std::unique_ptr<TriangleGrid> Grid;
   std::vector<double> Defects;
   SurfaceFigures KeptFigures;
