@@ -163,9 +163,12 @@ public:
   vtkSetClampMacro(NumberOfVertices, vtkIdType, 0, VTK_ID_MAX);
   vtkGetMacro(NumberOfVertices, vtkIdType);
   /// The error-driven mode (0: off): the remesh's two-sided deviation from the input at most this
-  /// fraction of the input's bounding-box diagonal (e.g. 0.002). The density is raised where the
-  /// input is left farther, and the vertex count with it, remesh after remesh; a warning says where
-  /// the bound was not met within Maximum Deviation Rounds. Default: 0.
+  /// fraction of the input's bounding-box diagonal (e.g. 0.002). With Importance uniform, the
+  /// density starts raised where the surface bends more than twice its mean largest curvature, in
+  /// proportion (the density a smooth surface's sag needs; not beside kept sharp edges). The
+  /// density is then raised where the input is left farther, and the vertex count with it, remesh
+  /// after remesh, each with its Fidelity Rounds; a warning says where the bound was not met within
+  /// Maximum Deviation Rounds. Default: 0.
   vtkSetClampMacro(MaximumDeviation, double, 0.0, 1.0);
   vtkGetMacro(MaximumDeviation, double);
   /// The most remeshes the error-driven mode makes to meet the Maximum Deviation. Default: 12.
@@ -260,8 +263,9 @@ public:
   /// times. The closest with triangles as good is kept. 0: one remesh as made, the fastest. Over
   /// the shared corpus at 10,000 vertices the rounds bring the two-sided deviation down by 21% in
   /// geometric mean, by a third to a half on coarse scans, in 1.3 times the time of one remesh.
-  /// RemeshDeviation reports the one kept. Not in the error-driven mode (Maximum Deviation), which
-  /// pins vertices its own way. Default: 3.
+  /// RemeshDeviation reports the one kept. In the error-driven mode (Maximum Deviation) each remesh
+  /// takes the moves, beside the input vertices that mode pins; it makes no remesh again. Default:
+  /// 3.
   vtkSetClampMacro(FidelityRounds, int, 0, 100);
   vtkGetMacro(FidelityRounds, int);
   /// Rounds of edge swaps and relaxation after the triangulation, the first fifth in the charts'
