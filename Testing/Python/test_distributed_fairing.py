@@ -75,6 +75,20 @@ def matched(pieces, whole):
     return ids
 
 
+SERIAL_RUNS = {}
+
+
+def serial_of(source, prepare, settings):
+    """(the whole surface, `prepare`d, and the serial run on it), made once
+    for each source, preparation and settings (the runs over other
+    partitions compare with the same one)."""
+    key = (source.GetGlobalIDAsString(), prepare, repr(sorted(settings.items())))
+    if key not in SERIAL_RUNS:
+        whole = servermanager.Fetch(prepare(source)) if prepare else servermanager.Fetch(source)
+        SERIAL_RUNS[key] = (whole, serial(whole, **settings))
+    return SERIAL_RUNS[key]
+
+
 def split_run(source, label, tolerance, relative, prepare=None, partitions=0, mode=None, **settings):
     """The filter on `source` redistributed over the ranks against the serial
     run; the largest difference must be below `tolerance` times `relative`
@@ -94,8 +108,7 @@ def split_run(source, label, tolerance, relative, prepare=None, partitions=0, mo
     # (Points matched before `prepare`, which may make some NaN.)
     ids = matched(servermanager.Fetch(unprepared), servermanager.Fetch(source))
     result = servermanager.Fetch(faired)
-    whole = servermanager.Fetch(prepare(source)) if prepare else servermanager.Fetch(source)
-    reference = serial(whole, **settings)
+    whole, reference = serial_of(source, prepare, settings)
     ours, theirs = points(result), points(reference)[ids]
     finite = np.isfinite(theirs).all(axis=1)
     check((np.isnan(ours) == np.isnan(theirs)).all(), "%s: NaN exactly where the serial run has it" % label)
