@@ -384,14 +384,16 @@ void UndefinedStep(int step, int steps, std::ostringstream& warn, FairingReport&
 }
 
 /// A chosen step's run whose moves are coherent (MoveCoherence above
-/// MostCoherentMove) changed the shape rather than removing noise: the
-/// points go back to `input`, as where the step's choice leaves them.
+/// MostCoherentMove in space or MostCoherentNormalMove along the normals)
+/// changed the shape rather than removing noise: the points go back to
+/// `input`, as where the step's choice leaves them.
 void LeaveCoherentMoves(const MeshTopology& topo, const std::vector<double>& input,
   const std::vector<std::uint8_t>& held, const Partition* split, double* x, std::ostringstream& warn,
   FairingReport& report)
 {
-  const double coherence = MoveCoherence(topo, input.data(), x, held, split);
-  if (!(coherence > MostCoherentMove))
+  const MoveCorrelations coherence = MoveCoherence(topo, input.data(), x, held, split);
+  const bool inSpace = coherence.InSpace > MostCoherentMove;
+  if (!inSpace && !(coherence.AlongNormals > MostCoherentNormalMove))
   {
     return;
   }
@@ -401,8 +403,10 @@ void LeaveCoherentMoves(const MeshTopology& topo, const std::vector<double>& inp
   report.Iterations.clear();
   report.FinalInvariant = report.InitialInvariant;
   std::ostringstream said;
-  said << "The step chosen moved neighbouring points together (their moves' correlation over the edges "
-       << coherence << ", where removing noise moves them independently): it changed the shape, whose detail "
+  said << "The step chosen moved neighbouring points together (the correlation of their moves"
+       << (inSpace ? "" : " along the normals") << " over the edges "
+       << (inSpace ? coherence.InSpace : coherence.AlongNormals)
+       << ", where removing noise moves them independently): it changed the shape, whose detail "
           "smoothing cannot tell from noise here, so the surface was left as it is. Set TimeStep to smooth it. ";
   warn << said.str();
   report.StepWarning += said.str();

@@ -373,12 +373,50 @@ FairingReport FairWithEitherOperator(const MeshTopology& topo, double* points, c
   return report;
 }
 
-double MoveCoherence(const MeshTopology& topo, const double* before, const double* after,
+namespace
+{
+
+/// Unit area-weighted vertex normals of `points` (zero where undefined);
+/// the ghosts' their owners' (an owner holds its points' whole stars).
+std::vector<Vec3> VertexNormals(const MeshTopology& topo, const double* points, const Partition* split)
+{
+  std::vector<double> sums(3 * static_cast<std::size_t>(topo.NumberOfVertices()), 0.0);
+  for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
+  {
+    const Index a = topo.CornerVertex(3 * t), b = topo.CornerVertex(3 * t + 1), c = topo.CornerVertex(3 * t + 2);
+    const Vec3 n = (Point(points, b) - Point(points, a)).cross(Point(points, c) - Point(points, a));
+    for (const Index v : { a, b, c })
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        sums[3 * v + k] += n[k];
+      }
+    }
+  }
+  if (split)
+  {
+    split->UpdateGhosts(sums.data(), 3);
+  }
+  std::vector<Vec3> normals(topo.NumberOfVertices(), Vec3::Zero());
+  for (Index v = 0; v < topo.NumberOfVertices(); ++v)
+  {
+    const Vec3 n = Point(sums.data(), v);
+    normals[v] = n.norm() > 0.0 && n.allFinite() ? Vec3(n.normalized()) : Vec3::Zero();
+  }
+  return normals;
+}
+
+} // namespace
+
+MoveCorrelations MoveCoherence(const MeshTopology& topo, const double* before, const double* after,
   const std::vector<std::uint8_t>& held, const Partition* split)
 {
   const MeshTopology::VertexGraph& graph = topo.Graph();
+  const std::vector<Vec3> normals = VertexNormals(topo, after, split);
   const auto move = [&](Index v) -> Vec3 { return Point(after, v) - Point(before, v); };
-  double sums[4] = { 0.0, 0.0, 0.0, 0.0 }; // d_a . d_b, edges, |d_a|^2, points
+  // In space and along the normals: the products over the edges, the
+  // squares over the points; the edges and the points.
+  double sums[6] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 };
   for (Index a = 0; a < topo.NumberOfVertices(); ++a)
   {
     if (held[a])
@@ -386,26 +424,34 @@ double MoveCoherence(const MeshTopology& topo, const double* before, const doubl
       continue;
     }
     const Vec3 da = move(a);
+    const double sa = da.dot(normals[a]);
     if (!split || split->IsOwned(a))
     {
-      sums[2] += da.squaredNorm();
-      sums[3] += 1.0;
+      sums[1] += da.squaredNorm();
+      sums[3] += sa * sa;
+      sums[5] += 1.0;
     }
     for (std::int64_t k = graph.NeighborOffsets[a]; k < graph.NeighborOffsets[a + 1]; ++k)
     {
       const Index b = graph.Neighbors[k];
       if (b > a && !held[b] && (!split || split->CountsEdge(a, b)))
       {
-        sums[0] += da.dot(move(b));
-        sums[1] += 1.0;
+        const Vec3 db = move(b);
+        sums[0] += da.dot(db);
+        sums[2] += sa * db.dot(normals[b]);
+        sums[4] += 1.0;
       }
     }
   }
   if (split)
   {
-    split->Sum(sums, 4);
+    split->Sum(sums, 6);
   }
-  return sums[1] > 0.0 && sums[2] > 0.0 && std::isfinite(sums[0]) ? (sums[0] / sums[1]) / (sums[2] / sums[3]) : 0.0;
+  const auto correlation = [&](double products, double squares) {
+    return sums[4] > 0.0 && squares > 0.0 && std::isfinite(products) ? (products / sums[4]) / (squares / sums[5])
+                                                                     : 0.0;
+  };
+  return { correlation(sums[0], sums[1]), correlation(sums[2], sums[3]) };
 }
 
 StepChoice ChooseStep(const MeshTopology& topo, const double* x, const FairingOptions& opt, const VertexRoles& roles,

@@ -164,8 +164,10 @@ TEST(FairingStepChoice, PureNoiseTakesTheLargestStepAndSaysSo)
 }
 
 // MoveCoherence: white noise's moves are about independent over the edges
-// (the filter keeps runs below MostCoherentMove), a shrinking or a
-// translation moves neighbours together, and held points do not count.
+// (the filter keeps runs below MostCoherentMove and MostCoherentNormalMove),
+// a shrinking or a translation moves neighbours together, and held points
+// do not count.  A tube three triangles round shrunk: its neighbours move
+// in directions 120 degrees apart (negative in space) but all inwards.
 TEST(FairingStepChoice, MovesOfNoiseAreIncoherentAndAShrinkingIsCoherent)
 {
   const test::Mesh sphere = test::OctahedronSphere(4);
@@ -181,12 +183,32 @@ TEST(FairingStepChoice, MovesOfNoiseAreIncoherentAndAShrinkingIsCoherent)
     shrunk[k] *= 0.99;
     moved[k] += k % 3 == 0 ? 0.01 : 0.0;
   }
-  const double white = detail::MoveCoherence(topo, x.data(), noise.data(), free, nullptr);
-  EXPECT_LT(std::abs(white), 0.05);
-  EXPECT_LT(white, detail::MostCoherentMove);
-  EXPECT_GT(detail::MoveCoherence(topo, x.data(), shrunk.data(), free, nullptr), 0.9);
-  EXPECT_NEAR(detail::MoveCoherence(topo, x.data(), moved.data(), free, nullptr), 1.0, 1e-12);
-  EXPECT_EQ(detail::MoveCoherence(topo, x.data(), x.data(), free, nullptr), 0.0);
+  const detail::MoveCorrelations white = detail::MoveCoherence(topo, x.data(), noise.data(), free, nullptr);
+  EXPECT_LT(std::abs(white.InSpace), 0.05);
+  EXPECT_LT(white.InSpace, detail::MostCoherentMove);
+  EXPECT_LT(std::abs(white.AlongNormals), 0.05);
+  const detail::MoveCorrelations shrinking = detail::MoveCoherence(topo, x.data(), shrunk.data(), free, nullptr);
+  EXPECT_GT(shrinking.InSpace, 0.9);
+  EXPECT_GT(shrinking.AlongNormals, 0.99);
+  EXPECT_NEAR(detail::MoveCoherence(topo, x.data(), moved.data(), free, nullptr).InSpace, 1.0, 1e-12);
+  EXPECT_EQ(detail::MoveCoherence(topo, x.data(), x.data(), free, nullptr).InSpace, 0.0);
+  EXPECT_EQ(detail::MoveCoherence(topo, x.data(), x.data(), free, nullptr).AlongNormals, 0.0);
   const std::vector<std::uint8_t> held(x.size() / 3, 1);
-  EXPECT_EQ(detail::MoveCoherence(topo, x.data(), noise.data(), held, nullptr), 0.0);
+  EXPECT_EQ(detail::MoveCoherence(topo, x.data(), noise.data(), held, nullptr).InSpace, 0.0);
+  EXPECT_EQ(detail::MoveCoherence(topo, x.data(), noise.data(), held, nullptr).AlongNormals, 0.0);
+
+  const test::Mesh tube = test::Cylinder(1.0, 4.0, 3, 12);
+  const MeshTopology tubeTopology = tube.Topology();
+  std::vector<double> thinner = tube.Points;
+  std::vector<std::uint8_t> ends(tube.Points.size() / 3, 0);
+  for (std::size_t v = 0; v < ends.size(); ++v)
+  {
+    thinner[3 * v] *= 0.9;
+    thinner[3 * v + 1] *= 0.9;
+    ends[v] = tubeTopology.IsInterior(static_cast<Index>(v)) ? 0 : 1;
+  }
+  const detail::MoveCorrelations tubeShrinking =
+    detail::MoveCoherence(tubeTopology, tube.Points.data(), thinner.data(), ends, nullptr);
+  EXPECT_LT(tubeShrinking.InSpace, detail::MostCoherentMove);
+  EXPECT_GT(tubeShrinking.AlongNormals, detail::MostCoherentNormalMove);
 }
