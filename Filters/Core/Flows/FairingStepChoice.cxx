@@ -2,6 +2,7 @@
 
 #include "Flows/FairingSteps.h"
 #include "Flows/NoiseEstimation.h"
+#include "Mesh/Curvatures.h"
 #include "Mesh/MeshMeasures.h"
 #include "Solvers/SparseGraph.h"
 
@@ -373,46 +374,26 @@ FairingReport FairWithEitherOperator(const MeshTopology& topo, double* points, c
   return report;
 }
 
-namespace
-{
-
-/// Unit area-weighted vertex normals of `points` (zero where undefined);
-/// the ghosts' their owners' (an owner holds its points' whole stars).
-std::vector<Vec3> VertexNormals(const MeshTopology& topo, const double* points, const Partition* split)
-{
-  std::vector<double> sums(3 * static_cast<std::size_t>(topo.NumberOfVertices()), 0.0);
-  for (Index t = 0; t < topo.NumberOfTriangles(); ++t)
-  {
-    const Index a = topo.CornerVertex(3 * t), b = topo.CornerVertex(3 * t + 1), c = topo.CornerVertex(3 * t + 2);
-    const Vec3 n = (Point(points, b) - Point(points, a)).cross(Point(points, c) - Point(points, a));
-    for (const Index v : { a, b, c })
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        sums[3 * v + k] += n[k];
-      }
-    }
-  }
-  if (split)
-  {
-    split->UpdateGhosts(sums.data(), 3);
-  }
-  std::vector<Vec3> normals(topo.NumberOfVertices(), Vec3::Zero());
-  for (Index v = 0; v < topo.NumberOfVertices(); ++v)
-  {
-    const Vec3 n = Point(sums.data(), v);
-    normals[v] = n.norm() > 0.0 && n.allFinite() ? Vec3(n.normalized()) : Vec3::Zero();
-  }
-  return normals;
-}
-
-} // namespace
-
 MoveCorrelations MoveCoherence(const MeshTopology& topo, const double* before, const double* after,
   const std::vector<std::uint8_t>& held, const Partition* split)
 {
   const MeshTopology::VertexGraph& graph = topo.Graph();
-  const std::vector<Vec3> normals = VertexNormals(topo, after, split);
+  // Area-weighted unit normals of `after` (NaN where undefined); the
+  // ghosts' their owners' (an owner holds its points' whole stars).
+  std::vector<double> normals(3 * static_cast<std::size_t>(topo.NumberOfVertices()));
+  CurvatureOptions co;
+  co.Weighting = NormalWeighting::Area;
+  CurvatureOutputs out;
+  out.Normals = normals.data();
+  ComputeCurvatures(topo, after, co, out);
+  if (split)
+  {
+    split->UpdateGhosts(normals.data(), 3);
+  }
+  const auto normal = [&](Index v) -> Vec3 {
+    const Vec3 n = Point(normals.data(), v);
+    return n.allFinite() ? n : Vec3::Zero();
+  };
   const auto move = [&](Index v) -> Vec3 { return Point(after, v) - Point(before, v); };
   // In space and along the normals: the products over the edges, the
   // squares over the points; the edges and the points.
@@ -424,7 +405,7 @@ MoveCorrelations MoveCoherence(const MeshTopology& topo, const double* before, c
       continue;
     }
     const Vec3 da = move(a);
-    const double sa = da.dot(normals[a]);
+    const double sa = da.dot(normal(a));
     if (!split || split->IsOwned(a))
     {
       sums[1] += da.squaredNorm();
@@ -438,7 +419,7 @@ MoveCorrelations MoveCoherence(const MeshTopology& topo, const double* before, c
       {
         const Vec3 db = move(b);
         sums[0] += da.dot(db);
-        sums[2] += sa * db.dot(normals[b]);
+        sums[2] += sa * db.dot(normal(b));
         sums[4] += 1.0;
       }
     }

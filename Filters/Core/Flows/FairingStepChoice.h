@@ -177,8 +177,8 @@ constexpr double MostCoherentNormalMove = 0.2;
 /// over the mean of |d_a|^2 per point (1: all move alike; independent moves
 /// about 0, the removal of white noise's high frequencies below; 0 where
 /// nothing moved), and the same of the moves' components along the unit
-/// normals of `after` (area-weighted).  Collective on a split surface (the
-/// ghosts' points their owners').
+/// normals of `after` (area-weighted, as ComputeCurvatures gives them).
+/// Collective on a split surface (the ghosts' points their owners').
 struct MoveCorrelations
 {
   double InSpace = 0.0;
