@@ -70,8 +70,8 @@
  * RemeshEdgeLengthVariation (degrees and fractions), RemeshCharts,
  * RemeshDeviation (the remesh's fidelity, measured after every run, as
  * fractions of the input's bounding-box diagonal: the largest distance of
- * its triangle centres from the input, and of the input's vertices from
- * it; a warning names the input point where a part is left farther than
+ * its triangles' centres and edge midpoints from the input, and of the
+ * input's vertices, edge midpoints and triangle centres from it; a warning names the input point where a part is left farther than
  * the remesh's spacing, and beyond four spacings - a limb's end cut off or
  * bridged - it is an error with an empty output) and RemeshSeconds (sampling,
  * triangulation, optimisation, the fidelity's measurement).  The

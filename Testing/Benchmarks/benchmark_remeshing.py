@@ -14,7 +14,8 @@ sharper than 60 degrees kept as constrained polylines.  Both remeshes are
 measured by the same code here: vertex count, mean and smallest minimum
 angle, share of triangles below 30 degrees, share of interior vertices of
 valence 6, edge-length variation, and the two-sided Hausdorff distance to
-the input (vertices and triangle centres), over the bounding-box diagonal.
+the input (inputs.remesh_deviation, as the filter's RemeshDeviation: vertices,
+edge midpoints and triangle centres), over the bounding-box diagonal.
 
 Our time is the whole filter (atlas included) on a fresh filter, then the
 re-run after a change of the vertex count (the atlas kept) with its parts:
@@ -42,8 +43,7 @@ import time
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkFiltersCore import vtkCellCenters, vtkTriangleFilter
-from vtkmodules.vtkFiltersGeneral import vtkDistancePolyDataFilter
+from vtkmodules.vtkFiltersCore import vtkTriangleFilter
 
 import peers
 import results
@@ -52,6 +52,9 @@ from beltrami import vtkSurfaceRemeshing
 from benchmark_parameterization import mesh
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "Python"))
+import inputs  # noqa: E402
+
 CGAL = os.path.join(HERE, "..", "..", "build", "bin", "beltrami-benchmark-cgal-isotropic-remeshing")
 
 
@@ -67,17 +70,6 @@ def arrays(data):
 def area(points, triangles):
     p = points[triangles]
     return 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1).sum()
-
-
-def max_distance(query, surface):
-    """The largest distance from the points of `query` to the surface."""
-    f = vtkDistancePolyDataFilter()
-    f.SetInputData(0, query)
-    f.SetInputData(1, surface)
-    f.SignedDistanceOff()
-    f.ComputeSecondDistanceOff()
-    f.Update()
-    return float(np.abs(vtk_to_numpy(f.GetOutput().GetPointData().GetArray("Distance"))).max())
 
 
 def quality(remesh, input_data, diagonal):
@@ -98,12 +90,10 @@ def quality(remesh, input_data, diagonal):
     valence = np.bincount(unique.ravel(), minlength=len(points))
     interior = ~boundary & (valence > 0)
     lengths = np.linalg.norm(points[unique[:, 0]] - points[unique[:, 1]], axis=1)
-    centres = vtkCellCenters()
-    centres.SetInputData(remesh)
-    centres.VertexCellsOn()
-    centres.Update()
-    from_input = max_distance(input_data, remesh)
-    to_input = max(max_distance(remesh, input_data), max_distance(centres.GetOutput(), input_data))
+    # (as the filter's RemeshDeviation: the remesh's triangle centres and
+    # edge midpoints, the input's vertices, edge midpoints and triangle
+    # centres; the input's polygons as triangles)
+    to_input, from_input = inputs.remesh_deviation(inputs.polydata(*inputs.arrays_of(input_data)), remesh)
     return dict(vertices=int((valence > 0).sum()), mean_min=minimum.mean(), worst=minimum.min(),
                 below30=100.0 * (minimum < 30.0).mean(), valence6=100.0 * (valence[interior] == 6).mean(),
                 cv=lengths.std() / lengths.mean(), hausdorff=100.0 * max(from_input, to_input) / diagonal,
@@ -163,12 +153,11 @@ def line(name, seconds, q):
 def corpus_table(counts, noise=0.0, variants=False):
     """Every real mesh (the shared corpus and Testing/Data) and the shapes
     made to break a remesher, uniform at each count, ours and CGAL's: one
-    Markdown table (Hausdorff both ways in % of the diagonal: the remesh's
-    vertices and triangle centres to the input, the input's vertices to the
-    remesh).  noise > 0: the real meshes only, each with that noise along
+    Markdown table (Hausdorff both ways in % of the diagonal, as the
+    filter's RemeshDeviation: the remesh's triangle centres and edge
+    midpoints to the input, the input's vertices, edge midpoints and
+    triangle centres to the remesh).  noise > 0: the real meshes only, each with that noise along
     its normals (a fraction of the diagonal; test_corpus_sweep.noisy)."""
-    sys.path.insert(0, os.path.join(HERE, "..", "Python"))
-    import inputs
     from test_corpus_sweep import CAD, noisy
     meshes = [(os.path.basename(p), inputs.read_off(p)) for p in inputs.corpus_paths()]
     if noise > 0.0:
@@ -224,8 +213,8 @@ def corpus_table(counts, noise=0.0, variants=False):
                  "the shared corpus, Testing/Data and the generated hard shapes (spikes, fingers, a thin neck and "
                  "handle, a speck, a thin plate, huge and tiny coordinates); the CAD parts with their edges sharper "
                  "than 60 degrees kept", columns, table,
-                 "Hausdorff both ways in % of the diagonal: 'to input' the remesh's vertices and triangle centres, "
-                 "'from input' the input's vertices. CGAL's target edge length calibrated to give "
+                 "Hausdorff both ways in % of the diagonal: 'to input' the remesh's triangle centres and edge "
+                 "midpoints, 'from input' the input's vertices, edge midpoints and triangle centres. CGAL's target edge length calibrated to give "
                  "the count within 1% where six runs reach it.")
 
 
@@ -259,8 +248,6 @@ def smallest_count(run, bound, start, tries=6):
 def deviation_table(bound):
     """The counts each mode and CGAL need to keep every mesh within `bound`
     (fraction of the diagonal) both ways: one Markdown table."""
-    sys.path.insert(0, os.path.join(HERE, "..", "Python"))
-    import inputs
     from test_corpus_sweep import CAD
     meshes = [(os.path.basename(p), inputs.read_off(p)) for p in inputs.corpus_paths()]
     meshes += [(name, inputs.polydata(*shape)) for name, shape in inputs.hard_shapes().items()]

@@ -411,6 +411,30 @@ def hausdorff(a_mesh, b_mesh):
     return ab / d, ba / d
 
 
+def remesh_deviation(mesh, remesh):
+    """(to the input, from the input) in the units of the points, as
+    vtkSurfaceRemeshing's RemeshDeviation measures them: the largest
+    distance to `mesh` of the remesh's triangle centres and edge midpoints,
+    and to `remesh` of the input's vertices, edge midpoints and triangle
+    centres (of those only where it could exceed the vertices' largest: a
+    point's distance exceeds a vertex's by at most the way to it)."""
+    p, t = arrays_of(remesh)
+    edges = np.unique(np.sort(np.vstack([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1), axis=0)
+    to_input = distances_to(mesh, np.vstack([p[t].mean(axis=1), p[edges].mean(axis=1)])).max() if len(t) else 0.0
+    pin, tin = arrays_of(mesh)
+    used = np.unique(tin)
+    at = np.zeros(len(pin))
+    at[used] = distances_to(remesh, pin[used])
+    most = at[used].max() if len(used) else 0.0
+    corners = pin[tin]                                  # triangles x 3 x 3
+    points = np.stack([(corners[:, 0] + corners[:, 1]) / 2, (corners[:, 1] + corners[:, 2]) / 2,
+                       (corners[:, 2] + corners[:, 0]) / 2, corners.mean(axis=1)], axis=1)
+    bound = np.min(at[tin][:, None, :] + np.linalg.norm(points[:, :, None, :] - corners[:, None, :, :], axis=3), axis=2)
+    candidates = points[bound > most]
+    from_input = max(most, distances_to(remesh, candidates).max() if len(candidates) else 0.0)
+    return to_input, from_input
+
+
 class Messages:
     """Collects the errors and warnings a VTK object reports (its
     ErrorEvent and WarningEvent) instead of printing them."""

@@ -365,7 +365,9 @@ class RemeshingFromPython(unittest.TestCase):
         # its own chart boundaries take 2,242 samples.  The isotropic remesh
         # is laid out on them with sparser seams: a smoothed copy's remesh
         # had no angle below 5 degrees but rounded the needles off (2.1% of
-        # the diagonal from the input; its own charts 1.2%, CGAL 1.08%).
+        # the diagonal from the input; its own charts 1.74%, at the midpoint
+        # of a needle's side, 1.2% at the input's vertices alone; CGAL
+        # 1.08%).
         # The anisotropic one had five triangles of 0 degrees (three seam
         # samples in a line along a needle's ridge from its tip, which no
         # move or swap could mend), unsaid.  Either mode says an angle below
@@ -381,7 +383,7 @@ class RemeshingFromPython(unittest.TestCase):
                 self.assertIn("sampled 2 times as sparsely", said)
                 self.assertIn("farther from it", said)
                 deviation = out.GetFieldData().GetArray("RemeshDeviation")
-                self.assertLess(max(deviation.GetValue(k) for k in range(2)), 0.0125)
+                self.assertLess(max(deviation.GetValue(k) for k in range(2)), 0.019)
                 self.assertGreater(smallest, 1.0)
 
     def test_bad_requests_are_errors_not_crashes(self):
@@ -708,22 +710,27 @@ class RemeshingFromPython(unittest.TestCase):
         # The error-driven mode with nothing else set starts from the
         # density the curvature needs (where it exceeds twice its mean) and
         # moves remesh vertices onto the input's far ones in each remesh.
-        # Measured (before, from a uniform start without the moves): the
-        # bunny within 0.2% of its diagonal 6,026 vertices (10,111; the
-        # curvature-adapted mode at its best count takes 5,616), the
-        # elephant 10,096 (15,278), three_peaks at 0.5% 1,864 (3,094) and
-        # patch-01 at 0.5% 282 (7,651).  The last two with their sharp
-        # edges kept, with a warning: rounded off, they took 2,257 and
-        # 2,229 vertices, more than their inputs'.
+        # Measured: the bunny within 0.2% of its diagonal 8,294 vertices,
+        # the elephant 16,845 (its input has 2,775: at that scale a
+        # polyhedron whose edges the remesh's triangles cut, and a cut
+        # falls only as fast as the spacing), three_peaks at 0.5% 2,051
+        # and patch-01 at 0.5% 282.  (Measured at the input's vertices and
+        # the remesh's triangle centres alone, before the edge midpoints
+        # were: 6,026, 10,096, 1,864 and 282; then from a uniform start
+        # without the moves 10,111, 15,278, 3,094 and 7,651.)  The elephant
+        # and patch-01 with their sharp edges kept, with a warning: rounded
+        # off, they took 17,753 and 2,229 vertices, more than their inputs'
+        # (three_peaks, rounded off, now fewer: its edges were kept when its
+        # remesh rounded off took 2,257).
         import inputs
-        for name, bound, most in (("bunny00.off", 0.002, 7500), ("elephant.off", 0.002, 12500),
+        for name, bound, most in (("bunny00.off", 0.002, 9500), ("elephant.off", 0.002, 19000),
                                   ("three_peaks.off", 0.005, 2400), ("patch-01.off", 0.005, 500)):
             surface = inputs.read_off(os.path.join(DATA, name))
             out, log = self.remeshed(surface, 0, MaximumDeviation=bound)
             deviation = out.GetFieldData().GetArray("RemeshDeviation")
             self.assertLessEqual(max(deviation.GetValue(0), deviation.GetValue(1)), bound, name)
             self.assertLessEqual(out.GetNumberOfPoints(), most, name)
-            self.assertEqual("those edges are kept" in log, name in ("three_peaks.off", "patch-01.off"), log)
+            self.assertEqual("those edges are kept" in log, name in ("elephant.off", "patch-01.off"), (name, log))
             self.assert_topology_kept(surface, out)
 
     def test_isosurface_within_a_deviation(self):

@@ -272,10 +272,19 @@ Index TriangleGrid::Nearest(const Vec3& p, double& distance, double within) cons
   return nearest;
 }
 
+Vec3 TriangleSample(const Vec3* corner, int k)
+{
+  return k < 3 ? Vec3(0.5 * (corner[k] + corner[(k + 1) % 3])) : Vec3((corner[0] + corner[1] + corner[2]) / 3.0);
+}
+
 double FarthestFrom(const double* points, const Index* triangles, std::size_t count, DeviationSamples samples,
   const TriangleGrid& to, int numThreads, Vec3& where)
 {
-  const bool centres = samples != DeviationSamples::Vertices, vertices = samples != DeviationSamples::Centres;
+  const bool vertices = samples == DeviationSamples::Vertices || samples == DeviationSamples::Both ||
+    samples == DeviationSamples::All;
+  const int perTriangle = samples == DeviationSamples::Vertices ? 0
+    : samples == DeviationSamples::Midpoints || samples == DeviationSamples::All ? 4
+                                                                                 : 1;
   Index numberOfVertices = 0;
   for (std::size_t c = 0; vertices && c < 3 * count; ++c)
   {
@@ -286,12 +295,16 @@ double FarthestFrom(const double* points, const Index* triangles, std::size_t co
   {
     used[triangles[c]] = 1;
   }
-  const std::int64_t first = centres ? static_cast<std::int64_t>(count) : 0; // the vertices' samples after the centres
+  // The triangles' samples (the centre, then the edges' midpoints), then the vertices'.
+  const std::int64_t first = perTriangle * static_cast<std::int64_t>(count);
   const auto sample = [&](std::int64_t k, Vec3& p) {
     if (k < first)
     {
-      p = (Point(points, triangles[3 * k]) + Point(points, triangles[3 * k + 1]) + Point(points, triangles[3 * k + 2])) /
-        3.0;
+      const std::int64_t t = k / perTriangle;
+      const int j = static_cast<int>(k % perTriangle);
+      const Vec3 corner[3] = { Point(points, triangles[3 * t]), Point(points, triangles[3 * t + 1]),
+        Point(points, triangles[3 * t + 2]) };
+      p = TriangleSample(corner, (j + 3) % 4);
       return true;
     }
     p = Point(points, static_cast<Index>(k - first));

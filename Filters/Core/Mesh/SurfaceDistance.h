@@ -1,7 +1,8 @@
 // Beltrami core: distances from points to a triangle surface through a
 // uniform grid of its triangles, and the two-sided deviation of one
-// surface from another (a Hausdorff distance estimated at every vertex and
-// triangle centre of each): what the remesher reports of its own fidelity.
+// surface from another (a Hausdorff distance estimated at the vertices,
+// edge midpoints and triangle centres of each): what the remesher reports
+// of its own fidelity.
 #pragma once
 
 #include "Mesh/Geometry.h"
@@ -51,8 +52,14 @@ enum class DeviationSamples
 {
   Vertices, ///< its used vertices (a surface whose vertices lie on the other: 0)
   Centres,  ///< its triangles' centres (where a triangle spanning a gap is far)
-  Both
+  Both,
+  Midpoints, ///< its triangles' centres and edges' midpoints (an edge across a crease)
+  All        ///< its vertices, edges' midpoints and triangles' centres
 };
+
+/// The midpoint of a triangle's edge k (corners k and k + 1) for k < 3,
+/// its centre for k = 3: where a deviation between its corners is measured.
+Vec3 TriangleSample(const Vec3* corner, int k);
 
 /// How far two surfaces are apart, each way: the largest distance from a
 /// sample of one to the other (absolute units).

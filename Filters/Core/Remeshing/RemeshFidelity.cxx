@@ -131,21 +131,96 @@ void InputVerticesTo(const MeshTopology& topology, const double* points, const T
   });
 }
 
-/// The distances of the remesh's triangle centres to the input into `d`
-/// (RemeshDistances), where `redo` holds for them.
+/// The distance from `p` to the surface in `grid`, known to be at most
+/// `bound` (a search that stops there; `bound` where rounding found none).
+double DistanceWithin(const TriangleGrid& grid, const Vec3& p, double bound)
+{
+  double distance = 0.0;
+  const double within = bound * (1.0 + 1e-12) + 1e-300;
+  return grid.Nearest(p, distance, within) >= 0 ? distance : within;
+}
+
+/// The distances to the input of the remesh's triangle centres and edge
+/// midpoints into `d` (RemeshDistances::FromTriangles), where `redo` holds
+/// for the triangle.  A midpoint is at most the centre's distance plus the
+/// way to it from the centre.
 template <typename Redo>
-void CentresTo(const RemeshResult& remesh, const TriangleGrid& toInput, Redo&& redo, RemeshDistances& d,
+void TrianglesTo(const RemeshResult& remesh, const TriangleGrid& toInput, Redo&& redo, RemeshDistances& d,
   int numThreads)
 {
   const double* x = remesh.Points.data();
-  ParallelFor(static_cast<std::int64_t>(d.FromCentres.size()), numThreads, [&](std::int64_t begin, std::int64_t end) {
+  ParallelFor(static_cast<std::int64_t>(d.FromTriangles.size()), numThreads, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t t = begin; t < end; ++t)
     {
-      const Index* c = remesh.Triangles.data() + 3 * t;
-      const Vec3 p = (Point(x, c[0]) + Point(x, c[1]) + Point(x, c[2])) / 3.0;
-      if (redo(t))
+      if (!redo(t))
       {
-        d.FromCentres[t] = p.allFinite() ? toInput.Distance(p) : 0.0;
+        continue;
+      }
+      const Index* c = remesh.Triangles.data() + 3 * t;
+      const Vec3 corner[3] = { Point(x, c[0]), Point(x, c[1]), Point(x, c[2]) };
+      const Vec3 centre = TriangleSample(corner, 3);
+      if (!centre.allFinite())
+      {
+        d.FromTriangles[t] = 0.0;
+        continue;
+      }
+      double farthest = toInput.Distance(centre);
+      for (int k = 0; k < 3 && std::isfinite(farthest); ++k)
+      {
+        const Vec3 m = TriangleSample(corner, k);
+        farthest = std::max(farthest, DistanceWithin(toInput, m, farthest + (m - centre).norm()));
+      }
+      d.FromTriangles[t] = farthest;
+    }
+  });
+}
+
+/// The distances to the remesh (its triangles in `grid`) of the input
+/// triangles' edge midpoints and centres into `d`
+/// (RemeshDistances::FromInputTriangles) from the distances of the input
+/// vertices: a point's distance exceeds a vertex's by at most the way to
+/// it, so only the points whose bound so exceeds the largest vertex
+/// distance are measured (on an input finer than the remesh, those beside
+/// its farthest vertices; on a coarser one, its long edges and faces).
+void InputTrianglesTo(const MeshTopology& topology, const double* points, const TriangleGrid& grid,
+  RemeshDistances& d, int numThreads)
+{
+  double most = 0.0;
+  for (double v : d.FromInput)
+  {
+    most = std::isfinite(v) ? std::max(most, v) : most;
+  }
+  const std::int64_t triangles = topology.NumberOfTriangles();
+  const IndexArray& list = topology.TriangleList();
+  d.FromInputTriangles.assign(static_cast<std::size_t>(triangles), 0.0);
+  d.FarthestSample.assign(static_cast<std::size_t>(triangles), 0);
+  ParallelFor(triangles, numThreads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t t = begin; t < end; ++t)
+    {
+      Vec3 corner[3];
+      double at[3];
+      bool finite = true;
+      for (int k = 0; k < 3; ++k)
+      {
+        const Index v = list[3 * t + k];
+        corner[k] = Point(points, v);
+        at[k] = d.FromInput[v];
+        finite = finite && corner[k].allFinite() && std::isfinite(at[k]);
+      }
+      for (int k = 0; k < 4 && finite; ++k)
+      {
+        const Vec3 p = TriangleSample(corner, k);
+        double bound = HUGE_VAL;
+        for (int j = 0; j < 3; ++j)
+        {
+          bound = std::min(bound, at[j] + (p - corner[j]).norm());
+        }
+        const double distance = bound > most ? DistanceWithin(grid, p, bound) : 0.0;
+        if (distance > d.FromInputTriangles[t])
+        {
+          d.FromInputTriangles[t] = distance;
+          d.FarthestSample[t] = static_cast<std::uint8_t>(k);
+        }
       }
     }
   });
@@ -153,10 +228,11 @@ void CentresTo(const RemeshResult& remesh, const TriangleGrid& toInput, Redo&& r
 
 /// `d`, the distances of remesh `before`, made those of `after`, the same
 /// mesh with vertices moved and edges swapped (PinNearestVertices):
-/// measured again at the centres of the triangles that changed and, for the
-/// input vertices, to those triangles alone (the nearest of the others
-/// stays) or, where the nearest changed, to all; measured anew where the
-/// counts differ or a quarter of the triangles changed.
+/// measured again at the centres and edge midpoints of the triangles that
+/// changed and, for the input vertices, to those triangles alone (the
+/// nearest of the others stays) or, where the nearest changed, to all (then
+/// the input triangles' points from them); measured anew where the counts
+/// differ or a quarter of the triangles changed.
 void UpdateDistances(const MeshTopology& topology, const double* points, const TriangleGrid& toInput,
   const RemeshResult& before, const RemeshResult& after, RemeshDistances& d, int numThreads)
 {
@@ -185,7 +261,7 @@ void UpdateDistances(const MeshTopology& topology, const double* points, const T
     d = MeasureDistances(topology, points, toInput, after, numThreads);
     return;
   }
-  CentresTo(after, toInput, [&](std::int64_t t) { return changed[t] != 0; }, d, numThreads);
+  TrianglesTo(after, toInput, [&](std::int64_t t) { return changed[t] != 0; }, d, numThreads);
   const TriangleGrid whole(after.Points.data(), after.Triangles.data(), triangles, numThreads);
   InputVerticesTo(
     topology, points, whole, [&](Index v) { return d.Nearest[v] >= 0 && changed[d.Nearest[v]]; }, d, numThreads);
@@ -202,6 +278,7 @@ void UpdateDistances(const MeshTopology& topology, const double* points, const T
       }
     }
   });
+  InputTrianglesTo(topology, points, whole, d, numThreads);
 }
 
 /// Input vertex v is farther than `pin` from the remesh and the farthest of
@@ -342,8 +419,19 @@ void CheckFidelity(const MeshTopology& topology, const double* points, const Rem
     deviation.FirstToSecond = *farthest;
     deviation.FarthestOfFirst = Point(points, static_cast<Index>(farthest - from.begin()));
   }
-  const std::vector<double>& centres = distances.FromCentres;
-  deviation.SecondToFirst = centres.empty() ? 0.0 : *std::max_element(centres.begin(), centres.end());
+  const std::vector<double>& between = distances.FromInputTriangles;
+  const auto crossed = std::max_element(between.begin(), between.end());
+  if (crossed != between.end() && *crossed > deviation.FirstToSecond)
+  {
+    const std::int64_t t = crossed - between.begin();
+    const IndexArray& list = topology.TriangleList();
+    const Vec3 corner[3] = { Point(points, list[3 * t]), Point(points, list[3 * t + 1]),
+      Point(points, list[3 * t + 2]) };
+    deviation.FirstToSecond = *crossed;
+    deviation.FarthestOfFirst = TriangleSample(corner, distances.FarthestSample[t]);
+  }
+  const std::vector<double>& remeshed = distances.FromTriangles;
+  deviation.SecondToFirst = remeshed.empty() ? 0.0 : *std::max_element(remeshed.begin(), remeshed.end());
   const double scale = diagonal > 0.0 ? diagonal : 1.0;
   out.Diagonal = diagonal;
   out.DeviationFromInput = deviation.FirstToSecond / scale;
@@ -453,12 +541,12 @@ RemeshDistances MeasureDistances(const MeshTopology& topology, const double* poi
   RemeshDistances d;
   d.FromInput.assign(static_cast<std::size_t>(topology.NumberOfVertices()), 0.0);
   d.Nearest.assign(d.FromInput.size(), -1);
-  d.FromCentres.assign(remesh.Triangles.size() / 3, 0.0);
+  d.FromTriangles.assign(remesh.Triangles.size() / 3, 0.0);
   const auto all = [](auto) { return true; };
-  InputVerticesTo(topology, points,
-    TriangleGrid(remesh.Points.data(), remesh.Triangles.data(), remesh.Triangles.size() / 3, numThreads), all, d,
-    numThreads);
-  CentresTo(remesh, toInput, all, d, numThreads);
+  const TriangleGrid toRemesh(remesh.Points.data(), remesh.Triangles.data(), remesh.Triangles.size() / 3, numThreads);
+  InputVerticesTo(topology, points, toRemesh, all, d, numThreads);
+  InputTrianglesTo(topology, points, toRemesh, d, numThreads);
+  TrianglesTo(remesh, toInput, all, d, numThreads);
   return d;
 }
 
@@ -553,8 +641,16 @@ std::vector<double> LocalDeviations(const MeshTopology& topology, const double* 
   {
     pinned[v] = pinned[v] || FarthestOfRing(topology, deviation, pin, v);
   }
-  const std::vector<double>& centre = d.FromCentres;
   const IndexArray& input = topology.TriangleList();
+  for (std::size_t t = 0; t < d.FromInputTriangles.size(); ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      double& at = deviation[input[3 * t + k]];
+      at = std::max(at, d.FromInputTriangles[t]);
+    }
+  }
+  const std::vector<double>& remeshed = d.FromTriangles;
   for (std::size_t t = 0; t < triangles; ++t)
   {
     for (int k = 0; k < 3; ++k)
@@ -562,8 +658,8 @@ std::vector<double> LocalDeviations(const MeshTopology& topology, const double* 
       const Index source = remesh.SourceTriangle[remesh.Triangles[3 * t + k]];
       for (int j = 0; source >= 0 && j < 3; ++j)
       {
-        double& d = deviation[input[3 * static_cast<std::size_t>(source) + j]];
-        d = std::max(d, centre[t]);
+        double& at = deviation[input[3 * static_cast<std::size_t>(source) + j]];
+        at = std::max(at, remeshed[t]);
       }
     }
   }

@@ -19,9 +19,11 @@ namespace beltrami
 void KeepCurvatures(const MeshTopology& topology, const double* points, int numThreads, RemeshCache& cache);
 
 /// The remesh's deviation at every input vertex: its distance to the
-/// remesh, and the distance to the input of the centre of every remesh
-/// triangle that a corner of lies on one of the vertex's triangles (a
-/// triangle that spans a gap; the largest of those).  Every input vertex
+/// remesh, that of its triangles' edge midpoints and centres (where
+/// measured: RemeshDistances::FromInputTriangles), and the distance to the
+/// input of every remesh triangle (RemeshDistances::FromTriangles) that a
+/// corner of lies on one of the vertex's triangles (a triangle that spans a
+/// gap; the largest of those).  Every input vertex
 /// farther than `pin` from the remesh that is the farthest of its 1-ring
 /// (a cone point of the input between the remesh's vertices) is flagged in
 /// `pinned`.
@@ -34,7 +36,17 @@ struct RemeshDistances
   std::vector<double> FromInput;   ///< per input vertex, to the remesh (0 at one in no triangle or not finite;
                                    ///< infinite where the remesh has no triangle)
   std::vector<Index> Nearest;      ///< per input vertex, the remesh triangle nearest to it (-1: none)
-  std::vector<double> FromCentres; ///< per remesh triangle, its centre's to the input (0 where not finite)
+  /// Per input triangle, the largest distance to the remesh of its edges'
+  /// midpoints and its centre (a crease or a long edge the remesh cuts,
+  /// between input vertices that lie on it), measured where that could
+  /// exceed the largest of FromInput (InputTrianglesTo; 0 elsewhere, where
+  /// it is at most that), and which of them (0-2: the edge from corner k
+  /// to k + 1; 3: the centre).
+  std::vector<double> FromInputTriangles;
+  std::vector<std::uint8_t> FarthestSample;
+  /// Per remesh triangle, the largest distance to the input of its centre
+  /// and its edges' midpoints (0 where not finite).
+  std::vector<double> FromTriangles;
 };
 
 /// The distances of `remesh` from the input (its triangles in `toInput`).

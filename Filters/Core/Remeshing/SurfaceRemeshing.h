@@ -120,9 +120,10 @@ struct RemeshResult
   std::vector<double> GradedMetric;
   RemeshOptimizationStatistics Optimization;
   /// The remesh's fidelity, over the input's bounding-box diagonal: the
-  /// largest distance of its triangle centres from the input, and of the
-  /// input's vertices from it (where a part is lost or bridged), with that
-  /// input vertex; and the spacing of the requested count (of equilateral
+  /// largest distance of its triangles' centres and edge midpoints from the
+  /// input, and of the input's vertices, edge midpoints and triangle centres
+  /// from it (where a part is lost or bridged, or a crease cut), with that
+  /// input point (RemeshDistances); and the spacing of the requested count (of equilateral
   /// triangles covering the input).
   double DeviationToInput = 0.0, DeviationFromInput = 0.0;
   Vec3 FarthestInputPoint = Vec3::Zero();

@@ -366,15 +366,44 @@ TEST(SurfaceRemeshing, TheCornersOfACoarsePolyhedronAreMovedOnto)
   EXPECT_LT(after, 0.85 * before);
   EXPECT_GT(pinned.ReachedFarVertices.size(), 100u);
   // The deviations the rounds report (measured again where they moved the
-  // remesh) are those measured anew: the input's vertices to the remesh,
-  // the remesh's triangle centres to the input.
+  // remesh) are those measured anew: the input's vertices, edge midpoints
+  // and triangle centres to the remesh, the remesh's triangle centres and
+  // edge midpoints to the input.
   const SurfaceDeviation measured = MeasureDeviation(sphere.Points.data(), sphere.Triangles.data(),
-    sphere.Triangles.size() / 3, DeviationSamples::Vertices, pinned.Points.data(), pinned.Triangles.data(),
-    pinned.Triangles.size() / 3, DeviationSamples::Centres);
+    sphere.Triangles.size() / 3, DeviationSamples::All, pinned.Points.data(), pinned.Triangles.data(),
+    pinned.Triangles.size() / 3, DeviationSamples::Midpoints);
   EXPECT_NEAR(pinned.DeviationFromInput * pinned.Diagonal, measured.FirstToSecond, 1e-14);
   EXPECT_NEAR(pinned.DeviationToInput * pinned.Diagonal, measured.SecondToFirst, 1e-14);
   EXPECT_GE(q.MinimumAngle, 15.0);
   EXPECT_LE(q.FractionBelow30, 0.005);
+}
+
+TEST(SurfaceRemeshing, TheDeviationIsMeasuredWhereTheRemeshCutsTheInputsEdges)
+{
+  // A cube of 12 triangles remeshed at 300 vertices, its edges rounded off
+  // (no sharp edges kept): every input vertex is a corner the remesh keeps,
+  // so measured at the input's vertices the remesh is 0 from the input; at
+  // the midpoints of its edges and faces it is not (measured: 3.4% of the
+  // diagonal).  The reported deviation is the largest over all of those
+  // samples, however few of them were measured (MeasureDeviation: all).
+  const test::Mesh cube = test::CubeSurface(1);
+  const MeshTopology input = cube.Topology();
+  const AtlasResult atlas = BuildAtlas(input, cube.Points.data(), RemeshingAtlasOptions());
+  ASSERT_EQ(atlas.Error, "");
+  RemeshOptions options;
+  options.NumberOfVertices = 300;
+  const RemeshResult r = RemeshSurface(input, cube.Points.data(), atlas, nullptr, options);
+  ASSERT_EQ(r.Error, "");
+  const auto measured = [&](DeviationSamples samples) {
+    return MeasureDeviation(cube.Points.data(), cube.Triangles.data(), cube.Triangles.size() / 3, samples,
+      r.Points.data(), r.Triangles.data(), r.Triangles.size() / 3, DeviationSamples::Midpoints);
+  };
+  std::printf("from the input %.4f%% (at its vertices %.4f%%), to it %.4f%%\n", 100.0 * r.DeviationFromInput,
+    100.0 * measured(DeviationSamples::Vertices).FirstToSecond / r.Diagonal, 100.0 * r.DeviationToInput);
+  EXPECT_LT(measured(DeviationSamples::Vertices).FirstToSecond, 1e-9 * r.Diagonal);
+  EXPECT_GT(r.DeviationFromInput, 0.02);
+  EXPECT_NEAR(r.DeviationFromInput * r.Diagonal, measured(DeviationSamples::All).FirstToSecond, 1e-14);
+  EXPECT_NEAR(r.DeviationToInput * r.Diagonal, measured(DeviationSamples::All).SecondToFirst, 1e-14);
 }
 
 TEST(SurfaceRemeshing, EdgeLengthsFollowTheCurvatureToTheRequestedGamma)
