@@ -94,6 +94,37 @@ def arrays_of(mesh):
     return points, np.array(triangles, dtype=np.int64).reshape(-1, 3)
 
 
+def triangulated(mesh):
+    """(points, triangles) of a poly data's polygons as the filters
+    triangulate them (vtkBeltramiSurface): quads along the shorter diagonal,
+    larger polygons by VTK's ear cutting, a fan where that fails."""
+    from vtkmodules.vtkCommonCore import vtkIdList
+    from vtkmodules.vtkCommonDataModel import vtkPolygon
+    points, _ = arrays_of(mesh)
+    polys = mesh.GetPolys()
+    if polys is None or polys.GetNumberOfCells() == 0:
+        return arrays_of(mesh)
+    offsets = vtk_to_numpy(polys.GetOffsetsArray()).astype(np.int64)
+    connectivity = vtk_to_numpy(polys.GetConnectivityArray()).astype(np.int64)
+    triangles = []
+    polygon, scratch = vtkPolygon(), vtkIdList()
+    for a, b in zip(offsets[:-1], offsets[1:]):
+        ids = connectivity[a:b]
+        if len(ids) == 4:
+            shorter = np.sum((points[ids[0]] - points[ids[2]]) ** 2) <= np.sum((points[ids[1]] - points[ids[3]]) ** 2)
+            triangles += [ids[[0, 1, 2]], ids[[0, 2, 3]]] if shorter else [ids[[0, 1, 3]], ids[[1, 2, 3]]]
+            continue
+        if len(ids) > 4:
+            polygon.Initialize(len(ids), [int(i) for i in ids], mesh.GetPoints())
+            scratch.Reset()
+            if polygon.Triangulate(scratch) and scratch.GetNumberOfIds() == 3 * (len(ids) - 2):
+                local = [scratch.GetId(k) for k in range(scratch.GetNumberOfIds())]
+                triangles += [ids[local[k:k + 3]] for k in range(0, len(local), 3)]
+                continue
+        triangles += [ids[[0, k, k + 1]] for k in range(1, len(ids) - 1)]
+    return points, np.array(triangles, dtype=np.int64).reshape(-1, 3)
+
+
 def with_scalars(mesh, name="Scalars"):
     """mesh with a point array (a smooth function of the position plus a
     little deterministic noise): what the data filters smooth."""
@@ -414,11 +445,12 @@ def hausdorff(a_mesh, b_mesh):
 def remesh_deviation(mesh, remesh):
     """(to the input, from the input) in the units of the points, as
     vtkSurfaceRemeshing's RemeshDeviation measures them: the largest
-    distance to `mesh` of the remesh's triangle centres and edge midpoints,
-    and to `remesh` of the input's vertices, edge midpoints and triangle
-    centres (of those only where it could exceed the vertices' largest: a
+    distance to `mesh` (its polygons triangulated as the filters do) of the
+    remesh's triangle centres and edge midpoints, and to `remesh` of the
+    input's vertices, edge midpoints and triangle centres (of those only where it could exceed the vertices' largest: a
     point's distance exceeds a vertex's by at most the way to it)."""
     p, t = arrays_of(remesh)
+    mesh = polydata(*triangulated(mesh))
     edges = np.unique(np.sort(np.vstack([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1), axis=0)
     to_input = distances_to(mesh, np.vstack([p[t].mean(axis=1), p[edges].mean(axis=1)])).max() if len(t) else 0.0
     pin, tin = arrays_of(mesh)

@@ -180,9 +180,8 @@ def remesh_problem(mesh, out, top):
     diag = inputs.diagonal(pin[np.unique(tin)])
     reported = [out.GetFieldData().GetArray("RemeshDeviation").GetValue(k) for k in range(2)]
     to_input, from_input = (d / diag for d in inputs.remesh_deviation(mesh, out))
-    tolerance = 1e-3 if has_polygons(mesh) else 1e-6  # (non-planar polygons: other triangulations)
     for what, said, measured in (("to", reported[0], to_input), ("from", reported[1], from_input)):
-        if abs(said - measured) > 1e-9 + tolerance * measured:
+        if abs(said - measured) > 1e-9 + 1e-6 * measured:
             return "reported deviation %s the input %.6g, measured %.6g" % (what, said, measured), None, None
     return None, to_input, from_input
 
@@ -360,17 +359,19 @@ def noisy(mesh, level=NOISE):
 
 
 # CGAL 5.5's isotropic remeshing of the noisy corpus at about 2,000 vertices
-# (the two-sided Hausdorff distance to the noisy input in % of the diagonal),
-# measured once by
+# (the two-sided Hausdorff distance to the noisy input in % of the diagonal,
+# measured as the filter's RemeshDeviation), measured once by
 #   Testing/Benchmarks/benchmark_remeshing.py --corpus --noise 0.003
-# (docs/benchmarks/remeshing_noisy_corpus.json).
+# (docs/benchmarks/remeshing_noisy_corpus.json; on the locally refined
+# cylinder CGAL's calibration to the count fails: 4,215 vertices, 59% of its
+# triangles below 30 degrees).
 CGAL_NOISY_HAUSDORFF = {
-    "blobby.off": 1.085, "bunny00.off": 2.315, "cactus.off": 0.728, "cow.off": 2.43, "cube.off": 0.006,
-    "cylinder_locally_refined.off": 1.853, "double-torus-example.off": 0.849, "eight.off": 0.611,
+    "blobby.off": 1.085, "bunny00.off": 2.315, "cactus.off": 0.728, "cow.off": 2.43, "cube.off": 0.008,
+    "cylinder_locally_refined.off": 10.81, "double-torus-example.off": 1.068, "eight.off": 0.611,
     "elephant-with-holes.off": 2.341, "elephant.off": 1.832, "fandisk.off": 1.73, "fandisk_large.off": 1.312,
-    "hand.off": 1.875, "head.off": 1.493, "holes.off": 1.216, "knot1.off": 1.114, "larger_sphere.off": 0.537,
-    "mask_cone.off": 1.121, "mech-holes-shark.off": 2.209, "mushroom.off": 1.366, "nefertiti.off": 0.498,
-    "patch-01.off": 1.743, "plane.off": 0.386, "sphere966.off": 0.721, "three_peaks.off": 1.351,
+    "hand.off": 1.875, "head.off": 1.493, "holes.off": 1.216, "knot1.off": 1.114, "larger_sphere.off": 0.488,
+    "mask_cone.off": 1.121, "mech-holes-shark.off": 2.119, "mushroom.off": 1.366, "nefertiti.off": 0.45,
+    "patch-01.off": 1.743, "plane.off": 0.512, "sphere966.off": 0.704, "three_peaks.off": 1.351
 }
 
 

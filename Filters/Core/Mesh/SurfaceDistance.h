@@ -29,6 +29,9 @@ public:
   /// distance in `distance`; with `within`, only a triangle nearer than
   /// that (-1 and `within` where none is: a search that stops there).
   Index Nearest(const Vec3& p, double& distance, double within = HUGE_VAL) const;
+  /// The distance from p to triangle t (of the triangles given): a bound on
+  /// Distance(p) without a search.
+  double DistanceTo(Index t, const Vec3& p) const { return std::sqrt(TriangleDistance2(t, p)); }
 
 private:
   const double* Points;

@@ -132,18 +132,17 @@ void InputVerticesTo(const MeshTopology& topology, const double* points, const T
 }
 
 /// The distance from `p` to the surface in `grid`, known to be at most
-/// `bound` (a search that stops there; `bound` where rounding found none).
+/// `bound` (a triangle that far): a search that stops there.
 double DistanceWithin(const TriangleGrid& grid, const Vec3& p, double bound)
 {
   double distance = 0.0;
-  const double within = bound * (1.0 + 1e-12) + 1e-300;
-  return grid.Nearest(p, distance, within) >= 0 ? distance : within;
+  return grid.Nearest(p, distance, bound * (1.0 + 1e-12) + 1e-300) >= 0 ? std::min(distance, bound) : bound;
 }
 
 /// The distances to the input of the remesh's triangle centres and edge
 /// midpoints into `d` (RemeshDistances::FromTriangles), where `redo` holds
-/// for the triangle.  A midpoint is at most the centre's distance plus the
-/// way to it from the centre.
+/// for the triangle.  A midpoint is at most as far as the input triangle
+/// nearest to the centre: the search for it stops there.
 template <typename Redo>
 void TrianglesTo(const RemeshResult& remesh, const TriangleGrid& toInput, Redo&& redo, RemeshDistances& d,
   int numThreads)
@@ -159,29 +158,30 @@ void TrianglesTo(const RemeshResult& remesh, const TriangleGrid& toInput, Redo&&
       const Index* c = remesh.Triangles.data() + 3 * t;
       const Vec3 corner[3] = { Point(x, c[0]), Point(x, c[1]), Point(x, c[2]) };
       const Vec3 centre = TriangleSample(corner, 3);
-      if (!centre.allFinite())
-      {
-        d.FromTriangles[t] = 0.0;
-        continue;
-      }
-      double farthest = toInput.Distance(centre);
-      for (int k = 0; k < 3 && std::isfinite(farthest); ++k)
+      double farthest = 0.0;
+      const Index nearest = centre.allFinite() ? toInput.Nearest(centre, farthest) : -1;
+      for (int k = 0; k < 3 && nearest >= 0; ++k)
       {
         const Vec3 m = TriangleSample(corner, k);
-        farthest = std::max(farthest, DistanceWithin(toInput, m, farthest + (m - centre).norm()));
+        farthest = std::max(farthest, DistanceWithin(toInput, m, toInput.DistanceTo(nearest, m)));
       }
-      d.FromTriangles[t] = farthest;
+      d.FromTriangles[t] = nearest >= 0 ? farthest : 0.0;
     }
   });
 }
 
 /// The distances to the remesh (its triangles in `grid`) of the input
 /// triangles' edge midpoints and centres into `d`
-/// (RemeshDistances::FromInputTriangles) from the distances of the input
-/// vertices: a point's distance exceeds a vertex's by at most the way to
-/// it, so only the points whose bound so exceeds the largest vertex
-/// distance are measured (on an input finer than the remesh, those beside
-/// its farthest vertices; on a coarser one, its long edges and faces).
+/// (RemeshDistances::FromInputTriangles), measured only where they could
+/// exceed the largest distance of the input vertices.  The distance to one
+/// remesh triangle is convex, so no point of an input triangle is farther
+/// from the remesh triangle nearest to a corner (RemeshDistances::Nearest)
+/// than the farthest corner from it: an input triangle finer than the
+/// remesh, its corners nearest to one remesh triangle, is no farther than
+/// its farthest corner.  A point is also at most a vertex's distance plus
+/// the way to it; the search for it stops at the least of those bounds.  On
+/// an input finer than the remesh few are measured; on a coarser one, its
+/// long edges and faces.
 void InputTrianglesTo(const MeshTopology& topology, const double* points, const TriangleGrid& grid,
   RemeshDistances& d, int numThreads)
 {
@@ -199,21 +199,37 @@ void InputTrianglesTo(const MeshTopology& topology, const double* points, const 
     {
       Vec3 corner[3];
       double at[3];
+      Index nearest[3];
       bool finite = true;
       for (int k = 0; k < 3; ++k)
       {
         const Index v = list[3 * t + k];
         corner[k] = Point(points, v);
         at[k] = d.FromInput[v];
-        finite = finite && corner[k].allFinite() && std::isfinite(at[k]);
+        nearest[k] = d.Nearest[v];
+        finite = finite && corner[k].allFinite() && std::isfinite(at[k]) && nearest[k] >= 0;
       }
-      for (int k = 0; k < 4 && finite; ++k)
+      double whole = HUGE_VAL; // over the triangle
+      for (int j = 0; j < 3 && finite && whole > most; ++j)
+      {
+        double farthest = at[j];
+        for (int k = 0; k < 3 && farthest < whole; ++k)
+        {
+          farthest = std::max(farthest, nearest[k] == nearest[j] ? at[k] : grid.DistanceTo(nearest[j], corner[k]));
+        }
+        whole = std::min(whole, farthest);
+      }
+      for (int k = 0; k < 4 && finite && whole > most; ++k)
       {
         const Vec3 p = TriangleSample(corner, k);
-        double bound = HUGE_VAL;
+        double bound = whole;
         for (int j = 0; j < 3; ++j)
         {
           bound = std::min(bound, at[j] + (p - corner[j]).norm());
+        }
+        for (int j = 0; j < 3 && bound > most; ++j)
+        {
+          bound = std::min(bound, grid.DistanceTo(nearest[j], p));
         }
         const double distance = bound > most ? DistanceWithin(grid, p, bound) : 0.0;
         if (distance > d.FromInputTriangles[t])
