@@ -71,8 +71,9 @@
  * RemeshDeviation (the remesh's fidelity, measured after every run, as
  * fractions of the input's bounding-box diagonal: the largest distance of
  * its triangles' centres and edge midpoints from the input, and of the
- * input's vertices, edge midpoints and triangle centres from it; a warning names the input point where a part is left farther than
- * the remesh's spacing, and beyond four spacings - a limb's end cut off or
+ * input's vertices, edge midpoints and triangle centres from it; a warning
+ * names the input point where a part is left farther than the remesh's
+ * spacing, and beyond four spacings - a limb's end cut off or
  * bridged - it is an error with an empty output) and RemeshSeconds (sampling,
  * triangulation, optimisation, the fidelity's measurement).  The
  * error-driven mode (MaximumDeviation > 0, as MMG's -hausd) remeshes until

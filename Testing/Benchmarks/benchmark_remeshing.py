@@ -92,7 +92,9 @@ def quality(remesh, input_data, diagonal):
     lengths = np.linalg.norm(points[unique[:, 0]] - points[unique[:, 1]], axis=1)
     # (as the filter's RemeshDeviation: the remesh's triangle centres and
     # edge midpoints, the input's vertices, edge midpoints and triangle
-    # centres; the input's polygons as triangles)
+    # centres; the input's polygons as fans, the triangles CGAL is given,
+    # where the filter splits quads along their shorter diagonal: the
+    # double torus's non-planar quads are two slightly different surfaces)
     to_input, from_input = inputs.remesh_deviation(inputs.polydata(*inputs.arrays_of(input_data)), remesh)
     return dict(vertices=int((valence > 0).sum()), mean_min=minimum.mean(), worst=minimum.min(),
                 below30=100.0 * (minimum < 30.0).mean(), valence6=100.0 * (valence[interior] == 6).mean(),
@@ -156,8 +158,9 @@ def corpus_table(counts, noise=0.0, variants=False):
     Markdown table (Hausdorff both ways in % of the diagonal, as the
     filter's RemeshDeviation: the remesh's triangle centres and edge
     midpoints to the input, the input's vertices, edge midpoints and
-    triangle centres to the remesh).  noise > 0: the real meshes only, each with that noise along
-    its normals (a fraction of the diagonal; test_corpus_sweep.noisy)."""
+    triangle centres to the remesh).  noise > 0: the real meshes only, each
+    with that noise along its normals (a fraction of the diagonal;
+    test_corpus_sweep.noisy)."""
     from test_corpus_sweep import CAD, noisy
     meshes = [(os.path.basename(p), inputs.read_off(p)) for p in inputs.corpus_paths()]
     if noise > 0.0:
@@ -214,8 +217,8 @@ def corpus_table(counts, noise=0.0, variants=False):
                  "handle, a speck, a thin plate, huge and tiny coordinates); the CAD parts with their edges sharper "
                  "than 60 degrees kept", columns, table,
                  "Hausdorff both ways in % of the diagonal: 'to input' the remesh's triangle centres and edge "
-                 "midpoints, 'from input' the input's vertices, edge midpoints and triangle centres. CGAL's target edge length calibrated to give "
-                 "the count within 1% where six runs reach it.")
+                 "midpoints, 'from input' the input's vertices, edge midpoints and triangle centres. CGAL's "
+                 "target edge length calibrated to give the count within 1% where six runs reach it.")
 
 
 def remesher(data, features, **settings):

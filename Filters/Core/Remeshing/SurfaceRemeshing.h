@@ -123,8 +123,8 @@ struct RemeshResult
   /// largest distance of its triangles' centres and edge midpoints from the
   /// input, and of the input's vertices, edge midpoints and triangle centres
   /// from it (where a part is lost or bridged, or a crease cut), with that
-  /// input point (RemeshDistances); and the spacing of the requested count (of equilateral
-  /// triangles covering the input).
+  /// input point (RemeshDistances); and the spacing of the requested count
+  /// (of equilateral triangles covering the input).
   double DeviationToInput = 0.0, DeviationFromInput = 0.0;
   Vec3 FarthestInputPoint = Vec3::Zero();
   double Spacing = 0.0, Diagonal = 0.0; ///< of the input (its bounding box)
