@@ -71,7 +71,8 @@
  * RemeshDeviation (the remesh's fidelity, measured after every run, as
  * fractions of the input's bounding-box diagonal: the largest distance of
  * its triangles' centres and edge midpoints from the input, and of the
- * input's vertices, edge midpoints and triangle centres from it; a warning
+ * input's vertices, edge midpoints (a spacing apart along edges longer than
+ * two spacings) and triangle centres from it; a warning
  * names the input point where a part is left farther than the remesh's
  * spacing, and beyond four spacings - a limb's end cut off or
  * bridged - it is an error with an empty output) and RemeshSeconds (sampling,
@@ -257,9 +258,12 @@ public:
   /// and hooves its samples missed: the density keeps a smooth surface within a tenth of the
   /// spacing), the nearest remesh vertex that can move there without folding a triangle is moved
   /// onto each and kept there, and the triangles around are relaxed again, up to this many rounds
-  /// (each measuring again); where none is that far, every input vertex farther than 0.03 of the
-  /// spacing and four times a spacing's sag on its curvature (the corners of an input coarser than
-  /// the remesh) is moved onto so; where vertices are left that none could reach, or whose moves
+  /// (each measuring again); where points along input edges are that far (creases of an input
+  /// coarser than the remesh, which its triangles cut), the round is made twice, once also moving
+  /// vertices so onto points a spacing apart along those edges, once with the vertices alone, and
+  /// the closer kept; where none is that far, every input vertex farther than 0.03 of the spacing
+  /// and four times a spacing's sag on its curvature (the corners of an input coarser than the
+  /// remesh) is moved onto so; where vertices are left that none could reach, or whose moves
   /// brought the remesh no closer, the remesh is made again with them pinned, up to this many
   /// times. The closest with triangles as good is kept. 0: one remesh as made, the fastest. Over
   /// the shared corpus at 10,000 vertices the rounds bring the two-sided deviation down by 21% in

@@ -447,8 +447,12 @@ def remesh_deviation(mesh, remesh):
     vtkSurfaceRemeshing's RemeshDeviation measures them: the largest
     distance to `mesh` (its polygons triangulated as the filters do) of the
     remesh's triangle centres and edge midpoints, and to `remesh` of the
-    input's vertices, edge midpoints and triangle centres (of those only where it could exceed the vertices' largest: a
-    point's distance exceeds a vertex's by at most the way to it)."""
+    input's vertices, triangle centres and points along its edges (the
+    midpoint of an edge at most two spacings long, else the points between
+    parts of at most a spacing: that of equilateral triangles covering the
+    input with the remesh's count); of those only where it could exceed the
+    vertices' largest (a point's distance exceeds a vertex's by at most the
+    way to it)."""
     p, t = arrays_of(remesh)
     mesh = polydata(*triangulated(mesh))
     edges = np.unique(np.sort(np.vstack([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1), axis=0)
@@ -459,10 +463,23 @@ def remesh_deviation(mesh, remesh):
     at[used] = distances_to(remesh, pin[used])
     most = at[used].max() if len(used) else 0.0
     corners = pin[tin]                                  # triangles x 3 x 3
-    points = np.stack([(corners[:, 0] + corners[:, 1]) / 2, (corners[:, 1] + corners[:, 2]) / 2,
-                       (corners[:, 2] + corners[:, 0]) / 2, corners.mean(axis=1)], axis=1)
-    bound = np.min(at[tin][:, None, :] + np.linalg.norm(points[:, :, None, :] - corners[:, None, :, :], axis=3), axis=2)
-    candidates = points[bound > most]
+    area = 0.5 * np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1).sum()
+    spacing = math.sqrt(2.0 * area / (math.sqrt(3.0) * max(1, len(p))))
+    centres = corners.mean(axis=1)
+    bound = np.min(at[tin] + np.linalg.norm(centres[:, None, :] - corners, axis=2), axis=1)
+    candidates = [centres[bound > most]]
+    ends = np.unique(np.sort(np.vstack([tin[:, [0, 1]], tin[:, [1, 2]], tin[:, [2, 0]]]), axis=1), axis=0)
+    length = np.linalg.norm(pin[ends[:, 1]] - pin[ends[:, 0]], axis=1)
+    parts = np.where(length > 2.0 * spacing, np.ceil(length / spacing), 2).astype(np.int64)
+    for m in np.unique(parts):
+        e = ends[parts == m]
+        along = np.arange(1, m) / m
+        a, b = pin[e[:, 0]][:, None, :], pin[e[:, 1]][:, None, :]
+        q = a + along[None, :, None] * (b - a)          # edges x (m - 1) x 3
+        bound = np.minimum(at[e[:, 0]][:, None] + np.linalg.norm(q - a, axis=2),
+                           at[e[:, 1]][:, None] + np.linalg.norm(q - b, axis=2))
+        candidates.append(q[bound > most])
+    candidates = np.vstack(candidates)
     from_input = max(most, distances_to(remesh, candidates).max() if len(candidates) else 0.0)
     return to_input, from_input
 

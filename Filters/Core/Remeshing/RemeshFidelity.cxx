@@ -1,7 +1,8 @@
 // Beltrami core: a remesh's fidelity to its input (RemeshSurface): its
 // topology and two-sided deviation checked (CheckFidelity), the fidelity
-// rounds that move its vertices onto the input vertices it leaves far
-// (CheckFidelityInRounds), and the error-driven remesh (RemeshToDeviation).
+// rounds that move its vertices onto the input vertices and the points of
+// creases it leaves far (CheckFidelityInRounds), and the error-driven remesh
+// (RemeshToDeviation).
 #include "Remeshing/RemeshFidelity.h"
 
 #include "Mesh/Laplacian.h"
@@ -12,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <set>
 #include <sstream>
 
 namespace beltrami
@@ -106,195 +108,6 @@ std::vector<double> WeightsForDeviation(const MeshTopology& topology, const Atla
     weight[v] = onLine[v] > 0.0 || !std::isfinite(kappa[v]) ? 1.0 : std::max(1.0, kappa[v] / twiceMean);
   }
   return weight;
-}
-
-/// The distances of the input vertices to the remesh (its triangles in
-/// `grid`) into `d` (RemeshDistances), where `redo` holds for them.
-template <typename Redo>
-void InputVerticesTo(const MeshTopology& topology, const double* points, const TriangleGrid& grid, Redo&& redo,
-  RemeshDistances& d, int numThreads)
-{
-  ParallelFor(topology.NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
-    for (Index v = static_cast<Index>(begin); v < end; ++v)
-    {
-      const Vec3 p = Point(points, v);
-      if (redo(v) && topology.Valence(v) > 0 && p.allFinite())
-      {
-        d.Nearest[v] = grid.Nearest(p, d.FromInput[v]); // (infinite where the remesh has no triangle)
-      }
-      else if (redo(v))
-      {
-        d.Nearest[v] = -1;
-        d.FromInput[v] = 0.0;
-      }
-    }
-  });
-}
-
-/// The distance from `p` to the surface in `grid`, known to be at most
-/// `bound` (a triangle that far): a search that stops there.
-double DistanceWithin(const TriangleGrid& grid, const Vec3& p, double bound)
-{
-  double distance = 0.0;
-  return grid.Nearest(p, distance, bound * (1.0 + 1e-12) + 1e-300) >= 0 ? std::min(distance, bound) : bound;
-}
-
-/// The distances to the input of the remesh's triangle centres and edge
-/// midpoints into `d` (RemeshDistances::FromTriangles), where `redo` holds
-/// for the triangle.  A midpoint is at most as far as the input triangle
-/// nearest to the centre: the search for it stops there.
-template <typename Redo>
-void TrianglesTo(const RemeshResult& remesh, const TriangleGrid& toInput, Redo&& redo, RemeshDistances& d,
-  int numThreads)
-{
-  const double* x = remesh.Points.data();
-  ParallelFor(static_cast<std::int64_t>(d.FromTriangles.size()), numThreads, [&](std::int64_t begin, std::int64_t end) {
-    for (std::int64_t t = begin; t < end; ++t)
-    {
-      if (!redo(t))
-      {
-        continue;
-      }
-      const Index* c = remesh.Triangles.data() + 3 * t;
-      const Vec3 corner[3] = { Point(x, c[0]), Point(x, c[1]), Point(x, c[2]) };
-      const Vec3 centre = TriangleSample(corner, 3);
-      double farthest = 0.0;
-      const Index nearest = centre.allFinite() ? toInput.Nearest(centre, farthest) : -1;
-      for (int k = 0; k < 3 && nearest >= 0; ++k)
-      {
-        const Vec3 m = TriangleSample(corner, k);
-        farthest = std::max(farthest, DistanceWithin(toInput, m, toInput.DistanceTo(nearest, m)));
-      }
-      d.FromTriangles[t] = nearest >= 0 ? farthest : 0.0;
-    }
-  });
-}
-
-/// The distances to the remesh (its triangles in `grid`) of the input
-/// triangles' edge midpoints and centres into `d`
-/// (RemeshDistances::FromInputTriangles), measured only where they could
-/// exceed the largest distance of the input vertices.  The distance to one
-/// remesh triangle is convex, so no point of an input triangle is farther
-/// from the remesh triangle nearest to a corner (RemeshDistances::Nearest)
-/// than the farthest corner from it: an input triangle finer than the
-/// remesh, its corners nearest to one remesh triangle, is no farther than
-/// its farthest corner.  A point is also at most a vertex's distance plus
-/// the way to it; the search for it stops at the least of those bounds.  On
-/// an input finer than the remesh few are measured; on a coarser one, its
-/// long edges and faces.
-void InputTrianglesTo(const MeshTopology& topology, const double* points, const TriangleGrid& grid,
-  RemeshDistances& d, int numThreads)
-{
-  double most = 0.0;
-  for (double v : d.FromInput)
-  {
-    most = std::isfinite(v) ? std::max(most, v) : most;
-  }
-  const std::int64_t triangles = topology.NumberOfTriangles();
-  const IndexArray& list = topology.TriangleList();
-  d.FromInputTriangles.assign(static_cast<std::size_t>(triangles), 0.0);
-  d.FarthestSample.assign(static_cast<std::size_t>(triangles), 0);
-  ParallelFor(triangles, numThreads, [&](std::int64_t begin, std::int64_t end) {
-    for (std::int64_t t = begin; t < end; ++t)
-    {
-      Vec3 corner[3];
-      double at[3];
-      Index nearest[3];
-      bool finite = true;
-      for (int k = 0; k < 3; ++k)
-      {
-        const Index v = list[3 * t + k];
-        corner[k] = Point(points, v);
-        at[k] = d.FromInput[v];
-        nearest[k] = d.Nearest[v];
-        finite = finite && corner[k].allFinite() && std::isfinite(at[k]) && nearest[k] >= 0;
-      }
-      double whole = HUGE_VAL; // over the triangle
-      for (int j = 0; j < 3 && finite && whole > most; ++j)
-      {
-        double farthest = at[j];
-        for (int k = 0; k < 3 && farthest < whole; ++k)
-        {
-          farthest = std::max(farthest, nearest[k] == nearest[j] ? at[k] : grid.DistanceTo(nearest[j], corner[k]));
-        }
-        whole = std::min(whole, farthest);
-      }
-      for (int k = 0; k < 4 && finite && whole > most; ++k)
-      {
-        const Vec3 p = TriangleSample(corner, k);
-        double bound = whole;
-        for (int j = 0; j < 3; ++j)
-        {
-          bound = std::min(bound, at[j] + (p - corner[j]).norm());
-        }
-        for (int j = 0; j < 3 && bound > most; ++j)
-        {
-          bound = std::min(bound, grid.DistanceTo(nearest[j], p));
-        }
-        const double distance = bound > most ? DistanceWithin(grid, p, bound) : 0.0;
-        if (distance > d.FromInputTriangles[t])
-        {
-          d.FromInputTriangles[t] = distance;
-          d.FarthestSample[t] = static_cast<std::uint8_t>(k);
-        }
-      }
-    }
-  });
-}
-
-/// `d`, the distances of remesh `before`, made those of `after`, the same
-/// mesh with vertices moved and edges swapped (PinNearestVertices):
-/// measured again at the centres and edge midpoints of the triangles that
-/// changed and, for the input vertices, to those triangles alone (the
-/// nearest of the others stays) or, where the nearest changed, to all (then
-/// the input triangles' points from them); measured anew where the counts
-/// differ or a quarter of the triangles changed.
-void UpdateDistances(const MeshTopology& topology, const double* points, const TriangleGrid& toInput,
-  const RemeshResult& before, const RemeshResult& after, RemeshDistances& d, int numThreads)
-{
-  const std::size_t triangles = after.Triangles.size() / 3;
-  std::vector<std::uint8_t> changed(triangles, 0);
-  std::vector<Index> corners; // of the triangles that changed
-  std::vector<Index> which;   // their ids
-  for (std::size_t t = 0; t < triangles && before.Triangles.size() == after.Triangles.size() &&
-       before.Points.size() == after.Points.size();
-       ++t)
-  {
-    for (std::size_t c = 3 * t; c < 3 * t + 3 && !changed[t]; ++c)
-    {
-      const Index v = after.Triangles[c];
-      changed[t] = v != before.Triangles[c] || Point(after.Points.data(), v) != Point(before.Points.data(), v);
-    }
-    if (changed[t])
-    {
-      corners.insert(corners.end(), after.Triangles.begin() + 3 * t, after.Triangles.begin() + 3 * t + 3);
-      which.push_back(static_cast<Index>(t));
-    }
-  }
-  if (before.Triangles.size() != after.Triangles.size() || before.Points.size() != after.Points.size() ||
-    4 * which.size() > triangles)
-  {
-    d = MeasureDistances(topology, points, toInput, after, numThreads);
-    return;
-  }
-  TrianglesTo(after, toInput, [&](std::int64_t t) { return changed[t] != 0; }, d, numThreads);
-  const TriangleGrid whole(after.Points.data(), after.Triangles.data(), triangles, numThreads);
-  InputVerticesTo(
-    topology, points, whole, [&](Index v) { return d.Nearest[v] >= 0 && changed[d.Nearest[v]]; }, d, numThreads);
-  const TriangleGrid moved(after.Points.data(), corners.data(), which.size(), numThreads);
-  ParallelFor(topology.NumberOfVertices(), numThreads, [&](std::int64_t begin, std::int64_t end) {
-    for (Index v = static_cast<Index>(begin); v < end; ++v)
-    {
-      double distance = 0.0;
-      const Index t = d.Nearest[v] >= 0 ? moved.Nearest(Point(points, v), distance, d.FromInput[v]) : -1;
-      if (t >= 0)
-      {
-        d.Nearest[v] = which[t];
-        d.FromInput[v] = distance;
-      }
-    }
-  });
-  InputTrianglesTo(topology, points, whole, d, numThreads);
 }
 
 /// Input vertex v is farther than `pin` from the remesh and the farthest of
@@ -444,7 +257,10 @@ void CheckFidelity(const MeshTopology& topology, const double* points, const Rem
     const Vec3 corner[3] = { Point(points, list[3 * t]), Point(points, list[3 * t + 1]),
       Point(points, list[3 * t + 2]) };
     deviation.FirstToSecond = *crossed;
-    deviation.FarthestOfFirst = TriangleSample(corner, distances.FarthestSample[t]);
+    const int k = distances.FarthestSample[t];
+    deviation.FarthestOfFirst = k < 3
+      ? Vec3(corner[k] + static_cast<double>(distances.FarthestAlong[t]) * (corner[(k + 1) % 3] - corner[k]))
+      : TriangleSample(corner, k);
   }
   const std::vector<double>& remeshed = distances.FromTriangles;
   deviation.SecondToFirst = remeshed.empty() ? 0.0 : *std::max_element(remeshed.begin(), remeshed.end());
@@ -475,22 +291,76 @@ void CheckFidelity(const MeshTopology& topology, const double* points, const Rem
 /// the farthest of its 1-ring (FarthestOfRing) where `ring`, with that
 /// triangle; the farthest first.
 template <typename Bound>
-std::vector<std::pair<Index, Index>> FarInputVertices(const MeshTopology& topology,
-  const std::vector<double>& deviation, const std::vector<Index>& nearest, bool ring, Bound&& bound)
+std::vector<PinTarget> FarInputVertices(const MeshTopology& topology, const std::vector<double>& deviation,
+  const std::vector<Index>& nearest, bool ring, Bound&& bound)
 {
-  std::vector<std::pair<double, std::pair<Index, Index>>> far;
+  std::vector<std::pair<double, Index>> far;
   for (Index v = 0; v < topology.NumberOfVertices(); ++v)
   {
     if (nearest[v] >= 0 && (ring ? FarthestOfRing(topology, deviation, bound(v), v) : deviation[v] > bound(v)))
     {
-      far.push_back({ deviation[v], { v, nearest[v] } });
+      far.push_back({ -deviation[v], v });
     }
   }
-  std::sort(far.begin(), far.end(), [](const auto& a, const auto& b) {
-    return a.first > b.first || (a.first == b.first && a.second < b.second);
-  });
-  std::vector<std::pair<Index, Index>> targets(far.size());
-  std::transform(far.begin(), far.end(), targets.begin(), [](const auto& f) { return f.second; });
+  std::sort(far.begin(), far.end());
+  std::vector<PinTarget> targets(far.size());
+  for (std::size_t i = 0; i < far.size(); ++i)
+  {
+    targets[i].Vertex = far[i].second;
+    targets[i].Face = nearest[far[i].second];
+  }
+  return targets;
+}
+
+/// Points a spacing apart along the input edges a point of which the remesh
+/// leaves farther than `bound` (RemeshDistances::FarthestSample: a crease
+/// of the input, its edges longer than the remesh's triangles, that the
+/// remesh cuts), the farthest edge's first, each with the remesh face
+/// nearest to it.
+std::vector<PinTarget> FarEdgePoints(const MeshTopology& topology, const double* points, const RemeshDistances& d,
+  const RemeshResult& remesh, double bound, int numThreads)
+{
+  std::vector<std::pair<double, std::int64_t>> far; // (-distance, triangle)
+  for (std::size_t t = 0; t < d.FromInputTriangles.size(); ++t)
+  {
+    if (d.FromInputTriangles[t] > bound && d.FarthestSample[t] < 3)
+    {
+      far.push_back({ -d.FromInputTriangles[t], static_cast<std::int64_t>(t) });
+    }
+  }
+  std::sort(far.begin(), far.end());
+  std::vector<PinTarget> targets;
+  if (far.empty())
+  {
+    return targets;
+  }
+  const TriangleGrid toRemesh(remesh.Points.data(), remesh.Triangles.data(), remesh.Triangles.size() / 3, numThreads);
+  std::set<std::pair<Index, Index>> edges; // (taken once: both triangles measure the midpoint)
+  const IndexArray& list = topology.TriangleList();
+  for (const auto& [distance, t] : far)
+  {
+    const int k = d.FarthestSample[t];
+    const Index a = list[3 * t + k], b = list[3 * t + (k + 1) % 3];
+    if (!edges.insert(std::minmax(a, b)).second)
+    {
+      continue;
+    }
+    const double length = (Point(points, a) - Point(points, b)).norm();
+    const int n = std::max(1, static_cast<int>(std::lround(length / remesh.Spacing)) - 1);
+    for (int j = 1; j <= n; ++j)
+    {
+      PinTarget target;
+      target.Triangle = static_cast<Index>(t);
+      target.W[k] = 1.0 - static_cast<double>(j) / (n + 1);
+      target.W[(k + 1) % 3] = static_cast<double>(j) / (n + 1);
+      double within = 0.0;
+      target.Face = toRemesh.Nearest(SurfacePoint(topology, points, target.Triangle, target.W.data()), within);
+      if (target.Face >= 0 && within > bound) // (those still that far)
+      {
+        targets.push_back(target);
+      }
+    }
+  }
   return targets;
 }
 
@@ -549,22 +419,17 @@ void GiveBack(RemeshResult& candidate, RemeshResult& out)
   out.GradedMetric = std::move(candidate.GradedMetric);
 }
 
-} // namespace
-
-RemeshDistances MeasureDistances(const MeshTopology& topology, const double* points, const TriangleGrid& toInput,
-  const RemeshResult& remesh, int numThreads)
+/// A fidelity round's remesh (CheckFidelityInRounds): the pins moved, its
+/// result and distances.
+struct RoundCandidate
 {
-  RemeshDistances d;
-  d.FromInput.assign(static_cast<std::size_t>(topology.NumberOfVertices()), 0.0);
-  d.Nearest.assign(d.FromInput.size(), -1);
-  d.FromTriangles.assign(remesh.Triangles.size() / 3, 0.0);
-  const auto all = [](auto) { return true; };
-  const TriangleGrid toRemesh(remesh.Points.data(), remesh.Triangles.data(), remesh.Triangles.size() / 3, numThreads);
-  InputVerticesTo(topology, points, toRemesh, all, d, numThreads);
-  InputTrianglesTo(topology, points, toRemesh, d, numThreads);
-  TrianglesTo(remesh, toInput, all, d, numThreads);
-  return d;
-}
+  Remesh Next;
+  PinnedVertices Pins;
+  RemeshResult Result;
+  RemeshDistances Distances;
+};
+
+} // namespace
 
 bool KeptOver(const MeshTopology& topology, const double* points, const RemeshResult& next, const RemeshResult& best,
   const std::pair<double, double>& first, int numThreads, const MeshTopology* nextTopology)
@@ -610,39 +475,67 @@ void CheckFidelityInRounds(const MeshTopology& topology, const double* points, c
   out.SourceBarycentric = remesh.Barycentric;
   const auto first = ShapeFigures(topology, points, out, threads, &outTopology);
   const std::vector<double>& curvature = cache.MaximumCurvature;
+  // A round's candidate: the pins moved, the remesh measured again, and
+  // whether KeptOver would keep it (its samples and metric left in `out`).
+  const auto attempt = [&](const std::vector<PinTarget>& targets, RoundCandidate& c) {
+    c.Next = remesh;
+    c.Pins = targets.empty()
+      ? PinnedVertices()
+      : PinNearestVertices(c.Next, topology, points, atlas, out.Samples, targets, optimization, PinnedStitchingRounds);
+    if (c.Pins.Reached.empty() && c.Pins.ReachedPoints == 0)
+    {
+      return false;
+    }
+    c.Result = ResultOf(c.Next, out);
+    c.Distances = distances;
+    UpdateDistances(topology, points, toInput, out, c.Result, c.Distances, threads);
+    const MeshTopology candidateTopology = TopologyOfRemesh(c.Result, threads);
+    CheckFidelity(topology, points, options, c.Distances, candidateTopology, c.Result);
+    const bool kept = KeptOver(topology, points, c.Result, out, first, threads, &candidateTopology);
+    GiveBack(c.Result, out);
+    return kept;
+  };
+  bool verticesKept = false; // a round with the far vertices alone
   for (int round = 0; round < options.FarPinRounds; ++round)
   {
     const std::vector<double>& far = distances.FromInput;
     const std::vector<Index>& nearest = distances.Nearest;
-    std::vector<std::pair<Index, Index>> targets =
-      FarInputVertices(topology, far, nearest, true, [&](Index) { return options.FarPinSpacings * out.Spacing; });
-    const bool corners = targets.empty() && !curvature.empty(); // (none that far: the corners)
+    const double bound = options.FarPinSpacings * out.Spacing;
+    std::vector<PinTarget> targets = FarInputVertices(topology, far, nearest, true, [&](Index) { return bound; });
+    const bool farVertices = !targets.empty();
+    const std::vector<PinTarget> creases = FarEdgePoints(topology, points, distances, out, bound, threads);
+    const bool corners = targets.empty() && creases.empty() && !curvature.empty(); // (none that far: the corners)
     if (corners)
     {
       targets = FarInputVertices(
         topology, far, nearest, false, [&](Index v) { return CornerBound(out, nearest[v], curvature[v]); });
     }
-    Remesh next = remesh;
-    const PinnedVertices pins = targets.empty()
-      ? PinnedVertices()
-      : PinNearestVertices(next, topology, points, atlas, out.Samples, targets, optimization, PinnedStitchingRounds);
-    out.FarVerticesLeft = !corners && (pins.Unreached > 0 || (round == 0 && !targets.empty()));
-    if (pins.Reached.empty())
+    // With the points along the creases the remesh cuts and with the far
+    // vertices alone; the closer kept.
+    RoundCandidate withCreases, alone;
+    std::vector<PinTarget> all = targets;
+    all.insert(all.end(), creases.begin(), creases.end());
+    const bool creasesKept = !creases.empty() && attempt(all, withCreases);
+    const bool aloneKept = (!creasesKept || farVertices) && attempt(targets, alone);
+    const bool useAlone =
+      aloneKept && (!creasesKept || WorstDeviation(alone.Result) <= WorstDeviation(withCreases.Result));
+    if (!creasesKept && !aloneKept)
     {
+      // Far vertices none could be moved onto, or whose moves brought the
+      // remesh no closer where no round of them alone was kept (a round
+      // with the creases' points may be): the remesh is made again with
+      // them pinned (RemeshSurface).
+      out.FarVerticesLeft = !corners && (alone.Pins.Unreached > 0 || (!verticesKept && farVertices));
       return;
     }
-    RemeshResult candidate = ResultOf(next, out);
-    UpdateDistances(topology, points, toInput, out, candidate, distances, threads); // (a round not kept ends them)
-    const MeshTopology candidateTopology = TopologyOfRemesh(candidate, threads);
-    CheckFidelity(topology, points, options, distances, candidateTopology, candidate);
-    if (!KeptOver(topology, points, candidate, out, first, threads, &candidateTopology))
-    {
-      GiveBack(candidate, out);
-      return;
-    }
-    remesh = std::move(next);
-    out = std::move(candidate);
-    out.ReachedFarVertices.insert(out.ReachedFarVertices.end(), pins.Reached.begin(), pins.Reached.end());
+    verticesKept = verticesKept || useAlone;
+    RoundCandidate& kept = useAlone ? alone : withCreases;
+    kept.Result.Samples = std::move(out.Samples);
+    kept.Result.GradedMetric = std::move(out.GradedMetric);
+    remesh = std::move(kept.Next);
+    out = std::move(kept.Result);
+    distances = std::move(kept.Distances);
+    out.ReachedFarVertices.insert(out.ReachedFarVertices.end(), kept.Pins.Reached.begin(), kept.Pins.Reached.end());
     out.FarVerticesLeft = false; // (measured in the next round)
   }
 }

@@ -1,5 +1,6 @@
-// Beltrami core, inside the remesher: the checks of a remesh's fidelity and
-// the fidelity rounds (Remeshing/RemeshFidelity.cxx) that RemeshSurface and
+// Beltrami core, inside the remesher: the remesh's distances from its input
+// (Remeshing/RemeshDistances.cxx), the checks of its fidelity and the
+// fidelity rounds (Remeshing/RemeshFidelity.cxx) that RemeshSurface and
 // RemeshToDeviation share with Remeshing/SurfaceRemeshing.cxx.
 #pragma once
 
@@ -36,14 +37,19 @@ struct RemeshDistances
   std::vector<double> FromInput;   ///< per input vertex, to the remesh (0 at one in no triangle or not finite;
                                    ///< infinite where the remesh has no triangle)
   std::vector<Index> Nearest;      ///< per input vertex, the remesh triangle nearest to it (-1: none)
-  /// Per input triangle, the largest distance to the remesh of its edges'
-  /// midpoints and its centre (a crease or a long edge the remesh cuts,
-  /// between input vertices that lie on it), measured where that could
+  /// Per input triangle, the largest distance to the remesh of points
+  /// along its edges and of its centre (a crease or a long edge the remesh
+  /// cuts, between input vertices that lie on it), measured where that could
   /// exceed the largest of FromInput (InputTrianglesTo; 0 elsewhere, where
   /// it is at most that), and which of them (0-2: the edge from corner k
-  /// to k + 1; 3: the centre).
+  /// to k + 1, at FarthestAlong of its length from corner k; 3: the
+  /// centre).  An edge is measured at its midpoint where it is at most two
+  /// spacings long, else in parts of at most a spacing (`Spacing`: of
+  /// equilateral triangles covering the input with the remesh's count).
   std::vector<double> FromInputTriangles;
   std::vector<std::uint8_t> FarthestSample;
+  std::vector<float> FarthestAlong;
+  double Spacing = 0.0;
   /// Per remesh triangle, the largest distance to the input of its centre
   /// and its edges' midpoints (0 where not finite).
   std::vector<double> FromTriangles;
@@ -52,6 +58,12 @@ struct RemeshDistances
 /// The distances of `remesh` from the input (its triangles in `toInput`).
 RemeshDistances MeasureDistances(const MeshTopology& topology, const double* points, const TriangleGrid& toInput,
   const RemeshResult& remesh, int numThreads);
+
+/// `d`, the distances of remesh `before`, made those of `after`, the same
+/// mesh with vertices moved and edges swapped (PinNearestVertices),
+/// measuring again only where it changed.
+void UpdateDistances(const MeshTopology& topology, const double* points, const TriangleGrid& toInput,
+  const RemeshResult& before, const RemeshResult& after, RemeshDistances& d, int numThreads);
 
 /// A remesh's smallest angle and share of angles below 30 degrees, measured
 /// in its metric where it has one (an anisotropic remesh's triangles are
@@ -75,7 +87,10 @@ bool KeptOver(const MeshTopology& topology, const double* points, const RemeshRe
 /// on it: up to FarPinRounds times, each input vertex the remesh leaves
 /// farther than FarPinSpacings spacings (the farthest of its 1-ring) takes
 /// the nearest free vertex of the remesh that can move onto it without a
-/// fold, kept there, the rings around settled (PinNearestVertices); where
+/// fold, kept there, the rings around settled (PinNearestVertices), and so
+/// do points a spacing apart along the input edges that it leaves a point of
+/// that far (creases of a coarse input: the round made with them and with
+/// the vertices alone, the closer kept); where
 /// none is that far, the input's corners at the remesh's scale
 /// (CornerPinSpacings, CornerSagRatio), all of them; a round
 /// is kept where the remesh comes closer to the input by FarPinGain (KeptOver) and

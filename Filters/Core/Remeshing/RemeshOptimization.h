@@ -38,6 +38,8 @@
 
 #include "Remeshing/Remesh.h"
 
+#include <array>
+
 namespace beltrami
 {
 
@@ -87,19 +89,32 @@ RemeshOptimizationStatistics OptimizeRemesh(Remesh& remesh, const MeshTopology& 
   const AtlasResult& atlas, const SurfaceSamples& samples, const RemeshOptimizationOptions& options = {});
 
 /// The fidelity rounds' move (RemeshOptions::FarPinRounds), after
-/// OptimizeRemesh: for each input vertex of `targets` (with the remesh face
-/// nearest to it; the farthest first) the free vertex of that face nearest
-/// to it moves exactly onto it and stays there, as the sampling pins one
+/// A point of the input a remesh vertex is pinned on (PinNearestVertices):
+/// input vertex `Vertex`, or (Vertex < 0) the point at barycentric `W` of
+/// input triangle `Triangle` (on a crease the remesh cuts); `Face`: the
+/// remesh face nearest to it.
+struct PinTarget
+{
+  Index Vertex = -1;
+  Index Triangle = -1;
+  std::array<double, 3> W = { 0.0, 0.0, 0.0 };
+  Index Face = -1;
+};
+
+/// OptimizeRemesh: for each of `targets` (the farthest first) the free
+/// vertex of its face or their neighbours nearest to it moves exactly onto
+/// it and stays there, as the sampling pins one
 /// (a Tip), where no face around it folds or turns by 90
 /// degrees; then `rounds` stitching rounds settle the vertices around them
 /// and the slivers are mended.
 struct PinnedVertices
 {
   std::vector<Index> Reached; ///< the input vertices of `targets` a vertex was moved onto
-  Index Unreached = 0;        ///< the targets none could be moved onto
+  Index ReachedPoints = 0;    ///< the other targets a vertex was moved onto
+  Index Unreached = 0;        ///< the input vertices of `targets` none could be moved onto
 };
 PinnedVertices PinNearestVertices(Remesh& remesh, const MeshTopology& topology, const double* points,
-  const AtlasResult& atlas, const SurfaceSamples& samples, const std::vector<std::pair<Index, Index>>& targets,
+  const AtlasResult& atlas, const SurfaceSamples& samples, const std::vector<PinTarget>& targets,
   const RemeshOptimizationOptions& options, int rounds);
 
 } // namespace beltrami

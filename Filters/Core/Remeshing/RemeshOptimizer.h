@@ -108,15 +108,14 @@ public:
   /// One round: shape and valence swaps (while stitching, unfolding swaps
   /// first), then the relaxation (LatticeWeight as set); adds to `stats`.
   void OptimizationRound(RemeshOptimizationStatistics& stats);
-  /// While stitching: free vertex v moves exactly onto input vertex
-  /// `vertex` (at a corner of one of its triangles) and stays there, as a
+  /// While stitching: free vertex v moves exactly onto `target` (an input
+  /// vertex: at a corner of one of its triangles) and stays there, as a
   /// Tip, where no face around it folds or turns by 90 degrees
   /// (Place); false where it cannot.
-  bool PinAt(Index v, Index vertex);
-  /// The free vertex nearest to input vertex `vertex` among those of
-  /// remesh face f and its corners' neighbours that PinAt can move onto
-  /// it, moved so (-1 if none can).
-  Index PinNear(Index f, Index vertex);
+  bool PinAt(Index v, const PinTarget& target);
+  /// The free vertex nearest to `target` among those of its face and their
+  /// neighbours that PinAt can move onto it, moved so (-1 if none can).
+  Index PinNear(const PinTarget& target);
   /// Per vertex: the relaxation moves it and the swaps take its edges
   /// (empty: all).
   std::vector<std::uint8_t> Active;

@@ -1,7 +1,7 @@
 // Beltrami core: the fidelity rounds' move on an optimised remesh: the
-// vertex nearest to an input vertex the remesh leaves far moved onto it and
-// fixed there, the vertices around it settled by stitching rounds
-// (PinNearestVertices).
+// vertex nearest to an input vertex (or a point of an input edge) the
+// remesh leaves far moved onto it and fixed there, the vertices around it
+// settled by stitching rounds (PinNearestVertices).
 #include "Remeshing/RemeshOptimizer.h"
 
 #include <algorithm>
@@ -16,11 +16,12 @@ constexpr int PinnedRings = 3;
 namespace detail
 {
 
-Index Optimizer::PinNear(Index f, Index vertex)
+Index Optimizer::PinNear(const PinTarget& target)
 {
-  const Vec3 p = Point(Points, vertex);
+  const Vec3 p = target.Vertex >= 0 ? Point(Points, target.Vertex)
+                                    : SurfacePoint(Topology, Points, target.Triangle, target.W.data());
   std::vector<std::pair<double, Index>> candidates; // (squared distance, vertex)
-  for (Index h = 3 * f; h < 3 * f + 3; ++h)
+  for (Index h = 3 * target.Face; h < 3 * target.Face + 3; ++h)
   {
     M.ForEachOutgoing(M.Tail(h), [&](Index g) {
       for (const Index v : { M.Tail(g), M.Head(g) })
@@ -36,7 +37,7 @@ Index Optimizer::PinNear(Index f, Index vertex)
   candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
   for (const auto& [distance, v] : candidates)
   {
-    if (PinAt(v, vertex))
+    if (PinAt(v, target))
     {
       return v;
     }
@@ -44,18 +45,30 @@ Index Optimizer::PinNear(Index f, Index vertex)
   return -1;
 }
 
-bool Optimizer::PinAt(Index v, Index vertex)
+bool Optimizer::PinAt(Index v, const PinTarget& target)
 {
   const Vec3 normal = FanNormal(v);
-  for (const Index* c = Topology.CornersBegin(vertex); c != Topology.CornersEnd(vertex); ++c)
-  {
-    double w[3] = { 0.0, 0.0, 0.0 }, moved = 0.0;
-    w[*c % 3] = 1.0;
-    if (Place(v, *c / 3, w, moved, &normal, 0.0))
+  const auto place = [&](Index triangle, const double* w) {
+    double moved = 0.0;
+    if (!Place(v, triangle, w, moved, &normal, 0.0))
     {
-      Moves[v] = Fixed;
-      R.Kind[v] = SampleKind::Tip;
-      R.Path[v] = -1;
+      return false;
+    }
+    Moves[v] = Fixed;
+    R.Kind[v] = SampleKind::Tip;
+    R.Path[v] = -1;
+    return true;
+  };
+  if (target.Vertex < 0)
+  {
+    return place(target.Triangle, target.W.data());
+  }
+  for (const Index* c = Topology.CornersBegin(target.Vertex); c != Topology.CornersEnd(target.Vertex); ++c)
+  {
+    double w[3] = { 0.0, 0.0, 0.0 };
+    w[*c % 3] = 1.0;
+    if (place(*c / 3, w))
+    {
       return true;
     }
   }
@@ -99,7 +112,7 @@ std::vector<std::uint8_t> RingsAround(const HalfEdgeMesh& mesh, std::vector<Inde
 } // namespace
 
 PinnedVertices PinNearestVertices(Remesh& remesh, const MeshTopology& topology, const double* points,
-  const AtlasResult& atlas, const SurfaceSamples& samples, const std::vector<std::pair<Index, Index>>& targets,
+  const AtlasResult& atlas, const SurfaceSamples& samples, const std::vector<PinTarget>& targets,
   const RemeshOptimizationOptions& options, int rounds)
 {
   detail::Optimizer optimizer(
@@ -110,20 +123,30 @@ PinnedVertices PinNearestVertices(Remesh& remesh, const MeshTopology& topology, 
   std::vector<Index> moved;
   PinnedVertices out;
   std::vector<std::uint8_t> taken(remesh.Mesh.NumberOfVertices(), 0); // moved in this call
-  for (const auto& [vertex, face] : targets)
+  for (const PinTarget& target : targets)
   {
     const HalfEdgeMesh& mesh = remesh.Mesh;
-    if (taken[mesh.Tail(3 * face)] || taken[mesh.Tail(3 * face + 1)] || taken[mesh.Tail(3 * face + 2)])
+    const Index face = target.Face;
+    if (target.Vertex >= 0 && (taken[mesh.Tail(3 * face)] || taken[mesh.Tail(3 * face + 1)] ||
+                                taken[mesh.Tail(3 * face + 2)]))
     {
       continue; // (a vertex of the face moved already: the next round measures again)
     }
-    const Index v = optimizer.PinNear(face, vertex);
-    out.Unreached += v < 0;
-    if (v >= 0)
+    const Index v = optimizer.PinNear(target);
+    if (v < 0)
     {
-      moved.push_back(v);
-      out.Reached.push_back(vertex);
-      taken[v] = 1;
+      out.Unreached += target.Vertex >= 0;
+      continue;
+    }
+    moved.push_back(v);
+    taken[v] = 1;
+    if (target.Vertex >= 0)
+    {
+      out.Reached.push_back(target.Vertex);
+    }
+    else
+    {
+      ++out.ReachedPoints;
     }
   }
   if (moved.empty())

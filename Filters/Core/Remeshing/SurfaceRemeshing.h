@@ -48,7 +48,11 @@ struct RemeshOptions
   /// corner the samples missed), the vertex of the remesh nearest to each
   /// that can move there without a fold is moved onto it and kept there,
   /// the rings around it settled by stitching rounds, up to FarPinRounds
-  /// times (each round measures again); a round is kept where the remesh
+  /// times (each round measures again).  Where a point along an input
+  /// edge is that far (a crease of an input coarser than the remesh, which
+  /// its triangles cut), the round is made twice, once also moving vertices
+  /// so onto points a spacing apart along the edge, once with the far
+  /// vertices alone, and the closer kept.  A round is kept where the remesh
   /// comes closer to the input by 2% (in the larger of its deviations, or
   /// no farther in that and by 2% in both together) and its triangles stay within the bar
   /// or as good as the first's (FarPinGain, AsGoodTriangles; measured in

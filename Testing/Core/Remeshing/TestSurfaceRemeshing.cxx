@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <cstdio>
 #include <unordered_map>
 
@@ -339,6 +340,24 @@ TEST(SurfaceRemeshing, FarInputVerticesArePinnedInMoreRemeshes)
   EXPECT_GE(reached, 1u);
 }
 
+/// `mesh` remeshed at `count` vertices with its fidelity rounds (first)
+/// and without them (second).
+std::pair<RemeshResult, RemeshResult> WithAndWithoutRounds(const test::Mesh& mesh, std::int64_t count)
+{
+  const MeshTopology input = mesh.Topology();
+  const AtlasResult atlas = BuildAtlas(input, mesh.Points.data(), RemeshingAtlasOptions());
+  EXPECT_EQ(atlas.Error, "");
+  RemeshOptions options;
+  options.NumberOfVertices = count;
+  std::pair<RemeshResult, RemeshResult> out;
+  out.first = RemeshSurface(input, mesh.Points.data(), atlas, nullptr, options);
+  options.FarPinSpacings = 0.0;
+  out.second = RemeshSurface(input, mesh.Points.data(), atlas, nullptr, options);
+  EXPECT_EQ(out.first.Error, "");
+  EXPECT_EQ(out.second.Error, "");
+  return out;
+}
+
 TEST(SurfaceRemeshing, TheCornersOfACoarsePolyhedronAreMovedOnto)
 {
   // A sphere of 1,026 vertices remeshed at 10,000: its vertices are corners
@@ -349,16 +368,8 @@ TEST(SurfaceRemeshing, TheCornersOfACoarsePolyhedronAreMovedOnto)
   // not only the farthest of their rings): measured 0.054% -> 0.037% of
   // the diagonal, 641 corners reached.
   const test::Mesh sphere = test::OctahedronSphere(4);
-  const MeshTopology input = sphere.Topology();
-  const AtlasResult atlas = BuildAtlas(input, sphere.Points.data(), RemeshingAtlasOptions());
-  ASSERT_EQ(atlas.Error, "");
-  RemeshOptions options;
-  options.NumberOfVertices = 10000;
-  const RemeshResult pinned = RemeshSurface(input, sphere.Points.data(), atlas, nullptr, options);
-  options.FarPinSpacings = 0.0;
-  const RemeshResult once = RemeshSurface(input, sphere.Points.data(), atlas, nullptr, options);
-  ASSERT_EQ(pinned.Error, "");
-  ASSERT_EQ(once.Error, "");
+  const auto [pinned, once] = WithAndWithoutRounds(sphere, 10000);
+  ASSERT_EQ(pinned.Error + once.Error, "");
   const double before = WorstDeviation(once), after = WorstDeviation(pinned);
   const TriangleQuality q = MeasureTriangleQuality(TopologyOf(pinned), pinned.Points.data());
   std::printf("deviation %.4f%% -> %.4f%%, %zu corners reached, smallest angle %.1f, below 30 %.2f%%\n",
@@ -383,9 +394,10 @@ TEST(SurfaceRemeshing, TheDeviationIsMeasuredWhereTheRemeshCutsTheInputsEdges)
   // A cube of 12 triangles remeshed at 300 vertices, its edges rounded off
   // (no sharp edges kept): every input vertex is a corner the remesh keeps,
   // so measured at the input's vertices the remesh is 0 from the input; at
-  // the midpoints of its edges and faces it is not (measured: 3.4% of the
-  // diagonal).  The reported deviation is the largest over all of those
-  // samples, however few of them were measured (MeasureDeviation: all).
+  // points along its edges and at its faces' centres it is not (measured:
+  // 3.8% of the diagonal, 3.4% at the edges' midpoints).  The reported
+  // deviation is the largest over all of those samples, however few of
+  // them were measured (MeasureDeviation: all, at the midpoints).
   const test::Mesh cube = test::CubeSurface(1);
   const MeshTopology input = cube.Topology();
   const AtlasResult atlas = BuildAtlas(input, cube.Points.data(), RemeshingAtlasOptions());
@@ -402,8 +414,46 @@ TEST(SurfaceRemeshing, TheDeviationIsMeasuredWhereTheRemeshCutsTheInputsEdges)
     100.0 * measured(DeviationSamples::Vertices).FirstToSecond / r.Diagonal, 100.0 * r.DeviationToInput);
   EXPECT_LT(measured(DeviationSamples::Vertices).FirstToSecond, 1e-9 * r.Diagonal);
   EXPECT_GT(r.DeviationFromInput, 0.02);
-  EXPECT_NEAR(r.DeviationFromInput * r.Diagonal, measured(DeviationSamples::All).FirstToSecond, 1e-14);
+  // (its edges, 6.6 spacings long, measured in parts of at most a spacing:
+  // at least as far as at their midpoints)
+  EXPECT_GE(r.DeviationFromInput * r.Diagonal, measured(DeviationSamples::All).FirstToSecond - 1e-14);
   EXPECT_NEAR(r.DeviationToInput * r.Diagonal, measured(DeviationSamples::All).SecondToFirst, 1e-14);
+}
+
+TEST(SurfaceRemeshing, FidelityRoundsFollowTheCreasesOfACoarseInput)
+{
+  // A torus of 8 x 4 quads (64 triangles, edges 6-16 spacings long, creases
+  // of 90 degrees) remeshed at 2,000 vertices: its triangles cut the
+  // creases, points along its long edges the farthest input points.  The
+  // fidelity rounds move vertices onto points a spacing apart along those
+  // edges (measured: 1.04% / 0.73% of the diagonal from / to the input
+  // without the rounds, 0.68% / 0.77% with them, the worst angle 24.9
+  // degrees).  Measured along every input edge at 64 points, not only a
+  // spacing apart, the remesh is as close (0.76%).
+  const test::Mesh torus = test::Torus(1.0, 0.3, 8, 4, 0.0, 1);
+  const auto [r, once] = WithAndWithoutRounds(torus, 2000);
+  ASSERT_EQ(r.Error + once.Error, "");
+  const TriangleGrid grid(r.Points.data(), r.Triangles.data(), r.Triangles.size() / 3);
+  double along = 0.0; // the largest distance of the input's edges from the remesh
+  for (std::size_t c = 0; c < torus.Triangles.size(); ++c)
+  {
+    const Vec3 a = Point(torus.Points.data(), torus.Triangles[c]);
+    const Vec3 b = Point(torus.Points.data(), torus.Triangles[c - c % 3 + (c + 1) % 3]);
+    for (int k = 1; k < 64; ++k)
+    {
+      along = std::max(along, grid.Distance(a + (b - a) * (k / 64.0)));
+    }
+  }
+  const TriangleQuality q = MeasureTriangleQuality(TopologyOf(r), r.Points.data());
+  std::printf("from / to the input %.3f%% / %.3f%% without the rounds, %.3f%% / %.3f%% with them (along its "
+              "edges %.3f%%); worst angle %.1f, below 30 degrees %.2f%%\n",
+    100.0 * once.DeviationFromInput, 100.0 * once.DeviationToInput, 100.0 * r.DeviationFromInput,
+    100.0 * r.DeviationToInput, 100.0 * along / r.Diagonal, q.MinimumAngle, 100.0 * q.FractionBelow30);
+  EXPECT_GT(once.DeviationFromInput, 0.009);
+  EXPECT_LT(WorstDeviation(r), 0.8 * WorstDeviation(once));
+  EXPECT_LT(along / r.Diagonal, 0.8 * once.DeviationFromInput);
+  EXPECT_GE(q.MinimumAngle, 15.0);
+  EXPECT_LE(q.FractionBelow30, 0.005);
 }
 
 TEST(SurfaceRemeshing, EdgeLengthsFollowTheCurvatureToTheRequestedGamma)
