@@ -476,8 +476,9 @@ void CheckFidelityInRounds(const MeshTopology& topology, const double* points, c
   const auto first = ShapeFigures(topology, points, out, threads, &outTopology);
   const std::vector<double>& curvature = cache.MaximumCurvature;
   // A round's candidate: the pins moved, the remesh measured again, and
-  // whether KeptOver would keep it (its samples and metric left in `out`).
-  const auto attempt = [&](const std::vector<PinTarget>& targets, RoundCandidate& c) {
+  // whether KeptOver would keep it (its samples and metric left in `out`);
+  // `distances` copied where another candidate follows, else taken.
+  const auto attempt = [&](const std::vector<PinTarget>& targets, RoundCandidate& c, bool another) {
     c.Next = remesh;
     c.Pins = targets.empty()
       ? PinnedVertices()
@@ -487,7 +488,7 @@ void CheckFidelityInRounds(const MeshTopology& topology, const double* points, c
       return false;
     }
     c.Result = ResultOf(c.Next, out);
-    c.Distances = distances;
+    c.Distances = another ? distances : std::move(distances);
     UpdateDistances(topology, points, toInput, out, c.Result, c.Distances, threads);
     const MeshTopology candidateTopology = TopologyOfRemesh(c.Result, threads);
     CheckFidelity(topology, points, options, c.Distances, candidateTopology, c.Result);
@@ -515,8 +516,8 @@ void CheckFidelityInRounds(const MeshTopology& topology, const double* points, c
     RoundCandidate withCreases, alone;
     std::vector<PinTarget> all = targets;
     all.insert(all.end(), creases.begin(), creases.end());
-    const bool creasesKept = !creases.empty() && attempt(all, withCreases);
-    const bool aloneKept = (!creasesKept || farVertices) && attempt(targets, alone);
+    const bool creasesKept = !creases.empty() && attempt(all, withCreases, true);
+    const bool aloneKept = (!creasesKept || farVertices) && attempt(targets, alone, false);
     const bool useAlone =
       aloneKept && (!creasesKept || WorstDeviation(alone.Result) <= WorstDeviation(withCreases.Result));
     if (!creasesKept && !aloneKept)
