@@ -261,16 +261,18 @@ public:
   /// (each measuring again); where points along input edges are that far (creases of an input
   /// coarser than the remesh, which its triangles cut), the round is made twice, once also moving
   /// vertices so onto points a spacing apart along those edges, once with the vertices alone, and
-  /// the closer kept; where none is that far, every input vertex farther than 0.03 of the spacing
-  /// and four times a spacing's sag on its curvature (the corners of an input coarser than the
-  /// remesh) is moved onto so; where vertices are left that none could reach, or whose moves
-  /// brought the remesh no closer, the remesh is made again with them pinned, up to this many
-  /// times. The closest with triangles as good is kept. 0: one remesh as made, the fastest. Over
-  /// the shared corpus at 10,000 vertices the rounds bring the two-sided deviation down by 21% in
-  /// geometric mean, by a third to a half on coarse scans, in 1.3 times the time of one remesh.
-  /// RemeshDeviation reports the one kept. In the error-driven mode (Maximum Deviation) each remesh
-  /// takes the moves, beside the input vertices that mode pins; it makes no remesh again. Default:
-  /// 3.
+  /// the closer kept (vertices so moved onto one edge of a crease, where its triangles meet at 20
+  /// degrees or more, are joined by a remesh edge along it where the triangles keep half their
+  /// roundness, and that edge is kept); where none is that far, every input vertex farther than
+  /// 0.03 of the spacing and four times a spacing's sag on its curvature (the corners of an input
+  /// coarser than the remesh) is moved onto so; where vertices are left that none could reach, or
+  /// whose moves brought the remesh no closer, the remesh is made again with them pinned, up to
+  /// this many times. The closest with triangles as good is kept. 0: one remesh as made, the
+  /// fastest. Over the shared corpus at 10,000 vertices the rounds bring the two-sided deviation
+  /// down by 21% in geometric mean, by a third to a half on coarse scans, in 1.3 times the time of
+  /// one remesh. RemeshDeviation reports the one kept. In the error-driven mode (Maximum Deviation)
+  /// each remesh takes the moves, beside the input vertices that mode pins; it makes no remesh
+  /// again. Default: 3.
   vtkSetClampMacro(FidelityRounds, int, 0, 100);
   vtkGetMacro(FidelityRounds, int);
   /// Rounds of edge swaps and relaxation after the triangulation, the first fifth in the charts'

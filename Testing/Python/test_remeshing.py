@@ -659,6 +659,28 @@ class RemeshingFromPython(unittest.TestCase):
         self.assertLess(figures[3], 0.8 * figures[0])
         self.assertLess(figures[3], 0.0047)
 
+    def test_pins_on_a_crease_are_joined_along_it(self):
+        # A 12-sided needle with flat ends at 10,000 vertices: the rims of
+        # its ends (90-degree creases, 12 input edges 1.6 spacings long) are
+        # cut by the remesh's triangles, 0.14% of the diagonal from the
+        # input without the fidelity rounds.  The rounds pin vertices on the
+        # rims' corners and midpoints and join those on one rim edge by an
+        # edge along it: 0.044% (CGAL's isotropic remeshing at the count:
+        # 0.078%; pinned without the joins, the triangles still cut the
+        # rims: 0.102%).
+        import inputs
+        import shapes
+        needle = inputs.polydata(*shapes.needle())
+        figures = {}
+        for rounds in (0, 3):
+            out, _ = self.remeshed(needle, 10000, FidelityRounds=rounds)
+            self.assertEqual(out.GetNumberOfPoints(), 10000)
+            self.assert_topology_kept(needle, out)
+            figures[rounds] = max(out.GetFieldData().GetArray("RemeshDeviation").GetValue(k) for k in range(2))
+            self.assertGreaterEqual(out.GetFieldData().GetArray("RemeshMinimumAngle").GetValue(0), 15.0)
+        self.assertGreater(figures[0], 0.0012)
+        self.assertLess(figures[3], 0.0006)
+
     def test_triply_periodic_surface_cut_by_a_box(self):
         # The diamond surface (two periods, a 60^3 grid, contoured at 0.3:
         # genus 54, 12 boundary loops on the box).  Where a chart's map

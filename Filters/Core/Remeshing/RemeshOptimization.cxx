@@ -545,6 +545,18 @@ Index Optimizer::BeginStitching(const std::uint8_t* featureEdges)
       }
     }
   }
+  for (Index v = 0; v < M.NumberOfVertices(); ++v) // (pinned vertices joined along a crease: JoinAlongInputEdges)
+  {
+    if (R.Kind[v] == SampleKind::Tip)
+    {
+      M.ForEachOutgoing(v, [&](Index h) {
+        if (OnOneInputEdge(v, M.Head(h)))
+        {
+          KeptEdges.insert(EdgeKey(v, M.Head(h)));
+        }
+      });
+    }
+  }
   Stitching = true;
   return freed;
 }

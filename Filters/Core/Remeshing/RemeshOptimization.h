@@ -105,8 +105,12 @@ struct PinTarget
 /// vertex of its face or their neighbours nearest to it moves exactly onto
 /// it and stays there, as the sampling pins one
 /// (a Tip), where no face around it folds or turns by 90
-/// degrees; then `rounds` stitching rounds settle the vertices around them
-/// and the slivers are mended.
+/// degrees; those on one input edge of a crease are joined by an edge along
+/// it, which the swaps keep (a coarse input's creases, 1.6 spacings long
+/// around a needle's flat ends at 10,000 vertices: 0.102% of the diagonal
+/// from the remesh without the joins, 0.044% with them); then `rounds`
+/// stitching rounds settle the vertices around them and the slivers are
+/// mended.
 struct PinnedVertices
 {
   std::vector<Index> Reached; ///< the input vertices of `targets` a vertex was moved onto

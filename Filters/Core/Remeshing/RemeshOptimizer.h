@@ -116,6 +116,13 @@ public:
   /// The free vertex nearest to `target` among those of its face and their
   /// neighbours that PinAt can move onto it, moved so (-1 if none can).
   Index PinNear(const PinTarget& target);
+  /// Joins each of the `pinned` vertices to the fixed vertices across the
+  /// edges opposite it that lie on one input crease edge with it
+  /// (OnOneInputEdge): such an edge of the remesh lies on the input, along
+  /// the crease the remesh cut; swapped in where that keeps the surface and
+  /// half the triangles' roundness, and kept (KeptEdges, as the edges it
+  /// has already to such vertices).  The joins made.
+  Index JoinAlongInputEdges(const std::vector<Index>& pinned);
   /// Per vertex: the relaxation moves it and the swaps take its edges
   /// (empty: all).
   std::vector<std::uint8_t> Active;
@@ -156,6 +163,10 @@ private:
   {
     return static_cast<std::uint64_t>(std::min(a, b)) << 32 | static_cast<std::uint32_t>(std::max(a, b));
   }
+  /// Fixed vertices a and b lie on one input edge (at its ends or on it)
+  /// whose triangles' normals differ by JoinCreaseDegrees or more: the
+  /// straight segment between them lies on the input, along its crease.
+  bool OnOneInputEdge(Index a, Index b) const;
   bool FlipKeepsCharts(Index h) const;
   bool FlipKeepsSurface(Index h) const;
   bool CanSwap(Index h) const

@@ -1,10 +1,12 @@
 // Beltrami core: the fidelity rounds' move on an optimised remesh: the
 // vertex nearest to an input vertex (or a point of an input edge) the
-// remesh leaves far moved onto it and fixed there, the vertices around it
-// settled by stitching rounds (PinNearestVertices).
+// remesh leaves far moved onto it and fixed there, joined by edges to the
+// fixed vertices on the same input crease edge (JoinAlongInputEdges), the
+// vertices around it settled by stitching rounds (PinNearestVertices).
 #include "Remeshing/RemeshOptimizer.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace beltrami
 {
@@ -12,6 +14,11 @@ namespace beltrami
 /// The rings around a vertex moved onto a far input vertex that the
 /// stitching rounds after settle.
 constexpr int PinnedRings = 3;
+
+/// The least angle between the normals of an input edge's two triangles
+/// that makes it a crease whose pinned vertices are joined along it
+/// (Optimizer::JoinAlongInputEdges).
+constexpr double JoinCreaseDegrees = 20.0;
 
 namespace detail
 {
@@ -73,6 +80,101 @@ bool Optimizer::PinAt(Index v, const PinTarget& target)
     }
   }
   return false;
+}
+
+namespace
+{
+
+/// The input vertices whose weights at v's place are not zero: one (v on
+/// an input vertex), two (on an input edge) or three (inside a triangle).
+int Support(const MeshTopology& topology, const Remesh& r, Index v, Index* corners)
+{
+  int n = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    if (r.Barycentric[3 * static_cast<std::size_t>(v) + k] > 1e-9)
+    {
+      corners[n++] = topology.CornerVertex(3 * r.Triangle[v] + k);
+    }
+  }
+  return n;
+}
+
+} // namespace
+
+bool Optimizer::OnOneInputEdge(Index a, Index b) const
+{
+  if (Moves[a] != Fixed || Moves[b] != Fixed)
+  {
+    return false;
+  }
+  Index ca[3], cb[3];
+  const int na = Support(Topology, R, a, ca), nb = Support(Topology, R, b, cb);
+  if (na > 2 || nb > 2 || na == 0 || nb == 0)
+  {
+    return false;
+  }
+  // The input vertices of both together: at most two, joined by an edge.
+  Index ends[4];
+  int n = 0;
+  for (const Index x : { ca[0], ca[na - 1], cb[0], cb[nb - 1] })
+  {
+    if (std::find(ends, ends + n, x) == ends + n)
+    {
+      ends[n++] = x;
+    }
+  }
+  const MeshTopology::EdgeTable& edges = Topology.Edges();
+  const std::int64_t e = n == 2 ? edges.Find(ends[0], ends[1]) : -1;
+  if (e < 0 || edges.OppositeCorners[2 * e] < 0 || edges.OppositeCorners[2 * e + 1] < 0)
+  {
+    return false;
+  }
+  const Vec3 n0 = InputNormalOf(edges.OppositeCorners[2 * e] / 3);
+  const Vec3 n1 = InputNormalOf(edges.OppositeCorners[2 * e + 1] / 3);
+  return n0.dot(n1) < std::cos(JoinCreaseDegrees * 3.141592653589793 / 180.0);
+}
+
+Index Optimizer::JoinAlongInputEdges(const std::vector<Index>& pinned)
+{
+  Index joins = 0;
+  for (const Index v : pinned)
+  {
+    std::vector<Index> across; // half-edges opposite v whose other face's far vertex is on v's input edge
+    M.ForEachOutgoing(v, [&](Index h) {
+      const Index head = M.Head(h);
+      if (OnOneInputEdge(v, head))
+      {
+        KeptEdges.insert(EdgeKey(v, head));
+      }
+      const Index g = HalfEdgeMesh::Next(h);
+      if (!M.IsBoundary(g))
+      {
+        const Index u = M.Tail(HalfEdgeMesh::Prev(M.Twin(g)));
+        if (u != v && OnOneInputEdge(v, u))
+        {
+          across.push_back(g);
+        }
+      }
+    });
+    for (const Index g : across)
+    {
+      // (An earlier join may have changed the faces: g still opposite v?)
+      const Index u = M.Tail(HalfEdgeMesh::Prev(M.Twin(g)));
+      if (M.Tail(HalfEdgeMesh::Prev(g)) != v || !OnOneInputEdge(v, u) || !Swappable(g) || !CanSwap(g))
+      {
+        continue;
+      }
+      const auto [before, after] = Roundnesses(g);
+      if (after >= 0.5 * before)
+      {
+        Flip(g);
+        KeptEdges.insert(EdgeKey(v, u));
+        ++joins;
+      }
+    }
+  }
+  return joins;
 }
 
 } // namespace detail
@@ -153,6 +255,7 @@ PinnedVertices PinNearestVertices(Remesh& remesh, const MeshTopology& topology, 
   {
     return out;
   }
+  optimizer.JoinAlongInputEdges(moved);
   optimizer.Active = RingsAround(remesh.Mesh, moved, PinnedRings);
   RemeshOptimizationStatistics stats;
   for (int i = 0; i < rounds; ++i)
