@@ -86,11 +86,12 @@ namespace
 {
 
 /// The input vertices whose weights at v's place are not zero: one (v on
-/// an input vertex), two (on an input edge) or three (inside a triangle).
+/// an input vertex), two (on an input edge) or three (inside a triangle);
+/// none where v lies on no input triangle.
 int Support(const MeshTopology& topology, const Remesh& r, Index v, Index* corners)
 {
   int n = 0;
-  for (int k = 0; k < 3; ++k)
+  for (int k = 0; k < 3 && r.Triangle[v] >= 0; ++k)
   {
     if (r.Barycentric[3 * static_cast<std::size_t>(v) + k] > 1e-9)
     {
