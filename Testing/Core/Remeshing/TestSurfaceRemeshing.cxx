@@ -428,8 +428,8 @@ TEST(SurfaceRemeshing, FidelityRoundsFollowTheCreasesOfACoarseInput)
   // fidelity rounds move vertices onto points a spacing apart along those
   // edges, those on one edge joined along it (measured: 1.04% / 0.73% of
   // the diagonal from / to the input without the rounds, 0.68% / 0.74% with
-  // them, the worst angle 24.8 degrees).  Measured along every input edge at 64 points, not only a
-  // spacing apart, the remesh is as close (0.76%).
+  // them, the worst angle 24.8 degrees).  Measured along every input edge
+  // at 64 points, not only a spacing apart, the remesh is as close (0.76%).
   const test::Mesh torus = test::Torus(1.0, 0.3, 8, 4, 0.0, 1);
   const auto [r, once] = WithAndWithoutRounds(torus, 2000);
   ASSERT_EQ(r.Error + once.Error, "");
