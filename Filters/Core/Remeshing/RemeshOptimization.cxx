@@ -549,12 +549,7 @@ Index Optimizer::BeginStitching(const std::uint8_t* featureEdges)
   {
     if (R.Kind[v] == SampleKind::Tip)
     {
-      M.ForEachOutgoing(v, [&](Index h) {
-        if (OnOneInputEdge(v, M.Head(h)))
-        {
-          KeptEdges.insert(EdgeKey(v, M.Head(h)));
-        }
-      });
+      KeepEdgesAlongCreases(v);
     }
   }
   Stitching = true;

@@ -167,6 +167,9 @@ private:
   /// whose triangles' normals differ by JoinCreaseDegrees or more: the
   /// straight segment between them lies on the input, along its crease.
   bool OnOneInputEdge(Index a, Index b) const;
+  /// v's edges to the fixed vertices on one input crease edge with it
+  /// (OnOneInputEdge) kept by the swaps (KeptEdges).
+  void KeepEdgesAlongCreases(Index v);
   bool FlipKeepsCharts(Index h) const;
   bool FlipKeepsSurface(Index h) const;
   bool CanSwap(Index h) const

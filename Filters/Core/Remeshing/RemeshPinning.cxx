@@ -136,18 +136,24 @@ bool Optimizer::OnOneInputEdge(Index a, Index b) const
   return n0.dot(n1) < std::cos(JoinCreaseDegrees * 3.141592653589793 / 180.0);
 }
 
+void Optimizer::KeepEdgesAlongCreases(Index v)
+{
+  M.ForEachOutgoing(v, [&](Index h) {
+    if (OnOneInputEdge(v, M.Head(h)))
+    {
+      KeptEdges.insert(EdgeKey(v, M.Head(h)));
+    }
+  });
+}
+
 Index Optimizer::JoinAlongInputEdges(const std::vector<Index>& pinned)
 {
   Index joins = 0;
   for (const Index v : pinned)
   {
+    KeepEdgesAlongCreases(v);
     std::vector<Index> across; // half-edges opposite v whose other face's far vertex is on v's input edge
     M.ForEachOutgoing(v, [&](Index h) {
-      const Index head = M.Head(h);
-      if (OnOneInputEdge(v, head))
-      {
-        KeptEdges.insert(EdgeKey(v, head));
-      }
       const Index g = HalfEdgeMesh::Next(h);
       if (!M.IsBoundary(g))
       {
